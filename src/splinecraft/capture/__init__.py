@@ -1,0 +1,23 @@
+"""Outline capture: bitmap -> chain-code boundaries -> corners -> spline fit -> knot insertion.
+
+Shared file: each module owner edits only the import line(s) of their own module.
+"""
+from .image import load_bitmap
+from .contour import Boundary, trace_boundaries
+from .corners import corners, CORNER_METHODS
+from .fitting import fit_outline, FitResult, Snapshot, KNOT_METHODS
+from .trace import trace, TraceResult
+
+__all__ = [
+    "load_bitmap",
+    "Boundary",
+    "trace_boundaries",
+    "corners",
+    "CORNER_METHODS",
+    "fit_outline",
+    "FitResult",
+    "Snapshot",
+    "KNOT_METHODS",
+    "trace",
+    "TraceResult",
+]

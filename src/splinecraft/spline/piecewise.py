@@ -1,0 +1,632 @@
+"""The common curve type of the engine: a piecewise cubic stored as exact Bézier pieces (spec §0).
+
+Every construction in :mod:`splinecraft.spline` (interpolant §2, local-support basis form §4, generic
+segment §1, Timmer schemes §5) ends in a :class:`Spline`. Evaluation, differentiation, curvature (spec §7),
+display sampling, SVG export, JSON round trip and the conversion to scipy all work from the Bézier
+control points, so they are exact for every construction.
+"""
+from __future__ import annotations
+
+import numbers
+import warnings
+
+import numpy as np
+
+from ._validation import (
+    as_float_array,
+    check_bool,
+    check_choice,
+    check_int,
+    check_positive_number,
+    check_strictly_increasing,
+    format_index,
+)
+
+__all__ = ["Spline"]
+
+#: Auxiliary keys that hold free vectors (derivatives), not points: an affine map applies only its
+#: linear part to them and reversal flips their sign.
+VECTOR_AUXILIARY_KEYS = frozenset({"tangents"})
+
+#: Auxiliary keys holding one entry per knot (``m + 1`` open, ``m`` closed).
+_PER_KNOT_KEYS = frozenset({"tangents", "F"})
+
+# Relative tolerance for the continuity of consecutive pieces and the closure of closed curves.
+_JOIN_RTOL = 1e-9
+# Relative tolerance for parameters just outside [t0, tm] of an open curve (rounding).
+_DOMAIN_RTOL = 1e-12
+
+
+def _jsonable(value, where: str):
+    """Normalise metadata to plain JSON types (dict/list/str/int/float/bool/None)."""
+    if value is None or isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist(), where)
+    if isinstance(value, dict):
+        out = {}
+        for key, item in value.items():
+            if not isinstance(key, str):
+                raise TypeError(f"{where} keys must be strings, got {key!r}")
+            out[key] = _jsonable(item, f"{where}[{key!r}]")
+        return out
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(item, f"{where}[{i}]") for i, item in enumerate(value)]
+    raise TypeError(f"{where} must be JSON-able, got {type(value).__name__}")
+
+
+class Spline:
+    """Piecewise cubic curve stored as exact Bézier pieces (spec §0).
+
+    Piece ``i`` covers ``[t_i, t_{i+1}]`` and is the cubic Bézier ``[b0, b1, b2, b3]`` in the local
+    parameter ``theta = (t - t_i) / h_i``. Derivatives are taken with respect to the knot parameter
+    ``t`` (``d/dt = h_i^-1 d/dtheta``), as in the thesis.
+
+    Parameters
+    ----------
+    bezier : array_like, shape (m, 4, d)
+        Control points of the ``m >= 1`` pieces, all finite. Consecutive pieces must join
+        (``bezier[i, 3] == bezier[i + 1, 0]`` to a relative ``1e-9``; the start point of the later
+        piece is then set exactly to the end of the earlier one).
+    knots : array_like, shape (m + 1,)
+        Strictly increasing finite knot values ``t_0 < ... < t_m``.
+    closed : bool, optional
+        The curve is a loop: the last piece must end at the first point (same tolerance, then made
+        exact), and parameters wrap with period ``t_m - t_0``.
+    auxiliary : dict of str -> array_like, optional
+        Drawable extra geometry, for example the class polygon points ``'V'``, ``'W'`` (spec §2.1),
+        ``'control_points'`` (spec §4), ``'F'`` (knot points) or ``'tangents'`` (``M_i = P'(t_i)``).
+        Stored as finite float arrays. ``'tangents'`` is treated as vectors by :meth:`transformed`
+        and :meth:`reversed`, everything else as points.
+    info : dict, optional
+        JSON-able metadata (``form``, ``alpha``, ``beta``, ``end_condition``, ...). numpy values are
+        converted to plain Python types.
+
+    Raises
+    ------
+    TypeError, ValueError
+        For wrong types, shapes, non-finite values, non-increasing knots, pieces that do not join or
+        an open loop, naming the offending index.
+    """
+
+    __slots__ = ("_bezier", "_knots", "_closed", "_auxiliary", "_info", "_power")
+
+    def __init__(self, bezier, knots, *, closed=False, auxiliary=None, info=None):
+        bezier = as_float_array(bezier, "bezier", copy=True)
+        if bezier.ndim != 3 or bezier.shape[1] != 4 or bezier.shape[0] < 1 or bezier.shape[2] < 1:
+            raise ValueError(f"bezier must have shape (m, 4, d) with m >= 1, d >= 1; got {bezier.shape}")
+        m = bezier.shape[0]
+        knots = as_float_array(knots, "knots", ndim=1, copy=True)
+        if knots.shape[0] != m + 1:
+            raise ValueError(f"knots must have m + 1 = {m + 1} values for {m} pieces, got {knots.shape[0]}")
+        check_strictly_increasing(knots, "knots")
+        closed = check_bool(closed, "closed")
+
+        scale = float(np.max(np.abs(bezier))) or 1.0
+        tol = _JOIN_RTOL * scale
+        if m > 1:
+            gaps = np.linalg.norm(bezier[1:, 0] - bezier[:-1, 3], axis=-1)
+            if (gaps > tol).any():
+                bad = int(np.flatnonzero(gaps > tol)[0])
+                raise ValueError(
+                    f"pieces {bad} and {bad + 1} do not join: bezier[{bad}, 3] and bezier[{bad + 1}, 0] "
+                    f"are {gaps[bad]:.3g} apart"
+                )
+            bezier[1:, 0] = bezier[:-1, 3]
+        if closed:
+            gap = float(np.linalg.norm(bezier[-1, 3] - bezier[0, 0]))
+            if gap > tol:
+                raise ValueError(
+                    f"closed=True but the last piece ends {gap:.3g} away from the first point "
+                    f"(bezier[{m - 1}, 3] != bezier[0, 0])"
+                )
+            bezier[-1, 3] = bezier[0, 0]
+        bezier.flags.writeable = False
+        knots.flags.writeable = False
+
+        aux = {}
+        if auxiliary is not None:
+            if not isinstance(auxiliary, dict):
+                raise TypeError(f"auxiliary must be a dict of arrays, got {type(auxiliary).__name__}")
+            for key, value in auxiliary.items():
+                if not isinstance(key, str):
+                    raise TypeError(f"auxiliary keys must be strings, got {key!r}")
+                array = as_float_array(value, f"auxiliary[{key!r}]", copy=True)
+                array.flags.writeable = False
+                aux[key] = array
+        if info is None:
+            info = {}
+        if not isinstance(info, dict):
+            raise TypeError(f"info must be a dict, got {type(info).__name__}")
+
+        self._bezier = bezier
+        self._knots = knots
+        self._closed = closed
+        self._auxiliary = aux
+        self._info = _jsonable(info, "info")
+        self._power = None
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def knots(self) -> np.ndarray:
+        """Knot values ``t_0 < ... < t_m`` (read-only array, shape ``(m + 1,)``)."""
+        return self._knots
+
+    @property
+    def closed(self) -> bool:
+        """True for a loop (periodic parameter)."""
+        return self._closed
+
+    @property
+    def n_segments(self) -> int:
+        """Number of pieces ``m``."""
+        return self._bezier.shape[0]
+
+    @property
+    def dim(self) -> int:
+        """Dimension ``d`` of the points."""
+        return self._bezier.shape[2]
+
+    @property
+    def auxiliary(self) -> dict:
+        """Drawable extra geometry (dict of read-only arrays; a shallow copy)."""
+        return dict(self._auxiliary)
+
+    @property
+    def info(self) -> dict:
+        """JSON-able metadata (the stored dict; treat as read-only)."""
+        return self._info
+
+    @property
+    def knot_points(self) -> np.ndarray:
+        """Curve points at the knots, shape ``(m + 1, d)`` (for a loop the last equals the first)."""
+        return np.concatenate([self._bezier[:, 0], self._bezier[-1:, 3]], axis=0)
+
+    @property
+    def domain(self) -> tuple:
+        """``(t_0, t_m)``."""
+        return float(self._knots[0]), float(self._knots[-1])
+
+    def bezier(self) -> np.ndarray:
+        """A copy of the Bézier control points, shape ``(m, 4, d)``."""
+        return np.array(self._bezier)
+
+    def __repr__(self) -> str:
+        form = self._info.get("form")
+        extra = f", form={form!r}" if form is not None else ""
+        t0, tm = self.domain
+        return (
+            f"Spline(n_segments={self.n_segments}, dim={self.dim}, closed={self._closed}, "
+            f"t=[{t0:.6g}, {tm:.6g}]{extra})"
+        )
+
+    # ------------------------------------------------------------------ evaluation
+    def _power_coefficients(self) -> np.ndarray:
+        """Coefficients ``c_k`` of ``P(theta) = sum_k c_k theta^k`` per piece, shape (m, 4, d)."""
+        if self._power is None:
+            b0, b1, b2, b3 = (self._bezier[:, k] for k in range(4))
+            power = np.stack(
+                [b0, 3.0 * (b1 - b0), 3.0 * (b0 - 2.0 * b1 + b2), b3 - b0 + 3.0 * (b1 - b2)], axis=1
+            )
+            power.flags.writeable = False
+            self._power = power
+        return self._power
+
+    def _locate(self, t, *, side: str = "right", extrapolate: bool = False):
+        """Map parameters to (piece index, theta). ``side='left'`` takes the left piece at knots."""
+        knots = self._knots
+        t0, tm = knots[0], knots[-1]
+        span = tm - t0
+        if self._closed:
+            # wrap only what lies outside one period, so that knot values stay bit-exact
+            if side == "right":
+                outside = (t < t0) | (t >= tm)
+                if outside.any():
+                    t = np.where(outside, t0 + np.mod(t - t0, span), t)
+            else:
+                outside = (t <= t0) | (t > tm)
+                if outside.any():
+                    t = np.where(outside, tm - np.mod(tm - t, span), t)
+        elif not extrapolate:
+            slack = _DOMAIN_RTOL * max(span, abs(t0), abs(tm))
+            outside = (t < t0 - slack) | (t > tm + slack)
+            if outside.any():
+                bad = int(np.flatnonzero(outside.reshape(-1))[0])
+                raise ValueError(
+                    f"t{format_index(bad, t.shape)} = {t.reshape(-1)[bad]!r} is outside the curve's "
+                    f"domain [{t0!r}, {tm!r}]; pass extrapolate=True to extend the end pieces"
+                )
+            t = np.clip(t, t0, tm)
+        index = np.searchsorted(knots, t, side=side) - 1
+        np.clip(index, 0, self.n_segments - 1, out=index)
+        h = knots[index + 1] - knots[index]
+        theta = (t - knots[index]) / h
+        return index, theta, h
+
+    @staticmethod
+    def _check_parameters(t):
+        array = as_float_array(t, "t")
+        if array.ndim > 1:
+            raise ValueError(f"t must be a scalar or a 1-d array, got shape {array.shape}")
+        return array
+
+    def _evaluate(self, index, theta, h, nu):
+        coef = self._power_coefficients()[index]  # (k, 4, d)
+        th = theta[:, None]
+        if nu == 0:
+            return coef[:, 0] + th * (coef[:, 1] + th * (coef[:, 2] + th * coef[:, 3]))
+        if nu == 1:
+            value = coef[:, 1] + th * (2.0 * coef[:, 2] + 3.0 * th * coef[:, 3])
+        elif nu == 2:
+            value = 2.0 * coef[:, 2] + 6.0 * th * coef[:, 3]
+        elif nu == 3:
+            value = 6.0 * coef[:, 3] + 0.0 * th
+        else:
+            return np.zeros((theta.shape[0], self.dim))
+        return value / (h ** nu)[:, None]
+
+    def __call__(self, t, nu=0, *, extrapolate=False, side="right"):
+        """Evaluate the curve or its ``nu``-th derivative ``d^nu P / dt^nu``.
+
+        Parameters
+        ----------
+        t : float or array_like, shape (k,)
+            Parameters. Closed curves wrap periodically. Open curves raise ``ValueError`` outside
+            ``[t_0, t_m]`` (up to rounding) unless ``extrapolate=True``, which extends the end pieces.
+        nu : int, optional
+            Derivative order ``>= 0`` (orders above 3 are zero).
+        side : {"right", "left"}, optional
+            Which piece to use at a knot (matters for ``nu >= 2``, where the curve is only ``C^1``).
+
+        Returns
+        -------
+        ndarray, shape (k, d), or (d,) for scalar ``t``.
+        """
+        nu = check_int(nu, "nu", minimum=0)
+        side = check_choice(side, "side", ("right", "left"))
+        extrapolate = check_bool(extrapolate, "extrapolate")
+        array = self._check_parameters(t)
+        flat = array.reshape(-1)
+        index, theta, h = self._locate(flat, side=side, extrapolate=extrapolate)
+        values = self._evaluate(index, theta, h, nu)
+        return values[0] if array.ndim == 0 else values
+
+    def derivative(self, t, order=1, **kwargs):
+        """``d^order P / dt^order`` at ``t`` (see :meth:`__call__`)."""
+        return self(t, nu=order, **kwargs)
+
+    # ------------------------------------------------------------------ curvature
+    @staticmethod
+    def _curvature_from(first, second):
+        """Signed (d = 2) or unsigned (d >= 3) curvature ``|P' x P''| / |P'|^3`` (spec §7)."""
+        speed = np.linalg.norm(first, axis=-1)
+        if first.shape[-1] == 2:
+            cross = first[..., 0] * second[..., 1] - first[..., 1] * second[..., 0]
+        else:
+            dot = np.einsum("...i,...i->...", first, second)
+            cross = np.sqrt(np.maximum(speed**2 * np.einsum("...i,...i->...", second, second) - dot**2, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            kappa = cross / speed**3
+        return np.where(speed > 0, kappa, np.nan)
+
+    def _require_curvature_dim(self):
+        if self.dim < 2:
+            raise ValueError(f"curvature needs points with d >= 2 coordinates, this curve has d = {self.dim}")
+
+    def curvature(self, t, side="right", *, extrapolate=False):
+        """Curvature ``kappa = P' x P'' / |P'|^3`` at ``t`` (spec §7, thesis eq 3.116).
+
+        For planar curves (d = 2) it is signed, ``kappa > 0`` turning left (counter-clockwise); for
+        d >= 3 it is the unsigned magnitude. The curve is only ``C^1`` at the knots and its curvature
+        jumps there unless neighbouring interval weights are equal (spec §2.2, E2): ``side`` chooses
+        the one-sided value at a knot (``"right"``: ``kappa(t_i^+)``, ``"left"``: ``kappa(t_i^-)``).
+        Where the speed ``|P'|`` is zero (a cusp) the curvature is NaN.
+        """
+        self._require_curvature_dim()
+        side = check_choice(side, "side", ("right", "left"))
+        array = self._check_parameters(t)
+        flat = array.reshape(-1)
+        index, theta, h = self._locate(flat, side=side, extrapolate=check_bool(extrapolate, "extrapolate"))
+        kappa = self._curvature_from(self._evaluate(index, theta, h, 1), self._evaluate(index, theta, h, 2))
+        return kappa[0] if array.ndim == 0 else kappa
+
+    def joint_curvature(self) -> np.ndarray:
+        """One-sided curvature at every knot, shape ``(m + 1, 2)``: columns ``kappa(t_i^-)``, ``kappa(t_i^+)``.
+
+        Computed from the Bézier end formulas of spec §7,
+        ``kappa(0) = 2/3 (b1-b0) x (b2-b1) / |b1-b0|^3`` and ``kappa(1) = 2/3 (b2-b1) x (b3-b2) / |b3-b2|^3``
+        (in ``theta``; curvature does not depend on the parametrisation). For an open curve the
+        missing sides (``[0, 0]`` and ``[m, 1]``) are NaN; for a loop row ``m`` repeats row ``0``.
+        Where neighbouring interval weights differ, ``kappa^+ / kappa^- = omega_{i-1} / omega_i``
+        (spec §2.2, E2): the jump is shown, not hidden. Zero end speed gives NaN.
+        """
+        self._require_curvature_dim()
+        b = self._bezier
+        start = self._curvature_from(3.0 * (b[:, 1] - b[:, 0]), 6.0 * (b[:, 0] - 2.0 * b[:, 1] + b[:, 2]))
+        end = self._curvature_from(3.0 * (b[:, 3] - b[:, 2]), 6.0 * (b[:, 1] - 2.0 * b[:, 2] + b[:, 3]))
+        m = self.n_segments
+        out = np.full((m + 1, 2), np.nan)
+        out[1:, 0] = end
+        out[:-1, 1] = start
+        if self._closed:
+            out[0, 0] = end[-1]
+            out[m, 1] = start[0]
+        return out
+
+    def curvature_comb(self, scale=1.0, samples_per_segment=16):
+        """Curvature comb (spec §7): tooth base points and tips, each shape ``(k, 2)``.
+
+        Each piece is sampled uniformly in ``theta`` with both endpoints, so every joint gets both
+        one-sided teeth. A tooth runs from ``P`` to ``P - scale * kappa * N`` with ``N = (-T_y, T_x)``
+        (drawn outside, the CAD convention; a negative ``scale`` draws towards the centre of
+        curvature). Samples with (near) zero speed are skipped. Planar curves only.
+        """
+        if self.dim != 2:
+            raise ValueError(f"curvature_comb needs a planar curve (d = 2), this curve has d = {self.dim}")
+        if isinstance(scale, (bool, np.bool_)) or not isinstance(scale, numbers.Real) or not np.isfinite(scale):
+            raise TypeError(f"scale must be a finite real number, got {scale!r}")
+        samples = check_int(samples_per_segment, "samples_per_segment", minimum=2)
+        theta = np.linspace(0.0, 1.0, samples)
+        basis = _bernstein(theta)  # (k, 4)
+        b = self._bezier
+        points = np.einsum("kj,mjd->mkd", basis, b).reshape(-1, 2)
+        d1 = np.einsum("kj,mjd->mkd", _bernstein_d1(theta), b).reshape(-1, 2)
+        d2 = np.einsum("kj,mjd->mkd", _bernstein_d2(theta), b).reshape(-1, 2)
+        speed = np.linalg.norm(d1, axis=1)
+        scale_ref = float(np.max(np.abs(b))) or 1.0
+        keep = speed > 1e-12 * scale_ref
+        points, d1, d2, speed = points[keep], d1[keep], d2[keep], speed[keep]
+        kappa = self._curvature_from(d1, d2)
+        tangent = d1 / speed[:, None]
+        normal = np.stack([-tangent[:, 1], tangent[:, 0]], axis=1)
+        tips = points - float(scale) * kappa[:, None] * normal
+        return points, tips
+
+    # ------------------------------------------------------------------ sampling
+    def sample(self, tolerance=0.25, max_points=1_000_000, *, samples_per_segment=None):
+        """Display sampling: parameters ``(k,)`` and points ``(k, d)``, in order along the curve.
+
+        Adaptive (default): every piece is split at ``theta = 1/2`` (de Casteljau, vectorised over
+        all pieces of one level) until each sub-piece is flat, i.e. its inner control points lie
+        within ``tolerance`` of its chord. Because a Bézier piece lies in the convex hull of its
+        control points, the curve then stays within ``tolerance`` of the returned polyline (same units
+        as the points, e.g. pixels). Knots and both endpoints are always included; for a loop the last
+        point repeats the first. If reaching the tolerance would need more than ``max_points`` points,
+        refinement stops there and a ``RuntimeWarning`` is issued.
+
+        With ``samples_per_segment=k`` the pieces are instead sampled uniformly, ``k`` points per
+        piece (``theta = 0, 1/k, ..., (k-1)/k``) plus the final endpoint.
+        """
+        b = self._bezier
+        m = self.n_segments
+        knots = self._knots
+        if samples_per_segment is not None:
+            k = check_int(samples_per_segment, "samples_per_segment", minimum=1)
+            theta = np.arange(k) / k
+            points = np.einsum("kj,mjd->mkd", _bernstein(theta), b).reshape(-1, self.dim)
+            params = (knots[:-1, None] + theta[None, :] * np.diff(knots)[:, None]).reshape(-1)
+            return np.append(params, knots[-1]), np.concatenate([points, b[-1:, 3]], axis=0)
+
+        tolerance = check_positive_number(tolerance, "tolerance")
+        max_points = check_int(max_points, "max_points", minimum=m + 1)
+        tol2 = tolerance * tolerance
+        active = b
+        piece = np.arange(m)
+        lo = np.zeros(m)
+        width = np.ones(m)
+        done_ctrl, done_piece, done_lo = [], [], []
+        count = m + 1
+        for _level in range(60):
+            flat = _flatness_sq(active) <= tol2
+            budget = max_points - count
+            n_split = int((~flat).sum())
+            if n_split > budget:
+                if n_split:
+                    warnings.warn(
+                        f"sample(): tolerance {tolerance} needs more than max_points={max_points} points; "
+                        f"returning a coarser sampling",
+                        RuntimeWarning,
+                        stacklevel=2,
+                    )
+                flat[:] = True
+            done_ctrl.append(active[flat, 0])
+            done_piece.append(piece[flat])
+            done_lo.append(lo[flat])
+            if flat.all():
+                break
+            split = ~flat
+            left, right = _split_half(active[split])
+            count += int(split.sum())
+            active = np.concatenate([left, right], axis=0)
+            half = width[split] * 0.5
+            piece = np.concatenate([piece[split], piece[split]])
+            lo = np.concatenate([lo[split], lo[split] + half])
+            width = np.concatenate([half, half])
+        points = np.concatenate(done_ctrl, axis=0)
+        piece = np.concatenate(done_piece)
+        lo = np.concatenate(done_lo)
+        order = np.lexsort((lo, piece))
+        piece, lo, points = piece[order], lo[order], points[order]
+        params = knots[piece] + lo * (knots[piece + 1] - knots[piece])
+        params[lo == 0.0] = knots[piece[lo == 0.0]]
+        return np.append(params, knots[-1]), np.concatenate([points, b[-1:, 3]], axis=0)
+
+    # ------------------------------------------------------------------ export
+    def to_svg_path(self, precision=3) -> str:
+        """SVG path data ``"M x,y C x1,y1 x2,y2 x3,y3 ... Z"`` of the exact cubic Béziers.
+
+        ``precision`` is the number of decimals (trailing zeros dropped); ``None`` writes the
+        shortest exact representation of every float (lossless round trip). Closed curves end with
+        ``Z`` (the last ``C`` already returns to the start point). Planar curves only.
+        """
+        if self.dim != 2:
+            raise ValueError(f"to_svg_path needs a planar curve (d = 2), this curve has d = {self.dim}")
+        if precision is None:
+            fmt = repr
+        else:
+            precision = check_int(precision, "precision", minimum=0)
+
+            def fmt(value):
+                text = f"{value:.{precision}f}"
+                if "." in text:
+                    text = text.rstrip("0").rstrip(".")
+                return "0" if text in ("-0", "") else text
+
+        b = self._bezier
+        coords = [f"{fmt(float(x))},{fmt(float(y))}" for x, y in b[:, 1:].reshape(-1, 2)]
+        parts = [f"M {fmt(float(b[0, 0, 0]))},{fmt(float(b[0, 0, 1]))}"]
+        parts.extend("C " + " ".join(coords[3 * i : 3 * i + 3]) for i in range(self.n_segments))
+        if self._closed:
+            parts.append("Z")
+        return " ".join(parts)
+
+    def to_dict(self) -> dict:
+        """JSON-able representation (plain lists of floats); exact round trip via :meth:`from_dict`."""
+        return {
+            "type": "splinecraft.Spline",
+            "version": 1,
+            "closed": self._closed,
+            "knots": self._knots.tolist(),
+            "bezier": self._bezier.tolist(),
+            "auxiliary": {key: value.tolist() for key, value in self._auxiliary.items()},
+            "auxiliary_shapes": {key: list(value.shape) for key, value in self._auxiliary.items()},
+            "info": _jsonable(self._info, "info"),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "Spline":
+        """Rebuild a spline from :meth:`to_dict` output (also after a JSON round trip)."""
+        if not isinstance(data, dict):
+            raise TypeError(f"from_dict expects a dict, got {type(data).__name__}")
+        if data.get("type", "splinecraft.Spline") != "splinecraft.Spline":
+            raise ValueError(f"not a splinecraft.Spline dict: type={data.get('type')!r}")
+        for key in ("bezier", "knots"):
+            if key not in data:
+                raise ValueError(f"from_dict: missing key {key!r}")
+        shapes = data.get("auxiliary_shapes", {})
+        auxiliary = {}
+        for key, value in (data.get("auxiliary") or {}).items():
+            array = np.asarray(value, dtype=float)
+            if key in shapes:
+                array = array.reshape(shapes[key])
+            auxiliary[key] = array
+        bezier = np.asarray(data["bezier"], dtype=float)
+        return cls(bezier, data["knots"], closed=bool(data.get("closed", False)),
+                   auxiliary=auxiliary, info=data.get("info") or {})
+
+    def to_bpoly(self):
+        """``scipy.interpolate.BPoly`` with coefficients of shape ``(4, m, d)`` (vector valued).
+
+        A loop gets ``extrapolate='periodic'``.
+        """
+        from scipy.interpolate import BPoly
+
+        coefficients = np.ascontiguousarray(np.transpose(self._bezier, (1, 0, 2)))
+        return BPoly(coefficients, np.array(self._knots), extrapolate="periodic" if self._closed else True)
+
+    def to_ppoly(self):
+        """``scipy.interpolate.PPoly`` (power basis, via ``PPoly.from_bernstein_basis``)."""
+        from scipy.interpolate import PPoly
+
+        bpoly = self.to_bpoly()
+        return PPoly.from_bernstein_basis(bpoly, extrapolate=bpoly.extrapolate)
+
+    # ------------------------------------------------------------------ geometry
+    def reversed(self) -> "Spline":
+        """The same curve traversed backwards, with knots ``t'_j = t_0 + t_m - t_{m-j}``.
+
+        Auxiliary geometry is carried over so that it still belongs to the right pieces: per-piece
+        arrays and polylines are flipped, ``'V'`` and ``'W'`` swap roles, ``'tangents'`` change sign,
+        and for a loop per-knot arrays (``'F'``, ``'tangents'``) keep index 0 at the start point.
+        ``info['alpha']`` and ``info['beta']`` are swapped (they swap roles in reverse, spec §1).
+        """
+        b = self._bezier[::-1, ::-1]
+        knots = (self._knots[0] + self._knots[-1]) - self._knots[::-1]
+        m = self.n_segments
+        aux = {}
+        for key, value in self._auxiliary.items():
+            target = {"V": "W", "W": "V"}.get(key, key)
+            flipped = value[::-1]
+            if self._closed and key in _PER_KNOT_KEYS and value.shape[0] == m:
+                flipped = np.roll(flipped, 1, axis=0)
+            if key in VECTOR_AUXILIARY_KEYS:
+                flipped = -flipped
+            aux[target] = flipped
+        info = dict(self._info)
+        if "alpha" in info or "beta" in info:
+            info["alpha"], info["beta"] = self._info.get("beta"), self._info.get("alpha")
+        return Spline(b, knots, closed=self._closed, auxiliary=aux, info=info)
+
+    def transformed(self, matrix, offset=None) -> "Spline":
+        """Affine image ``x -> matrix @ x + offset`` (exact: Bézier pieces map to Bézier pieces).
+
+        Point-like auxiliary arrays are mapped the same way; vector-valued ones (``'tangents'``) get
+        only ``matrix``. Knots and info are unchanged.
+        """
+        d = self.dim
+        matrix = as_float_array(matrix, "matrix")
+        if matrix.shape != (d, d):
+            raise ValueError(f"matrix must have shape ({d}, {d}), got {matrix.shape}")
+        offset = np.zeros(d) if offset is None else as_float_array(offset, "offset")
+        if offset.shape != (d,):
+            raise ValueError(f"offset must have shape ({d},), got {offset.shape}")
+        b = self._bezier @ matrix.T + offset
+        aux = {}
+        for key, value in self._auxiliary.items():
+            if value.ndim >= 1 and value.shape[-1] == d:
+                value = value @ matrix.T
+                if key not in VECTOR_AUXILIARY_KEYS:
+                    value = value + offset
+            aux[key] = value
+        return Spline(b, self._knots, closed=self._closed, auxiliary=aux, info=dict(self._info))
+
+
+# ---------------------------------------------------------------------- Bernstein helpers
+def _bernstein(theta):
+    s = 1.0 - theta
+    return np.stack([s**3, 3.0 * theta * s**2, 3.0 * theta**2 * s, theta**3], axis=-1)
+
+
+def _bernstein_d1(theta):
+    s = 1.0 - theta
+    return np.stack([-3.0 * s**2, 3.0 * s**2 - 6.0 * theta * s, 6.0 * theta * s - 3.0 * theta**2, 3.0 * theta**2], axis=-1)
+
+
+def _bernstein_d2(theta):
+    return np.stack([6.0 * (1.0 - theta), 6.0 * (3.0 * theta - 2.0), 6.0 * (1.0 - 3.0 * theta), 6.0 * theta], axis=-1)
+
+
+def _flatness_sq(ctrl):
+    """Squared max distance of ``b1``, ``b2`` from the segment ``b0 b3`` (per piece)."""
+    a = ctrl[:, 0]
+    chord = ctrl[:, 3] - a
+    length2 = np.einsum("nd,nd->n", chord, chord)
+    worst = np.zeros(ctrl.shape[0])
+    for j in (1, 2):
+        rel = ctrl[:, j] - a
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = np.where(length2 > 0, np.einsum("nd,nd->n", rel, chord) / length2, 0.0)
+        s = np.clip(s, 0.0, 1.0)
+        diff = rel - s[:, None] * chord
+        worst = np.maximum(worst, np.einsum("nd,nd->n", diff, diff))
+    return worst
+
+
+def _split_half(ctrl):
+    """de Casteljau split of every piece at ``theta = 1/2``: (left, right)."""
+    b0, b1, b2, b3 = ctrl[:, 0], ctrl[:, 1], ctrl[:, 2], ctrl[:, 3]
+    p01 = 0.5 * (b0 + b1)
+    p12 = 0.5 * (b1 + b2)
+    p23 = 0.5 * (b2 + b3)
+    p012 = 0.5 * (p01 + p12)
+    p123 = 0.5 * (p12 + p23)
+    mid = 0.5 * (p012 + p123)
+    left = np.stack([b0, p01, p012, mid], axis=1)
+    right = np.stack([mid, p123, p23, b3], axis=1)
+    return left, right

@@ -99,8 +99,8 @@ def check_strictly_increasing(values: np.ndarray, name: str) -> None:
     if not (steps > 0).all():
         bad = int(np.flatnonzero(~(steps > 0))[0])
         raise ValueError(
-            f"{name} must be strictly increasing, but {name}[{bad + 1}] = {values[bad + 1]!r} "
-            f"<= {name}[{bad}] = {values[bad]!r}"
+            f"{name} must be strictly increasing, but {name}[{bad + 1}] = {float(values[bad + 1])!r} "
+            f"<= {name}[{bad}] = {float(values[bad])!r}"
         )
 
 

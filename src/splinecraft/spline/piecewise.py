@@ -152,6 +152,27 @@ class Spline:
         self._info = _jsonable(info, "info")
         self._power = None
 
+    @classmethod
+    def _from_trusted(cls, bezier, knots, *, closed=False, auxiliary=None, info=None):
+        """Internal fast path for constructions that guarantee valid input (no checks, no copies).
+
+        The caller hands over ownership of the arrays: finite float64, shapes ``(m, 4, d)`` and
+        ``(m + 1,)``, strictly increasing knots, joined pieces, JSON-normalised ``info``.
+        """
+        self = cls.__new__(cls)
+        bezier.flags.writeable = False
+        knots.flags.writeable = False
+        aux = auxiliary or {}
+        for value in aux.values():
+            value.flags.writeable = False
+        self._bezier = bezier
+        self._knots = knots
+        self._closed = bool(closed)
+        self._auxiliary = aux
+        self._info = info or {}
+        self._power = None
+        return self
+
     # ------------------------------------------------------------------ properties
     @property
     def knots(self) -> np.ndarray:

@@ -1,0 +1,328 @@
+"""The interpolant form of the generic cubic spline (thesis §3.1 and §4.2.1; spec §2-3).
+
+Given points ``F_1..F_n`` the curve passes through every point. At each interior knot it is ``C^1`` and
+satisfies the weighted nu-spline joint constraint (spec §2.2, thesis eqs 3.13, 3.14)
+
+    omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-),
+
+with a point tension ``v_i`` per point and an interval weight (interval tension) ``omega_i`` per interval.
+The tangents ``M_i = P'(t_i)`` solve one tridiagonal system (cyclic for closed curves), with the same matrix
+for every coordinate (spec §2.3, thesis eq 3.1 with errata E3, E4).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg.lapack import dgtsv
+
+from ._validation import as_float_array, as_points, check_bool, check_choice, per_item
+from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths, parameterize
+from .piecewise import Spline
+from .segment import class_polygon, hermite_bezier
+
+__all__ = ["interpolate", "END_CONDITIONS", "end_derivative_estimates", "solve_tangents"]
+
+#: Accepted ``end_condition`` values (spec §2.4).
+END_CONDITIONS = ("natural", "natural_v", "clamped", "periodic")
+
+#: Condition-number bound above which a tangent system is rejected (spec §2.5).
+MAX_CONDITION = 1e12
+
+
+def end_derivative_estimates(points: np.ndarray, steps: np.ndarray):
+    """End derivatives ``(M_1, M_n)`` from the 3-point parabola (spec §6.3), exact for quadratics.
+
+    ``M_1 = ((2 h_1 + h_2) Δ_1 - h_1 Δ_2) / (h_1 + h_2)`` and its mirror image at the end; for two points
+    both are the chord slope ``Δ_1``. ``steps`` are the ``h_i`` (``n - 1`` of them).
+    """
+    slopes = np.diff(points, axis=0) / steps[:, None]
+    if steps.shape[0] == 1:
+        return slopes[0].copy(), slopes[0].copy()
+    h1, h2 = steps[0], steps[1]
+    first = ((2.0 * h1 + h2) * slopes[0] - h1 * slopes[1]) / (h1 + h2)
+    hn, hp = steps[-1], steps[-2]
+    last = ((2.0 * hn + hp) * slopes[-1] - hn * slopes[-2]) / (hp + hn)
+    return first, last
+
+
+def _dominance_error(k, v, span, relative, closed, n, row_kind):
+    """ValueError for a point tension in the non-dominant band (spec §2.5)."""
+    if relative:
+        where = "point_tension" + f"[{k}] = {v / span:.6g} (relative)"
+        low, high = -6.0, -2.0
+        unit = "times (c_{k-1} + c_k)" if row_kind == "interior" else "times c"
+    else:
+        where = f"point_tension[{k}] = {v:.6g}"
+        low, high = -6.0 * span, -2.0 * span
+        unit = ""
+    neighbours = "(c_{k-1} + c_k)" if row_kind == "interior" else "c" + ("_1" if k == 0 else "_{n-1}")
+    return ValueError(
+        f"{where} makes row {k} of the tangent system not diagonally dominant: it lies in "
+        f"[-6, -2] * {neighbours} = [{low:.6g}, {high:.6g}]{(' ' + unit) if unit else ''}, where the system can be "
+        f"singular (spec §2.5). Use point_tension[{k}] > {high:.6g} (safe domain, unique energy minimiser) or "
+        f"< {low:.6g} (unique solution, but the tangent at point {k} reverses and the curve loops)."
+    )
+
+
+def solve_tangents(lower, diag, upper, rhs, *, closed=False, corner=0.0, tension=None, spans=None,
+                   relative=False, row_kinds=None):
+    """Solve the (cyclic) tridiagonal tangent system with several right-hand sides (spec §2.3, §2.5).
+
+    Row ``k`` reads ``lower[k] M_{k-1} + diag[k] M_k + upper[k] M_{k+1} = rhs[k]`` (``lower[0]`` and
+    ``upper[-1]`` are the cyclic corners when ``closed``, else ignored). Checks strict diagonal dominance
+    row by row and Varah's bound ``cond_inf <= |A|_inf / min_k(|a_kk| - sum_j |a_kj|)`` against
+    :data:`MAX_CONDITION`, then solves with LAPACK ``gtsv`` (the tridiagonal solver behind
+    ``scipy.linalg.solve_banded``), one call for all columns; closed systems use Sherman-Morrison with
+    the extra column in the same call (O(n)).
+    """
+    n = diag.shape[0]
+    off = np.abs(lower) + np.abs(upper)
+    if not closed:
+        off = off.copy()
+        off[0] = abs(upper[0])
+        off[-1] = abs(lower[-1])
+    margin = np.abs(diag) - off
+    if not (margin > 0).all():
+        k = int(np.flatnonzero(~(margin > 0))[0])
+        if tension is not None and row_kinds is not None and row_kinds[k] != "fixed":
+            raise _dominance_error(k, float(tension[k]), float(spans[k]), relative, closed, n, row_kinds[k])
+        raise ValueError(f"row {k} of the tangent system is not diagonally dominant (spec §2.5)")
+    norm = float(np.max(np.abs(diag) + off))
+    worst = int(np.argmin(margin))
+    if norm / margin[worst] > MAX_CONDITION:
+        raise ValueError(
+            f"the tangent system is ill-conditioned (condition bound {norm / margin[worst]:.3g} > "
+            f"{MAX_CONDITION:.0e}), worst at row {worst}"
+            + (f" (point_tension[{worst}] = {float(tension[worst]):.6g})" if tension is not None else "")
+        )
+    if not closed:
+        _, _, _, solution, info = dgtsv(lower[1:], diag, upper[:-1], rhs)
+        if info != 0:
+            raise ValueError(f"the tangent system is singular (LAPACK gtsv info={info})")
+        return solution
+    # Sherman-Morrison for the cyclic corners: A = T + u w^T with u = (gamma, 0.., 0, c_bottom),
+    # w = (1, 0.., 0, c_top / gamma) (Numerical Recipes §2.7).
+    top = lower[0]  # A[0, n-1]
+    bottom = upper[-1]  # A[n-1, 0]
+    gamma = -diag[0]
+    modified = diag.copy()
+    modified[0] -= gamma
+    modified[-1] -= bottom * top / gamma
+    columns = np.zeros((n, rhs.shape[1] + 1))
+    columns[:, :-1] = rhs
+    columns[0, -1] = gamma
+    columns[-1, -1] = bottom
+    _, _, _, both, info = dgtsv(lower[1:], modified, upper[:-1], columns)
+    if info != 0:
+        raise ValueError(f"the cyclic tangent system is singular (LAPACK gtsv info={info})")
+    x, z = both[:, :-1], both[:, -1]
+    denominator = 1.0 + z[0] + top * z[-1] / gamma
+    factor = (x[0] + top * x[-1] / gamma) / denominator
+    solution = x - np.outer(z, factor)
+    # Sherman-Morrison can lose accuracy when the update is nearly singular: verify the residual.
+    residual = diag[:, None] * solution + lower[:, None] * np.roll(solution, 1, 0) + upper[:, None] * np.roll(solution, -1, 0) - rhs
+    scale = np.abs(diag)[:, None] * np.abs(solution) + off[:, None] * np.abs(solution).max(axis=0) + np.abs(rhs)
+    if not np.isfinite(solution).all() or (np.abs(residual) > 1e-9 * (scale.max() + 1e-300)).any():
+        from scipy.sparse import diags
+        from scipy.sparse.linalg import splu
+
+        matrix = diags([lower[1:], diag, upper[:-1], [bottom], [top]], [-1, 0, 1, -(n - 1), n - 1], format="csc")
+        solution = splu(matrix).solve(rhs)
+    return solution
+
+
+def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0, alpha=3.0, beta=3.0,
+                end_condition="natural", end_tangents=None, knots="chord", point_tension_scale="absolute"):
+    """Interpolating generic cubic spline through ``points`` (thesis §3.1, §4.2.1; spec §2-3).
+
+    The curve passes through every point; it is ``C^1`` and at each interior knot satisfies the weighted
+    nu-spline joint constraint ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)`` (spec §2.2,
+    thesis 3.13-3.14). The tangents ``M_i`` solve one tridiagonal system (cyclic when closed), shared by all
+    coordinates (spec §2.3, eq 3.1 with errata E3, E4), in O(n); the pieces are then the exact cubic
+    Béziers ``[F_i, F_i + h_i M_i/3, F_{i+1} - h_i M_{i+1}/3, F_{i+1}]``.
+
+    **The class parameters do not change the curve (erratum E1).** ``alpha``/``beta`` (Ball 2, Bézier 3,
+    Timmer 4, see :data:`~splinecraft.CLASS_PRESETS`) cancel out of the interpolant exactly: they only move
+    the auxiliary class polygon points ``V_i = F_i + h_i M_i / alpha_i`` and ``W_i = F_{i+1} - h_i M_{i+1} / beta_i``
+    (spec §2.1), stored in ``spline.auxiliary`` for drawing. The curve is never computed through them.
+
+    **Joints are G² only where neighbouring interval weights are equal (erratum E2).** The one-sided
+    curvatures satisfy ``kappa(t_i^+) = (omega_{i-1} / omega_i) kappa(t_i^-)`` for any ``v_i``; see
+    :meth:`Spline.joint_curvature` and :meth:`Spline.curvature_comb`, which show the jump.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, d)
+        Data points ``F_1..F_n``: finite, ``n >= 2`` (``N >= 3`` distinct points when closed; do not
+        repeat the first point at the end), consecutive points distinct (spec §3).
+    closed : bool
+        Closed loop with the periodic end condition (spec §2.4 Type 3, erratum E6). ``closed=True``
+        implies ``end_condition="periodic"`` and vice versa.
+    point_tension : float or array_like, shape (n,)
+        Point tension ``v_i`` (one per point). ``v > 0`` tightens the curve towards the polygon
+        (spec §2.5, erratum E22); ``v -> +inf`` gives zero tangents (a polygon with cusps). The end values
+        act only with ``end_condition="natural_v"`` (and for every point of a closed curve).
+        **Sign rule (spec §2.5):** row ``k`` must be strictly diagonally dominant, i.e.
+        ``v_k > -2 (c_{k-1} + c_k)`` (safe domain: unique minimiser of the energy of spec §2.2) or
+        ``v_k < -6 (c_{k-1} + c_k)`` (accepted and unique, but the tangent at ``F_k`` reverses relative to the
+        chords and the curve loops or bulges, thesis Figs 3.8-3.11). Values in the band
+        ``[-6, -2] (c_{k-1} + c_k)``, where the system can be singular, raise ``ValueError`` naming ``k`` and
+        the bounds. Here ``c_i = omega_i / h_i``; at an open end only the one existing ``c`` counts.
+    interval_weights : float or array_like, shape (n-1,) or (N,) when closed
+        Interval weights ``omega_i > 0`` (interval tension): larger values straighten interval ``i``.
+    alpha, beta : float or array_like, shape (n-1,) or (N,)
+        Class parameters per segment (finite, non-zero). They only position ``V_i``, ``W_i`` (see above).
+    end_condition : {"natural", "natural_v", "clamped", "periodic"}
+        ``"natural"``: ``P'' = 0`` at both ends (spec Type 2, the default). ``"natural_v"``: the free-end
+        energy minimiser of thesis eq 3.3 (spec Type 2v, erratum E5), with ``P''(t_1) = v_1 M_1 / omega_1``;
+        its end rows need ``v_1 > -2 c_1`` and ``v_n > -2 c_{n-1}`` (or below ``-6 c``). ``"clamped"``: given
+        end derivatives (Type 1). ``"periodic"``: closed curve (Type 3).
+    end_tangents : (M_1, M_n), optional
+        End derivatives ``dP/dt`` in the knot parameter for ``"clamped"`` (either may be ``None``). Default:
+        the 3-point parabola estimate of spec §6.3 (exact for quadratics). Only valid with ``"clamped"``.
+    knots : {"chord", "centripetal", "uniform"} or array_like
+        Knot parameterization (spec §3), or explicit strictly increasing values: ``n`` for an open curve,
+        ``N + 1`` for a closed one (the last closes the loop).
+    point_tension_scale : {"absolute", "relative"}
+        ``"relative"`` reads ``point_tension`` as the dimensionless ``nu_k`` with
+        ``v_k = nu_k (c_{k-1} + c_k)`` (spec §2.5 Units), which acts the same at every scale and knot spacing
+        (safe iff ``nu_k > -2``); useful for sliders.
+
+    Returns
+    -------
+    Spline
+        ``n - 1`` pieces (``N`` when closed). ``auxiliary``: ``'F'`` (the points), ``'tangents'`` (``M_i``),
+        ``'V'``, ``'W'`` (class polygon). ``info``: ``form='interpolant'``, ``end_condition``, ``knots``,
+        ``alpha``, ``beta``, ``point_tension_scale``.
+
+    Raises
+    ------
+    TypeError
+        Non-numeric arrays, non-bool ``closed``, non-string options.
+    ValueError
+        Naming the argument and index: fewer than 2 points (3 when closed); NaN or inf anywhere;
+        consecutive coincident points; ``interval_weights[i] <= 0``; ``alpha``/``beta`` zero; array lengths
+        that do not match the number of points or intervals; non-increasing explicit knots; a point tension
+        in the non-dominant band (or an ill-conditioned system, condition bound > 1e12); conflicting
+        ``closed``/``end_condition``; ``end_tangents`` of the wrong shape or without ``"clamped"``.
+    """
+    closed = check_bool(closed, "closed")
+    end_condition = check_choice(end_condition, "end_condition", END_CONDITIONS)
+    point_tension_scale = check_choice(point_tension_scale, "point_tension_scale", ("absolute", "relative"))
+    if end_condition == "periodic":
+        closed = True
+    elif closed and end_condition != "natural":
+        raise ValueError(
+            f"closed=True uses the periodic end condition; end_condition={end_condition!r} applies to open curves"
+        )
+    if closed:
+        end_condition = "periodic"
+    if end_tangents is not None and end_condition != "clamped":
+        raise ValueError(f"end_tangents is only used with end_condition='clamped', not {end_condition!r}")
+
+    points = as_points(points, "points", min_count=3 if closed else 2)
+    n, d = points.shape
+    lengths = check_distinct(points, closed)
+    t = parameterize(points, knots, closed=closed, lengths=lengths)
+    steps = np.diff(t)
+    m = steps.shape[0]
+    interval_what = f"one per interval, {m} for {n} {'closed ' if closed else ''}points"
+    weights = per_item(interval_weights, m, "interval_weights", what=interval_what)
+    if not (weights > 0).all():
+        i = int(np.flatnonzero(~(weights > 0))[0])
+        raise ValueError(f"interval_weights[{i}] = {float(weights[i])!r} must be > 0")
+    tension = per_item(point_tension, n, "point_tension", what=f"one per point, {n}")
+    alphas = _class_parameter(alpha, m, "alpha", interval_what)
+    betas = _class_parameter(beta, m, "beta", interval_what)
+
+    c = weights / steps
+    slopes = (np.roll(points, -1, axis=0)[: m] - points[: m]) / steps[:, None] if closed else np.diff(points, axis=0) / steps[:, None]
+    relative = point_tension_scale == "relative"
+
+    if closed:
+        c_prev = np.roll(c, 1)
+        spans = c_prev + c
+        v = tension * spans if relative else tension
+        lower = c_prev
+        upper = c
+        diag = 0.5 * v + 2.0 * spans
+        rhs = 3.0 * (c_prev[:, None] * np.roll(slopes, 1, axis=0) + c[:, None] * slopes)
+        kinds = ("interior",) * n
+    else:
+        spans = np.empty(n)
+        spans[0] = c[0]
+        spans[-1] = c[-1]
+        spans[1:-1] = c[:-1] + c[1:]
+        v = tension * spans if relative else tension
+        lower = np.zeros(n)
+        upper = np.zeros(n)
+        lower[1:] = c
+        upper[:-1] = c
+        diag = np.empty(n)
+        diag[1:-1] = 0.5 * v[1:-1] + 2.0 * spans[1:-1]
+        rhs = np.empty((n, d))
+        rhs[1:-1] = 3.0 * (c[:-1, None] * slopes[:-1] + c[1:, None] * slopes[1:])
+        kinds = ["interior"] * n
+        if end_condition == "clamped":
+            first, last = _end_tangents(end_tangents, points, steps, d)
+            # rows c_1 M_1 = c_1 M̂_1 and c_{n-1} M_n = c_{n-1} M̂_n (scaled like the interior rows)
+            diag[0], upper[0], rhs[0] = c[0], 0.0, c[0] * first
+            diag[-1], lower[-1], rhs[-1] = c[-1], 0.0, c[-1] * last
+            kinds[0] = kinds[-1] = "fixed"
+        else:
+            extra_first = 0.5 * v[0] if end_condition == "natural_v" else 0.0
+            extra_last = 0.5 * v[-1] if end_condition == "natural_v" else 0.0
+            diag[0] = extra_first + 2.0 * c[0]
+            diag[-1] = extra_last + 2.0 * c[-1]
+            rhs[0] = 3.0 * c[0] * slopes[0]
+            rhs[-1] = 3.0 * c[-1] * slopes[-1]
+            kind = "end" if end_condition == "natural_v" else "fixed"
+            kinds[0] = kinds[-1] = kind
+
+    tangents = solve_tangents(lower, diag, upper, rhs, closed=closed, tension=v, spans=spans,
+                              relative=relative, row_kinds=kinds)
+    if not np.isfinite(tangents).all():
+        raise ValueError("the tangent system produced non-finite tangents (spec §2.5)")
+    bezier = hermite_bezier(points, tangents, steps, closed)
+    V, W = class_polygon(bezier, steps, alphas, betas)
+    info = {
+        "form": "interpolant",
+        "end_condition": end_condition,
+        "knots": knots if isinstance(knots, str) else "explicit",
+        "alpha": _summary(alphas),
+        "beta": _summary(betas),
+        "point_tension_scale": point_tension_scale,
+    }
+    auxiliary = {"F": points.copy(), "tangents": tangents, "V": V, "W": W}
+    return Spline._from_trusted(bezier, np.array(t, dtype=float), closed=closed, auxiliary=auxiliary, info=info)
+
+
+def _class_parameter(value, count, name, what):
+    values = per_item(value, count, name, what=what)
+    if not (values != 0).all():
+        i = int(np.flatnonzero(values == 0)[0])
+        raise ValueError(f"{name}[{i}] = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
+    return values
+
+
+def _summary(values):
+    """A scalar when all per-segment values are equal, else 'per-segment' (keeps info small)."""
+    first = float(values[0])
+    return first if (values == first).all() else "per-segment"
+
+
+def _end_tangents(end_tangents, points, steps, d):
+    default_first, default_last = end_derivative_estimates(points, steps)
+    if end_tangents is None:
+        return default_first, default_last
+    if isinstance(end_tangents, (str, bytes)) or not hasattr(end_tangents, "__len__") or len(end_tangents) != 2:
+        raise ValueError("end_tangents must be a pair (M_1, M_n) of derivative vectors (either may be None)")
+    out = []
+    for label, value, default in (("M_1", end_tangents[0], default_first), ("M_n", end_tangents[1], default_last)):
+        if value is None:
+            out.append(default)
+            continue
+        vector = as_float_array(value, f"end_tangents {label}")
+        if vector.shape != (d,):
+            raise ValueError(f"end_tangents {label} must be a vector of length {d}, got shape {vector.shape}")
+        out.append(vector)
+    return out[0], out[1]

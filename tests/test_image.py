@@ -1,0 +1,299 @@
+"""Tests of bitmap loading and binarization (capture/image.py).
+
+References: PIL's own colour conversion (``convert("L")``), skimage's Otsu threshold, explicit numpy
+formulas, and the masks the test images were drawn from.
+"""
+import io
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from hypothesis.extra.numpy import arrays
+from PIL import Image
+from scipy import ndimage
+from skimage.filters import threshold_otsu
+
+from splinecraft.capture.image import FALLBACK_THRESHOLD, MIN_CONTRAST, _to_gray, load_bitmap
+
+
+def shape_mask(height=40, width=50):
+    """A disc with a square hole and a separate bar (True = ink)."""
+    yy, xx = np.mgrid[:height, :width] + 0.5
+    mask = (xx - 18) ** 2 + (yy - 20) ** 2 <= 14**2
+    mask[16:24, 14:22] = False
+    mask[5:35, 40:45] = True
+    return mask
+
+
+def gray_image(mask, ink=0, paper=255, dtype=np.uint8):
+    return np.where(mask, ink, paper).astype(dtype)
+
+
+def edge_band(mask):
+    """Pixels within one pixel of the ink/paper edge (where lossy compression may flip a pixel)."""
+    return ndimage.binary_dilation(mask) & ~ndimage.binary_erosion(mask)
+
+
+# ------------------------------------------------------------------------------ files
+@pytest.mark.parametrize(
+    "suffix, mode",
+    [
+        (".png", "L"), (".png", "1"), (".png", "RGB"), (".png", "RGBA"), (".png", "P"), (".png", "LA"),
+        (".png", "I;16"), (".bmp", "L"), (".bmp", "RGB"), (".bmp", "1"), (".gif", "P"), (".gif", "L"),
+        (".tif", "L"), (".tif", "RGB"), (".tif", "I;16"), (".tiff", "1"),
+    ],
+)
+def test_lossless_files_round_trip(tmp_path, suffix, mode):
+    mask = shape_mask()
+    gray = gray_image(mask)
+    if mode == "I;16":
+        img = Image.fromarray(gray.astype(np.uint16) * 257)
+    else:
+        img = Image.fromarray(gray).convert(mode)
+    path = tmp_path / f"shape{suffix}"
+    img.save(path)
+    np.testing.assert_array_equal(load_bitmap(path), mask)
+    np.testing.assert_array_equal(load_bitmap(str(path)), mask)
+
+
+def test_jpeg_differs_only_at_the_edge(tmp_path):
+    mask = shape_mask(80, 100)
+    path = tmp_path / "shape.jpg"
+    Image.fromarray(gray_image(mask)).save(path, quality=85)
+    loaded = load_bitmap(path)
+    wrong = loaded != mask
+    assert not (wrong & ~edge_band(mask)).any()
+    assert wrong.sum() < 0.02 * mask.size
+
+
+def test_transparent_png_is_composited_on_white(tmp_path):
+    mask = shape_mask()
+    rgba = np.zeros(mask.shape + (4,), np.uint8)  # transparent black everywhere ...
+    rgba[mask, 3] = 255  # ... except the opaque black shape
+    path = tmp_path / "alpha.png"
+    Image.fromarray(rgba, "RGBA").save(path)
+    np.testing.assert_array_equal(load_bitmap(path), mask)
+    palette = Image.fromarray(rgba, "RGBA").convert("P")  # palette with a transparent entry
+    np.testing.assert_array_equal(load_bitmap(palette), mask)
+
+
+def test_multiframe_gif_uses_first_frame(tmp_path):
+    first, second = shape_mask(), ~shape_mask()
+    frames = [Image.fromarray(gray_image(m)).convert("P") for m in (first, second)]
+    path = tmp_path / "anim.gif"
+    frames[0].save(path, save_all=True, append_images=frames[1:])
+    assert Image.open(path).n_frames == 2
+    np.testing.assert_array_equal(load_bitmap(path), first)
+
+
+def test_file_object_and_pil_image():
+    mask = shape_mask()
+    buffer = io.BytesIO()
+    Image.fromarray(gray_image(mask)).save(buffer, format="PNG")
+    buffer.seek(0)
+    np.testing.assert_array_equal(load_bitmap(buffer), mask)
+    for mode in ("1", "L", "RGB", "RGBA", "CMYK", "I", "F"):
+        img = Image.fromarray(gray_image(mask)).convert(mode)
+        if mode == "F":
+            img = Image.fromarray(gray_image(mask).astype(np.float32) / 255)
+        np.testing.assert_array_equal(load_bitmap(img), mask, err_msg=mode)
+
+
+# ------------------------------------------------------------------------------ bad files
+def test_missing_file():
+    with pytest.raises(FileNotFoundError, match="nope.png"):
+        load_bitmap("/nonexistent/nope.png")
+
+
+def test_non_image_file(tmp_path):
+    path = tmp_path / "notes.png"
+    path.write_text("this is not an image\n")
+    with pytest.raises(ValueError, match=r"notes\.png.*not an image"):
+        load_bitmap(path)
+
+
+@pytest.mark.parametrize("suffix", [".png", ".jpg", ".bmp", ".gif", ".tif"])
+def test_truncated_file(tmp_path, suffix):
+    rng = np.random.default_rng(0)
+    img = Image.fromarray((rng.random((120, 160)) * 255).astype(np.uint8))  # incompressible
+    full = tmp_path / f"full{suffix}"
+    img.save(full)
+    data = full.read_bytes()
+    path = tmp_path / f"cut{suffix}"
+    path.write_bytes(data[: len(data) // 3])
+    with pytest.raises(ValueError, match=r"cut\." + suffix[1:]):
+        load_bitmap(path)
+
+
+def test_directory(tmp_path):
+    with pytest.raises(ValueError, match="directory"):
+        load_bitmap(tmp_path)
+
+
+# ------------------------------------------------------------------------------ arrays
+def test_array_kinds_agree():
+    mask = shape_mask()
+    gray = gray_image(mask)
+    rgb = np.repeat(gray[..., None], 3, axis=2)
+    cases = {
+        "bool": mask,
+        "uint8": gray,
+        "uint16": gray.astype(np.uint16) * 257,
+        "int64": gray.astype(np.int64),
+        "float64": gray / 255.0,
+        "float32": (gray / 255.0).astype(np.float32),
+        "float16": (gray / 255.0).astype(np.float16),
+        "gray1": gray[..., None],
+        "gray_alpha": np.dstack([gray, np.full_like(gray, 255)]),
+        "rgb": rgb,
+        "rgba": np.dstack([rgb, np.full_like(gray, 255)]),
+        "rgb_float": rgb / 255.0,
+        "big_endian": gray.astype(">u2") * 257,
+    }
+    for name, array in cases.items():
+        np.testing.assert_array_equal(load_bitmap(array), mask, err_msg=name)
+
+
+def test_coloured_shape_on_coloured_paper():
+    mask = shape_mask()
+    rgb = np.empty(mask.shape + (3,), np.uint8)
+    rgb[mask] = (200, 30, 30)  # red ink, luma ~ 81
+    rgb[~mask] = (250, 250, 210)  # cream paper, luma ~ 245
+    np.testing.assert_array_equal(load_bitmap(rgb), mask)
+
+
+@settings(max_examples=50, deadline=None)
+@given(arrays(np.uint8, st.tuples(st.integers(1, 12), st.integers(1, 12), st.just(3))))
+def test_luma_matches_pil(rgb):
+    gray, white = _to_gray(rgb)
+    assert white == 255 and gray.dtype == np.uint8
+    np.testing.assert_array_equal(gray, np.asarray(Image.fromarray(rgb, "RGB").convert("L")))
+
+
+@settings(max_examples=50, deadline=None)
+@given(arrays(np.uint8, st.tuples(st.integers(1, 12), st.integers(1, 12), st.just(4))))
+def test_alpha_composite_on_white(rgba):
+    gray, _ = _to_gray(rgba)
+    luma = np.asarray(Image.fromarray(np.ascontiguousarray(rgba[..., :3]), "RGB").convert("L")).astype(float)
+    alpha = rgba[..., 3] / 255.0
+    expected = luma * alpha + 255.0 * (1.0 - alpha)
+    assert np.abs(gray - expected).max() <= 0.5 + 1e-9
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    arrays(np.uint8, st.tuples(st.integers(1, 15), st.integers(1, 15))),
+    st.floats(0.0, 1.0),
+    st.booleans(),
+)
+def test_explicit_threshold_and_invert(gray, threshold, invert):
+    mask = load_bitmap(gray, threshold=threshold, invert=invert)
+    expected = gray <= threshold * 255
+    np.testing.assert_array_equal(mask, ~expected if invert else expected)
+
+
+def test_otsu_by_default():
+    rng = np.random.default_rng(3)
+    mask = shape_mask()
+    gray = np.clip(np.where(mask, 60, 190) + rng.normal(0, 25, mask.shape), 0, 255).astype(np.uint8)
+    level = threshold_otsu(gray)
+    np.testing.assert_array_equal(load_bitmap(gray), gray <= level)
+    np.testing.assert_array_equal(load_bitmap(gray, invert=True), gray > level)
+
+
+@pytest.mark.parametrize(
+    "value, ink",
+    [(255, False), (0, True), (int(0.3 * 255), True), (int(0.7 * 255), False)],
+)
+def test_uniform_images_use_the_fallback(value, ink):
+    gray = np.full((20, 30), value, np.uint8)
+    assert FALLBACK_THRESHOLD == 0.5
+    np.testing.assert_array_equal(load_bitmap(gray), np.full(gray.shape, ink))
+
+
+def test_blank_page_with_noise_has_no_ink():
+    rng = np.random.default_rng(1)
+    page = (255 - rng.integers(0, int(MIN_CONTRAST * 255) - 1, size=(50, 50))).astype(np.uint8)
+    assert not load_bitmap(page).any()
+    assert load_bitmap(page, threshold=1.0).all()  # an explicit threshold is always obeyed
+
+
+# ------------------------------------------------------------------------------ specks
+def test_speck_removal():
+    mask = np.zeros((40, 40), bool)
+    mask[5:30, 5:30] = True
+    mask[12, 12] = False  # 1-pixel hole
+    mask[20:22, 20:22] = False  # 4-pixel hole
+    mask[35, 35] = True  # 1-pixel speck
+    mask[34:36, 2:4] = True  # 4-pixel speck
+    np.testing.assert_array_equal(load_bitmap(mask, min_speck_area=0), mask)
+    cleaned = load_bitmap(mask, min_speck_area=4)  # fewer than 4 pixels goes
+    expected = mask.copy()
+    expected[12, 12] = True
+    expected[35, 35] = False
+    np.testing.assert_array_equal(cleaned, expected)
+    cleaned = load_bitmap(mask, min_speck_area=5)
+    expected[20:22, 20:22] = True
+    expected[34:36, 2:4] = False
+    np.testing.assert_array_equal(cleaned, expected)
+
+
+def test_speck_connectivity():
+    mask = np.zeros((6, 6), bool)
+    mask[1, 1] = mask[2, 2] = True  # diagonal pair: one 8-component of 2, two 4-components of 1
+    assert load_bitmap(mask, min_speck_area=2, connectivity=8).sum() == 2
+    assert load_bitmap(mask, min_speck_area=2, connectivity=4).sum() == 0
+
+
+# ------------------------------------------------------------------------------ validation
+@pytest.mark.parametrize(
+    "image, error, match",
+    [
+        (np.zeros((0, 5), np.uint8), ValueError, "empty"),
+        (np.zeros((4, 0), bool), ValueError, "empty"),
+        (np.zeros(5, np.uint8), ValueError, "shape"),
+        (np.zeros((2, 2, 2, 2), np.uint8), ValueError, "shape"),
+        (np.zeros((3, 3, 5), np.uint8), ValueError, "channels"),
+        (np.zeros((3, 3, 3), bool), ValueError, "bool"),
+        (np.zeros((3, 3), complex), TypeError, "dtype"),
+        (np.array([["a"]]), TypeError, "dtype"),
+        (np.zeros((3, 3), object), TypeError, "dtype"),
+        (np.array([[0.5, np.nan]]), ValueError, "NaN|finite"),
+        (np.array([[0.5, np.inf]]), ValueError, "finite"),
+        (np.array([[0.0, 2.0]]), ValueError, r"\[0, 1\]"),
+        (np.array([[0, 300]]), ValueError, "8-bit"),
+        (np.array([[-1, 3]]), ValueError, "8-bit"),
+        ([[0, 1]], TypeError, "numpy array"),
+        (42, TypeError, "numpy array"),
+    ],
+)
+def test_bad_arrays(image, error, match):
+    with pytest.raises(error, match=match):
+        load_bitmap(image)
+
+
+def test_bad_options():
+    gray = np.zeros((3, 3), np.uint8)
+    with pytest.raises(ValueError, match=r"threshold.*\[0, 1\].*255"):
+        load_bitmap(gray, threshold=128)
+    with pytest.raises(ValueError, match="threshold"):
+        load_bitmap(gray, threshold=float("nan"))
+    with pytest.raises(TypeError, match="threshold"):
+        load_bitmap(gray, threshold="0.5")
+    with pytest.raises(ValueError, match="bool mask"):
+        load_bitmap(np.zeros((3, 3), bool), threshold=0.5)
+    with pytest.raises(TypeError, match="invert"):
+        load_bitmap(gray, invert=1)
+    with pytest.raises(ValueError, match="min_speck_area"):
+        load_bitmap(gray, min_speck_area=-1)
+    with pytest.raises(TypeError, match="min_speck_area"):
+        load_bitmap(gray, min_speck_area=2.5)
+    with pytest.raises(ValueError, match="connectivity"):
+        load_bitmap(gray, connectivity=6)
+
+
+def test_bool_invert_and_result_is_a_fresh_array():
+    mask = shape_mask()
+    out = load_bitmap(mask)
+    assert out is not mask and out.dtype == bool and out.flags.c_contiguous
+    np.testing.assert_array_equal(load_bitmap(mask, invert=True), ~mask)

@@ -278,10 +278,13 @@ class Spline:
         return array
 
     def _evaluate(self, index, theta, h, nu):
-        coef = self._power_coefficients()[index]  # (k, 4, d)
         th = theta[:, None]
         if nu == 0:
-            return coef[:, 0] + th * (coef[:, 1] + th * (coef[:, 2] + th * coef[:, 3]))
+            # Bernstein form: exact end points (theta = 0 gives b0, theta = 1 gives b3 bit for bit)
+            b = self._bezier[index]  # (k, 4, d)
+            s = 1.0 - th
+            return (s * s * s) * b[:, 0] + (3.0 * s * s * th) * b[:, 1] + (3.0 * s * th * th) * b[:, 2] + (th * th * th) * b[:, 3]
+        coef = self._power_coefficients()[index]  # (k, 4, d)
         if nu == 1:
             value = coef[:, 1] + th * (2.0 * coef[:, 2] + 3.0 * th * coef[:, 3])
         elif nu == 2:

@@ -1,0 +1,331 @@
+"""The local-support basis form of the generic cubic spline (thesis §3.2; spec §4).
+
+The curve ``P(t) = sum_j B_j(t) P_j`` is built from control points ``P_j`` with B-spline-like basis functions
+``B_j`` of support ``(t_{j-2}, t_{j+2})``. Every ``B_j`` -- hence every curve -- satisfies the weighted nu-spline
+joint constraint of spec §2.2 at each knot, with a point tension ``v_j`` per control point and an interval weight
+``omega_i`` per leg ``P_i P_{i+1}``. With ``v = 0`` and ``omega = 1`` the ``B_j`` are the cubic B-splines on the
+same knots (uniform knots: ``F_i = (P_{i-1} + 4 P_i + P_{i+1}) / 6``).
+
+Everything comes from the closed forms of spec §4.2-4.3 (thesis eqs 3.53-3.65, 3.81-3.84, errata E9, E10):
+
+    a_i = h_i / omega_i,   d_i = a_{i-1} + a_i + a_{i-1} a_i v_i / 2,
+    D_i = h_{i-1} d_{i-1} d_i + a_i (h_{i-1} + h_i) d_{i-1} + a_{i-2} (h_{i-2} + h_{i-1}) d_i,
+    lambda_i = a_i h_i d_{i-1} / D_i,  mu_i = a_{i-1} h_{i-1} d_{i+1} / D_{i+1},
+    rho_i = a_{i-1} (h_{i-1} + h_i) d_{i+1} / D_{i+1},  sigma_{i+1} = a_{i+1} (h_i + h_{i+1}) d_i / D_{i+1},
+
+and segment ``i`` is the exact Bézier ``[F_i, (1-rho_i) P_i + rho_i P_{i+1}, sigma_{i+1} P_i + (1-sigma_{i+1}) P_{i+1}, F_{i+1}]``
+with ``F_i = lambda_i P_{i-1} + (1 - lambda_i - mu_i) P_i + mu_i P_{i+1}``. All vectorised, O(n), no solve.
+"""
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ._validation import as_float_array, as_points, check_bool, check_choice, check_strictly_increasing, per_item
+from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths
+from .piecewise import Spline
+from .segment import class_polygon
+
+__all__ = ["basis_spline", "basis_functions", "BASIS_ENDS"]
+
+#: Accepted ``ends`` values for open basis curves (spec §4.4).
+BASIS_ENDS = ("floating", "clamped")
+
+# |D_i| <= DEGENERATE_RTOL * (sum of the absolute values of its three terms) counts as vanishing.
+DEGENERATE_RTOL = 1e-12
+
+
+def _leg_steps(control_points, knots, closed, ends, n_control):
+    """Knot values and the interval length ``h`` of every leg that carries an interval.
+
+    Returns ``(values, steps)``: ``values`` are the knot values that the curve's pieces use (floating:
+    ``t_0..t_{n+1}``, one per control point; clamped: ``t_1..t_n``; closed: ``t_0..t_N``) and ``steps`` their
+    differences.
+    """
+    if closed:
+        count, first_leg, last_leg = n_control + 1, 0, n_control  # legs 0..N-1 (last closes the loop)
+    elif ends == "clamped":
+        count, first_leg, last_leg = n_control - 2, 1, n_control - 2  # legs 1..n-1
+    else:
+        count, first_leg, last_leg = n_control, 0, n_control - 1  # legs 0..n
+    if isinstance(knots, str):
+        if knots not in KNOT_EXPONENTS:
+            raise ValueError(f"knots must be one of {sorted(KNOT_EXPONENTS)} or an increasing array, got {knots!r}")
+        exponent = KNOT_EXPONENTS[knots]
+        if exponent == 0.0:
+            steps = np.ones(count - 1)
+        else:
+            lengths = leg_lengths(control_points, closed)[first_leg:last_leg]
+            if not closed:
+                check_distinct(control_points[first_leg : last_leg + 1], False, name="control_points", lengths=lengths)
+                steps = lengths
+            else:
+                check_distinct(control_points, True, name="control_points", lengths=lengths)
+                steps = lengths
+            if exponent != 1.0:
+                steps = np.sqrt(steps)
+        values = np.empty(count)
+        values[0] = float(first_leg) if exponent == 0.0 else 0.0
+        np.cumsum(steps, out=values[1:])
+        values[1:] += values[0]
+        return values, steps
+    values = as_float_array(knots, "knots", ndim=1)
+    if values.shape[0] != count:
+        what = {
+            True: f"N + 1 = {count} for a closed curve of N = {n_control} control points",
+            False: (f"n_control - 2 = {count} (t_1..t_n) with clamped ends" if ends == "clamped"
+                    else f"one per control point ({count})"),
+        }[closed]
+        raise ValueError(f"knots has length {values.shape[0]} but needs {what}")
+    check_strictly_increasing(values, "knots")
+    return values, np.diff(values)
+
+
+def _basis_coefficients(steps, weights, tension, closed, ends):
+    """Per-joint and per-segment coefficients of spec §4.2-4.3.
+
+    Returns ``joint`` (lambda, mu, lambda_hat, mu_hat at the joints) and ``segment`` (rho, sigma), as
+    arrays over the joints ``J`` (floating/clamped: thesis ``i = 1..n``; closed: ``0..N-1``) and the
+    segments ``S`` (``1..n-1``; closed ``0..N-1``).
+    """
+    n_control = tension.shape[0]
+    if closed:
+        N = n_control
+        pad = 2
+        h_ext = np.pad(steps, (pad, pad), mode="wrap")
+        a_ext = np.pad(steps / weights, (pad, pad), mode="wrap")
+        v_ext = np.pad(tension, (pad, pad), mode="wrap")
+        h_off = a_off = v_off = pad
+        joints = np.arange(N)
+        segments = np.arange(N)
+    else:
+        n = n_control - 2
+        if ends == "clamped":
+            # triple end knots: h_{-1} = h_0 = 0 = h_n = h_{n+1} (spec §4.4)
+            h_ext = np.concatenate([[0.0, 0.0], steps, [0.0, 0.0]])
+            a_inner = steps / weights[1:-1]
+            a_ext = np.concatenate([[0.0, 0.0], a_inner, [0.0, 0.0]])
+        else:
+            # h_{-1} := h_0, h_{n+1} := h_n, omega likewise (spec §4.4, E12)
+            h_ext = np.concatenate([steps[:1], steps, steps[-1:]])
+            a = steps / weights
+            a_ext = np.concatenate([a[:1], a, a[-1:]])
+        h_off = a_off = 1  # h_ext[i + 1] = h_i for i = -1..n+1
+        v_ext = tension
+        v_off = 0
+        joints = np.arange(1, n + 1)
+        segments = np.arange(1, n)
+
+    def h(i):
+        return h_ext[i + h_off]
+
+    def a(i):
+        return a_ext[i + a_off]
+
+    def d(i):
+        return a(i - 1) + a(i) + 0.5 * a(i - 1) * a(i) * v_ext[i + v_off]
+
+    # D_i for i = J (and J[-1] + 1): one array over J_0..J_last+1
+    i = np.append(joints, joints[-1] + 1)
+    d_prev, d_here = d(i - 1), d(i)
+    terms = (h(i - 1) * d_prev * d_here, a(i) * (h(i - 1) + h(i)) * d_prev, a(i - 2) * (h(i - 2) + h(i - 1)) * d_here)
+    D = terms[0] + terms[1] + terms[2]
+    size = np.abs(terms[0]) + np.abs(terms[1]) + np.abs(terms[2])
+    degenerate = np.abs(D) <= DEGENERATE_RTOL * size
+    degenerate |= size == 0
+    if not closed and ends == "clamped":
+        degenerate[0] = degenerate[-1] = False  # D_1 = D_{n+1} = 0 by construction; limits below
+    if closed:
+        D = D  # D over i = 0..N (D_N == D_0)
+    if degenerate.any():
+        k = int(np.flatnonzero(degenerate)[0])
+        index = int(i[k])
+        raise ValueError(
+            f"the basis is degenerate at knot {index}: D_{index} = {D[k]:.3g} vanishes (spec §4.5), caused by "
+            f"point_tension[{(index - 1) % n_control if closed else index - 1}] and "
+            f"point_tension[{index % n_control if closed else index}]; keep every "
+            f"point_tension[i] > -2 (omega_(i-1)/h_(i-1) + omega_i/h_i) (then d_i > 0 and the basis is non-negative)"
+        )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        D_here, D_next = D[:-1], D[1:]
+        jj = joints
+        lam = a(jj) * h(jj) * d(jj - 1) / D_here
+        lam_hat = 3.0 * a(jj) * d(jj - 1) / D_here
+        mu = a(jj - 1) * h(jj - 1) * d(jj + 1) / D_next
+        mu_hat = 3.0 * a(jj - 1) * d(jj + 1) / D_next
+        # segments: rho_S, sigma_{S+1} use D_{S+1}
+        s_pos = segments - joints[0]  # position of S in the joint array
+        D_s = D[s_pos + 1]
+        rho = a(segments - 1) * (h(segments - 1) + h(segments)) * d(segments + 1) / D_s
+        sigma = a(segments + 1) * (h(segments) + h(segments + 1)) * d(segments) / D_s
+    if not closed and ends == "clamped":
+        # limits at the triple knots (spec §4.4): lambda_1 = 1, lambda_hat_1 = 3/h_1, mu_n = 1, mu_hat_n = 3/h_{n-1}
+        lam[0], lam_hat[0] = 1.0, 3.0 / h(1)
+        mu[-1], mu_hat[-1] = 1.0, 3.0 / h(joints[-1] - 1)
+        rho[0] = 0.0
+        sigma[-1] = 0.0
+    return (lam, mu, lam_hat, mu_hat), (rho, sigma)
+
+
+def _prepare(control_points, closed, point_tension, interval_weights, knots, ends, name="control_points"):
+    closed = check_bool(closed, "closed")
+    ends = check_choice(ends, "ends", BASIS_ENDS)
+    if closed and ends != "floating":
+        raise ValueError("ends applies to open curves only; a closed basis curve has no ends")
+    control_points = as_points(control_points, name, min_count=3 if closed else 4)
+    n_control = control_points.shape[0]
+    values, steps = _leg_steps(control_points, knots, closed, ends, n_control)
+    legs = n_control if closed else n_control - 1
+    weights = per_item(interval_weights, legs, "interval_weights", what=f"one per control-polygon leg, {legs}")
+    if not (weights > 0).all():
+        i = int(np.flatnonzero(~(weights > 0))[0])
+        raise ValueError(f"interval_weights[{i}] = {float(weights[i])!r} must be > 0")
+    tension = per_item(point_tension, n_control, "point_tension", what=f"one per control point, {n_control}")
+    if not closed and ends == "clamped":
+        if not (steps > 0).all():  # explicit knots already checked; chord/centripetal checked by check_distinct
+            raise ValueError("knots must be strictly increasing")
+    return closed, ends, control_points, values, steps, weights, tension
+
+
+def _assemble(control_points, values, steps, weights, tension, closed, ends):
+    """Bézier pieces, knot points F and tangents M from the closed forms (spec §4.3)."""
+    (lam, mu, lam_hat, mu_hat), (rho, sigma) = _basis_coefficients(steps, weights, tension, closed, ends)
+    P = control_points
+    if closed:
+        prev_p, here_p, next_p = np.roll(P, 1, axis=0), P, np.roll(P, -1, axis=0)
+        seg_here, seg_next = P, next_p
+        knots = values
+    else:
+        prev_p, here_p, next_p = P[:-2], P[1:-1], P[2:]  # joints i = 1..n use P_{i-1}, P_i, P_{i+1}
+        seg_here, seg_next = P[1:-2], P[2:-1]  # segments i = 1..n-1 use P_i, P_{i+1}
+        knots = values[1:-1] if ends == "floating" else values
+    F = lam[:, None] * prev_p + (1.0 - lam - mu)[:, None] * here_p + mu[:, None] * next_p
+    M = lam_hat[:, None] * (here_p - prev_p) + mu_hat[:, None] * (next_p - here_p)
+    m = seg_here.shape[0]
+    bezier = np.empty((m, 4, P.shape[1]))
+    bezier[:, 0] = F[:m]
+    bezier[:, 1] = (1.0 - rho)[:, None] * seg_here + rho[:, None] * seg_next
+    bezier[:, 2] = sigma[:, None] * seg_here + (1.0 - sigma)[:, None] * seg_next
+    if closed:
+        bezier[:, 3] = np.roll(F, -1, axis=0)
+    else:
+        bezier[:, 3] = F[1:]
+    return bezier, np.array(knots, dtype=float), F, M
+
+
+def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_weights=1.0, alpha=3.0, beta=3.0,
+                 knots="uniform", ends="floating") -> Spline:
+    """Local-support (basis form) generic cubic spline from control points (thesis §3.2; spec §4).
+
+    ``P(t) = sum_j B_j(t) P_j``. Moving one control point changes at most the four segments it supports. At
+    every joint the curve is ``C^1`` and satisfies the weighted nu-spline constraint
+    ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)`` (spec §2.2). Built in O(n) from the closed
+    forms of spec §4.2-4.3 (thesis 3.53-3.65 with errata E9, E10): no linear solve.
+
+    **The class parameters do not change the curve (erratum E1).** ``alpha``/``beta`` cancel out; they only
+    position the class polygon points ``V_i = F_i + h_i M_i / alpha_i``, ``W_i = F_{i+1} - h_i M_{i+1} / beta_i``
+    (stored in ``auxiliary`` for drawing).
+
+    **Joints are G² only where neighbouring interval weights are equal (erratum E2):**
+    ``kappa(t_i^+) = (omega_{i-1} / omega_i) kappa(t_i^-)``; :meth:`Spline.joint_curvature` shows the jump.
+
+    Parameters
+    ----------
+    control_points : array_like, shape (n_control, d)
+        Finite control points. Open curves need at least 4, closed curves at least 3. Consecutive
+        coincident control points are allowed with uniform or explicit knots (as in B-splines) but not with
+        ``"chord"``/``"centripetal"`` knots, where they would give an empty interval.
+    closed : bool
+        Closed (periodic) curve: indices are taken mod N (spec §4.4), ``N`` segments.
+    point_tension : float or array_like, shape (n_control,)
+        ``v_j``, one per control point. ``v -> +inf`` pulls the curve to ``P_j`` (a cusp there). Negative values
+        are allowed while the closed forms stay well defined; ``v_j > -2 (omega_{j-1}/h_{j-1} + omega_j/h_j)``
+        (all ``v >= 0`` included) guarantees ``d_j > 0``, non-negative basis functions and the convex-hull
+        property. Beyond it the basis can go negative, and where ``D_i`` vanishes (relative ``1e-12``, e.g.
+        ``h = omega = 1``, ``v = -4``) a ``ValueError`` names the knot and the control points (spec §4.5).
+        With clamped ends ``v`` of the first two and last two control points has no effect.
+    interval_weights : float or array_like, shape (n_control - 1,) or (N,) when closed
+        ``omega_i > 0``, one per leg ``P_i P_{i+1}``. Large values straighten segment ``i`` towards the leg.
+        With clamped ends the first and last leg carry no interval and their weights have no effect.
+    alpha, beta : float or array_like, one per segment
+        Finite, non-zero class parameters (Ball 2, Bézier 3, Timmer 4); only ``V``, ``W`` depend on them.
+    knots : {"uniform", "chord", "centripetal"} or array_like
+        The knots belong to the control polygon: ``h_i = |P_{i+1} - P_i|^e`` (spec §3), uniform ``h = 1`` by
+        default. Explicit strictly increasing values: one per control point ``t_0..t_{n+1}`` for floating
+        ends (the curve runs over ``[t_1, t_n]``), ``t_1..t_n`` (``n_control - 2`` values) for clamped ends,
+        ``N + 1`` values for a closed curve. Uniform knots are ``t_j = j``.
+    ends : {"floating", "clamped"}
+        ``"floating"``: the curve does not pass through ``P_0`` or ``P_{n+1}`` (``h_{-1} := h_0``,
+        ``h_{n+1} := h_n``, erratum E12). ``"clamped"``: triple end knots, so the curve starts at ``P_0`` tangent
+        to ``P_0 P_1`` and ends at ``P_{n+1}`` tangent to ``P_n P_{n+1}`` (four control points give one Bézier).
+
+    Returns
+    -------
+    Spline
+        ``n_control - 3`` segments (floating or clamped) or ``N`` (closed). ``auxiliary``:
+        ``'control_points'``, ``'F'`` (knot points), ``'tangents'`` (``M_i``), ``'V'``, ``'W'``.
+
+    Raises
+    ------
+    TypeError, ValueError
+        Naming the argument and index, for too few points, NaN/inf, coincident consecutive points with
+        chord/centripetal knots, ``interval_weights[i] <= 0``, zero ``alpha``/``beta``, mismatched array
+        lengths, non-increasing explicit knots, or a degenerate basis (vanishing ``D_i``).
+    """
+    closed, ends, P, values, steps, weights, tension = _prepare(
+        control_points, closed, point_tension, interval_weights, knots, ends
+    )
+    bezier, knot_values, F, M = _assemble(P, values, steps, weights, tension, closed, ends)
+    m = bezier.shape[0]
+    segment_what = f"one per segment, {m}"
+    alphas = per_item(alpha, m, "alpha", what=segment_what)
+    betas = per_item(beta, m, "beta", what=segment_what)
+    for name, values_ in (("alpha", alphas), ("beta", betas)):
+        if not (values_ != 0).all():
+            i = int(np.flatnonzero(values_ == 0)[0])
+            raise ValueError(f"{name}[{i}] = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
+    V, W = class_polygon(bezier, np.diff(knot_values), alphas, betas)
+    info = {
+        "form": "basis",
+        "ends": "closed" if closed else ends,
+        "knots": knots if isinstance(knots, str) else "explicit",
+        "alpha": float(alphas[0]) if (alphas == alphas[0]).all() else "per-segment",
+        "beta": float(betas[0]) if (betas == betas[0]).all() else "per-segment",
+    }
+    auxiliary = {"control_points": P.copy(), "F": F, "tangents": M, "V": V, "W": W}
+    return Spline._from_trusted(bezier, knot_values, closed=closed, auxiliary=auxiliary, info=info)
+
+
+def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, closed=False, ends="floating"):
+    """Values of all basis functions ``B_j(t)``, shape ``(len(t), n_control)`` (spec §4.1-4.3).
+
+    Each ``B_j`` is the scalar basis curve with control values ``e_j``, so all of them come from one basis
+    curve in ``n_control`` dimensions (control points = identity matrix) evaluated once. Useful for plotting
+    the partition of unity (rows sum to 1) and the local support (``B_j = 0`` outside ``(t_{j-2}, t_{j+2})``).
+
+    Parameters
+    ----------
+    t : float or array_like
+        Parameters in the curve's domain (floating: ``[t_1, t_n]``; clamped: ``[t_1, t_n]``; closed: wraps).
+    knots_or_n : int or array_like
+        The number of control points (uniform knots ``t_j = j``), or explicit knot values as in
+        :func:`basis_spline` (their count fixes ``n_control``).
+    point_tension, interval_weights, closed, ends
+        As in :func:`basis_spline`.
+    """
+    closed = check_bool(closed, "closed")
+    ends = check_choice(ends, "ends", BASIS_ENDS)
+    if isinstance(knots_or_n, numbers.Integral) and not isinstance(knots_or_n, (bool, np.bool_)):
+        n_control = int(knots_or_n)
+        knots = "uniform"
+    else:
+        knots = as_float_array(knots_or_n, "knots_or_n", ndim=1)
+        n_control = knots.shape[0] - 1 if closed else (knots.shape[0] + 2 if ends == "clamped" else knots.shape[0])
+    minimum = 3 if closed else 4
+    if n_control < minimum:
+        raise ValueError(f"basis_functions needs at least {minimum} control points, got {n_control}")
+    spline = basis_spline(np.eye(n_control), closed=closed, point_tension=point_tension,
+                          interval_weights=interval_weights, knots=knots, ends=ends)
+    values = spline(t)
+    return values

@@ -14,6 +14,7 @@ from .spline import *  # noqa: F401,F403
 from .spline import __all__ as _spline_all
 from .capture import *  # noqa: F401,F403
 from .capture import __all__ as _capture_all
+from . import datasets  # noqa: F401  (thesis-like test bitmaps, teaching shapes, demo points)
 
 __version__ = "0.1.0"
 

@@ -1,0 +1,635 @@
+"""Deterministic test bitmaps and point sets: the thesis's five objects, teaching shapes, editor demos.
+
+Chapter 4 of the thesis evaluates its knot-insertion algorithms on five scanned objects (tables
+4.1-4.61): the Arabic word 'Ali' (علي), an apple, a plane, the letter 'D' and a plane made of several
+parts ("Mult_Seg_Plane"). The scans are not available, so this module draws objects *like* them,
+procedurally, with numpy only: every object is an implicit shape ``f(x, y) <= 0`` built from exact
+primitives (discs, ellipses, polygons, stroked curves of varying width) combined by union, intersection
+and difference. Two things follow from that:
+
+* the bitmap is a *sampling* of a known shape (pixel ``(r, c)`` is ink iff the pixel centre
+  ``(c + 0.5, r + 0.5)`` is inside), identical on every machine (no fonts, no text shaping:
+  PIL without libraqm does not join Arabic letters, so 'Ali' is drawn as strokes that follow the
+  joined Naskh word as DejaVu Sans renders it);
+* the *true* outline is known: :func:`true_outline` returns it as dense polylines lying on the zero set
+  (to 1e-3 px), so a traced result can be scored by its geometric deviation from the real shape and
+  not only from the pixel staircase (used by ``benchmarks/thesis_tables.py``).
+
+Frame: the pixel frame of the capture modules (x right, y down, pixel ``(r, c)`` covers
+``[c, c+1] x [r, r+1]``). Outer outlines have positive shoelace area in that frame, holes negative
+(the orientation of :class:`splinecraft.Boundary`).
+
+Public functions
+----------------
+thesis_object(name, size=None) -> bool mask            names in :data:`THESIS_OBJECTS`
+shape(name, size=128) -> bool mask                      names in :data:`SHAPES`
+true_outline(name, size=None) -> list of (n, 2) arrays  any name of the two lists above
+sample_points(name) -> (n, 2) array; sample_closed(name) -> bool    names in :data:`SAMPLE_POINTS`
+"""
+from __future__ import annotations
+
+import functools
+import numbers
+
+import numpy as np
+
+__all__ = [
+    "THESIS_OBJECTS",
+    "THESIS_TITLES",
+    "SHAPES",
+    "SAMPLE_POINTS",
+    "thesis_object",
+    "shape",
+    "true_outline",
+    "sample_points",
+    "sample_closed",
+]
+
+# ----------------------------------------------------------------------------------------------
+# Implicit-shape primitives. Every primitive maps x, y (1-D float arrays, design units, y down) to
+# f(x, y): negative inside, positive outside. Discs, polygons and strokes return the exact signed
+# distance; ellipses a smooth function with the exact zero set. Boolean operations (min / max) keep
+# the zero set exact, so the bitmap and the true outline are those of the composed shape.
+# ----------------------------------------------------------------------------------------------
+
+_CHUNK = 1 << 22  # max elements of one (points x segments) temporary
+
+
+def _segment_distance(x, y, starts, ends, radius_start, radius_end):
+    """min over segments of ``distance(point, segment) - radius(u)``, radius linear along the segment.
+
+    This is a stroke of varying width around a polyline (round caps and joins). Vectorised over
+    points and segments, in chunks of at most ``_CHUNK`` elements.
+    """
+    x = np.asarray(x, float)
+    y = np.asarray(y, float)
+    ax, ay = starts[:, 0], starts[:, 1]
+    dx, dy = ends[:, 0] - ax, ends[:, 1] - ay
+    length_sq = np.maximum(dx * dx + dy * dy, 1e-300)
+    out = np.empty(x.shape[0])
+    step = max(1, _CHUNK // max(1, starts.shape[0]))
+    for lo in range(0, x.shape[0], step):
+        px = x[lo:lo + step, None] - ax
+        py = y[lo:lo + step, None] - ay
+        u = np.clip((px * dx + py * dy) / length_sq, 0.0, 1.0)
+        dist = np.hypot(px - u * dx, py - u * dy) - (radius_start + u * (radius_end - radius_start))
+        out[lo:lo + step] = dist.min(axis=1)
+    return out
+
+
+def _disc(cx, cy, radius):
+    def f(x, y):
+        return np.hypot(x - cx, y - cy) - radius
+    return f
+
+
+def _ellipse(cx, cy, semi_x, semi_y, angle_deg=0.0):
+    """Ellipse; f = (rho - 1) * min(semi axes) with rho the ellipse 'radius' (exact zero set)."""
+    cos_a, sin_a = np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))
+    scale = min(semi_x, semi_y)
+
+    def f(x, y):
+        u = (x - cx) * cos_a + (y - cy) * sin_a
+        v = -(x - cx) * sin_a + (y - cy) * cos_a
+        return (np.hypot(u / semi_x, v / semi_y) - 1.0) * scale
+    return f
+
+
+def _polygon(vertices):
+    """Exact signed distance to a simple polygon (even-odd inside test)."""
+    vertices = np.asarray(vertices, float)
+    starts = vertices
+    ends = np.roll(vertices, -1, axis=0)
+    zeros = np.zeros(len(vertices))
+
+    def f(x, y):
+        dist = _segment_distance(x, y, starts, ends, zeros, zeros)
+        inside = np.zeros(x.shape[0], bool)
+        for (ax, ay), (bx, by) in zip(starts, ends):  # loop over the few polygon edges only
+            crosses = (ay > y) != (by > y)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                x_cross = ax + (bx - ax) * (y - ay) / (by - ay)
+            inside ^= crosses & (x < x_cross)
+        return np.where(inside, -dist, dist)
+    return f
+
+
+def _catmull_rom(points, samples_per_span=12):
+    """Centripetal Catmull-Rom curve through ``points`` (no loops or cusps), as a dense polyline."""
+    points = np.asarray(points, float)
+    padded = np.vstack([2 * points[0] - points[1], points, 2 * points[-1] - points[-2]])
+    out = [points[:1]]
+    theta = np.linspace(0.0, 1.0, samples_per_span + 1)[1:, None]
+    for k in range(1, len(padded) - 2):
+        p0, p1, p2, p3 = padded[k - 1:k + 3]
+        t0 = 0.0
+        t1 = t0 + np.linalg.norm(p1 - p0) ** 0.5
+        t2 = t1 + np.linalg.norm(p2 - p1) ** 0.5
+        t3 = t2 + np.linalg.norm(p3 - p2) ** 0.5
+        t = t1 + theta * (t2 - t1)
+        a1 = (t1 - t) / (t1 - t0) * p0 + (t - t0) / (t1 - t0) * p1
+        a2 = (t2 - t) / (t2 - t1) * p1 + (t - t1) / (t2 - t1) * p2
+        a3 = (t3 - t) / (t3 - t2) * p2 + (t - t2) / (t3 - t2) * p3
+        b1 = (t2 - t) / (t2 - t0) * a1 + (t - t0) / (t2 - t0) * a2
+        b2 = (t3 - t) / (t3 - t1) * a2 + (t - t1) / (t3 - t1) * a3
+        out.append((t2 - t) / (t2 - t1) * b1 + (t - t1) / (t2 - t1) * b2)
+    return np.vstack(out)
+
+
+def _stroke(points, radii, samples_per_span=12):
+    """A pen stroke along the smooth curve through ``points``, half-width interpolated from ``radii``.
+
+    ``radii`` holds one half-width per control point (linearly interpolated along the curve). Ends
+    are round.
+    """
+    points = np.asarray(points, float)
+    spine = _catmull_rom(points, samples_per_span) if len(points) > 2 else points
+    radii = np.asarray(radii, float)
+    # radius at each spine vertex: linear in the control-point index along the spine
+    position = np.linspace(0.0, len(points) - 1.0, len(spine))
+    spine_radius = np.interp(position, np.arange(len(points)), radii)
+
+    def f(x, y):
+        return _segment_distance(x, y, spine[:-1], spine[1:], spine_radius[:-1], spine_radius[1:])
+    return f
+
+
+def _union(*shapes):
+    def f(x, y):
+        return functools.reduce(np.minimum, (s(x, y) for s in shapes))
+    return f
+
+
+def _intersection(*shapes):
+    def f(x, y):
+        return functools.reduce(np.maximum, (s(x, y) for s in shapes))
+    return f
+
+
+def _difference(shape_a, *removed):
+    def f(x, y):
+        return functools.reduce(np.maximum, (-s(x, y) for s in removed), shape_a(x, y))
+    return f
+
+
+def _smooth_union(shape_a, shape_b, blend):
+    """Union with a fillet of size ``blend`` (polynomial smooth minimum); the zero set is smooth."""
+    def f(x, y):
+        a, b = shape_a(x, y), shape_b(x, y)
+        h = np.clip(0.5 + 0.5 * (b - a) / blend, 0.0, 1.0)
+        return b + (a - b) * h - blend * h * (1.0 - h)
+    return f
+
+
+def _half_plane(point, normal_out):
+    """Half-plane ``(p - point) . normal_out <= 0`` (``normal_out`` points outside)."""
+    nx, ny = np.asarray(normal_out, float) / np.hypot(*normal_out)
+
+    def f(x, y):
+        return (x - point[0]) * nx + (y - point[1]) * ny
+    return f
+
+
+def _vesica(tip_a, tip_b, half_width):
+    """Leaf shape: intersection of two discs through the tips ``tip_a``, ``tip_b`` (pointed ends)."""
+    tip_a, tip_b = np.asarray(tip_a, float), np.asarray(tip_b, float)
+    chord = tip_b - tip_a
+    half_chord = np.linalg.norm(chord) / 2
+    radius = (half_chord ** 2 + half_width ** 2) / (2 * half_width)
+    normal = np.array([-chord[1], chord[0]]) / (2 * half_chord)
+    middle = (tip_a + tip_b) / 2
+    offset = radius - half_width
+    c1, c2 = middle + offset * normal, middle - offset * normal
+    return _intersection(_disc(c1[0], c1[1], radius), _disc(c2[0], c2[1], radius))
+
+
+# ----------------------------------------------------------------------------------------------
+# The objects. Each builder returns (f, width, height) in its own design units (y down); the
+# bitmap scales the longer side to ``size`` pixels.
+# ----------------------------------------------------------------------------------------------
+
+
+def _ali():
+    """The Arabic word 'Ali' (علي) in a Naskh-like style: ayn (initial), lam (medial), ya (final).
+
+    Drawn in the units of a 300-px DejaVu Sans rendering of the joined word (read right to left):
+    the ayn's open 'c' head over its rising, square-cut tail on the right, the tall lam with
+    filleted foot, then the ya's hump, curl and deep bowl, and its two square dots below. Three
+    components (the word, two dots), no holes.
+    """
+    lam = _polygon([(307, 50), (333, 50), (333, 262), (307, 262)])
+    baseline = _stroke([(300, 264), (340, 264), (400, 262), (440, 250), (475, 233), (525, 210)],
+                       [13.5, 13.5, 13.5, 13, 12.5, 12])
+    tail_cut = _half_plane((517, 212), (1, 0))
+    ayn_head = _stroke([(492, 135), (455, 137), (430, 150), (414, 172), (412, 195), (422, 218),
+                        (442, 236), (452, 246)], [12, 12, 12.5, 13, 13, 13, 13, 13])
+    head_cut = _half_plane((484, 135), (1, 0))
+    word = _smooth_union(lam, _intersection(baseline, tail_cut), 10)
+    word = _union(word, _intersection(ayn_head, head_cut))
+    ya = _stroke([(322, 264), (292, 264), (264, 257), (242, 238), (224, 218), (204, 211), (187, 224),
+                  (184, 247), (200, 268), (203, 288), (180, 302), (140, 306), (95, 303), (64, 289),
+                  (52, 262), (56, 232), (60, 215)],
+                 [13.5, 13.5, 14, 15.5, 16, 15, 13.5, 12.5, 12.5, 12.5, 12.5, 12.5, 12.5, 12.5,
+                  12.5, 12.5, 12.5])
+    tip_cut = _half_plane((0, 224), (0, -1))
+    word = _union(word, _intersection(ya, tip_cut))
+    dots = _union(_polygon([(94, 330), (115, 330), (115, 351), (94, 351)]),
+                  _polygon([(130, 330), (151, 330), (151, 351), (130, 351)]))
+    drawing = _union(word, dots)
+
+    def f(x, y):  # shift the drawing into a canvas with a margin
+        return drawing(x + 15.0, y + 28.0)
+    return f, 540.0, 345.0
+
+
+def _apple():
+    """An apple: two-lobed body with a top dimple, a curved stem and a pointed leaf (one component)."""
+    lobes = _smooth_union(_disc(37, 56, 28), _disc(63, 56, 28), 10)
+    bottom = _smooth_union(_disc(41, 74, 21), _disc(59, 74, 21), 8)
+    body = _smooth_union(lobes, bottom, 8)
+    dimple_top = _disc(50, 22, 8.5)
+    dimple_bottom = _disc(50, 100.5, 5.5)
+    body = _difference(body, dimple_top, dimple_bottom)
+    stem = _stroke([(50, 34), (51, 24), (54, 14), (58, 7)], [3.0, 2.6, 2.2, 2.0])
+    leaf = _vesica((53.0, 21.0), (81, 8.5), 6.5)
+    sprig = _smooth_union(stem, leaf, 2.5)  # fillet: no pinhole in the acute notch
+    return _smooth_union(body, sprig, 2.0), 100.0, 104.0
+
+
+def _plane_parts(gap=0.0):
+    """Top view of an airliner: fuselage, swept wings with engines, tailplane."""
+    fuselage = _stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [2.5, 5.5, 5.5, 2.2], 8)
+    wings = [_polygon([(47, 38), (5, 58), (5, 64), (47, 55)]),
+             _polygon([(53, 38), (95, 58), (95, 64), (53, 55)])]
+    engines = [_ellipse(28, 50, 3.2, 7.0), _ellipse(72, 50, 3.2, 7.0)]
+    tail = [_polygon([(48.5, 79), (32, 89), (32, 93), (48.5, 88)]),
+            _polygon([(51.5, 79), (68, 89), (68, 93), (51.5, 88)])]
+    return fuselage, wings, engines, tail
+
+
+def _plane():
+    """A plane (top view): one component with many corners (wing and tail tips, engine nacelles)."""
+    fuselage, wings, engines, tail = _plane_parts()
+    return _union(fuselage, *wings, *engines, *tail), 100.0, 100.0
+
+
+def _planes():
+    """A plane made of several parts ('Mult_Seg_Plane'): separate fuselage, wings, engines, tail.
+
+    The wings and the tailplane are cut free of the fuselage by a gap, the engines are detached pods,
+    and the fuselage has a cockpit window and three cabin windows (holes): 7 components, 4 holes.
+    """
+    fuselage = _stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [3.0, 7.0, 7.0, 2.6], 8)
+    clearance = _stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [5.0, 9.5, 9.5, 4.6], 8)
+    windows = [_ellipse(50, 17, 3.0, 4.5), _disc(50, 35, 2.4), _disc(50, 47, 2.4), _disc(50, 59, 2.4)]
+    body = _difference(fuselage, *windows)
+    wing_left = _polygon([(47, 36), (5, 58), (5, 64), (47, 55)])
+    wing_right = _polygon([(53, 36), (95, 58), (95, 64), (53, 55)])
+    wings = _difference(_union(wing_left, wing_right), clearance)
+    engines = _union(_ellipse(28, 41, 3.6, 6.5), _ellipse(72, 41, 3.6, 6.5))
+    engine_clearance = _union(_ellipse(28, 41, 5.6, 8.5), _ellipse(72, 41, 5.6, 8.5))
+    wings = _difference(wings, engine_clearance)
+    tail = _difference(_union(_polygon([(47, 80), (30, 90), (30, 94), (47, 89)]),
+                              _polygon([(53, 80), (70, 90), (70, 94), (53, 89)])), clearance)
+    return _union(body, wings, engines, tail), 100.0, 100.0
+
+
+def _letter_d():
+    """A serif capital 'D': stem with top and bottom serifs, elliptical bowl, one counter (hole)."""
+    outer = _union(_polygon([(16, 10), (52, 10), (52, 90), (16, 90)]),
+                   _intersection(_ellipse(52, 50, 36, 40), _half_plane((52, 0), (-1, 0))),
+                   _polygon([(7, 10), (30, 10), (30, 16), (7, 16)]),
+                   _polygon([(7, 84), (30, 84), (30, 90), (7, 90)]))
+    counter = _union(_polygon([(35, 22), (52, 22), (52, 78), (35, 78)]),
+                     _intersection(_ellipse(52, 50, 22, 28), _half_plane((52, 0), (-1, 0))))
+    return _difference(outer, counter), 96.0, 100.0
+
+
+def _square():
+    return _polygon([(20, 20), (80, 20), (80, 80), (20, 80)]), 100.0, 100.0
+
+
+def _star():
+    """Five-pointed star (10 corners: 5 convex tips, 5 concave)."""
+    angles = np.radians(-90 + 36 * np.arange(10))
+    radii = np.where(np.arange(10) % 2 == 0, 42.0, 18.0)
+    return _polygon(np.c_[50 + radii * np.cos(angles), 52 + radii * np.sin(angles)]), 100.0, 100.0
+
+
+def _disc_shape():
+    return _disc(50, 50, 38), 100.0, 100.0
+
+
+def _ellipse_shape():
+    return _ellipse(50, 50, 42, 24, angle_deg=25.0), 100.0, 100.0
+
+
+def _blob():
+    """A smooth, non-convex blob: a radial Fourier series (fixed coefficients), no corners."""
+    harmonics = np.array([2, 3, 5])
+    amplitude = np.array([0.16, 0.10, 0.05])
+    phase = np.array([0.3, 1.9, 4.0])
+
+    def boundary_radius(angle):
+        return 30.0 * (1.0 + (amplitude * np.cos(harmonics * angle[:, None] + phase)).sum(axis=1))
+
+    def f(x, y):
+        # radial function: exact zero set r = R(angle); scaled so |grad f| ~ 1 near the boundary
+        angle = np.arctan2(y - 50.0, x - 50.0)
+        return np.hypot(x - 50.0, y - 50.0) - boundary_radius(angle)
+    return f, 100.0, 100.0
+
+
+_THESIS_BUILDERS = {"ali": _ali, "apple": _apple, "plane": _plane, "D": _letter_d, "planes": _planes}
+_SHAPE_BUILDERS = {"square": _square, "star": _star, "disc": _disc_shape, "ellipse": _ellipse_shape,
+                   "blob": _blob}
+
+#: The five thesis-like objects, in the order of the thesis's tables (4.1-4.30, 4.61).
+THESIS_OBJECTS = ("ali", "apple", "plane", "D", "planes")
+#: The thesis's names for them (table captions).
+THESIS_TITLES = {"ali": "Arabic word 'Ali'", "apple": "Apple", "plane": "Plane",
+                 "D": "English alphabet 'D'", "planes": "Mult_Seg_Plane"}
+#: Default bitmap size (longer side, px) per object: chosen so the contours have about as many
+#: points as the thesis's scans (e.g. 1644 for 'Ali', 1005 for 'Mult_Seg_Plane').
+THESIS_DEFAULT_SIZE = {"ali": 420, "apple": 300, "plane": 360, "D": 300, "planes": 360}
+#: Teaching shapes for the corner-detector and fitting notebooks and tests.
+SHAPES = tuple(_SHAPE_BUILDERS)
+
+
+def _check_size(size, name="size"):
+    if isinstance(size, bool) or not isinstance(size, numbers.Integral):
+        raise TypeError(f"{name} must be an int (pixels of the longer side), got {type(size).__name__}")
+    size = int(size)
+    if not 16 <= size <= 8192:
+        raise ValueError(f"{name} must be between 16 and 8192 pixels, got {size}")
+    return size
+
+
+def _lookup(name, builders, what):
+    if not isinstance(name, str):
+        raise TypeError(f"name must be a str, got {type(name).__name__}")
+    if name not in builders:
+        raise ValueError(f"unknown {what} {name!r}; valid names: {', '.join(repr(n) for n in builders)}")
+    return builders[name]
+
+
+def _frame(builder, size):
+    """(f, scale, height_px, width_px) for drawing a design onto a ``size``-px bitmap."""
+    f, width, height = builder()
+    scale = size / max(width, height)
+    return f, scale, max(1, int(round(height * scale))), max(1, int(round(width * scale)))
+
+
+@functools.lru_cache(maxsize=64)
+def _render(kind, name, size):
+    builder = (_THESIS_BUILDERS if kind == "thesis" else _SHAPE_BUILDERS)[name]
+    f, scale, rows, cols = _frame(builder, size)
+    c, r = np.meshgrid(np.arange(cols) + 0.5, np.arange(rows) + 0.5)
+    values = f(c.ravel() / scale, r.ravel() / scale).reshape(rows, cols)
+    values.flags.writeable = False
+    return values
+
+
+def thesis_object(name, size=None):
+    """Bitmap of one of the five thesis-like objects of chapter 4.
+
+    Parameters
+    ----------
+    name : {'ali', 'apple', 'plane', 'D', 'planes'}
+        'ali': the Arabic word علي (word + two dots: 3 components); 'apple': body, stem and leaf
+        (1 component); 'plane': airliner top view (1 component, many corners); 'D': serif capital
+        with its counter (1 component, 1 hole); 'planes': a plane made of separate parts with
+        windows (7 components, 4 holes), the thesis's 'Mult_Seg_Plane'.
+    size : int, optional
+        Pixels of the longer side (16..8192). Default :data:`THESIS_DEFAULT_SIZE` ``[name]``.
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (H, W)
+        True = ink. Pixel ``(r, c)`` is ink iff its centre ``(c + 0.5, r + 0.5)`` lies inside the
+        shape. Deterministic (pure numpy arithmetic, no fonts, no randomness); a fresh array.
+
+    Raises
+    ------
+    ValueError
+        Unknown name (the message lists the valid ones) or size out of range.
+    TypeError
+        name not a str, size not an int.
+    """
+    _lookup(name, _THESIS_BUILDERS, "thesis object")
+    size = THESIS_DEFAULT_SIZE[name] if size is None else _check_size(size)
+    return _render("thesis", name, size) <= 0.0
+
+
+def shape(name, size=128):
+    """Bitmap of a teaching shape: 'square', 'star', 'disc', 'ellipse' (rotated 25°) or 'blob'.
+
+    Same frame and conventions as :func:`thesis_object`. Known corners: the square has 4 (axis
+    aligned, at 20% and 80% of the side), the star 10 (5 tips, 5 inner), disc/ellipse/blob none.
+    """
+    _lookup(name, _SHAPE_BUILDERS, "shape")
+    return _render("shape", name, _check_size(size)) <= 0.0
+
+
+def _gradient(f, points, step=1e-6):
+    """Central-difference gradient of ``f`` at ``points`` (k, 2), and the values there."""
+    x, y = points[:, 0], points[:, 1]
+    values = f(np.concatenate([x, x + step, x - step, x, x]),
+               np.concatenate([y, y, y, y + step, y - step]))
+    value, x_plus, x_minus, y_plus, y_minus = values.reshape(5, -1)
+    return value, np.c_[(x_plus - x_minus) / (2 * step), (y_plus - y_minus) / (2 * step)]
+
+
+def _project(f, points, tolerance=1e-10, max_iterations=40):
+    """Newton-project points onto the zero set of ``f`` (central-difference gradient), design units.
+
+    Only points not yet within ``tolerance`` are iterated. The gradient norm is floored at 0.5 so
+    that a point on a medial axis (where the gradient of a distance is undefined) moves at most
+    ``2 |f|``; on exact signed distances one step suffices, elsewhere a few.
+    """
+    points = np.array(points, float)
+    active = np.arange(points.shape[0])
+    for _ in range(max_iterations):
+        if active.size == 0:
+            break
+        value, gradient = _gradient(f, points[active])
+        norm_sq = np.maximum((gradient**2).sum(axis=1), 0.25)
+        moving = np.abs(value) > tolerance
+        points[active] -= gradient * (value * moving / norm_sq)[:, None]
+        active = active[moving]
+    return points
+
+
+def _refine_closed(f, points, spacing):
+    """Subdivide a closed polyline on the zero set until no edge exceeds ``spacing`` (design units).
+
+    Every inserted point is projected onto the zero set. An edge that stays long after a round of
+    projection spans a sharp corner: there the intersection of the tangent lines at its two ends
+    (exactly the corner of a polygon, close to it for a pointed arc) is inserted instead.
+    """
+    for round_ in range(40):
+        nxt = np.roll(points, -1, axis=0)
+        edge = np.linalg.norm(nxt - points, axis=1)
+        long = np.flatnonzero(edge > spacing * (1 + 1e-9))
+        if long.size == 0:
+            break
+        pieces = np.ones(len(points), int)
+        pieces[long] = np.ceil(edge[long] / spacing).astype(int)
+        extra = {}
+        if round_ >= 2:  # projection alone has converged on smooth parts: what is left are corners
+            # tangent lines at both ends, from the (short) neighbouring edges
+            before = points[long] - np.roll(points, 1, axis=0)[long]
+            after = np.roll(points, -2, axis=0)[long] - nxt[long]
+            before /= np.maximum(np.linalg.norm(before, axis=1), 1e-300)[:, None]
+            after /= np.maximum(np.linalg.norm(after, axis=1), 1e-300)[:, None]
+            det = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
+            gap = nxt[long] - points[long]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                along = (gap[:, 0] * after[:, 1] - gap[:, 1] * after[:, 0]) / det
+            corner = points[long] + along[:, None] * before
+            middle = (points[long] + nxt[long]) / 2
+            usable = ((np.abs(det) > 0.17) & (along > 1e-3 * spacing)
+                      & (np.linalg.norm(corner - nxt[long], axis=1) > 1e-3 * spacing)
+                      & (np.linalg.norm(corner - middle, axis=1) <= edge[long]))
+            for index, point in zip(long[usable], corner[usable]):
+                extra[int(index)] = point
+                pieces[index] = 2
+        start = np.repeat(points, pieces, axis=0)
+        delta = np.repeat(nxt - points, pieces, axis=0)
+        fraction = np.concatenate([np.arange(k) / k for k in pieces])
+        dense = start + fraction[:, None] * delta
+        if extra:
+            offsets = np.cumsum(pieces) - pieces
+            for index, point in extra.items():
+                dense[offsets[index] + 1] = point
+        fresh = fraction > 0
+        dense[fresh] = _project(f, dense[fresh])
+        points = dense
+    return points
+
+
+@functools.lru_cache(maxsize=32)
+def _outline(kind, name, size, spacing):
+    from skimage import measure
+
+    builders = _THESIS_BUILDERS if kind == "thesis" else _SHAPE_BUILDERS
+    f, scale, rows, cols = _frame(builders[name], size)
+    values = np.pad(_render(kind, name, size), 1, constant_values=1.0)  # keep every contour closed
+    outlines = []
+    for contour in measure.find_contours(values, 0.0):
+        # contour: (row, col) in the padded grid of pixel centres -> design units
+        xy = np.c_[contour[:, 1] - 0.5, contour[:, 0] - 0.5] / scale
+        if np.allclose(xy[0], xy[-1]):
+            xy = xy[:-1]
+        xy = _project(f, xy)
+        dense = _refine_closed(f, xy, spacing / scale) * scale
+        area = 0.5 * np.sum(dense[:, 0] * np.roll(dense[:, 1], -1) - np.roll(dense[:, 0], -1) * dense[:, 1])
+        outlines.append((dense, area))
+    # find_contours keeps the higher values (outside) on a fixed side: outers and holes come out with
+    # opposite signs. Make outers positive in the y-down frame (the convention of Boundary).
+    if outlines:
+        largest = max(outlines, key=lambda item: abs(item[1]))
+        sign = 1.0 if largest[1] > 0 else -1.0
+        outlines = [(dense if sign > 0 else dense[::-1].copy(), area * sign) for dense, area in outlines]
+    result = tuple(dense for dense, _ in outlines)
+    for dense in result:
+        dense.flags.writeable = False
+    return result
+
+
+def true_outline(name, size=None, *, spacing=0.1):
+    """The exact outline of a thesis object or teaching shape, in the pixel frame of its bitmap.
+
+    Parameters
+    ----------
+    name : str
+        Any name of :data:`THESIS_OBJECTS` or :data:`SHAPES`.
+    size : int, optional
+        As for :func:`thesis_object` / :func:`shape` (same defaults), so the outline overlays the
+        bitmap of the same size.
+    spacing : float, optional
+        Maximum distance between consecutive outline points, px (0.01..1).
+
+    Returns
+    -------
+    list of numpy.ndarray, each (n, 2)
+        One closed polyline per boundary (first point not repeated), vertices on the shape's zero
+        set (to 1e-3 px, mostly to round-off) and at most ``spacing`` apart; sharp corners are
+        vertices. Outer boundaries have positive shoelace area in the (x, y-down) frame, holes
+        negative. Between vertices the chord error on an arc of radius R is below
+        ``spacing**2 / (8 R)``.
+
+    Notes
+    -----
+    The boundaries are found by marching squares on the pixel-centre samples (so they have the
+    topology of the bitmap), then every vertex is Newton-projected onto the zero set, and edges are
+    subdivided to ``spacing`` and projected again; an edge that stays long spans a corner, where the
+    intersection of the neighbouring tangent lines is inserted. Results are cached per
+    (name, size, spacing); every call returns fresh copies.
+    """
+    if name in _THESIS_BUILDERS:
+        kind, size = "thesis", THESIS_DEFAULT_SIZE[name] if size is None else _check_size(size)
+    elif name in _SHAPE_BUILDERS:
+        kind, size = "shape", 128 if size is None else _check_size(size)
+    else:
+        _lookup(name, {**_THESIS_BUILDERS, **_SHAPE_BUILDERS}, "shape")
+        raise AssertionError  # unreachable
+    if isinstance(spacing, bool) or not isinstance(spacing, numbers.Real) or not 0.01 <= spacing <= 1.0:
+        raise ValueError(f"spacing must be a number between 0.01 and 1 px, got {spacing!r}")
+    return [outline.copy() for outline in _outline(kind, name, size, float(spacing))]
+
+
+# ----------------------------------------------------------------------------------------------
+# Point sets for the SplineEditor demos (math frame: y up).
+# ----------------------------------------------------------------------------------------------
+
+
+def _heart():
+    angle = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    x = 16 * np.sin(angle) ** 3
+    y = 13 * np.cos(angle) - 5 * np.cos(2 * angle) - 2 * np.cos(3 * angle) - np.cos(4 * angle)
+    return np.c_[x, y] / 4.0
+
+
+_SAMPLE_POINTS = {
+    # an open hand-drawn-looking stroke: a wave with an uneven rhythm (thesis Fig 3.4 style)
+    "hand": (False, "open hand-drawn stroke with uneven spacing and a sharp turn (interpolant demos)",
+             lambda: np.array([[0.0, 0.0], [1.0, 1.6], [2.2, 2.1], [3.1, 1.2], [3.6, -0.4],
+                               [4.8, -1.1], [6.3, -0.2], [6.9, 1.5], [8.4, 2.0], [9.5, 0.6]])),
+    # the thesis's 'Pot' control polygon (Fig 3.12): an open vase profile
+    "pot": (False, "open 'pot' profile like thesis Fig 3.12 (local-support basis demos)",
+            lambda: np.array([[1.0, 0.0], [0.0, 0.0], [0.0, 2.0], [1.2, 3.6], [0.4, 5.0],
+                              [1.0, 6.0], [3.0, 6.0], [3.6, 5.0], [2.8, 3.6], [4.0, 2.0],
+                              [4.0, 0.0], [3.0, 0.0]])),
+    # the thesis's 'Square' (Fig 3.13): a closed square control polygon
+    "square": (True, "closed square, 8 points (corners and midpoints), like thesis Fig 3.13",
+               lambda: np.array([[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [4.0, 2.0], [4.0, 4.0],
+                                 [2.0, 4.0], [0.0, 4.0], [0.0, 2.0]])),
+    "heart": (True, "closed heart, 12 points", _heart),
+    "zigzag": (False, "open zigzag, 7 points (curvature jumps, Timmer demos)",
+               lambda: np.array([[0.0, 0.0], [1.0, 2.0], [2.0, 0.0], [3.0, 2.0], [4.0, 0.0],
+                                 [5.0, 2.0], [6.0, 0.0]])),
+}
+
+#: Editor demo point sets: name -> one-line description.
+SAMPLE_POINTS = {name: entry[1] for name, entry in _SAMPLE_POINTS.items()}
+
+
+def sample_points(name):
+    """A small point set for SplineEditor and notebook demos, in a math frame (y up).
+
+    Names: 'hand' (open, uneven hand-drawn stroke), 'pot' (open vase profile, thesis Fig 3.12),
+    'square' (closed, thesis Fig 3.13), 'heart' (closed), 'zigzag' (open). Use
+    :func:`sample_closed` for whether the set is meant as a closed curve.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 2), float
+        A fresh array; consecutive points distinct.
+    """
+    return _lookup(name, _SAMPLE_POINTS, "point set")[2]().astype(float)
+
+
+def sample_closed(name):
+    """True if :func:`sample_points` ``(name)`` describes a closed curve (the editor's ``closed``)."""
+    return _lookup(name, _SAMPLE_POINTS, "point set")[0]

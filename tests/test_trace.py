@@ -1,0 +1,339 @@
+"""Tests of the outline-capture pipeline (capture/trace.py) and its SVG helpers (capture/svg.py).
+
+References are analytic: rendered discs, squares and polygons are compared with their exact outlines;
+the SVG is re-parsed and compared with the splines' own Bézier points.
+"""
+import json
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from PIL import Image
+
+from splinecraft.capture.contour import chain_to_pixels
+from splinecraft.capture.fitting import KNOT_METHODS
+from splinecraft.capture.svg import format_number, parse_path_data, path_data, read_svg_paths, svg_document
+from splinecraft.capture.trace import TraceResult, TraceSnapshot, trace
+from splinecraft.spline import Spline
+
+
+# ------------------------------------------------------------------------------------------ helpers
+def render_disc(size, cx, cy, radius):
+    yy, xx = np.mgrid[:size, :size] + 0.5
+    return (xx - cx) ** 2 + (yy - cy) ** 2 <= radius**2
+
+
+def render_convex_polygon(size, vertices):
+    """Pixels whose centre lies inside the convex polygon (vertices clockwise on screen)."""
+    yy, xx = np.mgrid[:size, :size] + 0.5
+    inside = np.ones((size, size), bool)
+    for (x0, y0), (x1, y1) in zip(vertices, np.roll(vertices, -1, axis=0)):
+        inside &= (x1 - x0) * (yy - y0) - (y1 - y0) * (xx - x0) >= 0
+    return inside
+
+
+def bezier_samples(bezier, per_piece=64):
+    """Points of cubic Béziers (m, 4, 2) by the Bernstein form (independent of Spline)."""
+    t = np.linspace(0.0, 1.0, per_piece, endpoint=False)[:, None]
+    basis = np.hstack([(1 - t) ** 3, 3 * t * (1 - t) ** 2, 3 * t**2 * (1 - t), t**3])  # (k, 4)
+    return np.einsum("kj,mjd->mkd", basis, np.asarray(bezier)).reshape(-1, 2)
+
+
+def distance_to_polygon(points, vertices):
+    a = np.asarray(vertices, float)
+    b = np.roll(a, -1, axis=0)
+    ab = b - a
+    ap = points[:, None, :] - a[None]
+    t = np.clip((ap * ab).sum(-1) / (ab * ab).sum(-1), 0, 1)
+    return np.linalg.norm(ap - t[..., None] * ab, axis=-1).min(axis=1)
+
+
+def curve_to_polygon_deviation(result, vertices):
+    """Two-sided max deviation between all traced curves and the polygon outline ``vertices``."""
+    curve = np.vstack([bezier_samples(s.bezier()) for s in result.splines])
+    forward = distance_to_polygon(curve, vertices).max()
+    dense = np.vstack([v + np.linspace(0, 1, 200, endpoint=False)[:, None] * (w - v)
+                       for v, w in zip(np.asarray(vertices, float), np.roll(vertices, -1, axis=0))])
+    backward = distance_to_polygon(dense, curve).max()  # curve samples are < 0.1 px apart
+    return max(forward, backward)
+
+
+def signed_area(points):
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def knot_set(snapshot):
+    return set(np.concatenate([np.asarray(k).ravel() for k in snapshot.knot_indices]).tolist())
+
+
+RANDOM_METHODS = [m for m in ("random", "euclidean", "positional", "random3", "equal3", "fuzzy") if m in KNOT_METHODS]
+
+
+# ------------------------------------------------------------------------------------------ accuracy
+@pytest.mark.parametrize("epsilon", [1.0, 2.0])
+def test_disc_within_epsilon_plus_half_pixel(epsilon):
+    cx, cy, radius = 40.3, 38.7, 27.4
+    result = trace(render_disc(80, cx, cy, radius), epsilon=epsilon)
+    assert isinstance(result, TraceResult) and len(result.splines) == 1
+    curve = bezier_samples(result.splines[0].bezier())
+    assert np.abs(np.hypot(curve[:, 0] - cx, curve[:, 1] - cy) - radius).max() <= epsilon + 0.5
+    angles = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    circle = np.column_stack([cx + radius * np.cos(angles), cy + radius * np.sin(angles)])
+    assert distance_to_polygon(circle, curve).max() <= epsilon + 0.5
+    assert result.stats["converged"] and result.stats["hausdorff"] <= epsilon + 0.5
+
+
+@pytest.mark.parametrize("epsilon", [1.0, 2.0])
+def test_squares_within_epsilon_plus_half_pixel(epsilon):
+    square = [(12, 10), (58, 10), (58, 50), (12, 50)]  # pixel-exact: edges on integer coordinates
+    mask = np.zeros((64, 70), bool)
+    mask[10:50, 12:58] = True
+    result = trace(mask, epsilon=epsilon)
+    assert curve_to_polygon_deviation(result, square) <= epsilon + 0.5
+    angle = np.radians(23.0)
+    c, s = math.cos(angle), math.sin(angle)
+    rotated = [(50 + 30 * (c * x - s * y), 50 + 30 * (s * x + c * y)) for x, y in [(-1, -1), (1, -1), (1, 1), (-1, 1)]]
+    result = trace(render_convex_polygon(100, rotated), epsilon=epsilon)
+    assert curve_to_polygon_deviation(result, rotated) <= epsilon + 0.5
+
+
+def test_ring_outer_and_hole():
+    size, cx, cy = 90, 45.0, 45.0
+    mask = render_disc(size, cx, cy, 38) & ~render_disc(size, cx, cy, 17)
+    result = trace(mask, epsilon=1.0)
+    outer, hole = result.boundaries
+    assert not outer.is_hole and hole.is_hole and hole.parent == 0
+    assert result.stats["holes"] == 1 and result.stats["outer"] == 1
+    areas = [signed_area(bezier_samples(s.bezier())) for s in result.splines]
+    assert areas[0] > 0 > areas[1]  # orientation of the curves follows the boundaries
+    assert abs(areas[0] - math.pi * 38**2) < 0.03 * math.pi * 38**2
+    assert abs(-areas[1] - math.pi * 17**2) < 0.06 * math.pi * 17**2
+    for spline, radius in zip(result.splines, (38, 17)):
+        curve = bezier_samples(spline.bezier())
+        assert np.abs(np.hypot(curve[:, 0] - cx, curve[:, 1] - cy) - radius).max() <= 1.5
+
+
+def test_several_components_from_a_file(tmp_path):
+    mask = render_disc(100, 30, 30, 20) | render_disc(100, 72, 70, 18)
+    mask[60:95, 5:20] = True
+    path = tmp_path / "parts.png"
+    Image.fromarray(np.where(mask, 0, 255).astype(np.uint8)).save(path)
+    result = trace(path, epsilon=2.0)
+    assert result.stats["boundaries"] == 3 and result.stats["holes"] == 0
+    np.testing.assert_array_equal(result.mask, mask)
+
+
+# ------------------------------------------------------------------------------------------ outputs
+def test_svg_reparsed_equals_the_splines():
+    mask = render_disc(70, 35, 35, 30) & ~render_disc(70, 35, 35, 12)
+    result = trace(mask, epsilon=1.5)
+    exact = read_svg_paths(result.to_svg(decimals=None))
+    assert (exact["width"], exact["height"], exact["viewBox"]) == ("70", "70", "0 0 70 70")
+    (path,) = exact["paths"]
+    assert path["fill_rule"] == "evenodd"
+    assert len(path["subpaths"]) == len(result.splines) == 2
+    for (bezier, closed), spline in zip(path["subpaths"], result.splines):
+        assert closed
+        np.testing.assert_array_equal(bezier, spline.bezier())
+    rounded = read_svg_paths(result.to_svg())["paths"][0]["subpaths"]
+    for (bezier, _), spline in zip(rounded, result.splines):
+        assert np.abs(bezier - spline.bezier()).max() <= 0.5e-4 + 1e-12
+
+
+def test_json_round_trip():
+    mask = render_disc(50, 25, 25, 20) & ~render_disc(50, 25, 25, 7)
+    result = trace(mask, epsilon=2.0)
+    data = json.loads(result.to_json(include_points=True, include_snapshots=True))
+    assert data["type"] == "splinecraft.TraceResult" and (data["width"], data["height"]) == (50, 50)
+    assert data["stats"]["segments"] == result.stats["segments"]
+    for entry, boundary, spline in zip(data["boundaries"], result.boundaries, result.splines):
+        pixels = chain_to_pixels(entry["chain_start"], [int(c) for c in entry["chain_code"]])
+        np.testing.assert_array_equal(pixels, boundary.pixels)
+        np.testing.assert_array_equal(Spline.from_dict(entry["spline"]).bezier(), spline.bezier())
+        assert len(entry["points"]) == entry["contour_points"]
+        assert len(entry["snapshots"]) >= 1
+    assert parse_path_data(data["svg_path"])[0][0].shape == result.splines[0].bezier().shape
+
+
+def test_stats_definitions():
+    result = trace(render_disc(60, 30, 30, 24), epsilon=1.0)
+    stats = result.stats
+    n_points = sum(len(p) for p in result.points)
+    segments = sum(s.n_segments for s in result.splines)
+    assert stats["contour_points"] == n_points == sum(len(b.outline) for b in result.boundaries)
+    assert stats["segments"] == segments
+    assert stats["corners"] == sum(len(c) for c in result.corners)
+    assert stats["knots_inserted"] == sum(f.knots_inserted for f in result.fits)
+    assert stats["iterations"] == max(f.iterations for f in result.fits)
+    assert stats["data_reduction_pct"] == pytest.approx(100 * (1 - 6 * segments / (2 * n_points)))
+    assert stats["data_reduction_pct_thesis"] == pytest.approx(100 * (1 - stats["knots_inserted"] / n_points))
+    assert stats["time_s"] >= sum(stats["time_breakdown"].values()) * 0.999
+    assert result.params["epsilon"] == 1.0 and result.params["method"] in KNOT_METHODS
+
+
+# ------------------------------------------------------------------------------------------ snapshots
+def test_snapshots_consistent():
+    mask = render_disc(80, 40, 40, 33) & ~render_disc(80, 47, 40, 10)
+    mask[5:12, 5:30] = True
+    result = trace(mask, epsilon=1.0)
+    for fit in result.fits:
+        snaps = fit.snapshots
+        assert snaps[0].iteration == 0
+        for before, after in zip(snaps, snaps[1:]):
+            assert knot_set(before) <= knot_set(after)  # knots only grow
+        np.testing.assert_allclose(np.asarray(snaps[-1].bezier), fit.spline.bezier())
+    merged = result.snapshots
+    assert [m.iteration for m in merged] == list(range(result.stats["iterations"] + 1))
+    assert all(isinstance(m, TraceSnapshot) for m in merged)
+    knots = [m.knots for m in merged]
+    assert knots == sorted(knots)
+    assert merged[-1].finished.all()
+    final = np.concatenate([s.bezier() for s in result.splines])
+    np.testing.assert_allclose(merged[-1].bezier, final)
+    assert len(merged[-1].piece_boundary) == len(final)
+    assert merged[-1].hausdorff == pytest.approx(max(f.hausdorff for f in result.fits))
+    lean = trace(mask, epsilon=1.0, keep_snapshots=False)
+    assert lean.snapshots == []
+    for a, b in zip(lean.splines, result.splines):
+        np.testing.assert_array_equal(a.bezier(), b.bezier())
+
+
+@pytest.mark.parametrize("method", RANDOM_METHODS)
+def test_seeded_runs_reproducible(method):
+    mask = render_disc(60, 30, 30, 25) & ~render_disc(60, 30, 30, 9)
+    first = trace(mask, epsilon=1.5, method=method, seed=11)
+    second = trace(mask, epsilon=1.5, method=method, seed=11)
+    for a, b in zip(first.splines, second.splines):
+        np.testing.assert_array_equal(a.bezier(), b.bezier())
+    for key in ("knots_inserted", "iterations", "segments", "corners"):
+        assert first.stats[key] == second.stats[key]
+
+
+# ------------------------------------------------------------------------------------------ bad input
+def test_all_white_has_no_shape():
+    with pytest.raises(ValueError, match="no shape found"):
+        trace(np.full((20, 20), 255, np.uint8))
+    with pytest.raises(ValueError, match="no shape found"):
+        trace(np.zeros((20, 20), np.uint8), invert=True)
+
+
+def test_all_black_is_the_frame_rectangle():
+    result = trace(np.zeros((30, 40), np.uint8), epsilon=1.0)
+    assert len(result.boundaries) == 1
+    assert curve_to_polygon_deviation(result, [(0, 0), (40, 0), (40, 30), (0, 30)]) <= 1.5
+
+
+def test_single_pixel_and_tiny_components():
+    mask = np.zeros((10, 10), bool)
+    mask[4, 6] = True
+    result = trace(mask, epsilon=0.5)
+    (spline,) = result.splines
+    assert spline.closed
+    assert curve_to_polygon_deviation(result, [(6, 4), (7, 4), (7, 5), (6, 5)]) <= 1.0
+    pixels = trace(mask, epsilon=0.5, contour="pixels")  # 1-point chain: falls back to the crack outline
+    assert any("crack outline" in note for note in pixels.notes)
+
+
+def test_one_pixel_wide_line():
+    mask = np.zeros((12, 40), bool)
+    mask[5, 4:36] = True
+    result = trace(mask, epsilon=0.5)
+    curve = bezier_samples(result.splines[0].bezier())
+    assert curve_to_polygon_deviation(result, [(4, 5), (36, 5), (36, 6), (4, 6)]) <= 1.0
+    assert curve[:, 1].min() >= 5 - 1.0 and curve[:, 1].max() <= 6 + 1.0
+
+
+def test_bad_files(tmp_path):
+    text = tmp_path / "notes.png"
+    text.write_text("hello")
+    with pytest.raises(ValueError, match="not an image"):
+        trace(text)
+    full = tmp_path / "full.png"
+    Image.fromarray((np.random.default_rng(0).random((50, 50)) * 255).astype(np.uint8)).save(full)
+    cut = tmp_path / "cut.png"
+    cut.write_bytes(full.read_bytes()[:200])
+    with pytest.raises(ValueError, match="cut.png"):
+        trace(cut)
+    with pytest.raises(ValueError, match="empty"):
+        trace(np.zeros((0, 0), np.uint8))
+
+
+@pytest.mark.parametrize("epsilon", [0, -1.0, float("nan"), float("inf")])
+def test_epsilon_must_be_positive(epsilon):
+    with pytest.raises(ValueError, match="epsilon"):
+        trace(render_disc(20, 10, 10, 6), epsilon=epsilon)
+
+
+def test_option_validation():
+    mask = render_disc(20, 10, 10, 6)
+    with pytest.raises(TypeError, match="epsilon"):
+        trace(mask, epsilon="2")
+    with pytest.raises(ValueError, match="method"):
+        trace(mask, method="nope")
+    with pytest.raises(ValueError, match="corner_method"):
+        trace(mask, corner_method="nope")
+    with pytest.raises(ValueError, match="connectivity"):
+        trace(mask, connectivity=6)
+    with pytest.raises(ValueError, match="contour"):
+        trace(mask, contour="edges")
+    with pytest.raises(ValueError, match="max_iterations"):
+        trace(mask, max_iterations=-1)
+    with pytest.raises(TypeError, match="corner_params"):
+        trace(mask, corner_params=[1])
+
+
+def test_max_iterations_bounds_the_work():
+    mask = render_disc(80, 40, 40, 35)
+    result = trace(mask, epsilon=0.3, max_iterations=0)
+    assert result.stats["iterations"] == 0 and result.stats["knots_inserted"] == 0
+    assert len(result.snapshots) == 1
+
+
+# ------------------------------------------------------------------------------------------ svg helpers
+def test_format_number():
+    assert format_number(1.0) == "1" and format_number(-0.00001) == "0" and format_number(2.50) == "2.5"
+    assert format_number(1 / 3, None) == repr(1 / 3) and format_number(3.0, None) == "3"
+    with pytest.raises(ValueError, match="non-finite"):
+        format_number(float("nan"))
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.integers(1, 6), min_size=1, max_size=3), st.integers(0, 2**32 - 1))
+def test_path_data_round_trip(pieces, seed):
+    rng = np.random.default_rng(seed)
+    curves = []
+    for m in pieces:
+        bezier = rng.normal(scale=100, size=(m, 4, 2))
+        bezier[1:, 0] = bezier[:-1, 3]
+        bezier[-1, 3] = bezier[0, 0]
+        curves.append(bezier)
+    parsed = parse_path_data(path_data(curves, decimals=None))
+    assert len(parsed) == len(curves)
+    for (bezier, closed), original in zip(parsed, curves):
+        assert closed
+        np.testing.assert_array_equal(bezier, original)
+
+
+def test_parse_relative_lines_and_errors():
+    (square, closed), = parse_path_data("m 1,1 h 2 v 2 l -2,0 z")
+    assert closed and square.shape == (4, 4, 2)  # the closing segment is added by z
+    np.testing.assert_allclose(square[:, 0], [[1, 1], [3, 1], [3, 3], [1, 3]])
+    np.testing.assert_allclose(square[0, 1], [1 + 2 / 3, 1])
+    (curve, closed), = parse_path_data("M0 0c1 1 2 2 3 3")
+    assert not closed
+    np.testing.assert_allclose(curve[0], [[0, 0], [1, 1], [2, 2], [3, 3]])
+    with pytest.raises(ValueError, match="unsupported"):
+        parse_path_data("M 0 0 A 1 1 0 0 1 2 2")
+    with pytest.raises(ValueError, match="start"):
+        parse_path_data("C 1 1 2 2 3 3")
+    with pytest.raises(ValueError, match="middle"):
+        parse_path_data("M 0 0 C 1 1 2")
+    with pytest.raises(ValueError, match="shape"):
+        path_data([np.zeros((2, 3, 2))])
+
+
+def test_svg_document_escapes_the_title():
+    text = svg_document("M 0,0 Z", 3, 4, title="a<b&c")
+    assert "<title>a&lt;b&amp;c</title>" in text and read_svg_paths(text)["width"] == "3"

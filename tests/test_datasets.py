@@ -202,6 +202,18 @@ def test_sample_points(name):
     assert isinstance(datasets.SAMPLE_POINTS[name], str)
 
 
+def test_sample_points_are_upright_in_the_editor_frame():
+    for name in datasets.SAMPLE_POINTS:
+        points = datasets.sample_points(name)
+        assert points[:, 0].min() >= 60 - 1e-9 and points[:, 0].max() <= 560 + 1e-9
+        assert points[:, 1].min() >= 60 - 1e-9 and points[:, 1].max() <= 380 + 1e-9
+    heart = datasets.sample_points("heart")
+    tip = heart[np.argmax(heart[:, 1])]  # y down: the tip is the lowest point on screen
+    assert abs(tip[0] - heart[:, 0].mean()) < 1e-6 * np.ptp(heart[:, 0]) + 1e-9
+    pot = datasets.sample_points("pot")
+    assert pot[0, 1] > pot[:, 1].mean()  # the pot stands on its base (bottom of the screen)
+
+
 def test_sample_flags():
     assert datasets.sample_closed("heart") and datasets.sample_closed("square")
     assert not datasets.sample_closed("hand") and not datasets.sample_closed("pot")

@@ -580,7 +580,7 @@ def true_outline(name, size=None, *, spacing=0.1):
 
 
 # ----------------------------------------------------------------------------------------------
-# Point sets for the SplineEditor demos (math frame: y up).
+# Point sets for the SplineEditor demos: designed with y up, delivered in the editor's frame.
 # ----------------------------------------------------------------------------------------------
 
 
@@ -615,19 +615,36 @@ _SAMPLE_POINTS = {
 SAMPLE_POINTS = {name: entry[1] for name, entry in _SAMPLE_POINTS.items()}
 
 
+def _editor_frame(points):
+    """Map a y-up design into the SplineEditor's default drawing (x right, y down, 620 x 440 px).
+
+    Uniform scale (shapes keep their proportions) into the box [60, 560] x [60, 380].
+    """
+    low, high = points.min(axis=0), points.max(axis=0)
+    span = np.maximum(high - low, 1e-12)
+    scale = min(500.0 / span[0], 320.0 / span[1])
+    centre = (low + high) / 2
+    return np.c_[310.0 + (points[:, 0] - centre[0]) * scale, 220.0 - (points[:, 1] - centre[1]) * scale]
+
+
 def sample_points(name):
-    """A small point set for SplineEditor and notebook demos, in a math frame (y up).
+    """A small point set for SplineEditor and notebook demos, in the editor's frame.
 
     Names: 'hand' (open, uneven hand-drawn stroke), 'pot' (open vase profile, thesis Fig 3.12),
-    'square' (closed, thesis Fig 3.13), 'heart' (closed), 'zigzag' (open). Use
-    :func:`sample_closed` for whether the set is meant as a closed curve.
+    'square' (closed, thesis Fig 3.13), 'heart' (closed, its tip at the bottom), 'zigzag' (open).
+    Use :func:`sample_closed` for whether the set is meant as a closed curve.
+
+    The frame is the editor's (and the bitmaps'): x right, **y down**, the points centred in
+    ``[60, 560] x [60, 380]`` (the editor's default 620 x 440 view). The shapes are designed with y up
+    and flipped, so they appear upright on screen.
 
     Returns
     -------
     numpy.ndarray, shape (n, 2), float
         A fresh array; consecutive points distinct.
     """
-    return _lookup(name, _SAMPLE_POINTS, "point set")[2]().astype(float)
+    design = _lookup(name, _SAMPLE_POINTS, "point set")[2]().astype(float)
+    return _editor_frame(design)
 
 
 def sample_closed(name):

@@ -201,6 +201,19 @@ def test_otsu_by_default():
     np.testing.assert_array_equal(load_bitmap(gray, invert=True), gray > level)
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([np.uint8, np.uint16]))
+def test_otsu_level_matches_skimage(seed, dtype):
+    rng = np.random.default_rng(seed)
+    top = np.iinfo(dtype).max
+    lo, hi = sorted(rng.integers(0, top + 1, size=2))
+    hi = max(hi, lo + int(0.2 * top))  # enough contrast for Otsu to be used
+    gray = rng.integers(lo, min(hi, top) + 1, size=(rng.integers(2, 40), rng.integers(2, 40))).astype(dtype)
+    if gray.max() - gray.min() < MIN_CONTRAST * top:
+        return
+    np.testing.assert_array_equal(load_bitmap(gray), gray <= threshold_otsu(gray))
+
+
 @pytest.mark.parametrize(
     "value, ink",
     [(255, False), (0, True), (int(0.3 * 255), True), (int(0.7 * 255), False)],

@@ -194,9 +194,9 @@ def _max_deviation_from_polyline(spline, params, points, per_interval=24):
 
 
 @SETTINGS
-@given(splines(), st.sampled_from([0.05, 0.25, 1.0, 5.0]))
-def test_adaptive_sampling_is_flat_and_includes_knots(spline, tolerance):
-    params, points = spline.sample(tolerance=tolerance)
+@given(splines(), st.sampled_from([0.05, 0.25, 1.0, 5.0]), st.sampled_from(["wang", "subdivide"]))
+def test_adaptive_sampling_is_flat_and_includes_knots(spline, tolerance, method):
+    params, points = spline.sample(tolerance=tolerance, method=method)
     assert params.shape[0] == points.shape[0]
     assert (np.diff(params) > 0).all()
     assert np.isin(spline.knots, params).all()
@@ -214,14 +214,19 @@ def test_sampling_adapts_to_tolerance_and_respects_max_points():
     b[:, 1] = pts[:-1] + np.stack([-pts[:-1, 1], pts[:-1, 0]], axis=1) * 0.3
     b[:, 2] = pts[1:] - np.stack([-pts[1:, 1], pts[1:, 0]], axis=1) * 0.3
     spline = Spline(b, np.arange(9.0), closed=True)
-    coarse, _ = spline.sample(tolerance=2.0)
-    fine, _ = spline.sample(tolerance=0.02)
-    assert fine.size > 4 * coarse.size
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        capped, capped_points = spline.sample(tolerance=1e-6, max_points=50)
-    assert capped.size <= 50 and any(issubclass(w.category, RuntimeWarning) for w in caught)
-    np.testing.assert_allclose(capped_points[-1], capped_points[0])
+    for method in ("wang", "subdivide"):
+        coarse, _ = spline.sample(tolerance=2.0, method=method)
+        fine, _ = spline.sample(tolerance=0.02, method=method)
+        assert fine.size > 4 * coarse.size
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            capped, capped_points = spline.sample(tolerance=1e-6, max_points=50, method=method)
+        assert 9 <= capped.size <= 50 and any(issubclass(w.category, RuntimeWarning) for w in caught)
+        assert (np.diff(capped) > 0).all()
+        np.testing.assert_allclose(capped_points[-1], capped_points[0])
+    # a straight piece needs no interior samples
+    line = Spline(np.array([[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [3.0, 3.0]]]), [0.0, 1.0])
+    assert line.sample(0.01)[0].size == 2 and line.sample(0.01, method="subdivide")[0].size == 2
 
 
 @SETTINGS
@@ -386,6 +391,8 @@ def test_bad_input_is_rejected_with_index():
         spline(0.5, nu=-1)
     with pytest.raises(ValueError, match="tolerance"):
         spline.sample(tolerance=0)
+    with pytest.raises(ValueError, match="method"):
+        spline.sample(method="fast")
     with pytest.raises(ValueError, match=r"matrix must have shape \(2, 2\)"):
         spline.transformed(np.eye(3))
 

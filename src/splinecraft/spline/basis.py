@@ -25,7 +25,6 @@ import numpy as np
 from ._validation import as_float_array, as_points, check_bool, check_choice, check_strictly_increasing, per_item
 from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths
 from .piecewise import Spline
-from .segment import class_polygon
 
 __all__ = ["basis_spline", "basis_functions", "BASIS_ENDS"]
 
@@ -189,29 +188,33 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
 
 
 def _assemble(control_points, values, steps, weights, tension, closed, ends):
-    """Bézier pieces, knot points F and tangents M from the closed forms (spec §4.3)."""
+    """Planar Bézier pieces ``(4, d, m)``, knot points F and tangents M ``(d, joints)`` (spec §4.3)."""
     (lam, mu, lam_hat, mu_hat), (rho, sigma) = _basis_coefficients(steps, weights, tension, closed, ends)
-    P = control_points
+    P = np.ascontiguousarray(control_points.T)  # planar (d, n_control)
     if closed:
-        prev_p, here_p, next_p = np.roll(P, 1, axis=0), P, np.roll(P, -1, axis=0)
+        prev_p, here_p, next_p = np.roll(P, 1, axis=1), P, np.roll(P, -1, axis=1)
         seg_here, seg_next = P, next_p
         knots = values
     else:
-        prev_p, here_p, next_p = P[:-2], P[1:-1], P[2:]  # joints i = 1..n use P_{i-1}, P_i, P_{i+1}
-        seg_here, seg_next = P[1:-2], P[2:-1]  # segments i = 1..n-1 use P_i, P_{i+1}
+        prev_p, here_p, next_p = P[:, :-2], P[:, 1:-1], P[:, 2:]  # joints i = 1..n use P_{i-1}, P_i, P_{i+1}
+        seg_here, seg_next = P[:, 1:-2], P[:, 2:-1]  # segments i = 1..n-1 use P_i, P_{i+1}
         knots = values[1:-1] if ends == "floating" else values
-    F = lam[:, None] * prev_p + (1.0 - lam - mu)[:, None] * here_p + mu[:, None] * next_p
-    M = lam_hat[:, None] * (here_p - prev_p) + mu_hat[:, None] * (next_p - here_p)
-    m = seg_here.shape[0]
-    bezier = np.empty((m, 4, P.shape[1]))
-    bezier[:, 0] = F[:m]
-    bezier[:, 1] = (1.0 - rho)[:, None] * seg_here + rho[:, None] * seg_next
-    bezier[:, 2] = sigma[:, None] * seg_here + (1.0 - sigma)[:, None] * seg_next
+    back = here_p - prev_p
+    ahead = next_p - here_p
+    F = here_p - lam * back + mu * ahead  # = lam P_{i-1} + (1 - lam - mu) P_i + mu P_{i+1}
+    M = lam_hat * back + mu_hat * ahead
+    d, m = seg_here.shape
+    planar = np.empty((4, d, m))
+    planar[0] = F[:, :m]
+    leg = seg_next - seg_here
+    np.add(seg_here, rho * leg, out=planar[1])
+    np.subtract(seg_next, sigma * leg, out=planar[2])
     if closed:
-        bezier[:, 3] = np.roll(F, -1, axis=0)
+        planar[3, :, :-1] = F[:, 1:]
+        planar[3, :, -1] = F[:, 0]
     else:
-        bezier[:, 3] = F[1:]
-    return bezier, np.array(knots, dtype=float), F, M
+        planar[3] = F[:, 1:]
+    return planar, np.array(knots, dtype=float), F, M
 
 
 def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_weights=1.0, alpha=3.0, beta=3.0,
@@ -276,8 +279,8 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
     closed, ends, P, values, steps, weights, tension = _prepare(
         control_points, closed, point_tension, interval_weights, knots, ends
     )
-    bezier, knot_values, F, M = _assemble(P, values, steps, weights, tension, closed, ends)
-    m = bezier.shape[0]
+    planar, knot_values, F, M = _assemble(P, values, steps, weights, tension, closed, ends)
+    m = planar.shape[2]
     segment_what = f"one per segment, {m}"
     alphas = per_item(alpha, m, "alpha", what=segment_what)
     betas = per_item(beta, m, "beta", what=segment_what)
@@ -285,7 +288,9 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         if not (values_ != 0).all():
             i = int(np.flatnonzero(values_ == 0)[0])
             raise ValueError(f"{name}[{i}] = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
-    V, W = class_polygon(bezier, np.diff(knot_values), alphas, betas)
+    # V_i = F_i + h_i M_i / alpha_i = b0 + 3 (b1 - b0) / alpha_i, W_i likewise (spec §2.1, E1)
+    V = planar[0] + (3.0 / alphas) * (planar[1] - planar[0])
+    W = planar[3] - (3.0 / betas) * (planar[3] - planar[2])
     info = {
         "form": "basis",
         "ends": "closed" if closed else ends,
@@ -293,8 +298,8 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         "alpha": float(alphas[0]) if (alphas == alphas[0]).all() else "per-segment",
         "beta": float(betas[0]) if (betas == betas[0]).all() else "per-segment",
     }
-    auxiliary = {"control_points": P.copy(), "F": F, "tangents": M, "V": V, "W": W}
-    return Spline._from_trusted(bezier, knot_values, closed=closed, auxiliary=auxiliary, info=info)
+    auxiliary = {"control_points": P.copy(), "F": F.T, "tangents": M.T, "V": V.T, "W": W.T}
+    return Spline._from_trusted(planar, knot_values, closed=closed, auxiliary=auxiliary, info=info)
 
 
 def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, closed=False, ends="floating"):

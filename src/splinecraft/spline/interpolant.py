@@ -11,13 +11,15 @@ for every coordinate (spec §2.3, thesis eq 3.1 with errata E3, E4).
 """
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 from scipy.linalg.lapack import dgtsv
 
 from ._validation import as_float_array, as_points, check_bool, check_choice, per_item
 from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths, parameterize
 from .piecewise import Spline
-from .segment import class_polygon, hermite_bezier
+from .segment import hermite_planar
 
 __all__ = ["interpolate", "END_CONDITIONS", "end_derivative_estimates", "solve_tangents"]
 
@@ -44,89 +46,94 @@ def end_derivative_estimates(points: np.ndarray, steps: np.ndarray):
     return first, last
 
 
-def _dominance_error(k, v, span, relative, closed, n, row_kind):
+def _dominance_error(k, v, span, relative, row_kind):
     """ValueError for a point tension in the non-dominant band (spec §2.5)."""
+    neighbours = "(c_{k-1} + c_k)" if row_kind == "interior" else ("c_1" if k == 0 else "c_{n-1}")
     if relative:
-        where = "point_tension" + f"[{k}] = {v / span:.6g} (relative)"
+        where = f"point_tension[{k}] = {v / span:.6g} (relative)"
         low, high = -6.0, -2.0
-        unit = "times (c_{k-1} + c_k)" if row_kind == "interior" else "times c"
+        band = f"[-6, -2] (in units of {neighbours} = {span:.6g})"
     else:
         where = f"point_tension[{k}] = {v:.6g}"
         low, high = -6.0 * span, -2.0 * span
-        unit = ""
-    neighbours = "(c_{k-1} + c_k)" if row_kind == "interior" else "c" + ("_1" if k == 0 else "_{n-1}")
+        band = f"[-6, -2] * {neighbours} = [{low:.6g}, {high:.6g}]"
     return ValueError(
-        f"{where} makes row {k} of the tangent system not diagonally dominant: it lies in "
-        f"[-6, -2] * {neighbours} = [{low:.6g}, {high:.6g}]{(' ' + unit) if unit else ''}, where the system can be "
-        f"singular (spec §2.5). Use point_tension[{k}] > {high:.6g} (safe domain, unique energy minimiser) or "
-        f"< {low:.6g} (unique solution, but the tangent at point {k} reverses and the curve loops)."
+        f"{where} makes row {k} of the tangent system not diagonally dominant: it lies in {band}, where the "
+        f"system can be singular (spec §2.5). Use point_tension[{k}] > {high:.6g} (safe domain, unique energy "
+        f"minimiser) or < {low:.6g} (unique solution, but the tangent at point {k} reverses and the curve loops)."
     )
 
 
-def solve_tangents(lower, diag, upper, rhs, *, closed=False, corner=0.0, tension=None, spans=None,
-                   relative=False, row_kinds=None):
-    """Solve the (cyclic) tridiagonal tangent system with several right-hand sides (spec §2.3, §2.5).
+def solve_tangents(lower, diag, upper, rhs, *, closed=False, off=None, describe_row=None):
+    """Solve the (cyclic) tridiagonal tangent system for several right-hand sides (spec §2.3, §2.5).
 
-    Row ``k`` reads ``lower[k] M_{k-1} + diag[k] M_k + upper[k] M_{k+1} = rhs[k]`` (``lower[0]`` and
-    ``upper[-1]`` are the cyclic corners when ``closed``, else ignored). Checks strict diagonal dominance
-    row by row and Varah's bound ``cond_inf <= |A|_inf / min_k(|a_kk| - sum_j |a_kj|)`` against
-    :data:`MAX_CONDITION`, then solves with LAPACK ``gtsv`` (the tridiagonal solver behind
-    ``scipy.linalg.solve_banded``), one call for all columns; closed systems use Sherman-Morrison with
-    the extra column in the same call (O(n)).
+    Row ``k`` reads ``lower[k] M_{k-1} + diag[k] M_k + upper[k] M_{k+1} = rhs[:, k]``; ``rhs`` is *planar*,
+    shape ``(d, n)`` (one row per coordinate), and so is the returned solution. ``lower[0]`` and
+    ``upper[-1]`` are the cyclic corners when ``closed`` and are ignored otherwise.
+
+    Checks strict diagonal dominance row by row and Varah's bound
+    ``cond_inf(A) <= |A|_inf / min_k(|a_kk| - sum_{j != k} |a_kj|)`` against :data:`MAX_CONDITION`, then solves
+    with LAPACK ``gtsv`` (the tridiagonal solver behind ``scipy.linalg.solve_banded``), one call for all
+    columns. Closed systems use Sherman-Morrison with the extra column in the same call (O(n)), with a
+    residual check and a sparse-LU fallback. ``off`` (optional) is the precomputed ``|lower| + |upper|``
+    per row; ``describe_row(k)`` returns the ``ValueError`` for a non-dominant row ``k``.
     """
     n = diag.shape[0]
-    off = np.abs(lower) + np.abs(upper)
-    if not closed:
-        off = off.copy()
-        off[0] = abs(upper[0])
-        off[-1] = abs(lower[-1])
-    margin = np.abs(diag) - off
-    if not (margin > 0).all():
-        k = int(np.flatnonzero(~(margin > 0))[0])
-        if tension is not None and row_kinds is not None and row_kinds[k] != "fixed":
-            raise _dominance_error(k, float(tension[k]), float(spans[k]), relative, closed, n, row_kinds[k])
-        raise ValueError(f"row {k} of the tangent system is not diagonally dominant (spec §2.5)")
-    norm = float(np.max(np.abs(diag) + off))
+    if off is None:
+        off = np.abs(lower) + np.abs(upper)
+        if not closed:
+            off[0] = abs(upper[0])
+            off[-1] = abs(lower[-1])
+    absdiag = np.abs(diag)
+    margin = absdiag - off
     worst = int(np.argmin(margin))
-    if norm / margin[worst] > MAX_CONDITION:
+    if not margin[worst] > 0:
+        k = int(np.flatnonzero(~(margin > 0))[0])
+        if describe_row is not None:
+            raise describe_row(k)
+        raise ValueError(f"row {k} of the tangent system is not diagonally dominant (spec §2.5)")
+    bound = float(np.max(absdiag + off)) / float(margin[worst])
+    if bound > MAX_CONDITION:
         raise ValueError(
-            f"the tangent system is ill-conditioned (condition bound {norm / margin[worst]:.3g} > "
-            f"{MAX_CONDITION:.0e}), worst at row {worst}"
-            + (f" (point_tension[{worst}] = {float(tension[worst]):.6g})" if tension is not None else "")
+            f"the tangent system is ill-conditioned (condition bound {bound:.3g} > {MAX_CONDITION:.0e}), "
+            f"worst at row {worst}; move point_tension[{worst}] away from the band of spec §2.5"
         )
     if not closed:
-        _, _, _, solution, info = dgtsv(lower[1:], diag, upper[:-1], rhs)
+        _, _, _, solution, info = dgtsv(lower[1:], diag, upper[:-1], rhs.T, overwrite_b=True)
         if info != 0:
             raise ValueError(f"the tangent system is singular (LAPACK gtsv info={info})")
-        return solution
-    # Sherman-Morrison for the cyclic corners: A = T + u w^T with u = (gamma, 0.., 0, c_bottom),
-    # w = (1, 0.., 0, c_top / gamma) (Numerical Recipes §2.7).
-    top = lower[0]  # A[0, n-1]
-    bottom = upper[-1]  # A[n-1, 0]
-    gamma = -diag[0]
+        return solution.T
+    # Sherman-Morrison for the cyclic corners (Numerical Recipes §2.7): A = T + u w^T with
+    # u = (gamma, 0, .., 0, bottom), w = (1, 0, .., 0, top / gamma), gamma = -diag[0].
+    top = float(lower[0])  # A[0, n-1]
+    bottom = float(upper[-1])  # A[n-1, 0]
+    gamma = -float(diag[0])
     modified = diag.copy()
     modified[0] -= gamma
     modified[-1] -= bottom * top / gamma
-    columns = np.zeros((n, rhs.shape[1] + 1))
-    columns[:, :-1] = rhs
-    columns[0, -1] = gamma
-    columns[-1, -1] = bottom
-    _, _, _, both, info = dgtsv(lower[1:], modified, upper[:-1], columns)
+    d = rhs.shape[0]
+    columns = np.empty((d + 1, n))
+    columns[:d] = rhs
+    columns[d] = 0.0
+    columns[d, 0] = gamma
+    columns[d, -1] = bottom
+    _, _, _, both, info = dgtsv(lower[1:], modified, upper[:-1], columns.T, overwrite_b=True)
     if info != 0:
         raise ValueError(f"the cyclic tangent system is singular (LAPACK gtsv info={info})")
-    x, z = both[:, :-1], both[:, -1]
+    both = both.T
+    x, z = both[:d], both[d]
     denominator = 1.0 + z[0] + top * z[-1] / gamma
-    factor = (x[0] + top * x[-1] / gamma) / denominator
-    solution = x - np.outer(z, factor)
-    # Sherman-Morrison can lose accuracy when the update is nearly singular: verify the residual.
-    residual = diag[:, None] * solution + lower[:, None] * np.roll(solution, 1, 0) + upper[:, None] * np.roll(solution, -1, 0) - rhs
-    scale = np.abs(diag)[:, None] * np.abs(solution) + off[:, None] * np.abs(solution).max(axis=0) + np.abs(rhs)
-    if not np.isfinite(solution).all() or (np.abs(residual) > 1e-9 * (scale.max() + 1e-300)).any():
+    factor = (x[:, 0] + top * x[:, -1] / gamma) / denominator
+    solution = x - factor[:, None] * z
+    # Sherman-Morrison can lose accuracy when 1 + w^T T^-1 u is small: verify the residual.
+    residual = diag * solution + lower * np.roll(solution, 1, axis=1) + upper * np.roll(solution, -1, axis=1) - rhs
+    scale = float(np.max(absdiag + off)) * float(np.max(np.abs(solution))) + float(np.max(np.abs(rhs)))
+    if not np.isfinite(residual).all() or float(np.max(np.abs(residual))) > 1e-10 * scale:
         from scipy.sparse import diags
         from scipy.sparse.linalg import splu
 
         matrix = diags([lower[1:], diag, upper[:-1], [bottom], [top]], [-1, 0, 1, -(n - 1), n - 1], format="csc")
-        solution = splu(matrix).solve(rhs)
+        solution = np.ascontiguousarray(splu(matrix).solve(np.ascontiguousarray(rhs.T)).T)
     return solution
 
 
@@ -221,69 +228,82 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
 
     points = as_points(points, "points", min_count=3 if closed else 2)
     n, d = points.shape
-    lengths = check_distinct(points, closed)
+    planar_points = np.ascontiguousarray(points.T)  # (d, n): vectorised work runs along points
+    m = n if closed else n - 1
+    legs = np.empty((d, m))
+    np.subtract(planar_points[:, 1:], planar_points[:, :-1], out=legs[:, : n - 1])
+    if closed:
+        np.subtract(planar_points[:, 0], planar_points[:, -1], out=legs[:, -1])
+    lengths = np.sqrt(np.einsum("dk,dk->k", legs, legs))
+    extent = float(np.max(planar_points.max(axis=1) - planar_points.min(axis=1)))
+    check_distinct(points, closed, lengths=lengths, extent=extent)
     t = parameterize(points, knots, closed=closed, lengths=lengths)
     steps = np.diff(t)
-    m = steps.shape[0]
     interval_what = f"one per interval, {m} for {n} {'closed ' if closed else ''}points"
-    weights = per_item(interval_weights, m, "interval_weights", what=interval_what)
-    if not (weights > 0).all():
-        i = int(np.flatnonzero(~(weights > 0))[0])
-        raise ValueError(f"interval_weights[{i}] = {float(weights[i])!r} must be > 0")
-    tension = per_item(point_tension, n, "point_tension", what=f"one per point, {n}")
+    weights = _interval_weights(interval_weights, m, interval_what)
+    tension = _maybe_scalar(point_tension, n, "point_tension", f"one per point, {n}")
     alphas = _class_parameter(alpha, m, "alpha", interval_what)
     betas = _class_parameter(beta, m, "beta", interval_what)
-
-    c = weights / steps
-    slopes = (np.roll(points, -1, axis=0)[: m] - points[: m]) / steps[:, None] if closed else np.diff(points, axis=0) / steps[:, None]
     relative = point_tension_scale == "relative"
 
+    c = weights / steps  # c_i = omega_i / h_i
+    slopes = legs
+    slopes /= steps  # Delta_i (legs is no longer needed)
+    weighted = c * slopes  # c_i Delta_i, planar (d, m)
+    rhs = np.empty((d, n))
     if closed:
         c_prev = np.roll(c, 1)
         spans = c_prev + c
         v = tension * spans if relative else tension
-        lower = c_prev
-        upper = c
-        diag = 0.5 * v + 2.0 * spans
-        rhs = 3.0 * (c_prev[:, None] * np.roll(slopes, 1, axis=0) + c[:, None] * slopes)
-        kinds = ("interior",) * n
+        diag = 2.0 * spans
+        diag += 0.5 * v
+        lower, upper, off = c_prev, c, spans
+        np.add(weighted, np.roll(weighted, 1, axis=1), out=rhs)
+        rhs *= 3.0
     else:
         spans = np.empty(n)
         spans[0] = c[0]
         spans[-1] = c[-1]
-        spans[1:-1] = c[:-1] + c[1:]
+        np.add(c[:-1], c[1:], out=spans[1:-1])
         v = tension * spans if relative else tension
-        lower = np.zeros(n)
-        upper = np.zeros(n)
+        diag = 2.0 * spans
+        if np.ndim(v) == 0:
+            diag[1:-1] += 0.5 * v
+        else:
+            diag[1:-1] += 0.5 * v[1:-1]
+        lower = np.empty(n)
+        upper = np.empty(n)
+        lower[0] = upper[-1] = 0.0
         lower[1:] = c
         upper[:-1] = c
-        diag = np.empty(n)
-        diag[1:-1] = 0.5 * v[1:-1] + 2.0 * spans[1:-1]
-        rhs = np.empty((n, d))
-        rhs[1:-1] = 3.0 * (c[:-1, None] * slopes[:-1] + c[1:, None] * slopes[1:])
-        kinds = ["interior"] * n
+        off = spans.copy()
+        np.add(weighted[:, :-1], weighted[:, 1:], out=rhs[:, 1:-1])
+        rhs[:, 1:-1] *= 3.0
         if end_condition == "clamped":
             first, last = _end_tangents(end_tangents, points, steps, d)
             # rows c_1 M_1 = c_1 M̂_1 and c_{n-1} M_n = c_{n-1} M̂_n (scaled like the interior rows)
-            diag[0], upper[0], rhs[0] = c[0], 0.0, c[0] * first
-            diag[-1], lower[-1], rhs[-1] = c[-1], 0.0, c[-1] * last
-            kinds[0] = kinds[-1] = "fixed"
+            diag[0], upper[0], rhs[:, 0] = c[0], 0.0, c[0] * first
+            diag[-1], lower[-1], rhs[:, -1] = c[-1], 0.0, c[-1] * last
+            off[0] = off[-1] = 0.0
         else:
-            extra_first = 0.5 * v[0] if end_condition == "natural_v" else 0.0
-            extra_last = 0.5 * v[-1] if end_condition == "natural_v" else 0.0
-            diag[0] = extra_first + 2.0 * c[0]
-            diag[-1] = extra_last + 2.0 * c[-1]
-            rhs[0] = 3.0 * c[0] * slopes[0]
-            rhs[-1] = 3.0 * c[-1] * slopes[-1]
-            kind = "end" if end_condition == "natural_v" else "fixed"
-            kinds[0] = kinds[-1] = kind
+            if end_condition == "natural_v":
+                v_ends = np.broadcast_to(v, (n,))
+                diag[0] += 0.5 * v_ends[0]
+                diag[-1] += 0.5 * v_ends[-1]
+            rhs[:, 0] = 3.0 * weighted[:, 0]
+            rhs[:, -1] = 3.0 * weighted[:, -1]
 
-    tangents = solve_tangents(lower, diag, upper, rhs, closed=closed, tension=v, spans=spans,
-                              relative=relative, row_kinds=kinds)
+    def describe_row(k):
+        interior = closed or 0 < k < n - 1
+        if not interior and end_condition != "natural_v":
+            return ValueError(f"row {k} of the tangent system is not diagonally dominant (spec §2.5)")
+        return _dominance_error(k, float(np.broadcast_to(v, (n,))[k]), float(spans[k]), relative,
+                                "interior" if interior else "end")
+
+    tangents = solve_tangents(lower, diag, upper, rhs, closed=closed, off=off, describe_row=describe_row)
     if not np.isfinite(tangents).all():
         raise ValueError("the tangent system produced non-finite tangents (spec §2.5)")
-    bezier = hermite_bezier(points, tangents, steps, closed)
-    V, W = class_polygon(bezier, steps, alphas, betas)
+    planar, V, W = hermite_planar(planar_points, tangents, steps, closed, alphas, betas)
     info = {
         "form": "interpolant",
         "end_condition": end_condition,
@@ -292,12 +312,38 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         "beta": _summary(betas),
         "point_tension_scale": point_tension_scale,
     }
-    auxiliary = {"F": points.copy(), "tangents": tangents, "V": V, "W": W}
-    return Spline._from_trusted(bezier, np.array(t, dtype=float), closed=closed, auxiliary=auxiliary, info=info)
+    auxiliary = {"F": planar_points.T, "tangents": tangents.T, "V": V.T, "W": W.T}
+    return Spline._from_trusted(planar, t, closed=closed, auxiliary=auxiliary, info=info)
+
+
+def _maybe_scalar(value, count, name, what):
+    """A finite Python float for scalar input (the common case, no array work), else a checked array."""
+    if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
+        value = float(value)
+        if not np.isfinite(value):
+            raise ValueError(f"{name} is {value!r}; it must be finite")
+        return value
+    return per_item(value, count, name, what=what)
+
+
+def _interval_weights(value, count, what):
+    weights = _maybe_scalar(value, count, "interval_weights", what)
+    if np.ndim(weights) == 0:
+        if not weights > 0:
+            raise ValueError(f"interval_weights = {weights!r} must be > 0")
+        return weights
+    if not (weights > 0).all():
+        i = int(np.flatnonzero(~(weights > 0))[0])
+        raise ValueError(f"interval_weights[{i}] = {float(weights[i])!r} must be > 0")
+    return weights
 
 
 def _class_parameter(value, count, name, what):
-    values = per_item(value, count, name, what=what)
+    values = _maybe_scalar(value, count, name, what)
+    if np.ndim(values) == 0:
+        if values == 0:
+            raise ValueError(f"{name} = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
+        return values
     if not (values != 0).all():
         i = int(np.flatnonzero(values == 0)[0])
         raise ValueError(f"{name}[{i}] = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
@@ -306,6 +352,8 @@ def _class_parameter(value, count, name, what):
 
 def _summary(values):
     """A scalar when all per-segment values are equal, else 'per-segment' (keeps info small)."""
+    if np.ndim(values) == 0:
+        return float(values)
     first = float(values[0])
     return first if (values == first).all() else "per-segment"
 

@@ -33,11 +33,17 @@ def _coincidence_tolerance(points: np.ndarray) -> float:
     return COINCIDENT_RTOL * max(extent, np.finfo(float).tiny)
 
 
-def check_distinct(points: np.ndarray, closed: bool, name: str = "points", lengths=None) -> np.ndarray:
-    """Raise ``ValueError`` naming the first pair of consecutive coincident points; return leg lengths."""
+def check_distinct(points: np.ndarray, closed: bool, name: str = "points", lengths=None, extent=None) -> np.ndarray:
+    """Raise ``ValueError`` naming the first pair of consecutive coincident points; return leg lengths.
+
+    ``extent`` (optional) is the largest coordinate range of the points, if already known.
+    """
     if lengths is None:
         lengths = leg_lengths(points, closed)
-    tol = _coincidence_tolerance(points)
+    if extent is None:
+        tol = _coincidence_tolerance(points)
+    else:
+        tol = COINCIDENT_RTOL * max(extent, np.finfo(float).tiny)
     if not (lengths > tol).all():
         i = int(np.flatnonzero(~(lengths > tol))[0])
         n = points.shape[0]

@@ -95,7 +95,10 @@ class Spline:
         an open loop, naming the offending index.
     """
 
-    __slots__ = ("_bezier", "_knots", "_closed", "_auxiliary", "_info", "_power")
+    # Internal storage is "planar": _planar[j, k, i] is coordinate k of control point b_j of piece i,
+    # shape (4, d, m), so that vectorised work runs over long contiguous rows (pieces) rather than over
+    # the short coordinate axis. _bezier is the (m, 4, d) view of the same memory.
+    __slots__ = ("_planar", "_bezier", "_knots", "_closed", "_auxiliary", "_info", "_power")
 
     def __init__(self, bezier, knots, *, closed=False, auxiliary=None, info=None):
         bezier = as_float_array(bezier, "bezier", copy=True)
@@ -127,7 +130,6 @@ class Spline:
                     f"(bezier[{m - 1}, 3] != bezier[0, 0])"
                 )
             bezier[-1, 3] = bezier[0, 0]
-        bezier.flags.writeable = False
         knots.flags.writeable = False
 
         aux = {}
@@ -145,32 +147,36 @@ class Spline:
         if not isinstance(info, dict):
             raise TypeError(f"info must be a dict, got {type(info).__name__}")
 
-        self._bezier = bezier
+        self._set_planar(np.ascontiguousarray(bezier.transpose(1, 2, 0)))
         self._knots = knots
         self._closed = closed
         self._auxiliary = aux
         self._info = _jsonable(info, "info")
+
+    def _set_planar(self, planar):
+        planar.flags.writeable = False
+        self._planar = planar
+        self._bezier = planar.transpose(2, 0, 1)
         self._power = None
 
     @classmethod
-    def _from_trusted(cls, bezier, knots, *, closed=False, auxiliary=None, info=None):
+    def _from_trusted(cls, planar, knots, *, closed=False, auxiliary=None, info=None):
         """Internal fast path for constructions that guarantee valid input (no checks, no copies).
 
-        The caller hands over ownership of the arrays: finite float64, shapes ``(m, 4, d)`` and
-        ``(m + 1,)``, strictly increasing knots, joined pieces, JSON-normalised ``info``.
+        ``planar`` is the C-contiguous ``(4, d, m)`` array with ``planar[j, :, i]`` = control point ``b_j``
+        of piece ``i``. The caller hands over ownership of the arrays: finite float64, strictly increasing
+        ``(m + 1,)`` knots, exactly joined pieces, JSON-normalised ``info``.
         """
         self = cls.__new__(cls)
-        bezier.flags.writeable = False
+        self._set_planar(planar)
         knots.flags.writeable = False
         aux = auxiliary or {}
         for value in aux.values():
             value.flags.writeable = False
-        self._bezier = bezier
         self._knots = knots
         self._closed = bool(closed)
         self._auxiliary = aux
         self._info = info or {}
-        self._power = None
         return self
 
     # ------------------------------------------------------------------ properties
@@ -187,12 +193,12 @@ class Spline:
     @property
     def n_segments(self) -> int:
         """Number of pieces ``m``."""
-        return self._bezier.shape[0]
+        return self._planar.shape[2]
 
     @property
     def dim(self) -> int:
         """Dimension ``d`` of the points."""
-        return self._bezier.shape[2]
+        return self._planar.shape[1]
 
     @property
     def auxiliary(self) -> dict:
@@ -207,7 +213,7 @@ class Spline:
     @property
     def knot_points(self) -> np.ndarray:
         """Curve points at the knots, shape ``(m + 1, d)`` (for a loop the last equals the first)."""
-        return np.concatenate([self._bezier[:, 0], self._bezier[-1:, 3]], axis=0)
+        return np.concatenate([self._planar[0], self._planar[3][:, -1:]], axis=1).T.copy()
 
     @property
     def domain(self) -> tuple:
@@ -216,7 +222,7 @@ class Spline:
 
     def bezier(self) -> np.ndarray:
         """A copy of the Bézier control points, shape ``(m, 4, d)``."""
-        return np.array(self._bezier)
+        return np.array(self._bezier, order="C")
 
     def __repr__(self) -> str:
         form = self._info.get("form")
@@ -229,12 +235,10 @@ class Spline:
 
     # ------------------------------------------------------------------ evaluation
     def _power_coefficients(self) -> np.ndarray:
-        """Coefficients ``c_k`` of ``P(theta) = sum_k c_k theta^k`` per piece, shape (m, 4, d)."""
+        """Planar coefficients ``c_k`` of ``P(theta) = sum_k c_k theta^k``, shape (4, d, m)."""
         if self._power is None:
-            b0, b1, b2, b3 = (self._bezier[:, k] for k in range(4))
-            power = np.stack(
-                [b0, 3.0 * (b1 - b0), 3.0 * (b0 - 2.0 * b1 + b2), b3 - b0 + 3.0 * (b1 - b2)], axis=1
-            )
+            b0, b1, b2, b3 = self._planar
+            power = np.stack([b0, 3.0 * (b1 - b0), 3.0 * (b0 - 2.0 * b1 + b2), b3 - b0 + 3.0 * (b1 - b2)])
             power.flags.writeable = False
             self._power = power
         return self._power
@@ -278,22 +282,22 @@ class Spline:
         return array
 
     def _evaluate(self, index, theta, h, nu):
-        th = theta[:, None]
+        """Planar values ``(d, k)`` of ``d^nu P / dt^nu`` on pieces ``index`` at local ``theta``."""
         if nu == 0:
             # Bernstein form: exact end points (theta = 0 gives b0, theta = 1 gives b3 bit for bit)
-            b = self._bezier[index]  # (k, 4, d)
-            s = 1.0 - th
-            return (s * s * s) * b[:, 0] + (3.0 * s * s * th) * b[:, 1] + (3.0 * s * th * th) * b[:, 2] + (th * th * th) * b[:, 3]
-        coef = self._power_coefficients()[index]  # (k, 4, d)
+            b = np.take(self._planar, index, axis=2)  # (4, d, k)
+            s = 1.0 - theta
+            return (s * s * s) * b[0] + (3.0 * s * s * theta) * b[1] + (3.0 * s * theta * theta) * b[2] + (theta * theta * theta) * b[3]
+        if nu > 3:
+            return np.zeros((self.dim, theta.shape[0]))
+        coef = np.take(self._power_coefficients(), index, axis=2)  # (4, d, k)
         if nu == 1:
-            value = coef[:, 1] + th * (2.0 * coef[:, 2] + 3.0 * th * coef[:, 3])
+            value = coef[1] + theta * (2.0 * coef[2] + 3.0 * theta * coef[3])
         elif nu == 2:
-            value = 2.0 * coef[:, 2] + 6.0 * th * coef[:, 3]
-        elif nu == 3:
-            value = 6.0 * coef[:, 3] + 0.0 * th
+            value = 2.0 * coef[2] + 6.0 * theta * coef[3]
         else:
-            return np.zeros((theta.shape[0], self.dim))
-        return value / (h ** nu)[:, None]
+            value = 6.0 * coef[3] + 0.0 * theta
+        return value / h**nu
 
     def __call__(self, t, nu=0, *, extrapolate=False, side="right"):
         """Evaluate the curve or its ``nu``-th derivative ``d^nu P / dt^nu``.
@@ -319,7 +323,7 @@ class Spline:
         flat = array.reshape(-1)
         index, theta, h = self._locate(flat, side=side, extrapolate=extrapolate)
         values = self._evaluate(index, theta, h, nu)
-        return values[0] if array.ndim == 0 else values
+        return values[:, 0].copy() if array.ndim == 0 else np.ascontiguousarray(values.T)
 
     def derivative(self, t, order=1, **kwargs):
         """``d^order P / dt^order`` at ``t`` (see :meth:`__call__`)."""
@@ -328,16 +332,19 @@ class Spline:
     # ------------------------------------------------------------------ curvature
     @staticmethod
     def _curvature_from(first, second):
-        """Signed (d = 2) or unsigned (d >= 3) curvature ``|P' x P''| / |P'|^3`` (spec §7)."""
-        speed = np.linalg.norm(first, axis=-1)
-        if first.shape[-1] == 2:
-            cross = first[..., 0] * second[..., 1] - first[..., 1] * second[..., 0]
+        """Signed (d = 2) or unsigned (d >= 3) curvature ``|P' x P''| / |P'|^3`` (spec §7).
+
+        Planar arguments: ``first``, ``second`` have shape ``(d, k)``.
+        """
+        speed2 = np.einsum("dk,dk->k", first, first)
+        if first.shape[0] == 2:
+            cross = first[0] * second[1] - first[1] * second[0]
         else:
-            dot = np.einsum("...i,...i->...", first, second)
-            cross = np.sqrt(np.maximum(speed**2 * np.einsum("...i,...i->...", second, second) - dot**2, 0.0))
+            dot = np.einsum("dk,dk->k", first, second)
+            cross = np.sqrt(np.maximum(speed2 * np.einsum("dk,dk->k", second, second) - dot**2, 0.0))
         with np.errstate(divide="ignore", invalid="ignore"):
-            kappa = cross / speed**3
-        return np.where(speed > 0, kappa, np.nan)
+            kappa = cross / (speed2 * np.sqrt(speed2))
+        return np.where(speed2 > 0, kappa, np.nan)
 
     def _require_curvature_dim(self):
         if self.dim < 2:
@@ -371,9 +378,9 @@ class Spline:
         (spec §2.2, E2): the jump is shown, not hidden. Zero end speed gives NaN.
         """
         self._require_curvature_dim()
-        b = self._bezier
-        start = self._curvature_from(3.0 * (b[:, 1] - b[:, 0]), 6.0 * (b[:, 0] - 2.0 * b[:, 1] + b[:, 2]))
-        end = self._curvature_from(3.0 * (b[:, 3] - b[:, 2]), 6.0 * (b[:, 1] - 2.0 * b[:, 2] + b[:, 3]))
+        b0, b1, b2, b3 = self._planar
+        start = self._curvature_from(3.0 * (b1 - b0), 6.0 * (b0 - 2.0 * b1 + b2))
+        end = self._curvature_from(3.0 * (b3 - b2), 6.0 * (b1 - 2.0 * b2 + b3))
         m = self.n_segments
         out = np.full((m + 1, 2), np.nan)
         out[1:, 0] = end
@@ -397,89 +404,164 @@ class Spline:
             raise TypeError(f"scale must be a finite real number, got {scale!r}")
         samples = check_int(samples_per_segment, "samples_per_segment", minimum=2)
         theta = np.linspace(0.0, 1.0, samples)
-        basis = _bernstein(theta)  # (k, 4)
-        b = self._bezier
-        points = np.einsum("kj,mjd->mkd", basis, b).reshape(-1, 2)
-        d1 = np.einsum("kj,mjd->mkd", _bernstein_d1(theta), b).reshape(-1, 2)
-        d2 = np.einsum("kj,mjd->mkd", _bernstein_d2(theta), b).reshape(-1, 2)
-        speed = np.linalg.norm(d1, axis=1)
-        scale_ref = float(np.max(np.abs(b))) or 1.0
+        points = self._uniform_planar(_bernstein(theta))  # (d, m * k), piece-major
+        d1 = self._uniform_planar(_bernstein_d1(theta))
+        d2 = self._uniform_planar(_bernstein_d2(theta))
+        speed = np.sqrt(np.einsum("dk,dk->k", d1, d1))
+        scale_ref = float(np.max(np.abs(self._planar))) or 1.0
         keep = speed > 1e-12 * scale_ref
-        points, d1, d2, speed = points[keep], d1[keep], d2[keep], speed[keep]
+        points, d1, d2, speed = points[:, keep], d1[:, keep], d2[:, keep], speed[keep]
         kappa = self._curvature_from(d1, d2)
-        tangent = d1 / speed[:, None]
-        normal = np.stack([-tangent[:, 1], tangent[:, 0]], axis=1)
-        tips = points - float(scale) * kappa[:, None] * normal
-        return points, tips
+        factor = float(scale) * kappa / speed  # tooth = -scale * kappa * N, N = (-T_y, T_x), T = P'/|P'|
+        tips = np.stack([points[0] + factor * d1[1], points[1] - factor * d1[0]], axis=1)
+        return np.ascontiguousarray(points.T), tips
 
     # ------------------------------------------------------------------ sampling
-    def sample(self, tolerance=0.25, max_points=1_000_000, *, samples_per_segment=None):
+    def _uniform_planar(self, weights):
+        """``sum_j weights[k, j] b_j`` for every piece: planar ``(d, m * k)`` in curve order (one GEMM)."""
+        planar = self._planar
+        _, d, m = planar.shape
+        k = weights.shape[0]
+        values = weights @ planar.reshape(4, d * m)  # (k, d * m)
+        return values.reshape(k, d, m).transpose(1, 2, 0).reshape(d, m * k)
+
+    def sample(self, tolerance=0.25, max_points=1_000_000, *, samples_per_segment=None, method="wang"):
         """Display sampling: parameters ``(k,)`` and points ``(k, d)``, in order along the curve.
 
-        Adaptive (default): every piece is split at ``theta = 1/2`` (de Casteljau, vectorised over
-        all pieces of one level) until each sub-piece is flat, i.e. its inner control points lie
-        within ``tolerance`` of its chord. Because a Bézier piece lies in the convex hull of its
-        control points, the curve then stays within ``tolerance`` of the returned polyline (same units
-        as the points, e.g. pixels). Knots and both endpoints are always included; for a loop the last
-        point repeats the first. If reaching the tolerance would need more than ``max_points`` points,
-        refinement stops there and a ``RuntimeWarning`` is issued.
+        The returned polyline stays within ``tolerance`` of the curve (same units as the points, e.g.
+        pixels). Knots and both endpoints are always included; for a loop the last point repeats the first.
+        Fully vectorised over pieces; no Python loop over samples.
 
-        With ``samples_per_segment=k`` the pieces are instead sampled uniformly, ``k`` points per
-        piece (``theta = 0, 1/k, ..., (k-1)/k``) plus the final endpoint.
+        Parameters
+        ----------
+        tolerance : float
+            Maximum distance between the curve and the polyline (> 0).
+        max_points : int
+            Upper bound on the number of points. If the tolerance would need more, the sampling is coarsened
+            to fit and a ``RuntimeWarning`` is issued.
+        samples_per_segment : int, optional
+            Ignore ``tolerance`` and sample every piece uniformly: ``theta = 0, 1/k, .., (k-1)/k`` per piece,
+            plus the final endpoint.
+        method : {"wang", "subdivide"}
+            ``"wang"`` (default, fastest): piece ``i`` gets ``k_i = ceil(sqrt(3/4 * L_i / tolerance))`` uniform
+            samples in ``theta``, with ``L_i = max(|b0 - 2 b1 + b2|, |b1 - 2 b2 + b3|)`` (Wang's bound: the chord
+            error of a step ``1/k`` is at most ``|P''|_max / (8 k^2)`` and ``|P''(theta)| <= 6 L_i``).
+            ``"subdivide"``: split at ``theta = 1/2`` (de Casteljau, vectorised per level) until each
+            sub-piece's inner control points lie within ``tolerance`` of its chord (convex-hull bound); it
+            adapts inside a piece and usually returns fewer points, at a higher cost.
         """
-        b = self._bezier
-        m = self.n_segments
+        planar = self._planar
+        _, d, m = planar.shape
         knots = self._knots
+        method = check_choice(method, "method", ("wang", "subdivide"))
         if samples_per_segment is not None:
             k = check_int(samples_per_segment, "samples_per_segment", minimum=1)
             theta = np.arange(k) / k
-            points = np.einsum("kj,mjd->mkd", _bernstein(theta), b).reshape(-1, self.dim)
-            params = (knots[:-1, None] + theta[None, :] * np.diff(knots)[:, None]).reshape(-1)
-            return np.append(params, knots[-1]), np.concatenate([points, b[-1:, 3]], axis=0)
+            values = _bernstein(theta) @ planar.reshape(4, d * m)  # (k, d * m), one GEMM
+            points = np.empty((m * k + 1, d))
+            points[:-1] = values.reshape(k, d, m).transpose(2, 0, 1).reshape(m * k, d)
+            points[-1] = planar[3, :, -1]
+            params = np.empty(m * k + 1)
+            params[:-1] = (knots[:-1, None] + np.diff(knots)[:, None] * theta).reshape(-1)
+            params[-1] = knots[-1]
+            return params, points
+        if method == "wang":
+            return self._sample_wang(check_positive_number(tolerance, "tolerance"),
+                                     check_int(max_points, "max_points", minimum=m + 1))
 
         tolerance = check_positive_number(tolerance, "tolerance")
         max_points = check_int(max_points, "max_points", minimum=m + 1)
         tol2 = tolerance * tolerance
-        active = b
-        piece = np.arange(m)
-        lo = np.zeros(m)
-        width = np.ones(m)
-        done_ctrl, done_piece, done_lo = [], [], []
+        active = planar
+        piece = None  # None: the pieces themselves, in order (level 0)
+        lo = None
+        width = 1.0
+        done_points, done_piece, done_lo = [], [], []
         count = m + 1
         for _level in range(60):
             flat = _flatness_sq(active) <= tol2
-            budget = max_points - count
-            n_split = int((~flat).sum())
-            if n_split > budget:
-                if n_split:
-                    warnings.warn(
-                        f"sample(): tolerance {tolerance} needs more than max_points={max_points} points; "
-                        f"returning a coarser sampling",
-                        RuntimeWarning,
-                        stacklevel=2,
-                    )
+            n_split = active.shape[2] - int(np.count_nonzero(flat))
+            if n_split > max_points - count:
+                warnings.warn(
+                    f"sample(): tolerance {tolerance} needs more than max_points={max_points} points; "
+                    f"returning a coarser sampling",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
                 flat[:] = True
-            done_ctrl.append(active[flat, 0])
-            done_piece.append(piece[flat])
-            done_lo.append(lo[flat])
-            if flat.all():
+                n_split = 0
+            if piece is None:
+                piece_all, lo_all = np.arange(m), np.zeros(m)
+            else:
+                piece_all, lo_all = piece, lo
+            if n_split == 0:
+                done_points.append(active[0])
+                done_piece.append(piece_all)
+                done_lo.append(lo_all)
                 break
+            done_points.append(active[0][:, flat])
+            done_piece.append(piece_all[flat])
+            done_lo.append(lo_all[flat])
             split = ~flat
-            left, right = _split_half(active[split])
-            count += int(split.sum())
-            active = np.concatenate([left, right], axis=0)
-            half = width[split] * 0.5
-            piece = np.concatenate([piece[split], piece[split]])
-            lo = np.concatenate([lo[split], lo[split] + half])
-            width = np.concatenate([half, half])
-        points = np.concatenate(done_ctrl, axis=0)
-        piece = np.concatenate(done_piece)
-        lo = np.concatenate(done_lo)
-        order = np.lexsort((lo, piece))
-        piece, lo, points = piece[order], lo[order], points[order]
-        params = knots[piece] + lo * (knots[piece + 1] - knots[piece])
-        params[lo == 0.0] = knots[piece[lo == 0.0]]
-        return np.append(params, knots[-1]), np.concatenate([points, b[-1:, 3]], axis=0)
+            left, right = _split_half(active[:, :, split])
+            count += n_split
+            active = np.concatenate([left, right], axis=2)
+            width *= 0.5
+            piece = np.concatenate([piece_all[split], piece_all[split]])
+            lo = np.concatenate([lo_all[split], lo_all[split] + width])
+        if len(done_points) == 1:
+            points_planar, piece, lo = done_points[0], done_piece[0], done_lo[0]
+        else:
+            points_planar = np.concatenate(done_points, axis=1)
+            piece = np.concatenate(done_piece)
+            lo = np.concatenate(done_lo)
+            order = np.lexsort((lo, piece))  # curve order
+            piece, lo, points_planar = piece[order], lo[order], points_planar[:, order]
+        k = piece.shape[0]
+        points = np.empty((k + 1, d))
+        points[:-1] = points_planar.T
+        points[-1] = planar[3, :, -1]
+        params = np.empty(k + 1)
+        params[:-1] = knots[piece] + lo * (knots[piece + 1] - knots[piece])
+        params[-1] = knots[-1]
+        return params, points
+
+    def _sample_wang(self, tolerance, max_points):
+        planar = self._planar
+        _, d, m = planar.shape
+        knots = self._knots
+        b0, b1, b2, b3 = planar
+        first = b1 - b2  # reuse: b0 - 2 b1 + b2 = (b0 - b1) - (b1 - b2), b1 - 2 b2 + b3 = (b1 - b2) - (b2 - b3)
+        second_a = (b0 - b1) - first
+        second_b = first - (b2 - b3)
+        size2 = np.maximum(np.einsum("dk,dk->k", second_a, second_a), np.einsum("dk,dk->k", second_b, second_b))
+        counts = np.ceil(np.sqrt(np.sqrt(size2) * (0.75 / tolerance)))
+        np.maximum(counts, 1.0, out=counts)
+        total = float(counts.sum())
+        if total + 1 > max_points:
+            warnings.warn(
+                f"sample(): tolerance {tolerance} needs {int(total) + 1} points, more than max_points={max_points}; "
+                f"returning a coarser sampling",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+            budget = max_points - 1 - m  # one point per piece is the minimum
+            extra = counts - 1.0
+            counts = 1.0 + np.floor(extra * (budget / max(float(extra.sum()), 1.0)))
+        counts = counts.astype(np.intp)
+        total = int(counts.sum())
+        piece = np.repeat(np.arange(m), counts)
+        starts = np.cumsum(counts) - counts
+        theta = (np.arange(total) - np.repeat(starts, counts)) / np.repeat(counts, counts).astype(float)
+        index = piece
+        h = knots[1:] - knots[:-1]
+        params = np.empty(total + 1)
+        params[:-1] = knots[index] + theta * h[index]
+        params[-1] = knots[-1]
+        points = np.empty((total + 1, d))
+        points[:-1] = self._evaluate(index, theta, None, 0).T
+        points[-1] = planar[3, :, -1]
+        return params, points
 
     # ------------------------------------------------------------------ export
     def to_svg_path(self, precision=3) -> str:
@@ -551,7 +633,7 @@ class Spline:
         """
         from scipy.interpolate import BPoly
 
-        coefficients = np.ascontiguousarray(np.transpose(self._bezier, (1, 0, 2)))
+        coefficients = np.ascontiguousarray(self._planar.transpose(0, 2, 1))
         return BPoly(coefficients, np.array(self._knots), extrapolate="periodic" if self._closed else True)
 
     def to_ppoly(self):
@@ -570,7 +652,7 @@ class Spline:
         and for a loop per-knot arrays (``'F'``, ``'tangents'``) keep index 0 at the start point.
         ``info['alpha']`` and ``info['beta']`` are swapped (they swap roles in reverse, spec §1).
         """
-        b = self._bezier[::-1, ::-1]
+        planar = np.ascontiguousarray(self._planar[::-1, :, ::-1])
         knots = (self._knots[0] + self._knots[-1]) - self._knots[::-1]
         m = self.n_segments
         aux = {}
@@ -585,7 +667,9 @@ class Spline:
         info = dict(self._info)
         if "alpha" in info or "beta" in info:
             info["alpha"], info["beta"] = self._info.get("beta"), self._info.get("alpha")
-        return Spline(b, knots, closed=self._closed, auxiliary=aux, info=info)
+        knots = np.ascontiguousarray(knots)
+        aux = {key: np.array(value) for key, value in aux.items()}
+        return Spline._from_trusted(planar, knots, closed=self._closed, auxiliary=aux, info=_jsonable(info, "info"))
 
     def transformed(self, matrix, offset=None) -> "Spline":
         """Affine image ``x -> matrix @ x + offset`` (exact: Bézier pieces map to Bézier pieces).
@@ -600,7 +684,7 @@ class Spline:
         offset = np.zeros(d) if offset is None else as_float_array(offset, "offset")
         if offset.shape != (d,):
             raise ValueError(f"offset must have shape ({d},), got {offset.shape}")
-        b = self._bezier @ matrix.T + offset
+        planar = np.matmul(matrix, self._planar) + offset[:, None]
         aux = {}
         for key, value in self._auxiliary.items():
             if value.ndim >= 1 and value.shape[-1] == d:
@@ -608,7 +692,8 @@ class Spline:
                 if key not in VECTOR_AUXILIARY_KEYS:
                     value = value + offset
             aux[key] = value
-        return Spline(b, self._knots, closed=self._closed, auxiliary=aux, info=dict(self._info))
+        result = Spline(planar.transpose(2, 0, 1), self._knots, closed=self._closed, auxiliary=aux, info=dict(self._info))
+        return result
 
 
 # ---------------------------------------------------------------------- Bernstein helpers
@@ -627,30 +712,29 @@ def _bernstein_d2(theta):
 
 
 def _flatness_sq(ctrl):
-    """Squared max distance of ``b1``, ``b2`` from the segment ``b0 b3`` (per piece)."""
-    a = ctrl[:, 0]
-    chord = ctrl[:, 3] - a
-    length2 = np.einsum("nd,nd->n", chord, chord)
-    worst = np.zeros(ctrl.shape[0])
+    """Squared max distance of ``b1``, ``b2`` from the segment ``b0 b3``; planar ``ctrl`` (4, d, k)."""
+    a = ctrl[0]
+    chord = ctrl[3] - a
+    length2 = np.einsum("dk,dk->k", chord, chord)
+    safe = np.where(length2 > 0, length2, 1.0)
+    worst = None
     for j in (1, 2):
-        rel = ctrl[:, j] - a
-        with np.errstate(divide="ignore", invalid="ignore"):
-            s = np.where(length2 > 0, np.einsum("nd,nd->n", rel, chord) / length2, 0.0)
-        s = np.clip(s, 0.0, 1.0)
-        diff = rel - s[:, None] * chord
-        worst = np.maximum(worst, np.einsum("nd,nd->n", diff, diff))
+        rel = ctrl[j] - a
+        s = np.einsum("dk,dk->k", rel, chord) / safe
+        np.clip(s, 0.0, 1.0, out=s)
+        rel -= s * chord
+        dist = np.einsum("dk,dk->k", rel, rel)
+        worst = dist if worst is None else np.maximum(worst, dist, out=worst)
     return worst
 
 
 def _split_half(ctrl):
-    """de Casteljau split of every piece at ``theta = 1/2``: (left, right)."""
-    b0, b1, b2, b3 = ctrl[:, 0], ctrl[:, 1], ctrl[:, 2], ctrl[:, 3]
+    """de Casteljau split of every planar piece (4, d, k) at ``theta = 1/2``: (left, right)."""
+    b0, b1, b2, b3 = ctrl
     p01 = 0.5 * (b0 + b1)
     p12 = 0.5 * (b1 + b2)
     p23 = 0.5 * (b2 + b3)
     p012 = 0.5 * (p01 + p12)
     p123 = 0.5 * (p12 + p23)
     mid = 0.5 * (p012 + p123)
-    left = np.stack([b0, p01, p012, mid], axis=1)
-    right = np.stack([mid, p123, p23, b3], axis=1)
-    return left, right
+    return np.stack([b0, p01, p012, mid]), np.stack([mid, p123, p23, b3])

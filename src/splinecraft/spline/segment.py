@@ -27,6 +27,7 @@ __all__ = [
     "blending_functions",
     "segment_bezier",
     "hermite_bezier",
+    "hermite_planar",
     "class_polygon",
 ]
 
@@ -150,6 +151,39 @@ def hermite_bezier(points: np.ndarray, tangents: np.ndarray, steps: np.ndarray, 
         bezier[:, 3] = points[1:]
         bezier[:, 2] = points[1:] - third * tangents[1:]
     return bezier
+
+
+def hermite_planar(points, tangents, steps, closed, alpha, beta):
+    """Planar Hermite pieces and class polygon in one pass (internal fast path of spec §2.1).
+
+    ``points``/``tangents`` are planar ``(d, n)`` (one row per coordinate, one column per knot; ``n = m + 1``
+    open, ``m`` closed), ``steps`` the ``h_i``; ``alpha``/``beta`` scalars or ``(m,)``. Returns the planar
+    Bézier array ``(4, d, m)`` (``b1 = F_i + h_i M_i / 3``, ``b2 = F_{i+1} - h_i M_{i+1} / 3``, no class
+    parameter, E1) and ``V = F_i + h_i M_i / alpha_i``, ``W = F_{i+1} - h_i M_{i+1} / beta_i``, each ``(d, m)``.
+    """
+    d = points.shape[0]
+    m = steps.shape[0]
+    planar = np.empty((4, d, m))
+    third = steps / 3.0
+    start_offset = tangents[:, :m] * third  # h_i M_i / 3
+    if closed:
+        planar[3, :, :-1] = points[:, 1:]
+        planar[3, :, -1] = points[:, 0]
+        end_offset = np.empty((d, m))
+        np.multiply(tangents[:, 1:], third[:-1], out=end_offset[:, :-1])
+        np.multiply(tangents[:, 0], third[-1], out=end_offset[:, -1])
+    else:
+        planar[3] = points[:, 1:]
+        end_offset = tangents[:, 1:] * third  # h_i M_{i+1} / 3
+    planar[0] = points[:, :m]
+    np.add(planar[0], start_offset, out=planar[1])
+    np.subtract(planar[3], end_offset, out=planar[2])
+    start_offset *= 3.0 / np.asarray(alpha, dtype=float)
+    end_offset *= 3.0 / np.asarray(beta, dtype=float)
+    V = start_offset
+    V += planar[0]
+    W = np.subtract(planar[3], end_offset, out=end_offset)
+    return planar, V, W
 
 
 def class_polygon(bezier: np.ndarray, steps: np.ndarray, alpha, beta):

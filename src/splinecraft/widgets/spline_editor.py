@@ -42,6 +42,15 @@ _COINCIDENT_RTOL = 1e-9
 _MAX_COORDINATE = 1e9
 
 
+class _ArrayList(t.List):
+    """A List trait that also takes numpy arrays (converted to nested lists)."""
+
+    def validate(self, obj, value):
+        if isinstance(value, np.ndarray):
+            value = value.tolist()
+        return super().validate(obj, value)
+
+
 class SplineEditorWarning(UserWarning):
     """A value set from code was rejected; the editor kept its last good state."""
 
@@ -124,9 +133,9 @@ class SplineEditor(anywidget.AnyWidget):
     _esm = load_esm("spline_editor.js")
     _css = load_css()
 
-    points = t.List().tag(sync=True)
-    point_tension = t.List().tag(sync=True)
-    interval_weights = t.List().tag(sync=True)
+    points = _ArrayList().tag(sync=True)
+    point_tension = _ArrayList().tag(sync=True)
+    interval_weights = _ArrayList().tag(sync=True)
     alpha = t.Float(2.0, allow_none=True).tag(sync=True)
     beta = t.Float(2.0, allow_none=True).tag(sync=True)
     preset = t.Unicode("ball").tag(sync=True)
@@ -456,6 +465,8 @@ class SplineEditor(anywidget.AnyWidget):
         """Adjust the traits that depend on the one that changed; returns (state, note)."""
         note = None
         form = state["form"]
+        if form not in FORMS:
+            raise _Rejected(f"unknown form {form!r}; choose one of {', '.join(FORMS)}")
         if name == "preset":
             values = PRESETS.get(state["preset"], (None, None))[1]
             if values is not None:
@@ -695,13 +706,22 @@ class SplineEditor(anywidget.AnyWidget):
                 self.send_state("points")
 
     def _nearest_on_curve(self, x, y):
-        """(piece index, distance) of the curve point nearest to (x, y)."""
+        """(piece index, distance) of the curve point nearest to (x, y), from a fine display polyline."""
         spline = self._spline
         extent = float(np.ptp(np.asarray(self.points), axis=0).max()) or 1.0
-        params, samples = spline.sample(tolerance=extent * 2e-3)
-        distances = np.hypot(samples[:, 0] - x, samples[:, 1] - y)
+        params, samples = spline.sample(tolerance=extent * 1e-3)
+        start, end = samples[:-1], samples[1:]
+        along = end - start
+        length2 = np.einsum("ij,ij->i", along, along)
+        target = np.array([x, y], dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = np.where(length2 > 0, np.einsum("ij,ij->i", target - start, along) / length2, 0.0)
+        s = np.clip(s, 0.0, 1.0)
+        nearest = start + s[:, None] * along
+        distances = np.hypot(nearest[:, 0] - x, nearest[:, 1] - y)
         k = int(np.argmin(distances))
-        piece = int(np.clip(np.searchsorted(spline.knots, params[k], side="right") - 1, 0, spline.n_segments - 1))
+        t_near = params[k] + s[k] * (params[k + 1] - params[k])
+        piece = int(np.clip(np.searchsorted(spline.knots, t_near, side="right") - 1, 0, spline.n_segments - 1))
         return piece, float(distances[k])
 
     def _piece_leg(self, piece: int) -> int:

@@ -1,0 +1,415 @@
+"""Kernel-side logic of the widgets, without a browser.
+
+The page is simulated the way ipywidgets delivers it: trait updates through ``set_state`` (what a slider or
+dropdown sends) and custom messages through the widget's message handler (drags, double-clicks,
+right-clicks, buttons). Reference values come from independent engine calls, closed forms (spec E1, E2) and
+the geometry the widget must reproduce -- never from the widget's own earlier output.
+"""
+from __future__ import annotations
+
+import math
+import re
+import shutil
+import subprocess
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import splinecraft as sc
+from splinecraft.widgets import SplineEditor, SplineEditorWarning
+from splinecraft.widgets._assets import load_css, load_esm, static_dir
+from splinecraft.widgets._forms import FORMS, absolute_basis_tension
+
+SETTINGS = settings(max_examples=50, deadline=None)
+POINTS = [[60.0, 300.0], [160.0, 120.0], [300.0, 80.0], [440.0, 160.0], [540.0, 320.0]]
+
+
+def buffer(value, shape=(-1, 2)):
+    return np.frombuffer(value, dtype="<f4").reshape(shape) if value else np.zeros((0, 2), dtype="<f4")
+
+
+def page_message(widget, content, buffers=None):
+    """Deliver a custom message as if it came from the page."""
+    widget._handle_message(widget, content, buffers or [])
+
+
+def drag(editor, index, xy, *, seq, gesture, final=False):
+    page_message(editor, {"type": "drag", "index": index, "x": float(xy[0]), "y": float(xy[1]), "seq": seq,
+                          "gesture": gesture, "final": final})
+
+
+def sent_messages(widget):
+    """Capture the custom messages the kernel sends to the page."""
+    messages = []
+    widget.send = lambda content, buffers=None: messages.append(content)
+    return messages
+
+
+# ---------------------------------------------------------------------------------------------- assets
+def test_esm_inlines_the_shared_module_once():
+    for name in ("spline_editor.js", "trace_explorer.js"):
+        source = load_esm(name)
+        assert "./common.js" not in source
+        assert source.count("function bezierPath(") == 1
+        assert "export default { render }" in source
+    assert ".sc-widget" in load_css()
+    assert (static_dir() / "common.js").is_file()
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
+def test_inlined_modules_are_valid_javascript(tmp_path):
+    for name in ("spline_editor.js", "trace_explorer.js"):
+        target = tmp_path / name.replace(".js", ".mjs")
+        target.write_text(load_esm(name), encoding="utf-8")
+        run = subprocess.run(["node", "--check", str(target)], capture_output=True, text=True, timeout=60)
+        assert run.returncode == 0, run.stderr
+
+
+# ---------------------------------------------------------------------------------------------- curve buffers
+def test_geometry_buffers_are_the_engine_curve():
+    editor = SplineEditor(POINTS)
+    reference = sc.interpolate(np.array(POINTS), knots="chord", end_condition="natural")
+    geometry = editor.geometry
+    np.testing.assert_allclose(buffer(geometry["bezier"], (-1, 4, 2)), reference.bezier(), rtol=1e-6, atol=1e-4)
+    np.testing.assert_allclose(buffer(geometry["knots"]), reference.knot_points, atol=1e-4)
+    assert geometry["closed"] is False
+    np.testing.assert_allclose(editor.spline.bezier(), reference.bezier(), atol=1e-12)
+
+
+@pytest.mark.parametrize("form", list(FORMS))
+def test_every_form_builds_and_draws(form):
+    editor = SplineEditor(form=form)
+    assert editor.status_level == "info"
+    drawn = buffer(editor.geometry["bezier"], (-1, 4, 2))
+    np.testing.assert_allclose(drawn, editor.spline.bezier(), atol=1e-3)
+    assert editor.explanation.startswith("<p>")
+
+
+def test_setting_points_from_code_recomputes_and_refits_the_view():
+    editor = SplineEditor(POINTS)
+    revision = editor.geometry["revision"]
+    new = (np.array(POINTS) * 2.0 + 1000.0).tolist()
+    editor.points = new
+    assert editor.geometry["revision"] > revision
+    reference = sc.interpolate(np.array(new), knots="chord")
+    np.testing.assert_allclose(buffer(editor.geometry["bezier"], (-1, 4, 2)), reference.bezier(), atol=1e-2)
+    x0, y0, x1, y1 = editor.view
+    assert x0 < 1120 and x1 > 2080 and y0 < 1160 and y1 > 1640
+
+
+def test_numpy_points_are_accepted_and_lists_resize():
+    editor = SplineEditor(np.array(POINTS), point_tension=2.0)
+    assert editor.point_tension == [2.0] * 5 and len(editor.interval_weights) == 4
+    editor.points = np.array(POINTS + [[600.0, 200.0]])
+    assert editor.point_tension == [2.0] * 6 and len(editor.interval_weights) == 5
+    editor.closed = True
+    assert len(editor.interval_weights) == 6 and editor.spline.closed
+
+
+def test_interval_weight_changes_curve_and_comb_shows_the_jump():
+    """E2: kappa(t_i^+) / kappa(t_i^-) = omega_{i-1} / omega_i at joint i (spec §2.2)."""
+    editor = SplineEditor(POINTS, show_comb=True)
+    assert editor.geometry["labels"] == []  # equal weights: G2, no jump labels
+    editor.interval_weights = [1.0, 4.0, 1.0, 1.0]
+    ratios = {round(label["x"], 6): label["text"] for label in editor.geometry["labels"] if label["kind"] == "joint"}
+    assert ratios[round(POINTS[1][0], 6)] == "κ⁺/κ⁻ = 0.25"  # joint 1: omega_0 / omega_1 = 1/4
+    assert ratios[round(POINTS[2][0], 6)] == "κ⁺/κ⁻ = 4.00"  # joint 2: omega_1 / omega_2 = 4
+    teeth = buffer(editor.geometry["comb_teeth"], (-1, 2, 2))
+    m = editor.spline.n_segments
+    assert len(teeth) % m == 0 and len(teeth) // m >= 6  # every piece sampled with both end points
+    samples = len(teeth) // m
+    # both one-sided teeth at joint 1: end of piece 0 and start of piece 1 share the base, differ in length
+    end_of_0, start_of_1 = teeth[samples - 1], teeth[samples]
+    np.testing.assert_allclose(end_of_0[0], start_of_1[0], atol=1e-3)
+    length = lambda tooth: float(np.hypot(*(tooth[1] - tooth[0])))  # noqa: E731
+    assert length(start_of_1) / length(end_of_0) == pytest.approx(0.25, rel=1e-3)
+
+
+def test_class_preset_moves_v_w_but_not_the_interpolant():
+    """E1: alpha, beta cancel in the interpolant; only V, W change (V_i = F_i + h_i M_i / alpha_i)."""
+    editor = SplineEditor(POINTS, show_bezier_points=True)
+    before = editor.spline.bezier()
+    vw_ball = buffer(editor.geometry["vw"], (-1, 2, 2))
+    editor.preset = "timmer"
+    assert (editor.alpha, editor.beta) == (4.0, 4.0)
+    np.testing.assert_array_equal(editor.spline.bezier(), before)
+    vw_timmer = buffer(editor.geometry["vw"], (-1, 2, 2))
+    F = before[:, 0]
+    # V - F scales with 1/alpha: (V_timmer - F) = (2/4) (V_ball - F)
+    np.testing.assert_allclose(vw_timmer[:, 0] - F, 0.5 * (vw_ball[:, 0] - F), atol=2e-3)
+    assert "did not move" in editor.status_message and "E1" in editor.status_message
+    editor.alpha = 2.5
+    assert editor.preset == "free"
+
+
+def test_segment_mode_alpha_reshapes_the_curve():
+    """Spec §1: with V, W fixed, b1 = F0 + alpha/3 (V - F0), b2 = F1 + beta/3 (W - F1)."""
+    editor = SplineEditor(form="segment")
+    F0, V, W, F1 = np.array(editor.points)
+    editor.alpha, editor.beta = 1.5, 4.5
+    b = editor.spline.bezier()[0]
+    np.testing.assert_allclose(b[1], F0 + 0.5 * (V - F0), atol=1e-9)
+    np.testing.assert_allclose(b[2], F1 + 1.5 * (W - F1), atol=1e-9)
+    assert [label["text"] for label in editor.geometry["labels"]] == ["F₀", "V", "W", "F₁"]
+
+
+def test_switching_to_segment_mode_takes_the_first_piece_and_back_restores():
+    editor = SplineEditor(POINTS)
+    first_piece = editor.spline.bezier()[0]
+    editor.form = "segment"
+    # same class (Ball), so the segment is exactly the interpolant's first piece
+    np.testing.assert_allclose(editor.spline.bezier()[0], first_piece, atol=1e-9)
+    editor.form = "interpolant"
+    assert editor.points == POINTS
+
+
+def test_basis_form_relative_tension_scale():
+    """nu_j = -2 is the edge of the safe domain: v_j = -2 (c_{j-1} + c_j) makes d_j = 0 (spec §2.5, §4.5)."""
+    editor = SplineEditor(POINTS, form="basis", knots="chord")
+    state = editor._state()
+    state["point_tension"] = [1.0] * 5
+    legs = np.hypot(*np.diff(np.array(POINTS), axis=0).T)
+    v = absolute_basis_tension(state)
+    expected = np.zeros(5)
+    expected[:-1] += 1.0 / legs
+    expected[1:] += 1.0 / legs
+    np.testing.assert_allclose(v, expected, rtol=1e-12)
+    reference = sc.basis_spline(np.array(POINTS), knots="chord", point_tension=expected * 3.0)
+    editor.point_tension = [3.0] * 5
+    np.testing.assert_allclose(editor.spline.bezier(), reference.bezier(), atol=1e-9)
+
+
+# ---------------------------------------------------------------------------------------------- bad values
+@pytest.mark.parametrize(
+    "name, value, reason",
+    [
+        ("points", [[60, 300], [float("nan"), 1], [300, 80], [440, 160], [540, 320]], "not a finite number"),
+        ("points", [[60, 300], [60, 300], [300, 80], [440, 160], [540, 320]], "coincide"),
+        ("interval_weights", [1.0, -1.0, 1.0, 1.0], "must be > 0"),
+        ("interval_weights", [1.0, float("inf"), 1.0, 1.0], "not a finite number"),
+        ("alpha", float("nan"), "alpha must be a finite number"),
+        ("alpha", 0.0, "out of range"),
+        ("point_tension", [0.0, float("nan"), 0.0, 0.0, 0.0], "not a finite number"),
+        ("end_condition", "bogus", "does not apply"),
+        ("form", "spiral", "unknown form"),
+        ("comb_scale", -1.0, "comb size"),
+        ("selected", 99, "no point 99"),
+    ],
+)
+def test_bad_values_from_code_revert_with_message(name, value, reason):
+    editor = SplineEditor(POINTS)
+    before = editor.spline.bezier()
+    old = getattr(editor, name)
+    with pytest.warns(SplineEditorWarning, match=re.escape(reason)):
+        setattr(editor, name, value)
+    assert getattr(editor, name) == old
+    assert editor.status_level == "error" and reason in editor.status_message
+    np.testing.assert_array_equal(editor.spline.bezier(), before)
+
+
+def test_singular_point_tension_is_rejected():
+    """Spec §2.5: with h = omega = 1 and v = -8 the diagonal vanishes (singular); keep the last curve."""
+    points = [[float(i), float((-1) ** i)] for i in range(9)]
+    editor = SplineEditor(points, knots="uniform", tension_scale="absolute", end_condition="clamped")
+    before = editor.spline.bezier()
+    with pytest.warns(SplineEditorWarning):
+        editor.point_tension = [-8.0] * 9
+    assert editor.point_tension == [0.0] * 9
+    np.testing.assert_array_equal(editor.spline.bezier(), before)
+    editor.point_tension = [-15.0] * 9  # the reversed range below -6 (c_{k-1} + c_k) is valid (Figs 3.8-3.11)
+    assert editor.status_level == "info"
+
+
+def test_bad_values_from_the_page_revert_without_warning():
+    editor = SplineEditor(POINTS)
+    before = editor.spline.bezier()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        editor.set_state({"interval_weights": [1.0, 0.0, 1.0, 1.0]})
+        editor.set_state({"alpha": None})  # what the page sends for NaN
+    assert editor.interval_weights == [1.0] * 4 and editor.alpha == 2.0
+    assert editor.status_level == "error"
+    np.testing.assert_array_equal(editor.spline.bezier(), before)
+    editor.set_state({"interval_weights": [1.0, 2.0, 1.0, 1.0]})
+    assert editor.interval_weights == [1.0, 2.0, 1.0, 1.0] and editor.status_level == "info"
+
+
+def test_bad_constructor_arguments_raise():
+    with pytest.raises(ValueError, match="shape"):
+        SplineEditor([[1, 2, 3]])
+    with pytest.raises(ValueError, match="form"):
+        SplineEditor(form="nope")
+    with pytest.raises(TypeError, match="unexpected"):
+        SplineEditor(POINTS, colour="red")
+    with pytest.raises(ValueError, match="coincide"):
+        SplineEditor([[0, 0], [0, 0], [1, 1]])
+
+
+# ---------------------------------------------------------------------------------------------- drags
+def test_drag_moves_point_echoes_seq_and_is_one_undo_step():
+    editor = SplineEditor(POINTS)
+    for k in range(1, 6):
+        drag(editor, 2, (300 + 5 * k, 80 + 4 * k), seq=k, gesture=7, final=(k == 5))
+        assert editor.geometry["seq"] == k
+    assert editor.points[2] == [325.0, 100.0]
+    reference = sc.interpolate(np.array(editor.points), knots="chord")
+    np.testing.assert_allclose(buffer(editor.geometry["bezier"], (-1, 4, 2)), reference.bezier(), atol=1e-3)
+    assert len(editor._undo) == 1
+    editor.undo()
+    assert editor.points == POINTS
+    editor.redo()
+    assert editor.points[2] == [325.0, 100.0]
+
+
+def test_drag_onto_neighbour_is_rejected_and_acknowledged():
+    editor = SplineEditor(POINTS)
+    messages = sent_messages(editor)
+    before = editor.spline.bezier()
+    drag(editor, 2, POINTS[1], seq=3, gesture=1, final=True)
+    assert messages[-1] == {"type": "drag_ack", "seq": 3, "ok": False}
+    assert editor.points == POINTS and "coincide" in editor.status_message
+    np.testing.assert_array_equal(editor.spline.bezier(), before)
+    page_message(editor, {"type": "drag", "index": 2, "x": None, "y": 5.0, "seq": 4, "gesture": 1})
+    assert messages[-1]["ok"] is False and editor.points == POINTS
+
+
+# ---------------------------------------------------------------------------------------------- add / delete
+def test_double_click_on_curve_inserts_in_sequence():
+    editor = SplineEditor(POINTS)
+    t_mid = 0.5 * (editor.spline.knots[2] + editor.spline.knots[3])
+    x, y = editor.spline(t_mid)
+    page_message(editor, {"type": "add", "x": float(x), "y": float(y), "tol": 5.0})
+    assert len(editor.points) == 6 and editor.points[3] == pytest.approx([x, y])
+    assert editor.selected == 3 and len(editor.point_tension) == 6 and len(editor.interval_weights) == 5
+    np.testing.assert_allclose(editor.spline(editor.spline.knots[3]), [x, y], atol=1e-9)
+
+
+def test_double_click_off_an_open_curve_extends_the_nearer_end():
+    editor = SplineEditor(POINTS)
+    assert editor.add_point(700.0, 360.0, tolerance=5.0) == 5
+    assert editor.points[-1] == [700.0, 360.0]
+    assert editor.add_point(-50.0, 350.0, tolerance=5.0) == 0
+    assert editor.points[0] == [-50.0, 350.0]
+
+
+def test_add_in_basis_form_goes_into_the_leg_of_that_piece():
+    """Spec §4.3: the inner Bézier points of a basis piece lie on its control leg P_i P_{i+1}."""
+    points = [[0, 0], [100, 0], [200, 100], [300, 100], [400, 0], [500, 0]]
+    editor = SplineEditor(points, form="basis")
+    bezier = editor.spline.bezier()
+    for piece in range(editor.spline.n_segments):
+        leg = editor._piece_leg(piece)
+        a, b = np.array(points[leg]), np.array(points[leg + 1])
+        for inner in bezier[piece, 1:3]:
+            u, w = b - a, inner - a
+            assert abs(u[0] * w[1] - u[1] * w[0]) / np.linalg.norm(u) < 1e-9
+    mid = editor.spline(0.5 * (editor.spline.knots[1] + editor.spline.knots[2]))
+    expected = editor._piece_leg(1) + 1  # floating ends: piece 1 is thesis segment 2, on leg P_2 P_3
+    assert expected == 3
+    index = editor.add_point(*mid, tolerance=2.0)
+    assert index == expected
+    assert editor.points[index] == pytest.approx(list(mid))
+
+
+def test_delete_point_and_minimum_count():
+    editor = SplineEditor(POINTS)
+    editor.selected = 2
+    page_message(editor, {"type": "delete", "index": 2})
+    assert editor.points == [p for i, p in enumerate(POINTS) if i != 2]
+    assert len(editor.interval_weights) == 3 and editor.selected == -1
+    editor.delete_point(0)
+    editor.delete_point(0)
+    assert len(editor.points) == 2
+    with pytest.warns(SplineEditorWarning, match="at least 2"):
+        assert editor.delete_point(0) is False
+    assert len(editor.points) == 2
+    for _ in range(3):
+        editor.undo()
+    assert editor.points == POINTS
+
+
+def test_segment_mode_refuses_add_and_delete():
+    editor = SplineEditor(form="segment")
+    with pytest.warns(SplineEditorWarning, match="four points"):
+        assert editor.add_point(10.0, 10.0) == -1
+    assert len(editor.points) == 4
+
+
+# ---------------------------------------------------------------------------------------------- history
+def test_undo_redo_and_slider_coalescing():
+    editor = SplineEditor(POINTS)
+    editor._coalesce_seconds = 60.0
+    for value in (1.0, 2.0, 3.0):  # one slider gesture: consecutive changes of one trait
+        editor.set_state({"point_tension": [value] * 5})
+    editor.set_state({"interval_weights": [2.0] * 4})
+    assert len(editor._undo) == 2
+    assert editor.undo() and editor.interval_weights == [1.0] * 4 and editor.point_tension == [3.0] * 5
+    assert editor.undo() and editor.point_tension == [0.0] * 5
+    assert not editor.undo() and not editor.can_undo and editor.can_redo
+    assert editor.redo() and editor.point_tension == [3.0] * 5
+    editor._coalesce_seconds = 0.0
+    editor.point_tension = [5.0] * 5  # a new change clears the redo stack
+    assert not editor.can_redo and not editor.redo()
+
+
+@SETTINGS
+@given(st.lists(st.tuples(st.integers(0, 4), st.floats(-200, 800), st.floats(-200, 600)), min_size=1, max_size=12))
+def test_random_drag_sequences_keep_a_valid_curve_and_undo_all(moves):
+    editor = SplineEditor(POINTS)
+    for k, (index, x, y) in enumerate(moves):
+        drag(editor, index, (x, y), seq=k + 1, gesture=k, final=True)
+        # whatever happened, the drawing is the engine's curve through the kernel's points
+        reference = sc.interpolate(np.array(editor.points), knots="chord")
+        np.testing.assert_allclose(editor.spline.bezier(), reference.bezier(), atol=1e-9)
+    while editor.undo():
+        pass
+    assert editor.points == POINTS
+
+
+# ---------------------------------------------------------------------------------------------- selection, view, svg
+def test_click_on_curve_selects_interval_and_highlights_it():
+    editor = SplineEditor(POINTS)
+    x, y = editor.spline(0.5 * (editor.spline.knots[1] + editor.spline.knots[2]))
+    page_message(editor, {"type": "select_at", "x": float(x), "y": float(y), "tol": 4.0})
+    assert editor.selected_interval == 1
+    np.testing.assert_allclose(buffer(editor.geometry["highlight"], (-1, 4, 2))[0], editor.spline.bezier()[1], atol=1e-3)
+
+
+def test_fit_view_and_svg_export(tmp_path):
+    editor = SplineEditor(POINTS)
+    editor.view = [0.0, 0.0, 10.0, 10.0]
+    page_message(editor, {"type": "fit"})
+    x0, y0, x1, y1 = editor.view
+    assert x0 < 60 and x1 > 540 and y0 < 80 and y1 > 300
+    svg = editor.to_svg()
+    assert svg.startswith("<svg") and editor.spline.to_svg_path(precision=3) in svg
+    path = editor.save_svg(tmp_path / "curve.svg")
+    assert path.read_text() == svg
+
+
+# ---------------------------------------------------------------------------------------------- basis figure
+def test_basis_figure_is_the_engine_basis_and_stays_in_sync():
+    pytest.importorskip("bqplot")
+    editor = SplineEditor(POINTS + [[640.0, 200.0]], form="basis", knots="uniform", tension_scale="absolute")
+    figure = editor.basis_figure
+    plot = editor._basis_plot
+    t = np.asarray(plot.lines.x)
+    reference = sc.basis_functions(t, 6)
+    np.testing.assert_allclose(np.asarray(plot.lines.y), reference.T, atol=1e-12)
+    np.testing.assert_allclose(np.asarray(plot.sum_line.y), 1.0, atol=1e-12)  # partition of unity
+    editor.point_tension = [0.0, 0.0, 5.0, 0.0, 0.0, 0.0]
+    editor.selected = 2
+    t = np.asarray(plot.lines.x)
+    reference = sc.basis_functions(t, 6, point_tension=[0.0, 0.0, 5.0, 0.0, 0.0, 0.0])
+    np.testing.assert_allclose(np.asarray(plot.highlight.y), reference[:, 2], atol=1e-12)
+    # local support: B_2 vanishes outside (t_0, t_4)
+    outside = (t <= 0.0) | (t >= 4.0)
+    assert np.all(np.abs(np.asarray(plot.highlight.y)[outside]) < 1e-12)
+    assert "Σ B_j = 1" in figure.title
+    editor.form = "segment"
+    assert np.asarray(plot.lines.y).shape == (4, len(plot.lines.x))
+    panel = editor.panel()
+    assert panel.children == (editor, figure)

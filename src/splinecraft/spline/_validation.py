@@ -43,12 +43,15 @@ def as_float_array(value, name: str, *, ndim: int | None = None, copy: bool = Fa
     """
     if isinstance(value, (str, bytes)):
         raise TypeError(f"{name} must be numeric, got {type(value).__name__}")
+    if isinstance(value, np.ndarray) and value.dtype.kind not in "biuf":
+        if value.dtype.kind == "c":
+            raise TypeError(f"{name} must be real, got complex values")
+        if value.dtype.kind != "O":
+            raise TypeError(f"{name} must be a numeric array, got dtype {value.dtype}")
     try:
         array = np.array(value, dtype=float, copy=True) if copy else np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise TypeError(f"{name} must be a numeric array, got {type(value).__name__}: {exc}") from None
-    if np.iscomplexobj(value):
-        raise TypeError(f"{name} must be real, got complex values")
     if ndim is not None and array.ndim != ndim:
         raise ValueError(f"{name} must have {ndim} dimension(s), got shape {array.shape}")
     if array.size and not np.isfinite(array).all():
@@ -79,6 +82,11 @@ def per_item(value, count: int, name: str, *, what: str) -> np.ndarray:
 
     ``what`` says what the entries belong to (e.g. ``"one per point"``) for the length message.
     """
+    if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
+        scalar = float(value)
+        if not np.isfinite(scalar):
+            raise ValueError(f"{name} is {scalar!r}; all values must be finite")
+        return np.full(count, scalar)
     array = as_float_array(value, name)
     if array.ndim == 0:
         return np.full(count, float(array))

@@ -82,7 +82,7 @@ def _leg_steps(control_points, knots, closed, ends, n_control):
 
 
 def _basis_coefficients(steps, weights, tension, closed, ends):
-    """Per-joint and per-segment coefficients of spec §4.2-4.3.
+    """Per-joint and per-segment coefficients of spec §4.2-4.3, vectorised with slices.
 
     Returns ``joint`` (lambda, mu, lambda_hat, mu_hat at the joints) and ``segment`` (rho, sigma), as
     arrays over the joints ``J`` (floating/clamped: thesis ``i = 1..n``; closed: ``0..N-1``) and the
@@ -90,78 +90,80 @@ def _basis_coefficients(steps, weights, tension, closed, ends):
     """
     n_control = tension.shape[0]
     if closed:
-        N = n_control
-        pad = 2
-        h_ext = np.pad(steps, (pad, pad), mode="wrap")
-        a_ext = np.pad(steps / weights, (pad, pad), mode="wrap")
-        v_ext = np.pad(tension, (pad, pad), mode="wrap")
-        h_off = a_off = v_off = pad
-        joints = np.arange(N)
-        segments = np.arange(N)
+        # indices mod N: pad two entries on each side, offset 2 (thesis i -> array i + 2)
+        a = steps / weights
+        h_ext = np.concatenate([steps[-2:], steps, steps[:2]])
+        a_ext = np.concatenate([a[-2:], a, a[:2]])
+        v_ext = np.concatenate([tension[-2:], tension, tension[:2]])
+        off = v_off = 2
+        first, count = 0, n_control  # joints 0..N-1
+        n_segments = n_control
     else:
         n = n_control - 2
         if ends == "clamped":
             # triple end knots: h_{-1} = h_0 = 0 = h_n = h_{n+1} (spec §4.4)
-            h_ext = np.concatenate([[0.0, 0.0], steps, [0.0, 0.0]])
-            a_inner = steps / weights[1:-1]
-            a_ext = np.concatenate([[0.0, 0.0], a_inner, [0.0, 0.0]])
+            zeros = np.zeros(2)
+            h_ext = np.concatenate([zeros, steps, zeros])
+            a_ext = np.concatenate([zeros, steps / weights[1:-1], zeros])
         else:
             # h_{-1} := h_0, h_{n+1} := h_n, omega likewise (spec §4.4, E12)
-            h_ext = np.concatenate([steps[:1], steps, steps[-1:]])
             a = steps / weights
+            h_ext = np.concatenate([steps[:1], steps, steps[-1:]])
             a_ext = np.concatenate([a[:1], a, a[-1:]])
-        h_off = a_off = 1  # h_ext[i + 1] = h_i for i = -1..n+1
+        off, v_off = 1, 0  # h_ext[i + 1] = h_i for i = -1..n+1; v_ext[i] = v_i for i = 0..n+1
         v_ext = tension
-        v_off = 0
-        joints = np.arange(1, n + 1)
-        segments = np.arange(1, n)
+        first, count = 1, n  # joints 1..n
+        n_segments = n - 1
 
-    def h(i):
-        return h_ext[i + h_off]
+    def h(i, length):  # h_i .. h_{i+length-1}
+        return h_ext[i + off : i + off + length]
 
-    def a(i):
-        return a_ext[i + a_off]
+    def a(i, length):
+        return a_ext[i + off : i + off + length]
 
-    def d(i):
-        return a(i - 1) + a(i) + 0.5 * a(i - 1) * a(i) * v_ext[i + v_off]
-
-    # D_i for i = J (and J[-1] + 1): one array over J_0..J_last+1
-    i = np.append(joints, joints[-1] + 1)
-    d_prev, d_here = d(i - 1), d(i)
-    terms = (h(i - 1) * d_prev * d_here, a(i) * (h(i - 1) + h(i)) * d_prev, a(i - 2) * (h(i - 2) + h(i - 1)) * d_here)
-    D = terms[0] + terms[1] + terms[2]
-    size = np.abs(terms[0]) + np.abs(terms[1]) + np.abs(terms[2])
-    degenerate = np.abs(D) <= DEGENERATE_RTOL * size
-    degenerate |= size == 0
+    # d over i = first-1 .. first+count (length count + 2): dd[k] = d_{first - 1 + k}
+    length = count + 2
+    a_left, a_right = a(first - 2, length), a(first - 1, length)
+    dd = a_left + a_right + 0.5 * a_left * a_right * v_ext[first - 1 + v_off : first - 1 + v_off + length]
+    # D over i = first .. first+count (length count + 1)
+    length = count + 1
+    h_m2, h_m1, h_0 = h(first - 2, length), h(first - 1, length), h(first, length)
+    d_prev, d_here = dd[:-1], dd[1:]
+    t1 = h_m1 * d_prev * d_here
+    t2 = a(first, length) * (h_m1 + h_0) * d_prev
+    t3 = a(first - 2, length) * (h_m2 + h_m1) * d_here
+    D = t1 + t2 + t3
+    size = np.abs(t1) + np.abs(t2) + np.abs(t3)
+    degenerate = (np.abs(D) <= DEGENERATE_RTOL * size) | (size == 0)
     if not closed and ends == "clamped":
         degenerate[0] = degenerate[-1] = False  # D_1 = D_{n+1} = 0 by construction; limits below
-    if closed:
-        D = D  # D over i = 0..N (D_N == D_0)
     if degenerate.any():
         k = int(np.flatnonzero(degenerate)[0])
-        index = int(i[k])
+        index = first + k
+        left = (index - 1) % n_control if closed else index - 1
+        right = index % n_control if closed else index
         raise ValueError(
             f"the basis is degenerate at knot {index}: D_{index} = {D[k]:.3g} vanishes (spec §4.5), caused by "
-            f"point_tension[{(index - 1) % n_control if closed else index - 1}] and "
-            f"point_tension[{index % n_control if closed else index}]; keep every "
+            f"point_tension[{left}] and point_tension[{right}]; keep every "
             f"point_tension[i] > -2 (omega_(i-1)/h_(i-1) + omega_i/h_i) (then d_i > 0 and the basis is non-negative)"
         )
     with np.errstate(divide="ignore", invalid="ignore"):
-        D_here, D_next = D[:-1], D[1:]
-        jj = joints
-        lam = a(jj) * h(jj) * d(jj - 1) / D_here
-        lam_hat = 3.0 * a(jj) * d(jj - 1) / D_here
-        mu = a(jj - 1) * h(jj - 1) * d(jj + 1) / D_next
-        mu_hat = 3.0 * a(jj - 1) * d(jj + 1) / D_next
-        # segments: rho_S, sigma_{S+1} use D_{S+1}
-        s_pos = segments - joints[0]  # position of S in the joint array
-        D_s = D[s_pos + 1]
-        rho = a(segments - 1) * (h(segments - 1) + h(segments)) * d(segments + 1) / D_s
-        sigma = a(segments + 1) * (h(segments) + h(segments + 1)) * d(segments) / D_s
+        inverse = 1.0 / D
+        inv_here, inv_next = inverse[:-1], inverse[1:]
+        a_j, a_jm1 = a(first, count), a(first - 1, count)
+        lam_hat = 3.0 * a_j * dd[:count] * inv_here
+        lam = lam_hat * h(first, count) * (1.0 / 3.0)
+        mu_hat = 3.0 * a_jm1 * dd[2:] * inv_next
+        mu = mu_hat * h(first - 1, count) * (1.0 / 3.0)
+        # segments S = first .. first+n_segments-1: rho_S, sigma_{S+1} use D_{S+1}
+        inv_s = inverse[1 : n_segments + 1]
+        h_s = h(first, n_segments)
+        rho = a(first - 1, n_segments) * (h(first - 1, n_segments) + h_s) * dd[2 : n_segments + 2] * inv_s
+        sigma = a(first + 1, n_segments) * (h_s + h(first + 1, n_segments)) * dd[1 : n_segments + 1] * inv_s
     if not closed and ends == "clamped":
         # limits at the triple knots (spec §4.4): lambda_1 = 1, lambda_hat_1 = 3/h_1, mu_n = 1, mu_hat_n = 3/h_{n-1}
-        lam[0], lam_hat[0] = 1.0, 3.0 / h(1)
-        mu[-1], mu_hat[-1] = 1.0, 3.0 / h(joints[-1] - 1)
+        lam[0], lam_hat[0] = 1.0, 3.0 / float(h(1, 1)[0])
+        mu[-1], mu_hat[-1] = 1.0, 3.0 / float(h(count - 1, 1)[0])
         rho[0] = 0.0
         sigma[-1] = 0.0
     return (lam, mu, lam_hat, mu_hat), (rho, sigma)

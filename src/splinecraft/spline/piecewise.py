@@ -422,7 +422,8 @@ class Spline:
         planar = self._planar
         _, d, m = planar.shape
         k = weights.shape[0]
-        values = weights @ planar.reshape(4, d * m)  # (k, d * m)
+        # numpy's own loop, not BLAS: a multithreaded GEMM this thin is slower, badly so on a busy machine
+        values = np.einsum("kj,jn->kn", weights, planar.reshape(4, d * m))  # (k, d * m)
         return values.reshape(k, d, m).transpose(1, 2, 0).reshape(d, m * k)
 
     def sample(self, tolerance=0.25, max_points=1_000_000, *, samples_per_segment=None, method="wang"):
@@ -457,7 +458,7 @@ class Spline:
         if samples_per_segment is not None:
             k = check_int(samples_per_segment, "samples_per_segment", minimum=1)
             theta = np.arange(k) / k
-            values = _bernstein(theta) @ planar.reshape(4, d * m)  # (k, d * m), one GEMM
+            values = np.einsum("kj,jn->kn", _bernstein(theta), planar.reshape(4, d * m))  # (k, d * m)
             points = np.empty((m * k + 1, d))
             points[:-1] = values.reshape(k, d, m).transpose(2, 0, 1).reshape(m * k, d)
             points[-1] = planar[3, :, -1]

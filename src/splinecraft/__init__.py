@@ -12,22 +12,33 @@ Layers (data flows one way, top to bottom):
 """
 from .spline import *  # noqa: F401,F403
 from .spline import __all__ as _spline_all
-from .capture import *  # noqa: F401,F403
-from .capture import __all__ as _capture_all
-from . import datasets  # noqa: F401  (thesis-like test bitmaps, teaching shapes, demo points)
 
 __version__ = "0.1.0"
 
+# Capture (scikit-image, PIL), widgets (anywidget, ipywidgets) and datasets load on first use, so that the
+# engine imports fast and never needs the layers above it.
+_CAPTURE = (
+    "load_bitmap", "Boundary", "trace_boundaries", "corners", "CORNER_METHODS",
+    "fit_outline", "FitResult", "Snapshot", "KNOT_METHODS", "trace", "TraceResult",
+)
 _WIDGETS = ("SplineEditor", "TraceExplorer")
+_SUBMODULES = ("spline", "capture", "widgets", "datasets", "cli")
 
 
 def __getattr__(name):
-    # Widgets import anywidget/ipywidgets: load them only when asked for.
-    if name in _WIDGETS:
-        from . import widgets
+    import importlib
 
-        return getattr(widgets, name)
+    if name in _CAPTURE:
+        return getattr(importlib.import_module(".capture", __name__), name)
+    if name in _WIDGETS:
+        return getattr(importlib.import_module(".widgets", __name__), name)
+    if name in _SUBMODULES:
+        return importlib.import_module("." + name, __name__)
     raise AttributeError(f"module 'splinecraft' has no attribute {name!r}")
 
 
-__all__ = [*_spline_all, *_capture_all, *_WIDGETS]
+def __dir__():
+    return sorted({*globals(), *_CAPTURE, *_WIDGETS, *_SUBMODULES})
+
+
+__all__ = [*_spline_all, *_CAPTURE, *_WIDGETS]

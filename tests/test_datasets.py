@@ -6,6 +6,7 @@ component labelling, and skimage's point-in-polygon test of the pixel centres ag
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
+from scipy.spatial import cKDTree
 from skimage import measure
 
 from splinecraft import datasets
@@ -123,12 +124,9 @@ def test_true_outline_reproduces_the_bitmap(name):
     rows, cols = mask.shape
     centres = np.c_[np.tile(np.arange(cols) + 0.5, rows), np.repeat(np.arange(rows) + 0.5, cols)]
     inside = np.zeros(len(centres), bool)
-    nearest = np.full(len(centres), np.inf)
     for outline in outlines:
         inside ^= measure.points_in_poly(centres, outline)
-        for chunk in np.array_split(np.arange(len(centres)), 8):
-            d = np.linalg.norm(centres[chunk, None] - outline[None, ::2], axis=2).min(axis=1)
-            nearest[chunk] = np.minimum(nearest[chunk], d)
+    nearest = cKDTree(np.vstack(outlines)).query(centres)[0]  # <= distance to the polyline + 0.025
     differ = inside != mask.ravel()
     assert (nearest[differ] < 0.06).all(), (name, differ.sum())
     # orientation convention of Boundary: outers positive, holes negative; as many outlines as
@@ -161,6 +159,7 @@ def test_true_outline_reaches_the_corners():
     scale = size / 100
     (square,) = datasets.true_outline("square", size, spacing=0.1)
     corners = np.array([[20, 20], [80, 20], [80, 80], [20, 80]]) * scale
+    np.testing.assert_allclose(datasets.shape_corners("square", size), corners)
     gap = np.linalg.norm(square[None] - corners[:, None], axis=2).min(axis=1)
     assert gap.max() < 0.05
     assert abs(_shoelace(square) - (60 * scale) ** 2) < 0.5
@@ -169,11 +168,41 @@ def test_true_outline_reaches_the_corners():
     angles = np.radians(-90 + 36 * np.arange(10))
     radii = np.where(np.arange(10) % 2 == 0, 42.0, 18.0)
     vertices = np.c_[50 + radii * np.cos(angles), 52 + radii * np.sin(angles)] * scale
+    np.testing.assert_allclose(datasets.shape_corners("star", size), vertices)
     gap = np.linalg.norm(star[None] - vertices[:, None], axis=2).min(axis=1)
     assert gap.max() < 0.2
     x, y = vertices[:, 0], vertices[:, 1]
     exact_area = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
     assert abs(_shoelace(star) - exact_area) < 0.5
+
+
+@pytest.mark.parametrize("name, count", [("square", 4), ("star", 10), ("disc", 0), ("ellipse", 0),
+                                         ("blob", 0), ("D", 8)])
+def test_shape_corners_lie_on_the_outline(name, count):
+    size = 150
+    corners = datasets.shape_corners(name, size)
+    assert corners.shape == (count, 2)
+    for corner in corners:
+        # the corner lies on one of the outlines, and the outline turns sharply there: the chords to
+        # the outline points 2 px of arc before and after differ in direction by more than 30°
+        ring = min(datasets.true_outline(name, size, spacing=0.05),
+                   key=lambda o: np.linalg.norm(o - corner, axis=1).min())
+        index = int(np.argmin(np.linalg.norm(ring - corner, axis=1)))
+        assert np.linalg.norm(ring[index] - corner) < 0.1
+        steps = np.linalg.norm(np.diff(np.vstack([ring, ring[:1]]), axis=0), axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(steps)])[:-1]
+        total = steps.sum()
+        ahead = (arc - arc[index]) % total
+        after = ring[np.argmin(np.abs(ahead - 2.0))]
+        before = ring[np.argmin(np.abs(ahead - (total - 2.0)))]
+        incoming, outgoing = corner - before, after - corner
+        cosine = incoming @ outgoing / (np.linalg.norm(incoming) * np.linalg.norm(outgoing))
+        assert cosine < np.cos(np.radians(30)), (name, corner, cosine)
+
+
+def test_shape_corners_rejects_objects_without_known_corners():
+    with pytest.raises(ValueError, match="valid names"):
+        datasets.shape_corners("apple")
 
 
 def test_true_outline_is_fresh_and_cached_consistently():

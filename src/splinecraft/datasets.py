@@ -24,6 +24,7 @@ Public functions
 thesis_object(name, size=None) -> bool mask            names in :data:`THESIS_OBJECTS`
 shape(name, size=128) -> bool mask                      names in :data:`SHAPES`
 true_outline(name, size=None) -> list of (n, 2) arrays  any name of the two lists above
+shape_corners(name, size=None) -> (k, 2) array          exact corners of the shapes and of 'D'
 sample_points(name) -> (n, 2) array; sample_closed(name) -> bool    names in :data:`SAMPLE_POINTS`
 """
 from __future__ import annotations
@@ -41,6 +42,7 @@ __all__ = [
     "thesis_object",
     "shape",
     "true_outline",
+    "shape_corners",
     "sample_points",
     "sample_closed",
 ]
@@ -53,27 +55,50 @@ __all__ = [
 # ----------------------------------------------------------------------------------------------
 
 _CHUNK = 1 << 22  # max elements of one (points x segments) temporary
+_GROUP = 16  # segments per bounding-box group in _segment_distance
+#: Points farther than this (design units) beyond a group's reach get a lower bound instead of the
+#: exact distance. It exceeds every fillet size used below, so min/max/smooth-min compositions are
+#: exact wherever their result is within this margin of zero: the zero set is unchanged.
+_EXACT_MARGIN = 12.0
 
 
 def _segment_distance(x, y, starts, ends, radius_start, radius_end):
     """min over segments of ``distance(point, segment) - radius(u)``, radius linear along the segment.
 
     This is a stroke of varying width around a polyline (round caps and joins). Vectorised over
-    points and segments, in chunks of at most ``_CHUNK`` elements.
+    points and segments, in chunks of at most ``_CHUNK`` elements. Segments are taken in groups of
+    ``_GROUP`` with a bounding box: points farther than ``_EXACT_MARGIN`` from a group's reach get the
+    lower bound ``box distance - max radius`` from that group (same sign, never above the exact value),
+    which keeps the zero set and every value within the margin exact.
     """
     x = np.asarray(x, float)
     y = np.asarray(y, float)
-    ax, ay = starts[:, 0], starts[:, 1]
-    dx, dy = ends[:, 0] - ax, ends[:, 1] - ay
-    length_sq = np.maximum(dx * dx + dy * dy, 1e-300)
-    out = np.empty(x.shape[0])
-    step = max(1, _CHUNK // max(1, starts.shape[0]))
-    for lo in range(0, x.shape[0], step):
-        px = x[lo:lo + step, None] - ax
-        py = y[lo:lo + step, None] - ay
-        u = np.clip((px * dx + py * dy) / length_sq, 0.0, 1.0)
-        dist = np.hypot(px - u * dx, py - u * dy) - (radius_start + u * (radius_end - radius_start))
-        out[lo:lo + step] = dist.min(axis=1)
+    out = np.full(x.shape[0], np.inf)
+    for lo in range(0, starts.shape[0], _GROUP):
+        a, b = starts[lo:lo + _GROUP], ends[lo:lo + _GROUP]
+        ra, rb = radius_start[lo:lo + _GROUP], radius_end[lo:lo + _GROUP]
+        box_lo = np.minimum(a.min(axis=0), b.min(axis=0))
+        box_hi = np.maximum(a.max(axis=0), b.max(axis=0))
+        reach = float(max(ra.max(), rb.max()))
+        gap_x = np.maximum(np.maximum(box_lo[0] - x, x - box_hi[0]), 0.0)
+        gap_y = np.maximum(np.maximum(box_lo[1] - y, y - box_hi[1]), 0.0)
+        bound = np.hypot(gap_x, gap_y) - reach
+        near = np.flatnonzero(bound <= _EXACT_MARGIN)
+        far = bound > _EXACT_MARGIN
+        out[far] = np.minimum(out[far], bound[far])
+        if near.size == 0:
+            continue
+        ax, ay = a[:, 0], a[:, 1]
+        dx, dy = b[:, 0] - ax, b[:, 1] - ay
+        length_sq = np.maximum(dx * dx + dy * dy, 1e-300)
+        step = max(1, _CHUNK // max(1, a.shape[0]))
+        for start in range(0, near.size, step):
+            index = near[start:start + step]
+            px = x[index, None] - ax
+            py = y[index, None] - ay
+            u = np.clip((px * dx + py * dy) / length_sq, 0.0, 1.0)
+            dist = np.hypot(px - u * dx, py - u * dy) - (ra + u * (rb - ra))
+            out[index] = np.minimum(out[index], dist.min(axis=1))
     return out
 
 
@@ -311,9 +336,7 @@ def _square():
 
 def _star():
     """Five-pointed star (10 corners: 5 convex tips, 5 concave)."""
-    angles = np.radians(-90 + 36 * np.arange(10))
-    radii = np.where(np.arange(10) % 2 == 0, 42.0, 18.0)
-    return _polygon(np.c_[50 + radii * np.cos(angles), 52 + radii * np.sin(angles)]), 100.0, 100.0
+    return _polygon(_star_vertices()), 100.0, 100.0
 
 
 def _disc_shape():
@@ -577,6 +600,56 @@ def true_outline(name, size=None, *, spacing=0.1):
     if isinstance(spacing, bool) or not isinstance(spacing, numbers.Real) or not 0.01 <= spacing <= 1.0:
         raise ValueError(f"spacing must be a number between 0.01 and 1 px, got {spacing!r}")
     return [outline.copy() for outline in _outline(kind, name, size, float(spacing))]
+
+
+def _star_vertices():
+    angles = np.radians(-90 + 36 * np.arange(10))
+    radii = np.where(np.arange(10) % 2 == 0, 42.0, 18.0)
+    return np.c_[50 + radii * np.cos(angles), 52 + radii * np.sin(angles)]
+
+
+# Design-unit corners (tangent discontinuities) of the shapes whose corners are known exactly.
+_CORNERS = {
+    "square": lambda: np.array([[20.0, 20.0], [80.0, 20.0], [80.0, 80.0], [20.0, 80.0]]),
+    "star": _star_vertices,
+    "disc": lambda: np.zeros((0, 2)),
+    "ellipse": lambda: np.zeros((0, 2)),
+    "blob": lambda: np.zeros((0, 2)),
+    # the serif D: 6 on the outer boundary (serifs and stem), 2 in the counter; the bowls join the
+    # straight edges with horizontal tangents, so those joins are smooth (curvature jumps only)
+    "D": lambda: np.array([[7.0, 10.0], [7.0, 16.0], [16.0, 16.0], [16.0, 84.0], [7.0, 84.0], [7.0, 90.0],
+                           [35.0, 22.0], [35.0, 78.0]]),
+}
+
+
+def shape_corners(name, size=None):
+    """The exact corners (tangent discontinuities) of a shape, in the pixel frame of its bitmap.
+
+    Ground truth for corner detectors (chapter 2): 'square' 4, 'star' 10 (5 convex tips, 5 reflex
+    corners), 'disc', 'ellipse', 'blob' none, and
+    the thesis object 'D' 8 (6 outer: serifs and stem; 2 in the counter). Other thesis objects have
+    corners only implicitly (where primitives meet) and raise ``ValueError``.
+
+    Parameters
+    ----------
+    name : str
+        One of 'square', 'star', 'disc', 'ellipse', 'blob', 'D'.
+    size : int, optional
+        As for :func:`shape` / :func:`thesis_object` (same defaults).
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, 2)
+        Corner coordinates (x, y) in px; they lie on :func:`true_outline`.
+    """
+    corners = _lookup(name, _CORNERS, "shape with known corners")
+    if name in _THESIS_BUILDERS:
+        size = THESIS_DEFAULT_SIZE[name] if size is None else _check_size(size)
+        _, scale, _, _ = _frame(_THESIS_BUILDERS[name], size)
+    else:
+        size = 128 if size is None else _check_size(size)
+        _, scale, _, _ = _frame(_SHAPE_BUILDERS[name], size)
+    return corners() * scale
 
 
 # ----------------------------------------------------------------------------------------------

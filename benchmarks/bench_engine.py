@@ -40,8 +40,8 @@ def default_repeats(n):
     if n <= 1000:
         return 300
     if n <= 10_000:
-        return 60
-    return 15
+        return 100
+    return 25
 
 
 def run_size(n, repeats, per_segment, tolerance, rng):

@@ -17,7 +17,7 @@ import numpy as np
 from scipy.linalg.lapack import dgtsv
 
 from ._validation import as_float_array, as_points, check_bool, check_choice, per_item
-from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths, parameterize
+from .knots import check_distinct, parameterize
 from .piecewise import Spline
 from .segment import hermite_planar
 

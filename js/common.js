@@ -215,10 +215,12 @@ export function sliderRow({ label, title, min, max, step, value, onInput, testid
   };
   configure(min, max, step);
   let current = value;
-  const show = (v) => {
+  // show(v): the value; show(null, typical): "mixed" (several different values), slider at `typical`
+  const show = (v, typical = v) => {
     current = v;
+    box.placeholder = v === null ? "mixed" : "";
     if (document.activeElement !== box) box.value = v === null || v === undefined ? "" : formatNumber(v, 4);
-    if (Number.isFinite(v)) range.value = String(toSlider(v));
+    if (Number.isFinite(typical)) range.value = String(toSlider(typical));
   };
   show(value);
   range.addEventListener("input", () => {

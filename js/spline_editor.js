@@ -123,12 +123,13 @@ function render({ model, el }) {
   const explanation = h("div", { class: "sc-explanation", "data-testid": "explanation" });
   const side = h("div", { class: "sc-side" },
     tensionSection, classSection, selectionSection,
-    section("Show", curveLegend, ...overlayRows, combScale.row),
-    section("About this form", explanation));
+    section("Show", curveLegend, ...overlayRows, combScale.row));
 
   const status = h("div", { class: "sc-status", "data-testid": "status" });
   const summary = h("div", { class: "sc-summary", "data-testid": "summary" });
-  root.append(toolbar, h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, svg, actions), side), h("div", { class: "sc-footer" }, status, summary));
+  const body = h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, svg, actions), side);
+  root.append(toolbar, body, explanation, h("div", { class: "sc-footer" }, status, summary));
+  side.style.height = `${height()}px`;
 
   // ---------------------------------------------------------------- model helpers
   function setTrait(name, value, final = true) {
@@ -254,10 +255,8 @@ function render({ model, el }) {
       slider.configure(slider === globalWeight || slider === intervalWeight || slider === combScale ? Math.max(lo, 1e-6) : lo, hi, st);
     }
     const v = model.get("point_tension") ?? [], w = model.get("interval_weights") ?? [];
-    globalTension.set(common(v));
-    globalWeight.set(common(w));
-    globalTension.setLabel(allEqual(v) ? "v" : "v (mixed)");
-    globalWeight.setLabel(allEqual(w) ? "ω" : "ω (mixed)");
+    globalTension.set(allEqual(v) ? common(v) : null, common(v));
+    globalWeight.set(allEqual(w) ? common(w) : null, common(w));
     tensionSection.style.display = uses.tension ? "" : "none";
     alphaSlider.set(model.get("alpha"));
     betaSlider.set(model.get("beta"));
@@ -323,11 +322,16 @@ function render({ model, el }) {
   // are coalesced, so the kernel never falls behind and the latest position always wins.
   let seq = 0, gesture = 0, inFlight = null, pendingSend = false, rafId = 0;
   const moveTimes = new Map(); // seq -> performance.now() of the pointermove it carries
-  const stats = (window.__splinecraft = window.__splinecraft ?? { dragLatencies: [] });
+  // instrumentation: window.__splinecraft.dragLatencies gets one record per drawn drag round trip
+  const latencyLog = () => {
+    window.__splinecraft = window.__splinecraft ?? {};
+    window.__splinecraft.dragLatencies = window.__splinecraft.dragLatencies ?? [];
+    return window.__splinecraft.dragLatencies;
+  };
 
   function sendDrag(final) {
     seq += 1;
-    moveTimes.set(seq, drag.tMove);
+    moveTimes.set(seq, { move: drag.tMove, sent: performance.now() });
     inFlight = { seq, t: performance.now() };
     model.send({ type: "drag", index: drag.index, x: drag.x, y: drag.y, seq, gesture, final });
   }
@@ -477,18 +481,23 @@ function render({ model, el }) {
 
   // ---------------------------------------------------------------- kernel -> page
   function onGeometry() {
+    const tArrive = performance.now();
     geometry = decodeGeometry(model.get("geometry"));
     drawGeometry();
     drawPoints();
     showStatus();
     const ackSeq = geometry.seq ?? -1;
     if (ackSeq > 0 && moveTimes.has(ackSeq)) {
-      const t0 = moveTimes.get(ackSeq);
+      const times = moveTimes.get(ackSeq), t0 = times.move;
       const tDom = performance.now();
       for (const key of moveTimes.keys()) if (key <= ackSeq) moveTimes.delete(key);
       requestAnimationFrame(() => {
-        const record = { seq: ackSeq, dom: tDom - t0, frame: performance.now() - t0, n: root.dataset.npoints | 0 };
-        stats.dragLatencies.push(record);
+        const record = {
+          seq: ackSeq, n: root.dataset.npoints | 0,
+          dom: tDom - t0, frame: performance.now() - t0, // pointermove -> path in DOM / -> next frame
+          wait: times.sent - t0, kernel: tArrive - times.sent, draw: tDom - tArrive, // the parts
+        };
+        latencyLog().push(record);
         root.dataset.lastDrawnSeq = String(ackSeq);
       });
     }
@@ -520,6 +529,7 @@ function render({ model, el }) {
   function resize() {
     svg.setAttribute("width", width());
     svg.setAttribute("height", height());
+    side.style.height = `${height()}px`;
     bg.setAttribute("width", width());
     bg.setAttribute("height", height());
     vp.width = width();

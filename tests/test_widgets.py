@@ -413,3 +413,33 @@ def test_basis_figure_is_the_engine_basis_and_stays_in_sync():
     assert np.asarray(plot.lines.y).shape == (4, len(plot.lines.x))
     panel = editor.panel()
     assert panel.children == (editor, figure)
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
+def test_js_geometry_helpers_in_node(tmp_path):
+    """The page's pure helpers: the data -> screen map keeps the aspect ratio, paths are exact Béziers."""
+    script = tmp_path / "check.mjs"
+    script.write_text(f"""
+import assert from "node:assert/strict";
+import {{ Viewport, bezierPath, polylinePath, segmentsPath, floats }} from "{(static_dir() / 'common.js').as_uri()}";
+const vp = new Viewport(400, 200, [0, 0, 10, 10]);          // square view in a 2:1 canvas
+assert.equal(vp.k, 20);                                       // limited by the height
+assert.deepEqual([vp.sx(0), vp.sy(0), vp.sx(10), vp.sy(10)], [100, 0, 300, 200]);
+assert.deepEqual([vp.dx(vp.sx(3.25)), vp.dy(vp.sy(7.5))], [3.25, 7.5]);
+assert.deepEqual(vp.visible(), [-5, 0, 15, 10]);
+const z = vp.zoomed(2, 200, 100);                             // zoom in about the centre
+assert.deepEqual(z, [0, 2.5, 10, 7.5]);
+const unit = new Viewport(100, 100, [0, 0, 100, 100]);
+const bez = new Float32Array([0, 0, 10, 0, 20, 10, 30, 10, 30, 10, 40, 10, 50, 0, 60, 0]);
+assert.equal(bezierPath(unit, bez, false), "M0,0C10,0 20,10 30,10C40,10 50,0 60,0");
+assert.equal(bezierPath(unit, bez, true).endsWith("Z"), true);
+assert.equal(polylinePath(unit, [0, 0, 1, 1, NaN, NaN, 2, 2, 3, 3]), "M0,0L1,1M2,2L3,3");
+assert.equal(segmentsPath(unit, [0, 0, 1, 1, 5, 5, 6, 6]), "M0,0L1,1M5,5L6,6");
+const bytes = new Float32Array([1.5, -2.25]).buffer;
+assert.deepEqual(Array.from(floats(new DataView(bytes))), [1.5, -2.25]);
+const shifted = new Uint8Array(9); shifted.set(new Uint8Array(bytes), 1);  // unaligned view: copied
+assert.deepEqual(Array.from(floats(new DataView(shifted.buffer, 1, 8))), [1.5, -2.25]);
+console.log("ok");
+""", encoding="utf-8")
+    run = subprocess.run(["node", str(script)], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr

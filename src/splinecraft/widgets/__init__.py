@@ -2,8 +2,16 @@
 
 The ES modules that draw them live in ``js/`` at the top of the repository (installed as
 ``splinecraft/widgets/static``). The kernel computes every curve; the page only draws.
+``TraceExplorer`` loads the capture layer on first use, so the editor needs only the engine.
 """
 from .spline_editor import SplineEditor, SplineEditorWarning
-from .trace_explorer import TraceExplorer
 
-__all__ = ["SplineEditor", "SplineEditorWarning", "TraceExplorer"]
+__all__ = ["SplineEditor", "SplineEditorWarning", "TraceExplorer", "TraceExplorerWarning"]
+
+
+def __getattr__(name):
+    if name in ("TraceExplorer", "TraceExplorerWarning"):
+        from . import trace_explorer
+
+        return getattr(trace_explorer, name)
+    raise AttributeError(f"module 'splinecraft.widgets' has no attribute {name!r}")

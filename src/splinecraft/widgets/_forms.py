@@ -213,7 +213,9 @@ def absolute_basis_tension(state: dict) -> np.ndarray:
 
 def explanation(form: str, preset: str, tension_scale: str) -> str:
     """Teaching text (HTML) shown beside the drawing: what the controls of this form really do."""
-    preset_label = PRESETS.get(preset, (preset, None))[0]
+    values = PRESETS.get(preset, (preset, None))[1]
+    preset_label = (f"{PRESETS[preset][0].split(' (')[0]}, α = β = {values[0]:g}" if values
+                    else "free α, β")
     tension_unit = (
         "dimensionless ν with v<sub>k</sub> = ν(c<sub>k−1</sub>+c<sub>k</sub>), safe for ν &gt; −2 (§2.5)"
         if tension_scale == "relative" else "the thesis's raw v (its figures use uniform knots, h = ω = 1)"

@@ -1,0 +1,140 @@
+"""SplineEditor drag round trip in a real browser (issue 4): pointer move -> new curve drawn.
+
+A real JupyterLab server and Debian's chromium (Playwright) open a notebook with a ``SplineEditor`` of n
+points (interpolant, chord knots, control polygon and knots shown). The benchmark presses the mouse on a
+point in the middle and moves it 200 times by a few pixels. For every move the page records, with
+``performance.now()`` (``window.__splinecraft.dragLatencies``, written by ``js/spline_editor.js``):
+
+* ``dom``   -- from the ``pointermove`` event to the moment the redrawn curve path for that move is in the
+  DOM: the page throttles to the next animation frame, sends the position to the kernel, the kernel
+  validates it, rebuilds the spline with the engine and sends back the Bézier pieces and overlays as
+  float32 buffers, and the page rewrites the SVG path;
+* ``frame`` -- ``dom`` plus the wait for the next animation frame (when that path is painted).
+
+Each move waits until its own round trip is drawn before the next one, so latencies do not queue.
+The first 10 moves warm up and are dropped. The kernel-side handling time of one drag message is
+measured separately in this process (no browser, no network) for comparison.
+
+    .venv/bin/python benchmarks/bench_drag.py                    # n = 10, 100, 1000; 200 moves each
+    .venv/bin/python benchmarks/bench_drag.py --sizes 100 --moves 50
+"""
+from __future__ import annotations
+
+import argparse
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "tests" / "browser"))
+
+WARMUP = 10
+
+
+def points_cell(n: int) -> str:
+    return f"""\
+import numpy as np
+import splinecraft as sc
+theta = np.linspace(0.0, 6.0 * np.pi, {n})
+radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, {n})
+points = np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)] if {n} > 12 else \\
+    np.c_[np.linspace(40.0, 760.0, {n}), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, {n}))]
+editor = sc.SplineEditor(points.round(3), width=620, height=440)
+editor
+"""
+
+
+def percentile(values, q):
+    return float(np.percentile(np.asarray(values, dtype=float), q))
+
+
+def browser_round_trips(lab, n: int, moves: int) -> dict:
+    page = lab.open_notebook([points_cell(n)], name=f"bench_drag_{n}.ipynb")
+    root = page.wait_for_selector("[data-testid=spline-editor][data-ready='1']", timeout=60_000)
+    root.scroll_into_view_if_needed()
+    index = n // 2
+    x, y = root.evaluate("(el, i) => el.__splinecraft.screenPoint(i)", index)
+    page.evaluate("() => { window.__splinecraft = window.__splinecraft ?? {}; window.__splinecraft.dragLatencies = []; }")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(moves + WARMUP):
+        offset = 3.0 + (k % 7)  # a small zig-zag: every move changes the point
+        page.mouse.move(x + offset, y + (offset if k % 2 else -offset))
+        page.wait_for_function("(count) => (window.__splinecraft.dragLatencies || []).length > count", arg=k,
+                               timeout=30_000)
+    page.mouse.up()
+    records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:]
+    kernel_points = lab.python_json("len(editor.points)")
+    assert kernel_points == n, kernel_points
+    parts = {key: statistics.median(r[key] for r in records) for key in ("wait", "kernel", "draw")}
+    dom = [r["dom"] for r in records]
+    frame = [r["frame"] for r in records]
+    return {
+        "n": n, "moves": len(records),
+        "dom_median": statistics.median(dom), "dom_p95": percentile(dom, 95),
+        "frame_median": statistics.median(frame), "frame_p95": percentile(frame, 95),
+        "wait_median": parts["wait"], "kernel_median_rt": parts["kernel"], "draw_median": parts["draw"],
+    }
+
+
+def kernel_handling(n: int, repeats: int = 200) -> float:
+    """Median time (ms) of the kernel's drag handler alone: validate, rebuild, pack the geometry."""
+    import splinecraft as sc
+
+    theta = np.linspace(0.0, 6.0 * np.pi, n)
+    radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, n)
+    points = np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)] if n > 12 else \
+        np.c_[np.linspace(40.0, 760.0, n), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, n))]
+    editor = sc.SplineEditor(points.round(3))
+    editor.send = lambda *args, **kwargs: None
+    editor._send = lambda *args, **kwargs: None  # no comm: measure the computation only
+    base = np.array(editor.points[n // 2])
+    times = []
+    for k in range(repeats):
+        offset = 3.0 + (k % 7)
+        message = {"type": "drag", "index": n // 2, "x": float(base[0] + offset), "y": float(base[1] - offset),
+                   "seq": k + 1, "gesture": 1, "final": False}
+        started = time.perf_counter()
+        editor._handle_message(editor, message, [])
+        times.append(1e3 * (time.perf_counter() - started))
+    return statistics.median(times)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[10, 100, 1000])
+    parser.add_argument("--moves", type=int, default=200)
+    args = parser.parse_args(argv)
+
+    from labharness import Lab, launch_chromium, start_lab
+
+    rows = []
+    with start_lab() as server, launch_chromium() as browser:
+        for n in args.sizes:
+            context = browser.new_context(viewport={"width": 1400, "height": 1000})
+            page = context.new_page()
+            lab = Lab(server, page)
+            row = browser_round_trips(lab, n, args.moves)
+            context.close()
+            server.shutdown_kernels()
+            row["kernel_median"] = kernel_handling(n)
+            rows.append(row)
+            print(f"n={n}: done", file=sys.stderr, flush=True)
+
+    print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "
+          f"{args.moves} moves per size (after {WARMUP} warm-up moves)\n")
+    print("| points | moves | pointer→path in DOM, median (ms) | p95 (ms) | →painted frame, median (ms) | p95 (ms) "
+          "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) |")
+    print("|---:|---:|---:|---:|---:|---:|---|---:|")
+    for r in rows:
+        print(f"| {r['n']} | {r['moves']} | {r['dom_median']:.1f} | {r['dom_p95']:.1f} | {r['frame_median']:.1f} | "
+              f"{r['frame_p95']:.1f} | {r['wait_median']:.1f} / {r['kernel_median_rt']:.1f} / {r['draw_median']:.1f} | "
+              f"{r['kernel_median']:.2f} |")
+
+
+if __name__ == "__main__":
+    main()

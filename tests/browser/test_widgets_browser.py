@@ -1,0 +1,133 @@
+"""Real-browser tests: JupyterLab + Debian chromium drive the SplineEditor and TraceExplorer widgets.
+
+Each test writes a fresh notebook into the server's temporary root, opens it, runs all cells, then acts
+like a user (mouse drags, double-clicks, right-clicks, keys, sliders, buttons) and checks both sides: the
+kernel's state (read through the notebook's own kernel) and what the page drew (SVG attributes).
+"""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+
+PRELUDE = ""
+
+EDITOR_CELL = PRELUDE + """\
+import splinecraft as sc
+editor = sc.SplineEditor([[60, 300], [160, 120], [300, 80], [440, 160], [540, 320]], width=620, height=420)
+editor
+"""
+
+EDITOR = "[data-testid=spline-editor][data-ready='1']"
+
+
+def open_editor(lab, cell=EDITOR_CELL):
+    page = lab.open_notebook([cell])
+    page.evaluate("() => window.jupyterapp.shell.collapseLeft()")
+    root = page.wait_for_selector(EDITOR, timeout=60_000)
+    return page, root
+
+
+def curve_d(root) -> str:
+    return root.query_selector("[data-testid=curve]").get_attribute("d")
+
+
+def wait_curve_change(page, old_d: str):
+    page.wait_for_function(
+        "(old) => { const p = document.querySelector(\"[data-testid=spline-editor] [data-testid=curve]\");"
+        " return p && p.getAttribute('d') !== old; }",
+        arg=old_d, timeout=20_000)
+
+
+def wait_python(lab, expression: str, predicate, timeout: float = 20.0):
+    """Poll the kernel until ``predicate(value)`` holds for the JSON value of ``expression``."""
+    import time
+
+    deadline = time.monotonic() + timeout
+    while True:
+        value = lab.python_json(expression)
+        if predicate(value):
+            return value
+        if time.monotonic() > deadline:
+            raise AssertionError(f"{expression} = {value!r} did not reach the expected state")
+        lab.page.wait_for_timeout(100)
+
+
+def test_drag_point_updates_python_and_curve(lab):
+    page, root = open_editor(lab)
+    before = lab.python_json("editor.points")
+    old_d = curve_d(root)
+    x, y = root.evaluate("el => el.__splinecraft.screenPoint(2)")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(1, 11):  # several pointermove events, throttled to animation frames by the page
+        page.mouse.move(x + 4.0 * k, y + 5.0 * k)
+    page.mouse.up()
+    target = root.evaluate("(el, xy) => el.__splinecraft.dataOf(xy[0], xy[1])", [x + 40.0, y + 50.0])
+    after = wait_python(lab, "editor.points", lambda pts: math.dist(pts[2], before[2]) > 1.0)
+    # the final position is never lost: the kernel has exactly where the pointer was released
+    assert math.dist(after[2], target) < 1e-6 * max(1.0, abs(target[0]) + abs(target[1]))
+    assert [p for i, p in enumerate(after) if i != 2] == [p for i, p in enumerate(before) if i != 2]
+    wait_curve_change(page, old_d)
+    # the drawn curve is the kernel's curve: it passes through the moved point (an interpolant)
+    assert lab.python_json("editor.spline(editor.spline.knots[2]).tolist()") == pytest.approx(after[2])
+    assert lab.python_json("len(editor._undo)") >= 1
+
+
+def test_slider_moves_tension_and_redraws(lab):
+    page, root = open_editor(lab)
+    old_d = curve_d(root)
+    slider = root.query_selector("[data-testid=point_tension-range]")
+    box = slider.bounding_box()
+    page.mouse.click(box["x"] + 0.85 * box["width"], box["y"] + box["height"] / 2)  # a real click on the track
+    tension = wait_python(lab, "editor.point_tension", lambda v: v[0] > 1.0)
+    assert len(set(tension)) == 1 and len(tension) == 5
+    wait_curve_change(page, old_d)
+    shown = float(root.query_selector("[data-testid=point_tension-number]").input_value())
+    assert shown == pytest.approx(tension[0], rel=1e-3)
+
+
+def test_add_and_delete_points(lab):
+    page, root = open_editor(lab)
+    # double-click on the curve between points 1 and 2: the new point goes between them
+    mid = lab.python_json("editor.spline(0.5 * (editor.spline.knots[1] + editor.spline.knots[2])).tolist()")
+    x, y = root.evaluate("(el, p) => el.__splinecraft.screenOf(p[0], p[1])", mid)
+    old_d = curve_d(root)
+    page.mouse.dblclick(x, y)
+    page.wait_for_selector("[data-testid=spline-editor][data-npoints='6']", timeout=20_000)
+    points = wait_python(lab, "editor.points", lambda pts: len(pts) == 6)
+    assert math.dist(points[2], mid) < 3.0  # within a few pixels of where we clicked
+    assert len(lab.python_json("editor.interval_weights")) == 5
+    wait_curve_change(page, old_d)
+    # right-click the new point: removed
+    x, y = root.evaluate("el => el.__splinecraft.screenPoint(2)")
+    page.mouse.click(x, y, button="right")
+    page.wait_for_selector("[data-testid=spline-editor][data-npoints='5']", timeout=20_000)
+    assert len(lab.python_json("editor.points")) == 5
+    # select point 3 and press Delete
+    x, y = root.evaluate("el => el.__splinecraft.screenPoint(3)")
+    page.mouse.click(x, y)
+    wait_python(lab, "editor.selected", lambda i: i == 3)
+    page.keyboard.press("Delete")
+    page.wait_for_selector("[data-testid=spline-editor][data-npoints='4']", timeout=20_000)
+    assert len(lab.python_json("editor.points")) == 4
+    # undo twice restores the two deleted points
+    root.query_selector("[data-testid=undo]").click()
+    root.query_selector("[data-testid=undo]").click()
+    page.wait_for_selector("[data-testid=spline-editor][data-npoints='6']", timeout=20_000)
+
+
+def test_bad_value_from_page_keeps_last_good_curve(lab):
+    page, root = open_editor(lab)
+    old_d = curve_d(root)
+    box = root.query_selector("[data-testid=interval_weights-number]")
+    box.fill("-3")
+    box.press("Enter")
+    page.wait_for_selector("[data-testid=spline-editor][data-status-level='error']", timeout=20_000)
+    assert "must be > 0" in root.query_selector("[data-testid=status]").inner_text()
+    assert lab.python_json("editor.interval_weights") == [1.0, 1.0, 1.0, 1.0]
+    assert curve_d(root) == old_d
+    page.wait_for_function(
+        "() => document.querySelector('[data-testid=interval_weights-number]').value === '1'", timeout=20_000)

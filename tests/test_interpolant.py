@@ -464,3 +464,20 @@ def test_one_dimensional_and_three_dimensional_data():
     np.testing.assert_allclose(spline(s), reference(s), atol=1e-12)
     space = interpolate(random_points(rng, 6).repeat(2, axis=1)[:, :3], closed=True)
     assert space.dim == 3 and space.closed
+
+
+# ---------------------------------------------------------------- knot parameterization (spec §3)
+def test_parameterize_and_remove_coincident():
+    from splinecraft.spline.knots import parameterize, remove_coincident
+
+    points = np.array([[0.0, 0.0], [3.0, 4.0], [3.0, 4.0], [3.0, 4.0], [6.0, 8.0], [0.0, 0.0]])
+    kept, index = remove_coincident(points)
+    np.testing.assert_array_equal(index, [0, 1, 4, 5])
+    kept_closed, index_closed = remove_coincident(points, closed=True)
+    np.testing.assert_array_equal(index_closed, [0, 1, 4])  # the final repeat of the first point goes too
+    np.testing.assert_allclose(parameterize(kept, "chord"), [0, 5, 10, 20])
+    np.testing.assert_allclose(parameterize(kept, "centripetal"), np.concatenate([[0], np.cumsum(np.sqrt([5, 5, 10]))]))
+    np.testing.assert_allclose(parameterize(kept, "uniform"), [0, 1, 2, 3])
+    np.testing.assert_allclose(parameterize(kept_closed, "chord", closed=True), [0, 5, 10, 20])
+    spline = interpolate(kept_closed, closed=True, knots="centripetal")
+    np.testing.assert_allclose(np.diff(spline.knots), np.sqrt([5.0, 5.0, 10.0]))

@@ -458,12 +458,16 @@ class Spline:
         if samples_per_segment is not None:
             k = check_int(samples_per_segment, "samples_per_segment", minimum=1)
             theta = np.arange(k) / k
-            values = np.einsum("kj,jn->kn", _bernstein(theta), planar.reshape(4, d * m))  # (k, d * m)
+            weights = _bernstein(theta)  # (k, 4)
             points = np.empty((m * k + 1, d))
-            points[:-1] = values.reshape(k, d, m).transpose(2, 0, 1).reshape(m * k, d)
+            grid = points[:-1].reshape(m, k, d)
+            for axis in range(d):  # numpy's own loop (no BLAS: a thin multithreaded GEMM is slow on a busy machine)
+                grid[:, :, axis] = np.einsum("kj,jm->km", weights, planar[:, axis, :]).T
             points[-1] = planar[3, :, -1]
             params = np.empty(m * k + 1)
-            params[:-1] = (knots[:-1, None] + np.diff(knots)[:, None] * theta).reshape(-1)
+            steps = params[:-1].reshape(m, k)
+            np.multiply(np.diff(knots)[:, None], theta, out=steps)
+            steps += knots[:-1, None]
             params[-1] = knots[-1]
             return params, points
         if method == "wang":

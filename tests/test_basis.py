@@ -366,3 +366,22 @@ def test_basis_functions_bad_input():
         basis_functions([1.0], 3)
     with pytest.raises(ValueError, match="outside"):
         basis_functions([0.0], 6)  # the floating curve runs over [t_1, t_n] = [1, 4]
+
+
+def test_clamped_end_tensions_have_no_effect():
+    """spec §4.4: with clamped ends only v_2..v_{n-1} act; v_0, v_1, v_n, v_{n+1} have no effect."""
+    rng = np.random.default_rng(12)
+    points = rng.normal(size=(8, 2)) * 20
+    v = rng.uniform(0, 3, 8)
+    omega = rng.uniform(0.5, 2, 7)
+    reference = basis_spline(points, ends="clamped", point_tension=v, interval_weights=omega)
+    changed = v.copy()
+    changed[[0, 1, 6, 7]] = rng.uniform(5, 50, 4)
+    other_weights = omega.copy()
+    other_weights[[0, 6]] = [9.0, 0.1]  # the end legs carry no interval
+    again = basis_spline(points, ends="clamped", point_tension=changed, interval_weights=other_weights)
+    np.testing.assert_allclose(again.bezier(), reference.bezier(), rtol=1e-12, atol=1e-12)
+    inner = v.copy()
+    inner[3] += 1.0
+    assert np.abs(basis_spline(points, ends="clamped", point_tension=inner, interval_weights=omega).bezier()
+                  - reference.bezier()).max() > 1e-3

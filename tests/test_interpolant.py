@@ -481,3 +481,19 @@ def test_parameterize_and_remove_coincident():
     np.testing.assert_allclose(parameterize(kept_closed, "chord", closed=True), [0, 5, 10, 20])
     spline = interpolate(kept_closed, closed=True, knots="centripetal")
     np.testing.assert_allclose(np.diff(spline.knots), np.sqrt([5.0, 5.0, 10.0]))
+
+
+def test_caller_arrays_are_not_modified_or_frozen():
+    rng = np.random.default_rng(21)
+    points = random_points(rng, 6)
+    knots = np.cumsum(rng.uniform(0.5, 2, 6))
+    weights = rng.uniform(0.5, 2, 5)
+    before = points.copy(), knots.copy(), weights.copy()
+    spline = interpolate(points, knots=knots, interval_weights=weights, point_tension=np.ones(6))
+    for array, copy in zip((points, knots, weights), before):
+        assert array.flags.writeable
+        np.testing.assert_array_equal(array, copy)
+    points[0] += 1.0  # the spline keeps its own data
+    np.testing.assert_array_equal(spline.knot_points[0], before[0][0])
+    with pytest.raises(ValueError):
+        spline.knots[0] = 5.0  # the spline's arrays are read-only

@@ -238,6 +238,8 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     extent = float(np.max(planar_points.max(axis=1) - planar_points.min(axis=1)))
     check_distinct(points, closed, lengths=lengths, extent=extent)
     t = parameterize(points, knots, closed=closed, lengths=lengths)
+    if not isinstance(knots, str):
+        t = t.copy()  # never freeze (read-only flag) or alias the caller's array
     steps = np.diff(t)
     interval_what = f"one per interval, {m} for {n} {'closed ' if closed else ''}points"
     weights = _interval_weights(interval_weights, m, interval_what)

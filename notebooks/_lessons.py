@@ -23,8 +23,10 @@ class Plot:
     SplineEditor and of bitmaps (x right, y down), so what you see here matches the widgets."""
 
     def __init__(self, title="", width=330, height=290, *, y_down=True, equal=True, xlabel="", ylabel="",
-                 y_range=None):
+                 x_range=None, y_range=None):
         self.x, self.y = bq.LinearScale(), bq.LinearScale(reverse=y_down)
+        if x_range is not None:
+            self.x.min, self.x.max = map(float, x_range)
         if y_range is not None:
             self.y.min, self.y.max = map(float, y_range)
         self.size, self.equal, self.marks = (width, height), equal, []
@@ -74,10 +76,19 @@ class Plot:
         _, xy = spline.sample(samples_per_segment=samples)
         return self.line(xy, color, width, label=label, dashed=dashed)
 
-    def comb(self, spline, scale, color="#8e24aa", samples=20):
-        """Curvature comb (spec §7): one tooth per sample, both one-sided teeth at every joint."""
-        base, tips = spline.curvature_comb(scale=scale, samples_per_segment=samples)
-        self.polylines(np.stack([base, tips], axis=1), color, 1.0, opacity=0.7)
+    def comb(self, spline, relative_length=0.12, color="#8e24aa", samples=20):
+        """Curvature comb (spec §7): teeth ∝ κ, drawn outside, both one-sided teeth at every joint.
+
+        Scaled so the 90th-percentile tooth is ``relative_length`` of the curve's size; the few teeth
+        of sharp turns that would be longer than 2.5 times that are clipped (drawn dashed-free, capped)."""
+        base, tips = spline.curvature_comb(scale=1.0, samples_per_segment=samples)
+        teeth = tips - base                                    # length |κ|
+        lengths = np.linalg.norm(teeth, axis=1)
+        size = float(np.ptp(base, axis=0).max())
+        target = relative_length * size
+        scale = target / max(float(np.percentile(lengths, 90)), 1e-300)
+        factor = np.minimum(scale, 2.5 * target / np.maximum(lengths, 1e-300))
+        self.polylines(np.stack([base, base + teeth * factor[:, None]], axis=1), color, 1.0, opacity=0.7)
         return self
 
     @property
@@ -111,8 +122,8 @@ def table(header, rows, digits=4):
     def cell(value):
         if isinstance(value, (float, np.floating)):
             return f"{value:.{digits}g}"
-        return str(value)
-    lines = ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)]
+        return str(value).replace("|", "\\|")
+    lines = ["| " + " | ".join(cell(h) for h in header) + " |", "|" + " --- |" * len(header)]
     lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in rows]
     display(Markdown("\n".join(lines)))
 
@@ -168,7 +179,7 @@ plots, blending_sums = [], {}
 for key, (alpha, beta) in sc.CLASS_PRESETS.items():
     values = blending_functions(theta, alpha, beta)              # shape (201, 4)
     blending_sums[key] = values.sum(axis=1)
-    plot = Plot(names[key], y_down=False, equal=False, xlabel="θ", y_range=(-0.1, 1.05))
+    plot = Plot(names[key], y_down=False, equal=False, xlabel="θ", x_range=(0, 1), y_range=(-0.1, 1.05))
     for j, label in enumerate(["F₀", "V", "W", "F₁"]):
         plot.line(np.c_[theta, values[:, j]], PALETTE[j], label=label)
     plot.line(np.c_[theta, values.sum(axis=1)], "#263238", 1.5, dashed=True)
@@ -365,7 +376,7 @@ figures = [("Fig 3.4: ω = 1, v = 0", 0.0, 1.0), ("Fig 3.5: v = 10", 10.0, 1.0),
 curves, plots, rows = {}, [], []
 for title, v, w in figures:
     curves[title] = spline = heart_curve(v, w)
-    plots.append(Plot(title, width=280, height=260).line(heart, "#90a4ae", 1.2, dashed=True, closed=True)
+    plots.append(Plot(title, width=270, height=250).line(heart, "#90a4ae", 1.2, dashed=True, closed=True)
                  .curve(spline, PALETTE[0]).dots(heart, "#263238", 22))
     rows.append([title, deviation(spline), reversed_tangents(spline)])
 show(*plots, columns=4)
@@ -440,7 +451,7 @@ for w, spline in local.items():
     rows.append([f"ω₂ = {w:g}", sag, ratio_in, 1.0 / w, ratio_out, w])
     plots.append(Plot(f"ω₂ = {w:g} (Figs 3.7 idea, one interval)", width=330, height=300)
                  .line(heart, "#90a4ae", 1.2, dashed=True, closed=True)
-                 .comb(spline, scale=600.0).curve(spline, PALETTE[0]).dots(heart[[heavy, heavy + 1]], PALETTE[4], 40))
+                 .comb(spline).curve(spline, PALETTE[0]).dots(heart[[heavy, heavy + 1]], PALETTE[4], 40))
 show(*plots)
 table(["weights", "sag of interval 2 from its chord", "κ⁺/κ⁻ at F₂", "ω₁/ω₂", "κ⁺/κ⁻ at F₃", "ω₂/ω₃"], rows)
 '''),
@@ -520,7 +531,7 @@ basis = {v: sc.basis_functions(t, n_control, closed=True, point_tension=v) for v
 plots = []
 for v, values in basis.items():
     plot = Plot(f"closed, uniform knots, v = {v:g}", width=330, height=250, y_down=False, equal=False,
-                xlabel="t", y_range=(-1.1, 1.1) if v < 0 else (-0.05, 1.05))
+                xlabel="t", x_range=(0, n_control), y_range=(-1.1, 1.1) if v < 0 else (-0.05, 1.05))
     for j in range(n_control):
         plot.line(np.c_[t, values[:, j]], PALETTE[j % len(PALETTE)], 1.6)
     plot.line(np.c_[t, values.sum(axis=1)], "#263238", 1.5, dashed=True)
@@ -696,7 +707,7 @@ from splinecraft.spline.timmer import timmer_blending_functions
 theta = np.linspace(0.0, 1.0, 301)
 f = timmer_blending_functions(theta)
 plot = Plot("Timmer blending functions", width=420, height=260, y_down=False, equal=False, xlabel="θ",
-            y_range=(-0.1, 1.05))
+            x_range=(0, 1), y_range=(-0.1, 1.05))
 for j in range(4):
     plot.line(np.c_[theta, f[:, j]], PALETTE[j], label=f"f{j}")
 plot.line(np.c_[theta, f.sum(axis=1)], "#263238", 1.5, dashed=True)
@@ -723,7 +734,7 @@ table(["joint", "status", "κ⁻", "κ⁺", "jump"],
       [[i, status[i], kappa[i, 0], kappa[i, 1], jumps[i]] for i in range(len(ellipse))])
 no_root = [i for i, s in enumerate(status) if s != "g2"]
 plot = Plot(f"Alg 3.1 on an ellipse: {len(no_root)} of {len(ellipse)} joints only G¹ (red)", width=520, height=340)
-plot.comb(g2, scale=3000.0).curve(g2).dots(ellipse, "#263238", 24).dots(ellipse[no_root], PALETTE[4], 60)
+plot.comb(g2).curve(g2).dots(ellipse, "#263238", 24).dots(ellipse[no_root], PALETTE[4], 60)
 show(plot)
 '''),
     ("md", r"""
@@ -753,7 +764,7 @@ table(["figure", "max distance from the polygon", "joint statuses"], gc1_rows)
 With α = β everywhere the joints are C¹ (`c1`); where the scales differ (Fig 3.44) the tangent *direction* is
 still continuous but the speed is not (`g1`). **Negative α (Fig 3.45, α = β = −10).** The engine requires α, β > 0
 (spec §5.5). A negative α is the same as a positive one with reversed tangents, Q₁ = Pᵢ + (−Tᵢ)/|α|, which is what
-the thesis's loops show:"""),
+the thesis's loops show (Fig 3.45 with α = −10: small loops at every point; at α = −2 they are large):"""),
     ("code", r'''
 try:
     sc.timmer_gc1(heart, closed=True, alpha=-10.0)
@@ -763,9 +774,14 @@ except ValueError as error:
     print("ValueError:", error)
 unit = sc.estimate_tangents(heart, closed=True)
 unit /= np.linalg.norm(unit, axis=1, keepdims=True)
-reversed_curve = sc.timmer_gc1(heart, closed=True, alpha=10.0, tangents=-unit)
-show(Plot("Fig 3.45: α = β = −10 ≡ α = 10 with reversed tangents", width=420, height=340)
-     .line(heart, "#90a4ae", 1.0, dashed=True, closed=True).curve(reversed_curve).dots(heart, "#263238", 18))
+reversed_curves = {a: sc.timmer_gc1(heart, closed=True, alpha=a, tangents=-unit) for a in (10.0, 2.0)}
+show(*[Plot(f"α = β = −{a:g} ≡ α = {a:g}, tangents reversed", width=380, height=340)
+       .line(heart, "#90a4ae", 1.0, dashed=True, closed=True).curve(s).dots(heart, "#263238", 18)
+       for a, s in reversed_curves.items()], columns=2)
+loop_size = {a: deviation_from_polygon for a, deviation_from_polygon in
+             ((a, float(distance_to_polyline(s.sample(samples_per_segment=48)[1], heart, closed=True).max()))
+              for a, s in reversed_curves.items())}
+print("largest distance from the polygon (size of the loops):", {f"α = −{a:g}": round(d, 3) for a, d in loop_size.items()})
 '''),
     ("md", r"""
 ## 4. Algorithm 3.3: one banded system — "GC²" and the true G² joint
@@ -793,9 +809,9 @@ rows = []
 for i in range(1, len(zigzag) - 1):
     rows.append([i, k_thesis[i, 1] / k_thesis[i, 0], (alpha[i] / alpha[i - 1]) ** 2, k_g2[i, 1] / k_g2[i, 0]])
 table(["joint", "thesis joint κ⁺/κ⁻", "(αᵢ/βᵢ₋₁)²", "G² joint κ⁺/κ⁻"], rows)
-show(Plot("Alg 3.3, thesis joint: curvature steps", width=420, height=300).comb(thesis_joint, 4000.0)
+show(Plot("Alg 3.3, thesis joint: curvature steps", width=420, height=300).comb(thesis_joint)
      .curve(thesis_joint).dots(zigzag, "#263238", 22),
-     Plot("Alg 3.3, true G² joint: no steps", width=420, height=300).comb(g2_joint, 4000.0)
+     Plot("Alg 3.3, true G² joint: no steps", width=420, height=300).comb(g2_joint)
      .curve(g2_joint).dots(zigzag, "#263238", 22), columns=2)
 '''),
     ("md", r"""
@@ -812,6 +828,7 @@ print("G² form, joint statuses:", editor.spline.info["joint_status"])
 editor.form = "timmer_gc2"
 editor.end_condition = "g2"          # the joint dropdown
 editor.alpha, editor.beta = 3.0, 6.0
+editor.fit_view()                    # the "Fit" button
 editor_jumps = [j for j in editor.spline.info["curvature_jump"] if j is not None]
 print("GC² form, true G² joint, α = 3, β = 6: largest curvature jump", max(abs(j) for j in editor_jumps))
 '''),
@@ -828,7 +845,7 @@ distances = [row[1] for row in gc1_rows[:5]]
 assert distances[-1] < distances[0]                            # large α hugs the polygon
 assert set(gc1_figures[0][1].info["joint_status"]) == {"c1"}
 assert "g1" in gc1_figures[5][1].info["joint_status"]
-assert negative_refused
+assert negative_refused and loop_size[2.0] > loop_size[10.0] > 0
 assert cubic_spline_error < 1e-9                               # constant α: the uniform C² cubic spline
 for i, ratio_thesis, expected, ratio_g2 in rows:
     assert np.isclose(ratio_thesis, expected, rtol=1e-8)       # E20

@@ -113,25 +113,27 @@ def main(argv=None):
     from labharness import Lab, launch_chromium, start_lab
 
     rows = []
-    with start_lab() as server, launch_chromium() as browser:
+    with start_lab(nodelay=False) as stock, start_lab(nodelay=True) as nodelay, launch_chromium() as browser:
         for n in args.sizes:
-            context = browser.new_context(viewport={"width": 1400, "height": 1000})
-            page = context.new_page()
-            lab = Lab(server, page)
-            row = browser_round_trips(lab, n, args.moves)
-            context.close()
-            server.shutdown_kernels()
-            row["kernel_median"] = kernel_handling(n)
-            rows.append(row)
-            print(f"n={n}: done", file=sys.stderr, flush=True)
+            kernel = kernel_handling(n)
+            for label, server in (("stock", stock), ("TCP_NODELAY", nodelay)):  # side by side, same n
+                context = browser.new_context(viewport={"width": 1400, "height": 1000})
+                lab = Lab(server, context.new_page())
+                row = browser_round_trips(lab, n, args.moves)
+                context.close()
+                server.shutdown_kernels()
+                row["server"] = label
+                row["kernel_median"] = kernel
+                rows.append(row)
+                print(f"n={n} {label}: done", file=sys.stderr, flush=True)
 
     print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "
           f"{args.moves} moves per size (after {WARMUP} warm-up moves)\n")
-    print("| points | moves | pointer→path in DOM, median (ms) | p95 (ms) | →painted frame, median (ms) | p95 (ms) "
+    print("| points | server | moves | pointer→path in DOM, median (ms) | p95 (ms) | →painted frame, median (ms) | p95 (ms) "
           "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) |")
-    print("|---:|---:|---:|---:|---:|---:|---|---:|")
+    print("|---:|---|---:|---:|---:|---:|---:|---|---:|")
     for r in rows:
-        print(f"| {r['n']} | {r['moves']} | {r['dom_median']:.1f} | {r['dom_p95']:.1f} | {r['frame_median']:.1f} | "
+        print(f"| {r['n']} | {r['server']} | {r['moves']} | {r['dom_median']:.1f} | {r['dom_p95']:.1f} | {r['frame_median']:.1f} | "
               f"{r['frame_p95']:.1f} | {r['wait_median']:.1f} / {r['kernel_median_rt']:.1f} / {r['draw_median']:.1f} | "
               f"{r['kernel_median']:.2f} |")
 

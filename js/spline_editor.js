@@ -153,21 +153,21 @@ function render({ model, el }) {
   let pan = null;
   let localView = null; // view while panning (not yet sent)
 
+  // the kernel's points: float64 bytes x0, y0, x1, y1, ... (decoded once per change)
+  let kernelPoints = decodePoints(model.get("points"));
+  const count = () => kernelPoints.length / 2;
+  const pointAt = (i) => [kernelPoints[2 * i], kernelPoints[2 * i + 1]];
+  /** Points to draw: the kernel's, with a point being dragged shown where the pointer is. */
   function points() {
-    const pts = model.get("points") ?? [];
     const live = drag ?? pendingRelease;
-    if (live && live.moved && live.index < pts.length) {
-      const copy = pts.slice();
-      copy[live.index] = [live.x, live.y];
+    if (live && live.moved && live.index < count()) {
+      const copy = kernelPoints.slice();
+      copy[2 * live.index] = live.x;
+      copy[2 * live.index + 1] = live.y;
       return copy;
     }
-    return pts;
+    return kernelPoints;
   }
-  const flatPoints = (pts) => {
-    const out = new Float64Array(pts.length * 2);
-    pts.forEach((p, i) => { out[2 * i] = p[0]; out[2 * i + 1] = p[1]; });
-    return out;
-  };
 
   function drawGrid() {
     const [x0, y0, x1, y1] = vp.visible();
@@ -213,14 +213,13 @@ function render({ model, el }) {
   }
 
   function drawPoints() {
-    const pts = points();
-    const flat = flatPoints(pts);
+    const flat = points(), n = flat.length / 2;
     const closed = model.get("closed") && model.get("form") !== "segment";
     polygonPath.setAttribute("d", model.get("show_control_polygon") ? polylinePath(vp, flat, closed) : "");
-    pointMarkers.setAttribute("d", markersPath(vp, flat, pts.length > 400 ? 3 : 4.5));
+    pointMarkers.setAttribute("d", markersPath(vp, flat, n > 400 ? 3 : 4.5));
     const sel = model.get("selected");
-    selectedMarker.setAttribute("d", sel >= 0 && sel < pts.length ? markersPath(vp, flat.subarray(2 * sel, 2 * sel + 2), 6) : "");
-    root.dataset.npoints = String(pts.length);
+    selectedMarker.setAttribute("d", sel >= 0 && sel < n ? markersPath(vp, flat.subarray(2 * sel, 2 * sel + 2), 6) : "");
+    root.dataset.npoints = String(n);
   }
 
   function drawAll() {
@@ -291,7 +290,7 @@ function render({ model, el }) {
     status.className = `sc-status sc-status-${level}`;
     root.dataset.statusLevel = level;
     const g = geometry;
-    summary.textContent = `${(model.get("points") ?? []).length} points · ${Math.floor(g.bezier.length / 8)} pieces`;
+    summary.textContent = `${count()} points · ${Math.floor(g.bezier.length / 8)} pieces`;
   }
 
   const allEqual = (list) => list.length === 0 || list.every((x) => x === list[0]);
@@ -308,10 +307,10 @@ function render({ model, el }) {
     return [event.clientX - rect.left, event.clientY - rect.top];
   };
   function hitPoint(px, py) {
-    const pts = model.get("points") ?? [];
+    const pts = kernelPoints, n = count();
     let best = -1, bestD = HIT_RADIUS * HIT_RADIUS;
-    for (let i = 0; i < pts.length; i++) {
-      const dx = vp.sx(pts[i][0]) - px, dy = vp.sy(pts[i][1]) - py;
+    for (let i = 0; i < n; i++) {
+      const dx = vp.sx(pts[2 * i]) - px, dy = vp.sy(pts[2 * i + 1]) - py;
       const d2 = dx * dx + dy * dy;
       if (d2 <= bestD) { bestD = d2; best = i; }
     }
@@ -360,7 +359,7 @@ function render({ model, el }) {
       event.preventDefault();
       svg.setPointerCapture(event.pointerId);
       gesture += 1;
-      const p = model.get("points")[index];
+      const p = pointAt(index);
       drag = { index, x: p[0], y: p[1], pointerId: event.pointerId, moved: false, tMove: performance.now(), ox: vp.sx(p[0]) - px, oy: vp.sy(p[1]) - py };
       if (model.get("selected") !== index) setTrait("selected", index);
       drawPoints();
@@ -429,11 +428,26 @@ function render({ model, el }) {
     model.send({ type: "select_at", x: vp.dx(px), y: vp.dy(py), tol: vp.len(HIT_RADIUS) });
   });
 
-  svg.addEventListener("dblclick", (event) => {
-    event.preventDefault();
-    const [px, py] = local(event);
+  function addAt(px, py) {
     if (hitPoint(px, py) >= 0) return;
     model.send({ type: "add", x: vp.dx(px), y: vp.dy(py), tol: vp.len(HIT_RADIUS) });
+  }
+  svg.addEventListener("dblclick", (event) => {
+    event.preventDefault();
+    addAt(...local(event));
+  });
+  // touch: a double tap adds a point (browsers do not reliably send dblclick for touch);
+  // a long press opens no menu on points but deletes them (contextmenu below)
+  let lastTap = null;
+  svg.addEventListener("pointerup", (event) => {
+    if (event.pointerType !== "touch") return;
+    const [px, py] = local(event), now = performance.now();
+    if (lastTap && now - lastTap.t < 350 && Math.hypot(px - lastTap.x, py - lastTap.y) < 24) {
+      lastTap = null;
+      addAt(px, py);
+    } else {
+      lastTap = { t: now, x: px, y: py };
+    }
   });
 
   svg.addEventListener("contextmenu", (event) => {
@@ -483,6 +497,7 @@ function render({ model, el }) {
   function onGeometry() {
     const tArrive = performance.now();
     geometry = decodeGeometry(model.get("geometry"));
+    kernelPoints = decodePoints(model.get("points")); // same update; its change event may come later
     drawGeometry();
     drawPoints();
     showStatus();
@@ -507,7 +522,7 @@ function render({ model, el }) {
   const handlers = [];
   const on = (event, fn) => { model.on(event, fn); handlers.push([event, fn]); };
   on("change:geometry", onGeometry);
-  on("change:points", () => drawPoints());
+  on("change:points", () => { kernelPoints = decodePoints(model.get("points")); drawPoints(); });
   on("change:view", () => { vp.setView(model.get("view")); drawAll(); });
   for (const name of ["form", "preset", "end_condition", "knots", "closed", "alpha", "beta", "point_tension", "interval_weights", "selected", "selected_interval", "can_undo", "can_redo", "explanation", "options", "comb_scale"]) {
     on(`change:${name}`, () => { syncControls(); if (name === "selected" || name === "closed") drawPoints(); });
@@ -541,9 +556,10 @@ function render({ model, el }) {
   // instrumentation for tests and benchmarks: screen position of point i, relative to the page
   root.__splinecraft = {
     screenPoint(i) {
-      const p = (model.get("points") ?? [])[i];
+      if (!(i >= 0 && i < count())) return null;
+      const p = pointAt(i);
       const rect = svg.getBoundingClientRect();
-      return p ? [rect.left + vp.sx(p[0]), rect.top + vp.sy(p[1])] : null;
+      return [rect.left + vp.sx(p[0]), rect.top + vp.sy(p[1])];
     },
     screenOf(x, y) {
       const rect = svg.getBoundingClientRect();
@@ -564,6 +580,11 @@ function render({ model, el }) {
     if (rafId) cancelAnimationFrame(rafId);
     for (const [event, fn] of handlers) model.off(event, fn);
   };
+}
+
+function decodePoints(value) {
+  if (Array.isArray(value)) return Float64Array.from(value.flat());
+  return floats(value, "f8");
 }
 
 function decodeGeometry(g) {

@@ -443,3 +443,14 @@ console.log("ok");
 """, encoding="utf-8")
     run = subprocess.run(["node", str(script)], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr
+
+
+def test_points_travel_as_float64_bytes_both_ways():
+    editor = SplineEditor(POINTS)
+    state = editor.get_state("points")
+    raw = np.frombuffer(state["points"], dtype="<f8").reshape(-1, 2)
+    np.testing.assert_array_equal(raw, np.array(POINTS))
+    moved = np.array(POINTS)
+    moved[1] += [5.0, -7.0]
+    editor.set_state({"points": memoryview(moved.astype("<f8").tobytes())})  # what a page would send
+    assert editor.points == moved.tolist()

@@ -65,8 +65,12 @@ class LabServer:
 
 
 @contextlib.contextmanager
-def start_lab(base: Path | None = None):
-    """Context manager: a JupyterLab server in ``base`` (a new temporary directory by default)."""
+def start_lab(base: Path | None = None, *, nodelay: bool = True):
+    """Context manager: a JupyterLab server in ``base`` (a new temporary directory by default).
+
+    ``nodelay`` enables the ``splinecraft.widgets.jupyter_nodelay`` server extension (``TCP_NODELAY`` on the
+    kernel websockets); ``benchmarks/bench_drag.py`` compares both settings.
+    """
     cleanup = None
     if base is None:
         cleanup = tempfile.TemporaryDirectory(prefix="splinecraft-lab-")
@@ -87,6 +91,10 @@ def start_lab(base: Path | None = None):
          "--display-name", "Python 3 (splinecraft)"],
         check=True, env=env, capture_output=True,
     )
+    config = base / "config"
+    config.mkdir(parents=True, exist_ok=True)
+    extensions = {"splinecraft.widgets.jupyter_nodelay": True} if nodelay else {}
+    (config / "jupyter_server_config.json").write_text(json.dumps({"ServerApp": {"jpserver_extensions": extensions}}))
     settings = base / "settings"
     notification = settings / "@jupyterlab" / "apputils-extension"
     notification.mkdir(parents=True, exist_ok=True)

@@ -131,3 +131,25 @@ def test_bad_value_from_page_keeps_last_good_curve(lab):
     assert curve_d(root) == old_d
     page.wait_for_function(
         "() => document.querySelector('[data-testid=interval_weights-number]').value === '1'", timeout=20_000)
+
+
+def test_touch_drag_moves_a_point(lab):
+    """Touch input: Chromium turns CDP touch events into pointer events (pointerType "touch")."""
+    page, root = open_editor(lab)
+    before = lab.python_json("editor.points")
+    old_d = curve_d(root)
+    x, y = root.evaluate("el => el.__splinecraft.screenPoint(1)")
+    cdp = page.context.new_cdp_session(page)
+
+    def touch(kind, px, py):
+        points = [] if kind == "touchEnd" else [{"x": px, "y": py, "radiusX": 2, "radiusY": 2, "force": 1}]
+        cdp.send("Input.dispatchTouchEvent", {"type": kind, "touchPoints": points})
+
+    touch("touchStart", x, y)
+    for k in range(1, 9):
+        touch("touchMove", x - 3.0 * k, y + 4.0 * k)
+    touch("touchEnd", x - 24.0, y + 32.0)
+    target = root.evaluate("(el, xy) => el.__splinecraft.dataOf(xy[0], xy[1])", [x - 24.0, y + 32.0])
+    after = wait_python(lab, "editor.points", lambda pts: math.dist(pts[1], before[1]) > 1.0)
+    assert math.dist(after[1], target) < 0.5
+    wait_curve_change(page, old_d)

@@ -12,7 +12,6 @@ the trait reverts to the last good value and ``status_message`` says why.
 """
 from __future__ import annotations
 
-import copy
 import math
 import time
 import warnings
@@ -78,6 +77,27 @@ def _default_points() -> list:
     return (np.c_[300.0 + radius * np.cos(angles), 220.0 - radius * np.sin(angles)]).round(1).tolist()
 
 
+def _copy_value(value):
+    """Copy of a trait value: lists are copied one level deep (their [x, y] items are never mutated in place,
+    only replaced, so sharing them between states is safe and keeps drags fast)."""
+    return list(value) if isinstance(value, list) else value
+
+
+def _points_to_json(value, _widget):
+    """``points`` travel to the page as little-endian float64 bytes (x0, y0, x1, y1, ...), not JSON lists."""
+    return np.asarray(value, dtype="<f8").reshape(-1).tobytes()
+
+
+def _points_from_json(value, _widget):
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        return np.frombuffer(bytes(value), dtype="<f8").reshape(-1, 2).tolist()
+    return value
+
+
+def _copy_state(state: dict) -> dict:
+    return {name: _copy_value(value) for name, value in state.items()}
+
+
 def _f32(array) -> bytes:
     """Little-endian float32 bytes of an array (the page decodes them as a Float32Array)."""
     return np.ascontiguousarray(np.asarray(array, dtype="<f4")).tobytes()
@@ -133,7 +153,7 @@ class SplineEditor(anywidget.AnyWidget):
     _esm = load_esm("spline_editor.js")
     _css = load_css()
 
-    points = _ArrayList().tag(sync=True)
+    points = _ArrayList().tag(sync=True, to_json=_points_to_json, from_json=_points_from_json)
     point_tension = _ArrayList().tag(sync=True)
     interval_weights = _ArrayList().tag(sync=True)
     alpha = t.Float(2.0, allow_none=True).tag(sync=True)
@@ -193,8 +213,11 @@ class SplineEditor(anywidget.AnyWidget):
         self._spline = spline
         self.view = self._fitted_view()
         self._publish()
-        self._set_status(f"{len(self.points)} points. Drag a point; double-click to add one; right-click or "
-                         "Delete removes the selected point.", "info")
+        if state["form"] == "segment":
+            self._set_status("Drag F₀, V, W, F₁; move α and β to reshape the segment.", "info")
+        else:
+            self._set_status(f"{len(self.points)} points. Drag a point; double-click to add one; right-click or "
+                             "Delete removes the selected point.", "info")
         self.on_msg(self._handle_message)
 
     # ------------------------------------------------------------------ public API
@@ -283,7 +306,7 @@ class SplineEditor(anywidget.AnyWidget):
 
     # ------------------------------------------------------------------ state
     def _state(self) -> dict:
-        return {name: copy.deepcopy(getattr(self, name)) for name in MODEL_TRAITS}
+        return _copy_state({name: getattr(self, name) for name in MODEL_TRAITS})
 
     def _initial_state(self, points, params) -> dict:
         form = params.get("form", "interpolant")
@@ -417,9 +440,10 @@ class SplineEditor(anywidget.AnyWidget):
     @t.validate("points")
     def _validate_points(self, proposal):
         value = proposal["value"]
+        if self._applying:
+            return value  # already checked by _check()
         try:
-            array = np.array([[math.nan if c is None else c for c in p] for p in value], dtype=float) \
-                if isinstance(value, (list, tuple)) else np.array(value, dtype=float)
+            array = np.array(value, dtype=float)  # None (NaN from the page) becomes nan
         except (TypeError, ValueError) as exc:
             raise t.TraitError(f"points must be an (n, 2) array of numbers: {exc}") from None
         if array.size == 0:
@@ -446,8 +470,8 @@ class SplineEditor(anywidget.AnyWidget):
         name = change["name"]
         state = self._state()
         state[name] = change["old"]
-        previous = copy.deepcopy(state)
-        state[name] = copy.deepcopy(change["new"])
+        previous = _copy_state(state)
+        state[name] = _copy_value(change["new"])
         try:
             state, note = self._derive(name, change["old"], state)
             spline = self._check(state)
@@ -479,13 +503,13 @@ class SplineEditor(anywidget.AnyWidget):
             if state["end_condition"] not in end_choices(form):
                 state["end_condition"] = default_end_condition(form)
             if form == "segment" and old != "segment":
-                self._segment_stash = {k: copy.deepcopy(state[k]) for k in ("points", "point_tension", "interval_weights", "closed")}
+                self._segment_stash = _copy_state({k: state[k] for k in ("points", "point_tension", "interval_weights", "closed")})
                 state["points"] = self._segment_points(state)
                 state["closed"] = False
                 note = ("Single-segment mode: F₀, V, W, F₁ taken from the first piece. Drag V, W and move α, β — "
                         "here they reshape the curve.")
             elif old == "segment" and form != "segment" and self._segment_stash is not None:
-                state.update(copy.deepcopy(self._segment_stash))
+                state.update(_copy_state(self._segment_stash))
                 self._segment_stash = None
         if name in ("points", "closed", "form"):
             n = len(state["points"])
@@ -682,8 +706,8 @@ class SplineEditor(anywidget.AnyWidget):
             self._reject(f"no point {index}")
         else:
             state = self._state()
-            previous = copy.deepcopy(state)
             point = [math.nan if x is None else float(x), math.nan if y is None else float(y)]
+            old_point = state["points"][index]
             state["points"][index] = point
             try:
                 spline = self._check(state)
@@ -692,6 +716,8 @@ class SplineEditor(anywidget.AnyWidget):
             else:
                 gesture = content.get("gesture")
                 if gesture is None or gesture != self._drag_gesture:
+                    previous = _copy_state(state)
+                    previous["points"][index] = old_point
                     self._push_history(previous, key=None)
                     self._drag_gesture = gesture
                 self._last_push = (("drag", gesture), time.monotonic())
@@ -771,7 +797,7 @@ class SplineEditor(anywidget.AnyWidget):
             index = 0 if first < last else n
             interval = 0 if index == 0 else n - 2
         state = self._state()
-        previous = copy.deepcopy(state)
+        previous = _copy_state(state)
         points.insert(index, [x, y])
         tension = list(state["point_tension"])
         tension.insert(index, tension[min(index, n - 1)] if tension else 0.0)
@@ -802,7 +828,7 @@ class SplineEditor(anywidget.AnyWidget):
             self._reject(f"no point {index} to delete")
             return False
         state = self._state()
-        previous = copy.deepcopy(state)
+        previous = _copy_state(state)
         del state["points"][index]
         del state["point_tension"][index]
         weights = state["interval_weights"]

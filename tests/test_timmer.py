@@ -288,6 +288,44 @@ def test_alg_3_1_uniform_circle_closes_g2(count):
     assert np.abs(radius - 2).max() < (0.6 if count == 3 else 0.02)
 
 
+@pytest.mark.parametrize("seed", [0, 2, 5])
+def test_alg_3_1_closed_search_closes_uneven_ellipse_samples(seed):
+    """Uneven samples (no symmetry): the alpha_0 search finds a value that makes the closing joint G2."""
+    rng = np.random.default_rng(seed)
+    angle = np.cumsum(rng.uniform(0.5, 1.5, 12))
+    angle = angle / angle[-1] * 2 * np.pi
+    points = np.c_[3 * np.cos(angle), np.sin(angle)]
+    spline = timmer_g2(points, closed=True)
+    assert spline.info["closing_converged"]
+    assert spline.info["joint_status"][0] == spline.info["joint_status"][-1] == "g2"
+    jump, size = jumps(spline)
+    assert abs(jump[0]) <= 1e-11 * max(size[0], 1.0)
+    # the default alpha_ref,0 would not close it
+    default = timmer_g2(points, closed=True, alpha0=4 / np.linalg.norm(points[1] - points[0]))
+    assert default.info["joint_status"][0] == "g1_closing"
+    assert abs(default.info["curvature_jump"][0]) > 1e-3
+
+
+def test_alg_3_1_batched_and_scalar_sweeps_agree():
+    """The closed search runs the recurrence for many alpha_0 at once; it must match the scalar path."""
+    from splinecraft.spline import timmer as module
+
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        points = np.cumsum(rng.normal(size=(9, 2)) + [1.0, 0.0], axis=0)
+        tangents = unit(rng.normal(size=(9, 2)) + [2.0, 0.0])
+        chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
+        s_term = cross(tangents[:-1], np.diff(points, axis=0))
+        u_term = cross(tangents[1:], np.diff(points, axis=0))
+        c_term = cross(tangents[:-1], tangents[1:])
+        starts = 4 / chords[0] * np.geomspace(0.1, 10, 17)
+        batch_alpha, batch_code = module._g2_sweep(starts, s_term, u_term, c_term, 4 / chords, chords, 16.0)
+        for row, start in enumerate(starts):
+            alpha, code = module._g2_sweep([start], s_term, u_term, c_term, 4 / chords, chords, 16.0)
+            np.testing.assert_array_equal(code[0], batch_code[row])
+            np.testing.assert_allclose(alpha[0], batch_alpha[row], rtol=1e-9)
+
+
 def test_alg_3_1_printed_e18_discriminant_fails_where_corrected_passes():
     """E18: 3.122 prints sqrt(C^2 - 6 S K*). The corrected roots 2[C ± sqrt(C^2 + 6 S K*)]/(3S) give a
     piece whose measured start curvature is K*; the printed ones do not."""

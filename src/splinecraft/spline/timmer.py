@@ -29,6 +29,8 @@ polygon points, one per piece) and ``'tangents'`` (one per point).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.linalg import lapack, solve_banded
 
@@ -55,7 +57,7 @@ JOINT_STATUSES = {
     "g1": "unit tangent continuous, curvature may jump",
     "g1_no_root": "Alg 3.1: the joint quadratic has no positive real root; fallback alpha, curvature jumps",
     "g1_degenerate": "Alg 3.1: S_i = C_i = 0, kappa_i(0) = 0 for every alpha but the target is not 0",
-    "g1_closing": "Alg 3.1, closed: no alpha_0 makes the closing joint curvature continuous",
+    "g1_closing": "Alg 3.1, closed: the closing joint is not curvature continuous (no alpha_0 found, or alpha0 given)",
     "degenerate": "zero end speed on a side of the joint (a tangent vanished); curvature undefined",
 }
 
@@ -230,18 +232,22 @@ def _joint_report(curve: Spline, joint_labels: list) -> tuple[list, list]:
     m = curve.n_segments
     kappa = curve.joint_curvature()
     jump = kappa[:, 1] - kappa[:, 0]
-    status, jumps = [], []
-    for k in range(m + 1):
-        if not curve.closed and k in (0, m):
-            status.append("end")
-            jumps.append(None)
-        elif not np.isfinite(jump[k]):
-            status.append("degenerate")
-            jumps.append(None)
-        else:
-            status.append(joint_labels[k % m])
-            jumps.append(float(jump[k]))
-    return status, jumps
+    status = np.array(joint_labels + joint_labels[:1], dtype=object)
+    defined = np.isfinite(jump)
+    status[~defined] = "degenerate"
+    if not curve.closed:
+        status[[0, m]] = "end"
+        defined[[0, m]] = False
+    jumps = np.where(defined, jump, 0.0).tolist()
+    for k in np.flatnonzero(~defined).tolist():
+        jumps[k] = None
+    return status.tolist(), jumps
+
+
+def _matching_labels(before, after, equal_label, other_label) -> list:
+    """Joint labels: ``equal_label`` where :math:`\\beta_{k-1}=\\alpha_k` (relative 1e-12), else ``other_label``."""
+    equal = np.abs(before - after) <= _EQUAL_RTOL * np.maximum(before, after)
+    return np.where(equal, equal_label, other_label).tolist()
 
 
 def _make_spline(form, pts, tan, alpha, beta, closed, joint_labels, extra_info):
@@ -277,51 +283,72 @@ def _solve_joint(s_i, c_i, target, alpha_ref, chord, clamp):
     """Solve :math:`\\tfrac38S\\alpha^2-\\tfrac12C\\alpha-K^*=0` for a batch of targets (spec §5.4 steps 2-4).
 
     ``target`` has shape (G,); ``s_i, c_i, alpha_ref, chord`` are scalars. Returns ``alpha`` (G,) and the
-    status code (G,) as an index into ``_G2_CODES``.
+    status code (G,) as an index into ``_G2_CODES``. The roots use the cancellation-free form
+    :math:`q=-\\tfrac12(b+\\operatorname{sgn}(b)\\sqrt{b^2-4ac})`, :math:`\\alpha\\in\\{q/a,\\ c/q\\}` with
+    :math:`b^2-4ac=(C^2+6SK^*)/4` (E18). Call inside ``np.errstate(divide/invalid/over="ignore")``.
     """
-    target = np.asarray(target, dtype=float)
     alpha = np.full(target.shape, alpha_ref)
     code = np.zeros(target.shape, dtype=np.int8)
-    s_zero = abs(s_i) <= _ZERO_RTOL * chord
-    c_zero = abs(c_i) <= _ZERO_RTOL
-    if s_zero and c_zero:
-        # kappa_i(0) = 0 for every alpha: a joint only if the target curvature is 0 too.
-        flat = np.abs(target) * chord <= 1e-9
-        code[~flat] = 2
-        return alpha, code
-    if s_zero:
-        # linear case: -C/2 alpha - K* = 0
-        root = -2.0 * target / c_i
-        ok = root > 0.0
-        alpha[ok] = root[ok]
-        fallback = ~ok
+    if abs(s_i) <= _ZERO_RTOL * chord:
+        if abs(c_i) <= _ZERO_RTOL:
+            # kappa_i(0) = 0 for every alpha: a G2 joint only if the target curvature is 0 too
+            code[np.abs(target) * chord > 1e-9] = 2
+            return alpha, code
+        best = -2.0 * target / c_i                    # linear case: -C/2 alpha - K* = 0
+        ok = (best > 0.0) & np.isfinite(best)
+        vertex = -1.0
     else:
-        a, b = 0.375 * s_i, -0.5 * c_i
-        disc = c_i * c_i + 6.0 * s_i * target        # (b^2 - 4ac) * 4; E18: +6 S K*, not -6 S K*
-        real = disc >= 0.0
-        sqrt_disc = np.sqrt(np.where(real, disc, 0.0))
-        sign_b = 1.0 if b >= 0.0 else -1.0
-        q = -0.5 * (b + sign_b * 0.5 * sqrt_disc)        # -(b + sgn(b) sqrt(b^2 - 4ac)) / 2
-        with np.errstate(divide="ignore", invalid="ignore"):
-            root_1 = q / a
-            root_2 = np.where(q != 0.0, -target / q, np.nan)   # c / q with c = -K*
-        candidates = np.stack([root_1, root_2], axis=-1)
-        valid = real[:, None] & np.isfinite(candidates) & (candidates > 0.0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            distance = np.where(valid, np.abs(np.log(np.where(valid, candidates, 1.0) / alpha_ref)), np.inf)
-        best = np.argmin(distance, axis=-1)
-        ok = np.isfinite(np.take_along_axis(distance, best[:, None], axis=-1)[:, 0])
-        alpha[ok] = np.take_along_axis(candidates, best[:, None], axis=-1)[:, 0][ok]
-        fallback = ~ok
-    if np.any(fallback):
-        # Step 4: vertex of the parabola kappa_i(0)(alpha) if positive, else alpha_ref.
-        vertex = 2.0 * c_i / (3.0 * s_i) if not s_zero else -1.0
+        disc = c_i * c_i + 6.0 * s_i * target
+        b = -0.5 * c_i
+        q = -0.5 * (b + (0.5 if b >= 0.0 else -0.5) * np.sqrt(disc))     # NaN where disc < 0
+        root_1 = q / (0.375 * s_i)
+        root_2 = np.where(q != 0.0, -target / q, np.nan)
+        ok_1 = (root_1 > 0.0) & np.isfinite(root_1)
+        ok_2 = (root_2 > 0.0) & np.isfinite(root_2)
+        distance_1 = np.where(ok_1, np.abs(np.log(np.where(ok_1, root_1, 1.0) / alpha_ref)), np.inf)
+        distance_2 = np.where(ok_2, np.abs(np.log(np.where(ok_2, root_2, 1.0) / alpha_ref)), np.inf)
+        best = np.where(distance_2 < distance_1, root_2, root_1)
+        ok = ok_1 | ok_2
+        vertex = 2.0 * c_i / (3.0 * s_i)
+    alpha[ok] = best[ok]
+    if not ok.all():
+        # Step 4: vertex of the parabola kappa_i(0)(alpha) if positive, else alpha_ref (clamped)
         value = vertex if vertex > 0.0 else alpha_ref
         if clamp is not None:
             value = min(max(value, alpha_ref / clamp), alpha_ref * clamp)
-        alpha[fallback] = value
-        code[fallback] = 1
+        alpha[~ok] = value
+        code[~ok] = 1
     return alpha, code
+
+
+def _solve_joint_scalar(s_i, c_i, target, alpha_ref, chord, clamp):
+    """Scalar twin of :func:`_solve_joint` (plain floats; same formulas, same root choice)."""
+    if abs(s_i) <= _ZERO_RTOL * chord:
+        if abs(c_i) <= _ZERO_RTOL:
+            return alpha_ref, (0 if abs(target) * chord <= 1e-9 else 2)
+        root = -2.0 * target / c_i
+        if root > 0.0 and math.isfinite(root):
+            return root, 0
+        vertex = -1.0
+    else:
+        disc = c_i * c_i + 6.0 * s_i * target
+        best, best_distance = None, math.inf
+        if disc >= 0.0:
+            b = -0.5 * c_i
+            q = -0.5 * (b + (0.5 if b >= 0.0 else -0.5) * math.sqrt(disc))
+            candidates = (q / (0.375 * s_i), -target / q) if q != 0.0 else (q / (0.375 * s_i),)
+            for root in candidates:
+                if root > 0.0 and math.isfinite(root):
+                    distance = abs(math.log(root / alpha_ref))
+                    if distance < best_distance:
+                        best, best_distance = root, distance
+        if best is not None:
+            return best, 0
+        vertex = 2.0 * c_i / (3.0 * s_i)
+    value = vertex if vertex > 0.0 else alpha_ref
+    if clamp is not None:
+        value = min(max(value, alpha_ref / clamp), alpha_ref * clamp)
+    return value, 1
 
 
 def _g2_sweep(alpha_first, s_term, u_term, c_term, alpha_ref, chords, clamp):
@@ -329,16 +356,31 @@ def _g2_sweep(alpha_first, s_term, u_term, c_term, alpha_ref, chords, clamp):
 
     Returns ``alpha`` (G, m) and ``code`` (G, m), where ``code[:, i]`` is the status of the joint at the
     start of piece ``i`` (``i >= 1``); column 0 is left 0 (the caller decides about a closing joint).
+    The recurrence is sequential in the joints; a single start value runs on plain floats, a batch
+    runs every joint as one numpy step over the batch.
     """
     batch = np.atleast_1d(np.asarray(alpha_first, dtype=float))
     m = s_term.shape[0]
+    if batch.shape[0] == 1:
+        alpha, code = [float(batch[0])], [0]
+        s_list, u_list, c_list = s_term.tolist(), u_term.tolist(), c_term.tolist()
+        ref_list, chord_list = alpha_ref.tolist(), chords.tolist()
+        previous = alpha[0]
+        for i in range(1, m):
+            target = -0.375 * (previous * previous) * u_list[i - 1] - 0.5 * previous * c_list[i - 1]
+            previous, status = _solve_joint_scalar(s_list[i], c_list[i], target, ref_list[i], chord_list[i],
+                                                   clamp)
+            alpha.append(previous)
+            code.append(status)
+        return np.array([alpha]), np.array([code], dtype=np.int8)
     alpha = np.empty((batch.shape[0], m))
     code = np.zeros((batch.shape[0], m), dtype=np.int8)
     alpha[:, 0] = batch
-    for i in range(1, m):
-        previous = alpha[:, i - 1]
-        target = -0.375 * previous**2 * u_term[i - 1] - 0.5 * previous * c_term[i - 1]   # kappa_{i-1}(1)
-        alpha[:, i], code[:, i] = _solve_joint(s_term[i], c_term[i], target, alpha_ref[i], chords[i], clamp)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for i in range(1, m):
+            previous = alpha[:, i - 1]
+            target = -0.375 * previous**2 * u_term[i - 1] - 0.5 * previous * c_term[i - 1]   # kappa_{i-1}(1)
+            alpha[:, i], code[:, i] = _solve_joint(s_term[i], c_term[i], target, alpha_ref[i], chords[i], clamp)
     return alpha, code
 
 
@@ -361,13 +403,17 @@ def _search_closing_alpha(s_term, u_term, c_term, alpha_ref, chords, clamp, curv
 
     The closing mismatch :math:`\\kappa_0(0)-\\kappa_{N-1}(1)` is a function of :math:`\\alpha_0` alone. It is
     scanned on a log grid of 129 values over :math:`[\\alpha_{ref,0}/R, R\\,\\alpha_{ref,0}]` (``R = clamp`` or
-    16), all grid values in one vectorised sweep. A sign change between neighbouring grid values with the
-    same joint-status pattern (so the mismatch is continuous between them, unless the chosen root
-    switches branch) is refined by repeated vectorised 32-fold subdivision with a regula falsi step and
-    accepted only where the mismatch really vanishes. Brackets are tried in order of fewest fallback
-    joints, then nearest to :math:`\\alpha_{ref,0}`. Returns ``(alpha_0, converged)``; without a zero,
-    ``(alpha_ref_0, False)`` (the open-curve default; the closing joint is then reported ``g1_closing``).
+    16), all grid values in one vectorised sweep. Grid values that already close to round-off, and sign
+    changes between neighbouring grid values with the same joint-status pattern (so the mismatch is
+    continuous between them unless the chosen root switches branch), are candidates. They are tried in
+    order of fewest fallback joints, then the tamest chain (smallest
+    :math:`\\max_i|\\log(\\alpha_i/\\alpha_{ref,i})|`); brackets are refined with ``scipy.optimize.brentq``
+    and accepted only where the status pattern holds and the mismatch really vanishes. Returns
+    ``(alpha_0, converged)``; without a zero, ``(alpha_ref_0, False)`` (the open-curve default; the
+    closing joint is then reported ``g1_closing``).
     """
+    from scipy.optimize import brentq
+
     ratio = 16.0 if clamp is None else clamp
     grid = alpha_ref[0] * np.geomspace(1.0 / ratio, ratio, 129)
 
@@ -375,55 +421,35 @@ def _search_closing_alpha(s_term, u_term, c_term, alpha_ref, chords, clamp, curv
         with np.errstate(over="ignore", invalid="ignore"):
             alpha, code = _g2_sweep(alpha_first, s_term, u_term, c_term, alpha_ref, chords, clamp)
             mismatch, size = _closing_mismatch(alpha, s_term, u_term, c_term)
-        return code[:, 1:], mismatch, size
+            wildness = np.max(np.abs(np.log(alpha / alpha_ref)), axis=1)
+        return code[:, 1:], mismatch, np.maximum(size, curvature_scale), wildness
 
-    def brackets(codes, mismatch):
-        same = (codes[:-1] == codes[1:]).all(axis=1)
-        finite = np.isfinite(mismatch[:-1]) & np.isfinite(mismatch[1:])
-        return np.flatnonzero(same & finite & (np.sign(mismatch[:-1]) * np.sign(mismatch[1:]) <= 0))
-
-    codes, mismatch, size = sweep(grid)
+    codes, mismatch, size, wildness = sweep(grid)
     fallbacks = (codes != 0).sum(axis=1)
-    # grid values that already close to round-off, best first
-    exact = np.flatnonzero(np.abs(mismatch) <= 1e-13 * np.maximum(size, curvature_scale))
-    distance = np.abs(np.log(grid / alpha_ref[0]))
-    starts = brackets(codes, mismatch)
-    bracket_distance = np.abs(np.log(np.sqrt(grid[starts] * grid[starts + 1]) / alpha_ref[0]))
-    if exact.size:
-        best_exact = exact[np.lexsort((distance[exact], fallbacks[exact]))[0]]
-        better = (fallbacks[starts] < fallbacks[best_exact]) | (
-            (fallbacks[starts] == fallbacks[best_exact]) & (bracket_distance < distance[best_exact]))
-        if not np.any(better):
-            return float(grid[best_exact]), True
-        starts, bracket_distance = starts[better], bracket_distance[better]
-    for k in starts[np.lexsort((bracket_distance, fallbacks[starts]))][:8]:
-        pattern = codes[k]
-        low, high = np.log(grid[k]), np.log(grid[k + 1])
-        f_low, f_high = mismatch[k], mismatch[k + 1]
-        best, best_error = None, np.inf
-        for _ in range(8):
-            # regula falsi step, kept inside the current bracket
-            guess = low - f_low * (high - low) / (f_high - f_low) if f_high != f_low else 0.5 * (low + high)
-            guess = min(max(guess, low), high) if np.isfinite(guess) else 0.5 * (low + high)
-            code_g, f_guess, size = sweep(np.exp([guess]))
-            if (code_g[0] == pattern).all():
-                error = abs(f_guess[0]) / max(size[0], curvature_scale)
-                if error < best_error:
-                    best, best_error = float(np.exp(guess)), error
-                if error <= 1e-13:
-                    break
-            sub = np.linspace(low, high, 33)
-            code_sub, f_sub, _ = sweep(np.exp(sub))
-            keep = (code_sub == pattern).all(axis=1)
-            change = np.flatnonzero(keep[:-1] & keep[1:] & (np.sign(f_sub[:-1]) * np.sign(f_sub[1:]) <= 0))
-            if change.size == 0:
-                break
-            j = change[0]
-            low, high, f_low, f_high = sub[j], sub[j + 1], f_sub[j], f_sub[j + 1]
-        if best_error <= _G2_RTOL:
-            return best, True
-    if exact.size:
-        return float(grid[best_exact]), True
+    exact = np.abs(mismatch) <= 1e-13 * size
+    same = (codes[:-1] == codes[1:]).all(axis=1) & np.isfinite(mismatch[:-1]) & np.isfinite(mismatch[1:])
+    change = same & (np.sign(mismatch[:-1]) * np.sign(mismatch[1:]) <= 0) & ~exact[:-1] & ~exact[1:]
+    # candidates: (fallbacks, wildness, kind, index); kind 0 = exact grid value, 1 = bracket [k, k+1]
+    candidates = [(int(fallbacks[k]), float(wildness[k]), 0, int(k)) for k in np.flatnonzero(exact)]
+    candidates += [(int(fallbacks[k]), float(max(wildness[k], wildness[k + 1])), 1, int(k))
+                   for k in np.flatnonzero(change)]
+    candidates.sort()
+
+    def closing(log_alpha):
+        return float(sweep(np.array([math.exp(log_alpha)]))[1][0])
+
+    for _, _, kind, k in candidates[:12]:
+        if kind == 0:
+            return float(grid[k]), True
+        try:
+            root = brentq(closing, math.log(grid[k]), math.log(grid[k + 1]), xtol=1e-15, rtol=1e-15,
+                          maxiter=200)
+        except (ValueError, RuntimeError):
+            continue
+        alpha_0 = math.exp(root)
+        code_r, mismatch_r, size_r, _ = sweep(np.array([alpha_0]))
+        if (code_r[0] == codes[k]).all() and abs(mismatch_r[0]) <= _G2_RTOL * size_r[0]:
+            return alpha_0, True
     return float(alpha_ref[0]), False
 
 
@@ -457,7 +483,7 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
     on :math:`\\alpha_0` alone. Unless ``alpha0`` is given, :math:`\\alpha_0` is searched on a log grid
     over :math:`[\\alpha_{ref,0}/R, R\\,\\alpha_{ref,0}]` (``R = clamp`` or 16) with refinement, for a value that
     makes the closing joint :math:`G^2` (status ``"g2"``), preferring values with the fewest fallback
-    joints elsewhere. If there is none, :math:`\\alpha_0=\\alpha_{ref,0}` and the closing joint is reported
+    joints elsewhere, then the tamest chain of :math:`\\alpha_i/\\alpha_{ref,i}`. If there is none, :math:`\\alpha_0=\\alpha_{ref,0}` and the closing joint is reported
     ``"g1_closing"`` with its jump. ``info['closing_converged']`` tells which. With ``alpha0`` given, the
     closing joint is simply reported as it comes out.
 
@@ -572,11 +598,7 @@ def timmer_gc1(points, *, closed: bool = False, alpha=None, beta=None, tangents=
     else:
         alpha_values = _segment_values(alpha, m, "alpha")
         beta_values = alpha_values.copy() if beta is None else _segment_values(beta, m, "beta")
-    labels = []
-    for k in range(m):
-        previous = beta_values[k - 1]            # k = 0: closing joint (beta of the last piece)
-        equal = abs(previous - alpha_values[k]) <= _EQUAL_RTOL * max(previous, alpha_values[k])
-        labels.append("c1" if equal else "g1")
+    labels = _matching_labels(np.roll(beta_values, 1), alpha_values, "c1", "g1")   # k = 0: closing joint
     extra = {"shape_scale": None if scale_values is None else scale_values.tolist()}
     return _make_spline("timmer_gc1", pts, tan, alpha_values, beta_values, closed, labels, extra)
 
@@ -769,12 +791,8 @@ def timmer_gc2(points, *, closed: bool = False, alpha=4.0, beta=None, end_deriva
     tangents, rcond, dominant = _solve_tridiagonal(lower, diag, upper, rhs, closed)
     extra["diagonally_dominant"] = dominant
     extra["rcond"] = rcond
-    labels = []
-    for k in range(m):
-        if joint == "g2":
-            labels.append("g2")
-        else:
-            before, after = beta_values[k - 1], alpha_values[k]
-            equal = abs(before - after) <= _EQUAL_RTOL * max(before, after)
-            labels.append("c2" if equal else "g1")
+    if joint == "g2":
+        labels = ["g2"] * m
+    else:
+        labels = _matching_labels(np.roll(beta_values, 1), alpha_values, "c2", "g1")
     return _make_spline("timmer_gc2", pts, tangents, alpha_values, beta_values, closed, labels, extra)

@@ -636,6 +636,14 @@ def test_alg_3_3_singular_system_raises(count):
     points = np.c_[np.cos(angle), np.sin(angle)]
     lower, upper = GOLDEN**2 / (2 * (1 + GOLDEN)), 1 / (2 * GOLDEN * (1 + GOLDEN))
     assert lower + upper == pytest.approx(1.0)
+    # spec §5.6's dominance test 2/B + 2/a > 1/A + 1/b is for the thesis rows only: it holds here
+    # (A = a = 1, B = b = GOLDEN), yet the g2 rows are singular; their test is 2(a+B) > B^2/A + a^2/b
+    big_a = small_a = 1.0
+    big_b = small_b = GOLDEN
+    assert 2 / big_b + 2 / small_a > 1 / big_a + 1 / small_b
+    assert 2 * (small_a + big_b) == pytest.approx(big_b**2 / big_a + small_a**2 / small_b)
+    thesis = timmer_gc2(points, closed=True, alpha=1.0, beta=GOLDEN, joint="thesis")
+    assert thesis.info["diagonally_dominant"] is True
     with pytest.raises(ValueError, match="singular|ill-conditioned"):
         timmer_gc2(points, closed=True, alpha=1.0, beta=GOLDEN, joint="g2")
 

@@ -702,8 +702,10 @@ def timmer_gc2(points, *, closed: bool = False, alpha=4.0, beta=None, end_deriva
     estimates 2.1/2.2 (per unit piece parameter). Closed curves use the joint row at every point,
     cyclically. The matrix is the same for x and y: one ``solve_banded`` call with two right-hand-side
     columns (a cyclic system is reordered to bandwidth 2 rather than split by Sherman-Morrison). Rows
-    are diagonally dominant for the thesis joint iff :math:`2/B+2/a>1/A+1/b` (e.g. all scales equal);
-    otherwise the system is still solved, with partial pivoting, after an O(n) LAPACK condition
+    are diagonally dominant for the thesis joint iff :math:`2/B+2/a>1/A+1/b` (e.g. all scales equal),
+    for the ``"g2"`` joint iff :math:`2(a+B)>B^2/A+a^2/b` (a different condition: the spec's test does
+    not carry over; :math:`A=a=1`, :math:`B=b=(3+\\sqrt5)/2` passes it but makes a closed ``"g2"`` system
+    with an even number of points singular); otherwise the system is still solved, with partial pivoting, after an O(n) LAPACK condition
     estimate; a singular or ill-conditioned system (rcond < 1e-12) raises ``ValueError``. With constant
     :math:`\\alpha=\\beta` the thesis joint gives the uniform-knot :math:`C^2` cubic spline with end slopes
     :math:`\\hat D` (the scales only matter through their ratios). Rendered with spec §5.1 (eq 3.89; E20:

@@ -687,3 +687,24 @@ def test_common_output(build, closed):
     # JSON round trip keeps the report
     again = Spline.from_dict(spline.to_dict())
     assert again.info == spline.info
+
+
+def test_reversed_timmer_spline_keeps_its_polygon_and_joint_metadata():
+    """Reversal maps Q1 <-> Q2, reverses per-piece alpha/beta and per-knot joint lists (piecewise.reversed)."""
+    from splinecraft.spline.timmer import timmer_gc1
+
+    theta = np.linspace(0.0, 2.5, 7)
+    points = np.column_stack([40 * np.cos(theta), 25 * np.sin(theta)])
+    alpha = np.linspace(0.05, 0.2, 6)
+    beta = np.linspace(0.3, 0.1, 6)
+    curve = timmer_gc1(points, alpha=alpha, beta=beta)
+    back = curve.reversed()
+    np.testing.assert_allclose(back.auxiliary["Q1"], curve.auxiliary["Q2"][::-1])
+    np.testing.assert_allclose(back.auxiliary["Q2"], curve.auxiliary["Q1"][::-1])
+    # Piece i of the reversed curve is piece m-1-i traversed backwards: its alpha is the old beta.
+    np.testing.assert_allclose(back.bezier(), curve.bezier()[::-1, ::-1])
+    if isinstance(curve.info.get("alpha"), list):
+        assert back.info["alpha"] == curve.info["beta"][::-1]
+    for key in ("joint_status", "curvature_jump"):
+        if isinstance(curve.info.get(key), list):
+            assert back.info[key] == curve.info[key][::-1]

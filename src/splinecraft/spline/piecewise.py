@@ -61,6 +61,10 @@ def _jsonable(value, where: str):
     raise TypeError(f"{where} must be JSON-able, got {type(value).__name__}")
 
 
+#: Auxiliary arrays that trade roles when a curve is traversed backwards.
+_REVERSED_ROLES = {"V": "W", "W": "V", "Q1": "Q2", "Q2": "Q1"}
+
+
 class Spline:
     """Piecewise cubic curve stored as exact Bézier pieces (spec §0).
 
@@ -655,14 +659,15 @@ class Spline:
         Auxiliary geometry is carried over so that it still belongs to the right pieces: per-piece
         arrays and polylines are flipped, ``'V'`` and ``'W'`` swap roles, ``'tangents'`` change sign,
         and for a loop per-knot arrays (``'F'``, ``'tangents'``) keep index 0 at the start point.
-        ``info['alpha']`` and ``info['beta']`` are swapped (they swap roles in reverse, spec §1).
+        ``'Q1'``/``'Q2'`` (Timmer polygon) likewise. ``info['alpha']`` and ``info['beta']`` are swapped
+        (they swap roles in reverse, spec §1), and per-piece or per-knot ``info`` lists are reversed.
         """
         planar = np.ascontiguousarray(self._planar[::-1, :, ::-1])
         knots = (self._knots[0] + self._knots[-1]) - self._knots[::-1]
         m = self.n_segments
         aux = {}
         for key, value in self._auxiliary.items():
-            target = {"V": "W", "W": "V"}.get(key, key)
+            target = _REVERSED_ROLES.get(key, key)
             flipped = value[::-1]
             if self._closed and key in _PER_KNOT_KEYS and value.shape[0] == m:
                 flipped = np.roll(flipped, 1, axis=0)
@@ -672,6 +677,10 @@ class Spline:
         info = dict(self._info)
         if "alpha" in info or "beta" in info:
             info["alpha"], info["beta"] = self._info.get("beta"), self._info.get("alpha")
+        for key, value in info.items():
+            # Per-piece (m) and per-knot (m + 1) metadata lists follow the pieces backwards.
+            if isinstance(value, list) and len(value) in (m, m + 1):
+                info[key] = value[::-1]
         knots = np.ascontiguousarray(knots)
         aux = {key: np.array(value) for key, value in aux.items()}
         return Spline._from_trusted(planar, knots, closed=self._closed, auxiliary=aux, info=_jsonable(info, "info"))

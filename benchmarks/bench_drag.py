@@ -68,13 +68,16 @@ def browser_round_trips(lab, n: int, moves: int) -> dict:
                                timeout=30_000)
     page.mouse.up()
     records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:]
+    # the transport floor: an empty message to the kernel and straight back, same widget, same page
+    pings = root.evaluate("async (el) => { const out = []; for (let i = 0; i < 60; i++) out.push(await el.__splinecraft.ping()); return out.slice(10); }")
     kernel_points = lab.python_json("len(editor.points)")
     assert kernel_points == n, kernel_points
     parts = {key: statistics.median(r[key] for r in records) for key in ("wait", "kernel", "draw")}
     dom = [r["dom"] for r in records]
     frame = [r["frame"] for r in records]
     return {
-        "n": n, "moves": len(records),
+        "n": n, "moves": len(records), "ping_median": statistics.median(p["total"] for p in pings),
+        "ping_up": statistics.median(p["up"] for p in pings), "ping_down": statistics.median(p["down"] for p in pings),
         "dom_median": statistics.median(dom), "dom_p95": percentile(dom, 95),
         "frame_median": statistics.median(frame), "frame_p95": percentile(frame, 95),
         "wait_median": parts["wait"], "kernel_median_rt": parts["kernel"], "draw_median": parts["draw"],
@@ -130,12 +133,12 @@ def main(argv=None):
     print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "
           f"{args.moves} moves per size (after {WARMUP} warm-up moves)\n")
     print("| points | server | moves | pointer→path in DOM, median (ms) | p95 (ms) | →painted frame, median (ms) | p95 (ms) "
-          "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) |")
-    print("|---:|---|---:|---:|---:|---:|---:|---|---:|")
+          "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) | empty message round trip: total (up / down) (ms) |")
+    print("|---:|---|---:|---:|---:|---:|---:|---|---:|---:|")
     for r in rows:
         print(f"| {r['n']} | {r['server']} | {r['moves']} | {r['dom_median']:.1f} | {r['dom_p95']:.1f} | {r['frame_median']:.1f} | "
               f"{r['frame_p95']:.1f} | {r['wait_median']:.1f} / {r['kernel_median_rt']:.1f} / {r['draw_median']:.1f} | "
-              f"{r['kernel_median']:.2f} |")
+              f"{r['kernel_median']:.2f} | {r['ping_median']:.1f} ({r['ping_up']:.1f} / {r['ping_down']:.1f}) |")
 
 
 if __name__ == "__main__":

@@ -532,7 +532,14 @@ function render({ model, el }) {
   }
   on("change:status_message", showStatus);
   on("change:status_level", showStatus);
+  const pings = new Map();
+  let pingId = 0;
   const onMsg = (msg) => {
+    if (msg && msg.type === "pong" && pings.has(msg.id)) {
+      pings.get(msg.id)(msg.kernel_ms);
+      pings.delete(msg.id);
+      return;
+    }
     if (msg && msg.type === "drag_ack") {
       acknowledge(msg.seq);
       if (!msg.ok) drawPoints();
@@ -564,6 +571,20 @@ function render({ model, el }) {
     screenOf(x, y) {
       const rect = svg.getBoundingClientRect();
       return [rect.left + vp.sx(x), rect.top + vp.sy(y)];
+    },
+    /**
+     * Round trip of an empty message through the kernel (the transport floor): {total, up, down} in ms,
+     * up/down split by the kernel's wall clock (same machine).
+     */
+    ping() {
+      return new Promise((resolve) => {
+        const id = ++pingId, t0 = performance.now(), wall0 = performance.timeOrigin + t0;
+        pings.set(id, (kernelMs) => {
+          const t1 = performance.now(), wall1 = performance.timeOrigin + t1;
+          resolve({ total: t1 - t0, up: kernelMs - wall0, down: wall1 - kernelMs });
+        });
+        model.send({ type: "ping", id });
+      });
     },
     dataOf(clientX, clientY) {
       const rect = svg.getBoundingClientRect();

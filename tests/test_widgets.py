@@ -454,3 +454,146 @@ def test_points_travel_as_float64_bytes_both_ways():
     moved[1] += [5.0, -7.0]
     editor.set_state({"points": memoryview(moved.astype("<f8").tobytes())})  # what a page would send
     assert editor.points == moved.tolist()
+
+
+def test_nodelay_server_extension_sets_tcp_nodelay_on_open():
+    import asyncio
+
+    from splinecraft.widgets import jupyter_nodelay
+
+    calls = []
+
+    class FakeHandler:
+        def set_nodelay(self, value):
+            calls.append(("nodelay", value))
+
+        async def open(self, kernel_id):
+            calls.append(("open", kernel_id))
+
+    assert jupyter_nodelay.enable_nodelay(FakeHandler) is True
+    assert jupyter_nodelay.enable_nodelay(FakeHandler) is False  # idempotent
+    asyncio.run(FakeHandler().open("k1"))
+    assert calls == [("nodelay", True), ("open", "k1")]
+    assert jupyter_nodelay._jupyter_server_extension_points() == [{"module": "splinecraft.widgets.jupyter_nodelay"}]
+
+
+# ---------------------------------------------------------------------------------------------- TraceExplorer
+def small_bitmap(size=48):
+    """An L-shaped block with a round hole: sharp corners, a curved hole, two boundaries."""
+    yy, xx = np.mgrid[0:size, 0:size] + 0.5
+    block = ((xx > 6) & (xx < 42) & (yy > 6) & (yy < 24)) | ((xx > 6) & (xx < 22) & (yy > 6) & (yy < 42))
+    hole = (xx - 14.0) ** 2 + (yy - 15.0) ** 2 < 16.0
+    return block & ~hole
+
+
+@pytest.fixture(scope="module")
+def explorer_factory():
+    pytest.importorskip("splinecraft.capture.fitting", exc_type=ImportError)
+    from splinecraft.widgets import TraceExplorer
+
+    return lambda image=None, **params: TraceExplorer(small_bitmap() if image is None else image,
+                                                       **{"epsilon": 1.0, **params})
+
+
+def test_explorer_draws_the_last_snapshot_and_steps(explorer_factory):
+    explorer = explorer_factory()
+    result = explorer.result
+    assert explorer.n_snapshots == len(result.snapshots) >= 2
+    assert explorer.snapshot_index == explorer.n_snapshots - 1
+    np.testing.assert_allclose(buffer(explorer.snapshot_geometry["bezier"], (-1, 4, 2)), result.snapshots[-1].bezier,
+                               atol=1e-4)
+    assert explorer.image_size == [48, 48] and explorer.image_png.startswith(b"\x89PNG")
+    assert explorer.go_to(0) == 0
+    first = result.snapshots[0]
+    np.testing.assert_allclose(buffer(explorer.snapshot_geometry["bezier"], (-1, 4, 2)), first.bezier, atol=1e-4)
+    assert explorer.iteration_info["knots"] == first.knots and explorer.iteration_info["iteration"] == first.iteration
+    assert explorer.iteration_info["max_error"] == pytest.approx(first.max_error)
+    assert explorer.step(1) == 1 and explorer.iteration_info["iteration"] == result.snapshots[1].iteration
+    assert explorer.step(-5) == 0 and explorer.step(10_000) == explorer.n_snapshots - 1
+    corners = sum(len(c) for c in result.corners)
+    assert len(buffer(explorer.base_geometry["corners"])) == corners
+
+
+def test_explorer_candidates_are_split_by_acceptance(explorer_factory):
+    explorer = explorer_factory()
+    for index, merged in enumerate(explorer.result.snapshots):
+        explorer.go_to(index)
+        candidates = [c for s in merged.snapshots for c in (s.candidates or []) if c.get("point") is not None]
+        accepted = np.array([c["point"] for c in candidates if c["accepted"]], dtype=float).reshape(-1, 2)
+        rejected = np.array([c["point"] for c in candidates if not c["accepted"]], dtype=float).reshape(-1, 2)
+        np.testing.assert_allclose(buffer(explorer.snapshot_geometry["accepted"]), accepted, atol=1e-4)
+        np.testing.assert_allclose(buffer(explorer.snapshot_geometry["rejected"]), rejected, atol=1e-4)
+        assert explorer.iteration_info["accepted"] == len(accepted)
+
+
+def test_explorer_bad_values_keep_the_last_result(explorer_factory):
+    from splinecraft.widgets import TraceExplorerWarning
+
+    explorer = explorer_factory()
+    result = explorer.result
+    with pytest.warns(TraceExplorerWarning, match="ε must be a number > 0"):
+        explorer.epsilon = -1.0
+    assert explorer.epsilon == 1.0 and explorer.result is result and explorer.status_level == "error"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        explorer.set_state({"epsilon": None})  # NaN typed into the page's number box
+        explorer.set_state({"snapshot_index": 999})
+    assert explorer.epsilon == 1.0 and explorer.result is result
+    assert explorer.snapshot_index == explorer.n_snapshots - 1
+    page_message(explorer, {"type": "upload", "name": "junk.png"}, [b"not an image at all"])
+    assert explorer.result is result and "not a readable image" in explorer.status_message
+
+
+def test_explorer_retraces_on_settings_and_upload(explorer_factory, tmp_path):
+    from PIL import Image
+
+    explorer = explorer_factory()
+    explorer.epsilon = 3.0
+    assert explorer.result.params["epsilon"] == 3.0 and explorer.status_level == "info"
+    methods = list(sc.KNOT_METHODS)
+    other = next(name for name in methods if name != explorer.method)
+    explorer.set_state({"method": other})
+    assert explorer.result.params["method"] == other
+    html_table = explorer.stats_html
+    for column in ("Total number of points on contour", "Number of corner points", "Number of knots inserted",
+                   "Total number of iterations", "Execution time", "Threshold value"):
+        assert column in html_table
+    assert f"<td>{explorer.result.stats['contour_points']:,}</td>" in html_table
+    # an uploaded PNG replaces the bitmap
+    square = np.zeros((32, 40), dtype=np.uint8) + 255
+    square[8:24, 10:30] = 0
+    path = tmp_path / "square.png"
+    Image.fromarray(square).save(path)
+    page_message(explorer, {"type": "upload", "name": "square.png"}, [path.read_bytes()])
+    assert explorer.image_size == [40, 32] and explorer.mask.sum() == 16 * 20
+    assert explorer.load(path) and explorer.status_level == "info"
+
+
+def test_explorer_corner_parameters(explorer_factory):
+    from splinecraft.widgets.trace_explorer import corner_param_specs
+
+    specs = {spec["name"]: spec for spec in corner_param_specs("srm05")}
+    assert {"zct", "dt", "ta"} <= set(specs) and specs["ta"]["min"] >= 90
+    explorer = explorer_factory(corner_method="srm05", corner_params={"zct": 5})
+    before = sum(len(c) for c in explorer.result.corners)
+    explorer.corner_params = {"zct": 5, "ta": 100}
+    assert explorer.result.params["corner_params"] == {"zct": 5, "ta": 100}
+    assert sum(len(c) for c in explorer.result.corners) <= before  # a smaller TA keeps fewer corners
+    other = next(name for name in sc.CORNER_METHODS if name != "srm05")
+    explorer.corner_method = other
+    allowed = {spec["name"] for spec in corner_param_specs(other)}
+    assert set(explorer.corner_params) <= allowed
+
+
+def test_explorer_convergence_figure(explorer_factory):
+    pytest.importorskip("bqplot")
+    explorer = explorer_factory()
+    figure = explorer.convergence_figure
+    plot = explorer._convergence
+    snapshots = explorer.result.snapshots
+    np.testing.assert_array_equal(np.asarray(plot.knots.y), [s.knots for s in snapshots])
+    np.testing.assert_allclose(np.asarray(plot.error.y), [s.max_error for s in snapshots])
+    assert list(plot.threshold.y) == [1.0, 1.0]
+    explorer.go_to(1)
+    assert list(plot.current.x) == [float(snapshots[1].iteration)] * 2
+    assert explorer.panel().children == (explorer, figure)

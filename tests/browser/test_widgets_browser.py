@@ -153,3 +153,50 @@ def test_touch_drag_moves_a_point(lab):
     after = wait_python(lab, "editor.points", lambda pts: math.dist(pts[1], before[1]) > 1.0)
     assert math.dist(after[1], target) < 0.5
     wait_curve_change(page, old_d)
+
+
+EXPLORER_CELL = PRELUDE + """\
+import numpy as np
+import splinecraft as sc
+yy, xx = np.mgrid[0:48, 0:48] + 0.5
+block = ((xx > 6) & (xx < 42) & (yy > 6) & (yy < 24)) | ((xx > 6) & (xx < 22) & (yy > 6) & (yy < 42))
+mask = block & ~((xx - 14.0) ** 2 + (yy - 15.0) ** 2 < 16.0)
+explorer = sc.TraceExplorer(mask, epsilon=0.5, width=480, height=400)
+explorer
+"""
+EXPLORER = "[data-testid=trace-explorer][data-ready='1']"
+
+
+def test_trace_explorer_steps_back_and_forward(lab):
+    page = lab.open_notebook([EXPLORER_CELL])
+    root = page.wait_for_selector(EXPLORER, timeout=60_000)
+    n = lab.python_json("explorer.n_snapshots")
+    assert n >= 3 and root.get_attribute("data-n-snapshots") == str(n)
+    assert root.get_attribute("data-snapshot-index") == str(n - 1)
+    last_d = root.query_selector("[data-testid=snapshot-curve]").get_attribute("d")
+    root.query_selector("[data-testid=step-back]").click()
+    page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='{n - 2}']", timeout=20_000)
+    assert wait_python(lab, "explorer.snapshot_index", lambda i: i == n - 2) == n - 2
+    root.query_selector("[data-testid=first]").click()
+    page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='0']", timeout=20_000)
+    page.wait_for_function(
+        "(old) => document.querySelector('[data-testid=trace-explorer] [data-testid=snapshot-curve]')"
+        ".getAttribute('d') !== old", arg=last_d, timeout=20_000)
+    knots0 = lab.python_json("explorer.iteration_info['knots']")
+    assert knots0 == lab.python_json("explorer.result.snapshots[0].knots")
+    root.query_selector("[data-testid=step-forward]").click()
+    page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='1']", timeout=20_000)
+    assert "iteration 1 /" in root.query_selector("[data-testid=iteration]").inner_text()
+    # keyboard: End jumps to the final fit, whose drawing is the result again
+    root.focus()
+    page.keyboard.press("End")
+    page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='{n - 1}']", timeout=20_000)
+    page.wait_for_function(
+        "(d) => document.querySelector('[data-testid=trace-explorer] [data-testid=snapshot-curve]')"
+        ".getAttribute('d') === d", arg=last_d, timeout=20_000)
+    # play from the start runs to the end and stops
+    root.query_selector("[data-testid=first]").click()
+    page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='0']", timeout=20_000)
+    root.query_selector("[data-testid=play]").click()
+    page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='{n - 1}'][data-playing='0']", timeout=60_000)
+    assert "Total number of points on contour" in root.query_selector("[data-testid=stats]").inner_text()

@@ -200,6 +200,7 @@ class SplineEditor(anywidget.AnyWidget):
         self._revision = 0
         self._basis_plot = None
         self._segment_stash = None
+        self._comb_unit = None
         display = {k: engine_params.pop(k) for k in list(engine_params) if k in _DISPLAY_TRAITS}
         super().__init__(**display)
 
@@ -415,8 +416,9 @@ class SplineEditor(anywidget.AnyWidget):
             value = state[name]
             if value is None or not math.isfinite(value):
                 raise _Rejected(f"{name} must be a finite number")
-            lo = 0.0 if form == "segment" else 0.0
-            if not (value > lo or (form == "segment" and value >= 0)) or value > 100:
+            # alpha = 0 drops V from a single segment (spec §1); elsewhere V, W divide by alpha, beta (§2.1)
+            low_ok = value >= 0 if form == "segment" else value > 0
+            if not low_ok or value > 100:
                 raise _Rejected(f"{name} = {value:g} is out of range ({'≥ 0' if form == 'segment' else '> 0'} and ≤ 100)")
         try:
             return build_spline(state)
@@ -480,9 +482,11 @@ class SplineEditor(anywidget.AnyWidget):
             return
         before = self._spline
         self._push_history(previous, key=name)
+        if name in ("form", "closed", "preset", "alpha", "beta"):
+            self._comb_unit = None  # a different curve: rescale the comb
         self._commit(state, spline)
         if name == "points" and not self._from_page:
-            self.view = self._fitted_view()
+            self.view = self._fitted_view()  # new points from code: fit them (this also rescales the comb)
         self._set_status(note or self._describe_change(name, before, spline), "info")
 
     def _derive(self, name, old, state):
@@ -612,6 +616,8 @@ class SplineEditor(anywidget.AnyWidget):
 
     @t.observe(*_DISPLAY_TRAITS)
     def _on_display_change(self, change):
+        if change["name"] in ("view", "show_comb", "width", "height"):
+            self._comb_unit = None
         if self._applying:
             return
         name = change["name"]
@@ -692,6 +698,8 @@ class SplineEditor(anywidget.AnyWidget):
                 self.redo()
             elif kind == "fit":
                 self.fit_view()
+            elif kind == "ping":  # transport round trip, for benchmarks/bench_drag.py
+                self.send({"type": "pong", "id": content.get("id"), "kernel_ms": time.time() * 1e3})
         finally:
             self._from_page = False
 
@@ -928,10 +936,15 @@ class SplineEditor(anywidget.AnyWidget):
         bases, tips = spline.curvature_comb(scale=1.0, samples_per_segment=samples)
         lengths = np.hypot(*(tips - bases).T)  # = |kappa|
         finite = lengths[np.isfinite(lengths)]
-        view = self.view
-        diag = math.hypot(view[2] - view[0], view[3] - view[1])
-        reference = float(np.percentile(finite, 95)) if finite.size else 0.0
-        scale = self.comb_scale * 0.12 * diag / reference if reference > 0 else 0.0
+        if self._comb_unit is None:
+            # teeth length per unit curvature: the 95th-percentile tooth is 12% of the view diagonal. Fixed
+            # until the view, the form or the comb size changes, so during a drag the comb shows real
+            # changes of curvature instead of being renormalised every move.
+            view = self.view
+            diag = math.hypot(view[2] - view[0], view[3] - view[1])
+            reference = float(np.percentile(finite, 95)) if finite.size else 0.0
+            self._comb_unit = 0.12 * diag / reference if reference > 0 else None
+        scale = self.comb_scale * (self._comb_unit or 0.0)
         tips = bases + scale * (tips - bases)
         teeth = np.stack([bases, tips], axis=1)
         envelope = tips
@@ -941,7 +954,6 @@ class SplineEditor(anywidget.AnyWidget):
         joints = spline.joint_curvature()
         points = spline.knot_points
         if m <= 60:
-            rows = range(m if spline.closed else 1, m + 1) if not spline.closed else range(m)
             for i in (range(1, m) if not spline.closed else range(m)):
                 minus, plus = joints[i]
                 if not (math.isfinite(minus) and math.isfinite(plus)):
@@ -953,7 +965,6 @@ class SplineEditor(anywidget.AnyWidget):
                     ratio = plus / minus if abs(minus) > 1e-12 * big else math.inf
                     text = f"κ⁺/κ⁻ = {ratio:.2f}" if math.isfinite(ratio) else "κ jumps"
                     labels.append({"x": float(points[i][0]), "y": float(points[i][1]), "text": text, "kind": "joint"})
-            del rows
         return teeth, envelope, labels
 
     def _set_status(self, message, level="info"):

@@ -168,6 +168,7 @@ EXPLORER = "[data-testid=trace-explorer][data-ready='1']"
 
 
 def test_trace_explorer_steps_back_and_forward(lab):
+    pytest.importorskip("splinecraft.capture.fitting", exc_type=ImportError)
     page = lab.open_notebook([EXPLORER_CELL])
     root = page.wait_for_selector(EXPLORER, timeout=60_000)
     n = lab.python_json("explorer.n_snapshots")

@@ -113,10 +113,14 @@ def test_add_and_delete_points(lab):
     page.keyboard.press("Delete")
     page.wait_for_selector("[data-testid=spline-editor][data-npoints='4']", timeout=20_000)
     assert len(lab.python_json("editor.points")) == 4
-    # undo twice restores the two deleted points
-    root.query_selector("[data-testid=undo]").click()
+    # undo twice restores the two deleted points: once with the keyboard, once with the button
+    page.keyboard.press("Control+z")
+    page.wait_for_selector("[data-testid=spline-editor][data-npoints='5']", timeout=20_000)
     root.query_selector("[data-testid=undo]").click()
     page.wait_for_selector("[data-testid=spline-editor][data-npoints='6']", timeout=20_000)
+    page.keyboard.press("Control+Shift+z")  # redo: the right-click deletion again
+    page.wait_for_selector("[data-testid=spline-editor][data-npoints='5']", timeout=20_000)
+    assert len(lab.python_json("editor.points")) == 5
 
 
 def test_bad_value_from_page_keeps_last_good_curve(lab):

@@ -74,11 +74,11 @@ function render({ model, el }) {
 
   // ---------------------------------------------------------------- stepper
   const btn = (text, title, testid, onClick) => h("button", { class: "sc-button", title, "data-testid": testid, onclick: (e) => { e.preventDefault(); onClick(); } }, text);
-  const firstBtn = btn("⏮", "First iteration (Home)", "first", () => go(0));
-  const backBtn = btn("◀", "Step back (←)", "step-back", () => go(model.get("snapshot_index") - 1));
-  const playBtn = btn("▶ Play", "Play / pause", "play", () => togglePlay());
-  const fwdBtn = btn("▶|", "Step forward (→)", "step-forward", () => go(model.get("snapshot_index") + 1));
-  const lastBtn = btn("⏭", "Last iteration (End)", "last", () => go(model.get("n_snapshots") - 1));
+  const firstBtn = btn("«", "First iteration: the corners only (Home)", "first", () => go(0));
+  const backBtn = btn("‹ Back", "Step back one iteration (←)", "step-back", () => go(model.get("snapshot_index") - 1));
+  const playBtn = btn("▶ Play", "Play / pause (Space)", "play", () => togglePlay());
+  const fwdBtn = btn("Next ›", "Step forward one iteration (→)", "step-forward", () => go(model.get("snapshot_index") + 1));
+  const lastBtn = btn("»", "Last iteration: the result (End)", "last", () => go(model.get("n_snapshots") - 1));
   const scrub = h("input", { type: "range", class: "sc-range", min: 0, max: 0, step: 1, value: 0, "data-testid": "scrub" });
   scrub.addEventListener("input", () => go(Number(scrub.value)));
   const iterLabel = h("span", { class: "sc-iteration", "data-testid": "iteration" });
@@ -98,18 +98,19 @@ function render({ model, el }) {
   ].map(([name, label]) => checkRow(label, model.get(name), (v) => setTrait(name, v), { testid: name }));
   const overlayRow = h("div", { class: "sc-overlay-grid" }, ...overlays.map((o) => o.row));
   const info = h("div", { class: "sc-explanation", "data-testid": "iteration-info" });
-  const stats = h("div", { "data-testid": "stats" });
+  const methodNote = h("div", { class: "sc-method-note", "data-testid": "method-note" });
+  const stats = h("div", { class: "sc-stats", "data-testid": "stats" });
   const side = h("div", { class: "sc-side" },
     section("Corner detector", cornerParams),
-    section("Knot insertion", eps.row, tauAuto.row, tau.row, seed.row),
+    section("Knot insertion", methodNote, eps.row, tauAuto.row, tau.row, seed.row),
     section("This iteration", info),
-    section("Show", overlayRow),
-    section("Result (thesis table columns)", stats));
+    section("Show", overlayRow));
+  side.style.height = `${height()}px`;
 
   const status = h("div", { class: "sc-status", "data-testid": "status" });
   const summary = h("div", { class: "sc-summary" });
   root.append(toolbar, h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, svg, h("div", { class: "sc-actions" }, btn("Fit", "Fit the image to the view", "fit", () => fitView()))), side),
-    stepper, legend, h("div", { class: "sc-footer" }, status, summary));
+    stepper, legend, stats, h("div", { class: "sc-footer" }, status, summary));
 
   // ---------------------------------------------------------------- behaviour
   function go(index) {
@@ -257,6 +258,7 @@ function render({ model, el }) {
     cornerSel.set(model.get("corner_method"));
     methodSel.fill(opts().knot_methods ?? []);
     methodSel.set(model.get("method"));
+    methodNote.textContent = (opts().knot_descriptions ?? {})[model.get("method")] ?? "";
     eps.set(model.get("epsilon"));
     const tauValue = model.get("tau");
     tauAuto.set(tauValue === null);
@@ -316,6 +318,16 @@ function render({ model, el }) {
   for (const name of ["snapshot_index", "n_snapshots", "iteration_info"]) on(`change:${name}`, syncStepper);
   on("change:status_message", showStatus);
   on("change:status_level", showStatus);
+  const resize = () => {
+    for (const node of [svg, bg]) { node.setAttribute("width", width()); node.setAttribute("height", height()); }
+    side.style.height = `${height()}px`;
+    vp.width = width();
+    vp.height = height();
+    vp.setView(model.get("view"));
+    draw();
+  };
+  on("change:width", resize);
+  on("change:height", resize);
 
   drawImage();
   buildCornerParams();

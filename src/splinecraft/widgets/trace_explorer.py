@@ -101,13 +101,6 @@ def corner_param_specs(method: str) -> list:
     return specs
 
 
-def _method_label(name: str, description) -> str:
-    text = str(description or "").strip().split("\n")[0]
-    if len(text) > 42:
-        text = text[:40].rstrip() + "…"
-    return f"{name} — {text}" if text else name
-
-
 class TraceExplorer(anywidget.AnyWidget):
     """Step through the outline capture of a bitmap: corners, spline fit and knot insertion.
 
@@ -425,7 +418,7 @@ class TraceExplorer(anywidget.AnyWidget):
                 return "—" if not math.isfinite(value) else f"{value:.{digits}f}"
             return html.escape(str(value))
 
-        rows = [
+        columns = [
             ("Total number of points on contour", number(stats.get("contour_points"))),
             ("Number of corner points", number(stats.get("corners"))),
             ("Number of knots inserted", number(stats.get("knots_inserted"))),
@@ -435,21 +428,24 @@ class TraceExplorer(anywidget.AnyWidget):
             ("% reduction in dataset (Table 4.61)", number(stats.get("data_reduction_pct_thesis"))),
             ("% reduction, stored numbers", number(stats.get("data_reduction_pct"))),
             ("Cubic segments", number(stats.get("segments"))),
-            ("Max error (thesis, px)", number(stats.get("max_error"), 3)),
+            ("Max error, thesis (px)", number(stats.get("max_error"), 3)),
             ("Hausdorff distance (px)", number(stats.get("hausdorff"), 3)),
             ("Converged", number(stats.get("converged"))),
         ]
-        body = "".join(f"<tr><td>{html.escape(label)}</td><td>{value}</td></tr>" for label, value in rows)
-        caption = html.escape(f"{params.get('method')}, corners: {params.get('corner_method')}, seed {params.get('seed')}")
-        return (f'<table class="sc-table" data-testid="stats-table"><tbody>{body}</tbody></table>'
-                f'<div class="sc-summary" style="margin-top:3px">{caption}</div>')
+        head = "".join(f"<th>{html.escape(label)}</th>" for label, _value in columns)
+        row = "".join(f"<td>{value}</td>" for _label, value in columns)
+        caption = html.escape(
+            f"Algorithm {params.get('method')}, corners {params.get('corner_method')}, seed {params.get('seed')}. "
+            "The first six columns are those of thesis Tables 4.1–4.60.")
+        return (f'<table class="sc-table" data-testid="stats-table"><thead><tr>{head}</tr></thead>'
+                f'<tbody><tr>{row}</tr></tbody></table><div class="sc-caption">{caption}</div>')
 
     def _options(self) -> dict:
         corner = [[name, name] for name in CORNER_METHODS]
-        knots = [[name, _method_label(name, description)] for name, description in KNOT_METHODS.items()]
         return {
             "corner_methods": corner,
-            "knot_methods": knots,
+            "knot_methods": [[name, name] for name in KNOT_METHODS],
+            "knot_descriptions": {name: str(description) for name, description in KNOT_METHODS.items()},
             "corner_params": {name: corner_param_specs(name) for name in CORNER_METHODS},
         }
 

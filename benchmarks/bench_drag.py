@@ -67,7 +67,7 @@ def browser_round_trips(lab, n: int, moves: int) -> dict:
         page.wait_for_function("(count) => (window.__splinecraft.dragLatencies || []).length > count", arg=k,
                                timeout=30_000)
     page.mouse.up()
-    records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:]
+    records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:WARMUP + moves]  # not the release
     # the transport floor: an empty message to the kernel and straight back, same widget, same page
     pings = root.evaluate("async (el) => { const out = []; for (let i = 0; i < 60; i++) out.push(await el.__splinecraft.ping()); return out.slice(10); }")
     kernel_points = lab.python_json("len(editor.points)")

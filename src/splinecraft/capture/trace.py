@@ -31,7 +31,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .contour import Boundary, trace_boundaries
+from . import corners as _corners_module
+from .contour import trace_boundaries
 from .corners import CORNER_METHODS
 from .corners import corners as detect_corners
 from .fitting import KNOT_METHODS, fit_outline
@@ -323,8 +324,9 @@ def trace(
         Knot-insertion algorithm, a key of ``KNOT_METHODS`` (thesis Algs 4.1-4.6 and the team's own);
         ``None`` = the default of :func:`~splinecraft.capture.fitting.fit_outline`.
     corner_method : str, optional
-        Corner detector, a key of ``CORNER_METHODS``; ``None`` = the default of
-        :func:`~splinecraft.capture.corners.corners` (the thesis's SRM05).
+        Corner detector, a key of ``CORNER_METHODS``; ``None`` = ``corners.CAPTURE_DEFAULT`` (the corner
+        module's recommendation for outline capture), else the default of
+        :func:`~splinecraft.capture.corners.corners`. The thesis's detector is ``"srm05"``.
     corner_params : dict, optional
         Parameters of the corner detector (e.g. ``{"zct": 7, "dt": 5, "ta": 152}`` for SRM05).
     seed : int >= 0 or None
@@ -389,6 +391,8 @@ def trace(
     method_name = method if method is not None else _default_of(fit_outline, "method")
     if method is not None and method not in KNOT_METHODS:
         raise ValueError(f"unknown method {method!r}; choose one of {sorted(KNOT_METHODS)}")
+    if corner_method is None:  # the corner module's recommendation for capture, else its default
+        corner_method = getattr(_corners_module, "CAPTURE_DEFAULT", None)
     corner_name = corner_method if corner_method is not None else _default_of(detect_corners, "method")
     if corner_method is not None and corner_method not in CORNER_METHODS:
         raise ValueError(f"unknown corner_method {corner_method!r}; choose one of {sorted(CORNER_METHODS)}")

@@ -45,6 +45,7 @@ class ConvergencePlot:
         self.current = bq.Lines(x=[0.0, 0.0], y=[0.0, 1.0], scales=error_scales, colors=["#90a4ae"], stroke_width=6,
                                 opacities=[0.35])
         x_axis = bq.Axis(scale=self.x_scale, label="iteration", grid_lines="none", tick_format="d")
+        self.x_axis = x_axis
         knot_axis = bq.Axis(scale=self.knot_scale, side="left", label="knots",
                             grid_lines="dashed", grid_color="#eceff1", color="#1565c0", tick_format="d")
         error_axis = bq.Axis(scale=self.error_scale, side="right", label="error (px)",
@@ -78,6 +79,8 @@ class ConvergencePlot:
             self.threshold.y = [explorer.epsilon, explorer.epsilon]
         self.error_scale.max = top if np.isfinite(top) and top > 0 else 1.0
         self.x_scale.min, self.x_scale.max = float(x[0]), float(max(x[-1], x[0] + 1))
+        # whole-number ticks only (iterations are integers)
+        self.x_axis.tick_values = np.unique(np.round(np.linspace(x[0], max(x[-1], x[0] + 1), 9)))
         self.mark(explorer)
 
     def mark(self, explorer) -> None:

@@ -37,6 +37,7 @@ MODEL_TRAITS = (
 _DISPLAY_TRAITS = ("show_control_polygon", "show_knots", "show_bezier_points", "show_tangents", "show_comb",
                    "comb_scale", "selected", "selected_interval", "view", "width", "height")
 _MAX_HISTORY = 200
+_MAX_COMB_TEETH = 1500
 _COINCIDENT_RTOL = 1e-9
 _MAX_COORDINATE = 1e9
 
@@ -947,6 +948,8 @@ class SplineEditor(anywidget.AnyWidget):
         scale = self.comb_scale * (self._comb_unit or 0.0)
         tips = bases + scale * (tips - bases)
         teeth = np.stack([bases, tips], axis=1)
+        if len(teeth) > _MAX_COMB_TEETH:  # long curves: every k-th tooth (the envelope keeps every sample)
+            teeth = teeth[:: math.ceil(len(teeth) / _MAX_COMB_TEETH)]
         envelope = tips
         if spline.closed and len(tips):
             envelope = np.vstack([tips, tips[:1]])

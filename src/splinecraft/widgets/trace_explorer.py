@@ -23,8 +23,6 @@ import numpy as np
 import traitlets as t
 
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
-from ..capture.corners import corners as _detect_corners
-from ..capture.fitting import fit_outline as _fit_outline
 from ._assets import load_css, load_esm
 
 __all__ = ["TraceExplorer", "TraceExplorerWarning", "demo_bitmap", "corner_param_specs"]
@@ -49,13 +47,6 @@ class TraceExplorerWarning(UserWarning):
 
 def _f32(array) -> bytes:
     return np.ascontiguousarray(np.asarray(array, dtype="<f4")).tobytes()
-
-
-def _default_of(function, name):
-    parameter = inspect.signature(function).parameters.get(name)
-    if parameter is None or parameter.default is inspect.Parameter.empty:
-        return None
-    return parameter.default
 
 
 def demo_bitmap(size: int = 96) -> np.ndarray:
@@ -178,12 +169,10 @@ class TraceExplorer(anywidget.AnyWidget):
         super().__init__(**display)
         self._extra = {k: trace_params[k] for k in ("threshold", "invert", "min_speck_area", "connectivity",
                                                       "contour", "fit_params") if k in trace_params}
-        corner_method = trace_params.get("corner_method") or _default_of(_detect_corners, "method") or ""
-        method = trace_params.get("method") or _default_of(_fit_outline, "method") or ""
         settings = {
-            "corner_method": corner_method,
+            "corner_method": trace_params.get("corner_method") or "",  # "" = trace()'s default
             "corner_params": dict(trace_params.get("corner_params") or {}),
-            "method": method,
+            "method": trace_params.get("method") or "",
             "epsilon": float(trace_params.get("epsilon", 2.0)),
             "tau": trace_params.get("tau"),
             "seed": trace_params.get("seed", 0),
@@ -191,6 +180,9 @@ class TraceExplorer(anywidget.AnyWidget):
         }
         mask = self._load(demo_bitmap() if image is None else image)
         result = self._run(mask, settings)  # raises for bad constructor arguments
+        # show the defaults trace() resolved (params records the names it used)
+        settings["corner_method"] = settings["corner_method"] or str(result.params.get("corner_method") or "")
+        settings["method"] = settings["method"] or str(result.params.get("method") or "")
         with self._quiet(), self.hold_sync():
             for name, value in settings.items():
                 setattr(self, name, value)

@@ -190,6 +190,8 @@ def test_basis_form_relative_tension_scale():
         ("points", [[60, 300], [60, 300], [300, 80], [440, 160], [540, 320]], "coincide"),
         ("interval_weights", [1.0, -1.0, 1.0, 1.0], "must be > 0"),
         ("interval_weights", [1.0, float("inf"), 1.0, 1.0], "not a finite number"),
+        ("interval_weights", [1.0, 1e7, 1.0, 1.0], "out of range"),
+        ("interval_weights", [1.0, 1.0, 1.0], "needs 4 values"),
         ("alpha", float("nan"), "alpha must be a finite number"),
         ("alpha", 0.0, "out of range"),
         ("point_tension", [0.0, float("nan"), 0.0, 0.0, 0.0], "not a finite number"),

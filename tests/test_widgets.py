@@ -599,3 +599,20 @@ def test_explorer_convergence_figure(explorer_factory):
     explorer.go_to(1)
     assert list(plot.current.x) == [float(snapshots[1].iteration)] * 2
     assert explorer.panel().children == (explorer, figure)
+
+
+def test_closed_curve_insert_and_delete_keep_one_weight_per_interval():
+    square = [[0.0, 0.0], [100.0, 0.0], [100.0, 100.0], [0.0, 100.0]]
+    editor = SplineEditor(square, closed=True, interval_weights=[1.0, 2.0, 3.0, 4.0])
+    assert editor.spline.closed and editor.spline.n_segments == 4
+    # far outside, next to the closing side (points 3 -> 0): a closed curve takes it into the nearest piece
+    index = editor.add_point(-60.0, 50.0, tolerance=1.0)
+    assert index == 4 and editor.points[4] == [-60.0, 50.0]
+    assert editor.interval_weights == [1.0, 2.0, 3.0, 4.0, 4.0]  # the split interval's weight on both halves
+    assert editor.spline.n_segments == 5
+    editor.delete_point(1)
+    assert editor.interval_weights == [1.0, 3.0, 4.0, 4.0] and len(editor.points) == 4
+    with pytest.warns(SplineEditorWarning, match="at least 3"):
+        editor.delete_point(0)
+        editor.delete_point(0)
+    assert len(editor.points) == 3

@@ -372,8 +372,9 @@ THESIS_OBJECTS = ("ali", "apple", "plane", "D", "planes")
 #: The thesis's names for them (table captions).
 THESIS_TITLES = {"ali": "Arabic word 'Ali'", "apple": "Apple", "plane": "Plane",
                  "D": "English alphabet 'D'", "planes": "Mult_Seg_Plane"}
-#: Default bitmap size (longer side, px) per object: chosen so the contours have about as many
-#: points as the thesis's scans (e.g. 1644 for 'Ali', 1005 for 'Mult_Seg_Plane').
+#: Default bitmap size (longer side, px) per object: contours of the order of the thesis's scans
+#: (1644 points for its 'Ali', 1005 for its 'Mult_Seg_Plane'): 1200-2600 crack-outline points here
+#: ('ali' 1980, 'apple' 1218, 'plane' 1738, 'D' 1590, 'planes' 2638).
 THESIS_DEFAULT_SIZE = {"ali": 420, "apple": 300, "plane": 360, "D": 300, "planes": 360}
 #: Teaching shapes for the corner-detector and fitting notebooks and tests.
 SHAPES = tuple(_SHAPE_BUILDERS)

@@ -32,6 +32,17 @@ KNOWN_CORNER_PARAMS = {
     "zct": (1, 25, 1, "ZCT", "SRM05 zero-crossing threshold: minimum run of equal chain codes (thesis §2.4)"),
     "dt": (1, 25, 1, "DT", "SRM05 distance threshold: points closer than DT merge into one corner"),
     "ta": (90, 179, 1, "TA (°)", "SRM05 angle threshold: interior angles above TA count as straight (E21)"),
+    "max_angle": (90, 179, 1, "max angle (°)", "interior angles above this are not corners"),
+    "alpha_max": (90, 179, 1, "α max (°)", "IPAN99: widest opening angle of a corner triangle"),
+    "d_min": (1, 30, 0.5, "d min (px)", "IPAN99: shortest triangle side"),
+    "d_max": (1, 40, 0.5, "d max (px)", "IPAN99: longest triangle side"),
+    "s": (1, 15, 1, "s", "FD77: arm length (samples)"),
+    "smoothing": (0, 4, 0.05, "smoothing (px)", "tangent-jump: Gaussian smoothing of the resampled outline"),
+    "tolerance": (0.05, 2, 0.05, "tolerance (px)", "tangent-jump: how far an arm may leave its line"),
+    "min_turn": (5, 90, 1, "min turn (°)", "tangent-jump: smallest turn that counts as a corner"),
+    "min_excess": (5, 90, 1, "min excess (°)", "tangent-jump: turn concentrated at the point beyond its flanks"),
+    "max_arm": (4, 240, 1, "max arm", "tangent-jump: longest arm (samples)"),
+    "separation": (1, 10, 1, "separation", "tangent-jump: corners at least this many samples apart"),
 }
 _TRACE_PARAMS = ("epsilon", "method", "corner_method", "corner_params", "seed", "max_iterations", "tau",
                  "threshold", "invert", "min_speck_area", "connectivity", "contour", "fit_params")

@@ -161,16 +161,6 @@ def _offset_points(P, offsets, closed):
     return out
 
 
-def _angle_between(u, v):
-    """Unsigned angle (degrees, in [0, 180]) between vectors along the last axis; NaN for zero vectors."""
-    dot = np.sum(u * v, axis=-1)
-    cross = u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
-    with np.errstate(invalid="ignore"):
-        angle = np.degrees(np.arctan2(np.abs(cross), dot))
-    zero = (np.hypot(u[..., 0], u[..., 1]) == 0) | (np.hypot(v[..., 0], v[..., 1]) == 0)
-    return np.where(zero, np.nan, angle)
-
-
 def _k_cosines(P, kmax, closed):
     """k-cosines ``c[i, k-1] = cos angle(P[i-k] - P[i], P[i+k] - P[i])`` for k = 1..kmax (RJ73 eq. 1).
 
@@ -548,7 +538,7 @@ def _check_m(m, n, closed):
     return min(m, (n - 1) // 2 if closed else (n - 1) // 2)
 
 
-def rj73(points, *, closed=True, m=None, max_angle=150.0):
+def rj73(points, *, closed=True, m=5, max_angle=120.0):
     """Rosenfeld & Johnston (1973), "Angle detection on digital curves", IEEE Trans. Computers C-22.
 
     The k-cosine ``c_ik = cos angle(P_{i-k} - P_i, P_{i+k} - P_i)`` (-1 on a line, +1 at a spike) is
@@ -558,16 +548,19 @@ def rj73(points, *, closed=True, m=None, max_angle=150.0):
 
     The paper has no threshold (on a digital straight line every point ties and would be kept), so an
     angle point must also have ``arccos c_{i,h_i} <= max_angle`` (set 180 for the bare method), and of a
-    plateau of equal strength only one point is kept.
+    plateau of equal strength only one point is kept. On crack outlines every staircase step makes a
+    135-degree angle at k = 1, so ``max_angle`` must stay below 135.
 
     Parameters
     ----------
     points : array_like (n, 2)
     closed : bool
-    m : int or None, default None
-        Largest k; None uses the paper's ``m = n / 10``; at most ``(n - 1) // 2`` is used.
-    max_angle : float, default 150
-        Largest k-cosine angle (degrees, in (0, 180]) of an angle point.
+    m : int or None, default 5
+        Largest k; at most ``(n - 1) // 2`` is used. The paper takes ``m = n / 10`` (pass None) on curves of
+        some 60 points; on outlines of hundreds of points a fixed m does much better (``BENCHMARKS.md``).
+    max_angle : float, default 120
+        Largest k-cosine angle (degrees, in (0, 180]) of an angle point. The defaults of ``m`` and
+        ``max_angle`` were chosen on the project's synthetic shapes (``benchmarks/bench_corners.py``).
 
     Returns
     -------
@@ -585,7 +578,7 @@ def rj73(points, *, closed=True, m=None, max_angle=150.0):
     return _result(_kcos_select(P, closed, table, m, max_angle), keep)
 
 
-def rw75(points, *, closed=True, m=None, max_angle=150.0):
+def rw75(points, *, closed=True, m=10, max_angle=120.0):
     """Rosenfeld & Weszka (1975), "An improved method of angle detection on digital curves",
     IEEE Trans. Computers C-24.
 
@@ -593,7 +586,7 @@ def rw75(points, *, closed=True, m=None, max_angle=150.0):
     (``2/(k+2) sum_{j=k/2}^{k} c_ij`` for even k, ``2/(k+3) sum_{j=(k-1)/2}^{k} c_ij`` for odd k; the
     term ``j = 0`` of k = 1 does not exist and is left out), which smooths the measure across scales.
 
-    Parameters are those of :func:`rj73`.
+    Parameters are those of :func:`rj73` (defaults ``m = 10``, ``max_angle = 120``, chosen the same way).
     """
     max_angle = _check_real(max_angle, "max_angle", low=0.0, high=180.0, low_open=True)
     P, keep = _prepare(points, closed)
@@ -721,7 +714,7 @@ def fd77(points, *, closed=True, s=5, threshold=1000.0):
     return _result(_peaks(K, threshold, s, closed, P, 1.5), keep)
 
 
-def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=500.0):
+def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=300.0):
     """Beus & Tiu (1987), "An improved corner detection algorithm based on chain-coded plane curves",
     Pattern Recognition 20(3).
 
@@ -738,8 +731,9 @@ def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=500.0
         Range of smoothing lengths, ``2 <= s_min <= s_max``.
     arm_limit : int, default 15
         Upper bound of the arm lengths (points), >= 1.
-    threshold : float, default 500
-        Minimum averaged cornerity (degrees x points), >= 0; chosen on the project's synthetic shapes.
+    threshold : float, default 300
+        Minimum averaged cornerity (degrees x points), >= 0. ``arm_limit`` and ``threshold`` were chosen
+        on the project's synthetic shapes (``benchmarks/bench_corners.py``); the paper tunes them per curve.
 
     Returns
     -------
@@ -865,7 +859,7 @@ def _region_of_support(P, closed):
     return support
 
 
-def tc89(points, *, closed=True, max_angle=150.0):
+def tc89(points, *, closed=True, max_angle=120.0):
     """Teh & Chin (1989), "On the detection of dominant points on digital curves", IEEE PAMI 11(8).
 
     1. Region of support ``k_i`` of every point (see :func:`_region_of_support`): the largest scale
@@ -877,14 +871,16 @@ def tc89(points, *, closed=True, max_angle=150.0):
 
     TC89 is a dominant-point (polygonal approximation) method without a threshold; to serve as a corner
     detector a dominant point must also have a k-cosine angle of at most ``max_angle`` (180 gives the
-    bare method), and of a plateau of equal significance one point is kept.
+    bare method), and of a plateau of equal significance one point is kept. Crack-outline staircase steps
+    have 135-degree k-cosine angles with k = 1, so ``max_angle`` must stay below 135.
 
     Parameters
     ----------
     points : array_like (n, 2)
     closed : bool
-    max_angle : float, default 150
-        Largest k-cosine angle (degrees, in (0, 180]) of a reported point.
+    max_angle : float, default 120
+        Largest k-cosine angle (degrees, in (0, 180]) of a reported point (chosen on the project's
+        synthetic shapes, ``benchmarks/bench_corners.py``).
 
     Returns
     -------
@@ -927,14 +923,13 @@ _ARM_OPERATORS = {}
 
 def _arm_operators(length, side):
     """Index offsets of an arm of ``length`` samples ending (side -1) or starting (side +1) at the point,
-    the least-squares slope weights (direction along travel) and the residual projector ``I - H`` of the
-    line fit ``x(t) = a + b t`` over those offsets."""
+    those offsets centred, and the least-squares slope weights ``t / sum(t^2)`` of the line fit
+    ``x(t) = mean + slope t`` (the slope points along travel)."""
     key = (length, side)
     if key not in _ARM_OPERATORS:
         offsets = np.arange(length) if side > 0 else np.arange(-length + 1, 1)
-        design = np.column_stack([np.ones(length), offsets.astype(float)])
-        pinv = np.linalg.pinv(design)
-        _ARM_OPERATORS[key] = (offsets, pinv[1], np.eye(length) - design @ pinv)
+        centred = offsets - offsets.mean()
+        _ARM_OPERATORS[key] = (offsets, centred, centred / np.sum(centred ** 2))
     return _ARM_OPERATORS[key]
 
 
@@ -984,23 +979,25 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
         padded = R[np.arange(-reach, m + reach) % m]
     else:
         padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
-    windows = sliding_window_view(padded, 2 * reach + 1, axis=0)          # (m, 2, 2 reach + 1)
     directions, centres = {}, {}
     for side in (-1, 1):
         direction = np.full((m, 2), np.nan)
         centre = np.full((m, 2), np.nan)
         alive = np.arange(m)
         for rung, length in enumerate(ladder):
-            offsets, slope, residual_projector = _arm_operators(length, side)
-            arm = windows[alive][:, :, reach + offsets]                       # (a, 2, length)
-            residual = arm @ residual_projector.T
-            with np.errstate(invalid="ignore"):
-                straight = np.hypot(residual[:, 0], residual[:, 1]).max(axis=1) <= tolerance
+            offsets, centred, slope_weights = _arm_operators(length, side)
+            arm = padded[(alive + reach)[:, None] + offsets[None, :]]            # (a, length, 2)
+            mean = arm.mean(axis=1)
+            slope = np.einsum("l,ald->ad", slope_weights, arm)
+            residual = arm - mean[:, None, :] - centred[None, :, None] * slope[:, None, :]
             if rung == 0:
                 straight = np.ones(len(alive), dtype=bool)
+            else:
+                with np.errstate(invalid="ignore"):
+                    straight = np.hypot(residual[..., 0], residual[..., 1]).max(axis=1) <= tolerance
             alive = alive[straight]
-            direction[alive] = arm[straight] @ slope
-            centre[alive] = arm[straight].mean(axis=2)
+            direction[alive] = slope[straight]
+            centre[alive] = mean[straight]
             if alive.size == 0:
                 break
         directions[side], centres[side] = direction, centre
@@ -1022,7 +1019,7 @@ def _line_intersection(c1, a, c2, b):
 
 
 def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=25.0, min_excess=25.0,
-                 flank=(4, 10), max_arm=120, separation=2):
+                 flank=(4, 10), max_arm=60, separation=2):
     """Corners as jumps of the tangent direction between straight arms (this project's detector).
 
     Designed for crack outlines of rasterized shapes (staircase noise of about half a pixel) and tuned on
@@ -1065,7 +1062,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         Smallest excess |E| (degrees) of a corner, in [0, 180).
     flank : (int, int), default (4, 10)
         Nearest and farthest flank offsets (samples) of the excess baseline, ``1 <= flank[0] <= flank[1]``.
-    max_arm : int, default 120
+    max_arm : int, default 60
         Longest arm (samples), >= 3.
     separation : int, default 2
         Half width (samples) of the non-maximum suppression, >= 1.

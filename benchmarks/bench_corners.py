@@ -122,7 +122,8 @@ def _random_polygon(rng, min_turn=33.0, min_edge=7.0):
     while True:
         k = rng.integers(4, 12)
         ang = np.sort(rng.uniform(0, 2 * np.pi, k))
-        v = np.column_stack([np.cos(ang), np.sin(ang)]) * (rng.uniform(0.35, 1.0, k) * rng.uniform(25, 170))[:, None]
+        radii = rng.uniform(0.35, 1.0, k) * rng.uniform(25, 170)
+        v = np.column_stack([np.cos(ang), np.sin(ang)]) * radii[:, None]
         e = np.roll(v, -1, 0) - v
         if np.hypot(*e.T).min() < min_edge:
             continue
@@ -182,7 +183,8 @@ def _d_shape(rng):
     def outline(x0, y0, hh, w):
         n = int(np.ceil(np.pi * max(hh / 2, w) / STEP))
         a = -np.pi / 2 + np.pi * np.arange(n) / n
-        return [_line((x0, y0 + hh), (x0, y0)), np.column_stack([x0 + w * np.cos(a), y0 + hh / 2 + hh / 2 * np.sin(a)])]
+        bowl = np.column_stack([x0 + w * np.cos(a), y0 + hh / 2 + hh / 2 * np.sin(a)])
+        return [_line((x0, y0 + hh), (x0, y0)), bowl]
 
     o, c1 = _pieces(outline(0, 0, h, h * 0.7))
     i, c2 = _pieces(outline(t, t, h - 2 * t, h * 0.7 - 1.3 * t))
@@ -256,7 +258,8 @@ def _ellipse(rng):
 def _blob(rng):
     R = float(np.exp(rng.uniform(np.log(6), np.log(200))))
     K = rng.integers(2, 6)
-    t = 2 * np.pi * np.arange(int(np.ceil(2 * np.pi * R * 1.6 / STEP))) / int(np.ceil(2 * np.pi * R * 1.6 / STEP))
+    count = int(np.ceil(2 * np.pi * R * 1.6 / STEP))
+    t = 2 * np.pi * np.arange(count) / count
     for _ in range(100):
         amp = rng.normal(size=K) * rng.uniform(0.05, 0.25) / np.arange(2, K + 2)
         ph = rng.uniform(0, 2 * np.pi, K)
@@ -312,7 +315,8 @@ def _font_glyph(rng, team):
 
 
 FAMILIES = {
-    "polygon": lambda rng: _regular_polygon(rng, int(rng.integers(3, 11))) if rng.uniform() < 0.5 else _random_polygon(rng),
+    "polygon": lambda rng: (_regular_polygon(rng, int(rng.integers(3, 11))) if rng.uniform() < 0.5
+                            else _random_polygon(rng)),
     "star": _star,
     "glyph": _serif_letter,
     "mixed": lambda rng: [_d_shape, _pie, _lens, _crescent, _teardrop, _u_shape][rng.integers(0, 6)](rng),
@@ -447,7 +451,8 @@ def report_methods(title, shapes, methods, families):
         row.append(f"{r['ms_per_shape']:.1f}")
         rows.append(row)
     headers = ["method", "TP", "FP", "FN", "P", "R", "F1"]
-    headers += [f"F1 {f}" if f != "smooth" else "FP smooth" for f in families if f in results[methods[0]]["families"]]
+    present = [f for f in families if f in results[methods[0]]["families"]]
+    headers += [f"F1 {f}" if f != "smooth" else "FP smooth" for f in present]
     headers.append("ms/shape")
     print(f"\n### {title}\n")
     print(_table(headers, rows))
@@ -470,6 +475,10 @@ def report_srm05_readings(title, shapes):
     print(_table(["phase 1 rule", "phase 2 pick"] + [f"P/R/F1 {f}" for f in fams], rows))
 
 
+def _has_false_corner(shape):
+    return any(len(cm.tangent_jump(b.outline)) for b in contour.trace_boundaries(rasterize(shape)))
+
+
 def report_resolution(seed=7):
     rng = np.random.default_rng(seed)
     rows = []
@@ -478,8 +487,8 @@ def report_resolution(seed=7):
         count = 60
         for _ in range(count):
             r = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
-            s = _shape("c", "smooth", [_closed(lambda t: np.column_stack([r * np.cos(t), r * np.sin(t)]), 2 * np.pi * r)], [], rng)
-            n_any += any(len(cm.tangent_jump(o)) for o in [b.outline for b in contour.trace_boundaries(rasterize(s))])
+            disc = _closed(lambda t: np.column_stack([r * np.cos(t), r * np.sin(t)]), 2 * np.pi * r)
+            n_any += _has_false_corner(_shape("c", "smooth", [disc], [], rng))
         rows.append([f"circle r {lo}-{hi}", f"{n_any}/{count}"])
     for rho in (6, 8, 10, 15, 25):
         n_any, count = 0, 60
@@ -488,8 +497,7 @@ def report_resolution(seed=7):
             b = min(a, np.sqrt(rho * a))
             pts = _closed(lambda t: np.column_stack([a * np.cos(t), b * np.sin(t)]), 2 * np.pi * a)
             contours, _ = _transform([pts], [], rng.uniform(0, np.pi))
-            s = _shape("e", "smooth", contours, [], rng)
-            n_any += any(len(cm.tangent_jump(o)) for o in [b.outline for b in contour.trace_boundaries(rasterize(s))])
+            n_any += _has_false_corner(_shape("e", "smooth", contours, [], rng))
         rows.append([f"ellipse, end radius of curvature {rho} px", f"{n_any}/{count}"])
     print("\n### tangent-jump on smooth shapes: shapes with any corner (should be none)\n")
     print(_table(["shapes", "with a false corner"], rows))

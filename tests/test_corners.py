@@ -149,6 +149,15 @@ def test_every_method_is_invariant_to_the_start_of_a_closed_outline(method):
         assert all(min(min(abs(i - j), n - abs(i - j)) for j in base) <= 1 for i in back)
 
 
+@pytest.mark.parametrize("method", sorted(CORNER_METHODS))
+def test_every_method_finds_the_bend_of_an_open_polyline_and_never_its_ends(method):
+    leg = np.arange(0, 40, 1.0)
+    ell = np.vstack([np.column_stack([leg, np.zeros_like(leg)]), np.column_stack([np.full(40, 40.0), leg])])
+    assert corners(ell, method, closed=False).tolist() == [40]
+    straight = np.column_stack([np.arange(60.0), np.zeros(60)])
+    assert corners(straight, method, closed=False).size == 0
+
+
 # ------------------------------------------------------------------------------------ tangent-jump (default)
 @SETTINGS
 @given(sides=st.integers(3, 8), radius=st.floats(40, 80), angle=st.floats(0, 2 * np.pi),
@@ -334,7 +343,8 @@ def test_tc89_region_of_support_on_a_right_angle():
     # point on an arm has d = 0 until the chord reaches past the apex, then d/l keeps growing up to the
     # end of the (open) curve.
     leg = np.arange(1, 21, 1.0)
-    P = np.vstack([np.column_stack([np.zeros(20), leg[::-1]]), [[0.0, 0.0]], np.column_stack([leg, np.zeros(20)])])
+    P = np.vstack([np.column_stack([np.zeros(20), leg[::-1]]), [[0.0, 0.0]],
+                   np.column_stack([leg, np.zeros(20)])])
     support = cm._region_of_support(P, closed=False)
     assert support[20] == 1
     assert support[15] == 15 and support[25] == 15

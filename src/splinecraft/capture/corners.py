@@ -29,8 +29,8 @@ Conventions shared by all detectors
   detectors return an empty array rather than raise, so that tracing can run every detector on every
   boundary of an image.
 * Vectorized with numpy over all points (windows are gathered as ``(n, k)`` arrays); the only Python
-  loops run over scales, over candidate corners (a handful per outline) or over the removal steps of
-  SRM05's phase 3.
+  loops run over scales, over candidate corners (a handful per outline), over SRM05's slope runs and
+  over the removal steps of SRM05's phase 3.
 
 Measured accuracy and speed on rasterized shapes are in ``BENCHMARKS.md`` ("Corner detectors"), made by
 ``benchmarks/bench_corners.py``.
@@ -530,12 +530,10 @@ def _kcos_select(P, closed, strength_table, m, max_angle):
     return _thin_by_strength(np.flatnonzero(selected), np.nan_to_num(strength, nan=-2), P, 1.5)
 
 
-def _check_m(m, n, closed):
-    if m is None:
-        m = max(1, int(round(n / 10)))
-    else:
-        m = _check_int(m, "m", low=1)
-    return min(m, (n - 1) // 2 if closed else (n - 1) // 2)
+def _check_m(m, n):
+    """RJ73/RW75's largest k: ``n / 10`` for None (the paper's choice), at most ``(n - 1) // 2``."""
+    m = max(1, int(round(n / 10))) if m is None else _check_int(m, "m", low=1)
+    return min(m, (n - 1) // 2)
 
 
 def rj73(points, *, closed=True, m=5, max_angle=120.0):
@@ -573,7 +571,7 @@ def rj73(points, *, closed=True, m=5, max_angle=120.0):
         _check_int(m, "m", low=1)
     if len(P) < 5:
         return _EMPTY.copy()
-    m = _check_m(m, len(P), closed)
+    m = _check_m(m, len(P))
     table = _k_cosines(P, m, closed)
     return _result(_kcos_select(P, closed, table, m, max_angle), keep)
 
@@ -594,7 +592,7 @@ def rw75(points, *, closed=True, m=10, max_angle=120.0):
         _check_int(m, "m", low=1)
     if len(P) < 5:
         return _EMPTY.copy()
-    m = _check_m(m, len(P), closed)
+    m = _check_m(m, len(P))
     cos = _k_cosines(P, m, closed)
     # cumulative sums along k (NaN -> excluded by propagating NaN)
     csum = np.concatenate([np.zeros((len(P), 1)), np.cumsum(cos, axis=1)], axis=1)   # csum[:, k] = sum_{j<=k}
@@ -1041,11 +1039,17 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
        join of a line and an arc, ``E`` is ~0 (the arc's turn is in the flanks too); at a corner it is the
        corner's turn, also when another corner lies in one flank (the median ignores it).
     5. A sample is a corner when ``|J|`` is the largest within ``separation`` samples, ``|J| >= min_turn``
-       and ``|E| >= min_excess``. Each is mapped back to the nearest input point (by arc length).
+       and ``|E| >= min_excess``.
+    6. **Location.** Each corner goes to an input point within 3 px (arc length) of its sample: for a
+       turn below 100 deg the one nearest to the apex where the two arm lines meet; for a sharper turn,
+       whose rasterized tip is cut off (the apex lies beyond the outline), the one farthest out along the
+       bisector ``a/|a| - b/|b|`` of the arm directions, where the vertex of the two sides is extreme.
 
     Corners are joins turning by more than 30 degrees (the yardstick's definition); ``min_excess`` sits a
-    little below that because ``E`` underestimates obtuse corners next to staircase-noisy sides. Limits (see ``BENCHMARKS.md``): two corners closer than about 3 px merge; a rounded corner of
-    radius below about 5 px, or a smooth bump that tight, is a corner.
+    little below that because ``E`` underestimates obtuse corners next to staircase-noisy sides. Limits
+    (measured in ``BENCHMARKS.md``): two corners closer than about 3 px merge; a bend tighter than about
+    10 px radius of curvature at the end of an elongated shape may count as a corner (a circle of radius
+    5 px does not: its curvature is uniform); turns of 25-30 deg count as corners.
 
     Parameters
     ----------
@@ -1115,10 +1119,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         if closed and chosen[0] + m - chosen[-1] <= separation:
             first[-1] = False
         chosen = chosen[first]
-    # each corner goes to an input point within 3 px (arc length) of its sample: for a turn below 100 deg
-    # the one nearest to the intersection of the two arm lines (if that apex is within 3 px); for a sharper
-    # turn -- a rasterized acute tip is cut off, its apex lies beyond the outline -- the one farthest along
-    # a/|a| - b/|b| (a, b the arm directions), where the vertex V of corner sides V - t a, V + t b is extreme.
+    # step 6: the input point of each corner
     pos = where[chosen]
     right = np.clip(np.searchsorted(arc, pos), 0, len(arc) - 1)
     left = np.clip(right - 1, 0, len(arc) - 1)
@@ -1142,9 +1143,10 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - samples[chosen]).T) <= 3.0) \
             & (size[chosen] < 100.0)
         gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
-        near_apex = around[rows, np.argmin(np.where(within, np.nan_to_num(gap_to_apex, nan=np.inf), np.inf), axis=1)]
+        gap_to_apex = np.where(within, np.nan_to_num(gap_to_apex, nan=np.inf), np.inf)
+        near_apex = around[rows, np.argmin(gap_to_apex, axis=1)]
         a, b = arms[1][chosen], arms[3][chosen]
-        outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]
+        outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex
         reach = np.where(within, np.einsum("kjd,kd->kj", P[around], outward), -np.inf)
         tip = around[rows, np.argmax(np.nan_to_num(reach, nan=-np.inf), axis=1)]
         tip = np.where(apex_ok, near_apex, tip)
@@ -1152,7 +1154,6 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     if not closed:
         nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
     return _result(nearest, keep)
-
 
 
 # ----------------------------------------------------------------------------------------------------------

@@ -357,7 +357,6 @@ def test_chain_to_pixels_validation():
         chain_to_pixels((0, 0), [8])
 
 
-@pytest.mark.slow
 def test_large_disc_8000():
     """8000 x 8000 image: finishes (memory stays O(H W) bytes) and the crack area is still exact."""
     size = 8000

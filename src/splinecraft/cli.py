@@ -53,6 +53,13 @@ def _non_negative_int(text):
     return value
 
 
+def _positive_int(text):
+    value = _non_negative_int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {text}")
+    return value
+
+
 def _fraction(text):
     try:
         value = float(text)
@@ -81,7 +88,7 @@ def _key_value(text):
 def build_parser() -> argparse.ArgumentParser:
     from . import __version__
     from .capture.corners import CORNER_METHODS
-    from .capture.fitting import KNOT_METHODS
+    from .capture.fitting import DEFAULT_EPSILON, KNOT_METHODS
 
     parser = argparse.ArgumentParser(
         prog=PROG,
@@ -103,8 +110,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="output file for one input ('-' = stdout), directory for several")
     tracer.add_argument("--format", choices=("svg", "json"), default=None,
                         help="output format (default: from OUT's suffix, else svg)")
-    tracer.add_argument("--epsilon", type=_positive_float, default=2.0,
-                        help="error threshold of knot insertion in pixels (default 2)")
+    tracer.add_argument("--epsilon", type=_positive_float, default=DEFAULT_EPSILON,
+                        help=f"error threshold of knot insertion in pixels (default {DEFAULT_EPSILON:g})")
     tracer.add_argument("--method", choices=sorted(KNOT_METHODS), default=None,
                         help="knot-insertion algorithm (default: the library default)")
     tracer.add_argument("--corner-method", choices=sorted(CORNER_METHODS), default=None,
@@ -113,7 +120,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="corner detector parameter, repeatable (e.g. --corner-param ta=150)")
     tracer.add_argument("--seed", type=_non_negative_int, default=0, help="seed of the random algorithms")
     tracer.add_argument("--tau", type=float, default=None, help="distance constraint of Algs 4.2/4.3")
-    tracer.add_argument("--max-iterations", type=_non_negative_int, default=200,
+    tracer.add_argument("--max-iterations", type=_positive_int, default=200,
                         help="bound on knot-insertion iterations per boundary (default 200)")
     tracer.add_argument("--threshold", type=_fraction, default=None,
                         help="gray threshold as a fraction of white (default: Otsu)")

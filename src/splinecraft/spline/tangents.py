@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._validation import as_float_array, check_bool
+from .interpolant import end_derivative_estimates
 
 __all__ = ["estimate_tangents", "end_derivatives", "interior_angle", "unit_tangents", "TANGENT_METHODS"]
 
@@ -230,14 +231,7 @@ def end_derivatives(points, knots) -> tuple[np.ndarray, np.ndarray]:
         k = int(not_increasing[0])
         raise ValueError(f"knots must be strictly increasing: knots[{k}]={knot_values[k]!r} >= "
                          f"knots[{k + 1}]={knot_values[k + 1]!r}")
-    slopes = np.diff(pts, axis=0) / steps[:, None]
-    if pts.shape[0] == 2:
-        return slopes[0].copy(), slopes[0].copy()
-    h1, h2 = steps[0], steps[1]
-    first = ((2.0 * h1 + h2) * slopes[0] - h1 * slopes[1]) / (h1 + h2)
-    hl, hp = steps[-1], steps[-2]
-    last = ((2.0 * hl + hp) * slopes[-1] - hl * slopes[-2]) / (hp + hl)
-    return first, last
+    return end_derivative_estimates(pts, steps)
 
 
 # ----------------------------------------------------------------------------------------------------------

@@ -301,6 +301,27 @@ def test_max_iterations_bounds_the_work(method):
     assert len(result.snapshots) == result.stats["iterations"] + 1
 
 
+@pytest.mark.slow
+def test_8000_by_8000_image_finishes():
+    """A ring on an 8000 x 8000 bitmap traces without exhausting memory (see trace's docstring for the
+    measured time and peak memory) and stays within epsilon + 0.5 px of both circles."""
+    size, centre, radii = 8000, 4000.0, (3900.0, 1500.0)
+    mask = np.zeros((size, size), bool)
+    y = np.arange(size) + 0.5 - centre
+    for radius, value in zip(radii, (True, False)):  # row slices: no (H, W) float temporaries
+        half = np.sqrt(np.maximum(radius**2 - y**2, 0.0))
+        lo = np.ceil(centre - half - 0.5).astype(int)
+        hi = np.floor(centre + half - 0.5).astype(int)
+        for row in np.flatnonzero(half > 0):
+            mask[row, lo[row]:hi[row] + 1] = value
+    result = trace(mask, keep_snapshots=False)
+    assert result.stats["boundaries"] == 2 and result.stats["holes"] == 1
+    epsilon = result.params["epsilon"]
+    for spline, radius in zip(result.splines, radii):
+        curve = bezier_samples(spline.bezier(), per_piece=400)
+        assert np.abs(np.hypot(curve[:, 0] - centre, curve[:, 1] - centre) - radius).max() <= epsilon + 0.5
+
+
 # ------------------------------------------------------------------------------------------ svg helpers
 def test_format_number():
     assert format_number(1.0) == "1" and format_number(-0.00001) == "0" and format_number(2.50) == "2.5"

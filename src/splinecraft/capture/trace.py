@@ -19,6 +19,16 @@ Documented outcomes for degenerate input
   :func:`~splinecraft.capture.image.load_bitmap`, naming the file;
 * ``epsilon <= 0`` (or NaN, inf): ``ValueError``. ``max_iterations`` bounds the knot insertion, so a
   run never hangs; an unconverged boundary is reported in ``stats["converged"]``.
+
+Large and noisy images
+----------------------
+An 8000 x 8000 8-bit PNG (a filled disc of radius 3900 px with a hole, an island in the hole and a
+triangular notch: 3 boundaries, 48 392 contour points), measured with
+``/usr/bin/time -v splinecraft trace big.png -o big.svg`` on the 2-core development machine: 6.6 s wall
+(load 0.47 s, boundaries 0.20 s, corners 1.6 s, fit 3.1 s), peak resident memory 302 MB. Memory is a few
+bytes per pixel (the gray image and the mask, one byte each, plus bool temporaries) and scales linearly.
+The cost per boundary does not depend on the image size, so images with thousands of specks (scanner noise)
+are slow: about 15 ms per boundary; remove specks with ``min_speck_area``.
 """
 from __future__ import annotations
 

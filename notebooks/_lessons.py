@@ -23,8 +23,10 @@ class Plot:
     SplineEditor and of bitmaps (x right, y down), so what you see here matches the widgets."""
 
     def __init__(self, title="", width=330, height=290, *, y_down=True, equal=True, xlabel="", ylabel="",
-                 x_range=None, y_range=None):
-        self.x, self.y = bq.LinearScale(), bq.LinearScale(reverse=y_down)
+                 x_range=None, y_range=None, bounds=None, log_y=False):
+        self.x = bq.LinearScale()
+        self.y = bq.LogScale(reverse=y_down) if log_y else bq.LinearScale(reverse=y_down)
+        self.bounds = bounds
         if x_range is not None:
             self.x.min, self.x.max = map(float, x_range)
         if y_range is not None:
@@ -95,6 +97,8 @@ class Plot:
     def figure(self):
         width, height = self.size
         margin = {"top": 36, "bottom": 34, "left": 52, "right": 12}
+        if self.bounds is not None:                       # a fixed window (x0, y0, x1, y1): zoom
+            self.low, self.high = np.array(self.bounds[:2], float), np.array(self.bounds[2:], float)
         if self.equal and np.isfinite(self.low).all():
             area = np.array([width - margin["left"] - margin["right"], height - margin["top"] - margin["bottom"]])
             span = np.maximum(self.high - self.low, 1e-9) * 1.08
@@ -102,6 +106,8 @@ class Plot:
             middle = (self.low + self.high) / 2
             self.x.min, self.x.max = float(middle[0] - half[0]), float(middle[0] + half[0])
             self.y.min, self.y.max = float(middle[1] - half[1]), float(middle[1] + half[1])
+        for mark in self.marks:
+            mark.apply_clip = True
         axes = [bq.Axis(scale=self.x, label=self.xlabel, num_ticks=5, grid_lines="none"),
                 bq.Axis(scale=self.y, orientation="vertical", label=self.ylabel, num_ticks=5, grid_lines="none")]
         return bq.Figure(marks=self.marks, axes=axes, title=self.title, fig_margin=margin,
@@ -1096,7 +1102,9 @@ print("default:", default_method)
 ali = sc.trace(objects["ali"], epsilon=2.0, method="random", seed=0)
 print(f"{len(ali.boundaries)} boundaries ({ali.stats['holes']} holes), chain codes of the first:",
       "".join(map(str, ali.boundaries[0].chain_code[:40])), "...")
-table(list(ali.stats)[:12], [[ali.stats[key] for key in list(ali.stats)[:12]]])
+columns = ["contour_points", "corners", "knots_inserted", "iterations", "time_s", "segments",
+           "data_reduction_pct_thesis", "max_error", "hausdorff", "converged"]
+table(columns, [[ali.stats[key] for key in columns]])
 
 def outline_plot(result, snapshot, title, width=420, height=290):
     plot = Plot(title, width=width, height=height)
@@ -1167,7 +1175,7 @@ table(["algorithm", "ε", "contour points", "corners", "knots inserted", "iterat
 plots = []
 for key, label in (("knots", "knots"), ("error", "max error (px)")):
     plot = Plot(f"apple, ε = 2: {label} per iteration", width=430, height=260, y_down=False, equal=False,
-                xlabel="iteration")
+                xlabel="iteration", log_y=(key == "error"))
     for method, color in zip(methods, PALETTE):
         snapshots = runs[(method, 2.0)].snapshots
         values = [s.knots if key == "knots" else s.max_error for s in snapshots]
@@ -1317,13 +1325,14 @@ One run each, on a shared machine: the times are indicative only (potrace's incl
 
 ## 3. A close look
 
-The 'Ali' outline: grey is the exact outline, orange potrace, blue ours; the dots are where segments join."""),
+The 'Ali' outline: grey (wide) is the exact outline, orange potrace, blue ours; the dots are where segments
+join. The zoom shows the ayn's head and the tail cut: where each tracer rounds a corner or flattens an arc."""),
     ("code", r'''
 if POTRACE is not None:
     segments_potrace, _, _, pieces = comparison["ali"]["potrace"]
     result = comparison["ali"]["ours"][3]
-    def bezier_plot(title, beziers, color):
-        plot = Plot(title, width=560, height=380)
+    def bezier_plot(title, beziers, color, bounds=None, width=560, height=380):
+        plot = Plot(title, width=width, height=height, bounds=bounds)
         for outline in sc.datasets.true_outline("ali"):
             plot.line(outline, "#bdbdbd", 3.0, closed=True)
         theta = np.linspace(0, 1, 16)[:, None]
@@ -1332,9 +1341,12 @@ if POTRACE is not None:
             plot.polylines(np.einsum("kj,mjd->mkd", weights, bezier), color, 1.4)
             plot.dots(bezier[:, 0], color, 12)
         return plot
+    ours_pieces = [s.bezier() for s in result.splines]
+    zoom = (280, 60, 370, 150)                   # the ayn's head and the lam's foot, px
     show(bezier_plot(f"potrace: {segments_potrace} segments", pieces, PALETTE[1]),
-         bezier_plot(f"splinecraft ε = {EPSILON:g}: {result.stats['segments']} segments",
-                     [s.bezier() for s in result.splines], PALETTE[0]), columns=2)
+         bezier_plot(f"splinecraft ε = {EPSILON:g}: {result.stats['segments']} segments", ours_pieces, PALETTE[0]),
+         bezier_plot("potrace, zoomed", pieces, PALETTE[1], zoom, 420, 420),
+         bezier_plot("splinecraft, zoomed", ours_pieces, PALETTE[0], zoom, 420, 420), columns=2)
 '''),
     ("md", "## 4. Explore our side interactively"),
     ("code", r'''

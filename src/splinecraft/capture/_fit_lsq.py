@@ -1,0 +1,658 @@
+"""Least-squares machinery of the default knot method ``"lsq"`` (private to :mod:`~splinecraft.capture.fitting`).
+
+Model
+-----
+The whole closed outline is one periodic cubic spline ``S(u)`` in the contour's arc-length parameter ``u``:
+every corner is a knot of multiplicity 3 (the curve is ``C^0`` there: the two pieces share the corner point
+and nothing else) and every inserted knot is simple (``C^2``). Between two corners this is exactly the
+family of the thesis's GC² interpolant with ``v = 0`` and ``omega = 1`` (spec §2.2-2.4, Type 1 clamped ends):
+a ``C^2`` cubic on given knots is fixed by its knot points ``F_i`` and its two end tangents, and every choice
+of those is such a spline (spec §4.5, cross-check). The interpolant is *linear* in ``(F_1..F_n, M_1, M_n)``,
+so choosing them to minimise the squared distance to all contour points of the piece is a linear least-squares
+problem (a regression spline in the generic model). It is solved here in the B-spline basis of the same
+space, for the whole outline at once, with the corner points as shared unknowns: corners move to where both
+neighbouring pieces want them (for acute corners beyond the truncated pixel tip).
+
+Everything is vectorized: the basis values of all data points (Cox-de Boor, four non-zero functions per point),
+one banded normal-equation solve, Hoschek parameter correction (one Newton projection step of every contour
+point onto the curve), Bézier extraction of every knot interval and windowed closest-point deviations.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import solveh_banded
+
+# Bézier control points from the values at theta = 0, 1/3, 2/3, 1 (inverse cubic Bernstein matrix).
+_THETA4 = np.array([0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0])
+_FROM_SAMPLES = np.linalg.inv(
+    np.stack([(1 - _THETA4) ** 3, 3 * _THETA4 * (1 - _THETA4) ** 2, 3 * _THETA4**2 * (1 - _THETA4), _THETA4**3],
+             axis=1)
+)
+
+
+def periodic_knot_vector(knots: np.ndarray, period: float) -> np.ndarray:
+    """Full knot vector ``tau_{-3} .. tau_{M+3}`` (length ``M + 7``) of a periodic cubic spline whose knots in
+    one period are ``knots = tau_0 .. tau_{M-1}`` in ``[0, period)`` (a repeated value is a multiple knot)."""
+    m = knots.shape[0]
+    idx = np.arange(-3, m + 4)
+    return knots[idx % m] + period * np.floor_divide(idx, m)
+
+
+def interval_index(full: np.ndarray, u: np.ndarray, side: str = "right") -> np.ndarray:
+    """Index ``i`` into ``full`` with ``full[i] <= u < full[i + 1]`` and ``full[i] < full[i + 1]``
+    (``side="left"``: ``full[i] < u <= full[i + 1]``, the interval ending at ``u``). Restricted to the
+    period ``[full[3], full[-4]]``."""
+    i = np.searchsorted(full, u, side=side) - 1
+    return np.clip(i, 3, full.shape[0] - 5)
+
+
+def cubic_basis(full: np.ndarray, i: np.ndarray, u: np.ndarray, derivatives: int = 0):
+    """The four non-zero cubic B-splines ``N_{i-3} .. N_i`` at ``u`` (in interval ``i`` of ``full``) and
+    optionally their first and second derivatives: a list of ``(n, 4)`` arrays (Cox-de Boor, vectorized)."""
+    n = u.shape[0]
+    left = np.empty((n, 4))
+    right = np.empty((n, 4))
+    for j in range(1, 4):
+        left[:, j] = u - full[i + 1 - j]
+        right[:, j] = full[i + j] - u
+    levels = [np.ones((n, 1))]
+    N = np.ones((n, 1))
+    for j in range(1, 4):
+        new = np.zeros((n, j + 1))
+        saved = np.zeros(n)
+        for r in range(j):
+            denom = right[:, r + 1] + left[:, j - r]
+            temp = N[:, r] / np.where(denom > 0, denom, 1.0)
+            new[:, r] = saved + right[:, r + 1] * temp
+            saved = left[:, j - r] * temp
+        new[:, j] = saved
+        N = new
+        levels.append(N)
+    out = [N]
+    if derivatives >= 1:
+        out.append(_derivative(full, i, levels[2], 3))
+    if derivatives >= 2:
+        d1_deg2 = _derivative(full, i, levels[1], 2)  # derivatives of the quadratic basis (n, 3)
+        out.append(_lift(full, i, d1_deg2, 3))
+    return out
+
+
+def _derivative(full, i, lower, p):
+    """Derivatives of the degree-``p`` basis ``N_{i-p} .. N_i`` from the degree ``p - 1`` values ``lower``
+    (``N_{i-p+1} .. N_i``): ``N'_{k,p} = p (N_{k,p-1} / (t_{k+p} - t_k) - N_{k+1,p-1} / (t_{k+p+1} - t_{k+1}))``."""
+    n = lower.shape[0]
+    padded = np.zeros((n, p + 2))
+    padded[:, 1:p + 1] = lower
+    out = np.zeros((n, p + 1))
+    for r in range(p + 1):
+        k = i - p + r
+        d0 = full[k + p] - full[k]
+        d1 = full[k + p + 1] - full[k + 1]
+        a = np.where(d0 > 0, padded[:, r] / np.where(d0 > 0, d0, 1.0), 0.0)
+        b = np.where(d1 > 0, padded[:, r + 1] / np.where(d1 > 0, d1, 1.0), 0.0)
+        out[:, r] = p * (a - b)
+    return out
+
+
+def _lift(full, i, lower_deriv, p):
+    """Second derivatives of the degree-``p`` basis from the first derivatives of degree ``p - 1``."""
+    return _derivative(full, i, lower_deriv, p)
+
+
+def folded_columns(i: np.ndarray, m: int) -> np.ndarray:
+    """Coefficient indices (n, 4) of ``N_{i-3} .. N_i`` for a periodic spline with ``m`` coefficients
+    (``full`` index ``i`` belongs to ``tau_{i-3}``)."""
+    return (i[:, None] - 6 + np.arange(4)[None, :]) % m
+
+
+def evaluate(coef: np.ndarray, cols: np.ndarray, basis: np.ndarray) -> np.ndarray:
+    """``sum_k basis[:, k] coef[cols[:, k]]`` (curve points or derivatives)."""
+    c = coef[cols]
+    return (basis[:, 0, None] * c[:, 0] + basis[:, 1, None] * c[:, 1] + basis[:, 2, None] * c[:, 2]
+            + basis[:, 3, None] * c[:, 3])
+
+
+def solve_normal(cols: np.ndarray, basis: np.ndarray, weights: np.ndarray, targets: np.ndarray, m: int,
+                 regularization: float = 1e-8) -> np.ndarray:
+    """Weighted least squares ``min sum_j w_j |sum_k N_k(u_j) c_k - Q_j|^2`` for the ``m`` periodic
+    coefficients (two right-hand sides, x and y).
+
+    The normal matrix is cyclic with band 3. A tiny second-difference penalty keeps it positive definite
+    when a coefficient is barely constrained. Solved as a symmetric banded system (LAPACK ``pbsv``) after
+    cutting the cyclic coupling with a Schur complement on the last three coefficients, so the cost is
+    O(m) for any outline length.
+    """
+    wb = basis * weights[:, None]
+    flat_cols = cols.reshape(-1)
+    rhs = np.stack([np.bincount(flat_cols, weights=(wb * targets[:, d, None]).reshape(-1), minlength=m)
+                    for d in range(targets.shape[1])], axis=1)
+    if m <= 64:
+        rows = np.repeat(cols, 4, axis=1).reshape(-1)
+        cols2 = np.tile(cols, (1, 4)).reshape(-1)
+        values = (wb[:, :, None] * basis[:, None, :]).reshape(-1)
+        normal = np.bincount(rows * m + cols2, weights=values, minlength=m * m).reshape(m, m)
+        scale = float(np.max(np.diag(normal))) or 1.0
+        normal += regularization * scale * _cyclic_d2(m)
+        return np.linalg.solve(normal, rhs)
+    # cyclic band: entry (a, b) with b = a + k (mod m), k = 0..3, stored as band[k, a]
+    band = np.zeros((4, m))
+    for r in range(4):
+        for s_ in range(r, 4):
+            band[s_ - r] += np.bincount(cols[:, r], weights=wb[:, r] * basis[:, s_], minlength=m)
+    scale = float(band[0].max()) or 1.0
+    pen = regularization * scale
+    band[0] += 6 * pen
+    band[1] += -4 * pen
+    band[2] += 1 * pen
+    return _solve_cyclic_band(band, rhs)
+
+
+def _cyclic_d2(m):
+    D = np.zeros((m, m))
+    idx = np.arange(m)
+    D[idx, idx] = 1.0
+    D[idx, (idx + 1) % m] += -2.0
+    D[idx, (idx + 2) % m] += 1.0
+    return D.T @ D
+
+
+def _solve_cyclic_band(band, rhs):
+    """Solve the symmetric cyclic matrix with upper band ``band[k, a] = A[a, (a + k) % m]`` (k <= 3)."""
+    m = band.shape[1]
+    w = 3
+    # split unknowns: x = [y (m - w), z (w)]; A = [[B, C], [C^T, D]] with B banded (non-cyclic part)
+    nb = m - w
+    ab = np.zeros((4, nb))  # upper form for solveh_banded: ab[3 - k, j] = B[j - k, j]
+    for k in range(4):
+        ab[3 - k, k:] = band[k, : nb - k]
+    C = np.zeros((nb, w))
+    Dm = np.zeros((w, w))
+    for k in range(4):
+        for a in range(nb - 3, m):
+            b = (a + k) % m
+            if k == 0 and a >= nb:
+                Dm[a - nb, a - nb] += band[0, a]
+                continue
+            val = band[k, a]
+            if val == 0.0 or k == 0:
+                continue
+            ia, ib = a, b
+            if ia < nb and ib < nb:
+                continue  # inside B (already stored when b = a + k without wrap)
+            if ia >= nb and ib >= nb:
+                Dm[ia - nb, ib - nb] += val
+                Dm[ib - nb, ia - nb] += val
+            elif ia < nb:
+                C[ia, ib - nb] += val
+            else:
+                C[ib, ia - nb] += val
+    # B entries that wrapped are none (B is the leading block without wrap); band entries with a < nb,
+    # b = a + k < nb are in ab; those with a + k >= m wrap to b < a: handled above (ib < nb, ia >= nb or not)
+    rhs_y, rhs_z = rhs[:nb], rhs[nb:]
+    sol = solveh_banded(ab, np.hstack([rhs_y, C]), check_finite=False)
+    By, BC = sol[:, : rhs.shape[1]], sol[:, rhs.shape[1]:]
+    schur = Dm - C.T @ BC
+    z = np.linalg.solve(schur, rhs_z - C.T @ By)
+    y = By - BC @ z
+    return np.vstack([y, z])
+
+
+def bezier_of_intervals(coef: np.ndarray, full: np.ndarray, m: int, starts: np.ndarray, ends: np.ndarray):
+    """Exact Bézier control points (k, 4, 2) of the spline on its knot intervals ``[starts, ends]``."""
+    params = (starts[:, None] + (ends - starts)[:, None] * _THETA4[None, :]).reshape(-1)
+    i = np.repeat(interval_index(full, starts + 0.5 * (ends - starts)), 4)
+    (basis,) = cubic_basis(full, i, params)
+    values = evaluate(coef, folded_columns(i, m), basis).reshape(-1, 4, 2)
+    return np.einsum("ij,kjd->kid", _FROM_SAMPLES, values)
+
+
+def sorted_group_max(groups: np.ndarray, values: np.ndarray, count: int) -> np.ndarray:
+    """Per group ``g < count`` the maximum of ``values`` (``-inf`` if empty), for non-decreasing ``groups``."""
+    out = np.full(count, -np.inf)
+    if groups.shape[0] == 0:
+        return out
+    starts = np.flatnonzero(np.concatenate([[True], groups[1:] != groups[:-1]]))
+    out[groups[starts]] = np.maximum.reduceat(values, starts)
+    return out
+
+
+def group_max(groups: np.ndarray, values: np.ndarray, count: int):
+    """Per group ``g < count`` (``groups`` non-decreasing): the maximum of ``values`` and the first index where
+    it occurs (``-inf`` and 0 for empty groups)."""
+    best = sorted_group_max(groups, values, count)
+    at = np.zeros(count, dtype=np.int64)
+    hits = np.flatnonzero(values == best[groups])
+    if hits.size:
+        g = groups[hits]
+        first = np.concatenate([[True], g[1:] != g[:-1]])
+        at[g[first]] = hits[first]
+    return best, at
+
+
+def eval_bezier(bezier: np.ndarray, piece: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Points of the Bézier pieces ``bezier[piece]`` at ``theta`` (vectorized)."""
+    b = bezier[piece]
+    s = 1.0 - theta
+    return ((s**3)[:, None] * b[:, 0] + (3 * theta * s**2)[:, None] * b[:, 1]
+            + (3 * theta**2 * s)[:, None] * b[:, 2] + (theta**3)[:, None] * b[:, 3])
+
+
+def windowed_distance(points, centre, lo, hi, line, window, wrap=0):
+    """Distance from ``points[j]`` to the polyline edges ``line[e] -> line[e + 1]``,
+    ``e = centre[j] - window .. centre[j] + window``, clipped to ``[lo[j], hi[j]]`` (if given), then taken modulo
+    ``wrap`` (if > 0).
+
+    Exact point-to-segment distances; the minimum over a subset of the edges, so never below the true
+    closest-point distance to the polyline (an upper bound that is tight when the window holds the closest edge,
+    which the fit's parameterization ensures)."""
+    e = centre[:, None] + np.arange(-window, window + 1)[None, :]
+    if lo is not None:
+        e = np.clip(e, lo[:, None], hi[:, None])
+    if wrap:
+        e = e % wrap
+    lx, ly = line[:, 0], line[:, 1]
+    ax, ay = lx[e], ly[e]
+    dx, dy = lx[e + 1] - ax, ly[e + 1] - ay
+    px, py = points[:, 0, None] - ax, points[:, 1, None] - ay
+    den = dx * dx + dy * dy
+    t = (px * dx + py * dy) / np.where(den > 0, den, 1.0)
+    np.clip(t, 0.0, 1.0, out=t)
+    px -= t * dx
+    py -= t * dy
+    return np.sqrt((px * px + py * py).min(axis=1))
+
+
+class OutlineLSQ:
+    """Least-squares fit state of one closed outline (the default method of :func:`fit_outline`).
+
+    Parameters
+    ----------
+    points : (n, 2) closed contour polyline (first point not repeated).
+    corners : sorted unique corner indices into ``points`` (may be empty).
+    epsilon : tolerance (px) of the stopping rule.
+    corner_radius : contour points closer than this (arc length, px) to a corner get the weight
+        ``(distance / corner_radius)^2`` in the fit, so the pieces extrapolate to the corner instead of
+        following the pixel-truncated tip.
+    corner_allowance : extra tolerance (px) inside a corner zone (arc distance ``< 2 corner_radius + 1``) of a
+        corner that is extrapolated; the issue's ``+ half a pixel``. A corner whose zone cannot meet
+        ``epsilon + corner_allowance`` is refitted without extrapolation (allowance 0 there).
+    min_gap : fewest contour steps between two knots.
+    sample_spacing : spacing (px) of the curve samples used for the curve-to-contour deviation.
+    hoschek_gate : parameter correction is applied in a piece only once its residuals are below this (px).
+    """
+
+    def __init__(self, points, corners, epsilon, *, corner_radius=2.0, corner_allowance=0.5, min_gap=3,
+                 sample_spacing=0.5, hoschek_gate=2.0, initial_knots=4, weight_profile="quadratic", tip_gap=0.5):
+        points = np.asarray(points, float)
+        n = points.shape[0]
+        corners = np.unique(np.asarray(corners, dtype=np.int64))
+        self.n = n
+        self.K = K = corners.shape[0]
+        self.rot = int(corners[0]) if K else 0
+        self.Q = np.roll(points, -self.rot, axis=0)
+        self.Qe = np.vstack([self.Q, self.Q[:1]])
+        self.s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(self.Qe, axis=0).T))])
+        self.arc_length = float(self.s[-1])
+        self.epsilon = float(epsilon)
+        self.corner_radius = float(corner_radius)
+        self.corner_allowance = float(corner_allowance)
+        self.min_gap = int(min_gap)
+        self.sample_spacing = float(sample_spacing)
+        self.hoschek_gate = float(hoschek_gate)
+        self.weight_profile = weight_profile
+        if K:
+            self.cb = np.append((corners - self.rot) % n, n)
+            self.simple = np.zeros(0, dtype=np.int64)
+        else:
+            self.cb = np.array([0, n])
+            count = max(4, int(initial_knots))
+            self.simple = np.unique(np.round(np.arange(count) * n / count).astype(np.int64))
+        pieces = self.cb.shape[0] - 1
+        self.piece_of = np.clip(np.searchsorted(self.cb, np.arange(n + 1), side="right") - 1, 0, pieces - 1)
+        self.tip_gap_scale = float(tip_gap)
+        self.fixed = np.zeros(n + 1, bool)
+        if K:
+            self.fixed[self.cb] = True
+        else:
+            self.fixed[0] = True
+        # arc distance to the nearest corner and which corner
+        if K:
+            cs = self.s[self.cb]  # includes the period end (= corner 0)
+            k = np.clip(np.searchsorted(cs, self.s), 1, cs.shape[0] - 1)
+            left, right = self.s - cs[k - 1], cs[k] - self.s
+            self.corner_dist = np.minimum(left, right)
+            self.nearest_corner = np.where(left <= right, k - 1, k) % K
+        else:
+            self.corner_dist = np.full(n + 1, np.inf)
+            self.nearest_corner = np.zeros(n + 1, dtype=np.int64)
+        if K:
+            self.radius, theta = self._corner_radii()
+            # parameter gap on each side of a corner: the pixel tip is truncated by about
+            # 0.5 / sin(theta / 2) - 0.5 px, and the pieces need that much parameter to reach the true corner
+            self.tip_gap = np.clip(self.tip_gap_scale * (1.0 / np.maximum(np.sin(0.5 * theta), 0.1) - 1.0), 0.0, 3.0)
+        else:
+            self.radius, self.tip_gap = np.zeros(1), np.zeros(1)
+        self.p = self._parameters()
+        self.period = float(self.p[-1])
+        self.lo_par = self.p[self.cb[self.piece_of]]
+        self.hi_par = self.p[self.cb[self.piece_of + 1]]
+        self.u = self.p.copy()
+        self.coef = None
+
+    def _corner_radii(self):
+        """Per corner: the arc length (px) over which the pixel data near the corner is truncated, about
+        ``corner_radius / tan(theta / 2)`` for the interior angle ``theta`` measured on the contour (chords to
+        the points ``min(6, 0.4 piece)`` px away on both sides), clipped to ``[1, 3 corner_radius]``."""
+        K, s, L = self.K, self.s, self.arc_length
+        cs = s[self.cb[:-1]]
+        piece_len = np.diff(s[self.cb])
+        before = np.roll(piece_len, 1)
+        reach_back = np.minimum(6.0, 0.4 * before)
+        reach_fwd = np.minimum(6.0, 0.4 * piece_len)
+        q_back = self._point_at_arc((cs - reach_back) % L)
+        q_fwd = self._point_at_arc((cs + reach_fwd) % L)
+        corner = self.Q[self.cb[:-1] % self.n]
+        a, b = q_back - corner, q_fwd - corner
+        cos = np.einsum("kd,kd->k", a, b) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
+        theta = np.arccos(np.clip(cos, -1.0, 1.0))
+        radius = self.corner_radius / np.maximum(np.tan(0.5 * theta), 1e-6)
+        radius = np.clip(radius, 1.0, 3.0 * self.corner_radius) if self.corner_radius > 0 else np.zeros(K)
+        # at most a fifth of either neighbouring piece, so that most of a short piece still carries weight
+        radius = np.minimum(radius, 0.2 * np.minimum(before, piece_len))
+        return radius, theta
+
+    def _parameters(self):
+        """Base parameter of every contour point (n + 1 values): arc length, plus the gap ``tip_gap`` on
+        both sides of each corner (the corner's own point sits in the middle of its gap)."""
+        if not self.K:
+            return self.s.copy()
+        gap = self.tip_gap
+        lengths = np.diff(self.s[self.cb])
+        corner_par = np.concatenate([[0.0], np.cumsum(gap + lengths + np.roll(gap, -1))])
+        k = self.piece_of
+        p = corner_par[k] + gap[k] + self.s - self.s[self.cb[k]]
+        p[self.cb] = corner_par
+        return p
+
+    def _point_at_arc(self, arc):
+        return np.column_stack([np.interp(arc, self.s, self.Qe[:, 0]), np.interp(arc, self.s, self.Qe[:, 1])])
+
+    def release(self, corner):
+        """Halve the extrapolation radius of a corner (0 below 0.75 px: the pieces then follow the pixel tip).
+        Returns True if the corner was still extrapolated."""
+        if self.radius[corner] <= 0:
+            return False
+        self.radius[corner] = 0.5 * self.radius[corner] if self.radius[corner] >= 1.5 else 0.0
+        return True
+
+    # ---------------------------------------------------------------- knots and weights
+    def tau(self):
+        corners = np.repeat(self.p[self.cb[:-1]], 3) if self.K else np.zeros(0)
+        return np.sort(np.concatenate([corners, self.p[self.simple]]))
+
+    def knot_indices(self):
+        """Sorted rotated indices of all knots (corners once, simple knots) and the closing index n."""
+        return np.unique(np.concatenate([self.cb, self.simple]))
+
+    def zone(self):
+        """Boolean per point (n + 1): inside the zone of a corner that is extrapolated."""
+        if not self.K:
+            return np.zeros(self.n + 1, bool)
+        r = self.radius[self.nearest_corner]
+        return (r > 0) & (self.corner_dist < 2.0 * r + 1.0)
+
+    def weights(self):
+        if not self.K:
+            return np.ones(self.n)
+        r = self.radius[self.nearest_corner]
+        x = self.corner_dist / np.where(r > 0, r, 1.0)
+        if self.weight_profile == "quadratic":
+            w = np.minimum(1.0, x**2)
+        elif self.weight_profile == "step":
+            w = (x >= 1.0).astype(float)
+        else:  # ramp from 0 at r to 1 at 2r
+            w = np.clip(x - 1.0, 0.0, 1.0)
+        w = np.where(r > 0, w, 1.0)
+        w[self.fixed & (r > 0)] = 0.0
+        return np.maximum(w[: self.n], 1e-3)
+
+    # ---------------------------------------------------------------- fitting
+    def fit(self, hoschek_steps=1):
+        tau = self.tau()
+        m = tau.shape[0]
+        full = periodic_knot_vector(tau, self.period)
+        w = self.weights()
+        n = self.n
+        u = self.u[:n]
+        tu = np.unique(np.append(tau, self.period))
+        starts, ends = tu[:-1], tu[1:]
+        pieces = self.cb.shape[0] - 1
+        for step in range(hoschek_steps + 1):
+            i = interval_index(full, u)
+            (N,) = cubic_basis(full, i, u)
+            coef = solve_normal(folded_columns(i, m), N, w, self.Q, m)
+            if step == hoschek_steps:
+                break
+            # Hoschek: one Newton step of the foot-point equation (S(u) - Q) . S'(u) = 0, with S, S', S'' from
+            # the power form of each knot interval's Bézier piece
+            bez = bezier_of_intervals(coef, full, m, starts, ends)
+            seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)
+            h = (ends - starts)[seg]
+            theta = (u - starts[seg]) / h
+            b0, b1, b2, b3 = (bez[seg, j] for j in range(4))
+            c1, c2, c3 = 3.0 * (b1 - b0), 3.0 * (b0 - 2.0 * b1 + b2), b3 - b0 + 3.0 * (b1 - b2)
+            th = theta[:, None]
+            r = b0 + th * (c1 + th * (c2 + th * c3)) - self.Q
+            d1 = (c1 + th * (2.0 * c2 + 3.0 * th * c3)) / h[:, None]
+            d2 = (2.0 * c2 + 6.0 * th * c3) / (h * h)[:, None]
+            speed2 = d1[:, 0] ** 2 + d1[:, 1] ** 2
+            den = speed2 + r[:, 0] * d2[:, 0] + r[:, 1] * d2[:, 1]
+            den = np.where(den > 0.1 * speed2, den, speed2)
+            du = -(r[:, 0] * d1[:, 0] + r[:, 1] * d1[:, 1]) / np.maximum(den, 1e-300)
+            np.clip(du, -2.0, 2.0, out=du)
+            res = np.hypot(r[:, 0], r[:, 1])
+            # only in pieces that already fit roughly (projecting onto a bad curve scrambles the parameters)
+            piece_res = sorted_group_max(self.piece_of[:n], res, pieces)
+            du[piece_res[self.piece_of[:n]] > self.hoschek_gate] = 0.0
+            un = np.clip(u + du, self.lo_par[:n], self.hi_par[:n])
+            un[self.fixed[:n]] = self.p[:n][self.fixed[:n]]
+            u = np.maximum.accumulate(un)
+        self.u[:n] = u
+        self.coef, self.full, self.m, self.tau_values = coef, full, m, tau
+        return coef
+
+    # ---------------------------------------------------------------- geometry of the current fit
+    def intervals(self):
+        tu = np.unique(np.append(self.tau_values, self.period))
+        return tu[:-1], tu[1:]
+
+    def bezier(self):
+        starts, ends = self.intervals()
+        return bezier_of_intervals(self.coef, self.full, self.m, starts, ends)
+
+    def curve_at(self, u):
+        i = interval_index(self.full, u)
+        (N,) = cubic_basis(self.full, i, u)
+        return evaluate(self.coef, folded_columns(i, self.m), N)
+
+    def deviations(self, dense=False):
+        """Closest-point deviations of the current fit, both directions (upper bounds, see module docstring).
+
+        * curve -> contour: curve samples (``sample_spacing`` px apart; ``dense``: 0.25 px) to the contour
+          edges in a window around the sample's corresponding contour position (the piece's own edges and
+          three more across each corner);
+        * contour -> curve: every contour point (``dense``: and every edge midpoint) to its corresponding curve
+          point ``S(u_j)``; where that is more than ``epsilon / 2``, to the nearest chord of the curve samples
+          within 4 px of parameter instead.
+
+        Returns a dict: per knot interval the worst excess over the tolerance (``epsilon``, plus
+        ``corner_allowance`` in the zone of an extrapolated corner), per piece the max deviation, the thesis
+        error (contour point to its corresponding curve point) and the worst excess, and the per-probe arrays
+        that :meth:`insert` needs."""
+        n = self.n
+        starts, ends = self.intervals()
+        bez = self.bezier()
+        k = starts.shape[0]
+        spacing = min(self.sample_spacing, 0.25) if dense else self.sample_spacing
+        lengths = np.hypot(*np.diff(bez, axis=1).transpose(2, 0, 1)).sum(axis=1)
+        counts = np.maximum(3, np.ceil(lengths / spacing).astype(np.int64))
+        iv = np.repeat(np.arange(k), counts)
+        first = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        theta = (np.arange(iv.shape[0]) - first[iv]) / counts[iv]
+        samples = eval_bezier(bez, iv, theta)
+        params = starts[iv] + theta * (ends - starts)[iv]
+        pieces = self.cb.shape[0] - 1
+        corner_par = self.p[self.cb]
+        spiece = np.clip(np.searchsorted(corner_par, params, side="right") - 1, 0, pieces - 1)
+        centre = np.clip(np.searchsorted(self.u, params) - 1, 0, n - 1)
+        window = 3 if dense else 1
+        if self.K:  # the piece's own edges, and 3 more across each corner (the corner belongs to both pieces)
+            d_curve = windowed_distance(samples, centre, self.cb[spiece] - 3, self.cb[spiece + 1] + 2, self.Qe,
+                                        window, n)
+        else:
+            d_curve = windowed_distance(samples, centre, None, None, self.Qe, window, n)
+        # probes: contour points (and edge midpoints), in parameter order
+        if dense:
+            probes = np.empty((2 * n, 2))
+            probes[0::2], probes[1::2] = self.Q, 0.5 * (self.Qe[:-1] + self.Qe[1:])
+            probe_u = np.empty(2 * n)
+            probe_u[0::2], probe_u[1::2] = self.u[:n], 0.5 * (self.u[:-1] + self.u[1:])
+            probe_piece = np.repeat(self.piece_of[:n], 2)
+            is_point = np.tile([True, False], n)
+        else:
+            probes, probe_u, probe_piece = self.Q, self.u[:n], self.piece_of[:n]
+            is_point = np.ones(n, bool)
+        d_data = np.hypot(*(self.curve_at(probe_u) - probes).T)
+        loose = np.flatnonzero(d_data > 0.5 * self.epsilon)
+        if loose.size:
+            closed_samples = np.vstack([samples, bez[-1:, 3]])
+            closed_params = np.append(params, self.period)
+            lo = np.searchsorted(closed_params, corner_par[probe_piece[loose]], side="left")
+            hi = np.maximum(np.searchsorted(closed_params, corner_par[probe_piece[loose] + 1], side="right") - 2, lo)
+            centre_p = np.clip(np.searchsorted(closed_params, probe_u[loose]), lo, hi)
+            reach = int(np.ceil(4.0 / spacing))
+            wrap = closed_samples.shape[0] - 1
+            if self.K:  # the piece's own chords and a window across its corners
+                near = windowed_distance(probes[loose], centre_p, lo - reach, hi + reach, closed_samples, reach, wrap)
+            else:
+                near = windowed_distance(probes[loose], centre_p, None, None, closed_samples, reach, wrap)
+            d_data[loose] = np.minimum(d_data[loose], near)
+        zone = self.zone()
+        allowance = self.corner_allowance
+        if dense:
+            probe_zone = np.empty(2 * n, bool)
+            probe_zone[0::2], probe_zone[1::2] = zone[:n], zone[:n] | zone[1:]
+        else:
+            probe_zone = zone[:n]
+        tol_data = self.epsilon + allowance * probe_zone
+        curve_zone = np.interp(params, self.p, zone.astype(float)) > 0
+        tol_curve = self.epsilon + allowance * curve_zone
+        data_iv = np.clip(np.searchsorted(ends, probe_u, side="left"), 0, k - 1)
+        ex_curve, ex_data = d_curve - tol_curve, d_data - tol_data
+        excess = np.maximum(sorted_group_max(iv, ex_curve, k), sorted_group_max(data_iv, ex_data, k))
+        piece_dev = np.maximum(sorted_group_max(spiece, d_curve, pieces), sorted_group_max(probe_piece, d_data, pieces))
+        piece_dev = np.maximum(piece_dev, 0.0)
+        piece_err = np.maximum(sorted_group_max(probe_piece[is_point], d_data[is_point], pieces), 0.0)
+        piece_excess = np.maximum(sorted_group_max(spiece, ex_curve, pieces),
+                                  sorted_group_max(probe_piece, ex_data, pieces))
+        return {
+            "starts": starts, "ends": ends, "excess": excess, "piece_dev": piece_dev, "piece_err": piece_err,
+            "piece_excess": piece_excess, "d_data": d_data, "tol_data": tol_data, "data_iv": data_iv,
+            "probe_u": probe_u, "probe_zone": probe_zone, "d_curve": d_curve, "tol_curve": tol_curve,
+            "curve_iv": iv, "curve_params": params, "curve_zone": curve_zone, "bezier": bez, "dense": dense,
+        }
+
+    # ---------------------------------------------------------------- knot insertion
+    def insert(self, dev, strategy="worst"):
+        """Insert one knot into every failing knot interval, at its worst point outside the corner zones,
+        kept in the middle half of the interval (``strategy="middle"``: at the middle). Where an interval fails
+        only inside the zone of an extrapolated corner, knots cannot help (the fit ignores the truncated
+        tip), so that corner stops being extrapolated instead.
+
+        Returns (new knots as (rotated index, interval, excess), intervals that could not be split because
+        their knots are fewer than ``2 min_gap`` steps apart, released corners)."""
+        n = self.n
+        excess = dev["excess"]
+        failing = np.flatnonzero(excess > 0)
+        if failing.size == 0:
+            return [], [], []
+        k = excess.shape[0]
+        data_zone = dev["probe_zone"]
+        curve_zone = dev["curve_zone"]
+        data_ex = dev["d_data"] - dev["tol_data"]
+        curve_ex = dev["d_curve"] - dev["tol_curve"]
+        u_data = dev["probe_u"]
+        # worst excess per interval outside / inside the corner zones, with its parameter
+        out_d, out_d_at = group_max(dev["data_iv"], np.where(data_zone, -np.inf, data_ex), k)
+        out_c, out_c_at = group_max(dev["curve_iv"], np.where(curve_zone, -np.inf, curve_ex), k)
+        in_d, in_d_at = group_max(dev["data_iv"], np.where(data_zone, data_ex, -np.inf), k)
+        in_c, in_c_at = group_max(dev["curve_iv"], np.where(curve_zone, curve_ex, -np.inf), k)
+        knots = self.knot_indices()
+        knot_values = self.p[knots]
+        new, stuck, released = [], [], []
+        for f in failing:
+            a, b = dev["starts"][f], dev["ends"][f]
+            if max(out_d[f], out_c[f]) <= 0:
+                worst_at = in_d_at[f] if in_d[f] >= in_c[f] else in_c_at[f]
+                where = u_data[worst_at] if in_d[f] >= in_c[f] else dev["curve_params"][worst_at]
+                c = int(self.nearest_corner[int(np.clip(np.searchsorted(self.u, where), 0, n))])
+                if self.release(c):
+                    released.append(c)
+                continue
+            if out_d[f] >= out_c[f]:
+                best, where = out_d[f], u_data[out_d_at[f]]
+            else:
+                best, where = out_c[f], dev["curve_params"][out_c_at[f]]
+            if strategy == "middle":
+                where = 0.5 * (a + b)
+            quarter = 0.25 * (b - a)
+            where = min(max(where, a + quarter), b - quarter)
+            left = int(knots[min(np.searchsorted(knot_values, a - 1e-9), knots.shape[0] - 1)])
+            right = int(knots[min(np.searchsorted(knot_values, b - 1e-9), knots.shape[0] - 1)])
+            if right - left < 2 * self.min_gap:
+                stuck.append(int(f))
+                continue
+            j = int(np.clip(np.searchsorted(self.u[:n], where), left + self.min_gap, right - self.min_gap))
+            new.append((j, int(f), float(best)))
+        if new:
+            self.simple = np.unique(np.concatenate([self.simple, [j for j, _, _ in new]]).astype(np.int64))
+        return new, stuck, released
+
+    def release_corners(self, dev, stuck):
+        """Stop extrapolating the corners whose zone lies in a stuck interval. Returns the corner numbers."""
+        released = []
+        if not self.K:
+            return released
+        zone = self.zone()
+        for f in stuck:
+            a, b = dev["starts"][f], dev["ends"][f]
+            j0, j1 = np.searchsorted(self.p, a), np.searchsorted(self.p, b)
+            inside = np.flatnonzero(zone[j0: j1 + 1]) + j0
+            for c in np.unique(self.nearest_corner[inside]):
+                if self.release(int(c)):
+                    released.append(int(c))
+        return released
+
+    # ---------------------------------------------------------------- knot removal
+    def removal_scores(self, bezier):
+        """For every simple knot: (rotated index, score) with score = |jump of S'''| * h^3 / 48, about the
+        deviation that removing the knot causes (the size of the cubic's departure from one polynomial)."""
+        starts, ends = self.intervals()
+        h = ends - starts
+        third = 6.0 * (bezier[:, 3] - 3 * bezier[:, 2] + 3 * bezier[:, 1] - bezier[:, 0]) / (h[:, None] ** 3)
+        values = self.p[self.simple]
+        right = np.searchsorted(starts, values)  # interval starting at the knot
+        right = np.clip(right, 0, starts.shape[0] - 1)
+        left = (right - 1) % starts.shape[0]
+        jump = np.hypot(*(third[right] - third[left]).T)
+        span = 0.5 * (h[left] + h[right])
+        return jump * span**3 / 48.0
+
+    def remove(self, indices):
+        """Remove simple knots (never the seam knot at index 0 of an outline without corners, where the
+        knot intervals start)."""
+        keep = ~np.isin(self.simple, indices) | (self.simple == 0)
+        self.simple = self.simple[keep]
+
+    def restore(self, indices):
+        self.simple = np.unique(np.concatenate([self.simple, np.asarray(indices, dtype=np.int64)]))

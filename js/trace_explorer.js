@@ -11,6 +11,7 @@ const COLORS = {
   corners: "#d32f2f",
   accepted: "#2e7d32",
   rejected: "#ef6c00",
+  removed: "#6a1b9a",
   worst: "#c2185b",
 };
 
@@ -59,7 +60,8 @@ function render({ model, el }) {
   const cornerPath = path({ fill: COLORS.corners, stroke: "#fff", "stroke-width": 1, "data-testid": "corners" });
   const acceptedPath = path({ fill: COLORS.accepted, stroke: "#fff", "stroke-width": 1, "data-testid": "accepted" });
   const rejectedPath = path({ stroke: COLORS.rejected, "stroke-width": 2, "data-testid": "rejected" });
-  svg.append(bg, image, boundaryPath, finalPath, worstPath, curvePath, knotPath, cornerPath, acceptedPath, rejectedPath);
+  const removedPath = path({ fill: "none", stroke: COLORS.removed, "stroke-width": 1.8, "data-testid": "removed" });
+  svg.append(bg, image, boundaryPath, finalPath, worstPath, curvePath, knotPath, cornerPath, acceptedPath, rejectedPath, removedPath);
 
   const legendItem = (sw, text, testid) => h("span", { class: "sc-legend-item", "data-testid": testid }, sw, text);
   const legend = h("div", { class: "sc-legend", "data-testid": "legend" },
@@ -69,6 +71,7 @@ function render({ model, el }) {
     legendItem(swatch({ color: COLORS.knots, dash: "none", marker: "dot" }), "knot"),
     legendItem(swatch({ color: COLORS.accepted, dash: "none", marker: "dot" }), "candidate accepted"),
     legendItem(swatch({ color: COLORS.rejected, dash: "none", marker: "cross" }), "candidate rejected"),
+    legendItem(swatch({ color: COLORS.removed, dash: "none", marker: "circle" }), "knot removed"),
     legendItem(swatch({ color: COLORS.worst, width: 4, opacity: 0.35 }), "piece with the largest error"),
     legendItem(swatch({ color: COLORS.final, dash: "4 3", opacity: 0.6 }), "final fit"));
 
@@ -213,6 +216,7 @@ function render({ model, el }) {
     const showCand = model.get("show_candidates");
     acceptedPath.setAttribute("d", showCand ? markersPath(vp, snap.accepted, 4.2) : "");
     rejectedPath.setAttribute("d", showCand ? markersPath(vp, snap.rejected, 3.8, "cross") : "");
+    removedPath.setAttribute("d", showCand ? markersPath(vp, snap.removed, 5) : "");
     curvePath.dataset.iteration = String(model.get("snapshot_index"));
   }
 
@@ -290,7 +294,9 @@ function render({ model, el }) {
       ? `<p><b>${it.knots ?? "—"}</b> knots in <b>${it.pieces ?? "—"}</b> pieces; max error <b>${formatNumber(it.max_error, 3)}</b> px ` +
         `(Hausdorff ${formatNumber(it.hausdorff, 3)} px; ε = ${formatNumber(model.get("epsilon"), 3)}).</p>` +
         `<p>Candidates here: <span style="color:${COLORS.accepted}">${accepted} accepted</span>, ` +
-        `<span style="color:${COLORS.rejected}">${rejected} rejected</span>.${it.note ? " " + it.note : ""}</p>`
+        `<span style="color:${COLORS.rejected}">${rejected} rejected</span>` +
+        `${it.removed ? `, <span style="color:${COLORS.removed}">${it.removed} knots removed</span>` : ""}.` +
+        `${it.note ? " " + it.note : ""}</p>`
       : "";
   }
 
@@ -350,7 +356,7 @@ function decodeSnapshot(g) {
   g = g ?? {};
   return {
     bezier: floats(g.bezier), worst: floats(g.worst), knots: floats(g.knots),
-    accepted: floats(g.accepted), rejected: floats(g.rejected),
+    accepted: floats(g.accepted), rejected: floats(g.rejected), removed: floats(g.removed),
   };
 }
 

@@ -521,11 +521,16 @@ def test_explorer_candidates_are_split_by_acceptance(explorer_factory):
     for index, merged in enumerate(explorer.result.snapshots):
         explorer.go_to(index)
         candidates = [c for s in merged.snapshots for c in (s.candidates or []) if c.get("point") is not None]
-        accepted = np.array([c["point"] for c in candidates if c["accepted"]], dtype=float).reshape(-1, 2)
-        rejected = np.array([c["point"] for c in candidates if not c["accepted"]], dtype=float).reshape(-1, 2)
+        inserts = [c for c in candidates if c.get("action", "insert") == "insert"]
+        accepted = np.array([c["point"] for c in inserts if c["accepted"]], dtype=float).reshape(-1, 2)
+        rejected = np.array([c["point"] for c in inserts if not c["accepted"]], dtype=float).reshape(-1, 2)
+        removed = np.array([c["point"] for c in candidates if c.get("action") == "remove" and c["accepted"]],
+                           dtype=float).reshape(-1, 2)
         np.testing.assert_allclose(buffer(explorer.snapshot_geometry["accepted"]), accepted, atol=1e-4)
         np.testing.assert_allclose(buffer(explorer.snapshot_geometry["rejected"]), rejected, atol=1e-4)
+        np.testing.assert_allclose(buffer(explorer.snapshot_geometry["removed"]), removed, atol=1e-4)
         assert explorer.iteration_info["accepted"] == len(accepted)
+        assert explorer.iteration_info["removed"] == len(removed)
 
 
 def test_explorer_bad_values_keep_the_last_result(explorer_factory):

@@ -165,7 +165,7 @@ import splinecraft as sc
 yy, xx = np.mgrid[0:48, 0:48] + 0.5
 block = ((xx > 6) & (xx < 42) & (yy > 6) & (yy < 24)) | ((xx > 6) & (xx < 22) & (yy > 6) & (yy < 42))
 mask = block & ~((xx - 14.0) ** 2 + (yy - 15.0) ** 2 < 16.0)
-explorer = sc.TraceExplorer(mask, epsilon=0.5, width=480, height=400)
+explorer = sc.TraceExplorer(mask, epsilon=0.5, method="random", seed=1, width=480, height=400, play_interval_ms=100)
 explorer
 """
 EXPLORER = "[data-testid=trace-explorer][data-ready='1']"
@@ -205,3 +205,9 @@ def test_trace_explorer_steps_back_and_forward(lab):
     root.query_selector("[data-testid=play]").click()
     page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='{n - 1}'][data-playing='0']", timeout=60_000)
     assert "Total number of points on contour" in root.query_selector("[data-testid=stats]").inner_text()
+    # another knot-insertion algorithm from the dropdown: the kernel re-traces
+    root.query_selector("[data-testid=knot-method]").select_option("fuzzy")
+    assert wait_python(lab, "explorer.result.params['method']", lambda m: m == "fuzzy") == "fuzzy"
+    n_fuzzy = lab.python_json("explorer.n_snapshots")
+    page.wait_for_selector(f"{EXPLORER}[data-n-snapshots='{n_fuzzy}'][data-snapshot-index='{n_fuzzy - 1}']",
+                           timeout=20_000)

@@ -367,7 +367,7 @@ class TraceExplorer(anywidget.AnyWidget):
             self.iteration_info = {"iteration": 0, "pieces": len(bezier)}
             return
         bezier = merged.bezier
-        knots, accepted, rejected = [], [], []
+        knots, accepted, rejected, removed = [], [], [], []
         for points, snapshot in zip(result.points, merged.snapshots):
             indices = np.unique(np.concatenate([np.asarray(k, dtype=int).reshape(-1) for k in snapshot.knot_indices])) \
                 if len(snapshot.knot_indices) else np.zeros(0, dtype=int)
@@ -376,7 +376,11 @@ class TraceExplorer(anywidget.AnyWidget):
                 point = candidate.get("point")
                 if point is None:
                     continue
-                (accepted if candidate.get("accepted") else rejected).append(point)
+                action = candidate.get("action", "insert")
+                if action == "insert":
+                    (accepted if candidate.get("accepted") else rejected).append(point)
+                elif action == "remove" and candidate.get("accepted"):
+                    removed.append(point)
         errors = np.asarray(merged.piece_max_error, dtype=float)
         worst = bezier[int(np.nanargmax(errors))][None] if errors.size and np.isfinite(errors).any() else np.zeros((0, 4, 2))
         self.snapshot_geometry = {
@@ -386,14 +390,21 @@ class TraceExplorer(anywidget.AnyWidget):
             "knots": _f32(np.vstack(knots)) if knots else b"",
             "accepted": _f32(np.asarray(accepted, dtype=float).reshape(-1, 2)),
             "rejected": _f32(np.asarray(rejected, dtype=float).reshape(-1, 2)),
+            "removed": _f32(np.asarray(removed, dtype=float).reshape(-1, 2)),
         }
         finished = int(np.sum(merged.finished)) if len(merged.finished) else 0
         total = len(merged.snapshots)
-        note = ""
+        phases = {getattr(s, "phase", "insert") for s, done in zip(merged.snapshots, merged.finished) if not done}
+        notes = []
         if self.snapshot_index == 0:
-            note = "Iteration 0 is the first fit, with the corners as the only knots."
-        elif finished and finished < total:
-            note = f"{finished} of {total} boundaries have already met ε."
+            notes.append("Iteration 0 is the first fit, with the corners as the only knots.")
+        elif "remove" in phases:
+            notes.append(f"Knot removal round: {len(removed)} knot(s) dropped where the fit stays within ε.")
+        if finished and finished < total and self.snapshot_index > 0:
+            notes.append(f"{finished} of {total} boundaries have already finished.")
+        if self.snapshot_index > 0 and any(getattr(s, "thesis_stop", False) for s in merged.snapshots):
+            notes.append("The thesis's stopping rule (no candidate above ε) would stop here.")
+        note = " ".join(notes)
         self.iteration_info = {
             "iteration": int(merged.iteration),
             "knots": int(merged.knots),
@@ -402,6 +413,7 @@ class TraceExplorer(anywidget.AnyWidget):
             "hausdorff": float(merged.hausdorff),
             "accepted": len(accepted),
             "rejected": len(rejected),
+            "removed": len(removed),
             "note": note,
         }
 

@@ -963,6 +963,54 @@ def _smooth(samples, sigma, closed):
                             np.convolve(padded[:, 1], kernel, "valid")])
 
 
+def _arm_fit(padded, starts, length):
+    """Least-squares line of the arms (windows) of ``length`` samples starting at the rows ``starts`` of
+    ``padded``: their mean points, slopes (along travel) and largest sample-to-line distances.
+
+    This is the reference arithmetic (``(k, length, 2)`` blocks, numpy mean, ``einsum`` slope, ``hypot``
+    residuals); the arm directions and centres of :func:`_signed_arm_turn` come from it.
+    """
+    _, centred, slope_weights = _arm_operators(length, 1)
+    arm = padded[starts[:, None] + np.arange(length)[None, :]]                  # (k, length, 2)
+    mean = arm.mean(axis=1)
+    slope = np.einsum("l,ald->ad", slope_weights, arm)
+    residual = arm - mean[:, None, :] - centred[None, :, None] * slope[:, None, :]
+    with np.errstate(invalid="ignore"):
+        worst = np.hypot(residual[..., 0], residual[..., 1]).max(axis=1) if len(starts) else np.zeros(0)
+    return mean, slope, worst
+
+
+def _arms_straight(windows_x, windows_y, padded, starts, length, tolerance, guard):
+    """Whether every sample of the arm of ``length`` samples starting at each row ``starts`` of ``padded``
+    lies within ``tolerance`` of the arm's least-squares line (False where the arm holds a NaN).
+
+    Fast path: the coordinates are gathered as two contiguous ``(k, length)`` blocks from the sliding
+    windows ``windows_x`` / ``windows_y``, the line's mean and slope are matrix-vector products and the
+    test compares the largest squared distance with ``tolerance**2`` -- a handful of passes over the
+    block. Rounding differs from :func:`_arm_fit` by far less than ``guard`` (in squared px); the rare
+    arms whose squared distance lies within ``guard`` of ``tolerance**2`` are decided by
+    :func:`_arm_fit` itself, so the decisions are exactly the reference ones.
+    """
+    _, centred, slope_weights = _arm_operators(length, 1)
+    worst = None
+    for windows in (windows_x, windows_y):
+        block = windows[starts]                                                  # (k, length) copy
+        mean = block @ np.full(length, 1.0 / length)
+        slope = block @ slope_weights
+        block -= mean[:, None]
+        block -= slope[:, None] * centred[None, :]
+        np.square(block, out=block)
+        worst = block if worst is None else np.add(worst, block, out=worst)
+    worst = worst.max(axis=1)
+    with np.errstate(invalid="ignore"):
+        straight = worst <= tolerance ** 2
+        close = np.abs(worst - tolerance ** 2) <= guard
+    if close.any():
+        with np.errstate(invalid="ignore"):
+            straight[close] = _arm_fit(padded, starts[close], length)[2] <= tolerance
+    return straight
+
+
 def _signed_arm_turn(R, closed, tolerance, ladder):
     """Signed turn (degrees, + = left in the frame of the points) between the straight arms before and
     after every sample of ``R``, and the two arm directions (along travel).
@@ -970,6 +1018,13 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
     Each arm starts at the sample and grows through ``ladder`` while every sample of it stays within
     ``tolerance`` of its least-squares line (the first length is always accepted); its direction is the
     slope of that line. NaN where an arm of an open curve runs off an end.
+
+    Implementation: the backward arm of length ``L`` at sample ``i`` is the window of ``L`` samples
+    ending at ``i``, the forward arm the window starting there; both are windows of the padded samples,
+    and the forward arm of ``i`` is the backward arm of ``i + L - 1``. For each length of the ladder the
+    straightness test runs once per window that some still growing arm needs (:func:`_arms_straight`,
+    vectorized over the windows); each arm then keeps the longest length it reached before its first
+    failure, and the fits of those final windows give the directions (:func:`_arm_fit`).
     """
     m = len(R)
     reach = max(ladder)
@@ -977,28 +1032,42 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
         padded = R[np.arange(-reach, m + reach) % m]
     else:
         padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
+    coordinates = (np.ascontiguousarray(padded[:, 0]), np.ascontiguousarray(padded[:, 1]))
+    with np.errstate(invalid="ignore"):
+        scale = float(np.nanmax(np.abs(padded), initial=0.0))
+    guard = 1e-9 * (1.0 + scale)          # squared px; far above the rounding of either arithmetic
+    sides = (-1, 1)
+    alive = {side: np.arange(m) for side in sides}
+    final_rung = {side: np.zeros(m, dtype=np.intp) for side in sides}
+    for rung, length in enumerate(ladder[1:], start=1):
+        first = {-1: alive[-1] + (reach - length + 1), 1: alive[1] + reach}    # window starts in padded
+        needed = np.zeros(len(padded) - length + 1, dtype=bool)
+        for side in sides:
+            needed[first[side]] = True
+        starts = np.flatnonzero(needed)
+        straight_from = np.zeros(len(needed), dtype=bool)
+        windows_x, windows_y = (sliding_window_view(c, length) for c in coordinates)
+        straight_from[starts] = _arms_straight(windows_x, windows_y, padded, starts, length, tolerance, guard)
+        for side in sides:
+            alive[side] = alive[side][straight_from[first[side]]]
+            final_rung[side][alive[side]] = rung
+        if not (alive[-1].size or alive[1].size):
+            break
     directions, centres = {}, {}
-    for side in (-1, 1):
-        direction = np.full((m, 2), np.nan)
-        centre = np.full((m, 2), np.nan)
-        alive = np.arange(m)
-        for rung, length in enumerate(ladder):
-            offsets, centred, slope_weights = _arm_operators(length, side)
-            arm = padded[(alive + reach)[:, None] + offsets[None, :]]            # (a, length, 2)
-            mean = arm.mean(axis=1)
-            slope = np.einsum("l,ald->ad", slope_weights, arm)
-            residual = arm - mean[:, None, :] - centred[None, :, None] * slope[:, None, :]
-            if rung == 0:
-                straight = np.ones(len(alive), dtype=bool)
-            else:
-                with np.errstate(invalid="ignore"):
-                    straight = np.hypot(residual[..., 0], residual[..., 1]).max(axis=1) <= tolerance
-            alive = alive[straight]
-            direction[alive] = slope[straight]
-            centre[alive] = mean[straight]
-            if alive.size == 0:
-                break
-        directions[side], centres[side] = direction, centre
+    for side in sides:
+        directions[side] = np.empty((m, 2))
+        centres[side] = np.empty((m, 2))
+    for rung, length in enumerate(ladder):
+        points = {side: np.flatnonzero(final_rung[side] == rung) for side in sides}
+        first = {-1: points[-1] + (reach - length + 1), 1: points[1] + reach}
+        starts = np.union1d(first[-1], first[1])
+        if starts.size == 0:
+            continue
+        mean, slope, _ = _arm_fit(padded, starts, length)
+        for side in sides:
+            row = np.searchsorted(starts, first[side])
+            directions[side][points[side]] = slope[row]
+            centres[side][points[side]] = mean[row]
     a, b = directions[-1], directions[1]
     turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
     return turn, (centres[-1], a, centres[1], b)

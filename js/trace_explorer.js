@@ -55,13 +55,14 @@ function render({ model, el }) {
   const boundaryPath = path({ stroke: COLORS.boundary, "stroke-width": 1, opacity: 0.8, "data-testid": "boundaries" });
   const finalPath = path({ stroke: COLORS.final, "stroke-width": 1, "stroke-dasharray": "4 3", opacity: 0.5, "data-testid": "final-curve" });
   const curvePath = path({ stroke: COLORS.curve, "stroke-width": 2, "stroke-linejoin": "round", "data-testid": "snapshot-curve" });
-  const worstPath = path({ stroke: COLORS.worst, "stroke-width": 4, opacity: 0.35, "stroke-linecap": "round", "data-testid": "worst-piece" });
+  const worstPath = path({ stroke: COLORS.worst, "stroke-width": 7, opacity: 0.35, "stroke-linecap": "round", "data-testid": "worst-piece" });
+  const worstContour = path({ stroke: COLORS.worst, "stroke-width": 2.5, opacity: 0.8, "stroke-dasharray": "2 3", "data-testid": "worst-contour" });
   const knotPath = path({ fill: COLORS.knots, stroke: "#fff", "stroke-width": 0.8, "data-testid": "knots" });
   const cornerPath = path({ fill: COLORS.corners, stroke: "#fff", "stroke-width": 1, "data-testid": "corners" });
   const acceptedPath = path({ fill: COLORS.accepted, stroke: "#fff", "stroke-width": 1, "data-testid": "accepted" });
   const rejectedPath = path({ stroke: COLORS.rejected, "stroke-width": 2, "data-testid": "rejected" });
   const removedPath = path({ fill: "none", stroke: COLORS.removed, "stroke-width": 1.8, "data-testid": "removed" });
-  svg.append(bg, image, boundaryPath, finalPath, worstPath, curvePath, knotPath, cornerPath, acceptedPath, rejectedPath, removedPath);
+  svg.append(bg, image, boundaryPath, worstContour, finalPath, worstPath, curvePath, knotPath, cornerPath, acceptedPath, rejectedPath, removedPath);
 
   const legendItem = (sw, text, testid) => h("span", { class: "sc-legend-item", "data-testid": testid }, sw, text);
   const legend = h("div", { class: "sc-legend", "data-testid": "legend" },
@@ -72,7 +73,8 @@ function render({ model, el }) {
     legendItem(swatch({ color: COLORS.accepted, dash: "none", marker: "dot" }), "candidate accepted"),
     legendItem(swatch({ color: COLORS.rejected, dash: "none", marker: "cross" }), "candidate rejected"),
     legendItem(swatch({ color: COLORS.removed, dash: "none", marker: "circle" }), "knot removed"),
-    legendItem(swatch({ color: COLORS.worst, width: 4, opacity: 0.35 }), "piece with the largest error"),
+    legendItem(swatch({ color: COLORS.worst, width: 6, opacity: 0.35 }), "piece with the largest error"),
+    legendItem(swatch({ color: COLORS.worst, width: 2.5, dash: "2 3", opacity: 0.8 }), "its contour"),
     legendItem(swatch({ color: COLORS.final, dash: "4 3", opacity: 0.6 }), "final fit"));
 
   // ---------------------------------------------------------------- stepper
@@ -212,6 +214,7 @@ function render({ model, el }) {
     finalPath.setAttribute("d", model.get("show_final") ? piecesPath(base.final) : "");
     curvePath.setAttribute("d", piecesPath(snap.bezier));
     worstPath.setAttribute("d", piecesPath(snap.worst));
+    worstContour.setAttribute("d", polylinePath(vp, snap.worst_contour));
     knotPath.setAttribute("d", markersPath(vp, snap.knots, 2.6));
     const showCand = model.get("show_candidates");
     acceptedPath.setAttribute("d", showCand ? markersPath(vp, snap.accepted, 4.2) : "");
@@ -291,7 +294,7 @@ function render({ model, el }) {
     root.dataset.nSnapshots = String(n);
     const accepted = it.accepted ?? 0, rejected = it.rejected ?? 0;
     info.innerHTML = n
-      ? `<p><b>${it.knots ?? "—"}</b> knots in <b>${it.pieces ?? "—"}</b> pieces; max error <b>${formatNumber(it.max_error, 3)}</b> px ` +
+      ? `<p><b>${it.knots ?? "—"}</b> knots, <b>${it.pieces ?? "—"}</b> Bézier segments; max error <b>${formatNumber(it.max_error, 3)}</b> px ` +
         `(Hausdorff ${formatNumber(it.hausdorff, 3)} px; ε = ${formatNumber(model.get("epsilon"), 3)}).</p>` +
         `<p>Candidates here: <span style="color:${COLORS.accepted}">${accepted} accepted</span>, ` +
         `<span style="color:${COLORS.rejected}">${rejected} rejected</span>` +
@@ -355,7 +358,7 @@ function decodeBase(g) {
 function decodeSnapshot(g) {
   g = g ?? {};
   return {
-    bezier: floats(g.bezier), worst: floats(g.worst), knots: floats(g.knots),
+    bezier: floats(g.bezier), worst: floats(g.worst), worst_contour: floats(g.worst_contour), knots: floats(g.knots),
     accepted: floats(g.accepted), rejected: floats(g.rejected), removed: floats(g.removed),
   };
 }

@@ -621,3 +621,22 @@ def test_closed_curve_insert_and_delete_keep_one_weight_per_interval():
         editor.delete_point(0)
         editor.delete_point(0)
     assert len(editor.points) == 3
+
+
+def test_explorer_highlights_the_worst_corner_piece(explorer_factory):
+    """piece_max_error is per piece between corners; the highlight is that piece's Bézier segments + contour."""
+    explorer = explorer_factory(method="random", seed=3, epsilon=0.5)
+    for index, merged in enumerate(explorer.result.snapshots[:6]):
+        explorer.go_to(index)
+        pieces = [(float(err), b, k) for b, s in enumerate(merged.snapshots)
+                  for k, err in enumerate(np.asarray(s.piece_max_error, dtype=float))]
+        error, boundary, k = max(pieces)
+        knot_indices = merged.snapshots[boundary].knot_indices[k]
+        worst = buffer(explorer.snapshot_geometry["worst"], (-1, 4, 2))
+        assert len(worst) == len(knot_indices) - 1
+        np.testing.assert_allclose(worst[1:, 0], worst[:-1, 3], atol=1e-3)  # consecutive segments
+        contour = buffer(explorer.snapshot_geometry["worst_contour"])
+        points = explorer.result.points[boundary]
+        np.testing.assert_allclose(contour[0], points[knot_indices[0]], atol=1e-4)
+        np.testing.assert_allclose(contour[-1], points[knot_indices[-1] % len(points)], atol=1e-4)
+        assert error == pytest.approx(explorer.iteration_info["max_error"])

@@ -32,15 +32,15 @@ KNOWN_CORNER_PARAMS = {
     "zct": (1, 25, 1, "ZCT", "SRM05 zero-crossing threshold: minimum run of equal chain codes (thesis §2.4)"),
     "dt": (1, 25, 1, "DT", "SRM05 distance threshold: points closer than DT merge into one corner"),
     "ta": (90, 179, 1, "TA (°)", "SRM05 angle threshold: interior angles above TA count as straight (E21)"),
-    "max_angle": (90, 179, 1, "max angle (°)", "interior angles above this are not corners"),
-    "alpha_max": (90, 179, 1, "α max (°)", "IPAN99: widest opening angle of a corner triangle"),
+    "max_angle": (90, 179, 1, "max angle °", "interior angles above this are not corners"),
+    "alpha_max": (90, 179, 1, "α max °", "IPAN99: widest opening angle of a corner triangle"),
     "d_min": (1, 30, 0.5, "d min (px)", "IPAN99: shortest triangle side"),
     "d_max": (1, 40, 0.5, "d max (px)", "IPAN99: longest triangle side"),
     "s": (1, 15, 1, "s", "FD77: arm length (samples)"),
-    "smoothing": (0, 4, 0.05, "smoothing (px)", "tangent-jump: Gaussian smoothing of the resampled outline"),
-    "tolerance": (0.05, 2, 0.05, "tolerance (px)", "tangent-jump: how far an arm may leave its line"),
-    "min_turn": (5, 90, 1, "min turn (°)", "tangent-jump: smallest turn that counts as a corner"),
-    "min_excess": (5, 90, 1, "min excess (°)", "tangent-jump: turn concentrated at the point beyond its flanks"),
+    "smoothing": (0, 4, 0.05, "smoothing", "tangent-jump: Gaussian smoothing of the resampled outline"),
+    "tolerance": (0.05, 2, 0.05, "tolerance", "tangent-jump: how far an arm may leave its line"),
+    "min_turn": (5, 90, 1, "min turn °", "tangent-jump: smallest turn that counts as a corner"),
+    "min_excess": (5, 90, 1, "min excess °", "tangent-jump: turn concentrated at the point beyond its flanks"),
     "max_arm": (4, 240, 1, "max arm", "tangent-jump: longest arm (samples)"),
     "separation": (1, 10, 1, "separation", "tangent-jump: corners at least this many samples apart"),
 }
@@ -381,12 +381,12 @@ class TraceExplorer(anywidget.AnyWidget):
                     (accepted if candidate.get("accepted") else rejected).append(point)
                 elif action == "remove" and candidate.get("accepted"):
                     removed.append(point)
-        errors = np.asarray(merged.piece_max_error, dtype=float)
-        worst = bezier[int(np.nanargmax(errors))][None] if errors.size and np.isfinite(errors).any() else np.zeros((0, 4, 2))
+        worst, worst_contour = self._worst_piece(result, merged)
         self.snapshot_geometry = {
             "iteration": int(merged.iteration),
             "bezier": _f32(bezier),
             "worst": _f32(worst),
+            "worst_contour": _f32(worst_contour),
             "knots": _f32(np.vstack(knots)) if knots else b"",
             "accepted": _f32(np.asarray(accepted, dtype=float).reshape(-1, 2)),
             "rejected": _f32(np.asarray(rejected, dtype=float).reshape(-1, 2)),
@@ -416,6 +416,34 @@ class TraceExplorer(anywidget.AnyWidget):
             "removed": len(removed),
             "note": note,
         }
+
+    @staticmethod
+    def _worst_piece(result, merged):
+        """Bézier segments and contour points of the corner-to-corner piece with the largest thesis error.
+
+        ``piece_max_error`` has one entry per piece between corners; piece ``k`` of a boundary is drawn by
+        ``len(knot_indices[k]) - 1`` consecutive Bézier segments and approximates the contour points from its
+        first to its last knot index (wrapping past index 0).
+        """
+        best = None
+        offset = 0
+        for boundary, snapshot in enumerate(merged.snapshots):
+            errors = np.asarray(snapshot.piece_max_error, dtype=float)
+            counts = [len(k) - 1 for k in snapshot.knot_indices]
+            if errors.size and np.isfinite(errors).any() and len(counts) == errors.size:
+                k = int(np.nanargmax(errors))
+                if best is None or errors[k] > best[0]:
+                    best = (float(errors[k]), boundary, k, offset + sum(counts[:k]), counts[k])
+            offset += len(snapshot.bezier)
+        if best is None:
+            return np.zeros((0, 4, 2)), np.zeros((0, 2))
+        _error, boundary, k, first_row, count = best
+        segments = merged.bezier[first_row:first_row + count]
+        points = np.asarray(result.points[boundary])
+        indices = merged.snapshots[boundary].knot_indices[k]
+        first, last = int(indices[0]), int(indices[-1])
+        span = np.arange(first, last + 1 if last > first else last + len(points) + 1) % len(points)
+        return segments, points[span]
 
     @staticmethod
     def _stats_html(result) -> str:

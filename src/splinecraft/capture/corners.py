@@ -963,52 +963,27 @@ def _smooth(samples, sigma, closed):
                             np.convolve(padded[:, 1], kernel, "valid")])
 
 
-def _arm_fit(padded, starts, length):
-    """Least-squares line of the arms (windows) of ``length`` samples starting at the rows ``starts`` of
-    ``padded``: their mean points, slopes (along travel) and largest sample-to-line distances.
+def _arm_fit(padded, starts, length, *, residuals=True):
+    """Least-squares lines ``x(t) = mean + slope t`` of the arms (windows) of ``length`` samples starting at
+    the rows ``starts`` of ``padded``: their mean points, slopes (along travel) and, when ``residuals``,
+    their largest sample-to-line distances (else None; NaN where a window holds a NaN).
 
-    This is the reference arithmetic (``(k, length, 2)`` blocks, numpy mean, ``einsum`` slope, ``hypot``
-    residuals); the arm directions and centres of :func:`_signed_arm_turn` come from it.
+    The windows are gathered as one ``(length, k, 2)`` block, sample-major, so that every sum over a
+    window runs as ``length`` vectorized additions over all windows at once; the mean is that running sum
+    divided by ``length`` and the slope the running sum of ``t / sum(t^2)`` times the samples -- in
+    floating point the same operations, in the same order, as a per-window mean and dot product.
     """
     _, centred, slope_weights = _arm_operators(length, 1)
-    arm = padded[starts[:, None] + np.arange(length)[None, :]]                  # (k, length, 2)
-    mean = arm.mean(axis=1)
-    slope = np.einsum("l,ald->ad", slope_weights, arm)
-    residual = arm - mean[:, None, :] - centred[None, :, None] * slope[:, None, :]
+    arm = padded[np.arange(length)[:, None] + starts[None, :]]                 # (length, k, 2)
+    mean = arm.sum(axis=0) / length
+    slope = np.einsum("l,lad->ad", slope_weights, arm)
+    if not residuals:
+        return mean, slope, None
+    arm -= mean
+    arm -= centred[:, None, None] * slope
     with np.errstate(invalid="ignore"):
-        worst = np.hypot(residual[..., 0], residual[..., 1]).max(axis=1) if len(starts) else np.zeros(0)
+        worst = np.hypot(arm[..., 0], arm[..., 1]).max(axis=0)
     return mean, slope, worst
-
-
-def _arms_straight(windows_x, windows_y, padded, starts, length, tolerance, guard):
-    """Whether every sample of the arm of ``length`` samples starting at each row ``starts`` of ``padded``
-    lies within ``tolerance`` of the arm's least-squares line (False where the arm holds a NaN).
-
-    Fast path: the coordinates are gathered as two contiguous ``(k, length)`` blocks from the sliding
-    windows ``windows_x`` / ``windows_y``, the line's mean and slope are matrix-vector products and the
-    test compares the largest squared distance with ``tolerance**2`` -- a handful of passes over the
-    block. Rounding differs from :func:`_arm_fit` by far less than ``guard`` (in squared px); the rare
-    arms whose squared distance lies within ``guard`` of ``tolerance**2`` are decided by
-    :func:`_arm_fit` itself, so the decisions are exactly the reference ones.
-    """
-    _, centred, slope_weights = _arm_operators(length, 1)
-    worst = None
-    for windows in (windows_x, windows_y):
-        block = windows[starts]                                                  # (k, length) copy
-        mean = block @ np.full(length, 1.0 / length)
-        slope = block @ slope_weights
-        block -= mean[:, None]
-        block -= slope[:, None] * centred[None, :]
-        np.square(block, out=block)
-        worst = block if worst is None else np.add(worst, block, out=worst)
-    worst = worst.max(axis=1)
-    with np.errstate(invalid="ignore"):
-        straight = worst <= tolerance ** 2
-        close = np.abs(worst - tolerance ** 2) <= guard
-    if close.any():
-        with np.errstate(invalid="ignore"):
-            straight[close] = _arm_fit(padded, starts[close], length)[2] <= tolerance
-    return straight
 
 
 def _signed_arm_turn(R, closed, tolerance, ladder):
@@ -1019,12 +994,11 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
     ``tolerance`` of its least-squares line (the first length is always accepted); its direction is the
     slope of that line. NaN where an arm of an open curve runs off an end.
 
-    Implementation: the backward arm of length ``L`` at sample ``i`` is the window of ``L`` samples
-    ending at ``i``, the forward arm the window starting there; both are windows of the padded samples,
-    and the forward arm of ``i`` is the backward arm of ``i + L - 1``. For each length of the ladder the
-    straightness test runs once per window that some still growing arm needs (:func:`_arms_straight`,
-    vectorized over the windows); each arm then keeps the longest length it reached before its first
-    failure, and the fits of those final windows give the directions (:func:`_arm_fit`).
+    Implementation: the backward arm of length ``L`` at sample ``i`` is the window of ``L`` samples of
+    the padded curve ending at ``i``, the forward arm the window starting there, so the forward arm of
+    ``i`` is the backward arm of ``i + L - 1``. For each length of the ladder, the line of every window
+    that a still growing arm needs is fitted once, for all those windows at once (:func:`_arm_fit`); an arm
+    stops at its first length that is not straight and keeps the line of the length before.
     """
     m = len(R)
     reach = max(ladder)
@@ -1032,42 +1006,27 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
         padded = R[np.arange(-reach, m + reach) % m]
     else:
         padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
-    coordinates = (np.ascontiguousarray(padded[:, 0]), np.ascontiguousarray(padded[:, 1]))
-    with np.errstate(invalid="ignore"):
-        scale = float(np.nanmax(np.abs(padded), initial=0.0))
-    guard = 1e-9 * (1.0 + scale)          # squared px; far above the rounding of either arithmetic
     sides = (-1, 1)
     alive = {side: np.arange(m) for side in sides}
-    final_rung = {side: np.zeros(m, dtype=np.intp) for side in sides}
-    for rung, length in enumerate(ladder[1:], start=1):
+    directions = {side: np.full((m, 2), np.nan) for side in sides}
+    centres = {side: np.full((m, 2), np.nan) for side in sides}
+    for rung, length in enumerate(ladder):
         first = {-1: alive[-1] + (reach - length + 1), 1: alive[1] + reach}    # window starts in padded
         needed = np.zeros(len(padded) - length + 1, dtype=bool)
         for side in sides:
             needed[first[side]] = True
-        starts = np.flatnonzero(needed)
-        straight_from = np.zeros(len(needed), dtype=bool)
-        windows_x, windows_y = (sliding_window_view(c, length) for c in coordinates)
-        straight_from[starts] = _arms_straight(windows_x, windows_y, padded, starts, length, tolerance, guard)
+        row_of_start = np.cumsum(needed) - 1
+        mean, slope, worst = _arm_fit(padded, np.flatnonzero(needed), length, residuals=rung > 0)
         for side in sides:
-            alive[side] = alive[side][straight_from[first[side]]]
-            final_rung[side][alive[side]] = rung
+            row = row_of_start[first[side]]
+            if rung > 0:
+                with np.errstate(invalid="ignore"):
+                    straight = worst[row] <= tolerance
+                alive[side], row = alive[side][straight], row[straight]
+            directions[side][alive[side]] = slope[row]
+            centres[side][alive[side]] = mean[row]
         if not (alive[-1].size or alive[1].size):
             break
-    directions, centres = {}, {}
-    for side in sides:
-        directions[side] = np.empty((m, 2))
-        centres[side] = np.empty((m, 2))
-    for rung, length in enumerate(ladder):
-        points = {side: np.flatnonzero(final_rung[side] == rung) for side in sides}
-        first = {-1: points[-1] + (reach - length + 1), 1: points[1] + reach}
-        starts = np.union1d(first[-1], first[1])
-        if starts.size == 0:
-            continue
-        mean, slope, _ = _arm_fit(padded, starts, length)
-        for side in sides:
-            row = np.searchsorted(starts, first[side])
-            directions[side][points[side]] = slope[row]
-            centres[side][points[side]] = mean[row]
     a, b = directions[-1], directions[1]
     turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
     return turn, (centres[-1], a, centres[1], b)
@@ -1174,9 +1133,14 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         flanks = turn[idx % m]
     else:
         flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
-    with np.errstate(invalid="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)          # all-NaN flanks at open ends
-        excess = np.abs(turn - np.nanmedian(flanks, axis=1))
+    if np.isnan(flanks).any():              # open ends; np.median gives the same values when there is no NaN
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)      # all-NaN flanks at open ends
+            baseline = np.nanmedian(flanks, axis=1)
+    else:
+        baseline = np.median(flanks, axis=1)
+    with np.errstate(invalid="ignore"):
+        excess = np.abs(turn - baseline)
         size = np.abs(turn)
         strength = np.nan_to_num(size, nan=-np.inf)
         peak = (strength >= _circular_max_filter(strength, separation, closed)) \

@@ -640,3 +640,21 @@ def test_explorer_highlights_the_worst_corner_piece(explorer_factory):
         np.testing.assert_allclose(contour[0], points[knot_indices[0]], atol=1e-4)
         np.testing.assert_allclose(contour[-1], points[knot_indices[-1] % len(points)], atol=1e-4)
         assert error == pytest.approx(explorer.iteration_info["max_error"])
+
+
+def test_installed_layout_uses_the_packaged_static_dir(tmp_path):
+    """A wheel carries js/ as splinecraft/widgets/static (pyproject force-include); _assets finds it there."""
+    import importlib.util
+
+    from splinecraft.widgets import _assets
+
+    package = tmp_path / "site-packages" / "splinecraft" / "widgets"
+    (package / "static").mkdir(parents=True)
+    shutil.copy(_assets.__file__, package / "_assets.py")
+    for name in ("common.js", "spline_editor.js", "trace_explorer.js", "widgets.css"):
+        shutil.copy(static_dir() / name, package / "static" / name)
+    spec = importlib.util.spec_from_file_location("installed_assets", package / "_assets.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.static_dir() == package / "static"
+    assert module.load_esm("trace_explorer.js") == load_esm("trace_explorer.js")

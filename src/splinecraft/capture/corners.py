@@ -963,27 +963,39 @@ def _smooth(samples, sigma, closed):
                             np.convolve(padded[:, 1], kernel, "valid")])
 
 
-def _arm_fit(padded, starts, length, *, residuals=True):
+def _arm_fit(padded, starts, length, tolerance=None):
     """Least-squares lines ``x(t) = mean + slope t`` of the arms (windows) of ``length`` samples starting at
-    the rows ``starts`` of ``padded``: their mean points, slopes (along travel) and, when ``residuals``,
-    their largest sample-to-line distances (else None; NaN where a window holds a NaN).
+    the rows ``starts`` of ``padded``: their mean points, slopes (along travel) and, given a
+    ``tolerance``, whether every sample of the window lies within ``tolerance`` of its line (else None;
+    False where a window holds a NaN).
 
     The windows are gathered as one ``(length, k, 2)`` block, sample-major, so that every sum over a
     window runs as ``length`` vectorized additions over all windows at once; the mean is that running sum
     divided by ``length`` and the slope the running sum of ``t / sum(t^2)`` times the samples -- in
     floating point the same operations, in the same order, as a per-window mean and dot product.
+
+    The straightness test is ``max hypot(residual) <= tolerance``. It compares the squared distances with
+    ``tolerance**2`` (``hypot`` is several times slower) and calls ``hypot`` only for the windows whose
+    largest squared distance is within a relative ``1e-12`` of ``tolerance**2`` (or NaN), where rounding
+    could decide; the answer is therefore exactly that of ``hypot``.
     """
     _, centred, slope_weights = _arm_operators(length, 1)
-    arm = padded[np.arange(length)[:, None] + starts[None, :]]                 # (length, k, 2)
+    arm = np.take(padded, np.arange(length)[:, None] + starts[None, :], axis=0)      # (length, k, 2)
     mean = arm.sum(axis=0) / length
     slope = np.einsum("l,lad->ad", slope_weights, arm)
-    if not residuals:
+    if tolerance is None:
         return mean, slope, None
     arm -= mean
-    arm -= centred[:, None, None] * slope
+    arm -= centred[:, None, None] * slope                       # residuals from the line
+    dx, dy = arm[..., 0], arm[..., 1]
+    worst = (dx * dx + dy * dy).max(axis=0)
+    limit = tolerance * tolerance
     with np.errstate(invalid="ignore"):
-        worst = np.hypot(arm[..., 0], arm[..., 1]).max(axis=0)
-    return mean, slope, worst
+        straight = worst < limit * (1.0 - 1e-12)
+        unsure = ~straight & ~(worst > limit * (1.0 + 1e-12))   # near the limit, or NaN
+        if unsure.any():
+            straight[unsure] = np.hypot(dx[:, unsure], dy[:, unsure]).max(axis=0) <= tolerance
+    return mean, slope, straight
 
 
 def _signed_arm_turn(R, closed, tolerance, ladder):
@@ -1010,23 +1022,29 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
     alive = {side: np.arange(m) for side in sides}
     directions = {side: np.full((m, 2), np.nan) for side in sides}
     centres = {side: np.full((m, 2), np.nan) for side in sides}
+    line = {}                               # side -> (mean, slope) of the last straight arm of each alive sample
     for rung, length in enumerate(ladder):
         first = {-1: alive[-1] + (reach - length + 1), 1: alive[1] + reach}    # window starts in padded
         needed = np.zeros(len(padded) - length + 1, dtype=bool)
         for side in sides:
             needed[first[side]] = True
         row_of_start = np.cumsum(needed) - 1
-        mean, slope, worst = _arm_fit(padded, np.flatnonzero(needed), length, residuals=rung > 0)
+        mean, slope, straight = _arm_fit(padded, np.flatnonzero(needed), length,
+                                         tolerance if rung > 0 else None)
         for side in sides:
             row = row_of_start[first[side]]
-            if rung > 0:
-                with np.errstate(invalid="ignore"):
-                    straight = worst[row] <= tolerance
-                alive[side], row = alive[side][straight], row[straight]
-            directions[side][alive[side]] = slope[row]
-            centres[side][alive[side]] = mean[row]
+            if rung > 0:                    # arms that stop here keep the line of the previous length
+                keep = straight[row]
+                stopped = ~keep
+                directions[side][alive[side][stopped]] = line[side][1][stopped]
+                centres[side][alive[side][stopped]] = line[side][0][stopped]
+                alive[side], row = alive[side][keep], row[keep]
+            line[side] = (mean[row], slope[row])
         if not (alive[-1].size or alive[1].size):
             break
+    for side in sides:                      # arms that reached the last length
+        directions[side][alive[side]] = line[side][1]
+        centres[side][alive[side]] = line[side][0]
     a, b = directions[-1], directions[1]
     turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
     return turn, (centres[-1], a, centres[1], b)

@@ -250,7 +250,7 @@ function render({ model, el }) {
     deleteBtn.disabled = !(sel >= 0) || uses.add_delete === false;
 
     for (const [slider, name] of [[globalTension, "point_tension"], [globalWeight, "interval_weights"], [alphaSlider, "alpha"], [betaSlider, "beta"], [pointTension, "point_tension"], [intervalWeight, "interval_weights"], [combScale, "comb_scale"]]) {
-      const [lo, hi, st] = range(name);
+      const [lo, hi, st] = (name === "alpha" || name === "beta") && uses.alpha_range ? uses.alpha_range : range(name);
       slider.configure(slider === globalWeight || slider === intervalWeight || slider === combScale ? Math.max(lo, 1e-6) : lo, hi, st);
     }
     const v = model.get("point_tension") ?? [], w = model.get("interval_weights") ?? [];
@@ -262,8 +262,8 @@ function render({ model, el }) {
     alphaSlider.setLabel(uses.alpha_label ?? "α");
     betaSlider.setLabel(uses.beta_label ?? "β");
     classSection.style.display = uses.alpha === false ? "none" : "";
-    presetField.style.display = uses.alpha === false ? "none" : "";
-    const free = model.get("preset") === "free";
+    presetField.style.display = uses.alpha === false || uses.preset === false ? "none" : "";
+    const free = model.get("preset") === "free" || uses.preset === false;
     alphaSlider.setDisabled(!free);
     betaSlider.setDisabled(!free);
 
@@ -279,6 +279,7 @@ function render({ model, el }) {
 
     for (const [name, row] of Object.entries(overlayBoxes)) row.set(model.get(name));
     overlayBoxes.show_bezier_points.row.style.display = uses.vw === false ? "none" : "";
+    overlayBoxes.show_bezier_points.row.querySelector("span").textContent = uses.vw_label ?? "class points V, W";
     combScale.set(model.get("comb_scale"));
     explanation.innerHTML = model.get("explanation");
     showStatus();

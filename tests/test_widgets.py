@@ -658,3 +658,20 @@ def test_installed_layout_uses_the_packaged_static_dir(tmp_path):
     spec.loader.exec_module(module)
     assert module.static_dir() == package / "static"
     assert module.load_esm("trace_explorer.js") == load_esm("trace_explorer.js")
+
+
+def test_alpha_beta_reset_when_their_meaning_changes():
+    """Class parameters (§1) vs relative tangent scales (Alg 3.1/3.2) vs tangent scales (Alg 3.3)."""
+    editor = SplineEditor(POINTS, preset="bezier")
+    editor.form = "timmer_gc1"
+    assert (editor.preset, editor.alpha, editor.beta) == ("free", 1.0, 1.0)
+    chords = np.hypot(*np.diff(np.array(POINTS), axis=0).T)
+    reference = sc.timmer_gc1(np.array(POINTS), alpha=4.0 / chords, beta=4.0 / chords)
+    np.testing.assert_allclose(editor.spline.bezier(), reference.bezier(), atol=1e-9)
+    editor.form = "timmer_gc2"
+    assert (editor.preset, editor.alpha, editor.beta) == ("timmer", 4.0, 4.0)
+    editor.form = "interpolant"
+    assert (editor.preset, editor.alpha, editor.beta) == ("ball", 2.0, 2.0)
+    editor.preset = "bezier"
+    editor.form = "basis"  # same meaning (class parameters): kept
+    assert (editor.preset, editor.alpha) == ("bezier", 3.0)

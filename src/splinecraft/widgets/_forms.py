@@ -93,6 +93,17 @@ FORMS = {
 
 SEGMENT_LABELS = ("F₀", "V", "W", "F₁")
 
+#: What alpha, beta mean per form (spec §1 class parameters, §5.4/5.5 relative tangent scales, §5.6 tangent
+#: scales), and the (preset, alpha, beta) a form starts from when the meaning changes.
+ALPHA_MEANING = {
+    "interpolant": ("class", ("ball", 2.0, 2.0)),
+    "basis": ("class", ("ball", 2.0, 2.0)),
+    "segment": ("class", ("ball", 2.0, 2.0)),
+    "timmer_g2": ("relative", ("free", 1.0, 1.0)),
+    "timmer_gc1": ("relative", ("free", 1.0, 1.0)),
+    "timmer_gc2": ("tangent_scale", ("timmer", 4.0, 4.0)),
+}
+
 
 def default_end_condition(form: str) -> str:
     ends = FORMS[form]["ends"]
@@ -121,6 +132,10 @@ def form_options(tension_scale: str) -> dict:
                 "tension": spec["tension"], "knots": spec["knots"], "closed": spec["closed"], "vw": spec["vw"],
                 "alpha": spec["alpha"], "alpha_label": spec["alpha_label"], "beta_label": spec["beta_label"],
                 "add_delete": spec["add_delete"], "alpha_range": list(spec["alpha_range"]),
+                "vw_label": "Timmer points Q₁, Q₂" if name.startswith("timmer") else "class points V, W",
+                # Ball/Bézier/Timmer presets are class parameters (§1); in Alg 3.1/3.2 the sliders are relative
+                # tangent scales, so the presets would mean nothing there
+                "preset": name not in ("timmer_g2", "timmer_gc1"),
             }
             for name, spec in FORMS.items()
         },

@@ -23,7 +23,7 @@ import traitlets as t
 
 from ._assets import load_css, load_esm
 from ._forms import (
-    FORMS, KNOT_CHOICES, PRESETS, SEGMENT_LABELS, build_spline, default_end_condition, end_choices,
+    ALPHA_MEANING, FORMS, KNOT_CHOICES, PRESETS, SEGMENT_LABELS, build_spline, default_end_condition, end_choices,
     explanation, form_options,
 )
 
@@ -319,7 +319,8 @@ class SplineEditor(anywidget.AnyWidget):
             params.setdefault("closed", False)
         state = {
             "form": form, "closed": bool(params.get("closed", False)),
-            "preset": params.get("preset", "ball" if "alpha" not in params and "beta" not in params else "free"),
+            "preset": params.get("preset", ALPHA_MEANING[form][1][0] if "alpha" not in params and "beta" not in params
+                                 else "free"),
             "knots": params.get("knots", "chord"), "tension_scale": params.get("tension_scale", "relative"),
         }
         if not isinstance(state["knots"], str) or state["knots"] not in dict(KNOT_CHOICES):
@@ -330,8 +331,8 @@ class SplineEditor(anywidget.AnyWidget):
             raise ValueError(f"preset must be one of {', '.join(PRESETS)}, got {state['preset']!r}")
         state["points"] = self._as_point_list(points, "points")
         n = len(state["points"])
-        values = PRESETS[state["preset"]][1]
-        alpha = params.get("alpha", values[0] if values else 2.0)
+        values = PRESETS[state["preset"]][1] or ALPHA_MEANING[form][1][1:]
+        alpha = params.get("alpha", values[0])
         state["alpha"] = float(alpha)
         state["beta"] = float(params.get("beta", values[1] if values else alpha))
         state["end_condition"] = params.get("end_condition", default_end_condition(form))
@@ -507,6 +508,9 @@ class SplineEditor(anywidget.AnyWidget):
         if name == "form":
             if state["end_condition"] not in end_choices(form):
                 state["end_condition"] = default_end_condition(form)
+            if old in ALPHA_MEANING and ALPHA_MEANING[old][0] != ALPHA_MEANING[form][0]:
+                # alpha, beta mean something else in this form: start from its default
+                state["preset"], state["alpha"], state["beta"] = ALPHA_MEANING[form][1]
             if form == "segment" and old != "segment":
                 self._segment_stash = _copy_state({k: state[k] for k in ("points", "point_tension", "interval_weights", "closed")})
                 state["points"] = self._segment_points(state)

@@ -12,9 +12,7 @@ import pytest
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
-PRELUDE = ""
-
-EDITOR_CELL = PRELUDE + """\
+EDITOR_CELL = """\
 import splinecraft as sc
 editor = sc.SplineEditor([[60, 300], [160, 120], [300, 80], [440, 160], [540, 320]], width=620, height=420)
 editor
@@ -159,7 +157,7 @@ def test_touch_drag_moves_a_point(lab):
     wait_curve_change(page, old_d)
 
 
-EXPLORER_CELL = PRELUDE + """\
+EXPLORER_CELL = """\
 import numpy as np
 import splinecraft as sc
 yy, xx = np.mgrid[0:48, 0:48] + 0.5

@@ -238,6 +238,72 @@ def test_tangent_jump_works_on_sparse_polylines_and_open_curves():
     assert 40 in cm.srm05(ell, closed=False).tolist() or 39 in cm.srm05(ell, closed=False).tolist()
 
 
+# ------------------------------------------------------------------------- tangent-jump internals (arm fits)
+def _random_walk(seed, count, closed):
+    """A wiggly curve with straight stretches and turns, unit-ish spacing (closed: a noisy circle)."""
+    rng = np.random.default_rng(seed)
+    if closed:
+        t = np.linspace(0, 2 * np.pi, count, endpoint=False)
+        radius = count / (2 * np.pi) * (1 + 0.15 * np.sin(3 * t + rng.uniform(0, 6)))
+        curve = np.column_stack([radius * np.cos(t), radius * np.sin(t)])
+    else:
+        heading = np.cumsum(np.where(rng.uniform(size=count) < 0.1, rng.normal(0, 0.8, count), 0.0))
+        curve = np.cumsum(np.column_stack([np.cos(heading), np.sin(heading)]), axis=0)
+    return curve + rng.normal(0, 0.12, curve.shape) + rng.uniform(-300, 300, 2)
+
+
+def _arms_by_loops(curve, closed, tolerance, ladder):
+    """Reference for ``_signed_arm_turn``: every sample and side on its own, lines by ``np.polyfit``."""
+    m = len(curve)
+    turn = np.full(m, np.nan)
+    for i in range(m):
+        direction = {}
+        for side in (-1, 1):
+            direction[side] = np.full(2, np.nan)
+            for rung, length in enumerate(ladder):
+                index = i + (np.arange(length) if side > 0 else np.arange(-length + 1, 1))
+                if not closed and (index.min() < 0 or index.max() >= m):
+                    break
+                window = curve[index % m]
+                t = np.arange(length, dtype=float)
+                fit = np.polyfit(t, window, 1)                       # rows: slope, intercept
+                distance = np.hypot(*(window - np.outer(t, fit[0]) - fit[1]).T)
+                if rung > 0 and distance.max() > tolerance:
+                    break
+                direction[side] = fit[0]
+        a, b = direction[-1], direction[1]
+        turn[i] = np.degrees(np.arctan2(a[0] * b[1] - a[1] * b[0], a @ b))
+    return turn
+
+
+@SETTINGS
+@given(st.integers(0, 10 ** 6), st.booleans(), st.sampled_from([0.1, 0.3, 0.6]))
+def test_arm_turn_matches_a_loop_over_samples_and_sides(seed, closed, tolerance):
+    curve = _random_walk(seed, 90, closed)
+    ladder = [length for length in cm._ARM_LADDER if length <= 30 and 2 * length < len(curve)]
+    turn, _ = cm._signed_arm_turn(curve, closed, tolerance, ladder)
+    expected = _arms_by_loops(curve, closed, tolerance, ladder)
+    np.testing.assert_array_equal(np.isnan(turn), np.isnan(expected))
+    np.testing.assert_allclose(turn, expected, atol=1e-6, equal_nan=True)
+
+
+@pytest.mark.parametrize("length", [3, 8, 19, 60])
+def test_arm_fit_straightness_is_exact_at_the_tolerance(length):
+    # the squared-distance shortcut must give the answer of max(hypot(residual)) <= tolerance even when the
+    # tolerance is that maximum itself (or the next float below it)
+    padded = _random_walk(length, 200, closed=False)
+    starts = np.arange(0, 200 - length, 7)
+    mean, slope, _ = cm._arm_fit(padded, starts, length)
+    offsets = np.arange(length) - (length - 1) / 2
+    for row, start in enumerate(starts[:12]):
+        residual = padded[start:start + length] - mean[row] - offsets[:, None] * slope[row]
+        largest = np.hypot(*residual.T).max()
+        assert cm._arm_fit(padded, starts, length, largest)[2][row]
+        assert not cm._arm_fit(padded, starts, length, np.nextafter(largest, 0.0))[2][row]
+    padded[starts[3] + 1] = np.nan                                  # a NaN sample is never straight
+    assert not cm._arm_fit(padded, starts, length, 1e9)[2][3]
+
+
 # ------------------------------------------------------------------------------------------------ SRM05
 def test_srm05_square_and_diamond():
     outline, truth = polygon_outline([(0, 0), (60, 0), (60, 40), (0, 40)])

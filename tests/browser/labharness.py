@@ -93,7 +93,8 @@ def start_lab(base: Path | None = None, *, nodelay: bool = True):
     )
     config = base / "config"
     config.mkdir(parents=True, exist_ok=True)
-    extensions = {"splinecraft.widgets.jupyter_nodelay": True} if nodelay else {}
+    # Explicit either way: installing splinecraft enables the extension environment-wide (jupyter-config/).
+    extensions = {"splinecraft.widgets.jupyter_nodelay": bool(nodelay)}
     (config / "jupyter_server_config.json").write_text(json.dumps({"ServerApp": {"jpserver_extensions": extensions}}))
     settings = base / "settings"
     notification = settings / "@jupyterlab" / "apputils-extension"

@@ -2,6 +2,7 @@
 
     .venv/bin/python benchmarks/bench_corners.py                      # synthetic set + yardstick
     .venv/bin/python benchmarks/bench_corners.py --yardstick DIR --per-family 40 --seed 1 --json out.json
+    .venv/bin/python benchmarks/bench_corners.py --speed [REVISION]    # tangent-jump: old code vs now
 
 Every shape is rasterized (pixel (r, c) is ink when its centre (c + 0.5, r + 0.5) is inside, even-odd over
 its contours), traced to crack outlines by the project's ``trace_boundaries`` and given to each detector.
@@ -517,6 +518,60 @@ def report_turn_recall(results, methods):
     print(_table(["method"] + [f"{lo}-{hi} deg" for lo, hi in bins], rows))
 
 
+# ================================================================================== speed of tangent-jump
+SPEED_BASELINE = "f9c1a15"      # last revision before the arm fits were vectorized over windows
+
+
+def _corners_at_revision(revision):
+    """``capture/corners.py`` as of a git ``revision``, loaded as a separate module."""
+    import subprocess
+    import types
+    text = subprocess.run(["git", "-C", str(REPO), "show", f"{revision}:src/splinecraft/capture/corners.py"],
+                          check=True, capture_output=True, text=True).stdout
+    module = types.ModuleType(f"_corners_{revision}")
+    exec(compile(text, f"corners.py@{revision}", "exec"), module.__dict__)
+    return module
+
+
+def report_speed(revision=SPEED_BASELINE, repeats=31):
+    """``tangent_jump`` of ``revision`` and of the working tree, interleaved call by call on the outer
+    outlines of the thesis objects and of font glyphs; median ms per outline, ratio, identical indices."""
+    from splinecraft import datasets
+    old = _corners_at_revision(revision)
+    cases = []
+    for name in ("D", "apple", "plane", "ali"):
+        for size in (300, 450):
+            outline = max((b.outline for b in contour.trace_boundaries(datasets.thesis_object(name, size))),
+                          key=len)
+            cases.append((f"{name} {size} px", outline))
+    team = _team_glyph_reader()
+    if team is not None:
+        for font, ch in (("DejaVuSerif.ttf", "R"), ("DejaVuSans-Bold.ttf", "&")):
+            g = team.glyph(font, ch, 300.0)
+            shape = _shape(ch, "font", g["contours"], g["corners"], np.random.default_rng(0))
+            outline = max((b.outline for b in contour.trace_boundaries(rasterize(shape))), key=len)
+            cases.append((f"{font[:-4]} '{ch}' 300 px", outline))
+    rows = []
+    for label, outline in cases:
+        same = np.array_equal(old.tangent_jump(outline), cm.tangent_jump(outline))
+        wall, cpu = {"old": [], "new": []}, {"old": [], "new": []}
+        for _ in range(repeats):
+            for key, fn in (("old", old.tangent_jump), ("new", cm.tangent_jump)):
+                w0, c0 = time.perf_counter(), time.thread_time()
+                fn(outline)
+                cpu[key].append(time.thread_time() - c0)
+                wall[key].append(time.perf_counter() - w0)
+        row = [label, len(outline)]
+        for times in (wall, cpu):
+            before, after = (1e3 * np.median(times[k]) for k in ("old", "new"))
+            row += [f"{before:.1f}", f"{after:.1f}", f"{before / after:.1f}x"]
+        rows.append(row + ["yes" if same else "**no**"])
+    print(f"\n### tangent-jump speed: {revision} vs working tree (median of {repeats} interleaved calls; "
+          "wall clock and thread CPU time)\n")
+    print(_table(["outline", "points", f"wall ms {revision}", "wall ms now", "ratio",
+                  f"CPU ms {revision}", "CPU ms now", "ratio", "same indices"], rows))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--yardstick", default=str(REPO.parent / "shared" / "yardstick"))
@@ -525,7 +580,13 @@ def main(argv=None):
     parser.add_argument("--methods", default=",".join(cm.CORNER_METHODS))
     parser.add_argument("--skip-synthetic", action="store_true")
     parser.add_argument("--json", help="write the numbers to this file")
+    parser.add_argument("--speed", nargs="?", const=SPEED_BASELINE, metavar="REVISION",
+                        help="only time tangent-jump against its code at a git revision "
+                             f"(default {SPEED_BASELINE}) and exit")
     args = parser.parse_args(argv)
+    if args.speed:
+        report_speed(args.speed)
+        return
     methods = [m for m in args.methods.split(",") if m]
     dump = {}
     print(f"numpy {np.__version__}; python {sys.version.split()[0]}; {os.cpu_count()} cpu")

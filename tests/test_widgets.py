@@ -459,8 +459,6 @@ def test_points_travel_as_float64_bytes_both_ways():
 
 
 def test_nodelay_server_extension_sets_tcp_nodelay_on_open():
-    import asyncio
-
     from splinecraft.widgets import jupyter_nodelay
 
     calls = []
@@ -474,7 +472,11 @@ def test_nodelay_server_extension_sets_tcp_nodelay_on_open():
 
     assert jupyter_nodelay.enable_nodelay(FakeHandler) is True
     assert jupyter_nodelay.enable_nodelay(FakeHandler) is False  # idempotent
-    asyncio.run(FakeHandler().open("k1"))
+    # Drive the coroutine by hand: it never suspends, and the test must not need (or collide with) an event
+    # loop -- Playwright's sync API keeps one running in this thread during the browser tests.
+    opening = FakeHandler().open("k1")
+    with pytest.raises(StopIteration):
+        opening.send(None)
     assert calls == [("nodelay", True), ("open", "k1")]
     assert jupyter_nodelay._jupyter_server_extension_points() == [{"module": "splinecraft.widgets.jupyter_nodelay"}]
 

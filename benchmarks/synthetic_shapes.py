@@ -152,11 +152,15 @@ def rounded_rect(name, w, h, r):
     return _shape(name, [pts], corners)
 
 
-def ring(name, r_out, r_in):
-    outer = ellipse("o", r_out, r_out)["contours"][0]
-    inner = ellipse("i", r_in, r_in)["contours"][0][::-1]
-    shift = outer.min(0)
-    return _shape(name, [outer - shift, inner - shift], [])
+def _circle_points(radius, centre=(0.0, 0.0)):
+    n = int(np.ceil(2 * np.pi * radius / STEP))
+    a = 2 * np.pi * np.arange(n) / n
+    return np.column_stack([centre[0] + radius * np.cos(a), centre[1] + radius * np.sin(a)])
+
+
+def ring(name, r_out, r_in, offset=(0.0, 0.0)):
+    """Annulus (a hole inside a disc); ``offset`` moves the hole's centre."""
+    return _shape(name, [_circle_points(r_out), _circle_points(r_in, offset)[::-1]], [])
 
 
 def d_shape(name, size):

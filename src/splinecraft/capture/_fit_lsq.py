@@ -282,7 +282,7 @@ class OutlineLSQ:
     """
 
     def __init__(self, points, corners, epsilon, *, corner_radius=2.0, corner_allowance=0.5, min_gap=3,
-                 sample_spacing=0.5, hoschek_gate=2.0, initial_knots=4, weight_profile="quadratic", tip_gap=0.5):
+                 sample_spacing=0.5, hoschek_gate=2.0, initial_knots=4, weight_profile="quadratic", tip_gap=0.5, geometric_corners=True, corner_pin=0.0):
         points = np.asarray(points, float)
         n = points.shape[0]
         corners = np.unique(np.asarray(corners, dtype=np.int64))
@@ -310,6 +310,8 @@ class OutlineLSQ:
         pieces = self.cb.shape[0] - 1
         self.piece_of = np.clip(np.searchsorted(self.cb, np.arange(n + 1), side="right") - 1, 0, pieces - 1)
         self.tip_gap_scale = float(tip_gap)
+        self.geometric_corners = bool(geometric_corners)
+        self.corner_pin = float(corner_pin)
         self.fixed = np.zeros(n + 1, bool)
         if K:
             self.fixed[self.cb] = True
@@ -327,11 +329,23 @@ class OutlineLSQ:
             self.nearest_corner = np.zeros(n + 1, dtype=np.int64)
         if K:
             self.radius, theta = self._corner_radii()
+            self.theta = theta
+            self.zone_radius = self.radius.copy()  # the zone keeps its size when the extrapolation is reduced
+            self.allowance_kept = np.zeros(K, bool)
             # parameter gap on each side of a corner: the pixel tip is truncated by about
             # 0.5 / sin(theta / 2) - 0.5 px, and the pieces need that much parameter to reach the true corner
             self.tip_gap = np.clip(self.tip_gap_scale * (1.0 / np.maximum(np.sin(0.5 * theta), 0.1) - 1.0), 0.0, 3.0)
+            self.gap_before, self.gap_after = self.tip_gap.copy(), self.tip_gap.copy()
+            self.corner_target = np.full((K, 2), np.nan)
+            if self.geometric_corners:
+                self._geometric_gaps()
         else:
             self.radius, self.tip_gap = np.zeros(1), np.zeros(1)
+            self.theta = np.full(1, np.pi)
+            self.zone_radius = np.zeros(1)
+            self.allowance_kept = np.zeros(1, bool)
+            self.gap_before = self.gap_after = np.zeros(1)
+            self.corner_target = np.full((1, 2), np.nan)
         self.p = self._parameters()
         self.period = float(self.p[-1])
         self.lo_par = self.p[self.cb[self.piece_of]]
@@ -366,16 +380,82 @@ class OutlineLSQ:
         both sides of each corner (the corner's own point sits in the middle of its gap)."""
         if not self.K:
             return self.s.copy()
-        gap = self.tip_gap
+        after, before = self.gap_after, self.gap_before
         lengths = np.diff(self.s[self.cb])
-        corner_par = np.concatenate([[0.0], np.cumsum(gap + lengths + np.roll(gap, -1))])
+        # piece k: corner k, gap_after[k], the piece's arc length, gap_before[k + 1], corner k + 1
+        corner_par = np.concatenate([[0.0], np.cumsum(after + lengths + np.roll(before, -1))])
         k = self.piece_of
-        p = corner_par[k] + gap[k] + self.s - self.s[self.cb[k]]
+        p = corner_par[k] + after[k] + self.s - self.s[self.cb[k]]
         p[self.cb] = corner_par
         return p
 
+    def _geometric_gaps(self):
+        """Where the contour is straight enough on both sides of a corner, intersect total-least-squares lines
+        fitted to the contour just outside the truncated tip (arc distance ``r .. r + 8`` px, at most 0.45 of the
+        piece) and set the parameter gaps so that the parameter is the distance along those lines: the pieces
+        then reach the intersection without bending. Also remembers the intersection (``corner_target``).
+        Corners whose lines are nearly parallel, or whose intersection is more than 3 px from the contour
+        corner, keep the angle-based gaps."""
+        s, L, K = self.s, self.arc_length, self.K
+        lengths = np.diff(s[self.cb])
+        before_len, after_len = np.roll(lengths, 1), lengths
+        for c in range(K):
+            ic = self.cb[c]
+            sc = s[ic]
+            lines, anchors = [], []
+            for sign, side_len in ((-1, before_len[c]), (1, after_len[c])):
+                a0 = max(self.radius[c], 1.0)
+                a1 = min(a0 + 8.0, 0.45 * side_len)
+                if a1 - a0 < 2.0:
+                    break
+                arc = (sc + sign * np.linspace(a0, a1, max(4, int(a1 - a0) * 2))) % L
+                pts = self._point_at_arc(arc)
+                centre = pts.mean(axis=0)
+                _, _, vt = np.linalg.svd(pts - centre, full_matrices=False)
+                lines.append((centre, vt[0]))
+                anchors.append(self._point_at_arc(np.array([(sc + sign * a0) % L]))[0])
+            if len(lines) < 2:
+                continue
+            (c1, d1), (c2, d2) = lines
+            cross = d1[0] * d2[1] - d1[1] * d2[0]
+            if abs(cross) < 0.2:  # nearly parallel (or a corner of less than ~12 deg): no reliable intersection
+                continue
+            delta = c2 - c1
+            t1 = (delta[0] * d2[1] - delta[1] * d2[0]) / cross
+            X = c1 + t1 * d1
+            corner_point = self.Q[ic % self.n]
+            if not np.isfinite(X).all() or np.hypot(*(X - corner_point)) > 3.0:
+                continue
+            a0 = max(self.radius[c], 1.0)
+            self.gap_before[c] = float(np.clip(np.hypot(*(X - anchors[0])) - a0, 0.0, 3.0))
+            self.gap_after[c] = float(np.clip(np.hypot(*(X - anchors[1])) - a0, 0.0, 3.0))
+            self.corner_target[c] = X
+
     def _point_at_arc(self, arc):
         return np.column_stack([np.interp(arc, self.s, self.Qe[:, 0]), np.interp(arc, self.s, self.Qe[:, 1])])
+
+    def _pins(self):
+        """Virtual data points at the geometric corner estimates (weight ``corner_pin``), or None."""
+        if not self.K or self.corner_pin <= 0:
+            return None
+        ok = np.isfinite(self.corner_target[:, 0]) & (self.radius > 0)
+        if not ok.any():
+            return None
+        idx = np.flatnonzero(ok)
+        return self.p[self.cb[idx]], self.corner_target[idx], np.full(idx.shape[0], self.corner_pin)
+
+    def displacement_violations(self):
+        """Corners (still extrapolated) whose fitted point lies farther from the contour corner point than
+        the tip of a pixel shape can be truncated: ``0.5 / sin(theta / 2)`` for the interior angle ``theta``,
+        at least 0.75 px, at most ``epsilon + corner_allowance``. Such a corner is a misfit of the pieces'
+        extensions (a hook), not a truncated tip."""
+        if not self.K:
+            return np.zeros(0, dtype=np.int64)
+        fitted = self.curve_at(self.p[self.cb[:-1]])
+        disp = np.hypot(*(fitted - self.Q[self.cb[:-1] % self.n]).T)
+        limit = np.clip(0.5 / np.maximum(np.sin(0.5 * self.theta), 1e-3), 0.75,
+                        self.epsilon + self.corner_allowance)
+        return np.flatnonzero((disp > limit) & (self.radius > 0))
 
     def release(self, corner):
         """Halve the extrapolation radius of a corner (0 below 0.75 px: the pieces then follow the pixel tip).
@@ -395,11 +475,13 @@ class OutlineLSQ:
         return np.unique(np.concatenate([self.cb, self.simple]))
 
     def zone(self):
-        """Boolean per point (n + 1): inside the zone of a corner that is extrapolated."""
+        """Boolean per point (n + 1): within ``2 r + 1`` px (arc length) of a corner whose tip is still
+        extrapolated, ``r`` its initial weighting radius; the tolerance there is ``epsilon + corner_allowance``."""
         if not self.K:
             return np.zeros(self.n + 1, bool)
-        r = self.radius[self.nearest_corner]
-        return (r > 0) & (self.corner_dist < 2.0 * r + 1.0)
+        r = self.zone_radius[self.nearest_corner]
+        active = (self.radius > 0) | self.allowance_kept
+        return (r > 0) & active[self.nearest_corner] & (self.corner_dist < 2.0 * r + 1.0)
 
     def weights(self):
         if not self.K:
@@ -427,10 +509,13 @@ class OutlineLSQ:
         tu = np.unique(np.append(tau, self.period))
         starts, ends = tu[:-1], tu[1:]
         pieces = self.cb.shape[0] - 1
+        pins = self._pins()
         for step in range(hoschek_steps + 1):
-            i = interval_index(full, u)
-            (N,) = cubic_basis(full, i, u)
-            coef = solve_normal(folded_columns(i, m), N, w, self.Q, m)
+            uu = u if pins is None else np.concatenate([u, pins[0]])
+            i = interval_index(full, uu)
+            (N,) = cubic_basis(full, i, uu)
+            coef = solve_normal(folded_columns(i, m), N, w if pins is None else np.concatenate([w, pins[2]]),
+                                self.Q if pins is None else np.vstack([self.Q, pins[1]]), m)
             if step == hoschek_steps:
                 break
             # Hoschek: one Newton step of the foot-point equation (S(u) - Q) . S'(u) = 0, with S, S', S'' from
@@ -593,13 +678,15 @@ class OutlineLSQ:
         for f in failing:
             a, b = dev["starts"][f], dev["ends"][f]
             if max(out_d[f], out_c[f]) <= 0:
-                worst_at = in_d_at[f] if in_d[f] >= in_c[f] else in_c_at[f]
-                where = u_data[worst_at] if in_d[f] >= in_c[f] else dev["curve_params"][worst_at]
+                in_data = in_d[f] >= in_c[f]
+                best = in_d[f] if in_data else in_c[f]
+                where = u_data[in_d_at[f]] if in_data else dev["curve_params"][in_c_at[f]]
                 c = int(self.nearest_corner[int(np.clip(np.searchsorted(self.u, where), 0, n))])
                 if self.release(c):
                     released.append(c)
-                continue
-            if out_d[f] >= out_c[f]:
+                    continue
+                # the corner already follows the pixels: a knot may still help
+            elif out_d[f] >= out_c[f]:
                 best, where = out_d[f], u_data[out_d_at[f]]
             else:
                 best, where = out_c[f], dev["curve_params"][out_c_at[f]]
@@ -619,17 +706,23 @@ class OutlineLSQ:
         return new, stuck, released
 
     def release_corners(self, dev, stuck):
-        """Stop extrapolating the corners whose zone lies in a stuck interval. Returns the corner numbers."""
+        """Reduce the extrapolation of the corners near a stuck interval (knots too close to split it); a corner
+        that already follows the pixels keeps the corner allowance in its zone instead (a ragged, truncated tip
+        that a C² piece cannot follow within epsilon). Returns the corner numbers."""
         released = []
         if not self.K:
             return released
-        zone = self.zone()
+        r = self.zone_radius[self.nearest_corner]
+        zone = (r > 0) & (self.corner_dist < 2.0 * r + 1.0)
         for f in stuck:
             a, b = dev["starts"][f], dev["ends"][f]
             j0, j1 = np.searchsorted(self.p, a), np.searchsorted(self.p, b)
             inside = np.flatnonzero(zone[j0: j1 + 1]) + j0
             for c in np.unique(self.nearest_corner[inside]):
                 if self.release(int(c)):
+                    released.append(int(c))
+                elif not self.allowance_kept[c]:
+                    self.allowance_kept[c] = True
                     released.append(int(c))
         return released
 

@@ -5,6 +5,9 @@
     .venv/bin/python benchmarks/bench_yardstick.py --no-synthetic        # yardstick only
     .venv/bin/python benchmarks/bench_yardstick.py --no-yardstick        # synthetic set only (no external data)
 
+A third part compares all knot methods (``KNOT_METHODS``) on six synthetic shapes at the default epsilon:
+knots, iterations, convergence, deviation and time, relative to the default ``"lsq"``.
+
 Yardstick (``--yardstick``, default ``../shared/yardstick`` next to the repository; skipped with a message when
 absent): every ``shapes/*.png`` is traced by :func:`splinecraft.trace` with all defaults, written to
 ``benchmarks/out/NAME.svg`` and scored with the yardstick's own ``score_svg.py`` (imported by path): symmetric
@@ -199,6 +202,52 @@ def run_synthetic(repeat, potrace):
     return rows
 
 
+def run_methods(epsilon=None, seeds=3, max_iterations=500):
+    """All knot methods on a few synthetic shapes at the default epsilon: knots, iterations, time, deviation."""
+    import synthetic_shapes as S
+    from splinecraft.capture.fitting import DEFAULT_EPSILON, KNOT_METHODS, fit_outline
+
+    names = ("disc40", "star5", "blob1", "roundrect", "Sans-Bold_D_300", "Serif_S_300")
+    shapes = [s for s in S.tuning_set() if s["name"] in names]
+    contours = []
+    for shape in shapes:
+        mask = S.rasterize(shape)
+        for b in sc.trace_boundaries(mask):
+            contours.append((shape["name"], b.outline, sc.corners(b.outline, method="tangent-jump")))
+    epsilon = DEFAULT_EPSILON if epsilon is None else epsilon
+    print(f"\n### Knot methods on {len(shapes)} synthetic shapes ({len(contours)} contours), epsilon = "
+          f"{epsilon}, corners by tangent-jump, max_iterations = {max_iterations}, {seeds} seeds for "
+          f"the random methods\n")
+    print("| method | knots (corners + inserted), sum | iterations, max over contours (mean over seeds) | "
+          "converged | max deviation px (max) | time ms (sum) | knots / lsq | time / lsq |")
+    print("|---|---|---|---|---|---|---|---|")
+    base = None
+    for method in KNOT_METHODS:
+        knots, iters, conv, dev, times = [], [], [], [], []
+        for seed in (range(seeds) if method != "lsq" else [0]):
+            k = it = 0
+            ok, worst, elapsed = True, 0.0, 0.0
+            for _, outline, corners in contours:
+                t0 = time.perf_counter()
+                fit = fit_outline(outline, corners, epsilon=epsilon, method=method, seed=seed,
+                                  max_iterations=max_iterations, keep_snapshots=False)
+                elapsed += time.perf_counter() - t0
+                k += len(fit.corners_used) + fit.knots_inserted
+                it = max(it, fit.iterations)
+                ok &= fit.converged
+                worst = max(worst, fit.hausdorff)
+            knots.append(k)
+            iters.append(it)
+            conv.append(ok)
+            dev.append(worst)
+            times.append(elapsed)
+        row = (np.mean(knots), np.mean(iters), np.mean(conv), max(dev), 1e3 * np.mean(times))
+        if base is None:
+            base = row
+        print(f"| {method} | {row[0]:.0f} | {row[1]:.1f} | {100 * row[2]:.0f}% | {row[3]:.2f} | {row[4]:.0f} | "
+              f"{row[0] / base[0]:.2f} | {row[4] / base[4]:.1f} |")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--yardstick", default=os.path.join(ROOT, "..", "shared", "yardstick"))
@@ -206,6 +255,7 @@ def main(argv=None):
     parser.add_argument("--repeat", type=int, default=5, help="timing runs per shape (median)")
     parser.add_argument("--no-yardstick", action="store_true")
     parser.add_argument("--no-synthetic", action="store_true")
+    parser.add_argument("--no-methods", action="store_true", help="skip the comparison of the knot methods")
     args = parser.parse_args(argv)
     potrace = _ensure_potrace()
     if potrace is None:
@@ -223,6 +273,9 @@ def main(argv=None):
             print(f"\nyardstick not found at {yardstick}: skipped (pass --yardstick DIR)")
     if not args.no_synthetic:
         run_synthetic(args.repeat, potrace)
+    if not args.no_methods:
+        run_methods()
+        run_methods(2.0)
 
 
 if __name__ == "__main__":

@@ -51,7 +51,7 @@ Definitions where the thesis is silent (spec §3, §6.3)
 * **Nearness** (Algs 4.2, 4.3, 4.6): the thesis measures it from "the corner points of the segment"; since
   inserted knots join the thesis's corner-point list, these are the two knots bracketing the candidate.
   4.2: Euclidean distances ``d_l, d_r`` (eqs 4.13, 4.14) in px, rejected when ``d_l < tau`` or ``d_r < tau``
-  (default ``tau = 2`` px). 4.3: index distances, rejected when ``<= IDX = ceil(tau / 100 * m)`` (eq 4.16, ``m``
+  (default ``tau = 5`` px). 4.3: index distances, rejected when ``<= IDX = ceil(tau / 100 * m)`` (eq 4.16, ``m``
   points in the piece, default ``tau = 5`` %).
 * **Fuzzy selection** (Alg 4.6, eqs 4.17-4.21): three candidates; fuzzy Euclidean distance ``mu_E = E_j / sum E``
   (eq 4.19), fuzzy positional distance ``mu_P = min(PD_l, PD_r) / (|cp_{i+1} - cp_i| / 2)`` in contour indices
@@ -121,7 +121,7 @@ KNOT_METHODS = {
 THESIS_METHODS = ("random", "euclidean", "positional", "random3", "equal3", "fuzzy")
 DEFAULT_METHOD = "lsq"
 DEFAULT_EPSILON = 0.8
-DEFAULT_TAU = {"euclidean": 2.0, "positional": 5.0}
+DEFAULT_TAU = {"euclidean": 5.0, "positional": 5.0}
 #: Iterations without an accepted candidate after which an unfinished piece takes its next candidate anyway.
 STALL_ITERATIONS = 10
 
@@ -888,7 +888,7 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
     removal_done = not opts["remove_knots"]
     converged = False
     while True:
-        hooked = state.displacement_violations()
+        hooked = state.displacement_violations(dev)
         if hooked.size and iteration < max_iterations:
             iteration += 1
             candidates = []
@@ -903,17 +903,14 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
                 snapshots.append(snapshot(iteration, dev, candidates, "insert"))
             continue
         if not (dev["excess"] > 0).any():
+            if not removal_done:
+                removal_done = True
+                iteration, dev = _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapshot,
+                                               record)
+                continue
             if not dev["dense"]:  # verify with the dense check before stopping (the guarantee)
                 dev = state.deviations(dense=True)
-                if not (dev["excess"] > 0).any():
-                    if removal_done:
-                        converged = True
-                        break
-                    removal_done = True
-                    iteration, dev = _remove_knots(state, dev, iteration, max_iterations, keep, snapshots,
-                                                   snapshot, record)
-                    continue
-            elif removal_done:
+            if not (dev["excess"] > 0).any():
                 converged = True
                 break
         if iteration >= max_iterations:
@@ -971,7 +968,7 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
     )
 
 
-def _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapshot, record, rounds=6):
+def _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapshot, record, rounds=4):
     """Knot removal (lsq): drop the cheapest half of the simple knots (no two neighbours), refit, put back the
     ones whose intervals then fail, and repeat while removals stick."""
     for _ in range(rounds):
@@ -1022,7 +1019,7 @@ def _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapsh
             cands += [record(state.piece_of[k], k, False, "restored: its removal broke the tolerance", "restore")
                       for k in restored]
             snapshots.append(snapshot(iteration, dev, cands, "remove"))
-        if not removed:
+        if len(removed) <= max(1, len(picked) // 10):  # diminishing returns
             break
     return iteration, dev
 
@@ -1083,7 +1080,7 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
     method : str
         A key of :data:`KNOT_METHODS`; default ``"lsq"``.
     tau : float, optional
-        Nearness threshold of ``"euclidean"`` (px, default 2) and ``"positional"`` (% of the piece's points,
+        Nearness threshold of ``"euclidean"`` (px, default 5) and ``"positional"`` (% of the piece's points,
         in [0, 50), default 5). Other methods reject it.
     seed : int, None or numpy.random.Generator
         Seed of the thesis methods' random candidates (reproducible; ``"lsq"`` is deterministic).

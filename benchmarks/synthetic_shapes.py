@@ -340,7 +340,7 @@ def rasterize(shape):
 
 # ------------------------------------------------------------------------------------------- the set
 
-def tuning_set(include_glyphs=True, glyph_chars="BDGKMRSWaegk&3", sizes=(300,)):
+def tuning_set(include_glyphs=True, glyph_chars="BDGKMRSWaegk&3ACEHNPQUVXZ25ry", sizes=(300,)):
     """The synthetic set the fit is tuned on (deterministic)."""
     shapes = [
         regular_polygon("square45", 4, 70, np.pi / 4 + 0.0),

@@ -444,7 +444,7 @@ class OutlineLSQ:
         idx = np.flatnonzero(ok)
         return self.p[self.cb[idx]], self.corner_target[idx], np.full(idx.shape[0], self.corner_pin)
 
-    def displacement_violations(self, dev=None):
+    def displacement_violations(self):
         """Corners (still extrapolated) whose fitted point lies farther from the contour corner point than
         the tip of a pixel shape can be truncated: ``0.5 / sin(theta / 2)`` for the interior angle ``theta``,
         at least 0.75 px, at most ``epsilon + corner_allowance``. Such a corner is a misfit of the pieces'
@@ -455,11 +455,7 @@ class OutlineLSQ:
         disp = np.hypot(*(fitted - self.Q[self.cb[:-1] % self.n]).T)
         limit = np.clip(0.5 / np.maximum(np.sin(0.5 * self.theta), 1e-3), 0.75,
                         self.epsilon + self.corner_allowance)
-        bad = (disp > limit) & (self.radius > 0)
-        if dev is not None:  # judge a corner only once both its pieces fit roughly
-            rough = dev["piece_dev"] <= 2.0 * (self.epsilon + self.corner_allowance)
-            bad &= rough & np.roll(rough, 1)
-        return np.flatnonzero(bad)
+        return np.flatnonzero((disp > limit) & (self.radius > 0))
 
     def release(self, corner):
         """Halve the extrapolation radius of a corner (0 below 0.75 px: the pieces then follow the pixel tip).
@@ -656,8 +652,7 @@ class OutlineLSQ:
     # ---------------------------------------------------------------- knot insertion
     def insert(self, dev, strategy="worst"):
         """Insert one knot into every failing knot interval, at its worst point outside the corner zones,
-        kept in the middle half of the interval (``strategy="middle"``: at the middle); an interval whose worst
-        deviation ``D`` is so large that ``(D / epsilon)^(1/3) >= 3`` is split into that many equal parts at once. Where an interval fails
+        kept in the middle half of the interval (``strategy="middle"``: at the middle). Where an interval fails
         only inside the zone of an extrapolated corner, knots cannot help (the fit ignores the truncated
         tip), so that corner stops being extrapolated instead.
 
@@ -706,14 +701,6 @@ class OutlineLSQ:
             if right - left < 2 * self.min_gap:
                 stuck.append(int(f))
                 continue
-            # far off (a cubic's error falls like h^3-h^4): split into k parts at once, k ~ (deviation/eps)^(1/3)
-            parts = int(np.ceil(((best + self.epsilon) / self.epsilon) ** (1.0 / 3.0)))
-            if parts >= 3 and strategy != "middle":
-                spots = np.unique(np.round(np.linspace(left, right, parts + 1)[1:-1]).astype(np.int64))
-                spots = spots[(spots - left >= self.min_gap) & (right - spots >= self.min_gap)]
-                if spots.size:
-                    new.extend((int(j), int(f), float(best)) for j in spots)
-                    continue
             j = int(np.clip(np.searchsorted(self.u[:n], where), left + self.min_gap, right - self.min_gap))
             new.append((j, int(f), float(best)))
         if new:

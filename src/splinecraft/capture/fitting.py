@@ -888,7 +888,7 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
     removal_done = not opts["remove_knots"]
     converged = False
     while True:
-        hooked = state.displacement_violations(dev)
+        hooked = state.displacement_violations()
         if hooked.size and iteration < max_iterations:
             iteration += 1
             candidates = []

@@ -230,11 +230,15 @@ def group_max(groups: np.ndarray, values: np.ndarray, count: int):
 
 
 def eval_bezier(bezier: np.ndarray, piece: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """Points of the Bézier pieces ``bezier[piece]`` at ``theta`` (vectorized)."""
-    b = bezier[piece]
+    """Points of the Bézier pieces ``bezier[piece]`` at ``theta`` (vectorized, cubic Bernstein weights)."""
     s = 1.0 - theta
-    return ((s**3)[:, None] * b[:, 0] + (3 * theta * s**2)[:, None] * b[:, 1]
-            + (3 * theta**2 * s)[:, None] * b[:, 2] + (theta**3)[:, None] * b[:, 3])
+    t2, s2 = theta * theta, s * s
+    weights = np.empty((theta.shape[0], 4))
+    weights[:, 0] = s2 * s
+    weights[:, 1] = 3.0 * theta * s2
+    weights[:, 2] = 3.0 * t2 * s
+    weights[:, 3] = t2 * theta
+    return np.einsum("nj,njd->nd", weights, bezier[piece])
 
 
 def windowed_distance(points, centre, lo, hi, line, window, wrap=0):
@@ -352,6 +356,54 @@ class OutlineLSQ:
         self.hi_par = self.p[self.cb[self.piece_of + 1]]
         self.u = self.p.copy()
         self.coef = None
+
+    def seed_knots(self, density):
+        """Initial simple knots from the contour's curvature, before any insertion round.
+
+        The error of a cubic spline on a knot interval of length ``h`` is about ``c h^4 |S^(4)|``, and on an arc
+        of curvature ``kappa`` (arc-length parameter) ``|S^(4)|`` is about ``kappa^3``: an interval meets the
+        tolerance when ``h <= (epsilon / (c kappa^3))^(1/4)``. The knots are placed where the integral of the
+        knot density ``lambda = (density kappa^3 / epsilon)^(1/4)`` along each piece crosses a multiple of its
+        total over ``floor(total) + 1`` (equidistributed error, de Boor's knot placement). ``kappa`` is the
+        turn of the chord directions (chords over +-4 contour steps) between +-4 steps, per arc length, which
+        averages out the pixel staircase; contour points within 6 px of a corner are left out (the corner's
+        pieces end there). ``density = 0`` keeps the corners as the only knots (four equally spaced knots on an
+        outline without corners)."""
+        n, Q, s = self.n, self.Q, self.s
+        if density <= 0 or n < 16:
+            return
+        a = 4
+        idx = np.arange(n)
+        chord = Q[(idx + a) % n] - Q[(idx - a) % n]
+        phi = np.arctan2(chord[:, 1], chord[:, 0])
+        turn = phi[(idx + a) % n] - phi[(idx - a) % n]
+        turn = (turn + np.pi) % (2.0 * np.pi) - np.pi
+        ahead = np.where(idx + a < n, s[np.minimum(idx + a, n)], self.arc_length + s[(idx + a) % n])
+        behind = np.where(idx - a >= 0, s[np.maximum(idx - a, 0)], s[(idx - a) % n] - self.arc_length)
+        kappa = turn / np.maximum(ahead - behind, 1e-9)
+        # the staircase of a straight side turns both ways: average the signed rate over +-8 steps
+        width = 8
+        padded = np.concatenate([kappa[-width:], kappa, kappa[:width]])
+        box = np.concatenate([[0.0], np.cumsum(padded)])
+        kappa = np.abs(box[2 * width + 1:] - box[: -2 * width - 1]) / (2 * width + 1)
+        lam = (density * kappa**3 / self.epsilon) ** 0.25
+        if self.K:
+            lam[self.corner_dist[:n] < 6.0] = 0.0
+        cum = np.concatenate([[0.0], np.cumsum(lam * np.diff(s))])  # integral up to point j (n + 1 values)
+        new = [self.simple if self.K else np.zeros(1, dtype=np.int64)]  # an outline without corners: seam knot 0
+        for p in range(self.cb.shape[0] - 1):
+            first, last = self.cb[p], self.cb[p + 1]
+            total = cum[last] - cum[first]
+            count = int(np.floor(total))
+            if count < 1:
+                continue
+            targets = cum[first] + total * np.arange(1, count + 1) / (count + 1)
+            j = np.searchsorted(cum[first:last + 1], targets) + first
+            new.append(j[(j - first >= self.min_gap) & (last - j >= self.min_gap)])
+        merged = np.unique(np.concatenate(new)).astype(np.int64)
+        merged = merged[np.diff(merged, prepend=-self.min_gap) >= self.min_gap]  # at least min_gap steps apart
+        if self.K or merged.shape[0] >= 4:  # a periodic spline needs four knots
+            self.simple = merged
 
     def _corner_radii(self):
         """Per corner: the arc length (px) over which the pixel data near the corner is truncated, about
@@ -544,21 +596,24 @@ class OutlineLSQ:
             u = np.maximum.accumulate(un)
         self.u[:n] = u
         self.coef, self.full, self.m, self.tau_values = coef, full, m, tau
+        self._starts, self._ends = starts, ends
+        self._bezier = bezier_of_intervals(coef, full, m, starts, ends)
         return coef
 
     # ---------------------------------------------------------------- geometry of the current fit
     def intervals(self):
-        tu = np.unique(np.append(self.tau_values, self.period))
-        return tu[:-1], tu[1:]
+        """Starts and ends of the knot intervals of the current fit (multiple knots once)."""
+        return self._starts, self._ends
 
     def bezier(self):
-        starts, ends = self.intervals()
-        return bezier_of_intervals(self.coef, self.full, self.m, starts, ends)
+        """Bézier control points (k, 4, 2) of the current fit on its knot intervals."""
+        return self._bezier
 
     def curve_at(self, u):
-        i = interval_index(self.full, u)
-        (N,) = cubic_basis(self.full, i, u)
-        return evaluate(self.coef, folded_columns(i, self.m), N)
+        """Points ``S(u)`` of the current fit (``u`` in ``[0, period]``)."""
+        starts, ends = self.intervals()
+        seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)
+        return eval_bezier(self._bezier, seg, (u - starts[seg]) / (ends - starts)[seg])
 
     def deviations(self, dense=False):
         """Closest-point deviations of the current fit, both directions (upper bounds, see module docstring).

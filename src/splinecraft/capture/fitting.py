@@ -129,9 +129,10 @@ STALL_ITERATIONS = 10
 _ENGINE_OPTIONS = ("point_tension", "interval_weights", "alpha", "beta", "point_tension_scale")
 _THESIS_OPTIONS = _ENGINE_OPTIONS + ("tangent_stride", "fuzzy_weights")
 _LSQ_OPTIONS = ("corner_radius", "corner_allowance", "tip_gap", "min_gap", "remove_knots", "hoschek_gate",
-                "sample_spacing", "geometric_corners", "corner_pin")
+                "sample_spacing", "geometric_corners", "corner_pin", "initial_density")
 _LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, "min_gap": 3, "remove_knots": True,
-                 "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": False, "corner_pin": 0.0}
+                 "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": False, "corner_pin": 0.0,
+                 "initial_density": 0.0}
 
 
 # ------------------------------------------------------------------------------------------------ results
@@ -335,7 +336,8 @@ def _check_options(method, options):
     if method == "lsq":
         out = dict(_LSQ_DEFAULTS)
         out.update(options)
-        for key in ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin"):
+        for key in ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin",
+                    "initial_density"):
             value = out[key]
             if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) \
                     or value < 0:
@@ -851,6 +853,7 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
                                 sample_spacing=opts["sample_spacing"], hoschek_gate=opts["hoschek_gate"],
                                 tip_gap=opts["tip_gap"], geometric_corners=opts["geometric_corners"],
                                 corner_pin=opts["corner_pin"])
+    state.seed_knots(opts["initial_density"])
     rot, K = state.rot, state.K
     snapshots = []
     pieces_count = state.cb.shape[0] - 1
@@ -1025,35 +1028,15 @@ def _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapsh
 
 
 def _lsq_spline(state, dev, epsilon):
-    """The fitted outline as the thesis's interpolant per piece (spec §2; exact for v = 0, omega = 1)."""
+    """The fitted outline as a :class:`Spline`: its exact Bézier pieces and knot points ``F``.
+
+    Between two corners the regression spline is the thesis's interpolant through its knot points with
+    ``v = 0``, ``omega = 1`` and clamped ends (spec §2.2-2.4, §4.5 cross-check): the same C² cubic family, so
+    ``interpolate(F, knots, end_condition="clamped", end_tangents=...)`` rebuilds every piece
+    (``tests/test_fitting.py`` checks this piece by piece)."""
     bezier = dev["bezier"]
-    starts, ends = dev["starts"], dev["ends"]
-    knots = np.append(starts, ends[-1])
-    F = bezier[:, 0]
-    try:
-        if state.K:
-            corner_par = state.p[state.cb]
-            parts = []
-            for p in range(state.cb.shape[0] - 1):
-                a = np.searchsorted(starts, corner_par[p] - 1e-9)
-                b = np.searchsorted(ends, corner_par[p + 1] - 1e-9)
-                sub = bezier[a: b + 1]
-                t = knots[a: b + 2]
-                points = np.vstack([sub[:, 0], sub[-1:, 3]])
-                h0, h1 = t[1] - t[0], t[-1] - t[-2]
-                m0 = 3.0 * (sub[0, 1] - sub[0, 0]) / h0
-                m1 = 3.0 * (sub[-1, 3] - sub[-1, 2]) / h1
-                piece_spline = interpolate(points, knots=t, end_condition="clamped", end_tangents=(m0, m1))
-                parts.append(piece_spline.bezier())
-            engine_bezier = np.concatenate(parts, axis=0)
-        else:
-            engine_bezier = interpolate(F, closed=True, knots=knots).bezier()
-        # the interpolant reproduces the regression spline (same C^2 family); keep the engine's pieces
-        if np.abs(engine_bezier - bezier).max() <= 1e-6 * max(1.0, np.abs(bezier).max()):
-            bezier = engine_bezier
-    except ValueError:
-        pass  # degenerate knot points (coincident F): keep the regression spline's own Bézier pieces
-    return Spline(bezier, knots, closed=True, auxiliary={"F": F},
+    knots = np.append(dev["starts"], dev["ends"][-1])
+    return Spline(bezier, knots, closed=True, auxiliary={"F": bezier[:, 0]},
                   info={"form": "outline_fit", "method": "lsq", "epsilon": epsilon,
                         "pieces": int(state.cb.shape[0] - 1)})
 

@@ -124,16 +124,9 @@ def solve_normal(cols: np.ndarray, basis: np.ndarray, weights: np.ndarray, targe
     """
     wb = basis * weights[:, None]
     flat_cols = cols.reshape(-1)
-    rhs = np.stack([np.bincount(flat_cols, weights=(wb * targets[:, d, None]).reshape(-1), minlength=m)
-                    for d in range(targets.shape[1])], axis=1)
-    if m <= 64:
-        rows = np.repeat(cols, 4, axis=1).reshape(-1)
-        cols2 = np.tile(cols, (1, 4)).reshape(-1)
-        values = (wb[:, :, None] * basis[:, None, :]).reshape(-1)
-        normal = np.bincount(rows * m + cols2, weights=values, minlength=m * m).reshape(m, m)
-        scale = float(np.max(np.diag(normal))) or 1.0
-        normal += regularization * scale * _cyclic_d2(m)
-        return np.linalg.solve(normal, rhs)
+    rhs = np.empty((m, targets.shape[1]))
+    for d in range(targets.shape[1]):
+        rhs[:, d] = np.bincount(flat_cols, weights=(wb * targets[:, d, None]).reshape(-1), minlength=m)
     # cyclic band: entry (a, b) with b = a + k (mod m), k = 0..3, stored as band[k, a]
     band = np.zeros((4, m))
     for r in range(4):
@@ -141,19 +134,18 @@ def solve_normal(cols: np.ndarray, basis: np.ndarray, weights: np.ndarray, targe
             band[s_ - r] += np.bincount(cols[:, r], weights=wb[:, r] * basis[:, s_], minlength=m)
     scale = float(band[0].max()) or 1.0
     pen = regularization * scale
-    band[0] += 6 * pen
+    band[0] += 6 * pen  # + pen * D^T D, D the cyclic second difference (rows 1, -2, 1)
     band[1] += -4 * pen
     band[2] += 1 * pen
+    if m <= 64:  # small: assemble the dense cyclic matrix (wrapped entries add up, also for m < 7)
+        normal = np.zeros((m, m))
+        idx = np.arange(m)
+        normal[idx, idx] = band[0]
+        for k in (1, 2, 3):
+            normal[idx, (idx + k) % m] += band[k]
+            normal[(idx + k) % m, idx] += band[k]
+        return np.linalg.solve(normal, rhs)
     return _solve_cyclic_band(band, rhs)
-
-
-def _cyclic_d2(m):
-    D = np.zeros((m, m))
-    idx = np.arange(m)
-    D[idx, idx] = 1.0
-    D[idx, (idx + 1) % m] += -2.0
-    D[idx, (idx + 2) % m] += 1.0
-    return D.T @ D
 
 
 def _solve_cyclic_band(band, rhs):

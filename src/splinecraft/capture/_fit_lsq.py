@@ -348,6 +348,7 @@ class OutlineLSQ:
         self.hi_par = self.p[self.cb[self.piece_of + 1]]
         self.u = self.p.copy()
         self.coef = None
+        self.seed_min_curvature = 1.0 / 150.0
 
     def seed_knots(self, density):
         """Initial simple knots from the contour's curvature, before any insertion round.
@@ -378,6 +379,7 @@ class OutlineLSQ:
         padded = np.concatenate([kappa[-width:], kappa, kappa[:width]])
         box = np.concatenate([[0.0], np.cumsum(padded)])
         kappa = np.abs(box[2 * width + 1:] - box[: -2 * width - 1]) / (2 * width + 1)
+        kappa[kappa < self.seed_min_curvature] = 0.0  # what is left of the staircase on long straight sides
         lam = (density * kappa**3 / self.epsilon) ** 0.25
         if self.K:
             lam[self.corner_dist[:n] < 6.0] = 0.0
@@ -637,7 +639,7 @@ class OutlineLSQ:
         corner_par = self.p[self.cb]
         spiece = np.clip(np.searchsorted(corner_par, params, side="right") - 1, 0, pieces - 1)
         centre = np.clip(np.searchsorted(self.u, params) - 1, 0, n - 1)
-        window = 3 if dense else 1
+        window = 2 if dense else 1
         if self.K:  # the piece's own edges, and 3 more across each corner (the corner belongs to both pieces)
             d_curve = windowed_distance(samples, centre, self.cb[spiece] - 3, self.cb[spiece + 1] + 2, self.Qe,
                                         window, n)

@@ -132,7 +132,7 @@ _LSQ_OPTIONS = ("corner_radius", "corner_allowance", "tip_gap", "min_gap", "remo
                 "sample_spacing", "geometric_corners", "corner_pin", "initial_density")
 _LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, "min_gap": 3, "remove_knots": True,
                  "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": False, "corner_pin": 0.0,
-                 "initial_density": 0.0}
+                 "initial_density": 0.01}
 
 
 # ------------------------------------------------------------------------------------------------ results
@@ -885,7 +885,7 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
 
     iteration = 0
     state.fit(hoschek_steps=2)
-    dev = state.deviations()
+    dev = state.deviations(dense=True)  # many outlines already pass here: then this is the final check too
     if keep:
         snapshots.append(snapshot(0, dev, [], "initial"))
     removal_done = not opts["remove_knots"]

@@ -457,3 +457,29 @@ def test_lsq_normal_equations_match_a_dense_least_squares_reference(m, seed):
     normal += regularization * np.diag(normal).max() * second_difference.T @ second_difference
     reference = np.linalg.solve(normal, collocation.T @ (weights[:, None] * targets))
     np.testing.assert_allclose(solved, reference, rtol=1e-6, atol=1e-6 * np.abs(reference).max())
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(5, 60), st.integers(0, 4), st.integers(0, 10_000))
+def test_windowed_distance_is_the_exact_distance_to_its_edges_and_an_upper_bound(count, window, seed):
+    """Each value is the exact point-to-segment distance to the nearest edge of its window (brute force per
+    edge) and never below the closest-point distance to the whole closed polyline."""
+    from splinecraft.capture import _fit_lsq
+
+    rng = np.random.default_rng(seed)
+    line = np.cumsum(rng.normal(size=(count, 2)), axis=0)
+    closed = np.vstack([line, line[:1]])
+    points = rng.normal(size=(40, 2)) * 3 + line[rng.integers(0, count, 40)]
+    centre = rng.integers(0, count, 40)
+    got = _fit_lsq.windowed_distance(points, centre, None, None, _fit_lsq.edge_table(closed), window, count)
+
+    def segment_distance(q, a, b):
+        d = b - a
+        t = 0.0 if not d.any() else float(np.clip((q - a) @ d / (d @ d), 0.0, 1.0))
+        return float(np.hypot(*(q - a - t * d)))
+
+    for j, q in enumerate(points):
+        edges = [(centre[j] + k) % count for k in range(-window, window + 1)]
+        assert got[j] == pytest.approx(min(segment_distance(q, closed[e], closed[e + 1]) for e in edges), abs=1e-9)
+        everywhere = min(segment_distance(q, closed[e], closed[e + 1]) for e in range(count))
+        assert got[j] >= everywhere - 1e-9

@@ -233,29 +233,39 @@ def eval_bezier(bezier: np.ndarray, piece: np.ndarray, theta: np.ndarray) -> np.
     return np.einsum("nj,njd->nd", weights, bezier[piece])
 
 
-def windowed_distance(points, centre, lo, hi, line, window, wrap=0):
-    """Distance from ``points[j]`` to the polyline edges ``line[e] -> line[e + 1]``,
-    ``e = centre[j] - window .. centre[j] + window``, clipped to ``[lo[j], hi[j]]`` (if given), then taken modulo
-    ``wrap`` (if > 0).
+def edge_table(line: np.ndarray):
+    """Per edge ``line[e] -> line[e + 1]`` of a polyline: start x, start y, dx, dy and ``1 / |d|^2`` (1 for a
+    zero-length edge), the input of :func:`windowed_distance`."""
+    dx, dy = np.diff(line[:, 0]), np.diff(line[:, 1])
+    den = dx * dx + dy * dy
+    return line[:-1, 0].copy(), line[:-1, 1].copy(), dx, dy, 1.0 / np.where(den > 0, den, 1.0)
+
+
+def windowed_distance(points, centre, lo, hi, edges, window, wrap=0):
+    """Distance from ``points[j]`` to the polyline edges ``e = centre[j] - window .. centre[j] + window``,
+    clipped to ``[lo[j], hi[j]]`` (if given), then taken modulo ``wrap`` (if > 0); ``edges`` is the
+    polyline's :func:`edge_table`.
 
     Exact point-to-segment distances; the minimum over a subset of the edges, so never below the true
     closest-point distance to the polyline (an upper bound that is tight when the window holds the closest edge,
     which the fit's parameterization ensures)."""
     e = centre[:, None] + np.arange(-window, window + 1)[None, :]
     if lo is not None:
-        e = np.clip(e, lo[:, None], hi[:, None])
+        np.clip(e, lo[:, None], hi[:, None], out=e)
     if wrap:
-        e = e % wrap
-    lx, ly = line[:, 0], line[:, 1]
-    ax, ay = lx[e], ly[e]
-    dx, dy = lx[e + 1] - ax, ly[e + 1] - ay
-    px, py = points[:, 0, None] - ax, points[:, 1, None] - ay
-    den = dx * dx + dy * dy
-    t = (px * dx + py * dy) / np.where(den > 0, den, 1.0)
+        e %= wrap
+    ax, ay, dx, dy, inverse = edges
+    px = points[:, 0, None] - ax.take(e)
+    py = points[:, 1, None] - ay.take(e)
+    ex, ey = dx.take(e), dy.take(e)
+    t = (px * ex + py * ey) * inverse.take(e)
     np.clip(t, 0.0, 1.0, out=t)
-    px -= t * dx
-    py -= t * dy
-    return np.sqrt((px * px + py * py).min(axis=1))
+    px -= t * ex
+    py -= t * ey
+    px *= px
+    py *= py
+    px += py
+    return np.sqrt(px.min(axis=1))
 
 
 class OutlineLSQ:
@@ -287,6 +297,7 @@ class OutlineLSQ:
         self.rot = int(corners[0]) if K else 0
         self.Q = np.roll(points, -self.rot, axis=0)
         self.Qe = np.vstack([self.Q, self.Q[:1]])
+        self.contour_edges = edge_table(self.Qe)
         self.s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(self.Qe, axis=0).T))])
         self.arc_length = float(self.s[-1])
         self.epsilon = float(epsilon)
@@ -639,12 +650,12 @@ class OutlineLSQ:
         corner_par = self.p[self.cb]
         spiece = np.clip(np.searchsorted(corner_par, params, side="right") - 1, 0, pieces - 1)
         centre = np.clip(np.searchsorted(self.u, params) - 1, 0, n - 1)
-        window = 2 if dense else 1
+        window = 1
         if self.K:  # the piece's own edges, and 3 more across each corner (the corner belongs to both pieces)
-            d_curve = windowed_distance(samples, centre, self.cb[spiece] - 3, self.cb[spiece + 1] + 2, self.Qe,
-                                        window, n)
+            d_curve = windowed_distance(samples, centre, self.cb[spiece] - 3, self.cb[spiece + 1] + 2,
+                                        self.contour_edges, window, n)
         else:
-            d_curve = windowed_distance(samples, centre, None, None, self.Qe, window, n)
+            d_curve = windowed_distance(samples, centre, None, None, self.contour_edges, window, n)
         # probes: contour points (and edge midpoints), in parameter order
         if dense:
             probes = np.empty((2 * n, 2))
@@ -669,9 +680,10 @@ class OutlineLSQ:
             reach = int(np.ceil(3.0 / spacing))
             wrap = closed_samples.shape[0] - 1
             if self.K:  # the piece's own chords and a window across its corners
-                near = windowed_distance(probes[loose], centre_p, lo - reach, hi + reach, closed_samples, reach, wrap)
+                near = windowed_distance(probes[loose], centre_p, lo - reach, hi + reach, edge_table(closed_samples),
+                                         reach, wrap)
             else:
-                near = windowed_distance(probes[loose], centre_p, None, None, closed_samples, reach, wrap)
+                near = windowed_distance(probes[loose], centre_p, None, None, edge_table(closed_samples), reach, wrap)
             d_data[loose] = np.minimum(d_data[loose], near)
         zone = self.zone()
         allowance = self.corner_allowance

@@ -883,33 +883,43 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
         return {"piece": int(piece_of_index), "index": int(original(j)), "point": tuple(map(float, state.Q[j % n])),
                 "accepted": bool(accepted), "reason": reason, "membership": None, "action": action}
 
+    def settle(hoschek_steps, reason):
+        """Fit, then release the corners whose fitted point hooks away (see ``displacement_violations``) and
+        refit until none does (each release halves a corner's extrapolation radius, so this ends)."""
+        state.fit(hoschek_steps=hoschek_steps)
+        released = []
+        for _ in range(64):
+            hooked = state.displacement_violations()
+            if not hooked.size:
+                break
+            for c in hooked:
+                state.release(int(c))
+                released.append(record(c % pieces_count, int(state.cb[c]), True,
+                                       f"corner tip extrapolation reduced to radius {state.radius[c]:.2f} px "
+                                       f"({reason})", "release"))
+            state.fit(hoschek_steps=1)
+        return released
+
+    hook_reason = "the fitted corner moved farther than a truncated pixel tip can be"
     iteration = 0
-    state.fit(hoschek_steps=2)
+    candidates = settle(2, hook_reason)
     dev = state.deviations(dense=True)  # many outlines already pass here: then this is the final check too
     if keep:
-        snapshots.append(snapshot(0, dev, [], "initial"))
+        snapshots.append(snapshot(0, dev, candidates, "initial"))
     removal_done = not opts["remove_knots"]
     converged = False
     while True:
-        hooked = state.displacement_violations()
-        if hooked.size and iteration < max_iterations:
-            iteration += 1
-            candidates = []
-            for c in hooked:
-                state.release(int(c))
-                candidates.append(record(c % pieces_count, int(state.cb[c]), True,
-                                         f"corner tip extrapolation reduced to radius {state.radius[c]:.2f} px (the "
-                                         "fitted corner moved farther than a truncated pixel tip can be)", "release"))
-            state.fit(hoschek_steps=1)
-            dev = state.deviations()
-            if keep:
-                snapshots.append(snapshot(iteration, dev, candidates, "insert"))
-            continue
         if not (dev["excess"] > 0).any():
             if not removal_done:
                 removal_done = True
                 iteration, dev = _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapshot,
                                                record)
+                if state.displacement_violations().size and iteration < max_iterations:
+                    iteration += 1
+                    candidates = settle(1, hook_reason)
+                    dev = state.deviations()
+                    if keep:
+                        snapshots.append(snapshot(iteration, dev, candidates, "insert"))
                 continue
             if not dev["dense"]:  # verify with the dense check before stopping (the guarantee)
                 dev = state.deviations(dense=True)
@@ -940,7 +950,7 @@ def _fit_lsq_method(points, corners, epsilon, max_iterations, keep, opts):
             if keep:
                 snapshots.append(snapshot(iteration, dev, candidates, "insert"))
             break
-        state.fit(hoschek_steps=1)
+        candidates += settle(1, hook_reason)
         dev = state.deviations()
         if keep:
             snapshots.append(snapshot(iteration, dev, candidates, "insert"))

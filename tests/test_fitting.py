@@ -361,6 +361,31 @@ def test_piece_deviation_matches_closed_forms():
 
 # ------------------------------------------------------------------------------------------ bad input
 
+@pytest.mark.parametrize("key, value", [("initial_density", -0.1), ("initial_density", float("nan")),
+                                        ("corner_radius", -1.0), ("sample_spacing", 0.0), ("min_gap", 0)])
+def test_lsq_options_are_validated(key, value):
+    outline, corners, _ = shape("square")
+    with pytest.raises(ValueError, match=key):
+        fit_outline(outline, corners, **{key: value})
+
+
+def test_curvature_seeded_knots_save_rounds_and_keep_the_guarantee():
+    """Seeding the knots from the curvature (the default) starts a curved outline with knots where it bends,
+    so it needs fewer insertion rounds than starting from four knots; both meet epsilon."""
+    a = np.linspace(0, 2 * np.pi, 6000, endpoint=False)
+    r = 90 * (1 + 0.18 * np.cos(3 * a + 0.4) + 0.1 * np.sin(5 * a))
+    mask = raster(np.column_stack([120 + r * np.cos(a), 120 + r * np.sin(a)]), 240)
+    outline, corners = trace_boundaries(mask)[0].outline, np.zeros(0, int)
+    seeded = fit_outline(outline, corners, epsilon=0.8)
+    plain = fit_outline(outline, corners, epsilon=0.8, initial_density=0.0)
+    assert seeded.converged and plain.converged
+    assert seeded.hausdorff <= 0.8 + 1e-9 and plain.hausdorff <= 0.8 + 1e-9
+    first_seeded = sum(len(k) for k in seeded.snapshots[0].knot_indices)
+    first_plain = sum(len(k) for k in plain.snapshots[0].knot_indices)
+    assert first_seeded > first_plain
+    assert seeded.iterations < plain.iterations
+
+
 def test_bad_input_raises():
     outline, corners, _ = shape("square")
     with pytest.raises(ValueError, match="epsilon"):

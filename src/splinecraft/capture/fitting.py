@@ -15,12 +15,16 @@ Knot methods (:data:`KNOT_METHODS`)
     projection onto the curve (one Hoschek/Newton step per iteration). Near a corner the pixel data is
     truncated (the rasterized tip is cut off), so contour points within a radius that grows as the corner gets
     sharper are down-weighted and the parameter leaves room for the tip: the two pieces extrapolate to their
-    intersection. While a knot interval is farther than ``epsilon`` from the contour, one knot is inserted in it
-    at its worst point (kept in the middle half of the interval); once everything is within ``epsilon``, knots
-    whose removal keeps the fit within ``epsilon`` are removed (cheapest first: jump of the third derivative
-    times the interval length cubed). The result is converted to the thesis's interpolant per piece
-    (``interpolate(F, knots, end_condition="clamped", end_tangents=...)``, or periodic without corners), which
-    reproduces it exactly (``v = 0``, ``omega = 1``; spec §4.5 cross-check). See :mod:`._fit_lsq`.
+    intersection. The first knots come from the contour's curvature (knot density ``(initial_density
+    kappa^3 / epsilon)^(1/4)``, equidistributed: the error of a cubic on an arc grows as ``h^4 kappa^3``),
+    which saves most insertion rounds on curved outlines. While a knot interval is farther than ``epsilon``
+    from the contour, one knot is inserted in it at its worst point (kept in the middle half of the
+    interval); once everything is within ``epsilon``, knots whose removal keeps the fit within ``epsilon`` are
+    removed (cheapest first: jump of the third derivative times the interval length cubed; snapshot phase
+    ``"remove"``, the only phase in which knots go away; ``remove_knots=False`` turns it off). The result is
+    the thesis's interpolant per piece: ``interpolate(F, knots, end_condition="clamped", end_tangents=...)``
+    (or periodic without corners) reproduces it exactly (``v = 0``, ``omega = 1``; spec §4.5 cross-check;
+    tested piece by piece). See :mod:`._fit_lsq`.
 ``"random"`` (Alg 4.1), ``"euclidean"`` (4.2), ``"positional"`` (4.3), ``"random3"`` (4.4), ``"equal3"`` (4.5),
 ``"fuzzy"`` (4.6)
     The thesis's randomized algorithms, seeded by ``seed`` (a :class:`numpy.random.Generator`), with the
@@ -1087,7 +1091,8 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         ``fuzzy_weights=(w, v)`` (default (0.7, 0.3), ``w > v``).
         ``"lsq"``: ``corner_radius`` (2.0 px for a right angle), ``corner_allowance`` (0.5 px), ``tip_gap``
         (0.5), ``min_gap`` (3 contour steps), ``remove_knots`` (True), ``hoschek_gate`` (2.0 px),
-        ``sample_spacing`` (0.5 px).
+        ``sample_spacing`` (0.5 px), ``initial_density`` (0.01; 0 = start from the corners alone),
+        ``geometric_corners`` (False), ``corner_pin`` (0.0).
 
     Returns
     -------

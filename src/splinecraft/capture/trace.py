@@ -330,9 +330,9 @@ def trace(
         See :func:`~splinecraft.capture.image.load_bitmap`.
     epsilon : float > 0
         Error threshold of knot insertion, px (thesis "threshold value" 1, 2, 3). The default is
-        ``fitting.DEFAULT_EPSILON`` (1.0 px; the issue's signature says 2.0): the deviation is measured
-        from the crack outline, itself up to ~0.5-0.7 px from the true outline, so 1.0 keeps the result
-        within about 1 px of the true outline (see the fitting module's docstring).
+        ``fitting.DEFAULT_EPSILON`` (0.8 px; the issue's signature says 2.0): the deviation is measured
+        from the crack outline, itself up to ~0.5-0.7 px from the true outline, so 0.8 keeps the result
+        within about 1 px of the true outline (see the fitting module's docstring and BENCHMARKS.md).
     method : str, optional
         Knot-insertion algorithm, a key of ``KNOT_METHODS`` (thesis Algs 4.1-4.6 and the team's own);
         ``None`` = the default of :func:`~splinecraft.capture.fitting.fit_outline`.

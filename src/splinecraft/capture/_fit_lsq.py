@@ -810,5 +810,16 @@ class OutlineLSQ:
         keep = ~np.isin(self.simple, indices) | (self.simple == 0)
         self.simple = self.simple[keep]
 
+    _FIT_STATE = ("simple", "u", "coef", "full", "m", "tau_values", "_starts", "_ends", "_bezier")
+
+    def save(self):
+        """The knots and the current fit (to go back to without refitting)."""
+        return {name: getattr(self, name) for name in self._FIT_STATE} | {"u": self.u.copy()}
+
+    def load(self, saved):
+        for name, value in saved.items():
+            setattr(self, name, value)
+        self.u = self.u.copy()
+
     def restore(self, indices):
         self.simple = np.unique(np.concatenate([self.simple, np.asarray(indices, dtype=np.int64)]))

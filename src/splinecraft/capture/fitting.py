@@ -1009,7 +1009,7 @@ def _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapsh
             picked.append(knot)
         if not picked:
             break
-        saved_simple, saved_u = state.simple.copy(), state.u.copy()
+        saved, saved_dev = state.save(), dev
         state.remove(picked)
         state.fit(hoschek_steps=1)
         dev = state.deviations()
@@ -1024,10 +1024,9 @@ def _remove_knots(state, dev, iteration, max_iterations, keep, snapshots, snapsh
             state.restore(restored)
             state.fit(hoschek_steps=1)
             dev = state.deviations()
-            if (dev["excess"] > 0).any():
-                state.simple, state.u = saved_simple, saved_u
-                state.fit(hoschek_steps=1)
-                dev = state.deviations()  # if this still fails, the caller's insertion loop takes over
+            if (dev["excess"] > 0).any():  # back to the fit before this round (it met the tolerance)
+                state.load(saved)
+                dev = saved_dev
                 break
         removed = [k for k in picked if k not in restored]
         if keep:

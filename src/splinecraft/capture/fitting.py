@@ -106,8 +106,8 @@ import numpy as np
 from ..spline import Spline, interpolate
 from . import _fit_lsq
 
-__all__ = ["fit_outline", "FitResult", "Snapshot", "KNOT_METHODS", "DEFAULT_METHOD", "DEFAULT_EPSILON",
-           "piece_deviation"]
+__all__ = ["fit_outline", "fit_small_outlines", "FitResult", "Snapshot", "KNOT_METHODS", "DEFAULT_METHOD",
+           "DEFAULT_EPSILON", "SMALL_OUTLINE", "piece_deviation"]
 
 #: Knot insertion methods: name -> one-line description (thesis §4.3 and the team's default).
 KNOT_METHODS = {
@@ -1054,10 +1054,57 @@ def _lsq_spline(state, dev, epsilon):
                         "pieces": int(state.cb.shape[0] - 1)})
 
 
+# ------------------------------------------------------------------------------------------------ small outlines
+
+#: Contours with fewer points than this are fitted by the direct small-outline path of ``"lsq"``
+#: (:func:`fit_small_outlines`; :mod:`._fit_small`); ``fit_outline(..., small_outline=0)`` turns it off.
+SMALL_OUTLINE = 64
+
+
+def _check_small_outline(small_outline):
+    if small_outline is None:
+        return SMALL_OUTLINE
+    if isinstance(small_outline, bool) or not isinstance(small_outline, numbers.Integral) or small_outline < 0:
+        raise ValueError(f"small_outline must be an integer >= 0, got {small_outline!r}")
+    return int(small_outline)
+
+
+def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, max_iterations=200,
+                       keep_snapshots=True) -> list:
+    """Fit many small closed contours at once: the direct path of ``"lsq"`` for contours of fewer than
+    :data:`SMALL_OUTLINE` points (:func:`fit_outline` and :func:`~splinecraft.capture.trace.trace` use it).
+
+    The thesis's interpolant with ``v = 0``, ``omega = 1`` (spec §2, thesis eqs 4.1-4.9) through knot points
+    that are contour points (arc-length parameter; one periodic loop without corners, natural ends at
+    corners), with knots inserted at the farthest contour point of every interval whose two-sided deviation
+    exceeds ``epsilon``; all outlines refine side by side, one sparse solve per round (see
+    :mod:`._fit_small`). ``converged=True`` means ``hausdorff <= epsilon`` everywhere (corners are
+    interpolated, so no corner allowance); otherwise ``FitResult.info["reason"]`` says why.
+
+    Parameters
+    ----------
+    outlines : sequence of array_like (n, 2)
+        Closed contours as in :func:`fit_outline` (``n >= 4``, no consecutive duplicates).
+    corner_lists : sequence of array_like of int, optional
+        Corner indices per contour (default: none, periodic loops).
+    epsilon, max_iterations, keep_snapshots
+        As in :func:`fit_outline`.
+
+    Returns
+    -------
+    list of FitResult
+        One per outline, ``method="lsq"``, ``info["small_outline"] = True``.
+    """
+    from . import _fit_small
+
+    return _fit_small.fit_small_outlines(outlines, corner_lists, epsilon=epsilon, max_iterations=max_iterations,
+                                         keep_snapshots=keep_snapshots)
+
+
 # ------------------------------------------------------------------------------------------------ entry point
 
 def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON, method=DEFAULT_METHOD, tau=None,
-                seed=0, max_iterations=200, keep_snapshots=True, **options) -> FitResult:
+                seed=0, max_iterations=200, keep_snapshots=True, small_outline=None, **options) -> FitResult:
     """Fit a closed contour with one spline piece per pair of consecutive corners, inserting knots until
     every piece is within ``epsilon`` (thesis §4.2.1-4.3; the stopping rule and guarantee of the module
     docstring).
@@ -1084,6 +1131,11 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         Bound on the iterations (>= 1); ``converged=False`` when reached first.
     keep_snapshots : bool
         Keep every iteration in :attr:`FitResult.snapshots`.
+    small_outline : int >= 0, optional
+        ``"lsq"`` fits contours of fewer points than this (``None``: :data:`SMALL_OUTLINE` = 64) with the
+        direct small-outline path :func:`fit_small_outlines` (interpolant through contour points, knots
+        inserted until within ``epsilon``; corners are interpolated, not extrapolated, so the ``"lsq"``
+        options below do not apply there). ``0`` fits every contour with the full ``"lsq"`` machinery.
     **options
         Thesis methods: ``point_tension``, ``interval_weights``, ``alpha``, ``beta``, ``point_tension_scale``
         (passed to :func:`~splinecraft.spline.interpolate`, per piece), ``tangent_stride`` (default 3),
@@ -1124,7 +1176,11 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         raise ValueError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
     if not isinstance(keep_snapshots, (bool, np.bool_)):
         raise TypeError(f"keep_snapshots must be True or False, got {keep_snapshots!r}")
+    small_outline = _check_small_outline(small_outline)
     opts = _check_options(method, options)
+    if method == "lsq" and n < small_outline:
+        return fit_small_outlines([points], [corners], epsilon=epsilon, max_iterations=int(max_iterations),
+                                  keep_snapshots=bool(keep_snapshots))[0]
     if method == "lsq":
         return _fit_lsq_method(points, corners, epsilon, int(max_iterations), bool(keep_snapshots), opts)
     return _fit_thesis(points, corners, epsilon, method, tau, rng, int(max_iterations), bool(keep_snapshots), opts)

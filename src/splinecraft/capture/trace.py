@@ -45,7 +45,7 @@ from .contour import trace_boundaries
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
 from .corners import corners as detect_corners
-from .fitting import DEFAULT_EPSILON, KNOT_METHODS, fit_outline
+from .fitting import DEFAULT_EPSILON, KNOT_METHODS, SMALL_OUTLINE, _check_options, fit_outline, fit_small_outlines
 from .image import load_bitmap
 from .svg import path_data, svg_document
 
@@ -53,6 +53,9 @@ __all__ = ["trace", "TraceResult", "TraceSnapshot", "SHORT_CONTOUR"]
 
 #: Contours with fewer points than this whose corner detection fails are fitted without corners.
 SHORT_CONTOUR = 64
+#: Contours with fewer points than this skip corner detection when they take the small-outline path of
+#: ``"lsq"`` (single pixels, dominos, specks, short diagonal chains): one periodic closed curve.
+CORNERLESS_CONTOUR = 20
 
 
 def _default_of(function, name):
@@ -423,19 +426,41 @@ def trace(
             f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
         )
 
+    small_limit = _small_limit(method_name, fit_params)
     notes = []
-    points_list, corner_list = [], []
+    points_list, corner_list, small = [], [], []
     for k, boundary in enumerate(boundaries):
         points = boundary.outline if contour == "outline" else boundary.pixels
         if len(points) < 4:  # pixel chains of tiny components: fall back to the crack outline
             notes.append(f"boundary {k}: pixel chain has {len(points)} point(s); fitted its crack outline")
             points = boundary.outline
         points_list.append(np.asarray(points, dtype=float))
-        corner_list.append(_detect(points_list[-1], k, corner_method, corner_params, notes))
+        if len(points) < small_limit:
+            small.append(k)
+        if len(points) < min(small_limit, CORNERLESS_CONTOUR):
+            corner_list.append(np.zeros(0, dtype=np.intp))
+        else:
+            corner_list.append(_detect(points_list[-1], k, corner_method, corner_params, notes))
+    if small:
+        skipped = [k for k in small if len(points_list[k]) < CORNERLESS_CONTOUR]
+        notes.append(
+            f"{len(small)} boundaries of fewer than {small_limit} contour points were fitted together by the "
+            "small-outline path of 'lsq' (fitting.fit_small_outlines: interpolant through contour points, corners "
+            f"interpolated)" + (f"; {len(skipped)} of them (fewer than {CORNERLESS_CONTOUR} points) without corner "
+                                f"detection, as one closed periodic curve: boundaries {_index_ranges(skipped)}"
+                                if skipped else ""))
     cornered = time.perf_counter()
 
-    fits = []
+    fits = [None] * len(points_list)
+    if small:
+        small_fits = fit_small_outlines([points_list[k] for k in small], [corner_list[k] for k in small],
+                                        epsilon=epsilon, max_iterations=max_iterations,
+                                        keep_snapshots=keep_snapshots)
+        for k, fit in zip(small, small_fits):
+            fits[k] = fit
     for k, (points, corner_idx) in enumerate(zip(points_list, corner_list)):
+        if fits[k] is not None:
+            continue
         kwargs = dict(fit_params)
         if method is not None:
             kwargs["method"] = method
@@ -448,12 +473,15 @@ def trace(
             )
         except ValueError as exc:
             raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
-        fits.append(fit)
+        fits[k] = fit
     finished = time.perf_counter()
 
     splines = [fit.spline for fit in fits]
     merged = _merge_snapshots(fits) if keep_snapshots else []
-    stats = _stats(boundaries, points_list, corner_list, fits, splines)
+    stats = _stats(boundaries, points_list, corner_list, fits, splines, max_iterations)
+    for k, entry in enumerate(stats["per_boundary"]):
+        if entry["reason"] is not None:
+            notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
     stats["time_s"] = finished - started
     stats["time_breakdown"] = {
         "load_s": loaded - started, "boundaries_s": traced - loaded,
@@ -467,6 +495,30 @@ def trace(
     }
     return TraceResult(mask=mask, boundaries=boundaries, points=points_list, corners=corner_list, fits=fits,
                        splines=splines, snapshots=merged, stats=stats, params=_jsonable(params), notes=notes)
+
+
+def _small_limit(method_name, fit_params):
+    """Contours with fewer points than this take the small-outline path (0 for the thesis methods); the
+    ``fit_params`` are checked here once, as ``fit_outline`` would (the batch does not use them)."""
+    if method_name != "lsq":
+        return 0
+    options = dict(fit_params)
+    limit = options.pop("small_outline", SMALL_OUTLINE)
+    if isinstance(limit, bool) or not isinstance(limit, numbers.Integral) or limit < 0:
+        raise ValueError(f"fit_params['small_outline'] must be an integer >= 0, got {limit!r}")
+    _check_options("lsq", options)
+    return int(limit)
+
+
+def _index_ranges(indices) -> str:
+    """``[0, 1, 2, 5, 7, 8]`` -> ``"0-2, 5, 7-8"``."""
+    indices = np.asarray(indices, dtype=np.int64)
+    if indices.size == 0:
+        return ""
+    breaks = np.flatnonzero(np.diff(indices) != 1)
+    starts = np.append(indices[0], indices[breaks + 1])
+    ends = np.append(indices[breaks], indices[-1])
+    return ", ".join(str(a) if a == b else f"{a}-{b}" for a, b in zip(starts.tolist(), ends.tolist()))
 
 
 def _detect(points, k, corner_method, corner_params, notes):
@@ -507,7 +559,20 @@ def _merge_snapshots(fits) -> list:
     return merged
 
 
-def _stats(boundaries, points_list, corner_list, fits, splines) -> dict:
+def _unconverged_reason(fit, max_iterations):
+    """Why a boundary's fit did not converge (``None`` when it did)."""
+    if fit.converged:
+        return None
+    if fit.info.get("reason"):
+        return str(fit.info["reason"])
+    if fit.iterations >= max_iterations:
+        return f"max_iterations={max_iterations} reached with a deviation of {fit.hausdorff:.3g} px"
+    return (f"knot insertion stopped after {fit.iterations} iterations with a deviation of {fit.hausdorff:.3g} px: "
+            "no failing interval could take another knot (knots must stay min_gap contour steps apart) and no "
+            "corner was left to release")
+
+
+def _stats(boundaries, points_list, corner_list, fits, splines, max_iterations) -> dict:
     contour_points = int(sum(len(p) for p in points_list))
     knots_inserted = int(sum(int(fit.knots_inserted) for fit in fits))
     segments = int(sum(s.n_segments for s in splines))
@@ -532,6 +597,8 @@ def _stats(boundaries, points_list, corner_list, fits, splines) -> dict:
                 "knots_inserted": int(fit.knots_inserted), "iterations": int(fit.iterations),
                 "segments": int(s.n_segments), "max_error": float(fit.max_error),
                 "hausdorff": float(fit.hausdorff), "converged": bool(fit.converged),
+                "small_outline": bool(fit.info.get("small_outline", False)),
+                "reason": _unconverged_reason(fit, max_iterations),
             }
             for b, p, c, fit, s in zip(boundaries, points_list, corner_list, fits, splines)
         ],

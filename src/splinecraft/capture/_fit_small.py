@@ -1,0 +1,368 @@
+"""Direct fit of small closed outlines (private to :mod:`~splinecraft.capture.fitting`; its entry point
+:func:`~splinecraft.capture.fitting.fit_outline` and :func:`~splinecraft.capture.trace.trace` use it for
+contours of fewer than ``fitting.SMALL_OUTLINE`` points with the default method ``"lsq"``).
+
+Why a separate path
+-------------------
+Noisy or speckled bitmaps have thousands of tiny components (single pixels, dominos, small blobs, thin
+diagonal chains: 4-60 crack points each). The full ``"lsq"`` machinery (:mod:`._fit_lsq`) costs a few
+milliseconds of fixed Python-level work per outline whatever its size, so such images took seconds, and
+its corner extrapolation has little room on a handful of points. Here all small outlines of a call are
+fitted *together*: every round is one sparse solve and one batch of dense distance grids for all outlines
+still refining, so the cost per outline is a small fraction of a millisecond.
+
+Model and stopping rule
+-----------------------
+The thesis's interpolant (spec §2, thesis §4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1`` (erratum E2:
+the plain C² cubic) through knot points that are contour points, parameterized by the contour's arc length:
+without corners one periodic loop, with corners one open piece per pair of consecutive corners with
+natural ends (spec §2.4), the pieces meeting at the corner points. Knot insertion follows the stopping rule
+of the fitting module: a knot interval is finished when the two-sided deviation between its curve and its
+contour section is within ``epsilon`` (curve samples <= 0.25 px apart to the section's edges, and the
+section's points and edge midpoints to the chords between the samples; an upper bound of the Hausdorff
+distance up to the sampling, as :func:`~splinecraft.capture.fitting.piece_deviation`). Every failing
+interval of two or more contour steps gets a knot at its contour point farthest from the curve (kept in the
+middle half of the interval). When every contour point is a knot the curve interpolates them all, so a
+crack outline converges for any ``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px);
+below it the result says so (``FitResult.info["reason"]``).
+"""
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ..spline import Spline
+from .fitting import DEFAULT_EPSILON, FitResult, Snapshot, _check_corners, _check_epsilon, _check_points
+
+#: Spacing (px) of the curve samples of the deviation check.
+_SMALL_SPACING = 0.25
+#: Section-length caps (contour steps) of the vectorized deviation buckets.
+_SMALL_BUCKETS = (1, 2, 4, 8, 16, 32, 64)
+
+
+def _small_chains(lengths, corner_lists):
+    """Chains of the small-outline model: per outline one periodic loop (no corners) or one open chain per
+    pair of consecutive corners (with one corner, the open chain from it round to itself). Returns the
+    outline, loop flag, first contour index (unwrapped) and step count of every chain, and the initial knots
+    (chain id, unwrapped contour index) sorted by chain and index."""
+    chain_outline, chain_loop, chain_start, chain_steps = [], [], [], []
+    knot_chain, knot_index = [], []
+    for b, (n, corners) in enumerate(zip(lengths, corner_lists)):
+        if corners.size == 0:
+            c = len(chain_outline)
+            chain_outline.append(b), chain_loop.append(True), chain_start.append(0), chain_steps.append(n)
+            count = min(4, n)
+            knots = np.append(np.arange(count) * n // count, n)  # the seam knot at both ends
+            knot_chain.append(np.full(knots.shape[0], c)), knot_index.append(knots)
+            continue
+        ends = np.append(corners, corners[0] + n)
+        for a, z in zip(ends[:-1], ends[1:]):
+            c = len(chain_outline)
+            chain_outline.append(b), chain_loop.append(False), chain_start.append(int(a))
+            chain_steps.append(int(z - a))
+            knots = [a, (a + z) // 2, z] if corners.size == 1 else [a, z]
+            knot_chain.append(np.full(len(knots), c)), knot_index.append(np.asarray(knots, dtype=np.int64))
+    return (np.asarray(chain_outline, dtype=np.int64), np.asarray(chain_loop, dtype=bool),
+            np.asarray(chain_start, dtype=np.int64), np.asarray(chain_steps, dtype=np.int64),
+            np.concatenate(knot_chain).astype(np.int64), np.concatenate(knot_index).astype(np.int64))
+
+
+def _small_moments(knot_chain, u, F, chain_loop):
+    """Second derivatives ``M`` at the knots of the C² cubic interpolants of all chains in one sparse solve.
+
+    Spec §2.2 with ``v = 0`` (no point tension), ``omega = 1``: the classical moment equations
+    ``h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1} = 6 ((F_{i+1} - F_i) / h_i - (F_i - F_{i-1}) / h_{i-1})``
+    with the contour arc length as parameter. Open chains (between corners) have natural ends (``M = 0``,
+    spec §2.4); a loop's last entry is its seam knot again (``M_last = M_first``) and its first row wraps
+    round to the entry before the seam. The matrix is block diagonal (one block per chain), solved with
+    ``scipy.sparse.linalg.spsolve`` (O(total knots))."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.linalg import spsolve
+
+    count = knot_chain.shape[0]
+    entry = np.arange(count)
+    first = np.concatenate([[True], knot_chain[1:] != knot_chain[:-1]])
+    last = np.concatenate([knot_chain[1:] != knot_chain[:-1], [True]])
+    first_of = np.maximum.accumulate(np.where(first, entry, 0))  # first entry of each entry's chain
+    last_at = np.flatnonzero(last)
+    last_of = last_at[np.cumsum(first) - 1]
+    loop = chain_loop[knot_chain]
+    prev = np.where(first, last_of - 1, entry - 1)  # a loop's first row wraps to the entry before the seam
+    nxt = np.minimum(entry + 1, count - 1)
+    h_prev = np.where(first, u[last_of] - u[np.maximum(last_of - 1, 0)], u - u[prev])
+    h_next = u[nxt] - u
+    interior = ~first & ~last
+    cyclic_first = first & loop
+    row_eq = interior | cyclic_first  # moment equation rows; the others are M = 0 or M_seam = M_first
+    safe_prev = np.where(row_eq, h_prev, 1.0)
+    safe_next = np.where(row_eq, h_next, 1.0)
+    rhs = np.where(row_eq[:, None], 6.0 * ((F[nxt] - F) / safe_next[:, None] - (F - F[prev]) / safe_prev[:, None]),
+                   0.0)
+    eq = np.flatnonzero(row_eq)
+    seam = np.flatnonzero(last & loop)
+    rows = np.concatenate([eq, eq, eq, entry, seam])
+    cols = np.concatenate([prev[eq], eq, nxt[eq], entry, first_of[seam]])
+    diag = np.where(row_eq, 2.0 * (h_prev + h_next), 1.0)
+    data = np.concatenate([h_prev[eq], np.zeros(eq.shape[0]), h_next[eq], diag, -np.ones(seam.shape[0])])
+    matrix = csr_matrix((data, (rows, cols)), shape=(count, count))
+    moments = spsolve(matrix.tocsc(), rhs)
+    return np.asarray(moments).reshape(count, 2)
+
+
+def _small_bezier(F0, F1, M0, M1, h):
+    """Bézier control points (k, 4, 2) of the cubic with end values ``F0, F1``, end second derivatives
+    ``M0, M1`` over a parameter interval of length ``h`` (the Bézier form of spec §2.3)."""
+    h = h[:, None]
+    slope = (F1 - F0) / h
+    start_tangent = slope - h * (2.0 * M0 + M1) / 6.0
+    end_tangent = slope + h * (M0 + 2.0 * M1) / 6.0
+    return np.stack([F0, F0 + h * start_tangent / 3.0, F1 - h * end_tangent / 3.0, F1], axis=1)
+
+
+def _segment_distance_grid(px, py, ax, ay, dx, dy):
+    """Distances (..., P, E) from points ``(px, py)`` (..., P) to segments ``a -> a + d`` (..., E)."""
+    den = dx * dx + dy * dy
+    inverse = 1.0 / np.where(den > 0, den, 1.0)
+    rx = px[..., :, None] - ax[..., None, :]
+    ry = py[..., :, None] - ay[..., None, :]
+    t = np.clip((rx * dx[..., None, :] + ry * dy[..., None, :]) * inverse[..., None, :], 0.0, 1.0)
+    rx -= t * dx[..., None, :]
+    ry -= t * dy[..., None, :]
+    return np.sqrt(rx * rx + ry * ry)
+
+
+def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
+    """Per knot interval: the two-sided deviation between its Bézier and its contour section (contour
+    points ``a .. a + steps``), the thesis error (contour point vs the curve point at its chord-length
+    parameter, module docstring) and the contour point farthest from the curve.
+
+    Intervals are grouped by section length (caps ``_SMALL_BUCKETS``; shorter sections repeat their last
+    point, which changes no minimum) and done bucket by bucket with dense (interval, sample, edge)
+    distance grids: curve samples ``<= _SMALL_SPACING`` px apart (control-polygon length) to the section's
+    edges, and the section's points and edge midpoints to the chords between the samples.
+    """
+    count = a.shape[0]
+    deviation = np.zeros(count)
+    thesis = np.zeros(count)
+    worst = a.copy()
+    cap_of = np.searchsorted(_SMALL_BUCKETS, steps)
+    control_length = np.hypot(*np.diff(bezier, axis=1).transpose(2, 0, 1)).sum(axis=1)
+    for bucket in np.unique(cap_of):
+        rows = np.flatnonzero(cap_of == bucket)
+        cap = _SMALL_BUCKETS[bucket]
+        offsets = np.minimum(np.arange(cap + 1)[None, :], steps[rows, None])
+        index = a[rows, None] + offsets  # unwrapped contour indices of the section, (I, cap + 1)
+        vertices = contour_point(rows, index)
+        samples_per = int(np.ceil(control_length[rows].max() / _SMALL_SPACING)) + 1
+        theta = np.linspace(0.0, 1.0, max(samples_per, 3))
+        weights = np.stack([(1 - theta) ** 3, 3 * theta * (1 - theta) ** 2, 3 * theta**2 * (1 - theta), theta**3],
+                           axis=1)
+        samples = np.einsum("sj,ijd->isd", weights, bezier[rows])
+        vx, vy = vertices[..., 0], vertices[..., 1]
+        ex, ey = np.diff(vx, axis=1), np.diff(vy, axis=1)
+        to_contour = _segment_distance_grid(samples[..., 0], samples[..., 1], vx[:, :-1], vy[:, :-1], ex, ey)
+        curve_side = to_contour.min(axis=2).max(axis=1)
+        probes_x = np.concatenate([vx, 0.5 * (vx[:, :-1] + vx[:, 1:])], axis=1)
+        probes_y = np.concatenate([vy, 0.5 * (vy[:, :-1] + vy[:, 1:])], axis=1)
+        sx, sy = samples[..., 0], samples[..., 1]
+        to_curve = _segment_distance_grid(probes_x, probes_y, sx[:, :-1], sy[:, :-1], np.diff(sx, axis=1),
+                                          np.diff(sy, axis=1)).min(axis=2)
+        deviation[rows] = np.maximum(curve_side, to_curve.max(axis=1))
+        worst[rows] = index[np.arange(rows.shape[0]), np.argmax(to_curve[:, : cap + 1], axis=1)]
+        # thesis error: contour point j vs the curve at theta = (s_j - s_a) / h
+        theta_j = np.clip((contour_arc(rows, index) - u0[rows, None]) / h[rows, None], 0.0, 1.0)
+        s = 1.0 - theta_j
+        w = np.stack([s**3, 3 * theta_j * s**2, 3 * theta_j**2 * s, theta_j**3], axis=-1)
+        at = np.einsum("ipj,ijd->ipd", w, bezier[rows])
+        thesis[rows] = np.hypot(*(at - vertices).transpose(2, 0, 1)).max(axis=1)
+    return deviation, thesis, worst
+
+
+def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, max_iterations=200,
+                       keep_snapshots=True):
+    """Fit many small closed contours at once (the direct path of ``"lsq"`` for contours of fewer than
+    :data:`SMALL_OUTLINE` points; :func:`fit_outline` and :func:`~splinecraft.capture.trace.trace` use it).
+
+    Model: the thesis's interpolant (spec §2, thesis §4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1``
+    through knot points that are contour points, parameterized by the contour's arc length; without corners
+    one periodic C² loop, with corners one open C² piece per pair of consecutive corners with natural ends
+    (spec §2.4; the pieces meet at the corner points, ``C^0``). Knot insertion as in the module docstring:
+    while a knot interval's geometric deviation from its contour section exceeds ``epsilon``, a knot is
+    inserted at its contour point farthest from the curve (kept in the middle half of the interval), for all
+    failing intervals of all outlines at once; one sparse solve per round for every outline still refining
+    (:func:`_small_moments`). Once every contour point is a knot the interpolant passes through all of them,
+    so every crack outline converges for any ``epsilon`` above that interpolant's own deviation (about 0.1 px).
+    Corners are interpolated, never extrapolated: ``converged=True`` means ``hausdorff <= epsilon`` everywhere,
+    no corner allowance. ``FitResult.info["reason"]`` says why an outline did not converge.
+
+    Parameters
+    ----------
+    outlines : sequence of array_like (n, 2)
+        Closed contours as in :func:`fit_outline` (``n >= 4``, no consecutive duplicates).
+    corner_lists : sequence of array_like of int, optional
+        Corner indices per contour (default: none, periodic loops).
+    epsilon, max_iterations, keep_snapshots
+        As in :func:`fit_outline`.
+
+    Returns
+    -------
+    list of FitResult
+        One per outline, ``method="lsq"``, ``info["small_outline"] = True``.
+    """
+    epsilon = _check_epsilon(epsilon)
+    if isinstance(max_iterations, bool) or not isinstance(max_iterations, numbers.Integral) or max_iterations < 1:
+        raise ValueError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
+    if not isinstance(keep_snapshots, (bool, np.bool_)):
+        raise TypeError(f"keep_snapshots must be True or False, got {keep_snapshots!r}")
+    outlines = [np.ascontiguousarray(o, dtype=float) for o in outlines]
+    if not outlines:
+        return []
+    corner_lists = [None] * len(outlines) if corner_lists is None else list(corner_lists)
+    if len(corner_lists) != len(outlines):
+        raise ValueError(f"corner_lists has {len(corner_lists)} entries for {len(outlines)} outlines")
+    lengths = np.array([o.shape[0] if o.ndim == 2 else -1 for o in outlines], dtype=np.int64)
+    if (lengths < 4).any() or any(o.shape[1:] != (2,) for o in outlines):
+        k = int(np.flatnonzero((lengths < 4) | np.array([o.shape[1:] != (2,) for o in outlines]))[0])
+        _check_points(outlines[k])  # raises the precise error
+    points = np.concatenate(outlines)
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    outline_of_point = np.repeat(np.arange(lengths.shape[0]), lengths)
+    if not np.isfinite(points).all():
+        _check_points(outlines[int(outline_of_point[np.flatnonzero(~np.isfinite(points).all(axis=1))[0]])])
+    following = np.arange(points.shape[0]) + 1
+    following[offsets + lengths - 1] = offsets  # the closing edge of every outline
+    step = np.hypot(*(points[following] - points).T)
+    if (step <= 0).any():
+        _check_points(outlines[int(outline_of_point[np.flatnonzero(step <= 0)[0]])])
+    corners = [_check_corners(c, int(n)) for c, n in zip(corner_lists, lengths)]
+    arc = np.cumsum(step) - step  # arc length at every point, from its outline's first point
+    arc -= np.repeat(arc[offsets], lengths)
+    perimeter = arc[offsets + lengths - 1] + step[offsets + lengths - 1]
+
+    chain_outline, chain_loop, chain_start, chain_steps, knot_chain, knot_index = _small_chains(lengths, corners)
+
+    def wrap(outline, index):
+        return offsets[outline] + index % lengths[outline]
+
+    def arc_of(outline, index):
+        return arc[wrap(outline, index)] + (index // lengths[outline]) * perimeter[outline]
+
+    count = lengths.shape[0]
+    chains_first = np.searchsorted(chain_outline, np.arange(count))  # first chain of every outline
+    pending = {}  # candidates of the next snapshot, per outline
+    history = [[] for _ in range(count)]
+    final = [None] * count
+    active = np.ones(count, bool)
+    iteration = 0
+    while True:
+        in_play = active[chain_outline[knot_chain]]
+        k_chain, k_index = knot_chain[in_play], knot_index[in_play]
+        k_outline = chain_outline[k_chain]
+        u = arc_of(k_outline, k_index)
+        F = points[wrap(k_outline, k_index)]
+        moments = _small_moments(k_chain, u, F, chain_loop)
+        left = np.flatnonzero(k_chain[:-1] == k_chain[1:])  # interval = knot entry and its successor
+        right = left + 1
+        h = u[right] - u[left]
+        bezier = _small_bezier(F[left], F[right], moments[left], moments[right], h)
+        i_outline = k_outline[left]
+        deviation, thesis, worst = _small_interval_errors(
+            bezier, k_index[left], k_index[right] - k_index[left],
+            lambda rows, index: points[wrap(i_outline[rows, None], index)],
+            lambda rows, index: arc_of(i_outline[rows, None], index), u[left], h)
+        steps = k_index[right] - k_index[left]
+        failing = deviation > epsilon
+        splittable = failing & (steps >= 2)
+        quarter = np.maximum(1, steps // 4)
+        new_index = np.clip(worst, k_index[left] + quarter, k_index[right] - quarter)
+        inserting = np.bincount(i_outline[splittable], minlength=count) > 0
+        stop = ~inserting | (iteration >= max_iterations)
+        # per outline of this round: its intervals and knot entries are contiguous, in chain order
+        bounds = np.flatnonzero(np.concatenate([[True], i_outline[1:] != i_outline[:-1], [True]]))
+        k_bounds = np.flatnonzero(np.concatenate([[True], k_outline[1:] != k_outline[:-1], [True]]))
+        present = i_outline[bounds[:-1]]
+        wanted = np.arange(present.shape[0]) if keep_snapshots else np.flatnonzero(stop[present])
+        for position in wanted:
+            b = int(present[position])
+            state = _small_state(bounds[position], bounds[position + 1], k_bounds[position], k_bounds[position + 1],
+                                 k_chain, k_index, u, bezier, deviation, thesis, failing, splittable, int(lengths[b]),
+                                 iteration, epsilon, pending.pop(b, []))
+            if keep_snapshots:
+                history[b].append(state["snapshot"])
+            if stop[b]:
+                final[b] = state
+        active &= ~stop
+        if not active.any():
+            break
+        # insert the new knots of the outlines still refining (every failing interval of >= 2 steps)
+        adds = np.flatnonzero(splittable & active[i_outline])
+        if keep_snapshots:
+            for j in adds:
+                b = int(i_outline[j])
+                point = wrap(b, int(new_index[j]))
+                pending.setdefault(b, []).append({
+                    "piece": int(k_chain[left[j]] - chains_first[b]), "index": int(new_index[j] % lengths[b]),
+                    "point": tuple(map(float, points[point])), "accepted": True,
+                    "reason": f"farthest contour point of a knot interval {deviation[j]:.3g} px from the curve "
+                              f"(> epsilon {epsilon:g})", "membership": None, "action": "insert"})
+        knot_chain = np.concatenate([knot_chain, k_chain[left][adds]])
+        knot_index = np.concatenate([knot_index, new_index[adds]])
+        order = np.lexsort((knot_index, knot_chain))
+        knot_chain, knot_index = knot_chain[order], knot_index[order]
+        iteration += 1
+    return [_small_result(final[b], history[b], corners[b], lengths[b], epsilon, max_iterations)
+            for b in range(count)]
+
+
+def _small_state(lo, hi, klo, khi, k_chain, k_index, u, bezier, deviation, thesis, failing, splittable, n,
+                 iteration, epsilon, candidates):
+    """One outline's fit at one round of :func:`fit_small_outlines`: intervals ``lo:hi`` and knot entries
+    ``klo:khi`` of the round's arrays; its snapshot and the numbers of its result."""
+    entry_chain = k_chain[klo:khi]
+    piece_first = np.flatnonzero(np.concatenate([[True], entry_chain[1:] != entry_chain[:-1]]))
+    piece_end = np.append(piece_first[1:], khi - klo)
+    knot_lists = [k_index[klo + s: klo + e] % n for s, e in zip(piece_first, piece_end)]
+    interval_first = piece_first - np.arange(piece_first.shape[0])  # each piece has one interval less
+    piece_dev = np.maximum.reduceat(deviation[lo:hi], interval_first)
+    piece_err = np.maximum.reduceat(thesis[lo:hi], interval_first)
+    starts = u[klo:khi - 1][entry_chain[1:] == entry_chain[:-1]]
+    snapshot = Snapshot(iteration=iteration, knot_indices=knot_lists, bezier=bezier[lo:hi],
+                        piece_max_error=piece_err, piece_hausdorff=piece_dev, candidates=candidates,
+                        phase="initial" if iteration == 0 else "insert", thesis_stop=False,
+                        finished=piece_dev <= epsilon, knots=np.append(starts, u[khi - 1]), closed=True)
+    return {"snapshot": snapshot, "failing": bool(failing[lo:hi].any()),
+            "stuck": bool((failing[lo:hi] & ~splittable[lo:hi]).any()), "iteration": iteration}
+
+
+def _small_result(state, history, corners, n, epsilon, max_iterations):
+    """FitResult of one outline of :func:`fit_small_outlines` from its final round."""
+    snapshot = state["snapshot"]
+    bezier = np.asarray(snapshot.bezier)
+    planar = np.ascontiguousarray(bezier.transpose(1, 2, 0))
+    knots = np.asarray(snapshot.knots, dtype=float)
+    pieces_count = len(snapshot.knot_indices)
+    spline = Spline._from_trusted(planar, knots, closed=True, auxiliary={"F": bezier[:, 0].copy()},
+                                  info={"form": "outline_fit", "method": "lsq", "epsilon": epsilon,
+                                        "pieces": pieces_count, "small_outline": True})
+    converged = not state["failing"]
+    reason = None
+    if not converged:
+        worst = float(np.max(snapshot.piece_hausdorff))
+        if state["stuck"]:
+            reason = (f"an interval between two neighbouring contour points deviates {worst:.3g} px > epsilon "
+                      f"{epsilon:g}: the interpolant through every contour point there cannot do better")
+        else:
+            reason = f"max_iterations={max_iterations} reached with a deviation of {worst:.3g} px"
+    knot_values = np.unique(np.concatenate(snapshot.knot_indices))
+    return FitResult(
+        spline=spline,
+        pieces=[(int(k[0]), int(k[-1])) for k in snapshot.knot_indices],
+        knot_indices=list(snapshot.knot_indices), snapshots=history, iterations=int(state["iteration"]),
+        max_error=float(np.max(snapshot.piece_max_error)), hausdorff=float(np.max(snapshot.piece_hausdorff)),
+        converged=bool(converged), knots_inserted=int(np.setdiff1d(knot_values, corners).shape[0]),
+        method="lsq", epsilon=epsilon, thesis_stop_iteration=None, corners_used=corners.copy(),
+        info={"small_outline": True, "reason": reason, "tolerance_near_corners": epsilon,
+              "model": "C2 cubic interpolant through contour points (v = 0, omega = 1), arc-length parameter, "
+                       "natural ends at corners"},
+    )

@@ -508,3 +508,157 @@ def test_windowed_distance_is_the_exact_distance_to_its_edges_and_an_upper_bound
         assert got[j] == pytest.approx(min(segment_distance(q, closed[e], closed[e + 1]) for e in edges), abs=1e-9)
         everywhere = min(segment_distance(q, closed[e], closed[e + 1]) for e in range(count))
         assert got[j] >= everywhere - 1e-9
+
+
+# ------------------------------------------------------------------------------------------ small outlines
+# Contours of fewer than SMALL_OUTLINE points take the batched direct path of "lsq" (fit_small_outlines).
+
+def _small_mask(name):
+    masks = {
+        "pixel": np.ones((1, 1), bool),
+        "domino": np.ones((1, 2), bool),
+        "diagonal3": np.eye(3, dtype=bool),
+        "block2x2": np.ones((2, 2), bool),
+        "tromino": np.array([[1, 0], [1, 1]], bool),
+        "rect3x10": np.ones((3, 10), bool),
+        "square10": np.ones((10, 10), bool),
+        "plus": np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], bool),
+    }
+    return np.pad(masks[name], 3)
+
+
+def _small_outline(name):
+    (boundary,) = [b for b in trace_boundaries(_small_mask(name)) if not b.is_hole]
+    return np.asarray(boundary.outline, float)
+
+
+SMALL_NAMES = ["pixel", "domino", "diagonal3", "block2x2", "tromino", "rect3x10", "square10", "plus"]
+
+
+@pytest.mark.parametrize("name", SMALL_NAMES)
+@pytest.mark.parametrize("epsilon", [0.3, 0.8])
+@pytest.mark.parametrize("with_corners", [False, True])
+def test_small_outlines_converge_within_epsilon_everywhere(name, epsilon, with_corners):
+    """Tiny crack outlines (4-40 points) converge; the reported deviation is the real two-sided one
+    (re-measured independently) and within epsilon everywhere: corners are interpolated, no allowance."""
+    from splinecraft.capture.fitting import SMALL_OUTLINE
+
+    outline = _small_outline(name)
+    assert len(outline) < SMALL_OUTLINE
+    corners = [0, len(outline) // 2] if with_corners else []
+    result = fit_outline(outline, corners, epsilon=epsilon)
+    assert result.info["small_outline"] and result.method == "lsq"
+    assert result.converged and result.info["reason"] is None
+    assert result.hausdorff <= epsilon
+    measured = hausdorff(result.spline.bezier(), outline)
+    assert measured <= epsilon + 0.01  # the report samples the curve every 0.25 px
+    assert result.hausdorff >= measured - 0.01  # and is not an underestimate beyond the sampling
+    if with_corners:  # the pieces meet at the corner points
+        np.testing.assert_array_equal(result.corners_used, corners)
+        starts = [k[0] for k in result.knot_indices]
+        assert sorted(starts) == corners
+        np.testing.assert_allclose(result.spline.bezier()[0, 0], outline[corners[0]])
+
+
+@pytest.mark.parametrize("name", SMALL_NAMES)
+def test_small_outline_is_the_c2_interpolant_through_its_knot_points(name):
+    """Independent reference: scipy's CubicSpline through the knot points at the reported knots (periodic
+    without corners, natural ends per piece with corners) gives the same curve."""
+    from scipy.interpolate import CubicSpline
+
+    outline = _small_outline(name)
+    for corners in ([], [0, len(outline) // 2]):
+        result = fit_outline(outline, corners, epsilon=0.3)
+        bezier, knots = result.spline.bezier(), np.asarray(result.spline.knots)
+        np.testing.assert_allclose(bezier[:, 0], outline[np.concatenate([k[:-1] for k in result.knot_indices])])
+        theta = np.array([0.2, 0.5, 0.9])
+        ours = np.einsum("tj,mjd->mtd", np.stack([(1 - theta) ** 3, 3 * theta * (1 - theta) ** 2,
+                                                  3 * theta**2 * (1 - theta), theta**3], axis=1), bezier)
+        params = knots[:-1, None] + theta[None, :] * np.diff(knots)[:, None]
+        if not corners:
+            values = np.vstack([bezier[:, 0], bezier[:1, 0]])
+            reference = CubicSpline(knots, values, bc_type="periodic")(params)
+        else:
+            reference = np.empty_like(ours)
+            first = 0
+            for knot_list in result.knot_indices:
+                count = len(knot_list) - 1
+                rows = slice(first, first + count)
+                values = np.vstack([bezier[rows, 0], bezier[first + count - 1, 3]])
+                reference[rows] = CubicSpline(knots[first:first + count + 1], values, bc_type="natural")(params[rows])
+                first += count
+        np.testing.assert_allclose(ours, reference, atol=1e-9)
+
+
+def _random_blob_outlines(seed, size=7, density=0.45):
+    rng = np.random.default_rng(seed)
+    mask = np.pad(rng.random((size, size)) < density, 2)
+    return [np.asarray(b.outline, float) for b in trace_boundaries(mask)]
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 100_000), st.sampled_from([0.3, 0.5, 0.8, 1.5]))
+def test_small_outline_batch_equals_one_by_one_and_meets_epsilon(seed, epsilon):
+    """Random specks and blobs (outer boundaries and holes): the batch gives exactly the fits of the single
+    calls (outlines do not influence each other), every one converges within epsilon (re-measured)."""
+    from splinecraft.capture.fitting import fit_small_outlines
+
+    outlines = [o for o in _random_blob_outlines(seed) if len(o) < 64]
+    if not outlines:
+        return
+    batch = fit_small_outlines(outlines, epsilon=epsilon)
+    for outline, fit in zip(outlines, batch):
+        single = fit_outline(outline, [], epsilon=epsilon)
+        np.testing.assert_array_equal(fit.spline.bezier(), single.spline.bezier())
+        assert fit.iterations == single.iterations and fit.hausdorff == single.hausdorff
+        assert fit.converged and fit.hausdorff <= epsilon
+        assert hausdorff(fit.spline.bezier(), outline) <= epsilon + 0.01
+
+
+def test_small_outline_snapshots_are_consistent():
+    outline = _small_outline("square10")
+    result = fit_outline(outline, [], epsilon=0.15)
+    snaps = result.snapshots
+    assert [s.iteration for s in snaps] == list(range(result.iterations + 1))
+    assert snaps[0].phase == "initial" and all(s.phase == "insert" for s in snaps[1:])
+    for before, after in zip(snaps, snaps[1:]):
+        grown = set(np.concatenate(after.knot_indices)) - set(np.concatenate(before.knot_indices))
+        assert grown and {c["index"] for c in after.candidates} == grown  # every new knot is a candidate
+    np.testing.assert_array_equal(snaps[-1].bezier, result.spline.bezier())
+    assert snaps[-1].hausdorff == result.hausdorff and snaps[-1].finished.all()
+    assert not snaps[0].finished.all()
+    np.testing.assert_array_equal(snaps[-1].spline().bezier(), result.spline.bezier())
+    lean = fit_outline(outline, [], epsilon=0.15, keep_snapshots=False)
+    assert lean.snapshots == []
+    np.testing.assert_array_equal(lean.spline.bezier(), result.spline.bezier())
+
+
+def test_small_outline_reports_why_it_did_not_converge():
+    pixel = _small_outline("pixel")  # its 4 points are all knots from the start
+    stuck = fit_outline(pixel, [], epsilon=0.01)
+    assert not stuck.converged and "every contour point" in stuck.info["reason"]
+    capped = fit_outline(_small_outline("square10"), [], epsilon=0.05, max_iterations=1)
+    assert not capped.converged and capped.iterations == 1 and "max_iterations" in capped.info["reason"]
+
+
+def test_small_outline_threshold_and_validation():
+    outline = _small_outline("square10")
+    full = fit_outline(outline, [], small_outline=0)
+    assert "small_outline" not in full.info  # the full lsq machinery
+    assert fit_outline(outline, [], small_outline=len(outline) + 1).info["small_outline"]
+    assert "small_outline" not in fit_outline(outline, [], small_outline=len(outline)).info
+    assert "small_outline" not in fit_outline(outline, [], method="random").info  # thesis methods unchanged
+    for bad in (-1, True, 2.5):
+        with pytest.raises(ValueError, match="small_outline"):
+            fit_outline(outline, [], small_outline=bad)
+    from splinecraft.capture.fitting import fit_small_outlines
+
+    with pytest.raises(ValueError, match="at least 4 points"):
+        fit_small_outlines([outline, outline[:3]])
+    with pytest.raises(ValueError, match="coincide"):
+        fit_small_outlines([np.vstack([outline[:1], outline])])
+    with pytest.raises(ValueError, match="corner_lists"):
+        fit_small_outlines([outline], [[0], [1]])
+    with pytest.raises(ValueError, match="outside"):
+        fit_small_outlines([outline], [[len(outline)]])
+    assert fit_small_outlines([]) == []

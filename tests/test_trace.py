@@ -369,3 +369,80 @@ def test_parse_relative_lines_and_errors():
 def test_svg_document_escapes_the_title():
     text = svg_document("M 0,0 Z", 3, 4, title="a<b&c")
     assert "<title>a&lt;b&amp;c</title>" in text and read_svg_paths(text)["width"] == "3"
+
+
+# ------------------------------------------------------------------------------------------ small outlines
+def _two_sided_deviation(bezier, contour):
+    """Independent two-sided deviation between Bézier pieces and a closed contour polyline: dense curve
+    samples to the contour edges, contour points and edge midpoints to the sampled curve (brute force)."""
+    curve = bezier_samples(bezier, per_piece=256)
+    contour = np.asarray(contour, float)
+    forward = distance_to_polygon(curve, contour).max()
+    probes = np.vstack([contour, 0.5 * (contour + np.roll(contour, -1, axis=0))])
+    backward = distance_to_polygon(probes, curve).max()
+    return max(forward, backward)
+
+
+@pytest.mark.parametrize("name, ink", [
+    ("pixel", [(4, 6)]),
+    ("domino", [(4, 6), (4, 7)]),
+    ("diagonal3", [(3, 3), (4, 4), (5, 5)]),
+])
+@pytest.mark.parametrize("epsilon", [0.3, 0.8])
+def test_tiny_components_converge_within_epsilon(name, ink, epsilon):
+    mask = np.zeros((10, 10), bool)
+    for row, col in ink:
+        mask[row, col] = True
+    result = trace(mask, epsilon=epsilon)
+    (fit,) = result.fits
+    assert result.stats["converged"] and fit.converged
+    assert result.stats["per_boundary"][0]["small_outline"] and result.stats["per_boundary"][0]["reason"] is None
+    assert fit.hausdorff <= epsilon  # corners are interpolated on small outlines: no corner allowance
+    assert _two_sided_deviation(result.splines[0].bezier(), result.points[0]) <= epsilon + 0.01
+    assert any("small-outline path" in note for note in result.notes)
+
+
+def test_noise_image_converges_reproducibly_with_consistent_snapshots():
+    """A 40 x 40 speckle image: every boundary converges within epsilon (re-measured independently), two
+    runs give the same SVG, the batch gives what fit_outline gives per boundary, snapshots end at the result."""
+    from splinecraft.capture.fitting import SMALL_OUTLINE, fit_outline
+
+    mask = np.random.default_rng(0).random((40, 40)) < 0.3
+    result = trace(mask, epsilon=0.8)
+    small = [k for k, p in enumerate(result.points) if len(p) < SMALL_OUTLINE]
+    assert len(small) > 50 and result.stats["boundaries"] > len(small)  # large outlines too
+    for k in small:
+        fit = result.fits[k]
+        assert fit.converged and fit.hausdorff <= 0.8 and fit.info["small_outline"]
+        assert _two_sided_deviation(fit.spline.bezier(), result.points[k]) <= 0.81
+        single = fit_outline(result.points[k], result.corners[k], epsilon=0.8)
+        np.testing.assert_array_equal(single.spline.bezier(), fit.spline.bezier())
+    for entry, fit in zip(result.stats["per_boundary"], result.fits):
+        assert (entry["reason"] is None) == fit.converged
+    again = trace(mask, epsilon=0.8)
+    assert again.to_svg() == result.to_svg()
+    for fit in result.fits:  # the full lsq path's Spline snaps the joins (ulps); the small path is exact
+        check = np.testing.assert_array_equal if fit.info.get("small_outline") else np.testing.assert_allclose
+        check(np.asarray(fit.snapshots[-1].bezier), fit.spline.bezier())
+    merged = result.snapshots
+    assert [m.iteration for m in merged] == list(range(result.stats["iterations"] + 1))
+    assert merged[-1].finished.all()
+    np.testing.assert_allclose(merged[-1].bezier, np.concatenate([s.bezier() for s in result.splines]))
+    lean = trace(mask, epsilon=0.8, keep_snapshots=False)
+    assert lean.to_svg() == result.to_svg() and lean.snapshots == []
+
+
+def test_small_outline_path_can_be_turned_off():
+    mask = np.zeros((12, 12), bool)
+    mask[3:8, 3:8] = True
+    default = trace(mask)
+    full = trace(mask, fit_params={"small_outline": 0})
+    assert default.stats["per_boundary"][0]["small_outline"]
+    assert not full.stats["per_boundary"][0]["small_outline"]
+    assert not any("small-outline" in note for note in full.notes)
+    thesis = trace(mask, method="random")
+    assert not thesis.stats["per_boundary"][0]["small_outline"]
+    with pytest.raises(ValueError, match="small_outline"):
+        trace(mask, fit_params={"small_outline": -1})
+    with pytest.raises(TypeError, match="unexpected option"):
+        trace(mask, fit_params={"no_such_option": 1})

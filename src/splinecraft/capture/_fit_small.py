@@ -75,11 +75,9 @@ def _small_moments(knot_chain, u, F, chain_loop):
     ``h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1} = 6 ((F_{i+1} - F_i) / h_i - (F_i - F_{i-1}) / h_{i-1})``
     with the contour arc length as parameter. Open chains (between corners) have natural ends (``M = 0``,
     spec §2.4); a loop's last entry is its seam knot again (``M_last = M_first``) and its first row wraps
-    round to the entry before the seam. The matrix is block diagonal (one block per chain), solved with
-    ``scipy.sparse.linalg.spsolve`` (O(total knots))."""
-    from scipy.sparse import csr_matrix
-    from scipy.sparse.linalg import spsolve
-
+    round to the entry before the seam. The matrix is block diagonal (one block per chain of at most 65
+    knots); the blocks are solved as dense stacks, one ``numpy.linalg.solve`` per block size, so an outline's
+    result does not depend on the other outlines of the batch (bit for bit)."""
     count = knot_chain.shape[0]
     entry = np.arange(count)
     first = np.concatenate([[True], knot_chain[1:] != knot_chain[:-1]])
@@ -101,13 +99,23 @@ def _small_moments(knot_chain, u, F, chain_loop):
                    0.0)
     eq = np.flatnonzero(row_eq)
     seam = np.flatnonzero(last & loop)
-    rows = np.concatenate([eq, eq, eq, entry, seam])
-    cols = np.concatenate([prev[eq], eq, nxt[eq], entry, first_of[seam]])
+    rows = np.concatenate([eq, eq, entry, seam])
+    cols = np.concatenate([prev[eq], nxt[eq], entry, first_of[seam]])
     diag = np.where(row_eq, 2.0 * (h_prev + h_next), 1.0)
-    data = np.concatenate([h_prev[eq], np.zeros(eq.shape[0]), h_next[eq], diag, -np.ones(seam.shape[0])])
-    matrix = csr_matrix((data, (rows, cols)), shape=(count, count))
-    moments = spsolve(matrix.tocsc(), rhs)
-    return np.asarray(moments).reshape(count, 2)
+    data = np.concatenate([h_prev[eq], h_next[eq], diag, -np.ones(seam.shape[0])])
+    size = last_of - first_of + 1  # entries of each entry's chain
+    moments = np.empty((count, 2))
+    for block in np.unique(size):
+        members = np.flatnonzero(size == block)
+        starts, position = np.unique(first_of[members], return_inverse=True)
+        matrices = np.zeros((starts.shape[0], block, block))
+        mine = size[rows] == block
+        which = np.searchsorted(starts, first_of[rows[mine]])
+        np.add.at(matrices, (which, rows[mine] - first_of[rows[mine]], cols[mine] - first_of[rows[mine]]), data[mine])
+        right = np.zeros((starts.shape[0], block, 2))
+        right[position, members - first_of[members]] = rhs[members]
+        moments[members] = np.linalg.solve(matrices, right)[position, members - first_of[members]]
+    return moments
 
 
 def _small_bezier(F0, F1, M0, M1, h):
@@ -118,6 +126,15 @@ def _small_bezier(F0, F1, M0, M1, h):
     start_tangent = slope - h * (2.0 * M0 + M1) / 6.0
     end_tangent = slope + h * (M0 + 2.0 * M1) / 6.0
     return np.stack([F0, F0 + h * start_tangent / 3.0, F1 - h * end_tangent / 3.0, F1], axis=1)
+
+
+def _bernstein(bezier, theta):
+    """Points (I, T, 2) of the Bézier pieces ``bezier`` (I, 4, 2) at ``theta`` (I, T), elementwise (the same
+    bits for a piece whatever else is in the batch)."""
+    s = 1.0 - theta
+    w0, w1, w2, w3 = s * s * s, 3.0 * theta * s * s, 3.0 * theta * theta * s, theta * theta * theta
+    return (w0[..., None] * bezier[:, None, 0] + w1[..., None] * bezier[:, None, 1]
+            + w2[..., None] * bezier[:, None, 2] + w3[..., None] * bezier[:, None, 3])
 
 
 def _segment_distance_grid(px, py, ax, ay, dx, dy):
@@ -154,11 +171,11 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
         offsets = np.minimum(np.arange(cap + 1)[None, :], steps[rows, None])
         index = a[rows, None] + offsets  # unwrapped contour indices of the section, (I, cap + 1)
         vertices = contour_point(rows, index)
-        samples_per = int(np.ceil(control_length[rows].max() / _SMALL_SPACING)) + 1
-        theta = np.linspace(0.0, 1.0, max(samples_per, 3))
-        weights = np.stack([(1 - theta) ** 3, 3 * theta * (1 - theta) ** 2, 3 * theta**2 * (1 - theta), theta**3],
-                           axis=1)
-        samples = np.einsum("sj,ijd->isd", weights, bezier[rows])
+        # per interval ceil(length / spacing) + 1 >= 3 samples, the last one repeated up to the bucket's count
+        # (repeats change no minimum or maximum, so each interval's numbers do not depend on the batch)
+        samples_per = np.maximum(np.ceil(control_length[rows] / _SMALL_SPACING).astype(np.int64) + 1, 3)
+        theta = np.minimum(np.arange(samples_per.max())[None, :] / (samples_per[:, None] - 1.0), 1.0)
+        samples = _bernstein(bezier[rows], theta)
         vx, vy = vertices[..., 0], vertices[..., 1]
         ex, ey = np.diff(vx, axis=1), np.diff(vy, axis=1)
         to_contour = _segment_distance_grid(samples[..., 0], samples[..., 1], vx[:, :-1], vy[:, :-1], ex, ey)
@@ -172,9 +189,7 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
         worst[rows] = index[np.arange(rows.shape[0]), np.argmax(to_curve[:, : cap + 1], axis=1)]
         # thesis error: contour point j vs the curve at theta = (s_j - s_a) / h
         theta_j = np.clip((contour_arc(rows, index) - u0[rows, None]) / h[rows, None], 0.0, 1.0)
-        s = 1.0 - theta_j
-        w = np.stack([s**3, 3 * theta_j * s**2, 3 * theta_j**2 * s, theta_j**3], axis=-1)
-        at = np.einsum("ipj,ijd->ipd", w, bezier[rows])
+        at = _bernstein(bezier[rows], theta_j)
         thesis[rows] = np.hypot(*(at - vertices).transpose(2, 0, 1)).max(axis=1)
     return deviation, thesis, worst
 
@@ -236,9 +251,16 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     if (step <= 0).any():
         _check_points(outlines[int(outline_of_point[np.flatnonzero(step <= 0)[0]])])
     corners = [_check_corners(c, int(n)) for c, n in zip(corner_lists, lengths)]
-    arc = np.cumsum(step) - step  # arc length at every point, from its outline's first point
-    arc -= np.repeat(arc[offsets], lengths)
-    perimeter = arc[offsets + lengths - 1] + step[offsets + lengths - 1]
+    # arc length at every point from its outline's first point, and the perimeters: cumulative sums per
+    # outline (a stack per contour length), so each outline's values do not depend on the batch
+    arc = np.empty(points.shape[0])
+    perimeter = np.empty(lengths.shape[0])
+    for length in np.unique(lengths):
+        members = np.flatnonzero(lengths == length)
+        index = offsets[members, None] + np.arange(length)[None, :]
+        running = np.cumsum(step[index], axis=1)
+        arc[index] = running - step[index]
+        perimeter[members] = running[:, -1]
 
     chain_outline, chain_loop, chain_start, chain_steps, knot_chain, knot_index = _small_chains(lengths, corners)
 

@@ -620,10 +620,16 @@ def test_small_outline_snapshots_are_consistent():
     result = fit_outline(outline, [], epsilon=0.15)
     snaps = result.snapshots
     assert [s.iteration for s in snaps] == list(range(result.iterations + 1))
-    assert snaps[0].phase == "initial" and all(s.phase == "insert" for s in snaps[1:])
+    phases = [s.phase for s in snaps]
+    assert phases[0] == "initial" and "insert" in phases and "remove" in phases
+    assert phases == sorted(phases, key=["initial", "insert", "remove"].index)  # insertion, then removal
     for before, after in zip(snaps, snaps[1:]):
-        grown = set(np.concatenate(after.knot_indices)) - set(np.concatenate(before.knot_indices))
-        assert grown and {c["index"] for c in after.candidates} == grown  # every new knot is a candidate
+        old, new = set(np.concatenate(before.knot_indices)), set(np.concatenate(after.knot_indices))
+        if after.phase == "insert":  # every new knot is a candidate
+            assert new > old and {c["index"] for c in after.candidates} == new - old
+        else:  # removal: the accepted candidates are the knots that went away
+            assert new <= old and {c["index"] for c in after.candidates if c["accepted"]} == old - new
+            assert after.finished.all()
     np.testing.assert_array_equal(snaps[-1].bezier, result.spline.bezier())
     assert snaps[-1].hausdorff == result.hausdorff and snaps[-1].finished.all()
     assert not snaps[0].finished.all()

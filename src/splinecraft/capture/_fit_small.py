@@ -39,6 +39,8 @@ from .fitting import DEFAULT_EPSILON, FitResult, Snapshot, _check_corners, _chec
 _SMALL_SPACING = 0.25
 #: Section-length caps (contour steps) of the vectorized deviation buckets.
 _SMALL_BUCKETS = (1, 2, 4, 8, 16, 32, 64)
+#: Knot-removal rounds after convergence (each tries every other inner knot of a piece).
+_REMOVAL_ROUNDS = 4
 
 
 def _small_chains(lengths, corner_lists):
@@ -272,14 +274,9 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
 
     count = lengths.shape[0]
     chains_first = np.searchsorted(chain_outline, np.arange(count))  # first chain of every outline
-    pending = {}  # candidates of the next snapshot, per outline
-    history = [[] for _ in range(count)]
-    final = [None] * count
-    active = np.ones(count, bool)
-    iteration = 0
-    while True:
-        in_play = active[chain_outline[knot_chain]]
-        k_chain, k_index = knot_chain[in_play], knot_index[in_play]
+
+    def evaluate(k_chain, k_index):
+        """Solve and measure the chains of the given knot entries (sorted by chain, then contour index)."""
         k_outline = chain_outline[k_chain]
         u = arc_of(k_outline, k_index)
         F = points[wrap(k_outline, k_index)]
@@ -289,72 +286,156 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
         h = u[right] - u[left]
         bezier = _small_bezier(F[left], F[right], moments[left], moments[right], h)
         i_outline = k_outline[left]
-        deviation, thesis, worst = _small_interval_errors(
-            bezier, k_index[left], k_index[right] - k_index[left],
-            lambda rows, index: points[wrap(i_outline[rows, None], index)],
-            lambda rows, index: arc_of(i_outline[rows, None], index), u[left], h)
         steps = k_index[right] - k_index[left]
-        failing = deviation > epsilon
-        splittable = failing & (steps >= 2)
-        quarter = np.maximum(1, steps // 4)
-        new_index = np.clip(worst, k_index[left] + quarter, k_index[right] - quarter)
-        inserting = np.bincount(i_outline[splittable], minlength=count) > 0
-        stop = ~inserting | (iteration >= max_iterations)
-        # per outline of this round: its intervals and knot entries are contiguous, in chain order
+        deviation, thesis, worst = _small_interval_errors(
+            bezier, k_index[left], steps, lambda rows, index: points[wrap(i_outline[rows, None], index)],
+            lambda rows, index: arc_of(i_outline[rows, None], index), u[left], h)
+        return {"k_chain": k_chain, "k_index": k_index, "k_outline": k_outline, "u": u, "left": left,
+                "bezier": bezier, "i_outline": i_outline, "steps": steps, "deviation": deviation,
+                "thesis": thesis, "worst": worst, "failing": deviation > epsilon}
+
+    def states(ev, wanted, phase, candidates):
+        """Per outline with ``wanted[b]`` in ``ev``: its state (snapshot and flags), a dict."""
+        i_outline, k_outline = ev["i_outline"], ev["k_outline"]
         bounds = np.flatnonzero(np.concatenate([[True], i_outline[1:] != i_outline[:-1], [True]]))
         k_bounds = np.flatnonzero(np.concatenate([[True], k_outline[1:] != k_outline[:-1], [True]]))
         present = i_outline[bounds[:-1]]
-        wanted = np.arange(present.shape[0]) if keep_snapshots else np.flatnonzero(stop[present])
-        for position in wanted:
+        out = {}
+        for position in np.flatnonzero(wanted[present]):
             b = int(present[position])
-            state = _small_state(bounds[position], bounds[position + 1], k_bounds[position], k_bounds[position + 1],
-                                 k_chain, k_index, u, bezier, deviation, thesis, failing, splittable, int(lengths[b]),
-                                 iteration, epsilon, pending.pop(b, []))
-            if keep_snapshots:
+            out[b] = _small_state(bounds[position], bounds[position + 1], k_bounds[position], k_bounds[position + 1],
+                                  ev, int(lengths[b]), int(iterations[b]), epsilon, phase, candidates.pop(b, []))
+        return out
+
+    history = [[] for _ in range(count)]
+    pending = {}  # candidates of the next snapshot, per outline
+    iterations = np.zeros(count, dtype=np.int64)
+    failed = np.zeros(count, bool)
+    active = np.ones(count, bool)
+    # knot insertion: every failing interval of >= 2 contour steps gets its farthest contour point
+    while True:
+        in_play = active[chain_outline[knot_chain]]
+        ev = evaluate(knot_chain[in_play], knot_index[in_play])
+        i_outline, k_index_ev, left = ev["i_outline"], ev["k_index"], ev["left"]
+        splittable = ev["failing"] & (ev["steps"] >= 2)
+        inserting = np.bincount(i_outline[splittable], minlength=count) > 0
+        stop = active & (~inserting | (iterations >= max_iterations))
+        failed |= stop & (np.bincount(i_outline[ev["failing"]], minlength=count) > 0)
+        if keep_snapshots:
+            for b, state in states(ev, active, "insert", pending).items():
                 history[b].append(state["snapshot"])
-            if stop[b]:
-                final[b] = state
         active &= ~stop
         if not active.any():
             break
-        # insert the new knots of the outlines still refining (every failing interval of >= 2 steps)
         adds = np.flatnonzero(splittable & active[i_outline])
+        quarter = np.maximum(1, ev["steps"][adds] // 4)
+        new_index = np.clip(ev["worst"][adds], k_index_ev[left[adds]] + quarter, k_index_ev[left[adds] + 1] - quarter)
         if keep_snapshots:
-            for j in adds:
+            for j, index in zip(adds, new_index):
                 b = int(i_outline[j])
-                point = wrap(b, int(new_index[j]))
-                pending.setdefault(b, []).append({
-                    "piece": int(k_chain[left[j]] - chains_first[b]), "index": int(new_index[j] % lengths[b]),
-                    "point": tuple(map(float, points[point])), "accepted": True,
-                    "reason": f"farthest contour point of a knot interval {deviation[j]:.3g} px from the curve "
-                              f"(> epsilon {epsilon:g})", "membership": None, "action": "insert"})
-        knot_chain = np.concatenate([knot_chain, k_chain[left][adds]])
-        knot_index = np.concatenate([knot_index, new_index[adds]])
+                pending.setdefault(b, []).append(_candidate(
+                    ev["k_chain"][left[j]] - chains_first[b], index % lengths[b], points[wrap(b, int(index))], True,
+                    f"farthest contour point of a knot interval {ev['deviation'][j]:.3g} px from the curve "
+                    f"(> epsilon {epsilon:g})", "insert"))
+        knot_chain = np.concatenate([knot_chain, ev["k_chain"][left[adds]]])
+        knot_index = np.concatenate([knot_index, new_index])
         order = np.lexsort((knot_index, knot_chain))
         knot_chain, knot_index = knot_chain[order], knot_index[order]
-        iteration += 1
-    return [_small_result(final[b], history[b], corners[b], lengths[b], epsilon, max_iterations)
-            for b in range(count)]
+        iterations[active] += 1
+    # knot removal (converged outlines): drop every other inner knot, put back those whose interval then fails,
+    # go back to the round's start for an outline that still fails; stop when nothing sticks
+    removing = ~failed & (iterations < max_iterations)
+    for round_number in range(_REMOVAL_ROUNDS):
+        if not removing.any():
+            break
+        total = knot_chain.shape[0]
+        entry = np.arange(total)
+        first = np.concatenate([[True], knot_chain[1:] != knot_chain[:-1]])
+        last = np.concatenate([knot_chain[1:] != knot_chain[:-1], [True]])
+        first_of = np.maximum.accumulate(np.where(first, entry, 0))
+        last_of = np.flatnonzero(last)[np.cumsum(first) - 1]
+        position = entry - first_of
+        entry_outline = chain_outline[knot_chain]
+        candidate = removing[entry_outline] & ~first & ~last & (position % 2 == 1 - round_number % 2)
+        # a loop keeps at least three distinct knots (its entries are the knots plus the seam again)
+        rank = np.cumsum(candidate) - np.cumsum(candidate)[first_of] + candidate[first_of]
+        allowed = np.where(chain_loop[knot_chain], last_of - first_of - 3, total)
+        candidate &= rank <= allowed
+        part = removing & (np.bincount(entry_outline[candidate], minlength=count) > 0)
+        removing &= part
+        if not part.any():
+            break
+        in_play = part[entry_outline]
+        reduced = in_play & ~candidate
+        ev = evaluate(knot_chain[reduced], knot_index[reduced])
+        # the interval of the reduced fit that holds each removed knot
+        key_scale = 4 * int(lengths.max()) + 4
+        start_keys = ev["k_chain"][ev["left"]] * key_scale + ev["k_index"][ev["left"]]
+        removed = np.flatnonzero(candidate)
+        holder = np.searchsorted(start_keys, knot_chain[removed] * key_scale + knot_index[removed], side="right") - 1
+        restore = ev["failing"][holder]
+        keep = ~candidate
+        keep[removed[restore]] = True
+        restored_outlines = np.bincount(entry_outline[removed[restore]], minlength=count) > 0
+        if restored_outlines.any():
+            check = keep & restored_outlines[entry_outline]
+            ev_check = evaluate(knot_chain[check], knot_index[check])
+            still = np.bincount(ev_check["i_outline"][ev_check["failing"]], minlength=count) > 0
+            revert = restored_outlines & still
+            keep |= revert[entry_outline]
+        else:
+            revert = np.zeros(count, bool)
+        net = np.bincount(entry_outline[removed[~keep[removed]]], minlength=count)
+        if keep_snapshots:
+            for j in removed:
+                b = int(entry_outline[j])
+                kept = bool(keep[j])
+                pending.setdefault(b, []).append(_candidate(
+                    knot_chain[j] - chains_first[b], knot_index[j] % lengths[b], points[wrap(b, int(knot_index[j]))],
+                    not kept, "restored: its removal broke the tolerance" if kept else
+                    "removed: the fit stays within the tolerance", "restore" if kept else "remove"))
+        knot_chain, knot_index = knot_chain[keep], knot_index[keep]
+        iterations[part] += 1
+        if keep_snapshots:
+            in_play = part[chain_outline[knot_chain]]
+            ev = evaluate(knot_chain[in_play], knot_index[in_play])
+            for b, state in states(ev, part, "remove", pending).items():
+                history[b].append(state["snapshot"])
+        removing &= (net > 0) & (iterations < max_iterations)
+    final = states(evaluate(knot_chain, knot_index), np.ones(count, bool), "insert", {})
+    results = []
+    for b in range(count):
+        state = final[b]
+        if keep_snapshots:  # the same knots as its last snapshot, so the same numbers: use that object
+            state["snapshot"] = history[b][-1]
+        results.append(_small_result(state, history[b], corners[b], lengths[b], epsilon, max_iterations))
+    return results
 
 
-def _small_state(lo, hi, klo, khi, k_chain, k_index, u, bezier, deviation, thesis, failing, splittable, n,
-                 iteration, epsilon, candidates):
-    """One outline's fit at one round of :func:`fit_small_outlines`: intervals ``lo:hi`` and knot entries
-    ``klo:khi`` of the round's arrays; its snapshot and the numbers of its result."""
-    entry_chain = k_chain[klo:khi]
+def _candidate(piece, index, point, accepted, reason, action):
+    return {"piece": int(piece), "index": int(index), "point": tuple(map(float, point)), "accepted": bool(accepted),
+            "reason": reason, "membership": None, "action": action}
+
+
+def _small_state(lo, hi, klo, khi, ev, n, iteration, epsilon, phase, candidates):
+    """One outline's fit in an evaluation of :func:`fit_small_outlines`: intervals ``lo:hi`` and knot entries
+    ``klo:khi`` of the evaluation ``ev``; its snapshot and the numbers of its result."""
+    entry_chain = ev["k_chain"][klo:khi]
+    u = ev["u"]
     piece_first = np.flatnonzero(np.concatenate([[True], entry_chain[1:] != entry_chain[:-1]]))
     piece_end = np.append(piece_first[1:], khi - klo)
-    knot_lists = [k_index[klo + s: klo + e] % n for s, e in zip(piece_first, piece_end)]
+    knot_lists = [ev["k_index"][klo + s: klo + e] % n for s, e in zip(piece_first, piece_end)]
     interval_first = piece_first - np.arange(piece_first.shape[0])  # each piece has one interval less
-    piece_dev = np.maximum.reduceat(deviation[lo:hi], interval_first)
-    piece_err = np.maximum.reduceat(thesis[lo:hi], interval_first)
+    piece_dev = np.maximum.reduceat(ev["deviation"][lo:hi], interval_first)
+    piece_err = np.maximum.reduceat(ev["thesis"][lo:hi], interval_first)
     starts = u[klo:khi - 1][entry_chain[1:] == entry_chain[:-1]]
-    snapshot = Snapshot(iteration=iteration, knot_indices=knot_lists, bezier=bezier[lo:hi],
+    snapshot = Snapshot(iteration=iteration, knot_indices=knot_lists, bezier=ev["bezier"][lo:hi],
                         piece_max_error=piece_err, piece_hausdorff=piece_dev, candidates=candidates,
-                        phase="initial" if iteration == 0 else "insert", thesis_stop=False,
+                        phase="initial" if iteration == 0 else phase, thesis_stop=False,
                         finished=piece_dev <= epsilon, knots=np.append(starts, u[khi - 1]), closed=True)
-    return {"snapshot": snapshot, "failing": bool(failing[lo:hi].any()),
-            "stuck": bool((failing[lo:hi] & ~splittable[lo:hi]).any()), "iteration": iteration}
+    failing = ev["failing"][lo:hi]
+    return {"snapshot": snapshot, "failing": bool(failing.any()),
+            "splittable": bool((failing & (ev["steps"][lo:hi] >= 2)).any()), "iteration": iteration}
 
 
 def _small_result(state, history, corners, n, epsilon, max_iterations):
@@ -371,7 +452,7 @@ def _small_result(state, history, corners, n, epsilon, max_iterations):
     reason = None
     if not converged:
         worst = float(np.max(snapshot.piece_hausdorff))
-        if state["stuck"]:
+        if not state["splittable"]:
             reason = (f"an interval between two neighbouring contour points deviates {worst:.3g} px > epsilon "
                       f"{epsilon:g}: the interpolant through every contour point there cannot do better")
         else:

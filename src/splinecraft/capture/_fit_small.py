@@ -157,7 +157,7 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
     parameter, module docstring) and the contour point farthest from the curve.
 
     Intervals are grouped by section length (caps ``_SMALL_BUCKETS``; shorter sections repeat their last
-    point, which changes no minimum) and done bucket by bucket with dense (interval, sample, edge)
+    point, which changes no minimum) and by sample count (powers of two) and done bucket by bucket with dense (interval, sample, edge)
     distance grids: curve samples ``<= _SMALL_SPACING`` px apart (control-polygon length) to the section's
     edges, and the section's points and edge midpoints to the chords between the samples.
     """
@@ -165,18 +165,21 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
     deviation = np.zeros(count)
     thesis = np.zeros(count)
     worst = a.copy()
-    cap_of = np.searchsorted(_SMALL_BUCKETS, steps)
     control_length = np.hypot(*np.diff(bezier, axis=1).transpose(2, 0, 1)).sum(axis=1)
-    for bucket in np.unique(cap_of):
-        rows = np.flatnonzero(cap_of == bucket)
-        cap = _SMALL_BUCKETS[bucket]
+    # per interval ceil(length / spacing) + 1 >= 3 samples; the last one is repeated up to the bucket's count
+    # (repeats change no minimum or maximum, so each interval's numbers do not depend on the batch)
+    sample_count = np.maximum(np.ceil(control_length / _SMALL_SPACING).astype(np.int64) + 1, 3)
+    cap_of = np.searchsorted(_SMALL_BUCKETS, steps)
+    sample_cap = np.ceil(np.log2(sample_count)).astype(np.int64)
+    bucket_of = cap_of * 64 + sample_cap
+    for bucket in np.unique(bucket_of):
+        rows = np.flatnonzero(bucket_of == bucket)
+        cap = _SMALL_BUCKETS[bucket // 64]
         offsets = np.minimum(np.arange(cap + 1)[None, :], steps[rows, None])
         index = a[rows, None] + offsets  # unwrapped contour indices of the section, (I, cap + 1)
         vertices = contour_point(rows, index)
-        # per interval ceil(length / spacing) + 1 >= 3 samples, the last one repeated up to the bucket's count
-        # (repeats change no minimum or maximum, so each interval's numbers do not depend on the batch)
-        samples_per = np.maximum(np.ceil(control_length[rows] / _SMALL_SPACING).astype(np.int64) + 1, 3)
-        theta = np.minimum(np.arange(samples_per.max())[None, :] / (samples_per[:, None] - 1.0), 1.0)
+        samples_per = sample_count[rows]
+        theta = np.minimum(np.arange(2 ** (bucket % 64))[None, :] / (samples_per[:, None] - 1.0), 1.0)
         samples = _bernstein(bezier[rows], theta)
         vx, vy = vertices[..., 0], vertices[..., 1]
         ex, ey = np.diff(vx, axis=1), np.diff(vy, axis=1)
@@ -453,17 +456,18 @@ def _small_result(state, history, corners, n, epsilon, max_iterations):
     if not converged:
         worst = float(np.max(snapshot.piece_hausdorff))
         if not state["splittable"]:
-            reason = (f"an interval between two neighbouring contour points deviates {worst:.3g} px > epsilon "
-                      f"{epsilon:g}: the interpolant through every contour point there cannot do better")
+            reason = (f"deviation {worst:.3g} px > epsilon {epsilon:g} in a knot interval between two neighbouring "
+                      "contour points (no knot can be inserted there: the interpolant through every contour point "
+                      "of that stretch cannot get closer)")
         else:
             reason = f"max_iterations={max_iterations} reached with a deviation of {worst:.3g} px"
-    knot_values = np.unique(np.concatenate(snapshot.knot_indices))
+    distinct_knots = sum(len(k) - 1 for k in snapshot.knot_indices)  # piece ends are the next piece's start
     return FitResult(
         spline=spline,
         pieces=[(int(k[0]), int(k[-1])) for k in snapshot.knot_indices],
         knot_indices=list(snapshot.knot_indices), snapshots=history, iterations=int(state["iteration"]),
         max_error=float(np.max(snapshot.piece_max_error)), hausdorff=float(np.max(snapshot.piece_hausdorff)),
-        converged=bool(converged), knots_inserted=int(np.setdiff1d(knot_values, corners).shape[0]),
+        converged=bool(converged), knots_inserted=int(distinct_knots - corners.shape[0]),
         method="lsq", epsilon=epsilon, thesis_stop_iteration=None, corners_used=corners.copy(),
         info={"small_outline": True, "reason": reason, "tolerance_near_corners": epsilon,
               "model": "C2 cubic interpolant through contour points (v = 0, omega = 1), arc-length parameter, "

@@ -8,8 +8,8 @@ Noisy or speckled bitmaps have thousands of tiny components (single pixels, domi
 diagonal chains: 4-60 crack points each). The full ``"lsq"`` machinery (:mod:`._fit_lsq`) costs a few
 milliseconds of fixed Python-level work per outline whatever its size, so such images took seconds, and
 its corner extrapolation has little room on a handful of points. Here all small outlines of a call are
-fitted *together*: every round is one sparse solve and one batch of dense distance grids for all outlines
-still refining, so the cost per outline is a small fraction of a millisecond.
+fitted *together*: every round is a few stacked dense solves (one per block size) and one batch of distance
+grids for all outlines still refining, so the cost per outline is a small fraction of a millisecond.
 
 Model and stopping rule
 -----------------------
@@ -22,9 +22,11 @@ contour section is within ``epsilon`` (curve samples <= 0.25 px apart to the sec
 section's points and edge midpoints to the chords between the samples; an upper bound of the Hausdorff
 distance up to the sampling, as :func:`~splinecraft.capture.fitting.piece_deviation`). Every failing
 interval of two or more contour steps gets a knot at its contour point farthest from the curve (kept in the
-middle half of the interval). When every contour point is a knot the curve interpolates them all, so a
-crack outline converges for any ``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px);
-below it the result says so (``FitResult.info["reason"]``).
+middle half of the interval). Once an outline is within ``epsilon``, knot-removal rounds (snapshot phase
+``"remove"``) drop every other inner knot, put back those whose interval then fails and go back to the
+round's start if the outline still fails, as long as removals stick. When every contour point is a knot
+the curve interpolates them all, so a crack outline converges for any ``epsilon`` above that interpolant's
+own deviation (about 0.1-0.2 px); below it the result says so (``FitResult.info["reason"]``).
 """
 from __future__ import annotations
 
@@ -71,7 +73,7 @@ def _small_chains(lengths, corner_lists):
 
 
 def _small_moments(knot_chain, u, F, chain_loop):
-    """Second derivatives ``M`` at the knots of the C² cubic interpolants of all chains in one sparse solve.
+    """Second derivatives ``M`` at the knots of the C² cubic interpolants of all chains (stacked dense solves).
 
     Spec §2.2 with ``v = 0`` (no point tension), ``omega = 1``: the classical moment equations
     ``h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1} = 6 ((F_{i+1} - F_i) / h_i - (F_i - F_{i-1}) / h_{i-1})``
@@ -157,8 +159,8 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
     parameter, module docstring) and the contour point farthest from the curve.
 
     Intervals are grouped by section length (caps ``_SMALL_BUCKETS``; shorter sections repeat their last
-    point, which changes no minimum) and by sample count (powers of two) and done bucket by bucket with dense (interval, sample, edge)
-    distance grids: curve samples ``<= _SMALL_SPACING`` px apart (control-polygon length) to the section's
+    point, which changes no minimum) and by sample count (powers of two), and done bucket by bucket with
+    dense (interval, sample, edge) distance grids: curve samples ``<= _SMALL_SPACING`` px apart (control-polygon length) to the section's
     edges, and the section's points and edge midpoints to the chords between the samples.
     """
     count = a.shape[0]
@@ -210,9 +212,10 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     (spec §2.4; the pieces meet at the corner points, ``C^0``). Knot insertion as in the module docstring:
     while a knot interval's geometric deviation from its contour section exceeds ``epsilon``, a knot is
     inserted at its contour point farthest from the curve (kept in the middle half of the interval), for all
-    failing intervals of all outlines at once; one sparse solve per round for every outline still refining
-    (:func:`_small_moments`). Once every contour point is a knot the interpolant passes through all of them,
-    so every crack outline converges for any ``epsilon`` above that interpolant's own deviation (about 0.1 px).
+    failing intervals of all outlines at once, stacked dense solves per round for every outline still refining
+    (:func:`_small_moments`), then knot-removal rounds (see the module docstring). Once every contour point
+    is a knot the interpolant passes through all of them, so every crack outline converges for any
+    ``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px).
     Corners are interpolated, never extrapolated: ``converged=True`` means ``hausdorff <= epsilon`` everywhere,
     no corner allowance. ``FitResult.info["reason"]`` says why an outline did not converge.
 

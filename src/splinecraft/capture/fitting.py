@@ -1077,7 +1077,7 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     The thesis's interpolant with ``v = 0``, ``omega = 1`` (spec §2, thesis eqs 4.1-4.9) through knot points
     that are contour points (arc-length parameter; one periodic loop without corners, natural ends at
     corners), with knots inserted at the farthest contour point of every interval whose two-sided deviation
-    exceeds ``epsilon``; all outlines refine side by side, one sparse solve per round (see
+    exceeds ``epsilon``; all outlines refine side by side, stacked dense solves per round (see
     :mod:`._fit_small`). ``converged=True`` means ``hausdorff <= epsilon`` everywhere (corners are
     interpolated, so no corner allowance); otherwise ``FitResult.info["reason"]`` says why.
 

@@ -160,8 +160,9 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
 
     Intervals are grouped by section length (caps ``_SMALL_BUCKETS``; shorter sections repeat their last
     point, which changes no minimum) and by sample count (powers of two), and done bucket by bucket with
-    dense (interval, sample, edge) distance grids: curve samples ``<= _SMALL_SPACING`` px apart (control-polygon length) to the section's
-    edges, and the section's points and edge midpoints to the chords between the samples.
+    dense (interval, sample, edge) distance grids: curve samples ``<= _SMALL_SPACING`` px apart (by the
+    control-polygon length) to the section's edges, and the section's points and edge midpoints to the
+    chords between the samples.
     """
     count = a.shape[0]
     deviation = np.zeros(count)

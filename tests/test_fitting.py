@@ -668,3 +668,18 @@ def test_small_outline_threshold_and_validation():
     with pytest.raises(ValueError, match="outside"):
         fit_small_outlines([outline], [[len(outline)]])
     assert fit_small_outlines([]) == []
+
+
+@pytest.mark.parametrize("epsilon", [0.5, 0.8])
+def test_small_outline_knot_removal_never_leaves_a_fit_outside_epsilon(epsilon):
+    """Thousands of speck outlines of a noise image: after the knot-removal rounds every fit is still within
+    epsilon (a removal changes the whole C² curve of its piece, so intervals without a removed knot must be
+    checked too)."""
+    from splinecraft.capture.fitting import fit_small_outlines
+
+    mask = np.random.default_rng(0).random((200, 200)) < 0.3
+    outlines = [np.asarray(b.outline, float) for b in trace_boundaries(mask) if len(b.outline) < 64]
+    fits = fit_small_outlines(outlines, epsilon=epsilon, keep_snapshots=False)
+    assert len(fits) > 2000
+    assert all(fit.converged and fit.hausdorff <= epsilon for fit in fits)
+    assert any(len(fit.snapshots) == 0 and fit.iterations > 0 for fit in fits)

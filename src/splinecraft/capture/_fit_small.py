@@ -352,6 +352,7 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     # knot removal (converged outlines): drop every other inner knot, put back those whose interval then fails,
     # go back to the round's start for an outline that still fails; stop when nothing sticks
     removing = ~failed & (iterations < max_iterations)
+    idle = np.zeros(count, dtype=np.int64)  # consecutive removal rounds without a removal that stuck
     for round_number in range(_REMOVAL_ROUNDS):
         if not removing.any():
             break
@@ -384,14 +385,15 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
         keep = ~candidate
         keep[removed[restore]] = True
         restored_outlines = np.bincount(entry_outline[removed[restore]], minlength=count) > 0
+        # the curve of a chain is global (C²): an interval without a removed knot can fail too; such an
+        # outline goes back to the round's start, as does one that still fails after the restorations
+        revert = (np.bincount(ev["i_outline"][ev["failing"]], minlength=count) > 0) & ~restored_outlines
         if restored_outlines.any():
             check = keep & restored_outlines[entry_outline]
             ev_check = evaluate(knot_chain[check], knot_index[check])
             still = np.bincount(ev_check["i_outline"][ev_check["failing"]], minlength=count) > 0
-            revert = restored_outlines & still
-            keep |= revert[entry_outline]
-        else:
-            revert = np.zeros(count, bool)
+            revert |= restored_outlines & still
+        keep |= revert[entry_outline]
         net = np.bincount(entry_outline[removed[~keep[removed]]], minlength=count)
         if keep_snapshots:
             for j in removed:
@@ -408,7 +410,8 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
             ev = evaluate(knot_chain[in_play], knot_index[in_play])
             for b, state in states(ev, part, "remove", pending).items():
                 history[b].append(state["snapshot"])
-        removing &= (net > 0) & (iterations < max_iterations)
+        idle = np.where(net > 0, 0, idle + 1)
+        removing &= (idle < 2) & (iterations < max_iterations)  # both parities tried without success: stop
     final = states(evaluate(knot_chain, knot_index), np.ones(count, bool), "insert", {})
     results = []
     for b in range(count):

@@ -37,9 +37,9 @@ The cost per boundary does not depend on the image size. Images with thousands o
 fit their small outlines together in one batch (``fitting.fit_small_outlines``). Uniform random noise (30 %
 ink, ``np.random.default_rng(0).random((size, size)) < 0.3``, ``keep_snapshots=False``, median of repeated
 runs interleaved in one process against ``fit_params={"small_outline": 0}``, the previous behaviour):
-200 x 200 (2270 boundaries, 2174 under 64 points) 2.0 s instead of 11.2 s (5.6x; the ~100 larger outlines
-take most of the rest) and every small outline converges; 40 x 40 (103 boundaries) 0.08 s instead of
-0.50 s (6.3x). The price is more Bézier pieces on the specks (about 1.3x: 10 392 instead of 7964 for the
+200 x 200 (2270 boundaries, 2174 under 64 points) 2.0 s instead of 11.1 s (5.5x; the ~100 larger outlines
+take most of the rest) and every small outline converges; 40 x 40 (103 boundaries) 0.09 s instead of
+0.50 s (5.6x). The price is more Bézier pieces on the specks (about 1.3x: 10 331 instead of 7964 for the
 200 x 200 image), since the small path interpolates contour points. ``min_speck_area`` removes specks.
 """
 from __future__ import annotations

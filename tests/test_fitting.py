@@ -683,3 +683,29 @@ def test_small_outline_knot_removal_never_leaves_a_fit_outside_epsilon(epsilon):
     assert len(fits) > 2000
     assert all(fit.converged and fit.hausdorff <= epsilon for fit in fits)
     assert any(len(fit.snapshots) == 0 and fit.iterations > 0 for fit in fits)
+
+
+def test_lsq_falls_back_to_the_interpolant_path_when_its_pieces_are_too_short():
+    """On a speckle outline with a corner every few steps the regression spline cannot place knots min_gap
+    steps apart and stops above epsilon; the default then refits the outline through its contour points
+    (the small-outline path), which reaches epsilon, and records the first attempt."""
+    from splinecraft.capture.corners import corners as detect_corners
+
+    mask = np.random.default_rng(0).random((60, 60)) < 0.3
+    stuck = 0
+    for boundary in trace_boundaries(mask):
+        outline = boundary.outline
+        if len(outline) < 64:
+            continue
+        corners = detect_corners(outline, method="tangent-jump")
+        plain = fit_outline(outline, corners, fallback=False)
+        result = fit_outline(outline, corners)
+        if plain.converged:
+            assert "fallback_from" not in result.info and result.hausdorff == plain.hausdorff
+            continue
+        stuck += 1
+        assert result.converged and result.hausdorff <= result.epsilon + 1e-9
+        assert result.info["fallback_from"]["hausdorff"] == pytest.approx(plain.hausdorff)
+        assert result.snapshots[-1].knot_indices is not None
+        np.testing.assert_array_equal(result.snapshots[-1].bezier, result.spline.bezier())
+    assert stuck >= 1

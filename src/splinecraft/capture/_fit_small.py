@@ -172,12 +172,15 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
     # per interval ceil(length / spacing) + 1 >= 3 samples; the last one is repeated up to the bucket's count
     # (repeats change no minimum or maximum, so each interval's numbers do not depend on the batch)
     sample_count = np.maximum(np.ceil(control_length / _SMALL_SPACING).astype(np.int64) + 1, 3)
-    cap_of = np.searchsorted(_SMALL_BUCKETS, steps)
+    buckets = _SMALL_BUCKETS  # longer sections (the fallback of larger outlines): further powers of two
+    while buckets[-1] < steps.max(initial=0):
+        buckets = buckets + (2 * buckets[-1],)
+    cap_of = np.searchsorted(buckets, steps)
     sample_cap = np.ceil(np.log2(sample_count)).astype(np.int64)
     bucket_of = cap_of * 64 + sample_cap
     for bucket in np.unique(bucket_of):
         rows = np.flatnonzero(bucket_of == bucket)
-        cap = _SMALL_BUCKETS[bucket // 64]
+        cap = buckets[bucket // 64]
         offsets = np.minimum(np.arange(cap + 1)[None, :], steps[rows, None])
         index = a[rows, None] + offsets  # unwrapped contour indices of the section, (I, cap + 1)
         vertices = contour_point(rows, index)

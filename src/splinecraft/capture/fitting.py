@@ -83,7 +83,11 @@ everywhere for the thesis methods. For ``"lsq"`` it is ``<= epsilon`` except wit
 a corner whose tip is extrapolated (``r`` the corner's weighting radius, at most ``3 corner_radius``), where
 it is ``<= epsilon + corner_allowance`` (0.5 px, the issue's "+ half a pixel"): the true corner of a pixel
 shape lies outside its pixel outline. The reported deviation is an upper bound of the true one (it takes the
-minimum over a window of candidate edges), tight to about 0.05 px in the tests.
+minimum over a window of candidate edges), tight to about 0.05 px in the tests. Outlines of fewer than
+:data:`SMALL_OUTLINE` points, and outlines on which the regression spline gets stuck above ``epsilon`` (many
+corners a few steps apart, as on speckle; option ``fallback``), are fitted by the interpolant path of
+:func:`fit_small_outlines` (knot points are contour points, corners interpolated): there ``converged=True``
+means ``<= epsilon`` everywhere, with no corner allowance.
 
 Default epsilon
 ---------------
@@ -133,10 +137,10 @@ STALL_ITERATIONS = 10
 _ENGINE_OPTIONS = ("point_tension", "interval_weights", "alpha", "beta", "point_tension_scale")
 _THESIS_OPTIONS = _ENGINE_OPTIONS + ("tangent_stride", "fuzzy_weights")
 _LSQ_OPTIONS = ("corner_radius", "corner_allowance", "tip_gap", "min_gap", "remove_knots", "hoschek_gate",
-                "sample_spacing", "geometric_corners", "corner_pin", "initial_density")
+                "sample_spacing", "geometric_corners", "corner_pin", "initial_density", "fallback")
 _LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, "min_gap": 3, "remove_knots": True,
                  "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": False, "corner_pin": 0.0,
-                 "initial_density": 0.01}
+                 "initial_density": 0.01, "fallback": True}
 
 
 # ------------------------------------------------------------------------------------------------ results
@@ -351,7 +355,7 @@ def _check_options(method, options):
         if isinstance(out["min_gap"], bool) or not isinstance(out["min_gap"], numbers.Integral) \
                 or out["min_gap"] < 1:
             raise ValueError(f"min_gap must be an integer >= 1, got {out['min_gap']!r}")
-        for key in ("remove_knots", "geometric_corners"):
+        for key in ("remove_knots", "geometric_corners", "fallback"):
             if not isinstance(out[key], (bool, np.bool_)):
                 raise TypeError(f"{key} must be True or False, got {out[key]!r}")
         return out
@@ -1059,6 +1063,9 @@ def _lsq_spline(state, dev, epsilon):
 #: Contours with fewer points than this are fitted by the direct small-outline path of ``"lsq"``
 #: (:func:`fit_small_outlines`; :mod:`._fit_small`); ``fit_outline(..., small_outline=0)`` turns it off.
 SMALL_OUTLINE = 64
+#: Contours of up to this many points whose ``"lsq"`` fit gets stuck above ``epsilon`` are refitted by the
+#: interpolant path (option ``fallback``); its dense distance grids grow with the knot-interval length.
+FALLBACK_OUTLINE = 512
 
 
 def _check_small_outline(small_outline):
@@ -1143,7 +1150,10 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         ``"lsq"``: ``corner_radius`` (2.0 px for a right angle), ``corner_allowance`` (0.5 px), ``tip_gap``
         (0.5), ``min_gap`` (3 contour steps), ``remove_knots`` (True), ``hoschek_gate`` (2.0 px),
         ``sample_spacing`` (0.5 px), ``initial_density`` (0.01; 0 = start from the corners alone),
-        ``geometric_corners`` (False), ``corner_pin`` (0.0).
+        ``geometric_corners`` (False), ``corner_pin`` (0.0), ``fallback`` (True: when the regression spline
+        cannot reach ``epsilon`` on a contour of at most :data:`FALLBACK_OUTLINE` points, the contour is refitted
+        by the interpolant path of :func:`fit_small_outlines`; ``info["fallback_from"]`` records the first
+        attempt).
 
     Returns
     -------
@@ -1182,5 +1192,18 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         return fit_small_outlines([points], [corners], epsilon=epsilon, max_iterations=int(max_iterations),
                                   keep_snapshots=bool(keep_snapshots))[0]
     if method == "lsq":
-        return _fit_lsq_method(points, corners, epsilon, int(max_iterations), bool(keep_snapshots), opts)
+        result = _fit_lsq_method(points, corners, epsilon, int(max_iterations), bool(keep_snapshots), opts)
+        if result.converged or not opts["fallback"] or n > FALLBACK_OUTLINE:
+            return result
+        # the regression spline got stuck (typically short pieces between many corners of a noisy outline,
+        # where no knot fits min_gap steps from the others): the interpolant path through contour points
+        # always gets there, since with every contour point a knot the curve interpolates them all
+        fallback = fit_small_outlines([points], [corners], epsilon=epsilon, max_iterations=int(max_iterations),
+                                      keep_snapshots=bool(keep_snapshots))[0]
+        if fallback.converged or fallback.hausdorff < result.hausdorff:
+            fallback.info["fallback_from"] = {"method": "lsq", "hausdorff": result.hausdorff,
+                                              "iterations": result.iterations,
+                                              "knots_inserted": result.knots_inserted}
+            return fallback
+        return result
     return _fit_thesis(points, corners, epsilon, method, tau, rng, int(max_iterations), bool(keep_snapshots), opts)

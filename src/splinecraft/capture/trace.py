@@ -29,10 +29,11 @@ Documented outcomes for degenerate input
 Large and noisy images
 ----------------------
 An 8000 x 8000 8-bit PNG (a filled disc of radius 3900 px with a hole, an island in the hole and a
-triangular notch: 3 boundaries, 48 392 contour points), measured with
-``/usr/bin/time -v splinecraft trace big.png -o big.svg`` on the 2-core development machine: 6.6 s wall
-(load 0.47 s, boundaries 0.20 s, corners 1.6 s, fit 3.1 s), peak resident memory 302 MB. Memory is a few
-bytes per pixel (the gray image and the mask, one byte each, plus bool temporaries) and scales linearly.
+triangular notch: 3 boundaries, 48 306 contour points), measured with
+``/usr/bin/time -v splinecraft trace big.png -o big.svg`` on the 2-core development machine: 2.3 s wall
+(in-process 1.55 s: load 0.62 s, boundaries 0.12 s, corners 0.09 s, fit 0.66 s), peak resident memory
+283 MB (commit 5aa9c7e). Memory is a few bytes per pixel (the gray image and the mask, one byte each, plus bool
+temporaries) and scales linearly.
 The cost per boundary does not depend on the image size. Images with thousands of specks (scanner noise)
 fit their small outlines together in one batch (``fitting.fit_small_outlines``). Uniform random noise (30 %
 ink, ``np.random.default_rng(0).random((size, size)) < 0.3``, ``keep_snapshots=False``, median of repeated
@@ -40,7 +41,10 @@ runs interleaved in one process against ``fit_params={"small_outline": 0}``, the
 200 x 200 (2270 boundaries, 2174 under 64 points) 2.0 s instead of 11.1 s (5.5x; the ~100 larger outlines
 take most of the rest) and every small outline converges; 40 x 40 (103 boundaries) 0.09 s instead of
 0.50 s (5.6x). The price is more Bézier pieces on the specks (about 1.3x: 10 331 instead of 7964 for the
-200 x 200 image), since the small path interpolates contour points. ``min_speck_area`` removes specks.
+200 x 200 image), since the small path interpolates contour points. 17 of the larger outlines of that image
+(a corner every few steps) get stuck in the regression spline and are refitted by the same interpolant path
+(``fit_outline``'s ``fallback``): then every boundary converges, in 2.5 s (commit 5aa9c7e, median of 3).
+``min_speck_area`` removes specks.
 """
 from __future__ import annotations
 

@@ -221,21 +221,8 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     is a knot the interpolant passes through all of them, so every crack outline converges for any
     ``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px).
     Corners are interpolated, never extrapolated: ``converged=True`` means ``hausdorff <= epsilon`` everywhere,
-    no corner allowance. ``FitResult.info["reason"]`` says why an outline did not converge.
-
-    Parameters
-    ----------
-    outlines : sequence of array_like (n, 2)
-        Closed contours as in :func:`fit_outline` (``n >= 4``, no consecutive duplicates).
-    corner_lists : sequence of array_like of int, optional
-        Corner indices per contour (default: none, periodic loops).
-    epsilon, max_iterations, keep_snapshots
-        As in :func:`fit_outline`.
-
-    Returns
-    -------
-    list of FitResult
-        One per outline, ``method="lsq"``, ``info["small_outline"] = True``.
+    no corner allowance. ``FitResult.info["reason"]`` says why an outline did not converge. Parameters and
+    result: the public :func:`~splinecraft.capture.fitting.fit_small_outlines`.
     """
     epsilon = _check_epsilon(epsilon)
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, numbers.Integral) or max_iterations < 1:

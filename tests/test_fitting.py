@@ -709,3 +709,18 @@ def test_lsq_falls_back_to_the_interpolant_path_when_its_pieces_are_too_short():
         assert result.snapshots[-1].knot_indices is not None
         np.testing.assert_array_equal(result.snapshots[-1].bezier, result.spline.bezier())
     assert stuck >= 1
+
+
+def test_large_speckle_outline_converges_through_the_fallback():
+    """A 1000+ point outline of a half-inked noise bitmap (hundreds of corners) stalls the regression spline;
+    the fallback covers outlines of any size whose pieces are short, and the trace converges within
+    epsilon (+ 0.5 px at the lsq outlines' corner tips)."""
+    from splinecraft.capture.trace import trace
+
+    mask = np.random.default_rng(0).random((70, 70)) < 0.5
+    result = trace(mask, epsilon=0.8, keep_snapshots=False)
+    assert result.stats["converged"] and result.stats["hausdorff"] <= 0.8 + 0.5 + 1e-9
+    rescued = [k for k, fit in enumerate(result.fits) if "fallback_from" in fit.info]
+    assert any(len(result.points[k]) > 512 for k in rescued)
+    for k in rescued:
+        assert result.fits[k].hausdorff <= 0.8 + 1e-9 < result.fits[k].info["fallback_from"]["hausdorff"]

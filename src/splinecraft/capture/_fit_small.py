@@ -41,6 +41,9 @@ from .fitting import DEFAULT_EPSILON, FitResult, Snapshot, _check_corners, _chec
 _SMALL_SPACING = 0.25
 #: Section-length caps (contour steps) of the vectorized deviation buckets.
 _SMALL_BUCKETS = (1, 2, 4, 8, 16, 32, 64)
+#: Longest initial knot interval (contour steps); only the fallback of larger outlines has longer chains. It
+#: bounds the (interval, sample, edge) distance grids of the deviation check.
+_SMALL_SECTION = 64
 #: Knot-removal rounds after convergence (each tries every other inner knot of a piece).
 _REMOVAL_ROUNDS = 4
 
@@ -56,7 +59,7 @@ def _small_chains(lengths, corner_lists):
         if corners.size == 0:
             c = len(chain_outline)
             chain_outline.append(b), chain_loop.append(True), chain_start.append(0), chain_steps.append(n)
-            count = min(4, n)
+            count = max(min(4, n), -(-n // _SMALL_SECTION))
             knots = np.append(np.arange(count) * n // count, n)  # the seam knot at both ends
             knot_chain.append(np.full(knots.shape[0], c)), knot_index.append(knots)
             continue
@@ -65,7 +68,8 @@ def _small_chains(lengths, corner_lists):
             c = len(chain_outline)
             chain_outline.append(b), chain_loop.append(False), chain_start.append(int(a))
             chain_steps.append(int(z - a))
-            knots = [a, (a + z) // 2, z] if corners.size == 1 else [a, z]
+            count = max(2 if corners.size == 1 else 1, -(-(z - a) // _SMALL_SECTION))
+            knots = a + np.arange(count + 1) * (z - a) // count
             knot_chain.append(np.full(len(knots), c)), knot_index.append(np.asarray(knots, dtype=np.int64))
     return (np.asarray(chain_outline, dtype=np.int64), np.asarray(chain_loop, dtype=bool),
             np.asarray(chain_start, dtype=np.int64), np.asarray(chain_steps, dtype=np.int64),

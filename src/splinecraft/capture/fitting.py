@@ -85,9 +85,9 @@ it is ``<= epsilon + corner_allowance`` (0.5 px, the issue's "+ half a pixel"): 
 shape lies outside its pixel outline. The reported deviation is an upper bound of the true one (it takes the
 minimum over a window of candidate edges), tight to about 0.05 px in the tests. Outlines of fewer than
 :data:`SMALL_OUTLINE` points, and outlines on which the regression spline gets stuck above ``epsilon`` (many
-corners a few steps apart, as on speckle; option ``fallback``), are fitted by the interpolant path of
-:func:`fit_small_outlines` (knot points are contour points, corners interpolated): there ``converged=True``
-means ``<= epsilon`` everywhere, with no corner allowance.
+corners a few steps apart, as on speckle; option ``fallback``, pieces of at most ``FALLBACK_PIECE`` steps),
+are fitted by the interpolant path of :func:`fit_small_outlines` (knot points are contour points, corners
+interpolated): there ``converged=True`` means ``<= epsilon`` everywhere, with no corner allowance.
 
 Default epsilon
 ---------------
@@ -1063,9 +1063,17 @@ def _lsq_spline(state, dev, epsilon):
 #: Contours with fewer points than this are fitted by the direct small-outline path of ``"lsq"``
 #: (:func:`fit_small_outlines`; :mod:`._fit_small`); ``fit_outline(..., small_outline=0)`` turns it off.
 SMALL_OUTLINE = 64
-#: Contours of up to this many points whose ``"lsq"`` fit gets stuck above ``epsilon`` are refitted by the
-#: interpolant path (option ``fallback``); its dense distance grids grow with the knot-interval length.
-FALLBACK_OUTLINE = 512
+#: A contour whose ``"lsq"`` fit gets stuck above ``epsilon`` is refitted by the interpolant path (option
+#: ``fallback``) when its longest piece (contour steps between consecutive corners; the whole contour without
+#: corners) has at most this many steps: the path solves each piece as one dense system.
+FALLBACK_PIECE = 2048
+
+
+def _longest_piece(n, corners):
+    corners = np.sort(np.asarray(corners, dtype=np.int64))
+    if corners.size == 0:
+        return n
+    return int(np.diff(np.append(corners, corners[0] + n)).max())
 
 
 def _check_small_outline(small_outline):
@@ -1151,9 +1159,9 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         (0.5), ``min_gap`` (3 contour steps), ``remove_knots`` (True), ``hoschek_gate`` (2.0 px),
         ``sample_spacing`` (0.5 px), ``initial_density`` (0.01; 0 = start from the corners alone),
         ``geometric_corners`` (False), ``corner_pin`` (0.0), ``fallback`` (True: when the regression spline
-        cannot reach ``epsilon`` on a contour of at most :data:`FALLBACK_OUTLINE` points, the contour is refitted
-        by the interpolant path of :func:`fit_small_outlines`; ``info["fallback_from"]`` records the first
-        attempt).
+        cannot reach ``epsilon`` and no piece is longer than :data:`FALLBACK_PIECE` steps, the contour is
+        refitted by the interpolant path of :func:`fit_small_outlines`; ``info["fallback_from"]`` records the
+        first attempt).
 
     Returns
     -------
@@ -1193,7 +1201,7 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
                                   keep_snapshots=bool(keep_snapshots))[0]
     if method == "lsq":
         result = _fit_lsq_method(points, corners, epsilon, int(max_iterations), bool(keep_snapshots), opts)
-        if result.converged or not opts["fallback"] or n > FALLBACK_OUTLINE:
+        if result.converged or not opts["fallback"] or _longest_piece(n, corners) > FALLBACK_PIECE:
             return result
         # the regression spline got stuck (typically short pieces between many corners of a noisy outline,
         # where no knot fits min_gap steps from the others): the interpolant path through contour points

@@ -446,3 +446,24 @@ def test_small_outline_path_can_be_turned_off():
         trace(mask, fit_params={"small_outline": -1})
     with pytest.raises(TypeError, match="unexpected option"):
         trace(mask, fit_params={"no_such_option": 1})
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 10_000), st.integers(10, 56), st.floats(0.05, 0.6), st.sampled_from([0.3, 0.8, 2.0]),
+       st.booleans())
+def test_any_bitmap_converges_within_epsilon(seed, size, ink, epsilon, blur):
+    """Noise, specks and blurred blobs (many tiny outlines, corners every few steps, thin necks): every
+    boundary converges and the result stays within epsilon (+ 0.5 px at extrapolated corner tips)."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(seed)
+    values = rng.random((size, size))
+    if blur:
+        values = ndimage.gaussian_filter(values, 1.5)
+    mask = values < np.quantile(values, ink)
+    if not mask.any():
+        mask[size // 2, size // 2] = True
+    result = trace(mask, epsilon=epsilon)
+    assert result.stats["converged"], [pb.get("reason") for pb in result.stats["per_boundary"]]
+    assert result.stats["hausdorff"] <= epsilon + 0.5 + 1e-9
+    assert len(result.splines) == result.stats["boundaries"]

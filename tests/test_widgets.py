@@ -499,6 +499,13 @@ def explorer_factory():
                                                        **{"epsilon": 1.0, **params})
 
 
+@pytest.mark.parametrize("method, words", [("lsq", "curvature"), ("fuzzy", "corners as the only knots")])
+def test_explorer_explains_what_iteration_zero_holds(explorer_factory, method, words):
+    explorer = explorer_factory(method=method)
+    explorer.go_to(0)
+    assert words in explorer.iteration_info["note"]
+
+
 def test_explorer_draws_the_last_snapshot_and_steps(explorer_factory):
     explorer = explorer_factory()
     result = explorer.result

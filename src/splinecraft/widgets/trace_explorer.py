@@ -397,7 +397,11 @@ class TraceExplorer(anywidget.AnyWidget):
         phases = {getattr(s, "phase", "insert") for s, done in zip(merged.snapshots, merged.finished) if not done}
         notes = []
         if self.snapshot_index == 0:
-            notes.append("Iteration 0 is the first fit, with the corners as the only knots.")
+            if self._result.params.get("method") == "lsq":
+                notes.append("Iteration 0 is the first fit: the corners, and knots where the contour's curvature "
+                             "calls for them.")
+            else:
+                notes.append("Iteration 0 is the first fit, with the corners as the only knots.")
         elif "remove" in phases:
             notes.append(f"Knot removal round: {len(removed)} knot(s) dropped where the fit stays within ε.")
         if finished and finished < total and self.snapshot_index > 0:

@@ -1192,9 +1192,10 @@ What to read from the table:
   the random candidates happen to lie within ε) they stop early but guarantee nothing; with an honest rule
   (every piece within ε of its contour, which `sc.trace` enforces) they need many iterations at ε = 1 and may
   hit the iteration cap: the last bad spots are rarely drawn.
-* The team's default (`lsq`, deterministic) fits all contour points of a piece by least squares, inserts a
-  knot where the fit is worst and, once within ε, removes knots that are not needed (so its knot count can
-  drop in the last snapshots): fewer knots, far fewer iterations, the same ε.
+* The team's default (`lsq`, deterministic) fits all contour points of a piece by least squares, starts with
+  knots where the contour's curvature calls for them, inserts a knot where the fit is worst and, once within ε,
+  removes knots that are not needed (so its knot count can drop in the last snapshots, phase "remove"): fewer
+  knots, far fewer iterations, the same ε.
 * The thesis's "% reduction" counts only inserted knots against contour points, so it is high for every
   algorithm; the number of Bézier segments is the honest size of the result (see also notebook 07)."""),
     ("md", "## Check"),

@@ -372,8 +372,8 @@ class OutlineLSQ:
         turn of the chord directions (chords over +-4 contour steps) between +-4 steps, per arc length, which
         averages out the pixel staircase, then averaged over +-8 steps; rates below ``seed_min_curvature``
         (1/150 px, what is left of the staircase on long straight sides) count as straight, and contour points
-        within 6 px of a corner are left out (the corner's pieces end there). ``density = 0`` keeps the corners as the only knots (four equally spaced knots on an
-        outline without corners)."""
+        within 6 px of a corner are left out (the corner's pieces end there). ``density = 0`` keeps the corners
+        as the only knots (four equally spaced knots on an outline without corners)."""
         n, Q, s = self.n, self.Q, self.s
         if density <= 0 or n < 16:
             return

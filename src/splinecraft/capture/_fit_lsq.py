@@ -288,7 +288,8 @@ class OutlineLSQ:
     """
 
     def __init__(self, points, corners, epsilon, *, corner_radius=2.0, corner_allowance=0.5, min_gap=3,
-                 sample_spacing=0.5, hoschek_gate=2.0, initial_knots=4, weight_profile="quadratic", tip_gap=0.5, geometric_corners=True, corner_pin=0.0):
+                 sample_spacing=0.5, hoschek_gate=2.0, initial_knots=4, weight_profile="quadratic", tip_gap=0.5,
+                 geometric_corners=True, corner_pin=0.0):
         points = np.asarray(points, float)
         n = points.shape[0]
         corners = np.unique(np.asarray(corners, dtype=np.int64))

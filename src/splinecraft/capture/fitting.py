@@ -34,7 +34,8 @@ Definitions where the thesis is silent (spec §3, §6.3)
 ------------------------------------------------------
 * **Pieces.** Piece ``k`` runs along the contour from corner ``k`` to corner ``k + 1`` (both included, the last
   piece wraps around). ``"lsq"`` first drops a corner closer than ``min_gap`` contour steps to its neighbour
-  (keeping the sharper one; :attr:`FitResult.corners_used` lists the corners kept). Without corners the contour is one periodic closed curve; the thesis methods then start
+  (keeping the sharper one; :attr:`FitResult.corners_used` lists the corners kept). Without corners the contour
+  is one periodic closed curve; the thesis methods then start
   from three contour points a third of the perimeter apart, ``"lsq"`` from four (a periodic cubic needs four
   knots), and that single piece is listed as ``(i0, i0)``. With one corner the thesis methods add the point
   half way round (an interpolant needs two distinct consecutive points).

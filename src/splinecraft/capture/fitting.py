@@ -35,9 +35,9 @@ Definitions where the thesis is silent (spec §3, §6.3)
 * **Pieces.** Piece ``k`` runs along the contour from corner ``k`` to corner ``k + 1`` (both included, the last
   piece wraps around). ``"lsq"`` first drops a corner closer than ``min_gap`` contour steps to its neighbour
   (keeping the sharper one; :attr:`FitResult.corners_used` lists the corners kept). Without corners the contour
-  is one periodic closed curve; the thesis methods then start
-  from three contour points a third of the perimeter apart, ``"lsq"`` from four (a periodic cubic needs four
-  knots), and that single piece is listed as ``(i0, i0)``. With one corner the thesis methods add the point
+  is one periodic closed curve; the thesis methods then start from three contour points a third of the
+  perimeter apart, ``"lsq"`` from its curvature-placed knots, or four equally spaced ones when the curvature
+  asks for fewer (a periodic cubic needs four knots), and that single piece is listed as ``(i0, i0)``. With one corner the thesis methods add the point
   half way round (an interpolant needs two distinct consecutive points).
 * **Interpolant of a piece** (thesis methods): knot points ``F`` = the contour points at the piece's knots,
   chord-length knots (spec §3), clamped ends (spec §2.4 Type 1) with the end tangents of spec §6.3: the unit

@@ -536,6 +536,19 @@ def _check_m(m, n):
     return min(m, (n - 1) // 2)
 
 
+def _k_cosine_input(points, closed, m, max_angle):
+    """Arguments of RJ73 / RW75 checked and their k-cosine table: ``(P, keep, m, cosines, max_angle)``, or
+    None for fewer than 5 distinct points (``m`` and ``max_angle`` are validated first either way)."""
+    max_angle = _check_real(max_angle, "max_angle", low=0.0, high=180.0, low_open=True)
+    P, keep = _prepare(points, closed)
+    if m is not None:
+        _check_int(m, "m", low=1)
+    if len(P) < 5:
+        return None
+    m = _check_m(m, len(P))
+    return P, keep, m, _k_cosines(P, m, closed), max_angle
+
+
 def rj73(points, *, closed=True, m=5, max_angle=120.0):
     """Rosenfeld & Johnston (1973), "Angle detection on digital curves", IEEE Trans. Computers C-22.
 
@@ -565,14 +578,10 @@ def rj73(points, *, closed=True, m=5, max_angle=120.0):
     numpy.ndarray of intp
         Sorted indices; empty for fewer than 5 distinct points.
     """
-    max_angle = _check_real(max_angle, "max_angle", low=0.0, high=180.0, low_open=True)
-    P, keep = _prepare(points, closed)
-    if m is not None:
-        _check_int(m, "m", low=1)
-    if len(P) < 5:
+    prepared = _k_cosine_input(points, closed, m, max_angle)
+    if prepared is None:
         return _EMPTY.copy()
-    m = _check_m(m, len(P))
-    table = _k_cosines(P, m, closed)
+    P, keep, m, table, max_angle = prepared
     return _result(_kcos_select(P, closed, table, m, max_angle), keep)
 
 
@@ -586,14 +595,10 @@ def rw75(points, *, closed=True, m=10, max_angle=120.0):
 
     Parameters are those of :func:`rj73` (defaults ``m = 10``, ``max_angle = 120``, chosen the same way).
     """
-    max_angle = _check_real(max_angle, "max_angle", low=0.0, high=180.0, low_open=True)
-    P, keep = _prepare(points, closed)
-    if m is not None:
-        _check_int(m, "m", low=1)
-    if len(P) < 5:
+    prepared = _k_cosine_input(points, closed, m, max_angle)
+    if prepared is None:
         return _EMPTY.copy()
-    m = _check_m(m, len(P))
-    cos = _k_cosines(P, m, closed)
+    P, keep, m, cos, max_angle = prepared
     # cumulative sums along k (NaN -> excluded by propagating NaN)
     csum = np.concatenate([np.zeros((len(P), 1)), np.cumsum(cos, axis=1)], axis=1)   # csum[:, k] = sum_{j<=k}
     k = np.arange(1, m + 1)

@@ -92,8 +92,8 @@ function render({ model, el }) {
     const [lo, hi, st] = range(name);
     return sliderRow({ label, title, min: lo, max: hi, step: st, value: NaN, onInput, testid: name, scale });
   };
-  const globalTension = mkSlider("point_tension", "v", "Point tension v for every point (spec §2.2): v > 0 tightens the curve towards the polygon", (v, final) => setAll("point_tension", v, final));
-  const globalWeight = mkSlider("interval_weights", "ω", "Interval weight ω for every interval (spec §2.2): penalises bending", (v, final) => setAll("interval_weights", v, final), "log");
+  const globalTension = mkSlider("point_tension", "v", "Point tension v for every point (§2.2): v > 0 tightens the curve towards the polygon", (v, final) => setAll("point_tension", v, final));
+  const globalWeight = mkSlider("interval_weights", "ω", "Interval weight ω for every interval (§2.2): penalises bending", (v, final) => setAll("interval_weights", v, final), "log");
   const alphaSlider = mkSlider("alpha", "α", "Class parameter α", (v, final) => setTrait("alpha", v, final));
   const betaSlider = mkSlider("beta", "β", "Class parameter β", (v, final) => setTrait("beta", v, final));
   const pointTension = mkSlider("point_tension", "vᵢ", "Point tension of the selected point", (v, final) => setOne("point_tension", model.get("selected"), v, final));

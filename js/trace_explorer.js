@@ -44,7 +44,7 @@ function render({ model, el }) {
   const busy = h("span", { class: "sc-busy", "data-testid": "busy" });
   const toolbar = h("div", { class: "sc-toolbar" },
     field("corners", cornerSel.select, "Corner detector (thesis chapter 2)"),
-    field("knot insertion", methodSel.select, "Knot-insertion algorithm (thesis §4.3)"),
+    field("knot insertion", methodSel.select, "Knot-insertion algorithm (thesis section 4.3)"),
     h("span", { class: "sc-spacer" }), busy, field("image", upload));
 
   // ---------------------------------------------------------------- canvas

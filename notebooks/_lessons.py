@@ -79,7 +79,7 @@ class Plot:
         return self.line(xy, color, width, label=label, dashed=dashed)
 
     def comb(self, spline, relative_length=0.12, color="#8e24aa", samples=20):
-        """Curvature comb (spec §7): teeth ∝ κ, drawn outside, both one-sided teeth at every joint.
+        """Curvature comb (§7): teeth ∝ κ, drawn outside, both one-sided teeth at every joint.
 
         Scaled so the 90th-percentile tooth is ``relative_length`` of the curve's size; the few teeth
         of sharp turns that would be longer than 2.5 times that are clipped (drawn dashed-free, capped)."""
@@ -165,12 +165,12 @@ NB01 = [
         "and Timmer (4) are three stops on the same slider. In the interpolating spline through given points, "
         "however, α and β cancel exactly (erratum **E1** of the spec): choosing Ball, Bézier or Timmer moves "
         "only the auxiliary points Vᵢ, Wᵢ, never the curve.",
-        "Thesis §3 (eqs 3.5–3.12, Figs 3.1–3.3); spec §1, §2.1. Run the cells from the top; the last cell "
+        "thesis section 3 (eqs 3.5–3.12, Figs 3.1–3.3); §1, §2.1. Run the cells from the top; the last cell "
         "checks every claim made here.",
     ),
     ("code", SETUP),
     ("md", r"""
-## 1. Blending functions (thesis eq 3.5, spec §1)
+## 1. Blending functions (thesis eq 3.5, §1)
 
 $$P(\theta)=(1-\theta)^2\{1+(2-\alpha)\theta\}F_0+\alpha\theta(1-\theta)^2V+\beta\theta^2(1-\theta)W+\theta^2\{1+(2-\beta)(1-\theta)\}F_1$$
 
@@ -255,7 +255,7 @@ show(plot)
 ## 3. The interpolating spline: the class does not change the curve (E1)
 
 For a spline through data points Fᵢ with tangents Mᵢ, the thesis sets Vᵢ = Fᵢ + hᵢMᵢ/αᵢ and Wᵢ = Fᵢ₊₁ − hᵢMᵢ₊₁/βᵢ
-(eqs 3.10–3.12). Substituting into b₁ = Fᵢ + αᵢ/3 (Vᵢ − Fᵢ) gives b₁ = Fᵢ + hᵢMᵢ/3: **αᵢ cancels** (spec §2.1).
+(eqs 3.10–3.12). Substituting into b₁ = Fᵢ + αᵢ/3 (Vᵢ − Fᵢ) gives b₁ = Fᵢ + hᵢMᵢ/3: **αᵢ cancels** (§2.1).
 The thesis's figures that claim different Ball/Bézier/Timmer interpolants cannot be reproduced; what does change
 is the auxiliary polygon Fᵢ Vᵢ Wᵢ Fᵢ₊₁, which the engine keeps in `spline.auxiliary` for drawing."""),
     ("code", r'''
@@ -344,7 +344,7 @@ NB02 = [
         "reverses the tangents so the curve loops (thesis Figs 3.4–3.11), with a band in between where the "
         "system is singular (**E8**). With curvature combs you will also see that a joint is only G² where "
         "the neighbouring interval weights are equal (**E2**): the curvature jumps by the ratio ω₍ᵢ₋₁₎/ωᵢ.",
-        "Thesis §3.1, §3.4 (eqs 3.1–3.4, 3.13–3.14); spec §2.2–2.5, §7.",
+        "thesis sections 3.1, 3.4 (eqs 3.1–3.4, 3.13–3.14); §2.2–2.5, §7.",
     ),
     ("code", SETUP),
     ("md", r"""
@@ -353,7 +353,7 @@ NB02 = [
 At every interior knot the interpolant is C¹ and satisfies **ωᵢ P″(tᵢ⁺) = vᵢ P′(tᵢ) + ωᵢ₋₁ P″(tᵢ⁻)**
 (eq 3.13). This is the stationarity condition of the energy
 E = Σ ωᵢ ∫ ‖P″‖² dt + Σ vᵢ ‖Mᵢ‖²: **vᵢ penalises the speed at the point, ωᵢ the bending of interval i**.
-The tangents Mₖ solve one tridiagonal system (spec §2.3; E3 corrects a factor 2 in eq 3.25):
+The tangents Mₖ solve one tridiagonal system (§2.3; E3 corrects a factor 2 in eq 3.25):
 
 $$c_{k-1}M_{k-1}+\big(\tfrac12v_k+2c_{k-1}+2c_k\big)M_k+c_kM_{k+1}=3(c_{k-1}\Delta_{k-1}+c_k\Delta_k),\qquad c_i=\omega_i/h_i.$$
 
@@ -420,7 +420,7 @@ for v in (-4.5, -8.0, -11.0):
 ## 2. How much does v tighten? A sweep, and the scale-free ν
 
 The raw v has the units of c = ω/h. The *relative* tension ν with vₖ = νₖ (cₖ₋₁ + cₖ) acts the same at every
-scale and knot spacing (spec §2.5, `point_tension_scale="relative"`; the widget's default). With chord-length
+scale and knot spacing (§2.5, `point_tension_scale="relative"`; the widget's default). With chord-length
 knots (the default for drawing):"""),
     ("code", r'''
 nus = [0.0, 0.5, 1.0, 2.0, 5.0, 10.0, 50.0]
@@ -522,7 +522,7 @@ NB03 = [
         "curve to its control points and interval tension straightens legs (thesis Figs 3.12–3.25), while "
         "strongly negative v (below −8 with uniform knots) makes the basis negative, so the curve leaves the "
         "convex hull of its control polygon (Figs 3.26–3.38).",
-        "Thesis §3.2 (eqs 3.29–3.84); spec §4 (errata E9–E12).",
+        "thesis section 3.2 (eqs 3.29–3.84); §4 (errata E9–E12).",
     ),
     ("code", SETUP),
     ("md", r"""
@@ -628,7 +628,7 @@ table(["figure", "corner control point to curve (px)"], [[title, corner_gap(s)] 
 
 The basis is non-negative — and so every curve point is a convex combination of control points — as long as
 dᵢ = aᵢ₋₁ + aᵢ + ½aᵢ₋₁aᵢvᵢ > 0, i.e. v > −2(ωᵢ₋₁/hᵢ₋₁ + ωᵢ/hᵢ) = −4 here; numerically the uniform basis stays
-≥ 0 down to v = −8, and is negative below (spec §4.5). At v = −4 exactly the closed forms are 0/0 and the
+≥ 0 down to v = −8, and is negative below (§4.5). At v = −4 exactly the closed forms are 0/0 and the
 engine refuses. Below −8 the square's curve leaves the convex hull of its control polygon."""),
     ("code", r'''
 from scipy.spatial import Delaunay
@@ -699,7 +699,7 @@ NB04 = [
         "(Figs 3.39–3.45: small α loops, large α hugs the polygon). Algorithm 3.3 solves one banded system and is "
         "C² only where αᵢ = βᵢ₋₁ (erratum **E20**: elsewhere κ jumps by (αᵢ/βᵢ₋₁)²), while the corrected "
         "true-G² joint keeps the curvature continuous for any α, β.",
-        "Thesis §3.3 (eqs 3.85–3.133, Algorithms 3.1–3.3); spec §5, §6 (errata E13–E20).",
+        "thesis section 3.3 (eqs 3.85–3.133, Algorithms 3.1–3.3); §5, §6 (errata E13–E20).",
     ),
     ("code", SETUP),
     ("md", r"""
@@ -769,7 +769,7 @@ table(["figure", "max distance from the polygon", "joint statuses"], gc1_rows)
     ("md", r"""
 With α = β everywhere the joints are C¹ (`c1`); where the scales differ (Fig 3.44) the tangent *direction* is
 still continuous but the speed is not (`g1`). **Negative α (Fig 3.45, α = β = −10).** The engine requires α, β > 0
-(spec §5.5). A negative α is the same as a positive one with reversed tangents, Q₁ = Pᵢ + (−Tᵢ)/|α|, which is what
+(§5.5). A negative α is the same as a positive one with reversed tangents, Q₁ = Pᵢ + (−Tᵢ)/|α|, which is what
 the thesis's loops show (Fig 3.45 with α = −10: small loops at every point; at α = −2 they are large):"""),
     ("code", r'''
 try:
@@ -882,7 +882,7 @@ NB05 = [
         "the classic detectors it is compared with — Rosenfeld–Johnston, Rosenfeld–Weszka, Freeman–Davis, "
         "Beus–Tiu, IPAN99, Teh–Chin — score on shapes whose corners are known exactly, what they find on the "
         "five thesis-like objects, and how ZCT, DT and TA trade missed corners against false ones.",
-        "Thesis §2.1–2.4, §4.1.2 (eqs 2.1–2.5); spec §6 (E21 fixes the angle of the TA test).",
+        "thesis sections 2.1–2.4, 4.1.2 (eqs 2.1–2.5); §6 (E21 fixes the angle of the TA test).",
     ),
     ("code", SETUP),
     ("md", r"""
@@ -1062,11 +1062,11 @@ NB06 = [
         "**What you should see.** `sc.trace` turns a bitmap into a few smooth closed splines: it follows the "
         "crack outline of every component and hole, cuts it at the corners, fits one spline piece per "
         "corner-to-corner stretch and inserts knots until every piece is within ε of the contour. Stepping "
-        "through the iterations with the TraceExplorer you should see how each algorithm of §4.3 picks its "
+        "through the iterations with the TraceExplorer you should see how each algorithm of thesis section 4.3 picks its "
         "candidate knots (accepted or rejected, and why), that the randomized algorithms need many more knots "
         "and iterations than the team's deterministic default for the same ε, and the thesis's tables "
         "(contour points, corners, knots inserted, iterations, time, % data reduction) recomputed.",
-        "Thesis §4.1–4.4, Algorithms 4.1–4.6, Figs 4.1–4.89, Tables 4.1–4.61.",
+        "thesis section 4.1–4.4, Algorithms 4.1–4.6, Figs 4.1–4.89, Tables 4.1–4.61.",
     ),
     ("code", SETUP),
     ("md", r"""

@@ -1,7 +1,7 @@
-"""Tests of the local-support basis form ``basis_spline`` / ``basis_functions`` (spec §4, thesis §3.2).
+"""Tests of the local-support basis form ``basis_spline`` / ``basis_functions`` (§4, thesis section 3.2).
 
 Independent references: scipy's BSpline (v = 0, omega = 1; uniform, non-uniform and clamped knots), the
-joint constraint evaluated from the Bézier pieces, and the interpolant of spec §2 through the knot points.
+joint constraint evaluated from the Bézier pieces, and the interpolant of §2 through the knot points.
 """
 import numpy as np
 import pytest
@@ -35,7 +35,7 @@ def basis_problems(draw, closed=None, ends=None, tension=True, weights=True, kno
 
 
 def _extended_knots(spline, kwargs, n_control):
-    """Full scipy knot vector t_{-2}..t_{n+3} for the floating / clamped cases (spec §4.4)."""
+    """Full scipy knot vector t_{-2}..t_{n+3} for the floating / clamped cases (§4.4)."""
     k = spline.knots
     if kwargs["ends"] == "clamped":
         return np.concatenate([[k[0]] * 3, k, [k[-1]] * 3])
@@ -113,7 +113,7 @@ def test_partition_of_unity_and_non_negativity(problem):
     t = np.linspace(spline.knots[0], spline.knots[-1], 257)
     values = basis_spline(np.eye(n_control), **dict(kwargs, knots=knots))(t)
     np.testing.assert_allclose(values.sum(axis=1), 1.0, atol=1e-12)
-    assert values.min() >= -1e-12  # v >= 0, omega > 0 (spec §4.5)
+    assert values.min() >= -1e-12  # v >= 0, omega > 0 (§4.5)
     # the curve is the basis combination of the control points
     np.testing.assert_allclose(values @ points, spline(t), atol=1e-9 * 100)
 
@@ -135,7 +135,7 @@ def _uniform_or_named(spline, kwargs, points):
 @SETTINGS
 @given(basis_problems(knots="uniform"), st.data())
 def test_local_support(problem, data):
-    """Moving P_j changes only the (at most 4) segments j-2..j+1 it supports (spec §4.1)."""
+    """Moving P_j changes only the (at most 4) segments j-2..j+1 it supports (§4.1)."""
     points, kwargs = problem
     n_control = points.shape[0]
     j = data.draw(st.integers(0, n_control - 1))
@@ -156,7 +156,7 @@ def test_local_support(problem, data):
 @SETTINGS
 @given(basis_problems())
 def test_joint_constraint_at_every_knot(problem):
-    """omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-) (spec §2.2, §4.5; checks errata E9, E10)."""
+    """omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-) (§2.2, §4.5; checks errata E9, E10)."""
     points, kwargs = problem
     spline = basis_spline(points, **kwargs)
     n_control = points.shape[0]
@@ -182,7 +182,7 @@ def test_joint_constraint_at_every_knot(problem):
 @SETTINGS
 @given(basis_problems())
 def test_interpolating_the_knot_points_reproduces_the_curve(problem):
-    """Cross-check (spec §4.5): interpolate() through F_i with the basis curve's M_1, M_n gives the same curve."""
+    """Cross-check (§4.5): interpolate() through F_i with the basis curve's M_1, M_n gives the same curve."""
     points, kwargs = problem
     spline = basis_spline(points, **kwargs)
     n_control = points.shape[0]
@@ -264,7 +264,7 @@ def test_inner_bezier_points_lie_on_the_legs():
     for inner in (b[:, 1], b[:, 2]):
         cross = (leg_end - leg_start)[:, 0] * (inner - leg_start)[:, 1] - (leg_end - leg_start)[:, 1] * (inner - leg_start)[:, 0]
         np.testing.assert_allclose(cross, 0.0, atol=1e-9 * 100)
-    # F_i = (h_i b2^(i-1) + h_{i-1} b1^(i)) / (h_{i-1} + h_i)  (spec §4.3)
+    # F_i = (h_i b2^(i-1) + h_{i-1} b1^(i)) / (h_{i-1} + h_i)  (§4.3)
     h = np.diff(spline.knots)
     F = (h[1:, None] * b[:-1, 2] + h[:-1, None] * b[1:, 1]) / (h[:-1] + h[1:])[:, None]
     np.testing.assert_allclose(F, spline.knot_points[1:-1], atol=1e-9 * 10)
@@ -303,7 +303,7 @@ def test_limits_of_tension_and_weight():
 
 
 def test_spec_nonnegativity_domain_for_constant_tension():
-    """spec §4.5: with h = omega = 1 and constant v, B >= 0 for v > -8 (v = -4 removable), min B = -1 at v = -10."""
+    """§4.5: with h = omega = 1 and constant v, B >= 0 for v > -8 (v = -4 removable), min B = -1 at v = -10."""
     t = np.linspace(1, 10, 3001)
     for v in (-3.0, -6.0, -7.9):
         assert basis_functions(t, 12, point_tension=v).min() >= -1e-12
@@ -369,7 +369,7 @@ def test_basis_functions_bad_input():
 
 
 def test_clamped_end_tensions_have_no_effect():
-    """spec §4.4: with clamped ends only v_2..v_{n-1} act; v_0, v_1, v_n, v_{n+1} have no effect."""
+    """§4.4: with clamped ends only v_2..v_{n-1} act; v_0, v_1, v_n, v_{n+1} have no effect."""
     rng = np.random.default_rng(12)
     points = rng.normal(size=(8, 2)) * 20
     v = rng.uniform(0, 3, 8)

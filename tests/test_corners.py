@@ -1,4 +1,4 @@
-"""Tests of the corner detectors (capture/corners.py; thesis chapter 2, spec §6.2 / E21).
+"""Tests of the corner detectors (capture/corners.py; thesis chapter 2, §6.2 / E21).
 
 Shapes are rasterized here (pixel (r, c) is ink when its centre (c + 0.5, r + 0.5) is inside) and traced to
 crack outlines with the project's tracer; the true corners are the polygon vertices, so precision and recall
@@ -314,7 +314,7 @@ def test_srm05_square_and_diamond():
 
 
 def test_srm05_phase3_uses_the_interior_angle_e21():
-    # spec §6.2 erratum E21: TA = 152 is compared with the interior angle at the middle point, 180 deg for
+    # §6.2 erratum E21: TA = 152 is compared with the interior angle at the middle point, 180 deg for
     # collinear points. (The printed angle between P_i P_{i+1} and P_{i+1} P_{i+2} is 180 minus it: 0 for
     # collinear points, so "angle > TA => collinear" would never fire and nothing would be cleaned up.)
     P = np.array([[0, 0], [10, 0], [20, 0], [20, 10], [20, 20], [10, 20], [0, 20], [0, 10]], float)
@@ -330,7 +330,7 @@ def test_srm05_phase1_jaggy_rule():
     # - -> + (23), and the last point of the line (14).
     states = np.array([1] * 5 + [0] * 10 + [-1] * 5 + [0] * 3 + [1] * 5, np.int8)
     assert cm._srm05_phase1(states, 7, True).tolist() == [5, 14, 15, 23]
-    # only the four transitions of thesis §2.1.1: the direct flip is not a candidate
+    # only the four transitions of thesis section 2.1.1: the direct flip is not a candidate
     assert cm._srm05_phase1(states, 7, True, "four-transitions").tolist() == [5, 14, 15]
     # ZCT = 0 keeps every run: the short zero run is a line too (first point 20, last point 22)
     assert cm._srm05_phase1(states, 0, True).tolist() == [5, 14, 15, 20, 22, 23]

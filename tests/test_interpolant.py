@@ -1,7 +1,7 @@
-"""Tests of the interpolant form ``interpolate`` (spec §2-3, thesis §3.1).
+"""Tests of the interpolant form ``interpolate`` (§2-3, thesis section 3.1).
 
 Independent references: scipy's CubicSpline (v = 0, constant omega), the joint constraint and end
-conditions evaluated from the Bézier pieces, the energy of spec §2.2 computed in closed form, and dense
+conditions evaluated from the Bézier pieces, the energy of §2.2 computed in closed form, and dense
 linear algebra for the spec's singular example.
 """
 import numpy as np
@@ -43,7 +43,7 @@ def problems(draw, closed=None, end_conditions=("natural", "natural_v", "clamped
 
 
 def one_sided_second(spline):
-    """P''(t_i^-) and P''(t_i^+) at every knot from the Bézier pieces (spec §0)."""
+    """P''(t_i^-) and P''(t_i^+) at every knot from the Bézier pieces (§0)."""
     left = spline(spline.knots, 2, side="left")
     right = spline(spline.knots, 2, side="right")
     return left, right
@@ -64,7 +64,7 @@ def test_interpolates_the_points(problem):
 @SETTINGS
 @given(problems())
 def test_joint_constraint_holds_at_every_joint(problem):
-    """omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-) (spec §2.2, thesis 3.13-3.14)."""
+    """omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-) (§2.2, thesis 3.13-3.14)."""
     points, kwargs = problem
     spline = interpolate(points, **kwargs)
     v = np.broadcast_to(kwargs.get("point_tension", 0.0), (len(points),))
@@ -100,7 +100,7 @@ def test_periodic_closure(problem):
 @SETTINGS
 @given(problems(tension=False, weights=False))
 def test_one_sided_curvature_ratio_is_weight_ratio(problem):
-    """kappa(t_i^+) / kappa(t_i^-) = omega_{i-1} / omega_i, for any v (spec §2.2, E2)."""
+    """kappa(t_i^+) / kappa(t_i^-) = omega_{i-1} / omega_i, for any v (§2.2, E2)."""
     points, kwargs = problem
     rng = np.random.default_rng(len(points))
     m = len(points) if kwargs["closed"] else len(points) - 1
@@ -173,7 +173,7 @@ def _compare_with_scipy(spline, reference):
 
 
 def test_default_clamped_tangents_are_exact_for_quadratics():
-    """spec §6.3: the 3-point parabola end derivatives are exact for quadratic data, for any h."""
+    """§6.3: the 3-point parabola end derivatives are exact for quadratic data, for any h."""
     rng = np.random.default_rng(7)
     t = np.cumsum(rng.uniform(0.2, 3, 9))
     coefficients = rng.normal(size=(3, 2))
@@ -212,7 +212,7 @@ def test_end_conditions(problem):
 
 
 def _energy(spline, omega, v):
-    """E = sum_i omega_i int ||P''||^2 dt + sum_i v_i ||M_i||^2 (spec §2.2), exact for linear P''."""
+    """E = sum_i omega_i int ||P''||^2 dt + sum_i v_i ||M_i||^2 (§2.2), exact for linear P''."""
     b = spline.bezier()
     h = np.diff(spline.knots)
     A = 6 * (b[:, 0] - 2 * b[:, 1] + b[:, 2]) / h[:, None] ** 2
@@ -225,7 +225,7 @@ def _energy(spline, omega, v):
 @SETTINGS
 @given(problems(end_conditions=("natural_v", "clamped")), st.integers(0, 2**32 - 1))
 def test_solution_minimises_the_energy(problem, seed):
-    """Types 1, 2v and 3 minimise E (spec §2.2, §2.5 safe domain); perturbing the tangents raises E."""
+    """Types 1, 2v and 3 minimise E (§2.2, §2.5 safe domain); perturbing the tangents raises E."""
     from splinecraft.spline.piecewise import Spline
     from splinecraft.spline.segment import hermite_bezier
 
@@ -267,7 +267,7 @@ def test_affine_invariance_with_explicit_knots(problem, seed):
 @SETTINGS
 @given(problems(tension=False), st.floats(0.01, 100), st.floats(0, 2 * np.pi))
 def test_similarity_invariance_with_relative_tension(problem, scale, angle):
-    """Chord/centripetal knots: rigid motions always; scaling only with v = 0 or relative tension (spec §3)."""
+    """Chord/centripetal knots: rigid motions always; scaling only with v = 0 or relative tension (§3)."""
     points, kwargs = problem
     rng = np.random.default_rng(len(points))
     nu = rng.uniform(0, 3, len(points))
@@ -285,7 +285,7 @@ def test_absolute_tension_is_not_scale_invariant_with_chord_knots():
     small = interpolate(points, point_tension=1.0)
     large = interpolate(100 * points, point_tension=1.0)
     difference = np.abs(large.bezier() - 100 * small.bezier()).max()
-    assert difference > 1.0  # spec §3: a fixed v changes weight relative to c = omega / h
+    assert difference > 1.0  # §3: a fixed v changes weight relative to c = omega / h
 
 
 @SETTINGS
@@ -311,7 +311,7 @@ def test_reversal_symmetry(problem):
     np.testing.assert_allclose(back.bezier(), expected.bezier(), atol=1e-8 * np.abs(points).max())
 
 
-# ---------------------------------------------------------------- point tension (spec §2.5)
+# ---------------------------------------------------------------- point tension (§2.5)
 def _deviation_from_polygon(spline, points):
     _, samples = spline.sample(samples_per_segment=64)
     a, b = points[:-1], points[1:]
@@ -373,7 +373,7 @@ def test_closed_curve_in_reversed_range():
 
 
 def test_spec_singular_example_is_singular_and_rejected():
-    """spec §2.5: h = omega = 1, v = -8, n = 9, Type 1 gives a zero diagonal and a singular matrix."""
+    """§2.5: h = omega = 1, v = -8, n = 9, Type 1 gives a zero diagonal and a singular matrix."""
     n = 9
     matrix = np.zeros((n, n))
     matrix[0, 0] = matrix[-1, -1] = 1.0  # clamped rows
@@ -466,7 +466,7 @@ def test_one_dimensional_and_three_dimensional_data():
     assert space.dim == 3 and space.closed
 
 
-# ---------------------------------------------------------------- knot parameterization (spec §3)
+# ---------------------------------------------------------------- knot parameterization (§3)
 def test_parameterize_and_remove_coincident():
     from splinecraft.spline.knots import parameterize, remove_coincident
 

@@ -1,4 +1,4 @@
-"""Tests of the common curve type :class:`splinecraft.spline.piecewise.Spline` (spec §0, §7).
+"""Tests of the common curve type :class:`splinecraft.spline.piecewise.Spline` (§0, §7).
 
 References are independent of the implementation: scipy's BPoly/PPoly, finite differences, closed-form
 curvature of a parabola, and re-parsing of the SVG text.

@@ -1,4 +1,4 @@
-"""Tests of the generic cubic segment (spec §1, thesis 3.5-3.22) and its blending functions."""
+"""Tests of the generic cubic segment (§1, thesis 3.5-3.22) and its blending functions."""
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -30,7 +30,7 @@ def test_timmer_blending_functions():
     expected = np.stack([(1 - 2 * THETA) * s**2, 4 * THETA * s**2, 4 * THETA**2 * s, (2 * THETA - 1) * THETA**2], axis=1)
     values = blending_functions(THETA, *CLASS_PRESETS["timmer"])
     np.testing.assert_allclose(values, expected, atol=1e-15)
-    # spec §5.1: f(1/2) = (0, 1/2, 1/2, 0); f_0 has minimum -1/27 at 2/3, f_3 at 1/3
+    # §5.1: f(1/2) = (0, 1/2, 1/2, 0); f_0 has minimum -1/27 at 2/3, f_3 at 1/3
     np.testing.assert_allclose(blending_functions(0.5, 4, 4), [0, 0.5, 0.5, 0], atol=1e-15)
     np.testing.assert_allclose(blending_functions(2 / 3, 4, 4)[0], -1 / 27, atol=1e-15)
     np.testing.assert_allclose(blending_functions(1 / 3, 4, 4)[3], -1 / 27, atol=1e-15)
@@ -67,7 +67,7 @@ def test_generic_segment_equals_its_definition(data):
     weights = blending_functions(THETA, alpha, beta)
     expected = weights @ np.stack([F0, V, W, F1])
     np.testing.assert_allclose(segment(t0 + h * THETA), expected, atol=1e-10 * 50)
-    # end derivatives, eqs 3.10, 3.11, 3.18, 3.21 (spec §1)
+    # end derivatives, eqs 3.10, 3.11, 3.18, 3.21 (§1)
     np.testing.assert_allclose(segment(t0, 1), alpha / h * (V - F0), rtol=1e-10, atol=1e-10)
     np.testing.assert_allclose(segment(t0 + h, 1, side="left"), beta / h * (F1 - W), rtol=1e-10, atol=1e-10)
     second_start = (2 * (2 * alpha - 3) * F0 - 4 * alpha * V + 2 * beta * W + 2 * (3 - beta) * F1) / h**2

@@ -1,4 +1,4 @@
-"""Tangent estimates (spec §6, thesis eqs 2.1-2.5): estimate_tangents, end_derivatives, interior_angle."""
+"""Tangent estimates (§6, thesis eqs 2.1-2.5): estimate_tangents, end_derivatives, interior_angle."""
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
@@ -45,7 +45,7 @@ def test_end_formulas_are_exact_for_quadratics(a, b, c, count):
 
 
 def test_end_formula_points_forward_along_travel():
-    """Spec §6.1: T_n points along the direction of travel (no sign error)."""
+    """§6.1: T_n points along the direction of travel (no sign error)."""
     points = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]])
     tangents = estimate_tangents(points)
     np.testing.assert_allclose(tangents[[0, -1]], [[1.0, 0.0], [1.0, 0.0]])
@@ -55,7 +55,7 @@ def test_end_formula_points_forward_along_travel():
 @SETTINGS
 @given(polygons())
 def test_interior_is_thesis_formula_and_bisector(points):
-    """2.3 with a_i of 2.4 equals d-d+/(d-+d+) (u- + u+): it bisects the two unit chords (spec §6.2)."""
+    """2.3 with a_i of 2.4 equals d-d+/(d-+d+) (u- + u+): it bisects the two unit chords (§6.2)."""
     tangents = estimate_tangents(points)
     before, here, after = points[:-2], points[1:-1], points[2:]
     d_minus = np.linalg.norm(here - before, axis=1)
@@ -89,7 +89,7 @@ def test_closed_uses_the_interior_formula_cyclically(points, shift):
 
 
 def test_reversal_falls_back_to_outgoing_chord():
-    """u- + u+ = 0 (the path turns back): the estimate is along u+ (spec §6.2)."""
+    """u- + u+ = 0 (the path turns back): the estimate is along u+ (§6.2)."""
     points = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 0.0], [1.0, 3.0]])
     tangents = estimate_tangents(points)
     direction = tangents[1] / np.linalg.norm(tangents[1])

@@ -1,4 +1,4 @@
-"""Timmer class (spec §5, thesis §3.3): blending functions, one piece, Algorithms 3.1, 3.2 and 3.3."""
+"""Timmer class (§5, thesis section 3.3): blending functions, one piece, Algorithms 3.1, 3.2 and 3.3."""
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
@@ -558,7 +558,7 @@ def test_alg_3_3_g2_joint_has_no_curvature_jump(points, data):
 @given(st.one_of(random_polylines(min_count=2, max_count=12), ellipse_samples()), st.floats(0.3, 20.0))
 def test_alg_3_3_constant_scales_equal_scipy_clamped_cubic_spline(points, scale):
     """With alpha = beta = a the thesis joint is the uniform-knot C2 cubic spline with end slopes
-    4 T / a = D (spec §5.6; reference: scipy CubicSpline, clamped)."""
+    4 T / a = D (§5.6; reference: scipy CubicSpline, clamped)."""
     spline = timmer_gc2(points, alpha=scale)
     raw = estimate_tangents(points)
     knots = np.arange(len(points), dtype=float)
@@ -636,7 +636,7 @@ def test_alg_3_3_singular_system_raises(count):
     points = np.c_[np.cos(angle), np.sin(angle)]
     lower, upper = GOLDEN**2 / (2 * (1 + GOLDEN)), 1 / (2 * GOLDEN * (1 + GOLDEN))
     assert lower + upper == pytest.approx(1.0)
-    # spec §5.6's dominance test 2/B + 2/a > 1/A + 1/b is for the thesis rows only: it holds here
+    # §5.6's dominance test 2/B + 2/a > 1/A + 1/b is for the thesis rows only: it holds here
     # (A = a = 1, B = b = GOLDEN), yet the g2 rows are singular; their test is 2(a+B) > B^2/A + a^2/b
     big_a = small_a = 1.0
     big_b = small_b = GOLDEN
@@ -682,7 +682,7 @@ def test_common_output(build, closed):
     assert aux["Q1"].shape == aux["Q2"].shape == (m, 2)
     assert aux["tangents"].shape == points.shape
     np.testing.assert_allclose(spline.knot_points[:len(points)], points)
-    # Q1, Q2 are the Timmer polygon points: H(1/2) is their midpoint (thesis §3.3.2 extra interpolation)
+    # Q1, Q2 are the Timmer polygon points: H(1/2) is their midpoint (thesis section 3.3.2 extra interpolation)
     np.testing.assert_allclose(spline(np.arange(m) + 0.5), 0.5 * (aux["Q1"] + aux["Q2"]), atol=1e-12)
     # JSON round trip keeps the report
     again = Spline.from_dict(spline.to_dict())

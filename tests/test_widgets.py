@@ -110,7 +110,7 @@ def test_numpy_points_are_accepted_and_lists_resize():
 
 
 def test_interval_weight_changes_curve_and_comb_shows_the_jump():
-    """E2: kappa(t_i^+) / kappa(t_i^-) = omega_{i-1} / omega_i at joint i (spec §2.2)."""
+    """E2: kappa(t_i^+) / kappa(t_i^-) = omega_{i-1} / omega_i at joint i (§2.2)."""
     editor = SplineEditor(POINTS, show_comb=True)
     assert editor.geometry["labels"] == []  # equal weights: G2, no jump labels
     editor.interval_weights = [1.0, 4.0, 1.0, 1.0]
@@ -146,7 +146,7 @@ def test_class_preset_moves_v_w_but_not_the_interpolant():
 
 
 def test_segment_mode_alpha_reshapes_the_curve():
-    """Spec §1: with V, W fixed, b1 = F0 + alpha/3 (V - F0), b2 = F1 + beta/3 (W - F1)."""
+    """§1: with V, W fixed, b1 = F0 + alpha/3 (V - F0), b2 = F1 + beta/3 (W - F1)."""
     editor = SplineEditor(form="segment")
     F0, V, W, F1 = np.array(editor.points)
     editor.alpha, editor.beta = 1.5, 4.5
@@ -167,7 +167,7 @@ def test_switching_to_segment_mode_takes_the_first_piece_and_back_restores():
 
 
 def test_basis_form_relative_tension_scale():
-    """nu_j = -2 is the edge of the safe domain: v_j = -2 (c_{j-1} + c_j) makes d_j = 0 (spec §2.5, §4.5)."""
+    """nu_j = -2 is the edge of the safe domain: v_j = -2 (c_{j-1} + c_j) makes d_j = 0 (§2.5, §4.5)."""
     editor = SplineEditor(POINTS, form="basis", knots="chord")
     state = editor._state()
     state["point_tension"] = [1.0] * 5
@@ -213,7 +213,7 @@ def test_bad_values_from_code_revert_with_message(name, value, reason):
 
 
 def test_singular_point_tension_is_rejected():
-    """Spec §2.5: with h = omega = 1 and v = -8 the diagonal vanishes (singular); keep the last curve."""
+    """§2.5: with h = omega = 1 and v = -8 the diagonal vanishes (singular); keep the last curve."""
     points = [[float(i), float((-1) ** i)] for i in range(9)]
     editor = SplineEditor(points, knots="uniform", tension_scale="absolute", end_condition="clamped")
     before = editor.spline.bezier()
@@ -298,7 +298,7 @@ def test_double_click_off_an_open_curve_extends_the_nearer_end():
 
 
 def test_add_in_basis_form_goes_into_the_leg_of_that_piece():
-    """Spec §4.3: the inner Bézier points of a basis piece lie on its control leg P_i P_{i+1}."""
+    """§4.3: the inner Bézier points of a basis piece lie on its control leg P_i P_{i+1}."""
     points = [[0, 0], [100, 0], [200, 100], [300, 100], [400, 0], [500, 0]]
     editor = SplineEditor(points, form="basis")
     bezier = editor.spline.bezier()

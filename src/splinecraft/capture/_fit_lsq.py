@@ -5,9 +5,9 @@ Model
 The whole closed outline is one periodic cubic spline ``S(u)`` in the contour's arc-length parameter ``u``:
 every corner is a knot of multiplicity 3 (the curve is ``C^0`` there: the two pieces share the corner point
 and nothing else) and every inserted knot is simple (``C^2``). Between two corners this is exactly the
-family of the thesis's GC² interpolant with ``v = 0`` and ``omega = 1`` (spec §2.2-2.4, Type 1 clamped ends):
+family of the thesis's GC² interpolant with ``v = 0`` and ``omega = 1`` (§2.2-2.4, Type 1 clamped ends):
 a ``C^2`` cubic on given knots is fixed by its knot points ``F_i`` and its two end tangents, and every choice
-of those is such a spline (spec §4.5, cross-check). The interpolant is *linear* in ``(F_1..F_n, M_1, M_n)``,
+of those is such a spline (§4.5, cross-check). The interpolant is *linear* in ``(F_1..F_n, M_1, M_n)``,
 so choosing them to minimise the squared distance to all contour points of the piece is a linear least-squares
 problem (a regression spline in the generic model). It is solved here in the B-spline basis of the same
 space, for the whole outline at once, with the corner points as shared unknowns: corners move to where both

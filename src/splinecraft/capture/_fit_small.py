@@ -13,10 +13,10 @@ grids for all outlines still refining, so the cost per outline is a small fracti
 
 Model and stopping rule
 -----------------------
-The thesis's interpolant (spec §2, thesis §4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1`` (erratum E2:
+The thesis's interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1`` (erratum E2:
 the plain C² cubic) through knot points that are contour points, parameterized by the contour's arc length:
 without corners one periodic loop, with corners one open piece per pair of consecutive corners with
-natural ends (spec §2.4), the pieces meeting at the corner points. Knot insertion follows the stopping rule
+natural ends (§2.4), the pieces meeting at the corner points. Knot insertion follows the stopping rule
 of the fitting module: a knot interval is finished when the two-sided deviation between its curve and its
 contour section is within ``epsilon`` (curve samples <= 0.25 px apart to the section's edges, and the
 section's points and edge midpoints to the chords between the samples; an upper bound of the Hausdorff
@@ -79,10 +79,10 @@ def _small_chains(lengths, corner_lists):
 def _small_moments(knot_chain, u, F, chain_loop):
     """Second derivatives ``M`` at the knots of the C² cubic interpolants of all chains (stacked dense solves).
 
-    Spec §2.2 with ``v = 0`` (no point tension), ``omega = 1``: the classical moment equations
+    §2.2 with ``v = 0`` (no point tension), ``omega = 1``: the classical moment equations
     ``h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1} = 6 ((F_{i+1} - F_i) / h_i - (F_i - F_{i-1}) / h_{i-1})``
     with the contour arc length as parameter. Open chains (between corners) have natural ends (``M = 0``,
-    spec §2.4); a loop's last entry is its seam knot again (``M_last = M_first``) and its first row wraps
+    §2.4); a loop's last entry is its seam knot again (``M_last = M_first``) and its first row wraps
     round to the entry before the seam. The matrix is block diagonal (one block per chain of at most 65
     knots); the blocks are solved as dense stacks, one ``numpy.linalg.solve`` per block size, so an outline's
     result does not depend on the other outlines of the batch (bit for bit)."""
@@ -128,7 +128,7 @@ def _small_moments(knot_chain, u, F, chain_loop):
 
 def _small_bezier(F0, F1, M0, M1, h):
     """Bézier control points (k, 4, 2) of the cubic with end values ``F0, F1``, end second derivatives
-    ``M0, M1`` over a parameter interval of length ``h`` (the Bézier form of spec §2.3)."""
+    ``M0, M1`` over a parameter interval of length ``h`` (the Bézier form of §2.3)."""
     h = h[:, None]
     slope = (F1 - F0) / h
     start_tangent = slope - h * (2.0 * M0 + M1) / 6.0
@@ -214,10 +214,10 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     """Fit many small closed contours at once (the direct path of ``"lsq"`` for contours of fewer than
     :data:`SMALL_OUTLINE` points; :func:`fit_outline` and :func:`~splinecraft.capture.trace.trace` use it).
 
-    Model: the thesis's interpolant (spec §2, thesis §4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1``
+    Model: the thesis's interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1``
     through knot points that are contour points, parameterized by the contour's arc length; without corners
     one periodic C² loop, with corners one open C² piece per pair of consecutive corners with natural ends
-    (spec §2.4; the pieces meet at the corner points, ``C^0``). Knot insertion as in the module docstring:
+    (§2.4; the pieces meet at the corner points, ``C^0``). Knot insertion as in the module docstring:
     while a knot interval's geometric deviation from its contour section exceeds ``epsilon``, a knot is
     inserted at its contour point farthest from the curve (kept in the middle half of the interval), for all
     failing intervals of all outlines at once, stacked dense solves per round for every outline still refining

@@ -1,4 +1,4 @@
-"""Chain-code boundary tracing: bool ink mask -> outer boundaries and holes (thesis §4.1.1).
+"""Chain-code boundary tracing: bool ink mask -> outer boundaries and holes (thesis section 4.1.1).
 
 The thesis encodes the boundary of the planar object as a Freeman chain code, 4- or 8-connected, found
 from a start point chosen by a horizontal (raster) scan. This module traces every boundary of every
@@ -9,7 +9,7 @@ component -- outer boundaries and holes -- and returns for each
 * the **crack outline**: the unit pixel edges between ink and background, as their midpoints
   (the input of corner detection and fitting; the true outline lies within about 0.5 px of it).
 
-Frame and conventions (``CAPTURE_API.md``)
+Frame and conventions (docs/capture.md)
 ------------------------------------------
 x right, y down, pixel (row ``r``, col ``c``) covers ``[c, c+1] x [r, r+1]``; pixel centres at
 ``(c + 0.5, r + 0.5)``. Freeman code ``k`` is the step at ``45 k`` degrees counter-clockwise *as seen
@@ -77,7 +77,7 @@ _RIGHT_OF_TAIL = _pixel_offsets(_CRACK_STEPS - _LEFT)
 
 @dataclass(eq=False)
 class Boundary:
-    """One closed boundary (outer or hole) of an ink mask (thesis §4.1.1; ``CAPTURE_API.md``).
+    """One closed boundary (outer or hole) of an ink mask (thesis section 4.1.1; docs/capture.md).
 
     Attributes
     ----------
@@ -183,7 +183,7 @@ def _as_mask(mask) -> np.ndarray:
 
 
 def trace_boundaries(mask, *, connectivity=8) -> list:
-    """Trace all outer boundaries and holes of an ink mask (thesis §4.1.1; ``CAPTURE_API.md``).
+    """Trace all outer boundaries and holes of an ink mask (thesis section 4.1.1; docs/capture.md).
 
     Parameters
     ----------

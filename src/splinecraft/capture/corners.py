@@ -1,4 +1,4 @@
-"""Corner detectors for digital outlines (thesis chapter 2, §4.1.2; spec §6).
+"""Corner detectors for digital outlines (thesis chapter 2 and section 4.1.2; §6).
 
 Every detector takes an ``(n, 2)`` polyline -- normally a :class:`~splinecraft.capture.contour.Boundary`
 ``outline`` (crack midpoints, spacing 1 px on straight runs and 0.71 px where the outline turns) or its
@@ -225,13 +225,13 @@ def _variable_window_maxima(strength, half_widths, closed):
 
 
 # ----------------------------------------------------------------------------------------------------------
-# SRM05: the thesis's detector (chapter 2, §4.1.2)
+# SRM05: the thesis's detector (chapter 2, thesis section 4.1.2)
 # ----------------------------------------------------------------------------------------------------------
 def _thesis_tangents(P, closed):
-    """Tangent estimates of thesis eqs 2.1-2.4 (spec §6.1-§6.2): the bisector of the two unit chords,
+    """Tangent estimates of thesis eqs 2.1-2.4 (§6.1-§6.2): the bisector of the two unit chords,
     scaled by ``d- d+ / (d- + d+)``, at every point of a closed outline and at the interior points of an
     open one; the second-order one-sided differences 2.1/2.2 at open ends. A reversal
-    (``|u- + u+| < 1e-9``) falls back to ``u+`` (spec §6.2)."""
+    (``|u- + u+| < 1e-9``) falls back to ``u+`` (§6.2)."""
     n = len(P)
     prev = np.roll(P, 1, axis=0)
     nxt = np.roll(P, -1, axis=0)
@@ -251,7 +251,7 @@ def _thesis_tangents(P, closed):
 
 
 def _slope_states(tangent):
-    """Slope state of every tangent (thesis §2.1.1): +1 increasing, -1 decreasing, 0 constant (moving
+    """Slope state of every tangent (thesis section 2.1.1): +1 increasing, -1 decreasing, 0 constant (moving
     along an axis: one component is zero up to 1e-9 of the length). The sign is that of dy/dx in the
     frame of the points; the y-down pixel frame flips it, which maps the set of transitions onto itself."""
     tx, ty = tangent[:, 0], tangent[:, 1]
@@ -278,7 +278,7 @@ def _srm05_phase1(states, zct, closed, rule="zero-runs"):
 
     ``rule`` selects the interpretation of the thesis's vague text (the benchmark compares them):
     ``"zero-runs"`` (the default of :func:`srm05`), ``"four-transitions"`` (only the four transitions
-    listed in §2.1.1, so a direct +/- flip is not a candidate) and ``"all-runs"`` (ZCT applies to runs of
+    listed in thesis section 2.1.1, so a direct +/- flip is not a candidate) and ``"all-runs"`` (ZCT applies to runs of
     every state, not only to zero runs).
     """
     n = len(states)
@@ -328,7 +328,7 @@ def _srm05_phase1(states, zct, closed, rule="zero-runs"):
 
 
 def _srm05_phase2(P, candidates, dt, closed, pick="middle"):
-    """Phase 2 of SRM05: merge candidates closer than ``dt`` (Euclidean, thesis §2.1.2).
+    """Phase 2 of SRM05: merge candidates closer than ``dt`` (Euclidean, thesis section 2.1.2).
 
     Walking along the outline (a closed one from the candidate after the largest index gap), a cluster
     starts at a candidate and takes every following candidate within ``dt`` of the cluster's first
@@ -356,7 +356,7 @@ def _srm05_phase2(P, candidates, dt, closed, pick="middle"):
 
 
 def _interior_angle(a, b, c):
-    """Interior angle at ``b`` of the polyline a-b-c in degrees (spec §6.2, E21): 180 when collinear;
+    """Interior angle at ``b`` of the polyline a-b-c in degrees (§6.2, E21): 180 when collinear;
     180 as well when a vector is zero (a duplicate adds nothing to the shape)."""
     u, v = a - b, c - b
     nu, nv = np.hypot(*u), np.hypot(*v)
@@ -366,7 +366,7 @@ def _interior_angle(a, b, c):
 
 
 def _srm05_phase3(P, candidates, ta, closed):
-    """Phase 3 of SRM05: drop the middle point of every nearly collinear triple (thesis §2.1.3, eq 2.5).
+    """Phase 3 of SRM05: drop the middle point of every nearly collinear triple (thesis section 2.1.3, eq 2.5).
 
     The interior angle at a candidate between its two neighbouring candidates (E21: 180 deg when
     collinear) is compared with TA; while some candidate's angle exceeds TA, the one with the largest
@@ -429,8 +429,8 @@ def _srm05(points, closed, zct, dt, ta, rule="zero-runs", pick="middle"):
 def srm05(points, *, closed=True, zct=7, dt=5.0, ta=152.0):
     """SRM05, the thesis's corner detector: slope transitions, then distance and angle clean-up.
 
-    Thesis chapter 2 (§2.1.1-§2.1.4, summary in §4.1.2); tangents by eqs 2.1-2.4 (spec §6.1-§6.2),
-    angle test by eq 2.5 read as the interior angle (spec §6.2, erratum **E21**). Defaults are the
+    Thesis chapter 2 (thesis sections 2.1.1-2.1.4, summary in thesis section 4.1.2); tangents by eqs 2.1-2.4 (§6.1-§6.2),
+    angle test by eq 2.5 read as the interior angle (§6.2, erratum **E21**). Defaults are the
     thesis's: ZCT = 7, DT = 5, TA = 152 deg.
 
     The thesis describes phase 1 only in words; this is the precise reading implemented (its
@@ -441,17 +441,17 @@ def srm05(points, *, closed=True, zct=7, dt=5.0, ta=152.0):
     slope). The states are run-length encoded (cyclically when closed). A *zero* run shorter than ZCT
     points is a jaggy: it takes the state of the run before it ("we ignore it and keep record of our last
     transition state"); a zero run of ZCT points or more is a line. After this relabelling, the first
-    point after every change of state is a candidate -- the four transitions of §2.1.1
+    point after every change of state is a candidate -- the four transitions of thesis section 2.1.1
     (+ -> 0, 0 -> -, - -> 0, 0 -> +) and also a direct sign flip + <-> -, which is what a sharp apex
     (say a diamond's tip, whose one axis-parallel tangent formed a jaggy) leaves after the jaggy is
     removed. The last point of every line (zero run) is a candidate too ("in case of a line the end points
     of it as corner points").
 
     **Phase 2 (DT).** Walking along the outline, a cluster takes every following candidate within DT
-    (Euclidean) of its first member and is replaced by its middle member (§2.1.2, "close coordinates").
+    (Euclidean) of its first member and is replaced by its middle member (thesis section 2.1.2, "close coordinates").
 
     **Phase 3 (TA).** While some candidate makes an interior angle larger than TA with its two
-    neighbouring candidates (collinear = 180 deg), the one with the largest angle is dropped (§2.1.3).
+    neighbouring candidates (collinear = 180 deg), the one with the largest angle is dropped (thesis section 2.1.3).
 
     Parameters
     ----------
@@ -826,7 +826,7 @@ def ipan99(points, *, closed=True, d_min=7.0, d_max=9.0, alpha_max=150.0):
 # TC89
 # ----------------------------------------------------------------------------------------------------------
 def _region_of_support(P, closed):
-    """Teh-Chin region of support ``k_i`` (TC89 §III, step 1).
+    """Teh-Chin region of support ``k_i`` (TC89, section III, step 1).
 
     With the chord ``l_ik = |P_{i+k} - P_{i-k}|`` and the signed distance ``d_ik`` of ``P_i`` from it,
     ``k`` grows from 1 until ``l_ik >= l_{i,k+1}`` or ``d_ik / l_ik >= d_{i,k+1} / l_{i,k+1}`` (for

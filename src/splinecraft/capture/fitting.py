@@ -1,7 +1,7 @@
-"""Spline fitting per piece and knot insertion (thesis §4.2.1-4.4), every iteration kept as a snapshot.
+"""Spline fitting per piece and knot insertion (thesis section 4.2.1-4.4), every iteration kept as a snapshot.
 
 A closed contour (the crack outline of :mod:`~splinecraft.capture.contour`, or any closed polyline) is cut at
-its corners into *pieces*. Each piece gets a GC² interpolant (spec §2, thesis §4.2.1, eqs 4.1-4.9; in fact a
+its corners into *pieces*. Each piece gets a GC² interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9; in fact a
 weighted nu-spline, erratum E2) with clamped ends, and knots are inserted until the fit is within ``epsilon``.
 
 Knot methods (:data:`KNOT_METHODS`)
@@ -23,14 +23,14 @@ Knot methods (:data:`KNOT_METHODS`)
     removed (cheapest first: jump of the third derivative times the interval length cubed; snapshot phase
     ``"remove"``, the only phase in which knots go away; ``remove_knots=False`` turns it off). The result is
     the thesis's interpolant per piece: ``interpolate(F, knots, end_condition="clamped", end_tangents=...)``
-    (or periodic without corners) reproduces it exactly (``v = 0``, ``omega = 1``; spec §4.5 cross-check;
+    (or periodic without corners) reproduces it exactly (``v = 0``, ``omega = 1``; §4.5 cross-check;
     tested piece by piece). See :mod:`._fit_lsq`.
 ``"random"`` (Alg 4.1), ``"euclidean"`` (4.2), ``"positional"`` (4.3), ``"random3"`` (4.4), ``"equal3"`` (4.5),
 ``"fuzzy"`` (4.6)
     The thesis's randomized algorithms, seeded by ``seed`` (a :class:`numpy.random.Generator`), with the
     interpolant through the knot points of each piece.
 
-Definitions where the thesis is silent (spec §3, §6.3)
+Definitions where the thesis is silent (§3, §6.3)
 ------------------------------------------------------
 * **Pieces.** Piece ``k`` runs along the contour from corner ``k`` to corner ``k + 1`` (both included, the last
   piece wraps around). ``"lsq"`` first drops a corner closer than ``min_gap`` contour steps to its neighbour
@@ -40,7 +40,7 @@ Definitions where the thesis is silent (spec §3, §6.3)
   asks for fewer (a periodic cubic needs four knots), and that single piece is listed as ``(i0, i0)``. With one corner the thesis methods add the point
   half way round (an interpolant needs two distinct consecutive points).
 * **Interpolant of a piece** (thesis methods): knot points ``F`` = the contour points at the piece's knots,
-  chord-length knots (spec §3), clamped ends (spec §2.4 Type 1) with the end tangents of spec §6.3: the unit
+  chord-length knots (§3), clamped ends (§2.4 Type 1) with the end tangents of §6.3: the unit
   tangent of thesis eq 2.1 (start) / 2.2 (end) on the piece's own contour points ``P_0, P_s, P_2s`` with a
   stride ``s = tangent_stride`` (default 3; ``1`` is the thesis literally, which on a pixel staircase only
   knows 8 directions), times ``|F_2 - F_1| / h_1 = 1``. ``point_tension``, ``interval_weights``, ``alpha``,
@@ -114,7 +114,7 @@ from . import _fit_lsq
 __all__ = ["fit_outline", "fit_small_outlines", "FitResult", "Snapshot", "KNOT_METHODS", "DEFAULT_METHOD",
            "DEFAULT_EPSILON", "SMALL_OUTLINE", "piece_deviation"]
 
-#: Knot insertion methods: name -> one-line description (thesis §4.3 and the team's default).
+#: Knot insertion methods: name -> one-line description (thesis section 4.3 and the team's default).
 KNOT_METHODS = {
     "lsq": "least-squares regression spline with worst-point knot insertion, Hoschek re-parameterization, "
            "corner tip extrapolation and knot removal (deterministic; the default)",
@@ -148,7 +148,7 @@ _LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, 
 
 @dataclass(eq=False)
 class Snapshot:
-    """One iteration of a fit (``CAPTURE_API.md``).
+    """One iteration of a fit (docs/capture.md).
 
     Attributes
     ----------
@@ -207,7 +207,7 @@ class Snapshot:
 
 @dataclass(eq=False)
 class FitResult:
-    """Result of :func:`fit_outline` (``CAPTURE_API.md``).
+    """Result of :func:`fit_outline` (docs/capture.md).
 
     Attributes
     ----------
@@ -460,7 +460,7 @@ class _ThesisPiece:
         self.tangents = self._end_tangents()
 
     def _end_tangents(self):
-        """Unit tangents at both ends: thesis eqs 2.1 / 2.2 on P_0, P_s, P_2s (spec §6.1, §6.3)."""
+        """Unit tangents at both ends: thesis eqs 2.1 / 2.2 on P_0, P_s, P_2s (§6.1, §6.3)."""
         Q, m = self.Q, self.m
         if m < 3:
             chord = _unit(Q[-1] - Q[0])
@@ -476,7 +476,7 @@ class _ThesisPiece:
 
     def fit(self):
         F = self.Q[self.knots]
-        # spec §6.3: M = T |F_2 - F_1| / h_1, which is T for chord-length knots
+        # §6.3: M = T |F_2 - F_1| / h_1, which is T for chord-length knots
         self.spline = interpolate(F, end_condition="clamped", end_tangents=self.tangents, knots="chord",
                                   **self.engine)
         t = self.spline.knots
@@ -1049,7 +1049,7 @@ def _lsq_spline(state, dev, epsilon):
     """The fitted outline as a :class:`Spline`: its exact Bézier pieces and knot points ``F``.
 
     Between two corners the regression spline is the thesis's interpolant through its knot points with
-    ``v = 0``, ``omega = 1`` and clamped ends (spec §2.2-2.4, §4.5 cross-check): the same C² cubic family, so
+    ``v = 0``, ``omega = 1`` and clamped ends (§2.2-2.4, §4.5 cross-check): the same C² cubic family, so
     ``interpolate(F, knots, end_condition="clamped", end_tangents=...)`` rebuilds every piece
     (``tests/test_fitting.py`` checks this piece by piece)."""
     bezier = dev["bezier"]
@@ -1090,7 +1090,7 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     """Fit many small closed contours at once: the direct path of ``"lsq"`` for contours of fewer than
     :data:`SMALL_OUTLINE` points (:func:`fit_outline` and :func:`~splinecraft.capture.trace.trace` use it).
 
-    The thesis's interpolant with ``v = 0``, ``omega = 1`` (spec §2, thesis eqs 4.1-4.9) through knot points
+    The thesis's interpolant with ``v = 0``, ``omega = 1`` (§2, thesis eqs 4.1-4.9) through knot points
     that are contour points (arc-length parameter; one periodic loop without corners, natural ends at
     corners), with knots inserted at the farthest contour point of every interval whose two-sided deviation
     exceeds ``epsilon``; all outlines refine side by side, stacked dense solves per round (see
@@ -1122,7 +1122,7 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
 def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON, method=DEFAULT_METHOD, tau=None,
                 seed=0, max_iterations=200, keep_snapshots=True, small_outline=None, **options) -> FitResult:
     """Fit a closed contour with one spline piece per pair of consecutive corners, inserting knots until
-    every piece is within ``epsilon`` (thesis §4.2.1-4.3; the stopping rule and guarantee of the module
+    every piece is within ``epsilon`` (thesis section 4.2.1-4.3; the stopping rule and guarantee of the module
     docstring).
 
     Parameters

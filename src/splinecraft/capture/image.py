@@ -1,8 +1,8 @@
 """Bitmap loading and binarization: image file / array / PIL image -> bool ink mask.
 
-The first step of outline capture (thesis §4.1.1, "Finding boundary of planar object"): the scanned or
+The first step of outline capture (thesis section 4.1.1, "Finding boundary of planar object"): the scanned or
 drawn image becomes a two-level bitmap whose ``True`` pixels are the shape ("ink"). Pixel frame as in
-``CAPTURE_API.md``: row ``r``, column ``c`` covers ``[c, c+1] x [r, r+1]`` (x right, y down).
+docs/capture.md: row ``r``, column ``c`` covers ``[c, c+1] x [r, r+1]`` (x right, y down).
 
 Conventions
 -----------
@@ -54,7 +54,7 @@ _GRAY_MODES = {"L", "I;16", "I;16L", "I;16B", "I;16N", "I", "F"}
 # public API
 # ---------------------------------------------------------------------------------------------------
 def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=0, connectivity=8) -> np.ndarray:
-    """Binarize an image into a bool ink mask ``(H, W)`` (thesis §4.1.1; ``CAPTURE_API.md``).
+    """Binarize an image into a bool ink mask ``(H, W)`` (thesis section 4.1.1; docs/capture.md).
 
     Parameters
     ----------

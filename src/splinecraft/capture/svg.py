@@ -1,6 +1,6 @@
 """SVG writing and reading for traced outlines: one ``<path>`` of exact cubic Béziers, even-odd fill.
 
-The document is in the bitmap's pixel frame (``CAPTURE_API.md``): ``width``/``height`` and
+The document is in the bitmap's pixel frame (docs/capture.md): ``width``/``height`` and
 ``viewBox="0 0 W H"`` are the bitmap size, x right, y down, pixel corners on integers -- the frame
 potrace writes and the yardstick scores in. Every closed curve is a subpath ``M x0,y0 C ... Z``; with
 ``fill-rule="evenodd"`` holes stay empty whatever their orientation.

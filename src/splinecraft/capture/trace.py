@@ -2,10 +2,10 @@
 
 :func:`trace` runs the pipeline of thesis chapter 4 on every boundary of a bitmap (outer contours and
 holes of all components): binarization (:func:`~splinecraft.capture.image.load_bitmap`), chain-code
-boundaries (:func:`~splinecraft.capture.contour.trace_boundaries`, §4.1.1), corners
-(:func:`~splinecraft.capture.corners.corners`, §4.1.2 / chapter 2), and the piecewise spline fit with
+boundaries (:func:`~splinecraft.capture.contour.trace_boundaries`, thesis section 4.1.1), corners
+(:func:`~splinecraft.capture.corners.corners`, thesis section 4.1.2 and chapter 2), and the piecewise spline fit with
 knot insertion until the error is below ``epsilon`` (:func:`~splinecraft.capture.fitting.fit_outline`,
-§4.2-4.3). The :class:`TraceResult` keeps every intermediate result, the statistics of thesis tables
+thesis sections 4.2-4.3). The :class:`TraceResult` keeps every intermediate result, the statistics of thesis tables
 4.1-4.61, every iteration (per boundary and merged for stepping) and writes SVG and JSON.
 
 Documented outcomes for degenerate input
@@ -148,7 +148,7 @@ class TraceSnapshot:
 
 @dataclass(eq=False)
 class TraceResult:
-    """Everything :func:`trace` computed (``CAPTURE_API.md``).
+    """Everything :func:`trace` computed (docs/capture.md).
 
     Attributes
     ----------
@@ -341,7 +341,7 @@ def trace(
     contour="outline",
     fit_params=None,
 ) -> TraceResult:
-    """Trace the outline of a bitmap into smooth closed splines (thesis chapter 4; ``CAPTURE_API.md``).
+    """Trace the outline of a bitmap into smooth closed splines (thesis chapter 4; docs/capture.md).
 
     Parameters
     ----------

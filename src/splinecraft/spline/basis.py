@@ -1,12 +1,12 @@
-"""The local-support basis form of the generic cubic spline (thesis §3.2; spec §4).
+"""The local-support basis form of the generic cubic spline (thesis section 3.2; §4).
 
 The curve ``P(t) = sum_j B_j(t) P_j`` is built from control points ``P_j`` with B-spline-like basis functions
 ``B_j`` of support ``(t_{j-2}, t_{j+2})``. Every ``B_j`` -- hence every curve -- satisfies the weighted nu-spline
-joint constraint of spec §2.2 at each knot, with a point tension ``v_j`` per control point and an interval weight
+joint constraint of §2.2 at each knot, with a point tension ``v_j`` per control point and an interval weight
 ``omega_i`` per leg ``P_i P_{i+1}``. With ``v = 0`` and ``omega = 1`` the ``B_j`` are the cubic B-splines on the
 same knots (uniform knots: ``F_i = (P_{i-1} + 4 P_i + P_{i+1}) / 6``).
 
-Everything comes from the closed forms of spec §4.2-4.3 (thesis eqs 3.53-3.65, 3.81-3.84, errata E9, E10):
+Everything comes from the closed forms of §4.2-4.3 (thesis eqs 3.53-3.65, 3.81-3.84, errata E9, E10):
 
     a_i = h_i / omega_i,   d_i = a_{i-1} + a_i + a_{i-1} a_i v_i / 2,
     D_i = h_{i-1} d_{i-1} d_i + a_i (h_{i-1} + h_i) d_{i-1} + a_{i-2} (h_{i-2} + h_{i-1}) d_i,
@@ -28,7 +28,7 @@ from .piecewise import Spline
 
 __all__ = ["basis_spline", "basis_functions", "BASIS_ENDS"]
 
-#: Accepted ``ends`` values for open basis curves (spec §4.4).
+#: Accepted ``ends`` values for open basis curves (§4.4).
 BASIS_ENDS = ("floating", "clamped")
 
 # |D_i| <= DEGENERATE_RTOL * (sum of the absolute values of its three terms) counts as vanishing.
@@ -82,7 +82,7 @@ def _leg_steps(control_points, knots, closed, ends, n_control):
 
 
 def _basis_coefficients(steps, weights, tension, closed, ends):
-    """Per-joint and per-segment coefficients of spec §4.2-4.3, vectorised with slices.
+    """Per-joint and per-segment coefficients of §4.2-4.3, vectorised with slices.
 
     Returns ``joint`` (lambda, mu, lambda_hat, mu_hat at the joints) and ``segment`` (rho, sigma), as
     arrays over the joints ``J`` (floating/clamped: thesis ``i = 1..n``; closed: ``0..N-1``) and the
@@ -101,12 +101,12 @@ def _basis_coefficients(steps, weights, tension, closed, ends):
     else:
         n = n_control - 2
         if ends == "clamped":
-            # triple end knots: h_{-1} = h_0 = 0 = h_n = h_{n+1} (spec §4.4)
+            # triple end knots: h_{-1} = h_0 = 0 = h_n = h_{n+1} (§4.4)
             zeros = np.zeros(2)
             h_ext = np.concatenate([zeros, steps, zeros])
             a_ext = np.concatenate([zeros, steps / weights[1:-1], zeros])
         else:
-            # h_{-1} := h_0, h_{n+1} := h_n, omega likewise (spec §4.4, E12)
+            # h_{-1} := h_0, h_{n+1} := h_n, omega likewise (§4.4, E12)
             a = steps / weights
             h_ext = np.concatenate([steps[:1], steps, steps[-1:]])
             a_ext = np.concatenate([a[:1], a, a[-1:]])
@@ -143,7 +143,7 @@ def _basis_coefficients(steps, weights, tension, closed, ends):
         left = (index - 1) % n_control if closed else index - 1
         right = index % n_control if closed else index
         raise ValueError(
-            f"the basis is degenerate at knot {index}: D_{index} = {D[k]:.3g} vanishes (spec §4.5), caused by "
+            f"the basis is degenerate at knot {index}: D_{index} = {D[k]:.3g} vanishes (§4.5), caused by "
             f"point_tension[{left}] and point_tension[{right}]; keep every "
             f"point_tension[i] > -2 (omega_(i-1)/h_(i-1) + omega_i/h_i) (then d_i > 0 and the basis is non-negative)"
         )
@@ -161,7 +161,7 @@ def _basis_coefficients(steps, weights, tension, closed, ends):
         rho = a(first - 1, n_segments) * (h(first - 1, n_segments) + h_s) * dd[2 : n_segments + 2] * inv_s
         sigma = a(first + 1, n_segments) * (h_s + h(first + 1, n_segments)) * dd[1 : n_segments + 1] * inv_s
     if not closed and ends == "clamped":
-        # limits at the triple knots (spec §4.4): lambda_1 = 1, lambda_hat_1 = 3/h_1, mu_n = 1, mu_hat_n = 3/h_{n-1}
+        # limits at the triple knots (§4.4): lambda_1 = 1, lambda_hat_1 = 3/h_1, mu_n = 1, mu_hat_n = 3/h_{n-1}
         lam[0], lam_hat[0] = 1.0, 3.0 / float(h(1, 1)[0])
         mu[-1], mu_hat[-1] = 1.0, 3.0 / float(h(count - 1, 1)[0])
         rho[0] = 0.0
@@ -190,7 +190,7 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
 
 
 def _assemble(control_points, values, steps, weights, tension, closed, ends):
-    """Planar Bézier pieces ``(4, d, m)``, knot points F and tangents M ``(d, joints)`` (spec §4.3)."""
+    """Planar Bézier pieces ``(4, d, m)``, knot points F and tangents M ``(d, joints)`` (§4.3)."""
     (lam, mu, lam_hat, mu_hat), (rho, sigma) = _basis_coefficients(steps, weights, tension, closed, ends)
     P = np.ascontiguousarray(control_points.T)  # planar (d, n_control)
     if closed:
@@ -221,12 +221,12 @@ def _assemble(control_points, values, steps, weights, tension, closed, ends):
 
 def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_weights=1.0, alpha=3.0, beta=3.0,
                  knots="uniform", ends="floating") -> Spline:
-    """Local-support (basis form) generic cubic spline from control points (thesis §3.2; spec §4).
+    """Local-support (basis form) generic cubic spline from control points (thesis section 3.2; §4).
 
     ``P(t) = sum_j B_j(t) P_j``. Moving one control point changes at most the four segments it supports. At
     every joint the curve is ``C^1`` and satisfies the weighted nu-spline constraint
-    ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)`` (spec §2.2). Built in O(n) from the closed
-    forms of spec §4.2-4.3 (thesis 3.53-3.65 with errata E9, E10): no linear solve.
+    ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)`` (§2.2). Built in O(n) from the closed
+    forms of §4.2-4.3 (thesis 3.53-3.65 with errata E9, E10): no linear solve.
 
     **The class parameters do not change the curve (erratum E1).** ``alpha``/``beta`` cancel out; they only
     position the class polygon points ``V_i = F_i + h_i M_i / alpha_i``, ``W_i = F_{i+1} - h_i M_{i+1} / beta_i``
@@ -242,13 +242,13 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         coincident control points are allowed with uniform or explicit knots (as in B-splines) but not with
         ``"chord"``/``"centripetal"`` knots, where they would give an empty interval.
     closed : bool
-        Closed (periodic) curve: indices are taken mod N (spec §4.4), ``N`` segments.
+        Closed (periodic) curve: indices are taken mod N (§4.4), ``N`` segments.
     point_tension : float or array_like, shape (n_control,)
         ``v_j``, one per control point. ``v -> +inf`` pulls the curve to ``P_j`` (a cusp there). Negative values
         are allowed while the closed forms stay well defined; ``v_j > -2 (omega_{j-1}/h_{j-1} + omega_j/h_j)``
         (all ``v >= 0`` included) guarantees ``d_j > 0``, non-negative basis functions and the convex-hull
         property. Beyond it the basis can go negative, and where ``D_i`` vanishes (relative ``1e-12``, e.g.
-        ``h = omega = 1``, ``v = -4``) a ``ValueError`` names the knot and the control points (spec §4.5).
+        ``h = omega = 1``, ``v = -4``) a ``ValueError`` names the knot and the control points (§4.5).
         With clamped ends ``v`` of the first two and last two control points has no effect.
     interval_weights : float or array_like, shape (n_control - 1,) or (N,) when closed
         ``omega_i > 0``, one per leg ``P_i P_{i+1}``. Large values straighten segment ``i`` towards the leg.
@@ -256,7 +256,7 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
     alpha, beta : float or array_like, one per segment
         Finite, non-zero class parameters (Ball 2, Bézier 3, Timmer 4); only ``V``, ``W`` depend on them.
     knots : {"uniform", "chord", "centripetal"} or array_like
-        The knots belong to the control polygon: ``h_i = |P_{i+1} - P_i|^e`` (spec §3), uniform ``h = 1`` by
+        The knots belong to the control polygon: ``h_i = |P_{i+1} - P_i|^e`` (§3), uniform ``h = 1`` by
         default. Explicit strictly increasing values: one per control point ``t_0..t_{n+1}`` for floating
         ends (the curve runs over ``[t_1, t_n]``), ``t_1..t_n`` (``n_control - 2`` values) for clamped ends,
         ``N + 1`` values for a closed curve. Uniform knots are ``t_j = j``.
@@ -290,7 +290,7 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         if not (values_ != 0).all():
             i = int(np.flatnonzero(values_ == 0)[0])
             raise ValueError(f"{name}[{i}] = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
-    # V_i = F_i + h_i M_i / alpha_i = b0 + 3 (b1 - b0) / alpha_i, W_i likewise (spec §2.1, E1)
+    # V_i = F_i + h_i M_i / alpha_i = b0 + 3 (b1 - b0) / alpha_i, W_i likewise (§2.1, E1)
     V = planar[0] + (3.0 / alphas) * (planar[1] - planar[0])
     W = planar[3] - (3.0 / betas) * (planar[3] - planar[2])
     info = {
@@ -305,7 +305,7 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
 
 
 def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, closed=False, ends="floating"):
-    """Values of all basis functions ``B_j(t)``, shape ``(len(t), n_control)`` (spec §4.1-4.3).
+    """Values of all basis functions ``B_j(t)``, shape ``(len(t), n_control)`` (§4.1-4.3).
 
     Each ``B_j`` is the scalar basis curve with control values ``e_j``, so all of them come from one basis
     curve in ``n_control`` dimensions (control points = identity matrix) evaluated once. Useful for plotting

@@ -1,13 +1,13 @@
-"""The interpolant form of the generic cubic spline (thesis §3.1 and §4.2.1; spec §2-3).
+"""The interpolant form of the generic cubic spline (thesis sections 3.1 and 4.2.1; §2-3).
 
 Given points ``F_1..F_n`` the curve passes through every point. At each interior knot it is ``C^1`` and
-satisfies the weighted nu-spline joint constraint (spec §2.2, thesis eqs 3.13, 3.14)
+satisfies the weighted nu-spline joint constraint (§2.2, thesis eqs 3.13, 3.14)
 
     omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-),
 
 with a point tension ``v_i`` per point and an interval weight (interval tension) ``omega_i`` per interval.
 The tangents ``M_i = P'(t_i)`` solve one tridiagonal system (cyclic for closed curves), with the same matrix
-for every coordinate (spec §2.3, thesis eq 3.1 with errata E3, E4).
+for every coordinate (§2.3, thesis eq 3.1 with errata E3, E4).
 """
 from __future__ import annotations
 
@@ -23,15 +23,15 @@ from .segment import hermite_planar
 
 __all__ = ["interpolate", "END_CONDITIONS", "end_derivative_estimates", "solve_tangents"]
 
-#: Accepted ``end_condition`` values (spec §2.4).
+#: Accepted ``end_condition`` values (§2.4).
 END_CONDITIONS = ("natural", "natural_v", "clamped", "periodic")
 
-#: Condition-number bound above which a tangent system is rejected (spec §2.5).
+#: Condition-number bound above which a tangent system is rejected (§2.5).
 MAX_CONDITION = 1e12
 
 
 def end_derivative_estimates(points: np.ndarray, steps: np.ndarray):
-    """End derivatives ``(M_1, M_n)`` from the 3-point parabola (spec §6.3), exact for quadratics.
+    """End derivatives ``(M_1, M_n)`` from the 3-point parabola (§6.3), exact for quadratics.
 
     ``M_1 = ((2 h_1 + h_2) Δ_1 - h_1 Δ_2) / (h_1 + h_2)`` and its mirror image at the end; for two points
     both are the chord slope ``Δ_1``. ``steps`` are the ``h_i`` (``n - 1`` of them).
@@ -47,7 +47,7 @@ def end_derivative_estimates(points: np.ndarray, steps: np.ndarray):
 
 
 def _dominance_error(k, v, span, relative, row_kind):
-    """ValueError for a point tension in the non-dominant band (spec §2.5)."""
+    """ValueError for a point tension in the non-dominant band (§2.5)."""
     neighbours = "(c_{k-1} + c_k)" if row_kind == "interior" else ("c_1" if k == 0 else "c_{n-1}")
     if relative:
         where = f"point_tension[{k}] = {v / span:.6g} (relative)"
@@ -59,13 +59,13 @@ def _dominance_error(k, v, span, relative, row_kind):
         band = f"[-6, -2] * {neighbours} = [{low:.6g}, {high:.6g}]"
     return ValueError(
         f"{where} makes row {k} of the tangent system not diagonally dominant: it lies in {band}, where the "
-        f"system can be singular (spec §2.5). Use point_tension[{k}] > {high:.6g} (safe domain, unique energy "
+        f"system can be singular (§2.5). Use point_tension[{k}] > {high:.6g} (safe domain, unique energy "
         f"minimiser) or < {low:.6g} (unique solution, but the tangent at point {k} reverses and the curve loops)."
     )
 
 
 def solve_tangents(lower, diag, upper, rhs, *, closed=False, off=None, describe_row=None):
-    """Solve the (cyclic) tridiagonal tangent system for several right-hand sides (spec §2.3, §2.5).
+    """Solve the (cyclic) tridiagonal tangent system for several right-hand sides (§2.3, §2.5).
 
     Row ``k`` reads ``lower[k] M_{k-1} + diag[k] M_k + upper[k] M_{k+1} = rhs[:, k]``; ``rhs`` is *planar*,
     shape ``(d, n)`` (one row per coordinate), and so is the returned solution. ``lower[0]`` and
@@ -91,19 +91,19 @@ def solve_tangents(lower, diag, upper, rhs, *, closed=False, off=None, describe_
         k = int(np.flatnonzero(~(margin > 0))[0])
         if describe_row is not None:
             raise describe_row(k)
-        raise ValueError(f"row {k} of the tangent system is not diagonally dominant (spec §2.5)")
+        raise ValueError(f"row {k} of the tangent system is not diagonally dominant (§2.5)")
     bound = float(np.max(absdiag + off)) / float(margin[worst])
     if bound > MAX_CONDITION:
         raise ValueError(
             f"the tangent system is ill-conditioned (condition bound {bound:.3g} > {MAX_CONDITION:.0e}), "
-            f"worst at row {worst}; move point_tension[{worst}] away from the band of spec §2.5"
+            f"worst at row {worst}; move point_tension[{worst}] away from the band of §2.5"
         )
     if not closed:
         _, _, _, solution, info = dgtsv(lower[1:], diag, upper[:-1], rhs.T, overwrite_b=True)
         if info != 0:
             raise ValueError(f"the tangent system is singular (LAPACK gtsv info={info})")
         return solution.T
-    # Sherman-Morrison for the cyclic corners (Numerical Recipes §2.7): A = T + u w^T with
+    # Sherman-Morrison for the cyclic corners (Numerical Recipes, section 2.7): A = T + u w^T with
     # u = (gamma, 0, .., 0, bottom), w = (1, 0, .., 0, top / gamma), gamma = -diag[0].
     top = float(lower[0])  # A[0, n-1]
     bottom = float(upper[-1])  # A[n-1, 0]
@@ -139,18 +139,18 @@ def solve_tangents(lower, diag, upper, rhs, *, closed=False, off=None, describe_
 
 def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0, alpha=3.0, beta=3.0,
                 end_condition="natural", end_tangents=None, knots="chord", point_tension_scale="absolute"):
-    """Interpolating generic cubic spline through ``points`` (thesis §3.1, §4.2.1; spec §2-3).
+    """Interpolating generic cubic spline through ``points`` (thesis sections 3.1, 4.2.1; §2-3).
 
     The curve passes through every point; it is ``C^1`` and at each interior knot satisfies the weighted
-    nu-spline joint constraint ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)`` (spec §2.2,
+    nu-spline joint constraint ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)`` (§2.2,
     thesis 3.13-3.14). The tangents ``M_i`` solve one tridiagonal system (cyclic when closed), shared by all
-    coordinates (spec §2.3, eq 3.1 with errata E3, E4), in O(n); the pieces are then the exact cubic
+    coordinates (§2.3, eq 3.1 with errata E3, E4), in O(n); the pieces are then the exact cubic
     Béziers ``[F_i, F_i + h_i M_i/3, F_{i+1} - h_i M_{i+1}/3, F_{i+1}]``.
 
     **The class parameters do not change the curve (erratum E1).** ``alpha``/``beta`` (Ball 2, Bézier 3,
     Timmer 4, see :data:`~splinecraft.CLASS_PRESETS`) cancel out of the interpolant exactly: they only move
     the auxiliary class polygon points ``V_i = F_i + h_i M_i / alpha_i`` and ``W_i = F_{i+1} - h_i M_{i+1} / beta_i``
-    (spec §2.1), stored in ``spline.auxiliary`` for drawing. The curve is never computed through them.
+    (§2.1), stored in ``spline.auxiliary`` for drawing. The curve is never computed through them.
 
     **Joints are G² only where neighbouring interval weights are equal (erratum E2).** The one-sided
     curvatures satisfy ``kappa(t_i^+) = (omega_{i-1} / omega_i) kappa(t_i^-)`` for any ``v_i``; see
@@ -160,16 +160,16 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     ----------
     points : array_like, shape (n, d)
         Data points ``F_1..F_n``: finite, ``n >= 2`` (``N >= 3`` distinct points when closed; do not
-        repeat the first point at the end), consecutive points distinct (spec §3).
+        repeat the first point at the end), consecutive points distinct (§3).
     closed : bool
-        Closed loop with the periodic end condition (spec §2.4 Type 3, erratum E6). ``closed=True``
+        Closed loop with the periodic end condition (§2.4 Type 3, erratum E6). ``closed=True``
         implies ``end_condition="periodic"`` and vice versa.
     point_tension : float or array_like, shape (n,)
         Point tension ``v_i`` (one per point). ``v > 0`` tightens the curve towards the polygon
-        (spec §2.5, erratum E22); ``v -> +inf`` gives zero tangents (a polygon with cusps). The end values
+        (§2.5, erratum E22); ``v -> +inf`` gives zero tangents (a polygon with cusps). The end values
         act only with ``end_condition="natural_v"`` (and for every point of a closed curve).
-        **Sign rule (spec §2.5):** row ``k`` must be strictly diagonally dominant, i.e.
-        ``v_k > -2 (c_{k-1} + c_k)`` (safe domain: unique minimiser of the energy of spec §2.2) or
+        **Sign rule (§2.5):** row ``k`` must be strictly diagonally dominant, i.e.
+        ``v_k > -2 (c_{k-1} + c_k)`` (safe domain: unique minimiser of the energy of §2.2) or
         ``v_k < -6 (c_{k-1} + c_k)`` (accepted and unique, but the tangent at ``F_k`` reverses relative to the
         chords and the curve loops or bulges, thesis Figs 3.8-3.11). Values in the band
         ``[-6, -2] (c_{k-1} + c_k)``, where the system can be singular, raise ``ValueError`` naming ``k`` and
@@ -185,13 +185,13 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         end derivatives (Type 1). ``"periodic"``: closed curve (Type 3).
     end_tangents : (M_1, M_n), optional
         End derivatives ``dP/dt`` in the knot parameter for ``"clamped"`` (either may be ``None``). Default:
-        the 3-point parabola estimate of spec §6.3 (exact for quadratics). Only valid with ``"clamped"``.
+        the 3-point parabola estimate of §6.3 (exact for quadratics). Only valid with ``"clamped"``.
     knots : {"chord", "centripetal", "uniform"} or array_like
-        Knot parameterization (spec §3), or explicit strictly increasing values: ``n`` for an open curve,
+        Knot parameterization (§3), or explicit strictly increasing values: ``n`` for an open curve,
         ``N + 1`` for a closed one (the last closes the loop).
     point_tension_scale : {"absolute", "relative"}
         ``"relative"`` reads ``point_tension`` as the dimensionless ``nu_k`` with
-        ``v_k = nu_k (c_{k-1} + c_k)`` (spec §2.5 Units), which acts the same at every scale and knot spacing
+        ``v_k = nu_k (c_{k-1} + c_k)`` (§2.5 Units), which acts the same at every scale and knot spacing
         (safe iff ``nu_k > -2``); useful for sliders.
 
     Returns
@@ -298,13 +298,13 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     def describe_row(k):
         interior = closed or 0 < k < n - 1
         if not interior and end_condition != "natural_v":
-            return ValueError(f"row {k} of the tangent system is not diagonally dominant (spec §2.5)")
+            return ValueError(f"row {k} of the tangent system is not diagonally dominant (§2.5)")
         return _dominance_error(k, float(np.broadcast_to(v, (n,))[k]), float(spans[k]), relative,
                                 "interior" if interior else "end")
 
     tangents = solve_tangents(lower, diag, upper, rhs, closed=closed, off=off, describe_row=describe_row)
     if not np.isfinite(tangents).all():
-        raise ValueError("the tangent system produced non-finite tangents (spec §2.5)")
+        raise ValueError("the tangent system produced non-finite tangents (§2.5)")
     planar, V, W = hermite_planar(planar_points, tangents, steps, closed, alphas, betas)
     info = {
         "form": "interpolant",

@@ -1,4 +1,4 @@
-"""Knot parameterization (spec §3; left open by the thesis).
+"""Knot parameterization (§3; left open by the thesis).
 
 ``t_1 = 0``, ``t_{i+1} = t_i + h_i`` with ``h_i = |F_{i+1} - F_i|^e``: ``e = 0`` uniform, ``e = 1/2``
 centripetal, ``e = 1`` chord length (the recommended default for outline capture). Closed curves add the
@@ -13,7 +13,7 @@ from ._validation import as_float_array, check_strictly_increasing
 
 __all__ = ["KNOT_EXPONENTS", "parameterize", "leg_lengths", "check_distinct", "remove_coincident"]
 
-#: Exponent ``e`` of ``h_i = |F_{i+1} - F_i|^e`` for each named parameterization (spec §3).
+#: Exponent ``e`` of ``h_i = |F_{i+1} - F_i|^e`` for each named parameterization (§3).
 KNOT_EXPONENTS = {"uniform": 0.0, "centripetal": 0.5, "chord": 1.0}
 
 # Consecutive points closer than this (relative to the size of the point set) count as coincident.
@@ -60,7 +60,7 @@ def check_distinct(points: np.ndarray, closed: bool, name: str = "points", lengt
 
 
 def remove_coincident(points, *, closed=False):
-    """Merge runs of consecutive coincident points (spec §3).
+    """Merge runs of consecutive coincident points (§3).
 
     Returns
     -------
@@ -85,7 +85,7 @@ def remove_coincident(points, *, closed=False):
 
 
 def parameterize(points, knots="chord", *, closed=False, lengths=None, name="knots") -> np.ndarray:
-    """Knot values for ``points`` (spec §3).
+    """Knot values for ``points`` (§3).
 
     Parameters
     ----------

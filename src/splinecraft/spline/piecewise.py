@@ -1,7 +1,7 @@
-"""The common curve type of the engine: a piecewise cubic stored as exact Bézier pieces (spec §0).
+"""The common curve type of the engine: a piecewise cubic stored as exact Bézier pieces (§0).
 
 Every construction in :mod:`splinecraft.spline` (interpolant §2, local-support basis form §4, generic
-segment §1, Timmer schemes §5) ends in a :class:`Spline`. Evaluation, differentiation, curvature (spec §7),
+segment §1, Timmer schemes §5) ends in a :class:`Spline`. Evaluation, differentiation, curvature (§7),
 display sampling, SVG export, JSON round trip and the conversion to scipy all work from the Bézier
 control points, so they are exact for every construction.
 """
@@ -66,7 +66,7 @@ _REVERSED_ROLES = {"V": "W", "W": "V", "Q1": "Q2", "Q2": "Q1"}
 
 
 class Spline:
-    """Piecewise cubic curve stored as exact Bézier pieces (spec §0).
+    """Piecewise cubic curve stored as exact Bézier pieces (§0).
 
     Piece ``i`` covers ``[t_i, t_{i+1}]`` and is the cubic Bézier ``[b0, b1, b2, b3]`` in the local
     parameter ``theta = (t - t_i) / h_i``. Derivatives are taken with respect to the knot parameter
@@ -84,8 +84,8 @@ class Spline:
         The curve is a loop: the last piece must end at the first point (same tolerance, then made
         exact), and parameters wrap with period ``t_m - t_0``.
     auxiliary : dict of str -> array_like, optional
-        Drawable extra geometry, for example the class polygon points ``'V'``, ``'W'`` (spec §2.1),
-        ``'control_points'`` (spec §4), ``'F'`` (knot points) or ``'tangents'`` (``M_i = P'(t_i)``).
+        Drawable extra geometry, for example the class polygon points ``'V'``, ``'W'`` (§2.1),
+        ``'control_points'`` (§4), ``'F'`` (knot points) or ``'tangents'`` (``M_i = P'(t_i)``).
         Stored as finite float arrays. ``'tangents'`` is treated as vectors by :meth:`transformed`
         and :meth:`reversed`, everything else as points.
     info : dict, optional
@@ -336,7 +336,7 @@ class Spline:
     # ------------------------------------------------------------------ curvature
     @staticmethod
     def _curvature_from(first, second):
-        """Signed (d = 2) or unsigned (d >= 3) curvature ``|P' x P''| / |P'|^3`` (spec §7).
+        """Signed (d = 2) or unsigned (d >= 3) curvature ``|P' x P''| / |P'|^3`` (§7).
 
         Planar arguments: ``first``, ``second`` have shape ``(d, k)``.
         """
@@ -355,11 +355,11 @@ class Spline:
             raise ValueError(f"curvature needs points with d >= 2 coordinates, this curve has d = {self.dim}")
 
     def curvature(self, t, side="right", *, extrapolate=False):
-        """Curvature ``kappa = P' x P'' / |P'|^3`` at ``t`` (spec §7, thesis eq 3.116).
+        """Curvature ``kappa = P' x P'' / |P'|^3`` at ``t`` (§7, thesis eq 3.116).
 
         For planar curves (d = 2) it is signed, ``kappa > 0`` turning left (counter-clockwise); for
         d >= 3 it is the unsigned magnitude. The curve is only ``C^1`` at the knots and its curvature
-        jumps there unless neighbouring interval weights are equal (spec §2.2, E2): ``side`` chooses
+        jumps there unless neighbouring interval weights are equal (§2.2, E2): ``side`` chooses
         the one-sided value at a knot (``"right"``: ``kappa(t_i^+)``, ``"left"``: ``kappa(t_i^-)``).
         Where the speed ``|P'|`` is zero (a cusp) the curvature is NaN.
         """
@@ -374,12 +374,12 @@ class Spline:
     def joint_curvature(self) -> np.ndarray:
         """One-sided curvature at every knot, shape ``(m + 1, 2)``: columns ``kappa(t_i^-)``, ``kappa(t_i^+)``.
 
-        Computed from the Bézier end formulas of spec §7,
+        Computed from the Bézier end formulas of §7,
         ``kappa(0) = 2/3 (b1-b0) x (b2-b1) / |b1-b0|^3`` and ``kappa(1) = 2/3 (b2-b1) x (b3-b2) / |b3-b2|^3``
         (in ``theta``; curvature does not depend on the parametrisation). For an open curve the
         missing sides (``[0, 0]`` and ``[m, 1]``) are NaN; for a loop row ``m`` repeats row ``0``.
         Where neighbouring interval weights differ, ``kappa^+ / kappa^- = omega_{i-1} / omega_i``
-        (spec §2.2, E2): the jump is shown, not hidden. Zero end speed gives NaN.
+        (§2.2, E2): the jump is shown, not hidden. Zero end speed gives NaN.
         """
         self._require_curvature_dim()
         b0, b1, b2, b3 = self._planar
@@ -395,7 +395,7 @@ class Spline:
         return out
 
     def curvature_comb(self, scale=1.0, samples_per_segment=16):
-        """Curvature comb (spec §7): tooth base points and tips, each shape ``(k, 2)``.
+        """Curvature comb (§7): tooth base points and tips, each shape ``(k, 2)``.
 
         Each piece is sampled uniformly in ``theta`` with both endpoints, so every joint gets both
         one-sided teeth. A tooth runs from ``P`` to ``P - scale * kappa * N`` with ``N = (-T_y, T_x)``
@@ -660,7 +660,7 @@ class Spline:
         arrays and polylines are flipped, ``'V'`` and ``'W'`` swap roles, ``'tangents'`` change sign,
         and for a loop per-knot arrays (``'F'``, ``'tangents'``) keep index 0 at the start point.
         ``'Q1'``/``'Q2'`` (Timmer polygon) likewise. ``info['alpha']`` and ``info['beta']`` are swapped
-        (they swap roles in reverse, spec §1), and per-piece or per-knot ``info`` lists are reversed.
+        (they swap roles in reverse, §1), and per-piece or per-knot ``info`` lists are reversed.
         """
         planar = np.ascontiguousarray(self._planar[::-1, :, ::-1])
         knots = (self._knots[0] + self._knots[-1]) - self._knots[::-1]

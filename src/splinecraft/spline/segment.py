@@ -1,4 +1,4 @@
-"""The generic cubic segment (spec §1; thesis eqs 3.5-3.9, 3.16-3.22) and the Hermite-to-Bézier step.
+"""The generic cubic segment (§1; thesis eqs 3.5-3.9, 3.16-3.22) and the Hermite-to-Bézier step.
 
 A generic segment is designed by four points ``F_i, V_i, W_i, F_{i+1}`` and two class parameters
 ``alpha_i, beta_i``:
@@ -9,9 +9,9 @@ A generic segment is designed by four points ``F_i, V_i, W_i, F_{i+1}`` and two 
 With ``V, W`` held fixed, ``alpha`` and ``beta`` really change the shape (:func:`generic_segment`).
 The named classes are Ball (``alpha = beta = 2``), Bézier (3) and Timmer (4), see :data:`CLASS_PRESETS`.
 
-In the interpolant (spec §2) and the local-support basis form (spec §4), however, ``V_i`` and ``W_i`` are
+In the interpolant (§2) and the local-support basis form (§4), however, ``V_i`` and ``W_i`` are
 *derived* from the knot tangents, ``V_i = F_i + h_i M_i / alpha_i`` and ``W_i = F_{i+1} - h_i M_{i+1} / beta_i``,
-and then ``alpha, beta`` cancel exactly (spec §2.1, erratum E1): those curves do not depend on the class at all,
+and then ``alpha, beta`` cancel exactly (§2.1, erratum E1): those curves do not depend on the class at all,
 only the drawn class polygon ``F_i V_i W_i F_{i+1}`` does.
 """
 from __future__ import annotations
@@ -31,12 +31,12 @@ __all__ = [
     "class_polygon",
 ]
 
-#: Named classes of the generic cubic (spec §1): ``name -> (alpha, beta)``.
+#: Named classes of the generic cubic (§1): ``name -> (alpha, beta)``.
 CLASS_PRESETS = {"ball": (2.0, 2.0), "bezier": (3.0, 3.0), "timmer": (4.0, 4.0)}
 
 
 def blending_functions(theta, alpha=3.0, beta=3.0) -> np.ndarray:
-    """The four coefficient functions of ``F_i, V_i, W_i, F_{i+1}`` in the generic segment (spec §1, eq 3.5).
+    """The four coefficient functions of ``F_i, V_i, W_i, F_{i+1}`` in the generic segment (§1, eq 3.5).
 
     Parameters
     ----------
@@ -50,7 +50,7 @@ def blending_functions(theta, alpha=3.0, beta=3.0) -> np.ndarray:
     ndarray, shape ``theta.shape + (4,)``
         ``[(1-θ)²(1+(2-α)θ), αθ(1-θ)², βθ²(1-θ), θ²(1+(2-β)(1-θ))]``. They sum to 1 for every
         ``alpha, beta``. ``alpha = beta = 2`` gives Ball's basis, 3 the Bernstein (Bézier) basis with
-        ``V, W`` as inner control points, 4 Timmer's basis (spec §1, §5.1).
+        ``V, W`` as inner control points, 4 Timmer's basis (§1, §5.1).
     """
     theta = as_float_array(theta, "theta")
     alpha = as_float_array(alpha, "alpha")
@@ -68,7 +68,7 @@ def blending_functions(theta, alpha=3.0, beta=3.0) -> np.ndarray:
 
 
 def segment_bezier(F0, V, W, F1, alpha, beta) -> np.ndarray:
-    """Exact Bézier control points ``(..., 4, d)`` of generic segments (spec §1).
+    """Exact Bézier control points ``(..., 4, d)`` of generic segments (§1).
 
     ``b0 = F_i``, ``b1 = F_i + alpha/3 (V_i - F_i)``, ``b2 = F_{i+1} + beta/3 (W_i - F_{i+1})``, ``b3 = F_{i+1}``.
     Arguments broadcast; ``alpha``/``beta`` broadcast against the leading (segment) axes.
@@ -82,7 +82,7 @@ def segment_bezier(F0, V, W, F1, alpha, beta) -> np.ndarray:
 
 
 def generic_segment(F0, V, W, F1, alpha=3.0, beta=3.0, *, knots=(0.0, 1.0)) -> Spline:
-    """A single generic cubic segment designed by its points ``F_i, V_i, W_i, F_{i+1}`` (spec §1, eqs 3.5-3.9).
+    """A single generic cubic segment designed by its points ``F_i, V_i, W_i, F_{i+1}`` (§1, eqs 3.5-3.9).
 
     Here ``V`` and ``W`` are given, so the class parameters ``alpha`` and ``beta`` genuinely change the
     shape: the Bézier inner points are ``b1 = F_i + alpha/3 (V - F_i)`` and ``b2 = F_{i+1} + beta/3 (W - F_{i+1})``,
@@ -131,7 +131,7 @@ def generic_segment(F0, V, W, F1, alpha=3.0, beta=3.0, *, knots=(0.0, 1.0)) -> S
 
 
 def hermite_bezier(points: np.ndarray, tangents: np.ndarray, steps: np.ndarray, closed: bool) -> np.ndarray:
-    """Bézier pieces of the ``C^1`` cubic Hermite curve through ``(t_i, F_i, M_i)`` (spec §2.1).
+    """Bézier pieces of the ``C^1`` cubic Hermite curve through ``(t_i, F_i, M_i)`` (§2.1).
 
     ``b1 = F_i + h_i M_i / 3``, ``b2 = F_{i+1} - h_i M_{i+1} / 3``; no class parameter enters (E1).
     ``points``/``tangents`` have one row per knot (``m + 1`` open, ``m`` closed); ``steps`` are the ``h_i``.
@@ -154,7 +154,7 @@ def hermite_bezier(points: np.ndarray, tangents: np.ndarray, steps: np.ndarray, 
 
 
 def hermite_planar(points, tangents, steps, closed, alpha, beta):
-    """Planar Hermite pieces and class polygon in one pass (internal fast path of spec §2.1).
+    """Planar Hermite pieces and class polygon in one pass (internal fast path of §2.1).
 
     ``points``/``tangents`` are planar ``(d, n)`` (one row per coordinate, one column per knot; ``n = m + 1``
     open, ``m`` closed), ``steps`` the ``h_i``; ``alpha``/``beta`` scalars or ``(m,)``. Returns the planar
@@ -187,7 +187,7 @@ def hermite_planar(points, tangents, steps, closed, alpha, beta):
 
 
 def class_polygon(bezier: np.ndarray, steps: np.ndarray, alpha, beta):
-    """Class control points ``V_i, W_i`` of each piece (spec §2.1): ``V_i = F_i + h_i M_i / alpha_i``,
+    """Class control points ``V_i, W_i`` of each piece (§2.1): ``V_i = F_i + h_i M_i / alpha_i``,
     ``W_i = F_{i+1} - h_i M_{i+1} / beta_i``.
 
     Computed from the Bézier pieces (``h_i M_i = 3 (b1 - b0)``, ``h_i M_{i+1} = 3 (b3 - b2)``), so this is the

@@ -1,12 +1,12 @@
-"""Tangent and end-derivative estimates for point sequences (spec §6, thesis eqs 2.1-2.5, 3.106-3.109).
+"""Tangent and end-derivative estimates for point sequences (§6, thesis eqs 2.1-2.5, 3.106-3.109).
 
 Three estimates live here:
 
 * :func:`estimate_tangents` -- the thesis's tangent vectors :math:`\\tilde T_i` (eqs 2.1-2.4 = 3.106-3.109):
   second-order one-sided differences at the two ends of an open sequence, and the bisector of the two unit
-  chords, scaled by :math:`d_-d_+/(d_-+d_+)`, at every other point (spec §6.1, §6.2).
+  chords, scaled by :math:`d_-d_+/(d_-+d_+)`, at every other point (§6.1, §6.2).
 * :func:`end_derivatives` -- the 3-point parabola derivatives :math:`\\hat M_1,\\hat M_n` for the clamped
-  (Type 1) end condition of the interpolant; they match the knot scale (spec §6.3).
+  (Type 1) end condition of the interpolant; they match the knot scale (§6.3).
 * :func:`interior_angle` -- the interior angle at a point, used by the corner detector's
   tolerance-angle test (thesis eq 2.5 with erratum **E21**).
 
@@ -80,23 +80,23 @@ def _chords(points: np.ndarray, closed: bool) -> np.ndarray:
 # ----------------------------------------------------------------------------------------------------------
 def estimate_tangents(points, *, closed: bool = False, method: str = "thesis",
                       reversal_tol: float = 1e-9) -> np.ndarray:
-    """Tangent vector estimates :math:`\\tilde T_i` at every point (spec §6.1-§6.2, thesis eqs 2.1-2.4).
+    """Tangent vector estimates :math:`\\tilde T_i` at every point (§6.1-§6.2, thesis eqs 2.1-2.4).
 
     ``method="thesis"`` (default, the thesis's estimate, also eqs 3.106-3.109):
 
-    * ends of an open sequence, eqs 2.1 and 2.2 (correct as printed, spec §6.1)
+    * ends of an open sequence, eqs 2.1 and 2.2 (correct as printed, §6.1)
       :math:`\\tilde T_0=\\tfrac12(-3P_0+4P_1-P_2)`, :math:`\\tilde T_n=\\tfrac12(3P_n-4P_{n-1}+P_{n-2})`:
       second-order one-sided differences for a unit parameter step, exact for quadratics sampled at
       uniform parameters. :math:`\\tilde T_n` points along the direction of travel.
-    * every other point, eqs 2.3/2.4 (spec §6.2):
+    * every other point, eqs 2.3/2.4 (§6.2):
       :math:`\\tilde T_i=a_i(P_i-P_{i-1})+(1-a_i)(P_{i+1}-P_i)=\\frac{d_-d_+}{d_-+d_+}(u_-+u_+)`, the bisector
       of the two unit chords. At a reversal (:math:`\\|u_-+u_+\\|<` ``reversal_tol``) the estimate falls back
       to :math:`u_+` scaled by :math:`2d_-d_+/(d_-+d_+)` (the length the formula has for collinear chords).
-    * closed sequences use the interior formula cyclically at every point (spec §5.5, §6.2).
+    * closed sequences use the interior formula cyclically at every point (§5.5, §6.2).
 
     ``method="chord_parabola"``: the derivative of the parabola through three consecutive points with
     chord-length knots, :math:`(d_+^2(P_i-P_{i-1})+d_-^2(P_{i+1}-P_i))/(d_-d_+(d_-+d_+))` at interior points
-    (spec §6.2 note), and the §6.3 parabola end derivatives with chord-length knots at open ends. These
+    (§6.2 note), and the §6.3 parabola end derivatives with chord-length knots at open ends. These
     are derivatives per unit chord length (roughly unit vectors). This is not the thesis's estimate;
     it is offered for comparison.
 
@@ -195,7 +195,7 @@ def unit_tangents(tangents, *, name: str = "tangents") -> np.ndarray:
 # end derivatives for Type 1 (clamped) end conditions
 # ----------------------------------------------------------------------------------------------------------
 def end_derivatives(points, knots) -> tuple[np.ndarray, np.ndarray]:
-    """Clamped-end derivatives :math:`(\\hat M_1,\\hat M_n)` from 3-point parabolas (spec §6.3).
+    """Clamped-end derivatives :math:`(\\hat M_1,\\hat M_n)` from 3-point parabolas (§6.3).
 
     .. math::
         \\hat M_1=\\frac{(2h_1+h_2)\\Delta_1-h_1\\Delta_2}{h_1+h_2},\\qquad

@@ -1,7 +1,7 @@
-"""Timmer parametric cubic splines (spec §5, thesis §3.3, eqs 3.85-3.133).
+"""Timmer parametric cubic splines (§5, thesis section 3.3, eqs 3.85-3.133).
 
 A Timmer piece through :math:`P_i, P_{i+1}` with tangents :math:`T_i, T_{i+1}` and tangent scales
-:math:`\\alpha_i, \\beta_i > 0` is (spec §5.1, thesis eq 3.89 with errata E13, E14)
+:math:`\\alpha_i, \\beta_i > 0` is (§5.1, thesis eq 3.89 with errata E13, E14)
 
 .. math::
     H_i(\\theta)=f_0P_i+f_1Q_{i,1}+f_2Q_{i,2}+f_3P_{i+1},\\qquad
@@ -10,15 +10,15 @@ A Timmer piece through :math:`P_i, P_{i+1}` with tangents :math:`T_i, T_{i+1}` a
 with the blending functions :math:`f_0=(1-2\\theta)(1-\\theta)^2`, :math:`f_1=4\\theta(1-\\theta)^2`,
 :math:`f_2=4\\theta^2(1-\\theta)`, :math:`f_3=(2\\theta-1)\\theta^2`. Its exact Bézier points are
 :math:`b_1=P_i+\\tfrac43T_i/\\alpha_i`, :math:`b_2=P_{i+1}-\\tfrac43T_{i+1}/\\beta_i`; every piece runs over a unit
-parameter interval (knots ``0, 1, ..., m``; spec §5.1: :math:`h=1`). Note that §3.3 uses
+parameter interval (knots ``0, 1, ..., m``; §5.1: :math:`h=1`). Note that thesis section 3.3 uses
 :math:`\\alpha,\\beta` as *tangent scales* (the end speed is :math:`4/\\alpha`), not as the class parameter of §1.
 
 Three schemes build a whole curve (every one returns a :class:`~splinecraft.spline.piecewise.Spline`):
 
-* :func:`timmer_g2` -- Algorithm 3.1 (spec §5.4, errata E16-E18): unit tangents, one
+* :func:`timmer_g2` -- Algorithm 3.1 (§5.4, errata E16-E18): unit tangents, one
   :math:`\\alpha_i=\\beta_i` per piece chosen joint by joint so that the curvature is continuous.
-* :func:`timmer_gc1` -- Algorithm 3.2 (spec §5.5): unit tangents and user tangent scales; :math:`G^1`.
-* :func:`timmer_gc2` -- Algorithm 3.3 (spec §5.6, errata E19, E20): the tangents solve one banded system;
+* :func:`timmer_gc1` -- Algorithm 3.2 (§5.5): unit tangents and user tangent scales; :math:`G^1`.
+* :func:`timmer_gc2` -- Algorithm 3.3 (§5.6, errata E19, E20): the tangents solve one banded system;
   the thesis joint (:math:`C^2` only when :math:`\\alpha_i=\\beta_{i-1}`) or the true :math:`G^2` joint.
 
 Every result carries ``info`` (JSON-able) with ``form``, the per-piece ``alpha``/``beta`` and, per knot
@@ -74,7 +74,7 @@ _G2_CODES = ("g2", "g1_no_root", "g1_degenerate")
 # one piece
 # ----------------------------------------------------------------------------------------------------------
 def timmer_blending_functions(theta) -> np.ndarray:
-    """Timmer blending functions :math:`f_0..f_3` (spec §5.1, thesis eqs 3.85-3.88, E13: 3.88 is :math:`f_3`).
+    """Timmer blending functions :math:`f_0..f_3` (§5.1, thesis eqs 3.85-3.88, E13: 3.88 is :math:`f_3`).
 
     .. math::
         f_0=(1-2\\theta)(1-\\theta)^2,\\quad f_1=4\\theta(1-\\theta)^2,\\quad f_2=4\\theta^2(1-\\theta),\\quad
@@ -129,7 +129,7 @@ def _segment_ends(points: np.ndarray, closed: bool):
 
 
 def timmer_bezier(points, tangents, alpha, beta, *, closed: bool = False):
-    """Bézier control points of the Timmer pieces through ``points`` (spec §5.1, eqs 3.89-3.91 with E14).
+    """Bézier control points of the Timmer pieces through ``points`` (§5.1, eqs 3.89-3.91 with E14).
 
     Piece ``i`` (from ``points[i]`` to ``points[i+1]``, cyclically when ``closed``) is
     :math:`[P_i,\\ P_i+\\tfrac43T_i/\\alpha_i,\\ P_{i+1}-\\tfrac43T_{i+1}/\\beta_i,\\ P_{i+1}]`, and its Timmer
@@ -175,7 +175,7 @@ def _cross(u, w):
 
 
 def timmer_end_curvatures(points, tangents, alpha, beta, *, closed: bool = False):
-    """Curvature at both ends of every Timmer piece, for unit tangents (spec §5.3, eqs 3.116-3.118).
+    """Curvature at both ends of every Timmer piece, for unit tangents (§5.3, eqs 3.116-3.118).
 
     With :math:`S_i=T_i\\times(P_{i+1}-P_i)`, :math:`U_i=T_{i+1}\\times(P_{i+1}-P_i)` and
     :math:`C_i=T_i\\times T_{i+1}`:
@@ -212,7 +212,7 @@ def timmer_end_curvatures(points, tangents, alpha, beta, *, closed: bool = False
 
 
 def _timmer_cross_terms(pts, unit_tan, closed):
-    """:math:`S_i, U_i, C_i` of spec §5.3 for every piece."""
+    """:math:`S_i, U_i, C_i` of §5.3 for every piece."""
     chords = _chords(pts, closed)
     t_start, t_end = _segment_ends(unit_tan, closed)
     return _cross(t_start, chords), _cross(t_end, chords), _cross(t_start, t_end)
@@ -226,7 +226,7 @@ def _joint_report(curve: Spline, joint_labels: list) -> tuple[list, list]:
 
     ``joint_labels`` gives the label of joint ``k`` for ``k = 0..m-1`` (index 0 is the closing joint of a
     loop and ignored for an open curve). The jump is :math:`\\kappa(t_k^+)-\\kappa(t_k^-)` from
-    :meth:`Spline.joint_curvature` (spec §7). A joint with a vanished end speed is labelled
+    :meth:`Spline.joint_curvature` (§7). A joint with a vanished end speed is labelled
     ``"degenerate"`` with jump ``None``.
     """
     m = curve.n_segments
@@ -280,7 +280,7 @@ def _tangent_input(pts, tangents, closed, name="tangents"):
 # Algorithm 3.1: G2 piecewise Timmer
 # ----------------------------------------------------------------------------------------------------------
 def _solve_joint(s_i, c_i, target, alpha_ref, chord, clamp):
-    """Solve :math:`\\tfrac38S\\alpha^2-\\tfrac12C\\alpha-K^*=0` for a batch of targets (spec §5.4 steps 2-4).
+    """Solve :math:`\\tfrac38S\\alpha^2-\\tfrac12C\\alpha-K^*=0` for a batch of targets (§5.4 steps 2-4).
 
     ``target`` has shape (G,); ``s_i, c_i, alpha_ref, chord`` are scalars. Returns ``alpha`` (G,) and the
     status code (G,) as an index into ``_G2_CODES``. The roots use the cancellation-free form
@@ -454,7 +454,7 @@ def _search_closing_alpha(s_term, u_term, c_term, alpha_ref, chords, clamp, curv
 
 
 def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp=16.0) -> Spline:
-    """:math:`G^2` piecewise Timmer curve through ``points`` (Algorithm 3.1; spec §5.4, thesis §3.3.3).
+    """:math:`G^2` piecewise Timmer curve through ``points`` (Algorithm 3.1; §5.4, thesis section 3.3.3).
 
     One tangent scale :math:`\\alpha_i=\\beta_i` per piece, chosen joint by joint so that the curvature is
     continuous (thesis eqs 3.106-3.122 with errata E16-E18):
@@ -465,7 +465,7 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
     2. :math:`\\alpha_0` given; default :math:`\\alpha_{ref,0}=4/\\|P_1-P_0\\|` (tangent length = chord,
        Bézier inner points at a third of the chord).
     3. For the joints :math:`i=1..n-1` (E17: not :math:`1..n`, and the loop does not start at 0): target
-       :math:`K^*=\\kappa_{i-1}(1)` (spec §5.3 with :math:`\\alpha_{i-1}`), then solve eq 3.120/3.121
+       :math:`K^*=\\kappa_{i-1}(1)` (§5.3 with :math:`\\alpha_{i-1}`), then solve eq 3.120/3.121
        :math:`\\tfrac38S_i\\alpha^2-\\tfrac12C_i\\alpha-K^*=0`, whose roots are
        :math:`2[C_i\\pm\\sqrt{C_i^2+6S_iK^*}]/(3S_i)` (E18: eq 3.122 prints :math:`-6S_iK^*`). Solved with the
        cancellation-free quadratic formula; :math:`S_i=0` is the linear case :math:`\\alpha=-2K^*/C_i`.
@@ -553,11 +553,11 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
 # ----------------------------------------------------------------------------------------------------------
 def timmer_gc1(points, *, closed: bool = False, alpha=None, beta=None, tangents=None,
                shape_scale=None) -> Spline:
-    """:math:`G^1` piecewise Timmer curve with shape control (Algorithm 3.2; spec §5.5).
+    """:math:`G^1` piecewise Timmer curve with shape control (Algorithm 3.2; §5.5).
 
     Unit tangents from eqs 3.106-3.109 (closed outlines: the interior formula cyclically), or the given
     ``tangents`` normalised, and user tangent scales :math:`\\alpha_i,\\beta_i>0` per piece, rendered with
-    spec §5.1 (eq 3.92 with erratum E14). The unit tangent is continuous, so the curve is :math:`G^1`;
+    §5.1 (eq 3.92 with erratum E14). The unit tangent is continuous, so the curve is :math:`G^1`;
     it is :math:`C^1` at joint :math:`i` iff :math:`\\beta_{i-1}=\\alpha_i` (status ``"c1"``, else ``"g1"``).
 
     Scale: the end speed is :math:`4/\\alpha_i`, so with pixel coordinates :math:`\\alpha\\approx1..20` already
@@ -684,7 +684,7 @@ def _solve_tridiagonal(lower, diag, upper, rhs, cyclic: bool):
 
 def timmer_gc2(points, *, closed: bool = False, alpha=4.0, beta=None, end_derivatives=None,
                joint: str = "thesis") -> Spline:
-    """Piecewise Timmer curve whose tangents solve a tridiagonal system (Algorithm 3.3; spec §5.6).
+    """Piecewise Timmer curve whose tangents solve a tridiagonal system (Algorithm 3.3; §5.6).
 
     Unknowns: non-unit tangents :math:`T_1..T_n` (thesis 1-based; array index ``k = i - 1``). With
     :math:`A=\\alpha_{i-1}, B=\\beta_{i-1}, a=\\alpha_i, b=\\beta_i` the joint rows at :math:`i=2..n-1` are
@@ -694,7 +694,7 @@ def timmer_gc2(points, *, closed: bool = False, alpha=4.0, beta=None, end_deriva
       derivatives 3.124/3.125 they come from have sign errors, E19). This joint is :math:`C^2` (status
       ``"c2"``) only where :math:`\\alpha_i=\\beta_{i-1}`; elsewhere
       :math:`\\kappa_i(0)=(\\alpha_i/\\beta_{i-1})^2\\kappa_{i-1}(1)` (E20, status ``"g1"``).
-    * ``joint="g2"``: :math:`H_i''(0)=(B/a)^2H_{i-1}''(1)`, true :math:`G^2` for any :math:`\\alpha,\\beta` (spec §5.6):
+    * ``joint="g2"``: :math:`H_i''(0)=(B/a)^2H_{i-1}''(1)`, true :math:`G^2` for any :math:`\\alpha,\\beta` (§5.6):
       :math:`4bB^2\\,T_{i-1}+8Ab(a+B)\\,T_i+4Aa^2\\,T_{i+1}=3Ab\\,[a^2(P_{i+1}-P_i)+B^2(P_i-P_{i-1})]`.
 
     End rows (eq 3.131, open curves): :math:`T_1=\\alpha_1\\hat D_1/4` and :math:`T_n=\\beta_{n-1}\\hat D_n/4`, so
@@ -708,7 +708,7 @@ def timmer_gc2(points, *, closed: bool = False, alpha=4.0, beta=None, end_deriva
     with an even number of points singular); otherwise the system is still solved, with partial pivoting, after an O(n) LAPACK condition
     estimate; a singular or ill-conditioned system (rcond < 1e-12) raises ``ValueError``. With constant
     :math:`\\alpha=\\beta` the thesis joint gives the uniform-knot :math:`C^2` cubic spline with end slopes
-    :math:`\\hat D` (the scales only matter through their ratios). Rendered with spec §5.1 (eq 3.89; E20:
+    :math:`\\hat D` (the scales only matter through their ratios). Rendered with §5.1 (eq 3.89; E20:
     the thesis's Step 3 cites 3.130).
 
     Parameters

@@ -1,11 +1,11 @@
 """The live basis-function plot beside the SplineEditor (bqplot).
 
 Basis and interpolant forms: the local-support basis functions ``B_j(t)`` of the current points used as a
-control polygon, with the same knots, point tensions and interval weights (spec §4.1-4.3): every curve
+control polygon, with the same knots, point tensions and interval weights (§4.1-4.3): every curve
 of §4 is ``sum_j B_j(t) P_j``. The dashed line is ``sum_j B_j(t)``, which is 1 everywhere (partition of
 unity); the selected point's ``B_j`` is drawn thick, and it vanishes outside four intervals (local support).
-Single-segment mode: the four blending functions of the generic segment (spec §1) for the current
-``alpha, beta``. Timmer forms: Timmer's blending functions ``f_0..f_3`` (spec §5.1).
+Single-segment mode: the four blending functions of the generic segment (§1) for the current
+``alpha, beta``. Timmer forms: Timmer's blending functions ``f_0..f_3`` (§5.1).
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ WINDOW_LIMIT = 40
 
 
 def basis_knot_values(points: np.ndarray, knots: str, closed: bool, ends: str):
-    """Knot values for :func:`splinecraft.basis_functions` matching :func:`splinecraft.basis_spline` (spec §3, §4.4).
+    """Knot values for :func:`splinecraft.basis_functions` matching :func:`splinecraft.basis_spline` (§3, §4.4).
 
     Returns ``(knots_or_n, domain)``: the int ``n_control`` for uniform knots, else explicit values (one per
     control point for floating ends, ``n_control - 2`` for clamped, ``N + 1`` closed), and the curve's
@@ -174,7 +174,7 @@ class BasisPlot:
 
     @staticmethod
     def _tension(editor):
-        """Absolute point tensions for the basis (the editor may hold the scale-free nu of spec §2.5)."""
+        """Absolute point tensions for the basis (the editor may hold the scale-free nu of §2.5)."""
         from ._forms import absolute_basis_tension
 
         return absolute_basis_tension(editor._state()) if editor.form in ("basis", "interpolant") else 0.0

@@ -15,7 +15,7 @@ from ..spline.knots import KNOT_EXPONENTS
 __all__ = ["FORMS", "PRESETS", "KNOT_CHOICES", "build_spline", "form_options", "explanation",
            "absolute_basis_tension"]
 
-#: Class presets of the generic cubic (spec §1): name -> (label, (alpha, beta) or None for free).
+#: Class presets of the generic cubic (§1): name -> (label, (alpha, beta) or None for free).
 PRESETS = {
     "ball": ("Ball (2)", CLASS_PRESETS["ball"]),
     "bezier": ("Bézier (3)", CLASS_PRESETS["bezier"]),
@@ -23,11 +23,11 @@ PRESETS = {
     "free": ("free α, β", None),
 }
 
-#: Knot parameterizations (spec §3).
+#: Knot parameterizations (§3).
 KNOT_CHOICES = (("chord", "chord"), ("centripetal", "centripetal"), ("uniform", "uniform"))
 
 _TENSION_RANGES = {
-    # dimensionless nu_k with v_k = nu_k (c_{k-1} + c_k) (spec §2.5 Units): safe iff nu > -2
+    # dimensionless nu_k with v_k = nu_k (c_{k-1} + c_k) (§2.5 Units): safe iff nu > -2
     "relative": (-12.0, 30.0, 0.1),
     # the thesis's raw v (its figures use uniform knots, h = omega = 1)
     "absolute": (-60.0, 60.0, 0.5),
@@ -93,7 +93,7 @@ FORMS = {
 
 SEGMENT_LABELS = ("F₀", "V", "W", "F₁")
 
-#: What alpha, beta mean per form (spec §1 class parameters, §5.4/5.5 relative tangent scales, §5.6 tangent
+#: What alpha, beta mean per form (§1 class parameters, §5.4/5.5 relative tangent scales, §5.6 tangent
 #: scales), and the (preset, alpha, beta) a form starts from when the meaning changes.
 ALPHA_MEANING = {
     "interpolant": ("class", ("ball", 2.0, 2.0)),
@@ -156,8 +156,8 @@ def build_spline(state: dict):
     knots, tension_scale``. The class parameters ``alpha``/``beta`` mean (per form):
     interpolant/basis: the class of the auxiliary polygon V, W only (the curve does not depend on them,
     spec E1); timmer_g2: alpha_0 / alpha_ref,0; timmer_gc1: the tangent scales relative to 4/chord
-    (spec §5.5: alpha_i = a * 4 / |P_{i+1} - P_i|); timmer_gc2: the tangent scales themselves (spec §5.6);
-    segment: the class parameters of the one generic segment F0, V, W, F1 (spec §1), which do reshape it.
+    (§5.5: alpha_i = a * 4 / |P_{i+1} - P_i|); timmer_gc2: the tangent scales themselves (§5.6);
+    segment: the class parameters of the one generic segment F0, V, W, F1 (§1), which do reshape it.
     """
     form = state["form"]
     points = np.asarray(state["points"], dtype=float)
@@ -197,10 +197,10 @@ def build_spline(state: dict):
 def absolute_basis_tension(state: dict) -> np.ndarray:
     """Point tensions ``v_j`` for :func:`~splinecraft.basis_spline` from an editor state.
 
-    With ``tension_scale="relative"`` the editor holds the dimensionless ``nu_j`` of spec §2.5 and
+    With ``tension_scale="relative"`` the editor holds the dimensionless ``nu_j`` of §2.5 and
     ``v_j = nu_j (c_{j-1} + c_j)`` with ``c_i = omega_i / h_i`` over the legs next to control point ``j``
-    (``h_i`` from the knot choice, spec §3; legs without an interval -- the end legs of clamped ends --
-    do not count). Then ``d_j > 0`` (non-negative basis, convex hull; spec §4.5) iff ``nu_j > -2``, at
+    (``h_i`` from the knot choice, §3; legs without an interval -- the end legs of clamped ends --
+    do not count). Then ``d_j > 0`` (non-negative basis, convex hull; §4.5) iff ``nu_j > -2``, at
     every scale. ``"absolute"`` passes the values through (the thesis's raw ``v``).
     """
     tension = np.asarray(state["point_tension"], dtype=float)
@@ -268,7 +268,7 @@ def explanation(form: str, preset: str, tension_scale: str) -> str:
             "<p><b>Timmer GC¹, Algorithm 3.2</b> (§5.5): unit tangents and your tangent scales. The sliders set "
             "α<sub>i</sub>, β<sub>i</sub> relative to 4/|P<sub>i+1</sub> − P<sub>i</sub>| (1: handles a third of "
             "the chord). The curve is G¹; curvature jumps at the joints (comb).</p>"
-            "<p>Here α, β <b>do</b> change the curve: in §3.3 they are tangent scales, not the class parameter of §1.</p>"
+            "<p>Here α, β <b>do</b> change the curve: in thesis section 3.3 they are tangent scales, not the class parameter of §1.</p>"
         )
     if form == "timmer_gc2":
         return (

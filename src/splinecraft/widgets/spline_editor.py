@@ -3,11 +3,11 @@
 The kernel computes everything: each change of a synced trait (or a drag/add/delete message from the
 page) rebuilds the curve with the engine (:mod:`splinecraft.widgets._forms`) and sends the drawing back
 as one ``geometry`` dict of float32 byte buffers (exact Bézier pieces, knots, the class polygon V, W,
-tangent handles, the curvature comb with both one-sided teeth at every joint, spec §7). The page
+tangent handles, the curvature comb with both one-sided teeth at every joint, §7). The page
 (``js/spline_editor.js``) only draws and forwards input.
 
 Bad values -- NaN, out-of-range numbers, a drag that would make two consecutive points coincide, a
-point tension in the singular band (spec §2.5) -- from the page or from code never replace the curve:
+point tension in the singular band (§2.5) -- from the page or from code never replace the curve:
 the trait reverts to the last good value and ``status_message`` says why.
 """
 from __future__ import annotations
@@ -122,7 +122,7 @@ class SplineEditor(anywidget.AnyWidget):
     Synced traits (read, set and ``observe`` them from code)
     --------------------------------------------------------
     points : list of [x, y]
-    point_tension : list of float, one per point (``v_i``, spec §2.2; ``tension_scale`` says the unit)
+    point_tension : list of float, one per point (``v_i``, §2.2; ``tension_scale`` says the unit)
     interval_weights : list of float, one per interval (``omega_i > 0``)
     alpha, beta : float -- class parameters; what they mean depends on ``form`` (see
         :func:`splinecraft.widgets._forms.build_spline`): for the interpolant and basis forms they only
@@ -133,7 +133,7 @@ class SplineEditor(anywidget.AnyWidget):
     end_condition : str -- interpolant: natural / natural_v / clamped; basis: floating / clamped;
         timmer_gc2: the joint, thesis / g2
     knots : {"chord", "centripetal", "uniform"}
-    tension_scale : {"relative", "absolute"} -- point tension as the scale-free nu of spec §2.5
+    tension_scale : {"relative", "absolute"} -- point tension as the scale-free nu of §2.5
         (default) or the thesis's raw v
     selected, selected_interval : int (-1 for none)
     show_control_polygon, show_knots, show_bezier_points, show_tangents, show_comb : bool
@@ -418,7 +418,7 @@ class SplineEditor(anywidget.AnyWidget):
             value = state[name]
             if value is None or not math.isfinite(value):
                 raise _Rejected(f"{name} must be a finite number")
-            # alpha = 0 drops V from a single segment (spec §1); elsewhere V, W divide by alpha, beta (§2.1)
+            # alpha = 0 drops V from a single segment (§1); elsewhere V, W divide by alpha, beta (§2.1)
             low_ok = value >= 0 if form == "segment" else value > 0
             if not low_ok or value > 100:
                 raise _Rejected(f"{name} = {value:g} is out of range ({'≥ 0' if form == 'segment' else '> 0'} and ≤ 100)")
@@ -545,7 +545,7 @@ class SplineEditor(anywidget.AnyWidget):
         bezier = spline.bezier()[0]
         alpha = state["alpha"] if state["alpha"] else 3.0
         beta = state["beta"] if state["beta"] else 3.0
-        # invert b1 = F0 + alpha/3 (V - F0), b2 = F1 + beta/3 (W - F1) (spec §1)
+        # invert b1 = F0 + alpha/3 (V - F0), b2 = F1 + beta/3 (W - F1) (§1)
         V = bezier[0] + 3.0 / alpha * (bezier[1] - bezier[0])
         W = bezier[3] + 3.0 / beta * (bezier[2] - bezier[3])
         return np.vstack([bezier[0], V, W, bezier[3]]).tolist()
@@ -602,7 +602,7 @@ class SplineEditor(anywidget.AnyWidget):
             return (f"Class {label}: V, W redrawn; the curve did not move (max change {moved:.2g}) — "
                     "α, β cancel in this form (spec E1).")
         if name in ("preset", "alpha", "beta") and form == "segment":
-            return f"α = {self.alpha:g}, β = {self.beta:g}: with V, W fixed the segment changes shape (spec §1)."
+            return f"α = {self.alpha:g}, β = {self.beta:g}: with V, W fixed the segment changes shape (§1)."
         if name == "form":
             return f"Form: {FORMS[form]['label']}."
         if name == "interval_weights" and self.selected_interval >= 0:
@@ -771,7 +771,7 @@ class SplineEditor(anywidget.AnyWidget):
         points = np.asarray(self.points)
         legs_a = points if self.closed else points[:-1]
         legs_b = np.roll(points, -1, axis=0) if self.closed else points[1:]
-        mid = 0.5 * (bezier[1] + bezier[2])  # the inner Bézier points lie on the leg (spec §4.3)
+        mid = 0.5 * (bezier[1] + bezier[2])  # the inner Bézier points lie on the leg (§4.3)
         d = legs_b - legs_a
         length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
         s = np.clip(np.einsum("ij,ij->i", mid - legs_a, d) / length2, 0.0, 1.0)
@@ -935,7 +935,7 @@ class SplineEditor(anywidget.AnyWidget):
             self._basis_plot.update(self, final=seq is None)
 
     def _comb(self, spline):
-        """Curvature comb teeth (segments), tip envelope and joint labels (spec §7, E2)."""
+        """Curvature comb teeth (segments), tip envelope and joint labels (§7, E2)."""
         m = spline.n_segments
         samples = int(np.clip(4000 // max(m, 1), 6, 33))
         bases, tips = spline.curvature_comb(scale=1.0, samples_per_segment=samples)

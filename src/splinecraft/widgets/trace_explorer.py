@@ -29,7 +29,7 @@ __all__ = ["TraceExplorer", "TraceExplorerWarning", "demo_bitmap", "corner_param
 
 #: Slider ranges of known corner-detector parameters: name -> (min, max, step, label, title).
 KNOWN_CORNER_PARAMS = {
-    "zct": (1, 25, 1, "ZCT", "SRM05 zero-crossing threshold: minimum run of equal chain codes (thesis §2.4)"),
+    "zct": (1, 25, 1, "ZCT", "SRM05 zero-crossing threshold: minimum run of equal chain codes (thesis section 2.4)"),
     "dt": (1, 25, 1, "DT", "SRM05 distance threshold: points closer than DT merge into one corner"),
     "ta": (90, 179, 1, "TA (°)", "SRM05 angle threshold: interior angles above TA count as straight (E21)"),
     "max_angle": (90, 179, 1, "max angle °", "interior angles above this are not corners"),

@@ -22,7 +22,7 @@ import numbers
 
 import numpy as np
 
-from ._validation import as_float_array, as_points, check_bool, check_choice, check_strictly_increasing, per_item
+from .._validation import as_float_array, as_points, check_bool, check_choice, check_strictly_increasing, per_item
 from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths
 from .piecewise import Spline
 

@@ -16,7 +16,7 @@ import numbers
 import numpy as np
 from scipy.linalg.lapack import dgtsv
 
-from ._validation import as_float_array, as_points, check_bool, check_choice, per_item
+from .._validation import as_float_array, as_points, check_bool, check_choice, per_item
 from .knots import check_distinct, parameterize
 from .piecewise import Spline
 from .segment import hermite_planar

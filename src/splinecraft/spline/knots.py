@@ -9,16 +9,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_float_array, check_strictly_increasing
+from .._validation import (
+    COINCIDENT_RTOL,
+    as_float_array,
+    check_distinct_neighbours,
+    check_strictly_increasing,
+    point_extent,
+    relative_gaps,
+)
 
-__all__ = ["KNOT_EXPONENTS", "parameterize", "leg_lengths", "check_distinct", "remove_coincident"]
+# COINCIDENT_RTOL (re-exported): the package's one coincidence rule, see splinecraft._validation.
+__all__ = ["KNOT_EXPONENTS", "COINCIDENT_RTOL", "parameterize", "leg_lengths", "check_distinct", "remove_coincident"]
 
 #: Exponent ``e`` of ``h_i = |F_{i+1} - F_i|^e`` for each named parameterization (§3).
 KNOT_EXPONENTS = {"uniform": 0.0, "centripetal": 0.5, "chord": 1.0}
-
-# Consecutive points closer than this (relative to the size of the point set) count as coincident.
-COINCIDENT_RTOL = 1e-12
-
 
 def leg_lengths(points: np.ndarray, closed: bool) -> np.ndarray:
     """Euclidean lengths of the legs ``F_i F_{i+1}`` (and ``F_N F_1`` when ``closed``)."""
@@ -28,34 +32,17 @@ def leg_lengths(points: np.ndarray, closed: bool) -> np.ndarray:
     return np.sqrt(np.einsum("ij,ij->i", legs, legs))
 
 
-def _coincidence_tolerance(points: np.ndarray) -> float:
-    extent = float(np.max(np.ptp(points, axis=0))) if points.shape[0] > 1 else 0.0
-    return COINCIDENT_RTOL * max(extent, np.finfo(float).tiny)
-
-
 def check_distinct(points: np.ndarray, closed: bool, name: str = "points", lengths=None, extent=None) -> np.ndarray:
     """Raise ``ValueError`` naming the first pair of consecutive coincident points; return leg lengths.
 
+    The rule is the package's one coincidence rule (:mod:`splinecraft._validation`): neighbours closer
+    than ``1e-12`` times the extent of the points coincide, decided on scaled coordinates, so the
+    verdict is the same at every scale. ``lengths`` (optional, the leg lengths) are returned as given;
     ``extent`` (optional) is the largest coordinate range of the points, if already known.
     """
+    check_distinct_neighbours(points, name, closed=closed, extent=extent)
     if lengths is None:
         lengths = leg_lengths(points, closed)
-    if extent is None:
-        tol = _coincidence_tolerance(points)
-    else:
-        tol = COINCIDENT_RTOL * max(extent, np.finfo(float).tiny)
-    if not (lengths > tol).all():
-        i = int(np.flatnonzero(~(lengths > tol))[0])
-        n = points.shape[0]
-        if closed and i == n - 1:
-            raise ValueError(
-                f"{name}[{n - 1}] and {name}[0] coincide: a closed curve takes N distinct points, "
-                f"do not repeat the first point at the end"
-            )
-        raise ValueError(
-            f"{name}[{i}] and {name}[{i + 1}] coincide; consecutive points must be distinct "
-            f"(merge them first, e.g. with splinecraft.spline.knots.remove_coincident)"
-        )
     return lengths
 
 
@@ -75,12 +62,13 @@ def remove_coincident(points, *, closed=False):
         raise ValueError(f"points must be an (n, d) array, got shape {points.shape}")
     if points.shape[0] == 0:
         return points.copy(), np.zeros(0, dtype=int)
-    tol = _coincidence_tolerance(points)
-    step = np.sqrt(np.einsum("ij,ij->i", np.diff(points, axis=0), np.diff(points, axis=0)))
-    keep = np.concatenate([[True], step > tol])
+    gaps = relative_gaps(points)
+    keep = np.concatenate([[True], gaps > COINCIDENT_RTOL])
     index = np.flatnonzero(keep)
-    if closed and index.size > 1 and np.linalg.norm(points[index[-1]] - points[0]) <= tol:
-        index = index[:-1]
+    if closed and index.size > 1:
+        closing = relative_gaps(points[[index[-1], 0]], extent=point_extent(points))
+        if not closing[0] > COINCIDENT_RTOL:
+            index = index[:-1]
     return points[index], index
 
 

@@ -12,7 +12,7 @@ import warnings
 
 import numpy as np
 
-from ._validation import (
+from .._validation import (
     as_float_array,
     check_bool,
     check_choice,

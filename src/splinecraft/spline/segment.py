@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_float_array, check_strictly_increasing
+from .._validation import as_float_array, check_strictly_increasing
 from .piecewise import Spline
 
 __all__ = [

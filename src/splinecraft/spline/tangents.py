@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import as_float_array, check_bool
+from .._validation import COINCIDENT_RTOL, as_float_array, check_bool, check_distinct_neighbours
 from .interpolant import end_derivative_estimates
 
 __all__ = ["estimate_tangents", "end_derivatives", "interior_angle", "unit_tangents", "TANGENT_METHODS"]
@@ -26,8 +26,9 @@ __all__ = ["estimate_tangents", "end_derivatives", "interior_angle", "unit_tange
 #: Methods accepted by :func:`estimate_tangents`.
 TANGENT_METHODS = ("thesis", "chord_parabola")
 
-#: Relative size below which two consecutive points count as duplicates (times the extent of the data).
-DUPLICATE_RTOL = 1e-12
+#: Relative size below which two consecutive points count as duplicates (times the extent of the data):
+#: the package's one coincidence rule (:mod:`splinecraft._validation`).
+DUPLICATE_RTOL = COINCIDENT_RTOL
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -50,21 +51,7 @@ def _validate_points(points, *, closed: bool, name: str = "points", min_open: in
     if count < needed:
         kind = "a closed" if closed else "an open"
         raise ValueError(f"{name} needs at least {needed} points for {kind} curve, got {count}")
-    chords = np.diff(array, axis=0)
-    if closed:
-        chords = np.vstack([chords, array[:1] - array[-1:]])
-    lengths = np.linalg.norm(chords, axis=1)
-    extent = float(np.max(np.ptp(array, axis=0))) if count else 0.0
-    duplicates = np.flatnonzero(lengths <= DUPLICATE_RTOL * extent)
-    if duplicates.size:
-        first = int(duplicates[0])
-        second = (first + 1) % count
-        if closed and first == count - 1:
-            raise ValueError(
-                f"{name}[{count - 1}] repeats {name}[0]; pass the distinct points of a closed curve "
-                f"without repeating the first one")
-        raise ValueError(f"{name}[{first}] and {name}[{second}] coincide (consecutive duplicate points); "
-                         f"merge them first")
+    check_distinct_neighbours(array, name, closed=closed)
     return array
 
 

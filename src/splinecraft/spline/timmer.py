@@ -34,7 +34,7 @@ import math
 import numpy as np
 from scipy.linalg import lapack, solve_banded
 
-from ._validation import as_float_array, check_bool, check_choice, check_positive_number
+from .._validation import as_float_array, check_bool, check_choice, check_positive_number
 from .piecewise import Spline
 from .tangents import _chords, _validate_points, estimate_tangents, unit_tangents
 

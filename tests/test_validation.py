@@ -1,0 +1,231 @@
+"""The shared validation kit (splinecraft._validation): one wording, one coincidence rule."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from splinecraft import _validation as v
+
+FAST = settings(max_examples=60, deadline=None)
+
+NOT_REAL = [True, False, np.bool_(True), "1.0", b"1", None, [1.0], (1.0,), {1.0: 1}, 1 + 2j, np.array([1.0]), object()]
+
+
+# ---------------------------------------------------------------------------------------------- numbers
+@pytest.mark.parametrize("value", NOT_REAL)
+def test_check_number_refuses_non_reals_naming_the_argument(value):
+    with pytest.raises(TypeError, match=r"^speed must be a real number"):
+        v.check_number(value, "speed")
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf, np.float64("nan")])
+def test_check_number_refuses_non_finite(value):
+    with pytest.raises(ValueError, match=r"^speed must be a finite number"):
+        v.check_number(value, "speed")
+
+
+def test_check_number_infinite_allowed_on_request_but_never_nan():
+    assert v.check_number(math.inf, "limit", finite=False) == math.inf
+    with pytest.raises(ValueError, match="limit"):
+        v.check_number(math.nan, "limit", finite=False)
+    with pytest.raises(ValueError, match=r"limit must be <= 10"):
+        v.check_number(math.inf, "limit", finite=False, maximum=10)
+
+
+@FAST
+@given(st.floats(allow_nan=False, allow_infinity=False), st.floats(-1e6, 1e6), st.floats(0, 1e6),
+       st.booleans(), st.booleans())
+def test_check_number_bounds_match_the_comparison(value, low, width, low_closed, high_closed):
+    high = low + width
+    inside = (value > low or (low_closed and value == low)) and (value < high or (high_closed and value == high))
+    if inside:
+        assert v.check_number(value, "x", minimum=low, maximum=high, inclusive=(low_closed, high_closed)) == value
+    else:
+        with pytest.raises(ValueError, match=r"^x must be [<>]"):
+            v.check_number(value, "x", minimum=low, maximum=high, inclusive=(low_closed, high_closed))
+
+
+def test_check_number_accepts_numpy_scalars_and_returns_float():
+    for value in (np.float32(1.5), np.int64(3), 7, np.uint8(2)):
+        result = v.check_number(value, "x")
+        assert type(result) is float and result == float(value)
+    assert v.check_positive_number(2, "x") == 2.0
+    with pytest.raises(ValueError, match=r"x must be > 0, got 0.0"):
+        v.check_positive_number(0, "x")
+
+
+# ---------------------------------------------------------------------------------------------- integers
+@pytest.mark.parametrize("value", [True, np.bool_(False), 1.0, 2.5, "3", None, [1], math.nan])
+def test_check_int_refuses_bools_floats_and_strings(value):
+    with pytest.raises(TypeError, match=r"^count must be an integer"):
+        v.check_int(value, "count")
+
+
+@FAST
+@given(st.integers(-10**20, 10**20), st.integers(-100, 100))
+def test_check_int_accepts_python_and_numpy_integers(value, minimum):
+    if value >= minimum:
+        assert v.check_int(value, "n", minimum=minimum) == value
+        if -2**63 <= value < 2**63:
+            result = v.check_int(np.int64(value), "n", minimum=minimum)
+            assert type(result) is int and result == value
+    else:
+        with pytest.raises(ValueError, match=rf"^n must be >= {minimum}, got {value}$"):
+            v.check_int(value, "n", minimum=minimum)
+
+
+def test_check_int_maximum_and_integral_floats():
+    with pytest.raises(ValueError, match=r"n must be <= 5, got 6"):
+        v.check_int(6, "n", maximum=5)
+    assert v.check_int(3.0, "n", integral_floats=True) == 3
+    with pytest.raises(TypeError, match="n must be an integer"):
+        v.check_int(3.5, "n", integral_floats=True)
+    with pytest.raises(TypeError, match="n must be an integer"):
+        v.check_int(math.inf, "n", integral_floats=True)
+    with pytest.raises(TypeError, match="n must be an integer"):
+        v.check_int(True, "n", integral_floats=True)
+    assert v.check_positive_int(np.int32(4), "n") == 4
+    with pytest.raises(ValueError, match="n must be >= 1"):
+        v.check_positive_int(0, "n")
+
+
+# ---------------------------------------------------------------------------------------------- bools and choices
+@pytest.mark.parametrize("value", [True, False, np.bool_(True), np.bool_(False)])
+def test_check_bool_accepts_exact_bools(value):
+    result = v.check_bool(value, "closed")
+    assert type(result) is bool and result == bool(value)
+
+
+@pytest.mark.parametrize("value", ["no", "false", "True", 0, 1, 1.0, None, [], np.array(True), np.int64(1)])
+def test_check_bool_refuses_everything_else(value):
+    with pytest.raises(TypeError, match=r"^closed must be a bool \(True or False\)"):
+        v.check_bool(value, "closed")
+
+
+def test_check_choice_strings():
+    assert v.check_choice("wang", "method", ("wang", "subdivide")) == "wang"
+    with pytest.raises(ValueError, match=r"method must be one of \['subdivide', 'wang'\], got 'x'"):
+        v.check_choice("x", "method", ("wang", "subdivide"))
+    for bad in (["wang"], {"wang": 1}, {"wang"}, np.array(["wang"]), 3, None, True):
+        with pytest.raises(TypeError, match=r"^method must be one of"):
+            v.check_choice(bad, "method", ("wang", "subdivide"))
+
+
+def test_check_choice_numbers_and_none():
+    assert v.check_choice(None, "mode", (None, 4, 8)) is None
+    assert v.check_choice(np.int64(8), "mode", (None, 4, 8)) == 8
+    with pytest.raises(TypeError, match="mode must be one of"):
+        v.check_choice(True, "mode", (0, 1))
+    with pytest.raises(ValueError, match=r"mode must be one of \[None, 4, 8\], got 5"):
+        v.check_choice(5, "mode", (None, 4, 8))
+    with pytest.raises(TypeError, match="mode must be one of"):
+        v.check_choice([4], "mode", (None, 4, 8))
+
+
+# ---------------------------------------------------------------------------------------------- option mappings
+def test_check_options():
+    assert v.check_options(None, "corner_params") == {}
+    options = {"smoothing": 2.0}
+    result = v.check_options(options, "corner_params", allowed=("smoothing", "threshold"))
+    assert result == options and result is not options
+    with pytest.raises(TypeError, match=r"corner_params has an unknown key 'method'; accepted keys: \['smoothing'"):
+        v.check_options({"method": "rj73"}, "corner_params", allowed=("smoothing", "threshold"))
+    with pytest.raises(TypeError, match=r"corner_params\['closed'\] cannot be set here: trace sets it"):
+        v.check_options({"closed": False}, "corner_params", reserved=("closed",), reserved_reason="trace sets it")
+    with pytest.raises(TypeError, match="corner_params keys must be strings"):
+        v.check_options({1: 2}, "corner_params")
+    with pytest.raises(TypeError, match="corner_params must be a dict"):
+        v.check_options([("a", 1)], "corner_params")
+
+
+# ---------------------------------------------------------------------------------------------- arrays and points
+@pytest.mark.parametrize("value, error, text", [
+    ("abc", TypeError, "points must be numeric"),
+    ([[0, 0], [1]], TypeError, "points must be a numeric array"),
+    (np.array([[1j, 0]]), TypeError, "points must be real"),
+    ([[0, 0], [np.nan, 1]], ValueError, r"points\[1, 0\] is nan"),
+    ([[0, 0], [1, np.inf]], ValueError, r"points\[1, 1\] is inf"),
+    ([0, 1, 2], ValueError, r"points must be an \(n, d\) array"),
+    (np.zeros((0, 2)), ValueError, "points needs at least 2 points, got 0"),
+    (np.zeros((3, 0)), ValueError, "points must have 2 coordinates per point, got 0"),
+    ([[0, 0, 0], [1, 1, 1]], ValueError, "points must have 2 coordinates per point"),
+])
+def test_check_points_errors(value, error, text):
+    with pytest.raises(error, match=text):
+        v.check_points(value, "points", min_count=2, dim=2)
+
+
+def test_check_points_returns_float_array():
+    with pytest.raises(ValueError, match="points must have at least one coordinate per point"):
+        v.check_points(np.zeros((3, 0)))
+    points = v.check_points([[0, 0], [1, 2]], min_count=2)
+    assert points.dtype == np.float64 and points.shape == (2, 2)
+
+
+def test_per_item_and_increasing():
+    np.testing.assert_array_equal(v.per_item(2, 3, "w", what="one per leg"), [2.0, 2.0, 2.0])
+    with pytest.raises(ValueError, match=r"w has length 2 but 3 values are needed \(one per leg\)"):
+        v.per_item([1, 2], 3, "w", what="one per leg")
+    with pytest.raises(TypeError, match="w must be a number"):
+        v.per_item(True, 3, "w", what="one per leg")
+    with pytest.raises(ValueError, match=r"knots\[2\] = 1.0 <= knots\[1\] = 2.0"):
+        v.check_strictly_increasing(np.array([0.0, 2.0, 1.0]), "knots")
+
+
+# ---------------------------------------------------------------------------------------------- coincidence rule
+def unit_steps(count):
+    return st.lists(st.tuples(st.floats(-1, 1), st.floats(-1, 1)), min_size=count, max_size=count)
+
+
+@FAST
+@given(unit_steps(6), st.integers(-300, 300), st.floats(-1e6, 1e6))
+def test_coincidence_verdict_is_scale_and_translation_free(raw, exponent, shift):
+    points = np.cumsum(np.asarray(raw), axis=0)
+    points[2] = points[1] + 1e-13 * (points[3] - points[1])  # likely coincident with points[1]
+    base_gaps = v.relative_gaps(points)
+    scaled = points * 10.0**exponent + shift * 10.0**exponent
+    if not np.isfinite(scaled).all():
+        return
+    gaps = v.relative_gaps(scaled)
+    assert np.isfinite(gaps).all()
+    # the verdict moves only where a gap sits within rounding of the threshold
+    clear = np.abs(base_gaps - v.COINCIDENT_RTOL) > 1e-6 * v.COINCIDENT_RTOL + 1e-13 * (abs(shift) + 1.0)
+    verdict = base_gaps > v.COINCIDENT_RTOL
+    np.testing.assert_array_equal((gaps > v.COINCIDENT_RTOL)[clear], verdict[clear])
+
+
+def test_relative_gaps_at_the_float_limits():
+    big = np.array([[-1.7e308, 0.0], [1.7e308, 1e308], [1.0e308, -1.7e308]])
+    gaps = v.relative_gaps(big, closed=True)
+    assert np.isfinite(gaps).all() and (gaps > 0.1).all()
+    tiny = np.array([[0.0, 0.0], [3e-320, 0.0], [3e-320, 4e-320]])
+    gaps = v.relative_gaps(tiny)
+    np.testing.assert_allclose(gaps, [0.75, 1.0], rtol=0.2)  # subnormal inputs: few significant bits
+
+
+def test_check_distinct_neighbours_messages():
+    points = np.array([[0.0, 0.0], [1.0, 1.0], [1.0, 1.0 + 1e-13], [2.0, 0.0]])
+    with pytest.raises(ValueError, match=r"points\[1\] and points\[2\] coincide"):
+        v.check_distinct_neighbours(points)
+    loop = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"points\[3\] and points\[0\] coincide \(points\[3\] repeats points\[0\]\)"):
+        v.check_distinct_neighbours(loop, closed=True)
+    v.check_distinct_neighbours(loop[:3], closed=True)
+    with pytest.raises(ValueError, match=r"P\[0\] and P\[1\] coincide"):
+        v.check_points(np.ones((3, 2)), "P", distinct=True)
+    assert v.point_extent(np.ones((1, 2))) == 0.0
+
+
+def test_one_rule_in_the_engine():
+    from splinecraft import interpolate
+    from splinecraft.spline.knots import COINCIDENT_RTOL, remove_coincident
+
+    assert COINCIDENT_RTOL == v.COINCIDENT_RTOL
+    for scale in (1e-200, 1.0, 1e200):
+        points = scale * np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.5e-12], [2.0, 1.0]])
+        with pytest.raises(ValueError, match=r"points\[1\] and points\[2\] coincide"):
+            interpolate(points)
+        kept, index = remove_coincident(points)
+        np.testing.assert_array_equal(index, [0, 1, 3])

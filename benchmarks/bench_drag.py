@@ -43,7 +43,7 @@ theta = np.linspace(0.0, 6.0 * np.pi, {n})
 radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, {n})
 points = np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)] if {n} > 12 else \\
     np.c_[np.linspace(40.0, 760.0, {n}), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, {n}))]
-editor = sc.SplineEditor(points.round(3), width=620, height=440)
+editor = sc.SplineEditor(points.round(3), width=620, height=440, debug=True)  # debug: latency records, ping
 editor
 """
 
@@ -92,7 +92,7 @@ def kernel_handling(n: int, repeats: int = 200) -> float:
     radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, n)
     points = np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)] if n > 12 else \
         np.c_[np.linspace(40.0, 760.0, n), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, n))]
-    editor = sc.SplineEditor(points.round(3))
+    editor = sc.SplineEditor(points.round(3), debug=True)
     editor.send = lambda *args, **kwargs: None
     editor._send = lambda *args, **kwargs: None  # no comm: measure the computation only
     base = np.array(editor.points[n // 2])

@@ -331,7 +331,7 @@ function render({ model, el }) {
 
   function sendDrag(final) {
     seq += 1;
-    moveTimes.set(seq, { move: drag.tMove, sent: performance.now() });
+    if (model.get("debug")) moveTimes.set(seq, { move: drag.tMove, sent: performance.now() });
     inFlight = { seq, t: performance.now() };
     model.send({ type: "drag", index: drag.index, x: drag.x, y: drag.y, seq, gesture, final });
   }

@@ -397,7 +397,7 @@ def test_basis_figure_is_the_engine_basis_and_stays_in_sync():
     pytest.importorskip("bqplot")
     editor = SplineEditor(POINTS + [[640.0, 200.0]], form="basis", knots="uniform", tension_scale="absolute")
     figure = editor.basis_figure
-    plot = editor._basis_plot
+    plot = editor._plots["basis"]
     t = np.asarray(plot.lines.x)
     reference = sc.basis_functions(t, 6)
     np.testing.assert_allclose(np.asarray(plot.lines.y), reference.T, atol=1e-12)
@@ -459,7 +459,7 @@ def test_points_travel_as_float64_bytes_both_ways():
 
 
 def test_nodelay_server_extension_sets_tcp_nodelay_on_open():
-    from splinecraft.widgets import jupyter_nodelay
+    from splinecraft import jupyter_nodelay
 
     calls = []
 
@@ -478,7 +478,7 @@ def test_nodelay_server_extension_sets_tcp_nodelay_on_open():
     with pytest.raises(StopIteration):
         opening.send(None)
     assert calls == [("nodelay", True), ("open", "k1")]
-    assert jupyter_nodelay._jupyter_server_extension_points() == [{"module": "splinecraft.widgets.jupyter_nodelay"}]
+    assert jupyter_nodelay._jupyter_server_extension_points() == [{"module": "splinecraft.jupyter_nodelay"}]
 
 
 # ---------------------------------------------------------------------------------------------- TraceExplorer
@@ -605,7 +605,7 @@ def test_explorer_convergence_figure(explorer_factory):
     pytest.importorskip("bqplot")
     explorer = explorer_factory()
     figure = explorer.convergence_figure
-    plot = explorer._convergence
+    plot = explorer._plots["convergence"]
     snapshots = explorer.result.snapshots
     np.testing.assert_array_equal(np.asarray(plot.knots.y), [s.knots for s in snapshots])
     np.testing.assert_allclose(np.asarray(plot.error.y), [s.max_error for s in snapshots])

@@ -68,7 +68,7 @@ class LabServer:
 def start_lab(base: Path | None = None, *, nodelay: bool = True):
     """Context manager: a JupyterLab server in ``base`` (a new temporary directory by default).
 
-    ``nodelay`` enables the ``splinecraft.widgets.jupyter_nodelay`` server extension (``TCP_NODELAY`` on the
+    ``nodelay`` enables the ``splinecraft.jupyter_nodelay`` server extension (``TCP_NODELAY`` on the
     kernel websockets); ``benchmarks/bench_drag.py`` compares both settings.
     """
     cleanup = None
@@ -94,7 +94,7 @@ def start_lab(base: Path | None = None, *, nodelay: bool = True):
     config = base / "config"
     config.mkdir(parents=True, exist_ok=True)
     # Explicit either way: installing splinecraft enables the extension environment-wide (jupyter-config/).
-    extensions = {"splinecraft.widgets.jupyter_nodelay": bool(nodelay)}
+    extensions = {"splinecraft.jupyter_nodelay": bool(nodelay)}
     (config / "jupyter_server_config.json").write_text(json.dumps({"ServerApp": {"jpserver_extensions": extensions}}))
     settings = base / "settings"
     notification = settings / "@jupyterlab" / "apputils-extension"

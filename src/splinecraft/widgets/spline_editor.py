@@ -14,14 +14,13 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from pathlib import Path
 
-import anywidget
 import numpy as np
 import traitlets as t
 
 from ._assets import load_css, load_esm
+from ._base import WidgetBase, f32
 from ._forms import (
     ALPHA_MEANING, FORMS, KNOT_CHOICES, PRESETS, SEGMENT_LABELS, build_spline, default_end_condition, end_choices,
     explanation, form_options,
@@ -59,19 +58,6 @@ class _Rejected(ValueError):
     """A proposed state is bad; the message is shown in the widget."""
 
 
-def _caller_stacklevel() -> int:
-    """Stack level of the first frame outside splinecraft and traitlets (where the user set the trait)."""
-    import sys
-
-    frame, level = sys._getframe(1), 1
-    while frame is not None:
-        name = frame.f_globals.get("__name__", "")
-        if not name.startswith(("splinecraft.", "traitlets", "ipywidgets", "anywidget")):
-            return level
-        frame, level = frame.f_back, level + 1
-    return 1
-
-
 def _default_points() -> list:
     angles = np.linspace(0.15, 2.0 * np.pi - 0.35, 6)
     radius = np.array([150.0, 110.0, 160.0, 100.0, 150.0, 120.0])
@@ -99,12 +85,7 @@ def _copy_state(state: dict) -> dict:
     return {name: _copy_value(value) for name, value in state.items()}
 
 
-def _f32(array) -> bytes:
-    """Little-endian float32 bytes of an array (the page decodes them as a Float32Array)."""
-    return np.ascontiguousarray(np.asarray(array, dtype="<f4")).tobytes()
-
-
-class SplineEditor(anywidget.AnyWidget):
+class SplineEditor(WidgetBase):
     """Interactive editor for the generic cubic spline forms of the thesis (chapter 3).
 
     Parameters
@@ -153,6 +134,12 @@ class SplineEditor(anywidget.AnyWidget):
 
     _esm = load_esm("spline_editor.js")
     _css = load_css()
+    kept = "curve"
+    warning_class = SplineEditorWarning
+    panel_plot = "basis_figure"
+    messages = {**WidgetBase.messages, "drag": "_on_drag", "add": "_on_add", "delete": "_on_delete",
+                "select_at": "_on_select_at", "undo": "_on_undo", "redo": "_on_redo", "fit": "_on_fit"}
+    page_traits = frozenset(MODEL_TRAITS + _DISPLAY_TRAITS)
 
     points = _ArrayList().tag(sync=True, to_json=_points_to_json, from_json=_points_from_json)
     point_tension = _ArrayList().tag(sync=True)
@@ -178,8 +165,6 @@ class SplineEditor(anywidget.AnyWidget):
     width = t.Int(620).tag(sync=True)
     height = t.Int(440).tag(sync=True)
 
-    status_message = t.Unicode("").tag(sync=True)
-    status_level = t.Unicode("info").tag(sync=True)
     explanation = t.Unicode("").tag(sync=True)
     options = t.Dict().tag(sync=True)
     geometry = t.Dict().tag(sync=True)
@@ -187,11 +172,9 @@ class SplineEditor(anywidget.AnyWidget):
     can_redo = t.Bool(False).tag(sync=True)
 
     def __init__(self, points=None, **engine_params):
-        unknown = set(engine_params) - set(MODEL_TRAITS) - set(_DISPLAY_TRAITS)
+        unknown = set(engine_params) - set(MODEL_TRAITS) - set(_DISPLAY_TRAITS) - {"debug"}
         if unknown:
             raise TypeError(f"SplineEditor got unexpected argument(s): {', '.join(sorted(unknown))}")
-        self._applying = 0
-        self._from_page = False
         self._spline = None
         self._undo: list[dict] = []
         self._redo: list[dict] = []
@@ -199,15 +182,14 @@ class SplineEditor(anywidget.AnyWidget):
         self._coalesce_seconds = 1.0
         self._drag_gesture = None
         self._revision = 0
-        self._basis_plot = None
         self._segment_stash = None
         self._comb_unit = None
-        display = {k: engine_params.pop(k) for k in list(engine_params) if k in _DISPLAY_TRAITS}
+        display = {k: engine_params.pop(k) for k in list(engine_params) if k in _DISPLAY_TRAITS + ("debug",)}
         super().__init__(**display)
 
         state = self._initial_state(points, engine_params)
         spline = self._check(state)  # raises ValueError/TypeError for bad constructor arguments
-        with self._applying_state(), self.hold_sync():
+        with self._quiet(), self.hold_sync():
             for name in MODEL_TRAITS:
                 setattr(self, name, state[name])
             self.options = form_options(state["tension_scale"])
@@ -220,7 +202,6 @@ class SplineEditor(anywidget.AnyWidget):
         else:
             self._set_status(f"{len(self.points)} points. Drag a point; double-click to add one; right-click or "
                              "Delete removes the selected point.", "info")
-        self.on_msg(self._handle_message)
 
     # ------------------------------------------------------------------ public API
     @property
@@ -291,20 +272,9 @@ class SplineEditor(anywidget.AnyWidget):
     @property
     def basis_figure(self):
         """bqplot Figure with the live basis functions (created on first use, then kept in sync)."""
-        if self._basis_plot is None:
-            from ._basis_plot import BasisPlot
+        from ._basis_plot import BasisPlot
 
-            self._basis_plot = BasisPlot()
-            self._basis_plot.update(self)
-        return self._basis_plot.figure
-
-    def panel(self):
-        """The editor above its basis-function plot (an ``ipywidgets.VBox``) -- display this in a notebook."""
-        import ipywidgets
-
-        figure = self.basis_figure
-        figure.layout.width = f"{self.width + 270}px"
-        return ipywidgets.VBox([self, figure])
+        return self._plot("basis", BasisPlot).figure
 
     # ------------------------------------------------------------------ state
     def _state(self) -> dict:
@@ -428,19 +398,6 @@ class SplineEditor(anywidget.AnyWidget):
             raise _Rejected(str(exc)) from None
 
     # ------------------------------------------------------------------ trait changes
-    class _Applying:
-        def __init__(self, widget):
-            self.widget = widget
-
-        def __enter__(self):
-            self.widget._applying += 1
-
-        def __exit__(self, *exc):
-            self.widget._applying -= 1
-
-    def _applying_state(self):
-        return SplineEditor._Applying(self)
-
     @t.validate("points")
     def _validate_points(self, proposal):
         value = proposal["value"]
@@ -551,32 +508,12 @@ class SplineEditor(anywidget.AnyWidget):
         return np.vstack([bezier[0], V, W, bezier[3]]).tolist()
 
     def _revert(self, name, old, reason):
-        with self._applying_state():
+        with self._quiet():
             setattr(self, name, old)
-        self._reject(reason)
-        if self._from_page:
-            # the page still shows the rejected value: send the reverted one back explicitly
-            self.send_state(name)
-
-    def _reject(self, reason):
-        reason = reason.split("\n")[0]
-        if len(reason) > 180:
-            reason = reason[:177] + "…"
-        self._set_status(f"Kept the last good curve: {reason}", "error")
-        if not self._from_page:
-            warnings.warn(f"SplineEditor: {reason}; kept the last good state", SplineEditorWarning,
-                          stacklevel=_caller_stacklevel())
-
-    def set_state(self, sync_data):
-        # changes coming from the page (sliders, dropdowns, selection, view)
-        self._from_page = True
-        try:
-            super().set_state(sync_data)
-        finally:
-            self._from_page = False
+        self._reject(reason, resync=(name,))  # the page still shows the rejected value: send the kept one
 
     def _commit(self, state, spline, *, seq=None):
-        with self._applying_state(), self.hold_sync():
+        with self._quiet(), self.hold_sync():
             for name in MODEL_TRAITS:
                 if getattr(self, name) != state[name]:
                     setattr(self, name, state[name])
@@ -667,7 +604,7 @@ class SplineEditor(anywidget.AnyWidget):
         self._sync_history_flags()
 
     def _sync_history_flags(self):
-        with self._applying_state():
+        with self._quiet():
             self.can_undo = bool(self._undo)
             self.can_redo = bool(self._redo)
 
@@ -683,30 +620,26 @@ class SplineEditor(anywidget.AnyWidget):
         self._set_status(message, "info")
 
     # ------------------------------------------------------------------ page messages
-    def _handle_message(self, _widget, content, _buffers):
-        if not isinstance(content, dict):
-            return
-        kind = content.get("type")
-        self._from_page = True
-        try:
-            if kind == "drag":
-                self._drag(content)
-            elif kind == "add":
-                self._add_point(content.get("x"), content.get("y"), content.get("tol"))
-            elif kind == "delete":
-                self._delete_point(content.get("index"))
-            elif kind == "select_at":
-                self._select_at(content.get("x"), content.get("y"), content.get("tol"))
-            elif kind == "undo":
-                self.undo()
-            elif kind == "redo":
-                self.redo()
-            elif kind == "fit":
-                self.fit_view()
-            elif kind == "ping":  # transport round trip, for benchmarks/bench_drag.py
-                self.send({"type": "pong", "id": content.get("id"), "kernel_ms": time.time() * 1e3})
-        finally:
-            self._from_page = False
+    def _on_add(self, content, _buffers):
+        self._add_point(content.get("x"), content.get("y"), content.get("tol"))
+
+    def _on_delete(self, content, _buffers):
+        self._delete_point(content.get("index"))
+
+    def _on_select_at(self, content, _buffers):
+        self._select_at(content.get("x"), content.get("y"), content.get("tol"))
+
+    def _on_undo(self, _content, _buffers):
+        self.undo()
+
+    def _on_redo(self, _content, _buffers):
+        self.redo()
+
+    def _on_fit(self, _content, _buffers):
+        self.fit_view()
+
+    def _on_drag(self, content, _buffers):
+        self._drag(content)
 
     def _drag(self, content):
         seq = int(content.get("seq", 0))
@@ -825,7 +758,7 @@ class SplineEditor(anywidget.AnyWidget):
             return -1
         self._push_history(previous, key=None)
         self._commit(state, spline)
-        with self._applying_state():
+        with self._quiet():
             self.selected = index
             self.selected_interval = -1
         self._publish()
@@ -854,7 +787,7 @@ class SplineEditor(anywidget.AnyWidget):
             return False
         self._push_history(previous, key=None)
         self._commit(state, spline)
-        with self._applying_state():
+        with self._quiet():
             self.selected = -1
             self.selected_interval = -1
         self._publish()
@@ -868,7 +801,7 @@ class SplineEditor(anywidget.AnyWidget):
             return
         piece, _distance = self._nearest_on_curve(x, y)
         interval = self._piece_leg(piece)
-        with self._applying_state():
+        with self._quiet():
             self.selected_interval = interval if interval < len(self.interval_weights) else -1
         self._publish()
         if FORMS[self.form]["tension"]:
@@ -898,8 +831,8 @@ class SplineEditor(anywidget.AnyWidget):
             "revision": self._revision,
             "seq": -1 if seq is None else int(seq),
             "closed": bool(closed),
-            "bezier": _f32(bezier),
-            "knots": _f32(knots),
+            "bezier": f32(bezier),
+            "knots": f32(knots),
         }
         # class polygon: V, W (generic cubic) or Q1, Q2 (Timmer) per piece
         V = aux.get("V", aux.get("Q1"))
@@ -907,16 +840,16 @@ class SplineEditor(anywidget.AnyWidget):
         if self.show_bezier_points and V is not None and W is not None and self.form != "segment":
             nan = np.full((m, 1, 2), np.nan)
             polygon = np.concatenate([bezier[:, :1], V[:, None], W[:, None], bezier[:, 3:], nan], axis=1)
-            geometry["class_polygon"] = _f32(polygon)
-            geometry["vw"] = _f32(np.stack([V, W], axis=1))
+            geometry["class_polygon"] = f32(polygon)
+            geometry["vw"] = f32(np.stack([V, W], axis=1))
         if self.show_tangents:
             handles = np.stack([bezier[:, 0], bezier[:, 1], bezier[:, 3], bezier[:, 2]], axis=1)
-            geometry["tangents"] = _f32(handles)
+            geometry["tangents"] = f32(handles)
         labels = []
         if self.show_comb:
             teeth, envelope, joint_labels = self._comb(spline)
-            geometry["comb_teeth"] = _f32(teeth)
-            geometry["comb_envelope"] = _f32(envelope)
+            geometry["comb_teeth"] = f32(teeth)
+            geometry["comb_envelope"] = f32(envelope)
             labels.extend(joint_labels)
         if self.form == "segment":
             labels.extend({"x": float(p[0]), "y": float(p[1]), "text": label, "kind": "point"}
@@ -926,13 +859,13 @@ class SplineEditor(anywidget.AnyWidget):
         if 0 <= interval < len(self.interval_weights):
             pieces = self._leg_pieces(interval)
             if pieces:
-                geometry["highlight"] = _f32(np.concatenate([bezier[p].reshape(1, 4, 2) for p in pieces]))
+                geometry["highlight"] = f32(np.concatenate([bezier[p].reshape(1, 4, 2) for p in pieces]))
             if self.form == "basis":
                 points = np.asarray(self.points)
-                geometry["highlight_leg"] = _f32(np.vstack([points[interval], points[(interval + 1) % len(points)]]))
+                geometry["highlight_leg"] = f32(np.vstack([points[interval], points[(interval + 1) % len(points)]]))
         self.geometry = geometry
-        if self._basis_plot is not None:
-            self._basis_plot.update(self, final=seq is None)
+        if "basis" in self._plots:
+            self._plots["basis"].update(self, final=seq is None)
 
     def _comb(self, spline):
         """Curvature comb teeth (segments), tip envelope and joint labels (§7, E2)."""
@@ -974,7 +907,4 @@ class SplineEditor(anywidget.AnyWidget):
                     labels.append({"x": float(points[i][0]), "y": float(points[i][1]), "text": text, "kind": "joint"})
         return teeth, envelope, labels
 
-    def _set_status(self, message, level="info"):
-        with self._applying_state(), self.hold_sync():
-            self.status_message = message
-            self.status_level = level
+

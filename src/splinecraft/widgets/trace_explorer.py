@@ -15,15 +15,14 @@ import inspect
 import io
 import math
 import numbers
-import warnings
 from pathlib import Path
 
-import anywidget
 import numpy as np
 import traitlets as t
 
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
 from ._assets import load_css, load_esm
+from ._base import WidgetBase, f32
 
 __all__ = ["TraceExplorer", "TraceExplorerWarning", "demo_bitmap", "corner_param_specs"]
 
@@ -44,6 +43,7 @@ KNOWN_CORNER_PARAMS = {
     "max_arm": (4, 240, 1, "max arm", "tangent-jump: longest arm (samples)"),
     "separation": (1, 10, 1, "separation", "tangent-jump: corners at least this many samples apart"),
 }
+_TRACE_SETTINGS = ("corner_method", "corner_params", "method", "epsilon", "tau", "seed", "max_iterations")
 _TRACE_PARAMS = ("epsilon", "method", "corner_method", "corner_params", "seed", "max_iterations", "tau",
                  "threshold", "invert", "min_speck_area", "connectivity", "contour", "fit_params")
 _DISPLAY = ("width", "height", "show_image", "show_boundaries", "show_corners", "show_candidates", "show_final",
@@ -54,10 +54,6 @@ _MAX_PIXELS = 4_000_000
 
 class TraceExplorerWarning(UserWarning):
     """A value set from code was rejected; the explorer kept its last good result."""
-
-
-def _f32(array) -> bytes:
-    return np.ascontiguousarray(np.asarray(array, dtype="<f4")).tobytes()
 
 
 def demo_bitmap(size: int = 96) -> np.ndarray:
@@ -103,7 +99,7 @@ def corner_param_specs(method: str) -> list:
     return specs
 
 
-class TraceExplorer(anywidget.AnyWidget):
+class TraceExplorer(WidgetBase):
     """Step through the outline capture of a bitmap: corners, spline fit and knot insertion.
 
     Parameters
@@ -136,6 +132,12 @@ class TraceExplorer(anywidget.AnyWidget):
 
     _esm = load_esm("trace_explorer.js")
     _css = load_css()
+    kept = "result"
+    warning_class = TraceExplorerWarning
+    panel_plot = "convergence_figure"
+    panel_extra_width = 292
+    messages = {**WidgetBase.messages, "upload": "_on_upload"}
+    page_traits = frozenset(_TRACE_SETTINGS + _DISPLAY + ("snapshot_index",))
 
     image_png = t.Bytes(b"").tag(sync=True)
     image_size = t.List([1, 1]).tag(sync=True)
@@ -163,20 +165,14 @@ class TraceExplorer(anywidget.AnyWidget):
     snapshot_geometry = t.Dict().tag(sync=True)
     iteration_info = t.Dict().tag(sync=True)
     stats_html = t.Unicode("").tag(sync=True)
-    status_message = t.Unicode("").tag(sync=True)
-    status_level = t.Unicode("info").tag(sync=True)
-    busy = t.Bool(False).tag(sync=True)
     options = t.Dict().tag(sync=True)
 
     def __init__(self, image=None, **trace_params):
-        unknown = set(trace_params) - set(_TRACE_PARAMS) - set(_DISPLAY)
+        unknown = set(trace_params) - set(_TRACE_PARAMS) - set(_DISPLAY) - {"debug"}
         if unknown:
             raise TypeError(f"TraceExplorer got unexpected argument(s): {', '.join(sorted(unknown))}")
-        display = {k: trace_params.pop(k) for k in list(trace_params) if k in _DISPLAY}
-        self._applying = 0
-        self._from_page = False
+        display = {k: trace_params.pop(k) for k in list(trace_params) if k in _DISPLAY + ("debug",)}
         self._result = None
-        self._convergence = None
         super().__init__(**display)
         self._extra = {k: trace_params[k] for k in ("threshold", "invert", "min_speck_area", "connectivity",
                                                       "contour", "fit_params") if k in trace_params}
@@ -201,7 +197,6 @@ class TraceExplorer(anywidget.AnyWidget):
         self._set_image(mask)
         self._accept(result)
         self._set_status(self._summary_message(), "info")
-        self.on_msg(self._handle_message)
 
     # ------------------------------------------------------------------ public API
     @property
@@ -249,20 +244,9 @@ class TraceExplorer(anywidget.AnyWidget):
     @property
     def convergence_figure(self):
         """bqplot Figure: knots and max error per iteration, with ε and the shown iteration marked."""
-        if self._convergence is None:
-            from ._convergence_plot import ConvergencePlot
+        from ._convergence_plot import ConvergencePlot
 
-            self._convergence = ConvergencePlot()
-            self._convergence.update(self)
-        return self._convergence.figure
-
-    def panel(self):
-        """The explorer above its convergence plot (an ``ipywidgets.VBox``)."""
-        import ipywidgets
-
-        figure = self.convergence_figure
-        figure.layout.width = f"{self.width + 292}px"
-        return ipywidgets.VBox([self, figure])
+        return self._plot("convergence", ConvergencePlot).figure
 
     # ------------------------------------------------------------------ tracing
     def _settings(self) -> dict:
@@ -319,8 +303,8 @@ class TraceExplorer(anywidget.AnyWidget):
             self.base_geometry = self._base_geometry(result)
             self.stats_html = self._stats_html(result)
             self._publish_snapshot()
-        if self._convergence is not None:
-            self._convergence.update(self)
+        if "convergence" in self._plots:
+            self._plots["convergence"].update(self)
 
     def _set_image(self, mask):
         from PIL import Image
@@ -347,9 +331,9 @@ class TraceExplorer(anywidget.AnyWidget):
                    if len(idx)]
         final = np.concatenate([s.bezier() for s in result.splines], axis=0)
         return {
-            "boundaries": _f32(np.vstack(rings)) if rings else b"",
-            "corners": _f32(np.vstack(corners)) if corners else b"",
-            "final": _f32(final),
+            "boundaries": f32(np.vstack(rings)) if rings else b"",
+            "corners": f32(np.vstack(corners)) if corners else b"",
+            "final": f32(final),
         }
 
     def _current(self):
@@ -363,7 +347,7 @@ class TraceExplorer(anywidget.AnyWidget):
         merged = self._current()
         if merged is None:
             bezier = np.concatenate([s.bezier() for s in result.splines], axis=0)
-            self.snapshot_geometry = {"bezier": _f32(bezier)}
+            self.snapshot_geometry = {"bezier": f32(bezier)}
             self.iteration_info = {"iteration": 0, "pieces": len(bezier)}
             return
         bezier = merged.bezier
@@ -384,13 +368,13 @@ class TraceExplorer(anywidget.AnyWidget):
         worst, worst_contour = self._worst_piece(result, merged)
         self.snapshot_geometry = {
             "iteration": int(merged.iteration),
-            "bezier": _f32(bezier),
-            "worst": _f32(worst),
-            "worst_contour": _f32(worst_contour),
-            "knots": _f32(np.vstack(knots)) if knots else b"",
-            "accepted": _f32(np.asarray(accepted, dtype=float).reshape(-1, 2)),
-            "rejected": _f32(np.asarray(rejected, dtype=float).reshape(-1, 2)),
-            "removed": _f32(np.asarray(removed, dtype=float).reshape(-1, 2)),
+            "bezier": f32(bezier),
+            "worst": f32(worst),
+            "worst_contour": f32(worst_contour),
+            "knots": f32(np.vstack(knots)) if knots else b"",
+            "accepted": f32(np.asarray(accepted, dtype=float).reshape(-1, 2)),
+            "rejected": f32(np.asarray(rejected, dtype=float).reshape(-1, 2)),
+            "removed": f32(np.asarray(removed, dtype=float).reshape(-1, 2)),
         }
         finished = int(np.sum(merged.finished)) if len(merged.finished) else 0
         total = len(merged.snapshots)
@@ -503,18 +487,6 @@ class TraceExplorer(anywidget.AnyWidget):
                 f"{stats.get('iterations')} iterations. Step with ◀ ▶ or the slider.")
 
     # ------------------------------------------------------------------ changes
-    def _quiet(self):
-        widget = self
-
-        class _Quiet:
-            def __enter__(self):
-                widget._applying += 1
-
-            def __exit__(self, *exc):
-                widget._applying -= 1
-
-        return _Quiet()
-
     @t.observe("corner_method", "corner_params", "method", "epsilon", "tau", "seed", "max_iterations")
     def _on_setting(self, change):
         if self._applying:
@@ -533,9 +505,7 @@ class TraceExplorer(anywidget.AnyWidget):
             with self._quiet():
                 self.busy = False
                 setattr(self, name, change["old"])
-            self._reject(str(exc))
-            if self._from_page:
-                self.send_state(name)
+            self._reject(str(exc), resync=(name,))
             return
         with self._quiet(), self.hold_sync():
             self.busy = False
@@ -552,46 +522,17 @@ class TraceExplorer(anywidget.AnyWidget):
         if not 0 <= index < max(self.n_snapshots, 1):
             with self._quiet():
                 self.snapshot_index = change["old"]
-            self._reject(f"there is no iteration {index} (0..{self.n_snapshots - 1})")
-            if self._from_page:
-                self.send_state("snapshot_index")
+            self._reject(f"there is no iteration {index} (0..{self.n_snapshots - 1})", resync=("snapshot_index",))
             return
         with self._quiet(), self.hold_sync():
             self._publish_snapshot()
-        if self._convergence is not None:
-            self._convergence.mark(self)
+        if "convergence" in self._plots:
+            self._plots["convergence"].mark(self)
 
-    def set_state(self, sync_data):
-        self._from_page = True
-        try:
-            super().set_state(sync_data)
-        finally:
-            self._from_page = False
-
-    def _handle_message(self, _widget, content, buffers):
-        if not isinstance(content, dict):
+    def _on_upload(self, content, buffers):
+        if not buffers:
+            self._reject("the upload arrived without data")
             return
-        self._from_page = True
-        try:
-            if content.get("type") == "upload":
-                if not buffers:
-                    self._reject("the upload arrived without data")
-                    return
-                name = str(content.get("name", "upload"))
-                if self.load(bytes(buffers[0])):
-                    self._set_status(f"{name}: {self._summary_message()}", "info")
-        finally:
-            self._from_page = False
-
-    def _reject(self, reason: str):
-        reason = reason.split("\n")[0]
-        if len(reason) > 180:
-            reason = reason[:177] + "…"
-        self._set_status(f"Kept the last good result: {reason}", "error")
-        if not self._from_page:
-            warnings.warn(f"TraceExplorer: {reason}", TraceExplorerWarning, stacklevel=3)
-
-    def _set_status(self, message, level):
-        with self._quiet(), self.hold_sync():
-            self.status_message = message
-            self.status_level = level
+        name = str(content.get("name", "upload"))
+        if self.load(bytes(buffers[0])):
+            self._set_status(f"{name}: {self._summary_message()}", "info")

@@ -8,8 +8,11 @@ acknowledgement (Linux: up to 40 ms). Every drag answer then arrives ~40 ms late
 needs about a millisecond (``benchmarks/bench_drag.py`` measures both ways side by side). Tornado
 documents the cure (``WebSocketHandler.set_nodelay``); this extension applies it to the kernel websockets.
 
-Enable it for a server with ``jupyter lab --ServerApp.jpserver_extensions='{"splinecraft.widgets.jupyter_nodelay": true}'``
-or the same entry in a ``jupyter_server_config.json``. It changes nothing else.
+Installing splinecraft enables it for every Jupyter server of the environment: the wheel puts
+``jupyter-config/jupyter_server_config.d/splinecraft.json`` into ``etc/jupyter/jupyter_server_config.d``
+(``pyproject.toml``, shared-data). Turn it off with ``jupyter server extension disable splinecraft.jupyter_nodelay``,
+or for one server with ``jupyter lab --ServerApp.jpserver_extensions='{"splinecraft.jupyter_nodelay": false}'``.
+It is not a widget and imports nothing from splinecraft; it changes nothing but ``TCP_NODELAY``.
 """
 from __future__ import annotations
 
@@ -34,7 +37,7 @@ def enable_nodelay(handler_class=None) -> bool:
 
 
 def _jupyter_server_extension_points():
-    return [{"module": "splinecraft.widgets.jupyter_nodelay"}]
+    return [{"module": "splinecraft.jupyter_nodelay"}]
 
 
 def _load_jupyter_server_extension(serverapp):

@@ -1,0 +1,308 @@
+"""What every splinecraft widget shares: status, rejection of bad input, page traffic, companion figures.
+
+A widget subclasses :class:`WidgetBase` (itself an ``anywidget.AnyWidget``) and gets
+
+* the ``status_message`` / ``status_level`` / ``busy`` traits, :meth:`~WidgetBase._set_status` and
+  :meth:`~WidgetBase._busy` (a visible busy state around long work, with :func:`run_with_budget`);
+* :meth:`~WidgetBase._quiet` -- a context for the widget's own trait changes: observers return early
+  while ``self._applying`` is non-zero;
+* :meth:`~WidgetBase._reject` -- "kept the last good ...": an error status, a :attr:`warning_class`
+  warning when the bad value came from code, and a resync of the page when it came from the page;
+* :meth:`~WidgetBase.set_state` -- trait updates from the page, applied one key at a time (a bad value
+  does not drop the good ones sent with it); only :attr:`page_traits` may be written by the page; a value
+  the trait type refuses (a string for a bool) gets a status and a resync instead of a traceback;
+* :meth:`~WidgetBase._handle_message` -- custom messages ``{"type": ...}`` dispatched through
+  :attr:`messages` to methods ``handler(content, buffers)``; any exception (a bad field, a MemoryError)
+  restores the state saved before the message (:meth:`~WidgetBase._save_good` /
+  :meth:`~WidgetBase._restore_good`), sets a status and resyncs the page;
+* strict readers of message fields (:func:`read_int`, :func:`read_number`, :func:`read_bool`,
+  :func:`read_str`) raising :class:`BadMessage` that names the field -- exact types (a bool is not an
+  int), ranges and finiteness;
+* :meth:`~WidgetBase._plot` -- companion figures (bqplot) created on first use and updated by
+  :meth:`~WidgetBase._update_plots`; :meth:`~WidgetBase.panel` shows the widget above
+  :attr:`panel_plot`;
+* :func:`f32` -- the float32 byte buffers the pages decode.
+
+Debug hooks for benchmarks (drag latency records, ping) are off unless ``debug=True`` is passed (or
+:data:`DEBUG_ENV` is set in the kernel's environment).
+"""
+from __future__ import annotations
+
+import concurrent.futures
+import contextlib
+import logging
+import math
+import os
+import sys
+import time
+import warnings
+
+import anywidget
+import numpy as np
+import traitlets as t
+
+__all__ = ["WidgetBase", "BadMessage", "read_int", "read_number", "read_bool", "read_str", "f32",
+           "run_with_budget", "DEBUG_ENV"]
+
+#: Environment variable that switches the benchmark hooks on for every widget of a kernel.
+DEBUG_ENV = "SPLINECRAFT_WIDGET_DEBUG"
+_MAX_REASON = 180
+_REQUIRED = object()
+_log = logging.getLogger("splinecraft.widgets")
+
+
+class BadMessage(ValueError):
+    """A message from the page has a missing or bad field; the text names the field."""
+
+
+def f32(array) -> bytes:
+    """Little-endian float32 bytes of an array (the page decodes them as a ``Float32Array``)."""
+    return np.ascontiguousarray(np.asarray(array, dtype="<f4")).tobytes()
+
+
+# ---------------------------------------------------------------------------------------------- message fields
+def _field(content: dict, name: str, default):
+    if name in content:
+        return content[name]
+    if default is _REQUIRED:
+        raise BadMessage(f"the message has no field {name!r}")
+    return default
+
+
+def read_int(content: dict, name: str, *, low: int, high: int, default=_REQUIRED) -> int:
+    """Field ``name`` as an int in ``[low, high]`` (a bool or a float is refused)."""
+    value = _field(content, name, default)
+    if value is default and default is not _REQUIRED:
+        return value
+    if type(value) is not int:
+        raise BadMessage(f"{name} must be an integer, got {type(value).__name__} {value!r:.40}")
+    if not low <= value <= high:
+        raise BadMessage(f"{name} = {value} is out of range [{low}, {high}]")
+    return value
+
+
+def read_number(content: dict, name: str, *, low: float = -math.inf, high: float = math.inf,
+                default=_REQUIRED) -> float:
+    """Field ``name`` as a finite float in ``[low, high]`` (int or float; a bool, None or NaN is refused)."""
+    value = _field(content, name, default)
+    if value is default and default is not _REQUIRED:
+        return value
+    if type(value) not in (int, float):
+        raise BadMessage(f"{name} must be a number, got {type(value).__name__} {value!r:.40}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise BadMessage(f"{name} must be a finite number, got {value}")
+    if not low <= value <= high:
+        raise BadMessage(f"{name} = {value:g} is out of range [{low:g}, {high:g}]")
+    return value
+
+
+def read_bool(content: dict, name: str, *, default=_REQUIRED) -> bool:
+    """Field ``name`` as an exact bool (``"no"``, 0 or 1 are refused)."""
+    value = _field(content, name, default)
+    if type(value) is not bool:
+        raise BadMessage(f"{name} must be true or false, got {type(value).__name__} {value!r:.40}")
+    return value
+
+
+def read_str(content: dict, name: str, *, choices=None, max_length: int = 200, default=_REQUIRED) -> str:
+    """Field ``name`` as a string (one of ``choices`` when given)."""
+    value = _field(content, name, default)
+    if value is default and default is not _REQUIRED:
+        return value
+    if type(value) is not str or len(value) > max_length:
+        raise BadMessage(f"{name} must be a string of at most {max_length} characters, got {type(value).__name__}")
+    if choices is not None and value not in choices:
+        raise BadMessage(f"{name} must be one of {', '.join(map(str, choices))}, got {value!r:.40}")
+    return value
+
+
+# ---------------------------------------------------------------------------------------------- long work
+_WORKER = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="splinecraft-widget")
+
+
+def run_with_budget(function, seconds: float, what: str = "the computation"):
+    """``function()`` in a worker thread, waiting at most ``seconds``; raises ``TimeoutError`` after that.
+
+    The kernel stays responsive to the page meanwhile (its busy state is visible). Python cannot stop a
+    running thread: after a timeout the work finishes in the background and its result is dropped; the
+    next call waits in line behind it (one worker), so runaway work never piles up.
+    """
+    future = _WORKER.submit(function)
+    try:
+        return future.result(timeout=seconds)
+    except concurrent.futures.TimeoutError:
+        future.cancel()
+        raise TimeoutError(f"{what} took longer than its time budget of {seconds:g} s") from None
+
+
+def _caller_stacklevel() -> int:
+    """Stack level of the first frame outside splinecraft, traitlets and the widget libraries."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None:
+        name = frame.f_globals.get("__name__", "")
+        if not name.startswith(("splinecraft.", "traitlets", "ipywidgets", "anywidget", "comm")):
+            return level
+        frame, level = frame.f_back, level + 1
+    return 1
+
+
+def short_reason(exc: BaseException | str) -> str:
+    """The first line of an error, at most 180 characters (what the status line shows)."""
+    if isinstance(exc, BaseException):
+        text = str(exc) or type(exc).__name__
+        if not isinstance(exc, (ValueError, TypeError, t.TraitError)):
+            text = f"{type(exc).__name__}: {text}"
+    else:
+        text = exc
+    text = text.split("\n")[0]
+    return text if len(text) <= _MAX_REASON else text[:_MAX_REASON - 1] + "…"
+
+
+class WidgetBase(anywidget.AnyWidget):
+    """Base of the splinecraft widgets: see the module docstring for what it provides.
+
+    Subclasses set the class attributes below and may override :meth:`_save_good`,
+    :meth:`_restore_good` and :meth:`_resync_after` (all optional).
+    """
+
+    #: Word for what is kept after a bad input ("curve", "result", "outline").
+    kept = "state"
+    #: Warning category for values rejected from code.
+    warning_class: type = UserWarning
+    #: Traits the page may set (everything else is the kernel's; a page update of it is refused).
+    page_traits: frozenset = frozenset()
+    #: Custom message type -> name of the handler method ``handler(content, buffers)``. Subclasses extend it:
+    #: ``messages = {**WidgetBase.messages, "drag": "_on_drag"}``.
+    messages: dict = {"ping": "_on_ping"}
+    #: Name of the figure property :meth:`panel` shows under the widget, and the extra width it gets.
+    panel_plot: str | None = None
+    panel_extra_width = 270
+
+    status_message = t.Unicode("").tag(sync=True)
+    status_level = t.Unicode("info").tag(sync=True)
+    busy = t.Bool(False).tag(sync=True)
+    debug = t.Bool(False).tag(sync=True)
+
+    def __init__(self, **traits):
+        self._applying = 0
+        self._from_page = False
+        self._plots: dict = {}
+        traits.setdefault("debug", bool(os.environ.get(DEBUG_ENV)))
+        super().__init__(**traits)
+        self.on_msg(self._handle_message)
+
+    # ------------------------------------------------------------------ own changes, status
+    @contextlib.contextmanager
+    def _quiet(self):
+        """Trait changes made inside are the widget's own: observers see ``self._applying`` and return."""
+        self._applying += 1
+        try:
+            yield
+        finally:
+            self._applying -= 1
+
+    def _set_status(self, message: str, level: str = "info") -> None:
+        with self._quiet(), self.hold_sync():
+            self.status_message = message
+            self.status_level = level
+
+    @contextlib.contextmanager
+    def _busy(self):
+        """``busy`` is True inside (the page shows it at once); always cleared, whatever happens."""
+        with self._quiet():
+            self.busy = True
+        try:
+            yield
+        finally:
+            with self._quiet():
+                self.busy = False
+
+    def _reject(self, reason, *, resync=()) -> None:
+        """Keep the last good state: error status, a warning (from code) or a resync of ``resync`` (from the page)."""
+        reason = short_reason(reason)
+        self._set_status(f"Kept the last good {self.kept}: {reason}", "error")
+        if self._from_page:
+            for name in resync:
+                self.send_state(name)
+        else:
+            warnings.warn(f"{type(self).__name__}: {reason}; kept the last good {self.kept}", self.warning_class,
+                          stacklevel=_caller_stacklevel())
+
+    # ------------------------------------------------------------------ page -> kernel
+    @contextlib.contextmanager
+    def _page(self):
+        previous, self._from_page = self._from_page, True
+        try:
+            yield
+        finally:
+            self._from_page = previous
+
+    def set_state(self, sync_data):
+        """Trait updates from the page, one key at a time; refused keys and values are answered, not raised."""
+        with self._page():
+            for name, value in dict(sync_data).items():
+                if name not in self.page_traits:
+                    if name in self.keys:
+                        self._reject(f"the page may not set {name}", resync=(name,))
+                    continue
+                try:
+                    super().set_state({name: value})
+                except Exception as exc:  # noqa: BLE001 - any failure: status + resync, never a lost traceback
+                    _log.debug("page update of %s refused", name, exc_info=True)
+                    self._reject(f"{name}: {short_reason(exc)}", resync=(name,))
+
+    def _handle_message(self, _widget, content, buffers):
+        """Dispatch a custom message; any failure restores the saved state, sets a status and resyncs the page."""
+        with self._page():
+            saved = self._save_good()
+            try:
+                if not isinstance(content, dict):
+                    raise BadMessage(f"a message must be an object, got {type(content).__name__}")
+                kind = content.get("type")
+                if type(kind) is not str or kind not in self.messages:
+                    raise BadMessage(f"unknown message type {kind!r:.40}")
+                if kind == "ping" and not self.debug:
+                    raise BadMessage("ping is a debug message (set debug=True)")
+                getattr(self, self.messages[kind])(content, list(buffers or []))
+            except Exception as exc:  # noqa: BLE001 - MemoryError and engine bugs too: the page must hear of it
+                if not isinstance(exc, BadMessage):
+                    _log.warning("%s: message handler failed", type(self).__name__, exc_info=True)
+                self._restore_good(saved)
+                self._reject(f"bad message: {short_reason(exc)}")
+                self._resync_after(content)
+                self.send_state()
+
+    def _on_ping(self, content, _buffers):
+        """Transport round trip for the benchmarks (answered only with ``debug=True``)."""
+        self.send({"type": "pong", "id": read_int(content, "id", low=0, high=2**53),
+                   "kernel_ms": time.time() * 1e3})
+
+    def _save_good(self):
+        """What :meth:`_restore_good` needs to undo a failed message (default: nothing)."""
+        return None
+
+    def _restore_good(self, saved) -> None:
+        """Put back the state saved by :meth:`_save_good` (default: nothing to do)."""
+
+    def _resync_after(self, content) -> None:
+        """Extra answers to a refused message (e.g. a negative drag acknowledgement); default none."""
+
+    # ------------------------------------------------------------------ companion figures
+    def _plot(self, name: str, factory):
+        """The companion plot ``name``, made by ``factory()`` on first use and then kept in sync."""
+        plot = self._plots.get(name)
+        if plot is None:
+            plot = self._plots[name] = factory()
+            plot.update(self)
+        return plot
+
+    def panel(self):
+        """The widget above its companion figure (an ``ipywidgets.VBox``) -- display this in a notebook."""
+        import ipywidgets
+
+        if self.panel_plot is None:
+            return ipywidgets.VBox([self])
+        figure = getattr(self, self.panel_plot)
+        figure.layout.width = f"{self.width + self.panel_extra_width}px"
+        return ipywidgets.VBox([self, figure])

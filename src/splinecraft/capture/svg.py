@@ -1,88 +1,28 @@
-"""SVG writing and reading for traced outlines: one ``<path>`` of exact cubic Béziers, even-odd fill.
+"""SVG for traced outlines: one ``<path>`` of exact cubic Béziers, even-odd fill.
 
 The document is in the bitmap's pixel frame (docs/capture.md): ``width``/``height`` and
 ``viewBox="0 0 W H"`` are the bitmap size, x right, y down, pixel corners on integers -- the frame
 potrace writes and the yardstick scores in. Every closed curve is a subpath ``M x0,y0 C ... Z``; with
 ``fill-rule="evenodd"`` holes stay empty whatever their orientation.
 
-:func:`parse_path_data` reads path data back (``M``/``m``, ``C``/``c``, ``L``/``l``, ``H``/``h``,
-``V``/``v``, ``Z``/``z``) into Bézier arrays, so outputs can be checked against the splines they came from.
+The writer (:func:`format_number`, :func:`path_data`, :func:`svg_document`) is the engine's
+(:mod:`splinecraft.spline.svg`), re-exported here. :func:`parse_path_data` reads path data back
+(``M``/``m``, ``C``/``c``, ``L``/``l``, ``H``/``h``, ``V``/``v``, ``Z``/``z``) into Bézier arrays, so
+outputs can be checked against the splines they came from.
 """
 from __future__ import annotations
 
 import re
 import xml.etree.ElementTree as ET
-from xml.sax.saxutils import quoteattr
 
 import numpy as np
+
+from ..spline.svg import format_number, path_data, svg_document
 
 __all__ = ["format_number", "path_data", "svg_document", "parse_path_data", "read_svg_paths"]
 
 _TOKEN = re.compile(r"[MmCcLlHhVvZz]|[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[^\s,]")
 _SVG_NS = "http://www.w3.org/2000/svg"
-
-
-def format_number(value: float, decimals: int | None = 4) -> str:
-    """Shortest text for ``value`` rounded to ``decimals`` places; ``None``: exact round trip (``repr``)."""
-    value = float(value)
-    if not np.isfinite(value):
-        raise ValueError(f"cannot write a non-finite coordinate {value!r} to SVG")
-    if decimals is None:
-        text = repr(value)
-        return "0" if text in ("0.0", "-0.0") else (text[:-2] if text.endswith(".0") else text)
-    text = f"{value:.{decimals}f}"
-    if "." in text:
-        text = text.rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
-
-
-def path_data(curves, *, decimals: int | None = 4) -> str:
-    """SVG path data for closed cubic curves.
-
-    Parameters
-    ----------
-    curves : iterable of array_like (m, 4, 2)
-        Bézier control points of each closed curve (piece ``i`` ends where piece ``i + 1`` starts and
-        the last ends at the first point).
-    decimals : int or None
-        Decimal places of the coordinates (trailing zeros dropped); ``None`` writes exact floats.
-
-    Returns
-    -------
-    str
-        ``"M x0,y0 C x1,y1 x2,y2 x3,y3 ... Z M ..."``, one subpath per curve.
-    """
-    parts = []
-    for index, curve in enumerate(curves):
-        bezier = np.asarray(curve, dtype=float)
-        if bezier.ndim != 3 or bezier.shape[1:] != (4, 2) or bezier.shape[0] < 1:
-            raise ValueError(f"curves[{index}] must have shape (m, 4, 2) with m >= 1, got {bezier.shape}")
-
-        def point(p):
-            return f"{format_number(p[0], decimals)},{format_number(p[1], decimals)}"
-
-        parts.append("M " + point(bezier[0, 0]))
-        for piece in bezier:
-            parts.append("C " + " ".join(point(p) for p in piece[1:]))
-        parts.append("Z")
-    return " ".join(parts)
-
-
-def svg_document(d: str, width: int, height: int, *, fill: str = "black", title: str | None = None) -> str:
-    """A standalone SVG document with one even-odd filled path ``d`` in the ``width x height`` pixel frame."""
-    title_element = f"  <title>{_escape(title)}</title>\n" if title else ""
-    return (
-        '<?xml version="1.0" encoding="UTF-8"?>\n'
-        f'<svg xmlns="{_SVG_NS}" version="1.1" width="{int(width)}" height="{int(height)}" '
-        f'viewBox="0 0 {int(width)} {int(height)}">\n'
-        f"{title_element}"
-        f'  <path fill={quoteattr(fill)} fill-rule="evenodd" stroke="none" d="{d}"/>\n'
-        "</svg>\n"
-    )
-
-
-def _escape(text: str) -> str:
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
 def parse_path_data(d: str) -> list:

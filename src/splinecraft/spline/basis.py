@@ -26,7 +26,7 @@ from .._validation import as_float_array, as_points, check_bool, check_choice, c
 from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths
 from .piecewise import Spline
 
-__all__ = ["basis_spline", "basis_functions", "BASIS_ENDS"]
+__all__ = ["basis_spline", "basis_functions", "tension_spans", "BASIS_ENDS"]
 
 #: Accepted ``ends`` values for open basis curves (§4.4).
 BASIS_ENDS = ("floating", "clamped")
@@ -169,9 +169,11 @@ def _basis_coefficients(steps, weights, tension, closed, ends):
     return (lam, mu, lam_hat, mu_hat), (rho, sigma)
 
 
-def _prepare(control_points, closed, point_tension, interval_weights, knots, ends, name="control_points"):
+def _prepare(control_points, closed, point_tension, interval_weights, knots, ends, tension_scale="absolute",
+             name="control_points"):
     closed = check_bool(closed, "closed")
     ends = check_choice(ends, "ends", BASIS_ENDS)
+    tension_scale = check_choice(tension_scale, "point_tension_scale", ("absolute", "relative"))
     if closed and ends != "floating":
         raise ValueError("ends applies to open curves only; a closed basis curve has no ends")
     control_points = as_points(control_points, name, min_count=3 if closed else 4)
@@ -186,7 +188,46 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
     if not closed and ends == "clamped":
         if not (steps > 0).all():  # explicit knots already checked; chord/centripetal checked by check_distinct
             raise ValueError("knots must be strictly increasing")
+    if tension_scale == "relative":
+        tension = _absolute_tension(tension, steps, weights, closed, ends)
     return closed, ends, control_points, values, steps, weights, tension
+
+
+def tension_spans(steps, weights, closed, ends):
+    """``c_{j-1} + c_j`` per control point, ``c_i = omega_i / h_i`` in the index convention of §4.4.
+
+    Floating ends extend the legs (``h_{-1} := h_0``, ``h_{n+1} := h_n``, omega likewise, E12), so the
+    end control points count their one leg twice; the end legs of clamped ends carry no interval
+    (``c = 0``). Then ``d_j = a_{j-1} + a_j + a_{j-1} a_j v_j / 2`` (§4.2, ``a = 1/c``) is positive iff
+    ``v_j > -2 (c_{j-1} + c_j)``. Returns ``(spans, acts)``: ``acts[j]`` is False where ``v_j`` has no
+    effect (the first two and last two control points with clamped ends).
+    """
+    if closed:
+        c = weights / steps
+        return np.roll(c, 1) + c, np.ones(c.shape[0], dtype=bool)
+    legs = weights.shape[0]
+    c = np.zeros(legs + 2)  # c_{-1}, c_0 .. c_n, c_{n+1}
+    if ends == "clamped":
+        c[2:-2] = weights[1:-1] / steps
+    else:
+        c[1:-1] = weights / steps
+        c[0], c[-1] = c[1], c[-2]
+    left, right = c[:-1], c[1:]
+    return left + right, (left > 0) & (right > 0)
+
+
+def _absolute_tension(nu, steps, weights, closed, ends):
+    """``v_j = nu_j (c_{j-1} + c_j)`` after checking the safe domain ``nu_j > -2`` (§2.5 Units, §4.5)."""
+    spans, acts = tension_spans(steps, weights, closed, ends)
+    unsafe = acts & ~(nu > -2.0)
+    if unsafe.any():
+        j = int(np.flatnonzero(unsafe)[0])
+        raise ValueError(
+            f"point_tension[{j}] = {float(nu[j]):.6g} (relative) must be > -2 in the basis form: at nu_j <= -2, "
+            f"d_{j} <= 0, the basis functions can vanish or turn negative and the curve leaves the convex hull "
+            f"of its control points (§4.5; the absolute bound is v_{j} > {-2.0 * float(spans[j]):.6g})"
+        )
+    return nu * spans
 
 
 def _assemble(control_points, values, steps, weights, tension, closed, ends):
@@ -220,7 +261,7 @@ def _assemble(control_points, values, steps, weights, tension, closed, ends):
 
 
 def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_weights=1.0, alpha=3.0, beta=3.0,
-                 knots="uniform", ends="floating") -> Spline:
+                 knots="uniform", ends="floating", point_tension_scale="absolute") -> Spline:
     """Local-support (basis form) generic cubic spline from control points (thesis section 3.2; §4).
 
     ``P(t) = sum_j B_j(t) P_j``. Moving one control point changes at most the four segments it supports. At
@@ -264,12 +305,22 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         ``"floating"``: the curve does not pass through ``P_0`` or ``P_{n+1}`` (``h_{-1} := h_0``,
         ``h_{n+1} := h_n``, erratum E12). ``"clamped"``: triple end knots, so the curve starts at ``P_0`` tangent
         to ``P_0 P_1`` and ends at ``P_{n+1}`` tangent to ``P_n P_{n+1}`` (four control points give one Bézier).
+    point_tension_scale : {"absolute", "relative"}
+        ``"relative"`` reads ``point_tension`` as the dimensionless ``nu_j`` with
+        ``v_j = nu_j (c_{j-1} + c_j)``, ``c_i = omega_i / h_i`` (§2.5 Units; legs as in §4.4: floating ends
+        count the end leg twice, the end legs of clamped ends carry no interval), so that a value acts the
+        same at every scale and knot spacing. Every ``nu_j`` that has an effect must then be ``> -2``, the
+        safe domain of §4.5 (``d_j > 0``, non-negative basis, convex hull); others raise ``ValueError``
+        naming ``j`` and the bound. ``"absolute"`` (default) takes the thesis's raw ``v``.
 
     Returns
     -------
     Spline
         ``n_control - 3`` segments (floating or clamped) or ``N`` (closed). ``auxiliary``:
-        ``'control_points'``, ``'F'`` (knot points), ``'tangents'`` (``M_i``), ``'V'``, ``'W'``.
+        ``'control_points'``, ``'F'`` (knot points), ``'tangents'`` (``M_i``), ``'V'``, ``'W'``. ``info``:
+        ``form='basis'``, ``ends``, ``knots``, ``alpha``, ``beta``, ``point_tension_scale`` and ``leg_offset``
+        (piece ``i`` lies over the control-polygon leg ``i + leg_offset``: 1 for open curves, 0 closed;
+        see :meth:`Spline.piece_leg`).
 
     Raises
     ------
@@ -279,7 +330,7 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         lengths, non-increasing explicit knots, or a degenerate basis (vanishing ``D_i``).
     """
     closed, ends, P, values, steps, weights, tension = _prepare(
-        control_points, closed, point_tension, interval_weights, knots, ends
+        control_points, closed, point_tension, interval_weights, knots, ends, point_tension_scale
     )
     planar, knot_values, F, M = _assemble(P, values, steps, weights, tension, closed, ends)
     m = planar.shape[2]
@@ -299,6 +350,8 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         "knots": knots if isinstance(knots, str) else "explicit",
         "alpha": float(alphas[0]) if (alphas == alphas[0]).all() else "per-segment",
         "beta": float(betas[0]) if (betas == betas[0]).all() else "per-segment",
+        "point_tension_scale": point_tension_scale,
+        "leg_offset": 0 if closed else 1,
     }
     auxiliary = {"control_points": P.copy(), "F": F.T, "tangents": M.T, "V": V.T, "W": W.T}
     return Spline._from_trusted(planar, knot_values, closed=closed, auxiliary=auxiliary, info=info)

@@ -199,7 +199,8 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     Spline
         ``n - 1`` pieces (``N`` when closed). ``auxiliary``: ``'F'`` (the points), ``'tangents'`` (``M_i``),
         ``'V'``, ``'W'`` (class polygon). ``info``: ``form='interpolant'``, ``end_condition``, ``knots``,
-        ``alpha``, ``beta``, ``point_tension_scale``.
+        ``alpha``, ``beta``, ``point_tension_scale``, ``leg_offset=0`` (piece ``i`` runs from point ``i`` to
+        ``i + 1``; see :meth:`Spline.piece_leg`).
 
     Raises
     ------
@@ -313,6 +314,7 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         "alpha": _summary(alphas),
         "beta": _summary(betas),
         "point_tension_scale": point_tension_scale,
+        "leg_offset": 0,
     }
     auxiliary = {"F": planar_points.T, "tangents": tangents.T, "V": V.T, "W": W.T}
     return Spline._from_trusted(planar, t, closed=closed, auxiliary=auxiliary, info=info)

@@ -12,6 +12,7 @@ import warnings
 
 import numpy as np
 
+from .._json import to_jsonable
 from .._validation import (
     as_float_array,
     check_bool,
@@ -35,30 +36,6 @@ _PER_KNOT_KEYS = frozenset({"tangents", "F"})
 _JOIN_RTOL = 1e-9
 # Relative tolerance for parameters just outside [t0, tm] of an open curve (rounding).
 _DOMAIN_RTOL = 1e-12
-
-
-def _jsonable(value, where: str):
-    """Normalise metadata to plain JSON types (dict/list/str/int/float/bool/None)."""
-    if value is None or isinstance(value, (bool, str)):
-        return value
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, numbers.Integral):
-        return int(value)
-    if isinstance(value, numbers.Real):
-        return float(value)
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist(), where)
-    if isinstance(value, dict):
-        out = {}
-        for key, item in value.items():
-            if not isinstance(key, str):
-                raise TypeError(f"{where} keys must be strings, got {key!r}")
-            out[key] = _jsonable(item, f"{where}[{key!r}]")
-        return out
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(item, f"{where}[{i}]") for i, item in enumerate(value)]
-    raise TypeError(f"{where} must be JSON-able, got {type(value).__name__}")
 
 
 #: Auxiliary arrays that trade roles when a curve is traversed backwards.
@@ -155,7 +132,7 @@ class Spline:
         self._knots = knots
         self._closed = closed
         self._auxiliary = aux
-        self._info = _jsonable(info, "info")
+        self._info = to_jsonable(info, "info")
 
     def _set_planar(self, planar):
         planar.flags.writeable = False
@@ -420,6 +397,74 @@ class Spline:
         tips = np.stack([points[0] + factor * d1[1], points[1] - factor * d1[0]], axis=1)
         return np.ascontiguousarray(points.T), tips
 
+    # ------------------------------------------------------------------ queries (spline/queries.py)
+    def nearest(self, point):
+        """The curve point nearest to ``point``: ``Nearest(parameter, distance, piece, point)``.
+
+        Exact up to rounding: pieces whose control-point box (convex hull property, §0) cannot hold
+        the nearest point are skipped, every local minimum of the squared distance sampled on the
+        others is refined by a safeguarded Newton iteration on ``(P - q) . P' = 0`` inside its
+        bracket, and both ends of every piece are compared too. Works in coordinates relative to the
+        query point and scaled to the curve's size, so any float64 scale works. ``point`` is a finite
+        ``(d,)`` array; ``parameter`` is the knot parameter ``t``, ``piece`` the piece index, ``point``
+        the curve point ``P(t)``.
+        """
+        from .queries import nearest
+
+        return nearest(self, point)
+
+    def construction(self, t):
+        """The de Casteljau construction at ``t`` (§0): ``Construction(parameter, piece, theta, levels,
+        point, tangent, class_polygon)``.
+
+        ``piece`` is the piece that ``t`` falls on (the right one at a knot; a loop wraps ``t``),
+        ``theta = (t - t_i) / h_i`` its local parameter, and ``levels`` the four de Casteljau levels:
+        the Bézier points ``b_0..b_3`` (4, d), then ``(1 - theta) b_j + theta b_{j+1}`` (3, d), again
+        (2, d), and the curve point (1, d). The last level's two points span the tangent:
+        ``tangent = P'(t) = 3 (levels[2][1] - levels[2][0]) / h_i``. ``class_polygon`` is the polygon the
+        piece was designed from, ``F_i, V_i, W_i, F_{i+1}`` (generic cubic, §1-§2.1: ``b_1`` lies on
+        ``F_i V_i`` at ``alpha / 3``, ``b_2`` on ``F_{i+1} W_i`` at ``beta / 3``) or the Timmer points
+        ``P_i, Q_i1, Q_i2, P_{i+1}`` (§5.1: at ``4 / 3``), or None when the curve has no such auxiliary.
+        """
+        from .queries import construction
+
+        return construction(self, t)
+
+    def curvature_profile(self, samples_per_piece=32):
+        """``kappa(t)`` for a plot (§7): ``CurvatureProfile(parameters, curvature, piece, knots,
+        joint_curvature, jumps)``.
+
+        Every piece is sampled at ``samples_per_piece`` (>= 2) parameters from ``t_i`` to ``t_{i+1}``
+        inclusive, so each knot appears twice, with the left value ``kappa(t_i^-)`` and then the right
+        one ``kappa(t_i^+)``: drawn as one line, a jump at a joint (unequal interval weights, §2.2 and
+        E2; Timmer joints, §5) is a vertical step. ``joint_curvature`` is :meth:`joint_curvature`
+        and ``jumps`` its difference ``kappa^+ - kappa^-`` per knot (NaN at the ends of an open curve).
+        """
+        from .queries import curvature_profile
+
+        return curvature_profile(self, samples_per_piece)
+
+    def piece_leg(self, piece) -> int:
+        """The leg of the input polygon that piece ``piece`` belongs to.
+
+        A leg ``j`` joins input point ``j`` and ``j + 1`` (``n - 1`` with ``0`` for the closing leg of a
+        loop). The constructors record ``info['leg_offset']``: piece ``i`` lies over leg
+        ``i + leg_offset``. It is 0 for the interpolant (§2, piece ``i`` runs from ``F_i`` to
+        ``F_{i+1}``) and the Timmer schemes (§5), and for the basis form (§4.3) 1 when open (segment ``i``
+        has its inner Bézier points on the leg ``P_{i+1} P_{i+2}``) and 0 when closed. Curves without it
+        (e.g. built directly) count pieces as legs.
+        """
+        from .queries import piece_leg
+
+        return piece_leg(self, piece)
+
+    def leg_pieces(self, leg):
+        """The pieces over leg ``leg`` of the input polygon (an int array, empty for a leg that carries
+        no piece, e.g. the end legs of an open basis curve); the inverse of :meth:`piece_leg`."""
+        from .queries import leg_pieces
+
+        return leg_pieces(self, leg)
+
     # ------------------------------------------------------------------ sampling
     def _uniform_planar(self, weights):
         """``sum_j weights[k, j] b_j`` for every piece: planar ``(d, m * k)`` in curve order (one GEMM)."""
@@ -574,32 +619,20 @@ class Spline:
 
     # ------------------------------------------------------------------ export
     def to_svg_path(self, precision=3) -> str:
-        """SVG path data ``"M x,y C x1,y1 x2,y2 x3,y3 ... Z"`` of the exact cubic Béziers.
+        """SVG path data ``"M x,y C x1,y1 x2,y2 x3,y3 ... Z"`` of the exact cubic Béziers (§0).
 
-        ``precision`` is the number of decimals (trailing zeros dropped); ``None`` writes the
-        shortest exact representation of every float (lossless round trip). Closed curves end with
-        ``Z`` (the last ``C`` already returns to the start point). Planar curves only.
+        ``precision`` is the number of decimals (an integer in ``[0, 64]``, trailing zeros dropped);
+        ``None`` writes the shortest exact representation of every float (lossless round trip). Closed
+        curves end with ``Z`` (the last ``C`` already returns to the start point). Planar curves only.
+        Written by :func:`splinecraft.spline.svg.path_data`, the package's one SVG writer.
         """
+        from .svg import path_data
+
         if self.dim != 2:
             raise ValueError(f"to_svg_path needs a planar curve (d = 2), this curve has d = {self.dim}")
-        if precision is None:
-            fmt = repr
-        else:
-            precision = check_int(precision, "precision", minimum=0)
-
-            def fmt(value):
-                text = f"{value:.{precision}f}"
-                if "." in text:
-                    text = text.rstrip("0").rstrip(".")
-                return "0" if text in ("-0", "") else text
-
-        b = self._bezier
-        coords = [f"{fmt(float(x))},{fmt(float(y))}" for x, y in b[:, 1:].reshape(-1, 2)]
-        parts = [f"M {fmt(float(b[0, 0, 0]))},{fmt(float(b[0, 0, 1]))}"]
-        parts.extend("C " + " ".join(coords[3 * i : 3 * i + 3]) for i in range(self.n_segments))
-        if self._closed:
-            parts.append("Z")
-        return " ".join(parts)
+        if precision is not None:
+            precision = check_int(precision, "precision", minimum=0, maximum=64)
+        return path_data([self._bezier], decimals=precision, closed=self._closed)
 
     def to_dict(self) -> dict:
         """JSON-able representation (plain lists of floats); exact round trip via :meth:`from_dict`."""
@@ -611,7 +644,7 @@ class Spline:
             "bezier": self._bezier.tolist(),
             "auxiliary": {key: value.tolist() for key, value in self._auxiliary.items()},
             "auxiliary_shapes": {key: list(value.shape) for key, value in self._auxiliary.items()},
-            "info": _jsonable(self._info, "info"),
+            "info": to_jsonable(self._info, "info"),
         }
 
     @classmethod
@@ -683,7 +716,7 @@ class Spline:
                 info[key] = value[::-1]
         knots = np.ascontiguousarray(knots)
         aux = {key: np.array(value) for key, value in aux.items()}
-        return Spline._from_trusted(planar, knots, closed=self._closed, auxiliary=aux, info=_jsonable(info, "info"))
+        return Spline._from_trusted(planar, knots, closed=self._closed, auxiliary=aux, info=to_jsonable(info, "info"))
 
     def transformed(self, matrix, offset=None) -> "Spline":
         """Affine image ``x -> matrix @ x + offset`` (exact: Bézier pieces map to Bézier pieces).

@@ -261,6 +261,7 @@ def _make_spline(form, pts, tan, alpha, beta, closed, joint_labels, extra_info):
         "beta": beta.tolist(),
         "joint_status": status,
         "curvature_jump": jumps,
+        "leg_offset": 0,
     }
     info.update(extra_info)
     return Spline(bezier, knots, closed=closed, info=info, auxiliary={"Q1": q1, "Q2": q2, "tangents": tan})

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Create (or reuse) the project venv in .venv and install splinecraft with the given extras.
 # Usage: scripts/bootstrap.sh [EXTRAS]   e.g. scripts/bootstrap.sh lab   or   scripts/bootstrap.sh test
+# A stamp file .venv/.installed-EXTRAS records each install; it is redone when pyproject.toml is newer.
+# The test extra includes lab (pyproject.toml), so a venv installed for the tests serves `start.sh` too.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 extras="${1:-}"
@@ -9,12 +11,20 @@ if [ ! -x .venv/bin/python ]; then
   "$py" -m venv .venv
 fi
 stamp=".venv/.installed-${extras:-base}"
-if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
-  .venv/bin/python -m pip install --quiet --upgrade pip
-  if [ -n "$extras" ]; then
-    .venv/bin/python -m pip install --quiet -e ".[${extras}]"
-  else
-    .venv/bin/python -m pip install --quiet -e .
+covering=("$stamp")
+case "${extras:-base}" in
+  base) covering+=(.venv/.installed-lab .venv/.installed-test) ;;
+  lab) covering+=(.venv/.installed-test) ;;
+esac
+for done_stamp in "${covering[@]}"; do
+  if [ -f "$done_stamp" ] && [ ! pyproject.toml -nt "$done_stamp" ]; then
+    exit 0
   fi
-  touch "$stamp"
+done
+.venv/bin/python -m pip install --quiet --upgrade pip
+if [ -n "$extras" ]; then
+  .venv/bin/python -m pip install --quiet -e ".[${extras}]"
+else
+  .venv/bin/python -m pip install --quiet -e .
 fi
+touch "$stamp"

@@ -1,0 +1,426 @@
+"""Fonts from outlines and outlines from fonts, with fontTools and ufoLib2.
+
+* :func:`build` writes a UFO source (ufoLib2), a compiled OpenType font with CFF outlines (exact cubics) and a
+  TrueType font (quadratics from fontTools' ``cu2qu``, within ``ttf_max_error`` font units of the cubics), and
+  returns the paths. :func:`to_glyph` makes one UFO glyph.
+* :func:`glyph_outline` reads a glyph of any font file (or installed family, found with ``fc-match``) into an
+  :class:`~splinecraft.outline.Outline` (quadratic TrueType pieces raised to cubics exactly).
+
+Frames. Outlines live in a y-down frame (pixels of a bitmap); font units are y-up with the baseline at 0. A
+point ``(x, y)`` maps to ``((x - x_min) s + sidebearing, (baseline - y) s)`` with ``s = scale`` font units per
+frame unit, ``x_min`` the left of the glyph's curves and ``baseline`` the outline's own (``Outline.baseline``,
+set for font glyphs) or else the bottom of its curves. The default scale is the same for every glyph of a
+font: the tallest glyph (curve bounding box) spans ``ascender`` units.
+
+Winding. Contours are oriented by nesting depth (even = filled, odd = hole; the even-odd rule of the SVG
+output): in the UFO and the CFF font filled contours run counter-clockwise (y up, the PostScript rule),
+in the TrueType font clockwise (the TrueType rule; ``cu2qu`` reverses them). Rounding to integer font
+units moves the curve by at most ``sqrt(2) / 2`` units (the Bézier convex hull), so the OTF is within 0.71
+units and the TTF within ``ttf_max_error + 0.71`` units of the outline.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+import shutil
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .outline import Outline, as_outline
+from .outline.contour import bezier_signed_area
+
+__all__ = ["build", "to_glyph", "glyph_outline", "font_contours", "FontFiles", "TTF_MAX_ERROR"]
+
+#: Default maximum distance (font units) between a cubic and its TrueType quadratic approximation.
+TTF_MAX_ERROR = 0.25
+
+
+@dataclass
+class FontFiles:
+    """What :func:`build` wrote, and the scale it used (font units per frame unit)."""
+
+    ufo: Path
+    otf: Path
+    ttf: Path
+    scale: float
+    ttf_max_error: float
+
+    @property
+    def paths(self) -> dict:
+        return {"ufo": self.ufo, "otf": self.otf, "ttf": self.ttf}
+
+
+# ---------------------------------------------------------------------------------------------- geometry
+def _polygon(bezier, samples=16):
+    theta = np.linspace(0.0, 1.0, samples, endpoint=False)
+    one = 1.0 - theta
+    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+    return np.einsum("sk,pkd->psd", weights, bezier).reshape(-1, 2)
+
+
+def _nesting_depth(curves):
+    """How many other contours contain each contour (tested at its first point)."""
+    from skimage.measure import points_in_poly
+
+    polygons = [_polygon(b) for b in curves]
+    depth = np.zeros(len(curves), dtype=int)
+    for k, curve in enumerate(curves):
+        probe = curve[:1, 0]
+        depth[k] = sum(bool(points_in_poly(probe, polygon)[0]) for j, polygon in enumerate(polygons) if j != k)
+    return depth
+
+
+def _reverse(bezier):
+    return bezier[::-1, ::-1].copy()
+
+
+def font_contours(source, *, scale=1.0, baseline=None, sidebearing=0.0):
+    """The contours of ``source`` in font units (y up), PostScript winding: a list of ``(m, 4, 2)`` arrays,
+    and the advance width ``(x_max - x_min) s + 2 sidebearing`` (see the module docstring)."""
+    outline = as_outline(source)
+    scale = _positive(scale, "scale")
+    low, high = outline.bounds()
+    if baseline is None:
+        baseline = outline.baseline if outline.baseline is not None else float(high[1])
+    curves = []
+    for bezier in outline.bezier():
+        mapped = np.empty_like(bezier)
+        mapped[..., 0] = (bezier[..., 0] - low[0]) * scale + sidebearing
+        mapped[..., 1] = (baseline - bezier[..., 1]) * scale
+        curves.append(mapped)
+    for k, depth in enumerate(_nesting_depth(curves)):
+        if (bezier_signed_area(curves[k]) > 0) != (depth % 2 == 0):
+            curves[k] = _reverse(curves[k])
+    return curves, float((high[0] - low[0]) * scale + 2 * sidebearing)
+
+
+def _positive(value, name):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    value = float(value)
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return value
+
+
+def _xy(point):
+    """A point as plain Python numbers (ints where integral: UFO files and charstrings want those)."""
+    return tuple(int(v) if float(v).is_integer() else float(v) for v in point)
+
+
+def _draw(curves, pen):
+    """Segment-pen drawing; pieces whose control points lie on their chord become lines."""
+    for bezier in curves:
+        pen.moveTo(_xy(bezier[0, 0]))
+        for piece in bezier:
+            chord = piece[3] - piece[0]
+            length = math.hypot(*chord)
+            offsets = piece[1:3] - piece[0]
+            off_line = np.abs(offsets[:, 0] * chord[1] - offsets[:, 1] * chord[0]) if length else np.ones(2)
+            if length and (off_line <= 1e-9 * length * max(length, 1.0)).all():
+                pen.lineTo(_xy(piece[3]))
+            else:
+                pen.curveTo(_xy(piece[1]), _xy(piece[2]), _xy(piece[3]))
+        pen.closePath()
+
+
+# ---------------------------------------------------------------------------------------------- UFO glyphs
+def _glyph_name(key):
+    from fontTools.agl import UV2AGL
+
+    if isinstance(key, str) and len(key) == 1:
+        code = ord(key)
+        return UV2AGL.get(code, f"uni{code:04X}" if code <= 0xFFFF else f"u{code:05X}"), code
+    if isinstance(key, str) and re.fullmatch(r"[A-Za-z_.][A-Za-z0-9_.\-]*", key):
+        return key, None
+    raise ValueError(f"glyph key {key!r} must be a single character or a glyph name")
+
+
+def _glyph(source, name, unicode, scale, baseline, sidebearing):
+    """``(glyph, curves, advance)``: the UFO glyph (integer coordinates) and the unrounded font-unit curves."""
+    from ufoLib2.objects import Glyph
+
+    outline = as_outline(source)
+    glyph_name, code = _glyph_name(name if name is not None else (outline.name or "glyph"))
+    if unicode is not None:
+        code = int(unicode)
+    curves, advance = font_contours(outline, scale=scale, baseline=baseline, sidebearing=float(sidebearing))
+    glyph = Glyph(glyph_name)
+    glyph.unicodes = [] if code is None else [code]
+    glyph.width = round(advance)
+    _draw([np.round(c) for c in curves], glyph.getPen())
+    return glyph, curves, round(advance)
+
+
+def to_glyph(source, name=None, *, unicode=None, scale=1.0, baseline=None, sidebearing=50.0):
+    """A :class:`ufoLib2.objects.Glyph` of ``source`` (an outline, a TraceResult, an editor, ...).
+
+    ``name`` is a single character (its Unicode code point and AGL name are used) or a glyph name (default
+    the outline's name or ``"glyph"``); ``unicode`` overrides the code point. Geometry as in
+    :func:`font_contours`, coordinates rounded to integer font units; the advance is the glyph's width plus
+    two ``sidebearing``.
+    """
+    return _glyph(source, name, unicode, scale, baseline, sidebearing)[0]
+
+
+def _default_scale(outlines, ascender):
+    heights = []
+    for outline in outlines:
+        low, high = outline.bounds()
+        heights.append(float(high[1] - low[1]))
+    return ascender / max(heights)
+
+
+def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", units_per_em=1000, ascender=800,
+          descender=-200, scale=None, sidebearing=50, ttf_max_error=TTF_MAX_ERROR) -> FontFiles:
+    """Write ``<family>-<style>.ufo``, ``.otf`` (CFF) and ``.ttf`` (quadratic) into ``output_dir``.
+
+    Parameters
+    ----------
+    glyphs : dict
+        Character (or glyph name) -> outline source (Outline, TraceResult, OutlineEditor, SVG, knot lists).
+        A ``space`` (a quarter em) and ``.notdef`` are added when missing.
+    units_per_em, ascender, descender : int
+        Vertical metrics (``descender`` <= 0).
+    scale : float, optional
+        Font units per frame unit for every glyph (default: the tallest glyph spans ``ascender``).
+    sidebearing : float
+        Left and right side bearing, font units.
+    ttf_max_error : float
+        Maximum distance (font units) of the TrueType quadratics from the cubics (``cu2qu``).
+
+    Returns
+    -------
+    FontFiles
+        ``ufo``, ``otf``, ``ttf`` paths, the ``scale`` used and ``ttf_max_error``.
+    """
+    import ufoLib2
+
+    if not isinstance(glyphs, dict) or not glyphs:
+        raise ValueError("glyphs must be a non-empty dict of character -> outline")
+    if not isinstance(family, str) or not family.strip():
+        raise ValueError(f"family must be a non-empty string, got {family!r}")
+    units_per_em = int(_positive(units_per_em, "units_per_em"))
+    ascender, descender = int(ascender), int(descender)
+    if not (ascender > 0 >= descender):
+        raise ValueError(f"need ascender > 0 >= descender, got {ascender} and {descender}")
+    ttf_max_error = _positive(ttf_max_error, "ttf_max_error")
+    outlines = {}
+    for key, source in glyphs.items():
+        try:
+            outlines[key] = as_outline(source)
+        except (TypeError, ValueError) as exc:
+            raise type(exc)(f"glyphs[{key!r}]: {exc}") from None
+    scale = _default_scale(outlines.values(), ascender) if scale is None else _positive(scale, "scale")
+
+    font = ufoLib2.Font()
+    info = font.info
+    info.familyName, info.styleName = family, style
+    info.unitsPerEm, info.ascender, info.descender = units_per_em, ascender, descender
+    info.capHeight, info.xHeight = ascender, round(ascender * 0.66)
+    curves = {}
+    for key, outline in outlines.items():
+        glyph, curves[glyph.name], _ = _glyph(outline, key, None, scale, None, sidebearing)
+        font.addGlyph(glyph)
+    if "space" not in font:
+        font.newGlyph("space").width = units_per_em // 4
+        font["space"].unicodes = [0x20]
+    if ".notdef" not in font:
+        font.newGlyph(".notdef").width = units_per_em // 2
+    output = Path(os.fspath(output_dir))
+    output.mkdir(parents=True, exist_ok=True)
+    stem = f"{re.sub(r'[^A-Za-z0-9]+', '', family) or 'Font'}-{re.sub(r'[^A-Za-z0-9]+', '', style) or 'Regular'}"
+    paths = FontFiles(output / f"{stem}.ufo", output / f"{stem}.otf", output / f"{stem}.ttf", scale, ttf_max_error)
+    if paths.ufo.exists():
+        shutil.rmtree(paths.ufo)
+    font.save(paths.ufo)
+    _compile(font, curves, paths.otf, cff=True, max_error=ttf_max_error)
+    _compile(font, curves, paths.ttf, cff=False, max_error=ttf_max_error)
+    return paths
+
+
+def _compile(font, curves, path, *, cff, max_error):
+    """Compile the UFO's glyphs into an OTF (CFF) or TTF; outlines are drawn from the unrounded ``curves``
+    (glyph name -> font-unit Bézier arrays), so that each format rounds once."""
+    from fontTools.fontBuilder import FontBuilder
+    from fontTools.pens.boundsPen import ControlBoundsPen
+    from fontTools.pens.cu2quPen import Cu2QuPen
+    from fontTools.pens.t2CharStringPen import T2CharStringPen
+    from fontTools.pens.ttGlyphPen import TTGlyphPen
+
+    info = font.info
+    order = [".notdef"] + sorted(name for name in font.keys() if name != ".notdef")
+    cmap = {code: glyph.name for glyph in font for code in glyph.unicodes}
+    builder = FontBuilder(info.unitsPerEm, isTTF=not cff)
+    builder.setupGlyphOrder(order)
+    builder.setupCharacterMap(cmap)
+    metrics, y_min, y_max = {}, 0, 0
+    outlines = {}
+    for name in order:
+        glyph = font[name]
+
+        def draw(pen, name=name, glyph=glyph):
+            if name in curves:
+                _draw(curves[name], pen)
+            else:
+                glyph.draw(pen)
+
+        bounds_pen = ControlBoundsPen(None)
+        draw(bounds_pen)
+        bounds = bounds_pen.bounds or (0, 0, 0, 0)
+        y_min, y_max = min(y_min, bounds[1]), max(y_max, bounds[3])
+        # hmtx's left side bearing is the glyph's x_min (of the rounded control points, as glyf computes it)
+        metrics[name] = (int(glyph.width), round(bounds[0]))
+        if cff:
+            pen = T2CharStringPen(int(glyph.width), None)
+            draw(pen)
+            outlines[name] = pen.getCharString()
+        else:
+            pen = TTGlyphPen(None)
+            draw(Cu2QuPen(pen, max_error, reverse_direction=True))
+            outlines[name] = pen.glyph()
+            if outlines[name].numberOfContours > 0:
+                metrics[name] = (int(glyph.width), int(min(x for x, _ in outlines[name].coordinates)))
+    postscript = re.sub(r"[^A-Za-z0-9-]", "", f"{info.familyName}-{info.styleName}")
+    if cff:
+        builder.setupCFF(postscript, {"FullName": f"{info.familyName} {info.styleName}"}, outlines, {})
+    else:
+        builder.setupGlyf(outlines)
+    builder.setupHorizontalMetrics(metrics)
+    builder.setupHorizontalHeader(ascent=info.ascender, descent=info.descender)
+    builder.setupNameTable({"familyName": info.familyName, "styleName": info.styleName,
+                            "psName": postscript})
+    builder.setupOS2(sTypoAscender=info.ascender, sTypoDescender=info.descender, sTypoLineGap=0,
+                     usWinAscent=max(info.ascender, int(y_max)), usWinDescent=max(-info.descender, -int(y_min)),
+                     sxHeight=info.xHeight, sCapHeight=info.capHeight)
+    builder.setupPost()
+    builder.save(os.fspath(path))
+
+
+# ---------------------------------------------------------------------------------------------- reading
+def _resolve_font(font):
+    path = Path(os.fspath(font))
+    if path.is_file():
+        return path
+    text = os.fspath(font)
+    if path.suffix.lower() in (".ttf", ".otf", ".ttc", ".otc", ".woff", ".woff2") or os.sep in text:
+        raise FileNotFoundError(f"no font file {text!r}")
+    matcher = shutil.which("fc-match")
+    if matcher is None:
+        raise FileNotFoundError(f"{text!r} is not a font file, and fc-match is not installed to look up families")
+    found = subprocess.run([matcher, "-f", "%{file}\n%{family}", text], capture_output=True, text=True,
+                           timeout=30, check=False).stdout.split("\n", 1)
+    families = [f.strip().lower() for f in (found[1] if len(found) > 1 else "").split(",")]
+    if not found[0] or text.strip().lower() not in families:
+        raise ValueError(f"no installed font family {text!r} (fc-list lists the installed fonts)")
+    return Path(found[0])
+
+
+def _open_font(font, font_number):
+    from fontTools.ttLib import TTFont
+
+    path = _resolve_font(font)
+    try:
+        return TTFont(os.fspath(path), fontNumber=font_number, lazy=True), path
+    except Exception as exc:  # fontTools raises many kinds for a damaged or foreign file
+        raise ValueError(f"cannot read the font file {str(path)!r}: {type(exc).__name__}: {exc}") from None
+
+
+class _BezierPen:
+    """A fontTools segment pen collecting closed contours as cubic Bézier arrays."""
+
+    def __init__(self):
+        from fontTools.pens.basePen import BasePen
+
+        collector = self
+
+        class Pen(BasePen):
+            def _moveTo(self, point):
+                collector.current, collector.start = [], np.array(point, float)
+                collector.position = collector.start
+
+            def _lineTo(self, point):
+                end = np.array(point, float)
+                p = collector.position
+                collector.current.append([p, p + (end - p) / 3, p + 2 * (end - p) / 3, end])
+                collector.position = end
+
+            def _curveToOne(self, a, b, c):
+                collector.current.append([collector.position, np.array(a, float), np.array(b, float),
+                                          np.array(c, float)])
+                collector.position = collector.current[-1][3]
+
+            def _qCurveToOne(self, a, b):
+                p, q, end = collector.position, np.array(a, float), np.array(b, float)
+                collector.current.append([p, p + 2 * (q - p) / 3, end + 2 * (q - end) / 3, end])
+                collector.position = end
+
+            def _closePath(self):
+                if not np.allclose(collector.position, collector.start):
+                    self._lineTo(tuple(collector.start))
+                if collector.current:
+                    collector.contours.append(np.array(collector.current))
+
+            def _endPath(self):
+                collector.open_contours += 1
+
+        self.contours, self.open_contours = [], 0
+        self.pen = Pen(None)
+
+
+def glyph_outline(font, char, *, font_number=0) -> Outline:
+    """The contours of a glyph of a font, as an :class:`~splinecraft.outline.Outline` in font units.
+
+    Parameters
+    ----------
+    font : path or str
+        A font file (TrueType, OpenType/CFF, collections with ``font_number``) or the family name of an
+        installed font (``"DejaVu Sans"``, looked up with ``fc-match``).
+    char : str or int
+        A single character (looked up in the font's cmap), a glyph name, or a code point.
+
+    Returns
+    -------
+    Outline
+        In a y-down frame: ``(x, ascender - y)`` (font units), ``width`` = the advance, ``height`` =
+        ascender - descender, ``baseline`` = the ascender; composite glyphs are decomposed.
+
+    Raises
+    ------
+    FileNotFoundError, ValueError
+        A missing or unreadable font file, an unknown family, a char or glyph name not in the font, a glyph
+        without contours.
+    """
+    ttfont, path = _open_font(font, font_number)
+    if isinstance(char, bool) or not isinstance(char, (str, int)):
+        raise TypeError(f"char must be a character, a glyph name or a code point, got {type(char).__name__}")
+    if isinstance(char, int) or len(char) == 1:
+        code = char if isinstance(char, int) else ord(char)
+        name = ttfont.getBestCmap().get(code)
+        if name is None:
+            raise ValueError(f"{str(path)!r} has no glyph for {chr(code)!r} (U+{code:04X})")
+    else:
+        name = char
+        if name not in ttfont.getGlyphOrder():
+            raise ValueError(f"{str(path)!r} has no glyph named {name!r}")
+    glyph_set = ttfont.getGlyphSet()
+    collector = _BezierPen()
+    glyph_set[name].draw(collector.pen)
+    if not collector.contours:
+        raise ValueError(f"glyph {name!r} of {str(path)!r} has no closed contours (a space or a mark?)")
+    ascender, descender = ttfont["hhea"].ascent, ttfont["hhea"].descent
+    curves = []
+    for bezier in collector.contours:
+        flipped = bezier.copy()
+        flipped[..., 1] = ascender - bezier[..., 1]
+        curves.append(flipped)
+    from .outline import from_bezier
+
+    advance = ttfont["hmtx"][name][0]
+    right = max(float(c[..., 0].max()) for c in curves)
+    return from_bezier(curves, width=max(advance, right, 1), height=ascender - descender, baseline=ascender,
+                       name=name)

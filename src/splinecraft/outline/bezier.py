@@ -1,0 +1,190 @@
+"""Closed cubic Bézier curves -> contours in the project's spline form, exactly.
+
+A closed run of cubic Bézier pieces (an SVG subpath, a font glyph's contour, a traced outline) becomes a
+:class:`~splinecraft.outline.contour.Contour` that reproduces it exactly:
+
+* a knot where the incoming and outgoing handles are not collinear and pointing the same way (no G¹ joint),
+  or where one is zero, is a **corner** with those handles (clamped ends, §2.4 Type 1);
+* at a G¹ knot the parameter steps are chosen so the joint is C¹ (``h_i / h_{i-1} = |b1 - b0|_i /
+  |b3 - b2|_{i-1}``, since ``P'(t_i) = 3 (b1 - b0) / h_i``), and the GC² constraint of thesis eqs 3.13-3.14,
+  ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)``, is two linear equations for the interval
+  weight ``omega_i`` (given ``omega_{i-1}``) and the point tension ``v_i``. When they have a solution with
+  ``omega_i > 0`` the knot is **smooth** with that ``v_i``, else it becomes a corner. A loop without corners
+  must also close up (steps and weights back to their start values), else knot 0 becomes a corner.
+
+The result is then rebuilt by the engine and compared with the input; pieces that do not match (the engine
+refuses a tension, rounding) get corners at their ends, so the conversion is always exact to rounding.
+The project's own curves (``v = 0``, ``omega = 1``) come back with those values.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .contour import Contour
+
+__all__ = ["contour_from_bezier", "drop_degenerate_pieces"]
+
+#: Relative tolerance of the G¹ test (sine of the angle between the handles) and of the exactness check.
+SMOOTH_TOLERANCE = 1e-9
+MATCH_TOLERANCE = 1e-7
+
+
+def drop_degenerate_pieces(bezier) -> np.ndarray:
+    """Pieces of zero length (all four control points equal) removed."""
+    bezier = np.asarray(bezier, float)
+    spread = np.abs(bezier - bezier[:, :1]).max(axis=(1, 2))
+    scale = max(float(np.abs(bezier).max(initial=0.0)), 1.0)
+    return bezier[spread > 1e-12 * scale]
+
+
+def _handles(bezier):
+    out = bezier[:, 1] - bezier[:, 0]
+    into = np.roll(bezier[:, 2] - bezier[:, 3], 1, axis=0)  # arriving at knot i: piece i - 1
+    return out, into
+
+
+def _g1_joints(bezier):
+    """Knots whose two handles are non-zero, collinear and opposite (a G¹ joint)."""
+    out, into = _handles(bezier)
+    length_out, length_in = np.hypot(*out.T), np.hypot(*into.T)
+    scale = max(float(np.ptp(bezier.reshape(-1, 2), axis=0).max()), 1e-300)
+    nonzero = (length_out > 1e-12 * scale) & (length_in > 1e-12 * scale)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sine = (out[:, 0] * into[:, 1] - out[:, 1] * into[:, 0]) / (length_out * length_in)
+        opposite = (out * into).sum(axis=1) < 0
+    return nonzero & opposite & (np.abs(sine) <= SMOOTH_TOLERANCE)
+
+
+def _runs(corners):
+    """Runs of intervals between consecutive corners: lists of knot indices (first corner .. next corner)."""
+    n = corners.size
+    index = np.flatnonzero(corners)
+    if index.size == 0:
+        return [np.r_[np.arange(n), 0]]
+    runs = []
+    for j, start in enumerate(index):
+        end = index[(j + 1) % index.size]
+        length = (end - start) % n or n
+        runs.append((start + np.arange(length + 1)) % n)
+    return runs
+
+
+def _second_derivatives(bezier, steps):
+    """``P''`` at the start and at the end of every piece for the given steps."""
+    start = 6.0 * (bezier[:, 0] - 2 * bezier[:, 1] + bezier[:, 2]) / steps[:, None] ** 2
+    end = 6.0 * (bezier[:, 1] - 2 * bezier[:, 2] + bezier[:, 3]) / steps[:, None] ** 2
+    return start, end
+
+
+def _solve_run(bezier, run, steps, weights, tension, closing):
+    """Steps, weights and tensions along one run; returns the first interior knot that cannot be smooth."""
+    out, into = _handles(bezier)
+    chords = np.hypot(*(bezier[:, 3] - bezier[:, 0]).T)
+    intervals = run[:-1]
+    steps[intervals[0]] = 1.0
+    for previous, i in zip(intervals[:-1], intervals[1:]):
+        steps[i] = steps[previous] * np.hypot(*out[i]) / np.hypot(*into[i])
+    if closing:  # a loop without corners: the step at knot 0 must come back to itself
+        back = steps[intervals[-1]] * np.hypot(*out[run[0]]) / np.hypot(*into[run[0]])
+        if not np.isclose(back, steps[run[0]], rtol=1e-9, atol=0.0):
+            return int(run[0])
+    steps[intervals] *= chords[intervals].sum() / steps[intervals].sum()
+    start, end = _second_derivatives(bezier, steps)
+    weights[intervals[0]] = 1.0
+    interior = list(zip(intervals[:-1], intervals[1:]))
+    if closing:
+        interior.append((intervals[-1], intervals[0]))
+    for previous, i in interior:
+        tangent = 3.0 * out[i] / steps[i]
+        system = np.column_stack([start[i], -tangent])
+        rhs = weights[previous] * end[previous]
+        solution, *_ = np.linalg.lstsq(system, rhs, rcond=None)
+        weight, v = solution
+        if not np.allclose(system @ solution, rhs, rtol=0, atol=1e-9 * max(np.abs(rhs).max(), np.abs(system).max(), 1e-300)):
+            # parallel columns (straight or symmetric pieces): keep the weight, take v along the tangent
+            weight = weights[previous]
+            residual = weight * start[i] - rhs
+            v = float(residual @ tangent / (tangent @ tangent))
+            if not np.allclose(weight * start[i] - v * tangent, rhs, rtol=0,
+                               atol=1e-9 * max(np.abs(rhs).max(), np.abs(start[i]).max(), 1e-300)):
+                return int(i)
+        if not weight > 0:
+            return int(i)
+        if closing and i == intervals[0]:
+            if not np.isclose(weight, weights[i], rtol=1e-9):
+                return int(i)
+        else:
+            weights[i] = weight
+        tension[i] = v
+    return None
+
+
+def _attempt(bezier, corners):
+    n = bezier.shape[0]
+    while True:
+        steps, weights, tension = np.ones(n), np.ones(n), np.zeros(n)
+        failed = None
+        for run in _runs(corners):
+            failed = _solve_run(bezier, run, steps, weights, tension, closing=not corners.any())
+            if failed is not None:
+                break
+        if failed is None:
+            return steps, weights, tension
+        if corners[failed]:
+            raise AssertionError(f"knot {failed} is a corner already")
+        corners[failed] = True
+
+
+def contour_from_bezier(bezier, corners=None) -> Contour:
+    """The contour reproducing the closed Bézier curve ``bezier`` ``(N, 4, 2)`` (module docstring).
+
+    ``corners`` (optional, N booleans) forces corners at those knots (e.g. a trace's corners).
+    """
+    bezier = np.asarray(bezier, float)
+    if bezier.ndim != 3 or bezier.shape[1:] != (4, 2):
+        raise ValueError(f"bezier must have shape (N, 4, 2), got {bezier.shape}")
+    n = bezier.shape[0]
+    if n < 3:  # split pieces so that the contour has 3 knots (exact de Casteljau halves)
+        bezier = _split_to_three(bezier)
+        n = bezier.shape[0]
+        corners = None if corners is None else np.r_[np.asarray(corners, bool), np.zeros(n, bool)][:n]
+    forced = np.zeros(n, bool) if corners is None else np.asarray(corners, bool).copy()
+    corner_mask = forced | ~_g1_joints(bezier)
+    scale = max(float(np.ptp(bezier.reshape(-1, 2), axis=0).max()), 1.0)
+    for _ in range(n + 1):
+        steps, weights, tension = _attempt(bezier, corner_mask)
+        out, into = _handles(bezier)
+        try:
+            contour = Contour(bezier[:, 0], corner_mask, handles_in=into, handles_out=out, steps=steps,
+                              point_tension=_snap(tension, 0.0), interval_weights=_snap(weights, 1.0))
+        except ValueError:
+            contour = None
+            bad = np.ones(n, bool)
+        else:
+            bad = np.abs(contour.bezier() - bezier).max(axis=(1, 2)) > MATCH_TOLERANCE * scale
+            if not bad.any():
+                return contour
+        worse = corner_mask | bad | np.roll(bad, 1)
+        if (worse == corner_mask).all():
+            worse[:] = True
+        corner_mask = worse
+    raise AssertionError("unreachable: a contour of corners reproduces every Bézier piece")
+
+
+def _snap(values, target):
+    """Values within rounding of ``target`` (the project's defaults v = 0, omega = 1) set to it."""
+    values = np.array(values, float)
+    values[np.abs(values - target) <= 1e-9 * max(1.0, abs(target))] = target
+    return values
+
+
+def _split_to_three(bezier):
+    pieces = list(bezier)
+    while len(pieces) < 3:
+        widest = int(np.argmax([np.ptp(p, axis=0).max() for p in pieces]))
+        p = pieces.pop(widest)
+        a, b = (p[:-1] + p[1:]) / 2, None
+        b = (a[:-1] + a[1:]) / 2
+        c = (b[0] + b[1]) / 2
+        pieces[widest:widest] = [np.array([p[0], a[0], b[0], c]), np.array([c, b[1], a[2], p[3]])]
+    return np.array(pieces)

@@ -1,0 +1,345 @@
+"""The editable outline: several closed contours (outer boundaries, holes, components) in one frame.
+
+An :class:`Outline` is immutable: every edit and transform returns a new outline, rebuilding only the
+contours it changed with the engine (:class:`~splinecraft.outline.contour.Contour`), so an edit history is
+a list of outlines that share their unchanged contours. The frame is the bitmap's pixel frame of
+docs/capture.md (x right, y down, ``width x height``); fills are even-odd, so the orientation of a contour
+does not matter for drawing (fonts orient them, see :mod:`splinecraft.font`).
+
+Knots are addressed as ``(contour, knot)`` pairs; transforms take ``contours=`` (whole contours: exact
+affine images, thesis section 3.3) and/or ``knots=`` (single knots); with neither they act on the whole shape.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .contour import Contour, _indices
+from .transforms import affine_parts, reflection, rotation, scaling, shearing, translation
+
+__all__ = ["Outline", "contour_deviation", "DEVIATION_SPACING"]
+
+#: Curve sampling step (px) of the deviation measure.
+DEVIATION_SPACING = 0.25
+_FORMAT = "splinecraft.Outline"
+
+
+def _sample_pieces(bezier, spacing):
+    """Points about ``spacing`` apart on every piece (ends included) and the piece of each point."""
+    lengths = np.hypot(*np.diff(bezier, axis=1).transpose(2, 0, 1)).sum(axis=1)
+    counts = np.maximum(2, np.ceil(lengths / spacing).astype(np.int64)) + 1
+    piece = np.repeat(np.arange(bezier.shape[0]), counts)
+    first = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    theta = (np.arange(piece.size) - first[piece]) / (counts[piece] - 1)
+    one = 1.0 - theta
+    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+    return np.einsum("nk,nkd->nd", weights, bezier[piece]), piece
+
+
+def contour_deviation(contour, source, spacing=DEVIATION_SPACING) -> np.ndarray:
+    """Max distance (px) of every piece of ``contour`` from the closed source polyline ``source`` (M, 2).
+
+    Both directions, as in the fit's own measure (``capture.fitting.piece_deviation``): curve samples to the
+    polyline, and the polyline's vertices and edge midpoints to the sampled curve, each attributed to the piece
+    of its nearest curve sample. An upper bound of the Hausdorff distance up to the sampling (``spacing / 2``).
+    """
+    from scipy.spatial import cKDTree
+
+    from ..capture.fitting import polyline_distance
+
+    samples, piece = _sample_pieces(contour.bezier(), spacing)
+    source = np.asarray(source, float)
+    result = np.zeros(len(contour))
+    np.maximum.at(result, piece, polyline_distance(samples, source, closed=True))
+    probes = np.vstack([source, 0.5 * (source + np.roll(source, -1, axis=0))])
+    to_curve = polyline_distance(probes, samples, closed=True)
+    _, nearest = cKDTree(samples).query(probes)
+    np.maximum.at(result, piece[nearest], to_curve)
+    return result
+
+
+class Outline:
+    """Closed contours in one frame, with the source contours and bitmap they were captured from.
+
+    Parameters
+    ----------
+    contours : sequence of Contour
+    width, height : float, optional
+        The frame (default: the bounding box of the curves, rounded up, with a margin of 1).
+    sources : sequence of (M, 2) arrays or None, optional
+        Per contour, the closed polyline it was fitted to (for :meth:`deviation`).
+    bitmap : (H, W) bool array, optional
+        The binarized image it came from (drawn under the editor).
+    baseline : float, optional
+        y of the baseline in the frame (fonts; default: the bottom of the curves).
+    name : str, optional
+    """
+
+    def __init__(self, contours, *, width=None, height=None, sources=None, bitmap=None, baseline=None, name=None):
+        contours = tuple(contours)
+        if not contours:
+            raise ValueError("an outline needs at least one contour")
+        for k, contour in enumerate(contours):
+            if not isinstance(contour, Contour):
+                raise TypeError(f"contours[{k}] must be a Contour, got {type(contour).__name__}")
+        if sources is None:
+            sources = (None,) * len(contours)
+        sources = tuple(None if s is None else np.asarray(s, float) for s in sources)
+        if len(sources) != len(contours):
+            raise ValueError(f"sources must have one entry per contour ({len(contours)}), got {len(sources)}")
+        self.contours = contours
+        self.sources = sources
+        self.bitmap = None if bitmap is None else np.asarray(bitmap, bool)
+        low, high = self.bounds()
+        self.width = float(width) if width is not None else float(math.ceil(high[0]) + 1)
+        self.height = float(height) if height is not None else float(math.ceil(high[1]) + 1)
+        for label, value in (("width", self.width), ("height", self.height)):
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"{label} must be a finite number > 0, got {value!r}")
+        self.baseline = None if baseline is None else float(baseline)
+        self.name = name
+
+    def _with(self, contours, sources=None, **changes) -> "Outline":
+        options = {"width": self.width, "height": self.height, "bitmap": self.bitmap, "baseline": self.baseline,
+                   "name": self.name}
+        options.update(changes)
+        return Outline(contours, sources=self.sources if sources is None else sources, **options)
+
+    def __repr__(self):
+        knots = sum(len(c) for c in self.contours)
+        corners = sum(int(c.corners.sum()) for c in self.contours)
+        return (f"Outline({len(self.contours)} contours, {knots} knots, {corners} corners, "
+                f"frame {self.width:g} x {self.height:g})")
+
+    def __len__(self):
+        return len(self.contours)
+
+    # ------------------------------------------------------------------ geometry
+    def bezier(self) -> list:
+        """Bézier control points of every contour, a list of ``(N_k, 4, 2)`` arrays."""
+        return [contour.bezier() for contour in self.contours]
+
+    def splines(self) -> list:
+        """The closed :class:`~splinecraft.spline.Spline` of every contour."""
+        return [contour.spline for contour in self.contours]
+
+    def bounds(self):
+        """``(low, high)`` corners of the control points' bounding box (contains the curves)."""
+        points = np.concatenate([b.reshape(-1, 2) for b in self.bezier()])
+        return points.min(axis=0), points.max(axis=0)
+
+    def knot_points(self) -> list:
+        return [np.array(contour.points) for contour in self.contours]
+
+    def deviation(self) -> list:
+        """Per contour, the max distance (px) of each piece from its source contour (``None`` without one)."""
+        return [None if source is None else contour_deviation(contour, source)
+                for contour, source in zip(self.contours, self.sources)]
+
+    def max_deviation(self):
+        """The largest piece deviation over all contours with a source (``None`` when none has one)."""
+        values = [d.max() for d in self.deviation() if d is not None]
+        return float(max(values)) if values else None
+
+    def nearest_point(self, point, samples_per_piece=64):
+        """``(contour, piece, theta, distance)`` of the curve point closest to ``point`` (dense sampling)."""
+        point = np.asarray(point, float).reshape(2)
+        theta = np.linspace(0.0, 1.0, samples_per_piece + 1)[:-1]
+        one = 1.0 - theta
+        weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+        best = None
+        for k, bezier in enumerate(self.bezier()):
+            values = np.einsum("sk,pkd->psd", weights, bezier)
+            distance = np.hypot(*(values - point).transpose(2, 0, 1))
+            piece, sample = np.unravel_index(int(np.argmin(distance)), distance.shape)
+            if best is None or distance[piece, sample] < best[3]:
+                best = (k, int(piece), float(theta[sample]), float(distance[piece, sample]))
+        return best
+
+    # ------------------------------------------------------------------ edits
+    def _contour_index(self, contour):
+        return int(_indices(contour, len(self.contours))[0])
+
+    def _replace(self, changes: dict) -> "Outline":
+        contours = list(self.contours)
+        for k, contour in changes.items():
+            contours[k] = contour
+        return self._with(contours)
+
+    def replace_contour(self, contour, new) -> "Outline":
+        k = self._contour_index(contour)
+        if not isinstance(new, Contour):
+            raise TypeError(f"the new contour must be a Contour, got {type(new).__name__}")
+        return self._replace({k: new})
+
+    def move_knot(self, contour, knot, position) -> "Outline":
+        """Knot ``knot`` of contour ``contour`` moved to ``position`` (x, y)."""
+        k = self._contour_index(contour)
+        return self._replace({k: self.contours[k].moved(knot, position)})
+
+    def set_corner(self, contour, knot, corner=True, *, keep_shape=False) -> "Outline":
+        """Toggle a knot between corner and smooth (GC² joint); see :meth:`Contour.with_corner`."""
+        k = self._contour_index(contour)
+        return self._replace({k: self.contours[k].with_corner(knot, corner, keep_shape=keep_shape)})
+
+    def insert_knot(self, contour, piece, theta=0.5) -> "Outline":
+        """A knot inserted on a piece at its local parameter ``theta``; it becomes knot ``piece + 1``."""
+        k = self._contour_index(contour)
+        return self._replace({k: self.contours[k].inserted(piece, theta)})
+
+    def delete_knot(self, contour, knot) -> "Outline":
+        """Knot deleted; refused (``ValueError``) when the contour would keep fewer than 3 knots."""
+        k = self._contour_index(contour)
+        return self._replace({k: self.contours[k].removed(knot)})
+
+    def set_point_tension(self, contour, knots, value) -> "Outline":
+        k = self._contour_index(contour)
+        return self._replace({k: self.contours[k].with_point_tension(knots, value)})
+
+    def set_interval_weight(self, contour, pieces, value) -> "Outline":
+        k = self._contour_index(contour)
+        return self._replace({k: self.contours[k].with_interval_weight(pieces, value)})
+
+    def remove_contour(self, contour) -> "Outline":
+        k = self._contour_index(contour)
+        if len(self.contours) == 1:
+            raise ValueError("cannot remove the only contour of an outline")
+        keep = [j for j in range(len(self.contours)) if j != k]
+        return self._with([self.contours[j] for j in keep], sources=[self.sources[j] for j in keep])
+
+    def add_contour(self, contour, source=None) -> "Outline":
+        if not isinstance(contour, Contour):
+            contour = Contour(contour)
+        return self._with([*self.contours, contour], sources=[*self.sources, source])
+
+    # ------------------------------------------------------------------ transforms (thesis section 3.3)
+    def _selection(self, contours, knots):
+        """contour index -> knot indices (``None`` = the whole contour)."""
+        if contours is None and knots is None:
+            return {k: None for k in range(len(self.contours))}
+        chosen = {}
+        for c in ([] if contours is None else np.atleast_1d(contours).tolist()):
+            chosen[self._contour_index(c)] = None
+        for pair in ([] if knots is None else knots):
+            if len(pair) != 2:
+                raise ValueError(f"knots must be (contour, knot) pairs, got {pair!r}")
+            k = self._contour_index(pair[0])
+            if k in chosen and chosen[k] is None:
+                continue
+            index = int(_indices(pair[1], len(self.contours[k]))[0])
+            chosen.setdefault(k, set()).add(index)
+        for k, value in chosen.items():
+            if value is not None and len(value) == len(self.contours[k]):
+                chosen[k] = None
+        return chosen
+
+    def selection_center(self, contours=None, knots=None):
+        """Centre of the bounding box of the selected knots (the default pivot of the transforms)."""
+        selected = self._selection(contours, knots)
+        points = np.concatenate([self.contours[k].points if knots_ is None else self.contours[k].points[sorted(knots_)]
+                                 for k, knots_ in selected.items()])
+        return (points.min(axis=0) + points.max(axis=0)) / 2.0
+
+    def transform(self, matrix, *, contours=None, knots=None) -> "Outline":
+        """Affine map (2x3 or 3x3 matrix) of the selected knots and their handles (the whole shape by
+        default). Whole contours map exactly (the new curve is the affine image of the old one). Singular or
+        non-finite matrices raise ``ValueError``."""
+        linear, offset = affine_parts(matrix)
+        selected = self._selection(contours, knots)
+        return self._replace({k: self.contours[k].transformed(linear, offset, None if index is None else sorted(index))
+                              for k, index in selected.items()})
+
+    def _pivot(self, center, contours, knots):
+        return self.selection_center(contours, knots) if center is None else np.asarray(center, float).reshape(2)
+
+    def translate(self, dx, dy, *, contours=None, knots=None) -> "Outline":
+        return self.transform(translation(dx, dy), contours=contours, knots=knots)
+
+    def rotate(self, degrees, *, center=None, contours=None, knots=None) -> "Outline":
+        """Rotation by ``degrees`` (clockwise on screen, y down) about ``center`` (default: the selection's)."""
+        return self.transform(rotation(degrees, self._pivot(center, contours, knots)), contours=contours, knots=knots)
+
+    def scale(self, sx, sy=None, *, center=None, contours=None, knots=None) -> "Outline":
+        """Uniform (``sy=None``) or per-axis scale about ``center``."""
+        return self.transform(scaling(sx, sy, self._pivot(center, contours, knots)), contours=contours, knots=knots)
+
+    def shear(self, kx, ky=0.0, *, center=None, contours=None, knots=None) -> "Outline":
+        """Shear ``x' = x + kx y``, ``y' = y + ky x`` about ``center``."""
+        return self.transform(shearing(kx, ky, self._pivot(center, contours, knots)), contours=contours, knots=knots)
+
+    def slant(self, degrees, *, center=None, contours=None, knots=None) -> "Outline":
+        """Italic slant: the top leans right by ``degrees`` (a shear ``kx = -tan(degrees)`` in the y-down frame)."""
+        return self.shear(-math.tan(math.radians(degrees)), 0.0, center=center, contours=contours, knots=knots)
+
+    def reflect(self, axis="vertical", *, center=None, contours=None, knots=None) -> "Outline":
+        """Mirror about a line through ``center``: ``"vertical"``, ``"horizontal"`` or an angle in degrees."""
+        return self.transform(reflection(axis, self._pivot(center, contours, knots)), contours=contours, knots=knots)
+
+    # ------------------------------------------------------------------ export
+    def svg_path_data(self, *, decimals=4) -> str:
+        from ..capture.svg import path_data
+
+        return path_data(self.bezier(), decimals=decimals)
+
+    def to_svg(self, *, decimals=4, fill="black", title=None) -> str:
+        """Standalone SVG: one ``<path>`` of exact cubic Béziers, ``fill-rule="evenodd"``, in the frame
+        (``width``/``height``/``viewBox``); ``decimals=None`` writes exact floats."""
+        from ..capture.svg import svg_document
+
+        width, height = int(math.ceil(self.width)), int(math.ceil(self.height))
+        return svg_document(self.svg_path_data(decimals=decimals), width, height, fill=fill,
+                            title=title if title is not None else self.name)
+
+    def save_svg(self, path, **options) -> Path:
+        """Write :meth:`to_svg` to ``path``; returns the path."""
+        path = Path(os.fspath(path))
+        path.write_text(self.to_svg(**options), encoding="utf-8")
+        return path
+
+    def to_glyph(self, name=None, **options):
+        """A ufoLib2 glyph of this outline (see :func:`splinecraft.font.to_glyph`)."""
+        from .. import font
+
+        return font.to_glyph(self, name, **options)
+
+    def to_dict(self, *, include_sources=True) -> dict:
+        """Plain JSON types: the contours exactly (knots, corners, handles, steps, tensions, weights), the frame
+        and, optionally, the source contours (the bitmap is not stored)."""
+        data = {"type": _FORMAT, "version": 1, "width": self.width, "height": self.height,
+                "baseline": self.baseline, "name": self.name,
+                "contours": [contour.to_dict() for contour in self.contours]}
+        if include_sources:
+            data["sources"] = [None if s is None else s.tolist() for s in self.sources]
+        return data
+
+    def to_json(self, *, indent=None, include_sources=True) -> str:
+        return json.dumps(self.to_dict(include_sources=include_sources), indent=indent, allow_nan=False)
+
+    @classmethod
+    def from_dict(cls, data) -> "Outline":
+        if not isinstance(data, dict):
+            raise TypeError(f"from_dict expects a dict, got {type(data).__name__}")
+        if data.get("type") != _FORMAT:
+            raise ValueError(f"not a {_FORMAT} dict: type={data.get('type')!r}")
+        if "contours" not in data or not isinstance(data["contours"], list):
+            raise ValueError("an outline dict needs a list 'contours'")
+        contours = []
+        for k, entry in enumerate(data["contours"]):
+            try:
+                contours.append(Contour.from_dict(entry))
+            except (TypeError, ValueError) as exc:
+                raise type(exc)(f"contours[{k}]: {exc}") from None
+        return cls(contours, width=data.get("width"), height=data.get("height"), sources=data.get("sources"),
+                   baseline=data.get("baseline"), name=data.get("name"))
+
+    @classmethod
+    def from_json(cls, text) -> "Outline":
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"not valid JSON: {exc}") from None
+        return cls.from_dict(data)

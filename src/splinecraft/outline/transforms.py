@@ -1,0 +1,101 @@
+"""Affine maps of the plane for outline transforms (thesis section 3.3: transform only the control points).
+
+Every map is ``x -> A x + b`` with a 2x2 linear part ``A`` and an offset ``b``. :func:`affine_parts` reads a
+2x3 ``[[a, c, e], [b, d, f]]`` or 3x3 homogeneous matrix (last row ``[0, 0, 1]``; the SVG ``matrix(a b c d e
+f)`` order) and refuses non-finite or singular ones. The builders return 3x3 matrices about a centre point.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+__all__ = ["affine_parts", "translation", "rotation", "scaling", "shearing", "reflection", "SINGULAR_RTOL"]
+
+#: A linear part with ``|det A| <= SINGULAR_RTOL * |A|_max^2`` is refused as singular (it would flatten the shape).
+SINGULAR_RTOL = 1e-12
+
+
+def affine_parts(matrix, name="matrix"):
+    """``(A, b)`` of a 2x3 or 3x3 affine matrix; ``ValueError`` naming the problem for a bad one."""
+    if isinstance(matrix, (str, bytes)):
+        raise TypeError(f"{name} must be a 2x3 or 3x3 array of numbers, got {type(matrix).__name__}")
+    try:
+        array = np.array(matrix, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a 2x3 or 3x3 array of numbers, got {type(matrix).__name__}") from None
+    if array.shape not in ((2, 3), (3, 3)):
+        raise ValueError(f"{name} must be a 2x3 or 3x3 affine matrix, got shape {array.shape}")
+    if not np.isfinite(array).all():
+        raise ValueError(f"{name} has non-finite entries: {array.tolist()}")
+    if array.shape == (3, 3) and not np.allclose(array[2], [0.0, 0.0, 1.0], rtol=0, atol=1e-12):
+        raise ValueError(f"{name}'s last row must be [0, 0, 1] (an affine map, not a projective one), got "
+                         f"{array[2].tolist()}")
+    linear, offset = array[:2, :2], array[:2, 2]
+    determinant = float(np.linalg.det(linear))
+    size = float(np.abs(linear).max())
+    if not abs(determinant) > SINGULAR_RTOL * max(size * size, np.finfo(float).tiny):
+        raise ValueError(f"{name} is singular (determinant {determinant:.3g}): it would collapse the shape onto a "
+                         "line or a point")
+    return linear, offset
+
+
+def _number(value, name):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return value
+
+
+def _about(linear, center):
+    """3x3 matrix of ``x -> linear (x - center) + center``."""
+    center = np.asarray(center, float).reshape(2)
+    matrix = np.eye(3)
+    matrix[:2, :2] = linear
+    matrix[:2, 2] = center - linear @ center
+    return matrix
+
+
+def translation(dx, dy):
+    """``x -> x + (dx, dy)``."""
+    matrix = np.eye(3)
+    matrix[:2, 2] = [_number(dx, "dx"), _number(dy, "dy")]
+    return matrix
+
+
+def rotation(degrees, center=(0.0, 0.0)):
+    """Rotation by ``degrees`` about ``center``; positive turns from +x towards +y (clockwise on screen,
+    where y points down)."""
+    angle = math.radians(_number(degrees, "degrees"))
+    cos, sin = math.cos(angle), math.sin(angle)
+    return _about(np.array([[cos, -sin], [sin, cos]]), center)
+
+
+def scaling(sx, sy=None, center=(0.0, 0.0)):
+    """Scale by ``sx`` along x and ``sy`` (default ``sx``: uniform) along y about ``center``."""
+    sx = _number(sx, "sx")
+    sy = sx if sy is None else _number(sy, "sy")
+    return _about(np.diag([sx, sy]), center)
+
+
+def shearing(kx, ky=0.0, center=(0.0, 0.0)):
+    """Shear ``x' = x + kx y``, ``y' = y + ky x`` about ``center`` (``kx = tan(slant)`` slants a glyph)."""
+    return _about(np.array([[1.0, _number(kx, "kx")], [_number(ky, "ky"), 1.0]]), center)
+
+
+def reflection(axis="vertical", center=(0.0, 0.0)):
+    """Mirror about a line through ``center``: ``"vertical"`` (left-right flip), ``"horizontal"`` (up-down),
+    or a number = the line's angle in degrees from +x."""
+    if axis == "vertical":
+        degrees = 90.0
+    elif axis == "horizontal":
+        degrees = 0.0
+    elif isinstance(axis, str):
+        raise ValueError(f"axis must be 'vertical', 'horizontal' or an angle in degrees, got {axis!r}")
+    else:
+        degrees = _number(axis, "axis")
+    angle = 2.0 * math.radians(degrees)
+    return _about(np.array([[math.cos(angle), math.sin(angle)], [math.sin(angle), -math.cos(angle)]]), center)

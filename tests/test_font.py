@@ -1,0 +1,165 @@
+"""Fonts: UFO + OTF (CFF) + TTF (cu2qu) from outlines, read back with fontTools and FreeType; glyphs of fonts
+as outlines."""
+import numpy as np
+import pytest
+from fontTools.pens.recordingPen import DecomposingRecordingPen
+from fontTools.ttLib import TTFont
+from PIL import Image, ImageDraw
+from scipy.spatial import cKDTree
+
+import splinecraft as sc
+from splinecraft import datasets, font
+from splinecraft.outline import from_knots
+from splinecraft.outline.contour import bezier_signed_area
+
+DEJAVU = "DejaVu Sans"
+
+
+@pytest.fixture(scope="module")
+def traced():
+    return {"D": sc.trace(datasets.thesis_object("D")), "o": from_knots([
+        np.array([[20, 10], [60, 30], [20, 50], [-20, 30]], float) + 30,
+        (np.array([[20, 22], [36, 30], [20, 38], [4, 30]], float) + 30, [True] * 4)])}
+
+
+@pytest.fixture(scope="module")
+def built(traced, tmp_path_factory):
+    return font.build(traced, family="Test Sans", output_dir=tmp_path_factory.mktemp("font"), units_per_em=1000,
+                      ascender=800, descender=-200)
+
+
+def _samples(curves, per_piece=40):
+    theta = np.linspace(0, 1, per_piece)
+    one = 1 - theta
+    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+    return np.concatenate([np.einsum("sk,pkd->psd", weights, b).reshape(-1, 2) for b in curves])
+
+
+def _recorded_curves(ttfont, name):
+    """Contours of a compiled glyph as cubic Bézier arrays (quadratic pieces raised exactly)."""
+    pen = DecomposingRecordingPen(ttfont.getGlyphSet())
+    ttfont.getGlyphSet()[name].draw(pen)
+    collector = font._BezierPen()
+    for operator, arguments in pen.value:
+        getattr(collector.pen, operator)(*arguments)
+    return collector.contours
+
+
+def _hausdorff(a, b):
+    """Symmetric distance between two densely sampled outlines (samples <= 0.4 units apart: error <= 0.2)."""
+    return max(cKDTree(b).query(a)[0].max(), cKDTree(a).query(b)[0].max())
+
+
+def test_build_writes_ufo_otf_and_ttf(built):
+    assert built.ufo.is_dir() and built.otf.is_file() and built.ttf.is_file()
+    assert set(built.paths) == {"ufo", "otf", "ttf"}
+    import ufoLib2
+
+    ufo = ufoLib2.Font.open(built.ufo)
+    assert {"D", "o", "space", ".notdef"} <= set(ufo.keys())
+    assert ufo["D"].unicodes == [ord("D")] and ufo.info.unitsPerEm == 1000
+    otf, ttf = TTFont(built.otf), TTFont(built.ttf)
+    assert "CFF " in otf and "glyf" in ttf
+    assert otf.getBestCmap()[ord("D")] == "D" and ttf.getBestCmap()[ord("o")] == "o"
+
+
+@pytest.mark.parametrize("kind", ["otf", "ttf"])
+def test_compiled_glyphs_match_the_outline_within_one_font_unit(traced, built, kind):
+    compiled = TTFont(getattr(built, kind))
+    for key, source in traced.items():
+        expected, _ = font.font_contours(source, scale=built.scale, sidebearing=50)
+        got = _recorded_curves(compiled, key)
+        assert len(got) == len(expected)
+        assert _hausdorff(_samples(got, 1500), _samples(expected, 1500)) <= 1.0
+
+
+def test_winding_follows_each_format(traced, built):
+    """Outer contour counter-clockwise (y up) in CFF and the UFO, clockwise in TrueType; the hole opposite."""
+    for kind, outer_sign in (("otf", 1), ("ttf", -1)):
+        curves = _recorded_curves(TTFont(getattr(built, kind)), "D")
+        areas = sorted((bezier_signed_area(c) for c in curves), key=abs, reverse=True)
+        assert np.sign(areas[0]) == outer_sign and np.sign(areas[1]) == -outer_sign
+
+
+@pytest.mark.parametrize("kind", ["otf", "ttf"])
+def test_compiled_glyph_rendered_by_freetype_matches_the_outline(traced, built, kind):
+    """Rasterize the compiled 'D' with FreeType (fontTools' FreeTypePen, nonzero rule, no hinting) at 1 px =
+    4 font units, and the outline with PIL (even-odd); the pixels that differ lie within 1 px + 1 unit of the
+    outline, and the ink areas agree."""
+    from fontTools.pens.freetypePen import FreeTypePen
+
+    units_per_px, size = 4.0, 260
+    compiled = TTFont(getattr(built, kind))
+    pen = FreeTypePen(compiled.getGlyphSet())
+    compiled.getGlyphSet()["D"].draw(pen)
+    # font units -> pixels: x / 4, y flipped with the baseline on row 220
+    rendered = pen.array(width=size, height=size, transform=(1 / units_per_px, 0, 0, 1 / units_per_px, 0, 40)) > 0.5
+    curves, _ = font.font_contours(traced["D"], scale=built.scale, sidebearing=50)
+    mask = np.zeros((size, size), bool)
+    for bezier in curves:  # even-odd: every contour flips the pixels it covers
+        polygon = _samples([bezier], 60) / units_per_px * [1, -1] + [0, 220]
+        layer = Image.new("1", (size, size), 0)
+        ImageDraw.Draw(layer).polygon([tuple(p) for p in polygon], fill=1)
+        mask ^= np.asarray(layer)
+    assert mask.sum() > 5000
+    differ = np.argwhere(rendered != mask)[:, ::-1] + 0.5
+    boundary = np.concatenate([_samples([b], 200) / units_per_px * [1, -1] + [0, 220] for b in curves])
+    assert differ.size and cKDTree(boundary).query(differ)[0].max() <= 1.0 + 1.0 / units_per_px
+    assert abs(int(rendered.sum()) - int(mask.sum())) < 0.01 * mask.sum()
+
+
+def test_glyph_outline_reads_an_installed_font_and_round_trips_through_a_built_font(tmp_path):
+    glyph = font.glyph_outline(DEJAVU, "o")
+    assert len(glyph) == 2 and glyph.name == "o" and glyph.baseline is not None
+    files = font.build({"o": glyph}, family="Round Trip", output_dir=tmp_path, scale=1.0,
+                       units_per_em=2048, ascender=1901, descender=-483, sidebearing=0)
+    original = TTFont(font._resolve_font(DEJAVU))
+    reference = _recorded_curves(original, "o")
+    low = min(float(c[..., 0].min()) for c in reference)
+    for kind in ("otf", "ttf"):
+        again = _recorded_curves(TTFont(getattr(files, kind)), "o")
+        shifted = [c - [low, 0] for c in reference]
+        assert _hausdorff(_samples(again, 1500), _samples(shifted, 1500)) <= 1.0
+
+
+def test_glyph_outline_by_path_name_and_code_point():
+    path = font._resolve_font(DEJAVU)
+    by_char = font.glyph_outline(path, "A")
+    assert np.array_equal(by_char.contours[0].bezier(), font.glyph_outline(path, 0x41).contours[0].bezier())
+    assert np.array_equal(by_char.contours[0].bezier(), font.glyph_outline(path, "A").contours[0].bezier())
+    assert font.glyph_outline(path, "eight").name == "eight"
+
+
+def test_glyph_outline_errors(tmp_path):
+    with pytest.raises(ValueError, match="no glyph for"):
+        font.glyph_outline(DEJAVU, "\uE000")
+    with pytest.raises(ValueError, match="no glyph named"):
+        font.glyph_outline(DEJAVU, "no-such-glyph")
+    with pytest.raises(ValueError, match="no closed contours"):
+        font.glyph_outline(DEJAVU, " ")
+    broken = tmp_path / "broken.ttf"
+    broken.write_bytes(b"not a font at all")
+    with pytest.raises(ValueError, match="cannot read the font file"):
+        font.glyph_outline(broken, "a")
+    with pytest.raises(FileNotFoundError, match="no font file"):
+        font.glyph_outline(tmp_path / "missing.ttf", "a")
+    with pytest.raises(ValueError, match="no installed font family"):
+        font.glyph_outline("No Such Family Anywhere", "a")
+
+
+def test_build_argument_errors(traced, tmp_path):
+    with pytest.raises(ValueError, match="non-empty dict"):
+        font.build({}, output_dir=tmp_path)
+    with pytest.raises(ValueError, match="ascender"):
+        font.build(traced, output_dir=tmp_path, ascender=-5)
+    with pytest.raises(ValueError, match="glyph key"):
+        font.build({"two words": traced["o"]}, output_dir=tmp_path)
+    with pytest.raises(TypeError, match=r"glyphs\['x'\]"):
+        font.build({"x": 42}, output_dir=tmp_path)
+
+
+def test_to_glyph_gives_a_ufo_glyph_with_the_advance(traced):
+    glyph = traced["o"].to_glyph("o", scale=2.0, sidebearing=10)
+    low, high = traced["o"].bounds()
+    assert glyph.unicodes == [ord("o")] and glyph.width == round((high[0] - low[0]) * 2 + 20)
+    assert len(glyph.contours) == 2

@@ -1,0 +1,314 @@
+"""Editable outlines: the spline form of a contour, exact import of Bézier curves, edits, affine transforms."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import splinecraft as sc
+from splinecraft import datasets
+from splinecraft.outline import Contour, Outline, as_outline, from_bezier, from_knots
+from splinecraft.outline.bezier import contour_from_bezier
+
+
+@pytest.fixture(scope="module")
+def traced_d():
+    return sc.trace(datasets.thesis_object("D"))
+
+
+def _loop(n, seed, radius=50.0):
+    rng = np.random.default_rng(seed)
+    angles = np.linspace(0, 2 * np.pi, n, endpoint=False) + rng.uniform(-0.25, 0.25, n) * (2 * np.pi / n)
+    radii = radius * rng.uniform(0.6, 1.4, n)
+    return np.c_[100 + radii * np.cos(angles), 100 + radii * np.sin(angles)]
+
+
+contours = st.builds(
+    lambda n, seed, corner_bits, tension, weight_seed: Contour(
+        _loop(n, seed), np.array([(corner_bits >> i) & 1 for i in range(n)], bool),
+        point_tension=tension, interval_weights=np.random.default_rng(weight_seed).uniform(0.5, 3.0, n)),
+    st.integers(3, 9), st.integers(0, 10_000), st.integers(0, 511), st.floats(0.0, 2.0), st.integers(0, 10_000))
+
+matrices = st.lists(st.floats(-2.0, 2.0), min_size=6, max_size=6).map(
+    lambda v: np.array(v).reshape(2, 3)).filter(lambda m: abs(np.linalg.det(m[:, :2])) > 0.05)
+
+
+def _gc2_residual(bezier, steps, weights, tension, i):
+    """omega_i P''(t_i+) - v_i P'(t_i) - omega_{i-1} P''(t_i-) from the Bézier pieces (thesis eqs 3.13-3.14)."""
+    after, before = bezier[i], bezier[i - 1]
+    h, h_prev = steps[i], steps[i - 1]
+    second_after = 6 * (after[0] - 2 * after[1] + after[2]) / h ** 2
+    second_before = 6 * (before[1] - 2 * before[2] + before[3]) / h_prev ** 2
+    first_after = 3 * (after[1] - after[0]) / h
+    first_before = 3 * (before[3] - before[2]) / h_prev
+    return (weights[i] * second_after - tension[i] * first_after - weights[i - 1] * second_before,
+            first_after - first_before)
+
+
+# ---------------------------------------------------------------------------------------------- the spline form
+@settings(max_examples=40, deadline=None)
+@given(contours)
+def test_smooth_knots_are_gc2_joints_and_corners_keep_their_handles(contour):
+    bezier = contour.bezier()
+    assert np.allclose(bezier[:, 0], contour.points, atol=1e-9)  # an interpolant: passes through its knots
+    scale = np.abs(bezier).max()
+    for i in range(len(contour)):
+        if contour.corners[i]:
+            continue
+        gc2, c1 = _gc2_residual(bezier, contour.steps, contour.interval_weights, contour.point_tension, i)
+        assert np.abs(c1).max() < 1e-8 * scale
+        assert np.abs(gc2).max() < 1e-8 * scale
+
+
+def test_corners_without_handles_give_natural_ends_a_square_has_straight_sides():
+    square = Contour([[0, 0], [10, 0], [10, 10], [0, 10]], [True] * 4)
+    bezier = square.bezier()
+    assert np.allclose(bezier[:, 1], bezier[:, 0] + (bezier[:, 3] - bezier[:, 0]) / 3)
+    assert np.allclose(bezier[:, 2], bezier[:, 0] + 2 * (bezier[:, 3] - bezier[:, 0]) / 3)
+    assert square.signed_area() == pytest.approx(100.0)
+
+
+def test_signed_area_matches_the_closed_form_of_a_polygon():
+    points = _loop(7, 3)
+    polygon = Contour(points, [True] * 7)
+    x, y = points.T
+    shoelace = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
+    assert polygon.signed_area() == pytest.approx(shoelace, rel=1e-12)
+
+
+# ---------------------------------------------------------------------------------------------- exact import
+@settings(max_examples=40, deadline=None)
+@given(st.integers(3, 9), st.integers(0, 10_000), st.integers(0, 511))
+def test_any_closed_bezier_curve_is_reproduced_exactly(n, seed, kink_bits):
+    """G1 joints with arbitrary handle lengths become smooth knots (solved v, omega) or corners; kinks corners."""
+    rng = np.random.default_rng(seed)
+    points = _loop(n, seed)
+    directions = np.roll(points, -1, axis=0) - np.roll(points, 1, axis=0)
+    directions /= np.hypot(*directions.T)[:, None]
+    out_dir = directions.copy()
+    kinks = np.array([(kink_bits >> i) & 1 for i in range(n)], bool)
+    turn = rng.uniform(0.3, 1.0, n)
+    out_dir[kinks] = np.c_[np.cos(turn) * directions[:, 0] - np.sin(turn) * directions[:, 1],
+                           np.sin(turn) * directions[:, 0] + np.cos(turn) * directions[:, 1]][kinks]
+    chords = np.hypot(*(np.roll(points, -1, axis=0) - points).T)
+    out_len = chords * rng.uniform(0.15, 0.45, n)
+    in_len = np.roll(chords, 1) * rng.uniform(0.15, 0.45, n)
+    nxt = np.roll(np.arange(n), -1)
+    bezier = np.stack([points, points + out_len[:, None] * out_dir,
+                       points[nxt] - in_len[nxt, None] * directions[nxt], points[nxt]], axis=1)
+    contour = contour_from_bezier(bezier)
+    assert np.abs(contour.bezier() - bezier).max() < 1e-6
+    assert contour.corners[kinks].all()
+
+
+def test_a_trace_comes_in_exactly_with_its_corners_and_sources(traced_d):
+    outline = as_outline(traced_d)
+    assert len(outline) == len(traced_d.splines)
+    for contour, spline in zip(outline.contours, traced_d.splines):
+        assert np.abs(contour.bezier() - spline.bezier()).max() < 1e-9
+    assert sum(int(c.corners.sum()) for c in outline.contours) == traced_d.stats["corners"]
+    # the project's own curves come back with v = 0 and omega = 1
+    assert all((c.point_tension == 0).all() and (c.interval_weights == 1).all() for c in outline.contours)
+    assert outline.bitmap.shape == traced_d.mask.shape
+    assert (outline.width, outline.height) == (traced_d.width, traced_d.height)
+    # the deviation from the bitmap's contour is the trace's own measure
+    assert outline.max_deviation() == pytest.approx(traced_d.stats["hausdorff"], abs=0.15)
+
+
+def test_an_iteration_of_the_trace_can_be_opened(traced_d):
+    outline = as_outline(traced_d, iteration=0)
+    first = traced_d.snapshots[0]
+    for contour, snapshot in zip(outline.contours, first.snapshots):
+        assert np.abs(contour.bezier() - snapshot.bezier).max() < 1e-9
+
+
+# ---------------------------------------------------------------------------------------------- transforms
+@settings(max_examples=40, deadline=None)
+@given(contours, matrices)
+def test_transform_equals_the_transformed_curve(contour, matrix):
+    """Affine invariance (thesis section 3.3): mapping the knots and handles maps the curve exactly."""
+    outline = Outline([contour])
+    moved = outline.transform(matrix)
+    expected = contour.spline.transformed(matrix[:, :2], matrix[:, 2]).bezier()
+    assert np.abs(moved.contours[0].bezier() - expected).max() < 1e-7 * max(1.0, np.abs(expected).max())
+
+
+@settings(max_examples=25, deadline=None)
+@given(contours, st.floats(-180, 180), st.floats(0.2, 3), st.floats(0.2, 3), st.floats(-1, 1))
+def test_named_transforms_match_their_closed_forms(contour, degrees, sx, sy, shear):
+    outline = Outline([contour])
+    bezier = contour.bezier()
+    center = np.array([7.0, -3.0])
+    a = math.radians(degrees)
+    rotated = (bezier - center) @ np.array([[math.cos(a), math.sin(a)], [-math.sin(a), math.cos(a)]]) + center
+    assert np.allclose(outline.rotate(degrees, center=center).contours[0].bezier(), rotated, atol=1e-7)
+    scaled = (bezier - center) * [sx, sy] + center
+    assert np.allclose(outline.scale(sx, sy, center=center).contours[0].bezier(), scaled, atol=1e-7)
+    sheared = bezier.copy()
+    sheared[..., 0] += shear * (bezier[..., 1] - center[1])
+    assert np.allclose(outline.shear(shear, center=center).contours[0].bezier(), sheared, atol=1e-7)
+    mirrored = bezier.copy()
+    mirrored[..., 0] = 2 * center[0] - bezier[..., 0]
+    assert np.allclose(outline.reflect("vertical", center=center).contours[0].bezier(), mirrored, atol=1e-7)
+    assert np.allclose(outline.translate(3, -4).contours[0].bezier(), bezier + [3, -4], atol=1e-9)
+
+
+def test_transform_of_one_contour_leaves_the_others(traced_d):
+    outline = as_outline(traced_d)
+    turned = outline.rotate(30, contours=[1])
+    assert turned.contours[0] is outline.contours[0]
+    center = outline.selection_center(contours=[1])
+    expected = outline.contours[1].spline.transformed(
+        np.array([[math.cos(math.radians(30)), -math.sin(math.radians(30))],
+                  [math.sin(math.radians(30)), math.cos(math.radians(30))]]),
+        center - np.array([[math.cos(math.radians(30)), -math.sin(math.radians(30))],
+                           [math.sin(math.radians(30)), math.cos(math.radians(30))]]) @ center).bezier()
+    assert np.abs(turned.contours[1].bezier() - expected).max() < 1e-9
+
+
+@pytest.mark.parametrize("matrix, message", [
+    ([[1, 2, 0], [2, 4, 0]], "singular"),
+    ([[0, 0, 0], [0, 0, 0], [0, 0, 1]], "singular"),
+    ([[1, 0, np.nan], [0, 1, 0]], "non-finite"),
+    ([[1, 0, np.inf], [0, 1, 0]], "non-finite"),
+    ([[1, 0, 0], [0, 1, 0], [0.1, 0, 1]], "last row"),
+    ([[1, 0], [0, 1]], "2x3 or 3x3"),
+])
+def test_bad_matrices_are_refused_with_a_message(matrix, message):
+    outline = Outline([Contour(_loop(5, 1))])
+    with pytest.raises(ValueError, match=message):
+        outline.transform(matrix)
+
+
+def test_a_matrix_of_strings_is_a_type_error():
+    with pytest.raises(TypeError, match="matrix"):
+        Outline([Contour(_loop(5, 1))]).transform("rotate(30)")
+
+
+# ---------------------------------------------------------------------------------------------- edits
+def test_moving_a_knot_moves_the_curve_through_the_new_point():
+    outline = Outline([Contour(_loop(6, 2), [True, False, False, True, False, False])])
+    moved = outline.move_knot(0, 2, (130.0, 140.0))
+    assert np.allclose(moved.contours[0].bezier()[2, 0], [130, 140])
+    assert np.allclose(moved.contours[0].bezier()[1, 3], [130, 140])
+    assert outline.contours[0].points[2].tolist() != [130.0, 140.0]  # the original is unchanged
+
+
+def test_a_knot_becomes_a_corner_then_smooth_again():
+    contour = Contour(_loop(7, 4), point_tension=0.5)
+    kept = contour.with_corner(3, keep_shape=True)
+    assert kept.corners[3] and np.abs(kept.bezier() - contour.bezier()).max() < 1e-9
+    bent = contour.with_corner(3)
+    assert np.array_equal(bent.points, contour.points)
+    out, into = bent.bezier()[3, 1] - bent.bezier()[3, 0], bent.bezier()[2, 2] - bent.bezier()[2, 3]
+    sine = (out[0] * into[1] - out[1] * into[0]) / (np.hypot(*out) * np.hypot(*into))
+    assert abs(sine) > 1e-3  # a real corner: the two tangents follow their own neighbours
+    smooth = bent.with_corner(3, False)
+    gc2, c1 = _gc2_residual(smooth.bezier(), smooth.steps, smooth.interval_weights, smooth.point_tension, 3)
+    assert np.abs(c1).max() < 1e-9 and np.abs(gc2).max() < 1e-8
+
+
+def test_inserting_a_knot_puts_it_on_the_curve_and_deleting_it_refuses_below_three():
+    contour = Contour(_loop(4, 5), [True, False, False, False])
+    piece = contour.bezier()[1]
+    theta = 0.3
+    expected = (1 - theta) ** 3 * piece[0] + 3 * (1 - theta) ** 2 * theta * piece[1] \
+        + 3 * (1 - theta) * theta ** 2 * piece[2] + theta ** 3 * piece[3]
+    inserted = contour.inserted(1, theta)
+    assert len(inserted) == 5 and np.allclose(inserted.points[2], expected)
+    assert inserted.steps[1] + inserted.steps[2] == pytest.approx(contour.steps[1])
+    three = inserted.removed(2).removed(0)
+    assert len(three) == 3
+    with pytest.raises(ValueError, match="at least 3 knots"):
+        three.removed(1)
+
+
+def test_nearest_point_finds_the_piece_to_insert_on():
+    outline = Outline([Contour([[0, 0], [100, 0], [100, 100], [0, 100]], [True] * 4)])
+    contour, piece, theta, distance = outline.nearest_point((50, 2))
+    assert (contour, piece) == (0, 0) and theta == pytest.approx(0.5, abs=0.02) and distance == pytest.approx(2)
+
+
+def test_tension_and_weight_edits_are_validated_by_the_engine():
+    contour = Contour(_loop(6, 6))
+    tight = contour.with_point_tension([1, 2], 50.0).with_interval_weight(4, 3.0)
+    assert tight.point_tension[1] == 50.0 and tight.interval_weights[4] == 3.0
+    gc2, _ = _gc2_residual(tight.bezier(), tight.steps, tight.interval_weights, tight.point_tension, 1)
+    assert np.abs(gc2).max() < 1e-7 * np.abs(tight.bezier()).max()
+    span = 2 * (1 / contour.steps[1] + 1 / contour.steps[2])
+    with pytest.raises(ValueError, match="diagonally dominant"):
+        contour.with_point_tension(2, -2 * span)
+    with pytest.raises(ValueError, match="interval_weights"):
+        contour.with_interval_weight(0, 0.0)
+
+
+def test_contour_input_errors_name_the_argument():
+    with pytest.raises(ValueError, match="at least 3 knots"):
+        Contour([[0, 0], [1, 1]])
+    with pytest.raises(ValueError, match="points"):
+        Contour([[0, 0], [1, np.nan], [2, 0]])
+    with pytest.raises(ValueError, match="coincide"):
+        Contour([[0, 0], [0, 0], [2, 0]])
+    with pytest.raises(ValueError, match="corners"):
+        Contour(_loop(4, 1), [True, False])
+    with pytest.raises(ValueError, match="index 9"):
+        Contour(_loop(4, 1)).moved(9, (0, 0))
+
+
+def test_reversed_contour_is_the_same_curve_backwards():
+    contour = Contour(_loop(6, 8), [True, False, True, False, False, False], interval_weights=[1, 2, 1, 3, 1, 1])
+    backwards = contour.reversed()
+    assert backwards.signed_area() == pytest.approx(-contour.signed_area())
+    forward = contour.bezier()
+    reverse = backwards.bezier()
+    assert np.allclose(reverse[0], forward[-1][::-1])
+
+
+# ---------------------------------------------------------------------------------------------- export
+def test_json_round_trip_is_exact(traced_d):
+    outline = as_outline(traced_d).set_corner(0, 3).set_point_tension(1, 2, 1.5)
+    again = Outline.from_json(outline.to_json())
+    for a, b in zip(again.contours, outline.contours):
+        assert np.array_equal(a.bezier(), b.bezier())
+        assert np.array_equal(a.corners, b.corners)
+    assert again.max_deviation() == pytest.approx(outline.max_deviation())
+    with pytest.raises(ValueError, match="JSON"):
+        Outline.from_json("{not json")
+    with pytest.raises(ValueError, match="splinecraft.Outline"):
+        Outline.from_json('{"type": "other"}')
+
+
+def test_svg_is_one_even_odd_path_of_exact_cubics(traced_d, tmp_path):
+    from splinecraft.capture.svg import read_svg_paths
+
+    outline = as_outline(traced_d)
+    path = outline.save_svg(tmp_path / "d.svg", decimals=None)
+    document = read_svg_paths(path.read_text())
+    assert len(document["paths"]) == 1 and document["paths"][0]["fill_rule"] == "evenodd"
+    for (bezier, closed), contour in zip(document["paths"][0]["subpaths"], outline.contours):
+        assert closed and np.array_equal(bezier, contour.bezier())
+    again = as_outline(path)
+    for a, b in zip(again.contours, outline.contours):
+        assert np.abs(a.bezier() - b.bezier()).max() < 1e-9
+
+
+def test_knot_lists_make_contours_with_holes():
+    outer = np.array([[10, 10], [90, 10], [90, 90], [10, 90]], float)
+    hole = np.array([[50, 30], [70, 50], [50, 70], [30, 50]], float)
+    outline = from_knots([(outer, [True] * 4), hole])
+    assert len(outline) == 2 and outline.contours[0].corners.all() and not outline.contours[1].corners.any()
+    assert outline.width == 91 and outline.height == 91
+    with pytest.raises(ValueError, match=r"contours\[1\]"):
+        from_knots([outer, [[0, 0], [1, 1]]])
+
+
+def test_from_bezier_refuses_open_curves():
+    piece = np.array([[[0, 0], [1, 0], [2, 0], [3, 0]], [[3, 0], [3, 1], [3, 2], [3, 3]]], float)
+    with pytest.raises(ValueError, match=r"curves\[0\] is not closed"):
+        from_bezier([piece])
+
+
+def test_as_outline_refuses_unknown_sources():
+    with pytest.raises(TypeError, match="cannot make an outline"):
+        as_outline(42)

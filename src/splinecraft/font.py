@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._validation import check_positive_number
 from .outline import Outline, as_outline
 from .outline.contour import bezier_signed_area
 
@@ -82,7 +83,7 @@ def font_contours(source, *, scale=1.0, baseline=None, sidebearing=0.0):
     """The contours of ``source`` in font units (y up), PostScript winding: a list of ``(m, 4, 2)`` arrays,
     and the advance width ``(x_max - x_min) s + 2 sidebearing`` (see the module docstring)."""
     outline = as_outline(source)
-    scale = _positive(scale, "scale")
+    scale = check_positive_number(scale, "scale")
     low, high = outline.bounds()
     if baseline is None:
         baseline = outline.baseline if outline.baseline is not None else float(high[1])
@@ -96,15 +97,6 @@ def font_contours(source, *, scale=1.0, baseline=None, sidebearing=0.0):
         if (bezier_signed_area(curves[k]) > 0) != (depth % 2 == 0):
             curves[k] = _reverse(curves[k])
     return curves, float((high[0] - low[0]) * scale + 2 * sidebearing)
-
-
-def _positive(value, name):
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    value = float(value)
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return value
 
 
 def _xy(point):
@@ -204,18 +196,18 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
         raise ValueError("glyphs must be a non-empty dict of character -> outline")
     if not isinstance(family, str) or not family.strip():
         raise ValueError(f"family must be a non-empty string, got {family!r}")
-    units_per_em = int(_positive(units_per_em, "units_per_em"))
+    units_per_em = int(check_positive_number(units_per_em, "units_per_em"))
     ascender, descender = int(ascender), int(descender)
     if not (ascender > 0 >= descender):
         raise ValueError(f"need ascender > 0 >= descender, got {ascender} and {descender}")
-    ttf_max_error = _positive(ttf_max_error, "ttf_max_error")
+    ttf_max_error = check_positive_number(ttf_max_error, "ttf_max_error")
     outlines = {}
     for key, source in glyphs.items():
         try:
             outlines[key] = as_outline(source)
         except (TypeError, ValueError) as exc:
             raise type(exc)(f"glyphs[{key!r}]: {exc}") from None
-    scale = _default_scale(outlines.values(), ascender) if scale is None else _positive(scale, "scale")
+    scale = _default_scale(outlines.values(), ascender) if scale is None else check_positive_number(scale, "scale")
 
     font = ufoLib2.Font()
     info = font.info

@@ -145,19 +145,15 @@ class Outline:
         values = [d.max() for d in self.deviation() if d is not None]
         return float(max(values)) if values else None
 
-    def nearest_point(self, point, samples_per_piece=64):
-        """``(contour, piece, theta, distance)`` of the curve point closest to ``point`` (dense sampling)."""
-        point = np.asarray(point, float).reshape(2)
-        theta = np.linspace(0.0, 1.0, samples_per_piece + 1)[:-1]
-        one = 1.0 - theta
-        weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+    def nearest_point(self, point):
+        """``(contour, piece, theta, distance)`` of the curve point closest to ``point`` (``Spline.nearest``)."""
         best = None
-        for k, bezier in enumerate(self.bezier()):
-            values = np.einsum("sk,pkd->psd", weights, bezier)
-            distance = np.hypot(*(values - point).transpose(2, 0, 1))
-            piece, sample = np.unravel_index(int(np.argmin(distance)), distance.shape)
-            if best is None or distance[piece, sample] < best[3]:
-                best = (k, int(piece), float(theta[sample]), float(distance[piece, sample]))
+        for k, spline in enumerate(self.splines()):
+            found = spline.nearest(point)
+            if best is None or found.distance < best[3]:
+                knots = spline.knots
+                theta = (found.parameter - knots[found.piece]) / (knots[found.piece + 1] - knots[found.piece])
+                best = (k, int(found.piece), float(min(max(theta, 0.0), 1.0)), float(found.distance))
         return best
 
     # ------------------------------------------------------------------ edits
@@ -281,14 +277,14 @@ class Outline:
 
     # ------------------------------------------------------------------ export
     def svg_path_data(self, *, decimals=4) -> str:
-        from ..capture.svg import path_data
+        from ..spline.svg import path_data
 
         return path_data(self.bezier(), decimals=decimals)
 
     def to_svg(self, *, decimals=4, fill="black", title=None) -> str:
         """Standalone SVG: one ``<path>`` of exact cubic Béziers, ``fill-rule="evenodd"``, in the frame
         (``width``/``height``/``viewBox``); ``decimals=None`` writes exact floats."""
-        from ..capture.svg import svg_document
+        from ..spline.svg import svg_document
 
         width, height = int(math.ceil(self.width)), int(math.ceil(self.height))
         return svg_document(self.svg_path_data(decimals=decimals), width, height, fill=fill,

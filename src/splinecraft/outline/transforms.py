@@ -7,9 +7,10 @@ f)`` order) and refuses non-finite or singular ones. The builders return 3x3 mat
 from __future__ import annotations
 
 import math
-import numbers
 
 import numpy as np
+
+from .._validation import check_number
 
 __all__ = ["affine_parts", "translation", "rotation", "scaling", "shearing", "reflection", "SINGULAR_RTOL"]
 
@@ -41,15 +42,6 @@ def affine_parts(matrix, name="matrix"):
     return linear, offset
 
 
-def _number(value, name):
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a number, got {type(value).__name__}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return value
-
-
 def _about(linear, center):
     """3x3 matrix of ``x -> linear (x - center) + center``."""
     center = np.asarray(center, float).reshape(2)
@@ -62,28 +54,28 @@ def _about(linear, center):
 def translation(dx, dy):
     """``x -> x + (dx, dy)``."""
     matrix = np.eye(3)
-    matrix[:2, 2] = [_number(dx, "dx"), _number(dy, "dy")]
+    matrix[:2, 2] = [check_number(dx, "dx"), check_number(dy, "dy")]
     return matrix
 
 
 def rotation(degrees, center=(0.0, 0.0)):
     """Rotation by ``degrees`` about ``center``; positive turns from +x towards +y (clockwise on screen,
     where y points down)."""
-    angle = math.radians(_number(degrees, "degrees"))
+    angle = math.radians(check_number(degrees, "degrees"))
     cos, sin = math.cos(angle), math.sin(angle)
     return _about(np.array([[cos, -sin], [sin, cos]]), center)
 
 
 def scaling(sx, sy=None, center=(0.0, 0.0)):
     """Scale by ``sx`` along x and ``sy`` (default ``sx``: uniform) along y about ``center``."""
-    sx = _number(sx, "sx")
-    sy = sx if sy is None else _number(sy, "sy")
+    sx = check_number(sx, "sx")
+    sy = sx if sy is None else check_number(sy, "sy")
     return _about(np.diag([sx, sy]), center)
 
 
 def shearing(kx, ky=0.0, center=(0.0, 0.0)):
     """Shear ``x' = x + kx y``, ``y' = y + ky x`` about ``center`` (``kx = tan(slant)`` slants a glyph)."""
-    return _about(np.array([[1.0, _number(kx, "kx")], [_number(ky, "ky"), 1.0]]), center)
+    return _about(np.array([[1.0, check_number(kx, "kx")], [check_number(ky, "ky"), 1.0]]), center)
 
 
 def reflection(axis="vertical", center=(0.0, 0.0)):
@@ -96,6 +88,6 @@ def reflection(axis="vertical", center=(0.0, 0.0)):
     elif isinstance(axis, str):
         raise ValueError(f"axis must be 'vertical', 'horizontal' or an angle in degrees, got {axis!r}")
     else:
-        degrees = _number(axis, "axis")
+        degrees = check_number(axis, "axis")
     angle = 2.0 * math.radians(degrees)
     return _about(np.array([[math.cos(angle), math.sin(angle)], [math.sin(angle), -math.cos(angle)]]), center)

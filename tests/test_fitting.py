@@ -451,7 +451,7 @@ def test_lsq_normal_equations_match_a_dense_least_squares_reference(m, seed):
     above) equals numpy's least squares on the explicit collocation matrix (scipy's BSpline basis)."""
     from scipy.interpolate import BSpline
 
-    from splinecraft.capture import _fit_lsq
+    from splinecraft.capture.fitting import bspline
 
     rng = np.random.default_rng(seed)
     period = 100.0
@@ -462,11 +462,11 @@ def test_lsq_normal_equations_match_a_dense_least_squares_reference(m, seed):
     u = np.sort(rng.uniform(0, period, 12 * m))
     weights = rng.uniform(0.1, 1.0, u.shape[0])
     targets = rng.normal(size=(u.shape[0], 2))
-    full = _fit_lsq.periodic_knot_vector(tau, period)
-    i = _fit_lsq.interval_index(full, u)
-    (basis,) = _fit_lsq.cubic_basis(full, i, u)
+    full = bspline.periodic_knot_vector(tau, period)
+    i = bspline.interval_index(full, u)
+    basis = bspline.cubic_basis(full, i, u)
     regularization = 1e-8
-    solved = _fit_lsq.solve_normal(_fit_lsq.folded_columns(i, m), basis, weights, targets, m, regularization)
+    solved = bspline.solve_normal(bspline.folded_columns(i, m), basis, weights, targets, m, regularization)
     # reference: periodic collocation matrix from scipy (coefficient k of full index k + 3 wraps to k mod m)
     collocation = np.zeros((u.shape[0], m))
     for k in range(full.shape[0] - 4):
@@ -489,14 +489,14 @@ def test_lsq_normal_equations_match_a_dense_least_squares_reference(m, seed):
 def test_windowed_distance_is_the_exact_distance_to_its_edges_and_an_upper_bound(count, window, seed):
     """Each value is the exact point-to-segment distance to the nearest edge of its window (brute force per
     edge) and never below the closest-point distance to the whole closed polyline."""
-    from splinecraft.capture import _fit_lsq
+    from splinecraft.capture.fitting import geometry
 
     rng = np.random.default_rng(seed)
     line = np.cumsum(rng.normal(size=(count, 2)), axis=0)
     closed = np.vstack([line, line[:1]])
     points = rng.normal(size=(40, 2)) * 3 + line[rng.integers(0, count, 40)]
     centre = rng.integers(0, count, 40)
-    got = _fit_lsq.windowed_distance(points, centre, None, None, _fit_lsq.edge_table(closed), window, count)
+    got = geometry.windowed_distance(points, centre, None, None, geometry.edge_table(closed), window, count)
 
     def segment_distance(q, a, b):
         d = b - a

@@ -34,6 +34,9 @@ import numbers
 
 import numpy as np
 
+from ._implicit import (difference, disc, ellipse, half_plane, intersection, polygon, project, refine_closed,
+                        smooth_union, stroke, union, vesica)
+
 __all__ = [
     "THESIS_OBJECTS",
     "THESIS_TITLES",
@@ -46,187 +49,6 @@ __all__ = [
     "sample_points",
     "sample_closed",
 ]
-
-# ----------------------------------------------------------------------------------------------
-# Implicit-shape primitives. Every primitive maps x, y (1-D float arrays, design units, y down) to
-# f(x, y): negative inside, positive outside. Discs, polygons and strokes return the exact signed
-# distance; ellipses a smooth function with the exact zero set. Boolean operations (min / max) keep
-# the zero set exact, so the bitmap and the true outline are those of the composed shape.
-# ----------------------------------------------------------------------------------------------
-
-_CHUNK = 1 << 22  # max elements of one (points x segments) temporary
-_GROUP = 16  # segments per bounding-box group in _segment_distance
-#: Points farther than this (design units) beyond a group's reach get a lower bound instead of the
-#: exact distance. It exceeds every fillet size used below, so min/max/smooth-min compositions are
-#: exact wherever their result is within this margin of zero: the zero set is unchanged.
-_EXACT_MARGIN = 12.0
-
-
-def _segment_distance(x, y, starts, ends, radius_start, radius_end):
-    """min over segments of ``distance(point, segment) - radius(u)``, radius linear along the segment.
-
-    This is a stroke of varying width around a polyline (round caps and joins). Vectorised over
-    points and segments, in chunks of at most ``_CHUNK`` elements. Segments are taken in groups of
-    ``_GROUP`` with a bounding box: points farther than ``_EXACT_MARGIN`` from a group's reach get the
-    lower bound ``box distance - max radius`` from that group (same sign, never above the exact value),
-    which keeps the zero set and every value within the margin exact.
-    """
-    x = np.asarray(x, float)
-    y = np.asarray(y, float)
-    out = np.full(x.shape[0], np.inf)
-    for lo in range(0, starts.shape[0], _GROUP):
-        a, b = starts[lo:lo + _GROUP], ends[lo:lo + _GROUP]
-        ra, rb = radius_start[lo:lo + _GROUP], radius_end[lo:lo + _GROUP]
-        box_lo = np.minimum(a.min(axis=0), b.min(axis=0))
-        box_hi = np.maximum(a.max(axis=0), b.max(axis=0))
-        reach = float(max(ra.max(), rb.max()))
-        gap_x = np.maximum(np.maximum(box_lo[0] - x, x - box_hi[0]), 0.0)
-        gap_y = np.maximum(np.maximum(box_lo[1] - y, y - box_hi[1]), 0.0)
-        bound = np.hypot(gap_x, gap_y) - reach
-        near = np.flatnonzero(bound <= _EXACT_MARGIN)
-        far = bound > _EXACT_MARGIN
-        out[far] = np.minimum(out[far], bound[far])
-        if near.size == 0:
-            continue
-        ax, ay = a[:, 0], a[:, 1]
-        dx, dy = b[:, 0] - ax, b[:, 1] - ay
-        length_sq = np.maximum(dx * dx + dy * dy, 1e-300)
-        step = max(1, _CHUNK // max(1, a.shape[0]))
-        for start in range(0, near.size, step):
-            index = near[start:start + step]
-            px = x[index, None] - ax
-            py = y[index, None] - ay
-            u = np.clip((px * dx + py * dy) / length_sq, 0.0, 1.0)
-            dist = np.hypot(px - u * dx, py - u * dy) - (ra + u * (rb - ra))
-            out[index] = np.minimum(out[index], dist.min(axis=1))
-    return out
-
-
-def _disc(cx, cy, radius):
-    def f(x, y):
-        return np.hypot(x - cx, y - cy) - radius
-    return f
-
-
-def _ellipse(cx, cy, semi_x, semi_y, angle_deg=0.0):
-    """Ellipse; f = (rho - 1) * min(semi axes) with rho the ellipse 'radius' (exact zero set)."""
-    cos_a, sin_a = np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))
-    scale = min(semi_x, semi_y)
-
-    def f(x, y):
-        u = (x - cx) * cos_a + (y - cy) * sin_a
-        v = -(x - cx) * sin_a + (y - cy) * cos_a
-        return (np.hypot(u / semi_x, v / semi_y) - 1.0) * scale
-    return f
-
-
-def _polygon(vertices):
-    """Exact signed distance to a simple polygon (even-odd inside test)."""
-    vertices = np.asarray(vertices, float)
-    starts = vertices
-    ends = np.roll(vertices, -1, axis=0)
-    zeros = np.zeros(len(vertices))
-
-    def f(x, y):
-        dist = _segment_distance(x, y, starts, ends, zeros, zeros)
-        inside = np.zeros(x.shape[0], bool)
-        for (ax, ay), (bx, by) in zip(starts, ends):  # loop over the few polygon edges only
-            crosses = (ay > y) != (by > y)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                x_cross = ax + (bx - ax) * (y - ay) / (by - ay)
-            inside ^= crosses & (x < x_cross)
-        return np.where(inside, -dist, dist)
-    return f
-
-
-def _catmull_rom(points, samples_per_span=12):
-    """Centripetal Catmull-Rom curve through ``points`` (no loops or cusps), as a dense polyline."""
-    points = np.asarray(points, float)
-    padded = np.vstack([2 * points[0] - points[1], points, 2 * points[-1] - points[-2]])
-    out = [points[:1]]
-    theta = np.linspace(0.0, 1.0, samples_per_span + 1)[1:, None]
-    for k in range(1, len(padded) - 2):
-        p0, p1, p2, p3 = padded[k - 1:k + 3]
-        t0 = 0.0
-        t1 = t0 + np.linalg.norm(p1 - p0) ** 0.5
-        t2 = t1 + np.linalg.norm(p2 - p1) ** 0.5
-        t3 = t2 + np.linalg.norm(p3 - p2) ** 0.5
-        t = t1 + theta * (t2 - t1)
-        a1 = (t1 - t) / (t1 - t0) * p0 + (t - t0) / (t1 - t0) * p1
-        a2 = (t2 - t) / (t2 - t1) * p1 + (t - t1) / (t2 - t1) * p2
-        a3 = (t3 - t) / (t3 - t2) * p2 + (t - t2) / (t3 - t2) * p3
-        b1 = (t2 - t) / (t2 - t0) * a1 + (t - t0) / (t2 - t0) * a2
-        b2 = (t3 - t) / (t3 - t1) * a2 + (t - t1) / (t3 - t1) * a3
-        out.append((t2 - t) / (t2 - t1) * b1 + (t - t1) / (t2 - t1) * b2)
-    return np.vstack(out)
-
-
-def _stroke(points, radii, samples_per_span=12):
-    """A pen stroke along the smooth curve through ``points``, half-width interpolated from ``radii``.
-
-    ``radii`` holds one half-width per control point (linearly interpolated along the curve). Ends
-    are round.
-    """
-    points = np.asarray(points, float)
-    spine = _catmull_rom(points, samples_per_span) if len(points) > 2 else points
-    radii = np.asarray(radii, float)
-    # radius at each spine vertex: linear in the control-point index along the spine
-    position = np.linspace(0.0, len(points) - 1.0, len(spine))
-    spine_radius = np.interp(position, np.arange(len(points)), radii)
-
-    def f(x, y):
-        return _segment_distance(x, y, spine[:-1], spine[1:], spine_radius[:-1], spine_radius[1:])
-    return f
-
-
-def _union(*shapes):
-    def f(x, y):
-        return functools.reduce(np.minimum, (s(x, y) for s in shapes))
-    return f
-
-
-def _intersection(*shapes):
-    def f(x, y):
-        return functools.reduce(np.maximum, (s(x, y) for s in shapes))
-    return f
-
-
-def _difference(shape_a, *removed):
-    def f(x, y):
-        return functools.reduce(np.maximum, (-s(x, y) for s in removed), shape_a(x, y))
-    return f
-
-
-def _smooth_union(shape_a, shape_b, blend):
-    """Union with a fillet of size ``blend`` (polynomial smooth minimum); the zero set is smooth."""
-    def f(x, y):
-        a, b = shape_a(x, y), shape_b(x, y)
-        h = np.clip(0.5 + 0.5 * (b - a) / blend, 0.0, 1.0)
-        return b + (a - b) * h - blend * h * (1.0 - h)
-    return f
-
-
-def _half_plane(point, normal_out):
-    """Half-plane ``(p - point) . normal_out <= 0`` (``normal_out`` points outside)."""
-    nx, ny = np.asarray(normal_out, float) / np.hypot(*normal_out)
-
-    def f(x, y):
-        return (x - point[0]) * nx + (y - point[1]) * ny
-    return f
-
-
-def _vesica(tip_a, tip_b, half_width):
-    """Leaf shape: intersection of two discs through the tips ``tip_a``, ``tip_b`` (pointed ends)."""
-    tip_a, tip_b = np.asarray(tip_a, float), np.asarray(tip_b, float)
-    chord = tip_b - tip_a
-    half_chord = np.linalg.norm(chord) / 2
-    radius = (half_chord ** 2 + half_width ** 2) / (2 * half_width)
-    normal = np.array([-chord[1], chord[0]]) / (2 * half_chord)
-    middle = (tip_a + tip_b) / 2
-    offset = radius - half_width
-    c1, c2 = middle + offset * normal, middle - offset * normal
-    return _intersection(_disc(c1[0], c1[1], radius), _disc(c2[0], c2[1], radius))
-
 
 # ----------------------------------------------------------------------------------------------
 # The objects. Each builder returns (f, width, height) in its own design units (y down); the
@@ -242,25 +64,25 @@ def _ali():
     filleted foot, then the ya's hump, curl and deep bowl, and its two square dots below. Three
     components (the word, two dots), no holes.
     """
-    lam = _polygon([(307, 50), (333, 50), (333, 262), (307, 262)])
-    baseline = _stroke([(300, 264), (340, 264), (400, 262), (440, 250), (475, 233), (525, 210)],
-                       [13.5, 13.5, 13.5, 13, 12.5, 12])
-    tail_cut = _half_plane((517, 212), (1, 0))
-    ayn_head = _stroke([(492, 135), (455, 137), (430, 150), (414, 172), (412, 195), (422, 218),
-                        (442, 236), (452, 246)], [12, 12, 12.5, 13, 13, 13, 13, 13])
-    head_cut = _half_plane((484, 135), (1, 0))
-    word = _smooth_union(lam, _intersection(baseline, tail_cut), 10)
-    word = _union(word, _intersection(ayn_head, head_cut))
-    ya = _stroke([(322, 264), (292, 264), (264, 257), (242, 238), (224, 218), (204, 211), (187, 224),
-                  (184, 247), (200, 268), (203, 288), (180, 302), (140, 306), (95, 303), (64, 289),
-                  (52, 262), (56, 232), (60, 215)],
+    lam = polygon([(307, 50), (333, 50), (333, 262), (307, 262)])
+    baseline = stroke([(300, 264), (340, 264), (400, 262), (440, 250), (475, 233), (525, 210)],
+                      [13.5, 13.5, 13.5, 13, 12.5, 12])
+    tail_cut = half_plane((517, 212), (1, 0))
+    ayn_head = stroke([(492, 135), (455, 137), (430, 150), (414, 172), (412, 195), (422, 218),
+                       (442, 236), (452, 246)], [12, 12, 12.5, 13, 13, 13, 13, 13])
+    head_cut = half_plane((484, 135), (1, 0))
+    word = smooth_union(lam, intersection(baseline, tail_cut), 10)
+    word = union(word, intersection(ayn_head, head_cut))
+    ya = stroke([(322, 264), (292, 264), (264, 257), (242, 238), (224, 218), (204, 211), (187, 224),
+                 (184, 247), (200, 268), (203, 288), (180, 302), (140, 306), (95, 303), (64, 289),
+                 (52, 262), (56, 232), (60, 215)],
                  [13.5, 13.5, 14, 15.5, 16, 15, 13.5, 12.5, 12.5, 12.5, 12.5, 12.5, 12.5, 12.5,
                   12.5, 12.5, 12.5])
-    tip_cut = _half_plane((0, 224), (0, -1))
-    word = _union(word, _intersection(ya, tip_cut))
-    dots = _union(_polygon([(94, 330), (115, 330), (115, 351), (94, 351)]),
-                  _polygon([(130, 330), (151, 330), (151, 351), (130, 351)]))
-    drawing = _union(word, dots)
+    tip_cut = half_plane((0, 224), (0, -1))
+    word = union(word, intersection(ya, tip_cut))
+    dots = union(polygon([(94, 330), (115, 330), (115, 351), (94, 351)]),
+                 polygon([(130, 330), (151, 330), (151, 351), (130, 351)]))
+    drawing = union(word, dots)
 
     def f(x, y):  # shift the drawing into a canvas with a margin
         return drawing(x + 15.0, y + 28.0)
@@ -269,33 +91,33 @@ def _ali():
 
 def _apple():
     """An apple: two-lobed body with a top dimple, a curved stem and a pointed leaf (one component)."""
-    lobes = _smooth_union(_disc(37, 56, 28), _disc(63, 56, 28), 10)
-    bottom = _smooth_union(_disc(41, 74, 21), _disc(59, 74, 21), 8)
-    body = _smooth_union(lobes, bottom, 8)
-    dimple_top = _disc(50, 22, 8.5)
-    dimple_bottom = _disc(50, 100.5, 5.5)
-    body = _difference(body, dimple_top, dimple_bottom)
-    stem = _stroke([(50, 34), (51, 24), (54, 14), (58, 7)], [3.0, 2.6, 2.2, 2.0])
-    leaf = _vesica((53.0, 21.0), (81, 8.5), 6.5)
-    sprig = _smooth_union(stem, leaf, 2.5)  # fillet: no pinhole in the acute notch
-    return _smooth_union(body, sprig, 2.0), 100.0, 104.0
+    lobes = smooth_union(disc(37, 56, 28), disc(63, 56, 28), 10)
+    bottom = smooth_union(disc(41, 74, 21), disc(59, 74, 21), 8)
+    body = smooth_union(lobes, bottom, 8)
+    dimple_top = disc(50, 22, 8.5)
+    dimple_bottom = disc(50, 100.5, 5.5)
+    body = difference(body, dimple_top, dimple_bottom)
+    stem = stroke([(50, 34), (51, 24), (54, 14), (58, 7)], [3.0, 2.6, 2.2, 2.0])
+    leaf = vesica((53.0, 21.0), (81, 8.5), 6.5)
+    sprig = smooth_union(stem, leaf, 2.5)  # fillet: no pinhole in the acute notch
+    return smooth_union(body, sprig, 2.0), 100.0, 104.0
 
 
 def _plane_parts(gap=0.0):
     """Top view of an airliner: fuselage, swept wings with engines, tailplane."""
-    fuselage = _stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [2.5, 5.5, 5.5, 2.2], 8)
-    wings = [_polygon([(47, 38), (5, 58), (5, 64), (47, 55)]),
-             _polygon([(53, 38), (95, 58), (95, 64), (53, 55)])]
-    engines = [_ellipse(28, 50, 3.2, 7.0), _ellipse(72, 50, 3.2, 7.0)]
-    tail = [_polygon([(48.5, 79), (32, 89), (32, 93), (48.5, 88)]),
-            _polygon([(51.5, 79), (68, 89), (68, 93), (51.5, 88)])]
+    fuselage = stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [2.5, 5.5, 5.5, 2.2], 8)
+    wings = [polygon([(47, 38), (5, 58), (5, 64), (47, 55)]),
+             polygon([(53, 38), (95, 58), (95, 64), (53, 55)])]
+    engines = [ellipse(28, 50, 3.2, 7.0), ellipse(72, 50, 3.2, 7.0)]
+    tail = [polygon([(48.5, 79), (32, 89), (32, 93), (48.5, 88)]),
+            polygon([(51.5, 79), (68, 89), (68, 93), (51.5, 88)])]
     return fuselage, wings, engines, tail
 
 
 def _plane():
     """A plane (top view): one component with many corners (wing and tail tips, engine nacelles)."""
     fuselage, wings, engines, tail = _plane_parts()
-    return _union(fuselage, *wings, *engines, *tail), 100.0, 100.0
+    return union(fuselage, *wings, *engines, *tail), 100.0, 100.0
 
 
 def _planes():
@@ -304,47 +126,47 @@ def _planes():
     The wings and the tailplane are cut free of the fuselage by a gap, the engines are detached pods,
     and the fuselage has a cockpit window and three cabin windows (holes): 7 components, 4 holes.
     """
-    fuselage = _stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [3.0, 7.0, 7.0, 2.6], 8)
-    clearance = _stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [5.0, 9.5, 9.5, 4.6], 8)
-    windows = [_ellipse(50, 17, 3.0, 4.5), _disc(50, 35, 2.4), _disc(50, 47, 2.4), _disc(50, 59, 2.4)]
-    body = _difference(fuselage, *windows)
-    wing_left = _polygon([(47, 36), (5, 58), (5, 64), (47, 55)])
-    wing_right = _polygon([(53, 36), (95, 58), (95, 64), (53, 55)])
-    wings = _difference(_union(wing_left, wing_right), clearance)
-    engines = _union(_ellipse(28, 41, 3.6, 6.5), _ellipse(72, 41, 3.6, 6.5))
-    engine_clearance = _union(_ellipse(28, 41, 5.6, 8.5), _ellipse(72, 41, 5.6, 8.5))
-    wings = _difference(wings, engine_clearance)
-    tail = _difference(_union(_polygon([(47, 80), (30, 90), (30, 94), (47, 89)]),
-                              _polygon([(53, 80), (70, 90), (70, 94), (53, 89)])), clearance)
-    return _union(body, wings, engines, tail), 100.0, 100.0
+    fuselage = stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [3.0, 7.0, 7.0, 2.6], 8)
+    clearance = stroke([(50, 6), (50, 20), (50, 72), (50, 94)], [5.0, 9.5, 9.5, 4.6], 8)
+    windows = [ellipse(50, 17, 3.0, 4.5), disc(50, 35, 2.4), disc(50, 47, 2.4), disc(50, 59, 2.4)]
+    body = difference(fuselage, *windows)
+    wing_left = polygon([(47, 36), (5, 58), (5, 64), (47, 55)])
+    wing_right = polygon([(53, 36), (95, 58), (95, 64), (53, 55)])
+    wings = difference(union(wing_left, wing_right), clearance)
+    engines = union(ellipse(28, 41, 3.6, 6.5), ellipse(72, 41, 3.6, 6.5))
+    engine_clearance = union(ellipse(28, 41, 5.6, 8.5), ellipse(72, 41, 5.6, 8.5))
+    wings = difference(wings, engine_clearance)
+    tail = difference(union(polygon([(47, 80), (30, 90), (30, 94), (47, 89)]),
+                            polygon([(53, 80), (70, 90), (70, 94), (53, 89)])), clearance)
+    return union(body, wings, engines, tail), 100.0, 100.0
 
 
 def _letter_d():
     """A serif capital 'D': stem with top and bottom serifs, elliptical bowl, one counter (hole)."""
-    outer = _union(_polygon([(16, 10), (52, 10), (52, 90), (16, 90)]),
-                   _intersection(_ellipse(52, 50, 36, 40), _half_plane((52, 0), (-1, 0))),
-                   _polygon([(7, 10), (30, 10), (30, 16), (7, 16)]),
-                   _polygon([(7, 84), (30, 84), (30, 90), (7, 90)]))
-    counter = _union(_polygon([(35, 22), (52, 22), (52, 78), (35, 78)]),
-                     _intersection(_ellipse(52, 50, 22, 28), _half_plane((52, 0), (-1, 0))))
-    return _difference(outer, counter), 96.0, 100.0
+    outer = union(polygon([(16, 10), (52, 10), (52, 90), (16, 90)]),
+                  intersection(ellipse(52, 50, 36, 40), half_plane((52, 0), (-1, 0))),
+                  polygon([(7, 10), (30, 10), (30, 16), (7, 16)]),
+                  polygon([(7, 84), (30, 84), (30, 90), (7, 90)]))
+    counter = union(polygon([(35, 22), (52, 22), (52, 78), (35, 78)]),
+                    intersection(ellipse(52, 50, 22, 28), half_plane((52, 0), (-1, 0))))
+    return difference(outer, counter), 96.0, 100.0
 
 
 def _square():
-    return _polygon([(20, 20), (80, 20), (80, 80), (20, 80)]), 100.0, 100.0
+    return polygon([(20, 20), (80, 20), (80, 80), (20, 80)]), 100.0, 100.0
 
 
 def _star():
     """Five-pointed star (10 corners: 5 convex tips, 5 concave)."""
-    return _polygon(_star_vertices()), 100.0, 100.0
+    return polygon(_star_vertices()), 100.0, 100.0
 
 
 def _disc_shape():
-    return _disc(50, 50, 38), 100.0, 100.0
+    return disc(50, 50, 38), 100.0, 100.0
 
 
 def _ellipse_shape():
-    return _ellipse(50, 50, 42, 24, angle_deg=25.0), 100.0, 100.0
+    return ellipse(50, 50, 42, 24, angle_deg=25.0), 100.0, 100.0
 
 
 def _blob():
@@ -455,83 +277,6 @@ def shape(name, size=128):
     return _render("shape", name, _check_size(size)) <= 0.0
 
 
-def _gradient(f, points, step=1e-6):
-    """Central-difference gradient of ``f`` at ``points`` (k, 2), and the values there."""
-    x, y = points[:, 0], points[:, 1]
-    values = f(np.concatenate([x, x + step, x - step, x, x]),
-               np.concatenate([y, y, y, y + step, y - step]))
-    value, x_plus, x_minus, y_plus, y_minus = values.reshape(5, -1)
-    return value, np.c_[(x_plus - x_minus) / (2 * step), (y_plus - y_minus) / (2 * step)]
-
-
-def _project(f, points, tolerance=1e-10, max_iterations=40):
-    """Newton-project points onto the zero set of ``f`` (central-difference gradient), design units.
-
-    Only points not yet within ``tolerance`` are iterated. The gradient norm is floored at 0.5 so
-    that a point on a medial axis (where the gradient of a distance is undefined) moves at most
-    ``2 |f|``; on exact signed distances one step suffices, elsewhere a few.
-    """
-    points = np.array(points, float)
-    active = np.arange(points.shape[0])
-    for _ in range(max_iterations):
-        if active.size == 0:
-            break
-        value, gradient = _gradient(f, points[active])
-        norm_sq = np.maximum((gradient**2).sum(axis=1), 0.25)
-        moving = np.abs(value) > tolerance
-        points[active] -= gradient * (value * moving / norm_sq)[:, None]
-        active = active[moving]
-    return points
-
-
-def _refine_closed(f, points, spacing):
-    """Subdivide a closed polyline on the zero set until no edge exceeds ``spacing`` (design units).
-
-    Every inserted point is projected onto the zero set. An edge that stays long after a round of
-    projection spans a sharp corner: there the intersection of the tangent lines at its two ends
-    (exactly the corner of a polygon, close to it for a pointed arc) is inserted instead.
-    """
-    for round_ in range(40):
-        nxt = np.roll(points, -1, axis=0)
-        edge = np.linalg.norm(nxt - points, axis=1)
-        long = np.flatnonzero(edge > spacing * (1 + 1e-9))
-        if long.size == 0:
-            break
-        pieces = np.ones(len(points), int)
-        pieces[long] = np.ceil(edge[long] / spacing).astype(int)
-        extra = {}
-        if round_ >= 2:  # projection alone has converged on smooth parts: what is left are corners
-            # tangent lines at both ends, from the (short) neighbouring edges
-            before = points[long] - np.roll(points, 1, axis=0)[long]
-            after = np.roll(points, -2, axis=0)[long] - nxt[long]
-            before /= np.maximum(np.linalg.norm(before, axis=1), 1e-300)[:, None]
-            after /= np.maximum(np.linalg.norm(after, axis=1), 1e-300)[:, None]
-            det = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
-            gap = nxt[long] - points[long]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                along = (gap[:, 0] * after[:, 1] - gap[:, 1] * after[:, 0]) / det
-            corner = points[long] + along[:, None] * before
-            middle = (points[long] + nxt[long]) / 2
-            usable = ((np.abs(det) > 0.17) & (along > 1e-3 * spacing)
-                      & (np.linalg.norm(corner - nxt[long], axis=1) > 1e-3 * spacing)
-                      & (np.linalg.norm(corner - middle, axis=1) <= edge[long]))
-            for index, point in zip(long[usable], corner[usable]):
-                extra[int(index)] = point
-                pieces[index] = 2
-        start = np.repeat(points, pieces, axis=0)
-        delta = np.repeat(nxt - points, pieces, axis=0)
-        fraction = np.concatenate([np.arange(k) / k for k in pieces])
-        dense = start + fraction[:, None] * delta
-        if extra:
-            offsets = np.cumsum(pieces) - pieces
-            for index, point in extra.items():
-                dense[offsets[index] + 1] = point
-        fresh = fraction > 0
-        dense[fresh] = _project(f, dense[fresh])
-        points = dense
-    return points
-
-
 @functools.lru_cache(maxsize=32)
 def _outline(kind, name, size, spacing):
     from skimage import measure
@@ -545,8 +290,8 @@ def _outline(kind, name, size, spacing):
         xy = np.c_[contour[:, 1] - 0.5, contour[:, 0] - 0.5] / scale
         if np.allclose(xy[0], xy[-1]):
             xy = xy[:-1]
-        xy = _project(f, xy)
-        dense = _refine_closed(f, xy, spacing / scale) * scale
+        xy = project(f, xy)
+        dense = refine_closed(f, xy, spacing / scale) * scale
         area = 0.5 * np.sum(dense[:, 0] * np.roll(dense[:, 1], -1) - np.roll(dense[:, 0], -1) * dense[:, 1])
         outlines.append((dense, area))
     # find_contours keeps the higher values (outside) on a fixed side: outers and holes come out with

@@ -22,9 +22,10 @@ Documented outcomes for degenerate input
 * 1-pixel-wide lines: the crack outline goes round the line (a thin closed shape of width 1);
 * empty arrays, non-image or truncated files: ``ValueError`` / ``FileNotFoundError`` from
   :func:`~splinecraft.capture.image.load_bitmap`, naming the file;
-* ``epsilon <= 0`` (or NaN, inf): ``ValueError``. ``max_iterations`` bounds the knot insertion, so a
-  run never hangs; an unconverged boundary is reported in ``stats["converged"]``, and
-  ``stats["per_boundary"][k]["reason"]`` (also in :attr:`TraceResult.notes`) says why it did not converge.
+* ``epsilon`` below ``fitting.MIN_EPSILON`` (0.001 px; also ``<= 0``, NaN, inf): ``ValueError`` naming it.
+  ``max_iterations`` bounds the knot insertion, so a run never hangs; an unconverged boundary is reported in
+  ``stats["converged"]``, and ``stats["per_boundary"][k]["reason"]`` (also in :attr:`TraceResult.notes`) says
+  why it did not converge.
 
 Large and noisy images
 ----------------------
@@ -48,12 +49,8 @@ take most of the rest) and every small outline converges; 40 x 40 (103 boundarie
 """
 from __future__ import annotations
 
-import inspect
-import json
-import math
 import numbers
 import time
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -61,9 +58,12 @@ from .contour import trace_boundaries
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
 from .corners import corners as detect_corners
-from .fitting import DEFAULT_EPSILON, KNOT_METHODS, SMALL_OUTLINE, _check_options, fit_outline, fit_small_outlines
+from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
+from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
+    check_tau, make_rng
+from .fitting.small import fit_small_trusted
 from .image import load_bitmap
-from .svg import path_data, svg_document
+from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 
 __all__ = ["trace", "TraceResult", "TraceSnapshot", "SHORT_CONTOUR"]
 
@@ -74,255 +74,6 @@ SHORT_CONTOUR = 64
 CORNERLESS_CONTOUR = 20
 
 
-def _default_of(function, name):
-    parameter = inspect.signature(function).parameters.get(name)
-    if parameter is None or parameter.default is inspect.Parameter.empty:
-        return None
-    return parameter.default
-
-
-# ---------------------------------------------------------------------------------------------------
-# result objects
-# ---------------------------------------------------------------------------------------------------
-@dataclass(eq=False)
-class TraceSnapshot:
-    """All boundaries at one iteration of knot insertion (the merged view for stepping).
-
-    Attributes
-    ----------
-    iteration : int
-        Iteration number (0 = the initial fit with corners only).
-    snapshots : list of fitting.Snapshot
-        Per boundary, the snapshot in force at this iteration: its own snapshot of that iteration, or its
-        last one when the boundary finished earlier.
-    finished : ndarray of bool
-        Per boundary: it had already finished (no snapshot later than this iteration).
-    """
-
-    iteration: int
-    snapshots: list
-    finished: np.ndarray
-
-    @property
-    def bezier(self) -> np.ndarray:
-        """All pieces of all boundaries, shape ``(pieces, 4, 2)``."""
-        return np.concatenate([np.asarray(s.bezier, dtype=float) for s in self.snapshots], axis=0)
-
-    @property
-    def piece_boundary(self) -> np.ndarray:
-        """Boundary index of every row of :attr:`bezier`."""
-        counts = [len(s.bezier) for s in self.snapshots]
-        return np.repeat(np.arange(len(counts)), counts)
-
-    @property
-    def piece_max_error(self) -> np.ndarray:
-        """Thesis error of every piece (spline point vs its contour point), concatenated."""
-        return np.concatenate([np.asarray(s.piece_max_error, dtype=float) for s in self.snapshots])
-
-    @property
-    def piece_hausdorff(self) -> np.ndarray:
-        """Geometric deviation (two-sided, px) of every piece, concatenated."""
-        return np.concatenate([np.asarray(s.piece_hausdorff, dtype=float) for s in self.snapshots])
-
-    @property
-    def knots(self) -> int:
-        """Number of knots (corners included) over all boundaries."""
-        return int(sum(_knot_count(s.knot_indices) for s in self.snapshots))
-
-    @property
-    def max_error(self) -> float:
-        return float(self.piece_max_error.max(initial=0.0))
-
-    @property
-    def hausdorff(self) -> float:
-        return float(self.piece_hausdorff.max(initial=0.0))
-
-    def splines(self) -> list:
-        """The curve of every boundary at this iteration (:class:`~splinecraft.spline.Spline`)."""
-        return [s.spline() for s in self.snapshots]
-
-    def to_svg(self, width, height, *, decimals=4) -> str:
-        """SVG of the outline at this iteration (same frame and form as :meth:`TraceResult.to_svg`)."""
-        return svg_document(path_data([s.bezier for s in self.snapshots], decimals=decimals), width, height)
-
-
-@dataclass(eq=False)
-class TraceResult:
-    """Everything :func:`trace` computed (docs/capture.md).
-
-    Attributes
-    ----------
-    mask : ndarray (H, W) bool
-        The binarized bitmap (True = ink).
-    boundaries : list of Boundary
-        Outer boundaries and holes of all components (see :func:`trace_boundaries`).
-    points : list of ndarray (n, 2)
-        The contour fitted for each boundary (``Boundary.outline`` or ``Boundary.pixels``).
-    corners : list of ndarray of int
-        Corner indices into ``points[k]``.
-    fits : list of fitting.FitResult
-        Per boundary: pieces, knot indices, snapshots, errors, convergence.
-    splines : list of Spline
-        The final closed curve of every boundary, in the pixel frame.
-    snapshots : list of TraceSnapshot
-        Merged per-iteration view (iteration 0 .. max over boundaries); empty when
-        ``keep_snapshots=False``. The last one equals the result.
-    boundary_snapshots : list of list of fitting.Snapshot
-        Per boundary, its own snapshots (``fits[k].snapshots``).
-    stats : dict
-        The columns of thesis tables 4.1-4.61 and more; see :func:`trace`.
-    params : dict
-        The settings used (defaults resolved to names).
-    notes : list of str
-        Fallbacks taken (e.g. a contour too short for corner detection).
-    """
-
-    mask: np.ndarray
-    boundaries: list
-    points: list
-    corners: list
-    fits: list
-    splines: list
-    snapshots: list
-    stats: dict
-    params: dict
-    notes: list = field(default_factory=list)
-
-    @property
-    def width(self) -> int:
-        return int(self.mask.shape[1])
-
-    @property
-    def height(self) -> int:
-        return int(self.mask.shape[0])
-
-    @property
-    def boundary_snapshots(self) -> list:
-        return [list(fit.snapshots) for fit in self.fits]
-
-    def bezier(self) -> list:
-        """Bézier control points of every boundary's final curve, a list of ``(m, 4, 2)`` arrays."""
-        return [spline.bezier() for spline in self.splines]
-
-    def svg_path_data(self, *, decimals=4) -> str:
-        """The ``d`` attribute of :meth:`to_svg`: one closed subpath of cubic Béziers per boundary."""
-        return path_data(self.bezier(), decimals=decimals)
-
-    def to_svg(self, *, decimals=4, fill="black", title=None) -> str:
-        """Standalone SVG: one ``<path>`` of exact cubic Béziers, ``fill-rule="evenodd"`` (holes stay
-        empty), ``width``/``height``/``viewBox`` = the bitmap size in its pixel frame.
-
-        ``decimals`` rounds coordinates (``None``: exact floats).
-        """
-        return svg_document(self.svg_path_data(decimals=decimals), self.width, self.height, fill=fill,
-                            title=title)
-
-    def to_dict(self, *, include_points=False, include_snapshots=False) -> dict:
-        """JSON-able summary: size, settings, stats and, per boundary, its chain code, corners, knots and
-        final spline (``Spline.to_dict``). Optionally the fitted contour points and all snapshots.
-        Non-finite numbers become ``None``.
-        """
-        boundaries = []
-        for k, (boundary, points, corner_idx, fit, spline) in enumerate(
-            zip(self.boundaries, self.points, self.corners, self.fits, self.splines)
-        ):
-            entry = {
-                "index": k,
-                "is_hole": bool(boundary.is_hole),
-                "parent": boundary.parent,
-                "component": int(boundary.component),
-                "connectivity": int(boundary.connectivity),
-                "area": int(boundary.area),
-                "chain_start": list(boundary.start),
-                "chain_code": boundary.chain_string,
-                "contour_points": int(len(points)),
-                "corners": np.asarray(corner_idx).tolist(),
-                "pieces": [[int(a), int(b)] for a, b in fit.pieces],
-                "knot_indices": [np.asarray(k_idx).tolist() for k_idx in fit.knot_indices],
-                "knots_inserted": int(fit.knots_inserted),
-                "iterations": int(fit.iterations),
-                "converged": bool(fit.converged),
-                "max_error": _finite_or_none(fit.max_error),
-                "hausdorff": _finite_or_none(fit.hausdorff),
-                "spline": spline.to_dict(),
-            }
-            if include_points:
-                entry["points"] = np.asarray(points).tolist()
-            if include_snapshots:
-                entry["snapshots"] = [_snapshot_dict(s) for s in fit.snapshots]
-            boundaries.append(entry)
-        return _jsonable({
-            "type": "splinecraft.TraceResult",
-            "version": 1,
-            "width": self.width,
-            "height": self.height,
-            "params": self.params,
-            "stats": self.stats,
-            "notes": list(self.notes),
-            "boundaries": boundaries,
-            "svg_path": self.svg_path_data(decimals=None),
-        })
-
-    def to_json(self, *, indent=None, include_points=False, include_snapshots=False) -> str:
-        """:meth:`to_dict` as strict JSON (no NaN)."""
-        return json.dumps(
-            self.to_dict(include_points=include_points, include_snapshots=include_snapshots),
-            indent=indent, allow_nan=False,
-        )
-
-    def __repr__(self) -> str:
-        s = self.stats
-        return (
-            f"TraceResult({self.width}x{self.height}, boundaries={s['boundaries']} (holes={s['holes']}), "
-            f"contour_points={s['contour_points']}, corners={s['corners']}, "
-            f"knots_inserted={s['knots_inserted']}, iterations={s['iterations']}, segments={s['segments']}, "
-            f"hausdorff={s['hausdorff']:.3g} px, time={s['time_s'] * 1e3:.1f} ms)"
-        )
-
-
-def _knot_count(knot_indices) -> int:
-    """Distinct knots (corners included) of one outline: the distinct contour indices over all pieces."""
-    arrays = [np.asarray(k, dtype=np.int64).reshape(-1) for k in knot_indices]
-    return int(np.unique(np.concatenate(arrays)).size) if arrays else 0
-
-
-def _finite_or_none(value):
-    value = float(value)
-    return value if math.isfinite(value) else None
-
-
-def _jsonable(value):
-    if value is None or isinstance(value, (bool, str)):
-        return value
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, numbers.Integral):
-        return int(value)
-    if isinstance(value, numbers.Real):
-        return _finite_or_none(value)
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    return str(value)
-
-
-def _snapshot_dict(snapshot) -> dict:
-    return _jsonable({
-        "iteration": snapshot.iteration,
-        "knot_indices": [np.asarray(k) for k in snapshot.knot_indices],
-        "bezier": np.asarray(snapshot.bezier),
-        "piece_max_error": np.asarray(snapshot.piece_max_error),
-        "piece_hausdorff": np.asarray(snapshot.piece_hausdorff),
-        "candidates": list(snapshot.candidates),
-    })
-
-
-# ---------------------------------------------------------------------------------------------------
-# trace
-# ---------------------------------------------------------------------------------------------------
 def trace(
     image,
     *,
@@ -348,12 +99,13 @@ def trace(
     image : path, file object, ndarray or PIL image
         See :func:`~splinecraft.capture.image.load_bitmap`.
     epsilon : float > 0
-        Error threshold of knot insertion, px (thesis "threshold value" 1, 2, 3). The default is
-        ``fitting.DEFAULT_EPSILON`` (0.8 px; the issue's signature says 2.0): the deviation is measured
-        from the crack outline, itself up to ~0.5-0.7 px from the true outline, so 0.8 keeps the result
-        within about 1 px of the true outline (see the fitting module's docstring and BENCHMARKS.md).
+        Error threshold of knot insertion, px (thesis "threshold value" 1, 2, 3), at least
+        ``fitting.MIN_EPSILON`` (0.001 px). The default is ``fitting.DEFAULT_EPSILON`` (0.8 px): the deviation
+        is measured from the crack outline, itself up to ~0.5-0.7 px from the true outline, so 0.8 keeps the
+        result within about 1 px of the true outline (docs/capture.md §12, "Default epsilon").
     method : str, optional
-        Knot-insertion algorithm, a key of ``KNOT_METHODS`` (thesis Algs 4.1-4.6 and the team's own);
+        Knot-insertion algorithm, a key of ``KNOT_METHODS`` (thesis Algs 4.1-4.6 and the deterministic
+        default ``"lsq"``);
         ``None`` = the default of :func:`~splinecraft.capture.fitting.fit_outline`.
     corner_method : str, optional
         Corner detector, a key of ``CORNER_METHODS``; ``None`` = ``corners.CAPTURE_DEFAULT`` (the corner
@@ -377,7 +129,8 @@ def trace(
     contour : {"outline", "pixels"}
         Fit the crack outline (edge midpoints, default) or the chain of boundary pixel centres.
     fit_params : dict, optional
-        Further keyword arguments for ``fit_outline`` (engine parameters). ``small_outline`` (default
+        Further options of ``fit_outline`` (its ``**options`` and ``small_outline``; the arguments of
+        :func:`trace` itself are not accepted here). ``small_outline`` (default
         ``fitting.SMALL_OUTLINE`` = 64; 0 = off) sets the contour length below which ``"lsq"`` boundaries are
         fitted together by ``fitting.fit_small_outlines``.
 
@@ -408,33 +161,16 @@ def trace(
     Raises
     ------
     ValueError
-        ``epsilon <= 0``, unknown method names, bad options, unreadable images, and
+        ``epsilon`` out of range, unknown method names, bad options, unreadable images, and
         ``"no shape found"`` when the bitmap has no ink (e.g. all white).
     TypeError
         Options of the wrong type.
     """
     started = time.perf_counter()
-    epsilon = _check_epsilon(epsilon)
-    max_iterations = _check_int(max_iterations, "max_iterations", minimum=1)
-    if not isinstance(keep_snapshots, (bool, np.bool_)):
-        raise TypeError(f"keep_snapshots must be a bool, got {type(keep_snapshots).__name__}")
-    if isinstance(connectivity, bool) or connectivity not in (4, 8):
-        raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
-    if contour not in ("outline", "pixels"):
-        raise ValueError(f"contour must be 'outline' or 'pixels', got {contour!r}")
-    if seed is not None:
-        seed = _check_int(seed, "seed")
-    method_name = method if method is not None else _default_of(fit_outline, "method")
-    if method is not None and method not in KNOT_METHODS:
-        raise ValueError(f"unknown method {method!r}; choose one of {sorted(KNOT_METHODS)}")
-    if corner_method is None:  # the corner module's recommendation for outline capture
-        corner_method = CORNER_CAPTURE_DEFAULT
-    corner_name = corner_method
-    if corner_method not in CORNER_METHODS:
-        raise ValueError(f"unknown corner_method {corner_method!r}; choose one of {sorted(CORNER_METHODS)}")
-    corner_params = _check_params(corner_params, "corner_params")
-    fit_params = _check_params(fit_params, "fit_params")
-
+    settings = _check_arguments(epsilon=epsilon, method=method, corner_method=corner_method,
+                                corner_params=corner_params, seed=seed, max_iterations=max_iterations,
+                                keep_snapshots=keep_snapshots, connectivity=connectivity, tau=tau, contour=contour,
+                                fit_params=fit_params)
     mask = load_bitmap(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
                        connectivity=connectivity)
     loaded = time.perf_counter()
@@ -445,60 +181,15 @@ def trace(
             "no shape found: the bitmap has no ink pixels after thresholding "
             f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
         )
-
-    small_limit = _small_limit(method_name, fit_params)
     notes = []
-    points_list, corner_list, small = [], [], []
-    for k, boundary in enumerate(boundaries):
-        points = boundary.outline if contour == "outline" else boundary.pixels
-        if len(points) < 4:  # pixel chains of tiny components: fall back to the crack outline
-            notes.append(f"boundary {k}: pixel chain has {len(points)} point(s); fitted its crack outline")
-            points = boundary.outline
-        points_list.append(np.asarray(points, dtype=float))
-        if len(points) < small_limit:
-            small.append(k)
-        if len(points) < min(small_limit, CORNERLESS_CONTOUR):
-            corner_list.append(np.zeros(0, dtype=np.intp))
-        else:
-            corner_list.append(_detect(points_list[-1], k, corner_method, corner_params, notes))
-    if small:
-        skipped = sum(len(points_list[k]) < CORNERLESS_CONTOUR for k in small)
-        notes.append(
-            f"{len(small)} boundar{'y' if len(small) == 1 else 'ies'} of fewer than {small_limit} contour points "
-            "fitted together by the small-outline path of 'lsq' (fitting.fit_small_outlines: interpolant through "
-            "contour points, corners interpolated; stats['per_boundary'][k]['small_outline'])"
-            + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
-               "closed periodic curve" if skipped else ""))
+    points_list, corner_list, small = _contours(boundaries, settings, notes)
     cornered = time.perf_counter()
-
-    fits = [None] * len(points_list)
-    if small:
-        small_fits = fit_small_outlines([points_list[k] for k in small], [corner_list[k] for k in small],
-                                        epsilon=epsilon, max_iterations=max_iterations,
-                                        keep_snapshots=keep_snapshots)
-        for k, fit in zip(small, small_fits):
-            fits[k] = fit
-    for k, (points, corner_idx) in enumerate(zip(points_list, corner_list)):
-        if fits[k] is not None:
-            continue
-        kwargs = dict(fit_params)
-        if method is not None:
-            kwargs["method"] = method
-        if tau is not None:
-            kwargs["tau"] = tau
-        try:
-            fit = fit_outline(
-                points, corner_idx, closed=True, epsilon=epsilon, seed=_child_seed(seed, k),
-                max_iterations=max_iterations, keep_snapshots=keep_snapshots, **kwargs,
-            )
-        except ValueError as exc:
-            raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
-        fits[k] = fit
+    fits = _fit_boundaries(points_list, corner_list, small, settings)
     finished = time.perf_counter()
 
     splines = [fit.spline for fit in fits]
-    merged = _merge_snapshots(fits) if keep_snapshots else []
-    stats = _stats(boundaries, points_list, corner_list, fits, splines, max_iterations)
+    merged = merge_snapshots(fits) if settings["keep_snapshots"] else []
+    stats = _stats(boundaries, points_list, corner_list, fits, splines, settings["max_iterations"])
     for k, entry in enumerate(stats["per_boundary"]):
         if entry["reason"] is not None:
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
@@ -508,26 +199,102 @@ def trace(
         "corners_s": cornered - traced, "fit_s": finished - cornered,
     }
     params = {
-        "epsilon": epsilon, "method": method_name, "corner_method": corner_name,
-        "corner_params": dict(corner_params), "seed": seed, "max_iterations": max_iterations,
-        "connectivity": connectivity, "threshold": threshold, "invert": bool(invert),
-        "min_speck_area": min_speck_area, "tau": tau, "contour": contour, "fit_params": dict(fit_params),
+        "epsilon": settings["epsilon"], "method": settings["method"], "corner_method": settings["corner_method"],
+        "corner_params": dict(settings["corner_params"]), "seed": settings["seed"],
+        "max_iterations": settings["max_iterations"], "connectivity": connectivity, "threshold": threshold,
+        "invert": bool(invert), "min_speck_area": min_speck_area, "tau": tau, "contour": contour,
+        "fit_params": dict(settings["fit_params"]),
     }
     return TraceResult(mask=mask, boundaries=boundaries, points=points_list, corners=corner_list, fits=fits,
-                       splines=splines, snapshots=merged, stats=stats, params=_jsonable(params), notes=notes)
+                       splines=splines, snapshots=merged, stats=stats, params=jsonable(params), notes=notes)
 
 
-def _small_limit(method_name, fit_params):
-    """Contours with fewer points than this take the small-outline path (0 for the thesis methods); the
-    ``fit_params`` are checked here once, as ``fit_outline`` would (the batch does not use them)."""
-    if method_name != "lsq":
-        return 0
+#: Arguments of :func:`~splinecraft.capture.fitting.fit_outline` that :func:`trace` sets itself.
+_OWN_ARGUMENTS = ("closed", "epsilon", "method", "tau", "seed", "max_iterations", "keep_snapshots")
+
+
+def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max_iterations, keep_snapshots,
+                     connectivity, tau, contour, fit_params):
+    """Every argument of :func:`trace` but the image ones, checked once; the fit below takes them as given."""
+    epsilon = check_epsilon(epsilon)
+    max_iterations = check_count(max_iterations, "max_iterations", 1)
+    keep_snapshots = check_flag(keep_snapshots, "keep_snapshots")
+    if isinstance(connectivity, bool) or connectivity not in (4, 8):
+        raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
+    if contour not in ("outline", "pixels"):
+        raise ValueError(f"contour must be 'outline' or 'pixels', got {contour!r}")
+    if seed is not None:
+        seed = check_count(seed, "seed", 0)
+    method_name = DEFAULT_METHOD if method is None else check_method(method)
+    if corner_method is None:  # the corner module's recommendation for outline capture
+        corner_method = CORNER_CAPTURE_DEFAULT
+    if corner_method not in CORNER_METHODS:
+        raise ValueError(f"unknown corner_method {corner_method!r}; choose one of {sorted(CORNER_METHODS)}")
+    corner_params = _check_params(corner_params, "corner_params")
+    fit_params = _check_params(fit_params, "fit_params")
+    for key in _OWN_ARGUMENTS:
+        if key in fit_params:
+            raise TypeError(f"fit_params[{key!r}]: pass {key} to trace() itself")
     options = dict(fit_params)
-    limit = options.pop("small_outline", SMALL_OUTLINE)
-    if isinstance(limit, bool) or not isinstance(limit, numbers.Integral) or limit < 0:
-        raise ValueError(f"fit_params['small_outline'] must be an integer >= 0, got {limit!r}")
-    _check_options("lsq", options)
-    return int(limit)
+    small_limit = options.pop("small_outline", SMALL_OUTLINE)
+    if isinstance(small_limit, bool) or not isinstance(small_limit, numbers.Integral) or small_limit < 0:
+        raise ValueError(f"fit_params['small_outline'] must be an integer >= 0, got {small_limit!r}")
+    return {"epsilon": epsilon, "max_iterations": max_iterations, "keep_snapshots": keep_snapshots, "seed": seed,
+            "method": method_name, "tau": check_tau(tau, method_name), "corner_method": corner_method,
+            "corner_params": corner_params, "fit_params": fit_params, "options": check_options(method_name, options),
+            "small_outline": int(small_limit), "contour": contour}
+
+
+def _contours(boundaries, settings, notes):
+    """The contour of every boundary, its corners, and which boundaries take the small-outline path."""
+    small_limit = settings["small_outline"] if settings["method"] == "lsq" else 0
+    points_list, corner_list, small = [], [], []
+    for k, boundary in enumerate(boundaries):
+        points = boundary.outline if settings["contour"] == "outline" else boundary.pixels
+        if len(points) < 4:  # pixel chains of tiny components: fall back to the crack outline
+            notes.append(f"boundary {k}: pixel chain has {len(points)} point(s); fitted its crack outline")
+            points = boundary.outline
+        elif settings["contour"] == "pixels":
+            points = check_points(points)
+        points_list.append(np.asarray(points, dtype=float))
+        if routes_to_small(settings["method"], len(points), small_limit):
+            small.append(k)
+        if len(points) < min(small_limit, CORNERLESS_CONTOUR):
+            corner_list.append(np.zeros(0, dtype=np.intp))
+        else:
+            corner_list.append(_detect(points_list[-1], k, settings["corner_method"], settings["corner_params"],
+                                       notes))
+    if small:
+        skipped = sum(len(points_list[k]) < CORNERLESS_CONTOUR for k in small)
+        notes.append(
+            f"{len(small)} boundar{'y' if len(small) == 1 else 'ies'} of fewer than {small_limit} contour points "
+            "fitted together by the small-outline path of 'lsq' (fitting.fit_small_outlines: interpolant through "
+            "contour points, corners interpolated; stats['per_boundary'][k]['small_outline'])"
+            + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
+               "closed periodic curve" if skipped else ""))
+    return points_list, corner_list, small
+
+
+def _fit_boundaries(points_list, corner_list, small, settings):
+    """The fit of every boundary: the small ones together, the others one by one (trusted arguments)."""
+    epsilon, max_iterations, keep = settings["epsilon"], settings["max_iterations"], settings["keep_snapshots"]
+    fits = [None] * len(points_list)
+    if small:
+        corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in small]
+        for k, fit in zip(small, fit_small_trusted([points_list[k] for k in small], corners, epsilon,
+                                                   max_iterations, keep)):
+            fits[k] = fit
+    method = settings["method"]
+    for k, (points, corner_idx) in enumerate(zip(points_list, corner_list)):
+        if fits[k] is not None:
+            continue
+        rng = make_rng(_child_seed(settings["seed"], k)) if method != "lsq" else None
+        try:
+            fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), epsilon, method,
+                                  settings["tau"], rng, max_iterations, keep, 0, settings["options"])
+        except ValueError as exc:
+            raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
+    return fits
 
 
 def _detect(points, k, corner_method, corner_params, notes):
@@ -548,24 +315,6 @@ def _child_seed(seed, k):
     if seed is None:
         return None
     return int(np.random.SeedSequence(seed, spawn_key=(k,)).generate_state(1, dtype=np.uint32)[0])
-
-
-def _merge_snapshots(fits) -> list:
-    """One TraceSnapshot per iteration 0 .. max, each boundary at its latest snapshot up to then."""
-    per_boundary = [list(fit.snapshots) for fit in fits]
-    if any(not snaps for snaps in per_boundary):
-        return []
-    iterations = [np.array([s.iteration for s in snaps]) for snaps in per_boundary]
-    last = max(int(it[-1]) for it in iterations)
-    merged = []
-    for iteration in range(last + 1):
-        chosen, finished = [], []
-        for snaps, its in zip(per_boundary, iterations):
-            position = max(int(np.searchsorted(its, iteration, side="right")) - 1, 0)
-            chosen.append(snaps[position])
-            finished.append(iteration >= its[-1])
-        merged.append(TraceSnapshot(iteration=iteration, snapshots=chosen, finished=np.array(finished)))
-    return merged
 
 
 def _unconverged_reason(fit, max_iterations):
@@ -612,26 +361,6 @@ def _stats(boundaries, points_list, corner_list, fits, splines, max_iterations) 
             for b, p, c, fit, s in zip(boundaries, points_list, corner_list, fits, splines)
         ],
     }
-
-
-# ---------------------------------------------------------------------------------------------------
-# validation
-# ---------------------------------------------------------------------------------------------------
-def _check_epsilon(epsilon):
-    if isinstance(epsilon, (bool, np.bool_)) or not isinstance(epsilon, numbers.Real):
-        raise TypeError(f"epsilon must be a positive number (px), got {type(epsilon).__name__}")
-    epsilon = float(epsilon)
-    if not math.isfinite(epsilon) or epsilon <= 0:
-        raise ValueError(f"epsilon must be a finite number > 0 (px), got {epsilon!r}")
-    return epsilon
-
-
-def _check_int(value, name, minimum=0):
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an int >= {minimum}, got {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {value}")
-    return int(value)
 
 
 def _check_params(params, name):

@@ -1,41 +1,33 @@
-"""Direct fit of small closed outlines (private to :mod:`~splinecraft.capture.fitting`; its entry point
-:func:`~splinecraft.capture.fitting.fit_outline` and :func:`~splinecraft.capture.trace.trace` use it for
-contours of fewer than ``fitting.SMALL_OUTLINE`` points with the default method ``"lsq"``).
+"""Direct fit of small closed outlines, the small-outline path of ``"lsq"`` (docs/capture.md §12, "Small
+outlines").
 
-Why a separate path
--------------------
 Noisy or speckled bitmaps have thousands of tiny components (single pixels, dominos, small blobs, thin
-diagonal chains: 4-60 crack points each). The full ``"lsq"`` machinery (:mod:`._fit_lsq`) costs a few
-milliseconds of fixed Python-level work per outline whatever its size, so such images took seconds, and
-its corner extrapolation has little room on a handful of points. Here all small outlines of a call are
-fitted *together*: every round is a few stacked dense solves (one per block size) and one batch of distance
-grids for all outlines still refining, so the cost per outline is a small fraction of a millisecond.
+diagonal chains: 4-60 crack points each). The regression machinery (:mod:`.lsq`) costs a few milliseconds of
+fixed Python-level work per outline whatever its size, so all small outlines of a call are fitted *together*
+here: every round is a few stacked dense solves (one per block size) and one batch of distance grids for all
+outlines still refining.
 
-Model and stopping rule
------------------------
-The thesis's interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1`` (erratum E2:
-the plain C² cubic) through knot points that are contour points, parameterized by the contour's arc length:
-without corners one periodic loop, with corners one open piece per pair of consecutive corners with
-natural ends (§2.4), the pieces meeting at the corner points. Knot insertion follows the stopping rule
-of the fitting module: a knot interval is finished when the two-sided deviation between its curve and its
-contour section is within ``epsilon`` (curve samples <= 0.25 px apart to the section's edges, and the
-section's points and edge midpoints to the chords between the samples; an upper bound of the Hausdorff
-distance up to the sampling, as :func:`~splinecraft.capture.fitting.piece_deviation`). Every failing
-interval of two or more contour steps gets a knot at its contour point farthest from the curve (kept in the
-middle half of the interval). Once an outline is within ``epsilon``, knot-removal rounds (snapshot phase
+Model: the thesis's interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1``
+(erratum E2: the plain C² cubic) through knot points that are contour points, parameterized by the contour's
+arc length: without corners one periodic loop, with corners one open piece per pair of consecutive corners
+with natural ends (§2.4), the pieces meeting at the corner points. A knot interval is finished when the
+two-sided deviation between its curve and its contour section is within ``epsilon``; every failing interval
+of two or more contour steps gets a knot at its contour point farthest from the curve (kept in the middle
+half of the interval). Once an outline is within ``epsilon``, knot-removal rounds (snapshot phase
 ``"remove"``) drop every other inner knot, put back those whose interval then fails and go back to the
-round's start if the outline still fails, as long as removals stick. When every contour point is a knot
-the curve interpolates them all, so a crack outline converges for any ``epsilon`` above that interpolant's
-own deviation (about 0.1-0.2 px); below it the result says so (``FitResult.info["reason"]``).
+round's start if the outline still fails, as long as removals stick. When every contour point is a knot the
+curve interpolates them all, so a crack outline converges for any ``epsilon`` above that interpolant's own
+deviation (about 0.1-0.2 px); below it the result says so (``FitResult.info["reason"]``).
 """
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 
-from ..spline import Spline
-from .fitting import DEFAULT_EPSILON, FitResult, Snapshot, _check_corners, _check_epsilon, _check_points
+from ...spline import Spline
+from .options import check_corners, check_points
+from .results import FitResult, Snapshot
+
+__all__ = ["fit_small_trusted", "check_outlines"]
 
 #: Spacing (px) of the curve samples of the deviation check.
 _SMALL_SPACING = 0.25
@@ -160,7 +152,7 @@ def _segment_distance_grid(px, py, ax, ay, dx, dy):
 def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
     """Per knot interval: the two-sided deviation between its Bézier and its contour section (contour
     points ``a .. a + steps``), the thesis error (contour point vs the curve point at its chord-length
-    parameter, module docstring) and the contour point farthest from the curve.
+    parameter, thesis eq 4.11) and the contour point farthest from the curve.
 
     Intervals are grouped by section length (caps ``_SMALL_BUCKETS``; shorter sections repeat their last
     point, which changes no minimum) and by sample count (powers of two), and done bucket by bucket with
@@ -209,93 +201,101 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
     return deviation, thesis, worst
 
 
-def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, max_iterations=200,
-                       keep_snapshots=True):
-    """Fit many small closed contours at once (the direct path of ``"lsq"`` for contours of fewer than
-    :data:`SMALL_OUTLINE` points; :func:`fit_outline` and :func:`~splinecraft.capture.trace.trace` use it).
-
-    Model: the thesis's interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1``
-    through knot points that are contour points, parameterized by the contour's arc length; without corners
-    one periodic C² loop, with corners one open C² piece per pair of consecutive corners with natural ends
-    (§2.4; the pieces meet at the corner points, ``C^0``). Knot insertion as in the module docstring:
-    while a knot interval's geometric deviation from its contour section exceeds ``epsilon``, a knot is
-    inserted at its contour point farthest from the curve (kept in the middle half of the interval), for all
-    failing intervals of all outlines at once, stacked dense solves per round for every outline still refining
-    (:func:`_small_moments`), then knot-removal rounds (see the module docstring). Once every contour point
-    is a knot the interpolant passes through all of them, so every crack outline converges for any
-    ``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px).
-    Corners are interpolated, never extrapolated: ``converged=True`` means ``hausdorff <= epsilon`` everywhere,
-    no corner allowance. ``FitResult.info["reason"]`` says why an outline did not converge. Parameters and
-    result: the public :func:`~splinecraft.capture.fitting.fit_small_outlines`.
-    """
-    epsilon = _check_epsilon(epsilon)
-    if isinstance(max_iterations, bool) or not isinstance(max_iterations, numbers.Integral) or max_iterations < 1:
-        raise ValueError(f"max_iterations must be an integer >= 1, got {max_iterations!r}")
-    if not isinstance(keep_snapshots, (bool, np.bool_)):
-        raise TypeError(f"keep_snapshots must be True or False, got {keep_snapshots!r}")
+def check_outlines(outlines, corner_lists):
+    """The contours (float arrays) and corner index arrays of :func:`fit_small_outlines`, checked as
+    :func:`~.options.check_points` and :func:`~.options.check_corners` would check each one."""
     outlines = [np.ascontiguousarray(o, dtype=float) for o in outlines]
-    if not outlines:
-        return []
     corner_lists = [None] * len(outlines) if corner_lists is None else list(corner_lists)
     if len(corner_lists) != len(outlines):
         raise ValueError(f"corner_lists has {len(corner_lists)} entries for {len(outlines)} outlines")
+    if not outlines:
+        return [], []
     lengths = np.array([o.shape[0] if o.ndim == 2 else -1 for o in outlines], dtype=np.int64)
-    if (lengths < 4).any() or any(o.shape[1:] != (2,) for o in outlines):
-        k = int(np.flatnonzero((lengths < 4) | np.array([o.shape[1:] != (2,) for o in outlines]))[0])
-        _check_points(outlines[k])  # raises the precise error
+    shaped = np.array([o.shape[1:] == (2,) for o in outlines])
+    if (lengths < 4).any() or not shaped.all():
+        check_points(outlines[int(np.flatnonzero((lengths < 4) | ~shaped)[0])])  # raises the precise error
     points = np.concatenate(outlines)
     offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
     outline_of_point = np.repeat(np.arange(lengths.shape[0]), lengths)
     if not np.isfinite(points).all():
-        _check_points(outlines[int(outline_of_point[np.flatnonzero(~np.isfinite(points).all(axis=1))[0]])])
+        check_points(outlines[int(outline_of_point[np.flatnonzero(~np.isfinite(points).all(axis=1))[0]])])
     following = np.arange(points.shape[0]) + 1
     following[offsets + lengths - 1] = offsets  # the closing edge of every outline
     step = np.hypot(*(points[following] - points).T)
     if (step <= 0).any():
-        _check_points(outlines[int(outline_of_point[np.flatnonzero(step <= 0)[0]])])
-    corners = [_check_corners(c, int(n)) for c, n in zip(corner_lists, lengths)]
-    # arc length at every point from its outline's first point, and the perimeters: cumulative sums per
-    # outline (a stack per contour length), so each outline's values do not depend on the batch
-    arc = np.empty(points.shape[0])
-    perimeter = np.empty(lengths.shape[0])
-    for length in np.unique(lengths):
-        members = np.flatnonzero(lengths == length)
-        index = offsets[members, None] + np.arange(length)[None, :]
-        running = np.cumsum(step[index], axis=1)
-        arc[index] = running - step[index]
-        perimeter[members] = running[:, -1]
+        check_points(outlines[int(outline_of_point[np.flatnonzero(step <= 0)[0]])])
+    return outlines, [check_corners(c, int(n)) for c, n in zip(corner_lists, lengths)]
 
-    chain_outline, chain_loop, chain_start, chain_steps, knot_chain, knot_index = _small_chains(lengths, corners)
 
-    def wrap(outline, index):
-        return offsets[outline] + index % lengths[outline]
+def fit_small_trusted(outlines, corners, epsilon, max_iterations, keep_snapshots):
+    """The small-outline fit of checked contours (float ``(n, 2)`` arrays, ``n >= 4``, no coincident
+    neighbours) with sorted unique corner indices: one :class:`FitResult` per outline."""
+    if not outlines:
+        return []
+    batch = _SmallBatch(outlines, corners, epsilon, max_iterations, keep_snapshots)
+    batch.insert_knots()
+    batch.remove_knots()
+    return batch.results()
 
-    def arc_of(outline, index):
-        return arc[wrap(outline, index)] + (index // lengths[outline]) * perimeter[outline]
 
-    count = lengths.shape[0]
-    chains_first = np.searchsorted(chain_outline, np.arange(count))  # first chain of every outline
+class _SmallBatch:
+    """All small outlines of a call, refined side by side. Knots are entries ``(chain, unwrapped contour
+    index)`` sorted by chain and index; an outline's numbers never depend on the rest of the batch."""
 
-    def evaluate(k_chain, k_index):
+    def __init__(self, outlines, corners, epsilon, max_iterations, keep_snapshots):
+        self.epsilon, self.max_iterations, self.keep = epsilon, max_iterations, keep_snapshots
+        self.corners = corners
+        lengths = self.lengths = np.array([o.shape[0] for o in outlines], dtype=np.int64)
+        points = self.points = np.concatenate(outlines)
+        offsets = self.offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+        following = np.arange(points.shape[0]) + 1
+        following[offsets + lengths - 1] = offsets  # the closing edge of every outline
+        step = np.hypot(*(points[following] - points).T)
+        # arc length at every point from its outline's first point, and the perimeters: cumulative sums per
+        # outline (a stack per contour length), so each outline's values do not depend on the batch
+        self.arc = np.empty(points.shape[0])
+        self.perimeter = np.empty(lengths.shape[0])
+        for length in np.unique(lengths):
+            members = np.flatnonzero(lengths == length)
+            index = offsets[members, None] + np.arange(length)[None, :]
+            running = np.cumsum(step[index], axis=1)
+            self.arc[index] = running - step[index]
+            self.perimeter[members] = running[:, -1]
+        (self.chain_outline, self.chain_loop, self.chain_start, self.chain_steps, self.knot_chain,
+         self.knot_index) = _small_chains(lengths, corners)
+        count = self.count = lengths.shape[0]
+        self.chains_first = np.searchsorted(self.chain_outline, np.arange(count))  # first chain of every outline
+        self.history = [[] for _ in range(count)]
+        self.pending = {}  # candidates of the next snapshot, per outline
+        self.iterations = np.zeros(count, dtype=np.int64)
+        self.failed = np.zeros(count, bool)
+
+    def wrap(self, outline, index):
+        return self.offsets[outline] + index % self.lengths[outline]
+
+    def arc_of(self, outline, index):
+        return self.arc[self.wrap(outline, index)] + (index // self.lengths[outline]) * self.perimeter[outline]
+
+    def evaluate(self, k_chain, k_index):
         """Solve and measure the chains of the given knot entries (sorted by chain, then contour index)."""
-        k_outline = chain_outline[k_chain]
-        u = arc_of(k_outline, k_index)
-        F = points[wrap(k_outline, k_index)]
-        moments = _small_moments(k_chain, u, F, chain_loop)
+        k_outline = self.chain_outline[k_chain]
+        u = self.arc_of(k_outline, k_index)
+        knot_points = self.points[self.wrap(k_outline, k_index)]
+        moments = _small_moments(k_chain, u, knot_points, self.chain_loop)
         left = np.flatnonzero(k_chain[:-1] == k_chain[1:])  # interval = knot entry and its successor
         right = left + 1
         h = u[right] - u[left]
-        bezier = _small_bezier(F[left], F[right], moments[left], moments[right], h)
+        bezier = _small_bezier(knot_points[left], knot_points[right], moments[left], moments[right], h)
         i_outline = k_outline[left]
         steps = k_index[right] - k_index[left]
         deviation, thesis, worst = _small_interval_errors(
-            bezier, k_index[left], steps, lambda rows, index: points[wrap(i_outline[rows, None], index)],
-            lambda rows, index: arc_of(i_outline[rows, None], index), u[left], h)
+            bezier, k_index[left], steps, lambda rows, index: self.points[self.wrap(i_outline[rows, None], index)],
+            lambda rows, index: self.arc_of(i_outline[rows, None], index), u[left], h)
         return {"k_chain": k_chain, "k_index": k_index, "k_outline": k_outline, "u": u, "left": left,
                 "bezier": bezier, "i_outline": i_outline, "steps": steps, "deviation": deviation,
-                "thesis": thesis, "worst": worst, "failing": deviation > epsilon}
+                "thesis": thesis, "worst": worst, "failing": deviation > self.epsilon}
 
-    def states(ev, wanted, phase, candidates):
+    def states(self, ev, wanted, phase, candidates):
         """Per outline with ``wanted[b]`` in ``ev``: its state (snapshot and flags), a dict."""
         i_outline, k_outline = ev["i_outline"], ev["k_outline"]
         bounds = np.flatnonzero(np.concatenate([[True], i_outline[1:] != i_outline[:-1], [True]]))
@@ -305,51 +305,52 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
         for position in np.flatnonzero(wanted[present]):
             b = int(present[position])
             out[b] = _small_state(bounds[position], bounds[position + 1], k_bounds[position], k_bounds[position + 1],
-                                  ev, int(lengths[b]), int(iterations[b]), epsilon, phase, candidates.pop(b, []))
+                                  ev, int(self.lengths[b]), int(self.iterations[b]), self.epsilon, phase,
+                                  candidates.pop(b, []))
         return out
 
-    history = [[] for _ in range(count)]
-    pending = {}  # candidates of the next snapshot, per outline
-    iterations = np.zeros(count, dtype=np.int64)
-    failed = np.zeros(count, bool)
-    active = np.ones(count, bool)
-    # knot insertion: every failing interval of >= 2 contour steps gets its farthest contour point
-    while True:
-        in_play = active[chain_outline[knot_chain]]
-        ev = evaluate(knot_chain[in_play], knot_index[in_play])
-        i_outline, k_index_ev, left = ev["i_outline"], ev["k_index"], ev["left"]
-        splittable = ev["failing"] & (ev["steps"] >= 2)
-        inserting = np.bincount(i_outline[splittable], minlength=count) > 0
-        stop = active & (~inserting | (iterations >= max_iterations))
-        failed |= stop & (np.bincount(i_outline[ev["failing"]], minlength=count) > 0)
-        if keep_snapshots:
-            for b, state in states(ev, active, "insert", pending).items():
-                history[b].append(state["snapshot"])
-        active &= ~stop
-        if not active.any():
-            break
-        adds = np.flatnonzero(splittable & active[i_outline])
-        quarter = np.maximum(1, ev["steps"][adds] // 4)
-        new_index = np.clip(ev["worst"][adds], k_index_ev[left[adds]] + quarter, k_index_ev[left[adds] + 1] - quarter)
-        if keep_snapshots:
-            for j, index in zip(adds, new_index):
-                b = int(i_outline[j])
-                pending.setdefault(b, []).append(_candidate(
-                    ev["k_chain"][left[j]] - chains_first[b], index % lengths[b], points[wrap(b, int(index))], True,
-                    f"farthest contour point of a knot interval {ev['deviation'][j]:.3g} px from the curve "
-                    f"(> epsilon {epsilon:g})", "insert"))
-        knot_chain = np.concatenate([knot_chain, ev["k_chain"][left[adds]]])
-        knot_index = np.concatenate([knot_index, new_index])
-        order = np.lexsort((knot_index, knot_chain))
-        knot_chain, knot_index = knot_chain[order], knot_index[order]
-        iterations[active] += 1
-    # knot removal (converged outlines): drop every other inner knot, put back those whose interval then fails,
-    # go back to the round's start for an outline that still fails; stop when nothing sticks
-    removing = ~failed & (iterations < max_iterations)
-    idle = np.zeros(count, dtype=np.int64)  # consecutive removal rounds without a removal that stuck
-    for round_number in range(_REMOVAL_ROUNDS):
-        if not removing.any():
-            break
+    def record(self, b, chain, index, accepted, reason, action):
+        """A snapshot candidate of outline ``b`` for its next snapshot."""
+        self.pending.setdefault(b, []).append(_candidate(
+            chain - self.chains_first[b], index % self.lengths[b], self.points[self.wrap(b, int(index))], accepted,
+            reason, action))
+
+    def insert_knots(self):
+        """Knot insertion: every failing interval of >= 2 contour steps gets its farthest contour point."""
+        active = np.ones(self.count, bool)
+        while True:
+            in_play = active[self.chain_outline[self.knot_chain]]
+            ev = self.evaluate(self.knot_chain[in_play], self.knot_index[in_play])
+            i_outline, k_index_ev, left = ev["i_outline"], ev["k_index"], ev["left"]
+            splittable = ev["failing"] & (ev["steps"] >= 2)
+            inserting = np.bincount(i_outline[splittable], minlength=self.count) > 0
+            stop = active & (~inserting | (self.iterations >= self.max_iterations))
+            self.failed |= stop & (np.bincount(i_outline[ev["failing"]], minlength=self.count) > 0)
+            if self.keep:
+                for b, state in self.states(ev, active, "insert", self.pending).items():
+                    self.history[b].append(state["snapshot"])
+            active &= ~stop
+            if not active.any():
+                return
+            adds = np.flatnonzero(splittable & active[i_outline])
+            quarter = np.maximum(1, ev["steps"][adds] // 4)
+            new_index = np.clip(ev["worst"][adds], k_index_ev[left[adds]] + quarter,
+                                k_index_ev[left[adds] + 1] - quarter)
+            if self.keep:
+                for j, index in zip(adds, new_index):
+                    self.record(int(i_outline[j]), ev["k_chain"][left[j]], index, True,
+                                f"farthest contour point of a knot interval {ev['deviation'][j]:.3g} px from the "
+                                f"curve (> epsilon {self.epsilon:g})", "insert")
+            knot_chain = np.concatenate([self.knot_chain, ev["k_chain"][left[adds]]])
+            knot_index = np.concatenate([self.knot_index, new_index])
+            order = np.lexsort((knot_index, knot_chain))
+            self.knot_chain, self.knot_index = knot_chain[order], knot_index[order]
+            self.iterations[active] += 1
+
+    def _removal_candidates(self, removing, round_number):
+        """Knot entries to try removing this round: every other inner knot of a chain (alternating parity),
+        a loop keeping at least three distinct knots."""
+        knot_chain = self.knot_chain
         total = knot_chain.shape[0]
         entry = np.arange(total)
         first = np.concatenate([[True], knot_chain[1:] != knot_chain[:-1]])
@@ -357,64 +358,81 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
         first_of = np.maximum.accumulate(np.where(first, entry, 0))
         last_of = np.flatnonzero(last)[np.cumsum(first) - 1]
         position = entry - first_of
-        entry_outline = chain_outline[knot_chain]
+        entry_outline = self.chain_outline[knot_chain]
         candidate = removing[entry_outline] & ~first & ~last & (position % 2 == 1 - round_number % 2)
         # a loop keeps at least three distinct knots (its entries are the knots plus the seam again)
         rank = np.cumsum(candidate) - np.cumsum(candidate)[first_of] + candidate[first_of]
-        allowed = np.where(chain_loop[knot_chain], last_of - first_of - 3, total)
-        candidate &= rank <= allowed
-        part = removing & (np.bincount(entry_outline[candidate], minlength=count) > 0)
-        removing &= part
-        if not part.any():
-            break
-        in_play = part[entry_outline]
-        reduced = in_play & ~candidate
-        ev = evaluate(knot_chain[reduced], knot_index[reduced])
+        allowed = np.where(self.chain_loop[knot_chain], last_of - first_of - 3, total)
+        return candidate & (rank <= allowed), entry_outline
+
+    def _removal_kept(self, candidate, entry_outline, part):
+        """Which knot entries stay after removing the candidates of the outlines ``part``: removed knots whose
+        interval then fails come back; an outline that still fails goes back to the round's start."""
+        count = self.count
+        reduced = part[entry_outline] & ~candidate
+        ev = self.evaluate(self.knot_chain[reduced], self.knot_index[reduced])
         # the interval of the reduced fit that holds each removed knot
-        key_scale = 4 * int(lengths.max()) + 4
+        key_scale = 4 * int(self.lengths.max()) + 4
         start_keys = ev["k_chain"][ev["left"]] * key_scale + ev["k_index"][ev["left"]]
         removed = np.flatnonzero(candidate)
-        holder = np.searchsorted(start_keys, knot_chain[removed] * key_scale + knot_index[removed], side="right") - 1
+        holder = np.searchsorted(start_keys, self.knot_chain[removed] * key_scale + self.knot_index[removed],
+                                 side="right") - 1
         restore = ev["failing"][holder]
         keep = ~candidate
         keep[removed[restore]] = True
         restored_outlines = np.bincount(entry_outline[removed[restore]], minlength=count) > 0
-        # the curve of a chain is global (C²): an interval without a removed knot can fail too; such an
-        # outline goes back to the round's start, as does one that still fails after the restorations
+        # the curve of a chain is global (C²): an interval without a removed knot can fail too
         revert = (np.bincount(ev["i_outline"][ev["failing"]], minlength=count) > 0) & ~restored_outlines
         if restored_outlines.any():
             check = keep & restored_outlines[entry_outline]
-            ev_check = evaluate(knot_chain[check], knot_index[check])
+            ev_check = self.evaluate(self.knot_chain[check], self.knot_index[check])
             still = np.bincount(ev_check["i_outline"][ev_check["failing"]], minlength=count) > 0
             revert |= restored_outlines & still
         keep |= revert[entry_outline]
-        net = np.bincount(entry_outline[removed[~keep[removed]]], minlength=count)
-        if keep_snapshots:
-            for j in removed:
-                b = int(entry_outline[j])
-                kept = bool(keep[j])
-                pending.setdefault(b, []).append(_candidate(
-                    knot_chain[j] - chains_first[b], knot_index[j] % lengths[b], points[wrap(b, int(knot_index[j]))],
-                    not kept, "restored: its removal broke the tolerance" if kept else
-                    "removed: the fit stays within the tolerance", "restore" if kept else "remove"))
-        knot_chain, knot_index = knot_chain[keep], knot_index[keep]
-        iterations[part] += 1
-        if keep_snapshots:
-            in_play = part[chain_outline[knot_chain]]
-            ev = evaluate(knot_chain[in_play], knot_index[in_play])
-            for b, state in states(ev, part, "remove", pending).items():
-                history[b].append(state["snapshot"])
-        idle = np.where(net > 0, 0, idle + 1)
-        removing &= (idle < 2) & (iterations < max_iterations)  # both parities tried without success: stop
-    final = states(evaluate(knot_chain, knot_index), np.ones(count, bool), "insert", {})
-    results = []
-    for b in range(count):
-        state = final[b]
-        if keep_snapshots:  # the same knots as its last snapshot, so the same numbers: use that object
-            state["snapshot"] = history[b][-1]
-        results.append(_small_result(state, history[b], corners[b], lengths[b], epsilon, max_iterations))
-    return results
+        return keep, removed
 
+    def remove_knots(self):
+        """Knot removal on the converged outlines, while removals stick (both parities tried without success:
+        stop), at most :data:`_REMOVAL_ROUNDS` rounds."""
+        count = self.count
+        removing = ~self.failed & (self.iterations < self.max_iterations)
+        idle = np.zeros(count, dtype=np.int64)  # consecutive removal rounds without a removal that stuck
+        for round_number in range(_REMOVAL_ROUNDS):
+            if not removing.any():
+                return
+            candidate, entry_outline = self._removal_candidates(removing, round_number)
+            part = removing & (np.bincount(entry_outline[candidate], minlength=count) > 0)
+            removing &= part
+            if not part.any():
+                return
+            keep, removed = self._removal_kept(candidate, entry_outline, part)
+            net = np.bincount(entry_outline[removed[~keep[removed]]], minlength=count)
+            if self.keep:
+                for j in removed:
+                    kept = bool(keep[j])
+                    self.record(int(entry_outline[j]), self.knot_chain[j], self.knot_index[j], not kept,
+                                "restored: its removal broke the tolerance" if kept else
+                                "removed: the fit stays within the tolerance", "restore" if kept else "remove")
+            self.knot_chain, self.knot_index = self.knot_chain[keep], self.knot_index[keep]
+            self.iterations[part] += 1
+            if self.keep:
+                in_play = part[self.chain_outline[self.knot_chain]]
+                ev = self.evaluate(self.knot_chain[in_play], self.knot_index[in_play])
+                for b, state in self.states(ev, part, "remove", self.pending).items():
+                    self.history[b].append(state["snapshot"])
+            idle = np.where(net > 0, 0, idle + 1)
+            removing &= (idle < 2) & (self.iterations < self.max_iterations)
+
+    def results(self):
+        final = self.states(self.evaluate(self.knot_chain, self.knot_index), np.ones(self.count, bool), "insert", {})
+        results = []
+        for b in range(self.count):
+            state = final[b]
+            if self.keep:  # the same knots as its last snapshot, so the same numbers: use that object
+                state["snapshot"] = self.history[b][-1]
+            results.append(_small_result(state, self.history[b], self.corners[b], self.lengths[b], self.epsilon,
+                                         self.max_iterations))
+        return results
 
 def _candidate(piece, index, point, accepted, reason, action):
     return {"piece": int(piece), "index": int(index), "point": tuple(map(float, point)), "accepted": bool(accepted),

@@ -1,0 +1,169 @@
+"""Spline fitting per piece and knot insertion (thesis sections 4.2.1-4.4), every iteration kept as a snapshot.
+
+A closed contour (the crack outline of :mod:`~splinecraft.capture.contour`, or any closed polyline) is cut at
+its corners into *pieces*; each piece gets a GC² interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9) and knots
+are inserted until the fit is within ``epsilon``. The method, the definitions where the thesis is silent, the
+stopping rule and its guarantee are in docs/capture.md §12.
+
+Layout (each module imports only those above it in this list):
+
+* :mod:`.options` -- defaults (:data:`DEFAULT_EPSILON`, :data:`KNOT_METHODS`, ...), option tables, checks;
+* :mod:`.results` -- :class:`FitResult`, :class:`Snapshot`;
+* :mod:`.geometry` -- deviation geometry (:func:`piece_deviation`, :func:`polyline_distance`);
+* :mod:`.thesis` -- the thesis's Algorithms 4.1-4.6;
+* :mod:`.bspline`, :mod:`.lsq_setup`, :mod:`.lsq_model`, :mod:`.lsq` -- the default ``"lsq"``;
+* :mod:`.small` -- the small-outline path of ``"lsq"``;
+* this module -- the public entries :func:`fit_outline` and :func:`fit_small_outlines`, and the one place
+  that routes a contour to a family.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import piece_deviation, polyline_distance
+from .lsq import fit_lsq
+from .options import (DEFAULT_EPSILON, DEFAULT_METHOD, FALLBACK_PIECE, KNOT_METHODS, MIN_EPSILON, SMALL_OUTLINE,
+                      THESIS_METHODS, check_corners, check_count, check_epsilon, check_flag, check_method,
+                      check_options, check_points, check_small_outline, check_tau, make_rng)
+from .results import FitResult, Snapshot
+from .small import check_outlines, fit_small_trusted
+from .thesis import fit_thesis
+
+__all__ = ["fit_outline", "fit_small_outlines", "FitResult", "Snapshot", "KNOT_METHODS", "THESIS_METHODS",
+           "DEFAULT_METHOD", "DEFAULT_EPSILON", "MIN_EPSILON", "SMALL_OUTLINE", "FALLBACK_PIECE",
+           "piece_deviation", "polyline_distance"]
+
+
+def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, max_iterations=200,
+                       keep_snapshots=True) -> list:
+    """Fit many small closed contours at once: the direct path of ``"lsq"`` for contours of fewer than
+    :data:`SMALL_OUTLINE` points (:func:`fit_outline` and :func:`~splinecraft.capture.trace.trace` use it).
+
+    The thesis's interpolant with ``v = 0``, ``omega = 1`` (§2, thesis eqs 4.1-4.9) through knot points
+    that are contour points (arc-length parameter; one periodic loop without corners, natural ends at
+    corners), with knots inserted at the farthest contour point of every interval whose two-sided deviation
+    exceeds ``epsilon``; all outlines refine side by side, stacked dense solves per round (docs/capture.md
+    §12, "Small outlines"). ``converged=True`` means ``hausdorff <= epsilon`` everywhere (corners are
+    interpolated, so no corner allowance); otherwise ``FitResult.info["reason"]`` says why.
+
+    Parameters
+    ----------
+    outlines : sequence of array_like (n, 2)
+        Closed contours as in :func:`fit_outline` (``n >= 4``, no consecutive duplicates).
+    corner_lists : sequence of array_like of int, optional
+        Corner indices per contour (default: none, periodic loops).
+    epsilon, max_iterations, keep_snapshots
+        As in :func:`fit_outline`.
+
+    Returns
+    -------
+    list of FitResult
+        One per outline, ``method="lsq"``, ``info["small_outline"] = True``.
+    """
+    epsilon = check_epsilon(epsilon)
+    max_iterations = check_count(max_iterations, "max_iterations", 1)
+    keep_snapshots = check_flag(keep_snapshots, "keep_snapshots")
+    outlines, corners = check_outlines(outlines, corner_lists)
+    return fit_small_trusted(outlines, corners, epsilon, max_iterations, keep_snapshots)
+
+
+def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON, method=DEFAULT_METHOD, tau=None,
+                seed=0, max_iterations=200, keep_snapshots=True, small_outline=None, **options) -> FitResult:
+    """Fit a closed contour with one spline piece per pair of consecutive corners, inserting knots until
+    every piece is within ``epsilon`` (thesis sections 4.2.1-4.3; stopping rule and guarantee:
+    docs/capture.md §12).
+
+    Parameters
+    ----------
+    points : array_like (n, 2)
+        Closed contour, first point not repeated, ``n >= 4``, no consecutive duplicates, roughly unit spaced
+        (the crack outline ``Boundary.outline``; ``Boundary.pixels`` works too).
+    corner_indices : array_like of int
+        Corner indices into ``points`` (any order; duplicates are merged). Empty: one periodic closed curve.
+    closed : bool
+        Must be True (outlines are closed; open polylines are not supported).
+    epsilon : float
+        Tolerance in px, at least :data:`MIN_EPSILON` (0.001); default :data:`DEFAULT_EPSILON` = 0.8
+        (docs/capture.md §12, "Default epsilon").
+    method : str
+        A key of :data:`KNOT_METHODS`; default ``"lsq"``.
+    tau : float, optional
+        Nearness threshold of ``"euclidean"`` (px, default 5) and ``"positional"`` (% of the piece's points,
+        in [0, 50), default 5). Other methods reject it.
+    seed : int, None or numpy.random.Generator
+        Seed of the thesis methods' random candidates (reproducible; ``"lsq"`` is deterministic).
+    max_iterations : int
+        Bound on the iterations (>= 1); ``converged=False`` when reached first.
+    keep_snapshots : bool
+        Keep every iteration in :attr:`FitResult.snapshots`.
+    small_outline : int >= 0, optional
+        ``"lsq"`` fits contours of fewer points than this (``None``: :data:`SMALL_OUTLINE` = 64) with
+        :func:`fit_small_outlines` (corners interpolated, not extrapolated, so the ``"lsq"`` options do not
+        apply there). ``0`` fits every contour with the regression spline.
+    **options
+        Thesis methods: ``point_tension``, ``interval_weights``, ``alpha``, ``beta``, ``point_tension_scale``
+        (passed to :func:`~splinecraft.spline.interpolate`, per piece), ``tangent_stride`` (default 3),
+        ``fuzzy_weights=(w, v)`` (default (0.7, 0.3), ``w > v``). ``"lsq"``: the keys of
+        :data:`~.options.LSQ_DEFAULTS`, explained in docs/capture.md §12, "Options of lsq"; with ``fallback``
+        (default True) a contour on which the regression spline cannot reach ``epsilon``, and whose longest
+        piece has at most :data:`FALLBACK_PIECE` steps, is refitted by :func:`fit_small_outlines`
+        (``info["fallback_from"]`` records the first attempt).
+
+    Returns
+    -------
+    FitResult
+
+    Raises
+    ------
+    TypeError
+        Non-numeric points, non-integer corner indices, unknown options, arguments of the wrong type.
+    ValueError
+        Bad shapes, NaN/inf, fewer than 4 points, coincident consecutive points, corner indices out of range,
+        ``epsilon`` below :data:`MIN_EPSILON`, unknown method, ``tau`` out of range or given to a method
+        without it, ``max_iterations < 1``, ``closed=False``.
+    """
+    if not check_flag(closed, "closed"):
+        raise ValueError("fit_outline fits closed outlines only (closed=False is not supported)")
+    points = check_points(points)
+    corners = check_corners(corner_indices, points.shape[0])
+    epsilon = check_epsilon(epsilon)
+    method = check_method(method)
+    tau = check_tau(tau, method)
+    rng = make_rng(seed)
+    max_iterations = check_count(max_iterations, "max_iterations", 1)
+    keep_snapshots = check_flag(keep_snapshots, "keep_snapshots")
+    small_outline = check_small_outline(small_outline)
+    opts = check_options(method, options)
+    return fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline,
+                       opts)
+
+
+def routes_to_small(method, point_count, small_outline):
+    """Whether a contour of ``point_count`` points takes the small-outline path (the one routing rule)."""
+    return method == "lsq" and point_count < small_outline
+
+
+def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts):
+    """:func:`fit_outline` on checked arguments: route the contour to its family."""
+    if routes_to_small(method, points.shape[0], small_outline):
+        return fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
+    if method != "lsq":
+        return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
+    result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts)
+    if result.converged or not opts["fallback"] or _longest_piece(points.shape[0], corners) > FALLBACK_PIECE:
+        return result
+    # the regression spline got stuck (typically short pieces between many corners of a noisy outline, where
+    # no knot fits min_gap steps from the others): the interpolant path through contour points always gets
+    # there, since with every contour point a knot the curve interpolates them all
+    fallback = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
+    if fallback.converged or fallback.hausdorff < result.hausdorff:
+        fallback.info["fallback_from"] = {"method": "lsq", "hausdorff": result.hausdorff,
+                                          "iterations": result.iterations, "knots_inserted": result.knots_inserted}
+        return fallback
+    return result
+
+
+def _longest_piece(n, corners):
+    if corners.size == 0:
+        return n
+    return int(np.diff(np.append(corners, corners[0] + n)).max())

@@ -1,0 +1,239 @@
+"""The default knot method ``"lsq"``: regression spline, worst-point knot insertion, corner tip extrapolation
+and knot removal (docs/capture.md §12, "The lsq method").
+
+:class:`LsqKnotInsertion` runs the rounds on an :class:`~.lsq_model.OutlineRegression` and records them as
+snapshots; :func:`fit_lsq` is its entry for a checked contour.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ...spline import Spline
+from .lsq_model import OutlineRegression
+from .lsq_setup import thin_corners
+from .options import LSQ_OPTIONS
+from .results import FitResult, Snapshot
+
+__all__ = ["fit_lsq", "LsqKnotInsertion"]
+
+_HOOK_REASON = "the fitted corner moved farther than a truncated pixel tip can be"
+#: Knot-removal rounds after convergence (each tries the cheapest half of the simple knots).
+REMOVAL_ROUNDS = 4
+
+
+def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options):
+    """``"lsq"`` on a checked contour (corners sorted and unique; ``options`` from ``check_options``)."""
+    return LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options).run()
+
+
+class LsqKnotInsertion:
+    """Knot insertion and removal rounds of ``"lsq"`` on one outline, with their snapshots.
+
+    Each round: measure the deviation (:meth:`OutlineRegression.deviations`), insert a knot into every failing
+    interval (or release the tip extrapolation of a corner whose zone fails), refit and settle the corners
+    (:meth:`settle`). Once everything is within the tolerance, knot removal (:meth:`remove_knots`), then the
+    dense check of the guarantee before stopping.
+    """
+
+    def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options):
+        self.model = OutlineRegression(points, thin_corners(points, corners, options["min_gap"]), epsilon, options)
+        self.model.seed_knots(options["initial_density"])
+        self.epsilon = epsilon
+        self.max_iterations = max_iterations
+        self.keep = keep_snapshots
+        self.options = options
+        self.snapshots = []
+        self.iteration = 0
+
+    # ---------------------------------------------------------------- records
+    def candidate(self, piece, index, accepted, reason, action):
+        """A snapshot candidate record for the rotated contour ``index``."""
+        return {"piece": int(piece), "index": int(self.model.contour.original_index(index)),
+                "point": tuple(map(float, self.model.point(index))), "accepted": bool(accepted), "reason": reason,
+                "membership": None, "action": action}
+
+    def corner_candidate(self, corner, reason):
+        contour = self.model.contour
+        return self.candidate(corner % contour.piece_count, int(contour.corner_bounds[corner]), True,
+                              f"corner tip extrapolation reduced to radius {self.model.tips.radius[corner]:.2f} px "
+                              f"({reason})", "release")
+
+    def snapshot(self, dev, candidates, phase):
+        if self.keep:
+            self.snapshots.append(Snapshot(
+                iteration=self.iteration, knot_indices=self.model.knot_lists(), bezier=dev["bezier"],
+                piece_max_error=dev["piece_err"].copy(), piece_hausdorff=dev["piece_dev"].copy(),
+                candidates=candidates, phase=phase, thesis_stop=False, finished=dev["piece_excess"] <= 0,
+                knots=np.append(dev["starts"], dev["ends"][-1]), closed=True))
+
+    # ---------------------------------------------------------------- rounds
+    def settle(self, hoschek_steps):
+        """Fit, then release the corners whose fitted point hooks away
+        (:meth:`OutlineRegression.hooked_corners`) and refit until none does (each release halves a corner's
+        extrapolation radius, so this ends). Returns the release records."""
+        model = self.model
+        model.fit(hoschek_steps=hoschek_steps)
+        released = []
+        for _ in range(64):
+            hooked = model.hooked_corners()
+            if not hooked.size:
+                break
+            for c in hooked:
+                model.tips.release(int(c))
+                released.append(self.corner_candidate(int(c), _HOOK_REASON))
+            model.fit(hoschek_steps=1)
+        return released
+
+    def run(self):
+        model = self.model
+        candidates = self.settle(2)
+        dev = model.deviations(dense=True)  # many outlines already pass here: then this is the final check too
+        self.snapshot(dev, candidates, "initial")
+        removal_done = not self.options["remove_knots"]
+        converged = False
+        while True:
+            if not (dev["excess"] > 0).any():
+                if not removal_done:
+                    removal_done = True
+                    dev = self.remove_knots(dev)
+                    if model.hooked_corners().size and self.iteration < self.max_iterations:
+                        self.iteration += 1
+                        candidates = self.settle(1)
+                        dev = model.deviations()
+                        self.snapshot(dev, candidates, "insert")
+                    continue
+                if not dev["dense"]:  # verify with the dense check before stopping (the guarantee)
+                    dev = model.deviations(dense=True)
+                if not (dev["excess"] > 0).any():
+                    converged = True
+                    break
+            if self.iteration >= self.max_iterations:
+                break
+            self.iteration += 1
+            dev, progressed = self.insert_round(dev)
+            if not progressed:
+                break
+        if not dev["dense"]:
+            dev = model.deviations(dense=True)
+            converged = converged and not (dev["excess"] > 0).any()
+        return self.result(dev, converged)
+
+    def insert_round(self, dev):
+        """One insertion round; returns the new deviations and whether anything changed."""
+        model = self.model
+        piece_of = model.contour.piece_of_point
+        new, stuck, released = model.insert(dev)
+        candidates = [self.candidate(piece_of[j], j, True, f"worst point of interval {f}: deviation exceeds the "
+                                     f"tolerance by {excess:.2f} px", "insert") for j, f, excess in new]
+        for f in stuck:
+            j = model.point_before(dev["starts"][f])
+            candidates.append(self.candidate(piece_of[j], j, False, f"interval {f} fails but its knots are < "
+                                             f"{2 * model.min_gap} steps apart", "insert"))
+        if not new and not released and stuck:
+            released = model.release_corners(dev, stuck)
+        candidates += [self.corner_candidate(c, "its zone exceeded eps + corner_allowance") for c in released]
+        if not new and not released:
+            self.snapshot(dev, candidates, "insert")
+            return dev, False
+        candidates += self.settle(1)
+        dev = model.deviations()
+        self.snapshot(dev, candidates, "insert")
+        return dev, True
+
+    def remove_knots(self, dev):
+        """Knot removal: drop the cheapest half of the simple knots (no two neighbours), refit, put back the
+        ones whose intervals then fail, and repeat while removals stick (at most :data:`REMOVAL_ROUNDS`)."""
+        model = self.model
+        for _ in range(REMOVAL_ROUNDS):
+            if self.iteration >= self.max_iterations:
+                break
+            picked = self._removal_picks(dev)
+            if not picked:
+                break
+            saved, saved_dev = model.save(), dev
+            model.remove(picked)
+            model.fit(hoschek_steps=1)
+            dev = model.deviations()
+            self.iteration += 1
+            failing = np.flatnonzero(dev["excess"] > 0)
+            restored = []
+            if failing.size:
+                lo, hi = dev["starts"][failing], dev["ends"][failing]
+                values = model.base_parameter[np.asarray(picked)]
+                back = (values[:, None] >= lo[None, :] - 1e-9) & (values[:, None] <= hi[None, :] + 1e-9)
+                restored = [k for k, hit in zip(picked, back.any(axis=1)) if hit]
+                model.restore(restored)
+                model.fit(hoschek_steps=1)
+                dev = model.deviations()
+                if (dev["excess"] > 0).any():  # back to the fit before this round (it met the tolerance)
+                    model.load(saved)
+                    return saved_dev
+            removed = [k for k in picked if k not in restored]
+            if self.keep:
+                piece_of = model.contour.piece_of_point
+                self.snapshot(dev, [self.candidate(piece_of[k], k, True, "removed: the fit stays within the "
+                                                   "tolerance", "remove") for k in removed]
+                              + [self.candidate(piece_of[k], k, False, "restored: its removal broke the tolerance",
+                                                "restore") for k in restored], "remove")
+            if len(removed) <= max(1, len(picked) // 10):  # diminishing returns
+                break
+        return dev
+
+    def _removal_picks(self, dev):
+        """The cheapest half of the removable knots by :meth:`OutlineRegression.removal_scores`, no two
+        neighbours."""
+        model = self.model
+        removable = model.removable_knots()
+        if removable.size == 0:
+            return []
+        scores = model.removal_scores(dev["bezier"])
+        scores = scores[np.isin(model.simple_knots, removable)]
+        order = np.argsort(scores, kind="stable")[: max(1, removable.size // 2)]
+        position = {int(k): i for i, k in enumerate(model.knot_indices())}
+        taken, picked = set(), []
+        for o in order:
+            knot = int(removable[o])
+            pos = position[knot]
+            if pos - 1 in taken or pos + 1 in taken:
+                continue
+            taken.add(pos)
+            picked.append(knot)
+        return picked
+
+    # ---------------------------------------------------------------- result
+    def result(self, dev, converged):
+        """The :class:`FitResult`; the last snapshot is made to equal it."""
+        model, epsilon = self.model, self.epsilon
+        contour = model.contour
+        bezier = dev["bezier"]
+        knots = np.append(dev["starts"], dev["ends"][-1])
+        # between two corners the regression spline is the thesis's interpolant through its knot points with
+        # v = 0, omega = 1 and clamped ends: interpolate(F, knots, end_condition="clamped", end_tangents=...)
+        # rebuilds every piece (tests/test_fitting.py checks this piece by piece)
+        spline = Spline(bezier, knots, closed=True, auxiliary={"F": bezier[:, 0]},
+                        info={"form": "outline_fit", "method": "lsq", "epsilon": epsilon,
+                              "pieces": int(contour.piece_count)})
+        if self.keep and self.snapshots:
+            last = self.snapshots[-1]
+            if np.array_equal(last.bezier, bezier):  # same state, now measured by the dense check
+                last.piece_max_error = dev["piece_err"].copy()
+                last.piece_hausdorff = dev["piece_dev"].copy()
+                last.finished = dev["piece_excess"] <= 0
+            else:
+                self.snapshot(dev, [], last.phase if last.phase != "initial" else "insert")
+        bounds, cornered = contour.corner_bounds, contour.corner_count > 0
+        original = contour.original_index
+        return FitResult(
+            spline=spline,
+            pieces=[(int(original(a)), int(original(b))) for a, b in zip(bounds[:-1], bounds[1:])] if cornered
+            else [(contour.rotation, contour.rotation)],
+            knot_indices=model.knot_lists(), snapshots=self.snapshots, iterations=self.iteration,
+            max_error=float(dev["piece_err"].max()), hausdorff=float(dev["piece_dev"].max()),
+            converged=bool(converged), knots_inserted=int(model.simple_knots.shape[0]), method="lsq",
+            epsilon=epsilon, thesis_stop_iteration=None,
+            corners_used=np.sort(original(bounds[:-1])) if cornered else np.zeros(0, dtype=np.int64),
+            info={"options": {k: self.options[k] for k in LSQ_OPTIONS},
+                  "corner_radii": model.tips.radius.tolist() if cornered else [],
+                  "tip_gaps": model.tips.gap.tolist() if cornered else [],
+                  "tolerance_near_corners": epsilon + self.options["corner_allowance"]},
+        )

@@ -1,0 +1,461 @@
+"""The regression spline of one closed outline, the state of the ``"lsq"`` method (docs/capture.md §12,
+"The lsq method").
+
+The whole closed outline is one periodic cubic spline ``S(u)`` in the contour's arc-length parameter ``u``:
+every corner is a knot of multiplicity 3 (the curve is ``C^0`` there: the two pieces share the corner point
+and nothing else) and every inserted knot is simple (``C^2``). Between two corners this is exactly the
+family of the thesis's GC² interpolant with ``v = 0`` and ``omega = 1`` (§2.2-2.4, Type 1 clamped ends):
+a ``C^2`` cubic on given knots is fixed by its knot points ``F_i`` and its two end tangents, and every choice
+of those is such a spline (§4.5, cross-check). The interpolant is *linear* in ``(F_1..F_n, M_1, M_n)``, so
+choosing them to minimise the squared distance to all contour points of the piece is a linear least-squares
+problem (a regression spline in the generic model), solved in the B-spline basis of the same space for the
+whole outline at once (:mod:`.bspline`), with the corner points as shared unknowns: corners move to where both
+neighbouring pieces want them (for acute corners beyond the truncated pixel tip).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .bspline import bezier_of_intervals, cubic_basis, folded_columns, interval_index, periodic_knot_vector, \
+    solve_normal
+from .geometry import edge_table, eval_bezier, group_max, sorted_group_max, windowed_distance
+from .lsq_setup import CornerTips, RotatedContour, curvature_knots
+
+__all__ = ["OutlineRegression"]
+
+
+class OutlineRegression:
+    """Least-squares fit state of one closed outline; the knot insertion that drives it is
+    :class:`~splinecraft.capture.fitting.lsq.LsqKnotInsertion`.
+
+    Parameters
+    ----------
+    points : (n, 2) closed contour polyline (first point not repeated).
+    corners : sorted unique corner indices into ``points`` (may be empty).
+    epsilon : tolerance (px) of the stopping rule.
+    options : the ``"lsq"`` options (:data:`~splinecraft.capture.fitting.options.LSQ_DEFAULTS`, checked).
+
+    Main attributes: ``contour`` (:class:`~.lsq_setup.RotatedContour`), ``tips``
+    (:class:`~.lsq_setup.CornerTips`), ``simple_knots`` (rotated contour indices of the simple knots),
+    ``base_parameter`` (n + 1 values: arc length plus the corner gaps), ``parameter`` (the current, projected
+    parameter of every contour point), ``period``.
+    """
+
+    def __init__(self, points, corners, epsilon, options):
+        contour = self.contour = RotatedContour(np.asarray(points, float), corners)
+        n = contour.size
+        self.epsilon = float(epsilon)
+        self.corner_allowance = float(options["corner_allowance"])
+        self.min_gap = int(options["min_gap"])
+        self.sample_spacing = float(options["sample_spacing"])
+        self.hoschek_gate = float(options["hoschek_gate"])
+        self.corner_pin = float(options["corner_pin"])
+        if contour.corner_count:
+            self.simple_knots = np.zeros(0, dtype=np.int64)
+        else:  # four equally spaced knots, the seam knot 0 among them
+            self.simple_knots = np.unique(np.round(np.arange(4) * n / 4).astype(np.int64))
+        self.fixed = np.zeros(n + 1, bool)  # points whose parameter never moves: the corners (or the seam)
+        self.fixed[contour.corner_bounds if contour.corner_count else 0] = True
+        self.tips = CornerTips.measure(contour, float(options["corner_radius"]), float(options["tip_gap"]),
+                                       bool(options["geometric_corners"]))
+        self.base_parameter = self._base_parameter()
+        self.period = float(self.base_parameter[-1])
+        bounds, piece = contour.corner_bounds, contour.piece_of_point
+        self.parameter_low = self.base_parameter[bounds[piece]]
+        self.parameter_high = self.base_parameter[bounds[piece + 1]]
+        self.parameter = self.base_parameter.copy()
+
+    def seed_knots(self, density):
+        """First simple knots placed by the contour's curvature (:func:`~.lsq_setup.curvature_knots`)."""
+        seeded = curvature_knots(self.contour, self.simple_knots, density, self.epsilon, self.min_gap)
+        if seeded is not None:
+            self.simple_knots = seeded
+
+    def _base_parameter(self):
+        """Base parameter of every contour point (n + 1 values): arc length, plus the gaps on both sides of
+        each corner (the corner's own point sits in the middle of its gap)."""
+        contour = self.contour
+        if not contour.corner_count:
+            return contour.arc.copy()
+        after, before = self.tips.gap_after, self.tips.gap_before
+        lengths = np.diff(contour.arc[contour.corner_bounds])
+        # piece k: corner k, gap_after[k], the piece's arc length, gap_before[k + 1], corner k + 1
+        corner_par = np.concatenate([[0.0], np.cumsum(after + lengths + np.roll(before, -1))])
+        k = contour.piece_of_point
+        base = corner_par[k] + after[k] + contour.arc - contour.arc[contour.corner_bounds[k]]
+        base[contour.corner_bounds] = corner_par
+        return base
+
+    # ---------------------------------------------------------------- knots, weights, zones
+    def knot_values(self):
+        """The knots of one period: corners three times, simple knots once, sorted."""
+        bounds = self.contour.corner_bounds
+        corners = np.repeat(self.base_parameter[bounds[:-1]], 3) if self.contour.corner_count else np.zeros(0)
+        return np.sort(np.concatenate([corners, self.base_parameter[self.simple_knots]]))
+
+    def knot_indices(self):
+        """Sorted rotated indices of all knots (corners once, simple knots) and the closing index n."""
+        return np.unique(np.concatenate([self.contour.corner_bounds, self.simple_knots]))
+
+    def knot_lists(self):
+        """Per piece, the caller's contour indices of its knots (corners at both ends; without corners the
+        seam knot at both ends)."""
+        contour = self.contour
+        knots = self.knot_indices()
+        bounds = contour.corner_bounds
+        out = []
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            inside = knots[(knots >= a) & (knots <= b)] if contour.corner_count else \
+                np.append(self.simple_knots, contour.size)
+            out.append(contour.original_index(inside))
+        return out
+
+    def zone(self):
+        """Boolean per point (n + 1): within ``2 r + 1`` px (arc length) of a corner whose tip is still
+        extrapolated, ``r`` its initial weighting radius; the tolerance there is ``epsilon + corner_allowance``."""
+        contour, tips = self.contour, self.tips
+        if not contour.corner_count:
+            return np.zeros(contour.size + 1, bool)
+        r = tips.zone_radius[contour.nearest_corner]
+        active = (tips.radius > 0) | tips.allowance_kept
+        return (r > 0) & active[contour.nearest_corner] & (contour.corner_distance < 2.0 * r + 1.0)
+
+    def weights(self):
+        """Weight of every contour point: ``min(1, (distance / r)^2)`` within the radius ``r`` of an extrapolated
+        corner (the corner point itself 0), else 1; at least 1e-3."""
+        contour = self.contour
+        if not contour.corner_count:
+            return np.ones(contour.size)
+        r = self.tips.radius[contour.nearest_corner]
+        x = contour.corner_distance / np.where(r > 0, r, 1.0)
+        w = np.where(r > 0, np.minimum(1.0, x**2), 1.0)
+        w[self.fixed & (r > 0)] = 0.0
+        return np.maximum(w[: contour.size], 1e-3)
+
+    def _pins(self):
+        """Virtual data points at the straight-line corner estimates (weight ``corner_pin``), or None."""
+        tips = self.tips
+        if not self.contour.corner_count or self.corner_pin <= 0:
+            return None
+        ok = np.isfinite(tips.estimate[:, 0]) & (tips.radius > 0)
+        if not ok.any():
+            return None
+        idx = np.flatnonzero(ok)
+        return (self.base_parameter[self.contour.corner_bounds[idx]], tips.estimate[idx],
+                np.full(idx.shape[0], self.corner_pin))
+
+    # ---------------------------------------------------------------- fitting
+    def fit(self, hoschek_steps=1):
+        """Solve the weighted least-squares problem, then ``hoschek_steps`` times correct the parameters
+        (one Newton step of the foot-point equation) and solve again."""
+        knots = self.knot_values()
+        count = knots.shape[0]
+        knot_vector = periodic_knot_vector(knots, self.period)
+        weights = self.weights()
+        n = self.contour.size
+        u = self.parameter[:n]
+        distinct = np.unique(np.append(knots, self.period))
+        starts, ends = distinct[:-1], distinct[1:]
+        pins = self._pins()
+        for step in range(hoschek_steps + 1):
+            uu = u if pins is None else np.concatenate([u, pins[0]])
+            i = interval_index(knot_vector, uu)
+            basis = cubic_basis(knot_vector, i, uu)
+            coefficients = solve_normal(folded_columns(i, count), basis,
+                                        weights if pins is None else np.concatenate([weights, pins[2]]),
+                                        self.contour.points if pins is None else np.vstack([self.contour.points,
+                                                                                            pins[1]]), count)
+            if step == hoschek_steps:
+                break
+            u = self._hoschek_step(u, bezier_of_intervals(coefficients, knot_vector, count, starts, ends), starts,
+                                   ends)
+        self.parameter[:n] = u
+        self.coefficients, self.knot_vector, self.coefficient_count = coefficients, knot_vector, count
+        self._starts, self._ends = starts, ends
+        self._bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
+        return coefficients
+
+    def _hoschek_step(self, u, bez, starts, ends):
+        """One Newton step of the foot-point equation ``(S(u) - Q) . S'(u) = 0`` for every contour point, with
+        ``S, S', S''`` from the power form of each knot interval's Bézier piece; only in pieces whose residuals
+        are below ``hoschek_gate`` (projecting onto a bad curve scrambles the parameters)."""
+        contour = self.contour
+        n = contour.size
+        seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)
+        h = (ends - starts)[seg]
+        theta = (u - starts[seg]) / h
+        b0, b1, b2, b3 = (bez[seg, j] for j in range(4))
+        c1, c2, c3 = 3.0 * (b1 - b0), 3.0 * (b0 - 2.0 * b1 + b2), b3 - b0 + 3.0 * (b1 - b2)
+        th = theta[:, None]
+        r = b0 + th * (c1 + th * (c2 + th * c3)) - contour.points
+        d1 = (c1 + th * (2.0 * c2 + 3.0 * th * c3)) / h[:, None]
+        d2 = (2.0 * c2 + 6.0 * th * c3) / (h * h)[:, None]
+        speed2 = d1[:, 0] ** 2 + d1[:, 1] ** 2
+        den = speed2 + r[:, 0] * d2[:, 0] + r[:, 1] * d2[:, 1]
+        den = np.where(den > 0.1 * speed2, den, speed2)
+        du = -(r[:, 0] * d1[:, 0] + r[:, 1] * d1[:, 1]) / np.maximum(den, 1e-300)
+        np.clip(du, -2.0, 2.0, out=du)
+        res = np.hypot(r[:, 0], r[:, 1])
+        piece_of = contour.piece_of_point[:n]
+        piece_res = sorted_group_max(piece_of, res, contour.piece_count)
+        du[piece_res[piece_of] > self.hoschek_gate] = 0.0
+        un = np.clip(u + du, self.parameter_low[:n], self.parameter_high[:n])
+        un[self.fixed[:n]] = self.base_parameter[:n][self.fixed[:n]]
+        return np.maximum.accumulate(un)
+
+    # ---------------------------------------------------------------- geometry of the current fit
+    def intervals(self):
+        """Starts and ends of the knot intervals of the current fit (multiple knots once)."""
+        return self._starts, self._ends
+
+    def bezier(self):
+        """Bézier control points (k, 4, 2) of the current fit on its knot intervals."""
+        return self._bezier
+
+    def curve_at(self, u):
+        """Points ``S(u)`` of the current fit (``u`` in ``[0, period]``)."""
+        starts, ends = self.intervals()
+        seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)
+        return eval_bezier(self._bezier, seg, (u - starts[seg]) / (ends - starts)[seg])
+
+    def point(self, index):
+        """Contour point of a rotated index (modulo n)."""
+        return self.contour.points[index % self.contour.size]
+
+    def point_before(self, value):
+        """The rotated index of the first contour point whose parameter is not below ``value``."""
+        return int(np.clip(np.searchsorted(self.parameter, value), 0, self.contour.size - 1))
+
+    def hooked_corners(self):
+        """Corners (still extrapolated) whose fitted point lies farther from the contour corner point than
+        the tip of a pixel shape can be truncated: ``0.5 / sin(theta / 2)`` for the interior angle ``theta``,
+        at least 0.75 px, at most ``epsilon + corner_allowance``. Such a corner is a misfit of the pieces'
+        extensions (a hook), not a truncated tip."""
+        contour, tips = self.contour, self.tips
+        if not contour.corner_count:
+            return np.zeros(0, dtype=np.int64)
+        corners = contour.corner_bounds[:-1]
+        fitted = self.curve_at(self.base_parameter[corners])
+        disp = np.hypot(*(fitted - contour.points[corners % contour.size]).T)
+        limit = np.clip(0.5 / np.maximum(np.sin(0.5 * tips.angle), 1e-3), 0.75, self.epsilon + self.corner_allowance)
+        return np.flatnonzero((disp > limit) & (tips.radius > 0))
+
+    # ---------------------------------------------------------------- deviations
+    def deviations(self, dense=False):
+        """Closest-point deviations of the current fit, both directions (upper bounds, docs/capture.md §12).
+
+        * curve -> contour: curve samples (``sample_spacing`` px apart; ``dense``: 0.25 px) to the contour
+          edges in a window around the sample's corresponding contour position (the piece's own edges and
+          three more across each corner);
+        * contour -> curve: every contour point (``dense``: and every edge midpoint) to its corresponding curve
+          point ``S(u_j)``; where that is more than ``epsilon`` (``dense``: ``epsilon / 2``), to the nearest
+          chord of the curve samples within 3 px of parameter instead.
+
+        Returns a dict: per knot interval the worst excess over the tolerance (``epsilon``, plus
+        ``corner_allowance`` in the zone of an extrapolated corner), per piece the max deviation, the thesis
+        error (contour point to its corresponding curve point) and the worst excess, and the per-probe arrays
+        that :meth:`insert` needs."""
+        contour = self.contour
+        n, pieces = contour.size, contour.piece_count
+        starts, ends = self.intervals()
+        bez = self.bezier()
+        k = starts.shape[0]
+        spacing = min(self.sample_spacing, 0.25) if dense else self.sample_spacing
+        samples, params, iv = self._curve_samples(bez, starts, ends, spacing)
+        corner_par = self.base_parameter[contour.corner_bounds]
+        spiece = np.clip(np.searchsorted(corner_par, params, side="right") - 1, 0, pieces - 1)
+        centre = np.clip(np.searchsorted(self.parameter, params) - 1, 0, n - 1)
+        bounds = contour.corner_bounds
+        if contour.corner_count:  # the piece's own edges, and 3 more across each corner (it belongs to both)
+            d_curve = windowed_distance(samples, centre, bounds[spiece] - 3, bounds[spiece + 1] + 2, contour.edges,
+                                        1, n)
+        else:
+            d_curve = windowed_distance(samples, centre, None, None, contour.edges, 1, n)
+        probes, probe_u, probe_piece, is_point = self._probes(dense)
+        d_data = self._data_distance(probes, probe_u, probe_piece, samples, params, bez, corner_par, spacing, dense)
+        zone = self.zone()
+        if dense:
+            probe_zone = np.empty(2 * n, bool)
+            probe_zone[0::2], probe_zone[1::2] = zone[:n], zone[:n] | zone[1:]
+        else:
+            probe_zone = zone[:n]
+        tol_data = self.epsilon + self.corner_allowance * probe_zone
+        curve_zone = np.interp(params, self.base_parameter, zone.astype(float)) > 0
+        tol_curve = self.epsilon + self.corner_allowance * curve_zone
+        data_iv = np.clip(np.searchsorted(ends, probe_u, side="left"), 0, k - 1)
+        ex_curve, ex_data = d_curve - tol_curve, d_data - tol_data
+        excess = np.maximum(sorted_group_max(iv, ex_curve, k), sorted_group_max(data_iv, ex_data, k))
+        piece_dev = np.maximum(sorted_group_max(spiece, d_curve, pieces), sorted_group_max(probe_piece, d_data, pieces))
+        piece_dev = np.maximum(piece_dev, 0.0)
+        piece_err = np.maximum(sorted_group_max(probe_piece[is_point], d_data[is_point], pieces), 0.0)
+        piece_excess = np.maximum(sorted_group_max(spiece, ex_curve, pieces),
+                                  sorted_group_max(probe_piece, ex_data, pieces))
+        return {
+            "starts": starts, "ends": ends, "excess": excess, "piece_dev": piece_dev, "piece_err": piece_err,
+            "piece_excess": piece_excess, "d_data": d_data, "tol_data": tol_data, "data_iv": data_iv,
+            "probe_u": probe_u, "probe_zone": probe_zone, "d_curve": d_curve, "tol_curve": tol_curve,
+            "curve_iv": iv, "curve_params": params, "curve_zone": curve_zone, "bezier": bez, "dense": dense,
+        }
+
+    @staticmethod
+    def _curve_samples(bez, starts, ends, spacing):
+        """Samples of every knot interval's Bézier about ``spacing`` apart (by the control polygon, at least 3,
+        the interval's end left to the next one): points, parameters and interval numbers."""
+        lengths = np.hypot(*np.diff(bez, axis=1).transpose(2, 0, 1)).sum(axis=1)
+        counts = np.maximum(3, np.ceil(lengths / spacing).astype(np.int64))
+        iv = np.repeat(np.arange(starts.shape[0]), counts)
+        first = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        theta = (np.arange(iv.shape[0]) - first[iv]) / counts[iv]
+        return eval_bezier(bez, iv, theta), starts[iv] + theta * (ends - starts)[iv], iv
+
+    def _probes(self, dense):
+        """Contour points (``dense``: and edge midpoints), in parameter order: points, parameters, pieces and
+        which of them are contour points."""
+        contour = self.contour
+        n = contour.size
+        if not dense:
+            return contour.points, self.parameter[:n], contour.piece_of_point[:n], np.ones(n, bool)
+        probes = np.empty((2 * n, 2))
+        probes[0::2], probes[1::2] = contour.points, 0.5 * (contour.closed_points[:-1] + contour.closed_points[1:])
+        probe_u = np.empty(2 * n)
+        probe_u[0::2], probe_u[1::2] = self.parameter[:n], 0.5 * (self.parameter[:-1] + self.parameter[1:])
+        return probes, probe_u, np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n)
+
+    def _data_distance(self, probes, probe_u, probe_piece, samples, params, bez, corner_par, spacing, dense):
+        """Distance of every probe to its corresponding curve point; the bound is tight where Hoschek converged,
+        so it is refined where it matters (above the tolerance, and in the dense check that reports the final
+        deviation above ``epsilon / 2``): the nearest chord of the curve samples within 3 px of parameter."""
+        d_data = np.hypot(*(self.curve_at(probe_u) - probes).T)
+        loose = np.flatnonzero(d_data > (0.5 * self.epsilon if dense else self.epsilon))
+        if not loose.size:
+            return d_data
+        closed_samples = np.vstack([samples, bez[-1:, 3]])
+        closed_params = np.append(params, self.period)
+        lo = np.searchsorted(closed_params, corner_par[probe_piece[loose]], side="left")
+        hi = np.maximum(np.searchsorted(closed_params, corner_par[probe_piece[loose] + 1], side="right") - 2, lo)
+        centre = np.clip(np.searchsorted(closed_params, probe_u[loose]), lo, hi)
+        reach = int(np.ceil(3.0 / spacing))
+        wrap = closed_samples.shape[0] - 1
+        if self.contour.corner_count:  # the piece's own chords and a window across its corners
+            near = windowed_distance(probes[loose], centre, lo - reach, hi + reach, edge_table(closed_samples),
+                                     reach, wrap)
+        else:
+            near = windowed_distance(probes[loose], centre, None, None, edge_table(closed_samples), reach, wrap)
+        d_data[loose] = np.minimum(d_data[loose], near)
+        return d_data
+
+    # ---------------------------------------------------------------- knot insertion
+    def insert(self, dev):
+        """Insert one knot into every failing knot interval, at its worst point outside the corner zones,
+        kept in the middle half of the interval. Where an interval fails only inside the zone of an
+        extrapolated corner, knots cannot help (the fit ignores the truncated tip), so that corner stops being
+        extrapolated instead.
+
+        Returns (new knots as (rotated index, interval, excess), intervals that could not be split because
+        their knots are fewer than ``2 min_gap`` steps apart, released corners)."""
+        n = self.contour.size
+        excess = dev["excess"]
+        failing = np.flatnonzero(excess > 0)
+        if failing.size == 0:
+            return [], [], []
+        k = excess.shape[0]
+        data_zone, curve_zone = dev["probe_zone"], dev["curve_zone"]
+        data_ex = dev["d_data"] - dev["tol_data"]
+        curve_ex = dev["d_curve"] - dev["tol_curve"]
+        u_data, u_curve = dev["probe_u"], dev["curve_params"]
+        # worst excess per interval outside / inside the corner zones, with its parameter
+        out_d, out_d_at = group_max(dev["data_iv"], np.where(data_zone, -np.inf, data_ex), k)
+        out_c, out_c_at = group_max(dev["curve_iv"], np.where(curve_zone, -np.inf, curve_ex), k)
+        in_d, in_d_at = group_max(dev["data_iv"], np.where(data_zone, data_ex, -np.inf), k)
+        in_c, in_c_at = group_max(dev["curve_iv"], np.where(curve_zone, curve_ex, -np.inf), k)
+        knots = self.knot_indices()
+        knot_values = self.base_parameter[knots]
+        new, stuck, released = [], [], []
+        for f in failing:
+            a, b = dev["starts"][f], dev["ends"][f]
+            if max(out_d[f], out_c[f]) <= 0:
+                in_data = in_d[f] >= in_c[f]
+                best = in_d[f] if in_data else in_c[f]
+                where = u_data[in_d_at[f]] if in_data else u_curve[in_c_at[f]]
+                c = int(self.contour.nearest_corner[int(np.clip(np.searchsorted(self.parameter, where), 0, n))])
+                if self.tips.release(c):
+                    released.append(c)
+                    continue
+                # the corner already follows the pixels: a knot may still help
+            elif out_d[f] >= out_c[f]:
+                best, where = out_d[f], u_data[out_d_at[f]]
+            else:
+                best, where = out_c[f], u_curve[out_c_at[f]]
+            quarter = 0.25 * (b - a)
+            where = min(max(where, a + quarter), b - quarter)
+            left = int(knots[min(np.searchsorted(knot_values, a - 1e-9), knots.shape[0] - 1)])
+            right = int(knots[min(np.searchsorted(knot_values, b - 1e-9), knots.shape[0] - 1)])
+            if right - left < 2 * self.min_gap:
+                stuck.append(int(f))
+                continue
+            j = int(np.clip(np.searchsorted(self.parameter[:n], where), left + self.min_gap, right - self.min_gap))
+            new.append((j, int(f), float(best)))
+        if new:
+            self.simple_knots = np.unique(np.concatenate([self.simple_knots, [j for j, _, _ in new]]).astype(np.int64))
+        return new, stuck, released
+
+    def release_corners(self, dev, stuck):
+        """Reduce the extrapolation of the corners near a stuck interval (knots too close to split it); a corner
+        that already follows the pixels keeps the corner allowance in its zone instead (a ragged, truncated tip
+        that a C² piece cannot follow within epsilon). Returns the corner numbers."""
+        contour, tips = self.contour, self.tips
+        released = []
+        if not contour.corner_count:
+            return released
+        r = tips.zone_radius[contour.nearest_corner]
+        zone = (r > 0) & (contour.corner_distance < 2.0 * r + 1.0)
+        for f in stuck:
+            j0 = np.searchsorted(self.base_parameter, dev["starts"][f])
+            j1 = np.searchsorted(self.base_parameter, dev["ends"][f])
+            inside = np.flatnonzero(zone[j0: j1 + 1]) + j0
+            for c in np.unique(contour.nearest_corner[inside]):
+                if tips.release(int(c)):
+                    released.append(int(c))
+                elif not tips.allowance_kept[c]:
+                    tips.allowance_kept[c] = True
+                    released.append(int(c))
+        return released
+
+    # ---------------------------------------------------------------- knot removal
+    def removal_scores(self, bezier):
+        """For every simple knot: score = |jump of S'''| * h^3 / 48, about the deviation that removing the knot
+        causes (the size of the cubic's departure from one polynomial)."""
+        starts, ends = self.intervals()
+        h = ends - starts
+        third = 6.0 * (bezier[:, 3] - 3 * bezier[:, 2] + 3 * bezier[:, 1] - bezier[:, 0]) / (h[:, None] ** 3)
+        values = self.base_parameter[self.simple_knots]
+        right = np.clip(np.searchsorted(starts, values), 0, starts.shape[0] - 1)  # interval starting at the knot
+        left = (right - 1) % starts.shape[0]
+        jump = np.hypot(*(third[right] - third[left]).T)
+        span = 0.5 * (h[left] + h[right])
+        return jump * span**3 / 48.0
+
+    def removable_knots(self):
+        """Simple knots that may be removed (not the seam knot 0 of an outline without corners)."""
+        return self.simple_knots[(self.simple_knots != 0) | (self.contour.corner_count > 0)]
+
+    def remove(self, indices):
+        """Remove simple knots (never the seam knot at index 0 of an outline without corners, where the
+        knot intervals start)."""
+        keep = ~np.isin(self.simple_knots, indices) | (self.simple_knots == 0)
+        self.simple_knots = self.simple_knots[keep]
+
+    def restore(self, indices):
+        self.simple_knots = np.unique(np.concatenate([self.simple_knots, np.asarray(indices, dtype=np.int64)]))
+
+    _FIT_STATE = ("simple_knots", "parameter", "coefficients", "knot_vector", "coefficient_count", "_starts",
+                  "_ends", "_bezier")
+
+    def save(self):
+        """The knots and the current fit (to go back to without refitting)."""
+        return {name: getattr(self, name) for name in self._FIT_STATE} | {"parameter": self.parameter.copy()}
+
+    def load(self, saved):
+        for name, value in saved.items():
+            setattr(self, name, value)
+        self.parameter = self.parameter.copy()

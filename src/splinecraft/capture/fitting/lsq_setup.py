@@ -1,0 +1,251 @@
+"""The start of an ``"lsq"`` fit (docs/capture.md §12, "The lsq method"): the contour seen from its first
+corner, the corners kept, their truncated pixel tips (weighting radius, angle, parameter gaps, straight-line
+estimates) and the first knots placed by the contour's curvature.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import edge_table
+
+__all__ = ["RotatedContour", "CornerTips", "thin_corners", "curvature_knots"]
+
+#: Curvature rates below this (1/px) count as straight in :func:`curvature_knots`: what is left of the pixel
+#: staircase on long straight sides.
+SEED_MIN_CURVATURE = 1.0 / 150.0
+
+
+class RotatedContour:
+    """A closed contour rotated to start at its first corner (so that no piece wraps past index 0).
+
+    Attributes: ``size`` points (``points``; ``closed_points`` repeats the first at the end), ``arc`` (n + 1
+    cumulative arc lengths), ``perimeter``, ``corner_count``, ``corner_bounds`` (rotated corner indices, then
+    ``size``: piece ``k`` runs from ``corner_bounds[k]`` to ``corner_bounds[k + 1]``; without corners one
+    piece ``0 .. size``), ``piece_of_point`` (n + 1), ``corner_distance`` (arc length to the nearest corner,
+    n + 1) and ``nearest_corner``.
+    """
+
+    def __init__(self, points, corners):
+        n = points.shape[0]
+        self.size = n
+        self.corner_count = count = corners.shape[0]
+        self.rotation = int(corners[0]) if count else 0
+        self.points = np.roll(points, -self.rotation, axis=0)
+        self.closed_points = np.vstack([self.points, self.points[:1]])
+        self.edges = edge_table(self.closed_points)
+        self.arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(self.closed_points, axis=0).T))])
+        self.perimeter = float(self.arc[-1])
+        self.corner_bounds = np.append((corners - self.rotation) % n, n) if count else np.array([0, n])
+        self.piece_count = self.corner_bounds.shape[0] - 1
+        self.piece_of_point = np.clip(np.searchsorted(self.corner_bounds, np.arange(n + 1), side="right") - 1, 0,
+                                      self.piece_count - 1)
+        if count:
+            corner_arc = self.arc[self.corner_bounds]  # includes the period end (= corner 0)
+            k = np.clip(np.searchsorted(corner_arc, self.arc), 1, corner_arc.shape[0] - 1)
+            left, right = self.arc - corner_arc[k - 1], corner_arc[k] - self.arc
+            self.corner_distance = np.minimum(left, right)
+            self.nearest_corner = np.where(left <= right, k - 1, k) % count
+        else:
+            self.corner_distance = np.full(n + 1, np.inf)
+            self.nearest_corner = np.zeros(n + 1, dtype=np.int64)
+
+    def point_at_arc(self, arc):
+        """Points of the contour polyline at arc lengths ``arc`` (in ``[0, perimeter]``)."""
+        return np.column_stack([np.interp(arc, self.arc, self.closed_points[:, 0]),
+                                np.interp(arc, self.arc, self.closed_points[:, 1])])
+
+    def original_index(self, index):
+        """Index into the caller's contour of a rotated index."""
+        return (np.asarray(index) + self.rotation) % self.size
+
+
+class CornerTips:
+    """Per-corner state of the tip extrapolation (docs/capture.md §12, "Corners of lsq").
+
+    ``radius``: current weighting radius (px of arc; 0 = the pieces follow the pixels); ``zone_radius``: the
+    initial radius (the zone of ``epsilon + corner_allowance`` keeps its size); ``angle``: interior angle on the
+    contour; ``allowance_kept``: the zone keeps its allowance although the corner follows the pixels;
+    ``gap``: the angle-based parameter gap; ``gap_before``, ``gap_after``: the gaps used on both sides;
+    ``estimate``: straight-line intersection (NaN where there is none). An outline without corners has one
+    inert entry.
+    """
+
+    def __init__(self, radius, angle, gap):
+        self.radius = radius
+        self.angle = angle
+        self.gap = gap
+        self.zone_radius = radius.copy()
+        self.allowance_kept = np.zeros(radius.shape[0], bool)
+        self.gap_before, self.gap_after = gap.copy(), gap.copy()
+        self.estimate = np.full((radius.shape[0], 2), np.nan)
+
+    @classmethod
+    def none(cls):
+        tips = cls(np.zeros(1), np.full(1, np.pi), np.zeros(1))
+        tips.gap_after = tips.gap_before
+        return tips
+
+    @classmethod
+    def measure(cls, contour, corner_radius, tip_gap, geometric):
+        """Tips of the corners of ``contour``: radii by :func:`corner_radii`; a gap of
+        ``tip_gap (1 / sin(theta / 2) - 1)`` px on each side (the pixel tip is truncated by about
+        ``0.5 / sin(theta / 2) - 0.5`` px, and the pieces need that much parameter to reach the true corner),
+        at most 3 px; with ``geometric`` the gaps of :meth:`geometric_gaps` where those apply."""
+        if not contour.corner_count:
+            return cls.none()
+        radius, angle = corner_radii(contour, corner_radius)
+        gap = np.clip(tip_gap * (1.0 / np.maximum(np.sin(0.5 * angle), 0.1) - 1.0), 0.0, 3.0)
+        tips = cls(radius, angle, gap)
+        if geometric:
+            tips.geometric_gaps(contour)
+        return tips
+
+    def geometric_gaps(self, contour):
+        """Where the contour is straight enough on both sides of a corner, intersect total-least-squares lines
+        fitted to the contour just outside the truncated tip (arc distance ``r .. r + 8`` px, at most 0.45 of
+        the piece) and set the parameter gaps so that the parameter is the distance along those lines: the
+        pieces then reach the intersection without bending. Also remembers the intersection (``estimate``).
+        Corners whose lines are nearly parallel, or whose intersection is more than 3 px from the contour
+        corner, keep the angle-based gaps."""
+        arc, perimeter = contour.arc, contour.perimeter
+        lengths = np.diff(arc[contour.corner_bounds])
+        before_len, after_len = np.roll(lengths, 1), lengths
+        for c in range(contour.corner_count):
+            corner_index = contour.corner_bounds[c]
+            corner_arc = arc[corner_index]
+            start = max(self.radius[c], 1.0)
+            lines, anchors = [], []
+            for sign, side_len in ((-1, before_len[c]), (1, after_len[c])):
+                stop = min(start + 8.0, 0.45 * side_len)
+                if stop - start < 2.0:
+                    break
+                samples = (corner_arc + sign * np.linspace(start, stop, max(4, int(stop - start) * 2))) % perimeter
+                pts = contour.point_at_arc(samples)
+                centre = pts.mean(axis=0)
+                _, _, vt = np.linalg.svd(pts - centre, full_matrices=False)
+                lines.append((centre, vt[0]))
+                anchors.append(contour.point_at_arc(np.array([(corner_arc + sign * start) % perimeter]))[0])
+            if len(lines) < 2:
+                continue
+            (c1, d1), (c2, d2) = lines
+            cross = d1[0] * d2[1] - d1[1] * d2[0]
+            if abs(cross) < 0.2:  # nearly parallel (or a corner of less than ~12 deg): no reliable intersection
+                continue
+            delta = c2 - c1
+            crossing = c1 + (delta[0] * d2[1] - delta[1] * d2[0]) / cross * d1
+            corner_point = contour.points[corner_index % contour.size]
+            if not np.isfinite(crossing).all() or np.hypot(*(crossing - corner_point)) > 3.0:
+                continue
+            self.gap_before[c] = float(np.clip(np.hypot(*(crossing - anchors[0])) - start, 0.0, 3.0))
+            self.gap_after[c] = float(np.clip(np.hypot(*(crossing - anchors[1])) - start, 0.0, 3.0))
+            self.estimate[c] = crossing
+
+    def release(self, corner):
+        """Halve the extrapolation radius of a corner (0 below 0.75 px: the pieces then follow the pixel tip).
+        Returns True if the corner was still extrapolated."""
+        if self.radius[corner] <= 0:
+            return False
+        self.radius[corner] = 0.5 * self.radius[corner] if self.radius[corner] >= 1.5 else 0.0
+        return True
+
+
+def corner_radii(contour, corner_radius):
+    """Per corner: the arc length (px) over which the pixel data near the corner is truncated, about
+    ``corner_radius / tan(theta / 2)`` for the interior angle ``theta`` measured on the contour (chords to
+    the points ``min(6, 0.4 piece)`` px away on both sides), clipped to ``[1, 3 corner_radius]`` and to a fifth
+    of either neighbouring piece (most of a short piece still carries weight). Returns (radius, theta)."""
+    arc, perimeter, bounds = contour.arc, contour.perimeter, contour.corner_bounds
+    corner_arc = arc[bounds[:-1]]
+    piece_len = np.diff(arc[bounds])
+    before = np.roll(piece_len, 1)
+    q_back = contour.point_at_arc((corner_arc - np.minimum(6.0, 0.4 * before)) % perimeter)
+    q_fwd = contour.point_at_arc((corner_arc + np.minimum(6.0, 0.4 * piece_len)) % perimeter)
+    corner = contour.points[bounds[:-1] % contour.size]
+    a, b = q_back - corner, q_fwd - corner
+    cos = np.einsum("kd,kd->k", a, b) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
+    theta = np.arccos(np.clip(cos, -1.0, 1.0))
+    radius = corner_radius / np.maximum(np.tan(0.5 * theta), 1e-6)
+    radius = np.clip(radius, 1.0, 3.0 * corner_radius) if corner_radius > 0 else np.zeros(contour.corner_count)
+    radius = np.minimum(radius, 0.2 * np.minimum(before, piece_len))
+    return radius, theta
+
+
+def thin_corners(points, corners, min_gap):
+    """Drop corners fewer than ``min_gap`` contour steps after another one (a piece needs a few points to be
+    fitted); of two such corners the one where the contour turns more (chords to the points 3 steps away)
+    is kept."""
+    n = points.shape[0]
+    if corners.shape[0] < 2:
+        return corners
+    a, b = points[corners] - points[(corners - 3) % n], points[(corners + 3) % n] - points[corners]
+    cos = (a * b).sum(1) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
+    turn = np.arccos(np.clip(cos, -1.0, 1.0))
+    keep = list(range(corners.shape[0]))
+    changed = True
+    while changed and len(keep) > 1:
+        changed = False
+        for pos in range(len(keep)):
+            i, j = keep[pos], keep[(pos + 1) % len(keep)]
+            if i != j and (corners[j] - corners[i]) % n < min_gap:
+                keep.remove(i if turn[i] < turn[j] else j)
+                changed = True
+                break
+    return corners[np.sort(keep)]
+
+
+def _smoothed_curvature(contour):
+    """Curvature rate per contour point: the turn of the chord directions (chords over +-4 contour steps)
+    between +-4 steps, per arc length, averaged over +-8 steps (the staircase of a straight side turns both
+    ways); rates below :data:`SEED_MIN_CURVATURE` count as straight."""
+    n, points, arc, perimeter = contour.size, contour.points, contour.arc, contour.perimeter
+    a = 4
+    idx = np.arange(n)
+    chord = points[(idx + a) % n] - points[(idx - a) % n]
+    phi = np.arctan2(chord[:, 1], chord[:, 0])
+    turn = phi[(idx + a) % n] - phi[(idx - a) % n]
+    turn = (turn + np.pi) % (2.0 * np.pi) - np.pi
+    ahead = np.where(idx + a < n, arc[np.minimum(idx + a, n)], perimeter + arc[(idx + a) % n])
+    behind = np.where(idx - a >= 0, arc[np.maximum(idx - a, 0)], arc[(idx - a) % n] - perimeter)
+    kappa = turn / np.maximum(ahead - behind, 1e-9)
+    width = 8
+    padded = np.concatenate([kappa[-width:], kappa, kappa[:width]])
+    box = np.concatenate([[0.0], np.cumsum(padded)])
+    kappa = np.abs(box[2 * width + 1:] - box[: -2 * width - 1]) / (2 * width + 1)
+    kappa[kappa < SEED_MIN_CURVATURE] = 0.0
+    return kappa
+
+
+def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
+    """Initial simple knots from the contour's curvature, before any insertion round, or None to keep
+    ``simple_knots``.
+
+    The error of a cubic spline on a knot interval of length ``h`` is about ``c h^4 |S^(4)|``, and on an arc
+    of curvature ``kappa`` (arc-length parameter) ``|S^(4)|`` is about ``kappa^3``: an interval meets the
+    tolerance when ``h <= (epsilon / (c kappa^3))^(1/4)``. The knots are placed where the integral of the
+    knot density ``lambda = (density kappa^3 / epsilon)^(1/4)`` along each piece crosses a multiple of its
+    total over ``floor(total) + 1`` (equidistributed error, de Boor's knot placement), at most one per
+    contour step; ``kappa`` is :func:`_smoothed_curvature`, and contour points within 6 px of a corner are
+    left out (the corner's pieces end there). ``density = 0`` keeps the corners as the only knots (four
+    equally spaced knots on an outline without corners)."""
+    n = contour.size
+    if density <= 0 or n < 16:
+        return None
+    lam = (density * _smoothed_curvature(contour) ** 3 / epsilon) ** 0.25
+    if contour.corner_count:
+        lam[contour.corner_distance[:n] < 6.0] = 0.0
+    cum = np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])  # integral up to point j (n + 1 values)
+    new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]  # no corners: seam knot 0
+    bounds = contour.corner_bounds
+    for first, last in zip(bounds[:-1], bounds[1:]):
+        total = cum[last] - cum[first]
+        count = min(int(np.floor(total)), int(last - first))
+        if count < 1:
+            continue
+        targets = cum[first] + total * np.arange(1, count + 1) / (count + 1)
+        j = np.searchsorted(cum[first:last + 1], targets) + first
+        new.append(j[(j - first >= min_gap) & (last - j >= min_gap)])
+    merged = np.unique(np.concatenate(new)).astype(np.int64)
+    merged = merged[np.diff(merged, prepend=-min_gap) >= min_gap]  # at least min_gap steps apart
+    if contour.corner_count or merged.shape[0] >= 4:  # a periodic spline needs four knots
+        return merged
+    return None

@@ -396,7 +396,7 @@ def test_bad_input_raises():
         fit_outline(outline, corners, epsilon=float("nan"))
     bad = outline.copy()
     bad[7, 1] = np.nan
-    with pytest.raises(ValueError, match=r"points\[7\]"):
+    with pytest.raises(ValueError, match=r"points\[7, 1\]"):
         fit_outline(bad, corners)
     with pytest.raises(ValueError, match="at least 4"):
         fit_outline(outline[:3], [0])
@@ -654,8 +654,8 @@ def test_small_outline_threshold_and_validation():
     assert fit_outline(outline, [], small_outline=len(outline) + 1).info["small_outline"]
     assert "small_outline" not in fit_outline(outline, [], small_outline=len(outline)).info
     assert "small_outline" not in fit_outline(outline, [], method="random").info  # thesis methods unchanged
-    for bad in (-1, True, 2.5):
-        with pytest.raises(ValueError, match="small_outline"):
+    for bad, error in ((-1, ValueError), (True, TypeError), (2.5, TypeError)):
+        with pytest.raises(error, match="small_outline"):
             fit_outline(outline, [], small_outline=bad)
     from splinecraft.capture.fitting import fit_small_outlines
 

@@ -467,3 +467,41 @@ def test_any_bitmap_converges_within_epsilon(seed, size, ink, epsilon, blur):
     assert result.stats["converged"], [pb.get("reason") for pb in result.stats["per_boundary"]]
     assert result.stats["hausdorff"] <= epsilon + 0.5 + 1e-9
     assert len(result.splines) == result.stats["boundaries"]
+
+
+@pytest.mark.parametrize("epsilon", [1e-300, 5e-324, 0.0009])
+def test_epsilon_below_the_bound_is_refused_by_name(epsilon):
+    """Tolerances below MIN_EPSILON (a thousandth of a pixel) are a ValueError naming epsilon, never a huge
+    allocation ("Maximum allowed size exceeded")."""
+    from splinecraft.capture.fitting import MIN_EPSILON
+
+    assert epsilon < MIN_EPSILON
+    with pytest.raises(ValueError, match="epsilon"):
+        trace(render_disc(20, 10, 10, 6), epsilon=epsilon)
+
+
+def test_smallest_epsilon_is_accepted_and_bounded():
+    from splinecraft.capture.fitting import MIN_EPSILON
+
+    result = trace(render_disc(20, 10, 10, 6), epsilon=MIN_EPSILON, max_iterations=3, keep_snapshots=False)
+    assert result.stats["iterations"] <= 3 + 4  # insertion rounds, then at most the removal rounds
+
+
+@pytest.mark.parametrize("kwargs, error, name", [
+    ({"corner_params": {"closed": False}}, TypeError, "corner_params['closed']"),
+    ({"corner_params": {"method": "srm05"}}, TypeError, "corner_params['method']"),
+    ({"corner_method": ["srm05"]}, TypeError, "corner_method"),
+    ({"method": ["lsq"]}, TypeError, "method"),
+    ({"fit_params": {"epsilon": 0.5}}, TypeError, "fit_params['epsilon']"),
+    ({"fit_params": {"method": "lsq"}}, TypeError, "fit_params['method']"),
+    ({"fit_params": {"small_outline": 2.5}}, TypeError, "small_outline"),
+    ({"fit_params": {"initial_density": 1e300}}, ValueError, "initial_density"),
+    ({"max_iterations": True}, TypeError, "max_iterations"),
+    ({"keep_snapshots": "yes"}, TypeError, "keep_snapshots"),
+    ({"tau": 3.0}, ValueError, "tau"),
+])
+def test_bad_settings_name_their_argument(kwargs, error, name):
+    import re
+
+    with pytest.raises(error, match=re.escape(name)):
+        trace(render_disc(20, 10, 10, 6), **kwargs)

@@ -49,18 +49,18 @@ take most of the rest) and every small outline converges; 40 x 40 (103 boundarie
 """
 from __future__ import annotations
 
-import numbers
 import time
 
 import numpy as np
 
+from .. import _validation
 from .contour import trace_boundaries
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
 from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
-    check_tau, make_rng
+    check_small_outline, check_tau, make_rng
 from .fitting.small import fit_small_trusted
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
@@ -219,30 +219,24 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     epsilon = check_epsilon(epsilon)
     max_iterations = check_count(max_iterations, "max_iterations", 1)
     keep_snapshots = check_flag(keep_snapshots, "keep_snapshots")
-    if isinstance(connectivity, bool) or connectivity not in (4, 8):
-        raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
-    if contour not in ("outline", "pixels"):
-        raise ValueError(f"contour must be 'outline' or 'pixels', got {contour!r}")
+    _validation.check_choice(connectivity, "connectivity", (4, 8))
+    _validation.check_choice(contour, "contour", ("outline", "pixels"))
     if seed is not None:
         seed = check_count(seed, "seed", 0)
     method_name = DEFAULT_METHOD if method is None else check_method(method)
     if corner_method is None:  # the corner module's recommendation for outline capture
         corner_method = CORNER_CAPTURE_DEFAULT
-    if corner_method not in CORNER_METHODS:
-        raise ValueError(f"unknown corner_method {corner_method!r}; choose one of {sorted(CORNER_METHODS)}")
-    corner_params = _check_params(corner_params, "corner_params")
-    fit_params = _check_params(fit_params, "fit_params")
-    for key in _OWN_ARGUMENTS:
-        if key in fit_params:
-            raise TypeError(f"fit_params[{key!r}]: pass {key} to trace() itself")
+    corner_method = _validation.check_choice(corner_method, "corner_method", CORNER_METHODS)
+    corner_params = _validation.check_options(corner_params, "corner_params", reserved=("closed", "method"),
+                                              reserved_reason="trace sets it (corner_method= picks the detector)")
+    fit_params = _validation.check_options(fit_params, "fit_params", reserved=_OWN_ARGUMENTS,
+                                           reserved_reason="pass it to trace() itself")
     options = dict(fit_params)
-    small_limit = options.pop("small_outline", SMALL_OUTLINE)
-    if isinstance(small_limit, bool) or not isinstance(small_limit, numbers.Integral) or small_limit < 0:
-        raise ValueError(f"fit_params['small_outline'] must be an integer >= 0, got {small_limit!r}")
+    small_limit = check_small_outline(options.pop("small_outline", None), "fit_params['small_outline']")
     return {"epsilon": epsilon, "max_iterations": max_iterations, "keep_snapshots": keep_snapshots, "seed": seed,
             "method": method_name, "tau": check_tau(tau, method_name), "corner_method": corner_method,
             "corner_params": corner_params, "fit_params": fit_params, "options": check_options(method_name, options),
-            "small_outline": int(small_limit), "contour": contour}
+            "small_outline": small_limit, "contour": contour}
 
 
 def _contours(boundaries, settings, notes):
@@ -361,11 +355,3 @@ def _stats(boundaries, points_list, corner_list, fits, splines, max_iterations) 
             for b, p, c, fit, s in zip(boundaries, points_list, corner_list, fits, splines)
         ],
     }
-
-
-def _check_params(params, name):
-    if params is None:
-        return {}
-    if not isinstance(params, dict) or not all(isinstance(k, str) for k in params):
-        raise TypeError(f"{name} must be a dict of keyword arguments, got {type(params).__name__}")
-    return dict(params)

@@ -12,6 +12,8 @@ import numbers
 
 import numpy as np
 
+from ... import _validation
+
 #: Knot insertion methods: name -> one-line description (thesis section 4.3, and the deterministic default).
 KNOT_METHODS = {
     "lsq": "least-squares regression spline with worst-point knot insertion, Hoschek re-parameterization, "
@@ -58,27 +60,12 @@ _LSQ_BOOLS = ("remove_knots", "geometric_corners", "fallback")
 
 
 def check_points(points):
-    """A closed contour as a contiguous float ``(n, 2)`` array: finite, ``n >= 4``, no coincident neighbours."""
-    if isinstance(points, (str, bytes)):
-        raise TypeError("points must be an (n, 2) array of numbers")
-    try:
-        array = np.asarray(points, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"points must be an (n, 2) array of numbers: {exc}") from None
+    """A closed contour as a contiguous float ``(n, 2)`` array: finite, ``n >= 4``, no two neighbours coincide
+    (the coincidence rule of :mod:`splinecraft._validation`, the last point and the first are neighbours)."""
+    array = _validation.as_float_array(points, "points")
     if array.ndim != 2 or array.shape[1] != 2:
         raise ValueError(f"points must have shape (n, 2), got {array.shape}")
-    bad = np.flatnonzero(~np.isfinite(array).all(axis=1))
-    if bad.size:
-        raise ValueError(f"points[{bad[0]}] is not finite: {array[bad[0]].tolist()}")
-    if array.shape[0] < 4:
-        raise ValueError(f"points needs at least 4 points for a closed outline, got {array.shape[0]}")
-    steps = np.hypot(*(np.roll(array, -1, axis=0) - array).T)
-    extent = float(np.ptp(array, axis=0).max())
-    dup = np.flatnonzero(steps <= 1e-12 * max(extent, 1.0))
-    if dup.size:
-        i = int(dup[0])
-        raise ValueError(f"points[{i}] and points[{(i + 1) % array.shape[0]}] coincide; merge consecutive "
-                         "duplicate points first (the first point must not be repeated at the end)")
+    array = _validation.check_points(array, "points", min_count=4, dim=2, distinct=True, closed=True)
     return np.ascontiguousarray(array)
 
 
@@ -106,30 +93,17 @@ def check_corners(corner_indices, n):
 
 def check_epsilon(epsilon):
     """The tolerance as a float in ``[MIN_EPSILON, inf)`` px."""
-    if isinstance(epsilon, (bool, np.bool_)) or not isinstance(epsilon, numbers.Real):
-        raise TypeError(f"epsilon must be a positive number (px), got {type(epsilon).__name__}")
-    value = float(epsilon)
-    if not math.isfinite(value) or value <= 0:
-        raise ValueError(f"epsilon must be a finite number > 0 (px), got {epsilon!r}")
-    if value < MIN_EPSILON:
-        raise ValueError(f"epsilon must be >= {MIN_EPSILON:g} px (a thousandth of a pixel, far below what a fit "
-                         f"of a pixel outline can resolve), got {epsilon!r}")
-    return value
+    return _validation.check_number(epsilon, "epsilon (px)", minimum=MIN_EPSILON)
 
 
 def check_count(value, name, minimum):
     """An integer option (not a bool) ``>= minimum``."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an integer >= {minimum}, got {type(value).__name__}")
-    if value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
+    return _validation.check_int(value, name, minimum=minimum)
 
 
 def check_flag(value, name):
-    if not isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be True or False, got {value!r}")
-    return bool(value)
+    """``True``, ``False`` or ``np.bool_``."""
+    return _validation.check_bool(value, name)
 
 
 def check_method(method):
@@ -141,36 +115,31 @@ def check_method(method):
 
 
 def check_tau(tau, method):
+    """The nearness threshold of Algs 4.2 and 4.3 (their default when ``None``)."""
     if tau is None:
         return DEFAULT_TAU.get(method)
     if method not in DEFAULT_TAU:
         raise ValueError(f"tau is used by the methods 'euclidean' and 'positional' only, not {method!r}")
-    if isinstance(tau, bool) or not isinstance(tau, numbers.Real) or not math.isfinite(float(tau)):
-        raise ValueError(f"tau must be a finite number, got {tau!r}")
-    tau = float(tau)
-    if method == "euclidean" and tau < 0:
-        raise ValueError(f"tau (Euclidean nearness, px) must be >= 0, got {tau}")
-    if method == "positional" and not 0 <= tau < 50:
-        raise ValueError(f"tau (positional nearness, % of the piece's points) must be in [0, 50), got {tau}")
-    return tau
+    if method == "euclidean":
+        return _validation.check_number(tau, "tau (Euclidean nearness, px)", minimum=0.0)
+    return _validation.check_number(tau, "tau (positional nearness, % of the piece's points)", minimum=0.0,
+                                    maximum=50.0, inclusive=(True, False))
 
 
 def make_rng(seed):
+    """A :class:`numpy.random.Generator` from ``seed`` (an int >= 0, None or a Generator)."""
     if isinstance(seed, np.random.Generator):
         return seed
-    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, numbers.Integral)):
-        raise TypeError(f"seed must be an int, None or a numpy Generator, got {type(seed).__name__}")
-    if seed is not None and int(seed) < 0:
-        raise ValueError(f"seed must be >= 0, got {seed}")
+    if seed is not None:
+        seed = _validation.check_int(seed, "seed", minimum=0)
     return np.random.default_rng(seed)
 
 
-def check_small_outline(small_outline):
+def check_small_outline(small_outline, name="small_outline"):
+    """The small-outline threshold (``None``: :data:`SMALL_OUTLINE`)."""
     if small_outline is None:
         return SMALL_OUTLINE
-    if isinstance(small_outline, bool) or not isinstance(small_outline, numbers.Integral) or small_outline < 0:
-        raise ValueError(f"small_outline must be an integer >= 0, got {small_outline!r}")
-    return int(small_outline)
+    return _validation.check_int(small_outline, name, minimum=0)
 
 
 def check_options(method, options):
@@ -192,31 +161,25 @@ def _check_lsq_options(options):
     out = dict(LSQ_DEFAULTS)
     out.update(options)
     for key in _LSQ_REALS:
-        value = out[key]
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) or value < 0:
-            raise ValueError(f"{key} must be a finite number >= 0, got {value!r}")
-    if out["initial_density"] > 1e6:
-        raise ValueError(f"initial_density must be <= 1e6, got {out['initial_density']!r}")
-    if out["sample_spacing"] <= 0 or out["sample_spacing"] > 2:
-        raise ValueError(f"sample_spacing must be in (0, 2] px, got {out['sample_spacing']!r}")
-    if isinstance(out["min_gap"], bool) or not isinstance(out["min_gap"], numbers.Integral) or out["min_gap"] < 1:
-        raise ValueError(f"min_gap must be an integer >= 1, got {out['min_gap']!r}")
+        out[key] = _validation.check_number(out[key], key, minimum=0.0)
+    out["initial_density"] = _validation.check_number(out["initial_density"], "initial_density", minimum=0.0,
+                                                      maximum=1e6)
+    out["sample_spacing"] = _validation.check_number(out["sample_spacing"], "sample_spacing (px)", minimum=0.0,
+                                                     maximum=2.0, inclusive=(False, True))
+    out["min_gap"] = _validation.check_int(out["min_gap"], "min_gap", minimum=1)
     for key in _LSQ_BOOLS:
-        if not isinstance(out[key], (bool, np.bool_)):
-            raise TypeError(f"{key} must be True or False, got {out[key]!r}")
+        out[key] = _validation.check_bool(out[key], key)
     return out
 
 
 def _check_thesis_options(options):
     out = dict(options)
-    stride = out.pop("tangent_stride", 3)
-    if isinstance(stride, bool) or not isinstance(stride, numbers.Integral) or stride < 1:
-        raise ValueError(f"tangent_stride must be an integer >= 1, got {stride!r}")
+    stride = _validation.check_int(out.pop("tangent_stride", 3), "tangent_stride", minimum=1)
     weights = out.pop("fuzzy_weights", (0.7, 0.3))
-    try:
-        w, v = (float(x) for x in weights)
-    except (TypeError, ValueError):
-        raise ValueError(f"fuzzy_weights must be a pair (w, v) of numbers, got {weights!r}") from None
-    if not (math.isfinite(w) and math.isfinite(v) and w > v >= 0):
+    if isinstance(weights, (str, bytes)) or not hasattr(weights, "__len__") or len(weights) != 2:
+        raise TypeError(f"fuzzy_weights must be a pair (w, v) of numbers, got {weights!r}")
+    w = _validation.check_number(weights[0], "fuzzy_weights[0] (w)")
+    v = _validation.check_number(weights[1], "fuzzy_weights[1] (v)", minimum=0.0)
+    if not w > v:
         raise ValueError(f"fuzzy_weights (w, v) need w > v >= 0 (thesis eq 4.21), got {weights!r}")
-    return {"engine": out, "tangent_stride": int(stride), "fuzzy_weights": (w, v)}
+    return {"engine": out, "tangent_stride": stride, "fuzzy_weights": (w, v)}

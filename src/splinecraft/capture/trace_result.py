@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import json
 import math
-import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from .svg import path_data, svg_document
+from .._json import to_jsonable
+from ..spline.svg import path_data, svg_document
 
 __all__ = ["TraceResult", "TraceSnapshot", "merge_snapshots", "jsonable"]
 
@@ -222,22 +222,10 @@ def _finite_or_none(value):
     return value if math.isfinite(value) else None
 
 
-def jsonable(value):
-    if value is None or isinstance(value, (bool, str)):
-        return value
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, numbers.Integral):
-        return int(value)
-    if isinstance(value, numbers.Real):
-        return _finite_or_none(value)
-    if isinstance(value, np.ndarray):
-        return jsonable(value.tolist())
-    if isinstance(value, dict):
-        return {str(k): jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [jsonable(v) for v in value]
-    return str(value)
+def jsonable(value, where="TraceResult"):
+    """Plain JSON values (numpy arrays and scalars converted, non-finite numbers as ``None``, other objects
+    and keys as strings)."""
+    return to_jsonable(value, where, non_finite="none", coerce=True)
 
 
 def _snapshot_dict(snapshot) -> dict:

@@ -1,10 +1,18 @@
-"""Execute every classroom notebook in notebooks/ on a fresh kernel (marker: notebook).
+"""The classroom notebooks in notebooks/ (marker: notebook).
 
-Each notebook ends with a "Check" cell that asserts what the lesson claims and prints
-"all checks passed"; a notebook passes when every cell runs without an error output and that line is
-printed. The kernel is this interpreter's own ipykernel (a temporary "python3" kernelspec put first on
-JUPYTER_PATH), so the notebooks run against the installed package of this venv whatever other kernels
-the machine has.
+Each notebook has one source, ``notebooks/NN_name.py`` in jupytext's percent format, paired with
+``NN_name.ipynb`` (what JupyterLab opens; stored without outputs). A new notebook is picked up by its
+file name alone. The tests check that
+
+* the notebooks are numbered 01, 02, ... without gaps, and every .py has its .ipynb and vice versa;
+* each .ipynb holds exactly the cells of its .py (``jupytext --sync notebooks/NN_name.py`` rewrites it);
+* each opens with prose ("What you should see" and at least two sentences), then a short first code cell
+  (under 15 lines) that imports ``splinecraft as sc``, and ends with a check cell;
+* each runs top to bottom on a fresh kernel without an error, displays a widget, and its check cell prints
+  "all checks passed".
+
+The kernel is this interpreter's own ipykernel (a temporary "python3" kernelspec put first on JUPYTER_PATH),
+so the notebooks run against the installed package of this venv whatever other kernels the machine has.
 """
 import json
 import os
@@ -15,14 +23,21 @@ import pytest
 
 nbformat = pytest.importorskip("nbformat")
 nbclient = pytest.importorskip("nbclient")
+jupytext = pytest.importorskip("jupytext")
 pytest.importorskip("ipykernel")
 
 pytestmark = pytest.mark.notebook
 
 NOTEBOOK_DIR = Path(__file__).resolve().parent.parent / "notebooks"
-NOTEBOOKS = sorted(NOTEBOOK_DIR.glob("[0-9][0-9]_*.ipynb"))
+SOURCES = sorted(NOTEBOOK_DIR.glob("[0-9][0-9]_*.py"))
 KERNELSPEC = {"name": "python3", "display_name": "Python 3", "language": "python"}
 CELL_TIMEOUT = 240  # seconds per cell; every notebook finishes well inside a minute on 2 cores
+FIRST_CODE_CELL_LINES = 15
+SYNC_COMMAND = ".venv/bin/jupytext --sync notebooks/{name}.py"
+
+
+def _ids(paths):
+    return [path.stem for path in paths]
 
 
 @pytest.fixture(scope="session")
@@ -43,34 +58,61 @@ def venv_kernel(tmp_path_factory):
         os.environ["JUPYTER_PATH"] = saved
 
 
-def test_there_are_seven_notebooks():
-    names = [path.stem for path in NOTEBOOKS]
-    prefixes = sorted(name[:2] for name in names)
-    assert prefixes == ["01", "02", "03", "04", "05", "06", "07"], names
+def _cells(notebook):
+    return [(cell.cell_type, cell.source.strip()) for cell in notebook.cells]
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
-def test_notebook_is_committed_clean(path):
-    """Stored without outputs, with the python3 kernelspec, opening with what a student should see."""
-    notebook = nbformat.read(path, as_version=4)
-    nbformat.validate(notebook)
+def test_notebooks_are_numbered_and_paired():
+    numbers = sorted(int(path.name[:2]) for path in SOURCES)
+    assert numbers[:7] == list(range(1, 8)), numbers          # the seven chapters of the thesis, at least
+    assert numbers == list(range(1, len(numbers) + 1)), f"gaps or repeats in the numbering: {numbers}"
+    paired = {path.with_suffix(".ipynb").name for path in SOURCES}
+    stored = {path.name for path in NOTEBOOK_DIR.glob("[0-9][0-9]_*.ipynb")}
+    assert stored - paired == set(), f"notebooks without a .py source: {sorted(stored - paired)}"
+    missing = sorted(paired - stored)
+    assert not missing, "create the .ipynb of each source: " + "; ".join(
+        SYNC_COMMAND.format(name=Path(name).stem) for name in missing)
+
+
+@pytest.mark.parametrize("source", SOURCES, ids=_ids(SOURCES))
+def test_ipynb_is_in_sync_with_its_source(source):
+    """The .ipynb holds exactly the cells and kernelspec of its jupytext source, and says they are paired."""
+    stored = source.with_suffix(".ipynb")
+    if not stored.exists():
+        pytest.fail(f"{stored.name} is missing: {SYNC_COMMAND.format(name=source.stem)}")
+    text = jupytext.read(source)
+    notebook = nbformat.read(stored, as_version=4)
+    assert _cells(notebook) == _cells(text), f"{stored.name} differs from {source.name}: " \
+                                             f"{SYNC_COMMAND.format(name=source.stem)}"
+    assert text.metadata.get("kernelspec") == KERNELSPEC
     assert notebook.metadata.get("kernelspec") == KERNELSPEC
+    assert notebook.metadata.get("jupytext", {}).get("formats") == "ipynb,py:percent"
+
+
+@pytest.mark.parametrize("source", SOURCES, ids=_ids(SOURCES))
+def test_notebook_is_committed_clean(source):
+    """Stored without outputs, opening with what a student should see, a short setup, a final check."""
+    stored = source.with_suffix(".ipynb")
+    if not stored.exists():
+        pytest.fail(f"{stored.name} is missing: {SYNC_COMMAND.format(name=source.stem)}")
+    notebook = nbformat.read(stored, as_version=4)
+    nbformat.validate(notebook)
     code = [cell for cell in notebook.cells if cell.cell_type == "code"]
     assert code and all(not cell.outputs and cell.execution_count is None for cell in code)
     first = notebook.cells[0]
     assert first.cell_type == "markdown" and "What you should see" in first.source
-    # at least two sentences of intent after the marker
-    intro = first.source.split("What you should see", 1)[1]
+    intro = first.source.split("What you should see", 1)[1]            # at least two sentences of intent
     assert intro.count(". ") + intro.count(".\n") + intro.rstrip().endswith(".") >= 2
-    source = "\n".join(cell.source for cell in code)
-    assert "SplineEditor(" in source or "TraceExplorer(" in source      # a widget
-    assert "Plot(" in source or "bq." in source                          # and static bqplot figures
-    assert "all checks passed" in code[-1].source                         # a final check cell
+    setup = code[0].source.strip().splitlines()
+    assert "import splinecraft as sc" in setup, "the first code cell imports splinecraft as sc"
+    assert len(setup) < FIRST_CODE_CELL_LINES, f"the first code cell has {len(setup)} lines"
+    assert "all checks passed" in code[-1].source                       # a final check cell
+    assert "assert " in code[-1].source
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
-def test_notebook_executes(path, venv_kernel):
-    notebook = nbformat.read(path, as_version=4)
+@pytest.mark.parametrize("source", SOURCES, ids=_ids(SOURCES))
+def test_notebook_executes(source, venv_kernel):
+    notebook = jupytext.read(source)
     client = nbclient.NotebookClient(
         notebook, timeout=CELL_TIMEOUT, kernel_name=venv_kernel, allow_errors=False,
         resources={"metadata": {"path": str(NOTEBOOK_DIR)}},
@@ -78,12 +120,13 @@ def test_notebook_executes(path, venv_kernel):
     try:
         client.execute()
     except nbclient.exceptions.CellExecutionError as error:
-        pytest.fail(f"{path.name} failed:\n{str(error)[-4000:]}")
+        pytest.fail(f"{source.name} failed:\n{str(error)[-4000:]}")
     code = [cell for cell in notebook.cells if cell.cell_type == "code"]
     errors = [out for cell in code for out in cell.outputs if out.output_type == "error"]
     assert not errors
     widget_views = [out for cell in code for out in cell.outputs
-                    if out.output_type == "display_data" and "application/vnd.jupyter.widget-view+json" in out.data]
+                    if out.output_type in ("display_data", "execute_result")
+                    and "application/vnd.jupyter.widget-view+json" in out.get("data", {})]
     assert widget_views, "no widget was displayed"
     final_text = "".join(out.get("text", "") for out in code[-1].outputs if out.output_type == "stream")
     assert "all checks passed" in final_text

@@ -22,7 +22,7 @@ _CAPTURE = (
     "fit_outline", "FitResult", "Snapshot", "KNOT_METHODS", "trace", "TraceResult",
 )
 _WIDGETS = ("SplineEditor", "TraceExplorer")
-_SUBMODULES = ("spline", "capture", "widgets", "datasets", "cli", "outline", "font")
+_SUBMODULES = ("spline", "capture", "widgets", "plot", "datasets", "cli", "outline", "font")
 
 
 def __getattr__(name):

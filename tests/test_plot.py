@@ -204,7 +204,7 @@ def _reference_curvature(spline, t):
 def test_curvature_profile_jumps_exactly_where_interval_weights_change(weights):
     """E2: κ(tᵢ⁺)/κ(tᵢ⁻) = ωᵢ₋₁/ωᵢ, so the joints that jump are those between unequal weights."""
     spline = sc.interpolate(HEART, closed=True, interval_weights=weights)
-    profile = plot.curvature_profile(spline, samples_per_segment=16)
+    profile = plot.curvature_profile(spline, samples_per_piece=16)
     m = spline.n_segments
     assert profile["joints"].tolist() == list(range(1, m + 1))                 # a loop: the closing joint too
     expected = [weights[(i - 1) % m] != weights[i % m] for i in profile["joints"]]
@@ -216,7 +216,7 @@ def test_curvature_profile_jumps_exactly_where_interval_weights_change(weights):
 
 def test_curvature_profile_matches_scipy_and_the_one_sided_limits():
     spline = sc.interpolate(HEART[:7], interval_weights=[1, 3, 1, 1, 2, 1])
-    profile = plot.curvature_profile(spline, samples_per_segment=10)
+    profile = plot.curvature_profile(spline, samples_per_piece=10)
     t, kappa = profile["t"], profile["kappa"]
     assert t.shape == kappa.shape == (spline.n_segments, 10)
     np.testing.assert_allclose(kappa[:, 1:-1], _reference_curvature(spline, t[:, 1:-1]), rtol=1e-7, atol=1e-12)
@@ -246,14 +246,27 @@ def test_curvature_figure_marks_the_jumps():
     assert "G² at all 12 joints" in smooth.figure.title and not smooth.jump_bars.visible
 
 
+def test_curvature_axis_cuts_near_cusp_peaks_but_keeps_the_jumps():
+    """Uniform knots on the heart: κ ≈ -160/px at the notch would flatten the rest of the profile."""
+    spline = sc.interpolate(HEART, closed=True, knots="uniform", interval_weights=np.r_[1, 1, 10, np.ones(9)])
+    live = plot.CurvaturePlot().show(spline)
+    profile = live.profile
+    low, high = live.y_scale.min / live.display_scale, live.y_scale.max / live.display_scale
+    assert live.clipped and "off the axis" in live.figure.title
+    assert np.abs(profile["kappa"]).max() > 3 * (high - low)
+    assert np.mean((profile["kappa"] >= low) & (profile["kappa"] <= high)) > 0.97
+    jumping = np.r_[profile["left"][profile["jumps"]], profile["right"][profile["jumps"]]]
+    assert np.all((jumping >= low) & (jumping <= high)) and low <= 0 <= high
+
+
 def test_curvature_profile_bad_input():
     with pytest.raises(TypeError, match="Spline"):
         plot.curvature_profile(HEART)
     space = sc.Spline(np.random.default_rng(0).random((1, 4, 3)), [0.0, 1.0])
     with pytest.raises(ValueError, match="planar"):
         plot.curvature_profile(space)
-    with pytest.raises(ValueError, match="samples_per_segment"):
-        plot.curvature_profile(sc.interpolate(HEART, closed=True), samples_per_segment=1)
+    with pytest.raises(ValueError, match="samples_per_piece"):
+        plot.curvature_profile(sc.interpolate(HEART, closed=True), samples_per_piece=1)
 
 
 # ---------------------------------------------------------------------------------------------------- traces

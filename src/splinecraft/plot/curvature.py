@@ -3,9 +3,9 @@
 The interpolant is C¹ at its knots, and G² only where neighbouring interval weights are equal (§2.2,
 erratum E2): there ``κ(tᵢ⁺) = (ωᵢ₋₁/ωᵢ) κ(tᵢ⁻)``. Timmer's Algorithm 3.1 leaves joints without a positive
 root G¹ (§5), and Algorithm 3.3's thesis joint jumps by ``(αᵢ/βᵢ₋₁)²`` (E20). A comb shows such a jump as a
-step; this figure shows it as a number: each piece's κ(t) is drawn on its own, from ``Spline.curvature`` with
-``side="right"`` inside the piece and ``side="left"`` at its end (§7), and every joint where the two
-one-sided values (``Spline.joint_curvature``) differ gets a red bar from κ(tᵢ⁻) to κ(tᵢ⁺).
+step; this figure shows it as a number: each piece's κ(t) (``Spline.curvature_profile``, §7) is drawn on
+its own, ending in its one-sided limits, and every joint where the two one-sided values
+(``Spline.joint_curvature``) differ gets a red bar from κ(tᵢ⁻) to κ(tᵢ⁺).
 """
 from __future__ import annotations
 
@@ -23,13 +23,14 @@ _LEGEND = [("κ(t)", CURVE_COLOR, "solid"), ("jump at a joint", JUMP_COLOR, "sol
            ("G² joint", JOINT_COLOR, "dots")]
 
 
-def curvature_profile(spline, samples_per_segment: int = 48) -> dict:
+def curvature_profile(spline, samples_per_piece: int = 48) -> dict:
     """κ(t) piece by piece and the one-sided values at the joints of a planar :class:`~splinecraft.Spline`.
 
-    Returns a dict: ``t`` and ``kappa`` (pieces, samples) -- each row one piece from ``tᵢ`` to ``tᵢ₊₁``,
-    the last sample being the left-hand limit κ(tᵢ₊₁⁻); ``knots``; ``joints`` (knot indices where two
-    pieces meet: interior knots, and for a loop the closing knot ``m``); ``left``/``right`` = κ(tᵢ⁻),
-    κ(tᵢ⁺) there; ``jumps`` (bool per joint, see :data:`JUMP_TOLERANCE`).
+    From :meth:`Spline.curvature_profile` (§7), arranged for drawing. Returns a dict: ``t`` and ``kappa``
+    (pieces, samples) -- each row one piece from ``tᵢ`` to ``tᵢ₊₁``, its last sample the left-hand limit
+    κ(tᵢ₊₁⁻); ``knots``; ``joints`` (knot indices where two pieces meet: interior knots, and for a loop the
+    closing knot ``m``); ``left``/``right`` = κ(tᵢ⁻), κ(tᵢ⁺) there; ``jumps`` (bool per joint, see
+    :data:`JUMP_TOLERANCE`).
     """
     from ..spline import Spline
 
@@ -37,25 +38,19 @@ def curvature_profile(spline, samples_per_segment: int = 48) -> dict:
         raise TypeError(f"spline must be a splinecraft Spline, got {type(spline).__name__}")
     if spline.dim != 2:
         raise ValueError(f"the curvature profile needs a planar curve (d = 2), this curve has d = {spline.dim}")
-    if isinstance(samples_per_segment, bool) or not isinstance(samples_per_segment, (int, np.integer)) \
-            or samples_per_segment < 2:
-        raise ValueError(f"samples_per_segment must be an integer >= 2, got {samples_per_segment!r}")
-    knots = np.asarray(spline.knots, dtype=float)
-    fraction = np.linspace(0.0, 1.0, int(samples_per_segment))
-    t = knots[:-1, None] + (knots[1:] - knots[:-1])[:, None] * fraction
-    kappa = spline.curvature(t[:, :-1].ravel(), side="right").reshape(len(t), -1)
-    ends = spline.curvature(t[:, -1], side="left")
-    kappa = np.hstack([kappa, ends[:, None]])
+    profile = spline.curvature_profile(samples_per_piece=samples_per_piece)
     m = spline.n_segments
+    t = np.asarray(profile.parameters, dtype=float).reshape(m, -1)
+    kappa = np.asarray(profile.curvature, dtype=float).reshape(m, -1)
     joints = np.arange(1, m + 1 if spline.closed else m)
-    one_sided = spline.joint_curvature()[joints]
+    one_sided = np.asarray(profile.joint_curvature, dtype=float)[joints]
     left, right = one_sided[:, 0], one_sided[:, 1]
     finite = np.abs(kappa[np.isfinite(kappa)])
     scale = float(finite.max()) if finite.size else 0.0
     with np.errstate(invalid="ignore"):
         jumps = np.abs(right - left) > JUMP_TOLERANCE * max(scale, 1e-300)
-    return {"t": t, "kappa": kappa, "knots": knots, "joints": joints, "left": left, "right": right,
-            "jumps": np.asarray(jumps, dtype=bool)}
+    return {"t": t, "kappa": kappa, "knots": np.asarray(profile.knots, dtype=float), "joints": joints,
+            "left": left, "right": right, "jumps": np.asarray(jumps, dtype=bool)}
 
 
 class CurvaturePlot:
@@ -100,9 +95,9 @@ class CurvaturePlot:
         self.display_scale = 1.0
         self.clipped = False
 
-    def show(self, spline, samples_per_segment: int = 48) -> "CurvaturePlot":
+    def show(self, spline, samples_per_piece: int = 48) -> "CurvaturePlot":
         """Draw the curvature profile of ``spline``; returns self."""
-        profile = curvature_profile(spline, samples_per_segment)
+        profile = curvature_profile(spline, samples_per_piece)
         self.profile = profile
         t, kappa, knots = profile["t"], profile["kappa"], profile["knots"]
         joints, left, right, jumps = profile["joints"], profile["left"], profile["right"], profile["jumps"]
@@ -178,6 +173,6 @@ def _superscript(power: int) -> str:
     return str(power).translate(str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
 
 
-def curvature_figure(spline, *, width: int = 560, height: int = 260, samples_per_segment: int = 48):
+def curvature_figure(spline, *, width: int = 560, height: int = 260, samples_per_piece: int = 48):
     """A bqplot Figure of κ(t) along ``spline``, one-sided jumps at the joints marked red (see module doc)."""
-    return CurvaturePlot(width, height).show(spline, samples_per_segment).figure
+    return CurvaturePlot(width, height).show(spline, samples_per_piece).figure

@@ -2,7 +2,7 @@
 # Create (or reuse) the project venv in .venv and install splinecraft with the given extras.
 # Usage: scripts/bootstrap.sh [EXTRAS]   e.g. scripts/bootstrap.sh lab   or   scripts/bootstrap.sh test
 # A stamp file .venv/.installed-EXTRAS records each install; it is redone when pyproject.toml is newer.
-# The test extra includes lab (pyproject.toml), so a venv installed for the tests serves `start.sh` too.
+# The test extra includes lab and app (pyproject.toml), so a venv installed for the tests serves start.sh too.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 extras="${1:-}"
@@ -13,8 +13,8 @@ fi
 stamp=".venv/.installed-${extras:-base}"
 covering=("$stamp")
 case "${extras:-base}" in
-  base) covering+=(.venv/.installed-lab .venv/.installed-test) ;;
-  lab) covering+=(.venv/.installed-test) ;;
+  base) covering+=(.venv/.installed-lab .venv/.installed-app .venv/.installed-test) ;;
+  lab|app) covering+=(.venv/.installed-test) ;;
 esac
 for done_stamp in "${covering[@]}"; do
   if [ -f "$done_stamp" ] && [ ! pyproject.toml -nt "$done_stamp" ]; then

@@ -1,10 +1,11 @@
-"""The README's start command, run as a user runs it, then looked at in Debian's chromium.
+"""The README's start commands, run as a user runs them, then looked at in Debian's chromium.
 
-``bash scripts/start.sh --no-browser --port N ...`` installs (here: finds the test venv already installed, see
-``scripts/bootstrap.sh``) and serves ``notebooks/``. The test waits for ``/api/status``, opens notebook 01, runs
-it, checks that its SplineEditor renders, and stops the server through ``/api/shutdown``: the server must exit
-by itself and leave no process behind (kernels included). The repository's notebooks must come out unchanged
-(autosave is off, checkpoints go to a temporary directory).
+``bash scripts/start.sh [notebook|app] --no-browser --port N ...`` installs (here: finds the test venv already
+installed, see ``scripts/bootstrap.sh``) and serves ``notebooks/`` in JupyterLab, Notebook 7 or Voila. Each test
+waits for the server to answer, opens notebook 01, runs it, checks that its SplineEditor renders, and stops the
+server as a user would (``/api/shutdown`` for Jupyter, SIGTERM for Voila): the server must exit by itself and
+leave no process behind (kernels included). The repository's notebooks must come out unchanged (autosave is
+off, checkpoints go to a temporary directory).
 """
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import subprocess
 import sys
 import time
 import urllib.error
+import urllib.request
 from pathlib import Path
 
 import pytest
@@ -52,6 +54,11 @@ class StartedServer:
 
     def api(self, path: str, method: str = "GET"):
         return _http_json(f"{self.url}{path}", self.token, method)
+
+    def page_status(self, path: str = "/") -> int:
+        """HTTP status of a page of the server (Voila has no REST API to poll)."""
+        with urllib.request.urlopen(f"{self.url}{path}?token={self.token}", timeout=10) as response:
+            return response.status
 
     def log_tail(self) -> str:
         return self.log.read_text(errors="replace")[-4000:]
@@ -102,15 +109,19 @@ def _kill_session(session_id: int) -> None:
             os.kill(pid, signal.SIGKILL)
 
 
-def stop(server: StartedServer) -> list[int]:
-    """Stop the server as a user's shutdown does (``POST /api/shutdown``: kernels first, then the server).
+def stop(server: StartedServer, jupyter: bool) -> list[int]:
+    """Stop the server as a user does: ``POST /api/shutdown`` (Jupyter: kernels first, then the server) or
+    SIGTERM (Voila shuts its kernels down on it).
 
     Returns the processes that were still alive afterwards (they are killed); a clean stop returns ``[]``.
     """
     process = server.process
     if process.poll() is None:
-        with contextlib.suppress(urllib.error.URLError, OSError, ValueError):
-            server.api("/api/shutdown", method="POST")
+        if jupyter:
+            with contextlib.suppress(urllib.error.URLError, OSError, ValueError):
+                server.api("/api/shutdown", method="POST")
+        else:
+            process.send_signal(signal.SIGTERM)
         try:
             process.wait(timeout=STOP_TIMEOUT)
         except subprocess.TimeoutExpired:
@@ -129,8 +140,9 @@ def stop(server: StartedServer) -> list[int]:
 
 
 @contextlib.contextmanager
-def run_start(base: Path, command: list[str], options: list[str]):
-    """Run ``bash scripts/start.sh COMMAND... OPTIONS...`` on a free port; yield once ``/api/status`` answers."""
+def run_start(base: Path, command: list[str], options: list[str], *, jupyter: bool = True):
+    """Run ``bash scripts/start.sh COMMAND... OPTIONS...`` on a free port; yield once the server answers
+    (``/api/status`` of a Jupyter server, the front page of Voila)."""
     port = _free_port()
     token = secrets.token_hex(16)
     env = isolated_env(base)
@@ -147,16 +159,19 @@ def run_start(base: Path, command: list[str], options: list[str]):
             if process.poll() is not None:
                 raise AssertionError(f"start.sh exited with {process.returncode}:\n{server.log_tail()}")
             try:
-                server.api("/api/status")
+                if jupyter:
+                    server.api("/api/status")
+                else:
+                    server.page_status("/")
                 break
             except (urllib.error.URLError, OSError, ValueError):
                 if time.monotonic() > deadline:
-                    raise AssertionError(f"no answer on /api/status within {START_TIMEOUT} s:\n"
+                    raise AssertionError(f"no answer within {START_TIMEOUT} s:\n"
                                          f"{server.log_tail()}") from None
                 time.sleep(0.25)
         yield server
     finally:
-        left = stop(server)
+        left = stop(server, jupyter)
     assert not left, f"processes left after /api/shutdown: {left}\n{server.log_tail()}"
     assert process.returncode == 0, f"the server exited with {process.returncode}:\n{server.log_tail()}"
 
@@ -202,12 +217,30 @@ def assert_editor_rendered(page) -> None:
     assert curve is not None and len(curve.get_attribute("d") or "") > 10
 
 
-LAB_OPTIONS = [
+COMMON_OPTIONS = [
     "--IdentityProvider.token={token}", "--ServerApp.ip=127.0.0.1", "--ServerApp.port_retries=0",
-    "--LabApp.expose_app_in_browser=True", "--LabApp.news_url=None",
-    "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate",
-    "--FileCheckpoints.checkpoint_dir={base}/checkpoints", "--LabApp.workspaces_dir={base}/workspaces",
+    "--FileCheckpoints.checkpoint_dir={base}/checkpoints",
 ]
+LAB_OPTIONS = COMMON_OPTIONS + [
+    "--LabApp.expose_app_in_browser=True", "--LabApp.news_url=None",
+    "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate", "--LabApp.workspaces_dir={base}/workspaces",
+]
+NOTEBOOK_OPTIONS = COMMON_OPTIONS + ["--JupyterNotebookApp.expose_app_in_browser=True"]
+VOILA_OPTIONS = ["--token={token}", "--Voila.ip=127.0.0.1", "--Voila.port_retries=0"]
+
+
+def code_lines(notebook: Path) -> list[str]:
+    """The longer lines of the notebook's code cells (long enough not to occur in its prose by chance)."""
+    cells = json.loads(notebook.read_text(encoding="utf-8"))["cells"]
+    return [line.strip() for cell in cells if cell["cell_type"] == "code"
+            for line in "".join(cell["source"]).splitlines() if len(line.strip()) >= 25]
+
+
+def assert_root_note(log: str, frontend: str) -> None:
+    """As root, start.sh says that it passes --allow-root; the server never refuses to run."""
+    if os.geteuid() == 0:
+        assert f"Jupyter {frontend} is started with --allow-root" in log
+    assert "Running as root is not recommended" not in log
 
 
 def test_readme_start_command_serves_notebook_01_in_jupyterlab(tmp_path, page):
@@ -219,8 +252,37 @@ def test_readme_start_command_serves_notebook_01_in_jupyterlab(tmp_path, page):
         assert_editor_rendered(page)
         kernels = server.api("/api/kernels")
         assert len(kernels) == 1 and kernels[0]["execution_state"] in {"idle", "busy"}
-    log = server.log.read_text(errors="replace")
-    if os.geteuid() == 0:
-        assert "--allow-root" in log  # start.sh says that it passes the flag
-    assert "Running as root is not recommended" not in log
+    assert_root_note(server.log.read_text(errors="replace"), "lab")
+    assert notebooks_state() == before
+
+
+def test_start_notebook_serves_notebook_01_in_notebook_7(tmp_path, page):
+    before = notebooks_state()
+    with run_start(tmp_path, ["notebook"], NOTEBOOK_OPTIONS) as server:
+        page.goto(f"{server.url}/notebooks/{NOTEBOOK}?token={server.token}", wait_until="domcontentloaded")
+        run_all_cells(page)
+        assert_editor_rendered(page)
+        assert page.evaluate("() => window.jupyterapp.name") == "Jupyter Notebook"
+        assert len(server.api("/api/kernels")) == 1
+    assert_root_note(server.log.read_text(errors="replace"), "notebook")
+    assert notebooks_state() == before
+
+
+def test_start_app_serves_notebook_01_in_voila_with_code_hidden(tmp_path, page):
+    before = notebooks_state()
+    with run_start(tmp_path, ["app"], VOILA_OPTIONS, jupyter=False) as server:
+        tree = page.goto(f"{server.url}/?token={server.token}", wait_until="domcontentloaded")
+        assert tree.ok
+        page.wait_for_function("(name) => document.body.innerText.includes(name)", arg=NOTEBOOK,
+                               timeout=PAGE_TIMEOUT)  # the classroom's list of notebooks
+        page.goto(f"{server.url}/voila/render/{NOTEBOOK}?token={server.token}", wait_until="domcontentloaded")
+        assert_editor_rendered(page)
+        # every cell ran (the closing check cell prints its verdict) and no code is shown
+        page.wait_for_function("() => document.body.innerText.includes('all checks passed')",
+                               timeout=PAGE_TIMEOUT)
+        text = page.evaluate("() => document.body.innerText")
+        shown = [line for line in code_lines(NOTEBOOKS / NOTEBOOK) if line in text]
+        assert not shown, f"Voila shows code: {shown[:3]}"
+        assert page.locator(".jp-CodeMirrorEditor, .cm-editor").count() == 0
+        assert "There was an error when executing cell" not in page.content()
     assert notebooks_state() == before

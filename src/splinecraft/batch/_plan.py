@@ -1,0 +1,234 @@
+"""Planning a batch before anything is traced: inputs, output paths, trace settings, resume.
+
+Everything here runs in the calling process and raises ``TypeError``/``ValueError`` naming the argument,
+so a bad call fails before the first file is traced.
+"""
+from __future__ import annotations
+
+import glob
+import hashlib
+import inspect
+import json
+import math
+import numbers
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._work import PART_SUFFIX, file_sha256, input_sha256
+
+FORMATS = ("svg", "json")
+_GLOB_CHARACTERS = frozenset("*?[")
+#: Each task should run at least this long (dask's per-task overhead is ~0.2-1 ms; BENCHMARKS.md).
+TARGET_TASK_S = 0.1
+
+
+@dataclass
+class PlannedFile:
+    """One planned file: where it comes from, where it goes, and the title of its SVG."""
+
+    index: int
+    source: object          # path (str) or image array / PIL image
+    label: str              # the input as shown in messages and the manifest
+    output: str | None      # absolute output path, or None (results kept in memory)
+    title: str | None
+
+    def item(self) -> dict:
+        """The picklable description a worker gets."""
+        return {"index": self.index, "source": self.source, "output": self.output, "title": self.title}
+
+
+# ---------------------------------------------------------------------------------------------------
+# inputs and outputs
+# ---------------------------------------------------------------------------------------------------
+def _is_image_object(value) -> bool:
+    return isinstance(value, np.ndarray) or type(value).__module__.startswith("PIL.")
+
+
+def expand_inputs(inputs) -> list:
+    """Paths, glob patterns and image arrays -> a flat list (globs expanded, sorted; order kept)."""
+    if isinstance(inputs, (str, os.PathLike)) or _is_image_object(inputs):
+        inputs = [inputs]
+    try:
+        items = list(inputs)
+    except TypeError:
+        raise TypeError(f"inputs must be paths, glob patterns or image arrays (or a list of them), "
+                        f"got {type(inputs).__name__}") from None
+    sources = []
+    for position, item in enumerate(items):
+        if _is_image_object(item):
+            sources.append(item)
+        elif isinstance(item, (str, os.PathLike)):
+            text = os.fspath(item)
+            if not isinstance(text, str):
+                raise TypeError(f"inputs[{position}] must be a text path, got bytes")
+            if _GLOB_CHARACTERS & set(text) and not os.path.exists(text):
+                matches = sorted(path for path in glob.glob(text, recursive=True) if os.path.isfile(path))
+                if not matches:
+                    raise ValueError(f"inputs[{position}]: the pattern {text!r} matches no file")
+                sources.extend(matches)
+            else:
+                sources.append(text)
+        else:
+            raise TypeError(f"inputs[{position}] must be a path, a glob pattern or an image array, "
+                            f"got {type(item).__name__}")
+    if not sources:
+        raise ValueError("inputs is empty: give at least one path, glob pattern or image array")
+    return sources
+
+
+def plan_directory(sources, output_dir, fmt) -> list:
+    """One job per source; outputs ``output_dir/NAME.fmt`` (``image-00003`` for arrays), or none."""
+    width = max(5, len(str(len(sources) - 1)))
+    jobs, seen = [], {}
+    for index, source in enumerate(sources):
+        if isinstance(source, str):
+            stem, label, title = os.path.splitext(os.path.basename(source))[0], source, os.path.basename(source)
+        else:
+            stem, label, title = f"image-{index:0{width}d}", f"<image {index}>", None
+        output = None
+        if output_dir is not None:
+            name = f"{stem}.{fmt}"
+            if name in seen:
+                raise ValueError(f"inputs {seen[name]} and {label} would both be written to {name} in output_dir")
+            seen[name] = label
+            output = os.path.abspath(os.path.join(output_dir, name))
+        jobs.append(PlannedFile(index=index, source=source, label=label, output=output, title=title))
+    return jobs
+
+
+def _identity(path):
+    try:
+        status = os.stat(path)
+    except OSError:
+        return None
+    return status.st_dev, status.st_ino
+
+
+def refuse_overwriting_inputs(jobs, manifest_path) -> None:
+    """``ValueError`` when an output or the manifest is also an input (same path after symlinks, or the
+    same file through a hard link): it would be overwritten."""
+    by_path, by_identity = {}, {}
+    for job in jobs:
+        if isinstance(job.source, str):
+            by_path[os.path.realpath(job.source)] = job.label
+            identity = _identity(job.source)
+            if identity is not None:
+                by_identity[identity] = job.label
+    if not by_path:
+        return
+    targets = [(job.output, "output") for job in jobs if job.output is not None]
+    if manifest_path is not None:
+        targets.append((manifest_path, "manifest"))
+    for target, what in targets:
+        label = by_path.get(os.path.realpath(target)) or by_identity.get(_identity(target))
+        if label is not None:
+            raise ValueError(f"{what} {target} is also an input ({label}); it would be overwritten: "
+                             "choose another output")
+
+
+def prepare_directories(jobs, manifest_path) -> None:
+    """Create the output directories and check that a file can be created in each (before any tracing)."""
+    directories = {os.path.dirname(job.output) for job in jobs if job.output is not None}
+    if manifest_path is not None:
+        directories.add(os.path.dirname(manifest_path))
+    for directory in sorted(directories):
+        if os.path.exists(directory) and not os.path.isdir(directory):
+            raise ValueError(f"output directory {directory} exists and is not a directory")
+        try:
+            os.makedirs(directory, exist_ok=True)
+            probe = os.path.join(directory, f".write-check.{os.getpid()}{PART_SUFFIX}")
+            with open(probe, "wb"):
+                pass
+            os.unlink(probe)
+        except OSError as exc:
+            raise OSError(exc.errno, f"output directory {directory} is not writable: "
+                                     f"{exc.strerror or exc}") from exc
+
+
+# ---------------------------------------------------------------------------------------------------
+# trace settings
+# ---------------------------------------------------------------------------------------------------
+def trace_settings(trace_params) -> tuple:
+    """``(keyword arguments for trace, their hash)``; unknown names raise ``TypeError``.
+
+    The hash covers every argument of :func:`~splinecraft.capture.trace.trace` with its default filled in
+    (so spelling out a default does not re-trace), except ``keep_snapshots``, which changes no output.
+    """
+    from .. import __version__
+    from ..capture import trace
+
+    signature = inspect.signature(trace)
+    try:
+        bound = signature.bind(None, **trace_params)
+    except TypeError as exc:
+        raise TypeError(f"trace_many: {exc} (the keyword arguments after the batch options go to "
+                        "splinecraft.trace)") from None
+    bound.apply_defaults()
+    arguments = dict(bound.arguments)
+    arguments.pop(next(iter(signature.parameters)))  # the image
+    if "keep_snapshots" not in trace_params:
+        arguments["keep_snapshots"] = False  # a batch writes outputs: snapshots are not needed
+    hashed = {name: value for name, value in arguments.items() if name != "keep_snapshots"}
+    text = json.dumps({"trace": hashed, "splinecraft": __version__}, sort_keys=True, default=repr)
+    return arguments, hashlib.sha256(text.encode()).hexdigest()
+
+
+def check_trace_arguments(arguments) -> None:
+    """Let :func:`trace` check its own arguments once, before any file: it traces an empty image with
+    them and with its defaults; a different error than the defaults' names the bad argument."""
+    from ..capture import trace
+
+    empty = np.zeros((0, 0), dtype=np.uint8)
+
+    def error_of(**kwargs):
+        try:
+            trace(empty, **kwargs)
+        except (TypeError, ValueError) as exc:
+            return exc
+        return None
+
+    baseline, error = error_of(), error_of(**arguments)
+    if error is not None and (baseline is None or (type(error), str(error)) != (type(baseline), str(baseline))):
+        raise type(error)(str(error)) from None
+
+
+def params_sha256(settings_hash, fmt, decimals) -> str:
+    """Hash of everything that decides an output's bytes, besides the input."""
+    text = f"{settings_hash}|{fmt}|{decimals}"
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def check_batch_size(batch_size):
+    if isinstance(batch_size, str) and batch_size == "auto":
+        return batch_size
+    if isinstance(batch_size, (bool, np.bool_)) or not isinstance(batch_size, numbers.Integral):
+        raise TypeError(f"batch_size must be 'auto' or an int >= 1, got {batch_size!r}")
+    if batch_size < 1:
+        raise ValueError(f"batch_size must be 'auto' or an int >= 1, got {batch_size}")
+    return int(batch_size)
+
+
+def auto_batch_size(seconds_per_file, remaining, workers) -> int:
+    """Files per task so that a task runs about :data:`TARGET_TASK_S`, yet every worker gets >= 4 tasks."""
+    seconds_per_file = max(float(seconds_per_file), 1e-4)
+    size = math.ceil(TARGET_TASK_S / seconds_per_file)
+    balance = max(1, remaining // (4 * max(1, workers)))
+    return max(1, min(size, balance))
+
+
+# ---------------------------------------------------------------------------------------------------
+# resume
+# ---------------------------------------------------------------------------------------------------
+def is_finished(job, entry, params_hash) -> bool:
+    """The manifest's line says this job's output is done, and input, settings and output still match."""
+    if not entry or entry.get("status") != "ok" or entry.get("params_sha256") != params_hash:
+        return False
+    if job.title is not None and os.path.basename(str(entry.get("input", ""))) != job.title:
+        return False  # the SVG title is the input's file name
+    try:
+        return (file_sha256(job.output) == entry.get("output_sha256")
+                and input_sha256(job.source) == entry.get("input_sha256"))
+    except OSError:
+        return False

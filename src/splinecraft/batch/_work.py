@@ -1,0 +1,228 @@
+"""What a worker does with one batch of files: hash, trace, render, write atomically, report.
+
+:func:`trace_batch` runs unchanged in every place a batch can run (the calling process, a thread, a local
+worker process, a dask worker on another machine), so every scheduler writes the same bytes. It never
+raises for a bad file: each file gets a record with ``status`` ``"ok"`` or ``"failed"`` and an ``error``
+line. Outputs are written to a temporary file in the output's own directory and renamed over the output
+(``os.replace``), so a reader never sees a half-written file; a failed write removes its temporary file.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import signal
+import sys
+import tempfile
+import threading
+import time
+
+import numpy as np
+
+#: Suffix of the temporary files that outputs are written through (``.NAME.RANDOM.splinecraft-part``).
+PART_SUFFIX = ".splinecraft-part"
+#: Stats of each file kept in its record and in the manifest.
+RECORD_STATS = ("boundaries", "holes", "contour_points", "corners", "knots_inserted", "segments",
+                "iterations", "hausdorff", "converged")
+#: Wall-clock fields of ``TraceResult.stats`` left out of JSON outputs, so that outputs are reproducible.
+TIMING_STATS = ("time_s", "time_breakdown")
+
+#: Stop events of runs in this process, by run id (threads and the synchronous scheduler look here
+#: between files; a worker process has none and is stopped by its parent instead).
+STOP_EVENTS: dict = {}
+_CHUNK = 1 << 20
+
+
+# ---------------------------------------------------------------------------------------------------
+# hashes
+# ---------------------------------------------------------------------------------------------------
+def file_sha256(path) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(_CHUNK), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def input_sha256(source) -> str:
+    """SHA-256 of an input: a file's bytes, or an array's dtype, shape and pixels."""
+    if isinstance(source, (str, os.PathLike)):
+        return file_sha256(source)
+    pixels = np.ascontiguousarray(np.asarray(source))
+    digest = hashlib.sha256(f"{pixels.dtype.str}{pixels.shape}".encode())
+    digest.update(pixels.tobytes())
+    return digest.hexdigest()
+
+
+# ---------------------------------------------------------------------------------------------------
+# output
+# ---------------------------------------------------------------------------------------------------
+def render(result, fmt, decimals, title) -> bytes:
+    """The output document of one traced file: ``TraceResult.to_svg`` or its JSON without wall times."""
+    if fmt == "json":
+        document = result.to_dict()
+        for name in TIMING_STATS:
+            document["stats"].pop(name, None)
+        return json.dumps(document, allow_nan=False).encode("utf-8")
+    return result.to_svg(decimals=decimals, title=title).encode("utf-8")
+
+
+def _process_umask() -> int:
+    try:
+        with open("/proc/self/status", encoding="ascii") as handle:
+            for line in handle:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+_FILE_MODE = 0o666 & ~_process_umask()
+
+
+def write_atomic(path, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary file in the same directory and ``os.replace``.
+
+    On any failure (disk full, file-size limit, interrupt) the temporary file is removed and the error
+    propagates; ``path`` then holds its previous content, or does not exist.
+    """
+    directory, name = os.path.split(os.fspath(path))
+    handle, temporary = tempfile.mkstemp(prefix=f".{name}.", suffix=PART_SUFFIX, dir=directory or ".")
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        os.chmod(temporary, _FILE_MODE)
+        os.replace(temporary, path)
+    except BaseException:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+        raise
+
+
+def remove_partials(outputs) -> list:
+    """Remove the temporary files of the given outputs (left by a killed writer); returns their paths."""
+    wanted = {}
+    for output in outputs:
+        directory, name = os.path.split(os.fspath(output))
+        wanted.setdefault(directory or ".", set()).add(name)
+    removed = []
+    for directory, names in wanted.items():
+        try:
+            entries = list(os.scandir(directory))
+        except OSError:
+            continue
+        for entry in entries:
+            if not (entry.name.startswith(".") and entry.name.endswith(PART_SUFFIX)):
+                continue
+            base = entry.name[1:-len(PART_SUFFIX)].rpartition(".")[0]
+            if base in names:
+                try:
+                    os.unlink(entry.path)
+                    removed.append(entry.path)
+                except OSError:
+                    pass
+    return removed
+
+
+# ---------------------------------------------------------------------------------------------------
+# one file, one batch
+# ---------------------------------------------------------------------------------------------------
+def failure_reason(exc, source_name=None) -> str:
+    """One line saying why a file failed (the loader's own message without a repeated file name)."""
+    text = str(exc).strip()
+    message = text.splitlines()[0] if text else ""
+    if source_name and message.startswith(f"{source_name}: "):
+        message = message[len(source_name) + 2:]
+    if isinstance(exc, (ValueError, OSError)) and message:
+        return message
+    return f"{type(exc).__name__}: {message}" if message else type(exc).__name__
+
+
+def _summary(stats) -> dict:
+    return {name: stats[name] for name in RECORD_STATS if name in stats}
+
+
+def trace_one(item, settings) -> dict:
+    """Trace one planned file (``item``: index, source, output, title) and return its record."""
+    from ..capture import trace
+
+    started = time.perf_counter()
+    source, output = item["source"], item["output"]
+    record = {"index": item["index"], "status": "failed", "error": None, "input_sha256": None,
+              "output_sha256": None, "stats": None, "result": None}
+    try:
+        result = trace(source, **settings["trace"])  # first: the loader's messages name the file
+        record["input_sha256"] = input_sha256(source)
+        if output is None:
+            record["result"] = result
+        else:
+            data = render(result, settings["format"], settings["decimals"], item["title"])
+            try:
+                write_atomic(output, data)
+            except OSError as exc:
+                raise OSError(f"cannot write {output}: {exc.strerror or exc}") from exc
+            record["output_sha256"] = hashlib.sha256(data).hexdigest()
+        record["stats"] = _summary(result.stats)
+        record["status"] = "ok"
+    except Exception as exc:  # noqa: BLE001 - one failed file never stops the batch
+        name = os.fspath(source) if isinstance(source, (str, os.PathLike)) else None
+        record["error"] = failure_reason(exc, name)
+    record["time_s"] = time.perf_counter() - started
+    return record
+
+
+def trace_batch(items, settings) -> list:
+    """Trace a batch of planned files one after the other; one record per file, in order.
+
+    Files not started when the run is stopped (threads, synchronous scheduler) come back as
+    ``status="cancelled"``.
+    """
+    stop = STOP_EVENTS.get(settings.get("run"))
+    records = []
+    for item in items:
+        if stop is not None and stop.is_set():
+            records.append({"index": item["index"], "status": "cancelled", "error": "run stopped",
+                            "input_sha256": None, "output_sha256": None, "stats": None, "result": None,
+                            "time_s": 0.0})
+            continue
+        records.append(trace_one(item, settings))
+    return records
+
+
+# ---------------------------------------------------------------------------------------------------
+# local worker processes
+# ---------------------------------------------------------------------------------------------------
+_PR_SET_PDEATHSIG = 1
+
+
+def init_worker_process(parent_pid) -> None:
+    """Initializer of splinecraft's local worker processes.
+
+    Ctrl-C goes to the parent, which decides (workers ignore SIGINT, so a Ctrl-C to the process group does
+    not break a file half-way); the kernel kills the worker when its parent dies (Linux
+    ``PR_SET_PDEATHSIG``), and a watchdog thread ends it when it has been re-parented (other systems).
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent_pid:  # the parent died before the line above
+        os._exit(1)
+
+    def watch_parent():
+        while os.getppid() == parent_pid:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch_parent, name="splinecraft-parent-watch", daemon=True).start()

@@ -1,0 +1,381 @@
+"""Tests of splinecraft.trace_many (splinecraft.batch): same bytes on every scheduler, resume, manifest,
+faults and bad input. Dask clusters run on loopback only (127.0.0.1)."""
+import json
+import logging
+import os
+import signal
+import socket
+import sys
+import time
+import warnings
+
+import numpy as np
+import pytest
+from PIL import Image, ImageDraw
+
+import splinecraft as sc
+from splinecraft.batch import MANIFEST_NAME, BatchResult, trace_many
+from splinecraft.batch._plan import auto_batch_size
+from splinecraft.batch._work import PART_SUFFIX
+
+EPSILON = 1.0
+
+
+# ---------------------------------------------------------------------------------------------------
+# generated glyph-like bitmaps
+# ---------------------------------------------------------------------------------------------------
+def glyph_image(seed, size=48):
+    """A glyph-like bitmap (ring, bar letter, polygon or blob with a hole), ink dark on white."""
+    rng = np.random.default_rng(seed)
+    image = Image.new("L", (size, size), 255)
+    draw = ImageDraw.Draw(image)
+    low, high = size * 0.15, size * 0.85
+    kind = seed % 4
+    if kind == 0:  # an 'o'
+        a, b = rng.uniform(0.3, 0.42, 2) * size
+        centre = size / 2 + rng.uniform(-2, 2, 2)
+        draw.ellipse([centre[0] - a, centre[1] - b, centre[0] + a, centre[1] + b], fill=0)
+        draw.ellipse([centre[0] - a / 2, centre[1] - b / 2, centre[0] + a / 2, centre[1] + b / 2], fill=255)
+    elif kind == 1:  # an 'L', 'T' or 'H' of thick bars
+        width = rng.uniform(0.12, 0.2) * size
+        draw.rectangle([low, low, low + width, high], fill=0)
+        draw.rectangle([low, high - width, high, high], fill=0)
+        if seed % 8 == 5:
+            draw.rectangle([high - width, low, high, high], fill=0)
+    elif kind == 2:  # a star-like polygon
+        count = int(rng.integers(5, 8))
+        angles = np.sort(rng.uniform(0, 2 * np.pi, count))
+        radii = rng.uniform(0.2, 0.42, count) * size
+        draw.polygon([(size / 2 + r * np.cos(t), size / 2 + r * np.sin(t)) for r, t in zip(radii, angles)], fill=0)
+    else:  # a blob with a rectangular hole
+        draw.ellipse([low, low, high, high], fill=0)
+        inset = rng.uniform(0.35, 0.42) * size
+        draw.rectangle([inset, inset, size - inset, size - inset], fill=255)
+    return image
+
+
+def write_glyphs(directory, count, size=48, start=0):
+    directory.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for seed in range(start, start + count):
+        path = directory / f"glyph{seed:03d}.png"
+        glyph_image(seed, size).save(path)
+        paths.append(path)
+    return paths
+
+
+def reference_bytes(path, fmt="svg", **params):
+    """What ``sc.trace`` gives for one file: the bytes every scheduler must write."""
+    result = sc.trace(path, epsilon=params.pop("epsilon", EPSILON), **params)
+    if fmt == "svg":
+        return result.to_svg(title=os.path.basename(path)).encode()
+    document = result.to_dict()
+    del document["stats"]["time_s"], document["stats"]["time_breakdown"]
+    return json.dumps(document, allow_nan=False).encode()
+
+
+def manifest_lines(directory):
+    return [json.loads(line) for line in (directory / MANIFEST_NAME).read_text().splitlines()]
+
+
+def assert_outputs_whole(out, paths, fmt="svg", **params):
+    for path in paths:
+        assert (out / f"{path.stem}.{fmt}").read_bytes() == reference_bytes(path, fmt, **params), path.name
+    assert not [p.name for p in out.iterdir() if p.name.endswith(PART_SUFFIX)]
+
+
+@pytest.fixture(scope="module")
+def glyphs(tmp_path_factory):
+    directory = tmp_path_factory.mktemp("glyphs")
+    return write_glyphs(directory, 40)
+
+
+# ---------------------------------------------------------------------------------------------------
+# same bytes everywhere
+# ---------------------------------------------------------------------------------------------------
+def test_local_schedulers_write_the_bytes_of_trace(glyphs, tmp_path):
+    paths = glyphs[:12]
+    expected = {path.stem: reference_bytes(path) for path in paths}
+    for name, options in [("serial", {}), ("jobs", {"jobs": 2}), ("threads", {"scheduler": "threads", "jobs": 2}),
+                          ("processes", {"scheduler": "processes", "jobs": 2}),
+                          ("synchronous", {"scheduler": "synchronous"})]:
+        out = tmp_path / name
+        result = trace_many(paths, out, epsilon=EPSILON, progress=False, **options)
+        assert isinstance(result, BatchResult) and result.counts == {"ok": 12}, (name, result.failed)
+        assert [record.input for record in result] == [str(p) for p in paths]  # input order
+        for path in paths:
+            assert (out / f"{path.stem}.svg").read_bytes() == expected[path.stem], (name, path.name)
+        assert sorted(p.name for p in out.iterdir()) == sorted([f"{p.stem}.svg" for p in paths] + [MANIFEST_NAME])
+
+
+def test_json_outputs_are_reproducible(glyphs, tmp_path):
+    paths = glyphs[:6]
+    first = trace_many(paths, tmp_path / "a", format="json", epsilon=EPSILON, progress=False)
+    second = trace_many(paths, tmp_path / "b", format="json", epsilon=EPSILON, scheduler="threads", jobs=2,
+                        batch_size=2, progress=False)
+    assert first.counts == second.counts == {"ok": 6}
+    for path in paths:
+        data = (tmp_path / "a" / f"{path.stem}.json").read_bytes()
+        assert data == (tmp_path / "b" / f"{path.stem}.json").read_bytes() == reference_bytes(path, "json")
+        assert "time_s" not in json.loads(data)["stats"]
+
+
+def test_arrays_in_memory_and_dataframe():
+    images = [np.asarray(glyph_image(seed)) for seed in range(3)]
+    result = trace_many(images, progress=False, epsilon=EPSILON, keep_snapshots=True)
+    assert result.counts == {"ok": 3}
+    for image, record in zip(images, result):
+        expected = sc.trace(image, epsilon=EPSILON)
+        assert record.output is None and record.input.startswith("<image ")
+        assert record.result.to_svg() == expected.to_svg()
+        assert record.result.snapshots  # keep_snapshots reaches trace
+        assert record.stats["segments"] == expected.stats["segments"]
+    frame = result.to_dataframe()
+    assert list(frame["status"]) == ["ok"] * 3 and "stats.hausdorff" in frame.columns
+    assert "result" not in frame.columns
+
+
+def test_arrays_to_a_directory(tmp_path):
+    images = [np.asarray(glyph_image(seed)) for seed in range(2)]
+    result = trace_many(images, tmp_path, progress=False, epsilon=EPSILON)
+    assert [os.path.basename(record.output) for record in result] == ["image-00000.svg", "image-00001.svg"]
+    assert trace_many(images, tmp_path, progress=False, epsilon=EPSILON).counts == {"skipped": 2}
+    images[1] = images[1].copy()
+    images[1][:4, :4] = 0  # a changed array is traced again
+    assert trace_many(images, tmp_path, progress=False, epsilon=EPSILON).counts == {"skipped": 1, "ok": 1}
+
+
+# ---------------------------------------------------------------------------------------------------
+# resume and manifest
+# ---------------------------------------------------------------------------------------------------
+def test_resume_skips_finished_files_and_retraces_changed_ones(glyphs, tmp_path):
+    paths = glyphs[:8]
+    out = tmp_path / "out"
+    assert trace_many(paths, out, epsilon=EPSILON, progress=False).counts == {"ok": 8}
+    seen = []
+    again = trace_many(paths, out, epsilon=EPSILON, progress=False, on_record=seen.append)
+    assert again.counts == {"skipped": 8} and len(seen) == 8
+    assert trace_many(paths, out, epsilon=EPSILON, progress=False, resume=False).counts == {"ok": 8}
+    # a spelled-out default is the same setting
+    assert trace_many(paths, out, epsilon=EPSILON, max_iterations=200, progress=False).counts == {"skipped": 8}
+
+    (out / f"{paths[0].stem}.svg").write_text("<svg/>")               # output damaged
+    (out / f"{paths[1].stem}.svg").unlink()                           # output gone
+    glyph_image(99).save(paths[2])                                    # input changed
+    result = trace_many(paths, out, epsilon=EPSILON, progress=False)
+    assert [record.status for record in result[:4]] == ["ok", "ok", "ok", "skipped"]
+    assert result.counts == {"ok": 3, "skipped": 5}
+    assert_outputs_whole(out, paths)
+
+    lines = manifest_lines(out)
+    assert sorted(line["output"] for line in lines) == sorted(f"{p.stem}.svg" for p in paths)  # one per file
+    for line in lines:
+        assert line["status"] == "ok" and line["error"] is None
+        assert line["output_sha256"] == sc.batch._work.file_sha256(out / line["output"])
+        assert line["input_sha256"] == sc.batch._work.file_sha256(line["input"])
+
+    changed = trace_many(paths, out, epsilon=EPSILON * 1.5, progress=False)
+    assert changed.counts == {"ok": 8}  # a new epsilon re-traces everything
+    assert_outputs_whole(out, paths, epsilon=EPSILON * 1.5)
+
+
+def test_manifest_survives_a_torn_line_and_an_explicit_path(glyphs, tmp_path):
+    paths = glyphs[:3]
+    manifest = tmp_path / "records" / "run.jsonl"
+    trace_many(paths, tmp_path / "out", manifest=manifest, epsilon=EPSILON, progress=False)
+    assert not (tmp_path / "out" / MANIFEST_NAME).exists()
+    text = manifest.read_text()
+    manifest.write_text(text + text.splitlines()[0][:40])  # a run killed while appending
+    assert trace_many(paths, tmp_path / "out", manifest=manifest, epsilon=EPSILON,
+                      progress=False).counts == {"skipped": 3}
+    assert len(manifest.read_text().splitlines()) == 3  # compacted: one line per file
+
+
+def test_trace_many_is_exported():
+    assert sc.trace_many is trace_many and "trace_many" in sc.__all__ and "trace_many" in dir(sc)
+
+
+def test_auto_batch_size():
+    assert auto_batch_size(0.02, 1000, 2) == 5          # 5 x 20 ms = 100 ms per task
+    assert auto_batch_size(0.5, 1000, 2) == 1           # slow files: one per task
+    assert auto_batch_size(0.001, 40, 2) == 5           # small runs: at least 4 tasks per worker
+    assert auto_batch_size(0.0, 10 ** 6, 64) == 1000    # no timing: the floor of 0.1 ms per file
+
+
+# ---------------------------------------------------------------------------------------------------
+# bad files and bad arguments
+# ---------------------------------------------------------------------------------------------------
+def test_bad_files_do_not_stop_the_batch(glyphs, tmp_path):
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    (bad / "notes.png").write_text("not an image")
+    Image.new("L", (20, 20), 255).save(bad / "blank.png")
+    data = glyphs[0].read_bytes()
+    (bad / "cut.png").write_bytes(data[: len(data) // 2])
+    inputs = [glyphs[0], bad / "notes.png", glyphs[1], bad / "blank.png", bad / "cut.png", bad / "missing.png"]
+    out = tmp_path / "out"
+    for options in ({}, {"jobs": 2, "batch_size": 2}):
+        result = trace_many(inputs, out, epsilon=EPSILON, progress=False, resume=False, **options)
+        assert [record.status for record in result] == ["ok", "failed", "ok", "failed", "failed", "failed"]
+        reasons = [record.error for record in result.failed]
+        for reason, expected in zip(reasons, ["not an image", "no shape found", "truncated", "not found"]):
+            assert expected in reason
+        assert sorted(p.name for p in out.iterdir()) == sorted(
+            [f"{glyphs[0].stem}.svg", f"{glyphs[1].stem}.svg", MANIFEST_NAME])
+        failed_lines = [line for line in manifest_lines(out) if line["status"] == "failed"]
+        assert len(failed_lines) == 4 and all(line["error"] for line in failed_lines)
+
+
+def test_bad_arguments_fail_before_any_file(glyphs, tmp_path):
+    out = tmp_path / "out"
+    cases = [
+        (dict(epsilon=-1), ValueError, "epsilon"),
+        (dict(epsilon="x"), TypeError, "epsilon"),
+        (dict(method="nope"), ValueError, "method"),
+        (dict(nonsense=1), TypeError, "nonsense"),
+        (dict(format="png"), ValueError, "format"),
+        (dict(batch_size=0), ValueError, "batch_size"),
+        (dict(batch_size=2.5), TypeError, "batch_size"),
+        (dict(decimals=-1), ValueError, "decimals"),
+        (dict(resume="yes"), TypeError, "resume"),
+        (dict(on_record=3), TypeError, "on_record"),
+        (dict(jobs=0), ValueError, "jobs"),
+        (dict(scheduler="cluster"), ValueError, "scheduler"),
+        (dict(scheduler=3), TypeError, "scheduler"),
+        (dict(scheduler="tcp://127.0.0.1:1", jobs=2), ValueError, "jobs"),
+    ]
+    for options, error, word in cases:
+        with pytest.raises(error, match=word):
+            trace_many(glyphs[:2], out, progress=False, **options)
+    with pytest.raises(ValueError, match="matches no file"):
+        trace_many(str(tmp_path / "*.tif"), out)
+    with pytest.raises(TypeError, match=r"inputs\[1\]"):
+        trace_many([glyphs[0], 3.5], out)
+    with pytest.raises(ValueError, match="inputs is empty"):
+        trace_many([], out)
+    (tmp_path / "sub").mkdir()
+    glyph_image(0).save(tmp_path / "sub" / glyphs[0].name)
+    with pytest.raises(ValueError, match="would both be written"):
+        trace_many([glyphs[0], tmp_path / "sub" / glyphs[0].name], out)
+    assert not out.exists()  # nothing was created
+
+
+def test_an_output_that_is_also_an_input_is_refused(glyphs, tmp_path):
+    source = tmp_path / "a.svg"
+    source.write_bytes(glyphs[0].read_bytes())  # a PNG named .svg
+    with pytest.raises(ValueError, match="also an input"):
+        trace_many([source], tmp_path)
+    with pytest.raises(ValueError, match="manifest .* also an input"):
+        trace_many([glyphs[0]], tmp_path / "o", manifest=glyphs[0])
+    assert source.read_bytes() == glyphs[0].read_bytes()
+
+
+def test_unusable_output_directory(glyphs, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(ValueError, match="not a directory"):
+        trace_many(glyphs[:1], blocker, progress=False)
+    with pytest.raises(OSError, match="not writable"):
+        trace_many(glyphs[:1], blocker / "sub", progress=False)
+
+
+def test_a_failed_write_leaves_no_partial_file(glyphs, tmp_path, monkeypatch):
+    from splinecraft.batch import _work
+
+    def full_disk(fd, mode):
+        stream = open(fd, mode)
+        stream.write = lambda data: (_ for _ in ()).throw(OSError(28, "No space left on device"))
+        return stream
+
+    monkeypatch.setattr(_work.os, "fdopen", full_disk)
+    result = trace_many(glyphs[:2], tmp_path, epsilon=EPSILON, progress=False)
+    assert result.counts == {"failed": 2}
+    for record in result:
+        assert record.error == f"cannot write {record.output}: No space left on device"
+    assert sorted(p.name for p in tmp_path.iterdir()) == [MANIFEST_NAME]
+
+
+def test_leftover_partial_files_are_removed(glyphs, tmp_path):
+    (tmp_path / f".{glyphs[0].stem}.svg.abc123{PART_SUFFIX}").write_text("<svg")
+    (tmp_path / f".unrelated.svg.abc{PART_SUFFIX}").write_text("kept")  # not an output of this batch
+    trace_many(glyphs[:1], tmp_path, epsilon=EPSILON, progress=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        [f"{glyphs[0].stem}.svg", MANIFEST_NAME, f".unrelated.svg.abc{PART_SUFFIX}"])
+
+
+def test_jobs_are_capped_at_the_cpu_count(glyphs, tmp_path):
+    with pytest.warns(RuntimeWarning, match="CPUs"):
+        result = trace_many(glyphs[:3], tmp_path, jobs=1000, epsilon=EPSILON, progress=False)
+    assert result.counts == {"ok": 3}
+
+
+def test_without_dask_the_error_says_how_to_install_it(glyphs, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "dask", None)
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    for scheduler in ("threads", "tcp://127.0.0.1:8786"):
+        with pytest.raises(ImportError, match=r"pip install 'splinecraft\[dask\]'"):
+            trace_many(glyphs[:1], tmp_path, scheduler=scheduler)
+    assert trace_many(glyphs[:1], tmp_path, epsilon=EPSILON, progress=False).counts == {"ok": 1}
+
+
+def test_unreachable_scheduler_address_fails_fast(glyphs, tmp_path):
+    with socket.socket() as probe:  # a port nobody listens on
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    address = f"tcp://127.0.0.1:{port}"
+    started = time.monotonic()
+    with pytest.raises(ConnectionError, match=f"scheduler '{address}': no dask scheduler answered"):
+        trace_many(glyphs[:2], tmp_path / "out", scheduler=address, progress=False)
+    assert time.monotonic() - started < 10
+    assert not list((tmp_path / "out").glob("*.svg"))
+
+
+# ---------------------------------------------------------------------------------------------------
+# dask.distributed on loopback
+# ---------------------------------------------------------------------------------------------------
+def _local_cluster():
+    distributed = pytest.importorskip("distributed")
+    return distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                    dashboard_address=None, silence_logs=logging.ERROR)
+
+
+def test_local_cluster_traces_like_trace_and_resumes(glyphs, tmp_path):
+    from distributed import Client
+
+    out = tmp_path / "out"
+    with _local_cluster() as cluster, Client(cluster, set_as_default=False) as client:
+        result = trace_many(glyphs, out, scheduler=client, epsilon=EPSILON, progress=False)
+        assert result.counts == {"ok": 40}, result.failed
+        assert_outputs_whole(out, glyphs)
+        assert trace_many(glyphs, out, scheduler=client, epsilon=EPSILON, progress=False).counts == {"skipped": 40}
+        changed = trace_many(glyphs, out, scheduler=cluster.scheduler_address, epsilon=EPSILON * 2,
+                             progress=False)
+        assert changed.counts == {"ok": 40}
+        assert_outputs_whole(out, glyphs, epsilon=EPSILON * 2)
+    assert len(manifest_lines(out)) == 40
+
+
+def test_a_killed_worker_does_not_lose_files(glyphs, tmp_path):
+    from distributed import Client
+
+    out = tmp_path / "out"
+    killed = []
+    with _local_cluster() as cluster, Client(cluster, set_as_default=False) as client:
+        def kill_a_busy_worker(record):
+            if killed:
+                return
+            busy = [address for address, keys in client.processing().items() if keys]
+            if busy:
+                pid = client.run(os.getpid, workers=[busy[0]])[busy[0]]
+                os.kill(pid, signal.SIGKILL)
+                killed.append(pid)
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # distributed reports the lost worker
+            result = trace_many(glyphs, out, scheduler=client, batch_size=1, epsilon=EPSILON, progress=False,
+                                on_record=kill_a_busy_worker)
+    assert killed, "no worker was busy when the first file finished"
+    assert result.counts == {"ok": 40}, result.failed
+    assert_outputs_whole(out, glyphs)
+    lines = manifest_lines(out)
+    assert sorted(line["output"] for line in lines) == sorted(f"{p.stem}.svg" for p in glyphs)

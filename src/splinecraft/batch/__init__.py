@@ -21,6 +21,7 @@ import time
 import uuid
 from dataclasses import asdict, dataclass, field
 
+from .._validation import check_bool, check_choice, check_int
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
                     expand_inputs, is_finished, params_sha256, plan_directory, prepare_directories,
@@ -153,8 +154,7 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     ImportError
         A dask scheduler without dask installed (the message says how to install it).
     """
-    if format not in FORMATS:
-        raise ValueError(f"format must be one of {list(FORMATS)}, got {format!r}")
+    check_choice(format, "format", FORMATS)
     sources = expand_inputs(inputs)
     if output_dir is not None:
         output_dir = os.fspath(output_dir)
@@ -164,20 +164,6 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     return run_batch(plan, manifest=manifest, scheduler=scheduler, jobs=jobs, batch_size=batch_size,
                      resume=resume, format=format, decimals=decimals, progress=progress, on_record=on_record,
                      trace_params=trace_params)
-
-
-def _check_decimals(decimals):
-    if decimals is None:
-        return None
-    if isinstance(decimals, bool) or not isinstance(decimals, int) or decimals < 0:
-        raise ValueError(f"decimals must be an int >= 0 or None, got {decimals!r}")
-    return decimals
-
-
-def _check_flag(value, name):
-    if value is not None and not isinstance(value, bool):
-        raise TypeError(f"{name} must be True, False or None, got {type(value).__name__}")
-    return value
 
 
 class _Run:
@@ -250,9 +236,11 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
               format="svg", decimals=4, progress=None, on_record=None, trace_params=None):
     """Trace planned files (:class:`~splinecraft.batch._plan.PlannedFile`, each with its own output path):
     the body of :func:`trace_many`, also used by the command line for explicit output file names."""
+    check_choice(format, "format", FORMATS)
     batch_size = check_batch_size(batch_size)
-    decimals = _check_decimals(decimals)
-    resume, progress = bool(_check_flag(resume, "resume")), _check_flag(progress, "progress")
+    decimals = None if decimals is None else check_int(decimals, "decimals", minimum=0)
+    resume = check_bool(resume, "resume")
+    progress = None if progress is None else check_bool(progress, "progress")
     if on_record is not None and not callable(on_record):
         raise TypeError(f"on_record must be callable, got {type(on_record).__name__}")
     arguments, settings_hash = trace_settings(trace_params or {})

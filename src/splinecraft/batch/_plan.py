@@ -10,12 +10,12 @@ import hashlib
 import inspect
 import json
 import math
-import numbers
 import os
 from dataclasses import dataclass
 
 import numpy as np
 
+from .._validation import check_choice, check_positive_int
 from ._work import PART_SUFFIX, file_sha256, input_sha256
 
 FORMATS = ("svg", "json")
@@ -201,13 +201,10 @@ def params_sha256(settings_hash, fmt, decimals) -> str:
 
 
 def check_batch_size(batch_size):
-    if isinstance(batch_size, str) and batch_size == "auto":
-        return batch_size
-    if isinstance(batch_size, (bool, np.bool_)) or not isinstance(batch_size, numbers.Integral):
-        raise TypeError(f"batch_size must be 'auto' or an int >= 1, got {batch_size!r}")
-    if batch_size < 1:
-        raise ValueError(f"batch_size must be 'auto' or an int >= 1, got {batch_size}")
-    return int(batch_size)
+    """``"auto"`` or an int >= 1."""
+    if isinstance(batch_size, str):
+        return check_choice(batch_size, "batch_size", ("auto",))
+    return check_positive_int(batch_size, "batch_size")
 
 
 def auto_batch_size(seconds_per_file, remaining, workers) -> int:

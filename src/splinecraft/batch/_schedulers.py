@@ -18,6 +18,7 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, as_compl
 from concurrent.futures.process import BrokenProcessPool
 from functools import partial
 
+from .._validation import check_positive_int
 from ._work import STOP_EVENTS, init_worker_process, trace_batch
 
 LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
@@ -317,18 +318,15 @@ class DistributedRunner:
 # ---------------------------------------------------------------------------------------------------
 # choosing a runner
 # ---------------------------------------------------------------------------------------------------
-def check_jobs(jobs, limit_name="jobs"):
-    """``None`` or an int >= 1, capped at the CPU count (with a warning)."""
+def check_jobs(jobs):
+    """``None`` or an int >= 1, capped at the CPU count (with a ``RuntimeWarning``)."""
     if jobs is None:
         return None
-    if isinstance(jobs, bool) or not isinstance(jobs, int):
-        raise TypeError(f"{limit_name} must be an int >= 1 or None, got {type(jobs).__name__}")
-    if jobs < 1:
-        raise ValueError(f"{limit_name} must be >= 1, got {jobs}")
+    jobs = check_positive_int(jobs, "jobs")
     cpus = cpu_count()
     if jobs > cpus:
-        warnings.warn(f"{limit_name}={jobs} is more than the {cpus} CPUs of this machine; using {cpus}",
-                      RuntimeWarning, stacklevel=4)
+        warnings.warn(f"jobs={jobs} is more than the {cpus} CPUs of this machine; using {cpus}",
+                      RuntimeWarning, stacklevel=5)
         jobs = cpus
     return jobs
 

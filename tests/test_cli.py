@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 from splinecraft import __version__
-from splinecraft.cli import _Progress, _plan_outputs, main
+from splinecraft.cli import _plan_outputs, main
 
 SVG = "{http://www.w3.org/2000/svg}"
 
@@ -87,9 +87,12 @@ def test_many_files_with_bad_ones_in_parallel(tmp_path):
         (line,) = [line for line in lines if f"{path}:" in line]
         assert line.startswith("splinecraft: ") and reason in line
     assert lines[-1] == f"splinecraft: {len(bad)} of {len(bad) + 3} files failed"
-    assert sorted(p.name for p in out.iterdir()) == ["a.json", "b.json", "c.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["a.json", "b.json", "c.json", "splinecraft-manifest.jsonl"]
     for name in ("a", "b", "c"):
         assert json.loads((out / f"{name}.json").read_text())["type"] == "splinecraft.TraceResult"
+    lines = [json.loads(line) for line in (out / "splinecraft-manifest.jsonl").read_text().splitlines()]
+    assert sorted((line["output"], line["status"]) for line in lines) == sorted(
+        [(f"{name}.json", "ok") for name in "abc"] + [(f"{p.stem}.json", "failed") for p in bad])
 
 
 def test_stdout_and_quiet(tmp_path):
@@ -138,21 +141,18 @@ class _FakeTerminal(io.StringIO):
         return True
 
 
-def test_progress_bar_draws_on_a_terminal_only():
-    stream = _FakeTerminal()
-    bar = _Progress(4, stream, enabled=True)
-    bar.start()
-    bar.advance("a.png")
-    bar.message("splinecraft: b.png: failed")
-    bar.advance("b.png")
-    bar.close()
-    text = stream.getvalue()
-    assert "\r[" in text and " 1/4 a.png" in text and " 2/4 b.png" in text
-    assert "splinecraft: b.png: failed\n" in text
-    quiet = io.StringIO()
-    bar = _Progress(4, quiet, enabled=False)
-    bar.start()
-    bar.advance("a.png")
-    bar.message("error line")
-    bar.close()
-    assert quiet.getvalue() == "error line\n"
+def test_progress_bar_draws_on_a_terminal_only(tmp_path, monkeypatch):
+    for name, kind in [("a", "disc"), ("b", "square")]:
+        write_shape(tmp_path / f"{name}.png", kind)
+    (tmp_path / "c.png").write_text("not an image")
+    inputs = [str(tmp_path / f"{name}.png") for name in "abc"]
+    terminal = _FakeTerminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    assert main(["trace", *inputs, "-o", str(tmp_path / "out")]) == 1
+    text = terminal.getvalue()
+    assert "\r" in text and "3/3" in text  # tqdm redraws its line and ends at 3 of 3 files
+    assert f"splinecraft: {inputs[2]}: not an image" in text
+    quiet = _FakeTerminal()
+    monkeypatch.setattr(sys, "stderr", quiet)
+    assert main(["trace", *inputs, "-o", str(tmp_path / "quiet"), "-q"]) == 1
+    assert quiet.getvalue() == f"splinecraft: {inputs[2]}: not an image file (PIL cannot identify its format)\n"

@@ -6,24 +6,36 @@ Examples
 
     splinecraft trace glyph.png -o glyph.svg
     splinecraft trace scans/*.png -o traced/ --epsilon 1 --method fuzzy --jobs 4
+    splinecraft trace scans/*.png -o traced/ --scheduler tcp://10.0.0.5:8786   # a dask cluster
     splinecraft trace logo.png -o - --format json          # JSON to stdout
     splinecraft --version
 
 ``OUT`` is a file for one input (``-`` = stdout) and a directory for several (created if needed; each
 input ``NAME.ext`` becomes ``OUT/NAME.svg`` or ``.json``). The format follows ``--format``, else the
-suffix of a single output file, else SVG. Over several files a progress bar is drawn on stderr when it
-is a terminal (never with ``--quiet``). A file that fails gets one line ``splinecraft: FILE: reason``
-on stderr while the others still finish; the exit code is then 1 (0 when all succeed, 2 for usage
-errors, 130 when interrupted). ``--jobs N`` traces N files in parallel processes.
+suffix of a single output file, else SVG. An output that is also an input is refused. Files are traced by
+:func:`splinecraft.batch.run_batch`, the body of ``splinecraft.trace_many``: outputs appear atomically (no
+partial file, even when a write fails), and a directory gets a manifest
+(``OUT/splinecraft-manifest.jsonl``, or ``--manifest``) so that a second run skips finished files
+(``--no-resume`` traces them again). Over several files a tqdm progress bar is drawn on stderr when it is
+a terminal (never with ``--quiet``). A file that fails gets one line ``splinecraft: FILE: reason`` on
+stderr while the others still finish.
+
+``--jobs N`` traces in N local worker processes (at most one per CPU; more is capped with a warning);
+``--scheduler`` uses dask instead. Ctrl-C (SIGINT, to the process or its whole group) or SIGTERM stops
+at once: nothing new starts, the workers are killed with the files in flight (their partial files
+removed), what finished is kept in the manifest, and the exit code is 130 (SIGINT) or 143 (SIGTERM).
+Workers also die when this process is killed outright. Exit codes: 0 all traced (or skipped), 1 some
+file failed, 2 usage errors (bad option, output = input, unwritable output directory, unreachable
+scheduler).
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
-import shutil
+import signal
 import sys
-import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+import threading
 
 __all__ = ["main", "build_parser"]
 
@@ -58,6 +70,12 @@ def _positive_int(text):
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be >= 1, got {text}")
     return value
+
+
+def _batch_size(text):
+    if text == "auto":
+        return text
+    return _positive_int(text)
 
 
 def _fraction(text):
@@ -132,8 +150,19 @@ def build_parser() -> argparse.ArgumentParser:
                         help="fit the crack outline (default) or the pixel-centre chain")
     tracer.add_argument("--decimals", type=_non_negative_int, default=4,
                         help="decimal places of SVG coordinates (default 4)")
-    tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=1,
-                        help="files traced in parallel (0 = one per CPU; default 1)")
+    tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,
+                        help="files traced in parallel by local worker processes (0 = one per CPU; default 1; "
+                             "capped at the CPU count); with --scheduler: its number of workers")
+    tracer.add_argument("--scheduler", default=None, metavar="threads|processes|synchronous|ADDRESS",
+                        help="trace with dask: one of its local schedulers, or the address of a dask scheduler "
+                             "(tcp://host:8786); needs pip install 'splinecraft[dask]'")
+    tracer.add_argument("--resume", action=argparse.BooleanOptionalAction, default=True,
+                        help="skip files that the manifest shows finished with the same input, settings and "
+                             "output (default: --resume)")
+    tracer.add_argument("--manifest", default=None, metavar="PATH",
+                        help="manifest file (default: OUT/splinecraft-manifest.jsonl when OUT is a directory)")
+    tracer.add_argument("--batch-size", type=_batch_size, default="auto", metavar="N|auto",
+                        help="files per task for parallel runs (default auto: tasks of about 0.1 s)")
     tracer.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
     tracer.add_argument("-v", "--verbose", action="store_true", help="print the stats of each file on stderr")
     return parser
@@ -142,79 +171,34 @@ def build_parser() -> argparse.ArgumentParser:
 # ---------------------------------------------------------------------------------------------------
 # work
 # ---------------------------------------------------------------------------------------------------
-def _trace_file(source, destination, fmt, options, decimals):
-    """Trace one file and write the result; never raises (returns an error line instead)."""
-    started = time.perf_counter()
+class Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM arrived: the run stops (exit code 128 + signal number)."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def _signals_raise():
+    """SIGINT and SIGTERM raise :class:`Interrupted` in the main thread; further ones are ignored while the
+    run cleans up (workers killed, partial files removed, manifest written), then the old handlers return."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    stopping = (signal.SIGINT, signal.SIGTERM)
+
+    def handler(signum, frame):
+        for number in stopping:
+            signal.signal(number, signal.SIG_IGN)
+        raise Interrupted(signum)
+
+    previous = {number: signal.signal(number, handler) for number in stopping}
     try:
-        from .capture.trace import trace
-
-        result = trace(source, keep_snapshots=False, **options)
-        if fmt == "json":
-            text = result.to_json()
-        else:
-            text = result.to_svg(decimals=decimals, title=os.path.basename(source))
-        if destination == "-":
-            sys.stdout.write(text)
-            sys.stdout.flush()
-        else:
-            temporary = f"{destination}.part{os.getpid()}"
-            with open(temporary, "w", encoding="utf-8") as handle:
-                handle.write(text)
-            os.replace(temporary, destination)
-        stats = result.stats
-        summary = (
-            f"{stats['boundaries']} boundaries ({stats['holes']} holes), {stats['contour_points']} contour points, "
-            f"{stats['corners']} corners, {stats['knots_inserted']} knots inserted, {stats['segments']} segments, "
-            f"{stats['iterations']} iterations, max deviation {stats['hausdorff']:.3g} px, "
-            f"{(time.perf_counter() - started) * 1e3:.0f} ms"
-        )
-        return source, None, summary
-    except Exception as exc:  # noqa: BLE001 - one failed file must not stop the others
-        message = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-        if message.startswith(f"{source}: "):  # the loader already names the file
-            message = message[len(source) + 2:]
-        if isinstance(exc, (ValueError, OSError)) and message:
-            reason = message  # expected failures: bad input, unreadable file
-        else:
-            reason = f"{type(exc).__name__}: {message}" if message else type(exc).__name__
-        return source, reason, None
-
-
-class _Progress:
-    """A one-line progress bar on a terminal stream; silent when disabled."""
-
-    def __init__(self, total, stream, enabled):
-        self.total, self.stream, self.enabled, self.done = total, stream, enabled, 0
-        self.width = shutil.get_terminal_size((80, 20)).columns
-
-    def _draw(self, label=""):
-        if not self.enabled:
-            return
-        counter = f" {self.done}/{self.total} "
-        bar_width = max(10, min(40, self.width - len(counter) - 20))
-        filled = bar_width * self.done // max(self.total, 1)
-        line = f"[{'#' * filled}{'.' * (bar_width - filled)}]{counter}{label}"
-        self.stream.write("\r" + line[: self.width - 1].ljust(self.width - 1))
-        self.stream.flush()
-
-    def start(self):
-        self._draw()
-
-    def advance(self, label):
-        self.done += 1
-        self._draw(os.path.basename(label))
-
-    def message(self, text):
-        if self.enabled:
-            self.stream.write("\r" + " " * (self.width - 1) + "\r")
-        self.stream.write(text + "\n")
-        self.stream.flush()
-        self._draw()
-
-    def close(self):
-        if self.enabled:
-            self.stream.write("\r" + " " * (self.width - 1) + "\r")
-            self.stream.flush()
+        yield
+    finally:
+        for number, old in previous.items():
+            signal.signal(number, old)
 
 
 def _plan_outputs(inputs, output, fmt):
@@ -241,63 +225,104 @@ def _plan_outputs(inputs, output, fmt):
     return pairs, fmt
 
 
+def _job_count(jobs, scheduler):
+    """``--jobs``: 0 = one per CPU; more than the CPUs is capped, with a warning line."""
+    from .batch import cpu_count
+
+    if jobs is None:
+        return None if scheduler is not None else 1
+    cpus = cpu_count()
+    if jobs == 0:
+        return cpus
+    if jobs > cpus:
+        print(f"{PROG}: warning: --jobs {jobs} is more than the {cpus} CPUs of this machine; using {cpus}",
+              file=sys.stderr)
+        return cpus
+    return jobs
+
+
+def _summary_line(stats, seconds):
+    return (
+        f"{stats['boundaries']} boundaries ({stats['holes']} holes), {stats['contour_points']} contour points, "
+        f"{stats['corners']} corners, {stats['knots_inserted']} knots inserted, {stats['segments']} segments, "
+        f"{stats['iterations']} iterations, max deviation {stats['hausdorff']:.3g} px, {seconds * 1e3:.0f} ms"
+    )
+
+
+def _trace_to_stdout(source, fmt, options, decimals) -> int:
+    from .batch import render, run_batch
+    from .batch._plan import PlannedFile
+
+    planned = PlannedFile(index=0, source=source, label=source, output=None, title=os.path.basename(source))
+    (record,) = run_batch([planned], trace_params=options, progress=False, format=fmt, decimals=decimals)
+    if record.status != "ok":
+        print(f"{PROG}: {source}: {record.error}", file=sys.stderr)
+        return 1
+    sys.stdout.buffer.write(render(record.result, fmt, decimals, planned.title))
+    sys.stdout.flush()
+    return 0
+
+
 def _run_trace(args) -> int:
+    from .batch import MANIFEST_NAME, run_batch
+    from .batch._plan import PlannedFile
+
     try:
         pairs, fmt = _plan_outputs(args.inputs, args.output, args.format)
-        if len(pairs) > 1 or (pairs[0][1] != "-" and os.path.dirname(pairs[0][1])):
-            directory = args.output if len(pairs) > 1 else os.path.dirname(pairs[0][1])
-            os.makedirs(directory, exist_ok=True)
-    except (ValueError, OSError) as exc:
+    except ValueError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
-
     options = {
         "epsilon": args.epsilon, "method": args.method, "corner_method": args.corner_method,
         "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
         "max_iterations": args.max_iterations, "threshold": args.threshold, "invert": args.invert,
         "min_speck_area": args.min_speck_area, "connectivity": args.connectivity, "contour": args.contour,
     }
-    jobs = args.jobs or os.cpu_count() or 1
-    jobs = max(1, min(jobs, len(pairs)))
-    progress = _Progress(len(pairs), sys.stderr,
-                         enabled=len(pairs) > 1 and not args.quiet and sys.stderr.isatty())
-    failures = 0
+    if pairs[0][1] == "-":
+        return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals)
+    plan = [PlannedFile(index=k, source=source, label=source, output=os.path.abspath(destination),
+                        title=os.path.basename(source)) for k, (source, destination) in enumerate(pairs)]
+    manifest = args.manifest
+    if manifest is None and (len(pairs) > 1 or os.path.isdir(args.output) or args.output.endswith(("/", os.sep))):
+        manifest = os.path.join(args.output, MANIFEST_NAME)
+    counts = {"ok": 0, "failed": 0, "skipped": 0}
 
-    def report(source, error, summary):
-        nonlocal failures
-        if error is not None:
-            failures += 1
-            progress.message(f"{PROG}: {source}: {error}")
-        elif args.verbose:
-            progress.message(f"{source}: {summary}")
-        progress.advance(source)
+    def report(record):
+        from tqdm import tqdm
 
-    progress.start()
+        counts[record.status] = counts.get(record.status, 0) + 1
+        if record.status == "failed":
+            tqdm.write(f"{PROG}: {record.input}: {record.error}", file=sys.stderr)
+        elif record.status == "ok" and args.verbose:
+            tqdm.write(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
+
+    show = len(pairs) > 1 and not args.quiet and sys.stderr.isatty()
     try:
-        if jobs == 1:
-            for source, destination in pairs:
-                report(*_trace_file(source, destination, fmt, options, args.decimals))
-        else:
-            from splinecraft import cli as worker_module  # importable name, also under `python -m`
-
-            with ProcessPoolExecutor(max_workers=jobs) as pool:
-                futures = {
-                    pool.submit(worker_module._trace_file, source, destination, fmt, options, args.decimals): source
-                    for source, destination in pairs
-                }
-                for future in as_completed(futures):
-                    try:
-                        report(*future.result())
-                    except Exception as exc:  # noqa: BLE001 - a crashed worker process
-                        report(futures[future], f"worker process failed: {type(exc).__name__}: {exc}", None)
+        with _signals_raise():
+            result = run_batch(plan, manifest=manifest, scheduler=args.scheduler,
+                               jobs=_job_count(args.jobs, args.scheduler), batch_size=args.batch_size,
+                               resume=args.resume, format=fmt, decimals=args.decimals, progress=show,
+                               on_record=report, trace_params=options)
+    except Interrupted as stop:
+        finished = counts["ok"] + counts["skipped"]
+        print(f"{PROG}: interrupted by {signal.Signals(stop.signum).name}: {finished} of {len(pairs)} files "
+              "finished and kept; run the same command again to resume", file=sys.stderr)
+        return 128 + stop.signum
     except KeyboardInterrupt:
-        progress.close()
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
-    progress.close()
+    except (ValueError, TypeError, OSError, ImportError) as exc:
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return 2
+    failures = counts["failed"]
+    if result.manifest_error:
+        print(f"{PROG}: {result.manifest_error} (a later run cannot skip these files)", file=sys.stderr)
+    if not args.quiet and counts["skipped"]:
+        print(f"{PROG}: {counts['skipped']} of {len(pairs)} files already traced (manifest), skipped",
+              file=sys.stderr)
     if failures and len(pairs) > 1 and not args.quiet:
         print(f"{PROG}: {failures} of {len(pairs)} files failed", file=sys.stderr)
-    return 1 if failures else 0
+    return 1 if failures or result.manifest_error else 0
 
 
 def main(argv=None) -> int:

@@ -1,9 +1,13 @@
 """Tests of the command line (splinecraft.cli), run as a real process: ``python -m splinecraft.cli``."""
 import io
 import json
+import os
+import signal
 import subprocess
 import sys
+import time
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -156,3 +160,192 @@ def test_progress_bar_draws_on_a_terminal_only(tmp_path, monkeypatch):
     monkeypatch.setattr(sys, "stderr", quiet)
     assert main(["trace", *inputs, "-o", str(tmp_path / "quiet"), "-q"]) == 1
     assert quiet.getvalue() == f"splinecraft: {inputs[2]}: not an image file (PIL cannot identify its format)\n"
+
+
+# ---------------------------------------------------------------------------------------------------
+# nothing is lost: output = input, failed writes, signals, job cap
+# ---------------------------------------------------------------------------------------------------
+def test_an_output_that_is_also_an_input_is_refused(tmp_path):
+    source = tmp_path / "a.png"
+    write_shape(source, "disc")
+    before = source.read_bytes()
+    result = run_cli("trace", source, "-o", source)
+    assert result.returncode == 2 and "also an input" in result.stderr
+    assert source.read_bytes() == before
+    result = run_cli("trace", source, "-o", tmp_path / "x", "--manifest", source)
+    assert result.returncode == 2 and "manifest" in result.stderr and source.read_bytes() == before
+
+
+def _file_size_limit(limit):
+    import resource
+
+    def apply():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, resource.getrlimit(resource.RLIMIT_FSIZE)[1]))
+    return apply
+
+
+def test_a_failed_write_leaves_no_partial_file(tmp_path):
+    inputs = [tmp_path / f"{name}.png" for name in "ab"]
+    for path in inputs:
+        write_shape(path, "ring")
+    out = tmp_path / "out"
+    out.mkdir()
+    result = subprocess.run([sys.executable, "-m", "splinecraft.cli", "trace", *map(str, inputs), "-o", str(out)],
+                            capture_output=True, text=True, timeout=300, preexec_fn=_file_size_limit(0))
+    assert result.returncode == 1
+    for path in inputs:
+        assert f"splinecraft: {path}: cannot write {out / path.stem}.svg: File too large" in result.stderr
+    assert "cannot write manifest" in result.stderr
+    assert [p.name for p in out.iterdir() if p.suffix != ".jsonl"] == []  # no output, no partial file
+
+
+def test_unwritable_output_directory_is_a_usage_error(tmp_path):
+    source, other = tmp_path / "a.png", tmp_path / "b.png"
+    write_shape(source, "disc")
+    write_shape(other, "ring")
+    (tmp_path / "file").write_text("x")
+    result = run_cli("trace", source, other, "-o", tmp_path / "file" / "out")
+    assert result.returncode == 2 and "not writable" in result.stderr
+    result = run_cli("trace", source, "-o", tmp_path / "file" / "a.svg")
+    assert result.returncode == 2 and "error:" in result.stderr
+
+
+def test_jobs_are_capped_at_the_cpu_count(tmp_path):
+    from splinecraft.batch import cpu_count
+
+    for name in "ab":
+        write_shape(tmp_path / f"{name}.png", "square")
+    result = run_cli("trace", tmp_path / "a.png", tmp_path / "b.png", "-o", tmp_path / "out", "--jobs", "1000")
+    assert result.returncode == 0, result.stderr
+    assert f"--jobs 1000 is more than the {cpu_count()} CPUs of this machine; using {cpu_count()}" in result.stderr
+
+
+def test_resume_and_scheduler_flags(tmp_path):
+    for name in "ab":
+        write_shape(tmp_path / f"{name}.png", "ring")
+    inputs = [tmp_path / "a.png", tmp_path / "b.png"]
+    out = tmp_path / "out"
+    assert run_cli("trace", *inputs, "-o", out).returncode == 0
+    again = run_cli("trace", *inputs, "-o", out)
+    assert again.returncode == 0 and "2 of 2 files already traced (manifest), skipped" in again.stderr
+    assert "skipped" not in run_cli("trace", *inputs, "-o", out, "--no-resume").stderr
+    threads = run_cli("trace", *inputs, "-o", tmp_path / "threads", "--scheduler", "threads", "--jobs", "2")
+    assert threads.returncode == 0, threads.stderr
+    for path in inputs:
+        assert (tmp_path / "threads" / f"{path.stem}.svg").read_bytes() == (out / f"{path.stem}.svg").read_bytes()
+    manifest = tmp_path / "single.jsonl"
+    assert run_cli("trace", inputs[0], "-o", tmp_path / "one.svg", "--manifest", manifest).returncode == 0
+    assert "skipped" in run_cli("trace", inputs[0], "-o", tmp_path / "one.svg", "--manifest", manifest).stderr
+    bad = run_cli("trace", *inputs, "-o", out, "--scheduler", "nowhere")
+    assert bad.returncode == 2 and "scheduler must be" in bad.stderr
+
+
+def _processes_by_parent():
+    children = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        children.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    return children
+
+
+def _descendants(pid):
+    children, found, todo = _processes_by_parent(), [], [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.append(child)
+            todo.append(child)
+    return found
+
+
+def _alive(pid):
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state not in ("Z", "X")  # a zombie has exited
+
+
+def _poll(condition, timeout, what):
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out after {timeout} s waiting for {what}"
+        time.sleep(0.02)
+
+
+def _start_batch(tmp_path, count=40, size=128):
+    from test_batch import glyph_image
+
+    sources = tmp_path / "in"
+    sources.mkdir()
+    paths = []
+    for seed in range(count):
+        paths.append(sources / f"g{seed:03d}.png")
+        glyph_image(seed, size).save(paths[-1])
+    out = tmp_path / "out"
+    process = subprocess.Popen([sys.executable, "-m", "splinecraft.cli", "trace", *map(str, paths), "-o", str(out),
+                                "--jobs", "2", "--epsilon", "1"],
+                               stderr=subprocess.PIPE, text=True, start_new_session=True)
+    return process, paths, out
+
+
+def _assert_nothing_partial(out, paths):
+    from test_batch import reference_bytes
+
+    assert not [p.name for p in out.iterdir() if p.name.endswith(".splinecraft-part")]
+    for path in paths:
+        output = out / f"{path.stem}.svg"
+        if output.exists():
+            assert output.read_bytes() == reference_bytes(path), output.name
+    lines = [json.loads(line) for line in (out / "splinecraft-manifest.jsonl").read_text().splitlines()]
+    assert len({line["output"] for line in lines}) == len(lines)
+    return lines
+
+
+@pytest.mark.parametrize("how, code", [("SIGINT", 130), ("SIGTERM", 143), ("group SIGINT", 130)])
+def test_a_signal_stops_the_batch_at_once_and_loses_nothing(tmp_path, how, code):
+    process, paths, out = _start_batch(tmp_path)
+    try:
+        manifest = out / "splinecraft-manifest.jsonl"
+        _poll(lambda: manifest.exists() and manifest.read_text().endswith("\n"), 120, "the first finished file")
+        workers = _descendants(process.pid)
+        assert len(workers) >= 2
+        number = getattr(signal, how.split()[-1])
+        sent = time.monotonic()
+        if how.startswith("group"):
+            os.killpg(process.pid, number)  # Ctrl-C in a terminal reaches the whole process group
+        else:
+            process.send_signal(number)
+        _, stderr = process.communicate(timeout=60)
+        elapsed = time.monotonic() - sent
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+    assert process.returncode == code, stderr
+    assert elapsed < 2.0, f"exit took {elapsed:.2f} s after {how}"
+    assert f"interrupted by {how.split()[-1]}" in stderr
+    _poll(lambda: not any(_alive(pid) for pid in workers), 10, "the workers to exit")
+    lines = _assert_nothing_partial(out, paths)
+    assert 0 < len(lines) < len(paths)  # stopped half-way, and what finished is in the manifest
+
+    again = run_cli("trace", *paths, "-o", out, "--jobs", "2", "--epsilon", "1")
+    assert again.returncode == 0, again.stderr
+    assert f"{len(lines)} of {len(paths)} files already traced" in again.stderr
+    assert len(_assert_nothing_partial(out, paths)) == len(paths)
+
+
+def test_workers_die_with_a_killed_parent(tmp_path):
+    process, paths, out = _start_batch(tmp_path)
+    try:
+        _poll(lambda: len(_descendants(process.pid)) >= 2, 120, "the worker processes")
+        workers = _descendants(process.pid)
+        process.kill()
+        process.wait(timeout=60)
+        _poll(lambda: not any(_alive(pid) for pid in workers), 10, "the orphaned workers to exit")
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()

@@ -336,7 +336,7 @@ def test_unreachable_scheduler_address_fails_fast(glyphs, tmp_path):
 def _local_cluster():
     distributed = pytest.importorskip("distributed")
     return distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                                    dashboard_address=None, silence_logs=logging.ERROR)
+                                    dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
 
 
 def test_local_cluster_traces_like_trace_and_resumes(glyphs, tmp_path):

@@ -185,6 +185,8 @@ def test_trace_explorer_steps_back_and_forward(lab):
     page.wait_for_function(
         "(old) => document.querySelector('[data-testid=trace-explorer] [data-testid=snapshot-curve]')"
         ".getAttribute('d') !== old", arg=last_d, timeout=20_000)
+    # the page draws the cached snapshot at once; the kernel's iteration_info follows its snapshot_index
+    assert wait_python(lab, "explorer.snapshot_index", lambda i: i == 0) == 0
     knots0 = lab.python_json("explorer.iteration_info['knots']")
     assert knots0 == lab.python_json("explorer.result.snapshots[0].knots")
     root.query_selector("[data-testid=step-forward]").click()

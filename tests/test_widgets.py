@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 import splinecraft as sc
 from splinecraft.widgets import SplineEditor, SplineEditorWarning
 from splinecraft.widgets._assets import load_css, load_esm, static_dir
-from splinecraft.widgets._forms import FORMS, absolute_basis_tension
+from splinecraft.widgets._forms import FORMS
 
 SETTINGS = settings(max_examples=50, deadline=None)
 POINTS = [[60.0, 300.0], [160.0, 120.0], [300.0, 80.0], [440.0, 160.0], [540.0, 320.0]]
@@ -167,19 +167,20 @@ def test_switching_to_segment_mode_takes_the_first_piece_and_back_restores():
 
 
 def test_basis_form_relative_tension_scale():
-    """nu_j = -2 is the edge of the safe domain: v_j = -2 (c_{j-1} + c_j) makes d_j = 0 (§2.5, §4.5)."""
+    """nu_j = -2 is the edge of the safe domain: v_j = nu_j (c_{j-1} + c_j) with c_i = omega_i / h_i (§2.5, §4.5).
+
+    Floating ends extend the legs (h_{-1} = h_0, h_n = h_{n-1}, E12), so the end points count their leg twice.
+    """
     editor = SplineEditor(POINTS, form="basis", knots="chord")
-    state = editor._state()
-    state["point_tension"] = [1.0] * 5
     legs = np.hypot(*np.diff(np.array(POINTS), axis=0).T)
-    v = absolute_basis_tension(state)
-    expected = np.zeros(5)
-    expected[:-1] += 1.0 / legs
-    expected[1:] += 1.0 / legs
-    np.testing.assert_allclose(v, expected, rtol=1e-12)
-    reference = sc.basis_spline(np.array(POINTS), knots="chord", point_tension=expected * 3.0)
+    c = np.concatenate([[1.0 / legs[0]], 1.0 / legs, [1.0 / legs[-1]]])
+    spans = c[:-1] + c[1:]
+    reference = sc.basis_spline(np.array(POINTS), knots="chord", point_tension=spans * 3.0)
     editor.point_tension = [3.0] * 5
     np.testing.assert_allclose(editor.spline.bezier(), reference.bezier(), atol=1e-9)
+    with pytest.warns(SplineEditorWarning, match="must be > -2"):
+        editor.point_tension = [3.0, -2.5, 3.0, 3.0, 3.0]
+    assert editor.point_tension == [3.0] * 5
 
 
 # ---------------------------------------------------------------------------------------------- bad values
@@ -189,12 +190,12 @@ def test_basis_form_relative_tension_scale():
         ("points", [[60, 300], [float("nan"), 1], [300, 80], [440, 160], [540, 320]], "not a finite number"),
         ("points", [[60, 300], [60, 300], [300, 80], [440, 160], [540, 320]], "coincide"),
         ("interval_weights", [1.0, -1.0, 1.0, 1.0], "must be > 0"),
-        ("interval_weights", [1.0, float("inf"), 1.0, 1.0], "not a finite number"),
+        ("interval_weights", [1.0, float("inf"), 1.0, 1.0], "must be finite"),
         ("interval_weights", [1.0, 1e7, 1.0, 1.0], "out of range"),
-        ("interval_weights", [1.0, 1.0, 1.0], "needs 4 values"),
+        ("interval_weights", [1.0, 1.0, 1.0], "4 values are needed"),
         ("alpha", float("nan"), "alpha must be a finite number"),
         ("alpha", 0.0, "out of range"),
-        ("point_tension", [0.0, float("nan"), 0.0, 0.0, 0.0], "not a finite number"),
+        ("point_tension", [0.0, float("nan"), 0.0, 0.0, 0.0], "must be finite"),
         ("end_condition", "bogus", "does not apply"),
         ("form", "spiral", "unknown form"),
         ("comb_scale", -1.0, "comb size"),
@@ -259,7 +260,7 @@ def test_drag_moves_point_echoes_seq_and_is_one_undo_step():
     assert editor.points[2] == [325.0, 100.0]
     reference = sc.interpolate(np.array(editor.points), knots="chord")
     np.testing.assert_allclose(buffer(editor.geometry["bezier"], (-1, 4, 2)), reference.bezier(), atol=1e-3)
-    assert len(editor._undo) == 1
+    assert len(editor._history) == 1
     editor.undo()
     assert editor.points == POINTS
     editor.redo()
@@ -303,13 +304,13 @@ def test_add_in_basis_form_goes_into_the_leg_of_that_piece():
     editor = SplineEditor(points, form="basis")
     bezier = editor.spline.bezier()
     for piece in range(editor.spline.n_segments):
-        leg = editor._piece_leg(piece)
+        leg = editor.spline.piece_leg(piece)
         a, b = np.array(points[leg]), np.array(points[leg + 1])
         for inner in bezier[piece, 1:3]:
             u, w = b - a, inner - a
             assert abs(u[0] * w[1] - u[1] * w[0]) / np.linalg.norm(u) < 1e-9
     mid = editor.spline(0.5 * (editor.spline.knots[1] + editor.spline.knots[2]))
-    expected = editor._piece_leg(1) + 1  # floating ends: piece 1 is thesis segment 2, on leg P_2 P_3
+    expected = editor.spline.piece_leg(1) + 1  # floating ends: piece 1 is thesis segment 2, on leg P_2 P_3
     assert expected == 3
     index = editor.add_point(*mid, tolerance=2.0)
     assert index == expected
@@ -343,16 +344,16 @@ def test_segment_mode_refuses_add_and_delete():
 # ---------------------------------------------------------------------------------------------- history
 def test_undo_redo_and_slider_coalescing():
     editor = SplineEditor(POINTS)
-    editor._coalesce_seconds = 60.0
+    editor._history.coalesce_seconds = 60.0
     for value in (1.0, 2.0, 3.0):  # one slider gesture: consecutive changes of one trait
         editor.set_state({"point_tension": [value] * 5})
     editor.set_state({"interval_weights": [2.0] * 4})
-    assert len(editor._undo) == 2
+    assert len(editor._history) == 2
     assert editor.undo() and editor.interval_weights == [1.0] * 4 and editor.point_tension == [3.0] * 5
     assert editor.undo() and editor.point_tension == [0.0] * 5
     assert not editor.undo() and not editor.can_undo and editor.can_redo
     assert editor.redo() and editor.point_tension == [3.0] * 5
-    editor._coalesce_seconds = 0.0
+    editor._history.coalesce_seconds = 0.0
     editor.point_tension = [5.0] * 5  # a new change clears the redo stack
     assert not editor.can_redo and not editor.redo()
 
@@ -387,7 +388,7 @@ def test_fit_view_and_svg_export(tmp_path):
     x0, y0, x1, y1 = editor.view
     assert x0 < 60 and x1 > 540 and y0 < 80 and y1 > 300
     svg = editor.to_svg()
-    assert svg.startswith("<svg") and editor.spline.to_svg_path(precision=3) in svg
+    assert svg.startswith("<?xml") and "<svg" in svg and editor.spline.to_svg_path(precision=3) in svg
     path = editor.save_svg(tmp_path / "curve.svg")
     assert path.read_text() == svg
 

@@ -51,8 +51,10 @@ def basis_knot_values(points: np.ndarray, knots: str, closed: bool, ends: str):
 
 
 def basis_plot_data(form, points, *, point_tension, interval_weights, alpha, beta, closed, knots, end_condition,
-                    selected=-1, samples=None) -> dict:
+                    selected=-1, samples=None, point_tension_scale="absolute") -> dict:
     """What the basis plot shows for an editor state: ``t``, a 2-d array of curves, labels, title, knots.
+
+    ``point_tension_scale`` as in :func:`splinecraft.basis_spline` (``"relative"``: the scale-free nu of §2.5).
 
     Raises ``ValueError`` when the basis is not defined for this state (too few points, degenerate).
     """
@@ -87,7 +89,7 @@ def basis_plot_data(form, points, *, point_tension, interval_weights, alpha, bet
     count = samples or int(np.clip(40 * (last - first), 300, 2000))
     t = np.linspace(t0, t1, count)
     values = basis_functions(t, knots_or_n, point_tension=point_tension, interval_weights=interval_weights,
-                             closed=closed, ends=ends)
+                             closed=closed, ends=ends, point_tension_scale=point_tension_scale)
     total = values.sum(axis=1)
     shown = values[:, first:last].T
     labels = [f"B{j}" for j in range(first, last)]

@@ -357,7 +357,8 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
     return Spline._from_trusted(planar, knot_values, closed=closed, auxiliary=auxiliary, info=info)
 
 
-def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, closed=False, ends="floating"):
+def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, closed=False, ends="floating",
+                    point_tension_scale="absolute"):
     """Values of all basis functions ``B_j(t)``, shape ``(len(t), n_control)`` (§4.1-4.3).
 
     Each ``B_j`` is the scalar basis curve with control values ``e_j``, so all of them come from one basis
@@ -371,7 +372,7 @@ def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, c
     knots_or_n : int or array_like
         The number of control points (uniform knots ``t_j = j``), or explicit knot values as in
         :func:`basis_spline` (their count fixes ``n_control``).
-    point_tension, interval_weights, closed, ends
+    point_tension, interval_weights, closed, ends, point_tension_scale
         As in :func:`basis_spline`.
     """
     closed = check_bool(closed, "closed")
@@ -386,6 +387,7 @@ def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, c
     if n_control < minimum:
         raise ValueError(f"basis_functions needs at least {minimum} control points, got {n_control}")
     spline = basis_spline(np.eye(n_control), closed=closed, point_tension=point_tension,
-                          interval_weights=interval_weights, knots=knots, ends=ends)
+                          interval_weights=interval_weights, knots=knots, ends=ends,
+                          point_tension_scale=point_tension_scale)
     values = spline(t)
     return values

@@ -21,6 +21,9 @@ A widget subclasses :class:`WidgetBase` (itself an ``anywidget.AnyWidget``) and 
 * :meth:`~WidgetBase._plot` -- companion figures (bqplot) created on first use and updated by
   :meth:`~WidgetBase._update_plots`; :meth:`~WidgetBase.panel` shows the widget above
   :attr:`panel_plot`;
+* exact trait types (:class:`Bool`, :class:`Int`, :class:`Float`: a bool is not a number, 0 is not
+  False), :class:`NumberList`, and :class:`PointList` with its float64 byte transport
+  (:func:`points_to_json`, :func:`points_from_json`; capped at the widget's ``max_points``);
 * :func:`f32` -- the float32 byte buffers the pages decode.
 
 Debug hooks for benchmarks (drag latency records, ping) are off unless ``debug=True`` is passed (or
@@ -31,7 +34,7 @@ from __future__ import annotations
 import concurrent.futures
 import contextlib
 import logging
-import math
+import numbers
 import os
 import sys
 import time
@@ -41,8 +44,11 @@ import anywidget
 import numpy as np
 import traitlets as t
 
-__all__ = ["WidgetBase", "BadMessage", "read_int", "read_number", "read_bool", "read_str", "f32",
-           "run_with_budget", "DEBUG_ENV"]
+from .._validation import check_bool, check_choice, check_int, check_number
+
+__all__ = ["WidgetBase", "BadMessage", "Bool", "Int", "Float", "NumberList", "PointList", "points_to_json",
+           "points_from_json", "read_int", "read_number", "read_bool", "read_str",
+           "f32", "run_with_budget", "short_reason", "DEBUG_ENV"]
 
 #: Environment variable that switches the benchmark hooks on for every widget of a kernel.
 DEBUG_ENV = "SPLINECRAFT_WIDGET_DEBUG"
@@ -60,6 +66,85 @@ def f32(array) -> bytes:
     return np.ascontiguousarray(np.asarray(array, dtype="<f4")).tobytes()
 
 
+# ---------------------------------------------------------------------------------------------- exact traits
+class Bool(t.Bool):
+    """A bool trait that takes only ``True``/``False`` (``np.bool_`` too): not 0, 1 or ``"no"``."""
+
+    def validate(self, obj, value):
+        if isinstance(value, (bool, np.bool_)):
+            return bool(value)
+        self.error(obj, value)
+
+
+class Int(t.Int):
+    """An int trait that refuses bools (``True`` is not the integer 1 here); numpy integers are fine."""
+
+    def validate(self, obj, value):
+        if isinstance(value, (bool, np.bool_)):
+            self.error(obj, value)
+        if isinstance(value, np.integer):
+            value = int(value)
+        return super().validate(obj, value)
+
+
+class Float(t.Float):
+    """A float trait that refuses bools; ints and numpy numbers become floats."""
+
+    def validate(self, obj, value):
+        if isinstance(value, (bool, np.bool_)):
+            self.error(obj, value)
+        if isinstance(value, (np.floating, np.integer)):
+            value = float(value)
+        return super().validate(obj, value)
+
+
+class NumberList(t.List):
+    """A list of numbers; numpy arrays are accepted, ``None`` items (NaN from the page) become NaN, bools are refused."""
+
+    def validate(self, obj, value):
+        if isinstance(value, np.ndarray):
+            value = value.tolist()
+        if isinstance(value, (list, tuple)):
+            if not all(v is None or (isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_)))
+                       for v in value):
+                raise t.TraitError(f"{self.name} must be a list of numbers")
+            value = [float("nan") if v is None else float(v) for v in value]
+        return super().validate(obj, value)
+
+
+class PointList(t.List):
+    """``[[x, y], ...]``; numpy arrays are accepted. At most ``obj.max_points`` points (the widget's cap)."""
+
+    def validate(self, obj, value):
+        try:
+            array = np.array(value, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise t.TraitError(f"points must be an (n, 2) array of numbers: {exc}") from None
+        if array.size == 0:
+            array = array.reshape(0, 2)
+        if array.ndim != 2 or array.shape[1] != 2:
+            raise t.TraitError(f"points must have shape (n, 2), got {array.shape}")
+        if array.shape[0] > obj.max_points:
+            raise t.TraitError(f"{array.shape[0]} points; the editor takes at most max_points = {obj.max_points}")
+        return array.tolist()
+
+
+def points_to_json(value, _widget):
+    """``points`` travel to the page as little-endian float64 bytes (x0, y0, x1, y1, ...), not JSON lists."""
+    return np.asarray(value, dtype="<f8").reshape(-1).tobytes()
+
+
+def points_from_json(value, widget):
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        size = memoryview(value).nbytes
+        if size % 16:
+            raise t.TraitError(f"points: a buffer of {size} bytes is not a whole number of (x, y) float64 pairs")
+        if size // 16 > widget.max_points:
+            raise t.TraitError(f"{size // 16} points; the editor takes at most max_points = {widget.max_points}")
+        return np.frombuffer(bytes(value), dtype="<f8").reshape(-1, 2).tolist()
+    return value
+
+
 # ---------------------------------------------------------------------------------------------- message fields
 def _field(content: dict, name: str, default):
     if name in content:
@@ -69,52 +154,46 @@ def _field(content: dict, name: str, default):
     return default
 
 
+def _checked(check, value, *args, **kwargs):
+    try:
+        return check(value, *args, **kwargs)
+    except (TypeError, ValueError) as exc:
+        raise BadMessage(str(exc)) from None
+
+
 def read_int(content: dict, name: str, *, low: int, high: int, default=_REQUIRED) -> int:
     """Field ``name`` as an int in ``[low, high]`` (a bool or a float is refused)."""
     value = _field(content, name, default)
     if value is default and default is not _REQUIRED:
         return value
-    if type(value) is not int:
-        raise BadMessage(f"{name} must be an integer, got {type(value).__name__} {value!r:.40}")
-    if not low <= value <= high:
-        raise BadMessage(f"{name} = {value} is out of range [{low}, {high}]")
-    return value
+    return _checked(check_int, value, name, minimum=low, maximum=high)
 
 
-def read_number(content: dict, name: str, *, low: float = -math.inf, high: float = math.inf,
+def read_number(content: dict, name: str, *, low: float | None = None, high: float | None = None,
                 default=_REQUIRED) -> float:
-    """Field ``name`` as a finite float in ``[low, high]`` (int or float; a bool, None or NaN is refused)."""
+    """Field ``name`` as a finite float in ``[low, high]`` (a bool, None or NaN is refused)."""
     value = _field(content, name, default)
     if value is default and default is not _REQUIRED:
         return value
-    if type(value) not in (int, float):
-        raise BadMessage(f"{name} must be a number, got {type(value).__name__} {value!r:.40}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise BadMessage(f"{name} must be a finite number, got {value}")
-    if not low <= value <= high:
-        raise BadMessage(f"{name} = {value:g} is out of range [{low:g}, {high:g}]")
-    return value
+    return _checked(check_number, value, name, minimum=low, maximum=high)
 
 
 def read_bool(content: dict, name: str, *, default=_REQUIRED) -> bool:
     """Field ``name`` as an exact bool (``"no"``, 0 or 1 are refused)."""
     value = _field(content, name, default)
-    if type(value) is not bool:
-        raise BadMessage(f"{name} must be true or false, got {type(value).__name__} {value!r:.40}")
-    return value
+    if value is default and default is not _REQUIRED:
+        return value
+    return _checked(check_bool, value, name)
 
 
 def read_str(content: dict, name: str, *, choices=None, max_length: int = 200, default=_REQUIRED) -> str:
-    """Field ``name`` as a string (one of ``choices`` when given)."""
+    """Field ``name`` as a string of at most ``max_length`` characters (one of ``choices`` when given)."""
     value = _field(content, name, default)
     if value is default and default is not _REQUIRED:
         return value
     if type(value) is not str or len(value) > max_length:
         raise BadMessage(f"{name} must be a string of at most {max_length} characters, got {type(value).__name__}")
-    if choices is not None and value not in choices:
-        raise BadMessage(f"{name} must be one of {', '.join(map(str, choices))}, got {value!r:.40}")
-    return value
+    return value if choices is None else _checked(check_choice, value, name, tuple(choices))
 
 
 # ---------------------------------------------------------------------------------------------- long work
@@ -181,8 +260,8 @@ class WidgetBase(anywidget.AnyWidget):
 
     status_message = t.Unicode("").tag(sync=True)
     status_level = t.Unicode("info").tag(sync=True)
-    busy = t.Bool(False).tag(sync=True)
-    debug = t.Bool(False).tag(sync=True)
+    busy = Bool(False).tag(sync=True)
+    debug = Bool(False).tag(sync=True)
 
     def __init__(self, **traits):
         self._applying = 0

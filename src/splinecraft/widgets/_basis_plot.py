@@ -13,14 +13,7 @@ class BasisPlot(_BasisPlot):
         """Recompute from the editor's state; during drags with many points only on ``final``."""
         if not final and len(editor.points) > LIVE_LIMIT:
             return
-        self.show(editor.form, editor.points, point_tension=self._tension(editor),
-                  interval_weights=editor.interval_weights, alpha=editor.alpha, beta=editor.beta,
-                  closed=editor.closed, knots=editor.knots, end_condition=editor.end_condition,
-                  selected=editor.selected)
-
-    @staticmethod
-    def _tension(editor):
-        """Absolute point tensions for the basis (the editor may hold the scale-free ν of §2.5)."""
-        from ._forms import absolute_basis_tension
-
-        return absolute_basis_tension(editor._state()) if editor.form in ("basis", "interpolant") else 0.0
+        self.show(editor.form, editor.points, point_tension=editor.point_tension,
+                  point_tension_scale=editor.tension_scale, interval_weights=editor.interval_weights,
+                  alpha=editor.alpha, beta=editor.beta, closed=editor.closed, knots=editor.knots,
+                  end_condition=editor.end_condition, selected=editor.selected)

@@ -10,10 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..spline import CLASS_PRESETS, basis_spline, generic_segment, interpolate, timmer_g2, timmer_gc1, timmer_gc2
-from ..spline.knots import KNOT_EXPONENTS
 
-__all__ = ["FORMS", "PRESETS", "KNOT_CHOICES", "build_spline", "form_options", "explanation",
-           "absolute_basis_tension"]
+__all__ = ["FORMS", "PRESETS", "KNOT_CHOICES", "build_spline", "form_options", "explanation"]
 
 #: Class presets of the generic cubic (§1): name -> (label, (alpha, beta) or None for free).
 PRESETS = {
@@ -171,9 +169,9 @@ def build_spline(state: dict):
         )
     if form == "basis":
         return basis_spline(
-            points, closed=closed, point_tension=absolute_basis_tension(state),
-            interval_weights=state["interval_weights"], alpha=alpha, beta=beta, knots=state["knots"],
-            ends=state["end_condition"],
+            points, closed=closed, point_tension=state["point_tension"], interval_weights=state["interval_weights"],
+            alpha=alpha, beta=beta, knots=state["knots"], ends=state["end_condition"],
+            point_tension_scale=state["tension_scale"],
         )
     if form == "timmer_g2":
         first = points[1] - points[0]
@@ -192,38 +190,6 @@ def build_spline(state: dict):
             raise ValueError(f"the single-segment mode takes exactly 4 points F0, V, W, F1, got {len(points)}")
         return generic_segment(points[0], points[1], points[2], points[3], alpha, beta)
     raise ValueError(f"unknown form {form!r}; choose one of {', '.join(FORMS)}")
-
-
-def absolute_basis_tension(state: dict) -> np.ndarray:
-    """Point tensions ``v_j`` for :func:`~splinecraft.basis_spline` from an editor state.
-
-    With ``tension_scale="relative"`` the editor holds the dimensionless ``nu_j`` of §2.5 and
-    ``v_j = nu_j (c_{j-1} + c_j)`` with ``c_i = omega_i / h_i`` over the legs next to control point ``j``
-    (``h_i`` from the knot choice, §3; legs without an interval -- the end legs of clamped ends --
-    do not count). Then ``d_j > 0`` (non-negative basis, convex hull; §4.5) iff ``nu_j > -2``, at
-    every scale. ``"absolute"`` passes the values through (the thesis's raw ``v``).
-    """
-    tension = np.asarray(state["point_tension"], dtype=float)
-    if state["tension_scale"] == "absolute":
-        return tension
-    points = np.asarray(state["points"], dtype=float)
-    closed = bool(state["closed"])
-    legs = np.diff(np.vstack([points, points[:1]]) if closed else points, axis=0)
-    exponent = KNOT_EXPONENTS.get(state["knots"], 0.0)
-    steps = np.hypot(legs[:, 0], legs[:, 1]) ** exponent if exponent else np.ones(len(legs))
-    weights = np.asarray(state["interval_weights"], dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        c = np.where(steps > 0, weights / np.where(steps > 0, steps, 1.0), np.inf)
-    if not closed and state.get("end_condition") == "clamped" and len(c) >= 2:
-        c[0] = c[-1] = 0.0
-    spans = np.zeros(len(points))
-    if closed:
-        spans += c + np.roll(c, 1)
-    else:
-        spans[:-1] += c
-        spans[1:] += c
-    spans = np.where(np.isfinite(spans), spans, 0.0)
-    return tension * spans
 
 
 def explanation(form: str, preset: str, tension_scale: str) -> str:

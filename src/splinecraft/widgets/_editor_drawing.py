@@ -1,0 +1,132 @@
+"""What the SplineEditor's page draws: the ``geometry`` dict of float32 buffers, the comb, labels, the view.
+
+Everything is computed from a curve (:class:`~splinecraft.Spline`) and an editor state dict by the engine's
+public methods (``bezier``, ``auxiliary``, ``curvature_comb``, ``joint_curvature``, ``leg_pieces``); the
+page (``js/editor_view.js``) only maps the buffers to SVG paths.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._base import f32
+from ._forms import SEGMENT_LABELS
+
+__all__ = ["fitted_view", "comb_unit", "comb", "geometry", "MAX_COMB_TEETH"]
+
+#: Long curves draw every k-th comb tooth so that at most this many are sent (the envelope keeps every sample).
+MAX_COMB_TEETH = 1500
+#: The 95th-percentile comb tooth is this fraction of the view diagonal at comb size 1.
+COMB_REFERENCE = 0.12
+#: Joint labels are written only for curves with at most this many pieces.
+MAX_JOINT_LABELS = 60
+
+
+def fitted_view(points, spline) -> list:
+    """``[xmin, ymin, xmax, ymax]`` around the points and the Bézier points of the curve, with an 8% margin."""
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    cloud = np.vstack([points, spline.bezier().reshape(-1, 2)]) if spline is not None else points
+    lo, hi = cloud.min(axis=0), cloud.max(axis=0)
+    size = np.maximum(hi - lo, 1e-6 * max(1.0, float(np.abs(cloud).max())))
+    pad = 0.08 * size.max()
+    return [float(lo[0] - pad), float(lo[1] - pad), float(lo[0] + size[0] + pad), float(lo[1] + size[1] + pad)]
+
+
+def _comb_samples(spline) -> int:
+    return int(np.clip(4000 // max(spline.n_segments, 1), 6, 33))
+
+
+def comb_unit(spline, view) -> float | None:
+    """Tooth length per unit curvature: the 95th-percentile tooth is 12% of the view diagonal (§7).
+
+    The editor keeps it until the view, the form or the comb size changes, so that during a drag the comb
+    shows real changes of curvature instead of being renormalised on every move.
+    """
+    bases, tips = spline.curvature_comb(scale=1.0, samples_per_segment=_comb_samples(spline))
+    lengths = np.hypot(*(tips - bases).T)  # = |kappa|
+    finite = lengths[np.isfinite(lengths)]
+    reference = float(np.percentile(finite, 95)) if finite.size else 0.0
+    diagonal = math.hypot(view[2] - view[0], view[3] - view[1])
+    return COMB_REFERENCE * diagonal / reference if reference > 0 else None
+
+
+def _joint_labels(spline) -> list:
+    """``κ⁺/κ⁻`` at every joint where curvature jumps (E2: ``ω_{i-1}/ω_i`` in the interpolant, §2.2)."""
+    m = spline.n_segments
+    if m > MAX_JOINT_LABELS:
+        return []
+    joints = spline.joint_curvature()
+    points = spline.knot_points
+    labels = []
+    for i in range(m) if spline.closed else range(1, m):
+        minus, plus = joints[i]
+        if not (math.isfinite(minus) and math.isfinite(plus)):
+            continue
+        big = max(abs(minus), abs(plus))
+        if big <= 1e-12 or abs(plus - minus) <= 1e-3 * big:
+            continue
+        ratio = plus / minus if abs(minus) > 1e-12 * big else math.inf
+        text = f"κ⁺/κ⁻ = {ratio:.2f}" if math.isfinite(ratio) else "κ jumps"
+        labels.append({"x": float(points[i][0]), "y": float(points[i][1]), "text": text, "kind": "joint"})
+    return labels
+
+
+def comb(spline, unit: float | None, size: float):
+    """Curvature comb: teeth ``(k, 2, 2)`` with both one-sided teeth at every joint, tip envelope, joint labels."""
+    bases, tips = spline.curvature_comb(scale=1.0, samples_per_segment=_comb_samples(spline))
+    tips = bases + size * (unit or 0.0) * (tips - bases)
+    teeth = np.stack([bases, tips], axis=1)
+    if len(teeth) > MAX_COMB_TEETH:
+        teeth = teeth[:: math.ceil(len(teeth) / MAX_COMB_TEETH)]
+    envelope = np.vstack([tips, tips[:1]]) if spline.closed and len(tips) else tips
+    return teeth, envelope, _joint_labels(spline)
+
+
+def _class_polygon(spline, bezier):
+    """Per piece ``F_i, V_i, W_i, F_{i+1}`` (generic cubic) or ``P_i, Q_1, Q_2, P_{i+1}`` (Timmer), NaN-separated."""
+    aux = spline.auxiliary
+    V, W = aux.get("V", aux.get("Q1")), aux.get("W", aux.get("Q2"))
+    if V is None or W is None:
+        return None, None
+    gap = np.full((bezier.shape[0], 1, 2), np.nan)
+    polygon = np.concatenate([bezier[:, :1], V[:, None], W[:, None], bezier[:, 3:], gap], axis=1)
+    return polygon, np.stack([V, W], axis=1)
+
+
+def geometry(spline, state: dict, display: dict, *, revision: int, seq: int, unit: float | None) -> dict:
+    """The ``geometry`` trait: what the page draws for ``spline`` (built from ``state``).
+
+    ``display`` holds the overlay switches (``show_bezier_points``, ``show_tangents``, ``show_comb``),
+    ``comb_scale`` and ``selected_interval``.
+    """
+    bezier = spline.bezier()
+    closed = spline.closed
+    out = {
+        "revision": revision, "seq": seq, "closed": bool(closed), "bezier": f32(bezier),
+        "knots": f32(spline.knot_points[:-1] if closed else spline.knot_points),
+    }
+    if display["show_bezier_points"] and state["form"] != "segment":
+        polygon, vw = _class_polygon(spline, bezier)
+        if polygon is not None:
+            out["class_polygon"], out["vw"] = f32(polygon), f32(vw)
+    if display["show_tangents"]:
+        out["tangents"] = f32(np.stack([bezier[:, 0], bezier[:, 1], bezier[:, 3], bezier[:, 2]], axis=1))
+    labels = []
+    if display["show_comb"]:
+        teeth, envelope, joint_labels = comb(spline, unit, display["comb_scale"])
+        out["comb_teeth"], out["comb_envelope"] = f32(teeth), f32(envelope)
+        labels.extend(joint_labels)
+    if state["form"] == "segment":
+        labels.extend({"x": float(p[0]), "y": float(p[1]), "text": label, "kind": "point"}
+                      for p, label in zip(state["points"], SEGMENT_LABELS))
+    out["labels"] = labels
+    interval = display["selected_interval"]
+    if 0 <= interval < len(state["interval_weights"]):
+        pieces = spline.leg_pieces(interval)
+        if len(pieces):
+            out["highlight"] = f32(bezier[pieces])
+        if state["form"] == "basis":
+            points = state["points"]
+            out["highlight_leg"] = f32(np.vstack([points[interval], points[(interval + 1) % len(points)]]))
+    return out

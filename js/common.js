@@ -1,7 +1,7 @@
 // Shared drawing helpers for the splinecraft widgets (plain ES module, no bundler).
 //
-// The Python side inlines this file into each widget module (see splinecraft/widgets/_assets.py),
-// because anywidget loads a widget's ES module from a string, where relative imports cannot resolve.
+// The Python side links this file into each widget module (see splinecraft/widgets/_assets.py),
+// because anywidget loads a widget's ES module from one string, where relative imports cannot resolve.
 // Everything here is pure (DOM building, buffer decoding, coordinate maps, path strings), so it can
 // also be imported directly by node for unit tests.
 

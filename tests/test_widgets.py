@@ -52,9 +52,10 @@ def sent_messages(widget):
 def test_esm_inlines_the_shared_module_once():
     for name in ("spline_editor.js", "trace_explorer.js"):
         source = load_esm(name)
-        assert "./common.js" not in source
+        assert "./common.js" not in source and 'from "./' not in source
         assert source.count("function bezierPath(") == 1
         assert "export default { render }" in source
+        assert re.findall(r"^export\b.*$", source, re.MULTILINE) == ["export default { render };"]
     assert ".sc-widget" in load_css()
     assert (static_dir() / "common.js").is_file()
 
@@ -448,6 +449,45 @@ console.log("ok");
     assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr
 
 
+@pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
+def test_editor_modules_in_node(tmp_path):
+    """The editor's ES modules import each other like any ES modules; their pure parts, checked in node."""
+    base = static_dir().as_uri()
+    script = tmp_path / "check.mjs"
+    script.write_text(f"""
+import assert from "node:assert/strict";
+import {{ Viewport }} from "{base}/common.js";
+import {{ gridStep, tangentTips, decodeGeometry }} from "{base}/editor_view.js";
+import {{ typical, allEqual }} from "{base}/editor_controls.js";
+import {{ hitPoint }} from "{base}/editor_input.js";
+assert.equal(gridStep(120), 10);                                  // about 12 lines across, 1-2-5 steps
+assert.equal(gridStep(100), 10);
+assert.equal(gridStep(24), 2); assert.equal(gridStep(25), 5);
+assert.deepEqual(Array.from(tangentTips([0, 0, 1, 2, 5, 5, 7, 8])), [1, 2, 7, 8]);
+const g = decodeGeometry({{ bezier: new Float32Array([1, 2, 3, 4, 5, 6, 7, 8]).buffer, seq: 3 }});
+assert.equal(g.seq, 3); assert.equal(g.bezier.length, 8); assert.equal(g.comb_teeth.length, 0);
+assert.equal(typical([3, 1, 2]), 2); assert.equal(typical([4, 4]), 4); assert.ok(allEqual([]));
+const vp = new Viewport(100, 100, [0, 0, 100, 100]);
+assert.equal(hitPoint(vp, [10, 10, 50, 50, 52, 52], 51, 51), 1);  // nearest within the radius
+assert.equal(hitPoint(vp, [10, 10], 40, 40), -1);
+console.log("ok");
+""", encoding="utf-8")
+    run = subprocess.run(["node", str(script)], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr
+
+
+def test_module_linker_orders_dependencies_and_refuses_cycles(tmp_path):
+    from splinecraft.widgets._assets import module_order
+
+    assert module_order("spline_editor.js")[-1] == "spline_editor.js"
+    order = module_order("spline_editor.js")
+    assert order.index("common.js") < order.index("editor_view.js") < order.index("editor_controls.js")
+    (tmp_path / "a.js").write_text('import { b } from "./b.js";\nexport const a = 1;\n')
+    (tmp_path / "b.js").write_text('import { a } from "./a.js";\nexport const b = 2;\n')
+    with pytest.raises(RuntimeError, match="import cycle"):
+        module_order("a.js", tmp_path)
+
+
 def test_points_travel_as_float64_bytes_both_ways():
     editor = SplineEditor(POINTS)
     state = editor.get_state("points")
@@ -661,8 +701,9 @@ def test_installed_layout_uses_the_packaged_static_dir(tmp_path):
     package = tmp_path / "site-packages" / "splinecraft" / "widgets"
     (package / "static").mkdir(parents=True)
     shutil.copy(_assets.__file__, package / "_assets.py")
-    for name in ("common.js", "spline_editor.js", "trace_explorer.js", "widgets.css"):
-        shutil.copy(static_dir() / name, package / "static" / name)
+    for source in static_dir().iterdir():
+        if source.suffix in (".js", ".css"):
+            shutil.copy(source, package / "static" / source.name)
     spec = importlib.util.spec_from_file_location("installed_assets", package / "_assets.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

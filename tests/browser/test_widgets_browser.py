@@ -71,7 +71,7 @@ def test_drag_point_updates_python_and_curve(lab):
     wait_curve_change(page, old_d)
     # the drawn curve is the kernel's curve: it passes through the moved point (an interpolant)
     assert lab.python_json("editor.spline(editor.spline.knots[2]).tolist()") == pytest.approx(after[2])
-    assert lab.python_json("len(editor._undo)") >= 1
+    assert lab.python_json("len(editor._history)") >= 1
 
 
 def test_slider_moves_tension_and_redraws(lab):

@@ -1,0 +1,93 @@
+// Drag flow control for the editors (plain ES module): pointer moves become "drag" messages, at most one in
+// flight. Newer positions wait for the kernel's answer and are coalesced to the next animation frame, so
+// the kernel never falls behind and the latest position always wins; the final position is always sent
+// on release, and the page keeps showing it until the kernel has answered.
+//
+// With the model's `debug` trait on, every answered move is recorded in
+// window.__splinecraft.dragLatencies (pointermove -> path in DOM -> next frame; benchmarks/bench_drag.py).
+
+const ACK_TIMEOUT_MS = 1000; // resend even without an answer after this long (a lost message never blocks)
+
+/** Drag state machine; `onIdle()` is called when a released drag has been answered (redraw the points). */
+export function createDragFlow(model, { onIdle = () => {} } = {}) {
+  let seq = 0, gesture = 0, inFlight = null, pendingSend = false, rafId = 0;
+  let drag = null; // {index, x, y, pointerId, moved, tMove, ox, oy}
+  let released = null; // a finished drag whose final position the kernel has not answered yet
+  const moveTimes = new Map(); // seq -> {move, sent} (debug only)
+
+  function send(final) {
+    seq += 1;
+    if (model.get("debug")) moveTimes.set(seq, { move: drag.tMove, sent: performance.now() });
+    inFlight = { seq, t: performance.now() };
+    model.send({ type: "drag", index: drag.index, x: drag.x, y: drag.y, seq, gesture, final });
+  }
+  function frame() {
+    rafId = 0;
+    if (!drag || !pendingSend) return;
+    if (inFlight && performance.now() - inFlight.t < ACK_TIMEOUT_MS) return; // wait for the answer
+    pendingSend = false;
+    send(false);
+  }
+  const schedule = () => { if (!rafId) rafId = requestAnimationFrame(frame); };
+
+  return {
+    /** Start dragging point `index` (at data x, y); `ox, oy`: pointer-to-point offset in screen px. */
+    start(index, x, y, pointerId, ox = 0, oy = 0) {
+      gesture += 1;
+      drag = { index, x, y, pointerId, moved: false, tMove: performance.now(), ox, oy };
+      return drag;
+    },
+    get active() { return drag; },
+    /** The drag to draw (in progress, or released and not yet answered), if it moved. */
+    live() {
+      const d = drag ?? released;
+      return d && d.moved ? d : null;
+    },
+    move(x, y) {
+      drag.x = x;
+      drag.y = y;
+      drag.moved = true;
+      drag.tMove = performance.now();
+      pendingSend = true;
+      schedule();
+    },
+    /** Release: send the final position (if the point moved). */
+    end() {
+      if (!drag) return;
+      if (drag.moved) {
+        pendingSend = false;
+        send(true);
+        drag.finalSeq = seq;
+        released = drag;
+      }
+      drag = null;
+    },
+    /** The kernel answered move `ackSeq` (a geometry update or a negative drag_ack). */
+    acknowledge(ackSeq) {
+      if (inFlight && ackSeq >= inFlight.seq) inFlight = null;
+      if (released && ackSeq >= released.finalSeq) {
+        released = null;
+        onIdle();
+      }
+      if (drag && pendingSend) schedule();
+    },
+    /** Record the latency of move `ackSeq` after its curve is in the DOM (debug only). */
+    drawn(ackSeq, tArrive, root) {
+      const times = moveTimes.get(ackSeq);
+      if (!times) return;
+      const tDom = performance.now();
+      for (const key of moveTimes.keys()) if (key <= ackSeq) moveTimes.delete(key);
+      requestAnimationFrame(() => {
+        window.__splinecraft = window.__splinecraft ?? {};
+        const log = (window.__splinecraft.dragLatencies = window.__splinecraft.dragLatencies ?? []);
+        log.push({
+          seq: ackSeq, n: root.dataset.npoints | 0,
+          dom: tDom - times.move, frame: performance.now() - times.move, // pointermove -> path in DOM / -> next frame
+          wait: times.sent - times.move, kernel: tArrive - times.sent, draw: tDom - tArrive, // the parts
+        });
+        root.dataset.lastDrawnSeq = String(ackSeq);
+      });
+    },
+    dispose() { if (rafId) cancelAnimationFrame(rafId); },
+  };
+}

@@ -468,7 +468,7 @@ const g = decodeGeometry({{ bezier: new Float32Array([1, 2, 3, 4, 5, 6, 7, 8]).b
 assert.equal(g.seq, 3); assert.equal(g.bezier.length, 8); assert.equal(g.comb_teeth.length, 0);
 assert.equal(typical([3, 1, 2]), 2); assert.equal(typical([4, 4]), 4); assert.ok(allEqual([]));
 const vp = new Viewport(100, 100, [0, 0, 100, 100]);
-assert.equal(hitPoint(vp, [10, 10, 50, 50, 52, 52], 51, 51), 1);  // nearest within the radius
+assert.equal(hitPoint(vp, [10, 10, 50, 50, 52, 52], 50.5, 50.5), 1);  // nearest within the radius
 assert.equal(hitPoint(vp, [10, 10], 40, 40), -1);
 console.log("ok");
 """, encoding="utf-8")

@@ -187,8 +187,8 @@ def test_trace_explorer_steps_back_and_forward(lab):
         ".getAttribute('d') !== old", arg=last_d, timeout=20_000)
     # the page draws the cached snapshot at once; the kernel's iteration_info follows its snapshot_index
     assert wait_python(lab, "explorer.snapshot_index", lambda i: i == 0) == 0
-    knots0 = lab.python_json("explorer.iteration_info['knots']")
-    assert knots0 == lab.python_json("explorer.result.snapshots[0].knots")
+    knots0 = lab.python_json("explorer.result.snapshots[0].knots")
+    assert wait_python(lab, "explorer.iteration_info['knots']", lambda k: k == knots0) == knots0
     root.query_selector("[data-testid=step-forward]").click()
     page.wait_for_selector(f"{EXPLORER}[data-snapshot-index='1']", timeout=20_000)
     assert "iteration 1 /" in root.query_selector("[data-testid=iteration]").inner_text()

@@ -271,6 +271,9 @@ function render({ model, el }) {
     tauAuto.set(tauValue === null);
     tau.setDisabled(tauValue === null);
     if (tauValue !== null) tau.set(tauValue);
+    const usesTau = (opts().tau_methods ?? []).includes(model.get("method")); // Algorithms 4.2 and 4.3 only
+    tauAuto.row.style.display = usesTau ? "" : "none";
+    tau.row.style.display = usesTau ? "" : "none";
     seed.set(model.get("seed"));
     overlays.forEach((o, i) => o.set(model.get(["show_image", "show_boundaries", "show_corners", "show_candidates", "show_final"][i])));
     stats.innerHTML = model.get("stats_html");

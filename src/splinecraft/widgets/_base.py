@@ -14,7 +14,8 @@ A widget subclasses :class:`WidgetBase` (itself an ``anywidget.AnyWidget``) and 
 * :meth:`~WidgetBase._handle_message` -- custom messages ``{"type": ...}`` dispatched through
   :attr:`messages` to methods ``handler(content, buffers)``; any exception (a bad field, a MemoryError)
   restores the state saved before the message (:meth:`~WidgetBase._save_good` /
-  :meth:`~WidgetBase._restore_good`), sets a status and resyncs the page;
+  :meth:`~WidgetBase._restore_good`) and sets a status; after an exception or a :meth:`~WidgetBase._reject`
+  the page is resynced (:meth:`~WidgetBase._resync_after`, then the whole state);
 * strict readers of message fields (:func:`read_int`, :func:`read_number`, :func:`read_bool`,
   :func:`read_str`) raising :class:`BadMessage` that names the field -- exact types (a bool is not an
   int), ranges and finiteness;
@@ -48,11 +49,12 @@ from .._validation import check_bool, check_choice, check_int, check_number
 
 __all__ = ["WidgetBase", "BadMessage", "Bool", "Int", "Float", "NumberList", "PointList", "points_to_json",
            "points_from_json", "read_int", "read_number", "read_bool", "read_str",
-           "f32", "run_with_budget", "short_reason", "DEBUG_ENV"]
+           "f32", "run_with_budget", "short_reason", "view_problem", "DEBUG_ENV"]
 
 #: Environment variable that switches the benchmark hooks on for every widget of a kernel.
 DEBUG_ENV = "SPLINECRAFT_WIDGET_DEBUG"
 _MAX_REASON = 180
+_NOT_RESYNCED = frozenset({"layout", "tabbable", "tooltip"})
 _REQUIRED = object()
 _log = logging.getLogger("splinecraft.widgets")
 
@@ -215,6 +217,14 @@ def run_with_budget(function, seconds: float, what: str = "the computation"):
         raise TimeoutError(f"{what} took longer than its time budget of {seconds:g} s") from None
 
 
+def view_problem(view) -> str | None:
+    """Why ``view`` is not a visible rectangle ``[xmin, ymin, xmax, ymax]`` of finite numbers (None if it is)."""
+    ok = (isinstance(view, (list, tuple)) and len(view) == 4
+          and all(isinstance(v, numbers.Real) and not isinstance(v, bool) and np.isfinite(v) for v in view)
+          and view[2] > view[0] and view[3] > view[1])
+    return None if ok else "view must be [xmin, ymin, xmax, ymax] of finite numbers with xmax > xmin, ymax > ymin"
+
+
 def _caller_stacklevel() -> int:
     """Stack level of the first frame outside splinecraft, traitlets and the widget libraries."""
     frame, level = sys._getframe(1), 1
@@ -266,6 +276,7 @@ class WidgetBase(anywidget.AnyWidget):
     def __init__(self, **traits):
         self._applying = 0
         self._from_page = False
+        self._page_rejections = 0
         self._plots: dict = {}
         traits.setdefault("debug", bool(os.environ.get(DEBUG_ENV)))
         super().__init__(**traits)
@@ -302,6 +313,7 @@ class WidgetBase(anywidget.AnyWidget):
         reason = short_reason(reason)
         self._set_status(f"Kept the last good {self.kept}: {reason}", "error")
         if self._from_page:
+            self._page_rejections += 1
             for name in resync:
                 self.send_state(name)
         else:
@@ -343,14 +355,25 @@ class WidgetBase(anywidget.AnyWidget):
                     raise BadMessage(f"unknown message type {kind!r:.40}")
                 if kind == "ping" and not self.debug:
                     raise BadMessage("ping is a debug message (set debug=True)")
+                rejections = self._page_rejections
                 getattr(self, self.messages[kind])(content, list(buffers or []))
+                refused = self._page_rejections > rejections  # the handler kept the last good state
             except Exception as exc:  # noqa: BLE001 - MemoryError and engine bugs too: the page must hear of it
                 if not isinstance(exc, BadMessage):
                     _log.warning("%s: message handler failed", type(self).__name__, exc_info=True)
-                self._restore_good(saved)
+                try:
+                    self._restore_good(saved)
+                except Exception:  # noqa: BLE001 - the restore failed too (same cause): still answer the page
+                    _log.warning("%s: restoring the last good state failed", type(self).__name__, exc_info=True)
                 self._reject(f"bad message: {short_reason(exc)}")
+                refused = True
+            if refused:
                 self._resync_after(content)
-                self.send_state()
+                self._resync()
+
+    def _resync(self) -> None:
+        """Send the page every trait it shows (not the module source, layout or model names)."""
+        self.send_state(key=[name for name in self.keys if not name.startswith("_") and name not in _NOT_RESYNCED])
 
     def _on_ping(self, content, _buffers):
         """Transport round trip for the benchmarks (answered only with ``debug=True``)."""

@@ -26,7 +26,7 @@ from . import _editor_state as model
 from ._assets import load_css, load_esm
 from ._base import (
     Bool, Float, Int, NumberList, PointList, WidgetBase, points_from_json, points_to_json, read_bool, read_int,
-    read_number,
+    read_number, view_problem,
 )
 from ._editor_state import MAX_POINTS, MODEL_TRAITS, Rejected
 from ._forms import FORMS, explanation, form_options
@@ -311,10 +311,7 @@ class SplineEditor(WidgetBase):
         if name == "comb_scale" and (value is None or not 0 < value <= 1000):
             return f"comb size must be a number in (0, 1000], got {value}"
         if name == "view":
-            ok = (isinstance(value, (list, tuple)) and len(value) == 4
-                  and all(isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) for v in value)
-                  and value[2] > value[0] and value[3] > value[1])
-            return None if ok else "view must be [xmin, ymin, xmax, ymax] with xmax > xmin, ymax > ymin"
+            return view_problem(value)
         if name == "selected" and not -1 <= value < len(self.points):
             return f"no point {value}"
         if name == "selected_interval" and not -1 <= value < len(self.interval_weights):
@@ -347,8 +344,7 @@ class SplineEditor(WidgetBase):
         try:
             spline = self._check(state)
         except Rejected as exc:
-            self._reject(str(exc))
-            self._answer_bad_drag(seq, final)
+            self._reject(str(exc))  # the base answers: drag_ack ok=False and a resync of the kept points
             return
         if gesture is None or gesture != self._drag_gesture:
             self._history.push(previous, key=None)
@@ -356,11 +352,6 @@ class SplineEditor(WidgetBase):
         self._commit(state, spline, seq=seq)
         if final:
             self._set_status(f"Point {index} moved to ({point[0]:.1f}, {point[1]:.1f}).", "info")
-
-    def _answer_bad_drag(self, seq, final):
-        self.send({"type": "drag_ack", "seq": seq, "ok": False})
-        if final:
-            self.send_state("points")  # the page shows the rejected position: redraw the last good points
 
     def _resync_after(self, content) -> None:
         if isinstance(content, dict) and content.get("type") == "drag":

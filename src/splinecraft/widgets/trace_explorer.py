@@ -5,24 +5,27 @@ insertion, every iteration kept) and sends the page what to draw: the bitmap as 
 and corners, and -- per iteration -- the fitted Bézier pieces, the knots and the candidate points the
 algorithm accepted or rejected (float32 byte buffers). The page (``js/trace_explorer.js``) only draws,
 steps and forwards the controls (detector and its tuning sliders, knot-insertion algorithm, ε, τ, seed,
-an image upload). Bad values (NaN, ε <= 0, an image that cannot be read) keep the last good result and
-show a short message.
+an image upload). A re-trace runs with a visible busy state and a time budget
+(:attr:`TraceExplorer.time_budget_s`). Whatever goes wrong -- a bad value (NaN, ε <= 0), an image that cannot
+be read or is too large, a parameter that makes the trace fail or run out of memory or time -- the explorer
+keeps the last good settings and result and shows why.
 """
 from __future__ import annotations
 
-import html
 import inspect
 import io
-import math
 import numbers
 from pathlib import Path
 
 import numpy as np
 import traitlets as t
 
+from .._validation import check_number
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
+from ..capture.fitting import DEFAULT_TAU
+from . import _explorer_drawing as drawing
 from ._assets import load_css, load_esm
-from ._base import WidgetBase, f32
+from ._base import Bool, Float, Int, WidgetBase, read_str, run_with_budget, short_reason, view_problem
 
 __all__ = ["TraceExplorer", "TraceExplorerWarning", "demo_bitmap", "corner_param_specs"]
 
@@ -49,7 +52,12 @@ _TRACE_PARAMS = ("epsilon", "method", "corner_method", "corner_params", "seed", 
 _DISPLAY = ("width", "height", "show_image", "show_boundaries", "show_corners", "show_candidates", "show_final",
             "play_interval_ms", "view")
 _MAX_UPLOAD_BYTES = 20_000_000
-_MAX_PIXELS = 4_000_000
+#: Largest bitmap the explorer traces (pixels); larger uploads are refused from their header, before decoding.
+MAX_PIXELS = 4_000_000
+#: Default time budget of one re-trace, seconds (``TraceExplorer.time_budget_s``).
+TIME_BUDGET_S = 60.0
+#: Knot-insertion methods that take the distance constraint tau (thesis Algorithms 4.2, 4.3).
+TAU_METHODS = tuple(DEFAULT_TAU)
 
 
 class TraceExplorerWarning(UserWarning):
@@ -128,6 +136,8 @@ class TraceExplorer(WidgetBase):
     ----------
     result : TraceResult -- the last good trace
     convergence_figure : bqplot Figure -- knots and max error per iteration (see :meth:`panel`)
+    time_budget_s : float -- longest a re-trace may take (default 60 s); after that the explorer keeps
+        the last good result (the abandoned work finishes in the background)
     """
 
     _esm = load_esm("trace_explorer.js")
@@ -139,27 +149,29 @@ class TraceExplorer(WidgetBase):
     messages = {**WidgetBase.messages, "upload": "_on_upload"}
     page_traits = frozenset(_TRACE_SETTINGS + _DISPLAY + ("snapshot_index",))
 
+    time_budget_s = TIME_BUDGET_S
+
     image_png = t.Bytes(b"").tag(sync=True)
     image_size = t.List([1, 1]).tag(sync=True)
     corner_method = t.Unicode("").tag(sync=True)
     corner_params = t.Dict().tag(sync=True)
     method = t.Unicode("").tag(sync=True)
-    epsilon = t.Float(2.0, allow_none=True).tag(sync=True)
-    tau = t.Float(None, allow_none=True).tag(sync=True)
-    seed = t.Int(0, allow_none=True).tag(sync=True)
-    max_iterations = t.Int(200).tag(sync=True)
+    epsilon = Float(2.0, allow_none=True).tag(sync=True)
+    tau = Float(None, allow_none=True).tag(sync=True)
+    seed = Int(0, allow_none=True).tag(sync=True)
+    max_iterations = Int(200, min=1, max=100_000).tag(sync=True)
 
-    snapshot_index = t.Int(0).tag(sync=True)
-    n_snapshots = t.Int(0).tag(sync=True)
-    play_interval_ms = t.Int(350).tag(sync=True)
-    show_image = t.Bool(True).tag(sync=True)
-    show_boundaries = t.Bool(True).tag(sync=True)
-    show_corners = t.Bool(True).tag(sync=True)
-    show_candidates = t.Bool(True).tag(sync=True)
-    show_final = t.Bool(False).tag(sync=True)
+    snapshot_index = Int(0).tag(sync=True)
+    n_snapshots = Int(0).tag(sync=True)
+    play_interval_ms = Int(350, min=20, max=60_000).tag(sync=True)
+    show_image = Bool(True).tag(sync=True)
+    show_boundaries = Bool(True).tag(sync=True)
+    show_corners = Bool(True).tag(sync=True)
+    show_candidates = Bool(True).tag(sync=True)
+    show_final = Bool(False).tag(sync=True)
     view = t.List([0.0, 0.0, 1.0, 1.0]).tag(sync=True)
-    width = t.Int(600).tag(sync=True)
-    height = t.Int(440).tag(sync=True)
+    width = Int(600, min=120, max=4000).tag(sync=True)
+    height = Int(440, min=120, max=4000).tag(sync=True)
 
     base_geometry = t.Dict().tag(sync=True)
     snapshot_geometry = t.Dict().tag(sync=True)
@@ -180,7 +192,7 @@ class TraceExplorer(WidgetBase):
             "corner_method": trace_params.get("corner_method") or "",  # "" = trace()'s default
             "corner_params": dict(trace_params.get("corner_params") or {}),
             "method": trace_params.get("method") or "",
-            "epsilon": float(trace_params.get("epsilon", 2.0)),
+            "epsilon": check_number(trace_params.get("epsilon", 2.0), "epsilon"),
             "tau": trace_params.get("tau"),
             "seed": trace_params.get("seed", 0),
             "max_iterations": int(trace_params.get("max_iterations", 200)),
@@ -221,11 +233,13 @@ class TraceExplorer(WidgetBase):
 
     def load(self, image) -> bool:
         """Trace a new image (path, array, PIL image or encoded bytes); False (with a message) if it fails."""
+        settings = self._settings()
         try:
-            mask = self._load(image)
-            result = self._run(mask, self._settings())
-        except (ValueError, TypeError, OSError) as exc:
-            self._reject(str(exc))
+            with self._busy():
+                mask, result = run_with_budget(lambda: self._load_and_run(image, settings), self.time_budget_s,
+                                               "tracing the image")
+        except Exception as exc:  # noqa: BLE001 - unreadable, too large, out of memory or time: keep the last result
+            self._reject(short_reason(exc))
             return False
         self._set_image(mask)
         self._accept(result)
@@ -255,53 +269,46 @@ class TraceExplorer(WidgetBase):
 
     def _load(self, image) -> np.ndarray:
         if isinstance(image, (bytes, bytearray, memoryview)):
-            if len(image) > _MAX_UPLOAD_BYTES:
-                raise ValueError(f"the image is too large ({len(image)} bytes; limit {_MAX_UPLOAD_BYTES})")
-            from PIL import Image, UnidentifiedImageError
-
-            try:
-                image = Image.open(io.BytesIO(bytes(image)))
-                image.load()
-            except (UnidentifiedImageError, OSError) as exc:
-                raise ValueError(f"not a readable image: {exc}") from None
+            image = _open_encoded(image)
         keys = ("threshold", "invert", "min_speck_area", "connectivity")
         mask = load_bitmap(image, **{k: self._extra[k] for k in keys if k in self._extra})
-        if mask.size > _MAX_PIXELS:
-            raise ValueError(f"the bitmap has {mask.size} pixels; the explorer takes up to {_MAX_PIXELS}")
+        if mask.size > MAX_PIXELS:
+            raise ValueError(f"the bitmap has {mask.size} pixels; the explorer takes up to {MAX_PIXELS}")
         return mask
 
+    def _load_and_run(self, image, settings):
+        mask = self._load(image)
+        return mask, self._run(mask, settings)
+
     def _run(self, mask, settings):
-        epsilon = settings["epsilon"]
-        if epsilon is None or not math.isfinite(epsilon) or not 0 < epsilon <= 1000:
-            raise ValueError(f"ε must be a number > 0, got {epsilon}")
-        tau = settings["tau"]
-        if tau is not None and (not math.isfinite(tau) or tau <= 0):
-            raise ValueError(f"τ must be a number > 0 (or automatic), got {tau}")
-        if settings["seed"] is None or settings["seed"] < 0:
-            raise ValueError(f"the seed must be an integer ≥ 0, got {settings['seed']}")
-        if settings["max_iterations"] < 0:
-            raise ValueError("max_iterations must be ≥ 0")
+        """``trace`` with these settings (it checks them and names a bad one)."""
+        method = settings["method"] or None
+        if settings["epsilon"] is None:
+            raise ValueError("ε must be a number > 0, got nothing (NaN)")
+        if settings["seed"] is None:
+            raise ValueError("the seed must be an integer ≥ 0, got nothing")
         for name, value in settings["corner_params"].items():
-            if value is None or (isinstance(value, float) and not math.isfinite(value)):
-                raise ValueError(f"corner parameter {name} must be a number, got {value}")
+            if isinstance(value, bool) or not isinstance(value, numbers.Real):
+                raise TypeError(f"corner parameter {name} must be a number, got {value!r:.40}")
+        tau = settings["tau"] if method in TAU_METHODS else None
         params = dict(self._extra)
         for key in ("threshold", "invert", "min_speck_area"):
             params.pop(key, None)  # the mask is already binary
         return trace(
-            mask, epsilon=epsilon, method=settings["method"] or None,
-            corner_method=settings["corner_method"] or None, corner_params=settings["corner_params"],
-            seed=settings["seed"], max_iterations=settings["max_iterations"], keep_snapshots=True, tau=tau,
-            **params,
+            mask, epsilon=settings["epsilon"], method=method, corner_method=settings["corner_method"] or None,
+            corner_params=settings["corner_params"], seed=settings["seed"], max_iterations=settings["max_iterations"],
+            keep_snapshots=True, tau=tau, **params,
         )
 
     def _accept(self, result):
         self._result = result
+        self._good = self._settings()
         count = max(len(result.snapshots), 1)
         with self._quiet(), self.hold_sync():
             self.n_snapshots = count
             self.snapshot_index = count - 1
-            self.base_geometry = self._base_geometry(result)
-            self.stats_html = self._stats_html(result)
+            self.base_geometry = drawing.base_geometry(result)
+            self.stats_html = drawing.stats_html(result)
             self._publish_snapshot()
         if "convergence" in self._plots:
             self._plots["convergence"].update(self)
@@ -321,21 +328,6 @@ class TraceExplorer(WidgetBase):
             self.view = [0.0, 0.0, float(width), float(height)]
 
     # ------------------------------------------------------------------ drawing data
-    @staticmethod
-    def _base_geometry(result) -> dict:
-        rings = []
-        for points in result.points:
-            ring = np.vstack([points, points[:1], [[np.nan, np.nan]]])
-            rings.append(ring)
-        corners = [np.asarray(points)[np.asarray(idx, dtype=int)] for points, idx in zip(result.points, result.corners)
-                   if len(idx)]
-        final = np.concatenate([s.bezier() for s in result.splines], axis=0)
-        return {
-            "boundaries": f32(np.vstack(rings)) if rings else b"",
-            "corners": f32(np.vstack(corners)) if corners else b"",
-            "final": f32(final),
-        }
-
     def _current(self):
         snapshots = self._result.snapshots
         if not snapshots:
@@ -343,133 +335,12 @@ class TraceExplorer(WidgetBase):
         return snapshots[int(np.clip(self.snapshot_index, 0, len(snapshots) - 1))]
 
     def _publish_snapshot(self):
-        result = self._result
         merged = self._current()
-        if merged is None:
-            bezier = np.concatenate([s.bezier() for s in result.splines], axis=0)
-            self.snapshot_geometry = {"bezier": f32(bezier)}
-            self.iteration_info = {"iteration": 0, "pieces": len(bezier)}
-            return
-        bezier = merged.bezier
-        knots, accepted, rejected, removed = [], [], [], []
-        for points, snapshot in zip(result.points, merged.snapshots):
-            indices = np.unique(np.concatenate([np.asarray(k, dtype=int).reshape(-1) for k in snapshot.knot_indices])) \
-                if len(snapshot.knot_indices) else np.zeros(0, dtype=int)
-            knots.append(np.asarray(points)[indices % len(points)])
-            for candidate in snapshot.candidates or []:
-                point = candidate.get("point")
-                if point is None:
-                    continue
-                action = candidate.get("action", "insert")
-                if action == "insert":
-                    (accepted if candidate.get("accepted") else rejected).append(point)
-                elif action == "remove" and candidate.get("accepted"):
-                    removed.append(point)
-        worst, worst_contour = self._worst_piece(result, merged)
-        self.snapshot_geometry = {
-            "iteration": int(merged.iteration),
-            "bezier": f32(bezier),
-            "worst": f32(worst),
-            "worst_contour": f32(worst_contour),
-            "knots": f32(np.vstack(knots)) if knots else b"",
-            "accepted": f32(np.asarray(accepted, dtype=float).reshape(-1, 2)),
-            "rejected": f32(np.asarray(rejected, dtype=float).reshape(-1, 2)),
-            "removed": f32(np.asarray(removed, dtype=float).reshape(-1, 2)),
-        }
-        finished = int(np.sum(merged.finished)) if len(merged.finished) else 0
-        total = len(merged.snapshots)
-        phases = {getattr(s, "phase", "insert") for s, done in zip(merged.snapshots, merged.finished) if not done}
-        notes = []
-        if self.snapshot_index == 0:
-            if self._result.params.get("method") == "lsq":
-                notes.append("Iteration 0 is the first fit: the corners, and knots where the contour's curvature "
-                             "calls for them.")
-            else:
-                notes.append("Iteration 0 is the first fit, with the corners as the only knots.")
-        elif "remove" in phases:
-            notes.append(f"Knot removal round: {len(removed)} knot(s) dropped where the fit stays within ε.")
-        if finished and finished < total and self.snapshot_index > 0:
-            notes.append(f"{finished} of {total} boundaries have already finished.")
-        if self.snapshot_index > 0 and any(getattr(s, "thesis_stop", False) for s in merged.snapshots):
-            notes.append("The thesis's stopping rule (no candidate above ε) would stop here.")
-        note = " ".join(notes)
-        self.iteration_info = {
-            "iteration": int(merged.iteration),
-            "knots": int(merged.knots),
-            "pieces": int(len(bezier)),
-            "max_error": float(merged.max_error),
-            "hausdorff": float(merged.hausdorff),
-            "accepted": len(accepted),
-            "rejected": len(rejected),
-            "removed": len(removed),
-            "note": note,
-        }
-
-    @staticmethod
-    def _worst_piece(result, merged):
-        """Bézier segments and contour points of the corner-to-corner piece with the largest thesis error.
-
-        ``piece_max_error`` has one entry per piece between corners; piece ``k`` of a boundary is drawn by
-        ``len(knot_indices[k]) - 1`` consecutive Bézier segments and approximates the contour points from its
-        first to its last knot index (wrapping past index 0).
-        """
-        best = None
-        offset = 0
-        for boundary, snapshot in enumerate(merged.snapshots):
-            errors = np.asarray(snapshot.piece_max_error, dtype=float)
-            counts = [len(k) - 1 for k in snapshot.knot_indices]
-            if errors.size and np.isfinite(errors).any() and len(counts) == errors.size:
-                k = int(np.nanargmax(errors))
-                if best is None or errors[k] > best[0]:
-                    best = (float(errors[k]), boundary, k, offset + sum(counts[:k]), counts[k])
-            offset += len(snapshot.bezier)
-        if best is None:
-            return np.zeros((0, 4, 2)), np.zeros((0, 2))
-        _error, boundary, k, first_row, count = best
-        segments = merged.bezier[first_row:first_row + count]
-        points = np.asarray(result.points[boundary])
-        indices = merged.snapshots[boundary].knot_indices[k]
-        first, last = int(indices[0]), int(indices[-1])
-        span = np.arange(first, last + 1 if last > first else last + len(points) + 1) % len(points)
-        return segments, points[span]
-
-    @staticmethod
-    def _stats_html(result) -> str:
-        stats = result.stats
-        params = result.params
-
-        def number(value, digits=2):
-            if value is None:
-                return "—"
-            if isinstance(value, (bool, np.bool_)):
-                return "yes" if value else "no"
-            if isinstance(value, numbers.Integral):
-                return f"{int(value):,}"
-            if isinstance(value, numbers.Real):
-                return "—" if not math.isfinite(value) else f"{value:.{digits}f}"
-            return html.escape(str(value))
-
-        columns = [
-            ("Total number of points on contour", number(stats.get("contour_points"))),
-            ("Number of corner points", number(stats.get("corners"))),
-            ("Number of knots inserted", number(stats.get("knots_inserted"))),
-            ("Total number of iterations", number(stats.get("iterations"))),
-            ("Execution time (s)", number(stats.get("time_s"), 3)),
-            ("Threshold value ε (px)", number(params.get("epsilon"))),
-            ("% reduction in dataset (Table 4.61)", number(stats.get("data_reduction_pct_thesis"))),
-            ("% reduction, stored numbers", number(stats.get("data_reduction_pct"))),
-            ("Cubic segments", number(stats.get("segments"))),
-            ("Max error, thesis (px)", number(stats.get("max_error"), 3)),
-            ("Hausdorff distance (px)", number(stats.get("hausdorff"), 3)),
-            ("Converged", number(stats.get("converged"))),
-        ]
-        head = "".join(f"<th>{html.escape(label)}</th>" for label, _value in columns)
-        row = "".join(f"<td>{value}</td>" for _label, value in columns)
-        caption = html.escape(
-            f"Algorithm {params.get('method')}, corners {params.get('corner_method')}, seed {params.get('seed')}. "
-            "The first six columns are those of thesis Tables 4.1–4.60.")
-        return (f'<table class="sc-table" data-testid="stats-table"><thead><tr>{head}</tr></thead>'
-                f'<tbody><tr>{row}</tr></tbody></table><div class="sc-caption">{caption}</div>')
+        geometry, info = drawing.snapshot_geometry(self._result, merged)
+        self.snapshot_geometry = geometry
+        if merged is not None:
+            info["note"] = drawing.iteration_note(self._result, merged, self.snapshot_index, info["removed"])
+        self.iteration_info = info
 
     def _options(self) -> dict:
         corner = [[name, name] for name in CORNER_METHODS]
@@ -478,6 +349,7 @@ class TraceExplorer(WidgetBase):
             "knot_methods": [[name, name] for name in KNOT_METHODS],
             "knot_descriptions": {name: str(description) for name, description in KNOT_METHODS.items()},
             "corner_params": {name: corner_param_specs(name) for name in CORNER_METHODS},
+            "tau_methods": list(TAU_METHODS),
         }
 
     def _summary_message(self) -> str:
@@ -487,32 +359,44 @@ class TraceExplorer(WidgetBase):
                 f"{stats.get('iterations')} iterations. Step with ◀ ▶ or the slider.")
 
     # ------------------------------------------------------------------ changes
-    @t.observe("corner_method", "corner_params", "method", "epsilon", "tau", "seed", "max_iterations")
+    @t.observe(*_TRACE_SETTINGS)
     def _on_setting(self, change):
         if self._applying:
             return
-        name = change["name"]
         settings = self._settings()
-        if name == "corner_method":
+        if change["name"] == "corner_method":
             # keep only parameters the new detector takes
             allowed = {spec["name"] for spec in corner_param_specs(settings["corner_method"])}
             settings["corner_params"] = {k: v for k, v in settings["corner_params"].items() if k in allowed}
-        with self._quiet():
-            self.busy = True
         try:
-            result = self._run(self._mask, settings)
-        except (ValueError, TypeError) as exc:
-            with self._quiet():
-                self.busy = False
-                setattr(self, name, change["old"])
-            self._reject(str(exc), resync=(name,))
+            with self._busy():
+                result = run_with_budget(lambda: self._run(self._mask, settings), self.time_budget_s, "the re-trace")
+        except BaseException as exc:  # even MemoryError or Ctrl+C: the last good settings come back
+            self._restore_settings()
+            if not isinstance(exc, Exception):
+                raise
+            self._reject(short_reason(exc), resync=_TRACE_SETTINGS)
             return
         with self._quiet(), self.hold_sync():
-            self.busy = False
             if settings["corner_params"] != self.corner_params:
                 self.corner_params = settings["corner_params"]
         self._accept(result)
         self._set_status(self._summary_message(), "info")
+
+    def _restore_settings(self):
+        """Put back the settings of the last good result."""
+        with self._quiet(), self.hold_sync():
+            for name, value in self._good.items():
+                if getattr(self, name) != value:
+                    setattr(self, name, value)
+
+    @t.observe("view")
+    def _on_view(self, change):
+        problem = None if self._applying else view_problem(change["new"])
+        if problem:
+            with self._quiet():
+                self.view = change["old"]
+            self._reject(problem, resync=("view",))
 
     @t.observe("snapshot_index")
     def _on_index(self, change):
@@ -530,9 +414,41 @@ class TraceExplorer(WidgetBase):
             self._plots["convergence"].mark(self)
 
     def _on_upload(self, content, buffers):
+        name = read_str(content, "name", default="upload")
         if not buffers:
             self._reject("the upload arrived without data")
             return
-        name = str(content.get("name", "upload"))
         if self.load(bytes(buffers[0])):
             self._set_status(f"{name}: {self._summary_message()}", "info")
+
+    def _save_good(self):
+        return self._result, dict(getattr(self, "_good", {}))
+
+    def _restore_good(self, saved) -> None:
+        result, good = saved
+        if result is not None and result is not self._result:
+            self._accept(result)
+        self._good = good
+        self._restore_settings()
+
+
+def _open_encoded(data):
+    """A PIL image of encoded bytes, refused from its header when it is too large (no pixel is decoded first)."""
+    from PIL import Image, UnidentifiedImageError
+
+    size = memoryview(data).nbytes
+    if size > _MAX_UPLOAD_BYTES:
+        raise ValueError(f"the image is too large ({size} bytes; limit {_MAX_UPLOAD_BYTES})")
+    try:
+        image = Image.open(io.BytesIO(bytes(data)))
+    except (UnidentifiedImageError, OSError, Image.DecompressionBombError) as exc:
+        raise ValueError(f"not a readable image: {exc}") from None
+    width, height = image.size
+    if width * height > MAX_PIXELS:
+        raise ValueError(f"the image is {width} x {height} = {width * height} pixels; the explorer takes up to "
+                         f"{MAX_PIXELS} (read from its header, nothing was decoded)")
+    try:
+        image.load()
+    except (OSError, ValueError, Image.DecompressionBombError) as exc:
+        raise ValueError(f"not a readable image: {exc}") from None
+    return image

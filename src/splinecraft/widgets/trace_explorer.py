@@ -22,7 +22,7 @@ import traitlets as t
 
 from .._validation import check_number
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
-from ..capture.fitting import DEFAULT_TAU
+from ..capture.fitting.options import DEFAULT_TAU
 from . import _explorer_drawing as drawing
 from ._assets import load_css, load_esm
 from ._base import Bool, Float, Int, WidgetBase, read_str, run_with_budget, short_reason, view_problem

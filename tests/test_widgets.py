@@ -588,7 +588,7 @@ def test_explorer_bad_values_keep_the_last_result(explorer_factory):
 
     explorer = explorer_factory()
     result = explorer.result
-    with pytest.warns(TraceExplorerWarning, match="epsilon must be a finite number > 0"):
+    with pytest.warns(TraceExplorerWarning, match=r"epsilon \(px\) must be >= 0.001"):
         explorer.epsilon = -1.0
     assert explorer.epsilon == 1.0 and explorer.result is result and explorer.status_level == "error"
     with warnings.catch_warnings():

@@ -25,6 +25,8 @@ import numpy as np
 from .._validation import as_float_array, as_points, check_bool, check_choice, check_strictly_increasing, per_item
 from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths
 from .piecewise import Spline
+from .scaling import even_exponent, knot_exponent
+from .segment import check_class_points
 
 __all__ = ["basis_spline", "basis_functions", "tension_spans", "BASIS_ENDS"]
 
@@ -178,7 +180,11 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
         raise ValueError("ends applies to open curves only; a closed basis curve has no ends")
     control_points = as_points(control_points, name, min_count=3 if closed else 4)
     n_control = control_points.shape[0]
-    values, steps = _leg_steps(control_points, knots, closed, ends, n_control)
+    # the closed forms run on points scaled by an exact power of two (any float64 scale; see scaling.py)
+    exponent = even_exponent(control_points)
+    scaled = np.ldexp(control_points, -exponent) if exponent else control_points
+    knot_scale = knot_exponent(knots, exponent)
+    values, steps = _leg_steps(scaled, knots, closed, ends, n_control)
     legs = n_control if closed else n_control - 1
     weights = per_item(interval_weights, legs, "interval_weights", what=f"one per control-polygon leg, {legs}")
     if not (weights > 0).all():
@@ -190,7 +196,9 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
             raise ValueError("knots must be strictly increasing")
     if tension_scale == "relative":
         tension = _absolute_tension(tension, steps, weights, closed, ends)
-    return closed, ends, control_points, values, steps, weights, tension
+    elif knot_scale:
+        tension = np.ldexp(tension, knot_scale)  # v has the units of omega / h (§2.5 Units)
+    return closed, ends, scaled, values, steps, weights, tension, (exponent, knot_scale)
 
 
 def tension_spans(steps, weights, closed, ends):
@@ -329,21 +337,21 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         chord/centripetal knots, ``interval_weights[i] <= 0``, zero ``alpha``/``beta``, mismatched array
         lengths, non-increasing explicit knots, or a degenerate basis (vanishing ``D_i``).
     """
-    closed, ends, P, values, steps, weights, tension = _prepare(
+    closed, ends, scaled, values, steps, weights, tension, (exponent, knot_scale) = _prepare(
         control_points, closed, point_tension, interval_weights, knots, ends, point_tension_scale
     )
-    planar, knot_values, F, M = _assemble(P, values, steps, weights, tension, closed, ends)
-    m = planar.shape[2]
-    segment_what = f"one per segment, {m}"
-    alphas = per_item(alpha, m, "alpha", what=segment_what)
-    betas = per_item(beta, m, "beta", what=segment_what)
-    for name, values_ in (("alpha", alphas), ("beta", betas)):
-        if not (values_ != 0).all():
-            i = int(np.flatnonzero(values_ == 0)[0])
-            raise ValueError(f"{name}[{i}] = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
+    planar, knot_values, F, M = _assemble(scaled, values, steps, weights, tension, closed, ends)
+    if exponent:
+        planar, F = np.ldexp(planar, exponent), np.ldexp(F, exponent)
+        M = np.ldexp(M, exponent - knot_scale)
+        knot_values = np.ldexp(knot_values, knot_scale)
+        scaled = np.ldexp(scaled, exponent)
+    alphas, betas = _class_parameters(alpha, beta, planar.shape[2])
     # V_i = F_i + h_i M_i / alpha_i = b0 + 3 (b1 - b0) / alpha_i, W_i likewise (§2.1, E1)
-    V = planar[0] + (3.0 / alphas) * (planar[1] - planar[0])
-    W = planar[3] - (3.0 / betas) * (planar[3] - planar[2])
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        V = planar[0] + (3.0 / alphas) * (planar[1] - planar[0])
+        W = planar[3] - (3.0 / betas) * (planar[3] - planar[2])
+    check_class_points(V, W, alphas, betas)
     info = {
         "form": "basis",
         "ends": "closed" if closed else ends,
@@ -353,8 +361,20 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         "point_tension_scale": point_tension_scale,
         "leg_offset": 0 if closed else 1,
     }
-    auxiliary = {"control_points": P.copy(), "F": F.T, "tangents": M.T, "V": V.T, "W": W.T}
+    auxiliary = {"control_points": np.array(scaled), "F": F.T, "tangents": M.T, "V": V.T, "W": W.T}
     return Spline._from_trusted(planar, knot_values, closed=closed, auxiliary=auxiliary, info=info)
+
+
+def _class_parameters(alpha, beta, m):
+    """``alpha``, ``beta`` per segment: finite and non-zero (§2.1)."""
+    segment_what = f"one per segment, {m}"
+    alphas = per_item(alpha, m, "alpha", what=segment_what)
+    betas = per_item(beta, m, "beta", what=segment_what)
+    for name, values in (("alpha", alphas), ("beta", betas)):
+        if not (values != 0).all():
+            i = int(np.flatnonzero(values == 0)[0])
+            raise ValueError(f"{name}[{i}] = 0: the class parameters must be non-zero (V_i, W_i divide by them)")
+    return alphas, betas
 
 
 def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, closed=False, ends="floating",

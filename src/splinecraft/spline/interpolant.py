@@ -18,8 +18,9 @@ from scipy.linalg.lapack import dgtsv
 
 from .._validation import as_float_array, as_points, check_bool, check_choice, per_item
 from .knots import check_distinct, parameterize
+from .scaling import even_exponent, knot_exponent
 from .piecewise import Spline
-from .segment import hermite_planar
+from .segment import check_class_points, hermite_planar
 
 __all__ = ["interpolate", "END_CONDITIONS", "end_derivative_estimates", "solve_tangents"]
 
@@ -86,17 +87,21 @@ def solve_tangents(lower, diag, upper, rhs, *, closed=False, off=None, describe_
             off[-1] = abs(lower[-1])
     absdiag = np.abs(diag)
     margin = absdiag - off
-    worst = int(np.argmin(margin))
-    if not margin[worst] > 0:
+    if not (margin > 0).all():
         k = int(np.flatnonzero(~(margin > 0))[0])
         if describe_row is not None:
             raise describe_row(k)
         raise ValueError(f"row {k} of the tangent system is not diagonally dominant (§2.5)")
-    bound = float(np.max(absdiag + off)) / float(margin[worst])
+    # Varah's bound on the row-scaled matrix D^-1 A (D = diag): a row with a huge diagonal (a large point
+    # tension, v -> +inf) is as good as an identity row, whatever the other rows' sizes.
+    relative_margin = margin / absdiag
+    worst = int(np.argmin(relative_margin))
+    bound = float(np.max(1.0 + off / absdiag)) / float(relative_margin[worst])
     if bound > MAX_CONDITION:
         raise ValueError(
             f"the tangent system is ill-conditioned (condition bound {bound:.3g} > {MAX_CONDITION:.0e}), "
-            f"worst at row {worst}; move point_tension[{worst}] away from the band of §2.5"
+            f"worst at row {worst}: point_tension[{worst}] lies just outside the band of §2.5 where the system "
+            f"is singular; move it further from the band"
         )
     if not closed:
         _, _, _, solution, info = dgtsv(lower[1:], diag, upper[:-1], rhs.T, overwrite_b=True)
@@ -213,6 +218,64 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         in the non-dominant band (or an ill-conditioned system, condition bound > 1e12); conflicting
         ``closed``/``end_condition``; ``end_tangents`` of the wrong shape or without ``"clamped"``.
     """
+    closed, end_condition, point_tension_scale = _check_options(closed, end_condition, point_tension_scale,
+                                                               end_tangents)
+    points = as_points(points, "points", min_count=3 if closed else 2)
+    n, d = points.shape
+    m = n if closed else n - 1
+    # Solve in coordinates scaled by an exact power of two 2^k (any float64 scale works; §2.5 Units: v has
+    # the units of c = omega / h, so it scales with the knots). At moderate scales k = 0.
+    exponent = even_exponent(points)
+    planar_points = np.ascontiguousarray(np.ldexp(points.T, -exponent) if exponent else points.T)  # (d, n)
+    legs = np.empty((d, m))
+    np.subtract(planar_points[:, 1:], planar_points[:, :-1], out=legs[:, : n - 1])
+    if closed:
+        np.subtract(planar_points[:, 0], planar_points[:, -1], out=legs[:, -1])
+    lengths = np.sqrt(np.einsum("dk,dk->k", legs, legs))
+    extent = float(np.max(planar_points.max(axis=1) - planar_points.min(axis=1)))
+    check_distinct(planar_points.T, closed, lengths=lengths, extent=extent)
+    knot_scale = knot_exponent(knots, exponent)  # the knots of the scaled points are t / 2^knot_scale
+    t = parameterize(planar_points.T, knots, closed=closed, lengths=lengths)
+    if not isinstance(knots, str):
+        t = np.ldexp(t, -knot_scale)  # a copy: never freeze (read-only flag) or alias the caller's array
+    steps = np.diff(t)
+    interval_what = f"one per interval, {m} for {n} {'closed ' if closed else ''}points"
+    weights = _interval_weights(interval_weights, m, interval_what)
+    tension = _maybe_scalar(point_tension, n, "point_tension", f"one per point, {n}")
+    alphas = _class_parameter(alpha, m, "alpha", interval_what)
+    betas = _class_parameter(beta, m, "beta", interval_what)
+    relative = point_tension_scale == "relative"
+    if not relative and knot_scale:
+        tension = np.ldexp(tension, knot_scale)  # v_scaled = v * 2^knot_scale (units of omega / h)
+    ends = None
+    if end_condition == "clamped":
+        ends = _end_tangents(end_tangents, points, planar_points.T, steps, d, exponent - knot_scale)
+    system = _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends)
+    tangents = solve_tangents(*system[:4], closed=closed, off=system[4], describe_row=system[5])
+    if not np.isfinite(tangents).all():
+        raise ValueError("the tangent system produced non-finite tangents (§2.5)")
+    planar, V, W = hermite_planar(planar_points, tangents, steps, closed, alphas, betas)
+    if exponent:
+        with np.errstate(over="ignore"):
+            planar, V, W = (np.ldexp(array, exponent) for array in (planar, V, W))
+        check_class_points(V, W, alphas, betas)
+        tangents = np.ldexp(tangents, exponent - knot_scale)
+        planar_points = np.ascontiguousarray(points.T)
+        t = np.ldexp(t, knot_scale)
+    info = {
+        "form": "interpolant",
+        "end_condition": end_condition,
+        "knots": knots if isinstance(knots, str) else "explicit",
+        "alpha": _summary(alphas),
+        "beta": _summary(betas),
+        "point_tension_scale": point_tension_scale,
+        "leg_offset": 0,
+    }
+    auxiliary = {"F": planar_points.T.copy(), "tangents": tangents.T, "V": V.T, "W": W.T}
+    return Spline._from_trusted(planar, t, closed=closed, auxiliary=auxiliary, info=info)
+
+
+def _check_options(closed, end_condition, point_tension_scale, end_tangents):
     closed = check_bool(closed, "closed")
     end_condition = check_choice(end_condition, "end_condition", END_CONDITIONS)
     point_tension_scale = check_choice(point_tension_scale, "point_tension_scale", ("absolute", "relative"))
@@ -226,29 +289,12 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         end_condition = "periodic"
     if end_tangents is not None and end_condition != "clamped":
         raise ValueError(f"end_tangents is only used with end_condition='clamped', not {end_condition!r}")
+    return closed, end_condition, point_tension_scale
 
-    points = as_points(points, "points", min_count=3 if closed else 2)
-    n, d = points.shape
-    planar_points = np.ascontiguousarray(points.T)  # (d, n): vectorised work runs along points
-    m = n if closed else n - 1
-    legs = np.empty((d, m))
-    np.subtract(planar_points[:, 1:], planar_points[:, :-1], out=legs[:, : n - 1])
-    if closed:
-        np.subtract(planar_points[:, 0], planar_points[:, -1], out=legs[:, -1])
-    lengths = np.sqrt(np.einsum("dk,dk->k", legs, legs))
-    extent = float(np.max(planar_points.max(axis=1) - planar_points.min(axis=1)))
-    check_distinct(points, closed, lengths=lengths, extent=extent)
-    t = parameterize(points, knots, closed=closed, lengths=lengths)
-    if not isinstance(knots, str):
-        t = t.copy()  # never freeze (read-only flag) or alias the caller's array
-    steps = np.diff(t)
-    interval_what = f"one per interval, {m} for {n} {'closed ' if closed else ''}points"
-    weights = _interval_weights(interval_weights, m, interval_what)
-    tension = _maybe_scalar(point_tension, n, "point_tension", f"one per point, {n}")
-    alphas = _class_parameter(alpha, m, "alpha", interval_what)
-    betas = _class_parameter(beta, m, "beta", interval_what)
-    relative = point_tension_scale == "relative"
 
+def _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends):
+    """``(lower, diag, upper, rhs, off, describe_row)`` of the tangent system (§2.3, §2.4, eq 3.1, E3-E6)."""
+    d, n = planar_points.shape
     c = weights / steps  # c_i = omega_i / h_i
     slopes = legs
     slopes /= steps  # Delta_i (legs is no longer needed)
@@ -270,10 +316,7 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         np.add(c[:-1], c[1:], out=spans[1:-1])
         v = tension * spans if relative else tension
         diag = 2.0 * spans
-        if np.ndim(v) == 0:
-            diag[1:-1] += 0.5 * v
-        else:
-            diag[1:-1] += 0.5 * v[1:-1]
+        diag[1:-1] += 0.5 * (v if np.ndim(v) == 0 else v[1:-1])
         lower = np.empty(n)
         upper = np.empty(n)
         lower[0] = upper[-1] = 0.0
@@ -283,7 +326,7 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         np.add(weighted[:, :-1], weighted[:, 1:], out=rhs[:, 1:-1])
         rhs[:, 1:-1] *= 3.0
         if end_condition == "clamped":
-            first, last = _end_tangents(end_tangents, points, steps, d)
+            first, last = ends
             # rows c_1 M_1 = c_1 M̂_1 and c_{n-1} M_n = c_{n-1} M̂_n (scaled like the interior rows)
             diag[0], upper[0], rhs[:, 0] = c[0], 0.0, c[0] * first
             diag[-1], lower[-1], rhs[:, -1] = c[-1], 0.0, c[-1] * last
@@ -303,21 +346,7 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         return _dominance_error(k, float(np.broadcast_to(v, (n,))[k]), float(spans[k]), relative,
                                 "interior" if interior else "end")
 
-    tangents = solve_tangents(lower, diag, upper, rhs, closed=closed, off=off, describe_row=describe_row)
-    if not np.isfinite(tangents).all():
-        raise ValueError("the tangent system produced non-finite tangents (§2.5)")
-    planar, V, W = hermite_planar(planar_points, tangents, steps, closed, alphas, betas)
-    info = {
-        "form": "interpolant",
-        "end_condition": end_condition,
-        "knots": knots if isinstance(knots, str) else "explicit",
-        "alpha": _summary(alphas),
-        "beta": _summary(betas),
-        "point_tension_scale": point_tension_scale,
-        "leg_offset": 0,
-    }
-    auxiliary = {"F": planar_points.T, "tangents": tangents.T, "V": V.T, "W": W.T}
-    return Spline._from_trusted(planar, t, closed=closed, auxiliary=auxiliary, info=info)
+    return lower, diag, upper, rhs, off, describe_row
 
 
 def _maybe_scalar(value, count, name, what):
@@ -362,8 +391,9 @@ def _summary(values):
     return first if (values == first).all() else "per-segment"
 
 
-def _end_tangents(end_tangents, points, steps, d):
-    default_first, default_last = end_derivative_estimates(points, steps)
+def _end_tangents(end_tangents, points, scaled_points, steps, d, exponent):
+    """Clamped end derivatives in the scaled problem: given ones times ``2^-exponent``, else §6.3's."""
+    default_first, default_last = end_derivative_estimates(scaled_points, steps)
     if end_tangents is None:
         return default_first, default_last
     if isinstance(end_tangents, (str, bytes)) or not hasattr(end_tangents, "__len__") or len(end_tangents) != 2:
@@ -376,5 +406,5 @@ def _end_tangents(end_tangents, points, steps, d):
         vector = as_float_array(value, f"end_tangents {label}")
         if vector.shape != (d,):
             raise ValueError(f"end_tangents {label} must be a vector of length {d}, got shape {vector.shape}")
-        out.append(vector)
+        out.append(np.ldexp(vector, -exponent) if exponent else vector)
     return out[0], out[1]

@@ -225,7 +225,9 @@ class Spline:
             value = 2.0 * coef[2] + 6.0 * theta * coef[3]
         else:
             value = 6.0 * coef[3] + 0.0 * theta
-        return value / h**nu
+        for _ in range(nu):  # one division per order: h**nu over- or underflows at extreme scales
+            value = value / h
+        return value
 
     def __call__(self, t, nu=0, *, extrapolate=False, side="right"):
         """Evaluate the curve or its ``nu``-th derivative ``d^nu P / dt^nu``.

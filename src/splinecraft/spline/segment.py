@@ -29,6 +29,7 @@ __all__ = [
     "hermite_bezier",
     "hermite_planar",
     "class_polygon",
+    "check_class_points",
 ]
 
 #: Named classes of the generic cubic (§1): ``name -> (alpha, beta)``.
@@ -178,12 +179,32 @@ def hermite_planar(points, tangents, steps, closed, alpha, beta):
     planar[0] = points[:, :m]
     np.add(planar[0], start_offset, out=planar[1])
     np.subtract(planar[3], end_offset, out=planar[2])
-    start_offset *= 3.0 / np.asarray(alpha, dtype=float)
-    end_offset *= 3.0 / np.asarray(beta, dtype=float)
-    V = start_offset
-    V += planar[0]
-    W = np.subtract(planar[3], end_offset, out=end_offset)
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        start_offset *= 3.0 / np.asarray(alpha, dtype=float)
+        end_offset *= 3.0 / np.asarray(beta, dtype=float)
+        V = start_offset
+        V += planar[0]
+        W = np.subtract(planar[3], end_offset, out=end_offset)
+    check_class_points(V, W, alpha, beta)
     return planar, V, W
+
+
+def check_class_points(V, W, alpha, beta):
+    """Raise ``ValueError`` naming ``alpha[i]``/``beta[i]`` when ``V_i``/``W_i`` (planar ``(d, m)``) overflow.
+
+    ``V_i = F_i + h_i M_i / alpha_i`` (§2.1) leaves the float64 range for a class parameter far below the
+    size of ``h_i M_i / F_i``; the curve itself does not depend on it (E1), but its class polygon would be inf.
+    """
+    for name, points, values in (("alpha", V, alpha), ("beta", W, beta)):
+        finite = np.isfinite(points).all(axis=0)
+        if not finite.all():
+            i = int(np.flatnonzero(~finite)[0])
+            value = float(np.broadcast_to(np.asarray(values, dtype=float), finite.shape)[i])
+            label = name if np.ndim(values) == 0 else f"{name}[{i}]"
+            raise ValueError(
+                f"{label} = {value!r} is too close to 0: the class point {'V' if name == 'alpha' else 'W'}_{i} "
+                f"= F + h M / {name} (§2.1) lies beyond the float64 range; use a larger |{name}|"
+            )
 
 
 def class_polygon(bezier: np.ndarray, steps: np.ndarray, alpha, beta):

@@ -1,0 +1,97 @@
+"""The engine at every float64 scale: solvers, sampling and curvature."""
+
+import numpy as np
+import pytest
+
+import splinecraft as sc
+
+HEART = np.array([[0.0, 0.6], [0.5, 1.0], [1.0, 0.6], [0.0, -1.0], [-1.0, 0.6], [-0.5, 1.0]])
+WAVE = np.array([[0.0, 0.0], [1.0, 2.0], [3.0, 3.0], [4.0, 1.0], [6.0, 2.0], [7.0, 0.0]])
+
+
+def scale_family():
+    """(name, builder(points)) of constructions whose shape does not depend on the coordinate scale."""
+    return [
+        ("interpolant", lambda p: sc.interpolate(p)),
+        ("interpolant_closed", lambda p: sc.interpolate(p, closed=True, interval_weights=np.linspace(1, 2, len(p)))),
+        ("basis", lambda p: sc.basis_spline(p, knots="chord")),
+        ("basis_closed", lambda p: sc.basis_spline(p, closed=True)),
+        ("timmer_g2", lambda p: sc.timmer_g2(p)),
+        ("timmer_gc1", lambda p: sc.timmer_gc1(p)),
+        ("timmer_gc2", lambda p: sc.timmer_gc2(p)),
+    ]
+
+
+@pytest.mark.parametrize("scale", [1e-300, 1e-160, 1e-20, 1e20, 1e153, 1e300])
+@pytest.mark.parametrize("name, build", scale_family(), ids=[name for name, _ in scale_family()])
+def test_sample_and_curvature_at_extreme_scales(name, build, scale):
+    """sample() and the curvature of scaled curves are the unit-scale results, scaled."""
+    points = WAVE if "closed" not in name else HEART
+    if name.startswith("timmer") or name.startswith("interpolant"):
+        try:
+            reference, curve = build(points), build(points * scale)
+        except ValueError as exc:  # allowed only with a plain reason that names the scale
+            pytest.fail(f"{name} at scale {scale:g} refused: {exc}")
+    else:
+        reference, curve = build(points), build(points * scale)
+    np.testing.assert_allclose(curve.bezier() / scale, reference.bezier(), rtol=1e-9, atol=1e-9)
+    params, samples = curve.sample(tolerance=1e-3 * scale)
+    ref_params, ref_samples = reference.sample(tolerance=1e-3)
+    assert np.isfinite(samples).all() and abs(len(samples) - len(ref_samples)) <= curve.n_segments
+    np.testing.assert_allclose(samples / scale, curve(params) / scale, rtol=1e-12, atol=1e-12)
+    params, samples = curve.sample(tolerance=1e-3 * scale, method="subdivide")
+    assert np.isfinite(samples).all()
+    kappa = curve.joint_curvature()
+    ref_kappa = reference.joint_curvature()
+    np.testing.assert_allclose(kappa * scale, ref_kappa, rtol=1e-7, atol=1e-9)
+    profile, ref_profile = curve.curvature_profile(8), reference.curvature_profile(8)
+    np.testing.assert_allclose(profile.curvature * scale, ref_profile.curvature, rtol=1e-7, atol=1e-9)
+    if 1e-150 < scale < 1e150:  # a tooth of length scale * kappa: compare at the reference's size
+        bases, tips = curve.curvature_comb(scale=scale * scale)
+        ref_bases, ref_tips = reference.curvature_comb()
+        np.testing.assert_allclose(tips / scale, ref_tips, rtol=1e-7, atol=1e-7)
+
+
+
+
+# ---------------------------------------------------------------------------------------------- messages at the limits
+@pytest.mark.parametrize("scale", [1e-300, 1e-160, 1e150, 1e300])
+def test_interpolant_at_extreme_scales_keeps_its_meaning(scale):
+    """Relative tension, explicit knots, clamped ends and natural_v at any scale: no misleading messages."""
+    points = WAVE * scale
+    nu = np.full(len(WAVE), 1.5)
+    relative = sc.interpolate(points, point_tension=nu, point_tension_scale="relative")
+    reference = sc.interpolate(WAVE, point_tension=nu, point_tension_scale="relative")
+    np.testing.assert_allclose(relative.bezier() / scale, reference.bezier(), rtol=1e-9, atol=1e-12)
+    absolute = sc.interpolate(points, point_tension=2.0 / scale, end_condition="natural_v")  # v has units 1/h
+    np.testing.assert_allclose(absolute.bezier() / scale,
+                               sc.interpolate(WAVE, point_tension=2.0, end_condition="natural_v").bezier(),
+                               rtol=1e-9, atol=1e-12)
+    clamped = sc.interpolate(points, end_condition="clamped", end_tangents=([1.0, 0.0], None))
+    np.testing.assert_allclose(clamped.auxiliary["tangents"][0], [1.0, 0.0], rtol=1e-12)
+    explicit = sc.interpolate(points, knots=np.arange(len(WAVE)) * 2.0)
+    np.testing.assert_array_equal(explicit.knots, np.arange(len(WAVE)) * 2.0)
+    with pytest.raises(ValueError, match=r"point_tension\[2\] = -3 \(relative\) makes row 2"):
+        sc.interpolate(points, point_tension=np.where(np.arange(6) == 2, -3.0, 0.0), point_tension_scale="relative")
+
+
+def test_huge_positive_tension_is_accepted():
+    """v -> +inf gives zero tangents at those points (§2.5, E22): allowed, not 'move away from the band'."""
+    for tension in (1e15, 1e100, 1e300, [0.0, 1e300, 0.0, 1e200, 0.0, 0.0]):
+        curve = sc.interpolate(WAVE, point_tension=tension)
+        tangents = curve.auxiliary["tangents"]
+        assert np.isfinite(curve.bezier()).all()
+        tight = np.broadcast_to(tension, 6) > 1e10
+        tight[[0, -1]] = False  # the end tensions act only with end_condition="natural_v"
+        assert np.linalg.norm(tangents[tight], axis=1).max() < 1e-9
+    curve = sc.interpolate(HEART, closed=True, point_tension=1e300)
+    np.testing.assert_allclose(curve.bezier()[:, 1], HEART, atol=1e-12)  # the polygon, with cusps
+
+
+def test_tiny_class_parameters_are_refused_by_name():
+    with pytest.raises(ValueError, match=r"alpha = 1e-320 is too close to 0: the class point V_0"):
+        sc.interpolate(WAVE, alpha=1e-320)
+    with pytest.raises(ValueError, match=r"beta\[1\] = 1e-320 is too close to 0"):
+        sc.basis_spline(WAVE, beta=[1.0, 1e-320, 1.0])
+    curve = sc.interpolate(WAVE, alpha=1e-300)  # still representable: accepted
+    assert np.isfinite(curve.auxiliary["V"]).all()

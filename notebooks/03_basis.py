@@ -43,7 +43,7 @@ n_control = 8
 t = np.linspace(0.0, n_control, 801)
 basis = {v: sc.basis_functions(t, n_control, closed=True, point_tension=v) for v in (0.0, 10.0, -10.0)}
 display(sc.plot.grid(*[sc.plot.basis_figure(t, values, title=f"closed, uniform knots, v = {v:g}", width=360,
-                                            y_range=(-1.1, 1.1) if v < 0 else (-0.05, 1.05))
+                                            y_range=None if v < 0 else (-0.05, 1.05))
                        for v, values in basis.items()]))
 sc.plot.table(["v", "min Bⱼ", "max |Σ Bⱼ − 1|"],
               [[v, float(values.min()), float(np.abs(values.sum(axis=1) - 1).max())] for v, values in basis.items()])
@@ -82,7 +82,7 @@ moved[6] += [40.0, -60.0]
 after = sc.basis_spline(moved)
 changed = np.flatnonzero(np.abs(after.bezier() - before.bezier()).max(axis=(1, 2)) > 1e-9)
 print(f"{before.n_segments} segments; moving P6 changed segments {changed.tolist()}")
-sc.plot.figure(sc.plot.polygon(pot), sc.plot.curve(before, "#90a4ae", 2, label="before"),
+sc.plot.figure(sc.plot.polygon(pot), sc.plot.curve(before, "#90a4ae", 2, dashed=True, label="before"),
                sc.plot.polygon(moved, color=sc.plot.PALETTE[1]), sc.plot.curve(after, label="after"),
                sc.plot.points(moved[6:7], "#c62828", 60, label="P6 moved"),
                title="Moving P6 changes four segments", width=520, height=380)

@@ -52,8 +52,9 @@ def test_log_ticks_are_powers_of_ten_or_their_2_5_multiples(exponent, decades):
     mantissas = ticks / 10.0 ** np.floor(np.log10(ticks) + 1e-12)
     multiples = np.all(np.isclose(mantissas[:, None], np.arange(1, 10)).any(axis=1))
     assert multiples or (decades < 1.0 and _is_round_step(float(np.diff(ticks)[0])))   # short: linear steps
-    if decades >= 2.0:
+    if decades >= 3.0:
         assert np.allclose(mantissas, 1.0)                         # several decades: 1, 10, 100 only
+    assert len(ticks) <= max(7, decades + 2)
 
 
 def test_log_ticks_and_formats():
@@ -254,7 +255,7 @@ def test_curvature_axis_cuts_near_cusp_peaks_but_keeps_the_jumps():
     low, high = live.y_scale.min / live.display_scale, live.y_scale.max / live.display_scale
     assert live.clipped and "off the axis" in live.figure.title
     assert np.abs(profile["kappa"]).max() > 3 * (high - low)
-    assert np.mean((profile["kappa"] >= low) & (profile["kappa"] <= high)) > 0.97
+    assert np.mean((profile["kappa"] >= low) & (profile["kappa"] <= high)) > 0.9
     jumping = np.r_[profile["left"][profile["jumps"]], profile["right"][profile["jumps"]]]
     assert np.all((jumping >= low) & (jumping <= high)) and low <= 0 <= high
 

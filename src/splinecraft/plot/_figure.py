@@ -84,7 +84,8 @@ def _marks(layers, scales, log_y=False):
             if not len(xy):
                 continue
             marks.append(bq.Scatter(x=xy[:, 0], y=xy[:, 1], colors=[layer.color], default_size=layer.size,
-                                    marker=layer.marker, stroke="white", opacities=[layer.opacity],
+                                    marker=layer.marker, stroke="white" if layer.size >= 20 else None,
+                                    opacities=[layer.opacity],
                                     **common))
         elif layer.kind == "line":
             marks.append(bq.Lines(x=xy[:, 0], y=xy[:, 1], colors=[layer.color], stroke_width=layer.width,

@@ -142,12 +142,12 @@ def outline(result, iteration=-1, *, color=PALETTE[0], contour_color="#bdbdbd", 
     if not hasattr(result, "points") or not hasattr(result, "corners"):
         raise TypeError(f"result must be a TraceResult (from splinecraft.trace), got {type(result).__name__}")
     layers = [line(contour, contour_color, 1.0, closed=True) for contour in result.points]
-    corners = [np.asarray(contour)[np.asarray(index, dtype=int)] for contour, index in zip(result.points, result.corners)]
-    if corners:
-        layers.append(points(np.vstack(corners) if corners else np.zeros((0, 2)), corner_color, 22))
     if result.snapshots:
         bezier = result.snapshots[iteration].bezier
     else:
         bezier = np.concatenate([s.bezier() for s in result.splines]) if result.splines else np.zeros((0, 4, 2))
     layers += bezier_pieces(bezier, color)
+    corners = [np.asarray(contour)[np.asarray(index, dtype=int)] for contour, index in zip(result.points, result.corners)]
+    if corners:                                   # on top: every corner is also a joint of two pieces
+        layers.append(points(np.vstack(corners), corner_color, 26))
     return layers

@@ -80,8 +80,8 @@ def nice_limits(low: float, high: float, count: int = 5) -> tuple:
 
 
 def log_ticks(low: float, high: float) -> np.ndarray:
-    """Ticks of a log axis inside ``[low, high]`` (both > 0): the powers of ten when two or more fit, else
-    also their 2 and 5 multiples (and round linear steps on a range too short for those).
+    """Ticks of a log axis inside ``[low, high]`` (both > 0): the powers of ten when three or more fit, else
+    also their 2 and 5 multiples (at most 7 ticks), and round linear steps on a range too short for those.
 
     >>> log_ticks(0.3, 2000).tolist()
     [1.0, 10.0, 100.0, 1000.0]
@@ -93,8 +93,10 @@ def log_ticks(low: float, high: float) -> np.ndarray:
     decades = 10.0 ** np.arange(first, last + 1, dtype=float)
     inside = lambda values: values[(values >= low * (1 - 1e-9)) & (values <= high * (1 + 1e-9))]  # noqa: E731
     ticks = inside(decades)
-    if len(ticks) < 2:
-        ticks = inside(np.sort(np.concatenate([decades, 2 * decades, 5 * decades])))
+    if len(ticks) < 3:
+        with_multiples = inside(np.sort(np.concatenate([decades, 2 * decades, 5 * decades])))
+        if len(ticks) < 2 or len(with_multiples) <= 7:
+            ticks = with_multiples
     if len(ticks) < 2:
         ticks = inside(np.sort(np.concatenate([decades * k for k in range(1, 10)])))
     if len(ticks) < 2:                                   # less than a decade: round linear steps

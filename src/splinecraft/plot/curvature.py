@@ -144,8 +144,8 @@ class CurvaturePlot:
 def _axis_range(kappa, *marked):
     """The κ range to show: all of it, unless a few sharp peaks (near-cusps) would flatten the rest.
 
-    Then the 1st-99th percentile of the samples, widened by a quarter and always holding 0 and the
-    one-sided values in ``marked`` (the jumps). Returns ``((low, high), clipped)``.
+    Then the 5th-95th percentile of the samples, widened by half on each side and always holding 0 and
+    the one-sided values in ``marked`` (the jumps). Returns ``((low, high), clipped)``.
     """
     samples = kappa[np.isfinite(kappa)]
     extra = np.concatenate([np.asarray(m, dtype=float).ravel() for m in marked] + [np.zeros(1)])
@@ -153,8 +153,8 @@ def _axis_range(kappa, *marked):
     if not samples.size:
         return (-1.0, 1.0), False
     full = (float(min(samples.min(), extra.min())), float(max(samples.max(), extra.max())))
-    low, high = np.percentile(samples, [1.0, 99.0])
-    pad = 0.25 * max(high - low, 1e-300)
+    low, high = np.percentile(samples, [5.0, 95.0])
+    pad = 0.5 * max(high - low, 1e-300)
     robust = (float(min(low - pad, extra.min())), float(max(high + pad, extra.max())))
     if full[1] - full[0] > 3.0 * (robust[1] - robust[0]):
         return robust, True

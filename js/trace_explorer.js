@@ -114,7 +114,7 @@ function render({ model, el }) {
 
   const status = h("div", { class: "sc-status", "data-testid": "status" });
   const summary = h("div", { class: "sc-summary" });
-  root.append(toolbar, h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, svg, h("div", { class: "sc-actions" }, btn("Fit", "Fit the image to the view", "fit", () => fitView()))), side),
+  root.append(toolbar, h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, svg, h("div", { class: "sc-actions" }, btn("Fit", "Fit the image to the view", "fit", () => fitView()), btn("Edit outline", "Open the shown iteration in an OutlineEditor below", "edit-outline", () => model.send({ type: "edit" })))), side),
     stepper, legend, stats, h("div", { class: "sc-footer" }, status, summary));
 
   // ---------------------------------------------------------------- behaviour
@@ -340,6 +340,16 @@ function render({ model, el }) {
   };
   on("change:width", resize);
   on("change:height", resize);
+  // "Edit outline": the kernel made an OutlineEditor; show its view under the explorer
+  const editorSlot = h("div", { class: "sc-editor-slot", "data-testid": "editor-slot" });
+  root.append(editorSlot);
+  on("msg:custom", async (msg) => {
+    if (!msg || msg.type !== "open_editor") return;
+    const manager = model.widget_manager;
+    const child = await manager.get_model(msg.model_id);
+    const view = await manager.create_view(child);
+    editorSlot.replaceChildren(view.el);
+  });
 
   drawImage();
   buildCornerParams();

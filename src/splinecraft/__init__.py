@@ -22,7 +22,7 @@ _CAPTURE = (
     "load_bitmap", "Boundary", "trace_boundaries", "corners", "CORNER_METHODS",
     "fit_outline", "FitResult", "Snapshot", "KNOT_METHODS", "trace", "TraceResult",
 )
-_WIDGETS = ("SplineEditor", "TraceExplorer")
+_WIDGETS = ("SplineEditor", "TraceExplorer", "OutlineEditor")
 _BATCH = ("trace_many",)
 _SUBMODULES = ("spline", "capture", "widgets", "plot", "datasets", "cli", "outline", "font", "batch")
 

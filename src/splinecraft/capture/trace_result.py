@@ -148,6 +148,12 @@ class TraceResult:
         return svg_document(self.svg_path_data(decimals=decimals), self.width, self.height, fill=fill,
                             title=title)
 
+    def edit(self, iteration=None, **params):
+        """This outline (or that of ``snapshots[iteration]``) in an ``OutlineEditor`` widget (JupyterLab)."""
+        from ..widgets.outline_editor import OutlineEditor  # the widget layer, loaded only when asked for
+
+        return OutlineEditor(self, iteration=iteration, **params)
+
     def to_dict(self, *, include_points=False, include_snapshots=False) -> dict:
         """JSON-able summary: size, settings, stats and, per boundary, its chain code, corners, knots and
         final spline (``Spline.to_dict``). Optionally the fitted contour points and all snapshots.

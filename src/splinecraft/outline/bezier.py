@@ -100,7 +100,8 @@ def _solve_run(bezier, run, steps, weights, tension, closing):
         rhs = weights[previous] * end[previous]
         solution, *_ = np.linalg.lstsq(system, rhs, rcond=None)
         weight, v = solution
-        if not np.allclose(system @ solution, rhs, rtol=0, atol=1e-9 * max(np.abs(rhs).max(), np.abs(system).max(), 1e-300)):
+        tolerance = 1e-9 * max(np.abs(rhs).max(), np.abs(system).max(), 1e-300)
+        if not np.allclose(system @ solution, rhs, rtol=0, atol=tolerance):
             # parallel columns (straight or symmetric pieces): keep the weight, take v along the tangent
             weight = weights[previous]
             residual = weight * start[i] - rhs

@@ -109,6 +109,10 @@ class Outline:
         options.update(changes)
         return Outline(contours, sources=self.sources if sources is None else sources, **options)
 
+    def with_contours(self, contours, sources=None) -> "Outline":
+        """The same frame, bitmap and (unless given) sources with other contours."""
+        return self._with(contours, sources)
+
     def __repr__(self):
         knots = sum(len(c) for c in self.contours)
         corners = sum(int(c.corners.sum()) for c in self.contours)

@@ -164,7 +164,8 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
     from ..capture.svg import parse_path_data
 
     text = source
-    if isinstance(source, (os.PathLike, Path)) or (isinstance(source, str) and not source.lstrip().startswith(("<", "M", "m"))):
+    inline = isinstance(source, str) and source.lstrip().startswith(("<", "M", "m"))
+    if isinstance(source, os.PathLike) or (isinstance(source, str) and not inline):
         path = Path(os.fspath(source))
         if not path.is_file():
             raise FileNotFoundError(f"no SVG file {str(path)!r}")
@@ -225,7 +226,7 @@ def as_outline(source, **options) -> Outline:
     snapshot), an SVG file / document / path data, a ``.json`` file or text of :meth:`Outline.to_json`, a list
     of contours of knots (:func:`from_knots`) or of closed Bézier arrays (:func:`from_bezier`).
     """
-    from ..capture.trace import TraceResult
+    from ..capture import TraceResult
 
     if isinstance(source, Outline):
         return source

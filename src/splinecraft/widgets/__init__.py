@@ -6,7 +6,8 @@ The ES modules that draw them live in ``js/`` at the top of the repository (inst
 """
 from .spline_editor import SplineEditor, SplineEditorWarning
 
-__all__ = ["SplineEditor", "SplineEditorWarning", "TraceExplorer", "TraceExplorerWarning"]
+__all__ = ["SplineEditor", "SplineEditorWarning", "TraceExplorer", "TraceExplorerWarning", "OutlineEditor",
+           "OutlineEditorWarning"]
 
 
 def __getattr__(name):
@@ -14,4 +15,8 @@ def __getattr__(name):
         from . import trace_explorer
 
         return getattr(trace_explorer, name)
+    if name in ("OutlineEditor", "OutlineEditorWarning"):
+        from . import outline_editor
+
+        return getattr(outline_editor, name)
     raise AttributeError(f"module 'splinecraft.widgets' has no attribute {name!r}")

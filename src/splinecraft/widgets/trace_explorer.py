@@ -146,7 +146,7 @@ class TraceExplorer(WidgetBase):
     warning_class = TraceExplorerWarning
     panel_plot = "convergence_figure"
     panel_extra_width = 292
-    messages = {**WidgetBase.messages, "upload": "_on_upload"}
+    messages = {**WidgetBase.messages, "upload": "_on_upload", "edit": "_on_edit"}
     page_traits = frozenset(_TRACE_SETTINGS + _DISPLAY + ("snapshot_index",))
 
     time_budget_s = TIME_BUDGET_S
@@ -245,6 +245,21 @@ class TraceExplorer(WidgetBase):
         self._accept(result)
         self._set_status(self._summary_message(), "info")
         return True
+
+    def edit(self, **params):
+        """The shown iteration in an :class:`~splinecraft.widgets.outline_editor.OutlineEditor` (``self.editor``);
+        the page's "Edit outline" button opens it below the explorer."""
+        from .outline_editor import OutlineEditor
+
+        last = len(self._result.snapshots) - 1
+        iteration = None if self.snapshot_index >= last else self.snapshot_index
+        self.editor = OutlineEditor(self._result, iteration=iteration, **params)
+        return self.editor
+
+    def _on_edit(self, _content, _buffers):
+        editor = self.edit()
+        self.send({"type": "open_editor", "model_id": editor.model_id})
+        self._set_status("Opened the shown iteration in an OutlineEditor (explorer.editor).", "info")
 
     def to_svg(self) -> str:
         """The traced outline as an SVG document (exact cubic Béziers, the bitmap's pixel frame)."""

@@ -1,0 +1,477 @@
+"""``OutlineEditor``: edit a captured outline in JupyterLab -- knots, corners, tensions, transforms, export.
+
+The kernel holds an :class:`~splinecraft.outline.Outline` (several closed contours in the project's spline
+form, thesis sections 3.1 and 5.1) and rebuilds the edited contours with the engine on every change; the page
+(``js/outline_editor.js``) draws what the kernel sends (per contour, the Bézier pieces as float32 buffers, and
+the deviation of each piece from the bitmap's contour) and turns pointer and keyboard input into messages.
+
+Code and page share the synced traits ``contours`` (knots per contour), ``corners`` (flags per knot),
+``point_tension`` / ``interval_weights`` (per knot / per piece) and ``selection`` (``[contour, knot]`` pairs).
+A bad value from either side keeps the last good outline and says why in ``status_message`` (from code also
+as an :class:`OutlineEditorWarning`).
+"""
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import traitlets as t
+
+from ..outline import Outline, as_outline
+from ..outline.transforms import affine_parts, reflection, rotation, scaling, shearing, translation
+from ._assets import load_css, load_esm
+from ._base import WidgetBase, f32, read_bool, read_int, read_number
+from ._outline_state import outline_from_lists, png_of_mask
+
+__all__ = ["OutlineEditor", "OutlineEditorWarning"]
+
+_HISTORY = 200
+_OUTLINE_TRAITS = ("contours", "corners", "point_tension", "interval_weights")
+_DISPLAY = ("width", "height", "view", "show_image", "show_deviation", "show_fill", "export_path")
+
+
+class OutlineEditorWarning(UserWarning):
+    """A value set from code was rejected; the editor kept its last good outline."""
+
+
+class OutlineEditor(WidgetBase):
+    """Edit the contours of an outline: drag knots, corners, insert and delete, tensions, transforms, export.
+
+    Parameters
+    ----------
+    source : TraceResult, Outline, SVG (file, document or path data), list of contours, font glyph outline
+        Anything :func:`splinecraft.outline.as_outline` accepts; ``iteration=`` picks an iteration of a trace.
+    **params
+        ``width``, ``height`` (canvas px), ``show_image``, ``show_deviation``, ``show_fill``, ``export_path``,
+        ``debug``.
+
+    Page
+    ----
+    Drag a knot (or the selected knots); click a knot to select it (Shift adds), click the curve to select
+    its contour, drag on the background for a box selection; double-click the curve to insert a knot; ``C``
+    or the button toggles corner / smooth; Delete removes the selected knots; arrow keys move the selection
+    (Shift: 10 px); the handles of the selection's box translate, rotate (round handle), scale (corners,
+    Shift: per axis) and shear (edge handles); Ctrl+Z / Ctrl+Y undo and redo.
+
+    Synced traits
+    -------------
+    contours : list of list of [x, y] -- the knots of every contour
+    corners : list of list of bool -- corner flags
+    point_tension, interval_weights : list of list of float -- per knot, per piece
+    selection : list of [contour, knot]
+    max_deviation : float or None -- largest deviation (px) of a piece from the source contour
+    can_undo, can_redo, status_message, status_level
+    """
+
+    _esm = load_esm("outline_editor.js")
+    _css = load_css()
+    kept = "outline"
+    warning_class = OutlineEditorWarning
+    messages = {**WidgetBase.messages, "drag": "_on_drag", "transform": "_on_transform", "corner": "_on_corner",
+                "insert": "_on_insert", "delete": "_on_delete", "undo": "_on_undo", "redo": "_on_redo",
+                "tension": "_on_tension", "weight": "_on_weight", "export": "_on_export", "fit": "_on_fit"}
+    page_traits = frozenset(("selection",) + _DISPLAY)
+
+    contours = t.List().tag(sync=True)
+    corners = t.List().tag(sync=True)
+    point_tension = t.List().tag(sync=True)
+    interval_weights = t.List().tag(sync=True)
+    selection = t.List().tag(sync=True)
+    geometry = t.Dict().tag(sync=True)
+    image = t.Bytes(b"").tag(sync=True)
+    frame = t.List([1.0, 1.0]).tag(sync=True)
+    view = t.List([]).tag(sync=True)
+    width = t.Int(640).tag(sync=True)
+    height = t.Int(480).tag(sync=True)
+    show_image = t.Bool(True).tag(sync=True)
+    show_deviation = t.Bool(False).tag(sync=True)
+    show_fill = t.Bool(True).tag(sync=True)
+    max_deviation = t.Float(None, allow_none=True).tag(sync=True)
+    can_undo = t.Bool(False).tag(sync=True)
+    can_redo = t.Bool(False).tag(sync=True)
+    export_path = t.Unicode("outline.svg").tag(sync=True)
+
+    def __init__(self, source, *, iteration=None, **params):
+        options = {} if iteration is None else {"iteration": iteration}
+        outline = as_outline(source, **options)
+        super().__init__(**params)
+        self._outline = outline
+        self._undo, self._redo = [], []
+        self._gesture = None  # (kind, id, outline at the start of the gesture)
+        self._revisions = [0] * len(outline)
+        self._deviation_cache = {}
+        with self._quiet(), self.hold_sync():
+            self.frame = [outline.width, outline.height]
+            self.image = png_of_mask(outline.bitmap)
+            self.view = self._fitted_view()
+            self._sync_traits()
+        self._publish(changed=range(len(outline)))
+        self._set_status(f"{len(outline)} contours, {sum(len(c) for c in outline.contours)} knots.")
+
+    # ------------------------------------------------------------------ public API
+    @property
+    def outline(self) -> Outline:
+        """The current outline (immutable; edits make new ones)."""
+        return self._outline
+
+    def _target(self, contours, knots):
+        if contours is None and knots is None and self.selection:
+            return None, [tuple(pair) for pair in self.selection]
+        return contours, knots
+
+    def transform(self, matrix, *, contours=None, knots=None) -> Outline:
+        """Affine map (2x3 or 3x3 matrix) of the selection -- or, with nothing selected, the whole shape --
+        acting on the knots and handles (thesis section 3.3). ``contours=`` / ``knots=`` choose explicitly."""
+        contours, knots = self._target(contours, knots)
+        return self._apply(lambda o: o.transform(matrix, contours=contours, knots=knots), "Transformed")
+
+    def _pivot(self, center, contours, knots):
+        contours, knots = self._target(contours, knots)
+        return (self._outline.selection_center(contours, knots) if center is None else center), contours, knots
+
+    def translate(self, dx, dy, **where):
+        return self.transform(translation(dx, dy), **where)
+
+    def rotate(self, degrees, *, center=None, **where):
+        center, contours, knots = self._pivot(center, where.get("contours"), where.get("knots"))
+        return self.transform(rotation(degrees, center), contours=contours, knots=knots)
+
+    def scale(self, sx, sy=None, *, center=None, **where):
+        center, contours, knots = self._pivot(center, where.get("contours"), where.get("knots"))
+        return self.transform(scaling(sx, sy, center), contours=contours, knots=knots)
+
+    def shear(self, kx, ky=0.0, *, center=None, **where):
+        center, contours, knots = self._pivot(center, where.get("contours"), where.get("knots"))
+        return self.transform(shearing(kx, ky, center), contours=contours, knots=knots)
+
+    def slant(self, degrees, *, center=None, **where):
+        """Italic slant: the top leans right by ``degrees``."""
+        return self.shear(-math.tan(math.radians(degrees)), 0.0, center=center, **where)
+
+    def reflect(self, axis="vertical", *, center=None, **where):
+        center, contours, knots = self._pivot(center, where.get("contours"), where.get("knots"))
+        return self.transform(reflection(axis, center), contours=contours, knots=knots)
+
+    def move_knot(self, contour, knot, position) -> Outline:
+        return self._apply(lambda o: o.move_knot(contour, knot, position), f"Knot {knot} of contour {contour} moved")
+
+    def set_corner(self, contour, knot, corner=True) -> Outline:
+        word = "a corner" if corner else "smooth"
+        return self._apply(lambda o: o.set_corner(contour, knot, corner), f"Knot {knot} of contour {contour} is {word}")
+
+    def insert_knot(self, contour, piece, theta=0.5) -> Outline:
+        return self._apply(lambda o: o.insert_knot(contour, piece, theta), f"Knot inserted on piece {piece}")
+
+    def delete_knot(self, contour, knot) -> Outline:
+        return self._apply(lambda o: o.delete_knot(contour, knot), f"Knot {knot} of contour {contour} deleted")
+
+    def set_point_tension(self, contour, knots, value) -> Outline:
+        return self._apply(lambda o: o.set_point_tension(contour, knots, value), "Point tension set")
+
+    def set_interval_weight(self, contour, pieces, value) -> Outline:
+        return self._apply(lambda o: o.set_interval_weight(contour, pieces, value), "Interval weight set")
+
+    def undo(self) -> bool:
+        if not self._undo:
+            return False
+        self._redo.append(self._outline)
+        self._commit(self._undo.pop(), "Undone", history=False)
+        return True
+
+    def redo(self) -> bool:
+        if not self._redo:
+            return False
+        self._undo.append(self._outline)
+        self._commit(self._redo.pop(), "Redone", history=False)
+        return True
+
+    def deviation(self) -> list:
+        return self._outline.deviation()
+
+    def to_svg(self, **options) -> str:
+        return self._outline.to_svg(**options)
+
+    def save_svg(self, path=None, **options) -> Path:
+        return self._outline.save_svg(self.export_path if path is None else path, **options)
+
+    def to_json(self, **options) -> str:
+        return self._outline.to_json(**options)
+
+    def to_glyph(self, name=None, **options):
+        return self._outline.to_glyph(name, **options)
+
+    def bezier(self) -> list:
+        return self._outline.bezier()
+
+    # ------------------------------------------------------------------ state
+    def _apply(self, edit, message, *, history=True) -> Outline:
+        """Run ``edit(outline)``; a refusal keeps the last good outline and says why."""
+        try:
+            new = edit(self._outline)
+        except (TypeError, ValueError) as exc:
+            self._reject(exc)
+            return self._outline
+        self._commit(new, message, history=history)
+        return new
+
+    def _commit(self, new, message=None, *, history=True, seq=None):
+        old = self._outline
+        if history:
+            self._undo.append(old)
+            del self._undo[:-_HISTORY]
+            self._redo.clear()
+        self._outline = new
+        if len(new) != len(old):
+            changed = range(len(new))
+            self._revisions = [r + 1 for r in (self._revisions + [0] * len(new))[:len(new)]]
+        else:
+            changed = [k for k in range(len(new)) if new.contours[k] is not old.contours[k]]
+        with self._quiet(), self.hold_sync():
+            self._clamp_selection()
+            self._sync_traits(changed)
+            self._publish(changed=changed, seq=seq)
+            self.can_undo, self.can_redo = bool(self._undo), bool(self._redo)
+        if message:
+            self._set_status(message + self._deviation_note())
+
+    def _deviation_note(self):
+        if self.max_deviation is None:
+            return "."
+        return f"; max deviation from the bitmap {self.max_deviation:.2f} px."
+
+    def _sync_traits(self, changed=None):
+        outline = self._outline
+        contours = [c.points.tolist() for c in outline.contours]
+        if contours != self.contours:
+            self.contours = contours
+        self.corners = [c.corners.tolist() for c in outline.contours]
+        self.point_tension = [c.point_tension.tolist() for c in outline.contours]
+        self.interval_weights = [c.interval_weights.tolist() for c in outline.contours]
+
+    def _clamp_selection(self):
+        sizes = [len(c) for c in self._outline.contours]
+        kept = [pair for pair in self.selection if pair[0] < len(sizes) and pair[1] < sizes[pair[0]]]
+        if kept != self.selection:
+            self.selection = kept
+
+    def _deviation(self, k):
+        contour, source = self._outline.contours[k], self._outline.sources[k]
+        if source is None:
+            return None
+        cached = self._deviation_cache.get(k)
+        if cached is None or cached[0] is not contour:
+            from ..outline import contour_deviation
+
+            cached = self._deviation_cache[k] = (contour, contour_deviation(contour, source))
+        return cached[1]
+
+    def _publish(self, changed=(), seq=None):
+        """Send the drawing: per contour its Bézier pieces (and deviations), re-encoded only where changed."""
+        outline = self._outline
+        previous = self.geometry.get("contours", []) if self.geometry else []
+        entries = list(previous[:len(outline)]) + [None] * max(0, len(outline) - len(previous))
+        changed = set(changed)
+        deviations = []
+        for k, contour in enumerate(outline.contours):
+            deviation = self._deviation(k)
+            if deviation is not None:
+                deviations.append(float(deviation.max()))
+            if k in changed or entries[k] is None:
+                self._revisions[k] = self._revisions[k] + 1 if k < len(self._revisions) else 1
+                entries[k] = {"bezier": f32(contour.bezier()), "revision": self._revisions[k],
+                              "deviation": None if deviation is None else f32(deviation)}
+            elif deviation is not None and entries[k].get("deviation") is None:
+                entries[k] = {**entries[k], "deviation": f32(deviation)}
+        self._revisions = self._revisions[:len(outline)]
+        self.max_deviation = max(deviations) if deviations else None
+        self.geometry = {"contours": entries, "seq": -1 if seq is None else int(seq),
+                         "revision": int(self.geometry.get("revision", 0)) + 1 if self.geometry else 1}
+
+    def _fitted_view(self):
+        outline = self._outline
+        low, high = outline.bounds()
+        low = np.minimum(low, 0.0) if outline.bitmap is not None else low
+        high = np.maximum(high, [outline.width, outline.height]) if outline.bitmap is not None else high
+        pad = 0.05 * float(max(high - low))
+        return [float(low[0] - pad), float(low[1] - pad), float(high[0] + pad), float(high[1] + pad)]
+
+    # ------------------------------------------------------------------ traits from code
+    @t.observe(*_OUTLINE_TRAITS)
+    def _on_outline_traits(self, change):
+        if self._applying:
+            return
+        try:
+            new = self._outline_from_traits()
+        except (TypeError, ValueError, IndexError) as exc:
+            with self._quiet(), self.hold_sync():
+                self._sync_traits()
+            self._reject(f"{change['name']}: {exc}", resync=_OUTLINE_TRAITS)
+            return
+        self._commit(new, f"{change['name']} set")
+
+    def _outline_from_traits(self) -> Outline:
+        return outline_from_lists(self._outline, self.contours, self.corners, self.point_tension,
+                                  self.interval_weights)
+
+    @t.validate("selection")
+    def _valid_selection(self, proposal):
+        value = proposal["value"]
+        sizes = [len(c) for c in self._outline.contours] if hasattr(self, "_outline") else []
+        cleaned = []
+        for pair in value:
+            if (not isinstance(pair, (list, tuple)) or len(pair) != 2
+                    or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)):
+                self._reject(f"selection must be [contour, knot] pairs of integers, got {pair!r:.40}",
+                             resync=("selection",))
+                return self.selection
+            if not (0 <= pair[0] < len(sizes) and 0 <= pair[1] < sizes[pair[0]]):
+                self._reject(f"selection: no knot {pair[1]} in contour {pair[0]}", resync=("selection",))
+                return self.selection
+            if list(pair) not in cleaned:
+                cleaned.append([int(pair[0]), int(pair[1])])
+        return cleaned
+
+    @t.observe("show_deviation")
+    def _on_show_deviation(self, change):
+        if change["new"]:
+            with self.hold_sync():
+                self._publish()
+            self._set_status("Deviation shown" + self._deviation_note())
+
+    # ------------------------------------------------------------------ page messages
+    def _gesture_start(self, kind, gesture):
+        if self._gesture is None or self._gesture[:2] != (kind, gesture):
+            self._gesture = (kind, gesture, self._outline)
+        return self._gesture[2]
+
+    def _finish(self, new, seq, final, message):
+        start = self._gesture[2]
+        self._commit(new, message if final else None, history=False, seq=seq)
+        if final:
+            self._undo.append(start)
+            del self._undo[:-_HISTORY]
+            self._redo.clear()
+            self._gesture = None
+            with self._quiet():
+                self.can_undo, self.can_redo = True, False
+
+    def _on_drag(self, content, _buffers):
+        seq = read_int(content, "seq", low=0, high=2**53)
+        try:
+            contour = read_int(content, "contour", low=0, high=len(self._outline) - 1)
+            knot = read_int(content, "knot", low=0, high=len(self._outline.contours[contour]) - 1)
+            x, y = read_number(content, "x"), read_number(content, "y")
+            final = read_bool(content, "final")
+            start = self._gesture_start("drag", read_int(content, "gesture", low=0, high=2**53))
+            selected = [tuple(p) for p in self.selection]
+            if (contour, knot) in selected and len(selected) > 1:
+                origin = start.contours[contour].points[knot]
+                new = start.translate(x - origin[0], y - origin[1], knots=selected)
+            else:
+                new = start.move_knot(contour, knot, (x, y))
+        except ValueError as exc:
+            self.send({"type": "drag_ack", "seq": seq, "ok": False})
+            self._gesture = None if content.get("final") else self._gesture
+            self._reject(exc, resync=("contours",))
+            return
+        self._finish(new, seq, final, f"Knot {knot} of contour {contour} moved to ({x:.1f}, {y:.1f})")
+
+    def _on_transform(self, content, _buffers):
+        seq = read_int(content, "seq", low=0, high=2**53)
+        values = content.get("matrix")
+        if not isinstance(values, list) or len(values) != 6 or any(type(v) not in (int, float) for v in values):
+            raise ValueError("matrix must be 6 numbers [a, b, c, d, e, f]")
+        a, b, c, d, e, f = values
+        matrix = [[a, c, e], [b, d, f]]
+        final = read_bool(content, "final")
+        start = self._gesture_start("transform", read_int(content, "gesture", low=0, high=2**53))
+        knots = [tuple(p) for p in self.selection] or None
+        try:
+            affine_parts(matrix)
+            new = start.transform(matrix, knots=knots)
+        except ValueError as exc:
+            self.send({"type": "drag_ack", "seq": seq, "ok": False})
+            self._reject(exc)
+            return
+        self._finish(new, seq, final, "Transformed the " + ("selection" if knots else "whole shape"))
+
+    def _selected_or_refuse(self):
+        if not self.selection:
+            raise ValueError("select a knot first")
+        return [tuple(p) for p in self.selection]
+
+    def _on_corner(self, content, _buffers):
+        for contour, knot in self._selected_or_refuse():
+            corner = not bool(self._outline.contours[contour].corners[knot])
+            self.set_corner(contour, knot, corner)
+
+    def _on_insert(self, content, _buffers):
+        x, y = read_number(content, "x"), read_number(content, "y")
+        tolerance = read_number(content, "tol", low=0.0)
+        contour, piece, theta, distance = self._outline.nearest_point((x, y))
+        if distance > tolerance:
+            raise ValueError(f"no curve within {tolerance:.3g} of ({x:.1f}, {y:.1f}); double-click on the curve")
+        theta = min(max(theta, 0.02), 0.98)
+        new = self.insert_knot(contour, piece, theta)
+        with self._quiet():
+            self.selection = [[contour, (piece + 1) % len(new.contours[contour])]]
+
+    def _on_delete(self, _content, _buffers):
+        pairs = sorted(self._selected_or_refuse(), key=lambda p: (p[0], -p[1]))
+        outline = self._outline
+        try:
+            for contour, knot in pairs:
+                outline = outline.delete_knot(contour, knot)
+        except ValueError as exc:
+            self._reject(exc)
+            return
+        with self._quiet():
+            self.selection = []
+        self._commit(outline, f"Deleted {len(pairs)} knot{'s' if len(pairs) > 1 else ''}")
+
+    def _grouped_selection(self):
+        groups = {}
+        for contour, knot in self._selected_or_refuse():
+            groups.setdefault(contour, []).append(knot)
+        return groups
+
+    def _on_tension(self, content, _buffers):
+        value = read_number(content, "value")
+        outline = self._outline
+        for contour, knots in self._grouped_selection().items():
+            outline = outline.set_point_tension(contour, knots, value)
+        self._commit(outline, f"Point tension {value:g} at the selected knots")
+
+    def _on_weight(self, content, _buffers):
+        value = read_number(content, "value", low=0.0)
+        outline = self._outline
+        for contour, knots in self._grouped_selection().items():
+            outline = outline.set_interval_weight(contour, knots, value)
+        self._commit(outline, f"Interval weight {value:g} on the pieces after the selected knots")
+
+    def _on_undo(self, _content, _buffers):
+        if not self.undo():
+            self._set_status("Nothing to undo.")
+
+    def _on_redo(self, _content, _buffers):
+        if not self.redo():
+            self._set_status("Nothing to redo.")
+
+    def _on_export(self, _content, _buffers):
+        path = self.save_svg()
+        self._set_status(f"Saved {os.fspath(path)}.")
+
+    def _on_fit(self, _content, _buffers):
+        with self._quiet():
+            self.view = self._fitted_view()
+
+    def _save_good(self):
+        return self._outline
+
+    def _restore_good(self, saved):
+        if saved is not self._outline:
+            self._commit(saved, None, history=False)
+        with self._quiet(), self.hold_sync():
+            self._sync_traits()

@@ -1,0 +1,167 @@
+"""Real-browser test of the OutlineEditor: a TraceResult opened in JupyterLab and edited with the mouse.
+
+Drag a knot, toggle a corner, box-select a contour and rotate it with its handle, undo, export; after each
+step the kernel's state (read through the notebook's kernel) and the drawn SVG path are checked.
+"""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+
+CELL = """\
+import splinecraft as sc
+from splinecraft import datasets
+result = sc.trace(datasets.thesis_object("D"))
+editor = result.edit(width=600, height=520)
+editor.export_path = "exported_d.svg"
+editor
+"""
+
+ROOT = "[data-testid=outline-editor][data-ready='1']"
+
+
+def path_d(root, k):
+    return root.query_selector(f"[data-testid=contour-{k}]").get_attribute("d")
+
+
+def wait_path_change(page, k, old):
+    page.wait_for_function(
+        "([k, old]) => { const p = document.querySelector(`[data-testid=outline-editor] [data-testid=contour-${k}]`);"
+        " return p && p.getAttribute('d') !== old; }", arg=[k, old], timeout=20_000)
+
+
+def wait_python(lab, expression, predicate, timeout=20.0):
+    import time
+
+    deadline = time.monotonic() + timeout
+    while True:
+        value = lab.python_json(expression)
+        if predicate(value):
+            return value
+        if time.monotonic() > deadline:
+            raise AssertionError(f"{expression} = {value!r} did not reach the expected state")
+        lab.page.wait_for_timeout(100)
+
+
+def drawn_matches_kernel(lab, root, k):
+    """The drawn path of contour k starts at the kernel's first knot (screen -> data through the page's map)."""
+    d = path_d(root, k)
+    x, y = (float(v) for v in d[1:d.index("C")].split(","))
+    rect = root.query_selector("[data-testid=canvas]").bounding_box()
+    data = root.evaluate("(el, p) => el.__splinecraft.dataOf(p[0], p[1])", [rect["x"] + x, rect["y"] + y])
+    knot = lab.python_json(f"editor.contours[{k}][0]")
+    return math.dist(data, knot) < 0.5
+
+
+def test_edit_a_traced_outline_in_the_browser(lab):
+    page = lab.open_notebook([CELL])
+    root = page.wait_for_selector(ROOT, timeout=60_000)
+    root.scroll_into_view_if_needed()
+    assert lab.python_json("len(editor.contours)") == 2
+    assert drawn_matches_kernel(lab, root, 0) and drawn_matches_kernel(lab, root, 1)
+
+    # 1. drag knot 3 of the outer contour by (+25, +15) screen px
+    before = lab.python_json("editor.contours[0][3]")
+    old = path_d(root, 0)
+    x, y = root.evaluate("el => el.__splinecraft.screenKnot(0, 3)")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for step in range(1, 6):
+        page.mouse.move(x + 5 * step, y + 3 * step)
+        page.wait_for_timeout(30)
+    page.mouse.up()
+    target = root.evaluate("(el, p) => el.__splinecraft.dataOf(p[0], p[1])", [x + 25, y + 15])
+    moved = wait_python(lab, "editor.contours[0][3]", lambda p: math.dist(p, target) < 0.5)
+    assert math.dist(moved, before) > 5
+    wait_path_change(page, 0, old)
+    assert lab.python_json("editor.selection") == [[0, 3]]
+
+    # 2. toggle that knot's corner flag with the button
+    was = lab.python_json("editor.corners[0][3]")
+    old = path_d(root, 0)
+    root.query_selector("[data-testid=toggle-corner]").click()
+    wait_python(lab, "editor.corners[0][3]", lambda v: v is (not was))
+    if not was:  # a new corner changes the curve
+        wait_path_change(page, 0, old)
+
+    # 3. box-select the hole (contour 1) and rotate it with the rotate handle
+    hole = lab.python_json("editor.contours[1]")
+    corners = [root.evaluate("(el, p) => el.__splinecraft.screenOf(p[0], p[1])", p) for p in hole]
+    xs, ys = [c[0] for c in corners], [c[1] for c in corners]
+    page.mouse.move(min(xs) - 6, min(ys) - 6)
+    page.mouse.down()
+    page.mouse.move((min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, steps=3)
+    page.mouse.move(max(xs) + 6, max(ys) + 6, steps=3)
+    page.mouse.up()
+    wait_python(lab, "sorted(map(tuple, editor.selection))", lambda v: v == [[1, i] for i in range(len(hole))])
+    handle = root.evaluate("el => el.__splinecraft.screenHandle('rotate')")
+    assert handle is not None
+    center = ((min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2)
+    radius = math.dist(handle, center)
+    old_hole, old_outer = path_d(root, 1), path_d(root, 0)
+    page.mouse.move(*handle)
+    page.mouse.down()
+    start = math.atan2(handle[1] - center[1], handle[0] - center[0])
+    for step in range(1, 7):  # 30 degrees clockwise on screen
+        angle = start + math.radians(5 * step)
+        page.mouse.move(center[0] + radius * math.cos(angle), center[1] + radius * math.sin(angle))
+        page.wait_for_timeout(30)
+    page.mouse.up()
+    wait_path_change(page, 1, old_hole)
+    pivot = [(min(p[0] for p in hole) + max(p[0] for p in hole)) / 2,
+             (min(p[1] for p in hole) + max(p[1] for p in hole)) / 2]  # the box centre before the gesture
+
+    def turns(knots):
+        return [math.degrees(math.atan2(b[1] - pivot[1], b[0] - pivot[0]) - math.atan2(a[1] - pivot[1], a[0] - pivot[0]))
+                % 360 for a, b in zip(hole, knots)]
+
+    # the release's message carries the final angle; intermediate answers may be read first
+    rotated = wait_python(lab, "editor.contours[1]", lambda v: all(abs(turn - 30) < 1 for turn in turns(v)))
+    assert path_d(root, 0) == old_outer  # only the selected contour moved
+    lengths = [math.dist(rotated[i], rotated[i + 1]) - math.dist(hole[i], hole[i + 1]) for i in range(len(hole) - 1)]
+    assert max(map(abs, lengths)) < 1e-6  # a rotation: knot spacing unchanged
+    assert drawn_matches_kernel(lab, root, 1)
+
+    # 4. undo the rotation (Ctrl+Z on the widget)
+    root.focus()
+    page.keyboard.press("Control+z")
+    wait_python(lab, "editor.contours[1]", lambda v: all(math.dist(a, b) < 1e-9 for a, b in zip(v, hole)))
+    page.wait_for_function("(old) => document.querySelector('[data-testid=outline-editor] [data-testid=contour-1]')"
+                           ".getAttribute('d') === old", arg=old_hole, timeout=20_000)
+
+    # 5. export
+    root.query_selector("[data-testid=export]").click()
+    wait_python(lab, "__import__('os').path.isfile('exported_d.svg')", lambda v: v is True)
+    assert (lab.server.root / "exported_d.svg").read_text().count("<path") == 1
+    assert "Saved" in lab.python_json("editor.status_message")
+
+
+def test_deviation_toggle_colours_pieces_and_shows_the_max(lab):
+    page = lab.open_notebook([CELL])
+    root = page.wait_for_selector(ROOT, timeout=60_000)
+    assert "max deviation" in root.query_selector("[data-testid=max-deviation]").inner_text()
+    root.query_selector("[data-testid=show_deviation]").check()
+    page.wait_for_selector("[data-testid=outline-editor] [data-testid=deviation-0]", timeout=20_000)
+    drawn = sum(len(root.query_selector(f"[data-testid=deviation-{b}]").get_attribute("d").split("M")) - 1
+                for b in range(4))
+    assert drawn == lab.python_json("sum(len(c) for c in editor.contours)")
+    assert lab.python_json("editor.show_deviation") is True
+
+
+def test_trace_explorer_opens_the_shown_iteration_in_an_editor(lab):
+    cell = ("import splinecraft as sc\nfrom splinecraft import datasets\n"
+            "explorer = sc.TraceExplorer(datasets.thesis_object('D'))\nexplorer")
+    page = lab.open_notebook([cell])
+    root = page.wait_for_selector("[data-testid=trace-explorer][data-ready='1']", timeout=60_000)
+    root.query_selector("[data-testid=first]").click()
+    wait_python(lab, "explorer.snapshot_index", lambda v: v == 0)
+    root.query_selector("[data-testid=edit-outline]").click()
+    page.wait_for_selector("[data-testid=editor-slot] [data-testid=outline-editor][data-ready='1']", timeout=30_000)
+    first = lab.python_json("[len(c) for c in explorer.editor.contours]")
+    expected = lab.python_json("[len(s.bezier) for s in explorer.result.snapshots[0].snapshots]")
+    assert first == expected
+    drawn = page.query_selector("[data-testid=editor-slot] [data-testid=contour-0]").get_attribute("d")
+    assert drawn.count("C") == first[0]

@@ -1,0 +1,165 @@
+"""OutlineEditor, kernel side: traits, page messages, gestures, undo/redo, refusals that keep the last good outline."""
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import splinecraft as sc
+from splinecraft import datasets
+from splinecraft.outline import as_outline
+from splinecraft.widgets.outline_editor import OutlineEditor, OutlineEditorWarning
+
+
+@pytest.fixture(scope="module")
+def traced():
+    return sc.trace(datasets.thesis_object("D"))
+
+
+@pytest.fixture
+def editor(traced):
+    return OutlineEditor(traced)
+
+
+def page(editor, **content):
+    editor._handle_message(editor, content, [])
+
+
+def test_opens_a_trace_with_its_bitmap_and_deviation(editor, traced):
+    assert len(editor.contours) == len(traced.splines)
+    assert sum(sum(c) for c in editor.corners) == traced.stats["corners"]
+    assert editor.image[:8] == b"\x89PNG\r\n\x1a\n"
+    assert editor.max_deviation == pytest.approx(traced.stats["hausdorff"], abs=0.15)
+    entries = editor.geometry["contours"]
+    for entry, spline in zip(entries, traced.splines):
+        drawn = np.frombuffer(entry["bezier"], "<f4").reshape(-1, 4, 2)
+        assert np.allclose(drawn, spline.bezier(), atol=1e-3)
+
+
+def test_drag_gesture_moves_a_knot_and_is_one_undo_step(editor):
+    start = editor.outline
+    x, y = start.contours[0].points[4].tolist()
+    for step, final in ((1, False), (2, False), (3, True)):
+        page(editor, type="drag", contour=0, knot=4, x=x + 2 * step, y=y - step, seq=step, gesture=7, final=final)
+    assert editor.contours[0][4] == [x + 6, y - 3]
+    assert np.allclose(editor.outline.contours[0].bezier()[4, 0], [x + 6, y - 3])
+    assert editor.geometry["seq"] == 3 and editor.can_undo
+    assert editor.undo() and editor.outline is start
+    assert editor.redo() and editor.contours[0][4] == [x + 6, y - 3]
+
+
+def test_dragging_a_selected_knot_moves_the_whole_selection(editor):
+    editor.selection = [[1, 0], [1, 1], [1, 2]]
+    before = editor.outline.contours[1].points.copy()
+    page(editor, type="drag", contour=1, knot=1, x=float(before[1, 0]) + 5, y=float(before[1, 1]), seq=1, gesture=1,
+         final=True)
+    after = editor.outline.contours[1].points
+    assert np.allclose(after[:3], before[:3] + [5, 0]) and np.allclose(after[3:], before[3:])
+
+
+def test_transform_gesture_of_a_selected_contour_is_exact(editor):
+    editor.selection = [[1, k] for k in range(len(editor.contours[1]))]
+    angle = math.radians(20)
+    c, s = math.cos(angle), math.sin(angle)
+    center = editor.outline.selection_center(contours=[1])
+    e, f = center - np.array([[c, -s], [s, c]]) @ center
+    before = editor.outline
+    page(editor, type="transform", matrix=[c, s, -s, c, float(e), float(f)], seq=1, gesture=3, final=True)
+    expected = before.contours[1].spline.transformed(np.array([[c, -s], [s, c]]), np.array([e, f])).bezier()
+    assert np.abs(editor.outline.contours[1].bezier() - expected).max() < 1e-9
+    assert editor.outline.contours[0] is before.contours[0]
+
+
+def test_code_transforms_act_on_the_selection_or_the_whole_shape(editor):
+    before = editor.outline
+    editor.slant(12)
+    shear = -math.tan(math.radians(12))
+    center = before.selection_center()
+    moved = editor.outline.contours[0].bezier()
+    original = before.contours[0].bezier()
+    assert np.allclose(moved[..., 0], original[..., 0] + shear * (original[..., 1] - center[1]))
+    editor.selection = [[0, 0]]
+    editor.translate(3, 4)
+    assert np.allclose(editor.outline.contours[0].points[0], before.contours[0].points[0] @ [[1, 0], [shear, 1]]
+                       + [-shear * center[1], 0] + [3, 4])
+
+
+def test_corner_toggle_insert_and_delete_from_the_page(editor):
+    editor.selection = [[0, 3]]
+    was = editor.corners[0][3]
+    page(editor, type="corner")
+    assert editor.corners[0][3] is (not was)
+    n = len(editor.contours[0])
+    piece = editor.outline.contours[0].bezier()[2]
+    middle = (piece[0] + 3 * piece[1] + 3 * piece[2] + piece[3]) / 8
+    page(editor, type="insert", x=float(middle[0]), y=float(middle[1]), tol=2.0)
+    assert len(editor.contours[0]) == n + 1 and editor.selection == [[0, 3]]
+    page(editor, type="delete")
+    assert len(editor.contours[0]) == n
+
+
+def test_delete_below_three_knots_is_refused_and_keeps_the_outline(traced):
+    editor = OutlineEditor([np.array([[0, 0], [10, 0], [5, 8]], float)])
+    editor.selection = [[0, 1]]
+    before = editor.outline
+    page(editor, type="delete")
+    assert editor.outline is before and editor.status_level == "error" and "at least 3 knots" in editor.status_message
+
+
+def test_bad_values_from_code_keep_the_last_good_outline(editor):
+    before = editor.outline
+    bad = [list(map(list, c)) for c in editor.contours]
+    bad[0][1] = [math.nan, 3.0]
+    with pytest.warns(OutlineEditorWarning, match="contours"):
+        editor.contours = bad
+    assert editor.outline is before and editor.contours[0][1] == before.contours[0].points[1].tolist()
+    with pytest.warns(OutlineEditorWarning, match="singular"):
+        editor.transform([[1, 1, 0], [1, 1, 0]])
+    assert editor.outline is before
+    with pytest.warns(OutlineEditorWarning, match="selection"):
+        editor.selection = [[0, 999]]
+    assert editor.selection == []
+
+
+def test_traits_from_code_edit_the_outline(editor):
+    corners = [list(c) for c in editor.corners]
+    corners[1][0] = not corners[1][0]
+    editor.corners = corners
+    assert editor.outline.contours[1].corners[0] == corners[1][0]
+    tension = [list(v) for v in editor.point_tension]
+    tension[0][2] = 4.0
+    editor.point_tension = tension
+    assert editor.outline.contours[0].point_tension[2] == 4.0
+    seen = []
+    editor.observe(lambda change: seen.append(change["name"]), "contours")
+    editor.move_knot(0, 1, (50.0, 60.0))
+    assert seen == ["contours"] and editor.contours[0][1] == [50.0, 60.0]
+
+
+def test_bad_page_messages_are_answered_not_raised(editor):
+    before = editor.outline
+    page(editor, type="drag", contour=0, knot=10_000, x=1.0, y=2.0, seq=1, gesture=1, final=True)
+    page(editor, type="drag", contour=0, knot=1, x="left", y=2.0, seq=2, gesture=2, final=True)
+    page(editor, type="transform", matrix=[1, 0, 0], seq=3, gesture=3, final=True)
+    page(editor, type="tension", value=1.0)  # nothing selected
+    assert editor.outline is before and editor.status_level == "error"
+
+
+def test_export_and_fonts(editor, tmp_path):
+    editor.export_path = str(tmp_path / "d.svg")
+    page(editor, type="export")
+    assert (tmp_path / "d.svg").read_text().count("<path") == 1
+    files = sc.font.build({"D": editor}, family="Editor Test", output_dir=tmp_path)
+    assert files.otf.is_file() and files.ttf.is_file()
+    assert editor.to_glyph("D").unicodes == [ord("D")]
+    assert as_outline(editor) is editor.outline
+
+
+def test_opens_svg_knot_lists_and_font_glyphs():
+    assert len(OutlineEditor("M 0,0 L 10,0 L 10,10 L 0,10 Z").contours[0]) == 4
+    glyph = sc.font.glyph_outline("DejaVu Sans", "B")
+    editor = OutlineEditor(glyph)
+    assert len(editor.contours) == 3 and editor.image == b"" and editor.max_deviation is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        editor.rotate(15)

@@ -395,12 +395,8 @@ function render({ model, el }) {
   });
 
   // ---------------------------------------------------------------- kernel -> page
-  function onGeometry() {
-    const tArrive = performance.now();
-    const ackSeq = decode();
-    drawCurves();
-    drawKnots();
-    showStatus();
+  // a drawn answer to message `ackSeq`: latency record (debug) and flow control
+  function answered(ackSeq, tArrive) {
     if (ackSeq > 0 && moveTimes.has(ackSeq)) {
       const times = moveTimes.get(ackSeq), t0 = times.move, tDom = performance.now();
       for (const key of moveTimes.keys()) if (key <= ackSeq) moveTimes.delete(key);
@@ -410,6 +406,26 @@ function render({ model, el }) {
       });
     }
     acknowledge(ackSeq);
+  }
+  function onGeometry() {
+    const tArrive = performance.now();
+    const ackSeq = decode();
+    drawCurves();
+    drawKnots();
+    showStatus();
+    answered(ackSeq, tArrive);
+  }
+  // the moves of a gesture: only the changed contours' pieces, in a custom message
+  function onLive(msg, buffers) {
+    const tArrive = performance.now();
+    (msg.contours ?? []).forEach((entry, i) => {
+      const cached = cache[entry.index];
+      if (!cached || !buffers[i]) return;
+      Object.assign(cached, { revision: entry.revision, bez: floats(buffers[i]), deviation: null, path: null });
+    });
+    drawCurves();
+    drawKnots();
+    answered(msg.seq ?? -1, tArrive);
   }
   const handlers = [];
   const on = (event, fn) => { model.on(event, fn); handlers.push([event, fn]); };
@@ -423,7 +439,8 @@ function render({ model, el }) {
   on("change:image", () => { if (image.dataset.url) URL.revokeObjectURL(image.dataset.url); delete image.dataset.url; drawImage(); });
   const pings = new Map();
   let pingId = 0;
-  on("msg:custom", (msg) => {
+  on("msg:custom", (msg, buffers) => {
+    if (msg && msg.type === "live") { onLive(msg, buffers ?? []); return; }
     if (msg && msg.type === "pong" && pings.has(msg.id)) { pings.get(msg.id)(msg.kernel_ms); pings.delete(msg.id); return; }
     if (msg && msg.type === "drag_ack") { acknowledge(msg.seq); if (!msg.ok) { live = null; drawKnots(); } }
   });

@@ -312,3 +312,16 @@ def test_from_bezier_refuses_open_curves():
 def test_as_outline_refuses_unknown_sources():
     with pytest.raises(TypeError, match="cannot make an outline"):
         as_outline(42)
+
+
+@settings(max_examples=40, deadline=None)
+@given(contours, st.integers(0, 8), st.floats(-20, 20), st.floats(-20, 20), st.floats(0.0, 5.0))
+def test_edits_that_rebuild_only_some_runs_equal_a_full_rebuild(contour, knot, dx, dy, tension):
+    """Moving a knot or changing a tension rebuilds only the runs holding it; the curve is the full rebuild's."""
+    knot %= len(contour)
+    try:
+        edited = contour.moved(knot, contour.points[knot] + [dx, dy]).with_point_tension((knot + 2) % len(contour), tension)
+    except ValueError:  # a move onto a neighbour: refused either way
+        return
+    fresh = Contour(**{name: value for name, value in edited.fields().items()})
+    assert np.abs(edited.bezier() - fresh.bezier()).max() <= 1e-9 * max(1.0, np.abs(fresh.bezier()).max())

@@ -90,6 +90,8 @@ class Contour:
 
     __slots__ = ("points", "corners", "handles_in", "handles_out", "steps", "point_tension", "interval_weights",
                  "spline")
+    # an edit that changes only some knots rebuilds only the runs between corners that hold them (_build)
+    _reuse = None
 
     def __init__(self, points, corners=None, *, handles_in=None, handles_out=None, steps=None, point_tension=0.0,
                  interval_weights=1.0):
@@ -131,7 +133,7 @@ class Contour:
                             ("interval_weights", interval_weights)):
             value.setflags(write=False)
             object.__setattr__(self, name, value)
-        object.__setattr__(self, "spline", _build(self))
+        object.__setattr__(self, "spline", _build(self, Contour._reuse))
 
     def __setattr__(self, name, value):
         raise AttributeError("a Contour is immutable; its edit methods return a new one")
@@ -149,8 +151,12 @@ class Contour:
         return {name: np.array(getattr(self, name)) for name in
                 ("points", "corners", "handles_in", "handles_out", "steps", "point_tension", "interval_weights")}
 
-    def replace(self, **changes) -> "Contour":
-        """A new contour with some fields replaced (validated and rebuilt by the engine)."""
+    def replace(self, *, changed_knots=None, **changes) -> "Contour":
+        """A new contour with some fields replaced (validated and rebuilt by the engine).
+
+        ``changed_knots`` (optional): the only knots whose point, handles or tension, or whose neighbouring
+        intervals' step or weight, changed; the runs between corners without them are copied, not rebuilt.
+        """
         data = self.fields()
         unknown = set(changes) - set(data)
         if unknown:
@@ -158,7 +164,14 @@ class Contour:
         data.update(changes)
         points = data.pop("points")
         corners = data.pop("corners")
-        return Contour(points, corners, **data)
+        reuse = None
+        if changed_knots is not None and np.shape(points) == self.points.shape and np.array_equal(corners, self.corners):
+            reuse = (self.bezier(), _knot_mask(changed_knots, len(self)))
+        Contour._reuse = reuse
+        try:
+            return Contour(points, corners, **data)
+        finally:
+            Contour._reuse = None
 
     def bezier(self) -> np.ndarray:
         """The exact cubic Bézier pieces, shape ``(N, 4, 2)``; piece ``i`` runs from knot ``i`` to ``i + 1``."""
@@ -183,9 +196,10 @@ class Contour:
         data["points"][selected] = data["points"][selected] @ linear.T + offset
         for name in ("handles_in", "handles_out"):
             data[name][selected] = data[name][selected] @ linear.T
-        if not selected.all():
-            data["steps"] = _rescaled_steps(self.points, data["points"], self.steps)
-        return self.replace(**data)
+        if selected.all():
+            return self.replace(**data)
+        data["steps"] = _rescaled_steps(self.points, data["points"], self.steps)
+        return self.replace(changed_knots=np.flatnonzero(selected), **data)
 
     def moved(self, knots, positions) -> "Contour":
         """Knots ``knots`` moved to ``positions`` (their handles move with them)."""
@@ -195,7 +209,8 @@ class Contour:
             raise ValueError(f"positions must give one point per knot ({index.size}), got {positions.shape[0]}")
         points = np.array(self.points)
         points[index] = positions
-        return self.replace(points=points, steps=_rescaled_steps(self.points, points, self.steps))
+        return self.replace(points=points, steps=_rescaled_steps(self.points, points, self.steps),
+                            changed_knots=index)
 
     def with_corner(self, knot, corner=True, *, keep_shape=False) -> "Contour":
         """Knot ``knot`` flagged as a corner or made smooth (a GC² joint; its handles are dropped).
@@ -260,14 +275,16 @@ class Contour:
     def with_point_tension(self, knots, value) -> "Contour":
         """Point tension ``v`` of ``knots`` set to ``value`` (validated by the engine, §2.5)."""
         tension = np.array(self.point_tension)
-        tension[_indices(knots, len(self))] = value
-        return self.replace(point_tension=tension)
+        index = _indices(knots, len(self))
+        tension[index] = value
+        return self.replace(point_tension=tension, changed_knots=index)
 
     def with_interval_weight(self, pieces, value) -> "Contour":
         """Interval weight ``omega`` of ``pieces`` set to ``value`` (> 0)."""
         weights = np.array(self.interval_weights)
-        weights[_indices(pieces, len(self))] = value
-        return self.replace(interval_weights=weights)
+        index = _indices(pieces, len(self))
+        weights[index] = value
+        return self.replace(interval_weights=weights, changed_knots=np.r_[index, (index + 1) % len(self)])
 
     def reversed(self) -> "Contour":
         """The same curve traversed the other way (knot order, handles and steps follow)."""
@@ -359,8 +376,11 @@ def _rescaled_steps(old_points, new_points, steps):
     return result
 
 
-def _build(contour: Contour) -> Spline:
-    """The contour's curve: one periodic interpolant, or one open interpolant per run between corners."""
+def _build(contour: Contour, reuse=None) -> Spline:
+    """The contour's curve: one periodic interpolant, or one open interpolant per run between corners.
+
+    ``reuse = (bezier, changed)``: the pieces of runs without a changed knot are copied from ``bezier``.
+    """
     points, n = contour.points, len(contour)
     knots = np.concatenate([[0.0], np.cumsum(contour.steps)])
     corner_index = np.flatnonzero(contour.corners)
@@ -374,6 +394,9 @@ def _build(contour: Contour) -> Spline:
         length = (end - start) % n or n
         index = (start + np.arange(length + 1)) % n
         intervals = index[:-1]
+        if reuse is not None and not reuse[1][index].any():
+            bezier[intervals] = reuse[0][intervals]
+            continue
         run_knots = np.concatenate([[0.0], np.cumsum(contour.steps[intervals])])
         out_handle, in_handle = contour.handles_out[start], contour.handles_in[end]
         first = None if np.isnan(out_handle).any() else 3.0 * out_handle / contour.steps[start]

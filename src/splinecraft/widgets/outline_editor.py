@@ -101,6 +101,7 @@ class OutlineEditor(WidgetBase):
         self._undo, self._redo = [], []
         self._gesture = None  # (kind, id, outline at the start of the gesture)
         self._revisions = [0] * len(outline)
+        self._live_changed = set()
         self._deviation_cache = {}
         with self._quiet(), self.hold_sync():
             self.frame = [outline.width, outline.height]
@@ -216,7 +217,13 @@ class OutlineEditor(WidgetBase):
         self._commit(new, message, history=history)
         return new
 
-    def _commit(self, new, message=None, *, history=True, seq=None):
+    def _commit(self, new, message=None, *, history=True, seq=None, measure=True, live=False):
+        """Make ``new`` the outline and send it to the page.
+
+        ``live`` (the moves of a gesture while the deviation is hidden): only the Bézier pieces of the changed
+        contours go to the page, in one small message; the synced lists, ``geometry`` and the deviation follow
+        with the gesture's last message.
+        """
         old = self._outline
         if history:
             self._undo.append(old)
@@ -224,17 +231,31 @@ class OutlineEditor(WidgetBase):
             self._redo.clear()
         self._outline = new
         if len(new) != len(old):
-            changed = range(len(new))
+            changed = set(range(len(new)))
             self._revisions = [r + 1 for r in (self._revisions + [0] * len(new))[:len(new)]]
         else:
-            changed = [k for k in range(len(new)) if new.contours[k] is not old.contours[k]]
+            changed = {k for k in range(len(new)) if new.contours[k] is not old.contours[k]}
+        if live:
+            self._live_changed |= changed
+            self._send_live(sorted(changed), seq)
+            return
+        changed |= {k for k in self._live_changed if k < len(new)}
+        self._live_changed = set()
         with self._quiet(), self.hold_sync():
             self._clamp_selection()
             self._sync_traits(changed)
-            self._publish(changed=changed, seq=seq)
+            self._publish(changed=changed, seq=seq, measure=measure)
             self.can_undo, self.can_redo = bool(self._undo), bool(self._redo)
         if message:
             self._set_status(message + self._deviation_note())
+
+    def _send_live(self, changed, seq):
+        entries, buffers = [], []
+        for k in changed:
+            self._revisions[k] += 1
+            entries.append({"index": k, "revision": self._revisions[k]})
+            buffers.append(f32(self._outline.contours[k].bezier()))
+        self.send({"type": "live", "seq": -1 if seq is None else int(seq), "contours": entries}, buffers)
 
     def _deviation_note(self):
         if self.max_deviation is None:
@@ -242,13 +263,23 @@ class OutlineEditor(WidgetBase):
         return f"; max deviation from the bitmap {self.max_deviation:.2f} px."
 
     def _sync_traits(self, changed=None):
+        """The synced lists from the outline: all of them, or only the rows of the ``changed`` contours."""
         outline = self._outline
-        contours = [c.points.tolist() for c in outline.contours]
-        if contours != self.contours:
-            self.contours = contours
-        self.corners = [c.corners.tolist() for c in outline.contours]
-        self.point_tension = [c.point_tension.tolist() for c in outline.contours]
-        self.interval_weights = [c.interval_weights.tolist() for c in outline.contours]
+        fields = (("contours", "points"), ("corners", "corners"), ("point_tension", "point_tension"),
+                  ("interval_weights", "interval_weights"))
+        whole = changed is None or any(len(getattr(self, name)) != len(outline) for name, _ in fields)
+        rows = range(len(outline)) if whole else sorted(changed)
+        for name, attribute in fields:
+            table = [] if whole else list(getattr(self, name))
+            values = {k: getattr(outline.contours[k], attribute).tolist() for k in rows}
+            if whole:
+                table = [values[k] for k in rows]
+            elif all(table[k] == values[k] for k in rows):
+                continue
+            else:
+                for k in rows:
+                    table[k] = values[k]
+            setattr(self, name, table)
 
     def _clamp_selection(self):
         sizes = [len(c) for c in self._outline.contours]
@@ -256,36 +287,46 @@ class OutlineEditor(WidgetBase):
         if kept != self.selection:
             self.selection = kept
 
-    def _deviation(self, k):
+    def _deviation(self, k, measure=True):
+        """Piece deviations of contour ``k`` (cached per contour object); ``None`` without a source, or when
+        ``measure`` is False and the contour changed (mid-gesture: measured when the gesture ends)."""
         contour, source = self._outline.contours[k], self._outline.sources[k]
         if source is None:
             return None
         cached = self._deviation_cache.get(k)
         if cached is None or cached[0] is not contour:
+            if not measure:
+                return None
             from ..outline import contour_deviation
 
             cached = self._deviation_cache[k] = (contour, contour_deviation(contour, source))
         return cached[1]
 
-    def _publish(self, changed=(), seq=None):
-        """Send the drawing: per contour its Bézier pieces (and deviations), re-encoded only where changed."""
+    def _publish(self, changed=(), seq=None, measure=True):
+        """Send the drawing: per contour its Bézier pieces (and deviations), re-encoded only where changed.
+
+        ``measure=False`` (the moves of a gesture while the deviation is not shown) leaves the deviation of the
+        changed contours, and ``max_deviation``, to the gesture's last message.
+        """
         outline = self._outline
         previous = self.geometry.get("contours", []) if self.geometry else []
         entries = list(previous[:len(outline)]) + [None] * max(0, len(outline) - len(previous))
         changed = set(changed)
-        deviations = []
+        deviations, stale = [], False
+        self._revisions = (self._revisions + [0] * len(outline))[:len(outline)]
         for k, contour in enumerate(outline.contours):
-            deviation = self._deviation(k)
+            deviation = self._deviation(k, measure)
             if deviation is not None:
                 deviations.append(float(deviation.max()))
+            stale = stale or (deviation is None and outline.sources[k] is not None)
             if k in changed or entries[k] is None:
-                self._revisions[k] = self._revisions[k] + 1 if k < len(self._revisions) else 1
+                self._revisions[k] += 1
                 entries[k] = {"bezier": f32(contour.bezier()), "revision": self._revisions[k],
                               "deviation": None if deviation is None else f32(deviation)}
             elif deviation is not None and entries[k].get("deviation") is None:
                 entries[k] = {**entries[k], "deviation": f32(deviation)}
-        self._revisions = self._revisions[:len(outline)]
-        self.max_deviation = max(deviations) if deviations else None
+        if not stale:
+            self.max_deviation = max(deviations) if deviations else None
         self.geometry = {"contours": entries, "seq": -1 if seq is None else int(seq),
                          "revision": int(self.geometry.get("revision", 0)) + 1 if self.geometry else 1}
 
@@ -348,7 +389,8 @@ class OutlineEditor(WidgetBase):
 
     def _finish(self, new, seq, final, message):
         start = self._gesture[2]
-        self._commit(new, message if final else None, history=False, seq=seq)
+        self._commit(new, message if final else None, history=False, seq=seq,
+                     measure=final or self.show_deviation, live=not final and not self.show_deviation)
         if final:
             self._undo.append(start)
             del self._undo[:-_HISTORY]

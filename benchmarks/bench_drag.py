@@ -52,12 +52,12 @@ def percentile(values, q):
     return float(np.percentile(np.asarray(values, dtype=float), q))
 
 
-def browser_round_trips(lab, n: int, moves: int) -> dict:
-    page = lab.open_notebook([points_cell(n)], name=f"bench_drag_{n}.ipynb")
-    root = page.wait_for_selector("[data-testid=spline-editor][data-ready='1']", timeout=60_000)
-    root.scroll_into_view_if_needed()
-    index = n // 2
-    x, y = root.evaluate("(el, i) => el.__splinecraft.screenPoint(i)", index)
+def drag_and_record(page, root, x: float, y: float, moves: int):
+    """Press at (x, y) and move ``moves + WARMUP`` times, each move waiting for its own drawn answer.
+
+    Returns the page's latency records of the measured moves (not the warm-up, not the release) and 50
+    empty-message round trips through the same widget (the transport floor).
+    """
     page.evaluate("() => { window.__splinecraft = window.__splinecraft ?? {}; window.__splinecraft.dragLatencies = []; }")
     page.mouse.move(x, y)
     page.mouse.down()
@@ -67,9 +67,18 @@ def browser_round_trips(lab, n: int, moves: int) -> dict:
         page.wait_for_function("(count) => (window.__splinecraft.dragLatencies || []).length > count", arg=k,
                                timeout=30_000)
     page.mouse.up()
-    records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:WARMUP + moves]  # not the release
-    # the transport floor: an empty message to the kernel and straight back, same widget, same page
+    records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:WARMUP + moves]
     pings = root.evaluate("async (el) => { const out = []; for (let i = 0; i < 60; i++) out.push(await el.__splinecraft.ping()); return out.slice(10); }")
+    return records, pings
+
+
+def browser_round_trips(lab, n: int, moves: int) -> dict:
+    page = lab.open_notebook([points_cell(n)], name=f"bench_drag_{n}.ipynb")
+    root = page.wait_for_selector("[data-testid=spline-editor][data-ready='1']", timeout=60_000)
+    root.scroll_into_view_if_needed()
+    index = n // 2
+    x, y = root.evaluate("(el, i) => el.__splinecraft.screenPoint(i)", index)
+    records, pings = drag_and_record(page, root, x, y, moves)
     kernel_points = lab.python_json("len(editor.points)")
     assert kernel_points == n, kernel_points
     parts = {key: statistics.median(r[key] for r in records) for key in ("wait", "kernel", "draw")}
@@ -93,14 +102,20 @@ def kernel_handling(n: int, repeats: int = 200) -> float:
     points = np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)] if n > 12 else \
         np.c_[np.linspace(40.0, 760.0, n), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, n))]
     editor = sc.SplineEditor(points.round(3), debug=True)
-    editor.send = lambda *args, **kwargs: None
-    editor._send = lambda *args, **kwargs: None  # no comm: measure the computation only
     base = np.array(editor.points[n // 2])
+    return handler_median(editor, lambda x, y: {"index": n // 2, "x": x, "y": y}, base, repeats)
+
+
+def handler_median(editor, fields, base, repeats: int = 200) -> float:
+    """Median time (ms) of ``editor``'s drag handler for ``repeats`` zig-zag moves around ``base``, without a
+    comm (the computation only); ``fields(x, y)`` gives the message's fields naming what is dragged."""
+    editor.send = lambda *args, **kwargs: None
+    editor._send = lambda *args, **kwargs: None
     times = []
     for k in range(repeats):
         offset = 3.0 + (k % 7)
-        message = {"type": "drag", "index": n // 2, "x": float(base[0] + offset), "y": float(base[1] - offset),
-                   "seq": k + 1, "gesture": 1, "final": False}
+        message = {"type": "drag", "seq": k + 1, "gesture": 1, "final": False,
+                   **fields(float(base[0] + offset), float(base[1] - offset))}
         started = time.perf_counter()
         editor._handle_message(editor, message, [])
         times.append(1e3 * (time.perf_counter() - started))

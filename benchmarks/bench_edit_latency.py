@@ -6,7 +6,7 @@ font has 40 contours: its most complex one, 鱺 (U+9C7A), traces into 24 boundar
 benchmark runs on it and on the pair 鱺驫 set in one 300 px high bitmap (47 boundaries), the issue's 40-contour
 case. JupyterLab and Debian's chromium (Playwright) open a notebook with ``result.edit(debug=True)``; the mouse
 presses a knot of the largest contour and moves it 200 times by a few pixels, each move waiting until its own
-answer is drawn. The page records per move (``window.__splinecraft.dragLatencies``, as ``bench_drag.py``):
+answer is drawn (``bench_drag.drag_and_record``). The page records per move (``window.__splinecraft.dragLatencies``, as ``bench_drag.py``):
 ``dom`` -- pointermove to the redrawn contour path in the DOM (the kernel rebuilt that contour with the engine,
 measured its deviation from the bitmap's contour, and sent its Bézier pieces back), and ``frame`` -- to the next
 painted frame. The first 10 moves warm up and are dropped. The kernel's drag handler alone is timed in this
@@ -21,15 +21,17 @@ import argparse
 import platform
 import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tests" / "browser"))
+sys.path.insert(0, str(REPO / "benchmarks"))
 
-WARMUP = 10
+# the same protocol as the SplineEditor's drag benchmark
+from bench_drag import WARMUP, drag_and_record, handler_median, percentile  # noqa: E402
+
 FONT = "/usr/share/fonts/opentype/ipafont-mincho/ipam.ttf"
 TEXTS = ("\u9c7a", "\u9c7a\u9a6b")  # 鱺 (the most complex glyph of the font), 鱺驫 (47 contours)
 
@@ -47,10 +49,6 @@ result = sc.trace(np.asarray(image), keep_snapshots=False)
 """
 
 
-def percentile(values, q):
-    return float(np.percentile(np.asarray(values, dtype=float), q))
-
-
 def browser_round_trips(lab, text: str, moves: int) -> dict:
     cell = bitmap_code(text) + "editor = result.edit(width=720, height=420, debug=True)\neditor\n"
     page = lab.open_notebook([cell], name=f"bench_edit_{len(text)}.ipynb")
@@ -59,17 +57,7 @@ def browser_round_trips(lab, text: str, moves: int) -> dict:
     contour = lab.python_json("int(np.argmax([len(c) for c in editor.contours]))")
     knot = lab.python_json(f"len(editor.contours[{contour}]) // 2")
     x, y = root.evaluate("(el, p) => el.__splinecraft.screenKnot(p[0], p[1])", [contour, knot])
-    page.evaluate("() => { window.__splinecraft = window.__splinecraft ?? {}; window.__splinecraft.dragLatencies = []; }")
-    page.mouse.move(x, y)
-    page.mouse.down()
-    for k in range(moves + WARMUP):
-        offset = 2.0 + (k % 5)  # a small zig-zag: every move changes the knot
-        page.mouse.move(x + offset, y + (offset if k % 2 else -offset))
-        page.wait_for_function("(count) => (window.__splinecraft.dragLatencies || []).length > count", arg=k,
-                               timeout=30_000)
-    page.mouse.up()
-    records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:WARMUP + moves]
-    pings = root.evaluate("async (el) => { const out = []; for (let i = 0; i < 60; i++) out.push(await el.__splinecraft.ping()); return out.slice(10); }")
+    records, pings = drag_and_record(page, root, x, y, moves)
     contours = lab.python_json("len(editor.contours)")
     knots = lab.python_json("sum(len(c) for c in editor.contours)")
     dom = [r["dom"] for r in records]
@@ -89,20 +77,10 @@ def kernel_handling(text: str, repeats: int = 200) -> float:
     from splinecraft.widgets.outline_editor import OutlineEditor
 
     editor = OutlineEditor(namespace["result"], debug=True)
-    editor.send = lambda *args, **kwargs: None
-    editor._send = lambda *args, **kwargs: None  # no comm: measure the computation only
     contour = int(np.argmax([len(c) for c in editor.contours]))
     knot = len(editor.contours[contour]) // 2
     base = np.array(editor.contours[contour][knot])
-    times = []
-    for k in range(repeats):
-        offset = 2.0 + (k % 5)
-        message = {"type": "drag", "contour": contour, "knot": knot, "x": float(base[0] + offset),
-                   "y": float(base[1] - offset), "seq": k + 1, "gesture": 1, "final": False}
-        started = time.perf_counter()
-        editor._handle_message(editor, message, [])
-        times.append(1e3 * (time.perf_counter() - started))
-    return statistics.median(times)
+    return handler_median(editor, lambda x, y: {"contour": contour, "knot": knot, "x": x, "y": y}, base, repeats)
 
 
 def main(argv=None):

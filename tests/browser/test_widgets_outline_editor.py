@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 import pytest
+from test_widgets_browser import wait_python
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
@@ -31,19 +32,6 @@ def wait_path_change(page, k, old):
     page.wait_for_function(
         "([k, old]) => { const p = document.querySelector(`[data-testid=outline-editor] [data-testid=contour-${k}]`);"
         " return p && p.getAttribute('d') !== old; }", arg=[k, old], timeout=20_000)
-
-
-def wait_python(lab, expression, predicate, timeout=20.0):
-    import time
-
-    deadline = time.monotonic() + timeout
-    while True:
-        value = lab.python_json(expression)
-        if predicate(value):
-            return value
-        if time.monotonic() > deadline:
-            raise AssertionError(f"{expression} = {value!r} did not reach the expected state")
-        lab.page.wait_for_timeout(100)
 
 
 def drawn_matches_kernel(lab, root, k):

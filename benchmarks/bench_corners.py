@@ -22,7 +22,7 @@ Time is the detector alone (all outlines of a shape), per shape.
   seed 1 (held out) unless told otherwise.
 * **Yardstick** (``--yardstick``, default ``../shared/yardstick`` next to the repository): ``shapes/*.png``
   read with the project's ``load_bitmap``; true corners from ``NAME.json``. Only checked, never tuned on.
-* **SRM05 readings**: the thesis's phase 1 is vague; the alternatives of :func:`corners._srm05_phase1` /
+* **SRM05 readings**: the thesis's phase 1 is vague; the alternatives of :func:`corners._thesis._srm05_phase1` /
   ``_srm05_phase2`` side by side.
 * **Resolution of tangent-jump**: circles of radius 5..200 and ellipses by the radius of curvature of
   their ends; recall by turn angle.
@@ -464,7 +464,7 @@ def report_srm05_readings(title, shapes):
     rows = []
     for rule in ("zero-runs", "four-transitions", "all-runs"):
         for pick in ("middle", "first"):
-            res = evaluate(lambda o: cm._srm05(o, True, 7, 5.0, 152.0, rule, pick), shapes)
+            res = evaluate(lambda o: importlib.import_module("splinecraft.capture.corners._thesis")._srm05(o, True, 7, 5.0, 152.0, rule, pick), shapes)
             cells = [rule + (" (default)" if (rule, pick) == ("zero-runs", "middle") else ""), pick]
             for fam in ("polygon", "star", "glyph", "all"):
                 if fam in res["families"]:

@@ -7,6 +7,7 @@ pixel counts for areas (exact).
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
+from hypothesis.extra.numpy import arrays
 from scipy import ndimage
 from skimage.measure import find_contours
 
@@ -371,3 +372,48 @@ def test_large_disc_8000():
     assert b.area == int(mask.sum())
     radius = np.hypot(b.outline[:, 0] - size / 2, b.outline[:, 1] - size / 2)
     assert np.abs(radius - 3900).max() < 1.0
+
+
+# ------------------------------------------------------------------------------ the minority rule
+def thin_diagonal(size=40, width=0.8):
+    """A stroke along the diagonal, narrower than a pixel: its pixels touch only at their corners."""
+    yy, xx = np.mgrid[:size, :size] + 0.5
+    return np.abs(yy - xx) <= width / 2
+
+
+def test_minority_keeps_a_thin_diagonal_stroke_whole():
+    mask = thin_diagonal()
+    assert len(trace_boundaries(mask, connectivity=4)) > 1
+    (stroke,) = trace_boundaries(mask, connectivity="minority")
+    assert stroke.area == mask.sum() and stroke.connectivity == "minority"
+
+
+def test_minority_joins_the_rarer_paper_across_a_corner():
+    # two paper pixels touching at a corner inside a block of ink: one gap of paper, not two pinholes
+    mask = np.ones((12, 12), bool)
+    mask[5, 5] = mask[6, 6] = False
+    assert [b.area for b in trace_boundaries(mask, connectivity=8)] == [144, -1, -1]
+    assert [b.area for b in trace_boundaries(mask, connectivity="minority")] == [144, -2]
+    # and ink stays apart where ink is the rarer colour: two ink pixels touching at a corner on paper
+    assert len(trace_boundaries(~mask, connectivity="minority")) == 1
+    assert len(trace_boundaries(~mask, connectivity=4)) == 2
+
+
+@settings(max_examples=40, deadline=None)
+@given(arrays(bool, st.tuples(st.integers(1, 14), st.integers(1, 14))))
+def test_minority_cycles_are_consistent(mask):
+    """Every crack lies on exactly one boundary and the signed areas add up to the ink count."""
+    boundaries = trace_boundaries(mask, connectivity="minority")
+    assert sum(b.area for b in boundaries) == int(mask.sum())
+    cracks = sum(len(b.outline) for b in boundaries)
+    horizontal = np.count_nonzero(np.diff(np.pad(mask, 1).astype(np.int8), axis=0))
+    vertical = np.count_nonzero(np.diff(np.pad(mask, 1).astype(np.int8), axis=1))
+    assert cracks == horizontal + vertical
+    for b in boundaries:
+        assert np.abs(np.diff(np.vstack([b.crack_vertices, b.crack_vertices[:1]]), axis=0)).sum(axis=1).max() == 1
+
+
+def test_connectivity_is_checked():
+    for bad in (6, "eight", True, None, [8]):
+        with pytest.raises(ValueError, match="connectivity"):
+            trace_boundaries(np.ones((2, 2), bool), connectivity=bad)

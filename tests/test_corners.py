@@ -37,6 +37,9 @@ def _capture_module(name):
 
 
 cm = _capture_module("corners")
+# the detectors' parts (the package's private modules)
+thesis, classic, jump, common = (importlib.import_module(f"splinecraft.capture.corners.{name}")
+                                  for name in ("_thesis", "_classic", "_jump", "_common"))
 contour = _capture_module("contour")
 corners, CORNER_METHODS = cm.corners, cm.CORNER_METHODS
 
@@ -280,8 +283,8 @@ def _arms_by_loops(curve, closed, tolerance, ladder):
 @given(st.integers(0, 10 ** 6), st.booleans(), st.sampled_from([0.1, 0.3, 0.6]))
 def test_arm_turn_matches_a_loop_over_samples_and_sides(seed, closed, tolerance):
     curve = _random_walk(seed, 90, closed)
-    ladder = [length for length in cm._ARM_LADDER if length <= 30 and 2 * length < len(curve)]
-    turn, _ = cm._signed_arm_turn(curve, closed, tolerance, ladder)
+    ladder = [length for length in jump._ARM_LADDER if length <= 30 and 2 * length < len(curve)]
+    turn, _ = jump._signed_arm_turn(curve, closed, tolerance, ladder)
     expected = _arms_by_loops(curve, closed, tolerance, ladder)
     np.testing.assert_array_equal(np.isnan(turn), np.isnan(expected))
     np.testing.assert_allclose(turn, expected, atol=1e-6, equal_nan=True)
@@ -293,15 +296,15 @@ def test_arm_fit_straightness_is_exact_at_the_tolerance(length):
     # tolerance is that maximum itself (or the next float below it)
     padded = _random_walk(length, 200, closed=False)
     starts = np.arange(0, 200 - length, 7)
-    mean, slope, _ = cm._arm_fit(padded, starts, length)
+    mean, slope, _ = jump._arm_fit(padded, starts, length)
     offsets = np.arange(length) - (length - 1) / 2
     for row, start in enumerate(starts[:12]):
         residual = padded[start:start + length] - mean[row] - offsets[:, None] * slope[row]
         largest = np.hypot(*residual.T).max()
-        assert cm._arm_fit(padded, starts, length, largest)[2][row]
-        assert not cm._arm_fit(padded, starts, length, np.nextafter(largest, 0.0))[2][row]
+        assert jump._arm_fit(padded, starts, length, largest)[2][row]
+        assert not jump._arm_fit(padded, starts, length, np.nextafter(largest, 0.0))[2][row]
     padded[starts[3] + 1] = np.nan                                  # a NaN sample is never straight
-    assert not cm._arm_fit(padded, starts, length, 1e9)[2][3]
+    assert not jump._arm_fit(padded, starts, length, 1e9)[2][3]
 
 
 # ------------------------------------------------------------------------------------------------ SRM05
@@ -318,9 +321,9 @@ def test_srm05_phase3_uses_the_interior_angle_e21():
     # collinear points. (The printed angle between P_i P_{i+1} and P_{i+1} P_{i+2} is 180 minus it: 0 for
     # collinear points, so "angle > TA => collinear" would never fire and nothing would be cleaned up.)
     P = np.array([[0, 0], [10, 0], [20, 0], [20, 10], [20, 20], [10, 20], [0, 20], [0, 10]], float)
-    assert cm._interior_angle(P[0], P[1], P[2]) == pytest.approx(180.0)
-    assert cm._interior_angle(P[1], P[2], P[3]) == pytest.approx(90.0)
-    kept = cm._srm05_phase3(P, np.arange(8), 152.0, True)
+    assert thesis._interior_angle(P[0], P[1], P[2]) == pytest.approx(180.0)
+    assert thesis._interior_angle(P[1], P[2], P[3]) == pytest.approx(90.0)
+    kept = thesis._srm05_phase3(P, np.arange(8), 152.0, True)
     assert kept.tolist() == [0, 2, 4, 6]
 
 
@@ -329,25 +332,25 @@ def test_srm05_phase1_jaggy_rule():
     # it (-), so the candidates are the first points after + -> 0 (5), 0 -> - (15) and the direct flip
     # - -> + (23), and the last point of the line (14).
     states = np.array([1] * 5 + [0] * 10 + [-1] * 5 + [0] * 3 + [1] * 5, np.int8)
-    assert cm._srm05_phase1(states, 7, True).tolist() == [5, 14, 15, 23]
+    assert thesis._srm05_phase1(states, 7, True).tolist() == [5, 14, 15, 23]
     # only the four transitions of thesis section 2.1.1: the direct flip is not a candidate
-    assert cm._srm05_phase1(states, 7, True, "four-transitions").tolist() == [5, 14, 15]
+    assert thesis._srm05_phase1(states, 7, True, "four-transitions").tolist() == [5, 14, 15]
     # ZCT = 0 keeps every run: the short zero run is a line too (first point 20, last point 22)
-    assert cm._srm05_phase1(states, 0, True).tolist() == [5, 14, 15, 20, 22, 23]
+    assert thesis._srm05_phase1(states, 0, True).tolist() == [5, 14, 15, 20, 22, 23]
     # a closed outline without any change of state has no candidate
-    assert cm._srm05_phase1(np.zeros(12, np.int8), 7, True).size == 0
+    assert thesis._srm05_phase1(np.zeros(12, np.int8), 7, True).size == 0
 
 
 def test_srm05_phase2_merges_close_candidates():
     P = np.column_stack([np.arange(30.0), np.zeros(30)])
-    assert cm._srm05_phase2(P, np.array([2, 3, 4, 20]), 5.0, False).tolist() == [3, 20]
-    assert cm._srm05_phase2(P, np.array([2, 3, 4, 20]), 5.0, False, pick="first").tolist() == [2, 20]
+    assert thesis._srm05_phase2(P, np.array([2, 3, 4, 20]), 5.0, False).tolist() == [3, 20]
+    assert thesis._srm05_phase2(P, np.array([2, 3, 4, 20]), 5.0, False, pick="first").tolist() == [2, 20]
 
 
 def test_thesis_tangents_match_spec_6_2():
     rng = np.random.default_rng(3)
     P = np.cumsum(rng.uniform(0.5, 2.0, (12, 2)) * rng.choice([-1, 1], (12, 2)), axis=0)
-    T = cm._thesis_tangents(P, closed=False)
+    T = thesis._thesis_tangents(P, closed=False)
     i = np.arange(1, 11)
     a = np.hypot(*(P[i + 1] - P[i]).T) / (np.hypot(*(P[i + 1] - P[i]).T) + np.hypot(*(P[i] - P[i - 1]).T))
     expected = a[:, None] * (P[i] - P[i - 1]) + (1 - a)[:, None] * (P[i + 1] - P[i])      # eqs 2.3-2.4
@@ -363,7 +366,7 @@ def test_thesis_tangents_match_spec_6_2():
 def test_k_cosines_match_a_direct_computation(pts, k):
     P = np.asarray(pts, float)
     n = len(P)
-    table = cm._k_cosines(P, 3, closed=True)
+    table = common._k_cosines(P, 3, closed=True)
     for i in range(n):
         a, b = P[(i - k) % n] - P[i], P[(i + k) % n] - P[i]
         if np.hypot(*a) == 0 or np.hypot(*b) == 0:
@@ -378,7 +381,7 @@ def test_k_cosines_match_a_direct_computation(pts, k):
 def test_run_lengths_match_a_loop(flags, closed):
     flags = np.asarray(flags, bool)
     n = len(flags)
-    ending, starting = cm._run_lengths(flags, closed)
+    ending, starting = classic._run_lengths(flags, closed)
     for i in range(n):
         e = 0
         while e < n and flags[(i - e) % n if closed else i - e] and (closed or i - e >= 0):
@@ -411,7 +414,7 @@ def test_tc89_region_of_support_on_a_right_angle():
     leg = np.arange(1, 21, 1.0)
     P = np.vstack([np.column_stack([np.zeros(20), leg[::-1]]), [[0.0, 0.0]],
                    np.column_stack([leg, np.zeros(20)])])
-    support = cm._region_of_support(P, closed=False)
+    support = classic._region_of_support(P, closed=False)
     assert support[20] == 1
     assert support[15] == 15 and support[25] == 15
     assert support[0] == 0 and support[-1] == 0

@@ -187,7 +187,7 @@ def test_alpha_composite_on_white(rgba):
     st.booleans(),
 )
 def test_explicit_threshold_and_invert(gray, threshold, invert):
-    mask = load_bitmap(gray, threshold=threshold, invert=invert)
+    mask = load_bitmap(gray, threshold=threshold, invert=invert, min_speck_area=0)  # no despeckling of noise
     expected = gray <= threshold * 255
     np.testing.assert_array_equal(mask, ~expected if invert else expected)
 
@@ -197,8 +197,9 @@ def test_otsu_by_default():
     mask = shape_mask()
     gray = np.clip(np.where(mask, 60, 190) + rng.normal(0, 25, mask.shape), 0, 255).astype(np.uint8)
     level = threshold_otsu(gray)
-    np.testing.assert_array_equal(load_bitmap(gray), gray <= level)
-    np.testing.assert_array_equal(load_bitmap(gray, invert=True), gray > level)
+    np.testing.assert_array_equal(load_bitmap(gray, min_speck_area=0), gray <= level)
+    assert load_bitmap(gray, threshold="otsu", min_speck_area=0).sum() == (gray <= level).sum()
+    np.testing.assert_array_equal(load_bitmap(gray, invert=True, min_speck_area=0), gray > level)
 
 
 @settings(max_examples=40, deadline=None)
@@ -211,7 +212,7 @@ def test_otsu_level_matches_skimage(seed, dtype):
     gray = rng.integers(lo, min(hi, top) + 1, size=(rng.integers(2, 40), rng.integers(2, 40))).astype(dtype)
     if gray.max() - gray.min() < MIN_CONTRAST * top:
         return
-    np.testing.assert_array_equal(load_bitmap(gray), gray <= threshold_otsu(gray))
+    np.testing.assert_array_equal(load_bitmap(gray, min_speck_area=0), gray <= threshold_otsu(gray))
 
 
 @pytest.mark.parametrize(
@@ -310,3 +311,140 @@ def test_bool_invert_and_result_is_a_fresh_array():
     out = load_bitmap(mask)
     assert out is not mask and out.dtype == bool and out.flags.c_contiguous
     np.testing.assert_array_equal(load_bitmap(mask, invert=True), ~mask)
+
+
+# ------------------------------------------------------------------------------ real scans
+def lit_gray(mask, darkest=0.12, seed=0):
+    """Dark ink on paper whose brightness falls linearly towards the bottom right (uneven lighting)."""
+    height, width = mask.shape
+    ramp = 1.0 - (1.0 - darkest) * np.add.outer(np.arange(height) / height, np.arange(width) / width) / 2
+    noise = np.random.default_rng(seed).normal(0.0, 0.01, mask.shape)
+    return np.clip(np.where(mask, 0.05, 0.95) * ramp + noise, 0.0, 1.0)
+
+
+def text_mask(height=120, width=200):
+    """Thin strokes (3 px) like printed text: rows of short bars and rings."""
+    yy, xx = np.mgrid[:height, :width] + 0.5
+    mask = np.zeros((height, width), bool)
+    for row in range(15, height - 10, 30):
+        for col in range(10, width - 20, 24):
+            mask[row:row + 3, col:col + 14] = True
+            ring = np.hypot(xx - col - 7, yy - row - 14)
+            mask |= (ring >= 5) & (ring <= 8) & (np.abs(yy - row - 14) < 9) & (np.abs(xx - col - 7) < 9)
+    return mask
+
+
+@pytest.mark.parametrize("method", ["sauvola", "local"])
+def test_local_thresholds_follow_uneven_lighting(method):
+    mask = text_mask()
+    gray = lit_gray(mask)
+    found = load_bitmap(gray, threshold=method, min_speck_area=0)
+    assert (found != mask).mean() < 0.01
+    global_level = load_bitmap(gray, threshold="otsu", min_speck_area=0)
+    assert (global_level != mask).mean() > (found != mask).mean()
+
+
+@pytest.mark.parametrize("method", ["otsu", "sauvola", "local"])
+def test_every_threshold_keeps_a_bilevel_image(method):
+    mask = shape_mask(80, 100)                 # wide ink areas and wide paper: uniform windows
+    np.testing.assert_array_equal(load_bitmap(gray_image(mask), threshold=method), mask)
+
+
+def test_threshold_names_and_default():
+    mask = shape_mask()
+    gray = gray_image(mask, ink=40, paper=210)
+    np.testing.assert_array_equal(load_bitmap(gray), load_bitmap(gray, threshold="otsu"))
+    with pytest.raises(ValueError, match="threshold.*sauvola"):
+        load_bitmap(gray, threshold="niblack")
+    with pytest.raises(TypeError, match="threshold"):
+        load_bitmap(gray, threshold=["otsu"])
+
+
+def test_bool_mask_with_the_background_true_warns():
+    yy, xx = np.mgrid[:60, :80]
+    background_true = np.hypot(xx - 40, yy - 30) > 20          # like skimage.data.horse(): True = paper
+    with pytest.warns(UserWarning, match="invert=True"):
+        load_bitmap(background_true)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_bitmap(~background_true)                           # ink in the middle: no warning
+        load_bitmap(background_true, invert=True)               # already flipped: no warning
+        load_bitmap(np.ones((5, 5), bool))                       # all ink: the documented frame, no warning
+
+
+def noisy_gray(mask, sd, seed=0):
+    rng = np.random.default_rng(seed)
+    return np.clip(np.where(mask, 0.2, 0.8) + rng.normal(0.0, sd, mask.shape), 0.0, 1.0)
+
+
+def test_default_speck_area_comes_from_the_noise():
+    yy, xx = np.mgrid[:120, :150] + 0.5
+    mask = np.hypot(xx - 60, yy - 60) <= 40
+    mask[50:70, 50:70] = False                                   # a hole
+    mask[10:110, 120:135] = True                                 # a bar
+    gray = noisy_gray(mask, 0.1)
+    kept = load_bitmap(gray, min_speck_area=0)
+    cleaned = load_bitmap(gray)
+    structure = np.ones((3, 3))
+    assert ndimage.label(kept, structure)[1] > 3                 # the noise made specks
+    assert ndimage.label(cleaned, structure)[1] == ndimage.label(mask, structure)[1]
+    assert ndimage.label(~cleaned)[1] == ndimage.label(~mask)[1]  # and no pinholes in the ink
+
+
+def test_clean_images_lose_no_pixel_by_default():
+    single = np.full((9, 9), 255, np.uint8)
+    single[4, 4] = 0
+    np.testing.assert_array_equal(load_bitmap(single), single == 0)
+    gray = noisy_gray(shape_mask(), 0.0)
+    np.testing.assert_array_equal(load_bitmap(gray), load_bitmap(gray, min_speck_area=0))
+
+
+def test_a_speck_area_larger_than_the_background_keeps_the_background():
+    mask = np.zeros((30, 30), bool)
+    mask[2:28, 2:28] = True                                      # 676 ink pixels, 224 of paper
+    mask[12:15, 12:15] = False                                   # a real hole of 9 pixels
+    cleaned = load_bitmap(mask, min_speck_area=500)
+    assert not cleaned[0].any() and not cleaned[:, 0].any()       # the paper is still paper
+    assert cleaned[12:15, 12:15].all()                            # the small hole is filled
+
+
+def png_bytes(mask):
+    buffer = io.BytesIO()
+    Image.fromarray(gray_image(mask)).save(buffer, "png")
+    return buffer.getvalue()
+
+
+def test_bytes_are_an_encoded_image():
+    mask = shape_mask()
+    data = png_bytes(mask)
+    for wrapped in (data, bytearray(data), memoryview(data)):
+        np.testing.assert_array_equal(load_bitmap(wrapped), mask)
+    with pytest.raises(ValueError, match="not an image"):
+        load_bitmap(b"this is not an image at all")
+    with pytest.raises(ValueError, match="empty"):
+        load_bitmap(b"")
+
+
+def test_size_is_checked_before_decoding(tmp_path, monkeypatch):
+    from PIL import ImageFile
+
+    mask = shape_mask()
+    path = tmp_path / "shape.png"
+    Image.fromarray(gray_image(mask)).save(path)
+    data = path.read_bytes()
+
+    def no_decoding(self, *args, **kwargs):
+        raise AssertionError("pixels were decoded")
+
+    monkeypatch.setattr(ImageFile.ImageFile, "load", no_decoding)
+    for source in (path, data):
+        with pytest.raises(ValueError, match="max_pixels"):
+            load_bitmap(source, max_pixels=mask.size - 1)
+
+
+def test_non_image_file_is_a_clear_error(tmp_path):
+    path = tmp_path / "notes.png"
+    path.write_text("plain text, not a PNG")
+    with pytest.raises(ValueError, match="notes.png.*not an image"):
+        load_bitmap(path)

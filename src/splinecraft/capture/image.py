@@ -12,16 +12,28 @@ Conventions
   PIL's ``convert("L")``, rounded the same way for 8-bit data). Transparency is composited on
   **white** paper, so a black shape on a transparent background is ink.
 * **Ink is dark** by default: ``ink = gray <= threshold``; ``invert=True`` makes light pixels ink.
-* **Threshold.** ``None`` (default) uses Otsu's method (:func:`skimage.filters.threshold_otsu`). When
-  the image has too little contrast for Otsu to mean anything (``max - min < MIN_CONTRAST`` of full
-  scale, e.g. a blank page with JPEG noise, or a uniform image) the fixed mid-gray threshold ``0.5``
-  is used instead, so an all-white image has no ink and an all-black image is all ink. An explicit
-  ``threshold`` is a fraction of white in ``[0, 1]`` (for an 8-bit gray level ``g`` pass ``g / 255``).
-* **Bool arrays** are masks already (``True`` = ink); only ``invert`` applies to them.
-* **Specks.** ``min_speck_area=k`` removes ink components *and* holes (background components) with
-  fewer than ``k`` pixels (:func:`skimage.morphology.remove_small_objects` /
-  :func:`~skimage.morphology.remove_small_holes`); ink components use the tracer's ``connectivity``,
-  holes the complementary one. The default ``0`` removes nothing, so a single-pixel shape survives.
+* **Threshold.** ``"otsu"`` (global, Otsu's method), ``"sauvola"`` or ``"local"`` (a level per pixel, for
+  uneven lighting) or a fraction of white in ``[0, 1]`` (for an 8-bit gray level ``g`` pass ``g / 255``);
+  ``None`` (default) is ``DEFAULT_THRESHOLD`` (``"otsu"``). When the image has too little contrast for any
+  of the methods to mean anything (``max - min < MIN_CONTRAST`` of full scale, e.g. a blank page with JPEG
+  noise, or a uniform image) the fixed mid-gray threshold ``0.5`` is used instead, so an all-white image
+  has no ink and an all-black image is all ink. The methods, their window and the measurement behind the
+  default are in :mod:`splinecraft.capture._binarize`.
+* **Bool arrays** are masks already (``True`` = ink); only ``invert`` applies to them. When more than three
+  quarters of the border pixels are ``True`` and ``True`` touches all four borders, the mask most likely has its
+  background as ``True`` (``skimage.data.horse()`` does): a ``UserWarning`` says so and how to flip it
+  (``invert=True`` or ``~mask``); the mask is still used as given.
+* **Specks.** ``min_speck_area=k`` removes ink components *and* holes (background components not touching
+  the image border) with fewer than ``k`` pixels; ink components use the tracer's ``connectivity``, holes
+  the complementary one. ``None`` (default) sets ``k`` from the image's noise estimate (the rule is in
+  :mod:`~splinecraft.capture._binarize`): 0 for clean images and for bool masks, so a single-pixel shape
+  survives; ``0`` removes nothing.
+* **Size cap.** Image files, encoded bytes and PIL images are measured from their header before any pixel
+  is decoded: more than ``max_pixels`` pixels (default ``MAX_PIXELS`` = 10^8, e.g. 10 000 x 10 000) is a
+  ``ValueError``, so a small file that decodes to a huge image (a decompression bomb) costs nothing.
+  Numpy arrays are already in memory and are not capped.
+* **Bytes** (``bytes``, ``bytearray``, ``memoryview``) are an encoded image file (PNG, JPEG, ...), as read
+  from disk or received from a page.
 * **Multi-frame files** (animated GIF, multi-page TIFF): the first frame is used.
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
@@ -29,19 +41,22 @@ row blocks), so an 8000 x 8000 8-bit image needs about 64 MB for the gray channe
 """
 from __future__ import annotations
 
-import inspect
 import io
 import numbers
 import os
+import warnings
 
 import numpy as np
 
-__all__ = ["load_bitmap", "MIN_CONTRAST", "FALLBACK_THRESHOLD"]
+from . import _binarize
+from .contour import check_connectivity
+from ._binarize import DEFAULT_THRESHOLD, FALLBACK_THRESHOLD, MIN_CONTRAST, THRESHOLD_METHODS
 
-#: Below this gray range (fraction of white) an image is treated as uniform: Otsu is not used.
-MIN_CONTRAST = 0.1
-#: Threshold used for (near-)uniform images, as a fraction of white.
-FALLBACK_THRESHOLD = 0.5
+__all__ = ["load_bitmap", "MIN_CONTRAST", "FALLBACK_THRESHOLD", "THRESHOLD_METHODS", "DEFAULT_THRESHOLD",
+           "MAX_PIXELS"]
+
+#: Largest image (pixels) decoded from a file, bytes or a PIL image; adjustable per call (``max_pixels=``).
+MAX_PIXELS = 100_000_000
 
 # Rows per block for colour conversion / compositing (bounds the temporaries to ~ block * width).
 _BLOCK_ROWS = 512
@@ -53,28 +68,32 @@ _GRAY_MODES = {"L", "I;16", "I;16L", "I;16B", "I;16N", "I", "F"}
 # ---------------------------------------------------------------------------------------------------
 # public API
 # ---------------------------------------------------------------------------------------------------
-def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=0, connectivity=8) -> np.ndarray:
+def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, connectivity=8,
+                max_pixels=MAX_PIXELS) -> np.ndarray:
     """Binarize an image into a bool ink mask ``(H, W)`` (thesis section 4.1.1; docs/capture.md).
 
     Parameters
     ----------
-    image : str | os.PathLike | file object | numpy.ndarray | PIL.Image.Image
-        A path or binary file object of a PNG, JPEG, BMP, GIF or TIFF file (anything PIL reads);
-        an array of shape ``(H, W)`` (bool mask, or gray), ``(H, W, 1)``, ``(H, W, 2)`` (gray +
-        alpha), ``(H, W, 3)`` (RGB) or ``(H, W, 4)`` (RGBA) with dtype bool (2-D only), uint8,
-        uint16, another integer type with values in ``[0, 255]``, or float in ``[0, 1]``; or a PIL image
-        of any mode.
-    threshold : float in [0, 1], optional
-        Gray level (fraction of white) separating ink (``gray <= threshold``) from paper. ``None``:
-        Otsu's threshold, or ``FALLBACK_THRESHOLD`` for images with less than ``MIN_CONTRAST`` contrast.
-        Not allowed for bool masks.
+    image : str | os.PathLike | bytes | file object | numpy.ndarray | PIL.Image.Image
+        A path or binary file object of a PNG, JPEG, BMP, GIF or TIFF file (anything PIL reads), or the
+        encoded file itself as ``bytes``; an array of shape ``(H, W)`` (bool mask, or gray), ``(H, W, 1)``,
+        ``(H, W, 2)`` (gray + alpha), ``(H, W, 3)`` (RGB) or ``(H, W, 4)`` (RGBA) with dtype bool (2-D only),
+        uint8, uint16, another integer type with values in ``[0, 255]``, or float in ``[0, 1]``; or a PIL
+        image of any mode.
+    threshold : {"otsu", "sauvola", "local"} or float in [0, 1], optional
+        How ink (``gray <= level``) is told from paper: Otsu's global level, a per-pixel Sauvola or local
+        level, or a fixed fraction of white. ``None``: ``DEFAULT_THRESHOLD``. Images with less than
+        ``MIN_CONTRAST`` contrast use ``FALLBACK_THRESHOLD``. Not allowed for bool masks.
     invert : bool, optional
         Light pixels are ink (white shape on black), or, for a bool mask, ``False`` pixels are ink.
-    min_speck_area : int >= 0, optional
-        Remove ink specks and fill holes with fewer than this many pixels (0 = keep everything).
-    connectivity : {4, 8}, optional
-        Connectivity of ink components for speck removal (holes use the complementary one); pass the
-        value the boundary tracer will use.
+    min_speck_area : int >= 0 or None, optional
+        Remove ink specks and fill holes with fewer than this many pixels (0 = keep everything). ``None``:
+        from the image's noise estimate (0 for clean images and bool masks; module docstring).
+    connectivity : {4, 8, "minority"}, optional
+        Connectivity of ink components for speck removal (holes use the complementary one; ``"minority"``
+        counts as 8 here); pass the value the boundary tracer will use.
+    max_pixels : int >= 1, optional
+        Largest image decoded from a file, bytes or PIL image (checked on the header, before decoding).
 
     Returns
     -------
@@ -86,17 +105,19 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=0, connec
     FileNotFoundError
         The path does not exist.
     ValueError
-        A file that is not an image, is truncated or corrupt (the message names the file); an empty
-        array, wrong number of dimensions or channels, NaN/inf or out-of-range values; a bad threshold.
+        A file or bytes that are not an image, are truncated or corrupt (the message names the file); an
+        image over ``max_pixels``; an empty array, wrong number of dimensions or channels, NaN/inf or
+        out-of-range values; a bad threshold.
     TypeError
         Unsupported input type or dtype, or a non-bool ``invert``.
     """
-    threshold = _check_threshold(threshold)
+    threshold = _binarize.check_threshold(threshold)
     if not isinstance(invert, (bool, np.bool_)):
         raise TypeError(f"invert must be a bool, got {type(invert).__name__}")
-    min_speck_area = _check_count(min_speck_area, "min_speck_area")
-    if connectivity not in (4, 8) or isinstance(connectivity, bool):
-        raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
+    if min_speck_area is not None:
+        min_speck_area = _check_count(min_speck_area, "min_speck_area")
+    connectivity = check_connectivity(connectivity)
+    max_pixels = _check_count(max_pixels, "max_pixels")
 
     if isinstance(image, np.ndarray) and image.dtype == bool:
         if image.ndim != 2:
@@ -105,34 +126,38 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=0, connec
         if threshold is not None:
             raise ValueError("threshold does not apply to a bool mask (it is already binary); pass threshold=None")
         mask = np.array(image, dtype=bool, order="C")
+        if not invert:
+            _warn_if_inverted(mask)
+        speck = min_speck_area or 0
     else:
-        gray, white = _to_gray(image)
-        mask = _binarize(gray, white, threshold)
-        del gray
+        gray, white = _to_gray(image, max_pixels)
+        level = _binarize.threshold_level(gray, white, threshold)
+        mask = np.ascontiguousarray(gray <= level)
+        speck = min_speck_area
+        if speck is None:
+            speck = _binarize.auto_speck_area(gray, white, level, mask, _binarize.estimate_noise(gray, white))
+        del gray, level
     if invert:
         np.logical_not(mask, out=mask)
-    if min_speck_area > 1:
-        mask = _remove_specks(mask, min_speck_area, connectivity)
+    if speck > 1:
+        mask = _binarize.remove_specks(mask, speck, 4 if connectivity == 4 else 8)
     return mask
+
+
+def _warn_if_inverted(mask):
+    """Warn when a bool mask looks like True = background (module docstring, "Bool arrays")."""
+    border = np.concatenate([mask[0], mask[-1], mask[1:-1, 0], mask[1:-1, -1]])
+    touches = mask[0].any() and mask[-1].any() and mask[:, 0].any() and mask[:, -1].any()
+    if touches and 4 * int(border.sum()) > 3 * border.size and not mask.all():
+        warnings.warn(
+            f"the mask's True pixels cover {100 * border.mean():.0f}% of its border and touch every side: "
+            "True is ink here, so the background may be the traced shape; if True marks the background, "
+            "pass invert=True (or ~mask)", UserWarning, stacklevel=3)
 
 
 # ---------------------------------------------------------------------------------------------------
 # validation helpers
 # ---------------------------------------------------------------------------------------------------
-def _check_threshold(threshold):
-    if threshold is None:
-        return None
-    if isinstance(threshold, (bool, np.bool_)) or not isinstance(threshold, numbers.Real):
-        raise TypeError(f"threshold must be a number in [0, 1] or None, got {type(threshold).__name__}")
-    threshold = float(threshold)
-    if not np.isfinite(threshold) or not 0.0 <= threshold <= 1.0:
-        raise ValueError(
-            f"threshold must be a fraction of white in [0, 1], got {threshold!r} "
-            f"(for an 8-bit gray level g pass g / 255)"
-        )
-    return threshold
-
-
 def _check_count(value, name):
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be a non-negative int, got {type(value).__name__}")
@@ -149,17 +174,24 @@ def _check_not_empty(shape):
 # ---------------------------------------------------------------------------------------------------
 # input -> (gray array, white value)
 # ---------------------------------------------------------------------------------------------------
-def _to_gray(image):
+def _to_gray(image, max_pixels=MAX_PIXELS):
     """Return ``(gray, white)``: a 2-D numeric array and the value that means white."""
     from PIL import Image
 
     if isinstance(image, Image.Image):
+        _check_size(image, "PIL image", max_pixels)
         return _pil_to_gray(image, name="PIL image")
-    if isinstance(image, (str, bytes, os.PathLike)):
-        return _pil_to_gray(_open_image_file(image), name=os.fsdecode(image))
+    if isinstance(image, (bytes, bytearray, memoryview)):
+        data = bytes(image)
+        if not data:
+            raise ValueError("image bytes are empty; pass the bytes of an encoded image file (PNG, JPEG, ...)")
+        name = f"image bytes ({len(data)} bytes)"
+        return _pil_to_gray(_open_image_file(io.BytesIO(data), name=name, max_pixels=max_pixels), name=name)
+    if isinstance(image, (str, os.PathLike)):
+        return _pil_to_gray(_open_image_file(image, max_pixels=max_pixels), name=os.fsdecode(image))
     if isinstance(image, (io.IOBase,)) or (hasattr(image, "read") and hasattr(image, "seek")):
         name = getattr(image, "name", "image file object")
-        return _pil_to_gray(_open_image_file(image, name=str(name)), name=str(name))
+        return _pil_to_gray(_open_image_file(image, name=str(name), max_pixels=max_pixels), name=str(name))
     if isinstance(image, np.ndarray):
         return _array_to_gray(image)
     raise TypeError(
@@ -168,8 +200,18 @@ def _to_gray(image):
     )
 
 
-def _open_image_file(source, name=None):
-    """Open and fully decode an image file with PIL; wrap PIL's errors in ValueError naming the file."""
+def _check_size(img, name, max_pixels):
+    """Refuse an image whose header says it has more than ``max_pixels`` pixels (nothing decoded yet)."""
+    pixels = int(img.width) * int(img.height)
+    if pixels > max_pixels:
+        raise ValueError(
+            f"{name}: {img.width} x {img.height} = {pixels} pixels is more than max_pixels={max_pixels} "
+            "(checked before decoding; pass a larger max_pixels to load it anyway)")
+
+
+def _open_image_file(source, name=None, max_pixels=MAX_PIXELS):
+    """Open an image file with PIL, check its size from the header, then decode it; PIL's errors become
+    ValueError naming the file."""
     from PIL import Image, UnidentifiedImageError
 
     if name is None:
@@ -188,10 +230,13 @@ def _open_image_file(source, name=None):
         raise
     except Exception as exc:  # OSError, SyntaxError, ... from a format plugin
         raise ValueError(f"{name}: cannot read image file: {exc}") from None
+    _check_size(img, name, max_pixels)
     try:
         if getattr(img, "n_frames", 1) > 1:
             img.seek(0)
-        img.load()
+        with warnings.catch_warnings():    # our own cap has been applied; PIL's softer warning is moot
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            img.load()
     except MemoryError:
         raise
     except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
@@ -331,52 +376,3 @@ def _composite_on_white(gray, alpha, white):
             value = np.clip(np.rint(value), 0, white)
         out[start:start + _BLOCK_ROWS] = value
     return out
-
-
-# ---------------------------------------------------------------------------------------------------
-# thresholding and speck removal
-# ---------------------------------------------------------------------------------------------------
-def _binarize(gray, white, threshold):
-    """``gray <= t * white`` with Otsu's ``t`` by default (see module docstring for the fallback)."""
-    if threshold is None:
-        lo, hi = gray.min(), gray.max()
-        if float(hi) - float(lo) < MIN_CONTRAST * white:
-            level = FALLBACK_THRESHOLD * white
-        else:
-            level = _otsu_level(gray, int(lo), int(hi)) if gray.dtype.kind == "u" else _otsu_level(gray)
-    else:
-        level = threshold * white
-    return np.ascontiguousarray(gray <= level)
-
-
-def _otsu_level(gray, lo=None, hi=None):
-    """Otsu's threshold (:func:`skimage.filters.threshold_otsu`): the upper edge of the dark class.
-
-    For 8/16-bit data the histogram (one bin per gray level from ``lo`` to ``hi``, as skimage builds it
-    for integer images) is counted in row blocks and handed to skimage, which gives the same threshold
-    without skimage's full-size temporaries (an 8000 x 8000 image: ~0.4 s instead of ~2 s).
-    """
-    from skimage.filters import threshold_otsu
-
-    if lo is None:
-        return float(threshold_otsu(gray))
-    counts = np.zeros(hi + 1, dtype=np.int64)
-    for start in range(0, gray.shape[0], _BLOCK_ROWS):
-        counts += np.bincount(gray[start:start + _BLOCK_ROWS].reshape(-1), minlength=hi + 1)
-    return float(threshold_otsu(hist=(counts[lo:], np.arange(lo, hi + 1))))
-
-
-def _remove_specks(mask, min_area, connectivity):
-    """Remove ink components and holes with fewer than ``min_area`` pixels (skimage.morphology)."""
-    from skimage import morphology
-
-    ink_conn = 2 if connectivity == 8 else 1
-    hole_conn = 1 if connectivity == 8 else 2
-    # scikit-image 0.26 renamed min_size (strictly smaller) to max_size (smaller or equal).
-    if "max_size" in inspect.signature(morphology.remove_small_objects).parameters:
-        mask = morphology.remove_small_objects(mask, max_size=min_area - 1, connectivity=ink_conn)
-        mask = morphology.remove_small_holes(mask, max_size=min_area - 1, connectivity=hole_conn)
-    else:  # pragma: no cover - older scikit-image
-        mask = morphology.remove_small_objects(mask, min_size=min_area, connectivity=ink_conn)
-        mask = morphology.remove_small_holes(mask, area_threshold=min_area, connectivity=hole_conn)
-    return np.ascontiguousarray(mask, dtype=bool)

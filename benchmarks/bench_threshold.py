@@ -1,0 +1,125 @@
+"""Which threshold should ``threshold=None`` stand for? ``"otsu"``, ``"sauvola"`` and ``"local"`` side by side.
+
+    .venv/bin/python benchmarks/bench_threshold.py [--yardstick DIR] [--out benchmarks/out]
+
+Three inputs:
+
+* the yardstick's ``shapes2/scan_*`` bitmaps (already bilevel: the methods must not break them), scored by
+  the yardstick's ``score_svg.py`` (skipped when absent);
+* held-out scan-like gray renders (``heldout_shapes.scan_like`` before its threshold), on even paper and
+  under uneven lighting (the paper's brightness falls linearly from 1.0 at the top-left to ``0.35`` at the
+  bottom-right corner, the ink stays at 0), scored against the exact outline: within 1 px, median rms,
+  outlines traced / true contours;
+* ``skimage.data.page()`` and ``skimage.data.text()`` (no ground truth): the ink share, the number of ink
+  components and the share of the ink in the largest component (one solid blob means the lighting won).
+  With ``--out`` the masks are written as PNGs.
+
+Every trace runs ``sc.trace`` at its defaults except ``threshold``.
+"""
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(ROOT, "src"))
+sys.path.insert(0, HERE)
+
+import splinecraft as sc  # noqa: E402
+from bench_peers import make_scorer  # noqa: E402
+
+METHODS = ("otsu", "sauvola", "local")
+
+
+def _lit(gray, darkest=0.35):
+    height, width = gray.shape
+    ramp = 1.0 - (1.0 - darkest) * (np.add.outer(np.arange(height) / height, np.arange(width) / width) / 2)
+    return gray * ramp
+
+
+def _score_rows(entries, scorer):
+    print("| input | n | " + " | ".join(METHODS) + " |")
+    print("|---|---|" + "---|" * len(METHODS))
+    for label, items in entries:
+        cells = []
+        for method in METHODS:
+            dev, rms, outlines = [], [], []
+            for entry, image in items:
+                result = sc.trace(image, threshold=method, keep_snapshots=False)
+                score = scorer(entry, result.to_svg())
+                dev.append(score["max_dev"])
+                rms.append(score["rms_dev"])
+                outlines.append(len(result.boundaries) / len(entry["truth"]["contours"]))
+            cells.append(f"{100 * np.mean(np.array(dev) <= 1):.0f}% / {np.median(rms):.3f} / "
+                         f"{np.median(outlines):.2f}")
+        print(f"| {label} | {len(items)} | " + " | ".join(cells) + " |")
+    print("\nCells: within 1 px / median rms px / median traced outlines per true contour.")
+
+
+def _pages(out):
+    from skimage import data
+    from scipy import ndimage
+
+    print("\n| image | " + " | ".join(METHODS) + " |")
+    print("|---|" + "---|" * len(METHODS))
+    for name in ("page", "text"):
+        gray = getattr(data, name)()
+        cells = []
+        for method in METHODS:
+            mask = sc.load_bitmap(gray, threshold=method)
+            labels, count = ndimage.label(mask, structure=np.ones((3, 3)))
+            largest = np.bincount(labels.ravel())[1:].max() / max(mask.sum(), 1) if count else 0.0
+            cells.append(f"{100 * mask.mean():.0f}% / {count} / {100 * largest:.0f}%")
+            if out:
+                from PIL import Image
+                Image.fromarray(~mask).save(os.path.join(out, f"threshold_{name}_{method}.png"))
+        print(f"| skimage.data.{name}() | " + " | ".join(cells) + " |")
+    print("\nCells: ink share / ink components / share of the ink in the largest component.")
+
+
+def main(argv=None):
+    import heldout_shapes as H
+    from bench_peers import ensure_peers
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--yardstick", default=os.path.join(ROOT, "..", "shared", "yardstick"))
+    parser.add_argument("--out", default=None)
+    args = parser.parse_args(argv)
+    ensure_peers([], fonts=True)
+    yardstick = os.path.abspath(args.yardstick)
+    scorer, scorer_name = make_scorer(yardstick if os.path.isdir(yardstick) else None)
+    print(f"scorer: {scorer_name}\n")
+    if args.out:
+        os.makedirs(args.out, exist_ok=True)
+    entries = []
+    scans = sorted(glob.glob(os.path.join(yardstick, "shapes2", "scan_*.json")))
+    if scans:
+        import json
+        items = []
+        for js in scans:
+            with open(js) as handle:
+                truth = json.load(handle)
+            items.append(({"truth": truth}, np.where(sc.load_bitmap(js[:-5] + ".png"), 0, 255).astype(np.uint8)))
+        entries.append(("shapes2 scan_* (bilevel)", items))
+    even, lit = [], []
+    rng = np.random.default_rng(11)
+    for label, (path, chars) in H.available_families().items():
+        for k, char in enumerate(chars[:2]):
+            shape = H.glyph_shape(path, char, 300, 0.0, label)
+            gray, _ = H.scan_like(shape, float(rng.uniform(1, 2)), float(rng.uniform(0.2, 0.3)), seed=50 + k)
+            truth = {"contours": [{"dense": np.asarray(c)} for c in shape["contours"]],
+                     "corners": [{"x": x, "y": y} for x, y in shape["corners"]]}
+            even.append(({"truth": truth}, gray))
+            lit.append(({"truth": truth}, _lit(gray)))
+    entries += [("held-out scan-like gray, even paper", even), ("held-out scan-like gray, uneven lighting", lit)]
+    _score_rows(entries, scorer)
+    _pages(args.out)
+
+
+if __name__ == "__main__":
+    main()

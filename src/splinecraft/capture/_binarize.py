@@ -1,0 +1,214 @@
+"""Gray image -> ink mask: thresholds, the noise estimate and speck removal (docs/capture.md, §9).
+
+Used by :func:`splinecraft.capture.image.load_bitmap`; every gray value here is on the image's own scale
+(``0`` = black .. ``white``), thresholds and noise levels are reported as fractions of white.
+
+Thresholds (``threshold=``)
+---------------------------
+* ``"otsu"`` -- one global level, Otsu's method (:func:`skimage.filters.threshold_otsu`); images with less than
+  ``MIN_CONTRAST`` of gray range use ``FALLBACK_THRESHOLD`` (a blank page stays blank).
+* ``"sauvola"`` -- a level per pixel from the mean ``m`` and standard deviation ``s`` of a window around it,
+  ``m (1 + k (s / R - 1))`` with ``k = 0.2`` and ``R`` half the gray range
+  (:func:`skimage.filters.threshold_sauvola`): follows uneven lighting; made for text and line art.
+* ``"local"`` -- a level per pixel, the Gaussian-weighted window mean less three times the noise estimate
+  (:func:`skimage.filters.threshold_local`, ``method="gaussian"``; without the offset half the paper pixels
+  of a window of plain paper would fall below its mean).
+* a number in ``[0, 1]`` -- a fixed fraction of white.
+
+The window of the local methods is ``window_size(shape)`` pixels: an odd number, 1/8 of the smaller image
+side, at least 15 and at most 255. Where a window holds less than ``MIN_CONTRAST`` of gray range (blank
+paper, or the inside of a stroke wider than the window) a local level means nothing (half the pixels of a
+uniform area lie below its own mean): there the global Otsu level decides. ``DEFAULT_THRESHOLD``
+is the method ``threshold=None`` stands for; BENCHMARKS.md ("Thresholds") gives the measurement it was chosen
+by.
+
+Noise estimate and specks
+-------------------------
+:func:`estimate_noise`: the standard deviation of the per-pixel noise, from the median absolute value of
+the finest diagonal Haar detail (Donoho's MAD estimator, ``sigma = median |d| / 0.6745`` with
+``d = (a - b - c + d) / 2`` over 2 x 2 blocks): edges and smooth shading hardly move the median.
+
+:func:`auto_speck_area` (``min_speck_area=None``): with that noise ``sigma``, a paper pixel whose gray lies a
+margin ``g`` above the threshold turns into ink with probability ``p = Phi(-g / sigma)`` (``g``: the median
+margin of the paper pixels; ink pixels likewise, which opens holes). Independent flips make components of
+``k`` pixels at a rate of about ``(8 p)^k`` per pixel (an 8-connected component of ``k`` pixels has fewer than
+``8^k`` shapes around a given pixel), so in an image of ``N`` pixels specks of ``k`` or more pixels are
+expected less than once when ``N (8 p)^k < 1``. The speck area is the smallest such ``k`` (0 when ``8 p``
+is negligible, i.e. a clean image keeps every pixel; at most ``MAX_AUTO_SPECK``). Bool masks carry no gray
+level: their default speck area is 0.
+
+:func:`remove_specks` removes ink components and fills holes with fewer than ``area`` pixels; a background
+component touching the image border is never a hole (a speck area larger than the background does not
+fill it).
+"""
+from __future__ import annotations
+
+import inspect
+import math
+import numbers
+
+import numpy as np
+
+from .._validation import check_choice
+
+__all__ = ["THRESHOLD_METHODS", "DEFAULT_THRESHOLD", "MIN_CONTRAST", "FALLBACK_THRESHOLD", "MAX_AUTO_SPECK",
+           "check_threshold", "window_size", "threshold_level", "estimate_noise", "auto_speck_area",
+           "remove_specks"]
+
+#: Names accepted by ``threshold=``.
+THRESHOLD_METHODS = ("otsu", "sauvola", "local")
+#: The method ``threshold=None`` uses (chosen by the measurement in BENCHMARKS.md, "Thresholds").
+DEFAULT_THRESHOLD = "otsu"
+#: Below this gray range (fraction of white) an image is treated as uniform: Otsu is not used.
+MIN_CONTRAST = 0.1
+#: Threshold used for (near-)uniform images, as a fraction of white.
+FALLBACK_THRESHOLD = 0.5
+#: Largest speck area the noise estimate may choose (pixels).
+MAX_AUTO_SPECK = 64
+_BLOCK_ROWS = 512
+
+
+def check_threshold(threshold):
+    """``None``, a method name of :data:`THRESHOLD_METHODS` or a fraction of white in ``[0, 1]``."""
+    if threshold is None:
+        return None
+    if isinstance(threshold, str):
+        try:
+            float(threshold)
+        except ValueError:
+            return check_choice(threshold, "threshold", THRESHOLD_METHODS)
+        raise TypeError(f"threshold must be a number in [0, 1], not the string {threshold!r}, or one of "
+                        f"{list(THRESHOLD_METHODS)}")
+    if isinstance(threshold, (bool, np.bool_)) or not isinstance(threshold, numbers.Real):
+        raise TypeError(f"threshold must be one of {list(THRESHOLD_METHODS)}, a number in [0, 1] or None, "
+                        f"got {type(threshold).__name__}")
+    value = float(threshold)
+    if not math.isfinite(value) or not 0.0 <= value <= 1.0:
+        raise ValueError(f"threshold must be a fraction of white in [0, 1], got {threshold!r} "
+                         f"(for an 8-bit gray level g pass g / 255)")
+    return value
+
+
+def window_size(shape):
+    """Window (odd, pixels) of the local thresholds: 1/8 of the smaller side, clipped to [15, 255]."""
+    side = int(min(max(15, min(shape) // 8), 255))
+    return side if side % 2 else side + 1
+
+
+def threshold_level(gray, white, threshold):
+    """The gray level(s) ``ink = gray <= level`` uses: a scalar, or an array the shape of ``gray`` for the
+    local methods (see the module docstring). ``threshold`` is already checked."""
+    method = DEFAULT_THRESHOLD if threshold is None else threshold
+    if not isinstance(method, str):
+        return method * white
+    lo, hi = float(gray.min()), float(gray.max())
+    if hi - lo < MIN_CONTRAST * white:
+        return FALLBACK_THRESHOLD * white
+    if method == "otsu":
+        return _otsu_level(gray, int(lo), int(hi)) if gray.dtype.kind == "u" else _otsu_level(gray)
+    from scipy import ndimage
+    from skimage.filters import threshold_local, threshold_sauvola
+
+    scaled = gray.astype(np.float32) / np.float32(white)
+    window = window_size(gray.shape)
+    if method == "sauvola":
+        level = threshold_sauvola(scaled, window_size=window)
+    else:
+        offset = 3.0 * estimate_noise(gray, white)
+        level = threshold_local(scaled, block_size=window, method="gaussian", offset=offset)
+    spread = ndimage.maximum_filter(scaled, window) - ndimage.minimum_filter(scaled, window)
+    flat = spread < MIN_CONTRAST
+    if flat.any():                          # uniform windows: paper, or the inside of a wide stroke
+        level[flat] = _otsu_level(gray, int(lo), int(hi)) / white if gray.dtype.kind == "u" \
+            else _otsu_level(gray) / white
+    return level * white
+
+
+def _otsu_level(gray, lo=None, hi=None):
+    """Otsu's threshold (:func:`skimage.filters.threshold_otsu`): the upper edge of the dark class.
+
+    For 8/16-bit data the histogram (one bin per gray level from ``lo`` to ``hi``, as skimage builds it
+    for integer images) is counted in row blocks and handed to skimage, which gives the same threshold
+    without skimage's full-size temporaries (an 8000 x 8000 image: ~0.4 s instead of ~2 s).
+    """
+    from skimage.filters import threshold_otsu
+
+    if lo is None:
+        return float(threshold_otsu(gray))
+    counts = np.zeros(hi + 1, dtype=np.int64)
+    for start in range(0, gray.shape[0], _BLOCK_ROWS):
+        counts += np.bincount(gray[start:start + _BLOCK_ROWS].reshape(-1), minlength=hi + 1)
+    return float(threshold_otsu(hist=(counts[lo:], np.arange(lo, hi + 1))))
+
+
+def _row_stride(shape, budget=1 << 22):
+    """Every how many rows (an even number) to read so that about ``budget`` pixels are read."""
+    stride = max(1, int(shape[0] * shape[1] // budget))
+    return stride + stride % 2 if stride > 1 else 1
+
+
+def estimate_noise(gray, white):
+    """Per-pixel noise standard deviation as a fraction of white (MAD of the finest diagonal Haar detail,
+    on evenly spaced pairs of rows of at most about 4 Mpx); 0 for images smaller than 2 x 2."""
+    height, width = (s - s % 2 for s in gray.shape)
+    if height < 2 or width < 2:
+        return 0.0
+    stride = _row_stride(gray.shape)
+    top = np.arange(0, height, 2 * stride) if stride > 1 else np.arange(0, height, 2)
+    even = gray[top, :width].astype(np.float32)
+    odd = gray[top + 1, :width].astype(np.float32)
+    detail = (even[:, 0::2] - even[:, 1::2] - odd[:, 0::2] + odd[:, 1::2]) / (2 * np.float32(white))
+    return float(np.median(np.abs(detail)) / 0.6745)
+
+
+def auto_speck_area(gray, white, level, mask, sigma):
+    """Default speck area from the noise ``sigma`` (fraction of white): the smallest ``k`` with
+    ``N (8 p)^k < 1`` (module docstring); 0 when no speck is expected. The median margins are taken on
+    evenly spaced rows (at most about 4 Mpx)."""
+    if sigma <= 0:
+        return 0
+    rows = slice(None, None, _row_stride(gray.shape))
+    local = np.ndim(level) == 2
+    margin = (gray[rows].astype(np.float32) - (level[rows] if local else np.float32(level))) / np.float32(white)
+    ink_rows = mask[rows]
+    if ink_rows.all() or not ink_rows.any():
+        return 0
+    paper = float(np.median(margin[~ink_rows]))
+    ink = float(-np.median(margin[ink_rows]))
+    flip = max(_normal_tail(paper / sigma), _normal_tail(ink / sigma))
+    rate = 8.0 * flip
+    count = mask.size
+    if rate * count < 1.0:
+        return 0
+    if rate >= 1.0:
+        return MAX_AUTO_SPECK
+    return int(min(MAX_AUTO_SPECK, math.floor(math.log(count) / -math.log(rate)) + 1))
+
+
+def _normal_tail(z):
+    """``P(Z > z)`` of a standard normal variable."""
+    return 0.5 * math.erfc(z / math.sqrt(2.0))
+
+
+def remove_specks(mask, min_area, connectivity):
+    """Remove ink components and fill holes with fewer than ``min_area`` pixels; background touching the
+    image border is never filled. Ink uses ``connectivity``, the background the complementary one."""
+    from scipy import ndimage
+    from skimage import morphology
+
+    ink_conn = 2 if connectivity == 8 else 1
+    if "max_size" in inspect.signature(morphology.remove_small_objects).parameters:
+        mask = morphology.remove_small_objects(mask, max_size=min_area - 1, connectivity=ink_conn)
+    else:  # pragma: no cover - scikit-image < 0.26
+        mask = morphology.remove_small_objects(mask, min_size=min_area, connectivity=ink_conn)
+    hole_structure = ndimage.generate_binary_structure(2, 1 if connectivity == 8 else 2)
+    labels, count = ndimage.label(~mask, structure=hole_structure)
+    if count:
+        sizes = np.bincount(labels.reshape(-1), minlength=count + 1)
+        small = sizes < min_area
+        small[0] = False
+        border = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
+        small[border] = False
+        if small.any():
+            mask = mask | small[labels]
+    return np.ascontiguousarray(mask, dtype=bool)

@@ -1,0 +1,106 @@
+"""Corner detectors for digital outlines (thesis chapter 2 and section 4.1.2; §6).
+
+Every detector takes an ``(n, 2)`` polyline -- normally a :class:`~splinecraft.capture.contour.Boundary`
+``outline`` (crack midpoints, spacing 1 px on straight runs and 0.71 px where the outline turns) or its
+``pixels`` chain -- and returns the **sorted indices** of the points it marks as corners.
+
+=================  ==================================================================================
+``"srm05"``        the thesis's three-phase slope detector (ZCT, DT, TA), :func:`srm05`
+``"rj73"``         Rosenfeld & Johnston 1973, k-cosine with per-point scale, :func:`rj73`
+``"rw75"``         Rosenfeld & Weszka 1975, averaged k-cosine, :func:`rw75`
+``"fd77"``         Freeman & Davis 1977, chain cornerity with straight arms, :func:`fd77`
+``"bt87"``         Beus & Tiu 1987, FD77 averaged over scales with bounded arms, :func:`bt87`
+``"ipan99"``       Chetverikov & Szabo 1999, inscribed triangles, :func:`ipan99`
+``"tc89"``         Teh & Chin 1989, region of support + k-cosine, :func:`tc89`
+``"tangent-jump"`` this project's detector for outline capture, :func:`tangent_jump` (recommended)
+=================  ==================================================================================
+
+Conventions shared by all detectors
+-----------------------------------
+* ``closed=True`` treats the points as a closed outline (first point not repeated; a repeated closing
+  point is ignored). For an open polyline the two end points are never reported (they are piece
+  boundaries anyway) and points whose window runs off an end cannot be corners.
+* Consecutive duplicate points are merged before detection; returned indices refer to the input and,
+  inside a run of duplicates, to its first point.
+* Input validation: ``points`` must be a real ``(n, 2)`` array (``TypeError`` / ``ValueError``
+  otherwise); a NaN or infinite coordinate raises ``ValueError`` naming its index. A parameter outside
+  its domain raises ``ValueError`` naming the parameter. An outline with too few points for the
+  detector's window (for example the 4-point outline of a single-pixel speck) has **no corners**: the
+  detectors return an empty array rather than raise, so that tracing can run every detector on every
+  boundary of an image.
+* Vectorized with numpy over all points (windows are gathered as ``(n, k)`` arrays); the only Python
+  loops run over scales, over candidate corners (a handful per outline), over SRM05's slope runs and
+  over the removal steps of SRM05's phase 3.
+
+Measured accuracy and speed on rasterized shapes are in ``BENCHMARKS.md`` ("Corner detectors"), made by
+``benchmarks/bench_corners.py``.
+"""
+from __future__ import annotations
+
+from ._classic import bt87, fd77, ipan99, rj73, rw75, tc89
+from ._jump import tangent_jump
+from ._thesis import srm05
+
+__all__ = [
+    "corners",
+    "CORNER_METHODS",
+    "CAPTURE_DEFAULT",
+    "srm05",
+    "rj73",
+    "rw75",
+    "fd77",
+    "bt87",
+    "ipan99",
+    "tc89",
+    "tangent_jump",
+]
+
+#: The detector recommended for outline capture (see ``BENCHMARKS.md``, "Corner detectors").
+CAPTURE_DEFAULT = "tangent-jump"
+
+
+# ----------------------------------------------------------------------------------------------------------
+# registry and dispatcher
+# ----------------------------------------------------------------------------------------------------------
+#: Detector name -> function. Every function takes ``(points, *, closed=True, **its own parameters)``.
+CORNER_METHODS = {
+    "srm05": srm05,
+    "rj73": rj73,
+    "rw75": rw75,
+    "fd77": fd77,
+    "bt87": bt87,
+    "ipan99": ipan99,
+    "tc89": tc89,
+    "tangent-jump": tangent_jump,
+}
+
+
+def corners(points, method="srm05", *, closed=True, **params):
+    """Corner indices of an outline by the detector ``method`` (a key of :data:`CORNER_METHODS`).
+
+    ``"srm05"`` (the default) is the thesis's detector (chapter 2); for outline capture the project
+    recommends ``"tangent-jump"`` (:data:`CAPTURE_DEFAULT`), see ``BENCHMARKS.md``.
+
+    Parameters
+    ----------
+    points : array_like (n, 2)
+        Closed outline (first point not repeated) or open polyline, roughly unit spaced, pixel units.
+    method : str
+        Detector name.
+    closed : bool
+        Closed outline (default) or open polyline (its end points are never reported).
+    **params
+        The detector's own parameters (see its docstring); an unknown name raises ``TypeError``.
+
+    Returns
+    -------
+    numpy.ndarray of intp
+        Sorted, unique indices into ``points``.
+    """
+    if not isinstance(method, str):
+        raise TypeError(f"method must be a string, got {method!r}")
+    try:
+        detector = CORNER_METHODS[method]
+    except KeyError:
+        raise ValueError(f"unknown corner method {method!r}; choose one of {sorted(CORNER_METHODS)}") from None
+    return detector(points, closed=closed, **params)

@@ -143,7 +143,8 @@ def _axis(scale, ticks, *, log=False, vertical=False, label=""):
                    grid_lines="none", **options)
 
 
-def _assemble(marks, axes, *, title, width, height, margin):
+def assemble(marks, axes, *, title, width, height, margin):
+    """The bqplot Figure of every builder here: fixed pixel size, 13 px title, no animation."""
     import bqplot as bq
     import ipywidgets as ipw
 
@@ -191,7 +192,7 @@ def figure(*layers, title: str = "", width: int = 330, height: int = 290, bounds
     count = lambda pixels: max(3, int(pixels // 55))  # noqa: E731 - one tick per ~55 px
     axes = [_axis(x_scale, nice_ticks(x_scale.min, x_scale.max, count(area[0])), label=xlabel),
             _axis(y_scale, nice_ticks(y_scale.min, y_scale.max, count(area[1])), vertical=True, label=ylabel)]
-    return _assemble(marks, axes, title=title, width=width, height=height, margin=margin)
+    return assemble(marks, axes, title=title, width=width, height=height, margin=margin)
 
 
 def chart(*layers, title: str = "", width: int = 420, height: int = 260, xlabel: str = "", ylabel: str = "",
@@ -230,7 +231,7 @@ def chart(*layers, title: str = "", width: int = 420, height: int = 260, xlabel:
     y_ticks = log_ticks(y0, y1) if log_y else nice_ticks(y0, y1, max(2, int(area[1] // 50)))
     axes = [_axis(x_scale, nice_ticks(x0, x1, max(2, int(area[0] // 70))), label=xlabel),
             _axis(y_scale, y_ticks, log=log_y, vertical=True, label=ylabel)]
-    return _assemble(marks, axes, title=title, width=width, height=height, margin=margin)
+    return assemble(marks, axes, title=title, width=width, height=height, margin=margin)
 
 
 def grid(*figures, columns: int = 3):

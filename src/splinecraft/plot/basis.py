@@ -15,7 +15,7 @@ from ..spline import basis_functions
 from ..spline.knots import KNOT_EXPONENTS
 from ..spline.segment import blending_functions
 from ..spline.timmer import timmer_blending_functions
-from ._figure import legend_marks, legend_width, MARGIN
+from ._figure import MARGIN, assemble, legend_marks, legend_width
 from ._ticks import nice_ticks, tick_format
 
 __all__ = ["BasisPlot", "basis_plot_data", "basis_knot_values"]
@@ -115,7 +115,6 @@ class BasisPlot:
 
     def __init__(self):
         import bqplot as bq
-        import ipywidgets
 
         self.x_scale = bq.LinearScale()
         self.y_scale = bq.LinearScale(min=Y_RANGE[0], max=Y_RANGE[1])
@@ -135,15 +134,8 @@ class BasisPlot:
         margin = dict(MARGIN, right=legend_width(["selected Bⱼ", "Σ Bⱼ = 1"]))
         plot_height = self.HEIGHT - margin["top"] - margin["bottom"]
         legend = legend_marks([("Σ Bⱼ = 1", "#263238", "dashed"), ("selected Bⱼ", "#e53935", "solid")], plot_height)
-        self.figure = bq.Figure(
-            marks=[self.knot_ticks, self.lines, self.sum_line, self.highlight, *legend],
-            axes=[self.x_axis, y_axis],
-            title="",
-            fig_margin=margin,
-            title_style={"font-size": "13px"},
-            layout=ipywidgets.Layout(width="890px", height=f"{self.HEIGHT}px"),
-            animation_duration=0,
-        )
+        self.figure = assemble([self.knot_ticks, self.lines, self.sum_line, self.highlight, *legend],
+                               [self.x_axis, y_axis], title="", width=890, height=self.HEIGHT, margin=margin)
         self.data = None
         self.error = None
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._figure import MARGIN, legend_marks, legend_width
+from ._figure import MARGIN, assemble, legend_marks, legend_width
 from ._ticks import log_ticks, nice_ticks, tick_format
 
 __all__ = ["ConvergencePlot", "convergence_data"]
@@ -44,7 +44,6 @@ class ConvergencePlot:
 
     def __init__(self):
         import bqplot as bq
-        import ipywidgets
 
         self.x_scale = bq.LinearScale()
         self.knot_scale = bq.LinearScale(min=0.0)
@@ -68,15 +67,10 @@ class ConvergencePlot:
                                   grid_lines="none", color=ERROR_COLOR, label_offset="44px")
         margin = dict(MARGIN, right=_RIGHT_AXIS_PX + legend_width([label for label, _, _ in _LEGEND]))
         legend = legend_marks(_LEGEND, self.HEIGHT - margin["top"] - margin["bottom"], offset=_RIGHT_AXIS_PX)
-        self.figure = bq.Figure(
-            marks=[self.current, self.threshold, self.hausdorff, self.error, self.knots, *legend],
-            axes=[self.x_axis, self.knot_axis, self.error_axis],
-            title="Knot insertion: knots and error per iteration",
-            fig_margin=margin,
-            title_style={"font-size": "13px"},
-            layout=ipywidgets.Layout(width="890px", height=f"{self.HEIGHT}px"),
-            animation_duration=0,
-        )
+        self.figure = assemble([self.current, self.threshold, self.hausdorff, self.error, self.knots, *legend],
+                               [self.x_axis, self.knot_axis, self.error_axis],
+                               title="Knot insertion: knots and error per iteration", width=890, height=self.HEIGHT,
+                               margin=margin)
         self.data = None
 
     def show(self, result, epsilon: float, current: int = 0) -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._figure import MARGIN, PALETTE, legend_marks, legend_width
+from ._figure import MARGIN, PALETTE, assemble, legend_marks, legend_width
 from ._ticks import nice_limits, nice_ticks, tick_format
 
 __all__ = ["curvature_profile", "curvature_figure", "CurvaturePlot", "JUMP_TOLERANCE"]
@@ -65,7 +65,6 @@ class CurvaturePlot:
 
     def __init__(self, width: int = 560, height: int = 260):
         import bqplot as bq
-        import ipywidgets
 
         self.height = int(height)
         self.x_scale, self.y_scale = bq.LinearScale(), bq.LinearScale()
@@ -85,12 +84,9 @@ class CurvaturePlot:
                               label_offset="46px")
         margin = dict(MARGIN, left=64, right=legend_width([label for label, _, _ in _LEGEND]))
         legend = legend_marks(_LEGEND, self.height - margin["top"] - margin["bottom"])
-        self.figure = bq.Figure(
-            marks=[self.knot_lines, self.zero_line, self.pieces, self.jump_bars, self.joint_dots, *legend],
-            axes=[self.x_axis, self.y_axis], title="Curvature κ(t)", fig_margin=margin,
-            title_style={"font-size": "13px"}, animation_duration=0,
-            layout=ipywidgets.Layout(width=f"{int(width)}px", height=f"{self.height}px"),
-        )
+        self.figure = assemble([self.knot_lines, self.zero_line, self.pieces, self.jump_bars, self.joint_dots, *legend],
+                               [self.x_axis, self.y_axis], title="Curvature κ(t)", width=width, height=self.height,
+                               margin=margin)
         self.profile = None
         self.display_scale = 1.0
         self.clipped = False

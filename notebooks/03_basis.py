@@ -35,13 +35,14 @@ import splinecraft as sc
 # %% [markdown]
 # ## 1. The basis functions
 #
-# `sc.basis_functions(t, n)` evaluates all Bⱼ at once (uniform knots tⱼ = j). For a closed curve with 8 control
+# `sc.basis_functions(t, n)` evaluates all Bⱼ at once (uniform knots tⱼ = j), as a sparse matrix: at each t only
+# four Bⱼ are non-zero (`.toarray()` gives the full table). For a closed curve with 8 control
 # points, and then for point tension v = 10 and v = −10 at every point:
 
 # %%
 n_control = 8
 t = np.linspace(0.0, n_control, 801)
-basis = {v: sc.basis_functions(t, n_control, closed=True, point_tension=v) for v in (0.0, 10.0, -10.0)}
+basis = {v: sc.basis_functions(t, n_control, closed=True, point_tension=v).toarray() for v in (0.0, 10.0, -10.0)}
 display(sc.plot.grid(*[sc.plot.basis_figure(t, values, title=f"closed, uniform knots, v = {v:g}", width=360,
                                             y_range=None if v < 0 else (-0.05, 1.05))
                        for v, values in basis.items()]))
@@ -57,7 +58,7 @@ from scipy.interpolate import BSpline
 
 n_open = 10
 t_open = np.linspace(1.0, n_open - 2.0, 700)            # the curve's domain [t_1, t_n]
-open_basis = sc.basis_functions(t_open, n_open)
+open_basis = sc.basis_functions(t_open, n_open).toarray()
 bspline_error = 0.0
 support_violation = 0.0                                 # B_j must vanish outside (t_{j-2}, t_{j+2})
 for j in range(n_open):

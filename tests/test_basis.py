@@ -94,7 +94,7 @@ def test_basis_functions_equal_scipy_basis_elements(n_control, seed, uniform):
     h0, hn = knots[1] - knots[0], knots[-1] - knots[-2]
     full = np.concatenate([[knots[0] - 2 * h0, knots[0] - h0], knots, [knots[-1] + hn, knots[-1] + 2 * hn]])
     t = np.linspace(knots[1], knots[-2], 401)
-    values = basis_functions(t, n_control if uniform else knots)
+    values = basis_functions(t, n_control if uniform else knots).toarray()
     assert values.shape == (t.size, n_control)
     for j in range(n_control):
         element = BSpline.basis_element(full[j : j + 5], extrapolate=False)  # t_{j-2}..t_{j+2}
@@ -317,10 +317,10 @@ def test_closed_three_points_and_basis_functions_variants():
     points = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]])
     loop = basis_spline(points, closed=True, point_tension=[0.5, 0.0, 2.0], interval_weights=[1.0, 2.0, 0.5])
     assert loop.n_segments == 3 and loop.closed
-    values = basis_functions(np.linspace(0, 3, 31), 3, closed=True)
+    values = basis_functions(np.linspace(0, 3, 31), 3, closed=True).toarray()
     np.testing.assert_allclose(values.sum(axis=1), 1.0, atol=1e-12)
     np.testing.assert_allclose(values[0], [4 / 6, 1 / 6, 1 / 6])
-    clamped = basis_functions(np.linspace(0, 5, 21), np.arange(6.0), ends="clamped")
+    clamped = basis_functions(np.linspace(0, 5, 21), np.arange(6.0), ends="clamped").toarray()
     assert clamped.shape == (21, 8)
     np.testing.assert_allclose(clamped[0], np.eye(8)[0])
     np.testing.assert_allclose(clamped[-1], np.eye(8)[-1])
@@ -385,3 +385,32 @@ def test_clamped_end_tensions_have_no_effect():
     inner[3] += 1.0
     assert np.abs(basis_spline(points, ends="clamped", point_tension=inner, interval_weights=omega).bezier()
                   - reference.bezier()).max() > 1e-3
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(3, 11), st.sampled_from(["floating", "clamped", "closed"]), st.integers(0, 2**32 - 1))
+def test_sparse_basis_functions_equal_the_identity_curve(n_control, ends, seed):
+    """Four non-zero entries per row, equal to the dense evaluation of the curve with identity control points."""
+    rng = np.random.default_rng(seed)
+    closed = ends == "closed"
+    if not closed and n_control < 4:
+        n_control = 4
+    tension = rng.uniform(0.0, 5.0, n_control)
+    weights = rng.uniform(0.5, 2.0, n_control if closed else n_control - 1)
+    ends = "floating" if closed else ends
+    dense_curve = basis_spline(np.eye(n_control), closed=closed, ends=ends, point_tension=tension,
+                               interval_weights=weights)
+    t0, t1 = dense_curve.domain
+    t = np.linspace(t0, t1, 97)
+    sparse = basis_functions(t, n_control, closed=closed, ends=ends, point_tension=tension,
+                             interval_weights=weights)
+    assert sparse.shape == (97, n_control) and sparse.nnz <= 4 * 97
+    np.testing.assert_allclose(sparse.toarray(), dense_curve(t), atol=1e-13)
+    np.testing.assert_allclose(np.asarray(sparse.sum(axis=1)).ravel(), 1.0, atol=1e-12)
+
+
+def test_basis_functions_of_many_control_points_stay_small():
+    t = np.linspace(1.0, 9_998.0, 5_000)
+    values = basis_functions(t, 10_000)
+    assert values.shape == (5_000, 10_000) and values.nnz <= 4 * 5_000
+    assert values.data.nbytes + values.indices.nbytes + values.indptr.nbytes < 1_000_000

@@ -159,7 +159,7 @@ def test_chart_log_axis_reads_in_decades_and_drops_non_positive_values():
 
 def test_basis_figure_and_table():
     t = np.linspace(0, 8, 401)
-    values = sc.basis_functions(t, 8, closed=True)
+    values = sc.basis_functions(t, 8, closed=True).toarray()
     fig = plot.basis_figure(t, values, labels=[f"B{j}" for j in range(8)])
     lines = [mark for mark in fig.marks if isinstance(mark, bq.Lines)]
     assert len(lines) == 9 and lines[-1].line_style == "dashed"
@@ -313,7 +313,8 @@ def test_basis_plot_without_an_editor():
     live.show("basis", HEART, point_tension=0.0, interval_weights=1.0, alpha=2.0, beta=2.0, closed=True,
               knots="uniform", end_condition="floating", selected=3)
     t = np.asarray(live.lines.x)
-    np.testing.assert_allclose(np.asarray(live.lines.y), sc.basis_functions(t, len(HEART), closed=True).T, atol=1e-12)
+    np.testing.assert_allclose(np.asarray(live.lines.y), sc.basis_functions(t, len(HEART), closed=True).toarray().T,
+                               atol=1e-12)
     ticks = np.asarray(live.x_axis.tick_values)
     assert _is_round_step(float(np.diff(ticks)[0])) and live.highlight.visible
     live.show("basis", HEART[:2], point_tension=0.0, interval_weights=1.0, alpha=2.0, beta=2.0, closed=False,

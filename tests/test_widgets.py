@@ -401,13 +401,13 @@ def test_basis_figure_is_the_engine_basis_and_stays_in_sync():
     figure = editor.basis_figure
     plot = editor._plots["basis"]
     t = np.asarray(plot.lines.x)
-    reference = sc.basis_functions(t, 6)
+    reference = sc.basis_functions(t, 6).toarray()
     np.testing.assert_allclose(np.asarray(plot.lines.y), reference.T, atol=1e-12)
     np.testing.assert_allclose(np.asarray(plot.sum_line.y), 1.0, atol=1e-12)  # partition of unity
     editor.point_tension = [0.0, 0.0, 5.0, 0.0, 0.0, 0.0]
     editor.selected = 2
     t = np.asarray(plot.lines.x)
-    reference = sc.basis_functions(t, 6, point_tension=[0.0, 0.0, 5.0, 0.0, 0.0, 0.0])
+    reference = sc.basis_functions(t, 6, point_tension=[0.0, 0.0, 5.0, 0.0, 0.0, 0.0]).toarray()
     np.testing.assert_allclose(np.asarray(plot.highlight.y), reference[:, 2], atol=1e-12)
     # local support: B_2 vanishes outside (t_0, t_4)
     outside = (t <= 0.0) | (t >= 4.0)

@@ -90,15 +90,15 @@ def basis_plot_data(form, points, *, point_tension, interval_weights, alpha, bet
     t = np.linspace(t0, t1, count)
     values = basis_functions(t, knots_or_n, point_tension=point_tension, interval_weights=interval_weights,
                              closed=closed, ends=ends, point_tension_scale=point_tension_scale)
-    total = values.sum(axis=1)
-    shown = values[:, first:last].T
+    total = np.asarray(values.sum(axis=1)).reshape(-1)
+    shown = values[:, first:last].toarray().T
     labels = [f"B{j}" for j in range(first, last)]
     where = "" if form == "basis" else " (these points as control points)"
     title = f"Local-support basis B_j(t){where}: Σ B_j = 1, each B_j lives on 4 intervals"
     if n > WINDOW_LIMIT:
         title += f" — B{first}..B{last - 1} of {n}"
     in_range = knot_values[(knot_values >= t0 - 1e-12) & (knot_values <= t1 + 1e-12)]
-    highlight = values[:, selected] if 0 <= selected < n else None
+    highlight = values[:, [selected]].toarray()[:, 0] if 0 <= selected < n else None
     return {"t": t, "values": shown, "sum": total, "labels": labels, "title": title, "knots": in_range,
             "highlight": highlight, "x_label": "t"}
 

@@ -33,6 +33,10 @@ __all__ = ["basis_spline", "basis_functions", "tension_spans", "BASIS_ENDS"]
 #: Accepted ``ends`` values for open basis curves (§4.4).
 BASIS_ENDS = ("floating", "clamped")
 
+#: Most control points :func:`basis_functions` takes (its result holds 4 values per parameter, the colour
+#: curve 8 coordinates per control point).
+MAX_BASIS_FUNCTIONS = 10_000_000
+
 # |D_i| <= DEGENERATE_RTOL * (sum of the absolute values of its three terms) counts as vanishing.
 DEGENERATE_RTOL = 1e-12
 
@@ -379,11 +383,15 @@ def _class_parameters(alpha, beta, m):
 
 def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, closed=False, ends="floating",
                     point_tension_scale="absolute"):
-    """Values of all basis functions ``B_j(t)``, shape ``(len(t), n_control)`` (§4.1-4.3).
+    """Values of all basis functions ``B_j(t)`` as a ``scipy.sparse.csr_array`` of shape ``(len(t), n_control)``
+    (§4.1-4.3).
 
-    Each ``B_j`` is the scalar basis curve with control values ``e_j``, so all of them come from one basis
-    curve in ``n_control`` dimensions (control points = identity matrix) evaluated once. Useful for plotting
-    the partition of unity (rows sum to 1) and the local support (``B_j = 0`` outside ``(t_{j-2}, t_{j+2})``).
+    At any ``t`` only the four ``B_j`` of the piece holding ``t`` can be non-zero (local support,
+    ``B_j = 0`` outside ``(t_{j-2}, t_{j+2})``), so each row stores 4 entries: memory and time are
+    ``O(len(t) + n_control)``. ``.toarray()`` gives the dense matrix; rows sum to 1 (partition of
+    unity). The values come from one basis curve in four "colour" dimensions whose control points are
+    unit vectors, coloured so that the four control points of every piece differ: piece ``k`` reads its
+    four ``B_j`` off its own Bézier points.
 
     Parameters
     ----------
@@ -395,6 +403,8 @@ def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, c
     point_tension, interval_weights, closed, ends, point_tension_scale
         As in :func:`basis_spline`.
     """
+    from scipy.sparse import csr_array
+
     closed = check_bool(closed, "closed")
     ends = check_choice(ends, "ends", BASIS_ENDS)
     if isinstance(knots_or_n, numbers.Integral) and not isinstance(knots_or_n, (bool, np.bool_)):
@@ -406,8 +416,32 @@ def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, c
     minimum = 3 if closed else 4
     if n_control < minimum:
         raise ValueError(f"basis_functions needs at least {minimum} control points, got {n_control}")
-    spline = basis_spline(np.eye(n_control), closed=closed, point_tension=point_tension,
+    if n_control > MAX_BASIS_FUNCTIONS:
+        raise ValueError(f"basis_functions takes at most {MAX_BASIS_FUNCTIONS} control points, got {n_control}")
+    colours = _colours(n_control, closed)
+    spline = basis_spline(np.eye(8)[colours], closed=closed, point_tension=point_tension,
                           interval_weights=interval_weights, knots=knots, ends=ends,
                           point_tension_scale=point_tension_scale)
-    values = spline(t)
-    return values
+    parameters = spline._check_parameters(t)
+    flat = parameters.reshape(-1)
+    piece, theta, _h = spline._locate(flat)
+    values = spline._evaluate(piece, theta, None, 0)  # (8, k): the value of colour c at each t
+    first = piece - 1 if closed else piece  # piece k uses the control points first .. first + 3
+    columns = (first[:, None] + np.arange(4)) % n_control  # (k, 4)
+    data = np.take_along_axis(values.T, colours[columns], axis=1)
+    if closed and n_control < 4:  # a control point twice in one window: its colour holds the sum, once
+        repeated = np.zeros(columns.shape, dtype=bool)
+        repeated[:, 3] = True
+        data[repeated] = 0.0
+    rows = np.repeat(np.arange(flat.shape[0]), 4)
+    matrix = csr_array((data.reshape(-1), (rows, columns.reshape(-1))), shape=(flat.shape[0], n_control))
+    matrix.sum_duplicates()
+    return matrix
+
+
+def _colours(n_control, closed):
+    """A colour in 0..7 per control point, different for any four consecutive (cyclically when closed) ones."""
+    colours = np.arange(n_control) % 4
+    if closed and n_control >= 4:
+        colours[-4:] = 4 + np.arange(4)  # the windows that wrap around see colours 4..7 next to 0..3
+    return colours

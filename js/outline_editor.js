@@ -26,6 +26,8 @@ function render({ model, el }) {
   const redoBtn = btn("↷ Redo", "Redo (Ctrl+Y)", "redo", () => send({ type: "redo" }));
   const cornerBtn = btn("Corner ⇄ smooth", "Toggle the selected knots between corner and smooth GC² joint (C)", "toggle-corner", () => send({ type: "corner" }));
   const deleteBtn = btn("Delete", "Delete the selected knots (Delete)", "delete", () => send({ type: "delete" }));
+  const mirrorX = btn("Mirror ⇆", "Reflect the selection (or the whole shape) left-right", "mirror-vertical", () => send({ type: "reflect", axis: "vertical" }));
+  const mirrorY = btn("Mirror ⇅", "Reflect the selection (or the whole shape) upside down", "mirror-horizontal", () => send({ type: "reflect", axis: "horizontal" }));
   const fitBtn = btn("Fit", "Fit the outline to the view", "fit", () => send({ type: "fit" }));
   const exportBtn = btn("Export SVG", "Write the outline to export_path", "export", () => send({ type: "export" }));
   const overlays = [["show_image", "bitmap"], ["show_fill", "fill"], ["show_deviation", "deviation"]]
@@ -34,7 +36,7 @@ function render({ model, el }) {
     onInput: (v, final) => { if (final) send({ type: "tension", value: v }); }, testid: "tension" });
   const weight = sliderRow({ label: "weight ω", title: "Interval weight of the pieces after the selected knots", min: 0.05, max: 20, step: 0.05, value: 1, scale: "log",
     onInput: (v, final) => { if (final) send({ type: "weight", value: v }); }, testid: "weight" });
-  const toolbar = h("div", { class: "sc-toolbar" }, undoBtn, redoBtn, cornerBtn, deleteBtn, fitBtn, exportBtn,
+  const toolbar = h("div", { class: "sc-toolbar" }, undoBtn, redoBtn, cornerBtn, deleteBtn, mirrorX, mirrorY, fitBtn, exportBtn,
     h("span", { class: "sc-spacer" }), ...overlays.map((o) => o.row));
   const svg = s("svg", { class: "sc-canvas", width: model.get("width"), height: model.get("height"), "data-testid": "canvas" });
   const bg = s("rect", { x: 0, y: 0, width: model.get("width"), height: model.get("height"), fill: "#f4f6f8" });

@@ -163,3 +163,16 @@ def test_opens_svg_knot_lists_and_font_glyphs():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         editor.rotate(15)
+
+
+def test_mirror_buttons_reflect_the_selection_about_its_box(editor):
+    editor.selection = [[1, k] for k in range(len(editor.contours[1]))]
+    before = editor.outline
+    center = before.selection_center(contours=[1])
+    page(editor, type="reflect", axis="vertical")
+    mirrored = before.contours[1].bezier().copy()
+    mirrored[..., 0] = 2 * center[0] - mirrored[..., 0]
+    assert np.abs(editor.outline.contours[1].bezier() - mirrored).max() < 1e-9
+    assert editor.outline.contours[0] is before.contours[0]
+    page(editor, type="reflect", axis="diagonal")
+    assert editor.status_level == "error" and "axis" in editor.status_message

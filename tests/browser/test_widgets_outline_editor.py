@@ -137,6 +137,14 @@ def test_deviation_toggle_colours_pieces_and_shows_the_max(lab):
                 for b in range(4))
     assert drawn == lab.python_json("sum(len(c) for c in editor.contours)")
     assert lab.python_json("editor.show_deviation") is True
+    before = lab.python_json("editor.contours[0]")
+    old = path_d(root, 0)
+    root.query_selector("[data-testid=mirror-vertical]").click()  # nothing selected: the whole shape
+    mirrored = wait_python(lab, "editor.contours[0]", lambda v: v != before)
+    xs = [p[0] for p in before]
+    middle = (min(xs) + max(xs)) / 2  # the box of all knots: contour 0 holds the extreme ones
+    assert all(abs((a[0] + b[0]) / 2 - middle) < 1e-6 and abs(a[1] - b[1]) < 1e-9 for a, b in zip(before, mirrored))
+    wait_path_change(page, 0, old)
 
 
 def test_trace_explorer_opens_the_shown_iteration_in_an_editor(lab):

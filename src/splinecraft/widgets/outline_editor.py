@@ -22,7 +22,7 @@ import traitlets as t
 from ..outline import Outline, as_outline
 from ..outline.transforms import affine_parts, reflection, rotation, scaling, shearing, translation
 from ._assets import load_css, load_esm
-from ._base import WidgetBase, f32, read_bool, read_int, read_number
+from ._base import WidgetBase, f32, read_bool, read_int, read_number, read_str
 from ._outline_state import outline_from_lists, png_of_mask
 
 __all__ = ["OutlineEditor", "OutlineEditorWarning"]
@@ -53,7 +53,8 @@ class OutlineEditor(WidgetBase):
     its contour, drag on the background for a box selection; double-click the curve to insert a knot; ``C``
     or the button toggles corner / smooth; Delete removes the selected knots; arrow keys move the selection
     (Shift: 10 px); the handles of the selection's box translate, rotate (round handle), scale (corners,
-    Shift: per axis) and shear (edge handles); Ctrl+Z / Ctrl+Y undo and redo.
+    Shift: per axis) and shear (edge handles); the mirror buttons reflect the selection (or the whole shape)
+    about its box's vertical or horizontal centre line; Ctrl+Z / Ctrl+Y undo and redo.
 
     Synced traits
     -------------
@@ -71,7 +72,8 @@ class OutlineEditor(WidgetBase):
     warning_class = OutlineEditorWarning
     messages = {**WidgetBase.messages, "drag": "_on_drag", "transform": "_on_transform", "corner": "_on_corner",
                 "insert": "_on_insert", "delete": "_on_delete", "undo": "_on_undo", "redo": "_on_redo",
-                "tension": "_on_tension", "weight": "_on_weight", "export": "_on_export", "fit": "_on_fit"}
+                "tension": "_on_tension", "weight": "_on_weight", "export": "_on_export", "fit": "_on_fit",
+                "reflect": "_on_reflect"}
     page_traits = frozenset(("selection",) + _DISPLAY)
 
     contours = t.List().tag(sync=True)
@@ -492,6 +494,10 @@ class OutlineEditor(WidgetBase):
         for contour, knots in self._grouped_selection().items():
             outline = outline.set_interval_weight(contour, knots, value)
         self._commit(outline, f"Interval weight {value:g} on the pieces after the selected knots")
+
+    def _on_reflect(self, content, _buffers):
+        axis = read_str(content, "axis", choices=("vertical", "horizontal"))
+        self.reflect(axis)
 
     def _on_undo(self, _content, _buffers):
         if not self.undo():

@@ -17,12 +17,21 @@ measured separately in this process (no browser, no network) for comparison.
 
     .venv/bin/python benchmarks/bench_drag.py                    # n = 10, 100, 1000; 200 moves each
     .venv/bin/python benchmarks/bench_drag.py --sizes 100 --moves 50
+    .venv/bin/python benchmarks/bench_drag.py --compare /tmp/old   # this tree vs a checkout of another commit
+
+``--compare DIR`` measures this tree and the checkout ``DIR`` (e.g. ``git worktree add /tmp/old <commit>``)
+side by side on one TCP_NODELAY server: the notebook of each row puts ``DIR/src`` first on the kernel's
+``sys.path`` (its ES modules come from ``DIR/js``), the rows alternate per size and ``--rounds`` repeats them
+with the order swapped, and the kernel handler is timed in a subprocess per tree. The editor is created with
+``debug=True`` (the page's latency records and ping are off without it; older trees record them always).
 """
 from __future__ import annotations
 
 import argparse
+import json
 import platform
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -35,15 +44,22 @@ sys.path.insert(0, str(REPO / "tests" / "browser"))
 WARMUP = 10
 
 
-def points_cell(n: int) -> str:
+def spiral_points(n: int) -> np.ndarray:
+    theta = np.linspace(0.0, 6.0 * np.pi, n)
+    radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, n)
+    if n > 12:
+        return np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)].round(3)
+    return np.c_[np.linspace(40.0, 760.0, n), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, n))].round(3)
+
+
+def points_cell(n: int, src: str | None = None) -> str:
+    prefix = f"import sys\nsys.path.insert(0, {src!r})\n" if src else ""
     return f"""\
-import numpy as np
+{prefix}import numpy as np
 import splinecraft as sc
-theta = np.linspace(0.0, 6.0 * np.pi, {n})
-radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, {n})
-points = np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)] if {n} > 12 else \\
-    np.c_[np.linspace(40.0, 760.0, {n}), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, {n}))]
-editor = sc.SplineEditor(points.round(3), width=620, height=440, debug=True)  # debug: latency records, ping
+points = np.array({spiral_points(n).tolist()!r})
+debug = {{"debug": True}} if "debug" in sc.SplineEditor.class_trait_names() else {{}}
+editor = sc.SplineEditor(points, width=620, height=440, **debug)
 editor
 """
 
@@ -72,8 +88,8 @@ def drag_and_record(page, root, x: float, y: float, moves: int):
     return records, pings
 
 
-def browser_round_trips(lab, n: int, moves: int) -> dict:
-    page = lab.open_notebook([points_cell(n)], name=f"bench_drag_{n}.ipynb")
+def browser_round_trips(lab, n: int, moves: int, src: str | None = None) -> dict:
+    page = lab.open_notebook([points_cell(n, src)], name=f"bench_drag_{n}.ipynb")
     root = page.wait_for_selector("[data-testid=spline-editor][data-ready='1']", timeout=60_000)
     root.scroll_into_view_if_needed()
     index = n // 2
@@ -97,11 +113,7 @@ def kernel_handling(n: int, repeats: int = 200) -> float:
     """Median time (ms) of the kernel's drag handler alone: validate, rebuild, pack the geometry."""
     import splinecraft as sc
 
-    theta = np.linspace(0.0, 6.0 * np.pi, n)
-    radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, n)
-    points = np.c_[400.0 + radius * np.cos(theta), 320.0 + radius * np.sin(theta)] if n > 12 else \
-        np.c_[np.linspace(40.0, 760.0, n), 320.0 + 180.0 * np.sin(np.linspace(0.0, 3.0, n))]
-    editor = sc.SplineEditor(points.round(3), debug=True)
+    editor = sc.SplineEditor(spiral_points(n))
     base = np.array(editor.points[n // 2])
     return handler_median(editor, lambda x, y: {"index": n // 2, "x": x, "y": y}, base, repeats)
 
@@ -122,12 +134,38 @@ def handler_median(editor, fields, base, repeats: int = 200) -> float:
     return statistics.median(times)
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[10, 100, 1000])
-    parser.add_argument("--moves", type=int, default=200)
-    args = parser.parse_args(argv)
+def kernel_handling_of(src: str | None, sizes) -> dict:
+    """:func:`kernel_handling` per size for the tree whose ``src`` is given (a subprocess: a clean import)."""
+    path = [src] if src else []
+    code = (f"import sys, json; sys.path[:0] = {path!r}; sys.path.insert(0, {str(REPO / 'benchmarks')!r}); "
+            f"import bench_drag; print(json.dumps({{n: bench_drag.kernel_handling(n) for n in {list(sizes)!r}}}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    return {int(n): ms for n, ms in json.loads(out.strip().splitlines()[-1]).items()}
 
+
+def compare(args) -> list:
+    """This tree vs ``args.compare`` on one TCP_NODELAY server, alternating per size, order swapped per round."""
+    from labharness import Lab, launch_chromium, start_lab
+
+    trees = [("this tree", None), (Path(args.compare).name, str(Path(args.compare).resolve() / "src"))]
+    kernel = {label: kernel_handling_of(src, args.sizes) for label, src in trees}
+    rows = []
+    with start_lab(nodelay=True) as server, launch_chromium() as browser:
+        for round_index in range(args.rounds):
+            for n in args.sizes:
+                for label, src in (trees if round_index % 2 == 0 else trees[::-1]):
+                    context = browser.new_context(viewport={"width": 1400, "height": 1000})
+                    row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, src)
+                    context.close()
+                    server.shutdown_kernels()
+                    row.update(server=label, kernel_median=kernel[label][n], round=round_index)
+                    rows.append(row)
+                    print(f"round {round_index} n={n} {label}: done", file=sys.stderr, flush=True)
+    return rows
+
+
+def servers(args) -> list:
+    """The stock server vs the TCP_NODELAY server, side by side per size."""
     from labharness import Lab, launch_chromium, start_lab
 
     rows = []
@@ -136,17 +174,26 @@ def main(argv=None):
             kernel = kernel_handling(n)
             for label, server in (("stock", stock), ("TCP_NODELAY", nodelay)):  # side by side, same n
                 context = browser.new_context(viewport={"width": 1400, "height": 1000})
-                lab = Lab(server, context.new_page())
-                row = browser_round_trips(lab, n, args.moves)
+                row = browser_round_trips(Lab(server, context.new_page()), n, args.moves)
                 context.close()
                 server.shutdown_kernels()
-                row["server"] = label
-                row["kernel_median"] = kernel
+                row.update(server=label, kernel_median=kernel)
                 rows.append(row)
                 print(f"n={n} {label}: done", file=sys.stderr, flush=True)
+    return rows
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[10, 100, 1000])
+    parser.add_argument("--moves", type=int, default=200)
+    parser.add_argument("--compare", metavar="DIR", help="a checkout of another commit, measured side by side")
+    parser.add_argument("--rounds", type=int, default=2, help="with --compare: rounds, the order swapped each")
+    args = parser.parse_args(argv)
+    rows = compare(args) if args.compare else servers(args)
 
     print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "
-          f"{args.moves} moves per size (after {WARMUP} warm-up moves)\n")
+          f"{args.moves} moves per row (after {WARMUP} warm-up moves)\n")
     print("| points | server | moves | pointer→path in DOM, median (ms) | p95 (ms) | →painted frame, median (ms) | p95 (ms) "
           "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) | empty message round trip: total (up / down) (ms) |")
     print("|---:|---|---:|---:|---:|---:|---:|---|---:|---:|")

@@ -3,6 +3,7 @@
 // and answers, and `sync()` shows what the kernel kept.
 import { h, sliderRow, selectBox, checkRow, swatch } from "./common.js";
 import { COLORS } from "./editor_view.js";
+import { exportButtons } from "./export.js";
 
 const OVERLAYS = [
   ["show_control_polygon", "control polygon", { color: COLORS.polygon, dash: "5 4", marker: "circle" }],
@@ -37,7 +38,7 @@ export function traitWriters(model) {
   };
 }
 
-function createToolbar(model, write, focus) {
+function createToolbar(model, write, focus, svg, root) {
   const o = model.get("options") ?? {};
   const sel = {
     form: selectBox(o.forms ?? [], model.get("form"), (v) => write.set("form", v), "form"),
@@ -60,9 +61,12 @@ function createToolbar(model, write, focus) {
       if (i >= 0) model.send({ type: "delete", index: i });
     }),
   };
-  const toolbar = h("div", { class: "sc-toolbar" }, fields.form, fields.preset, fields.ends, fields.knots, closed.row);
-  const actions = h("div", { class: "sc-actions" }, buttons.undo, buttons.redo, buttons.fit, buttons.delete);
-  return { toolbar, actions, sel, closed, fields, buttons };
+  const large = checkRow("large", model.get("large"), (v) => write.set("large", v), { testid: "large", title: "Presentation size: larger canvas, text and controls" });
+  const toolbar = h("div", { class: "sc-toolbar" }, fields.form, fields.preset, fields.ends, fields.knots, closed.row,
+    h("span", { class: "sc-spacer" }), large.row);
+  const actions = h("div", { class: "sc-actions" }, buttons.undo, buttons.redo, buttons.fit, buttons.delete,
+    ...exportButtons(svg, "spline", root, button));
+  return { toolbar, actions, sel, closed, fields, buttons, large };
 }
 
 function createSidePanel(model, write) {
@@ -79,7 +83,15 @@ function createSidePanel(model, write) {
     pointTension: slider("point_tension", "vᵢ", "Point tension of the selected point", (v) => write.setOne("point_tension", model.get("selected"), v)),
     intervalWeight: slider("interval_weights", "ωᵢ", "Interval weight of the selected interval", (v) => write.setOne("interval_weights", model.get("selected_interval"), v), "log"),
     comb: slider("comb_scale", "size", "Length of the comb teeth (relative)", (v) => write.set("comb_scale", v), "log"),
+    t: sliderRow({ label: "t", title: "Parameter t: the point P(t) and the de Casteljau construction of its piece", min: 0, max: 1,
+      step: "any", value: NaN, onInput: (v) => write.set("t", v), testid: "t" }),
   };
+  const tOn = checkRow("parameter slider", model.get("t") !== null, (on) => {
+    const [t0, t1] = (model.get("geometry") ?? {}).domain ?? [0, 1];
+    write.set("t", on ? t0 + 0.37 * (t1 - t0) : null);
+  }, { testid: "t-on", title: "Show a point P(t) moving along the curve with its construction" });
+  const aids = ["show_grid", "snap"].map((name) => checkRow(name === "snap" ? "snap to grid" : "grid", model.get(name),
+    (v) => write.set(name, v), { testid: name, title: name === "snap" ? "Dragged points jump to the grid lines" : "Grid lines" }));
   const overlays = {};
   const overlayRows = OVERLAYS.map(([name, label, look]) => {
     overlays[name] = checkRow(label, model.get(name), (v) => write.set(name, v), { swatch: swatch(look), testid: name });
@@ -89,19 +101,20 @@ function createSidePanel(model, write) {
   const curveLegend = h("div", { class: "sc-check sc-legend-only" }, swatch({ color: COLORS.curve, width: 2.5 }), h("span", {}, "curve"));
   const section = (title, ...children) => h("div", { class: "sc-section" }, h("div", { class: "sc-section-title" }, title), ...children);
   const sections = {
+    t: section("Parameter t", tOn.row, sliders.t.row),
     tension: section("Tension (all)", sliders.tension.row, sliders.weight.row),
     class: section("Class parameters", sliders.alpha.row, sliders.beta.row),
     selection: section("Selection", selectionTitle, sliders.pointTension.row, sliders.intervalWeight.row),
   };
-  const side = h("div", { class: "sc-side" }, sections.tension, sections.class, sections.selection,
-    section("Show", curveLegend, ...overlayRows, sliders.comb.row));
-  return { side, sliders, overlays, sections, selectionTitle, range };
+  const side = h("div", { class: "sc-side" }, sections.t, sections.tension, sections.class, sections.selection,
+    section("Show", curveLegend, ...overlayRows, sliders.comb.row, h("div", { class: "sc-overlay-grid" }, ...aids.map((a) => a.row))));
+  return { side, sliders, overlays, sections, selectionTitle, range, tOn, aids };
 }
 
 /** Build the toolbar, canvas buttons and side panel; `sync()` makes them show the model. */
-export function createControls(model, { focus }) {
+export function createControls(model, { focus, svg, root }) {
   const write = traitWriters(model);
-  const bar = createToolbar(model, write, focus);
+  const bar = createToolbar(model, write, focus, svg, root);
   const panel = createSidePanel(model, write);
   const explanation = h("div", { class: "sc-explanation", "data-testid": "explanation" });
   const status = h("div", { class: "sc-status", "data-testid": "status" });
@@ -142,7 +155,9 @@ export function createControls(model, { focus }) {
     S.alpha.set(model.get("alpha"));
     S.beta.set(model.get("beta"));
     S.alpha.setLabel(uses.alpha_label ?? "α");
+    S.alpha.row.title = uses.alpha_title ?? "Class parameter α";
     S.beta.setLabel(uses.beta_label ?? "β");
+    S.beta.row.style.display = uses.beta_label === null ? "none" : ""; // Algorithm 3.1 has one scale only
     panel.sections.class.style.display = uses.alpha === false ? "none" : "";
     const free = model.get("preset") === "free" || uses.preset === false;
     S.alpha.setDisabled(!free);
@@ -158,6 +173,13 @@ export function createControls(model, { focus }) {
     panel.selectionTitle.textContent = parts.length ? parts.join(" · ") : "Click a point or the curve to select it.";
     panel.sections.selection.classList.toggle("sc-muted", !parts.length);
     S.comb.set(model.get("comb_scale"));
+    const t = model.get("t"), [t0, t1] = (model.get("geometry") ?? {}).domain ?? [0, 1];
+    panel.tOn.set(t !== null);
+    S.t.configure(t0, t1, "any");
+    S.t.row.style.display = t === null ? "none" : "";
+    if (t !== null) S.t.set(t);
+    panel.aids.forEach((row, i) => row.set(model.get(["show_grid", "snap"][i])));
+    bar.large.set(model.get("large"));
   }
 
   function sync() {
@@ -169,9 +191,10 @@ export function createControls(model, { focus }) {
     const vw = panel.overlays.show_bezier_points.row;
     vw.style.display = uses.vw === false ? "none" : "";
     vw.querySelector("span").textContent = uses.vw_label ?? "class points V, W";
-    explanation.innerHTML = model.get("explanation");
+    explanation.innerHTML = model.get("explanation_html");
   }
 
+  const readout = h("span", { class: "sc-readout", "data-testid": "readout" });
   /** The status line (kernel's message and level) and the footer summary. */
   function showStatus(root, points, pieces) {
     const level = model.get("status_level") || "info";
@@ -180,6 +203,11 @@ export function createControls(model, { focus }) {
     root.dataset.statusLevel = level;
     summary.textContent = `${points} point${points === 1 ? "" : "s"} · ${pieces} piece${pieces === 1 ? "" : "s"}`;
   }
+  /** Data coordinates under the pointer (null: the pointer left the canvas). */
+  function showReadout(xy) {
+    readout.textContent = xy ? `x ${xy[0].toFixed(1)}  y ${xy[1].toFixed(1)}` : "";
+  }
 
-  return { toolbar: bar.toolbar, actions: bar.actions, side: panel.side, explanation, status, summary, sync, showStatus };
+  return { toolbar: bar.toolbar, actions: bar.actions, side: panel.side, explanation, status, summary, readout, sync,
+    showStatus, showReadout };
 }

@@ -10,6 +10,11 @@ const PAN_THRESHOLD = 3; // px before a background press counts as a pan (else i
 const DOUBLE_TAP_MS = 350;
 const DOUBLE_TAP_PX = 24;
 
+/** (x, y) moved to the nearest grid crossing of spacing `step`. */
+export function snapped(x, y, step) {
+  return [Math.round(x / step) * step, Math.round(y / step) * step];
+}
+
 /** Index of the point within HIT_RADIUS of screen (px, py), nearest first, or -1. */
 export function hitPoint(vp, flat, px, py, radius = HIT_RADIUS) {
   let best = -1, bestD = radius * radius;
@@ -23,7 +28,7 @@ export function hitPoint(vp, flat, px, py, radius = HIT_RADIUS) {
 
 /**
  * Wire the input of one editor. `ctx`: {model, root, svg, curveHit, vp, flow, points() (kernel points),
- * setTrait(name, value), drawPoints(), drawAll(), focus()}. Returns {dispose}.
+ * setTrait(name, value), drawPoints(), drawAll(), focus(), readout(xy or null), gridStep()}. Returns {dispose}.
  */
 export function attachInput(ctx) {
   const { model, root, svg, curveHit, vp, flow } = ctx;
@@ -61,9 +66,12 @@ export function attachInput(ctx) {
 
   svg.addEventListener("pointermove", (event) => {
     const [px, py] = local(event);
+    ctx.readout([vp.dx(px), vp.dy(py)]);
     const drag = flow.active;
     if (drag && event.pointerId === drag.pointerId) {
-      flow.move(vp.dx(px + drag.ox), vp.dy(py + drag.oy));
+      let x = vp.dx(px + drag.ox), y = vp.dy(py + drag.oy);
+      if (model.get("snap")) [x, y] = snapped(x, y, ctx.gridStep());
+      flow.move(x, y);
       ctx.drawPoints();
       return;
     }
@@ -96,6 +104,7 @@ export function attachInput(ctx) {
   }
   svg.addEventListener("pointerup", endPointer);
   svg.addEventListener("pointercancel", endPointer);
+  svg.addEventListener("pointerleave", () => ctx.readout(null));
 
   curveHit.addEventListener("click", (event) => {
     const [px, py] = local(event);

@@ -15,10 +15,12 @@ export const COLORS = {
   tangents: "#2e7d32",
   comb: "#8e24aa",
   highlight: "#ffd54f",
+  construction: "#00897b",
+  tPoint: "#d81b60",
 };
 
 const GEOMETRY_BUFFERS = ["bezier", "knots", "vw", "class_polygon", "tangents", "comb_teeth", "comb_envelope",
-  "highlight", "highlight_leg"];
+  "highlight", "highlight_leg", "construction", "construction_points", "construction_class", "t_point"];
 
 /** The kernel's points (float64 bytes x0, y0, x1, y1, ..., or a nested list) as a Float64Array. */
 export function decodePoints(value) {
@@ -69,6 +71,10 @@ export function createCanvas(width, height) {
     knots: layer({ fill: COLORS.knots, stroke: "#fff", "stroke-width": 0.8, "data-testid": "knots", "pointer-events": "none" }),
     points: layer({ fill: "#ffffff", stroke: COLORS.point, "stroke-width": 1.6, "data-testid": "points", "pointer-events": "none" }),
     selected: layer({ fill: COLORS.selected, stroke: "#fff", "stroke-width": 1.5, "data-testid": "selected-point", "pointer-events": "none" }),
+    constructionClass: layer({ stroke: COLORS.classPolygon, "stroke-width": 1.2, "stroke-dasharray": "4 3", "pointer-events": "none", "data-testid": "construction-class" }),
+    construction: layer({ stroke: COLORS.construction, "stroke-width": 1.3, "pointer-events": "none", "data-testid": "construction" }),
+    constructionPoints: layer({ fill: COLORS.construction, stroke: "#fff", "stroke-width": 0.8, "pointer-events": "none" }),
+    tPoint: layer({ fill: COLORS.tPoint, stroke: "#fff", "stroke-width": 1.5, "pointer-events": "none", "data-testid": "t-point" }),
   };
   const labels = s("g", { class: "sc-labels", "pointer-events": "none" });
   svg.append(labels);
@@ -77,7 +83,8 @@ export function createCanvas(width, height) {
     for (const node of [svg, bg]) { node.setAttribute("width", w); node.setAttribute("height", h); }
   }
 
-  function drawGrid(vp) {
+  function drawGrid(vp, show = true) {
+    if (!show) { L.grid.setAttribute("d", ""); return; }
     const [x0, y0, x1, y1] = vp.visible();
     const step = gridStep(Math.max(x1 - x0, y1 - y0));
     const parts = [];
@@ -100,7 +107,14 @@ export function createCanvas(width, height) {
     L.tangentEnds.setAttribute("d", show.tangents ? markersPath(vp, tangentTips(g.tangents), 2.2) : "");
     L.combTeeth.setAttribute("d", show.comb ? segmentsPath(vp, g.comb_teeth) : "");
     L.combEnvelope.setAttribute("d", show.comb ? polylinePath(vp, g.comb_envelope, false) : "");
-    labels.replaceChildren(...(g.labels ?? []).filter((lab) => lab.kind !== "joint" || show.comb).map((lab) =>
+    const tOn = g.t_point.length === 2;
+    L.constructionClass.setAttribute("d", tOn ? polylinePath(vp, g.construction_class, false) : "");
+    L.construction.setAttribute("d", tOn ? polylinePath(vp, g.construction, false) : "");
+    L.constructionPoints.setAttribute("d", tOn ? markersPath(vp, g.construction_points, 2.6) : "");
+    L.tPoint.setAttribute("d", tOn ? markersPath(vp, g.t_point, 5.5) : "");
+    const tLabel = tOn && g.t_info ? [{ x: g.t_point[0], y: g.t_point[1], kind: "t",
+      text: `t = ${g.t_info.t.toFixed(3)} (piece ${g.t_info.piece}, θ = ${g.t_info.theta.toFixed(2)})` }] : [];
+    labels.replaceChildren(...[...(g.labels ?? []), ...tLabel].filter((lab) => lab.kind !== "joint" || show.comb).map((lab) =>
       s("text", { x: vp.sx(lab.x) + (lab.dx ?? 8), y: vp.sy(lab.y) + (lab.dy ?? -8), class: `sc-label sc-label-${lab.kind ?? "point"}` },
         document.createTextNode(lab.text))));
     L.curve.dataset.revision = String(g.revision ?? 0);

@@ -7,14 +7,17 @@
 // Page -> kernel: trait updates (sliders, dropdowns, selection, view) and custom messages
 // {type: "drag" | "add" | "delete" | "select_at" | "undo" | "redo" | "fit"}; "ping" with `debug` on.
 import { h, Viewport, isolateKeys } from "./common.js";
-import { createCanvas, decodeGeometry, decodePoints } from "./editor_view.js";
+import { createCanvas, decodeGeometry, decodePoints, gridStep } from "./editor_view.js";
 import { createControls, traitWriters } from "./editor_controls.js";
 import { createDragFlow } from "./drag_controller.js";
 import { attachInput } from "./editor_input.js";
 
 const CONTROL_TRAITS = ["form", "preset", "end_condition", "knots", "closed", "alpha", "beta", "point_tension",
-  "interval_weights", "selected", "selected_interval", "can_undo", "can_redo", "explanation", "options", "comb_scale"];
-const OVERLAY_TRAITS = ["show_control_polygon", "show_knots", "show_bezier_points", "show_tangents", "show_comb"];
+  "interval_weights", "selected", "selected_interval", "can_undo", "can_redo", "explanation_html", "options", "comb_scale",
+  "t", "snap"];
+const OVERLAY_TRAITS = ["show_control_polygon", "show_knots", "show_bezier_points", "show_tangents", "show_comb", "show_grid"];
+const SIDE_WIDTH = 268; // px, .sc-side in widgets.css
+const LARGE = 1.35; // the "large" presentation size scales the canvas height by this
 
 /** Test and benchmark hooks on the root element: screen/data coordinates, and ping (debug only). */
 function instrument(root, model, svg, vp, pointAt, count, handlers) {
@@ -50,7 +53,8 @@ function instrument(root, model, svg, vp, pointAt, count, handlers) {
 }
 
 function render({ model, el }) {
-  const vp = new Viewport(model.get("width"), model.get("height"), model.get("view"));
+  const canvasHeight = () => Math.round(model.get("height") * (model.get("large") ? LARGE : 1));
+  const vp = new Viewport(model.get("width"), canvasHeight(), model.get("view"));
   let geometry = decodeGeometry(model.get("geometry"));
   let kernelPoints = decodePoints(model.get("points")); // float64 x0, y0, x1, y1, ... (decoded once per change)
   const count = () => kernelPoints.length / 2;
@@ -61,9 +65,10 @@ function render({ model, el }) {
   el.append(root);
   const focus = () => root.focus({ preventScroll: true });
   const canvas = createCanvas(vp.width, vp.height);
-  const controls = createControls(model, { focus });
+  const controls = createControls(model, { focus, svg: canvas.svg, root });
   const body = h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, canvas.svg, controls.actions), controls.side);
-  root.append(controls.toolbar, body, controls.explanation, h("div", { class: "sc-footer" }, controls.status, controls.summary));
+  root.append(controls.toolbar, body, controls.explanation,
+    h("div", { class: "sc-footer" }, controls.status, controls.readout, controls.summary));
   controls.side.style.height = `${vp.height}px`;
 
   /** The kernel's points, with a point being dragged shown where the pointer is. */
@@ -85,14 +90,15 @@ function render({ model, el }) {
     canvas.drawGeometry(vp, geometry, { knots: model.get("show_knots"), vw: model.get("show_bezier_points"),
       tangents: model.get("show_tangents"), comb: model.get("show_comb") });
   }
-  function drawAll() { canvas.drawGrid(vp); drawGeometry(); drawPoints(); }
+  function drawAll() { canvas.drawGrid(vp, model.get("show_grid")); drawGeometry(); drawPoints(); }
   const showStatus = () => controls.showStatus(root, count(), Math.floor(geometry.bezier.length / 8));
   const sync = () => { controls.sync(); showStatus(); };
 
   const flow = createDragFlow(model, { onIdle: drawPoints });
   const write = traitWriters(model);
   const input = attachInput({ model, root, svg: canvas.svg, curveHit: canvas.layers.curveHit, vp, flow,
-    points: () => kernelPoints, setTrait: write.set, drawPoints, drawAll, focus });
+    points: () => kernelPoints, setTrait: write.set, drawPoints, drawAll, focus, readout: controls.showReadout,
+    gridStep: () => { const [x0, y0, x1, y1] = vp.visible(); return gridStep(Math.max(x1 - x0, y1 - y0)); } });
 
   function onGeometry() {
     const tArrive = performance.now();
@@ -105,14 +111,23 @@ function render({ model, el }) {
     if (ackSeq > 0) flow.drawn(ackSeq, tArrive, root);
     flow.acknowledge(ackSeq);
   }
+  /** Canvas size: the cell's width beside the side panel (at least `width` if the cell is narrower), `height`. */
+  const available = () => Math.floor(el.getBoundingClientRect().width) - (controls.side.getBoundingClientRect().width || SIDE_WIDTH) - 4;
   function resize() {
-    vp.width = model.get("width");
-    vp.height = model.get("height");
+    root.classList.toggle("sc-large", !!model.get("large"));
+    const room = available();
+    vp.width = room > 240 ? room : model.get("width");
+    vp.height = canvasHeight();
     canvas.resize(vp.width, vp.height);
     controls.side.style.height = `${vp.height}px`;
     vp.setView(model.get("view"));
     drawAll();
   }
+  const observer = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => {
+    const room = available();
+    if (room > 240 && Math.abs(room - vp.width) > 1) resize();
+  });
+  if (observer) observer.observe(el);
 
   const handlers = [], messageHandlers = [];
   const on = (event, fn) => { model.on(event, fn); handlers.push([event, fn]); };
@@ -125,6 +140,7 @@ function render({ model, el }) {
   on("change:status_level", showStatus);
   on("change:width", resize);
   on("change:height", resize);
+  on("change:large", () => { resize(); sync(); });
   messageHandlers.push((msg) => {
     if (msg && msg.type === "drag_ack") {
       flow.acknowledge(msg.seq);
@@ -135,9 +151,10 @@ function render({ model, el }) {
   instrument(root, model, canvas.svg, vp, pointAt, count, messageHandlers);
 
   sync();
-  drawAll();
+  resize();
   root.dataset.ready = "1";
   return () => {
+    if (observer) observer.disconnect();
     flow.dispose();
     input.dispose();
     for (const [event, fn] of handlers) model.off(event, fn);

@@ -2,6 +2,9 @@
 // fitted spline of one knot-insertion iteration; forwards the controls to the kernel, which re-traces
 // and sends the drawing back (float32 byte buffers in `base_geometry` and `snapshot_geometry`).
 import { h, s, floats, Viewport, polylinePath, markersPath, sliderRow, selectBox, checkRow, swatch, isolateKeys, formatNumber } from "./common.js";
+import { exportButtons } from "./export.js";
+
+const LARGE = 1.35; // the "large" presentation size scales the canvas by this
 
 const COLORS = {
   boundary: "#78909c",
@@ -16,8 +19,8 @@ const COLORS = {
 };
 
 function render({ model, el }) {
-  const width = () => model.get("width");
-  const height = () => model.get("height");
+  const width = () => Math.round(model.get("width") * (model.get("large") ? LARGE : 1));
+  const height = () => Math.round(model.get("height") * (model.get("large") ? LARGE : 1));
   const vp = new Viewport(width(), height(), model.get("view"));
   let base = decodeBase(model.get("base_geometry"));
   let snap = decodeSnapshot(model.get("snapshot_geometry"));
@@ -42,10 +45,11 @@ function render({ model, el }) {
     upload.value = "";
   });
   const busy = h("span", { class: "sc-busy", "data-testid": "busy" });
+  const large = checkRow("large", model.get("large"), (v) => setTrait("large", v), { testid: "large", title: "Presentation size: larger canvas, text and controls" });
   const toolbar = h("div", { class: "sc-toolbar" },
     field("corners", cornerSel.select, "Corner detector (thesis chapter 2)"),
     field("knot insertion", methodSel.select, "Knot-insertion algorithm (thesis section 4.3)"),
-    h("span", { class: "sc-spacer" }), busy, field("image", upload));
+    h("span", { class: "sc-spacer" }), busy, field("image", upload), large.row);
 
   // ---------------------------------------------------------------- canvas
   const svg = s("svg", { class: "sc-canvas", width: width(), height: height(), "data-testid": "canvas" });
@@ -97,24 +101,29 @@ function render({ model, el }) {
   const tau = sliderRow({ label: "τ (px)", title: "Distance constraint τ of Algorithms 4.2 and 4.3", min: 1, max: 60, step: 0.5, value: model.get("tau") ?? NaN, onInput: (v, final) => { if (final) setTrait("tau", v); }, testid: "tau" });
   const tauAuto = checkRow("τ automatic", model.get("tau") === null, (checked) => setTrait("tau", checked ? null : (tau.value > 0 ? tau.value : 8)), { testid: "tau-auto" });
   const seed = sliderRow({ label: "seed", title: "Seed of the randomised algorithms (4.1, 4.4-4.6)", min: 0, max: 99, step: 1, value: model.get("seed"), onInput: (v, final) => { if (final) setTrait("seed", v === null || Number.isNaN(v) ? v : Math.round(v)); }, testid: "seed" });
-  const overlays = [
+  const OVERLAYS = [
     ["show_image", "bitmap"], ["show_boundaries", "boundaries"], ["show_corners", "corners"],
-    ["show_candidates", "candidates"], ["show_final", "final fit"],
-  ].map(([name, label]) => checkRow(label, model.get(name), (v) => setTrait(name, v), { testid: name }));
+    ["show_knots", "knots"], ["show_candidates", "candidates"], ["show_final", "final fit"],
+  ];
+  const overlays = OVERLAYS.map(([name, label]) => checkRow(label, model.get(name), (v) => setTrait(name, v), { testid: name }));
   const overlayRow = h("div", { class: "sc-overlay-grid" }, ...overlays.map((o) => o.row));
   const info = h("div", { class: "sc-explanation", "data-testid": "iteration-info" });
   const methodNote = h("div", { class: "sc-method-note", "data-testid": "method-note" });
   const stats = h("div", { class: "sc-stats", "data-testid": "stats" });
+  // "This iteration" first: it is what you read while stepping (the panel scrolls below it)
   const side = h("div", { class: "sc-side" },
+    section("This iteration", info),
     section("Corner detector", cornerParams),
     section("Knot insertion", methodNote, eps.row, tauAuto.row, tau.row, seed.row),
-    section("This iteration", info),
     section("Show", overlayRow));
   side.style.height = `${height()}px`;
 
   const status = h("div", { class: "sc-status", "data-testid": "status" });
   const summary = h("div", { class: "sc-summary" });
-  root.append(toolbar, h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, svg, h("div", { class: "sc-actions" }, btn("Fit", "Fit the image to the view", "fit", () => fitView()), btn("Edit outline", "Open the shown iteration in an OutlineEditor below", "edit-outline", () => model.send({ type: "edit" })))), side),
+  const actions = h("div", { class: "sc-actions" }, btn("Fit", "Fit the image to the view", "fit", () => fitView()),
+    btn("Edit outline", "Open the shown iteration in an OutlineEditor below", "edit-outline", () => model.send({ type: "edit" })),
+    ...exportButtons(svg, "trace", root, btn));
+  root.append(toolbar, h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, svg, actions), side),
     stepper, legend, stats, h("div", { class: "sc-footer" }, status, summary));
 
   // ---------------------------------------------------------------- behaviour
@@ -215,7 +224,7 @@ function render({ model, el }) {
     curvePath.setAttribute("d", piecesPath(snap.bezier));
     worstPath.setAttribute("d", piecesPath(snap.worst));
     worstContour.setAttribute("d", polylinePath(vp, snap.worst_contour));
-    knotPath.setAttribute("d", markersPath(vp, snap.knots, 2.6));
+    knotPath.setAttribute("d", model.get("show_knots") ? markersPath(vp, snap.knots, 2.6) : "");
     const showCand = model.get("show_candidates");
     acceptedPath.setAttribute("d", showCand ? markersPath(vp, snap.accepted, 4.2) : "");
     rejectedPath.setAttribute("d", showCand ? markersPath(vp, snap.rejected, 3.8, "cross") : "");
@@ -275,7 +284,7 @@ function render({ model, el }) {
     tauAuto.row.style.display = usesTau ? "" : "none";
     tau.row.style.display = usesTau ? "" : "none";
     seed.set(model.get("seed"));
-    overlays.forEach((o, i) => o.set(model.get(["show_image", "show_boundaries", "show_corners", "show_candidates", "show_final"][i])));
+    overlays.forEach((o, i) => o.set(model.get(OVERLAYS[i][0])));
     stats.innerHTML = model.get("stats_html");
     busy.textContent = model.get("busy") ? "tracing…" : "";
     root.dataset.busy = model.get("busy") ? "1" : "0";
@@ -324,13 +333,15 @@ function render({ model, el }) {
   on("change:corner_method", () => { buildCornerParams(); syncControls(); });
   on("change:corner_params", buildCornerParams);
   on("change:options", () => { buildCornerParams(); syncControls(); });
-  for (const name of ["method", "epsilon", "tau", "seed", "stats_html", "busy", "show_image", "show_boundaries", "show_corners", "show_candidates", "show_final"]) {
+  for (const name of ["method", "epsilon", "tau", "seed", "stats_html", "busy", ...OVERLAYS.map(([name]) => name)]) {
     on(`change:${name}`, () => { syncControls(); draw(); });
   }
   for (const name of ["snapshot_index", "n_snapshots", "iteration_info"]) on(`change:${name}`, syncStepper);
   on("change:status_message", showStatus);
   on("change:status_level", showStatus);
   const resize = () => {
+    root.classList.toggle("sc-large", !!model.get("large"));
+    large.set(model.get("large"));
     for (const node of [svg, bg]) { node.setAttribute("width", width()); node.setAttribute("height", height()); }
     side.style.height = `${height()}px`;
     vp.width = width();
@@ -340,6 +351,7 @@ function render({ model, el }) {
   };
   on("change:width", resize);
   on("change:height", resize);
+  on("change:large", resize);
   // "Edit outline": the kernel made an OutlineEditor; show its view under the explorer
   const editorSlot = h("div", { class: "sc-editor-slot", "data-testid": "editor-slot" });
   root.append(editorSlot);
@@ -354,7 +366,7 @@ function render({ model, el }) {
   drawImage();
   buildCornerParams();
   syncControls();
-  draw();
+  resize();
   root.dataset.ready = "1";
   return () => {
     stopPlay();

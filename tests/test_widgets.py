@@ -86,7 +86,8 @@ def test_every_form_builds_and_draws(form):
     assert editor.status_level == "info"
     drawn = buffer(editor.geometry["bezier"], (-1, 4, 2))
     np.testing.assert_allclose(drawn, editor.spline.bezier(), atol=1e-3)
-    assert editor.explanation.startswith("<p>")
+    assert editor.explanation_html.startswith("<p>")
+    assert "<" not in editor.explanation and editor.explanation.strip() and "&gt;" not in editor.explanation
 
 
 def test_setting_points_from_code_recomputes_and_refits_the_view():

@@ -104,6 +104,8 @@ class NumberList(t.List):
     """A list of numbers; numpy arrays are accepted, ``None`` items (NaN from the page) become NaN, bools are refused."""
 
     def validate(self, obj, value):
+        if getattr(obj, "_applying", 0) and isinstance(value, list):
+            return value  # the widget's own value, checked already
         if isinstance(value, np.ndarray):
             value = value.tolist()
         if isinstance(value, (list, tuple)):
@@ -118,6 +120,8 @@ class PointList(t.List):
     """``[[x, y], ...]``; numpy arrays are accepted. At most ``obj.max_points`` points (the widget's cap)."""
 
     def validate(self, obj, value):
+        if getattr(obj, "_applying", 0) and isinstance(value, list):
+            return value  # the widget's own value, checked already
         try:
             array = np.array(value, dtype=float)
         except (TypeError, ValueError) as exc:
@@ -272,6 +276,7 @@ class WidgetBase(anywidget.AnyWidget):
     status_level = t.Unicode("info").tag(sync=True)
     busy = Bool(False).tag(sync=True)
     debug = Bool(False).tag(sync=True)
+    large = Bool(False).tag(sync=True)
 
     def __init__(self, **traits):
         self._applying = 0

@@ -10,45 +10,61 @@ import math
 
 import numpy as np
 
+from ..plot._layers import COMB_CAP
 from ._base import f32
 from ._forms import SEGMENT_LABELS
 
-__all__ = ["fitted_view", "comb_unit", "comb", "geometry", "MAX_COMB_TEETH"]
+__all__ = ["fitted_view", "comb_unit", "comb", "construction", "geometry", "clamp_parameter", "MAX_COMB_TEETH"]
 
 #: Long curves draw every k-th comb tooth so that at most this many are sent (the envelope keeps every sample).
 MAX_COMB_TEETH = 1500
-#: The 95th-percentile comb tooth is this fraction of the view diagonal at comb size 1.
+#: At comb size 1 the 90th-percentile tooth is this fraction of the curve's size, and no tooth is longer than
+#: ``COMB_CAP`` times that: the rule of the static figures (:func:`splinecraft.plot.comb_teeth`).
 COMB_REFERENCE = 0.12
 #: Joint labels are written only for curves with at most this many pieces.
 MAX_JOINT_LABELS = 60
 
 
-def fitted_view(points, spline) -> list:
-    """``[xmin, ymin, xmax, ymax]`` around the points and the Bézier points of the curve, with an 8% margin."""
+def fitted_view(points, spline, comb_size: float | None = None) -> list:
+    """``[xmin, ymin, xmax, ymax]`` around the points and the Bézier points of the curve, with an 8% margin.
+
+    With ``comb_size`` (the comb is shown) the margin also holds the longest comb tooth (:func:`comb_unit`).
+    """
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     cloud = np.vstack([points, spline.bezier().reshape(-1, 2)]) if spline is not None else points
     lo, hi = cloud.min(axis=0), cloud.max(axis=0)
     size = np.maximum(hi - lo, 1e-6 * max(1.0, float(np.abs(cloud).max())))
-    pad = 0.08 * size.max()
+    pad = (0.08 + (COMB_REFERENCE * COMB_CAP * comb_size if comb_size else 0.0)) * size.max()
     return [float(lo[0] - pad), float(lo[1] - pad), float(lo[0] + size[0] + pad), float(lo[1] + size[1] + pad)]
+
+
+def clamp_parameter(spline, t):
+    """``t`` moved into the curve's parameter interval (None stays None)."""
+    if t is None:
+        return None
+    return float(min(max(t, spline.knots[0]), spline.knots[-1]))
 
 
 def _comb_samples(spline) -> int:
     return int(np.clip(4000 // max(spline.n_segments, 1), 6, 33))
 
 
-def comb_unit(spline, view) -> float | None:
-    """Tooth length per unit curvature: the 95th-percentile tooth is 12% of the view diagonal (§7).
+def comb_unit(spline) -> dict | None:
+    """Tooth length per unit curvature and the longest tooth, at comb size 1 (§7; as the static figures).
 
-    The editor keeps it until the view, the form or the comb size changes, so that during a drag the comb
-    shows real changes of curvature instead of being renormalised on every move.
+    The 90th-percentile tooth is 12% of the curve's size and every tooth is capped at ``COMB_CAP`` times
+    that, so sharp turns do not shoot off the canvas. The editor keeps the unit until the form, the class,
+    the view or the comb switch changes, so that during a drag the comb shows real changes of curvature
+    instead of being renormalised on every move.
     """
     bases, tips = spline.curvature_comb(scale=1.0, samples_per_segment=_comb_samples(spline))
     lengths = np.hypot(*(tips - bases).T)  # = |kappa|
     finite = lengths[np.isfinite(lengths)]
-    reference = float(np.percentile(finite, 95)) if finite.size else 0.0
-    diagonal = math.hypot(view[2] - view[0], view[3] - view[1])
-    return COMB_REFERENCE * diagonal / reference if reference > 0 else None
+    reference = float(np.percentile(finite, 90)) if finite.size else 0.0
+    target = COMB_REFERENCE * (float(np.ptp(bases, axis=0).max()) if len(bases) else 0.0)
+    if not (reference > 0 and target > 0):
+        return None
+    return {"scale": target / reference, "cap": COMB_CAP * target}
 
 
 def _joint_labels(spline) -> list:
@@ -72,10 +88,19 @@ def _joint_labels(spline) -> list:
     return labels
 
 
-def comb(spline, unit: float | None, size: float):
-    """Curvature comb: teeth ``(k, 2, 2)`` with both one-sided teeth at every joint, tip envelope, joint labels."""
+def comb(spline, unit: dict | None, size: float):
+    """Curvature comb: teeth ``(k, 2, 2)`` with both one-sided teeth at every joint, tip envelope, joint labels.
+
+    ``unit`` is :func:`comb_unit` (None: no teeth), ``size`` the user's comb size (both lengths scale with it).
+    """
     bases, tips = spline.curvature_comb(scale=1.0, samples_per_segment=_comb_samples(spline))
-    tips = bases + size * (unit or 0.0) * (tips - bases)
+    if unit is None:
+        tips = bases.copy()
+    else:
+        lengths = np.hypot(*(tips - bases).T)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            factor = size * np.minimum(unit["scale"], unit["cap"] / lengths)
+        tips = bases + np.where(np.isfinite(factor), factor, 0.0)[:, None] * (tips - bases)
     teeth = np.stack([bases, tips], axis=1)
     if len(teeth) > MAX_COMB_TEETH:
         teeth = teeth[:: math.ceil(len(teeth) / MAX_COMB_TEETH)]
@@ -94,18 +119,43 @@ def _class_polygon(spline, bezier):
     return polygon, np.stack([V, W], axis=1)
 
 
-def geometry(spline, state: dict, display: dict, *, revision: int, seq: int, unit: float | None) -> dict:
+def construction(spline, t: float) -> dict:
+    """The de Casteljau construction of the piece at parameter ``t`` (:meth:`Spline.construction`), as buffers.
+
+    ``construction``: the Bézier polygon and the two inner levels of linear interpolation, NaN-separated
+    polylines; ``construction_points``: every point of the three levels; ``construction_class``: the class
+    polygon ``F_i, V_i, W_i, F_{i+1}`` (Timmer: ``P_i, Q_1, Q_2, P_{i+1}``) the piece comes from (§1, eq 3.5);
+    ``t_point``: the curve point; ``t_info``: the piece and the local parameter θ.
+    """
+    built = spline.construction(t)
+    gap = np.full((1, 2), np.nan)
+    polylines = np.vstack([built.levels[0], gap, built.levels[1], gap, built.levels[2]])
+    out = {
+        "construction": f32(polylines),
+        "construction_points": f32(np.vstack(built.levels[:3])),
+        "t_point": f32(built.point.reshape(1, 2)),
+        "t_info": {"t": float(built.parameter), "piece": int(built.piece), "theta": float(built.theta)},
+    }
+    if built.class_polygon is not None:
+        out["construction_class"] = f32(built.class_polygon)
+    return out
+
+
+def geometry(spline, state: dict, display: dict, *, revision: int, seq: int, unit: dict | None) -> dict:
     """The ``geometry`` trait: what the page draws for ``spline`` (built from ``state``).
 
     ``display`` holds the overlay switches (``show_bezier_points``, ``show_tangents``, ``show_comb``),
-    ``comb_scale`` and ``selected_interval``.
+    ``comb_scale``, ``selected_interval`` and ``t`` (None: no construction).
     """
     bezier = spline.bezier()
     closed = spline.closed
     out = {
         "revision": revision, "seq": seq, "closed": bool(closed), "bezier": f32(bezier),
         "knots": f32(spline.knot_points[:-1] if closed else spline.knot_points),
+        "domain": [float(spline.knots[0]), float(spline.knots[-1])],
     }
+    if display.get("t") is not None:
+        out.update(construction(spline, display["t"]))
     if display["show_bezier_points"] and state["form"] != "segment":
         polygon, vw = _class_polygon(spline, bezier)
         if polygon is not None:

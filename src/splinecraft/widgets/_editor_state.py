@@ -129,7 +129,7 @@ def _check_numbers(state, max_points) -> None:
     if len(points) < need or (form == "segment" and len(points) != 4):
         exactly = "exactly" if form == "segment" else "at least"
         raise Rejected(f"this form needs {exactly} {need} points, got {len(points)}")
-    if form != "segment":
+    if form == "basis":  # the other forms' constructors apply the coincidence rule themselves
         try:
             check_distinct_neighbours(points, "points", closed=closed)
         except ValueError as exc:

@@ -7,11 +7,14 @@ imports a widget library, so the kernel-side logic is testable without Jupyter.
 """
 from __future__ import annotations
 
+import html
+import re
+
 import numpy as np
 
 from ..spline import CLASS_PRESETS, basis_spline, generic_segment, interpolate, timmer_g2, timmer_gc1, timmer_gc2
 
-__all__ = ["FORMS", "PRESETS", "KNOT_CHOICES", "build_spline", "form_options", "explanation"]
+__all__ = ["FORMS", "PRESETS", "KNOT_CHOICES", "build_spline", "form_options", "explanation", "plain_text"]
 
 #: Class presets of the generic cubic (§1): name -> (label, (alpha, beta) or None for free).
 PRESETS = {
@@ -54,7 +57,8 @@ FORMS = {
     "timmer_g2": {
         "label": "Timmer G² (Alg 3.1)",
         "tension": False, "knots": False, "closed": True, "vw": True, "alpha": True,
-        "alpha_label": "α₀/α_ref", "beta_label": "β (unused)",
+        "alpha_label": "α₀ scale", "beta_label": None,
+        "alpha_title": "α₀ relative to α_ref = 4/|P₁ − P₀| (1: handles a third of the first chord)",
         "alpha_range": (0.1, 5.0, 0.01),
         "ends": None,
         "min_points": (2, 3),
@@ -63,7 +67,8 @@ FORMS = {
     "timmer_gc1": {
         "label": "Timmer GC¹ (Alg 3.2)",
         "tension": False, "knots": False, "closed": True, "vw": True, "alpha": True,
-        "alpha_label": "α/α_ref", "beta_label": "β/β_ref",
+        "alpha_label": "α scale", "beta_label": "β scale",
+        "alpha_title": "αᵢ relative to 4/|Pᵢ₊₁ − Pᵢ| (1: handles a third of the chord)",
         "alpha_range": (0.1, 5.0, 0.01),
         "ends": None,
         "min_points": (2, 3),
@@ -129,6 +134,7 @@ def form_options(tension_scale: str) -> dict:
             name: {
                 "tension": spec["tension"], "knots": spec["knots"], "closed": spec["closed"], "vw": spec["vw"],
                 "alpha": spec["alpha"], "alpha_label": spec["alpha_label"], "beta_label": spec["beta_label"],
+                "alpha_title": spec.get("alpha_title", "Class parameter α (§1)"),
                 "add_delete": spec["add_delete"], "alpha_range": list(spec["alpha_range"]),
                 "vw_label": "Timmer points Q₁, Q₂" if name.startswith("timmer") else "class points V, W",
                 # Ball/Bézier/Timmer presets are class parameters (§1); in Alg 3.1/3.2 the sliders are relative
@@ -190,6 +196,13 @@ def build_spline(state: dict):
             raise ValueError(f"the single-segment mode takes exactly 4 points F0, V, W, F1, got {len(points)}")
         return generic_segment(points[0], points[1], points[2], points[3], alpha, beta)
     raise ValueError(f"unknown form {form!r}; choose one of {', '.join(FORMS)}")
+
+
+def plain_text(markup: str) -> str:
+    """The text of the small HTML of :func:`explanation`: paragraphs on their own lines, sub/superscripts inline."""
+    text = re.sub(r"</p>\s*", "\n\n", markup)
+    text = re.sub(r"<[^>]+>", "", text)
+    return html.unescape(text).strip()
 
 
 def explanation(form: str, preset: str, tension_scale: str) -> str:

@@ -17,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import traitlets as t
+import traitlets as tl
 
 from .._validation import check_int, check_number
 from ..spline.svg import svg_document
@@ -29,13 +29,16 @@ from ._base import (
     read_number, view_problem,
 )
 from ._editor_state import MAX_POINTS, MODEL_TRAITS, Rejected
-from ._forms import FORMS, explanation, form_options
+from ._forms import FORMS, explanation, form_options, plain_text
 from ._history import History
+from ._png import curves_png
 
 __all__ = ["SplineEditor", "SplineEditorWarning", "MAX_POINTS"]
 
 _DISPLAY_TRAITS = ("show_control_polygon", "show_knots", "show_bezier_points", "show_tangents", "show_comb",
-                   "comb_scale", "selected", "selected_interval", "view", "width", "height")
+                   "comb_scale", "selected", "selected_interval", "view", "width", "height", "t", "show_grid", "snap",
+                   "large")
+_PAGE_ONLY = ("view", "width", "height", "show_grid", "snap", "large")  # drawn by the page, nothing to recompute
 _COMB_RESET = ("form", "closed", "preset", "alpha", "beta")
 _MAX_SEQ = 2**53
 
@@ -83,9 +86,14 @@ class SplineEditor(WidgetBase):
     selected, selected_interval : int (-1 for none)
     show_control_polygon, show_knots, show_bezier_points, show_tangents, show_comb : bool
     comb_scale : float -- relative length of the comb teeth
+    show_grid, snap : bool -- grid lines; dragged points snap to them
+    large : bool -- presentation size (larger canvas, text and controls)
+    t : float or None -- the parameter slider: the point P(t) with the de Casteljau construction of its piece
+        (None: off); kept inside the curve's parameter interval
     view : [xmin, ymin, xmax, ymax] -- the visible data rectangle
     width, height : int -- drawing size in pixels (120 to 4000)
     status_message, status_level : str -- the last message ("info", "warning" or "error")
+    explanation_html : str -- the teaching text beside the drawing (``editor.explanation``: plain text)
     geometry : dict -- what the page draws (float32 byte buffers); read-only for users
 
     Examples
@@ -105,18 +113,18 @@ class SplineEditor(WidgetBase):
                 "select_at": "_on_select_at", "undo": "_on_undo", "redo": "_on_redo", "fit": "_on_fit"}
     page_traits = frozenset(MODEL_TRAITS + _DISPLAY_TRAITS)
 
-    max_points = t.Int(MAX_POINTS, min=4)
+    max_points = tl.Int(MAX_POINTS, min=4)
     points = PointList().tag(sync=True, to_json=points_to_json, from_json=points_from_json)
     point_tension = NumberList().tag(sync=True)
     interval_weights = NumberList().tag(sync=True)
     alpha = Float(2.0, allow_none=True).tag(sync=True)
     beta = Float(2.0, allow_none=True).tag(sync=True)
-    preset = t.Unicode("ball").tag(sync=True)
-    form = t.Unicode("interpolant").tag(sync=True)
+    preset = tl.Unicode("ball").tag(sync=True)
+    form = tl.Unicode("interpolant").tag(sync=True)
     closed = Bool(False).tag(sync=True)
-    end_condition = t.Unicode("natural").tag(sync=True)
-    knots = t.Unicode("chord").tag(sync=True)
-    tension_scale = t.Unicode("relative").tag(sync=True)
+    end_condition = tl.Unicode("natural").tag(sync=True)
+    knots = tl.Unicode("chord").tag(sync=True)
+    tension_scale = tl.Unicode("relative").tag(sync=True)
 
     selected = Int(-1).tag(sync=True)
     selected_interval = Int(-1).tag(sync=True)
@@ -126,13 +134,16 @@ class SplineEditor(WidgetBase):
     show_tangents = Bool(False).tag(sync=True)
     show_comb = Bool(False).tag(sync=True)
     comb_scale = Float(1.0, allow_none=True).tag(sync=True)
-    view = t.List([0.0, 0.0, 1.0, 1.0]).tag(sync=True)
+    t = Float(None, allow_none=True).tag(sync=True)
+    show_grid = Bool(True).tag(sync=True)
+    snap = Bool(False).tag(sync=True)
+    view = tl.List([0.0, 0.0, 1.0, 1.0]).tag(sync=True)
     width = Int(620, min=120, max=4000).tag(sync=True)
     height = Int(440, min=120, max=4000).tag(sync=True)
 
-    explanation = t.Unicode("").tag(sync=True)
-    options = t.Dict().tag(sync=True)
-    geometry = t.Dict().tag(sync=True)
+    explanation_html = tl.Unicode("").tag(sync=True)
+    options = tl.Dict().tag(sync=True)
+    geometry = tl.Dict().tag(sync=True)
     can_undo = Bool(False).tag(sync=True)
     can_redo = Bool(False).tag(sync=True)
 
@@ -158,9 +169,11 @@ class SplineEditor(WidgetBase):
             for name in MODEL_TRAITS:
                 setattr(self, name, state[name])
             self.options = form_options(state["tension_scale"])
-            self.explanation = explanation(state["form"], state["preset"], state["tension_scale"])
+            self.explanation_html = explanation(state["form"], state["preset"], state["tension_scale"])
         self._spline = spline
-        self.view = drawing.fitted_view(self.points, spline)
+        with self._quiet():
+            self.t = drawing.clamp_parameter(spline, self.t)
+        self.fit_view()
         self._publish()
         if state["form"] == "segment":
             self._set_status("Drag F₀, V, W, F₁; move α and β to reshape the segment.", "info")
@@ -190,6 +203,10 @@ class SplineEditor(WidgetBase):
         path.write_text(self.to_svg(), encoding="utf-8")
         return path
 
+    def to_png(self, width: int = 800, height: int | None = None) -> bytes:
+        """PNG bytes of the current curve, ``width`` pixels wide (the page's PNG button exports what it shows)."""
+        return curves_png([self._spline.bezier()], width=width, height=height)
+
     def undo(self) -> bool:
         """Restore the state before the last change; False when there is nothing to undo."""
         return self._travel(self._history.undo, "Undone.", "Nothing to undo.")
@@ -215,8 +232,13 @@ class SplineEditor(WidgetBase):
         return self._delete_point(check_int(index, "index"))
 
     def fit_view(self) -> None:
-        """Fit the view to the points and the curve."""
-        self.view = drawing.fitted_view(self.points, self._spline)
+        """Fit the view to the points and the curve (and the curvature comb, when it is shown)."""
+        self.view = drawing.fitted_view(self.points, self._spline, self.comb_scale if self.show_comb else None)
+
+    @property
+    def explanation(self) -> str:
+        """What the controls of the current form do, as plain text (the page shows ``explanation_html``)."""
+        return plain_text(self.explanation_html)
 
     @property
     def basis_figure(self):
@@ -224,6 +246,13 @@ class SplineEditor(WidgetBase):
         from ._basis_plot import BasisPlot
 
         return self._plot("basis", BasisPlot).figure
+
+    @property
+    def curvature_figure(self):
+        """bqplot Figure of κ(t) with the one-sided jumps at the joints marked (created on first use, kept in sync)."""
+        from ._basis_plot import CurvaturePlot
+
+        return self._plot("curvature", CurvaturePlot).figure
 
     # ------------------------------------------------------------------ state
     def _state(self) -> dict:
@@ -246,12 +275,13 @@ class SplineEditor(WidgetBase):
                 if getattr(self, name) != state[name]:
                     setattr(self, name, state[name])
             self._spline = spline
+            self.t = drawing.clamp_parameter(spline, self.t)
             if self.selected >= len(self.points):
                 self.selected = -1
             if self.selected_interval >= len(self.interval_weights):
                 self.selected_interval = -1
             self._publish(seq=seq)
-            self.explanation = explanation(self.form, self.preset, self.tension_scale)
+            self.explanation_html = explanation(self.form, self.preset, self.tension_scale)
             self.options = form_options(self.tension_scale)
             self.can_undo, self.can_redo = self._history.can_undo, self._history.can_redo
 
@@ -276,7 +306,7 @@ class SplineEditor(WidgetBase):
         return True
 
     # ------------------------------------------------------------------ trait changes
-    @t.observe(*MODEL_TRAITS)
+    @tl.observe(*MODEL_TRAITS)
     def _on_model_change(self, change):
         if self._applying:
             return
@@ -296,8 +326,8 @@ class SplineEditor(WidgetBase):
         if name in _COMB_RESET:
             self._comb_unit = None  # a different curve: rescale the comb
         self._commit(state, spline)
-        if name == "points" and not self._from_page:
-            self.fit_view()  # new points from code: fit them (this also rescales the comb)
+        if name == "form" or (name == "points" and not self._from_page):
+            self.fit_view()  # another form or new points from code: fit them (this also rescales the comb)
         self._set_status(note or model.describe_change(name, state, before, spline, selected=self.selected,
                                                        selected_interval=self.selected_interval), "info")
 
@@ -312,13 +342,16 @@ class SplineEditor(WidgetBase):
             return f"comb size must be a number in (0, 1000], got {value}"
         if name == "view":
             return view_problem(value)
+        if name == "t" and value is not None and self._spline is not None and \
+                not self._spline.knots[0] <= value <= self._spline.knots[-1]:
+            return f"t = {value:g} is outside the curve's parameters [{self._spline.knots[0]:g}, {self._spline.knots[-1]:g}]"
         if name == "selected" and not -1 <= value < len(self.points):
             return f"no point {value}"
         if name == "selected_interval" and not -1 <= value < len(self.interval_weights):
             return f"no interval {value}"
         return None
 
-    @t.observe(*_DISPLAY_TRAITS)
+    @tl.observe(*_DISPLAY_TRAITS)
     def _on_display_change(self, change):
         name = change["name"]
         if name in ("view", "show_comb", "width", "height"):
@@ -329,7 +362,7 @@ class SplineEditor(WidgetBase):
         if problem:
             self._revert(name, change["old"], problem)
             return
-        if name not in ("view", "width", "height"):
+        if name not in _PAGE_ONLY:
             self._publish()
 
     # ------------------------------------------------------------------ page messages
@@ -432,10 +465,10 @@ class SplineEditor(WidgetBase):
             return
         self._revision += 1
         display = {name: getattr(self, name) for name in
-                   ("show_bezier_points", "show_tangents", "show_comb", "comb_scale", "selected_interval")}
+                   ("show_bezier_points", "show_tangents", "show_comb", "comb_scale", "selected_interval", "t")}
         if self.show_comb and self._comb_unit is None:
-            self._comb_unit = drawing.comb_unit(spline, self.view)
+            self._comb_unit = drawing.comb_unit(spline)
         self.geometry = drawing.geometry(spline, self._state(), display, revision=self._revision,
                                          seq=-1 if seq is None else seq, unit=self._comb_unit)
-        if "basis" in self._plots:
-            self._plots["basis"].update(self, final=seq is None)
+        for plot in self._plots.values():
+            plot.update(self, final=seq is None)

@@ -26,6 +26,7 @@ from ..capture.fitting.options import DEFAULT_TAU
 from . import _explorer_drawing as drawing
 from ._assets import load_css, load_esm
 from ._base import Bool, Float, Int, WidgetBase, read_str, run_with_budget, short_reason, view_problem
+from ._png import curves_png
 
 __all__ = ["TraceExplorer", "TraceExplorerWarning", "demo_bitmap", "corner_param_specs"]
 
@@ -49,8 +50,8 @@ KNOWN_CORNER_PARAMS = {
 _TRACE_SETTINGS = ("corner_method", "corner_params", "method", "epsilon", "tau", "seed", "max_iterations")
 _TRACE_PARAMS = ("epsilon", "method", "corner_method", "corner_params", "seed", "max_iterations", "tau",
                  "threshold", "invert", "min_speck_area", "connectivity", "contour", "fit_params")
-_DISPLAY = ("width", "height", "show_image", "show_boundaries", "show_corners", "show_candidates", "show_final",
-            "play_interval_ms", "view")
+_DISPLAY = ("width", "height", "show_image", "show_boundaries", "show_corners", "show_knots", "show_candidates",
+            "show_final", "play_interval_ms", "view", "large")
 _MAX_UPLOAD_BYTES = 20_000_000
 #: Largest bitmap the explorer traces (pixels); larger uploads are refused from their header, before decoding.
 MAX_PIXELS = 4_000_000
@@ -119,7 +120,7 @@ class TraceExplorer(WidgetBase):
         Passed to :func:`splinecraft.trace` (``epsilon``, ``method``, ``corner_method``, ``corner_params``,
         ``seed``, ``max_iterations``, ``tau``, ``threshold``, ``invert``, ``min_speck_area``,
         ``connectivity``, ``contour``, ``fit_params``), plus display options ``width``, ``height``,
-        ``show_image``, ``show_boundaries``, ``show_corners``, ``show_candidates``, ``show_final``,
+        ``show_image``, ``show_boundaries``, ``show_corners``, ``show_knots``, ``show_candidates``, ``show_final``,
         ``play_interval_ms``.
 
     Synced traits
@@ -167,6 +168,7 @@ class TraceExplorer(WidgetBase):
     show_image = Bool(True).tag(sync=True)
     show_boundaries = Bool(True).tag(sync=True)
     show_corners = Bool(True).tag(sync=True)
+    show_knots = Bool(True).tag(sync=True)
     show_candidates = Bool(True).tag(sync=True)
     show_final = Bool(False).tag(sync=True)
     view = t.List([0.0, 0.0, 1.0, 1.0]).tag(sync=True)
@@ -266,9 +268,17 @@ class TraceExplorer(WidgetBase):
         return self._result.to_svg()
 
     def save_svg(self, path) -> Path:
+        """Write :meth:`to_svg` to ``path``; returns the path."""
         path = Path(path)
         path.write_text(self.to_svg(), encoding="utf-8")
         return path
+
+    def to_png(self, width: int = 800, *, bitmap: bool = True) -> bytes:
+        """PNG bytes of the traced outline over the bitmap (light grey; ``bitmap=False`` leaves it out)."""
+        height, columns = self._mask.shape
+        return curves_png([s.bezier() for s in self._result.splines], width=width,
+                          height=max(16, int(round(width * height / columns))), frame=(0, 0, columns, height),
+                          background=self._mask if bitmap else None, stroke_width=2.0)
 
     @property
     def convergence_figure(self):

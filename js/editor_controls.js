@@ -205,7 +205,7 @@ export function createControls(model, { focus, svg, root }) {
   }
   /** Data coordinates under the pointer (null: the pointer left the canvas). */
   function showReadout(xy) {
-    readout.textContent = xy ? `x ${xy[0].toFixed(1)}  y ${xy[1].toFixed(1)}` : "";
+    readout.textContent = xy ? `x ${xy[0].toFixed(1)} y ${xy[1].toFixed(1)}` : "";
   }
 
   return { toolbar: bar.toolbar, actions: bar.actions, side: panel.side, explanation, status, summary, readout, sync,

@@ -38,6 +38,8 @@ function instrument(root, model, svg, vp, pointAt, count, handlers) {
     },
     screenOf(x, y) { return [rect().left + vp.sx(x), rect().top + vp.sy(y)]; },
     dataOf(clientX, clientY) { return [vp.dx(clientX - rect().left), vp.dy(clientY - rect().top)]; },
+    /** Spacing of the grid lines in data units (what snap to grid uses). */
+    gridStep() { const [x0, y0, x1, y1] = vp.visible(); return gridStep(Math.max(x1 - x0, y1 - y0)); },
     /** Round trip of an empty message through the kernel: {total, up, down} in ms (needs debug=True). */
     ping() {
       return new Promise((resolve) => {

@@ -125,9 +125,10 @@ function render({ model, el }) {
     vp.setView(model.get("view"));
     drawAll();
   }
+  // the cell changed width (window, side bars): refit the canvas, but never under a point being dragged
   const observer = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => {
     const room = available();
-    if (room > 240 && Math.abs(room - vp.width) > 1) resize();
+    if (room > 240 && Math.abs(room - vp.width) > 1 && !flow.active) resize();
   });
   if (observer) observer.observe(el);
 

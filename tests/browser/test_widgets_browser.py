@@ -25,7 +25,25 @@ def open_editor(lab, cell=EDITOR_CELL):
     page = lab.open_notebook([cell])
     page.evaluate("() => window.jupyterapp.shell.collapseLeft()")
     root = page.wait_for_selector(EDITOR, timeout=60_000)
+    wait_layout_settled(page, root)
     return page, root
+
+
+def wait_layout_settled(page, root, frames: int = 6):
+    """Wait until the canvas keeps its size for a few animation frames (it fills the cell, which the
+    collapsing side bar resizes), so that screen positions read now stay valid."""
+    page.wait_for_function(
+        """([el, frames]) => new Promise((resolve) => {
+            const canvas = el.querySelector('[data-testid=canvas]');
+            let last = canvas.getAttribute('width'), same = 0;
+            const tick = () => {
+              const now = canvas.getAttribute('width');
+              same = now === last ? same + 1 : 0;
+              last = now;
+              if (same >= frames) resolve(true); else requestAnimationFrame(tick);
+            };
+            requestAnimationFrame(tick);
+          })""", arg=[root, frames], timeout=20_000)
 
 
 def curve_d(root) -> str:

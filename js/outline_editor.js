@@ -288,6 +288,37 @@ function render({ model, el }) {
   }
 
   let band = null; // rubber-band selection {px, py, shift}
+  // zoom with the wheel around the pointer, pan with the middle button; the view is a page trait
+  let pan = null;
+  svg.addEventListener("wheel", (event) => {
+    event.preventDefault();
+    const [px, py] = local(event);
+    vp.setView(vp.zoomed(event.deltaY < 0 ? 1.15 : 1 / 1.15, px, py));
+    setTrait("view", vp.visible());
+  }, { passive: false });
+  svg.addEventListener("pointerdown", (event) => {
+    if (event.button === 1) {
+      event.preventDefault();
+      svg.setPointerCapture(event.pointerId);
+      const [px, py] = local(event);
+      pan = { px, py, view: vp.visible(), pointerId: event.pointerId };
+    }
+  });
+  svg.addEventListener("pointermove", (event) => {
+    if (!pan || event.pointerId !== pan.pointerId) return;
+    const [px, py] = local(event);
+    vp.setView(pan.view);
+    vp.setView(vp.panned(px - pan.px, py - pan.py));
+    drawAll();
+  });
+  const endPan = (event) => {
+    if (!pan || event.pointerId !== pan.pointerId) return;
+    pan = null;
+    setTrait("view", vp.visible());
+  };
+  svg.addEventListener("pointerup", endPan);
+  svg.addEventListener("pointercancel", endPan);
+
   svg.addEventListener("pointerdown", (event) => {
     if (event.button !== 0) return;
     root.focus({ preventScroll: true });
@@ -433,6 +464,15 @@ function render({ model, el }) {
   const on = (event, fn) => { model.on(event, fn); handlers.push([event, fn]); };
   on("change:geometry", onGeometry);
   on("change:view", () => { vp.setView(model.get("view")); drawAll(); });
+  const resize = () => {
+    for (const node of [svg, bg]) { node.setAttribute("width", model.get("width")); node.setAttribute("height", model.get("height")); }
+    vp.width = model.get("width");
+    vp.height = model.get("height");
+    vp.setView(model.get("view"));
+    drawAll();
+  };
+  on("change:width", resize);
+  on("change:height", resize);
   on("change:selection", () => { drawKnots(); showStatus(); });
   on("change:corners", drawKnots);
   for (const name of ["status_message", "status_level", "max_deviation", "can_undo", "can_redo", "point_tension", "interval_weights"]) on(`change:${name}`, showStatus);

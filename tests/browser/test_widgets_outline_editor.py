@@ -161,3 +161,24 @@ def test_trace_explorer_opens_the_shown_iteration_in_an_editor(lab):
     assert first == expected
     drawn = page.query_selector("[data-testid=editor-slot] [data-testid=contour-0]").get_attribute("d")
     assert drawn.count("C") == first[0]
+
+
+def test_wheel_zoom_and_resize_change_the_view(lab):
+    page = lab.open_notebook([CELL])
+    root = page.wait_for_selector(ROOT, timeout=60_000)
+    root.scroll_into_view_if_needed()
+    view = lab.python_json("editor.view")
+    old = path_d(root, 0)
+    x, y = root.evaluate("el => el.__splinecraft.screenKnot(0, 0)")
+    far = root.evaluate("el => el.__splinecraft.screenKnot(0, 5)")
+    page.mouse.move(x, y)
+    page.mouse.wheel(0, -100)
+    wait_python(lab, "editor.view", lambda v: v != view)
+    after = root.evaluate("el => el.__splinecraft.screenKnot(0, 0)")
+    assert math.dist(after, (x, y)) < 2.0  # around the pointer
+    spread = math.dist(after, root.evaluate("el => el.__splinecraft.screenKnot(0, 5)")) / math.dist((x, y), far)
+    assert spread == pytest.approx(1.15, rel=0.02)  # one wheel step zooms in by 1.15
+    assert path_d(root, 0) != old
+    lab.execute("editor.width = 400")
+    page.wait_for_function("() => document.querySelector('[data-testid=outline-editor] [data-testid=canvas]')"
+                           ".getAttribute('width') === '400'", timeout=20_000)

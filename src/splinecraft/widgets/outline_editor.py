@@ -54,7 +54,8 @@ class OutlineEditor(WidgetBase):
     or the button toggles corner / smooth; Delete removes the selected knots; arrow keys move the selection
     (Shift: 10 px); the handles of the selection's box translate, rotate (round handle), scale (corners,
     Shift: per axis) and shear (edge handles); the mirror buttons reflect the selection (or the whole shape)
-    about its box's vertical or horizontal centre line; Ctrl+Z / Ctrl+Y undo and redo.
+    about its box's vertical or horizontal centre line; Ctrl+Z / Ctrl+Y undo and redo; the wheel zooms, the
+    middle button pans, Fit resets the view.
 
     Synced traits
     -------------

@@ -57,6 +57,7 @@ from .. import _validation
 from .contour import trace_boundaries
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
+from .corners import check_params as check_corner_params
 from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
@@ -84,10 +85,10 @@ def trace(
     seed=0,
     max_iterations=200,
     keep_snapshots=True,
-    connectivity=8,
+    connectivity="minority",
     threshold=None,
     invert=False,
-    min_speck_area=0,
+    min_speck_area=None,
     tau=None,
     contour="outline",
     fit_params=None,
@@ -120,8 +121,10 @@ def trace(
         Bound on knot-insertion iterations per boundary (never a hang).
     keep_snapshots : bool
         Keep every iteration (per boundary, and the merged :attr:`TraceResult.snapshots`).
-    connectivity : {8, 4}
-        Ink connectivity of the tracer (and of speck removal).
+    connectivity : {"minority", 8, 4}
+        Ink connectivity of the tracer (and of speck removal): ``"minority"`` (default) joins, at each
+        diagonal contact of pixels, the locally rarer colour, so hairlines stay whole and strokes touching
+        at a corner leave no pinhole (:mod:`~splinecraft.capture.contour`); 8 or 4 fix it for the image.
     threshold, invert, min_speck_area
         Binarization, see :func:`~splinecraft.capture.image.load_bitmap`.
     tau : float, optional
@@ -219,7 +222,7 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     epsilon = check_epsilon(epsilon)
     max_iterations = check_count(max_iterations, "max_iterations", 1)
     keep_snapshots = check_flag(keep_snapshots, "keep_snapshots")
-    _validation.check_choice(connectivity, "connectivity", (4, 8))
+    _validation.check_choice(connectivity, "connectivity", (4, 8, "minority"))
     _validation.check_choice(contour, "contour", ("outline", "pixels"))
     if seed is not None:
         seed = check_count(seed, "seed", 0)
@@ -229,6 +232,7 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     corner_method = _validation.check_choice(corner_method, "corner_method", CORNER_METHODS)
     corner_params = _validation.check_options(corner_params, "corner_params", reserved=("closed", "method"),
                                               reserved_reason="trace sets it (corner_method= picks the detector)")
+    corner_params = check_corner_params(corner_method, corner_params, "corner_params")
     fit_params = _validation.check_options(fit_params, "fit_params", reserved=_OWN_ARGUMENTS,
                                            reserved_reason="pass it to trace() itself")
     options = dict(fit_params)

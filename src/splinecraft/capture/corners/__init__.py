@@ -37,6 +37,9 @@ Measured accuracy and speed on rasterized shapes are in ``BENCHMARKS.md`` ("Corn
 """
 from __future__ import annotations
 
+import inspect
+
+from ... import _validation
 from ._classic import bt87, fd77, ipan99, rj73, rw75, tc89
 from ._jump import tangent_jump
 from ._thesis import srm05
@@ -90,7 +93,8 @@ def corners(points, method="srm05", *, closed=True, **params):
     closed : bool
         Closed outline (default) or open polyline (its end points are never reported).
     **params
-        The detector's own parameters (see its docstring); an unknown name raises ``TypeError``.
+        The detector's own parameters (see its docstring); an unknown name raises ``TypeError`` listing
+        the accepted ones (:func:`check_params`).
 
     Returns
     -------
@@ -98,9 +102,25 @@ def corners(points, method="srm05", *, closed=True, **params):
         Sorted, unique indices into ``points``.
     """
     if not isinstance(method, str):
-        raise TypeError(f"method must be a string, got {method!r}")
-    try:
-        detector = CORNER_METHODS[method]
-    except KeyError:
-        raise ValueError(f"unknown corner method {method!r}; choose one of {sorted(CORNER_METHODS)}") from None
+        raise TypeError(f"method must be a string, one of {sorted(CORNER_METHODS)}; got {type(method).__name__}")
+    if method not in CORNER_METHODS:
+        raise ValueError(f"unknown corner method {method!r}; choose one of {sorted(CORNER_METHODS)}")
+    detector = CORNER_METHODS[method]
+    check_params(method, params)
     return detector(points, closed=closed, **params)
+
+
+def check_params(method, params, name="params"):
+    """The keyword parameters of detector ``method`` (a known name): a dict with string keys naming its own
+    parameters; ``closed`` and ``method`` are set by the caller. ``TypeError`` names the bad key and lists
+    the accepted ones."""
+    accepted = sorted(key for key, parameter in inspect.signature(CORNER_METHODS[method]).parameters.items()
+                      if parameter.kind is inspect.Parameter.KEYWORD_ONLY and key != "closed")
+    params = _validation.check_options(params, name, reserved=("closed", "method"),
+                                       reserved_reason="the outline's closedness and the detector are chosen "
+                                       "by the caller")
+    for key in params:
+        if key not in accepted:
+            raise TypeError(f"{name} has an unexpected keyword {key!r} for the {method!r} detector; its "
+                            f"parameters are {accepted}")
+    return params

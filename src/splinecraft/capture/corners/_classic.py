@@ -56,10 +56,17 @@ def _kcos_select(P, closed, strength_table, m, max_angle):
     return _thin_by_strength(np.flatnonzero(selected), np.nan_to_num(strength, nan=-2), P, 1.5)
 
 
+#: Upper bounds of the classic detectors' scale parameters (points, px): far beyond useful values, they keep
+#: the k-cosine and cornerity tables of one call at ``O(n)`` memory.
+MAX_SCALE = 200
+MAX_DISTANCE = 200.0
+
+
 def _check_m(m, n):
-    """RJ73/RW75's largest k: ``n / 10`` for None (the paper's choice), at most ``(n - 1) // 2``."""
-    m = max(1, int(round(n / 10))) if m is None else _check_int(m, "m", low=1)
-    return min(m, (n - 1) // 2)
+    """RJ73/RW75's largest k: ``n / 10`` for None (the paper's choice), at most ``(n - 1) // 2`` and
+    ``MAX_SCALE``."""
+    m = max(1, int(round(n / 10))) if m is None else _check_int(m, "m", low=1, high=MAX_SCALE)
+    return min(m, (n - 1) // 2, MAX_SCALE)
 
 
 def _k_cosine_input(points, closed, m, max_angle):
@@ -68,7 +75,7 @@ def _k_cosine_input(points, closed, m, max_angle):
     max_angle = _check_real(max_angle, "max_angle", low=0.0, high=180.0, low_open=True)
     P, keep = _prepare(points, closed)
     if m is not None:
-        _check_int(m, "m", low=1)
+        _check_int(m, "m", low=1, high=MAX_SCALE)
     if len(P) < 5:
         return None
     m = _check_m(m, len(P))
@@ -93,7 +100,7 @@ def rj73(points, *, closed=True, m=5, max_angle=120.0):
     points : array_like (n, 2)
     closed : bool
     m : int or None, default 5
-        Largest k; at most ``(n - 1) // 2`` is used. The paper takes ``m = n / 10`` (pass None) on curves of
+        Largest k, at most ``MAX_SCALE`` (200); at most ``(n - 1) // 2`` is used. The paper takes ``m = n / 10`` (pass None) on curves of
         some 60 points; on outlines of hundreds of points a fixed m does much better (``BENCHMARKS.md``).
     max_angle : float, default 120
         Largest k-cosine angle (degrees, in (0, 180]) of an angle point. The defaults of ``m`` and
@@ -224,7 +231,7 @@ def fd77(points, *, closed=True, s=5, threshold=1000.0):
     points : array_like (n, 2)
     closed : bool
     s : int, default 5
-        Smoothing length (points), >= 2.
+        Smoothing length (points), in ``[2, MAX_SCALE]`` (200).
     threshold : float, default 1000
         Minimum cornerity (degrees x points), >= 0. The default was chosen on the project's synthetic
         shapes (``benchmarks/bench_corners.py``); the paper tunes it per curve.
@@ -234,7 +241,7 @@ def fd77(points, *, closed=True, s=5, threshold=1000.0):
     numpy.ndarray of intp
         Sorted indices; empty for fewer than ``2 s + 3`` distinct points.
     """
-    s = _check_int(s, "s", low=2)
+    s = _check_int(s, "s", low=2, high=MAX_SCALE)
     threshold = _check_real(threshold, "threshold", low=0.0)
     P, keep = _prepare(points, closed)
     if len(P) < 2 * s + 3:
@@ -257,9 +264,9 @@ def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=300.0
     points : array_like (n, 2)
     closed : bool
     s_min, s_max : int, default 3 and 7
-        Range of smoothing lengths, ``2 <= s_min <= s_max``.
+        Range of smoothing lengths, ``2 <= s_min <= s_max <= MAX_SCALE`` (200).
     arm_limit : int, default 15
-        Upper bound of the arm lengths (points), >= 1.
+        Upper bound of the arm lengths (points), in ``[1, 100 MAX_SCALE]``.
     threshold : float, default 300
         Minimum averaged cornerity (degrees x points), >= 0. ``arm_limit`` and ``threshold`` were chosen
         on the project's synthetic shapes (``benchmarks/bench_corners.py``); the paper tunes them per curve.
@@ -269,11 +276,11 @@ def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=300.0
     numpy.ndarray of intp
         Sorted indices; empty for fewer than ``2 s_max + 3`` distinct points.
     """
-    s_min = _check_int(s_min, "s_min", low=2)
-    s_max = _check_int(s_max, "s_max", low=2)
+    s_min = _check_int(s_min, "s_min", low=2, high=MAX_SCALE)
+    s_max = _check_int(s_max, "s_max", low=2, high=MAX_SCALE)
     if s_max < s_min:
         raise ValueError(f"s_max must be >= s_min, got s_min={s_min}, s_max={s_max}")
-    arm_limit = _check_int(arm_limit, "arm_limit", low=1)
+    arm_limit = _check_int(arm_limit, "arm_limit", low=1, high=100 * MAX_SCALE)
     threshold = _check_real(threshold, "threshold", low=0.0)
     P, keep = _prepare(points, closed)
     if len(P) < 2 * s_max + 3:
@@ -285,6 +292,36 @@ def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=300.0
 # ----------------------------------------------------------------------------------------------------------
 # IPAN99
 # ----------------------------------------------------------------------------------------------------------
+#: IPAN99 searches at most this many points on each side of a point (an admissible triangle ends at the
+#: first point farther than d_max, so this matters only for outlines denser than d_max / 256 px).
+IPAN_MAX_REACH = 256
+_IPAN_BLOCK = 1 << 21                       # triangles per block of points: bounds the memory of one call
+
+
+def _ipan_sharpest(P, rows, reach, closed, d_min, d_max, alpha_max):
+    """IPAN99 pass 1 for the points ``rows``: the smallest admissible opening angle (inf where none)."""
+    n = len(P)
+    ks = np.arange(1, reach + 1)
+    idx_f, idx_b = rows[:, None] + ks[None, :], rows[:, None] - ks[None, :]
+    if closed:
+        fwd, bwd = P[idx_f % n] - P[rows, None, :], P[idx_b % n] - P[rows, None, :]
+    else:
+        fwd = np.where(((idx_f >= 0) & (idx_f < n))[..., None], P[np.clip(idx_f, 0, n - 1)], np.nan) - P[rows, None]
+        bwd = np.where(((idx_b >= 0) & (idx_b < n))[..., None], P[np.clip(idx_b, 0, n - 1)], np.nan) - P[rows, None]
+    dist_f = np.hypot(fwd[..., 0], fwd[..., 1])
+    dist_b = np.hypot(bwd[..., 0], bwd[..., 1])
+    # the search outwards stops at the first point farther than d_max (NaN beyond an open end stops too)
+    with np.errstate(invalid="ignore"):
+        ok_f = np.cumprod(dist_f <= d_max, axis=1).astype(bool) & (dist_f >= d_min)
+        ok_b = np.cumprod(dist_b <= d_max, axis=1).astype(bool) & (dist_b >= d_min)
+    # opening angle of every (p-, p+) pair: (rows, K, K)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = np.einsum("nad,nbd->nab", bwd, fwd) / (dist_b[:, :, None] * dist_f[:, None, :])
+    alpha = np.degrees(np.arccos(np.clip(cos, -1, 1)))
+    admissible = ok_b[:, :, None] & ok_f[:, None, :] & (alpha <= alpha_max)
+    return np.where(admissible, alpha, np.inf).reshape(len(rows), -1).min(axis=1)
+
+
 def ipan99(points, *, closed=True, d_min=7.0, d_max=9.0, alpha_max=150.0):
     """Chetverikov & Szabo (1999), "A simple and efficient algorithm for detection of high curvature
     points in planar curves", Proc. 23rd Workshop of the Austrian Pattern Recognition Group (IPAN99).
@@ -303,7 +340,9 @@ def ipan99(points, *, closed=True, d_min=7.0, d_max=9.0, alpha_max=150.0):
     points : array_like (n, 2)
     closed : bool
     d_min, d_max : float, default 7 and 9
-        Arm length range (px), ``0 <= d_min <= d_max``, ``d_max > 0``.
+        Arm length range (px), ``0 <= d_min <= d_max <= MAX_DISTANCE`` (200), ``d_max > 0``; at most
+        ``IPAN_MAX_REACH`` (256) points are searched on each side, and the triangles are formed in blocks
+        of points, so memory stays bounded on any outline.
     alpha_max : float, default 150
         Largest opening angle (degrees) of a corner, in (0, 180].
 
@@ -312,8 +351,8 @@ def ipan99(points, *, closed=True, d_min=7.0, d_max=9.0, alpha_max=150.0):
     numpy.ndarray of intp
         Sorted indices; empty for fewer than 5 distinct points.
     """
-    d_min = _check_real(d_min, "d_min", low=0.0)
-    d_max = _check_real(d_max, "d_max", low=0.0, low_open=True)
+    d_min = _check_real(d_min, "d_min", low=0.0, high=MAX_DISTANCE)
+    d_max = _check_real(d_max, "d_max", low=0.0, low_open=True, high=MAX_DISTANCE)
     if d_max < d_min:
         raise ValueError(f"d_max must be >= d_min, got d_min={d_min:g}, d_max={d_max:g}")
     alpha_max = _check_real(alpha_max, "alpha_max", low=0.0, high=180.0, low_open=True)
@@ -322,24 +361,9 @@ def ipan99(points, *, closed=True, d_min=7.0, d_max=9.0, alpha_max=150.0):
     if n < 5:
         return _EMPTY.copy()
     step = np.hypot(*np.diff(np.vstack([P, P[:1]]) if closed else P, axis=0).T)
-    reach = int(min(np.ceil(d_max / step.min()) + 1, (n - 1) // 2))
-    ks = np.arange(1, reach + 1)
-    fwd = _offset_points(P, ks, closed) - P[:, None, :]           # (n, K, 2)
-    bwd = _offset_points(P, -ks, closed) - P[:, None, :]
-    dist_f = np.hypot(fwd[..., 0], fwd[..., 1])
-    dist_b = np.hypot(bwd[..., 0], bwd[..., 1])
-    # the search outwards stops at the first point farther than d_max (NaN beyond an open end stops too)
-    with np.errstate(invalid="ignore"):
-        near_f = np.cumprod(dist_f <= d_max, axis=1).astype(bool)
-        near_b = np.cumprod(dist_b <= d_max, axis=1).astype(bool)
-        ok_f = near_f & (dist_f >= d_min)
-        ok_b = near_b & (dist_b >= d_min)
-    # opening angle of every (p-, p+) pair: (n, K, K)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        cos = np.einsum("nad,nbd->nab", bwd, fwd) / (dist_b[:, :, None] * dist_f[:, None, :])
-    alpha = np.degrees(np.arccos(np.clip(cos, -1, 1)))
-    admissible = ok_b[:, :, None] & ok_f[:, None, :] & (alpha <= alpha_max)
-    alpha = np.where(admissible, alpha, np.inf).reshape(n, -1).min(axis=1)
+    reach = int(min(np.ceil(d_max / step.min()) + 1, (n - 1) // 2, IPAN_MAX_REACH))
+    alpha = np.concatenate([_ipan_sharpest(P, rows, reach, closed, d_min, d_max, alpha_max)
+                            for rows in np.array_split(np.arange(n), -(-n * reach * reach // _IPAN_BLOCK))])
     candidate = np.isfinite(alpha)
     if not closed:
         candidate[[0, -1]] = False

@@ -15,6 +15,14 @@ from ._common import _EMPTY, _check_int, _check_real, _circular_max_filter, _pre
 #: Arm lengths tried (samples at 1 px spacing); an arm grows through them while it stays straight.
 _ARM_LADDER = (3, 4, 5, 6, 8, 10, 12, 15, 19, 24, 30, 38, 48, 60, 76, 96, 120)
 _ARM_OPERATORS = {}
+#: At most this many resampled points per input point (see :func:`_sample_step`).
+SAMPLES_PER_POINT = 4
+#: Upper bounds of tangent-jump's parameters (px, samples); each is far beyond any useful value and keeps
+#: the work of one call proportional to the number of points.
+MAX_SMOOTHING = 50.0
+MAX_TOLERANCE = 50.0
+MAX_FLANK = 500
+MAX_SEPARATION = 500
 
 
 def _arm_operators(length, side):
@@ -29,11 +37,28 @@ def _arm_operators(length, side):
     return _ARM_OPERATORS[key]
 
 
+def _arc_lengths(P, closed):
+    """Cumulative arc length at every point of the polyline (closed: and back to the first); ValueError when
+    the coordinates are so large that the length overflows."""
+    ring = np.vstack([P, P[:1]]) if closed else P
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(ring, axis=0).T))])
+    if not np.isfinite(arc[-1]):
+        raise ValueError("points: the outline's length overflows float64 (coordinates near 1e308); scale the "
+                         "points down")
+    return ring, arc
+
+
+def _sample_step(P, closed):
+    """1 px, or coarser on outlines whose points are far apart: at most ``SAMPLES_PER_POINT`` samples per
+    input point, so memory and time grow with the number of points, not with the coordinates' scale."""
+    _, arc = _arc_lengths(P, closed)
+    return max(1.0, float(arc[-1]) / (SAMPLES_PER_POINT * len(P)))
+
+
 def _resample(P, closed, step=1.0):
     """Resample the polyline at uniform arc length ``step``; returns the samples, their arc positions, the
     arc positions of the input points and the total length."""
-    ring = np.vstack([P, P[:1]]) if closed else P
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(ring, axis=0).T))])
+    ring, arc = _arc_lengths(P, closed)
     total = arc[-1]
     count = int(round(total / step))
     if closed:
@@ -176,7 +201,10 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     pixels and degrees.
 
     1. The outline is resampled at 1 px arc length and smoothed by a Gaussian of ``smoothing`` px, which
-       removes single-pixel bumps of the staircase.
+       removes single-pixel bumps of the staircase. An outline whose points lie more than
+       ``SAMPLES_PER_POINT`` (4) px apart on average is resampled at ``perimeter / (4 n)`` instead, so a call
+       costs ``O(n)`` memory whatever the scale of the coordinates (the sample counts below are then in
+       that step).
     2. **Arms.** At every sample two arms grow, one backwards and one forwards, through the lengths
        3, 4, 5, 6, 8, ... ``max_arm`` samples for as long as every sample of the arm stays within
        ``tolerance`` px of the arm's least-squares line. The arm direction is that line's (long arms on
@@ -207,50 +235,73 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         Outline in pixel units (roughly unit spaced; any polyline works, it is resampled).
     closed : bool
     smoothing : float, default 1.0
-        Gaussian sigma (px) applied after resampling, >= 0 (0 = none).
+        Gaussian sigma (px) applied after resampling, in ``[0, MAX_SMOOTHING]`` = [0, 50] (0 = none).
     tolerance : float, default 0.3
-        Largest distance (px) of an arm sample from the arm's line, > 0.
+        Largest distance (px) of an arm sample from the arm's line, in ``(0, MAX_TOLERANCE]`` = (0, 50].
     min_turn : float, default 25
         Smallest turn |J| (degrees) of a corner, in [0, 180).
     min_excess : float, default 25
         Smallest excess |E| (degrees) of a corner, in [0, 180).
     flank : (int, int), default (4, 10)
-        Nearest and farthest flank offsets (samples) of the excess baseline, ``1 <= flank[0] <= flank[1]``.
+        Nearest and farthest flank offsets (samples) of the excess baseline,
+        ``1 <= flank[0] <= flank[1] <= MAX_FLANK`` (500).
     max_arm : int, default 40
-        Longest arm (samples), >= 3. Longer arms (60) find the same corners on the 335 shapes of
+        Longest arm (samples), in ``[3, 120]`` (120 is the longest length of the arm ladder). Longer arms (60) find the same corners on the 335 shapes of
         ``bench_corners.py``'s synthetic sets (seeds 0 and 1) and the yardstick (the same true and false
         positives) and cost 1.2-2x the time on outlines with long straight sides.
     separation : int, default 2
-        Half width (samples) of the non-maximum suppression, >= 1.
+        Half width (samples) of the non-maximum suppression, in ``[1, MAX_SEPARATION]`` (500).
 
     Returns
     -------
     numpy.ndarray of intp
         Sorted indices into ``points``; empty when the outline is shorter than 8 px.
     """
-    smoothing = _check_real(smoothing, "smoothing", low=0.0)
-    tolerance = _check_real(tolerance, "tolerance", low=0.0, low_open=True)
-    min_turn = _check_real(min_turn, "min_turn", low=0.0, high=180.0, high_open=True)
-    min_excess = _check_real(min_excess, "min_excess", low=0.0, high=180.0, high_open=True)
-    if isinstance(flank, (str, bytes)) or np.ndim(flank) != 1 or len(flank) != 2:
-        raise TypeError(f"flank must be a pair of integers (near, far), got {flank!r}")
-    near = _check_int(flank[0], "flank[0]", low=1)
-    far = _check_int(flank[1], "flank[1]", low=near)
-    max_arm = _check_int(max_arm, "max_arm", low=3)
-    separation = _check_int(separation, "separation", low=1)
+    settings = _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation)
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
     if closed:                              # resample from the lowest-then-leftmost point: the result then
         start = int(np.lexsort((P[:, 0], P[:, 1]))[0])     # does not depend on where the outline starts
         P, keep = np.roll(P, -start, axis=0), np.roll(keep, -start)
-    samples, where, arc, perimeter = _resample(P, closed)
-    m = len(samples)
-    if m < 8:
+    step = _sample_step(P, closed)
+    samples, where, arc, perimeter = _resample(P, closed, step)
+    if len(samples) < 8:
         return _EMPTY.copy()
-    samples = _smooth(samples, smoothing, closed)
-    ladder = [length for length in _ARM_LADDER if length <= max_arm and 2 * length < m] or [3]
-    turn, arms = _signed_arm_turn(samples, closed, tolerance, ladder)
+    samples = _smooth(samples, settings["smoothing"] / step, closed)
+    ladder = [length for length in _ARM_LADDER if length <= settings["max_arm"] and 2 * length < len(samples)] \
+        or [3]
+    turn, arms = _signed_arm_turn(samples, closed, settings["tolerance"], ladder)
+    chosen, size = _jump_peaks(turn, closed, settings)
+    nearest = _locate(P, arc, perimeter, where[chosen], samples[chosen], tuple(x[chosen] for x in arms),
+                      size[chosen], closed)
+    if not closed:
+        nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
+    return _result(nearest, keep)
+
+
+def _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation):
+    """tangent-jump's parameters checked against their documented domains and bounds."""
+    if isinstance(flank, (str, bytes)) or np.ndim(flank) != 1 or len(flank) != 2:
+        raise TypeError(f"flank must be a pair of integers (near, far), got {flank!r}")
+    near = _check_int(flank[0], "flank[0]", low=1, high=MAX_FLANK)
+    return {
+        "smoothing": _check_real(smoothing, "smoothing", low=0.0, high=MAX_SMOOTHING),
+        "tolerance": _check_real(tolerance, "tolerance", low=0.0, low_open=True, high=MAX_TOLERANCE),
+        "min_turn": _check_real(min_turn, "min_turn", low=0.0, high=180.0, high_open=True),
+        "min_excess": _check_real(min_excess, "min_excess", low=0.0, high=180.0, high_open=True),
+        "near": near, "far": _check_int(flank[1], "flank[1]", low=near, high=MAX_FLANK),
+        "max_arm": _check_int(max_arm, "max_arm", low=3, high=max(_ARM_LADDER)),
+        "separation": _check_int(separation, "separation", low=1, high=MAX_SEPARATION),
+    }
+
+
+def _jump_peaks(turn, closed, settings):
+    """Steps 4-5: the samples whose turn ``|J|`` is a local maximum, at least ``min_turn`` and exceeds the
+    flanks' median by ``min_excess``; a plateau of equal maxima keeps its first sample. Returns the chosen
+    samples and ``|J|`` at every sample."""
+    m = len(turn)
+    near, far, separation = settings["near"], settings["far"], settings["separation"]
     offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
     idx = np.arange(m)[:, None] + offsets[None, :]
     if closed:
@@ -270,7 +321,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         size = np.abs(turn)
         strength = np.nan_to_num(size, nan=-np.inf)
         peak = (strength >= _circular_max_filter(strength, separation, closed)) \
-            & (size >= min_turn) & (excess >= min_excess)
+            & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
     chosen = np.flatnonzero(peak)
     if chosen.size > 1:                     # a plateau of equal maxima keeps its first sample
         first = np.ones(chosen.size, dtype=bool)
@@ -278,38 +329,38 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         if closed and chosen[0] + m - chosen[-1] <= separation:
             first[-1] = False
         chosen = chosen[first]
-    # step 6: the input point of each corner
-    pos = where[chosen]
+    return chosen, size
+
+
+def _locate(P, arc, perimeter, pos, at, arms, size, closed):
+    """Step 6: the input point of each corner (arc position ``pos``, sample ``at``, its arms and turn)."""
     right = np.clip(np.searchsorted(arc, pos), 0, len(arc) - 1)
     left = np.clip(right - 1, 0, len(arc) - 1)
     nearest = np.where(np.abs(arc[left] - pos) <= np.abs(arc[right] - pos), left, right)
     if closed:                              # past the last point the closing chord leads back to point 0
         wrap = (perimeter - pos) < np.abs(arc[nearest] - pos)
         nearest[wrap] = 0
-    if nearest.size:
-        n = len(P)
-        around = nearest[:, None] + np.arange(-6, 7)[None, :]
-        if closed:
-            around %= n
-            along = np.abs(arc[around] - pos[:, None])
-            along = np.minimum(along, perimeter - along)
-        else:
-            around = np.clip(around, 0, n - 1)
-            along = np.abs(arc[around] - pos[:, None])
-        rows = np.arange(len(nearest))
-        within = along <= 3.0
-        apex = _line_intersection(*(x[chosen] for x in arms))
-        apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - samples[chosen]).T) <= 3.0) \
-            & (size[chosen] < 100.0)
-        gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
-        gap_to_apex = np.where(within, np.nan_to_num(gap_to_apex, nan=np.inf), np.inf)
-        near_apex = around[rows, np.argmin(gap_to_apex, axis=1)]
-        a, b = arms[1][chosen], arms[3][chosen]
-        outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex
-        reach = np.where(within, np.einsum("kjd,kd->kj", P[around], outward), -np.inf)
-        tip = around[rows, np.argmax(np.nan_to_num(reach, nan=-np.inf), axis=1)]
-        tip = np.where(apex_ok, near_apex, tip)
-        nearest = np.where(np.isfinite(outward).all(axis=1), tip, nearest)
-    if not closed:
-        nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
-    return _result(nearest, keep)
+    if not nearest.size:
+        return nearest
+    n = len(P)
+    around = nearest[:, None] + np.arange(-6, 7)[None, :]
+    if closed:
+        around %= n
+        along = np.abs(arc[around] - pos[:, None])
+        along = np.minimum(along, perimeter - along)
+    else:
+        around = np.clip(around, 0, n - 1)
+        along = np.abs(arc[around] - pos[:, None])
+    rows = np.arange(len(nearest))
+    within = along <= 3.0
+    apex = _line_intersection(*arms)
+    apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - at).T) <= 3.0) & (size < 100.0)
+    gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
+    gap_to_apex = np.where(within, np.nan_to_num(gap_to_apex, nan=np.inf), np.inf)
+    near_apex = around[rows, np.argmin(gap_to_apex, axis=1)]
+    a, b = arms[1], arms[3]
+    outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex
+    reach = np.where(within, np.einsum("kjd,kd->kj", P[around], outward), -np.inf)
+    tip = around[rows, np.argmax(np.nan_to_num(reach, nan=-np.inf), axis=1)]
+    tip = np.where(apex_ok, near_apex, tip)
+    return np.where(np.isfinite(outward).all(axis=1), tip, nearest)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linear_sum_assignment
 from skimage.draw import polygon as fill_polygon
@@ -495,3 +495,55 @@ def test_parameters_of_the_wrong_type_name_the_parameter(method, params, name):
     outline, _ = polygon_outline([(0, 0), (40, 0), (40, 40), (0, 40)])
     with pytest.raises(TypeError, match=name):
         corners(outline, method, **params)
+
+
+# ------------------------------------------------------------------------------------------------ invariance
+def polygon_mask(vertices, size):
+    mask = np.zeros((size, size), bool)
+    rows, cols = fill_polygon(vertices[:, 1] - 0.5, vertices[:, 0] - 0.5, mask.shape)
+    mask[rows, cols] = True
+    return mask
+
+
+def corner_points(mask):
+    """Positions of tangent-jump's corners on every boundary of a mask."""
+    found = [b.outline[corners(b.outline, "tangent-jump")] for b in contour.trace_boundaries(mask)]
+    return np.vstack(found) if found else np.zeros((0, 2))
+
+
+@st.composite
+def well_posed_polygons(draw):
+    """Star-shaped polygons whose corners are corners at the pixel scale: every turn is 40-150 degrees (no
+    near-threshold turn, no needle thinner than the pixels) and every side is at least 15 px long."""
+    count = draw(st.integers(3, 6))
+    gaps = np.asarray(draw(st.lists(st.floats(1.0, 2.0), min_size=count, max_size=count)))
+    angles = draw(st.floats(0, 2 * np.pi)) + 2 * np.pi * np.cumsum(gaps) / gaps.sum()
+    radii = np.asarray(draw(st.lists(st.floats(40, 60), min_size=count, max_size=count)))
+    vertices = np.column_stack([np.cos(angles), np.sin(angles)]) * radii[:, None]
+    sides = np.diff(np.vstack([vertices, vertices[:1]]), axis=0)
+    heading = np.arctan2(sides[:, 1], sides[:, 0])
+    turns = np.degrees(np.abs(np.angle(np.exp(1j * (np.roll(heading, -1) - heading)))))
+    assume(np.hypot(*sides.T).min() >= 15 and turns.min() >= 40 and turns.max() <= 150)
+    return vertices
+
+
+@settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(well_posed_polygons())
+def test_corners_turn_with_the_shape_by_90_degrees(vertices):
+    size = 140
+    mask = polygon_mask(vertices + size / 2, size)
+    before = corner_points(mask)
+    after = corner_points(np.rot90(mask))                 # (x, y) -> (y, size - x)
+    moved = np.column_stack([before[:, 1], size - before[:, 0]])
+    assert len(after) == len(before)
+    for point in moved:
+        assert np.hypot(*(after - point).T).min() <= 1e-9
+
+
+@settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(well_posed_polygons(), st.floats(0, 2 * np.pi))
+def test_rotation_by_any_angle_changes_the_corner_count_by_at_most_one(vertices, angle):
+    size = 140
+    upright = len(corner_points(polygon_mask(vertices + size / 2, size)))
+    turned = len(corner_points(polygon_mask(rotate(vertices, angle) + size / 2, size)))
+    assert abs(turned - upright) <= 1

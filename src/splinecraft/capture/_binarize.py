@@ -16,9 +16,10 @@ Thresholds (``threshold=``)
 * a number in ``[0, 1]`` -- a fixed fraction of white.
 
 The window of the local methods is ``window_size(shape)`` pixels: an odd number, 1/8 of the smaller image
-side, at least 15 and at most 255. Where a window holds less than ``MIN_CONTRAST`` of gray range (blank
-paper, or the inside of a stroke wider than the window) a local level means nothing (half the pixels of a
-uniform area lie below its own mean): there the global Otsu level decides. ``DEFAULT_THRESHOLD``
+side, at least 15 and at most 255. Where a window's standard deviation is below ``MIN_CONTRAST / 2`` and
+below twice the noise estimate (blank paper, or the inside of a stroke wider than the window: nothing but
+noise) a local level means nothing (half the pixels of a uniform area lie below its own mean): there the
+global Otsu level decides. ``DEFAULT_THRESHOLD``
 is the method ``threshold=None`` stands for; BENCHMARKS.md ("Thresholds") gives the measurement it was chosen
 by.
 
@@ -116,8 +117,9 @@ def threshold_level(gray, white, threshold):
     else:
         offset = 3.0 * estimate_noise(gray, white)
         level = threshold_local(scaled, block_size=window, method="gaussian", offset=offset)
-    spread = ndimage.maximum_filter(scaled, window) - ndimage.minimum_filter(scaled, window)
-    flat = spread < MIN_CONTRAST
+    mean = ndimage.uniform_filter(scaled, window)
+    spread = np.sqrt(np.maximum(ndimage.uniform_filter(scaled * scaled, window) - mean * mean, 0.0))
+    flat = spread < max(MIN_CONTRAST / 2, 2.0 * estimate_noise(gray, white))
     if flat.any():                          # uniform windows: paper, or the inside of a wide stroke
         level[flat] = _otsu_level(gray, int(lo), int(hi)) / white if gray.dtype.kind == "u" \
             else _otsu_level(gray) / white

@@ -216,12 +216,16 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS):
 
     if name is None:
         name = os.fsdecode(source)
+        if "\x00" in name:
+            raise ValueError(f"image path {name!r} contains a NUL character; it cannot name a file")
         if not os.path.exists(name):
             raise FileNotFoundError(f"image file not found: {name}")
         if os.path.isdir(name):
             raise ValueError(f"{name}: is a directory, not an image file")
     try:
-        img = Image.open(source)
+        with warnings.catch_warnings():    # PIL's soft size warning: the cap below decides (module docstring)
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            img = Image.open(source)
     except UnidentifiedImageError:
         raise ValueError(f"{name}: not an image file (PIL cannot identify its format)") from None
     except Image.DecompressionBombError as exc:

@@ -168,7 +168,8 @@ class TraceResult:
                 "is_hole": bool(boundary.is_hole),
                 "parent": boundary.parent,
                 "component": int(boundary.component),
-                "connectivity": int(boundary.connectivity),
+                "connectivity": (boundary.connectivity if isinstance(boundary.connectivity, str)
+                                 else int(boundary.connectivity)),
                 "area": int(boundary.area),
                 "chain_start": list(boundary.start),
                 "chain_code": boundary.chain_string,

@@ -261,8 +261,8 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
-    if closed:                              # resample from the lowest-then-leftmost point: the result then
-        start = int(np.lexsort((P[:, 0], P[:, 1]))[0])     # does not depend on where the outline starts
+    if closed:                              # resample from a point the shape itself picks (_intrinsic_start)
+        start = _intrinsic_start(P)
         P, keep = np.roll(P, -start, axis=0), np.roll(keep, -start)
     step = _sample_step(P, closed)
     samples, where, arc, perimeter = _resample(P, closed, step)
@@ -278,6 +278,23 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     if not closed:
         nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
     return _result(nearest, keep)
+
+
+def _intrinsic_start(P):
+    """Where the resampling of a closed outline starts: the point farthest from the centroid, ties (to 1e-12
+    of the largest squared distance) going to the point whose followers are farther (lexicographically, over
+    the next 64 points). The choice moves with the shape under rotation, reflection-free similarity and a
+    change of the first point, so the corners do too (rounding cannot flip a tie)."""
+    squared = np.sum((P - P.mean(axis=0)) ** 2, axis=1)
+    top = squared.max()
+    if not np.isfinite(top) or top <= 0:
+        return 0
+    level = np.round(squared / top * 1e12)
+    best = np.flatnonzero(level == level.max())
+    if best.size > 1:
+        follow = level[(best[:, None] + np.arange(1, 65)[None, :]) % len(P)]
+        best = best[np.lexsort(follow.T[::-1])[-1:]]
+    return int(best[0])
 
 
 def _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation):

@@ -1,0 +1,241 @@
+"""Hostile input to outline capture's first stages: images, masks, outlines and parameters.
+
+Every case ends in a ``TypeError`` / ``ValueError`` whose message names the argument, or in a valid result:
+a bool mask of the image's shape (``load_bitmap``), boundaries whose signed areas add up to the ink
+(``trace_boundaries``), sorted in-range corner indices (``corners``), a finite traced outline (``trace``).
+Nothing here may hang or raise another exception type. The inputs are small, so the whole file runs in
+seconds.
+"""
+from __future__ import annotations
+
+import io
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import array_shapes, arrays
+from PIL import Image
+
+import splinecraft as sc
+from splinecraft.capture import CORNER_METHODS, load_bitmap, trace_boundaries
+from splinecraft.capture.corners import corners
+
+FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+# ---------------------------------------------------------------------------------------------- strategies
+hostile_numbers = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**30, 10**30), st.booleans(), st.none(),
+    st.text(max_size=4), st.lists(st.integers(), max_size=2), st.just(b"\x00"), st.just(1e-320),
+)
+
+image_dtypes = st.sampled_from([np.bool_, np.uint8, np.uint16, np.int16, np.int64, np.float32, np.float64,
+                                np.complex64, np.object_])
+
+
+@st.composite
+def hostile_arrays(draw):
+    dtype = draw(image_dtypes)
+    shape = draw(array_shapes(min_dims=0, max_dims=4, min_side=0, max_side=7))
+    if dtype is np.object_:
+        return np.empty(shape, dtype=object)
+    if dtype is np.complex64:
+        return np.zeros(shape, dtype)
+    elements = None
+    if np.dtype(dtype).kind == "f":
+        elements = st.one_of(st.floats(-2, 2, width=32), st.sampled_from([np.nan, np.inf]))
+    return draw(arrays(dtype, shape, elements=elements))
+
+
+def encoded(mask, fmt="png"):
+    buffer = io.BytesIO()
+    Image.fromarray(np.where(mask, 0, 255).astype(np.uint8)).save(buffer, fmt)
+    return buffer.getvalue()
+
+
+def hostile_images():
+    garbage = st.binary(max_size=64)
+    truncated = st.integers(1, 60).map(lambda n: encoded(np.eye(8, dtype=bool))[:n])
+    others = st.one_of(st.none(), st.integers(), st.floats(), st.text(max_size=5).map(lambda t: "\x00" + t),
+                       st.lists(st.integers(0, 1), max_size=3), st.dictionaries(st.text(max_size=2), st.integers()))
+    return st.one_of(hostile_arrays(), garbage, truncated, others)
+
+
+def names_the_argument(error, *names):
+    text = str(error).lower()
+    assert any(name in text for name in names), f"{type(error).__name__}: {error}"
+
+
+# ---------------------------------------------------------------------------------------------- load_bitmap
+@FUZZ
+@given(hostile_images())
+def test_load_bitmap_of_a_hostile_image(image):
+    try:
+        mask = load_bitmap(image)
+    except (TypeError, ValueError) as error:
+        names_the_argument(error, "image", "mask", "array", "bytes", "dtype", "value", "path")
+        return
+    except FileNotFoundError as error:         # documented: a path that does not exist
+        assert isinstance(image, str) and "not found" in str(error)
+        return
+    assert mask.dtype == bool and mask.ndim == 2
+    if isinstance(image, np.ndarray):
+        assert mask.shape == image.shape[:2]
+
+
+@FUZZ
+@given(threshold=hostile_numbers | st.sampled_from(["otsu", "sauvola", "local", "Otsu", "0.5"]),
+       invert=hostile_numbers, min_speck_area=hostile_numbers, connectivity=hostile_numbers | st.just("minority"),
+       max_pixels=hostile_numbers)
+def test_load_bitmap_with_hostile_parameters(threshold, invert, min_speck_area, connectivity, max_pixels):
+    gray = (np.add.outer(np.arange(12), np.arange(15)) * 7 % 256).astype(np.uint8)
+    kwargs = dict(threshold=threshold, invert=invert, min_speck_area=min_speck_area, connectivity=connectivity,
+                  max_pixels=max_pixels)
+    try:
+        mask = load_bitmap(gray, **kwargs)
+    except (TypeError, ValueError) as error:
+        names_the_argument(error, *kwargs)
+        return
+    assert mask.shape == gray.shape and mask.dtype == bool
+
+
+def test_decompression_bomb_is_refused_from_the_header():
+    # a 1-bit PNG of 13 000 x 13 000 pixels (169 Mpx) is a few hundred KB: it must be refused before decoding
+    bomb = Image.new("1", (13_000, 13_000), 1)
+    buffer = io.BytesIO()
+    bomb.save(buffer, "png")
+    data = buffer.getvalue()
+    assert len(data) < 1_000_000
+    with pytest.raises(ValueError, match="max_pixels"):
+        load_bitmap(data)
+    with pytest.raises(ValueError, match="max_pixels"):
+        sc.trace(data)
+
+
+# ---------------------------------------------------------------------------------------------- trace_boundaries
+@FUZZ
+@given(arrays(np.bool_, array_shapes(min_dims=2, max_dims=2, min_side=1, max_side=12)),
+       st.sampled_from([4, 8, "minority"]))
+def test_boundaries_of_any_mask_add_up(mask, connectivity):
+    boundaries = trace_boundaries(mask, connectivity=connectivity)
+    assert sum(b.area for b in boundaries) == int(mask.sum())
+    assert all(np.isfinite(b.outline).all() for b in boundaries)
+
+
+@FUZZ
+@given(hostile_arrays(), hostile_numbers)
+def test_trace_boundaries_of_hostile_input(mask, connectivity):
+    try:
+        trace_boundaries(mask, connectivity=connectivity)
+    except (TypeError, ValueError) as error:
+        names_the_argument(error, "mask", "connectivity")
+
+
+# ---------------------------------------------------------------------------------------------- corners
+coordinates = st.one_of(st.floats(-1e300, 1e300), st.sampled_from([np.nan, np.inf, -np.inf]))
+
+
+@st.composite
+def hostile_outlines(draw):
+    kind = draw(st.sampled_from(["random", "scaled", "duplicates", "tiny", "shape"]))
+    if kind == "shape":
+        return draw(arrays(np.float64, array_shapes(min_dims=0, max_dims=3, max_side=4)))
+    n = draw(st.integers(0, 60))
+    if kind == "random":
+        return draw(arrays(np.float64, (n, 2), elements=coordinates))
+    angles = np.linspace(0, 2 * np.pi, max(n, 1), endpoint=False)
+    ring = np.column_stack([np.cos(angles), np.sin(angles)]) * np.where(np.arange(max(n, 1)) % 5 == 0, 1, 0.6)[:, None]
+    if kind == "scaled":
+        return ring * draw(st.sampled_from([1e-300, 1e-9, 1.0, 1e7, 1e150, 1e300]))
+    if kind == "duplicates":
+        return np.repeat(ring * 20, draw(st.integers(1, 4)), axis=0)
+    return ring * 1e-12 + 5.0
+
+
+@FUZZ
+@given(hostile_outlines(), st.sampled_from(sorted(CORNER_METHODS)), st.booleans())
+def test_corners_of_a_hostile_outline(points, method, closed):
+    try:
+        found = corners(points, method, closed=closed)
+    except (TypeError, ValueError) as error:
+        names_the_argument(error, "points")
+        return
+    assert found.dtype == np.intp and np.all(np.diff(found) > 0)
+    assert found.size == 0 or (0 <= found[0] and found[-1] < len(points))
+
+
+PARAMETERS = ["smoothing", "tolerance", "min_turn", "min_excess", "flank", "max_arm", "separation", "zct", "dt",
+              "ta", "m", "max_angle", "s", "threshold", "s_min", "s_max", "arm_limit", "d_min", "d_max",
+              "alpha_max", "closed", "method", "bogus"]
+
+
+@FUZZ
+@given(st.sampled_from(sorted(CORNER_METHODS)), st.sampled_from(PARAMETERS),
+       hostile_numbers | st.sampled_from([1e9, 10**12, -1, 0, 3, (4, 10), (10, 4), (0, 10**9)]))
+def test_corners_with_a_hostile_parameter(method, name, value):
+    angles = np.linspace(0, 2 * np.pi, 120, endpoint=False)
+    outline = np.column_stack([np.cos(angles), np.sin(angles)]) * 30 * np.where(np.arange(120) % 30 < 15, 1, 0.7)[:, None]
+    try:
+        found = corners(outline, method, **{name: value})
+    except (TypeError, ValueError) as error:
+        names_the_argument(error, name, "params", "method", "closed")
+        return
+    assert found.dtype == np.intp and (found.size == 0 or found[-1] < len(outline))
+
+
+@FUZZ
+@given(hostile_numbers | st.sampled_from([["tangent-jump"], {"srm05": 1}, "SRM05", "harris"]))
+def test_corners_with_a_hostile_method(method):
+    with pytest.raises((TypeError, ValueError)) as caught:
+        corners(np.eye(2), method)
+    names_the_argument(caught.value, "method")
+
+
+def test_corner_cost_does_not_grow_with_the_coordinates():
+    # 200 points on a circle of radius 1e7 px: resampled relative to its own spacing, not at 1 px
+    angles = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    circle = 1e7 * np.column_stack([np.cos(angles), np.sin(angles)])
+    for method in CORNER_METHODS:
+        found = corners(circle, method)
+        assert found.size == 0 or found[-1] < 200
+    with pytest.raises(ValueError, match="smoothing"):
+        corners(circle, "tangent-jump", smoothing=1e9)
+
+
+# ---------------------------------------------------------------------------------------------- trace
+def small_mask():
+    mask = np.zeros((24, 24), bool)
+    mask[4:20, 4:20] = True
+    mask[9:14, 9:14] = False
+    return mask
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(corner_method=["tangent-jump"]), "corner_method"),
+    (dict(corner_method="harris"), "corner_method"),
+    (dict(corner_params={"method": "srm05"}), "corner_params"),
+    (dict(corner_params={"closed": False}), "corner_params"),
+    (dict(corner_params={"zct": 3}), "corner_params"),
+    (dict(corner_params={"smoothing": 1e9}), "smoothing"),
+    (dict(connectivity="eight"), "connectivity"),
+    (dict(threshold="niblack"), "threshold"),
+    (dict(min_speck_area=-3), "min_speck_area"),
+])
+def test_trace_names_the_bad_argument(kwargs, name):
+    with pytest.raises((TypeError, ValueError)) as caught:
+        sc.trace(small_mask(), **kwargs)
+    names_the_argument(caught.value, name)
+
+
+def test_trace_of_png_bytes_and_of_garbage_bytes():
+    result = sc.trace(encoded(small_mask()))
+    assert result.stats["boundaries"] == 2 and math.isfinite(result.stats["hausdorff"])
+    with pytest.raises(ValueError, match="not an image"):
+        sc.trace(b"GIF89a but not really")
+
+
+def test_inverted_bool_mask_warns_through_trace():
+    with pytest.warns(UserWarning, match="invert=True"):
+        result = sc.trace(~small_mask())
+    assert result.stats["boundaries"] >= 1

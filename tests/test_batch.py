@@ -303,6 +303,24 @@ def test_leftover_partial_files_are_removed(glyphs, tmp_path):
         [f"{glyphs[0].stem}.svg", MANIFEST_NAME, f".unrelated.svg.abc{PART_SUFFIX}"])
 
 
+def test_a_killed_local_worker_costs_a_pool_restart_not_files(glyphs, tmp_path):
+    import multiprocessing
+
+    killed = []
+
+    def kill_a_worker(record):
+        workers = [child for child in multiprocessing.active_children() if child.is_alive()]
+        if not killed and workers:
+            os.kill(workers[0].pid, signal.SIGKILL)
+            killed.append(workers[0].pid)
+
+    result = trace_many(glyphs[:16], tmp_path, jobs=2, batch_size=1, epsilon=EPSILON, progress=False,
+                        on_record=kill_a_worker)
+    assert killed and result.counts == {"ok": 16}, result.failed
+    assert_outputs_whole(tmp_path, glyphs[:16])
+    assert len(manifest_lines(tmp_path)) == 16
+
+
 def test_jobs_are_capped_at_the_cpu_count(glyphs, tmp_path):
     with pytest.warns(RuntimeWarning, match="CPUs"):
         result = trace_many(glyphs[:3], tmp_path, jobs=1000, epsilon=EPSILON, progress=False)

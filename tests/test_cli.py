@@ -240,6 +240,21 @@ def test_resume_and_scheduler_flags(tmp_path):
     assert bad.returncode == 2 and "scheduler must be" in bad.stderr
 
 
+def test_unreachable_scheduler_is_a_clear_usage_error(tmp_path):
+    import socket
+
+    source = tmp_path / "a.png"
+    write_shape(source, "disc")
+    with socket.socket() as probe:  # a loopback port nobody listens on
+        probe.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{probe.getsockname()[1]}"
+    started = time.monotonic()
+    result = run_cli("trace", source, "-o", tmp_path / "out", "--scheduler", address)
+    assert time.monotonic() - started < 30  # 5 s of connection attempts plus two interpreter start-ups
+    assert result.returncode == 2
+    assert f"splinecraft: error: scheduler '{address}': no dask scheduler answered within 5 s" in result.stderr
+
+
 def _processes_by_parent():
     children = {}
     for stat in Path("/proc").glob("[0-9]*/stat"):

@@ -1,6 +1,6 @@
 """The resume manifest: ``splinecraft-manifest.jsonl``, one JSON line per output file.
 
-Each line records one traced file (README, "Batch tracing")::
+Each line records one traced file (README, "Many bitmaps")::
 
     {"output": "a.svg", "input": "scans/a.png", "status": "ok", "input_sha256": "...",
      "params_sha256": "...", "output_sha256": "...", "error": null, "time_s": 0.021,

@@ -12,6 +12,7 @@ import itertools
 import multiprocessing
 import os
 import re
+import sys
 import threading
 import warnings
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, as_completed
@@ -332,7 +333,7 @@ def check_jobs(jobs):
 
 
 def _is_client(value) -> bool:
-    distributed = __import__("sys").modules.get("distributed")
+    distributed = sys.modules.get("distributed")  # a Client exists only if distributed was imported
     return distributed is not None and isinstance(value, distributed.Client)
 
 

@@ -45,11 +45,23 @@ function render({ model, el }) {
     upload.value = "";
   });
   const busy = h("span", { class: "sc-busy", "data-testid": "busy" });
+  // how the bitmap is made from the image: threshold (global or local), invert, despeckle
+  const thresholdSel = selectBox(opts().thresholds ?? [], model.get("threshold"), (v) => setTrait("threshold", v), "threshold");
+  const invert = checkRow("invert", model.get("invert"), (v) => setTrait("invert", v), { testid: "invert", title: "Light pixels are ink" });
+  const despeckle = h("input", { type: "number", class: "sc-number", min: 0, step: 1, "data-testid": "despeckle",
+    title: "Remove ink specks and fill holes smaller than this many pixels (empty: automatic)" });
+  despeckle.addEventListener("change", () => {
+    const text = despeckle.value.trim();
+    setTrait("despeckle", text === "" ? null : Math.max(0, Math.round(Number(text))));
+  });
+  despeckle.addEventListener("keydown", (event) => event.stopPropagation());
+  const thresholdField = field("threshold", thresholdSel.select, "Gray level that separates ink from paper (docs/capture.md §9)");
   const large = checkRow("large", model.get("large"), (v) => setTrait("large", v), { testid: "large", title: "Presentation size: larger canvas, text and controls" });
   const toolbar = h("div", { class: "sc-toolbar" },
     field("corners", cornerSel.select, "Corner detector (thesis chapter 2)"),
     field("knot insertion", methodSel.select, "Knot-insertion algorithm (thesis section 4.3)"),
-    h("span", { class: "sc-spacer" }), busy, field("image", upload), large.row);
+    h("span", { class: "sc-spacer" }), busy, field("image", upload), thresholdField, invert.row,
+    field("despeckle", despeckle, "Speck size in pixels (empty: automatic)"), large.row);
 
   // ---------------------------------------------------------------- canvas
   const svg = s("svg", { class: "sc-canvas", width: width(), height: height(), "data-testid": "canvas" });
@@ -284,6 +296,11 @@ function render({ model, el }) {
     tauAuto.row.style.display = usesTau ? "" : "none";
     tau.row.style.display = usesTau ? "" : "none";
     seed.set(model.get("seed"));
+    thresholdSel.fill(opts().thresholds ?? []);
+    thresholdSel.set(model.get("threshold"));
+    thresholdField.style.display = opts().image_is_mask ? "none" : "";
+    invert.set(model.get("invert"));
+    if (document.activeElement !== despeckle) despeckle.value = model.get("despeckle") ?? "";
     overlays.forEach((o, i) => o.set(model.get(OVERLAYS[i][0])));
     stats.innerHTML = model.get("stats_html");
     busy.textContent = model.get("busy") ? "tracing…" : "";
@@ -333,7 +350,8 @@ function render({ model, el }) {
   on("change:corner_method", () => { buildCornerParams(); syncControls(); });
   on("change:corner_params", buildCornerParams);
   on("change:options", () => { buildCornerParams(); syncControls(); });
-  for (const name of ["method", "epsilon", "tau", "seed", "stats_html", "busy", ...OVERLAYS.map(([name]) => name)]) {
+  for (const name of ["method", "epsilon", "tau", "seed", "stats_html", "busy", "threshold", "invert", "despeckle",
+    ...OVERLAYS.map(([name]) => name)]) {
     on(`change:${name}`, () => { syncControls(); draw(); });
   }
   for (const name of ["snapshot_index", "n_snapshots", "iteration_info"]) on(`change:${name}`, syncStepper);

@@ -599,7 +599,7 @@ def test_explorer_bad_values_keep_the_last_result(explorer_factory):
     assert explorer.epsilon == 1.0 and explorer.result is result
     assert explorer.snapshot_index == explorer.n_snapshots - 1
     page_message(explorer, {"type": "upload", "name": "junk.png"}, [b"not an image at all"])
-    assert explorer.result is result and "not a readable image" in explorer.status_message
+    assert explorer.result is result and "not an image file" in explorer.status_message
 
 
 def test_explorer_retraces_on_settings_and_upload(explorer_factory, tmp_path):

@@ -132,3 +132,30 @@ def test_explorer_png_and_display_switches():
     assert image.size == (200, 200)
     grey = np.asarray(image.convert("L"))
     assert (grey < 240).mean() > 0.2  # the bitmap is drawn under the outline
+
+
+def test_explorer_image_controls_threshold_invert_despeckle():
+    from splinecraft.capture import load_bitmap
+    from splinecraft.widgets import TraceExplorer
+
+    gray = np.full((60, 60), 230, dtype=np.uint8)
+    gray[:, 30:] = 150  # uneven paper: the right half is darker
+    gray[15:45, 10:25] = 20  # a dark block
+    gray[20:40, 38:52] = 60  # a block on the darker half
+    gray[5, 5] = gray[55, 50] = 0  # two specks
+    explorer = TraceExplorer(gray, epsilon=2.0, min_speck_area=0)
+    np.testing.assert_array_equal(explorer.mask, load_bitmap(gray, threshold="otsu", min_speck_area=0))
+    with_specks = len(explorer.result.boundaries)
+    explorer.set_state({"despeckle": 4})
+    assert len(explorer.result.boundaries) == with_specks - 2 and explorer.status_level == "info"
+    explorer.set_state({"threshold": "local"})
+    np.testing.assert_array_equal(explorer.mask, load_bitmap(gray, threshold="local", min_speck_area=4))
+    before = explorer.mask.copy()
+    explorer.set_state({"invert": True})
+    np.testing.assert_array_equal(explorer.mask, load_bitmap(gray, threshold="local", invert=True, min_speck_area=4))
+    assert not np.array_equal(explorer.mask, before)
+    result = explorer.result
+    explorer.set_state({"threshold": "bogus"})
+    assert explorer.threshold == "local" and explorer.result is result and explorer.status_level == "error"
+    assert explorer.options["image_is_mask"] is False
+    assert TraceExplorer().options["image_is_mask"] is True  # the demo is a bool mask: no threshold control

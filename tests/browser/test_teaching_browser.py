@@ -77,3 +77,28 @@ def test_explorer_exports_and_hides_knots(lab, tmp_path):
     page.wait_for_function("() => !document.querySelector('[data-testid=trace-explorer] [data-testid=knots]')"
                            ".getAttribute('d')", timeout=20_000)
     assert math.isfinite(lab.python_json("explorer.result.stats['max_error']"))
+
+
+GRAY_CELL = """\
+import numpy as np
+import splinecraft as sc
+gray = np.full((60, 60), 230, dtype=np.uint8)
+gray[15:45, 10:25] = 20
+gray[20:40, 38:52] = 60
+explorer = sc.TraceExplorer(gray, epsilon=2.0, width=420, height=360)
+explorer
+"""
+
+
+def test_explorer_image_controls(lab):
+    pytest.importorskip("splinecraft.capture.fitting", exc_type=ImportError)
+    page = lab.open_notebook([GRAY_CELL])
+    root = page.wait_for_selector(EXPLORER, timeout=60_000)
+    image = root.query_selector("[data-testid=bitmap]").get_attribute("href")
+    root.query_selector("[data-testid=invert]").check()
+    assert wait_python(lab, "explorer.invert", lambda value: value is True) is True
+    page.wait_for_function("(old) => document.querySelector('[data-testid=trace-explorer] [data-testid=bitmap]')"
+                           ".getAttribute('href') !== old", arg=image, timeout=20_000)
+    root.query_selector("[data-testid=threshold]").select_option("local")
+    assert wait_python(lab, "explorer.threshold", lambda value: value == "local") == "local"
+    assert lab.python_json("explorer.status_level") == "info"

@@ -48,6 +48,11 @@ KNOWN_CORNER_PARAMS = {
     "separation": (1, 10, 1, "separation", "tangent-jump: corners at least this many samples apart"),
 }
 _TRACE_SETTINGS = ("corner_method", "corner_params", "method", "epsilon", "tau", "seed", "max_iterations")
+#: How the bitmap is made from the image (changing one reloads the image and re-traces).
+_IMAGE_SETTINGS = ("threshold", "invert", "despeckle")
+#: Threshold choices of the page: global (Otsu) or local (Sauvola) (docs/capture.md §9); "fixed" = the number
+#: passed as ``threshold=`` to the constructor.
+THRESHOLDS = (("otsu", "global (Otsu)"), ("local", "local (Sauvola)"), ("fixed", "fixed level"))
 _TRACE_PARAMS = ("epsilon", "method", "corner_method", "corner_params", "seed", "max_iterations", "tau",
                  "threshold", "invert", "min_speck_area", "connectivity", "contour", "fit_params")
 _DISPLAY = ("width", "height", "show_image", "show_boundaries", "show_corners", "show_knots", "show_candidates",
@@ -148,7 +153,7 @@ class TraceExplorer(WidgetBase):
     panel_plot = "convergence_figure"
     panel_extra_width = 292
     messages = {**WidgetBase.messages, "upload": "_on_upload", "edit": "_on_edit"}
-    page_traits = frozenset(_TRACE_SETTINGS + _DISPLAY + ("snapshot_index",))
+    page_traits = frozenset(_TRACE_SETTINGS + _IMAGE_SETTINGS + _DISPLAY + ("snapshot_index",))
 
     time_budget_s = TIME_BUDGET_S
 
@@ -161,6 +166,9 @@ class TraceExplorer(WidgetBase):
     tau = Float(None, allow_none=True).tag(sync=True)
     seed = Int(0, allow_none=True).tag(sync=True)
     max_iterations = Int(200, min=1, max=100_000).tag(sync=True)
+    threshold = t.Unicode("otsu").tag(sync=True)
+    invert = Bool(False).tag(sync=True)
+    despeckle = Int(None, allow_none=True, min=0, max=1_000_000).tag(sync=True)
 
     snapshot_index = Int(0).tag(sync=True)
     n_snapshots = Int(0).tag(sync=True)
@@ -188,8 +196,13 @@ class TraceExplorer(WidgetBase):
         display = {k: trace_params.pop(k) for k in list(trace_params) if k in _DISPLAY + ("debug",)}
         self._result = None
         super().__init__(**display)
-        self._extra = {k: trace_params[k] for k in ("threshold", "invert", "min_speck_area", "connectivity",
-                                                      "contour", "fit_params") if k in trace_params}
+        self._extra = {k: trace_params[k] for k in ("threshold", "connectivity", "contour", "fit_params")
+                       if k in trace_params}
+        level = trace_params.get("threshold")
+        with self._quiet():
+            self.threshold = "fixed" if isinstance(level, numbers.Real) else (level or "otsu")
+            self.invert = trace_params.get("invert", False)
+            self.despeckle = trace_params.get("min_speck_area")
         settings = {
             "corner_method": trace_params.get("corner_method") or "",  # "" = trace()'s default
             "corner_params": dict(trace_params.get("corner_params") or {}),
@@ -199,7 +212,8 @@ class TraceExplorer(WidgetBase):
             "seed": trace_params.get("seed", 0),
             "max_iterations": int(trace_params.get("max_iterations", 200)),
         }
-        mask = self._load(demo_bitmap() if image is None else image)
+        self._source = demo_bitmap() if image is None else image
+        mask = self._load(self._source)
         result = self._run(mask, settings)  # raises for bad constructor arguments
         # show the defaults trace() resolved (params records the names it used)
         settings["corner_method"] = settings["corner_method"] or str(result.params.get("corner_method") or "")
@@ -235,6 +249,8 @@ class TraceExplorer(WidgetBase):
 
     def load(self, image) -> bool:
         """Trace a new image (path, array, PIL image or encoded bytes); False (with a message) if it fails."""
+        if isinstance(image, (bytes, bytearray, memoryview)):
+            image = bytes(image)
         settings = self._settings()
         try:
             with self._busy():
@@ -243,6 +259,9 @@ class TraceExplorer(WidgetBase):
         except Exception as exc:  # noqa: BLE001 - unreadable, too large, out of memory or time: keep the last result
             self._reject(short_reason(exc))
             return False
+        self._source = image
+        with self._quiet():
+            self.options = self._options()
         self._set_image(mask)
         self._accept(result)
         self._set_status(self._summary_message(), "info")
@@ -293,10 +312,15 @@ class TraceExplorer(WidgetBase):
                 ("corner_method", "corner_params", "method", "epsilon", "tau", "seed", "max_iterations")}
 
     def _load(self, image) -> np.ndarray:
-        if isinstance(image, (bytes, bytearray, memoryview)):
-            image = _open_encoded(image)
-        keys = ("threshold", "invert", "min_speck_area", "connectivity")
-        mask = load_bitmap(image, **{k: self._extra[k] for k in keys if k in self._extra})
+        """The bitmap of ``image`` with the image settings (``load_bitmap`` reads a file's header before decoding)."""
+        if isinstance(image, (bytes, bytearray, memoryview)) and memoryview(image).nbytes > _MAX_UPLOAD_BYTES:
+            raise ValueError(f"the image is too large ({memoryview(image).nbytes} bytes; limit {_MAX_UPLOAD_BYTES})")
+        options = {"invert": self.invert, "min_speck_area": self.despeckle, "max_pixels": MAX_PIXELS}
+        if "connectivity" in self._extra:
+            options["connectivity"] = self._extra["connectivity"]
+        if not (isinstance(image, np.ndarray) and image.dtype == bool):  # a bool mask has no threshold
+            options["threshold"] = self._extra.get("threshold") if self.threshold == "fixed" else self.threshold
+        mask = load_bitmap(image, **options)
         if mask.size > MAX_PIXELS:
             raise ValueError(f"the bitmap has {mask.size} pixels; the explorer takes up to {MAX_PIXELS}")
         return mask
@@ -316,9 +340,7 @@ class TraceExplorer(WidgetBase):
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise TypeError(f"corner parameter {name} must be a number, got {value!r:.40}")
         tau = settings["tau"] if method in TAU_METHODS else None
-        params = dict(self._extra)
-        for key in ("threshold", "invert", "min_speck_area"):
-            params.pop(key, None)  # the mask is already binary
+        params = {k: v for k, v in self._extra.items() if k != "threshold"}  # the mask is already binary
         return trace(
             mask, epsilon=settings["epsilon"], method=method, corner_method=settings["corner_method"] or None,
             corner_params=settings["corner_params"], seed=settings["seed"], max_iterations=settings["max_iterations"],
@@ -327,7 +349,7 @@ class TraceExplorer(WidgetBase):
 
     def _accept(self, result):
         self._result = result
-        self._good = self._settings()
+        self._good = {**self._settings(), **{name: getattr(self, name) for name in _IMAGE_SETTINGS}}
         count = max(len(result.snapshots), 1)
         with self._quiet(), self.hold_sync():
             self.n_snapshots = count
@@ -375,6 +397,8 @@ class TraceExplorer(WidgetBase):
             "knot_descriptions": {name: str(description) for name, description in KNOT_METHODS.items()},
             "corner_params": {name: corner_param_specs(name) for name in CORNER_METHODS},
             "tau_methods": list(TAU_METHODS),
+            "thresholds": [list(choice) for choice in THRESHOLDS if choice[0] != "fixed" or "threshold" in self._extra],
+            "image_is_mask": bool(isinstance(self._source, np.ndarray) and self._source.dtype == bool),
         }
 
     def _summary_message(self) -> str:
@@ -414,6 +438,23 @@ class TraceExplorer(WidgetBase):
             for name, value in self._good.items():
                 if getattr(self, name) != value:
                     setattr(self, name, value)
+
+    @t.observe(*_IMAGE_SETTINGS)
+    def _on_image_setting(self, change):
+        if self._applying:
+            return
+        if change["name"] == "threshold" and change["new"] not in dict(THRESHOLDS):
+            self._restore_settings()
+            self._reject(f"threshold must be one of {', '.join(dict(THRESHOLDS))}, got {change['new']!r:.40}",
+                         resync=_IMAGE_SETTINGS)
+            return
+        if self.load(self._source):
+            self._set_status(f"Bitmap made again ({change['name']}); {self._summary_message()}", "info")
+        else:
+            self._restore_settings()
+            if self._from_page:
+                for name in _IMAGE_SETTINGS:
+                    self.send_state(name)
 
     @t.observe("view")
     def _on_view(self, change):
@@ -455,25 +496,3 @@ class TraceExplorer(WidgetBase):
             self._accept(result)
         self._good = good
         self._restore_settings()
-
-
-def _open_encoded(data):
-    """A PIL image of encoded bytes, refused from its header when it is too large (no pixel is decoded first)."""
-    from PIL import Image, UnidentifiedImageError
-
-    size = memoryview(data).nbytes
-    if size > _MAX_UPLOAD_BYTES:
-        raise ValueError(f"the image is too large ({size} bytes; limit {_MAX_UPLOAD_BYTES})")
-    try:
-        image = Image.open(io.BytesIO(bytes(data)))
-    except (UnidentifiedImageError, OSError, Image.DecompressionBombError) as exc:
-        raise ValueError(f"not a readable image: {exc}") from None
-    width, height = image.size
-    if width * height > MAX_PIXELS:
-        raise ValueError(f"the image is {width} x {height} = {width * height} pixels; the explorer takes up to "
-                         f"{MAX_PIXELS} (read from its header, nothing was decoded)")
-    try:
-        image.load()
-    except (OSError, ValueError, Image.DecompressionBombError) as exc:
-        raise ValueError(f"not a readable image: {exc}") from None
-    return image

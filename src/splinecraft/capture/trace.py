@@ -62,6 +62,7 @@ from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
     check_small_outline, check_tau, make_rng
+from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
@@ -92,6 +93,7 @@ def trace(
     tau=None,
     contour="outline",
     fit_params=None,
+    noise_factor=NOISE_FACTOR,
 ) -> TraceResult:
     """Trace the outline of a bitmap into smooth closed splines (thesis chapter 4; docs/capture.md).
 
@@ -131,6 +133,12 @@ def trace(
         Distance constraint of Algs 4.2 / 4.3, passed to ``fit_outline``.
     contour : {"outline", "pixels"}
         Fit the crack outline (edge midpoints, default) or the chain of boundary pixel centres.
+    noise_factor : float >= 0
+        Noisy boundaries (docs/capture.md §12, "Noisy boundaries"): when the boundary noise exceeds
+        ``fitting.noise.CLEAN_NOISE`` (0.4 px) the fit's tolerance is ``max(epsilon, noise_factor * noise)``;
+        ``noise`` is the 99.5th percentile of the distance from the crack outline to the boundary of the
+        bitmap smoothed by a 1-px Gaussian (:func:`~splinecraft.capture.fitting.noise.boundary_noise`; about
+        0.27 px on clean renderings, which keep ``epsilon``, 0.55-1.1 px on scans). 0 turns the rule off.
     fit_params : dict, optional
         Further options of ``fit_outline`` (its ``**options`` and ``small_outline``; the arguments of
         :func:`trace` itself are not accepted here). ``small_outline`` (default
@@ -174,6 +182,7 @@ def trace(
                                 corner_params=corner_params, seed=seed, max_iterations=max_iterations,
                                 keep_snapshots=keep_snapshots, connectivity=connectivity, tau=tau, contour=contour,
                                 fit_params=fit_params)
+    noise_factor = _validation.check_number(noise_factor, "noise_factor", minimum=0.0)
     mask = load_bitmap(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
                        connectivity=connectivity)
     loaded = time.perf_counter()
@@ -186,6 +195,11 @@ def trace(
         )
     notes = []
     points_list, corner_list, small = _contours(boundaries, settings, notes)
+    noise = boundary_noise(mask, points_list, corner_list) if noise_factor > 0 else 0.0
+    settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
+    if settings["tolerance"] > settings["epsilon"]:
+        notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
+                     f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
     cornered = time.perf_counter()
     fits = _fit_boundaries(points_list, corner_list, small, settings)
     finished = time.perf_counter()
@@ -196,6 +210,8 @@ def trace(
     for k, entry in enumerate(stats["per_boundary"]):
         if entry["reason"] is not None:
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
+    stats["boundary_noise"] = noise
+    stats["tolerance"] = settings["tolerance"]
     stats["time_s"] = finished - started
     stats["time_breakdown"] = {
         "load_s": loaded - started, "boundaries_s": traced - loaded,
@@ -206,7 +222,7 @@ def trace(
         "corner_params": dict(settings["corner_params"]), "seed": settings["seed"],
         "max_iterations": settings["max_iterations"], "connectivity": connectivity, "threshold": threshold,
         "invert": bool(invert), "min_speck_area": min_speck_area, "tau": tau, "contour": contour,
-        "fit_params": dict(settings["fit_params"]),
+        "fit_params": dict(settings["fit_params"]), "noise_factor": noise_factor,
     }
     return TraceResult(mask=mask, boundaries=boundaries, points=points_list, corners=corner_list, fits=fits,
                        splines=splines, snapshots=merged, stats=stats, params=jsonable(params), notes=notes)
@@ -275,7 +291,7 @@ def _contours(boundaries, settings, notes):
 
 def _fit_boundaries(points_list, corner_list, small, settings):
     """The fit of every boundary: the small ones together, the others one by one (trusted arguments)."""
-    epsilon, max_iterations, keep = settings["epsilon"], settings["max_iterations"], settings["keep_snapshots"]
+    epsilon, max_iterations, keep = settings["tolerance"], settings["max_iterations"], settings["keep_snapshots"]
     fits = [None] * len(points_list)
     if small:
         corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in small]

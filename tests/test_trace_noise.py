@@ -1,0 +1,133 @@
+"""Noisy boundaries: the fit follows the shape, not the noise (docs/capture.md §12, "Noisy boundaries").
+
+Scan-like bitmaps are made here the way a scanner makes them: the exact shape rendered at 4x, blurred by a
+Gaussian, given per-pixel noise, averaged back to 1x and thresholded at 0.5.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.ndimage import gaussian_filter
+
+from splinecraft.capture.fitting.geometry import sample_bezier
+from splinecraft.capture.fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
+from splinecraft.capture.trace import trace
+
+SUPERSAMPLE = 4
+
+
+def _inside_circle(x, y, centre, radius):
+    return np.hypot(x - centre[0], y - centre[1]) <= radius
+
+
+def _inside_square(x, y, centre, half, angle):
+    c, s = np.cos(angle), np.sin(angle)
+    u = (x - centre[0]) * c + (y - centre[1]) * s
+    v = -(x - centre[0]) * s + (y - centre[1]) * c
+    return (np.abs(u) <= half) & (np.abs(v) <= half)
+
+
+def _render(inside, size, supersample=1):
+    """Ink where the (sub)pixel centre is inside, in the pixel frame (pixel (r, c) covers [c, c+1] x [r, r+1])."""
+    n = size * supersample
+    y, x = (np.mgrid[0:n, 0:n] + 0.5) / supersample
+    return inside(x, y)
+
+
+def _scan_like(inside, size, sigma, noise, seed):
+    ink = _render(inside, size, SUPERSAMPLE).astype(float)
+    gray = 1.0 - gaussian_filter(ink, sigma * SUPERSAMPLE)
+    gray += np.random.default_rng(seed).normal(0.0, noise, gray.shape)
+    gray = gray.reshape(size, SUPERSAMPLE, size, SUPERSAMPLE).mean(axis=(1, 3))
+    return gray < 0.5
+
+
+def _circle_distance(points, centre, radius):
+    return np.abs(np.hypot(points[:, 0] - centre[0], points[:, 1] - centre[1]) - radius)
+
+
+def _square_distance(points, centre, half, angle):
+    c, s = np.cos(angle), np.sin(angle)
+    u = (points[:, 0] - centre[0]) * c + (points[:, 1] - centre[1]) * s
+    v = -(points[:, 0] - centre[0]) * s + (points[:, 1] - centre[1]) * c
+    outside = np.hypot(np.maximum(np.abs(u) - half, 0), np.maximum(np.abs(v) - half, 0))
+    inside = np.minimum(half - np.abs(u), half - np.abs(v))
+    return np.where(outside > 0, outside, np.maximum(inside, 0))
+
+
+SHAPES = {
+    "circle": (lambda x, y: _inside_circle(x, y, (70.3, 69.6), 52.0),
+               lambda p: _circle_distance(p, (70.3, 69.6), 52.0)),
+    "square": (lambda x, y: _inside_square(x, y, (70.2, 70.7), 45.0, 0.35),
+               lambda p: _square_distance(p, (70.2, 70.7), 45.0, 0.35)),
+}
+
+
+@pytest.mark.parametrize("name, sigma, seed", [("circle", 1.0, 1), ("circle", 1.0, 4), ("circle", 1.5, 2),
+                                               ("circle", 2.0, 3), ("square", 1.5, 1), ("square", 1.5, 2),
+                                               ("square", 1.5, 3), ("square", 1.5, 4)])
+def test_scan_like_circle_and_square_keep_few_segments(name, sigma, seed):
+    """4-8 segments (the truth: a closed curve or 4 sides) where the fit at epsilon alone spends dozens on the
+    noise, and the curve is closer to the true outline (rms) than the pixel staircase is."""
+    inside, distance = SHAPES[name]
+    mask = _scan_like(inside, 140, sigma, 0.25, seed)
+    result = trace(mask, keep_snapshots=False)
+    outer = [k for k, b in enumerate(result.boundaries) if not b.is_hole and len(result.points[k]) > 100]
+    assert len(outer) == 1
+    k = outer[0]
+    assert 4 <= result.splines[k].n_segments <= 8
+    assert result.stats["tolerance"] > result.params["epsilon"]  # the noise was seen
+    curve, _, _ = sample_bezier(result.splines[k].bezier(), 0.1)
+    staircase = result.points[k]
+    rms_curve = np.sqrt(np.mean(distance(curve) ** 2))
+    rms_pixels = np.sqrt(np.mean(distance(staircase) ** 2))
+    assert rms_curve < rms_pixels
+
+
+@pytest.mark.parametrize("name", sorted(SHAPES))
+@pytest.mark.parametrize("scale", [1, 4])
+def test_clean_renders_keep_epsilon(name, scale):
+    """A clean rendering (ink where the pixel centre is inside) is a staircase, not noise: the estimate stays
+    below CLEAN_NOISE at any size, so the tolerance is epsilon, even a small one."""
+    inside, _ = SHAPES[name]
+    mask = _render(lambda x, y: inside(x / scale, y / scale), 140 * scale)
+    result = trace(mask, keep_snapshots=False, max_iterations=1)
+    assert 0 < result.stats["boundary_noise"] <= CLEAN_NOISE
+    assert result.stats["tolerance"] == result.params["epsilon"] == 0.8
+    small = trace(mask, epsilon=0.1, keep_snapshots=False, max_iterations=1)
+    assert small.stats["tolerance"] == 0.1
+
+
+def test_noise_rule_can_be_turned_off_and_is_validated():
+    inside, _ = SHAPES["circle"]
+    mask = _scan_like(inside, 140, 1.5, 0.25, 5)
+    off = trace(mask, keep_snapshots=False, noise_factor=0, max_iterations=3)
+    assert off.stats["tolerance"] == 0.8 and off.stats["boundary_noise"] == 0.0
+    with pytest.raises(ValueError, match="noise_factor"):
+        trace(mask, noise_factor=-1)
+    with pytest.raises(TypeError, match="noise_factor"):
+        trace(mask, noise_factor="2")
+
+
+def test_noise_tolerance_and_estimate_edge_cases():
+    assert noise_tolerance(0.8, 0.2) == 0.8
+    assert noise_tolerance(0.05, CLEAN_NOISE) == 0.05  # a staircase is not noise, whatever epsilon
+    assert noise_tolerance(0.8, 0.7) == pytest.approx(1.4)
+    assert noise_tolerance(2.0, 0.7) == 2.0
+    assert noise_tolerance(0.8, 0.7, factor=0) == 0.8
+    empty = np.zeros((10, 10), bool)
+    assert boundary_noise(empty, [], []) == 0.0
+    # contours too short to judge
+    assert boundary_noise(empty, [np.zeros((10, 2))], [np.zeros(0, int)]) == 0.0
+
+
+def test_noise_image_converges_within_its_raised_tolerance():
+    """Half-inked random noise has boundaries of noise only: the tolerance rises with the estimate, and the
+    guarantee holds with it (plus the corner allowance of the regression spline's extrapolated tips)."""
+    mask = np.random.default_rng(0).random((70, 70)) < 0.5
+    result = trace(mask, keep_snapshots=False)
+    assert result.stats["tolerance"] == pytest.approx(NOISE_FACTOR * result.stats["boundary_noise"])
+    assert result.stats["tolerance"] > 0.8
+    assert result.stats["converged"]
+    assert result.stats["hausdorff"] <= result.stats["tolerance"] + 0.5 + 1e-9
+    assert any("boundary noise" in note for note in result.notes)

@@ -79,6 +79,14 @@ def _is_real(value) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
+def _as_float(value, name) -> float:
+    """``float(value)``; an integer beyond the float64 range is a ``ValueError`` naming ``name``."""
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(f"{name} = {_describe(value)} is beyond the float64 range") from None
+
+
 def _bounds_text(minimum, maximum, inclusive) -> str:
     low_closed, high_closed = inclusive
     parts = []
@@ -105,7 +113,7 @@ def check_number(value, name: str, *, minimum=None, maximum=None, inclusive=True
     """
     if not _is_real(value):
         raise TypeError(f"{name} must be a real number, got {_describe(value)} ({_kind(value)})")
-    number = float(value)
+    number = _as_float(value, name)
     low_closed, high_closed = _inclusive_pair(inclusive)
     bounds = _bounds_text(minimum, maximum, (low_closed, high_closed))
     if number != number or (finite and not np.isfinite(number)):
@@ -268,7 +276,7 @@ def per_item(value, count: int, name: str, *, what: str) -> np.ndarray:
     ``what`` says what the entries belong to (e.g. ``"one per point"``) for the length message.
     """
     if _is_real(value):
-        scalar = float(value)
+        scalar = _as_float(value, name)
         if not np.isfinite(scalar):
             raise ValueError(f"{name} is {scalar!r}; all values must be finite")
         return np.full(count, scalar)

@@ -1,7 +1,4 @@
-"""The math engine: pure numpy/scipy, no widget imports.
-
-Shared file: each module owner edits only the import line(s) of their own module.
-"""
+"""The math engine: pure numpy/scipy, no imports from the layers above (§0-§8 of docs/math.md)."""
 from .piecewise import Spline
 from .interpolant import interpolate
 from .basis import basis_spline, basis_functions

@@ -25,7 +25,8 @@ import numpy as np
 from .._validation import as_float_array, as_points, check_bool, check_choice, check_strictly_increasing, per_item
 from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths
 from .piecewise import Spline
-from .scaling import even_exponent, knot_exponent
+from .scaling import even_exponent, knot_exponent, unscale_knots
+from .interpolant import check_interval_ratio
 from .segment import check_class_points
 
 __all__ = ["basis_spline", "basis_functions", "tension_spans", "BASIS_ENDS"]
@@ -195,6 +196,10 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
         i = int(np.flatnonzero(~(weights > 0))[0])
         raise ValueError(f"interval_weights[{i}] = {float(weights[i])!r} must be > 0")
     tension = per_item(point_tension, n_control, "point_tension", what=f"one per control point, {n_control}")
+    with np.errstate(over="ignore", under="ignore", divide="ignore"):
+        ratio = steps / (weights if closed or ends == "floating" else weights[1:-1])
+    check_interval_ratio(ratio, weights[1:-1] if not closed and ends == "clamped" else weights, "h_i / omega_i",
+                         steps, "control_points")
     if not closed and ends == "clamped":
         if not (steps > 0).all():  # explicit knots already checked; chord/centripetal checked by check_distinct
             raise ValueError("knots must be strictly increasing")
@@ -344,11 +349,15 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
     closed, ends, scaled, values, steps, weights, tension, (exponent, knot_scale) = _prepare(
         control_points, closed, point_tension, interval_weights, knots, ends, point_tension_scale
     )
-    planar, knot_values, F, M = _assemble(scaled, values, steps, weights, tension, closed, ends)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        planar, knot_values, F, M = _assemble(scaled, values, steps, weights, tension, closed, ends)
+    if not (np.isfinite(planar).all() and np.isfinite(M).all()):
+        raise ValueError("the basis form overflows float64 with these point_tension and interval_weights "
+                         "(a closed form of §4.2 leaves the float64 range); use values of moderate size")
     if exponent:
         planar, F = np.ldexp(planar, exponent), np.ldexp(F, exponent)
         M = np.ldexp(M, exponent - knot_scale)
-        knot_values = np.ldexp(knot_values, knot_scale)
+        knot_values = unscale_knots(knot_values, knot_scale, knots, "control_points")
         scaled = np.ldexp(scaled, exponent)
     alphas, betas = _class_parameters(alpha, beta, planar.shape[2])
     # V_i = F_i + h_i M_i / alpha_i = b0 + 3 (b1 - b0) / alpha_i, W_i likewise (§2.1, E1)

@@ -78,4 +78,6 @@ def curvature_comb(spline, scale=1.0, samples_per_segment=16):
     with np.errstate(over="ignore", invalid="ignore"):
         factor = scale * kappa / length  # tooth = -scale * kappa * N, N = (-T_y, T_x), T = P'/|P'|
         tips = np.stack([points[0] + factor * unit[1], points[1] - factor * unit[0]], axis=1)
+    if not np.isfinite(tips).all():
+        raise ValueError(f"scale = {scale!r} puts the comb's tooth tips beyond the float64 range for this curve")
     return np.ascontiguousarray(points.T), tips

@@ -16,9 +16,9 @@ import numbers
 import numpy as np
 from scipy.linalg.lapack import dgtsv
 
-from .._validation import as_float_array, as_points, check_bool, check_choice, per_item
+from .._validation import as_float_array, as_points, check_bool, check_choice, check_number, per_item
 from .knots import check_distinct, parameterize
-from .scaling import even_exponent, knot_exponent
+from .scaling import even_exponent, knot_exponent, unscale_knots
 from .piecewise import Spline
 from .segment import check_class_points, hermite_planar
 
@@ -184,8 +184,8 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     alpha, beta : float or array_like, shape (n-1,) or (N,)
         Class parameters per segment (finite, non-zero). They only position ``V_i``, ``W_i`` (see above).
     end_condition : {"natural", "natural_v", "clamped", "periodic"}
-        ``"natural"``: ``P'' = 0`` at both ends (spec Type 2, the default). ``"natural_v"``: the free-end
-        energy minimiser of thesis eq 3.3 (spec Type 2v, erratum E5), with ``P''(t_1) = v_1 M_1 / omega_1``;
+        ``"natural"``: ``P'' = 0`` at both ends (§2.4 Type 2, the default). ``"natural_v"``: the free-end
+        energy minimiser of thesis eq 3.3 (§2.4 Type 2v, erratum E5), with ``P''(t_1) = v_1 M_1 / omega_1``;
         its end rows need ``v_1 > -2 c_1`` and ``v_n > -2 c_{n-1}`` (or below ``-6 c``). ``"clamped"``: given
         end derivatives (Type 1). ``"periodic"``: closed curve (Type 3).
     end_tangents : (M_1, M_n), optional
@@ -245,15 +245,20 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     alphas = _class_parameter(alpha, m, "alpha", interval_what)
     betas = _class_parameter(beta, m, "beta", interval_what)
     relative = point_tension_scale == "relative"
-    if not relative and knot_scale:
-        tension = np.ldexp(tension, knot_scale)  # v_scaled = v * 2^knot_scale (units of omega / h)
+    # the system is homogeneous in omega (with v in the units of omega / h): divide both by 2^w, too
+    weight_scale = even_exponent(np.asarray(weights))
+    if weight_scale:
+        weights = np.ldexp(weights, -weight_scale)
+    if not relative and knot_scale - weight_scale:
+        tension = np.ldexp(tension, knot_scale - weight_scale)  # v_scaled = v 2^knot_scale / 2^w
     ends = None
     if end_condition == "clamped":
         ends = _end_tangents(end_tangents, points, planar_points.T, steps, d, exponent - knot_scale)
     system = _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends)
     tangents = solve_tangents(*system[:4], closed=closed, off=system[4], describe_row=system[5])
     if not np.isfinite(tangents).all():
-        raise ValueError("the tangent system produced non-finite tangents (§2.5)")
+        raise ValueError("the tangent system produced non-finite tangents (§2.5): point_tension and "
+                         "interval_weights of extreme size; use values of moderate size")
     planar, V, W = hermite_planar(planar_points, tangents, steps, closed, alphas, betas)
     if exponent:
         with np.errstate(over="ignore"):
@@ -261,7 +266,7 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         check_class_points(V, W, alphas, betas)
         tangents = np.ldexp(tangents, exponent - knot_scale)
         planar_points = np.ascontiguousarray(points.T)
-        t = np.ldexp(t, knot_scale)
+        t = unscale_knots(t, knot_scale, knots)
     info = {
         "form": "interpolant",
         "end_condition": end_condition,
@@ -295,7 +300,9 @@ def _check_options(closed, end_condition, point_tension_scale, end_tangents):
 def _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends):
     """``(lower, diag, upper, rhs, off, describe_row)`` of the tangent system (§2.3, §2.4, eq 3.1, E3-E6)."""
     d, n = planar_points.shape
-    c = weights / steps  # c_i = omega_i / h_i
+    with np.errstate(over="ignore", under="ignore"):
+        c = weights / steps  # c_i = omega_i / h_i
+    check_interval_ratio(c, weights, "omega_i / h_i", steps)
     slopes = legs
     slopes /= steps  # Delta_i (legs is no longer needed)
     weighted = c * slopes  # c_i Delta_i, planar (d, m)
@@ -349,13 +356,26 @@ def _tangent_system(planar_points, legs, steps, weights, tension, relative, end_
     return lower, diag, upper, rhs, off, describe_row
 
 
+def check_interval_ratio(ratio, weights, what, steps, points_name="points"):
+    """``ValueError`` naming the interval, its points and ``interval_weights[i]`` when ``omega_i / h_i`` (or
+    ``h_i / omega_i``) leaves the float64 range."""
+    ratio = np.broadcast_to(ratio, np.shape(ratio))
+    bad = ~(np.isfinite(ratio) & (ratio > 0))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        weight = float(np.broadcast_to(weights, bad.shape)[i])
+        raise ValueError(
+            f"interval {i} has h_{i} = {float(steps[i]):.3g} (knot interval of {points_name}) and "
+            f"interval_weights[{i}] = {weight!r}: {what} = {float(ratio[i])!r} is beyond the float64 range "
+            f"(§2.2); neighbouring {points_name} this close compared with their coordinates, or weights this "
+            f"extreme, cannot be represented"
+        )
+
+
 def _maybe_scalar(value, count, name, what):
     """A finite Python float for scalar input (the common case, no array work), else a checked array."""
     if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
-        value = float(value)
-        if not np.isfinite(value):
-            raise ValueError(f"{name} is {value!r}; it must be finite")
-        return value
+        return check_number(value, name)
     return per_item(value, count, name, what=what)
 
 
@@ -396,7 +416,11 @@ def _end_tangents(end_tangents, points, scaled_points, steps, d, exponent):
     default_first, default_last = end_derivative_estimates(scaled_points, steps)
     if end_tangents is None:
         return default_first, default_last
-    if isinstance(end_tangents, (str, bytes)) or not hasattr(end_tangents, "__len__") or len(end_tangents) != 2:
+    try:
+        pair = isinstance(end_tangents, (list, tuple, np.ndarray)) and len(end_tangents) == 2
+    except TypeError:  # a 0-d array
+        pair = False
+    if not pair:
         raise ValueError("end_tangents must be a pair (M_1, M_n) of derivative vectors (either may be None)")
     out = []
     for label, value, default in (("M_1", end_tangents[0], default_first), ("M_n", end_tangents[1], default_last)):

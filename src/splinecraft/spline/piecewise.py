@@ -24,11 +24,11 @@ from .serialize import checked_parts, spline_from_dict, spline_to_dict
 from .svg import path_data
 from .transform import VECTOR_AUXILIARY_KEYS, reversed_spline, transformed_spline
 
-__all__ = ["Spline", "VECTOR_AUXILIARY_KEYS"]
+__all__ = ["Spline", "VECTOR_AUXILIARY_KEYS", "MAX_SAMPLES"]
 
-#: Most points :meth:`Spline.sample` returns with ``samples_per_segment`` (memory bound: 16 bytes per
-#: planar point).
-MAX_UNIFORM_SAMPLES = 50_000_000
+#: Most points :meth:`Spline.sample` returns (``max_points`` and ``samples_per_segment`` are bounded by it;
+#: 24 bytes per planar point with its parameter).
+MAX_SAMPLES = 50_000_000
 
 # Relative tolerance for parameters just outside [t0, tm] of an open curve (rounding).
 _DOMAIN_RTOL = 1e-12
@@ -378,8 +378,8 @@ class Spline:
         tolerance : float
             Maximum distance between the curve and the polyline (> 0).
         max_points : int
-            Upper bound on the number of points. If the tolerance would need more, the sampling is coarsened
-            to fit and a ``RuntimeWarning`` is issued.
+            Upper bound on the number of points (at most :data:`MAX_SAMPLES`, 50 million). If the tolerance
+            would need more, the sampling is coarsened to fit and a ``RuntimeWarning`` is issued.
         samples_per_segment : int, optional
             Ignore ``tolerance`` and sample every piece uniformly: ``theta = 0, 1/k, .., (k-1)/k`` per piece,
             plus the final endpoint.
@@ -395,10 +395,10 @@ class Spline:
         m = self.n_segments
         if samples_per_segment is not None:
             k = check_int(samples_per_segment, "samples_per_segment", minimum=1,
-                          maximum=max(1, MAX_UNIFORM_SAMPLES // m))
+                          maximum=max(1, MAX_SAMPLES // m))
             return sample_uniform(self._planar, self._knots, k)
         tolerance = check_positive_number(tolerance, "tolerance")
-        max_points = check_int(max_points, "max_points", minimum=m + 1)
+        max_points = check_int(max_points, "max_points", minimum=m + 1, maximum=max(m + 1, MAX_SAMPLES))
         if method == "wang":
             return sample_wang(self._planar, self._knots, tolerance, max_points,
                                lambda index, theta: self._evaluate(index, theta, None, 0))

@@ -25,6 +25,8 @@ __all__ = ["Nearest", "Construction", "CurvatureProfile", "nearest", "constructi
 # has at most three local minima per piece, which are separated far more than 1/16 of the piece unless
 # they are nearly equal in value.
 _NEAREST_SAMPLES = 17
+#: Most samples of one curvature profile (memory bound).
+MAX_PROFILE_SAMPLES = 50_000_000
 _NEWTON_STEPS = 60
 
 
@@ -192,8 +194,8 @@ def _class_polygon(spline, piece):
 def curvature_profile(spline, samples_per_piece=32) -> CurvatureProfile:
     """``kappa(t)`` along ``spline`` with both one-sided values at the joints (see :meth:`Spline.curvature_profile`)."""
     spline._require_curvature_dim()
-    k = check_int(samples_per_piece, "samples_per_piece", minimum=2, maximum=100_000)
     m = spline.n_segments
+    k = check_int(samples_per_piece, "samples_per_piece", minimum=2, maximum=max(2, MAX_PROFILE_SAMPLES // m))
     theta = np.linspace(0.0, 1.0, k)
     index = np.repeat(np.arange(m), k)
     local = np.tile(theta, m)

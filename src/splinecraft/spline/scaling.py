@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-__all__ = ["even_exponent", "knot_exponent", "MODERATE_EXPONENT"]
+__all__ = ["even_exponent", "knot_exponent", "unscale_knots", "MODERATE_EXPONENT"]
 
 #: Inputs whose largest coordinate lies within 2^-MODERATE_EXPONENT .. 2^MODERATE_EXPONENT are not rescaled.
 MODERATE_EXPONENT = 100
@@ -36,3 +36,16 @@ def knot_exponent(knots, exponent: int) -> int:
     if not isinstance(knots, str) or knots == "uniform":
         return 0
     return exponent if knots == "chord" else exponent // 2
+
+
+def unscale_knots(values, knot_scale: int, knots, points_name="points"):
+    """Knots of the scaled problem back in the input's units (times ``2^knot_scale``), refused when they
+    leave the float64 range (the total chord length of points near the float64 limit can)."""
+    with np.errstate(over="ignore"):
+        result = np.ldexp(values, knot_scale)
+    if not np.isfinite(result).all():
+        raise ValueError(
+            f"knots: the {knots!r} knot values of these {points_name} exceed the float64 range (the total length "
+            f"of the polygon is beyond 1.8e308); pass knots='uniform' or explicit knot values"
+        )
+    return result

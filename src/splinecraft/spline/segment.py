@@ -201,9 +201,11 @@ def check_class_points(V, W, alpha, beta):
             i = int(np.flatnonzero(~finite)[0])
             value = float(np.broadcast_to(np.asarray(values, dtype=float), finite.shape)[i])
             label = name if np.ndim(values) == 0 else f"{name}[{i}]"
+            point = "V" if name == "alpha" else "W"
             raise ValueError(
-                f"{label} = {value!r} is too close to 0: the class point {'V' if name == 'alpha' else 'W'}_{i} "
-                f"= F + h M / {name} (§2.1) lies beyond the float64 range; use a larger |{name}|"
+                f"the class point {point}_{i} = F + h M / {name} (§2.1) lies beyond the float64 range, with "
+                f"{label} = {value!r}: a |{name}| this close to 0, or points this close to the float64 limit, "
+                f"put it there"
             )
 
 

@@ -182,7 +182,7 @@ def _check_header(data):
         if key not in SCHEMA_KEYS:
             raise ValueError(f"from_dict: unknown key {key!r}; a Spline dict has the keys {list(SCHEMA_KEYS)}")
     kind = data.get("type", TYPE_NAME)
-    if kind != TYPE_NAME:
+    if not isinstance(kind, str) or kind != TYPE_NAME:
         raise ValueError(f"not a splinecraft.Spline dict: type={kind!r}")
     version = data.get("version", 1)
     if isinstance(version, bool) or not isinstance(version, numbers.Integral) or version != 1:

@@ -18,8 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import COINCIDENT_RTOL, as_float_array, check_bool, check_distinct_neighbours
+from .._validation import COINCIDENT_RTOL, as_float_array, check_bool, check_choice, check_distinct_neighbours, check_number
 from .interpolant import end_derivative_estimates
+from .scaling import even_exponent
 
 __all__ = ["estimate_tangents", "end_derivatives", "interior_angle", "unit_tangents", "TANGENT_METHODS"]
 
@@ -112,11 +113,21 @@ def estimate_tangents(points, *, closed: bool = False, method: str = "thesis",
     ValueError
         Non-finite coordinates, consecutive duplicate points, too few points, unknown ``method``.
     """
-    if method not in TANGENT_METHODS:
-        raise ValueError(f"method must be one of {TANGENT_METHODS}, got {method!r}")
-    if not np.isfinite(reversal_tol) or not 0.0 <= reversal_tol < 2.0:
-        raise ValueError(f"reversal_tol must lie in [0, 2), got {reversal_tol!r}")
+    method = check_choice(method, "method", TANGENT_METHODS)
+    reversal_tol = check_number(reversal_tol, "reversal_tol", minimum=0.0, maximum=2.0, inclusive=(True, False))
     pts = _validate_points(points, closed=closed)
+    exponent = even_exponent(pts)  # estimate on points scaled by 2^-k (exact): any float64 scale works
+    if exponent:
+        with np.errstate(over="ignore"):
+            tangents = np.ldexp(_estimate(np.ldexp(pts, -exponent), closed, method, reversal_tol), exponent)
+        if not np.isfinite(tangents).all():
+            raise ValueError("points: the tangent estimates of points this large exceed the float64 range")
+        return tangents
+    return _estimate(pts, closed, method, reversal_tol)
+
+
+def _estimate(pts, closed, method, reversal_tol):
+    """:func:`estimate_tangents` on validated points of moderate size."""
     count = pts.shape[0]
     chords = _chords(pts, closed)                     # chord i runs from P_i to P_{i+1}
     lengths = np.linalg.norm(chords, axis=1)

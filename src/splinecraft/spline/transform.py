@@ -59,13 +59,19 @@ def transformed_spline(spline, matrix, offset=None):
     offset = np.zeros(d) if offset is None else as_float_array(offset, "offset")
     if offset.shape != (d,):
         raise ValueError(f"offset must have shape ({d},), got {offset.shape}")
-    planar = np.matmul(matrix, spline._planar) + offset[:, None]
+    with np.errstate(over="ignore", invalid="ignore"):
+        planar = np.matmul(matrix, spline._planar) + offset[:, None]
+    if not np.isfinite(planar).all():
+        raise ValueError("matrix and offset map the curve beyond the float64 range")
     aux = {}
     for key, value in spline._auxiliary.items():
         if value.ndim >= 1 and value.shape[-1] == d:
-            value = value @ matrix.T
-            if key not in VECTOR_AUXILIARY_KEYS:
-                value = value + offset
+            with np.errstate(over="ignore", invalid="ignore"):
+                value = value @ matrix.T
+                if key not in VECTOR_AUXILIARY_KEYS:
+                    value = value + offset
+            if not np.isfinite(value).all():
+                raise ValueError(f"matrix and offset map auxiliary[{key!r}] beyond the float64 range")
         aux[key] = value
     return type(spline)(planar.transpose(2, 0, 1), spline._knots, closed=spline._closed, auxiliary=aux,
                         info=dict(spline._info))

@@ -8,7 +8,7 @@ import numpy as np
 from ..._validation import check_bool, check_positive_number
 from ..piecewise import Spline
 from ..tangents import _chords
-from .pieces import _G2_CODES, _G2_RTOL, _ZERO_RTOL, _make_spline, _tangent_input, _timmer_cross_terms, scaled_points
+from .pieces import _G2_CODES, _G2_RTOL, _ZERO_RTOL, _make_spline, _tangent_input, _timmer_cross_terms, scaled_points, unscale_alpha
 
 # ----------------------------------------------------------------------------------------------------------
 # Algorithm 3.1: G2 piecewise Timmer
@@ -204,7 +204,7 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
        :math:`2[C_i\\pm\\sqrt{C_i^2+6S_iK^*}]/(3S_i)` (E18: eq 3.122 prints :math:`-6S_iK^*`). Solved with the
        cancellation-free quadratic formula; :math:`S_i=0` is the linear case :math:`\\alpha=-2K^*/C_i`.
     4. Among positive real roots, the one closest to :math:`\\alpha_{ref,i}=4/\\|P_{i+1}-P_i\\|` in
-       :math:`|\\log(\\alpha/\\alpha_{ref,i})|` (a spec choice, the thesis says only "positive").
+       :math:`|\\log(\\alpha/\\alpha_{ref,i})|` (our choice, §5.4; the thesis says only "positive").
     5. No positive root (common: 12-15% of joints even on clean ellipse samples): the vertex
        :math:`2C_i/(3S_i)` if positive (it minimises :math:`|\\kappa_i(0)-K^*|` over :math:`\\alpha>0`), else
        :math:`\\alpha_{ref,i}`, clamped to :math:`[\\alpha_{ref,i}/\\text{clamp},\\ \\text{clamp}\\,\\alpha_{ref,i}]`. The joint
@@ -259,10 +259,12 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
     s_term, u_term, c_term = _timmer_cross_terms(pts, tan, closed)
     curvature_scale = 1.0 / float(np.mean(chords))
 
-    extra = {"alpha_ref": np.ldexp(alpha_ref, -exponent).tolist()}  # alpha has the units of 1 / length
+    extra = {"alpha_ref": unscale_alpha(alpha_ref, exponent).tolist()}  # alpha has the units of 1 / length
     converged = None
     if alpha0 is not None:
-        alpha0 = math.ldexp(check_positive_number(alpha0, "alpha0"), exponent)
+        alpha0 = float(np.ldexp(check_positive_number(alpha0, "alpha0"), exponent))
+        if not (np.isfinite(alpha0) and alpha0 > 0):
+            raise ValueError("alpha0 is out of range for points of this size (alpha0 times their size leaves float64)")
     elif closed:
         alpha0, converged = _search_closing_alpha(s_term, u_term, c_term, alpha_ref, chords, clamp,
                                                   curvature_scale)
@@ -277,7 +279,7 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
         if converged is None:
             converged = labels[0] == "g2"
         extra["closing_converged"] = bool(converged)
-    extra["alpha0"] = math.ldexp(float(alpha0), -exponent)
+    extra["alpha0"] = float(unscale_alpha(alpha0, exponent))
     return _make_spline("timmer_g2", pts, tan, alpha, alpha.copy(), closed, labels, extra, exponent=exponent)
 
 

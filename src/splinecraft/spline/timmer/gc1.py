@@ -56,10 +56,21 @@ def timmer_gc1(points, *, closed: bool = False, alpha=None, beta=None, tangents=
         alpha_values = 4.0 / (scale_values * chords)
         beta_values = alpha_values.copy()
     else:
-        alpha_values = np.ldexp(_segment_values(alpha, m, "alpha"), exponent)  # units of 1 / length
-        beta_values = alpha_values.copy() if beta is None else np.ldexp(_segment_values(beta, m, "beta"), exponent)
+        alpha_values = _scaled_scale(_segment_values(alpha, m, "alpha"), exponent, "alpha")  # units of 1 / length
+        beta_values = alpha_values.copy() if beta is None else _scaled_scale(_segment_values(beta, m, "beta"),
+                                                                              exponent, "beta")
     labels = _matching_labels(np.roll(beta_values, 1), alpha_values, "c1", "g1")   # k = 0: closing joint
     extra = {"shape_scale": None if scale_values is None else scale_values.tolist()}
     return _make_spline("timmer_gc1", pts, tan, alpha_values, beta_values, closed, labels, extra, exponent=exponent)
 
 
+def _scaled_scale(values, exponent, name):
+    """User tangent scales in the units of the scaled points (times ``2^exponent``), checked to stay in range."""
+    with np.errstate(over="ignore", under="ignore"):
+        scaled = np.ldexp(values, exponent)
+    bad = ~(np.isfinite(scaled) & (scaled > 0))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"{name}[{i}] = {float(values[i])!r} is out of range for points of this size "
+                         f"({name} times the size of the points leaves the float64 range)")
+    return scaled

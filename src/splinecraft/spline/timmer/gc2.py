@@ -109,7 +109,7 @@ def timmer_gc2(points, *, closed: bool = False, alpha=4.0, beta=None, end_deriva
     cyclically. The matrix is the same for x and y: one ``solve_banded`` call with two right-hand-side
     columns (a cyclic system is reordered to bandwidth 2 rather than split by Sherman-Morrison). Rows
     are diagonally dominant for the thesis joint iff :math:`2/B+2/a>1/A+1/b` (e.g. all scales equal),
-    for the ``"g2"`` joint iff :math:`2(a+B)>B^2/A+a^2/b` (a different condition: the spec's test does
+    for the ``"g2"`` joint iff :math:`2(a+B)>B^2/A+a^2/b` (a different condition: the thesis joint's test does
     not carry over; :math:`A=a=1`, :math:`B=b=(3+\\sqrt5)/2` passes it but makes a closed ``"g2"`` system
     with an even number of points singular); otherwise the system is still solved, with partial pivoting, after an O(n) LAPACK condition
     estimate; a singular or ill-conditioned system (rcond < 1e-12) raises ``ValueError``. With constant

@@ -28,6 +28,9 @@ _RCOND_MIN = 1e-12          # reciprocal condition number below which Alg 3.3 is
 
 _G2_CODES = ("g2", "g1_no_root", "g1_degenerate")
 
+#: Points below 2^-MIN_TIMMER_EXPONENT are refused: alpha = 4 / chord of unit tangents would overflow.
+MIN_TIMMER_EXPONENT = 1000
+
 
 # ----------------------------------------------------------------------------------------------------------
 # one piece
@@ -218,7 +221,19 @@ def scaled_points(points, closed):
     """
     pts = _planar_points(points, closed)
     exponent = even_exponent(pts)
+    if exponent < -MIN_TIMMER_EXPONENT:
+        raise ValueError(
+            f"points are too small for the Timmer schemes (largest coordinate {float(np.max(np.abs(pts))):.3g}): "
+            f"their tangent scales alpha ~ 4 / chord (§5.1) would exceed the float64 range; scale the points up"
+        )
     return (np.ldexp(pts, -exponent) if exponent else pts), exponent
+
+
+def unscale_alpha(values, exponent):
+    """Tangent scales of unit tangents back in the units of the input points (times ``2^-exponent``)."""
+    with np.errstate(over="ignore"):
+        result = np.ldexp(np.asarray(values, dtype=float), -exponent)
+    return result
 
 
 def _make_spline(form, pts, tan, alpha, beta, closed, joint_labels, extra_info, *, exponent=0,
@@ -233,7 +248,7 @@ def _make_spline(form, pts, tan, alpha, beta, closed, joint_labels, extra_info, 
     if exponent:
         bezier, q1, q2 = (np.ldexp(array, exponent) for array in (bezier, q1, q2))
         if unit_tangents:
-            alpha, beta = np.ldexp(alpha, -exponent), np.ldexp(beta, -exponent)
+            alpha, beta = unscale_alpha(alpha, exponent), unscale_alpha(beta, exponent)
         else:
             tan = np.ldexp(tan, exponent)
     if not np.isfinite(bezier).all():

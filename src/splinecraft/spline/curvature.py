@@ -14,7 +14,7 @@ from .sampling import bernstein, bernstein_d1, bernstein_d2, normalised
 __all__ = ["curvature_from", "joint_curvature", "curvature_comb", "MAX_COMB_SAMPLES"]
 
 #: Most comb teeth computed at once (memory bound).
-MAX_COMB_SAMPLES = 50_000_000
+MAX_COMB_SAMPLES = 10_000_000
 
 
 def curvature_from(first, second):

@@ -28,7 +28,7 @@ __all__ = ["Spline", "VECTOR_AUXILIARY_KEYS", "MAX_SAMPLES"]
 
 #: Most points :meth:`Spline.sample` returns (``max_points`` and ``samples_per_segment`` are bounded by it;
 #: 24 bytes per planar point with its parameter).
-MAX_SAMPLES = 50_000_000
+MAX_SAMPLES = 10_000_000
 
 # Relative tolerance for parameters just outside [t0, tm] of an open curve (rounding).
 _DOMAIN_RTOL = 1e-12
@@ -378,7 +378,7 @@ class Spline:
         tolerance : float
             Maximum distance between the curve and the polyline (> 0).
         max_points : int
-            Upper bound on the number of points (at most :data:`MAX_SAMPLES`, 50 million). If the tolerance
+            Upper bound on the number of points (at most :data:`MAX_SAMPLES`, 10 million). If the tolerance
             would need more, the sampling is coarsened to fit and a ``RuntimeWarning`` is issued.
         samples_per_segment : int, optional
             Ignore ``tolerance`` and sample every piece uniformly: ``theta = 0, 1/k, .., (k-1)/k`` per piece,

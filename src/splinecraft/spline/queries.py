@@ -26,7 +26,7 @@ __all__ = ["Nearest", "Construction", "CurvatureProfile", "nearest", "constructi
 # they are nearly equal in value.
 _NEAREST_SAMPLES = 17
 #: Most samples of one curvature profile (memory bound).
-MAX_PROFILE_SAMPLES = 50_000_000
+MAX_PROFILE_SAMPLES = 10_000_000
 _NEWTON_STEPS = 60
 
 

@@ -18,8 +18,10 @@ Thresholds (``threshold=``)
 The window of the local methods is ``window_size(shape)`` pixels: an odd number, 1/8 of the smaller image
 side, at least 15 and at most 255. Where a window's standard deviation is below ``MIN_CONTRAST / 2`` and
 below twice the noise estimate (blank paper, or the inside of a stroke wider than the window: nothing but
-noise) a local level means nothing (half the pixels of a uniform area lie below its own mean): there the
-global Otsu level decides. ``DEFAULT_THRESHOLD``
+noise) a local level means nothing (half the pixels of a uniform area lie below its own mean): such a pixel
+takes the level of the nearest pixel whose window does see an edge (the threshold surface is carried into the
+flat areas from the edges, so dim paper stays paper and a wide stroke stays ink); an image without any edge
+uses Otsu's level. The local methods hold a few float arrays of the image's size (about 40 bytes per pixel). ``DEFAULT_THRESHOLD``
 is the method ``threshold=None`` stands for; BENCHMARKS.md ("Thresholds") gives the measurement it was chosen
 by.
 
@@ -120,9 +122,11 @@ def threshold_level(gray, white, threshold):
     mean = ndimage.uniform_filter(scaled, window)
     spread = np.sqrt(np.maximum(ndimage.uniform_filter(scaled * scaled, window) - mean * mean, 0.0))
     flat = spread < max(MIN_CONTRAST / 2, 2.0 * estimate_noise(gray, white))
-    if flat.any():                          # uniform windows: paper, or the inside of a wide stroke
-        level[flat] = _otsu_level(gray, int(lo), int(hi)) / white if gray.dtype.kind == "u" \
-            else _otsu_level(gray) / white
+    if flat.all():
+        return _otsu_level(gray, int(lo), int(hi)) if gray.dtype.kind == "u" else _otsu_level(gray)
+    if flat.any():                          # windows of nothing but noise take the nearest edge's level
+        nearest = ndimage.distance_transform_edt(flat, return_distances=False, return_indices=True)
+        level = level[nearest[0], nearest[1]]
     return level * white
 
 

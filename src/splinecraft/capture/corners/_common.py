@@ -2,10 +2,10 @@
 (conventions in :mod:`splinecraft.capture.corners`)."""
 from __future__ import annotations
 
-import numbers
-
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
+
+from ... import _validation
 
 
 _EMPTY = np.zeros(0, dtype=np.intp)
@@ -15,39 +15,18 @@ _EMPTY = np.zeros(0, dtype=np.intp)
 # validation
 # ----------------------------------------------------------------------------------------------------------
 def _check_bool(value, name):
-    if not isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be True or False, got {value!r}")
-    return bool(value)
+    return _validation.check_bool(value, name)
 
 
 def _check_real(value, name, *, low=None, high=None, low_open=False, high_open=False):
-    """A finite real number inside [low, high] (ends open when asked); ValueError names ``name``."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number, got {value!r}")
-    value = float(value)
-    if not np.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    if low is not None and (value < low or (low_open and value == low)):
-        raise ValueError(f"{name} must be {'>' if low_open else '>='} {low:g}, got {value:g}")
-    if high is not None and (value > high or (high_open and value == high)):
-        raise ValueError(f"{name} must be {'<' if high_open else '<='} {high:g}, got {value:g}")
-    return value
+    """A finite real number inside [low, high] (ends open when asked): the shared kit's check."""
+    return _validation.check_number(value, name, minimum=low, maximum=high,
+                                    inclusive=(not low_open, not high_open))
 
 
 def _check_int(value, name, *, low=None, high=None):
-    """An integer (Python or numpy, not bool) inside [low, high]; ValueError names ``name``."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)) \
-                and float(value).is_integer():
-            value = int(value)
-        else:
-            raise TypeError(f"{name} must be an integer, got {value!r}")
-    value = int(value)
-    if low is not None and value < low:
-        raise ValueError(f"{name} must be >= {low}, got {value}")
-    if high is not None and value > high:
-        raise ValueError(f"{name} must be <= {high}, got {value}")
-    return value
+    """An integer (Python or numpy, not bool; a float with an integer value too) inside [low, high]."""
+    return _validation.check_int(value, name, minimum=low, maximum=high, integral_floats=True)
 
 
 def _prepare(points, closed):

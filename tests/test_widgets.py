@@ -243,8 +243,10 @@ def test_bad_values_from_the_page_revert_without_warning():
 
 
 def test_bad_constructor_arguments_raise():
-    with pytest.raises(ValueError, match="shape"):
+    with pytest.raises(ValueError, match="2 coordinates per point"):
         SplineEditor([[1, 2, 3]])
+    with pytest.raises(ValueError, match=r"points\[1, 0\] is nan"):
+        SplineEditor([[1, 2], [float("nan"), 3], [4, 5]])
     with pytest.raises(ValueError, match="form"):
         SplineEditor(form="nope")
     with pytest.raises(TypeError, match="unexpected"):

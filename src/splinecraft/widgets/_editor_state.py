@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from .._validation import check_bool, check_choice, check_distinct_neighbours, check_number, per_item
+from .._validation import as_points, check_bool, check_choice, check_distinct_neighbours, check_number, per_item
 from ._forms import ALPHA_MEANING, FORMS, KNOT_CHOICES, PRESETS, build_spline, default_end_condition, end_choices
 
 __all__ = ["MODEL_TRAITS", "MAX_POINTS", "Rejected", "copy_state", "interval_count", "initial_state",
@@ -50,12 +50,7 @@ def interval_count(n: int, closed: bool, form: str) -> int:
 
 
 def _point_list(points, max_points) -> list:
-    try:
-        array = np.array(points, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"points must be an (n, 2) array of numbers: {exc}") from None
-    if array.ndim != 2 or array.shape[1] != 2:
-        raise ValueError(f"points must have shape (n, 2), got {array.shape}")
+    array = as_points(points, "points", min_count=0, dim=2)
     if array.shape[0] > max_points:
         raise ValueError(f"points has {array.shape[0]} points; the editor takes at most max_points = {max_points}")
     return array.tolist()

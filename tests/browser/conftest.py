@@ -1,7 +1,9 @@
 """Fixtures for the real-browser tests: one JupyterLab server and one Debian chromium per session.
 
 * ``lab_server``: ``jupyter lab`` on 127.0.0.1 in a temporary root (see :mod:`labharness`).
-* ``chromium``: Playwright (sync API) driving ``/usr/bin/chromium`` -- browsers are never downloaded.
+* ``chromium``: Playwright (sync API) driving ``/usr/bin/chromium`` -- browsers are never downloaded. One
+  Playwright per session: its sync API cannot start a second instance while one runs, so every test that needs
+  a browser (``test_start.py`` included, which starts its own servers) takes this fixture, in any order.
 * ``lab``: a fresh browser page per test with helpers to write a notebook, open it, run all cells, and run
   code in its kernel (to read the Python-side state of a widget).
 * Screenshots (plus the page console and the server log) of failed tests go to ``test-artifacts/`` at the
@@ -23,17 +25,22 @@ REPO = Path(__file__).resolve().parents[2]
 ARTIFACTS = REPO / "test-artifacts"
 
 
-@pytest.fixture(scope="session")
-def lab_server(tmp_path_factory):
+def _require_chromium() -> None:
     if not Path(CHROMIUM).exists():
         pytest.skip(f"chromium not found at {CHROMIUM} (bash scripts/system-deps.sh chromium)")
     pytest.importorskip("playwright.sync_api")
+
+
+@pytest.fixture(scope="session")
+def lab_server(tmp_path_factory):
+    _require_chromium()
     with start_lab(tmp_path_factory.mktemp("lab")) as server:
         yield server
 
 
 @pytest.fixture(scope="session")
-def chromium(lab_server):
+def chromium():
+    _require_chromium()
     with launch_chromium() as browser:
         yield browser
 

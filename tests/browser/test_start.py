@@ -28,10 +28,8 @@ from labharness import (  # noqa: E402
     _ALL_RUN_JS,
     _ERRORS_JS,
     _KERNEL_IDLE_JS,
-    CHROMIUM,
     _free_port,
     _http_json,
-    launch_chromium,
 )
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
@@ -185,24 +183,16 @@ def notebooks_state() -> dict:
 
 try:
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
-except ImportError:  # the browser fixture skips every test then
+except ImportError:  # the chromium fixture skips every test then
     PlaywrightTimeout = TimeoutError
 
 
-@pytest.fixture(scope="module")
-def browser():
-    if not Path(CHROMIUM).exists():
-        pytest.skip(f"chromium not found at {CHROMIUM} (bash scripts/system-deps.sh chromium)")
-    pytest.importorskip("playwright.sync_api")
-    with launch_chromium() as chromium:
-        yield chromium
-
-
 @pytest.fixture
-def page(browser, request, tmp_path):
-    """A fresh page; when the test fails, its screenshot, console and the server's log go to test-artifacts/
-    (``rep_call`` is set by the hook in conftest.py)."""
-    context = browser.new_context(viewport={"width": 1400, "height": 1000}, device_scale_factor=1)
+def page(chromium, request, tmp_path):
+    """A fresh page in the session's browser (conftest.py; these tests start their own servers, not the
+    session's JupyterLab); when the test fails, its screenshot, console and the server's log go to
+    test-artifacts/ (``rep_call`` is set by the hook in conftest.py)."""
+    context = chromium.new_context(viewport={"width": 1400, "height": 1000}, device_scale_factor=1)
     page = context.new_page()
     console: list[str] = []
     page.on("console", lambda message: console.append(f"{message.type}: {message.text}"))

@@ -159,7 +159,7 @@ def test_build_argument_errors(traced, tmp_path):
 
 
 def test_to_glyph_gives_a_ufo_glyph_with_the_advance(traced):
-    glyph = traced["o"].to_glyph("o", scale=2.0, sidebearing=10)
+    glyph = font.to_glyph(traced["o"], "o", scale=2.0, sidebearing=10)
     low, high = traced["o"].bounds()
     assert glyph.unicodes == [ord("o")] and glyph.width == round((high[0] - low[0]) * 2 + 20)
     assert len(glyph.contours) == 2

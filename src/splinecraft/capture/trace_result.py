@@ -149,10 +149,14 @@ class TraceResult:
                             title=title)
 
     def edit(self, iteration=None, **params):
-        """This outline (or that of ``snapshots[iteration]``) in an ``OutlineEditor`` widget (JupyterLab)."""
-        from ..widgets.outline_editor import OutlineEditor  # the widget layer, loaded only when asked for
+        """This outline (or that of ``snapshots[iteration]``) in an ``OutlineEditor`` widget (JupyterLab).
 
-        return OutlineEditor(self, iteration=iteration, **params)
+        A convenience for ``sc.OutlineEditor(result, iteration=...)``. Capture imports nothing of the
+        widget layer: the editor is looked up at call time through the package's lazy top-level names.
+        """
+        import splinecraft
+
+        return splinecraft.OutlineEditor(self, iteration=iteration, **params)
 
     def to_dict(self, *, include_points=False, include_snapshots=False) -> dict:
         """JSON-able summary: size, settings, stats and, per boundary, its chain code, corners, knots and

@@ -300,12 +300,6 @@ class Outline:
         path.write_text(self.to_svg(**options), encoding="utf-8")
         return path
 
-    def to_glyph(self, name=None, **options):
-        """A ufoLib2 glyph of this outline (see :func:`splinecraft.font.to_glyph`)."""
-        from .. import font
-
-        return font.to_glyph(self, name, **options)
-
     def to_dict(self, *, include_sources=True) -> dict:
         """Plain JSON types: the contours exactly (knots, corners, handles, steps, tensions, weights), the frame
         and, optionally, the source contours (the bitmap is not stored)."""

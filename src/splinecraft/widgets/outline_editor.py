@@ -204,7 +204,10 @@ class OutlineEditor(WidgetBase):
         return self._outline.to_json(**options)
 
     def to_glyph(self, name=None, **options):
-        return self._outline.to_glyph(name, **options)
+        """A ufoLib2 glyph of the edited outline (:func:`splinecraft.font.to_glyph`)."""
+        from .. import font
+
+        return font.to_glyph(self._outline, name, **options)
 
     def bezier(self) -> list:
         return self._outline.bezier()

@@ -398,20 +398,13 @@ def _components(x, y, d, cycle_of, is_hole):
     return component
 
 
-def _build_boundaries(cracks, connectivity, offset):
-    x, y, d, left_turn, offsets = (cracks[k] for k in ("x", "y", "d", "left_turn", "offsets"))
-    count = x.size
+def _pixel_chain(x64, y64, d, left_turn, offsets, connectivity):
+    """Pixel centres and Freeman codes of every cycle of cracks (thesis section 4.1.1; §10).
+
+    Returns ``(chain_col, chain_row, codes, kept_offsets)``: the chain's pixel columns and rows, the code of
+    each step to the next pixel of the same cycle, and the offsets of the cycles in those arrays.
+    """
     n_cycles = offsets.size - 1
-    cycle_of = np.repeat(np.arange(n_cycles), np.diff(offsets))
-    next_index = np.arange(1, count + 1)
-    next_index[offsets[1:] - 1] = offsets[:-1]
-
-    # Exact signed area (shoelace over integer vertices) per cycle.
-    x64, y64 = x.astype(np.int64), y.astype(np.int64)
-    cross = x64 * y64[next_index] - x64[next_index] * y64
-    area2 = np.add.reduceat(cross, offsets[:-1]) if count else np.zeros(0, np.int64)
-    del cross
-
     # Pixel chain: ink pixel on the right of each crack; 4-connectivity adds the corner at left turns.
     right_col = x64 + _RIGHT_OF_TAIL[d, 0]
     right_row = y64 + _RIGHT_OF_TAIL[d, 1]
@@ -429,7 +422,6 @@ def _build_boundaries(cracks, connectivity, offset):
         chain_offsets = np.concatenate([[0], np.cumsum(emit)[offsets[1:] - 1]])
     else:
         chain_col, chain_row, chain_offsets = right_col, right_row, offsets
-    chain_cycle = np.repeat(np.arange(n_cycles), np.diff(chain_offsets))
     chain_next = np.arange(1, chain_col.size + 1)
     chain_next[chain_offsets[1:] - 1] = chain_offsets[:-1]
     # Keep the last pixel of each run of repeats, so every chain starts at the cycle's first pixel.
@@ -437,7 +429,7 @@ def _build_boundaries(cracks, connectivity, offset):
     kept_per_cycle = np.add.reduceat(keep.astype(np.int64), chain_offsets[:-1])
     keep[chain_offsets[:-1][kept_per_cycle == 0]] = True  # a single pixel: keep one
     kept_per_cycle[kept_per_cycle == 0] = 1
-    chain_col, chain_row, chain_cycle = chain_col[keep], chain_row[keep], chain_cycle[keep]
+    chain_col, chain_row = chain_col[keep], chain_row[keep]
     kept_offsets = np.zeros(n_cycles + 1, dtype=np.int64)
     np.cumsum(kept_per_cycle, out=kept_offsets[1:])
     kept_next = np.arange(1, chain_col.size + 1)
@@ -447,6 +439,24 @@ def _build_boundaries(cracks, connectivity, offset):
     if np.abs(step_x).max(initial=0) > 1 or np.abs(step_y).max(initial=0) > 1:
         raise RuntimeError("internal error: pixel chain has a step longer than one pixel")
     codes = _CODE_OF_STEP[3 * (step_y + 1) + (step_x + 1)]
+    return chain_col, chain_row, codes, kept_offsets
+
+
+def _build_boundaries(cracks, connectivity, offset):
+    x, y, d, left_turn, offsets = (cracks[k] for k in ("x", "y", "d", "left_turn", "offsets"))
+    count = x.size
+    n_cycles = offsets.size - 1
+    cycle_of = np.repeat(np.arange(n_cycles), np.diff(offsets))
+    next_index = np.arange(1, count + 1)
+    next_index[offsets[1:] - 1] = offsets[:-1]
+
+    # Exact signed area (shoelace over integer vertices) per cycle.
+    x64, y64 = x.astype(np.int64), y.astype(np.int64)
+    cross = x64 * y64[next_index] - x64[next_index] * y64
+    area2 = np.add.reduceat(cross, offsets[:-1]) if count else np.zeros(0, np.int64)
+    del cross
+
+    chain_col, chain_row, codes, kept_offsets = _pixel_chain(x64, y64, d, left_turn, offsets, connectivity)
 
     # Components: cycles that bound the same horizontal ink run belong to the same component.
     is_hole = area2 < 0

@@ -34,22 +34,47 @@ def wait_path_change(page, k, old):
         " return p && p.getAttribute('d') !== old; }", arg=[k, old], timeout=20_000)
 
 
-def drawn_matches_kernel(lab, root, k):
-    """The drawn path of contour k starts at the kernel's first knot (screen -> data through the page's map)."""
-    d = path_d(root, k)
-    x, y = (float(v) for v in d[1:d.index("C")].split(","))
-    rect = root.query_selector("[data-testid=canvas]").bounding_box()
-    data = root.evaluate("(el, p) => el.__splinecraft.dataOf(p[0], p[1])", [rect["x"] + x, rect["y"] + y])
+def wait_drawn_matches_kernel(lab, page, root, k):
+    """Wait until the drawn path of contour k starts at the kernel's first knot (screen -> data through the
+    page's map): the page draws the kernel's last answer a moment after the kernel has it."""
     knot = lab.python_json(f"editor.contours[{k}][0]")
-    return math.dist(data, knot) < 0.5
+    page.wait_for_function(
+        """([el, k, knot]) => {
+          const d = el.querySelector(`[data-testid=contour-${k}]`).getAttribute('d');
+          const [x, y] = d.slice(1, d.indexOf('C')).split(',').map(Number);
+          const r = el.querySelector('[data-testid=canvas]').getBoundingClientRect();
+          const [dx, dy] = el.__splinecraft.dataOf(r.left + x, r.top + y);
+          return Math.hypot(dx - knot[0], dy - knot[1]) < 0.5;
+        }""", arg=[root, k, knot], timeout=20_000)
+
+
+def open_outline_editor(lab, cell=CELL):
+    """Open the notebook and wait until the editor's canvas holds still on the screen for a few animation
+    frames (the notebook settles its layout after the side bar collapses), so screen positions stay valid."""
+    page = lab.open_notebook([cell])
+    root = page.wait_for_selector(ROOT, timeout=60_000)
+    root.scroll_into_view_if_needed()
+    page.wait_for_function(
+        """(el) => new Promise((resolve) => {
+            const canvas = el.querySelector('[data-testid=canvas]');
+            const spot = () => { const r = canvas.getBoundingClientRect(); return `${r.left},${r.top},${r.width}`; };
+            let last = spot(), same = 0;
+            const tick = () => {
+              const now = spot();
+              same = now === last ? same + 1 : 0;
+              last = now;
+              if (same >= 6) resolve(true); else requestAnimationFrame(tick);
+            };
+            requestAnimationFrame(tick);
+          })""", arg=root, timeout=20_000)
+    return page, root
 
 
 def test_edit_a_traced_outline_in_the_browser(lab):
-    page = lab.open_notebook([CELL])
-    root = page.wait_for_selector(ROOT, timeout=60_000)
-    root.scroll_into_view_if_needed()
+    page, root = open_outline_editor(lab)
     assert lab.python_json("len(editor.contours)") == 2
-    assert drawn_matches_kernel(lab, root, 0) and drawn_matches_kernel(lab, root, 1)
+    wait_drawn_matches_kernel(lab, page, root, 0)
+    wait_drawn_matches_kernel(lab, page, root, 1)
 
     # 1. drag knot 3 of the outer contour by (+25, +15) screen px
     before = lab.python_json("editor.contours[0][3]")
@@ -111,7 +136,7 @@ def test_edit_a_traced_outline_in_the_browser(lab):
     assert path_d(root, 0) == old_outer  # only the selected contour moved
     lengths = [math.dist(rotated[i], rotated[i + 1]) - math.dist(hole[i], hole[i + 1]) for i in range(len(hole) - 1)]
     assert max(map(abs, lengths)) < 1e-6  # a rotation: knot spacing unchanged
-    assert drawn_matches_kernel(lab, root, 1)
+    wait_drawn_matches_kernel(lab, page, root, 1)
 
     # 4. undo the rotation (Ctrl+Z on the widget)
     root.focus()
@@ -128,8 +153,7 @@ def test_edit_a_traced_outline_in_the_browser(lab):
 
 
 def test_deviation_toggle_colours_pieces_and_shows_the_max(lab):
-    page = lab.open_notebook([CELL])
-    root = page.wait_for_selector(ROOT, timeout=60_000)
+    page, root = open_outline_editor(lab)
     assert "max deviation" in root.query_selector("[data-testid=max-deviation]").inner_text()
     root.query_selector("[data-testid=show_deviation]").check()
     page.wait_for_selector("[data-testid=outline-editor] [data-testid=deviation-0]", timeout=20_000)
@@ -164,9 +188,7 @@ def test_trace_explorer_opens_the_shown_iteration_in_an_editor(lab):
 
 
 def test_wheel_zoom_and_resize_change_the_view(lab):
-    page = lab.open_notebook([CELL])
-    root = page.wait_for_selector(ROOT, timeout=60_000)
-    root.scroll_into_view_if_needed()
+    page, root = open_outline_editor(lab)
     view = lab.python_json("editor.view")
     old = path_d(root, 0)
     x, y = root.evaluate("el => el.__splinecraft.screenKnot(0, 0)")

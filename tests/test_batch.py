@@ -70,7 +70,8 @@ def reference_bytes(path, fmt="svg", **params):
     if fmt == "svg":
         return result.to_svg(title=os.path.basename(path)).encode()
     document = result.to_dict()
-    del document["stats"]["time_s"], document["stats"]["time_breakdown"]
+    for name in ("time_s", "time_breakdown", "time_per_boundary_s"):
+        del document["stats"][name]
     return json.dumps(document, allow_nan=False).encode()
 
 

@@ -2,8 +2,8 @@
 
 Every file goes through the same public pipeline as :func:`splinecraft.trace` (docs/capture.md), and every
 scheduler writes the same bytes: ``TraceResult.to_svg(decimals=..., title=<input file name>)``, or
-``TraceResult.to_dict()`` as JSON without the wall-clock fields ``stats["time_s"]`` and
-``stats["time_breakdown"]`` (a file's time is in its record and in the manifest instead). Outputs appear
+``TraceResult.to_dict()`` as JSON without the wall-clock fields ``stats["time_s"]``,
+``stats["time_breakdown"]`` and ``stats["time_per_boundary_s"]`` (a file's time is in its record and in the manifest instead). Outputs appear
 atomically (temporary file in the same directory, then ``os.replace``); a failed file never stops the
 batch. The manifest (:mod:`splinecraft.batch._manifest`) makes a second run skip what is finished.
 

@@ -25,7 +25,7 @@ PART_SUFFIX = ".splinecraft-part"
 RECORD_STATS = ("boundaries", "holes", "contour_points", "corners", "knots_inserted", "segments",
                 "iterations", "hausdorff", "converged")
 #: Wall-clock fields of ``TraceResult.stats`` left out of JSON outputs, so that outputs are reproducible.
-TIMING_STATS = ("time_s", "time_breakdown")
+TIMING_STATS = ("time_s", "time_breakdown", "time_per_boundary_s")
 
 #: Stop events of runs in this process, by run id (threads and the synchronous scheduler look here
 #: between files; a worker process has none and is stopped by its parent instead).

@@ -45,7 +45,10 @@ take most of the rest) and every small outline converges; 40 x 40 (103 boundarie
 200 x 200 image), since the small path interpolates contour points. 17 of the larger outlines of that image
 (a corner every few steps) get stuck in the regression spline and are refitted by the same interpolant path
 (``fit_outline``'s ``fallback``): then every boundary converges, in 2.5 s (commit 5aa9c7e, median of 3).
-``min_speck_area`` removes specks.
+``min_speck_area`` removes specks. Corner detection and fitting together run within ``time_budget``
+(default 5 s, docs/capture.md §12, "Time budget"): the boundaries it leaves get the polygon of their contour,
+reported per boundary in ``stats["per_boundary"][k]["budget"]``, so a noise image of any size ends in time
+linear in its size (figures in BENCHMARKS.md, "Time budget").
 """
 from __future__ import annotations
 
@@ -62,6 +65,7 @@ from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
     check_small_outline, check_tau, make_rng
+from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
 from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted
 from .image import load_bitmap
@@ -94,6 +98,7 @@ def trace(
     contour="outline",
     fit_params=None,
     noise_factor=NOISE_FACTOR,
+    time_budget=DEFAULT_TIME_BUDGET,
 ) -> TraceResult:
     """Trace the outline of a bitmap into smooth closed splines (thesis chapter 4; docs/capture.md).
 
@@ -139,6 +144,14 @@ def trace(
         ``noise`` is the 99.5th percentile of the distance from the crack outline to the boundary of the
         bitmap smoothed by a 1-px Gaussian (:func:`~splinecraft.capture.fitting.noise.boundary_noise`; about
         0.27 px on clean renderings, which keep ``epsilon``, 0.55-1.1 px on scans). 0 turns the rule off.
+    time_budget : float > 0 or None
+        Seconds for corner detection and fitting of all boundaries together (docs/capture.md §12, "Time
+        budget"; default ``fitting.budget.DEFAULT_TIME_BUDGET`` = 5 s; ``None``: no budget). Boundaries
+        started within it get their full fit, whose knot rounds stop when it runs out (``reason`` says so);
+        the boundaries left get the polygon of their contour (straight pieces between its turning points,
+        deviation 0, no corner detection). ``stats["per_boundary"][k]["budget"]`` is ``None``,
+        ``"stopped"`` or ``"polygon"``, and ``stats["time_per_boundary_s"][k]`` is the boundary's corner and
+        fit time (the small outlines of a batch share its time evenly).
     fit_params : dict, optional
         Further options of ``fit_outline`` (its ``**options`` and ``small_outline``; the arguments of
         :func:`trace` itself are not accepted here). ``small_outline`` (default
@@ -183,6 +196,8 @@ def trace(
                                 keep_snapshots=keep_snapshots, connectivity=connectivity, tau=tau, contour=contour,
                                 fit_params=fit_params)
     noise_factor = _validation.check_number(noise_factor, "noise_factor", minimum=0.0)
+    if time_budget is not None:
+        time_budget = _validation.check_number(time_budget, "time_budget", minimum=0.0, inclusive=False)
     mask = load_bitmap(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
                        connectivity=connectivity)
     loaded = time.perf_counter()
@@ -194,14 +209,18 @@ def trace(
             f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
         )
     notes = []
-    points_list, corner_list, small = _contours(boundaries, settings, notes)
+    deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
+    points_list, corner_list, small, times, undetected = _contours(
+        boundaries, settings, notes, Deadline(None if time_budget is None else time_budget / 2))
     noise = boundary_noise(mask, points_list, corner_list) if noise_factor > 0 else 0.0
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
                      f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
     cornered = time.perf_counter()
-    fits = _fit_boundaries(points_list, corner_list, small, settings)
+    fits, budget_state = _fit_boundaries(points_list, corner_list, small, settings, deadline, times,
+                                         undetected)
+    _budget_notes(budget_state, time_budget, notes)
     finished = time.perf_counter()
 
     splines = [fit.spline for fit in fits]
@@ -210,6 +229,9 @@ def trace(
     for k, entry in enumerate(stats["per_boundary"]):
         if entry["reason"] is not None:
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
+    for entry, state in zip(stats["per_boundary"], budget_state):
+        entry["budget"] = state
+    stats["time_per_boundary_s"] = times.tolist()
     stats["boundary_noise"] = noise
     stats["tolerance"] = settings["tolerance"]
     stats["time_s"] = finished - started
@@ -223,6 +245,7 @@ def trace(
         "max_iterations": settings["max_iterations"], "connectivity": connectivity, "threshold": threshold,
         "invert": bool(invert), "min_speck_area": min_speck_area, "tau": tau, "contour": contour,
         "fit_params": dict(settings["fit_params"]), "noise_factor": noise_factor,
+        "time_budget": time_budget,
     }
     return TraceResult(mask=mask, boundaries=boundaries, points=points_list, corners=corner_list, fits=fits,
                        splines=splines, snapshots=merged, stats=stats, params=jsonable(params), notes=notes)
@@ -259,10 +282,14 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
             "small_outline": small_limit, "contour": contour}
 
 
-def _contours(boundaries, settings, notes):
-    """The contour of every boundary, its corners, and which boundaries take the small-outline path."""
+def _contours(boundaries, settings, notes, deadline):
+    """The contour of every boundary, its corners, which boundaries take the small-outline path, the
+    seconds of corner detection per boundary, and which boundaries needed it but did not get it because
+    ``deadline`` had passed."""
     small_limit = settings["small_outline"] if settings["method"] == "lsq" else 0
     points_list, corner_list, small = [], [], []
+    times = np.zeros(len(boundaries))
+    undetected = np.zeros(len(boundaries), bool)
     for k, boundary in enumerate(boundaries):
         points = boundary.outline if settings["contour"] == "outline" else boundary.pixels
         if len(points) < 4:  # pixel chains of tiny components: fall back to the crack outline
@@ -273,11 +300,14 @@ def _contours(boundaries, settings, notes):
         points_list.append(np.asarray(points, dtype=float))
         if routes_to_small(settings["method"], len(points), small_limit):
             small.append(k)
-        if len(points) < min(small_limit, CORNERLESS_CONTOUR):
+        undetected[k] = len(points) >= min(small_limit, CORNERLESS_CONTOUR) and deadline.passed()
+        if len(points) < min(small_limit, CORNERLESS_CONTOUR) or undetected[k]:
             corner_list.append(np.zeros(0, dtype=np.intp))
         else:
+            started = time.perf_counter()
             corner_list.append(_detect(points_list[-1], k, settings["corner_method"], settings["corner_params"],
                                        notes))
+            times[k] = time.perf_counter() - started
     if small:
         skipped = sum(len(points_list[k]) < CORNERLESS_CONTOUR for k in small)
         notes.append(
@@ -286,29 +316,60 @@ def _contours(boundaries, settings, notes):
             "contour points, corners interpolated; stats['per_boundary'][k]['small_outline'])"
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
                "closed periodic curve" if skipped else ""))
-    return points_list, corner_list, small
+    return points_list, corner_list, small, times, undetected
 
 
-def _fit_boundaries(points_list, corner_list, small, settings):
-    """The fit of every boundary: the small ones together, the others one by one (trusted arguments)."""
+def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, undetected):
+    """The fit of every boundary: the small ones together (in batches of ``SMALL_CHUNK``), the others one by
+    one (trusted arguments), each started only while ``deadline`` has not passed and with its corners detected
+    (else its polygon). Returns
+    the fits and the budget state of each boundary (``None``, ``"stopped"`` or ``"polygon"``); adds the fit
+    seconds to ``times``."""
     epsilon, max_iterations, keep = settings["tolerance"], settings["max_iterations"], settings["keep_snapshots"]
-    fits = [None] * len(points_list)
-    if small:
-        corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in small]
-        for k, fit in zip(small, fit_small_trusted([points_list[k] for k in small], corners, epsilon,
+    fits, state = [None] * len(points_list), [None] * len(points_list)
+    small = [k for k in small if not undetected[k]]
+    for first in range(0, len(small), SMALL_CHUNK):
+        if deadline.passed():
+            break
+        chunk = small[first: first + SMALL_CHUNK]
+        started = time.perf_counter()
+        corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in chunk]
+        for k, fit in zip(chunk, fit_small_trusted([points_list[k] for k in chunk], corners, epsilon,
                                                    max_iterations, keep)):
             fits[k] = fit
+        times[chunk] += (time.perf_counter() - started) / len(chunk)
     method = settings["method"]
     for k, (points, corner_idx) in enumerate(zip(points_list, corner_list)):
         if fits[k] is not None:
             continue
+        if deadline.passed() or undetected[k]:
+            continue
+        started = time.perf_counter()
         rng = make_rng(_child_seed(settings["seed"], k)) if method != "lsq" else None
         try:
             fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), epsilon, method,
-                                  settings["tau"], rng, max_iterations, keep, 0, settings["options"])
+                                  settings["tau"], rng, max_iterations, keep, 0, settings["options"], deadline)
         except ValueError as exc:
             raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
-    return fits
+        times[k] += time.perf_counter() - started
+        if fits[k].info.get("reason") and deadline.passed():
+            state[k] = "stopped"
+    left = [k for k, fit in enumerate(fits) if fit is None]
+    for k, fit in zip(left, polygon_fits([points_list[k] for k in left], epsilon, keep)):
+        fits[k], state[k] = fit, "polygon"
+    return fits, state
+
+
+def _budget_notes(state, time_budget, notes):
+    polygons, stopped = state.count("polygon"), state.count("stopped")
+    if polygons:
+        notes.append(f"time budget of {time_budget:g} s spent: {polygons} boundar{'y' if polygons == 1 else 'ies'} "
+                     "got the polygon of their contour (straight pieces between turning points, no corner "
+                     "detection; stats['per_boundary'][k]['budget'] == 'polygon'; trace(time_budget=None) fits "
+                     "them all)")
+    if stopped:
+        notes.append(f"time budget of {time_budget:g} s: the knot rounds of {stopped} boundar"
+                     f"{'y' if stopped == 1 else 'ies'} stopped before convergence")
 
 
 def _detect(points, k, corner_method, corner_params, notes):

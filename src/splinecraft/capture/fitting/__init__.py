@@ -143,14 +143,17 @@ def routes_to_small(method, point_count, small_outline):
     return method == "lsq" and point_count < small_outline
 
 
-def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts):
-    """:func:`fit_outline` on checked arguments: route the contour to its family."""
+def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
+                deadline=None):
+    """:func:`fit_outline` on checked arguments: route the contour to its family (``deadline``, a
+    :class:`~.budget.Deadline`, stops the knot rounds of ``"lsq"``)."""
     if routes_to_small(method, points.shape[0], small_outline):
         return fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
     if method != "lsq":
         return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
-    result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts)
-    if result.converged or not opts["fallback"] or _longest_piece(points.shape[0], corners) > FALLBACK_PIECE:
+    result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline)
+    if (result.converged or result.info["reason"] or not opts["fallback"]
+            or _longest_piece(points.shape[0], corners) > FALLBACK_PIECE):
         return result
     # the regression spline got stuck (typically short pieces between many corners of a noisy outline, where
     # no knot fits min_gap steps from the others): the interpolant path through contour points always gets

@@ -10,6 +10,7 @@ import numpy as np
 
 from ...spline import Spline
 from .lsq_model import OutlineRegression
+from .budget import BUDGET_REASON
 from .lsq_setup import thin_corners
 from .options import LSQ_OPTIONS
 from .results import FitResult, Snapshot
@@ -21,9 +22,10 @@ _HOOK_REASON = "the fitted corner moved farther than a truncated pixel tip can b
 REMOVAL_ROUNDS = 4
 
 
-def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options):
-    """``"lsq"`` on a checked contour (corners sorted and unique; ``options`` from ``check_options``)."""
-    return LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options).run()
+def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None):
+    """``"lsq"`` on a checked contour (corners sorted and unique; ``options`` from ``check_options``); the
+    knot rounds stop once ``deadline`` (a :class:`~.budget.Deadline`) has passed."""
+    return LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline).run()
 
 
 class LsqKnotInsertion:
@@ -35,7 +37,7 @@ class LsqKnotInsertion:
     dense check of the guarantee before stopping.
     """
 
-    def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options):
+    def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None):
         self.model = OutlineRegression(points, thin_corners(points, corners, options["min_gap"]), epsilon, options)
         self.model.seed_knots(options["initial_density"])
         self.epsilon = epsilon
@@ -44,6 +46,8 @@ class LsqKnotInsertion:
         self.options = options
         self.snapshots = []
         self.iteration = 0
+        self.deadline = deadline
+        self.out_of_time = False
 
     # ---------------------------------------------------------------- records
     def candidate(self, piece, index, accepted, reason, action):
@@ -108,6 +112,9 @@ class LsqKnotInsertion:
                     converged = True
                     break
             if self.iteration >= self.max_iterations:
+                break
+            if self.deadline is not None and self.deadline.passed():
+                self.out_of_time = True
                 break
             self.iteration += 1
             dev, progressed = self.insert_round(dev)
@@ -235,5 +242,7 @@ class LsqKnotInsertion:
             info={"options": {k: self.options[k] for k in LSQ_OPTIONS},
                   "corner_radii": model.tips.radius.tolist() if cornered else [],
                   "tip_gaps": model.tips.gap.tolist() if cornered else [],
-                  "tolerance_near_corners": epsilon + self.options["corner_allowance"]},
+                  "tolerance_near_corners": epsilon + self.options["corner_allowance"],
+                  "reason": BUDGET_REASON.format(budget=self.deadline.budget)
+                  if self.out_of_time and not converged else None},
         )

@@ -1,0 +1,83 @@
+"""Time budget of trace (docs/capture.md §12, "Time budget"): documented, reported per boundary, never a hang."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from splinecraft.capture.fitting import fit_outline
+from splinecraft.capture.fitting.budget import BUDGET_REASON, Deadline, polygon_fits
+from splinecraft.capture.fitting.lsq import fit_lsq
+from splinecraft.capture.fitting.options import check_options
+from splinecraft.capture.trace import trace
+
+
+def bezier_samples(bezier, per_piece=16):
+    t = np.linspace(0.0, 1.0, per_piece)[:, None]
+    basis = np.hstack([(1 - t) ** 3, 3 * t * (1 - t) ** 2, 3 * t**2 * (1 - t), t**3])
+    return np.einsum("kj,mjd->mkd", basis, np.asarray(bezier)).reshape(-1, 2)
+
+
+def distance_to_closed_polyline(points, vertices):
+    a = np.asarray(vertices, float)
+    ab = np.roll(a, -1, axis=0) - a
+    ap = points[:, None, :] - a[None]
+    t = np.clip((ap * ab).sum(-1) / (ab * ab).sum(-1), 0, 1)
+    return np.linalg.norm(ap - t[..., None] * ab, axis=-1).min(axis=1)
+
+
+def noise_image(size, seed):
+    return np.random.default_rng(seed).random((size, size)) < 0.3
+
+
+def test_spent_budget_gives_every_boundary_its_contour_polygon():
+    result = trace(noise_image(48, 1), time_budget=1e-9)
+    assert all(entry["budget"] == "polygon" for entry in result.stats["per_boundary"])
+    assert result.stats["converged"]
+    assert any("time budget" in note for note in result.notes)
+    for spline, contour in zip(result.splines, result.points):
+        curve = bezier_samples(spline.bezier())
+        # the polygon is the contour: every curve point on the contour and every contour point on the curve
+        assert distance_to_closed_polyline(curve, contour).max() < 1e-9
+        assert distance_to_closed_polyline(contour, np.asarray(spline.bezier())[:, 0]).max() < 1e-9
+        knots = np.asarray(spline.knots)
+        assert np.all(np.diff(knots) > 0)
+
+
+def test_polygon_keeps_only_turning_points():
+    square = np.array([[0, 0], [1, 0], [2, 0], [2, 1], [2, 2], [1, 2], [0, 2], [0, 1]], float)
+    (fit,) = polygon_fits([square], 0.8, True)
+    assert fit.spline.n_segments == 4
+    assert sorted(fit.corners_used.tolist()) == [0, 2, 4, 6]
+    assert fit.hausdorff == 0.0 and fit.converged and len(fit.snapshots) == 1
+
+
+def test_default_budget_is_reported_and_not_reached_on_a_clean_shape():
+    yy, xx = np.mgrid[:64, :64] + 0.5
+    disc = (xx - 32) ** 2 + (yy - 30) ** 2 <= 20**2
+    result = trace(disc)
+    (entry,) = result.stats["per_boundary"]
+    assert entry["budget"] is None
+    (seconds,) = result.stats["time_per_boundary_s"]
+    assert 0 < seconds <= result.stats["time_s"]
+    assert result.params["time_budget"] == 5.0
+    assert trace(disc, time_budget=None).params["time_budget"] is None
+
+
+@pytest.mark.parametrize("bad, error", [(0, ValueError), (-1.0, ValueError), (float("nan"), ValueError),
+                                        ("1", TypeError), (True, TypeError)])
+def test_bad_time_budget_names_the_argument(bad, error):
+    with pytest.raises(error, match="time_budget"):
+        trace(noise_image(16, 0), time_budget=bad)
+
+
+def test_lsq_rounds_stop_at_a_passed_deadline():
+    angle = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    radius = 40 + 3 * np.sin(23 * angle)  # many wiggles: the first fit does not meet a tight epsilon
+    points = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    options = check_options("lsq", {})
+    deadline = Deadline(1e-9)
+    stopped = fit_lsq(points, np.zeros(0, np.int64), 0.05, 200, False, options, deadline)
+    assert not stopped.converged and stopped.iterations == 0
+    assert stopped.info["reason"] == BUDGET_REASON.format(budget=1e-9)
+    free = fit_outline(points, [], epsilon=0.05, keep_snapshots=False)
+    assert free.iterations > 0 and free.info["reason"] is None

@@ -1,4 +1,5 @@
-// Drag flow control for the editors (plain ES module): pointer moves become "drag" messages, at most one in
+// Drag flow control for the editors (plain ES module): pointer moves become "drag" messages (or, with
+// `message`, any gesture's message: the OutlineEditor's knot drags and handle transforms), at most one in
 // flight. Newer positions wait for the kernel's answer and are coalesced to the next animation frame, so
 // the kernel never falls behind and the latest position always wins; the final position is always sent
 // on release, and the page keeps showing it until the kernel has answered.
@@ -8,8 +9,31 @@
 
 const ACK_TIMEOUT_MS = 1000; // resend even without an answer after this long (a lost message never blocks)
 
-/** Drag state machine; `onIdle()` is called when a released drag has been answered (redraw the points). */
-export function createDragFlow(model, { onIdle = () => {} } = {}) {
+/** Latency record of move `ackSeq` (its times leave `moveTimes`) once its answer is in the DOM. */
+function recordLatency(moveTimes, ackSeq, tArrive, root) {
+  const times = moveTimes.get(ackSeq);
+  if (!times) return;
+  const tDom = performance.now();
+  for (const key of moveTimes.keys()) if (key <= ackSeq) moveTimes.delete(key);
+  requestAnimationFrame(() => {
+    window.__splinecraft = window.__splinecraft ?? {};
+    const log = (window.__splinecraft.dragLatencies = window.__splinecraft.dragLatencies ?? []);
+    log.push({
+      seq: ackSeq, n: root.dataset.npoints | 0,
+      dom: tDom - times.move, frame: performance.now() - times.move, // pointermove -> path in DOM / -> next frame
+      wait: times.sent - times.move, kernel: tArrive - times.sent, draw: tDom - tArrive, // the parts
+    });
+    root.dataset.lastDrawnSeq = String(ackSeq);
+  });
+}
+
+const dragMessage = (drag) => ({ type: "drag", index: drag.index, x: drag.x, y: drag.y });
+
+/**
+ * Drag state machine; `onIdle()` is called when a released drag has been answered (redraw the points);
+ * `message(drag)` builds the message of a gesture from its fields (seq, gesture and final are added).
+ */
+export function createDragFlow(model, { onIdle = () => {}, message = dragMessage } = {}) {
   let seq = 0, gesture = 0, inFlight = null, pendingSend = false, rafId = 0;
   let drag = null; // {index, x, y, pointerId, moved, tMove, ox, oy}
   let released = null; // a finished drag whose final position the kernel has not answered yet
@@ -19,7 +43,7 @@ export function createDragFlow(model, { onIdle = () => {} } = {}) {
     seq += 1;
     if (model.get("debug")) moveTimes.set(seq, { move: drag.tMove, sent: performance.now() });
     inFlight = { seq, t: performance.now() };
-    model.send({ type: "drag", index: drag.index, x: drag.x, y: drag.y, seq, gesture, final });
+    model.send({ ...message(drag), seq, gesture, final });
   }
   function frame() {
     rafId = 0;
@@ -30,26 +54,38 @@ export function createDragFlow(model, { onIdle = () => {} } = {}) {
   }
   const schedule = () => { if (!rafId) rafId = requestAnimationFrame(frame); };
 
+  /** Start a gesture; `fields` stay on it (what `message` reads). */
+  function begin(fields, pointerId) {
+    gesture += 1;
+    drag = { ...fields, pointerId, moved: false, tMove: performance.now() };
+    return drag;
+  }
+  /** The gesture moved: take the new `fields`, send them on the next frame. */
+  function update(fields) {
+    Object.assign(drag, fields);
+    drag.moved = true;
+    drag.tMove = performance.now();
+    pendingSend = true;
+    schedule();
+  }
+
   return {
+    begin,
+    update,
     /** Start dragging point `index` (at data x, y); `ox, oy`: pointer-to-point offset in screen px. */
-    start(index, x, y, pointerId, ox = 0, oy = 0) {
-      gesture += 1;
-      drag = { index, x, y, pointerId, moved: false, tMove: performance.now(), ox, oy };
-      return drag;
-    },
+    start(index, x, y, pointerId, ox = 0, oy = 0) { return begin({ index, x, y, ox, oy }, pointerId); },
     get active() { return drag; },
     /** The drag to draw (in progress, or released and not yet answered), if it moved. */
     live() {
       const d = drag ?? released;
       return d && d.moved ? d : null;
     },
-    move(x, y) {
-      drag.x = x;
-      drag.y = y;
-      drag.moved = true;
-      drag.tMove = performance.now();
-      pendingSend = true;
-      schedule();
+    move(x, y) { update({ x, y }); },
+    /** A one-off final message outside any pointer gesture (an arrow key): a gesture of its own. */
+    once(fields) {
+      seq += 1;
+      gesture += 1;
+      model.send({ ...fields, seq, gesture, final: true });
     },
     /** Release: send the final position (if the point moved). */
     end() {
@@ -72,22 +108,34 @@ export function createDragFlow(model, { onIdle = () => {} } = {}) {
       if (drag && pendingSend) schedule();
     },
     /** Record the latency of move `ackSeq` after its curve is in the DOM (debug only). */
-    drawn(ackSeq, tArrive, root) {
-      const times = moveTimes.get(ackSeq);
-      if (!times) return;
-      const tDom = performance.now();
-      for (const key of moveTimes.keys()) if (key <= ackSeq) moveTimes.delete(key);
-      requestAnimationFrame(() => {
-        window.__splinecraft = window.__splinecraft ?? {};
-        const log = (window.__splinecraft.dragLatencies = window.__splinecraft.dragLatencies ?? []);
-        log.push({
-          seq: ackSeq, n: root.dataset.npoints | 0,
-          dom: tDom - times.move, frame: performance.now() - times.move, // pointermove -> path in DOM / -> next frame
-          wait: times.sent - times.move, kernel: tArrive - times.sent, draw: tDom - tArrive, // the parts
+    drawn(ackSeq, tArrive, root) { recordLatency(moveTimes, ackSeq, tArrive, root); },
+    dispose() { if (rafId) cancelAnimationFrame(rafId); },
+  };
+}
+
+/**
+ * Round trips of an empty message through the kernel (the widget's `debug` on): `ping()` resolves to
+ * {total, up, down} in ms; `handle(msg)` takes the kernel's custom messages (true for an answered pong).
+ */
+export function createPing(model) {
+  const pending = new Map();
+  let pingId = 0;
+  return {
+    ping() {
+      return new Promise((resolve) => {
+        const id = ++pingId, t0 = performance.now(), wall0 = performance.timeOrigin + t0;
+        pending.set(id, (kernelMs) => {
+          const t1 = performance.now(), wall1 = performance.timeOrigin + t1;
+          resolve({ total: t1 - t0, up: kernelMs - wall0, down: wall1 - kernelMs });
         });
-        root.dataset.lastDrawnSeq = String(ackSeq);
+        model.send({ type: "ping", id });
       });
     },
-    dispose() { if (rafId) cancelAnimationFrame(rafId); },
+    handle(msg) {
+      if (!msg || msg.type !== "pong" || !pending.has(msg.id)) return false;
+      pending.get(msg.id)(msg.kernel_ms);
+      pending.delete(msg.id);
+      return true;
+    },
   };
 }

@@ -9,7 +9,7 @@
 import { h, Viewport, isolateKeys } from "./common.js";
 import { createCanvas, decodeGeometry, decodePoints, gridStep } from "./editor_view.js";
 import { createControls, traitWriters } from "./editor_controls.js";
-import { createDragFlow } from "./drag_controller.js";
+import { createDragFlow, createPing } from "./drag_controller.js";
 import { attachInput } from "./editor_input.js";
 
 const CONTROL_TRAITS = ["form", "preset", "end_condition", "knots", "closed", "alpha", "beta", "point_tension",
@@ -21,14 +21,8 @@ const LARGE = 1.35; // the "large" presentation size scales the canvas height by
 
 /** Test and benchmark hooks on the root element: screen/data coordinates, and ping (debug only). */
 function instrument(root, model, svg, vp, pointAt, count, handlers) {
-  const pings = new Map();
-  let pingId = 0;
-  handlers.push((msg) => {
-    if (msg && msg.type === "pong" && pings.has(msg.id)) {
-      pings.get(msg.id)(msg.kernel_ms);
-      pings.delete(msg.id);
-    }
-  });
+  const pinger = createPing(model);
+  handlers.push(pinger.handle);
   const rect = () => svg.getBoundingClientRect();
   root.__splinecraft = {
     screenPoint(i) {
@@ -41,16 +35,7 @@ function instrument(root, model, svg, vp, pointAt, count, handlers) {
     /** Spacing of the grid lines in data units (what snap to grid uses). */
     gridStep() { const [x0, y0, x1, y1] = vp.visible(); return gridStep(Math.max(x1 - x0, y1 - y0)); },
     /** Round trip of an empty message through the kernel: {total, up, down} in ms (needs debug=True). */
-    ping() {
-      return new Promise((resolve) => {
-        const id = ++pingId, t0 = performance.now(), wall0 = performance.timeOrigin + t0;
-        pings.set(id, (kernelMs) => {
-          const t1 = performance.now(), wall1 = performance.timeOrigin + t1;
-          resolve({ total: t1 - t0, up: kernelMs - wall0, down: wall1 - kernelMs });
-        });
-        model.send({ type: "ping", id });
-      });
-    },
+    ping: pinger.ping,
   };
 }
 

@@ -176,3 +176,40 @@ def test_mirror_buttons_reflect_the_selection_about_its_box(editor):
     assert editor.outline.contours[0] is before.contours[0]
     page(editor, type="reflect", axis="diagonal")
     assert editor.status_level == "error" and "axis" in editor.status_message
+
+
+def test_synced_tables_rebuild_only_changed_rows_and_equal_a_full_rebuild(traced):
+    from splinecraft.widgets._outline_state import OUTLINE_TRAITS, synced_tables
+
+    outline = as_outline(traced)
+    current = synced_tables(outline, {}, None)
+    assert set(current) == set(OUTLINE_TRAITS) and len(current["contours"]) == len(outline)
+    moved = outline.move_knot(1, 2, (outline.contours[1].points[2] + [3.0, -2.0]).tolist())
+    partial = synced_tables(moved, current, changed={1})
+    full = synced_tables(moved, {}, None)
+    assert set(partial) == {"contours"}  # corners, tensions and weights of contour 1 did not change
+    assert partial["contours"] == full["contours"] and partial["contours"][0] is current["contours"][0]
+    assert synced_tables(outline, current, changed={0, 1}) == {}
+
+
+def test_page_checks_selection_pairs_matrices_and_the_fitted_view(traced):
+    from splinecraft.widgets._outline_state import clean_selection, fitted_view, grouped_by_contour, page_matrix
+
+    assert clean_selection([[0, 1], (0, 1), [1, 0]], [5, 3]) == [[0, 1], [1, 0]]
+    for bad, words in (([[0, True]], "pairs of integers"), ([[0, 1, 2]], "pairs"), ([[2, 0]], "no knot 0 in contour 2"),
+                       ([[0, 5]], "no knot 5")):
+        with pytest.raises(ValueError, match=words):
+            clean_selection(bad, [5, 3])
+    assert grouped_by_contour([[1, 2], [0, 4], [1, 0]]) == {1: [2, 0], 0: [4]}
+    assert page_matrix([1, 2, 3, 4, 5, 6]) == [[1, 3, 5], [2, 4, 6]]
+    for bad in ([1, 2, 3], [1, 2, 3, 4, 5, "6"], [1, 2, 3, 4, 5, True], None, (1, 0, 0, 1, 0, 0)):
+        with pytest.raises(ValueError, match="6 numbers"):
+            page_matrix(bad)
+    outline = as_outline(traced)
+    x0, y0, x1, y1 = fitted_view(outline)
+    low, high = outline.bounds()
+    shown_low, shown_high = np.minimum(low, 0.0), np.maximum(high, [outline.width, outline.height])  # bitmap frame too
+    pad = 0.05 * max(shown_high - shown_low)
+    assert [x0, y0, x1, y1] == pytest.approx([*(shown_low - pad), *(shown_high + pad)])
+    glyph = OutlineEditor("M 10,20 L 50,20 L 50,40 Z").outline  # no bitmap: the knots' box only
+    assert fitted_view(glyph) == pytest.approx([8.0, 18.0, 52.0, 42.0])

@@ -1,4 +1,5 @@
-"""The OutlineEditor's synced lists <-> its outline, and the bitmap it shows (PNG bytes)."""
+"""The OutlineEditor's pure parts: its synced lists <-> its outline, the checks of what the page sends
+(selection pairs, transform matrices), the fitted view, and the bitmap it shows (PNG bytes)."""
 from __future__ import annotations
 
 import io
@@ -7,7 +8,12 @@ import numpy as np
 
 from ..outline import Contour, Outline
 
-__all__ = ["outline_from_lists", "png_of_mask"]
+__all__ = ["OUTLINE_TRAITS", "DeviationCache", "clean_selection", "fitted_view", "grouped_by_contour", "outline_from_lists", "page_matrix",
+           "png_of_mask", "synced_tables"]
+
+#: The synced lists that hold the outline, and the contour field each one shows.
+OUTLINE_TRAITS = {"contours": "points", "corners": "corners", "point_tension": "point_tension",
+                  "interval_weights": "interval_weights"}
 
 
 def _per_knot(rows, k, n, default):
@@ -62,6 +68,91 @@ def outline_from_lists(outline: Outline, contours, corners, point_tension, inter
         except (TypeError, ValueError) as exc:
             raise type(exc)(f"contour {k}: {exc}") from None
     return outline.with_contours(built)
+
+
+def synced_tables(outline: Outline, current: dict, changed=None) -> dict:
+    """The synced lists of ``outline`` (name -> table, see :data:`OUTLINE_TRAITS`) that differ from ``current``.
+
+    With ``changed`` (contour indices) and tables of the outline's length, only those rows are rebuilt and a
+    table whose rows did not change is left out; otherwise every table is rebuilt.
+    """
+    whole = changed is None or any(len(current[name]) != len(outline) for name in OUTLINE_TRAITS)
+    rows = range(len(outline)) if whole else sorted(changed)
+    tables = {}
+    for name, field in OUTLINE_TRAITS.items():
+        values = {k: getattr(outline.contours[k], field).tolist() for k in rows}
+        if whole:
+            tables[name] = [values[k] for k in rows]
+        elif any(current[name][k] != values[k] for k in rows):
+            tables[name] = [values.get(k, row) for k, row in enumerate(current[name])]
+    return tables
+
+
+def clean_selection(value, sizes) -> list:
+    """``value`` as distinct ``[contour, knot]`` pairs of integers, in order, for contours of ``sizes`` knots.
+
+    Raises ``ValueError`` naming the first pair that is not two integers or not a knot of the outline.
+    """
+    cleaned = []
+    for pair in value:
+        if (not isinstance(pair, (list, tuple)) or len(pair) != 2
+                or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)):
+            raise ValueError(f"selection must be [contour, knot] pairs of integers, got {pair!r:.40}")
+        if not (0 <= pair[0] < len(sizes) and 0 <= pair[1] < sizes[pair[0]]):
+            raise ValueError(f"selection: no knot {pair[1]} in contour {pair[0]}")
+        if list(pair) not in cleaned:
+            cleaned.append([int(pair[0]), int(pair[1])])
+    return cleaned
+
+
+def grouped_by_contour(pairs) -> dict:
+    """``[contour, knot]`` pairs as ``{contour: [knot, ...]}`` (first-seen order)."""
+    groups = {}
+    for contour, knot in pairs:
+        groups.setdefault(contour, []).append(knot)
+    return groups
+
+
+def page_matrix(values) -> list:
+    """The 2x3 matrix ``[[a, c, e], [b, d, f]]`` of a page's transform ``[a, b, c, d, e, f]`` (SVG order:
+    ``x' = a x + c y + e``, ``y' = b x + d y + f``); ``ValueError`` unless it is six plain numbers."""
+    if not isinstance(values, list) or len(values) != 6 or any(type(v) not in (int, float) for v in values):
+        raise ValueError("matrix must be 6 numbers [a, b, c, d, e, f]")
+    a, b, c, d, e, f = values
+    return [[a, c, e], [b, d, f]]
+
+
+def fitted_view(outline: Outline) -> list:
+    """The data rectangle ``[x0, y0, x1, y1]`` that shows the outline (and its bitmap's frame, if it has one)
+    with a 5 % margin."""
+    low, high = outline.bounds()
+    if outline.bitmap is not None:
+        low = np.minimum(low, 0.0)
+        high = np.maximum(high, [outline.width, outline.height])
+    pad = 0.05 * float(max(high - low))
+    return [float(low[0] - pad), float(low[1] - pad), float(high[0] + pad), float(high[1] + pad)]
+
+
+class DeviationCache:
+    """Piece deviations of each contour from its source contour, measured once per contour object."""
+
+    def __init__(self):
+        self._measured = {}  # contour index -> (contour, deviations)
+
+    def get(self, outline: Outline, k: int, measure: bool = True):
+        """Deviations of contour ``k``; ``None`` without a source, or when ``measure`` is False and the contour
+        changed since it was measured (mid-gesture: measured when the gesture ends)."""
+        contour, source = outline.contours[k], outline.sources[k]
+        if source is None:
+            return None
+        cached = self._measured.get(k)
+        if cached is None or cached[0] is not contour:
+            if not measure:
+                return None
+            from ..outline import contour_deviation
+
+            cached = self._measured[k] = (contour, contour_deviation(contour, source))
+        return cached[1]
 
 
 def png_of_mask(mask) -> bytes:

@@ -23,12 +23,13 @@ from ..outline import Outline, as_outline
 from ..outline.transforms import affine_parts, reflection, rotation, scaling, shearing, translation
 from ._assets import load_css, load_esm
 from ._base import WidgetBase, f32, read_bool, read_int, read_number, read_str
-from ._outline_state import outline_from_lists, png_of_mask
+from ._outline_state import (OUTLINE_TRAITS, DeviationCache, clean_selection, fitted_view, grouped_by_contour,
+                             outline_from_lists, page_matrix, png_of_mask, synced_tables)
 
 __all__ = ["OutlineEditor", "OutlineEditorWarning"]
 
 _HISTORY = 200
-_OUTLINE_TRAITS = ("contours", "corners", "point_tension", "interval_weights")
+_OUTLINE_TRAITS = tuple(OUTLINE_TRAITS)
 _DISPLAY = ("width", "height", "view", "show_image", "show_deviation", "show_fill", "export_path")
 
 
@@ -105,11 +106,11 @@ class OutlineEditor(WidgetBase):
         self._gesture = None  # (kind, id, outline at the start of the gesture)
         self._revisions = [0] * len(outline)
         self._live_changed = set()
-        self._deviation_cache = {}
+        self._deviations = DeviationCache()
         with self._quiet(), self.hold_sync():
             self.frame = [outline.width, outline.height]
             self.image = png_of_mask(outline.bitmap)
-            self.view = self._fitted_view()
+            self.view = fitted_view(outline)
             self._sync_traits()
         self._publish(changed=range(len(outline)))
         self._set_status(f"{len(outline)} contours, {sum(len(c) for c in outline.contours)} knots.")
@@ -270,21 +271,8 @@ class OutlineEditor(WidgetBase):
 
     def _sync_traits(self, changed=None):
         """The synced lists from the outline: all of them, or only the rows of the ``changed`` contours."""
-        outline = self._outline
-        fields = (("contours", "points"), ("corners", "corners"), ("point_tension", "point_tension"),
-                  ("interval_weights", "interval_weights"))
-        whole = changed is None or any(len(getattr(self, name)) != len(outline) for name, _ in fields)
-        rows = range(len(outline)) if whole else sorted(changed)
-        for name, attribute in fields:
-            table = [] if whole else list(getattr(self, name))
-            values = {k: getattr(outline.contours[k], attribute).tolist() for k in rows}
-            if whole:
-                table = [values[k] for k in rows]
-            elif all(table[k] == values[k] for k in rows):
-                continue
-            else:
-                for k in rows:
-                    table[k] = values[k]
+        current = {name: getattr(self, name) for name in _OUTLINE_TRAITS}
+        for name, table in synced_tables(self._outline, current, changed).items():
             setattr(self, name, table)
 
     def _clamp_selection(self):
@@ -292,21 +280,6 @@ class OutlineEditor(WidgetBase):
         kept = [pair for pair in self.selection if pair[0] < len(sizes) and pair[1] < sizes[pair[0]]]
         if kept != self.selection:
             self.selection = kept
-
-    def _deviation(self, k, measure=True):
-        """Piece deviations of contour ``k`` (cached per contour object); ``None`` without a source, or when
-        ``measure`` is False and the contour changed (mid-gesture: measured when the gesture ends)."""
-        contour, source = self._outline.contours[k], self._outline.sources[k]
-        if source is None:
-            return None
-        cached = self._deviation_cache.get(k)
-        if cached is None or cached[0] is not contour:
-            if not measure:
-                return None
-            from ..outline import contour_deviation
-
-            cached = self._deviation_cache[k] = (contour, contour_deviation(contour, source))
-        return cached[1]
 
     def _publish(self, changed=(), seq=None, measure=True):
         """Send the drawing: per contour its Bézier pieces (and deviations), re-encoded only where changed.
@@ -321,7 +294,7 @@ class OutlineEditor(WidgetBase):
         deviations, stale = [], False
         self._revisions = (self._revisions + [0] * len(outline))[:len(outline)]
         for k, contour in enumerate(outline.contours):
-            deviation = self._deviation(k, measure)
+            deviation = self._deviations.get(outline, k, measure)
             if deviation is not None:
                 deviations.append(float(deviation.max()))
             stale = stale or (deviation is None and outline.sources[k] is not None)
@@ -335,14 +308,6 @@ class OutlineEditor(WidgetBase):
             self.max_deviation = max(deviations) if deviations else None
         self.geometry = {"contours": entries, "seq": -1 if seq is None else int(seq),
                          "revision": int(self.geometry.get("revision", 0)) + 1 if self.geometry else 1}
-
-    def _fitted_view(self):
-        outline = self._outline
-        low, high = outline.bounds()
-        low = np.minimum(low, 0.0) if outline.bitmap is not None else low
-        high = np.maximum(high, [outline.width, outline.height]) if outline.bitmap is not None else high
-        pad = 0.05 * float(max(high - low))
-        return [float(low[0] - pad), float(low[1] - pad), float(high[0] + pad), float(high[1] + pad)]
 
     # ------------------------------------------------------------------ traits from code
     @t.observe(*_OUTLINE_TRAITS)
@@ -364,21 +329,12 @@ class OutlineEditor(WidgetBase):
 
     @t.validate("selection")
     def _valid_selection(self, proposal):
-        value = proposal["value"]
         sizes = [len(c) for c in self._outline.contours] if hasattr(self, "_outline") else []
-        cleaned = []
-        for pair in value:
-            if (not isinstance(pair, (list, tuple)) or len(pair) != 2
-                    or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)):
-                self._reject(f"selection must be [contour, knot] pairs of integers, got {pair!r:.40}",
-                             resync=("selection",))
-                return self.selection
-            if not (0 <= pair[0] < len(sizes) and 0 <= pair[1] < sizes[pair[0]]):
-                self._reject(f"selection: no knot {pair[1]} in contour {pair[0]}", resync=("selection",))
-                return self.selection
-            if list(pair) not in cleaned:
-                cleaned.append([int(pair[0]), int(pair[1])])
-        return cleaned
+        try:
+            return clean_selection(proposal["value"], sizes)
+        except ValueError as exc:
+            self._reject(exc, resync=("selection",))
+            return self.selection
 
     @t.observe("show_deviation")
     def _on_show_deviation(self, change):
@@ -428,11 +384,7 @@ class OutlineEditor(WidgetBase):
 
     def _on_transform(self, content, _buffers):
         seq = read_int(content, "seq", low=0, high=2**53)
-        values = content.get("matrix")
-        if not isinstance(values, list) or len(values) != 6 or any(type(v) not in (int, float) for v in values):
-            raise ValueError("matrix must be 6 numbers [a, b, c, d, e, f]")
-        a, b, c, d, e, f = values
-        matrix = [[a, c, e], [b, d, f]]
+        matrix = page_matrix(content.get("matrix"))
         final = read_bool(content, "final")
         start = self._gesture_start("transform", read_int(content, "gesture", low=0, high=2**53))
         knots = [tuple(p) for p in self.selection] or None
@@ -480,10 +432,7 @@ class OutlineEditor(WidgetBase):
         self._commit(outline, f"Deleted {len(pairs)} knot{'s' if len(pairs) > 1 else ''}")
 
     def _grouped_selection(self):
-        groups = {}
-        for contour, knot in self._selected_or_refuse():
-            groups.setdefault(contour, []).append(knot)
-        return groups
+        return grouped_by_contour(self._selected_or_refuse())
 
     def _on_tension(self, content, _buffers):
         value = read_number(content, "value")
@@ -517,7 +466,7 @@ class OutlineEditor(WidgetBase):
 
     def _on_fit(self, _content, _buffers):
         with self._quiet():
-            self.view = self._fitted_view()
+            self.view = fitted_view(self._outline)
 
     def _save_good(self):
         return self._outline

@@ -364,3 +364,96 @@ def test_workers_die_with_a_killed_parent(tmp_path):
         if process.poll() is None:
             os.killpg(process.pid, signal.SIGKILL)
         process.communicate()
+
+
+# ---------------------------------------------------------------------------------------------------
+# the CLI's defaults and choices are the library's (connectivity, threshold, speck area)
+# ---------------------------------------------------------------------------------------------------
+def write_noisy_scan(path, noise=0.15, size=64, seed=0):
+    """A gray square with a one-pixel diagonal crack of paper through it, plus Gaussian noise: the default
+    connectivity ("minority" keeps the crack one hole, 8 breaks it into one hole per pixel) and the default
+    speck area (from the noise estimate, against 0) both change the result."""
+    ink = np.zeros((size, size), bool)
+    ink[12:52, 12:52] = True
+    diagonal = np.arange(14, 50)
+    ink[diagonal, diagonal] = False
+    gray = np.where(ink, 0.1, 0.9) + np.random.default_rng(seed).normal(0.0, noise, ink.shape)
+    Image.fromarray((np.clip(gray, 0, 1) * 255).round().astype(np.uint8)).save(path)
+
+
+def library_document(source, **options):
+    """What ``splinecraft trace SOURCE -o X.json`` should write: sc.trace's JSON without the wall times."""
+    import splinecraft as sc
+
+    document = json.loads(sc.trace(str(source), **options).to_json())
+    for name in ("time_s", "time_breakdown"):
+        document["stats"].pop(name, None)
+    return document
+
+
+def cli_document(source, out, *options):
+    assert main(["trace", str(source), "-o", str(out), "-q", *map(str, options)]) == 0
+    return json.loads(out.read_text())
+
+
+def test_cli_defaults_trace_like_the_library(tmp_path):
+    import inspect
+
+    import splinecraft as sc
+
+    source = tmp_path / "scan.png"
+    write_noisy_scan(source)
+    defaults = {name: parameter.default for name, parameter in inspect.signature(sc.trace).parameters.items()}
+    by_cli = cli_document(source, tmp_path / "default.json")
+    assert by_cli == library_document(source)
+    assert by_cli["params"]["connectivity"] == defaults["connectivity"] == "minority"
+    assert by_cli["params"]["threshold"] == defaults["threshold"]
+    assert by_cli["params"]["min_speck_area"] == defaults["min_speck_area"]
+    # the CLI's former defaults (8-connected ink, no speck removal) trace this scan differently
+    former = library_document(source, connectivity=8, min_speck_area=0)
+    assert former["stats"]["boundaries"] > by_cli["stats"]["boundaries"]
+    assert cli_document(source, tmp_path / "former.json", "--connectivity", 8, "--min-speck-area", 0) == former
+
+
+@pytest.mark.parametrize("connectivity", ["minority", 4, 8])
+def test_cli_connectivity_choices_are_the_library_values(tmp_path, connectivity):
+    source = tmp_path / "crack.png"
+    write_noisy_scan(source, noise=0.0)
+    by_cli = cli_document(source, tmp_path / "out.json", "--connectivity", connectivity)
+    assert by_cli == library_document(source, connectivity=connectivity)
+    assert by_cli["params"]["connectivity"] == connectivity
+
+
+@pytest.mark.parametrize("threshold", ["otsu", "sauvola", "local", 0.5])
+def test_cli_threshold_methods_and_numbers(tmp_path, threshold):
+    source = tmp_path / "scan.png"
+    write_noisy_scan(source, noise=0.05)
+    by_cli = cli_document(source, tmp_path / "out.json", "--threshold", threshold)
+    assert by_cli == library_document(source, threshold=threshold)
+    assert by_cli["params"]["threshold"] == threshold
+
+
+@pytest.mark.parametrize("option, value, message", [
+    ("--connectivity", "6", "expected one of minority, 4, 8"),
+    ("--connectivity", "Minority", "expected one of minority, 4, 8"),
+    ("--threshold", "otsu2", "expected one of otsu, sauvola, local or a number in [0, 1]"),
+    ("--threshold", "1.5", "must be in [0, 1]"),
+    ("--threshold", "nan", "must be in [0, 1]"),
+])
+def test_bad_connectivity_or_threshold_is_a_usage_error(tmp_path, capsys, option, value, message):
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    with pytest.raises(SystemExit) as stop:
+        main(["trace", str(source), "-o", str(tmp_path / "x.svg"), option, value])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert option in err and message in err
+    assert not (tmp_path / "x.svg").exists()
+
+
+def test_help_names_the_library_choices():
+    result = run_cli("trace", "--help")
+    assert result.returncode == 0
+    text = " ".join(result.stdout.split())
+    assert "--connectivity {minority,4,8}" in text and "default minority" in text
+    assert "--threshold {otsu,sauvola,local}|NUMBER" in text and "default otsu" in text

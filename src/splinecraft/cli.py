@@ -78,14 +78,42 @@ def _batch_size(text):
     return _positive_int(text)
 
 
-def _fraction(text):
+def _threshold(text):
+    """``--threshold``: a method name of the library (``otsu``, ``sauvola``, ``local``) or a fraction of white."""
+    from .capture._binarize import THRESHOLD_METHODS, check_threshold
+
+    if text in THRESHOLD_METHODS:
+        return text
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not 0.0 <= value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must be in [0, 1] (a fraction of white), got {text}")
-    return value
+        raise argparse.ArgumentTypeError(
+            f"expected one of {', '.join(THRESHOLD_METHODS)} or a number in [0, 1], got {text!r}") from None
+    try:
+        return check_threshold(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be in [0, 1] (a fraction of white), got {text}") from None
+
+
+def _connectivity(text):
+    """``--connectivity``: ``minority``, 4 or 8, as the library's ``connectivity=``."""
+    from .capture.contour import CONNECTIVITIES
+
+    for choice in CONNECTIVITIES:
+        if text == str(choice):
+            return choice
+    raise argparse.ArgumentTypeError(
+        f"expected one of {', '.join(map(str, CONNECTIVITIES))}, got {text!r}")
+
+
+def _trace_defaults():
+    """The keyword defaults of :func:`splinecraft.capture.trace.trace` (the CLI's defaults follow them)."""
+    import inspect
+
+    from .capture.trace import trace
+
+    return {name: parameter.default for name, parameter in inspect.signature(trace).parameters.items()
+            if parameter.default is not inspect.Parameter.empty}
 
 
 def _key_value(text):
@@ -105,8 +133,12 @@ def _key_value(text):
 
 def build_parser() -> argparse.ArgumentParser:
     from . import __version__
+    from .capture.contour import CONNECTIVITIES
     from .capture.corners import CORNER_METHODS
-    from .capture.fitting import DEFAULT_EPSILON, KNOT_METHODS
+    from .capture.fitting import KNOT_METHODS
+    from .capture.image import DEFAULT_THRESHOLD, THRESHOLD_METHODS
+
+    defaults = _trace_defaults()
 
     parser = argparse.ArgumentParser(
         prog=PROG,
@@ -128,26 +160,38 @@ def build_parser() -> argparse.ArgumentParser:
                         help="output file for one input ('-' = stdout), directory for several")
     tracer.add_argument("--format", choices=("svg", "json"), default=None,
                         help="output format (default: from OUT's suffix, else svg)")
-    tracer.add_argument("--epsilon", type=_positive_float, default=DEFAULT_EPSILON,
-                        help=f"error threshold of knot insertion in pixels (default {DEFAULT_EPSILON:g})")
+    tracer.add_argument("--epsilon", type=_positive_float, default=defaults["epsilon"],
+                        help=f"error threshold of knot insertion in pixels (default {defaults['epsilon']:g})")
     tracer.add_argument("--method", choices=sorted(KNOT_METHODS), default=None,
                         help="knot-insertion algorithm (default: the library default)")
     tracer.add_argument("--corner-method", choices=sorted(CORNER_METHODS), default=None,
                         help="corner detector (default: the library default)")
     tracer.add_argument("--corner-param", type=_key_value, action="append", default=[], metavar="NAME=VALUE",
                         help="corner detector parameter, repeatable (e.g. --corner-param ta=150)")
-    tracer.add_argument("--seed", type=_non_negative_int, default=0, help="seed of the random algorithms")
-    tracer.add_argument("--tau", type=float, default=None, help="distance constraint of Algs 4.2/4.3")
-    tracer.add_argument("--max-iterations", type=_positive_int, default=200,
-                        help="bound on knot-insertion iterations per boundary (default 200)")
-    tracer.add_argument("--threshold", type=_fraction, default=None,
-                        help="gray threshold as a fraction of white (default: Otsu)")
-    tracer.add_argument("--invert", action="store_true", help="light pixels are the shape")
-    tracer.add_argument("--min-speck-area", type=_non_negative_int, default=0,
-                        help="remove specks and holes with fewer pixels (default 0: keep all)")
-    tracer.add_argument("--connectivity", type=int, choices=(4, 8), default=8, help="ink connectivity")
-    tracer.add_argument("--contour", choices=("outline", "pixels"), default="outline",
-                        help="fit the crack outline (default) or the pixel-centre chain")
+    tracer.add_argument("--seed", type=_non_negative_int, default=defaults["seed"],
+                        help="seed of the random algorithms")
+    tracer.add_argument("--tau", type=float, default=defaults["tau"], help="distance constraint of Algs 4.2/4.3")
+    tracer.add_argument("--max-iterations", type=_positive_int, default=defaults["max_iterations"],
+                        help="bound on knot-insertion iterations per boundary "
+                             f"(default {defaults['max_iterations']})")
+    threshold_default = defaults["threshold"] or DEFAULT_THRESHOLD
+    tracer.add_argument("--threshold", type=_threshold, default=defaults["threshold"],
+                        metavar="{" + ",".join(THRESHOLD_METHODS) + "}|NUMBER",
+                        help="gray threshold: a method (otsu: one global level; sauvola, local: a level per "
+                             "pixel, for uneven lighting) or a fraction of white in [0, 1] "
+                             f"(default {threshold_default})")
+    tracer.add_argument("--invert", action="store_true", default=defaults["invert"],
+                        help="light pixels are the shape")
+    tracer.add_argument("--min-speck-area", type=_non_negative_int, default=defaults["min_speck_area"],
+                        help="remove specks and holes with fewer pixels (0: keep all; default: "
+                             + ("from the image's noise estimate" if defaults["min_speck_area"] is None
+                                else str(defaults["min_speck_area"])) + ")")
+    tracer.add_argument("--connectivity", type=_connectivity, default=defaults["connectivity"],
+                        metavar="{" + ",".join(map(str, CONNECTIVITIES)) + "}",
+                        help="ink connectivity (minority: decided at each diagonal contact, the locally rarer "
+                             f"colour is joined; default {defaults['connectivity']})")
+    tracer.add_argument("--contour", choices=("outline", "pixels"), default=defaults["contour"],
+                        help=f"fit the crack outline or the pixel-centre chain (default {defaults['contour']})")
     tracer.add_argument("--decimals", type=_non_negative_int, default=4,
                         help="decimal places of SVG coordinates (default 4)")
     tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,

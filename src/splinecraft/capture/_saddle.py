@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_connectivity"]
+__all__ = ["CONNECTIVITIES", "check_connectivity"]
+
+#: Values of the tracer's ``connectivity`` argument.
+CONNECTIVITIES = ("minority", 4, 8)
 
 
 def check_connectivity(connectivity):
@@ -12,7 +15,7 @@ def check_connectivity(connectivity):
     if isinstance(connectivity, str):
         if connectivity == "minority":
             return connectivity
-    elif not isinstance(connectivity, (bool, np.bool_)) and connectivity in (4, 8):
+    elif not isinstance(connectivity, (bool, np.bool_)) and connectivity in CONNECTIVITIES[1:]:
         return int(connectivity)
     raise ValueError(f"connectivity must be 4, 8 or 'minority', got {connectivity!r}")
 

@@ -58,9 +58,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._saddle import _minority_joins_ink, check_connectivity
+from ._saddle import CONNECTIVITIES, _minority_joins_ink, check_connectivity
 
-__all__ = ["Boundary", "trace_boundaries", "FREEMAN_STEPS", "chain_to_pixels", "check_connectivity"]
+__all__ = ["Boundary", "trace_boundaries", "FREEMAN_STEPS", "chain_to_pixels", "CONNECTIVITIES", "check_connectivity"]
 
 #: Freeman code -> (dx, dy) step in the (x right, y down) frame; codes count counter-clockwise on screen.
 FREEMAN_STEPS = np.array(

@@ -22,9 +22,11 @@
 # with the TraceExplorer you should see how each algorithm of thesis section 4.3 picks its candidate knots
 # (accepted or rejected, and why), that the randomized algorithms need more knots and many more iterations
 # than the package's deterministic default for the same ε, and the thesis's tables (contour points, corners,
-# knots inserted, iterations, time, % data reduction) recomputed.
+# knots inserted, iterations, time, % data reduction) recomputed. Last, a real, unevenly lit page: one global
+# threshold (Otsu) turns its shadow and the letters in it into one blob holding more than a quarter of the
+# ink, while a threshold per pixel (`threshold="sauvola"` or `"local"`) gives every letter its own outline.
 #
-# thesis section 4.1–4.4, Algorithms 4.1–4.6, Figs 4.1–4.89, Tables 4.1–4.61.
+# thesis section 4.1–4.4, Algorithms 4.1–4.6, Figs 4.1–4.89, Tables 4.1–4.61; docs/capture.md §9 (thresholds).
 
 # %%
 import numpy as np
@@ -148,6 +150,82 @@ print("runs that hit the 200-iteration cap before reaching ε:", unconverged or 
 #   algorithm; the number of Bézier segments is the honest size of the result (see also notebook 07).
 
 # %% [markdown]
+# ## 5. A real scan: one threshold for the page, or one per pixel
+#
+# Everything so far was drawn from exact shapes. `skimage.data.page()` is a photographed page of text, lit
+# unevenly: the paper is light at the top right and falls to dark grey towards the lower left. The first step
+# of `sc.trace` turns the gray image into ink, `ink = gray <= level`, and `threshold=` chooses the level
+# (docs/capture.md §9; the rules are in `splinecraft.capture._binarize`):
+#
+# * `"otsu"`: one global level for the whole image (Otsu's method);
+# * `"sauvola"`: a level per pixel from the mean and spread of the gray values in a window around it, made for
+#   text;
+# * `"local"`: a level per pixel, the Gaussian-weighted window mean less three times the image's noise;
+# * or a number, a fixed fraction of white.
+#
+# We trace the top-left 100 × 160 px of the page (the title, four lines of text and the start of the shadow):
+# the whole page (191 × 384 px, 400–700 outlines) takes several seconds per threshold. A *blob* is one traced
+# component: its ink pixels are the area inside its outer outline less the areas of its holes.
+
+# %%
+import skimage.data
+from splinecraft.capture.image import DEFAULT_THRESHOLD
+
+scan = skimage.data.page()[:100, :160]
+THRESHOLDS = ("otsu", "sauvola", "local")
+SPECK = 10                                          # outlines of fewer pixels: i-dots, full stops, specks
+scans = {name: sc.trace(scan, threshold=name, keep_snapshots=False) for name in THRESHOLDS}
+
+
+def blob_sizes(result):
+    """Ink pixels of each traced component: the signed areas of its outlines (holes count negative)."""
+    component = np.array([boundary.component for boundary in result.boundaries])
+    area = np.array([boundary.area for boundary in result.boundaries])
+    return np.bincount(component, weights=area)
+
+
+def specks(result):
+    return sum(not boundary.is_hole and boundary.area < SPECK for boundary in result.boundaries)
+
+
+def scan_figure(name):
+    result = scans[name]
+    largest = int(np.argmax(blob_sizes(result)))
+    rim = next(boundary.outline for boundary in result.boundaries
+               if boundary.component == largest and not boundary.is_hole)
+    return sc.plot.figure(sc.plot.outline(result), sc.plot.line(rim, sc.plot.PALETTE[4], 2.5, closed=True,
+                                                                label="largest blob"),
+                          title=f"threshold={name!r}: {len(result.boundaries)} outlines", width=380, height=280,
+                          bounds=(0, 0, scan.shape[1], scan.shape[0]))
+
+
+display(sc.plot.table(["threshold", "ink (% of the page)", "outlines", "holes", "largest blob (px)",
+                       "its share of the ink (%)", f"specks (< {SPECK} px)"],
+                      [[name, round(100 * result.mask.mean(), 1), len(result.boundaries), result.stats["holes"],
+                        int(blob_sizes(result).max()), round(100 * blob_sizes(result).max() / result.mask.sum(), 1),
+                        specks(result)] for name, result in scans.items()]))
+display(sc.plot.grid(*[ipw.VBox([sc.plot.bitmap(scans[name].mask, height=180), ipw.Label(f"threshold={name!r}")])
+                       for name in THRESHOLDS], columns=3))
+display(sc.plot.grid(*[scan_figure(name) for name in THRESHOLDS], columns=3))
+print("threshold=None stands for", repr(DEFAULT_THRESHOLD))
+
+# %% [markdown]
+# What to read from the bitmaps and the outlines (the largest blob is drawn red):
+#
+# * **Otsu** (before): one level for the whole page. In the shadow the paper falls below it, and the paper and
+#   the letters on it become one blob that holds more than a quarter of all the ink; the letters in it are lost,
+#   and Otsu marks at least a third more of the page as ink than Sauvola does. Its count of outlines is no
+#   lower than Sauvola's, though: the blob is riddled with holes (paper a little lighter than the level; most of
+#   Otsu's holes are in it), so the count alone does not show the failure — the size of the largest blob does.
+# * **Sauvola** (after): every letter its own outline, the largest blob a letter or two that touch (less than a
+#   tenth of the ink), and the fewest specks.
+# * **Local**: the letters separate too, but the noise of the shadow leaves more specks than Sauvola's.
+#
+# The default, `threshold=None`, stays Otsu's global level (printed above): it was chosen by measurement on
+# scans of glyphs, where Otsu traces best (BENCHMARKS.md, "Thresholds"). For documents with uneven lighting
+# and thin strokes pass `threshold="sauvola"`.
+
+# %% [markdown]
 # ## Check
 
 # %%
@@ -174,4 +252,17 @@ assert step_two["iteration"] == 2 and step_two["accepted"] > 0 and step_two["rej
 candidates = [c for boundary in explorer.result.snapshots[2].snapshots for c in boundary.candidates]
 assert candidates and all(c["reason"] for c in candidates)                 # every candidate says why
 assert start_info != final_info and explorer.result.stats["converged"]
+for result in scans.values():                        # a blob's outlines add up to its ink pixels
+    assert blob_sizes(result).sum() == result.mask.sum()
+    assert len(blob_sizes(result)) == sum(not boundary.is_hole for boundary in result.boundaries)
+ink_share = {name: blob_sizes(result).max() / result.mask.sum() for name, result in scans.items()}
+assert ink_share["otsu"] > 1 / 4                     # Otsu: one blob holds more than a quarter of the ink
+assert ink_share["sauvola"] < 1 / 10 and ink_share["local"] < 1 / 10      # per pixel: no such blob
+assert scans["otsu"].mask.sum() > 4 / 3 * scans["sauvola"].mask.sum()    # the shadow counted as ink
+assert len(scans["otsu"].boundaries) >= len(scans["sauvola"].boundaries)  # the count hides the failure
+otsu_blob = int(np.argmax(blob_sizes(scans["otsu"])))
+blob_holes = sum(boundary.is_hole and boundary.component == otsu_blob for boundary in scans["otsu"].boundaries)
+assert blob_holes > scans["otsu"].stats["holes"] / 2                     # most of Otsu's holes: in the blob
+assert specks(scans["local"]) > specks(scans["sauvola"])
+assert all(result.params["threshold"] == name for name, result in scans.items())
 print("all checks passed")

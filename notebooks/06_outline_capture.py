@@ -163,8 +163,8 @@ print("runs that hit the 200-iteration cap before reaching ε:", unconverged or 
 # * `"local"`: a level per pixel, the Gaussian-weighted window mean less three times the image's noise;
 # * or a number, a fixed fraction of white.
 #
-# We trace the top-left 100 × 160 px of the page (the title, four lines of text and the start of the shadow):
-# the whole page (191 × 384 px, 400–700 outlines) takes several seconds per threshold. A *blob* is one traced
+# We trace the top-left 100 × 160 px of the page (the title, three lines of text and the edge of the shadow):
+# the whole page (191 × 384 px, 370–700 outlines) takes several seconds per threshold. A *blob* is one traced
 # component: its ink pixels are the area inside its outer outline less the areas of its holes.
 
 # %%

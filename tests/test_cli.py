@@ -415,22 +415,16 @@ def test_cli_defaults_trace_like_the_library(tmp_path):
     assert cli_document(source, tmp_path / "former.json", "--connectivity", 8, "--min-speck-area", 0) == former
 
 
-@pytest.mark.parametrize("connectivity", ["minority", 4, 8])
-def test_cli_connectivity_choices_are_the_library_values(tmp_path, connectivity):
-    source = tmp_path / "crack.png"
-    write_noisy_scan(source, noise=0.0)
-    by_cli = cli_document(source, tmp_path / "out.json", "--connectivity", connectivity)
-    assert by_cli == library_document(source, connectivity=connectivity)
-    assert by_cli["params"]["connectivity"] == connectivity
-
-
-@pytest.mark.parametrize("threshold", ["otsu", "sauvola", "local", 0.5])
-def test_cli_threshold_methods_and_numbers(tmp_path, threshold):
+@pytest.mark.parametrize("name, value, noise", [
+    *(("connectivity", connectivity, 0.0) for connectivity in ("minority", 4, 8)),
+    *(("threshold", threshold, 0.05) for threshold in ("otsu", "sauvola", "local", 0.5)),
+])
+def test_cli_connectivity_and_threshold_take_the_library_values(tmp_path, name, value, noise):
     source = tmp_path / "scan.png"
-    write_noisy_scan(source, noise=0.05)
-    by_cli = cli_document(source, tmp_path / "out.json", "--threshold", threshold)
-    assert by_cli == library_document(source, threshold=threshold)
-    assert by_cli["params"]["threshold"] == threshold
+    write_noisy_scan(source, noise=noise)
+    by_cli = cli_document(source, tmp_path / "out.json", "--" + name, value)
+    assert by_cli == library_document(source, **{name: value})
+    assert by_cli["params"][name] == value
 
 
 @pytest.mark.parametrize("option, value, message", [

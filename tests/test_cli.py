@@ -384,9 +384,10 @@ def write_noisy_scan(path, noise=0.15, size=64, seed=0):
 def library_document(source, **options):
     """What ``splinecraft trace SOURCE -o X.json`` should write: sc.trace's JSON without the wall times."""
     import splinecraft as sc
+    from splinecraft.batch._work import TIMING_STATS
 
     document = json.loads(sc.trace(str(source), **options).to_json())
-    for name in ("time_s", "time_breakdown"):
+    for name in TIMING_STATS:
         document["stats"].pop(name, None)
     return document
 

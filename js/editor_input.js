@@ -32,8 +32,11 @@ export function hitPoint(vp, flat, px, py, radius = HIT_RADIUS) {
  */
 export function attachInput(ctx) {
   const { model, root, svg, curveHit, vp, flow } = ctx;
+  // During a drag the canvas does not move (a resize waits for the release): its screen box is read once
+  // at the press, not on every move (reading it after a redraw would force a layout per move).
+  let dragRect = null;
   const local = (event) => {
-    const rect = svg.getBoundingClientRect();
+    const rect = (flow.active && dragRect) || svg.getBoundingClientRect();
     return [event.clientX - rect.left, event.clientY - rect.top];
   };
   const hit = (px, py) => hitPoint(vp, ctx.points(), px, py);
@@ -52,6 +55,7 @@ export function attachInput(ctx) {
     if (index >= 0) {
       event.preventDefault();
       svg.setPointerCapture(event.pointerId);
+      dragRect = svg.getBoundingClientRect();
       const flat = ctx.points();
       const x = flat[2 * index], y = flat[2 * index + 1];
       flow.start(index, x, y, event.pointerId, vp.sx(x) - px, vp.sy(y) - py);

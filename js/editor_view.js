@@ -3,7 +3,8 @@
 // The kernel sends `geometry` (float32 byte buffers: Bézier pieces, knots, class polygon, tangent handles,
 // curvature comb, highlight) and `points` (float64 bytes); this module decodes them and writes the path
 // data. It holds no model state: every draw call gets what it draws.
-import { s, floats, bezierPath, polylinePath, segmentsPath, markersPath } from "./common.js";
+import { s, floats, ints, bezierPath, polylinePath, segmentsPath, markersPath } from "./common.js";
+import { createLivePainter } from "./live_canvas.js";
 
 export const COLORS = {
   curve: "#1565c0",
@@ -32,6 +33,24 @@ export function decodePoints(value) {
 export function decodeGeometry(g) {
   const out = { ...(g ?? {}) };
   for (const key of GEOMETRY_BUFFERS) out[key] = floats(out[key]);
+  return out;
+}
+
+/**
+ * The `geometry` trait decoded, given the geometry decoded before (`previous`). During a drag the kernel
+ * sends only the rows of the Bézier pieces and knots whose bytes changed (`bezier_rows`/`bezier_data`,
+ * `knots_rows`/`knots_data`) against its revision `base`; they are written into copies of `previous`'s
+ * buffers. Returns null when `previous` is not that revision (the page must ask for the whole geometry).
+ */
+export function updateGeometry(previous, g) {
+  if (!g || g.base === undefined) return decodeGeometry(g);
+  if (!previous || previous.revision !== g.base) return null;
+  const out = decodeGeometry(g);
+  for (const [key, width] of [["bezier", 8], ["knots", 2]]) {
+    const rows = ints(g[`${key}_rows`]), data = floats(g[`${key}_data`]), copy = previous[key].slice();
+    for (let r = 0; r < rows.length; r++) copy.set(data.subarray(width * r, width * (r + 1)), width * rows[r]);
+    out[key] = copy;
+  }
   return out;
 }
 
@@ -78,9 +97,11 @@ export function createCanvas(width, height) {
   };
   const labels = s("g", { class: "sc-labels", "pointer-events": "none" });
   svg.append(labels);
+  const live = createLivePainter(svg, Object.values(L), labels); // paints the layers during a drag
 
   function resize(w, h) {
     for (const node of [svg, bg]) { node.setAttribute("width", w); node.setAttribute("height", h); }
+    if (live.active) { live.end(); live.begin(); }
   }
 
   function drawGrid(vp, show = true) {
@@ -91,6 +112,7 @@ export function createCanvas(width, height) {
     for (let x = Math.ceil(x0 / step) * step; x <= x1; x += step) parts.push(`M${vp.sx(x).toFixed(1)},0V${vp.height}`);
     for (let y = Math.ceil(y0 / step) * step; y <= y1; y += step) parts.push(`M0,${vp.sy(y).toFixed(1)}H${vp.width}`);
     L.grid.setAttribute("d", parts.join(""));
+    live.invalidate();
   }
 
   /** Curve and overlays; `show` = {knots, vw, tangents, comb}. */
@@ -119,6 +141,7 @@ export function createCanvas(width, height) {
         document.createTextNode(lab.text))));
     L.curve.dataset.revision = String(g.revision ?? 0);
     L.curve.dataset.seq = String(g.seq ?? -1);
+    live.invalidate();
   }
 
   /** Points (flat xy), the control polygon and the selected point. */
@@ -127,7 +150,8 @@ export function createCanvas(width, height) {
     L.polygon.setAttribute("d", polygon ? polylinePath(vp, flat, closed) : "");
     L.points.setAttribute("d", markersPath(vp, flat, n > 400 ? 3 : 4.5));
     L.selected.setAttribute("d", selected >= 0 && selected < n ? markersPath(vp, flat.subarray(2 * selected, 2 * selected + 2), 6) : "");
+    live.invalidate();
   }
 
-  return { svg, layers: L, resize, drawGrid, drawGeometry, drawPoints };
+  return { svg, layers: L, live, resize, drawGrid, drawGeometry, drawPoints };
 }

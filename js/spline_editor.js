@@ -5,9 +5,9 @@
 // Kernel -> page: synced traits (points, point_tension, interval_weights, alpha, beta, form, ...) and
 // `geometry`, a dict of little-endian float32 byte buffers plus a little JSON.
 // Page -> kernel: trait updates (sliders, dropdowns, selection, view) and custom messages
-// {type: "drag" | "add" | "delete" | "select_at" | "undo" | "redo" | "fit"}; "ping" with `debug` on.
+// {type: "drag" | "add" | "delete" | "select_at" | "undo" | "redo" | "fit" | "resend"}; "ping" with `debug` on.
 import { h, Viewport, isolateKeys } from "./common.js";
-import { createCanvas, decodeGeometry, decodePoints, gridStep } from "./editor_view.js";
+import { createCanvas, decodeGeometry, decodePoints, gridStep, updateGeometry } from "./editor_view.js";
 import { createControls, traitWriters } from "./editor_controls.js";
 import { createDragFlow, createPing } from "./drag_controller.js";
 import { attachInput } from "./editor_input.js";
@@ -20,7 +20,7 @@ const SIDE_WIDTH = 268; // px, .sc-side in widgets.css
 const LARGE = 1.35; // the "large" presentation size scales the canvas height by this
 
 /** Test and benchmark hooks on the root element: screen/data coordinates, and ping (debug only). */
-function instrument(root, model, svg, vp, pointAt, count, handlers) {
+function instrument(root, model, svg, vp, pointAt, count, handlers, held) {
   const pinger = createPing(model);
   handlers.push(pinger.handle);
   const rect = () => svg.getBoundingClientRect();
@@ -31,6 +31,10 @@ function instrument(root, model, svg, vp, pointAt, count, handlers) {
       return [rect().left + vp.sx(x), rect().top + vp.sy(y)];
     },
     screenOf(x, y) { return [rect().left + vp.sx(x), rect().top + vp.sy(y)]; },
+    /** The kernel's point `i` as this page holds it (data units). */
+    pagePoint(i) { return i >= 0 && i < count() ? pointAt(i) : null; },
+    /** The geometry this page holds: revision, Bézier pieces and knots (what it draws). */
+    geometry() { const g = held(); return { revision: g.revision, bezier: Array.from(g.bezier), knots: Array.from(g.knots) }; },
     dataOf(clientX, clientY) { return [vp.dx(clientX - rect().left), vp.dy(clientY - rect().top)]; },
     /** Spacing of the grid lines in data units (what snap to grid uses). */
     gridStep() { const [x0, y0, x1, y1] = vp.visible(); return gridStep(Math.max(x1 - x0, y1 - y0)); },
@@ -42,7 +46,7 @@ function instrument(root, model, svg, vp, pointAt, count, handlers) {
 function render({ model, el }) {
   const canvasHeight = () => Math.round(model.get("height") * (model.get("large") ? LARGE : 1));
   const vp = new Viewport(model.get("width"), canvasHeight(), model.get("view"));
-  let geometry = decodeGeometry(model.get("geometry"));
+  let geometry = updateGeometry(null, model.get("geometry")) ?? decodeGeometry({});
   let kernelPoints = decodePoints(model.get("points")); // float64 x0, y0, x1, y1, ... (decoded once per change)
   const count = () => kernelPoints.length / 2;
   const pointAt = (i) => [kernelPoints[2 * i], kernelPoints[2 * i + 1]];
@@ -53,7 +57,7 @@ function render({ model, el }) {
   const focus = () => root.focus({ preventScroll: true });
   const canvas = createCanvas(vp.width, vp.height);
   const controls = createControls(model, { focus, svg: canvas.svg, root });
-  const body = h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, canvas.svg, controls.actions), controls.side);
+  const body = h("div", { class: "sc-body" }, h("div", { class: "sc-canvas-wrap" }, canvas.svg, canvas.live.element, canvas.live.overlay, controls.actions), controls.side);
   root.append(controls.toolbar, body, controls.explanation,
     h("div", { class: "sc-footer" }, controls.status, controls.readout, controls.summary));
   controls.side.style.height = `${vp.height}px`;
@@ -68,6 +72,8 @@ function render({ model, el }) {
     return copy;
   }
   function drawPoints() {
+    if (flow.live()) canvas.live.begin(); // a drag is moving a point: paint on the canvas until it is answered
+    else canvas.live.end();
     const flat = livePoints();
     canvas.drawPoints(vp, flat, { closed: model.get("closed") && model.get("form") !== "segment",
       polygon: model.get("show_control_polygon"), selected: model.get("selected") });
@@ -89,7 +95,9 @@ function render({ model, el }) {
 
   function onGeometry() {
     const tArrive = performance.now();
-    geometry = decodeGeometry(model.get("geometry"));
+    const next = updateGeometry(geometry, model.get("geometry"));
+    if (!next) { model.send({ type: "resend" }); return; } // a drag's delta to a geometry this view never had
+    geometry = next;
     kernelPoints = decodePoints(model.get("points")); // same update; its change event may come later
     drawGeometry();
     drawPoints();
@@ -136,10 +144,11 @@ function render({ model, el }) {
     }
   });
   on("msg:custom", (msg) => { for (const handle of messageHandlers) handle(msg); });
-  instrument(root, model, canvas.svg, vp, pointAt, count, messageHandlers);
+  instrument(root, model, canvas.svg, vp, pointAt, count, messageHandlers, () => geometry);
 
   sync();
   resize();
+  if (model.get("geometry")?.base !== undefined) model.send({ type: "resend" }); // opened during a drag
   root.dataset.ready = "1";
   return () => {
     if (observer) observer.disconnect();

@@ -14,7 +14,7 @@ from ..plot._layers import COMB_CAP
 from ._base import f32
 from ._forms import SEGMENT_LABELS
 
-__all__ = ["fitted_view", "comb_unit", "comb", "construction", "geometry", "clamp_parameter", "MAX_COMB_TEETH"]
+__all__ = ["fitted_view", "comb_unit", "comb", "construction", "geometry", "geometry_delta", "clamp_parameter", "MAX_COMB_TEETH"]
 
 #: Long curves draw every k-th comb tooth so that at most this many are sent (the envelope keeps every sample).
 MAX_COMB_TEETH = 1500
@@ -179,4 +179,31 @@ def geometry(spline, state: dict, display: dict, *, revision: int, seq: int, uni
         if state["form"] == "basis":
             points = state["points"]
             out["highlight_leg"] = f32(np.vstack([points[interval], points[(interval + 1) % len(points)]]))
+    return out
+
+
+#: Buffers a drag update sends as changed rows (bytes per row): a moved point changes a few Bézier pieces of
+#: the basis form (§3) and, for the global interpolants, pieces whose change decays with the distance from
+#: the point (§2.2), so most float32 rows stay bit-identical.
+DELTA_ROWS = {"bezier": 32, "knots": 8}
+
+
+def geometry_delta(sent: dict, current: dict) -> dict | None:
+    """``current`` as changes to ``sent`` (the geometry the page holds), or None when it must go whole.
+
+    For each buffer of :data:`DELTA_ROWS` of the same size in both, the delta carries ``<name>_rows``
+    (int32 indices of the rows whose bytes differ) and ``<name>_data`` (those rows); everything else of
+    ``current`` is copied as it is, and ``base`` names the revision of ``sent``. Applying it to ``sent``
+    gives ``current`` byte for byte (``js/spline_editor.js``).
+    """
+    out = {key: value for key, value in current.items() if key not in DELTA_ROWS}
+    out["base"] = sent["revision"]
+    for key, row_bytes in DELTA_ROWS.items():
+        new, old = current.get(key), sent.get(key)
+        if new is None or old is None or len(new) != len(old) or len(new) % row_bytes:
+            return None
+        new_rows = np.frombuffer(new, dtype=np.uint8).reshape(-1, row_bytes)
+        changed = np.flatnonzero((new_rows != np.frombuffer(old, dtype=np.uint8).reshape(-1, row_bytes)).any(axis=1))
+        out[f"{key}_rows"] = changed.astype("<i4").tobytes()
+        out[f"{key}_data"] = new_rows[changed].tobytes()
     return out

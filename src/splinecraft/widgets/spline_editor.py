@@ -110,7 +110,8 @@ class SplineEditor(WidgetBase):
     warning_class = SplineEditorWarning
     panel_plot = "basis_figure"
     messages = {**WidgetBase.messages, "drag": "_on_drag", "add": "_on_add", "delete": "_on_delete",
-                "select_at": "_on_select_at", "undo": "_on_undo", "redo": "_on_redo", "fit": "_on_fit"}
+                "select_at": "_on_select_at", "undo": "_on_undo", "redo": "_on_redo", "fit": "_on_fit",
+                "resend": "_on_resend"}
     page_traits = frozenset(MODEL_TRAITS + _DISPLAY_TRAITS)
 
     max_points = tl.Int(MAX_POINTS, min=4)
@@ -158,6 +159,9 @@ class SplineEditor(WidgetBase):
         self._revision = 0
         self._segment_stash = None
         self._comb_unit = None
+        self._sent_geometry = None  # the geometry the page was last sent whole or as a delta
+        self._moving = False  # an update of a drag in progress: send only what changed (get_state)
+        self._points_unsent = False
         display = {k: engine_params.pop(k) for k in list(engine_params) if k in _DISPLAY_TRAITS + ("debug",)}
         super().__init__(max_points=max_points, **display)
         state = model.initial_state(points, engine_params, max_points=max_points)
@@ -269,8 +273,37 @@ class SplineEditor(WidgetBase):
         if spline is not None and (spline is not self._spline or state != self._state()):
             self._commit(state, spline)
 
-    def _commit(self, state, spline, *, seq=None):
+    def get_state(self, key=None, drop_defaults=False):
+        """The synced state; an update during a drag carries only what changed.
+
+        While a point moves (every drag message but the release) the page draws the point itself, so
+        ``points`` waits for the release, and ``geometry`` goes as :func:`._editor_drawing.geometry_delta`
+        against the geometry the page holds. Full states (a new view, a resync) are always whole.
+        """
+        state = super().get_state(key=key, drop_defaults=drop_defaults)
+        moving = self._moving and key is not None
+        if "geometry" in state:
+            sent, self._sent_geometry = self._sent_geometry, self.geometry
+            delta = drawing.geometry_delta(sent, self.geometry) if moving and sent else None
+            if delta is not None:
+                state["geometry"] = delta
+        if "points" in state:
+            self._points_unsent = moving
+            if moving:
+                del state["points"]
+        return state
+
+    def _commit(self, state, spline, *, seq=None, moving=False):
+        self._moving = moving
+        try:
+            self._commit_traits(state, spline, seq=seq)
+        finally:
+            self._moving = False
+
+    def _commit_traits(self, state, spline, *, seq=None):
         with self._quiet(), self.hold_sync():
+            if self._points_unsent and not self._moving:
+                self._states_to_send.add("points")  # the release, or any change after a drag: the page gets them
             for name in MODEL_TRAITS:
                 if getattr(self, name) != state[name]:
                     setattr(self, name, state[name])
@@ -382,7 +415,7 @@ class SplineEditor(WidgetBase):
         if gesture is None or gesture != self._drag_gesture:
             self._history.push(previous, key=None)
             self._drag_gesture = gesture
-        self._commit(state, spline, seq=seq)
+        self._commit(state, spline, seq=seq, moving=not final)
         if final:
             self._set_status(f"Point {index} moved to ({point[0]:.1f}, {point[1]:.1f}).", "info")
 
@@ -417,6 +450,10 @@ class SplineEditor(WidgetBase):
 
     def _on_fit(self, _content, _buffers):
         self.fit_view()
+
+    def _on_resend(self, _content, _buffers):
+        """The page missed the geometry a drag delta builds on (a view opened during a drag): send it whole."""
+        self.send_state(["geometry", "points"])
 
     # ------------------------------------------------------------------ add / delete
     def _add_point(self, x: float, y: float, tolerance) -> int:

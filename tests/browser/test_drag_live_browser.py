@@ -1,0 +1,83 @@
+"""Real-browser tests of the SplineEditor's drag path: the live canvas and the geometry deltas.
+
+While a point is dragged the page paints the drawing on one canvas over the SVG (the SVG's path layers keep
+the path data but are not displayed) and the kernel sends only the changed Bézier rows; the page must hold
+the kernel's curve byte for byte all the same, in every view of the editor, and show the SVG again on release.
+"""
+from __future__ import annotations
+
+import pytest
+
+from test_widgets_browser import wait_layout_settled
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+
+SPIRAL_CELL = """\
+import numpy as np
+import splinecraft as sc
+theta = np.linspace(0.0, 6.0 * np.pi, 300)
+radius = 40.0 + 260.0 * np.linspace(0.0, 1.0, 300)
+editor = sc.SplineEditor(np.c_[400 + radius * np.cos(theta), 320 + radius * np.sin(theta)], width=620, height=440)
+editor
+"""
+SECOND_VIEW_CELL = "editor"
+EDITORS = "[data-testid=spline-editor][data-ready='1']"
+LIVE = "(el) => el.querySelector('[data-testid=live-canvas]').style.display === 'block'"
+PAINTED = """(el) => {
+  const canvas = el.querySelector('[data-testid=live-canvas]');
+  const pixels = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
+  let count = 0;
+  for (let i = 3; i < pixels.length; i += 4) if (pixels[i]) count++;
+  return count;
+}"""
+
+
+def kernel_geometry(lab):
+    return lab.python_json("{'revision': editor.geometry['revision'], "
+                           "'bezier': np.frombuffer(editor.geometry['bezier'], '<f4').tolist(), "
+                           "'knots': np.frombuffer(editor.geometry['knots'], '<f4').tolist()}")
+
+
+def page_geometry(page, root, revision):
+    page.wait_for_function("([el, rev]) => el.__splinecraft.geometry().revision === rev", arg=[root, revision],
+                           timeout=20_000)
+    return root.evaluate("(el) => el.__splinecraft.geometry()")
+
+
+def test_drag_paints_live_and_every_view_holds_the_kernel_curve(lab):
+    page = lab.open_notebook([SPIRAL_CELL, SECOND_VIEW_CELL])
+    page.evaluate("() => window.jupyterapp.shell.collapseLeft()")
+    page.wait_for_function(f"() => document.querySelectorAll(\"{EDITORS}\").length === 2", timeout=60_000)
+    first, second = page.query_selector_all(EDITORS)
+    first.scroll_into_view_if_needed()
+    wait_layout_settled(page, first)
+    x, y = first.evaluate("el => el.__splinecraft.screenPoint(150)")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(1, 8):
+        page.mouse.move(x + 3.0 * k, y - 2.0 * k)
+    # live: the canvas is shown and painted, the SVG's layers are hidden, the labels sit above the canvas
+    page.wait_for_function(LIVE, arg=first, timeout=20_000)
+    assert first.evaluate("el => el.querySelector('[data-testid=curve]').style.display") == "none"
+    assert first.evaluate(PAINTED) > 1000
+    assert first.evaluate("el => el.querySelector('[data-testid=canvas] .sc-labels') === null")
+    # mid-drag, the moves' deltas applied: both views hold the kernel's float32 curve and knots exactly
+    wanted = kernel_geometry(lab)
+    for root in (first, second):
+        held = page_geometry(page, root, wanted["revision"])
+        assert held["bezier"] == wanted["bezier"] and held["knots"] == wanted["knots"]
+    page.mouse.up()
+    page.wait_for_function(f"(el) => !({LIVE})(el) && el.querySelector('[data-testid=curve]').style.display === ''",
+                           arg=first, timeout=20_000)
+    assert first.evaluate("el => el.querySelector('[data-testid=canvas] .sc-labels') !== null")
+    assert not second.evaluate(LIVE)  # the other view never went live
+    wanted = kernel_geometry(lab)
+    for root in (first, second):
+        held = page_geometry(page, root, wanted["revision"])
+        assert held["bezier"] == wanted["bezier"] and held["knots"] == wanted["knots"]
+        # the page's points are the kernel's again (they wait for the release during a drag)
+        assert root.evaluate("el => el.__splinecraft.screenPoint(150)") is not None
+    moved = lab.python_json("editor.points[150]")
+    drawn = first.evaluate("(el, p) => el.__splinecraft.screenOf(p[0], p[1])", moved)
+    assert drawn == pytest.approx(first.evaluate("el => el.__splinecraft.screenPoint(150)"))
+    assert second.evaluate("(el) => el.__splinecraft.pagePoint(150)") == pytest.approx(moved)

@@ -19,6 +19,10 @@ measured separately in this process (no browser, no network) for comparison.
     .venv/bin/python benchmarks/bench_drag.py --sizes 100 --moves 50
     .venv/bin/python benchmarks/bench_drag.py --compare /tmp/old   # this tree vs a checkout of another commit
 
+``--trace`` records a Chrome trace of each row's moves and adds the page's CPU (thread time) per move: its
+main thread (scripts, style, layout, paint records) and the raster workers (the tiles of what was painted).
+CPU time is what a change of the page's work changes; unlike the latencies it hardly depends on the load.
+
 ``--compare DIR`` measures this tree and the checkout ``DIR`` (e.g. ``git worktree add /tmp/old <commit>``)
 side by side on one TCP_NODELAY server: the notebook of each row puts ``DIR/src`` first on the kernel's
 ``sys.path`` (its ES modules come from ``DIR/js``), the rows alternate per size and ``--rounds`` repeats them
@@ -30,9 +34,11 @@ from __future__ import annotations
 import argparse
 import json
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -68,7 +74,7 @@ def percentile(values, q):
     return float(np.percentile(np.asarray(values, dtype=float), q))
 
 
-def drag_and_record(page, root, x: float, y: float, moves: int):
+def drag_and_record(page, root, x: float, y: float, moves: int, trace: bool = False):
     """Press at (x, y) and move ``moves + WARMUP`` times, each move waiting for its own drawn answer.
 
     Returns the page's latency records of the measured moves (not the warm-up, not the release) and 50
@@ -83,18 +89,50 @@ def drag_and_record(page, root, x: float, y: float, moves: int):
         page.wait_for_function("(count) => (window.__splinecraft.dragLatencies || []).length > count", arg=k,
                                timeout=30_000)
     page.mouse.up()
+    if trace:  # the page's CPU is for the drag's moves, not for the pings
+        page.context.browser.stop_tracing()
     records = page.evaluate("() => window.__splinecraft.dragLatencies")[WARMUP:WARMUP + moves]
     pings = root.evaluate("async (el) => { const out = []; for (let i = 0; i < 60; i++) out.push(await el.__splinecraft.ping()); return out.slice(10); }")
     return records, pings
 
 
-def browser_round_trips(lab, n: int, moves: int, src: str | None = None) -> dict:
+#: Trace events that are whole tasks of a thread (not nested in one another): their thread time is its CPU.
+_TASKS = {"RunTask": "main", "TaskGraphRunner::RunTask": "raster"}
+
+
+def renderer_cpu(trace_path: Path, moves: int) -> dict:
+    """Thread (CPU) time per move from a Chrome trace: the page's main thread and the raster workers (ms)."""
+    events = json.loads(trace_path.read_text())
+    events = events["traceEvents"] if isinstance(events, dict) else events
+    names = {(e["pid"], e["tid"]): e["args"]["name"] for e in events
+             if e.get("ph") == "M" and e.get("name") == "thread_name"}
+    cpu = {"main": 0.0, "raster": 0.0}
+    for e in events:
+        kind = _TASKS.get(e.get("name"))
+        if e.get("ph") != "X" or kind is None or "tdur" not in e:
+            continue
+        thread = names.get((e["pid"], e["tid"]), "")
+        if (kind == "main" and thread == "CrRendererMain") or kind == "raster":
+            cpu[kind] += e["tdur"] / 1e3
+    return {key: value / moves for key, value in cpu.items()}
+
+
+def browser_round_trips(lab, n: int, moves: int, src: str | None = None, trace: bool = False) -> dict:
     page = lab.open_notebook([points_cell(n, src)], name=f"bench_drag_{n}.ipynb")
     root = page.wait_for_selector("[data-testid=spline-editor][data-ready='1']", timeout=60_000)
     root.scroll_into_view_if_needed()
     index = n // 2
     x, y = root.evaluate("(el, i) => el.__splinecraft.screenPoint(i)", index)
-    records, pings = drag_and_record(page, root, x, y, moves)
+    browser = page.context.browser
+    if trace:
+        trace_path = Path(tempfile.mkdtemp(prefix="bench-drag-")) / "trace.json"
+        browser.start_tracing(page=page, path=str(trace_path),
+                              categories=["toplevel", "disabled-by-default-devtools.timeline"])
+    records, pings = drag_and_record(page, root, x, y, moves, trace=trace)
+    cpu = {"main": float("nan"), "raster": float("nan")}
+    if trace:
+        cpu = renderer_cpu(trace_path, moves + WARMUP)
+        shutil.rmtree(trace_path.parent, ignore_errors=True)
     kernel_points = lab.python_json("len(editor.points)")
     assert kernel_points == n, kernel_points
     parts = {key: statistics.median(r[key] for r in records) for key in ("wait", "kernel", "draw")}
@@ -106,6 +144,7 @@ def browser_round_trips(lab, n: int, moves: int, src: str | None = None) -> dict
         "dom_median": statistics.median(dom), "dom_p95": percentile(dom, 95),
         "frame_median": statistics.median(frame), "frame_p95": percentile(frame, 95),
         "wait_median": parts["wait"], "kernel_median_rt": parts["kernel"], "draw_median": parts["draw"],
+        "cpu_main": cpu["main"], "cpu_raster": cpu["raster"],
     }
 
 
@@ -155,7 +194,7 @@ def compare(args) -> list:
             for n in args.sizes:
                 for label, src in (trees if round_index % 2 == 0 else trees[::-1]):
                     context = browser.new_context(viewport={"width": 1400, "height": 1000})
-                    row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, src)
+                    row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, src, args.trace)
                     context.close()
                     server.shutdown_kernels()
                     row.update(server=label, kernel_median=kernel[label][n], round=round_index)
@@ -174,7 +213,7 @@ def servers(args) -> list:
             kernel = kernel_handling(n)
             for label, server in (("stock", stock), ("TCP_NODELAY", nodelay)):  # side by side, same n
                 context = browser.new_context(viewport={"width": 1400, "height": 1000})
-                row = browser_round_trips(Lab(server, context.new_page()), n, args.moves)
+                row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, trace=args.trace)
                 context.close()
                 server.shutdown_kernels()
                 row.update(server=label, kernel_median=kernel)
@@ -189,18 +228,21 @@ def main(argv=None):
     parser.add_argument("--moves", type=int, default=200)
     parser.add_argument("--compare", metavar="DIR", help="a checkout of another commit, measured side by side")
     parser.add_argument("--rounds", type=int, default=2, help="with --compare: rounds, the order swapped each")
+    parser.add_argument("--trace", action="store_true",
+                        help="record a Chrome trace of each row's moves: the page's CPU per move (main thread, raster workers)")
     args = parser.parse_args(argv)
     rows = compare(args) if args.compare else servers(args)
 
     print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "
           f"{args.moves} moves per row (after {WARMUP} warm-up moves)\n")
     print("| points | server | moves | pointer→path in DOM, median (ms) | p95 (ms) | →painted frame, median (ms) | p95 (ms) "
-          "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) | empty message round trip: total (up / down) (ms) |")
-    print("|---:|---|---:|---:|---:|---:|---:|---|---:|---:|")
+          "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) | empty message round trip: total (up / down) (ms) "
+          "| page CPU per move: main / raster (ms) |")
+    print("|---:|---|---:|---:|---:|---:|---:|---|---:|---:|---|")
     for r in rows:
         print(f"| {r['n']} | {r['server']} | {r['moves']} | {r['dom_median']:.1f} | {r['dom_p95']:.1f} | {r['frame_median']:.1f} | "
               f"{r['frame_p95']:.1f} | {r['wait_median']:.1f} / {r['kernel_median_rt']:.1f} / {r['draw_median']:.1f} | "
-              f"{r['kernel_median']:.2f} | {r['ping_median']:.1f} ({r['ping_up']:.1f} / {r['ping_down']:.1f}) |")
+              f"{r['kernel_median']:.2f} | {r['ping_median']:.1f} ({r['ping_up']:.1f} / {r['ping_down']:.1f}) | {r['cpu_main']:.1f} / {r['cpu_raster']:.1f} |")
 
 
 if __name__ == "__main__":

@@ -38,10 +38,20 @@ def kernel_geometry(lab):
                            "'knots': np.frombuffer(editor.geometry['knots'], '<f4').tolist()}")
 
 
-def page_geometry(page, root, revision):
-    page.wait_for_function("([el, rev]) => el.__splinecraft.geometry().revision === rev", arg=[root, revision],
-                           timeout=20_000)
-    return root.evaluate("(el) => el.__splinecraft.geometry()")
+def assert_views_hold_kernel_geometry(lab, views, timeout: float = 20.0):
+    """Once the kernel's last answer has reached every view (same revision), each holds its curve exactly."""
+    import time
+
+    deadline = time.monotonic() + timeout
+    while True:
+        wanted = kernel_geometry(lab)  # the kernel may still be working through the last moves: poll
+        held = [view.evaluate("(el) => el.__splinecraft.geometry()") for view in views]
+        if all(h["revision"] == wanted["revision"] for h in held):
+            break
+        assert time.monotonic() < deadline, ([h["revision"] for h in held], wanted["revision"])
+        lab.page.wait_for_timeout(100)
+    for h in held:
+        assert h["bezier"] == wanted["bezier"] and h["knots"] == wanted["knots"]
 
 
 def test_drag_paints_live_and_every_view_holds_the_kernel_curve(lab):
@@ -62,21 +72,14 @@ def test_drag_paints_live_and_every_view_holds_the_kernel_curve(lab):
     assert first.evaluate(PAINTED) > 1000
     assert first.evaluate("el => el.querySelector('[data-testid=canvas] .sc-labels') === null")
     # mid-drag, the moves' deltas applied: both views hold the kernel's float32 curve and knots exactly
-    wanted = kernel_geometry(lab)
-    for root in (first, second):
-        held = page_geometry(page, root, wanted["revision"])
-        assert held["bezier"] == wanted["bezier"] and held["knots"] == wanted["knots"]
+    assert_views_hold_kernel_geometry(lab, (first, second))
     page.mouse.up()
     page.wait_for_function(f"(el) => !({LIVE})(el) && el.querySelector('[data-testid=curve]').style.display === ''",
                            arg=first, timeout=20_000)
     assert first.evaluate("el => el.querySelector('[data-testid=canvas] .sc-labels') !== null")
     assert not second.evaluate(LIVE)  # the other view never went live
-    wanted = kernel_geometry(lab)
-    for root in (first, second):
-        held = page_geometry(page, root, wanted["revision"])
-        assert held["bezier"] == wanted["bezier"] and held["knots"] == wanted["knots"]
-        # the page's points are the kernel's again (they wait for the release during a drag)
-        assert root.evaluate("el => el.__splinecraft.screenPoint(150)") is not None
+    assert_views_hold_kernel_geometry(lab, (first, second))
+    # the page's points are the kernel's again (they wait for the release during a drag)
     moved = lab.python_json("editor.points[150]")
     drawn = first.evaluate("(el, p) => el.__splinecraft.screenOf(p[0], p[1])", moved)
     assert drawn == pytest.approx(first.evaluate("el => el.__splinecraft.screenPoint(150)"))

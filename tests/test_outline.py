@@ -325,3 +325,51 @@ def test_edits_that_rebuild_only_some_runs_equal_a_full_rebuild(contour, knot, d
         return
     fresh = Contour(**{name: value for name, value in edited.fields().items()})
     assert np.abs(edited.bezier() - fresh.bezier()).max() <= 1e-9 * max(1.0, np.abs(fresh.bezier()).max())
+
+
+@given(contours, st.integers(0, 8), st.sampled_from(["in", "out"]), st.floats(-20, 20), st.floats(-20, 20))
+def test_a_corner_handle_puts_its_control_point_exactly_there(contour, knot, side, dx, dy):
+    """The dragged handle's control point lands on the target, the runs away from the corner keep their pieces,
+    and the partial rebuild equals a full one."""
+    knot %= len(contour)
+    n = len(contour)
+    if not contour.corners[knot]:
+        with pytest.raises(ValueError, match="smooth"):
+            contour.with_handle(knot, side, (0.0, 0.0))
+        return
+    target = contour.points[knot] + [dx, dy]
+    edited = contour.with_handle(knot, side, target)
+    bezier, before = edited.bezier(), contour.bezier()
+    piece, node = (knot, 1) if side == "out" else ((knot - 1) % n, 2)
+    assert np.allclose(bezier[piece, node], target, rtol=0, atol=1e-9 * max(1.0, np.abs(target).max()))
+    corners = np.flatnonzero(contour.corners)
+    runs = {}  # piece -> the corner its run starts at
+    for j, start in enumerate(corners):
+        end = corners[(j + 1) % corners.size]
+        for p in (start + np.arange((end - start) % n or n)) % n:
+            runs[int(p)] = int(start)
+    touched = {runs[knot], runs[(knot - 1) % n]} if side == "in" else {runs[knot]}
+    for p in range(n):
+        if runs[p] not in touched:
+            assert np.array_equal(bezier[p], before[p])
+    fresh = Contour(**edited.fields())
+    assert np.abs(bezier - fresh.bezier()).max() <= 1e-9 * max(1.0, np.abs(fresh.bezier()).max())
+
+
+def test_handle_edits_name_the_bad_argument():
+    square = Contour([[0, 0], [10, 0], [10, 10], [0, 10]], [True, False, True, False])
+    with pytest.raises(ValueError, match="side must be 'in' or 'out'"):
+        square.with_handle(0, "up", (1, 1))
+    with pytest.raises(ValueError, match="side"):
+        square.with_handle(0, ["out"], (1, 1))
+    with pytest.raises(ValueError, match="position.*finite"):
+        square.with_handle(0, "out", (np.nan, 1))
+    with pytest.raises(ValueError, match="position must have shape"):
+        square.with_handle(0, "out", (1, 2, 3))
+    with pytest.raises(TypeError, match="position must be numeric"):
+        square.with_handle(0, "out", "far")
+    with pytest.raises(ValueError, match="out of range"):
+        square.with_handle(7, "out", (1, 1))
+    outline = Outline([square], width=20, height=20)
+    moved = outline.move_handle(0, 2, "in", (10, 5))
+    assert np.allclose(moved.contours[0].bezier()[1, 2], [10, 5]) and outline.contours[0] is square

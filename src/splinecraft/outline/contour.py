@@ -228,6 +228,22 @@ class Contour:
             data["handles_in"][i] = b[i - 1, 2] - b[i - 1, 3]
         return self.replace(**data)
 
+    def with_handle(self, knot, side, position) -> "Contour":
+        """Corner ``knot`` with its ``side`` handle ("out": leaving the knot, "in": arriving) ending at the point
+        ``position``: the Bézier control point next to the knot (``b1`` of the piece leaving it, ``b2`` of the
+        piece arriving) moves exactly there, since the run's clamped end tangent is ``3 (b1 - b0) / h`` (§2.4
+        Type 1). Smooth knots have no handles (``ValueError``: make the knot a corner first)."""
+        i = _indices(knot, len(self))[0]
+        if not isinstance(side, str) or side not in ("in", "out"):
+            raise ValueError(f"side must be 'in' or 'out', got {side!r:.20}")
+        if not self.corners[i]:
+            raise ValueError(f"knot {i} is smooth: only corners have handles (make it a corner first)")
+        point = _array(position, "position", (2,))
+        _finite(point, "position")
+        handles = np.array(getattr(self, f"handles_{side}"))
+        handles[i] = point - self.points[i]
+        return self.replace(changed_knots=[i], **{f"handles_{side}": handles})
+
     def inserted(self, piece, theta=0.5) -> "Contour":
         """A knot inserted on piece ``piece`` at its local parameter ``theta`` in (0, 1) (a point of the curve).
 

@@ -181,6 +181,12 @@ class Outline:
         k = self._contour_index(contour)
         return self._replace({k: self.contours[k].moved(knot, position)})
 
+    def move_handle(self, contour, knot, side, position) -> "Outline":
+        """The ``side`` handle ("in" or "out") of corner ``knot`` ends at ``position`` (x, y); see
+        :meth:`Contour.with_handle`."""
+        k = self._contour_index(contour)
+        return self._replace({k: self.contours[k].with_handle(knot, side, position)})
+
     def set_corner(self, contour, knot, corner=True, *, keep_shape=False) -> "Outline":
         """Toggle a knot between corner and smooth (GC² joint); see :meth:`Contour.with_corner`."""
         k = self._contour_index(contour)

@@ -213,3 +213,82 @@ def test_page_checks_selection_pairs_matrices_and_the_fitted_view(traced):
     assert [x0, y0, x1, y1] == pytest.approx([*(shown_low - pad), *(shown_high + pad)])
     glyph = OutlineEditor("M 10,20 L 50,20 L 50,40 Z").outline  # no bitmap: the knots' box only
     assert fitted_view(glyph) == pytest.approx([8.0, 18.0, 52.0, 42.0])
+
+
+def first_corner(outline):
+    for k, contour in enumerate(outline.contours):
+        corners = np.flatnonzero(contour.corners)
+        if corners.size:
+            return k, int(corners[0])
+    raise AssertionError("the traced D has corners")
+
+
+def test_handle_gesture_puts_the_corner_control_point_where_the_pointer_is(editor):
+    start = editor.outline
+    k, i = first_corner(start)
+    n = len(start.contours[k])
+    knot = start.contours[k].points[i]
+    for step, final in ((1, False), (2, False), (3, True)):
+        target = [float(knot[0] + 4 * step), float(knot[1] - 2 * step)]
+        page(editor, type="handle", contour=k, knot=i, side="out", x=target[0], y=target[1], seq=step, gesture=5,
+             final=final)
+    bezier = editor.outline.contours[k].bezier()
+    assert np.allclose(bezier[i, 1], target, atol=1e-9) and np.allclose(bezier[i, 0], knot)
+    assert np.allclose(editor.outline.contours[k].handles_out[i], np.subtract(target, knot))
+    assert np.allclose(bezier[(i - 1) % n], start.contours[k].bezier()[(i - 1) % n])  # the arriving side keeps
+    assert editor.status_level == "info" and "Handle out" in editor.status_message
+    assert editor.undo() and editor.outline is start  # the gesture is one undo step
+    page(editor, type="handle", contour=k, knot=i, side="in", x=float(knot[0]) - 3, y=float(knot[1]) + 1, seq=4,
+         gesture=6, final=True)
+    assert np.allclose(editor.outline.contours[k].bezier()[(i - 1) % n, 2], [knot[0] - 3, knot[1] + 1], atol=1e-9)
+    moved = editor.move_handle(k, i, "in", (float(knot[0]) - 6, float(knot[1])))
+    assert np.allclose(moved.contours[k].bezier()[(i - 1) % n, 2], [knot[0] - 6, knot[1]], atol=1e-9)
+
+
+def test_bad_handle_messages_are_refused_with_a_drag_ack_and_keep_the_outline(editor):
+    answers = []
+    editor.send = lambda message, buffers=None: answers.append(message)
+    k, i = first_corner(editor.outline)
+    smooth = int(np.flatnonzero(~editor.outline.contours[k].corners)[0])
+    good = {"type": "handle", "contour": k, "knot": i, "side": "out", "x": 1.0, "y": 2.0, "final": True}
+    before = editor.outline
+    for seq, (change, words) in enumerate((({"knot": smooth}, "smooth"), ({"side": "up"}, "side"),
+                                           ({"side": None}, "side"), ({"x": float("nan")}, "x"),
+                                           ({"y": True}, "y"), ({"contour": 99}, "contour"),
+                                           ({"x": None}, "x")), start=1):
+        page(editor, **{**good, **change, "seq": seq, "gesture": seq})
+        assert editor.outline is before and editor.status_level == "error", change
+        assert words in editor.status_message, (change, editor.status_message)
+        assert answers[-1] == {"type": "drag_ack", "seq": seq, "ok": False}
+    with pytest.warns(OutlineEditorWarning, match="smooth"):
+        editor.move_handle(k, smooth, "out", (1.0, 2.0))
+    assert editor.outline is before
+
+
+@pytest.mark.parametrize("kind", ["handle", "drag", "transform"])
+def test_a_refused_move_in_a_gesture_publishes_the_last_good_one_and_ends_it_on_release(editor, kind):
+    """Moves of a gesture reach the page as live pieces only; a bad move after them publishes the outline of the
+    last good move (synced lists and geometry, newer than the live pieces), and a bad release ends the gesture
+    as one undo step."""
+    answers = []
+    editor.send = lambda message, buffers=None: answers.append(message)
+    start = editor.outline
+    k, i = first_corner(start)
+    knot = start.contours[k].points[i]
+    good = {"handle": {"contour": k, "knot": i, "side": "out", "x": float(knot[0]) + 5, "y": float(knot[1])},
+            "drag": {"contour": k, "knot": i, "x": float(knot[0]) + 5, "y": float(knot[1])},
+            "transform": {"matrix": [1.0, 0.0, 0.0, 1.0, 5.0, 0.0]}}[kind]
+    bad = {"handle": {"side": "sideways"}, "drag": {"x": float("inf")}, "transform": {"matrix": [1.0, 0.0]}}[kind]
+    page(editor, type=kind, **good, seq=1, gesture=3, final=False)
+    assert answers[-1]["type"] == "live" and editor.outline is not start
+    moved, live_revision = editor.outline, answers[-1]["contours"][0]["revision"]
+    assert editor.contours == [c.points.tolist() for c in start.contours]  # not synced during the gesture
+    page(editor, type=kind, **{**good, **bad}, seq=2, gesture=3, final=False)
+    assert answers[-1] == {"type": "drag_ack", "seq": 2, "ok": False} and editor.status_level == "error"
+    assert editor.outline is moved and editor.contours == [c.points.tolist() for c in moved.contours]
+    entry = editor.geometry["contours"][k]
+    assert entry["revision"] > live_revision
+    assert np.allclose(np.frombuffer(entry["bezier"], "<f4").reshape(-1, 4, 2), moved.contours[k].bezier(), atol=1e-3)
+    page(editor, type=kind, **{**good, **bad}, seq=3, gesture=3, final=True)
+    assert editor.outline is moved and editor._gesture is None and editor.can_undo
+    assert editor.undo() and editor.outline is start

@@ -20,15 +20,15 @@ import numpy as np
 import traitlets as t
 
 from ..outline import Outline, as_outline
-from ..outline.transforms import affine_parts, reflection, rotation, scaling, shearing, translation
+from ..outline.transforms import reflection, rotation, scaling, shearing, translation
 from ._assets import load_css, load_esm
-from ._base import WidgetBase, f32, read_bool, read_int, read_number, read_str
+from ._base import WidgetBase, f32, read_number, read_str
+from ._outline_gestures import HISTORY, OutlineGestures
 from ._outline_state import (OUTLINE_TRAITS, DeviationCache, clean_selection, fitted_view, grouped_by_contour,
-                             outline_from_lists, page_matrix, png_of_mask, synced_tables)
+                             outline_from_lists, png_of_mask, synced_tables)
 
 __all__ = ["OutlineEditor", "OutlineEditorWarning"]
 
-_HISTORY = 200
 _OUTLINE_TRAITS = tuple(OUTLINE_TRAITS)
 _DISPLAY = ("width", "height", "view", "show_image", "show_deviation", "show_fill", "export_path")
 
@@ -37,7 +37,7 @@ class OutlineEditorWarning(UserWarning):
     """A value set from code was rejected; the editor kept its last good outline."""
 
 
-class OutlineEditor(WidgetBase):
+class OutlineEditor(OutlineGestures, WidgetBase):
     """Edit the contours of an outline: drag knots, corners, insert and delete, tensions, transforms, export.
 
     Parameters
@@ -75,7 +75,7 @@ class OutlineEditor(WidgetBase):
     messages = {**WidgetBase.messages, "drag": "_on_drag", "transform": "_on_transform", "corner": "_on_corner",
                 "insert": "_on_insert", "delete": "_on_delete", "undo": "_on_undo", "redo": "_on_redo",
                 "tension": "_on_tension", "weight": "_on_weight", "export": "_on_export", "fit": "_on_fit",
-                "reflect": "_on_reflect"}
+                "reflect": "_on_reflect", "handle": "_on_handle"}
     page_traits = frozenset(("selection",) + _DISPLAY)
 
     contours = t.List().tag(sync=True)
@@ -162,6 +162,12 @@ class OutlineEditor(WidgetBase):
     def move_knot(self, contour, knot, position) -> Outline:
         return self._apply(lambda o: o.move_knot(contour, knot, position), f"Knot {knot} of contour {contour} moved")
 
+    def move_handle(self, contour, knot, side, position) -> Outline:
+        """The ``side`` handle ("in" or "out") of corner ``knot`` ends at ``position``: the curve's control point
+        next to the knot goes there (:meth:`~splinecraft.outline.Contour.with_handle`)."""
+        return self._apply(lambda o: o.move_handle(contour, knot, side, position),
+                           f"Handle {side} of corner {knot} (contour {contour}) moved")
+
     def set_corner(self, contour, knot, corner=True) -> Outline:
         word = "a corner" if corner else "smooth"
         return self._apply(lambda o: o.set_corner(contour, knot, corner), f"Knot {knot} of contour {contour} is {word}")
@@ -234,7 +240,7 @@ class OutlineEditor(WidgetBase):
         old = self._outline
         if history:
             self._undo.append(old)
-            del self._undo[:-_HISTORY]
+            del self._undo[:-HISTORY]
             self._redo.clear()
         self._outline = new
         if len(new) != len(old):
@@ -344,59 +350,6 @@ class OutlineEditor(WidgetBase):
             self._set_status("Deviation shown" + self._deviation_note())
 
     # ------------------------------------------------------------------ page messages
-    def _gesture_start(self, kind, gesture):
-        if self._gesture is None or self._gesture[:2] != (kind, gesture):
-            self._gesture = (kind, gesture, self._outline)
-        return self._gesture[2]
-
-    def _finish(self, new, seq, final, message):
-        start = self._gesture[2]
-        self._commit(new, message if final else None, history=False, seq=seq,
-                     measure=final or self.show_deviation, live=not final and not self.show_deviation)
-        if final:
-            self._undo.append(start)
-            del self._undo[:-_HISTORY]
-            self._redo.clear()
-            self._gesture = None
-            with self._quiet():
-                self.can_undo, self.can_redo = True, False
-
-    def _on_drag(self, content, _buffers):
-        seq = read_int(content, "seq", low=0, high=2**53)
-        try:
-            contour = read_int(content, "contour", low=0, high=len(self._outline) - 1)
-            knot = read_int(content, "knot", low=0, high=len(self._outline.contours[contour]) - 1)
-            x, y = read_number(content, "x"), read_number(content, "y")
-            final = read_bool(content, "final")
-            start = self._gesture_start("drag", read_int(content, "gesture", low=0, high=2**53))
-            selected = [tuple(p) for p in self.selection]
-            if (contour, knot) in selected and len(selected) > 1:
-                origin = start.contours[contour].points[knot]
-                new = start.translate(x - origin[0], y - origin[1], knots=selected)
-            else:
-                new = start.move_knot(contour, knot, (x, y))
-        except ValueError as exc:
-            self.send({"type": "drag_ack", "seq": seq, "ok": False})
-            self._gesture = None if content.get("final") else self._gesture
-            self._reject(exc, resync=("contours",))
-            return
-        self._finish(new, seq, final, f"Knot {knot} of contour {contour} moved to ({x:.1f}, {y:.1f})")
-
-    def _on_transform(self, content, _buffers):
-        seq = read_int(content, "seq", low=0, high=2**53)
-        matrix = page_matrix(content.get("matrix"))
-        final = read_bool(content, "final")
-        start = self._gesture_start("transform", read_int(content, "gesture", low=0, high=2**53))
-        knots = [tuple(p) for p in self.selection] or None
-        try:
-            affine_parts(matrix)
-            new = start.transform(matrix, knots=knots)
-        except ValueError as exc:
-            self.send({"type": "drag_ack", "seq": seq, "ok": False})
-            self._reject(exc)
-            return
-        self._finish(new, seq, final, "Transformed the " + ("selection" if knots else "whole shape"))
-
     def _selected_or_refuse(self):
         if not self.selection:
             raise ValueError("select a knot first")
@@ -472,6 +425,7 @@ class OutlineEditor(WidgetBase):
         return self._outline
 
     def _restore_good(self, saved):
+        self._settle()
         if saved is not self._outline:
             self._commit(saved, None, history=False)
         with self._quiet(), self.hold_sync():

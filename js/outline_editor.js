@@ -6,10 +6,10 @@
 //
 // Kernel -> page: synced traits (geometry, corners, selection, point_tension, interval_weights, status,
 // max_deviation, view, ...) and, during a gesture, custom "live" messages with the changed contours' pieces.
-// Page -> kernel: {type: "drag" | "transform" | "corner" | "insert" | "delete" | "undo" | "redo" | "tension" |
+// Page -> kernel: {type: "drag" | "handle" | "transform" | "corner" | "insert" | "delete" | "undo" | "redo" | "tension" |
 // "weight" | "reflect" | "export" | "fit"}, the `selection`, `view` and overlay traits; "ping" with `debug` on.
 import { h, Viewport, isolateKeys } from "./common.js";
-import { createCanvas, handles, selectionBox } from "./outline_view.js";
+import { createCanvas, cornerHandles, handles, selectionBox } from "./outline_view.js";
 import { createControls } from "./outline_controls.js";
 import { createDragFlow, createPing } from "./drag_controller.js";
 import { attachInput, gestureMessage } from "./outline_input.js";
@@ -32,7 +32,15 @@ function instrument(root, model, canvas, vp) {
       const spot = handles(vp, selectionBox(cache, model.get("selection")))[name];
       return spot ? [rect().left + spot[0], rect().top + spot[1]] : null;
     },
+    /** The `side` ("in" | "out") handle of selected corner `knot` of contour `k`, or null when it is not shown. */
+    screenCornerHandle(k, i, side) {
+      const grip = cornerHandles(cache, model.get("corners"), model.get("selection"))
+        .find((g) => g.contour === k && g.knot === i && g.side === side);
+      return grip ? [rect().left + vp.sx(grip.x), rect().top + vp.sy(grip.y)] : null;
+    },
     dataOf(clientX, clientY) { return [vp.dx(clientX - rect().left), vp.dy(clientY - rect().top)]; },
+    /** Send `message` to the kernel as the page's input would (tests of refused messages). */
+    send(message) { model.send(message); },
     ping: pinger.ping,
   };
   return pinger;
@@ -74,13 +82,9 @@ function render({ model, el }) {
 
   const drawCurves = (force = false) => canvas.drawCurves(vp, { fill: model.get("show_fill"), deviation: model.get("show_deviation"), force });
   function drawKnots() {
-    const g = flow.live();
-    canvas.drawKnots(vp, {
-      corners: model.get("corners") ?? [],
-      chosen: new Set((model.get("selection") ?? []).map(([k, i]) => `${k}:${i}`)),
-      live: g && g.kind === "drag" ? g : null,
-      box: selectionBox(cache, model.get("selection")),
-    });
+    const pairs = model.get("selection") ?? [], corners = model.get("corners") ?? [];
+    canvas.drawKnots(vp, { corners, chosen: new Set(pairs.map(([k, i]) => `${k}:${i}`)), live: flow.live(),
+      box: selectionBox(cache, pairs), handles: cornerHandles(cache, corners, pairs) });
   }
   const drawImage = () => canvas.drawImage(vp, { bytes: model.get("image"), frame: model.get("frame"), show: model.get("show_image") });
   const showStatus = () => controls.showStatus(root);

@@ -4,13 +4,14 @@
 // most one message in flight, the final position always sent on release; the kernel applies each gesture to
 // the outline it had when the gesture started, so the latest message wins and nothing accumulates.
 //
-// Mouse: click a knot to select it (Shift adds or removes), drag a knot (all selected knots move with it),
+// Mouse: click a knot to select it (Shift adds or removes), drag a knot (all selected knots move with it) or
+// a handle of a selected corner (the curve's control point follows the pointer exactly),
 // drag inside the selection's box to move it or its handles to rotate, scale (Shift: per axis) and shear,
 // drag the background for a box selection, click the curve to select its contour, double-click the curve to
 // insert a knot; the wheel zooms around the pointer, the middle button pans. Keys: arrows (Shift: 10 px),
 // Delete/Backspace, C (corner), Ctrl+Z, Ctrl+Shift+Z / Ctrl+Y.
 import { hitPoint } from "./editor_input.js";
-import { handles, selectionBox } from "./outline_view.js";
+import { cornerHandles, handles, selectionBox } from "./outline_view.js";
 
 export const HIT = 8; // px: how close a pointer must be to grab a knot, a handle or the curve
 const BAND_THRESHOLD = 3; // px before a background press counts as a box selection (else it is a click)
@@ -22,6 +23,17 @@ export function hitKnot(vp, cache, px, py, radius = HIT) {
   const { xy, owners } = cache.knots();
   const index = hitPoint(vp, xy, px, py, radius);
   return index >= 0 ? owners[index] : null;
+}
+
+/** The corner handle (see outline_view.cornerHandles) within HIT px of (px, py), nearest first, with its
+ * squared screen distance `d2`; or null. */
+export function hitCornerHandle(vp, grips, px, py) {
+  let best = null, bestD = HIT * HIT;
+  for (const grip of grips) {
+    const dx = vp.sx(grip.x) - px, dy = vp.sy(grip.y) - py, d2 = dx * dx + dy * dy;
+    if (d2 <= bestD) { bestD = d2; best = { ...grip, d2 }; }
+  }
+  return best;
 }
 
 /** Whether screen (px, py) lies inside the selection's box (data units; null: no box). */
@@ -91,9 +103,9 @@ export function transformMatrix(g, x, y) {
 
 /** The message of a gesture of the flow control: a knot drag or a transform of the selection. */
 export function gestureMessage(g) {
-  return g.kind === "drag"
-    ? { type: "drag", contour: g.contour, knot: g.knot, x: g.x, y: g.y }
-    : { type: "transform", matrix: g.matrix };
+  if (g.kind === "drag") return { type: "drag", contour: g.contour, knot: g.knot, x: g.x, y: g.y };
+  if (g.kind === "handle") return { type: "handle", contour: g.contour, knot: g.knot, side: g.side, x: g.x, y: g.y };
+  return { type: "transform", matrix: g.matrix };
 }
 
 const local = (svg, event) => { const r = svg.getBoundingClientRect(); return [event.clientX - r.left, event.clientY - r.top]; };
@@ -130,12 +142,29 @@ function attachPanZoom({ svg, vp, setTrait, drawAll }) {
   svg.addEventListener("pointercancel", endPan);
 }
 
-/** A press of the left button: select a knot and drag it, grab a handle or the box, or start a box selection. */
+/** The handle of a selected corner under the pointer, unless a knot is nearer. */
+function grabbedCornerHandle({ model, vp, cache }, knot, px, py) {
+  const grip = hitCornerHandle(vp, cornerHandles(cache, model.get("corners"), model.get("selection")), px, py);
+  if (!grip || !knot) return grip;
+  const [x, y] = cache.knot(knot[0], knot[1]);
+  return grip.d2 < (vp.sx(x) - px) ** 2 + (vp.sy(y) - py) ** 2 ? grip : null;
+}
+
+/**
+ * A press of the left button: grab a handle of the box, a corner's handle or a knot (select it and drag it), or
+ * the box; else start a box selection (returned).
+ */
 function press(ctx, event, px, py) {
   const { model, vp, cache, flow } = ctx;
   const box = selectionBox(cache, model.get("selection"));
   const handle = hitHandle(handles(vp, box), px, py);
   const knot = handle ? null : hitKnot(vp, cache, px, py);
+  const grip = handle ? null : grabbedCornerHandle(ctx, knot, px, py);
+  if (grip) {
+    const { contour, knot: index, side, x, y } = grip;
+    flow.begin({ kind: "handle", contour, knot: index, side, x, y, ox: vp.sx(x) - px, oy: vp.sy(y) - py }, event.pointerId);
+    return null;
+  }
   if (knot) {
     const key = `${knot[0]}:${knot[1]}`, pairs = model.get("selection") ?? [];
     const chosen = pairs.some(([k, i]) => `${k}:${i}` === key);
@@ -184,9 +213,9 @@ function attachGestures(ctx) {
   svg.addEventListener("pointermove", (event) => {
     const [px, py] = local(svg, event), g = flow.active;
     if (g && event.pointerId === g.pointerId) {
-      if (g.kind === "drag") {
+      if (g.kind === "drag" || g.kind === "handle") {
         flow.update({ x: vp.dx(px + g.ox), y: vp.dy(py + g.oy) });
-        ctx.drawKnots(); // the knot follows the pointer until the kernel answers
+        ctx.drawKnots(); // the knot or handle follows the pointer until the kernel answers
       } else {
         flow.update({ shift: event.shiftKey, matrix: transformMatrix({ ...g, shift: event.shiftKey }, vp.dx(px), vp.dy(py)) });
       }
@@ -198,7 +227,8 @@ function attachGestures(ctx) {
       return;
     }
     const box = selectionBox(cache, ctx.model.get("selection"));
-    svg.style.cursor = hitKnot(vp, cache, px, py) || hitHandle(handles(vp, box), px, py) ? "grab" : insideBox(vp, box, px, py) ? "move" : "";
+    const grab = hitKnot(vp, cache, px, py) || hitHandle(handles(vp, box), px, py) || grabbedCornerHandle(ctx, null, px, py);
+    svg.style.cursor = grab ? "grab" : insideBox(vp, box, px, py) ? "move" : "";
   });
   function endPointer(event) {
     const g = flow.active;

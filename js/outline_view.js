@@ -1,9 +1,10 @@
 // OutlineEditor canvas (plain ES module): the SVG layers, the contours the kernel sent (per contour a
 // revision, its Bézier pieces as float32 and the deviation of each piece) and how they become paths, knot
-// markers, the selection's box and its handles. It holds no model state: every draw call gets what it draws.
-import { s, floats, bezierPath, markersPath } from "./common.js";
+// markers, the handles of the selected corners, the selection's box and its handles. It holds no model state: every draw call gets what it draws.
+import { s, floats, bezierPath, markersPath, segmentsPath } from "./common.js";
 
-export const COLORS = { curve: "#1565c0", fill: "#90caf9", knot: "#0d47a1", corner: "#d32f2f", selected: "#ff6f00", box: "#6a1b9a" };
+export const COLORS = { curve: "#1565c0", fill: "#90caf9", knot: "#0d47a1", corner: "#d32f2f", selected: "#ff6f00", box: "#6a1b9a",
+  handle: "#2e7d32" };
 /** Deviation colours: a piece whose deviation (px) is below the limit gets the colour. */
 export const DEVIATION_BINS = [[0.5, "#2e7d32"], [1.0, "#9e9d24"], [2.0, "#ef6c00"], [Infinity, "#c62828"]];
 const ROTATE_LIFT = 24; // px: the rotate handle sits this far above the box
@@ -56,6 +57,21 @@ export class ContourCache {
     }
     return this.flat;
   }
+}
+
+/**
+ * The two handles of each selected corner: {contour, knot, side, x, y, kx, ky}, (x, y) the Bézier control point
+ * next to the knot (kx, ky): "out" is b1 of the piece leaving it, "in" b2 of the piece arriving (data units).
+ */
+export function cornerHandles(cache, corners, pairs) {
+  const found = [];
+  for (const [k, i] of pairs ?? []) {
+    if (!corners?.[k]?.[i] || !cache.has(k, i)) continue;
+    const b = cache.entries[k].bez, n = cache.count(k), j = (i - 1 + n) % n, kx = b[8 * i], ky = b[8 * i + 1];
+    found.push({ contour: k, knot: i, side: "out", x: b[8 * i + 2], y: b[8 * i + 3], kx, ky });
+    found.push({ contour: k, knot: i, side: "in", x: b[8 * j + 4], y: b[8 * j + 5], kx, ky });
+  }
+  return found;
 }
 
 /** Bounding box (data units) of the selected knots, or null when fewer than two distinct knots are selected. */
@@ -139,6 +155,8 @@ export function createCanvas(width, height) {
     deviation: s("g", { "data-testid": "deviation" }),
     box: s("rect", { fill: "none", stroke: COLORS.box, "stroke-dasharray": "4 3", "data-testid": "selection-box" }),
     handles: s("path", { fill: "#fff", stroke: COLORS.box, "stroke-width": 1.3, "data-testid": "handles" }),
+    cornerLines: s("path", { fill: "none", stroke: COLORS.handle, "stroke-width": 1.2, "data-testid": "corner-handle-lines" }),
+    cornerEnds: s("path", { fill: COLORS.handle, stroke: "#fff", "stroke-width": 0.8, "data-testid": "corner-handles" }),
     knots: s("path", { fill: "#fff", stroke: COLORS.knot, "stroke-width": 1.3, "data-testid": "knots" }),
     corners: s("path", { fill: COLORS.corner, stroke: "#fff", "stroke-width": 0.8, "data-testid": "corners" }),
     selected: s("path", { fill: COLORS.selected, stroke: "#fff", "stroke-width": 0.8, "data-testid": "selected" }),
@@ -164,17 +182,31 @@ export function createCanvas(width, height) {
     drawDeviation(L, vp, cache, deviation);
   }
 
-  /** Knot markers (smooth, corner, selected), a knot being dragged at `live` {contour, knot, x, y}; the box. */
-  function drawKnots(vp, { corners, chosen, live, box }) {
+  /**
+   * Knot markers (smooth, corner, selected), the handles of the selected corners (`handles`, see
+   * cornerHandles) and the box. `live`: the gesture in progress ({kind: "drag" | "handle", contour, knot, side,
+   * x, y}), its knot or handle drawn where the pointer is until the kernel answers.
+   */
+  function drawKnots(vp, { corners, chosen, live, box, handles: grips = [] }) {
     const smooth = [], sharp = [], picked = [];
     const { xy, owners } = cache.knots();
+    const dragged = live && live.kind === "drag" ? live : null, held = live && live.kind === "handle" ? live : null;
     owners.forEach(([k, i], n) => {
-      const [x, y] = live && live.contour === k && live.knot === i ? [live.x, live.y] : [xy[2 * n], xy[2 * n + 1]];
+      const [x, y] = dragged && dragged.contour === k && dragged.knot === i ? [dragged.x, dragged.y] : [xy[2 * n], xy[2 * n + 1]];
       (chosen.has(`${k}:${i}`) ? picked : (corners[k]?.[i] ? sharp : smooth)).push(x, y);
     });
     L.knots.setAttribute("d", markersPath(vp, smooth, 3.2, "circle"));
     L.corners.setAttribute("d", markersPath(vp, sharp, 3.4, "square"));
     L.selected.setAttribute("d", markersPath(vp, picked, 4, "circle"));
+    const ends = [], lines = [];
+    for (const grip of grips) {
+      const same = held && held.contour === grip.contour && held.knot === grip.knot && held.side === grip.side;
+      const [x, y] = same ? [held.x, held.y] : [grip.x, grip.y];
+      ends.push(x, y);
+      lines.push(grip.kx, grip.ky, x, y);
+    }
+    L.cornerLines.setAttribute("d", segmentsPath(vp, lines));
+    L.cornerEnds.setAttribute("d", markersPath(vp, ends, 3.6, "diamond"));
     drawBox(L, vp, box);
   }
 

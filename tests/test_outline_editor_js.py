@@ -18,8 +18,9 @@ def run_node(tmp_path, body: str) -> None:
     script.write_text(f"""
 import assert from "node:assert/strict";
 import {{ Viewport }} from "{base}/common.js";
-import {{ ContourCache, selectionBox, handles }} from "{base}/outline_view.js";
-import {{ hitKnot, hitCurve, knotsInRect, insideBox, transformMatrix, gestureMessage }} from "{base}/outline_input.js";
+import {{ ContourCache, selectionBox, handles, cornerHandles }} from "{base}/outline_view.js";
+import {{ hitKnot, hitCurve, hitCornerHandle, knotsInRect, insideBox, transformMatrix, gestureMessage }}
+  from "{base}/outline_input.js";
 import {{ selectedValues }} from "{base}/outline_controls.js";
 import {{ createDragFlow }} from "{base}/drag_controller.js";
 const apply = (m, [x, y]) => [m[0] * x + m[2] * y + m[4], m[1] * x + m[3] * y + m[5]];
@@ -133,4 +134,22 @@ const unmoved = createDragFlow(model, { message: gestureMessage });
 unmoved.begin({ kind: "transform", matrix: [1, 0, 0, 1, 0, 0] }, 1);
 unmoved.end();                                                    // a press without a move sends nothing
 assert.equal(sent.length, 3);
+""")
+
+
+def test_corner_handles_are_the_control_points_next_to_the_selected_corners(tmp_path):
+    run_node(tmp_path, """
+// square knot 1 = (10, 0): its out handle is b1 of piece 1, its in handle b2 of piece 0
+const corners = [[true, true, false, false], [false, false, false]];
+const grips = cornerHandles(cache, corners, [[0, 1], [0, 2], [1, 0], [7, 0]]);  // smooth, other contour, unknown
+assert.equal(grips.length, 2);
+const out = grips.find((g) => g.side === "out"), into = grips.find((g) => g.side === "in");
+close([out.x, out.y], [10, 10 / 3], 1e-5); close([into.x, into.y], [20 / 3, 0], 1e-5);
+assert.deepEqual([out.contour, out.knot, out.kx, out.ky], [0, 1, 10, 0]);
+const knot0 = cornerHandles(cache, corners, [[0, 0]]).find((g) => g.side === "in");
+close([knot0.x, knot0.y], [0, 10 / 3], 1e-5);                       // knot 0 arrives from the last piece
+assert.equal(hitCornerHandle(vp, grips, 10.5, 3.5).side, "out");
+assert.equal(hitCornerHandle(vp, grips, 10, 20), null);
+assert.deepEqual(gestureMessage({ kind: "handle", contour: 0, knot: 1, side: "in", x: 3, y: 4, ox: 1 }),
+  { type: "handle", contour: 0, knot: 1, side: "in", x: 3, y: 4 });
 """)

@@ -99,6 +99,15 @@ export function createCanvas(width, height) {
   svg.append(labels);
   const live = createLivePainter(svg, Object.values(L), labels); // paints the layers during a drag
 
+  /** Write marker layer `layer`: a marker of `radius` at each point of `xy` (data units; null: none). */
+  function setMarkers(layer, vp, xy, radius, shape = "circle") {
+    const d = xy ? markersPath(vp, xy, radius, shape) : "";
+    layer.setAttribute("d", d);
+    const n = xy ? Math.floor(xy.length / 2) : 0, centers = new Float64Array(2 * n);
+    for (let i = 0; i < n; i++) { centers[2 * i] = vp.sx(xy[2 * i]); centers[2 * i + 1] = vp.sy(xy[2 * i + 1]); }
+    live.markers(layer, d, centers, radius, shape);
+  }
+
   function resize(w, h) {
     for (const node of [svg, bg]) { node.setAttribute("width", w); node.setAttribute("height", h); }
     if (live.active) { live.end(); live.begin(); }
@@ -122,18 +131,18 @@ export function createCanvas(width, height) {
     L.curveHit.setAttribute("d", d);
     L.highlightCurve.setAttribute("d", bezierPath(vp, g.highlight, false));
     L.highlightLeg.setAttribute("d", polylinePath(vp, g.highlight_leg, false));
-    L.knots.setAttribute("d", show.knots ? markersPath(vp, g.knots, 3.2) : "");
+    setMarkers(L.knots, vp, show.knots ? g.knots : null, 3.2);
     L.classPolygon.setAttribute("d", show.vw ? polylinePath(vp, g.class_polygon, false) : "");
-    L.vw.setAttribute("d", show.vw ? markersPath(vp, g.vw, 3, "square") : "");
+    setMarkers(L.vw, vp, show.vw ? g.vw : null, 3, "square");
     L.tangents.setAttribute("d", show.tangents ? segmentsPath(vp, g.tangents) : "");
-    L.tangentEnds.setAttribute("d", show.tangents ? markersPath(vp, tangentTips(g.tangents), 2.2) : "");
+    setMarkers(L.tangentEnds, vp, show.tangents ? tangentTips(g.tangents) : null, 2.2);
     L.combTeeth.setAttribute("d", show.comb ? segmentsPath(vp, g.comb_teeth) : "");
     L.combEnvelope.setAttribute("d", show.comb ? polylinePath(vp, g.comb_envelope, false) : "");
     const tOn = g.t_point.length === 2;
     L.constructionClass.setAttribute("d", tOn ? polylinePath(vp, g.construction_class, false) : "");
     L.construction.setAttribute("d", tOn ? polylinePath(vp, g.construction, false) : "");
-    L.constructionPoints.setAttribute("d", tOn ? markersPath(vp, g.construction_points, 2.6) : "");
-    L.tPoint.setAttribute("d", tOn ? markersPath(vp, g.t_point, 5.5) : "");
+    setMarkers(L.constructionPoints, vp, tOn ? g.construction_points : null, 2.6);
+    setMarkers(L.tPoint, vp, tOn ? g.t_point : null, 5.5);
     const tLabel = tOn && g.t_info ? [{ x: g.t_point[0], y: g.t_point[1], kind: "t",
       text: `t = ${g.t_info.t.toFixed(3)} (piece ${g.t_info.piece}, θ = ${g.t_info.theta.toFixed(2)})` }] : [];
     labels.replaceChildren(...[...(g.labels ?? []), ...tLabel].filter((lab) => lab.kind !== "joint" || show.comb).map((lab) =>
@@ -148,8 +157,8 @@ export function createCanvas(width, height) {
   function drawPoints(vp, flat, { closed, polygon, selected }) {
     const n = flat.length / 2;
     L.polygon.setAttribute("d", polygon ? polylinePath(vp, flat, closed) : "");
-    L.points.setAttribute("d", markersPath(vp, flat, n > 400 ? 3 : 4.5));
-    L.selected.setAttribute("d", selected >= 0 && selected < n ? markersPath(vp, flat.subarray(2 * selected, 2 * selected + 2), 6) : "");
+    setMarkers(L.points, vp, flat, n > 400 ? 3 : 4.5);
+    setMarkers(L.selected, vp, selected >= 0 && selected < n ? flat.subarray(2 * selected, 2 * selected + 2) : null, 6);
     live.invalidate();
   }
 

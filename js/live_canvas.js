@@ -7,6 +7,9 @@
 // its path layers are not displayed, and this canvas paints the very same path strings (Path2D) with the
 // layers' own stroke and fill attributes, in the layers' order, once per animation frame. The labels move
 // to a small SVG above the canvas for the drag, so they stay on top. When the drag ends the SVG shows again.
+// A marker layer (its path data written with `markers()`) keeps its own raster between frames and repaints
+// only the markers that moved (marker_cache.js); the canvas copies it in the layer's place.
+import { createMarkerCache } from "./marker_cache.js";
 
 const NONE = new Set(["none", "transparent", ""]);
 
@@ -28,8 +31,9 @@ function layerStyle(path) {
 
 /**
  * Live painter for an editor canvas: `svg` (the drawing), `paths` (its layer paths, bottom to top),
- * `labels` (the <g> of text labels). Returns {element, overlay, begin(), end(), invalidate(), active}:
- * put `element` and `overlay` right after the SVG in its (positioned) wrapper.
+ * `labels` (the <g> of text labels). Returns {element, overlay, begin(), end(), invalidate(), markers(),
+ * active, cached}: put `element` and `overlay` right after the SVG in its (positioned) wrapper. With
+ * `cached = false` every layer is painted as a whole path on every frame (to compare the two).
  */
 export function createLivePainter(svg, paths, labels) {
   const element = document.createElement("canvas");
@@ -40,7 +44,10 @@ export function createLivePainter(svg, paths, labels) {
   element.dataset.testid = "live-canvas";
   const context = element.getContext("2d");
   const cache = new Map(); // path element -> {d, shape: Path2D}
-  let styles = null, active = false, rafId = 0;
+  const markerLayers = new Map(); // path element -> {d, centers, radius, shape}: what its data draws
+  const rasters = new Map(); // path element -> its marker raster (createMarkerCache) during a drag
+  let styles = null, active = false, rafId = 0, cached = true;
+  const updates = { whole: 0, moved: 0, same: 0 }; // marker raster updates of this drag, by kind
 
   function place() {
     const width = Number(svg.getAttribute("width")), height = Number(svg.getAttribute("height"));
@@ -62,12 +69,29 @@ export function createLivePainter(svg, paths, labels) {
     return entry.shape;
   }
 
+  /** Layer `style`'s markers from its raster, brought up to date. */
+  function paintMarkers(style, markers) {
+    let raster = rasters.get(style.path);
+    if (!raster) rasters.set(style.path, (raster = createMarkerCache(style, element.width, element.height, window.devicePixelRatio || 1)));
+    updates[raster.update(markers)] += 1;
+    context.save();
+    context.setTransform(1, 0, 0, 1, 0, 0);
+    context.drawImage(raster.image, 0, 0);
+    context.restore();
+  }
+
   function paint() {
     rafId = 0;
     if (!active) return;
     context.clearRect(0, 0, element.width, element.height);
     for (const style of styles) {
       if (!style.fill && !style.stroke) continue;
+      const markers = markerLayers.get(style.path);
+      if (cached && markers && markers.d && markers.d === style.path.getAttribute("d")) {
+        context.globalAlpha = style.alpha;
+        paintMarkers(style, markers);
+        continue;
+      }
       const shape = shapeOf(style.path);
       if (!shape) continue;
       context.globalAlpha = style.alpha;
@@ -91,11 +115,24 @@ export function createLivePainter(svg, paths, labels) {
   return {
     element, overlay,
     get active() { return active; },
+    /** Marker layers from their rasters (true) or as whole paths on every frame (false); repaints at once.
+     *  A change drops the rasters: the next cached paint starts them afresh. */
+    get cached() { return cached; },
+    set cached(value) {
+      if (cached !== !!value) rasters.clear();
+      cached = !!value;
+      paint();
+    },
+    /** How many marker raster updates of this drag repainted the whole layer, the moved markers, nothing. */
+    get updates() { return { ...updates }; },
+    /** Layer `path` now has path data `d`: markers of `radius`, `shape` at `centers` (CSS px, flat x, y). */
+    markers(path, d, centers, radius, shape) { markerLayers.set(path, { d, centers, radius, shape }); },
     /** A drag starts moving: paint on the canvas from now on, hide the SVG's path layers. */
     begin() {
       if (active) return;
       active = true;
       styles = styles ?? paths.map(layerStyle);
+      Object.assign(updates, { whole: 0, moved: 0, same: 0 });
       place();
       overlay.append(labels);
       element.style.display = overlay.style.display = "block";
@@ -115,6 +152,7 @@ export function createLivePainter(svg, paths, labels) {
       element.style.display = overlay.style.display = "none";
       context.clearRect(0, 0, element.width, element.height);
       cache.clear();
+      rasters.clear();
     },
   };
 }

@@ -145,6 +145,7 @@ function render({ model, el }) {
   });
   on("msg:custom", (msg) => { for (const handle of messageHandlers) handle(msg); });
   instrument(root, model, canvas.svg, vp, pointAt, count, messageHandlers, () => geometry);
+  root.__splinecraft.live = canvas.live; // the drag's canvas painter (tests compare its two ways of painting)
 
   sync();
   resize();

@@ -8,6 +8,9 @@ simulated page must hold exactly those bytes.
 """
 from __future__ import annotations
 
+import shutil
+import subprocess
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -15,6 +18,7 @@ from hypothesis import strategies as st
 from ipywidgets.widgets.widget import _put_buffers
 
 from splinecraft.widgets import SplineEditor
+from splinecraft.widgets._assets import static_dir
 
 SETTINGS = settings(max_examples=25, deadline=None)
 
@@ -156,3 +160,56 @@ def test_rejected_move_resyncs_whole_points():
     assert editor.status_level == "error"
     np.testing.assert_array_equal(page.points(), np.asarray(editor.points))
     assert (page.geometry["bezier"], page.geometry["knots"]) == engine_bytes(editor)
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
+def test_marker_tiles_in_node(tmp_path):
+    """The marker raster's bookkeeping (js/marker_cache.js): which markers moved, which tiles a marker's ink
+    meets, and which markers each tile must repaint -- against brute force over every pixel's tile."""
+    base = static_dir().as_uri()
+    script = tmp_path / "check.mjs"
+    script.write_text(f"""
+import assert from "node:assert/strict";
+import {{ TILE, MAX_MOVED, movedMarkers, tileGrid, markersByTile }} from "{base}/marker_cache.js";
+const painted = [10, 10, 70, 10, NaN, NaN, 130, 140];
+assert.deepEqual(movedMarkers(painted, [10, 10, 71, 10, NaN, NaN, 130, 140]), [1]);   // NaN stays NaN: not moved
+assert.deepEqual(movedMarkers(painted, painted.slice()), []);
+assert.equal(movedMarkers(painted, painted.slice(0, 6)), null);                      // count changed: repaint all
+assert.equal(movedMarkers(null, painted), null);
+const many = Array.from({{ length: 2 * (MAX_MOVED + 1) }}, (_, i) => i);
+assert.equal(movedMarkers(many, many.map((v) => v + 0.5)), null);                    // too many moved
+// tiles of a 300 x 200 device-px raster at ratio 2 (150 x 100 CSS px), ink reaching 4 CSS px
+const ratio = 2, reach = 4, grid = tileGrid(300, 200, ratio, reach);
+assert.deepEqual([grid.columns, grid.rows], [Math.ceil(300 / TILE), Math.ceil(200 / TILE)]);
+const tiles = (x, y) => {{ const out = []; grid.tilesOf(x, y, (k) => out.push(k)); return out.sort((a, b) => a - b); }};
+// brute force: the tiles holding a device pixel within the ink's box (1 px of anti-aliasing around it)
+const brute = (x, y) => {{
+  const keys = new Set();
+  for (let py = 0; py < 200; py++) for (let px = 0; px < 300; px++) {{
+    if (px + 1 > (x - reach) * ratio - 1 && px < (x + reach) * ratio + 1 && py + 1 > (y - reach) * ratio - 1 && py < (y + reach) * ratio + 1)
+      keys.add(Math.floor(py / TILE) * grid.columns + Math.floor(px / TILE));
+  }}
+  return [...keys].sort((a, b) => a - b);
+}};
+for (const [x, y] of [[5, 5], [31.5, 10], [32.2, 33], [149, 99], [0, 0], [-3, 50], [64, 64]]) {{
+  const found = tiles(x, y), needed = brute(x, y);
+  assert.ok(needed.every((k) => found.includes(k)), `${{x}},${{y}}: ${{found}} misses ${{needed}}`);
+  assert.ok(found.length <= needed.length + 4, `${{x}},${{y}}: ${{found}} vs ${{needed}}`);
+}}
+assert.deepEqual(tiles(NaN, 5), []);
+assert.deepEqual(tiles(500, 500), []);                                               // off the raster
+// markers by tile: each tile lists (in index order) exactly the markers whose ink meets it
+const centers = [5, 5, 31, 30, 33, 34, 100, 60, NaN, NaN, 80, 20];
+const all = markersByTile(grid, centers);
+for (const [key, list] of all) {{
+  const expected = [];
+  for (let i = 0; 2 * i < centers.length; i++) if (tiles(centers[2 * i], centers[2 * i + 1]).includes(key)) expected.push(centers[2 * i], centers[2 * i + 1]);
+  assert.deepEqual(list, expected);
+}}
+const some = markersByTile(grid, centers, new Set([tiles(31, 30)[0]]));
+assert.deepEqual([...some.keys()], [tiles(31, 30)[0]]);
+assert.deepEqual(some.get(tiles(31, 30)[0]), all.get(tiles(31, 30)[0]));
+console.log("ok");
+""", encoding="utf-8")
+    run = subprocess.run(["node", str(script)], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr

@@ -84,3 +84,52 @@ def test_drag_paints_live_and_every_view_holds_the_kernel_curve(lab):
     drawn = first.evaluate("(el, p) => el.__splinecraft.screenOf(p[0], p[1])", moved)
     assert drawn == pytest.approx(first.evaluate("el => el.__splinecraft.screenPoint(150)"))
     assert second.evaluate("(el) => el.__splinecraft.pagePoint(150)") == pytest.approx(moved)
+
+
+LIVE_PIXELS = """(el) => {
+  const live = el.__splinecraft.live, canvas = el.querySelector('[data-testid=live-canvas]');
+  const pixels = () => canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
+  const updates = live.updates;
+  live.cached = true;  // paint now, from the marker rasters as the drag has kept them
+  const kept = pixels();
+  live.cached = false;  // every layer as one whole path
+  const whole = pixels();
+  live.cached = true;  // rasters painted afresh, every tile
+  const fresh = pixels();
+  let keptVsFresh = 0, differing = 0, large = 0, inked = 0, largest = 0;
+  for (let i = 0; i < whole.length; i++) {
+    if (kept[i] !== fresh[i]) keptVsFresh++;
+    const d = Math.abs(whole[i] - kept[i]);
+    if (d) differing++;
+    if (d > 96) large++;
+    largest = Math.max(largest, d);
+    if (i % 4 === 3 && whole[i]) inked++;
+  }
+  return { updates, keptVsFresh, differing, large, largest, inked };
+}"""
+
+
+def test_marker_rasters_repaint_only_what_moved_and_look_like_whole_paths(lab):
+    """Through a drag the point and knot layers keep their rasters and repaint only the tiles where markers
+    moved: the raster is then exactly a fresh one, and the canvas looks like the whole paths' canvas (edge
+    pixels differ by the anti-aliasing of smaller paths, no marker is missing or left behind)."""
+    page = lab.open_notebook([SPIRAL_CELL])
+    root = page.wait_for_selector(EDITORS, timeout=60_000)
+    root.scroll_into_view_if_needed()
+    wait_layout_settled(page, root)
+    x, y = root.evaluate("el => el.__splinecraft.screenPoint(150)")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(1, 13):  # steps of 20 px: the point leaves its tiles (64 device px) now and then
+        page.mouse.move(x + 20.0 * (k % 6), y + (5.0 if k % 2 else -5.0) + 4.0 * k)
+        page.wait_for_timeout(30)
+    page.wait_for_function(LIVE, arg=root, timeout=20_000)
+    assert_views_hold_kernel_geometry(lab, (root,))
+    page.wait_for_timeout(100)  # the last answer's frame is painted
+    seen = root.evaluate(LIVE_PIXELS)
+    page.mouse.up()
+    print(seen)
+    assert seen["updates"]["whole"] >= 2 and seen["updates"]["moved"] >= 4, seen["updates"]
+    assert seen["keptVsFresh"] == 0, seen
+    assert seen["inked"] > 5000
+    assert seen["large"] == 0 and seen["differing"] < 0.25 * 4 * seen["inked"], seen

@@ -10,6 +10,7 @@ import splinecraft as sc
 from splinecraft import datasets
 from splinecraft.outline import Contour, Outline, as_outline, from_bezier, from_knots
 from splinecraft.outline.bezier import contour_from_bezier
+from splinecraft.outline.transforms import affine_parts, reflection, rotation, scaling, shearing, translation
 
 
 @pytest.fixture(scope="module")
@@ -165,6 +166,84 @@ def test_transform_of_one_contour_leaves_the_others(traced_d):
         center - np.array([[math.cos(math.radians(30)), -math.sin(math.radians(30))],
                            [math.sin(math.radians(30)), math.cos(math.radians(30))]]) @ center).bezier()
     assert np.abs(turned.contours[1].bezier() - expected).max() < 1e-9
+
+
+def _run_knots(corners):
+    """Piece -> the knots of its run between consecutive corners, both corners included (a loop without corners:
+    every knot)."""
+    n, index = len(corners), np.flatnonzero(corners)
+    if index.size == 0:
+        return {p: tuple(range(n)) for p in range(n)}
+    runs = {}
+    for j, start in enumerate(index):
+        length = (index[(j + 1) % index.size] - start) % n or n
+        knots = tuple(int(k) for k in (start + np.arange(length + 1)) % n)
+        runs.update({p: knots for p in knots[:-1]})
+    return runs
+
+
+def _with_some_handles(contour, bits):
+    """The contour with the current curve's handles given to the corners picked by ``bits``."""
+    b, n = contour.bezier(), len(contour)
+    picked = contour.corners & np.array([(bits >> i) & 1 for i in range(n)], bool)
+    return contour.replace(handles_out=np.where(picked[:, None], b[:, 1] - b[:, 0], np.nan),
+                           handles_in=np.where(picked[:, None], np.roll(b[:, 2] - b[:, 3], 1, axis=0), np.nan))
+
+
+PARTIAL_MOVES = {  # name -> (the Outline method on the selection, the same map as a matrix about the pivot c)
+    "translate": (lambda o, pairs, a: o.translate(20 * a, -12 * a, knots=pairs), lambda a, c: translation(20 * a, -12 * a)),
+    "rotate": (lambda o, pairs, a: o.rotate(170 * a, knots=pairs), lambda a, c: rotation(170 * a, c)),
+    "scale": (lambda o, pairs, a: o.scale(0.3 + 2 * a, knots=pairs), lambda a, c: scaling(0.3 + 2 * a, None, c)),
+    "scale per axis": (lambda o, pairs, a: o.scale(0.4 + a, 1.6 - a, knots=pairs),
+                       lambda a, c: scaling(0.4 + a, 1.6 - a, c)),
+    "shear": (lambda o, pairs, a: o.shear(a - 0.5, knots=pairs), lambda a, c: shearing(a - 0.5, 0.0, c)),
+    "mirror": (lambda o, pairs, a: o.reflect(180 * a, knots=pairs), lambda a, c: reflection(180 * a, c)),
+}
+
+
+@settings(max_examples=60, deadline=None)
+@given(contours, st.integers(0, 511), st.integers(0, 511), st.integers(0, 8), st.sampled_from(sorted(PARTIAL_MOVES)),
+       st.floats(0.05, 0.95))
+def test_a_transform_of_some_knots_is_exact_and_keeps_every_joint(contour, handle_bits, chosen_bits, piece, move,
+                                                                  amount):
+    """Moving, rotating, scaling, shearing or mirroring some knots of a contour (the run of one piece and some
+    other knots): the selected knots (and the handles of selected corners) land exactly where the affine map
+    sends them, the others stay, smooth knots stay GC2 joints and corners corners; a run between corners whose
+    knots are all selected becomes exactly the affine image of the old run, a run without a selected knot is
+    untouched."""
+    contour = _with_some_handles(contour, handle_bits)
+    n = len(contour)
+    selected = np.array([(chosen_bits >> i) & 1 for i in range(n)], bool)
+    run = list(_run_knots(contour.corners)[piece % n])
+    selected[run] = True
+    if selected.all():  # keep one knot out (outside the run, when the run is not the whole loop)
+        selected[min(set(range(n)) - set(run), default=0)] = False
+    pairs = [(0, int(i)) for i in np.flatnonzero(selected)]
+    outline = Outline([contour])
+    method, matrix = PARTIAL_MOVES[move]
+    linear, offset = affine_parts(matrix(amount, outline.selection_center(knots=pairs)))
+    edited = method(outline, pairs, amount).contours[0]
+    scale = max(1.0, np.abs(contour.bezier()).max())
+    assert np.abs(edited.points[selected] - (contour.points[selected] @ linear.T + offset)).max() <= 1e-12 * scale
+    assert np.array_equal(edited.points[~selected], contour.points[~selected])
+    assert np.array_equal(edited.corners, contour.corners)
+    bezier, before = edited.bezier(), contour.bezier()
+    for i in range(n):
+        if not contour.corners[i]:
+            gc2, c1 = _gc2_residual(bezier, edited.steps, edited.interval_weights, edited.point_tension, i)
+            assert np.abs(c1).max() < 1e-8 * scale and np.abs(gc2).max() < 1e-8 * scale
+            continue
+        for side, handle in (("out", bezier[i, 1] - bezier[i, 0]), ("in", bezier[i - 1, 2] - bezier[i - 1, 3])):
+            given_handle = getattr(contour, f"handles_{side}")[i]
+            if not np.isnan(given_handle).any():
+                expected = given_handle @ linear.T if selected[i] else given_handle
+                assert np.abs(handle - expected).max() <= 1e-9 * scale
+    for piece, knots in _run_knots(contour.corners).items():
+        knots = list(knots)
+        if selected[knots].all():
+            assert np.abs(bezier[piece] - (before[piece] @ linear.T + offset)).max() <= 1e-9 * scale
+        elif not selected[knots].any():
+            assert np.array_equal(bezier[piece], before[piece])
 
 
 @pytest.mark.parametrize("matrix, message", [
@@ -342,12 +421,7 @@ def test_a_corner_handle_puts_its_control_point_exactly_there(contour, knot, sid
     bezier, before = edited.bezier(), contour.bezier()
     piece, node = (knot, 1) if side == "out" else ((knot - 1) % n, 2)
     assert np.allclose(bezier[piece, node], target, rtol=0, atol=1e-9 * max(1.0, np.abs(target).max()))
-    corners = np.flatnonzero(contour.corners)
-    runs = {}  # piece -> the corner its run starts at
-    for j, start in enumerate(corners):
-        end = corners[(j + 1) % corners.size]
-        for p in (start + np.arange((end - start) % n or n)) % n:
-            runs[int(p)] = int(start)
+    runs = _run_knots(contour.corners)
     touched = {runs[knot], runs[(knot - 1) % n]} if side == "in" else {runs[knot]}
     for p in range(n):
         if runs[p] not in touched:

@@ -292,3 +292,29 @@ def test_a_refused_move_in_a_gesture_publishes_the_last_good_one_and_ends_it_on_
     page(editor, type=kind, **{**good, **bad}, seq=3, gesture=3, final=True)
     assert editor.outline is moved and editor._gesture is None and editor.can_undo
     assert editor.undo() and editor.outline is start
+
+
+def test_a_transform_gesture_of_one_run_between_corners_maps_it_exactly(editor):
+    """The page's handles scale (per axis) and shear a selection that is one run of the outer contour between
+    two corners: that run's pieces become the affine image of the old ones, the selected knots land where the
+    matrix sends them, the other knots and the hole stay."""
+    before = editor.outline
+    start = before.contours[0]
+    corners = np.flatnonzero(start.corners)
+    n = len(start)
+    lengths = (np.roll(corners, -1) - corners) % n
+    first = int(corners[np.argmax(lengths)])
+    run = (first + np.arange(int(lengths.max()) + 1)) % n
+    assert run.size >= 3  # the longest run of the traced D has interior smooth knots
+    editor.selection = [[0, int(i)] for i in run]
+    a, b, c, d, e, f = 1.3, 0.1, -0.25, 0.8, 12.0, -7.0  # x' = a x + c y + e, y' = b x + d y + f
+    page(editor, type="transform", matrix=[a, b, c, d, e, f], seq=1, gesture=2, final=True)
+    linear, offset = np.array([[a, c], [b, d]]), np.array([e, f])
+    edited = editor.outline.contours[0]
+    assert np.allclose(edited.points[run], start.points[run] @ linear.T + offset, rtol=0, atol=1e-12 * 400)
+    rest = np.setdiff1d(np.arange(n), run)
+    assert np.array_equal(edited.points[rest], start.points[rest])
+    pieces = run[:-1]
+    assert np.abs(edited.bezier()[pieces] - (start.bezier()[pieces] @ linear.T + offset)).max() < 1e-9
+    assert editor.outline.contours[1] is before.contours[1]  # the hole has no selected knot
+    assert editor.undo() and editor.outline is before

@@ -13,7 +13,8 @@ Without corners the loop is one periodic interpolant (§2.4 Type 3).
 The parameter steps ``h_i`` (the knot spacing of §3) are stored per interval, so that an affine map of the
 knots and handles maps the curve exactly (the tangent system depends on ``h``, ``v``, ``omega`` only and is
 linear in the points; thesis section 3.3, "transform only the control points"). Edits that move some knots
-rescale the steps of the changed intervals with their chord lengths (chord-length knots, §3).
+rescale the steps of the changed intervals with their chord lengths (chord-length knots, §3), except that an
+affine map of all the knots of a run between two corners keeps that run's steps, so the run maps exactly.
 
 A :class:`Contour` is immutable and always valid: every constructor and edit rebuilds the curve with the
 engine and raises ``ValueError`` (leaving the original untouched) when the engine refuses it.
@@ -186,8 +187,12 @@ class Contour:
     def transformed(self, linear, offset, knots=None) -> "Contour":
         """Affine image ``x -> linear @ x + offset`` of the knots ``knots`` (default: all) and their handles.
 
-        For the whole contour the steps are kept, so the new curve is exactly the affine image of the old
-        one (thesis section 3.3). For a subset, the steps of intervals whose chord changed follow the chord.
+        The selected knots go exactly where the map sends them, the others stay, and every knot keeps its
+        class (smooth knots stay GC² joints, corners stay corners). The curve of a run between two corners
+        whose knots are all selected (the whole contour, when it is all selected) keeps its steps and is
+        therefore exactly the affine image of the old one: its tangent system depends on ``h``, ``v`` and
+        ``omega`` only and is linear in the points and handles (thesis section 3.3). Elsewhere the steps of
+        intervals whose chord changed follow the chord (§3).
         """
         linear = np.asarray(linear, float)
         offset = np.asarray(offset, float)
@@ -198,8 +203,11 @@ class Contour:
             data[name][selected] = data[name][selected] @ linear.T
         if selected.all():
             return self.replace(**data)
-        data["steps"] = _rescaled_steps(self.points, data["points"], self.steps)
-        return self.replace(changed_knots=np.flatnonzero(selected), **data)
+        steps = _rescaled_steps(self.points, data["points"], self.steps)
+        mapped = _selected_runs(self.corners, selected)
+        steps[mapped] = self.steps[mapped]
+        return self.replace(changed_knots=np.flatnonzero(selected), steps=steps,
+                            **{name: data[name] for name in ("points", "handles_in", "handles_out")})
 
     def moved(self, knots, positions) -> "Contour":
         """Knots ``knots`` moved to ``positions`` (their handles move with them)."""
@@ -377,6 +385,18 @@ def _knot_mask(knots, n) -> np.ndarray:
     else:
         mask[_indices(knots, n)] = True
     return mask
+
+
+def _selected_runs(corners, selected) -> np.ndarray:
+    """Mask of the intervals whose run between consecutive corners has all its knots (both corners too)
+    selected; without corners the one run is the whole loop."""
+    count = int(corners.sum())
+    if count == 0:
+        return np.full(corners.size, bool(selected.all()))
+    run = (np.cumsum(corners) - 1) % count  # interval i lies in the run of the last corner <= i (cyclically)
+    whole = np.ones(count, dtype=bool)
+    np.logical_and.at(whole, run, selected & np.roll(selected, -1))
+    return whole[run]
 
 
 def _rescaled_steps(old_points, new_points, steps):

@@ -252,8 +252,10 @@ class Outline:
 
     def transform(self, matrix, *, contours=None, knots=None) -> "Outline":
         """Affine map (2x3 or 3x3 matrix) of the selected knots and their handles (the whole shape by
-        default). Whole contours map exactly (the new curve is the affine image of the old one). Singular or
-        non-finite matrices raise ``ValueError``."""
+        default). The selected knots land exactly where the map sends them and keep their class (smooth or
+        corner); whole contours, and runs between two corners whose knots are all selected, map exactly (the
+        new curve is the affine image of the old one; :meth:`Contour.transformed`). Singular or non-finite
+        matrices raise ``ValueError``."""
         linear, offset = affine_parts(matrix)
         selected = self._selection(contours, knots)
         return self._replace({k: self.contours[k].transformed(linear, offset, None if index is None else sorted(index))

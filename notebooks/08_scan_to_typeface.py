@@ -17,8 +17,8 @@
 # # 08 · From a scan to a typeface
 #
 # **What you should see.** The thesis's word 'Ali' and its letter D are traced from bitmaps into smooth
-# outlines, then the D is edited like a designer would: one knot moved, one corner turned smooth, the whole
-# letter slanted. At the end the glyphs become a small font (UFO, OpenType/CFF and TrueType files), and a line
+# outlines, then the D is edited like a designer would: one knot moved, one corner turned smooth, the handle of
+# another corner pulled, the whole letter slanted. At the end the glyphs become a small font (UFO, OpenType/CFF and TrueType files), and a line
 # of text is set in it.
 #
 # The loop is the one of the thesis's conclusion (section 5.1): capture an object's outline as splines, "then
@@ -61,8 +61,9 @@ print("max deviation from the bitmap:", round(d_outline.max_deviation(), 3), "px
 # %% [markdown]
 # ## 2 · The editor
 #
-# Drag a knot; `C` toggles corner / smooth; double-click the curve to insert a knot, Delete removes one; click
-# the curve to select a contour, or drag a box; the handles of the selection's box rotate, scale and shear it;
+# Drag a knot; `C` toggles corner / smooth; a selected corner shows its two handles, drag one to reshape the
+# curve next to the corner; double-click the curve to insert a knot, Delete removes one; click the curve to
+# select a contour, or drag a box; the handles of the selection's box rotate, scale and shear it;
 # Ctrl+Z undoes. Tick **deviation** to colour every piece by its distance from the scan (the status line gives
 # the maximum). The same edits are methods of the editor, used below.
 
@@ -71,11 +72,13 @@ editor = sc.OutlineEditor(d_trace, width=560, height=460)
 display(editor)
 
 # %% [markdown]
-# ## 3 · Three edits from code
+# ## 3 · Four edits from code
 #
 # * move the knot of the outer contour that lies farthest right (the bowl's rightmost point) 10 px further
 #   right;
 # * turn the corner of the top serif (the top-left corner of the outer contour) into a smooth knot;
+# * pull the outgoing handle of the bottom-left corner 8 px to the left: the Bézier control point next to the
+#   corner goes exactly there, and only the curve between this corner and the next one changes;
 # * slant the whole letter by 12°, an italic: a shear of the knots and handles, which shears the curve
 #   exactly.
 
@@ -87,6 +90,12 @@ editor.move_knot(0, right, outer.points[right] + [10.0, 0.0])
 corner_knots = np.flatnonzero(editor.outline.contours[0].corners)
 top_left = int(corner_knots[np.argmin(editor.outline.contours[0].points[corner_knots].sum(axis=1))])
 editor.set_corner(0, top_left, False)
+
+corner_knots = np.flatnonzero(editor.outline.contours[0].corners)
+corner_points = editor.outline.contours[0].points[corner_knots]
+bottom_left = int(corner_knots[np.argmax(corner_points[:, 1] - corner_points[:, 0])])  # y points down
+handle_point = editor.outline.contours[0].bezier()[bottom_left, 1] + [-8.0, 0.0]
+editor.move_handle(0, bottom_left, "out", handle_point)
 
 before_slant = editor.outline
 editor.selection = []          # nothing selected: the transform acts on the whole shape
@@ -138,8 +147,9 @@ from fontTools.ttLib import TTFont
 for trace in (ali_trace, d_trace):
     outline = sc.outline.as_outline(trace)
     assert max(np.abs(a - b).max() for a, b in zip(outline.bezier(), trace.bezier())) < 1e-9
-# one knot moved, one corner fewer, the slant is an exact shear of the curve before it
+# one knot moved, one corner fewer, the handle's control point where it was put, the slant an exact shear
 assert int(editor.outline.contours[0].corners.sum()) == int(d_outline.contours[0].corners.sum()) - 1
+assert np.abs(before_slant.contours[0].bezier()[bottom_left, 1] - handle_point).max() < 1e-9
 center = before_slant.selection_center()
 shear = -math.tan(math.radians(12))
 for old, new in zip(before_slant.bezier(), editor.outline.bezier()):

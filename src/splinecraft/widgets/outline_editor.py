@@ -51,7 +51,8 @@ class OutlineEditor(OutlineGestures, WidgetBase):
     Page
     ----
     Drag a knot (or the selected knots); click a knot to select it (Shift adds), click the curve to select
-    its contour, drag on the background for a box selection; double-click the curve to insert a knot; ``C``
+    its contour, drag on the background for a box selection; a selected corner shows its two handles (the
+    Bézier control points next to it), and dragging one puts that control point under the pointer; double-click the curve to insert a knot; ``C``
     or the button toggles corner / smooth; Delete removes the selected knots; arrow keys move the selection
     (Shift: 10 px); the handles of the selection's box translate, rotate (round handle), scale (corners,
     Shift: per axis) and shear (edge handles); the mirror buttons reflect the selection (or the whole shape)

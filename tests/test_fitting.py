@@ -463,10 +463,8 @@ def test_lsq_normal_equations_match_a_dense_least_squares_reference(m, seed):
     weights = rng.uniform(0.1, 1.0, u.shape[0])
     targets = rng.normal(size=(u.shape[0], 2))
     full = bspline.periodic_knot_vector(tau, period)
-    i = bspline.interval_index(full, u)
-    basis = bspline.cubic_basis(full, i, u)
     regularization = 1e-8
-    solved = bspline.solve_normal(bspline.folded_columns(i, m), basis, weights, targets, m, regularization)
+    solved = bspline.fit_coefficients(full, u, weights, targets, m, regularization)
     # reference: periodic collocation matrix from scipy (coefficient k of full index k + 3 wraps to k mod m)
     collocation = np.zeros((u.shape[0], m))
     for k in range(full.shape[0] - 4):

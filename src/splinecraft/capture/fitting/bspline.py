@@ -1,7 +1,7 @@
 """Periodic cubic B-spline numerics of the ``"lsq"`` fit (docs/capture.md §12, "The lsq method").
 
 Knot vectors of a periodic cubic spline with multiple knots, the four non-zero basis functions at many
-parameters at once (Cox-de Boor, vectorized), the banded cyclic normal equations of a weighted least-squares
+parameters at once (Cox-de Boor, compiled: :mod:`._kernels`), the banded cyclic normal equations of a weighted least-squares
 fit (O(m) for any outline length) and the exact Bézier pieces of the spline on its knot intervals.
 """
 from __future__ import annotations
@@ -9,8 +9,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import solveh_banded
 
-__all__ = ["periodic_knot_vector", "interval_index", "cubic_basis", "folded_columns", "solve_normal",
-           "bezier_of_intervals"]
+from . import _kernels
+
+__all__ = ["periodic_knot_vector", "interval_index", "cubic_basis", "fit_coefficients", "bezier_of_intervals"]
 
 
 # Bézier control points from the values at theta = 0, 1/3, 2/3, 1 (inverse cubic Bernstein matrix).
@@ -39,60 +40,26 @@ def interval_index(full: np.ndarray, u: np.ndarray, side: str = "right") -> np.n
 
 def cubic_basis(full: np.ndarray, i: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The four non-zero cubic B-splines ``N_{i-3} .. N_i`` at ``u`` (in interval ``i`` of ``full``), an
-    ``(n, 4)`` array (Cox-de Boor, vectorized)."""
-    n = u.shape[0]
-    left = np.empty((n, 4))
-    right = np.empty((n, 4))
-    for j in range(1, 4):
-        left[:, j] = u - full[i + 1 - j]
-        right[:, j] = full[i + j] - u
-    basis = np.ones((n, 1))
-    for j in range(1, 4):
-        new = np.zeros((n, j + 1))
-        saved = np.zeros(n)
-        for r in range(j):
-            denom = right[:, r + 1] + left[:, j - r]
-            temp = basis[:, r] / np.where(denom > 0, denom, 1.0)
-            new[:, r] = saved + right[:, r + 1] * temp
-            saved = left[:, j - r] * temp
-        new[:, j] = saved
-        basis = new
-    return basis
+    ``(n, 4)`` array (Cox-de Boor, :func:`._kernels.basis_matrix`)."""
+    return _kernels.basis_matrix(_floats(full), np.ascontiguousarray(i, dtype=np.int64), _floats(u))
 
 
-def folded_columns(i: np.ndarray, m: int) -> np.ndarray:
-    """Coefficient indices (n, 4) of ``N_{i-3} .. N_i`` for a periodic spline with ``m`` coefficients
-    (``full`` index ``i`` belongs to ``tau_{i-3}``)."""
-    return (i[:, None] - 6 + np.arange(4)[None, :]) % m
+def _floats(values):
+    return np.ascontiguousarray(values, dtype=np.float64)
 
 
-def evaluate(coef: np.ndarray, cols: np.ndarray, basis: np.ndarray) -> np.ndarray:
-    """``sum_k basis[:, k] coef[cols[:, k]]`` (curve points or derivatives)."""
-    c = coef[cols]
-    return (basis[:, 0, None] * c[:, 0] + basis[:, 1, None] * c[:, 1] + basis[:, 2, None] * c[:, 2]
-            + basis[:, 3, None] * c[:, 3])
-
-
-def solve_normal(cols: np.ndarray, basis: np.ndarray, weights: np.ndarray, targets: np.ndarray, m: int,
-                 regularization: float = 1e-8) -> np.ndarray:
+def fit_coefficients(full: np.ndarray, u: np.ndarray, weights: np.ndarray, targets: np.ndarray, m: int,
+                     regularization: float = 1e-8) -> np.ndarray:
     """Weighted least squares ``min sum_j w_j |sum_k N_k(u_j) c_k - Q_j|^2`` for the ``m`` periodic
-    coefficients (two right-hand sides, x and y).
+    coefficients of the spline on the full knot vector ``full`` (two right-hand sides, x and y).
 
-    The normal matrix is cyclic with band 3. A tiny second-difference penalty keeps it positive definite
+    The normal matrix is cyclic with band 3 (assembled in one pass over the points,
+    :func:`._kernels.normal_equations`). A tiny second-difference penalty keeps it positive definite
     when a coefficient is barely constrained. Solved as a symmetric banded system (LAPACK ``pbsv``) after
     cutting the cyclic coupling with a Schur complement on the last three coefficients, so the cost is
     O(m) for any outline length.
     """
-    wb = basis * weights[:, None]
-    flat_cols = cols.reshape(-1)
-    rhs = np.empty((m, targets.shape[1]))
-    for d in range(targets.shape[1]):
-        rhs[:, d] = np.bincount(flat_cols, weights=(wb * targets[:, d, None]).reshape(-1), minlength=m)
-    # cyclic band: entry (a, b) with b = a + k (mod m), k = 0..3, stored as band[k, a]
-    band = np.zeros((4, m))
-    for r in range(4):
-        for s_ in range(r, 4):
-            band[s_ - r] += np.bincount(cols[:, r], weights=wb[:, r] * basis[:, s_], minlength=m)
+    band, rhs = _kernels.normal_equations(_floats(full), _floats(u), _floats(weights), _floats(targets), int(m))
     scale = float(band[0].max()) or 1.0
     pen = regularization * scale
     band[0] += 6 * pen  # + pen * D^T D, D the cyclic second difference (rows 1, -2, 1)
@@ -151,9 +118,7 @@ def _solve_cyclic_band(band, rhs):
 
 
 def bezier_of_intervals(coef: np.ndarray, full: np.ndarray, m: int, starts: np.ndarray, ends: np.ndarray):
-    """Exact Bézier control points (k, 4, 2) of the spline on its knot intervals ``[starts, ends]``."""
-    params = (starts[:, None] + (ends - starts)[:, None] * _THETA4[None, :]).reshape(-1)
-    i = np.repeat(interval_index(full, starts + 0.5 * (ends - starts)), 4)
-    basis = cubic_basis(full, i, params)
-    values = evaluate(coef, folded_columns(i, m), basis).reshape(-1, 4, 2)
+    """Exact Bézier control points (k, 4, 2) of the spline on its knot intervals ``[starts, ends]`` (from its
+    values at theta = 0, 1/3, 2/3, 1, :func:`._kernels.spline_values`)."""
+    values = _kernels.spline_values(_floats(coef), _floats(full), int(m), _floats(starts), _floats(ends), _THETA4)
     return np.einsum("ij,kjd->kid", _FROM_SAMPLES, values)

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _kernels
+
 __all__ = ["polyline_distance", "piece_deviation", "sample_bezier", "eval_bezier", "edge_table",
            "windowed_distance", "sorted_group_max", "group_max"]
 
@@ -121,21 +123,11 @@ def windowed_distance(points, centre, lo, hi, edges, window, wrap=0):
 
     Exact point-to-segment distances; the minimum over a subset of the edges, so never below the true
     closest-point distance to the polyline (an upper bound that is tight when the window holds the closest edge,
-    which the fit's parameterization ensures)."""
-    e = centre[:, None] + np.arange(-window, window + 1)[None, :]
-    if lo is not None:
-        np.clip(e, lo[:, None], hi[:, None], out=e)
-    if wrap:
-        e %= wrap
+    which the fit's parameterization ensures; one pass per point, :func:`._kernels.windowed_distance`)."""
+    centre = np.ascontiguousarray(centre, dtype=np.int64)
+    clip = lo is not None
+    lo = np.ascontiguousarray(lo if clip else centre, dtype=np.int64)
+    hi = np.ascontiguousarray(hi if clip else centre, dtype=np.int64)
     ax, ay, dx, dy, inverse = edges
-    px = points[:, 0, None] - ax.take(e)
-    py = points[:, 1, None] - ay.take(e)
-    ex, ey = dx.take(e), dy.take(e)
-    t = (px * ex + py * ey) * inverse.take(e)
-    np.clip(t, 0.0, 1.0, out=t)
-    px -= t * ex
-    py -= t * ey
-    px *= px
-    py *= py
-    px += py
-    return np.sqrt(px.min(axis=1))
+    return _kernels.windowed_distance(np.ascontiguousarray(points, dtype=np.float64), centre, lo, hi, ax, ay, dx, dy,
+                                      inverse, int(window), int(wrap), clip)

@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .bspline import bezier_of_intervals, cubic_basis, folded_columns, interval_index, periodic_knot_vector, \
-    solve_normal
+from ._kernels import hoschek_update
+from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import edge_table, eval_bezier, group_max, sorted_group_max, windowed_distance
 from .lsq_setup import CornerTips, RotatedContour, curvature_knots
 
@@ -157,14 +157,11 @@ class OutlineRegression:
         distinct = np.unique(np.append(knots, self.period))
         starts, ends = distinct[:-1], distinct[1:]
         pins = self._pins()
+        targets = self.contour.points if pins is None else np.vstack([self.contour.points, pins[1]])
+        all_weights = weights if pins is None else np.concatenate([weights, pins[2]])
         for step in range(hoschek_steps + 1):
             uu = u if pins is None else np.concatenate([u, pins[0]])
-            i = interval_index(knot_vector, uu)
-            basis = cubic_basis(knot_vector, i, uu)
-            coefficients = solve_normal(folded_columns(i, count), basis,
-                                        weights if pins is None else np.concatenate([weights, pins[2]]),
-                                        self.contour.points if pins is None else np.vstack([self.contour.points,
-                                                                                            pins[1]]), count)
+            coefficients = fit_coefficients(knot_vector, uu, all_weights, targets, count)
             if step == hoschek_steps:
                 break
             u = self._hoschek_step(u, bezier_of_intervals(coefficients, knot_vector, count, starts, ends), starts,
@@ -181,24 +178,8 @@ class OutlineRegression:
         are below ``hoschek_gate`` (projecting onto a bad curve scrambles the parameters)."""
         contour = self.contour
         n = contour.size
-        seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)
-        h = (ends - starts)[seg]
-        theta = (u - starts[seg]) / h
-        b0, b1, b2, b3 = (bez[seg, j] for j in range(4))
-        c1, c2, c3 = 3.0 * (b1 - b0), 3.0 * (b0 - 2.0 * b1 + b2), b3 - b0 + 3.0 * (b1 - b2)
-        th = theta[:, None]
-        r = b0 + th * (c1 + th * (c2 + th * c3)) - contour.points
-        d1 = (c1 + th * (2.0 * c2 + 3.0 * th * c3)) / h[:, None]
-        d2 = (2.0 * c2 + 6.0 * th * c3) / (h * h)[:, None]
-        speed2 = d1[:, 0] ** 2 + d1[:, 1] ** 2
-        den = speed2 + r[:, 0] * d2[:, 0] + r[:, 1] * d2[:, 1]
-        den = np.where(den > 0.1 * speed2, den, speed2)
-        du = -(r[:, 0] * d1[:, 0] + r[:, 1] * d1[:, 1]) / np.maximum(den, 1e-300)
-        np.clip(du, -2.0, 2.0, out=du)
-        res = np.hypot(r[:, 0], r[:, 1])
-        piece_of = contour.piece_of_point[:n]
-        piece_res = sorted_group_max(piece_of, res, contour.piece_count)
-        du[piece_res[piece_of] > self.hoschek_gate] = 0.0
+        du = hoschek_update(u, contour.points, np.ascontiguousarray(bez), starts, ends, contour.piece_of_point[:n],
+                            contour.piece_count, self.hoschek_gate)
         un = np.clip(u + du, self.parameter_low[:n], self.parameter_high[:n])
         un[self.fixed[:n]] = self.base_parameter[:n][self.fixed[:n]]
         return np.maximum.accumulate(un)

@@ -1,0 +1,229 @@
+"""The compiled kernels of the fit (capture/fitting/_kernels.py) against independent references.
+
+Two references per kernel: scipy's B-spline basis (``BSpline.basis_element``) or a brute-force loop for the
+values themselves, and the vectorized numpy formulation written out here, which the kernel must match bit
+for bit (it performs the same floating-point operations in the same order, so the fit's results do not
+depend on which of the two ran).
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+from scipy.interpolate import BSpline
+
+from splinecraft.capture.fitting import _kernels, bspline, geometry
+
+
+def _knots(m, seed, multiple=False):
+    """A random periodic knot vector of ``m`` knots in [0, 100) (optionally with triple knots), sorted
+    parameters in the period, weights and targets."""
+    rng = np.random.default_rng(seed)
+    period = 100.0
+    tau = np.sort(rng.uniform(0, period, m))
+    tau[0] = 0.0
+    if np.diff(tau).min() < 1e-3:
+        tau = np.linspace(0, period, m, endpoint=False)
+    if multiple and m >= 7:
+        tau[1:3] = tau[0]  # a corner: knot 0 three times
+        tau = np.sort(tau)
+    full = bspline.periodic_knot_vector(tau, period)
+    u = np.sort(rng.uniform(0, period, 10 * m))
+    return rng, period, full, u
+
+
+def _numpy_basis(full, i, u):
+    """Cox-de Boor, vectorized over the points (the formulation the kernel replaced)."""
+    n = u.shape[0]
+    left, right = np.empty((n, 4)), np.empty((n, 4))
+    for j in range(1, 4):
+        left[:, j] = u - full[i + 1 - j]
+        right[:, j] = full[i + j] - u
+    basis = np.ones((n, 1))
+    for j in range(1, 4):
+        new = np.zeros((n, j + 1))
+        saved = np.zeros(n)
+        for r in range(j):
+            denom = right[:, r + 1] + left[:, j - r]
+            temp = basis[:, r] / np.where(denom > 0, denom, 1.0)
+            new[:, r] = saved + right[:, r + 1] * temp
+            saved = left[:, j - r] * temp
+        new[:, j] = saved
+        basis = new
+    return basis
+
+
+def _collocation(full, m, u):
+    """Periodic collocation matrix from scipy's basis elements (coefficient of full index k + 3 is k mod m)."""
+    matrix = np.zeros((u.shape[0], m))
+    for k in range(full.shape[0] - 4):
+        if full[k + 4] > full[k]:
+            matrix[:, (k - 3) % m] += np.nan_to_num(BSpline.basis_element(full[k:k + 5], extrapolate=False)(u))
+    return matrix
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(4, 40), st.integers(0, 10_000), st.booleans())
+def test_basis_matches_scipy_and_the_vectorized_recurrence(m, seed, multiple):
+    _, _, full, u = _knots(m, seed, multiple)
+    i = bspline.interval_index(full, u)
+    got = bspline.cubic_basis(full, i, u)
+    np.testing.assert_array_equal(got, _numpy_basis(full, i, u))
+    dense = np.zeros((u.shape[0], m))
+    np.add.at(dense, (np.arange(u.shape[0])[:, None], (i[:, None] - 6 + np.arange(4)) % m), got)
+    np.testing.assert_allclose(dense, _collocation(full, m, u), atol=1e-12)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(4, 40), st.integers(0, 10_000), st.booleans())
+def test_normal_equations_match_the_dense_collocation_and_the_bincount_sums(m, seed, multiple):
+    rng, _, full, u = _knots(m, seed, multiple)
+    weights = rng.uniform(0.1, 1.0, u.shape[0])
+    targets = rng.normal(size=(u.shape[0], 2))
+    band, rhs = _kernels.normal_equations(full, u, weights, targets, m)
+    # reference 1: the dense normal matrix A^T W A and A^T W Q from scipy's basis
+    matrix = _collocation(full, m, u)
+    normal = matrix.T @ (weights[:, None] * matrix)
+    np.testing.assert_allclose(rhs, matrix.T @ (weights[:, None] * targets), atol=1e-9)
+    rebuilt = np.zeros((m, m))
+    idx = np.arange(m)
+    rebuilt[idx, idx] += band[0]
+    for k in (1, 2, 3):
+        rebuilt[idx, (idx + k) % m] += band[k]
+        rebuilt[(idx + k) % m, idx] += band[k]
+    np.testing.assert_allclose(rebuilt, normal, atol=1e-9)
+    # reference 2: bincount sums of the vectorized basis, bit for bit
+    i = bspline.interval_index(full, u)
+    basis = _numpy_basis(full, i, u)
+    cols = (i[:, None] - 6 + np.arange(4)[None, :]) % m
+    wb = basis * weights[:, None]
+    expected_rhs = np.column_stack([np.bincount(cols.reshape(-1), weights=(wb * targets[:, d, None]).reshape(-1),
+                                                minlength=m) for d in range(2)])
+    expected_band = np.zeros((4, m))
+    for r in range(4):
+        for s in range(r, 4):
+            expected_band[s - r] += np.bincount(cols[:, r], weights=wb[:, r] * basis[:, s], minlength=m)
+    np.testing.assert_array_equal(rhs, expected_rhs)
+    np.testing.assert_array_equal(band, expected_band)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(4, 40), st.integers(0, 10_000), st.booleans())
+def test_spline_values_and_bezier_pieces_match_scipy(m, seed, multiple):
+    rng, period, full, _ = _knots(m, seed, multiple)
+    coef = rng.normal(size=(m, 2))
+    distinct = np.unique(np.append(full[3:-4], period))
+    starts, ends = distinct[:-1], distinct[1:]
+    theta = np.array([0.0, 0.25, 0.5, 1.0])
+    values = _kernels.spline_values(coef, full, m, starts, ends, theta)
+    params = starts[:, None] + (ends - starts)[:, None] * theta[None, :]
+    # inside each interval, scipy's basis at the interval's own parameters (ends taken from the left)
+    inner = np.clip(params, starts[:, None] + 1e-12 * period, ends[:, None] - 1e-12 * period)
+    reference = (_collocation(full, m, inner.reshape(-1)) @ coef).reshape(values.shape)
+    np.testing.assert_allclose(values, reference, atol=1e-8)
+    bez = bspline.bezier_of_intervals(coef, full, m, starts, ends)
+    t = 0.3
+    point = ((1 - t) ** 3 * bez[:, 0] + 3 * t * (1 - t) ** 2 * bez[:, 1] + 3 * t * t * (1 - t) * bez[:, 2]
+             + t ** 3 * bez[:, 3])
+    middle = starts + t * (ends - starts)
+    np.testing.assert_allclose(point, _collocation(full, m, middle) @ coef, atol=1e-8)
+
+
+def _numpy_hoschek(u, points, bez, starts, ends, piece_of, piece_count, gate):
+    """The vectorized Newton step of the foot-point equation (the formulation the kernel replaced)."""
+    seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)
+    h = (ends - starts)[seg]
+    theta = (u - starts[seg]) / h
+    b0, b1, b2, b3 = (bez[seg, j] for j in range(4))
+    c1, c2, c3 = 3.0 * (b1 - b0), 3.0 * (b0 - 2.0 * b1 + b2), b3 - b0 + 3.0 * (b1 - b2)
+    th = theta[:, None]
+    r = b0 + th * (c1 + th * (c2 + th * c3)) - points
+    d1 = (c1 + th * (2.0 * c2 + 3.0 * th * c3)) / h[:, None]
+    d2 = (2.0 * c2 + 6.0 * th * c3) / (h * h)[:, None]
+    speed2 = d1[:, 0] ** 2 + d1[:, 1] ** 2
+    den = speed2 + r[:, 0] * d2[:, 0] + r[:, 1] * d2[:, 1]
+    den = np.where(den > 0.1 * speed2, den, speed2)
+    du = -(r[:, 0] * d1[:, 0] + r[:, 1] * d1[:, 1]) / np.maximum(den, 1e-300)
+    np.clip(du, -2.0, 2.0, out=du)
+    res = np.hypot(r[:, 0], r[:, 1])
+    worst = np.full(piece_count, -np.inf)
+    np.maximum.at(worst, piece_of, res)
+    du[worst[piece_of] > gate] = 0.0
+    return du
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(2, 12), st.integers(0, 10_000), st.floats(0.2, 5.0))
+def test_hoschek_step_matches_the_vectorized_formulation(count, seed, gate):
+    rng = np.random.default_rng(seed)
+    bounds = np.concatenate([[0.0], np.cumsum(rng.uniform(1.0, 10.0, count))])
+    starts, ends = bounds[:-1], bounds[1:]
+    bez = np.cumsum(rng.normal(size=(count, 4, 2)), axis=1)
+    u = np.sort(rng.uniform(0, bounds[-1], 60))
+    points = rng.normal(size=(60, 2)) * 2
+    piece_of = np.sort(rng.integers(0, 3, 60))
+    got = _kernels.hoschek_update(u, points, bez, starts, ends, piece_of, 3, gate)
+    np.testing.assert_array_equal(got, _numpy_hoschek(u, points, bez, starts, ends, piece_of, 3, gate))
+
+
+def test_hoschek_step_lands_on_the_foot_point_of_a_straight_piece():
+    """On a straight, uniformly parameterized piece the Newton step is exact: S(u + du) is the foot point."""
+    bez = np.array([[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]]])
+    u = np.array([0.5, 1.0, 2.2])
+    points = np.array([[1.1, 0.3], [0.4, -0.2], [2.9, 0.1]])
+    du = _kernels.hoschek_update(u, points, bez, np.array([0.0]), np.array([3.0]), np.zeros(3, np.int64), 1, 10.0)
+    np.testing.assert_allclose(u + du, points[:, 0], atol=1e-12)
+
+
+def _numpy_windowed(points, centre, lo, hi, edges, window, wrap):
+    """Windowed point-to-segment distances, vectorized (the formulation the kernel replaced)."""
+    e = centre[:, None] + np.arange(-window, window + 1)[None, :]
+    if lo is not None:
+        np.clip(e, lo[:, None], hi[:, None], out=e)
+    if wrap:
+        e %= wrap
+    ax, ay, dx, dy, inverse = edges
+    px, py = points[:, 0, None] - ax[e], points[:, 1, None] - ay[e]
+    t = np.clip((px * dx[e] + py * dy[e]) * inverse[e], 0.0, 1.0)
+    px, py = px - t * dx[e], py - t * dy[e]
+    return np.sqrt((px * px + py * py).min(axis=1))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(5, 60), st.integers(0, 6), st.integers(0, 10_000), st.booleans())
+def test_windowed_distance_matches_the_vectorized_formulation(count, window, seed, clipped):
+    rng = np.random.default_rng(seed)
+    line = np.cumsum(rng.normal(size=(count, 2)), axis=0)
+    line[3] = line[2]  # a zero-length edge
+    closed = np.vstack([line, line[:1]])
+    points = rng.normal(size=(50, 2)) * 3 + line[rng.integers(0, count, 50)]
+    centre = rng.integers(0, count, 50)
+    lo = hi = None
+    if clipped:
+        lo = centre - rng.integers(0, 3, 50)
+        hi = centre + rng.integers(0, 3, 50)
+    edges = geometry.edge_table(closed)
+    got = geometry.windowed_distance(points, centre, lo, hi, edges, window, count)
+    np.testing.assert_array_equal(got, _numpy_windowed(points, centre, lo, hi, edges, window, count))
+
+
+def test_kernels_are_compiled_with_an_on_disk_cache():
+    """Every kernel is a numba dispatcher with ``cache=True`` (compiled once per machine, not per process)."""
+    for name in _kernels.__all__:
+        kernel = getattr(_kernels, name)
+        assert kernel.targetoptions.get("nogil") is True
+        assert kernel._cache.__class__.__name__ == "FunctionCache", name
+
+
+@pytest.mark.parametrize("size", [1, 3])
+def test_normal_equations_of_a_single_point_are_its_basis_products(size):
+    """One point: band[k, a] = N_a N_(a+k) w and rhs = N w Q (closed form)."""
+    full = bspline.periodic_knot_vector(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), 7.0)
+    u = np.full(size, 3.5)
+    band, rhs = _kernels.normal_equations(full, u, np.full(size, 2.0), np.tile([[1.0, -1.0]], (size, 1)), 7)
+    i = bspline.interval_index(full, u[:1])
+    basis = bspline.cubic_basis(full, i, u[:1])[0]
+    cols = (i[0] - 6 + np.arange(4)) % 7
+    np.testing.assert_allclose(basis, [1 / 48, 23 / 48, 23 / 48, 1 / 48])  # uniform cubic B-spline at 1/2
+    np.testing.assert_allclose(rhs[cols, 0], size * 2.0 * basis)
+    np.testing.assert_allclose(band[1, cols[:3]], size * 2.0 * basis[:3] * basis[1:])

@@ -207,6 +207,40 @@ def test_windowed_distance_matches_the_vectorized_formulation(count, window, see
     np.testing.assert_array_equal(got, _numpy_windowed(points, centre, lo, hi, edges, window, count))
 
 
+def _numpy_eval_bezier(bezier, piece, theta):
+    """Cubic Bernstein weights contracted with einsum (the formulation the kernel replaced)."""
+    s = 1.0 - theta
+    t2, s2 = theta * theta, s * s
+    weights = np.column_stack([s2 * s, 3.0 * theta * s2, 3.0 * t2 * s, t2 * theta])
+    return np.einsum("nj,njd->nd", weights, bezier[piece])
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(1, 12), st.integers(0, 10_000), st.floats(0.1, 3.0))
+def test_bezier_points_and_interval_samples_match_the_vectorized_formulation(count, seed, spacing):
+    rng = np.random.default_rng(seed)
+    bez = np.cumsum(rng.normal(size=(count, 4, 2)) * rng.uniform(0.1, 20.0), axis=1)
+    piece = rng.integers(0, count, 80)
+    theta = rng.uniform(0.0, 1.0, 80)
+    np.testing.assert_array_equal(geometry.eval_bezier(bez, piece, theta), _numpy_eval_bezier(bez, piece, theta))
+    # de Casteljau at theta = 0.5, independently
+    half = 0.5 * (bez[:, :-1] + bez[:, 1:])
+    half = 0.5 * (half[:, :-1] + half[:, 1:])
+    np.testing.assert_allclose(geometry.eval_bezier(bez, np.arange(count), np.full(count, 0.5)),
+                               0.5 * (half[:, 0] + half[:, 1]), atol=1e-9)
+    starts = np.concatenate([[0.0], np.cumsum(rng.uniform(0.5, 5.0, count - 1))])
+    ends = np.append(starts[1:], starts[-1] + 2.0)
+    points, params, interval = _kernels.interval_samples(bez, starts, ends, spacing)
+    lengths = np.hypot(*np.diff(bez, axis=1).transpose(2, 0, 1)).sum(axis=1)
+    counts = np.maximum(3, np.ceil(lengths / spacing).astype(np.int64))
+    iv = np.repeat(np.arange(count), counts)
+    first = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    fraction = (np.arange(iv.shape[0]) - first[iv]) / counts[iv]
+    np.testing.assert_array_equal(interval, iv)
+    np.testing.assert_array_equal(params, starts[iv] + fraction * (ends - starts)[iv])
+    np.testing.assert_array_equal(points, _numpy_eval_bezier(bez, iv, fraction))
+
+
 def test_kernels_are_compiled_with_an_on_disk_cache():
     """Every kernel is a numba dispatcher with ``cache=True`` (compiled once per machine, not per process)."""
     for name in _kernels.__all__:

@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["basis_matrix", "normal_equations", "spline_values", "hoschek_update", "windowed_distance"]
+__all__ = ["basis_matrix", "normal_equations", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
+           "interval_samples"]
 
 
 @njit(cache=True, nogil=True)
@@ -179,3 +180,50 @@ def windowed_distance(points, centre, lo, hi, ax, ay, dx, dy, inverse, window, w
                 best = squared
         out[j] = np.sqrt(best)
     return out
+
+
+@njit(cache=True, nogil=True)
+def _bezier_point(bez, k, theta, out, row):
+    """``out[row]`` = the cubic Bézier piece ``bez[k]`` at ``theta`` (Bernstein weights, summed in order)."""
+    s = 1.0 - theta
+    t2, s2 = theta * theta, s * s
+    w0, w1, w2, w3 = s2 * s, 3.0 * theta * s2, 3.0 * t2 * s, t2 * theta
+    for d in range(bez.shape[2]):
+        out[row, d] = w0 * bez[k, 0, d] + w1 * bez[k, 1, d] + w2 * bez[k, 2, d] + w3 * bez[k, 3, d]
+
+
+@njit(cache=True, nogil=True)
+def eval_bezier(bez, piece, theta):
+    """Points of the Bézier pieces ``bez[piece[j]]`` at ``theta[j]`` (:func:`~.geometry.eval_bezier`)."""
+    out = np.empty((theta.shape[0], bez.shape[2]))
+    for j in range(theta.shape[0]):
+        _bezier_point(bez, piece[j], theta[j], out, j)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def interval_samples(bez, starts, ends, spacing):
+    """Samples of every knot interval's Bézier about ``spacing`` apart by the length of its control polygon
+    (at least 3, the interval's end left to the next one): points, parameters and interval numbers
+    (:meth:`~.lsq_model.OutlineRegression.deviations`, docs/capture.md §12, "Stopping rule")."""
+    count = bez.shape[0]
+    counts = np.empty(count, np.int64)
+    for k in range(count):
+        length = 0.0
+        for q in range(3):
+            length += np.hypot(bez[k, q + 1, 0] - bez[k, q, 0], bez[k, q + 1, 1] - bez[k, q, 1])
+        counts[k] = max(3, np.int64(np.ceil(length / spacing)))
+    total = counts.sum()
+    points = np.empty((total, 2))
+    params = np.empty(total)
+    interval = np.empty(total, np.int64)
+    row = 0
+    for k in range(count):
+        width = ends[k] - starts[k]
+        for q in range(counts[k]):
+            theta = q / counts[k]
+            _bezier_point(bez, k, theta, points, row)
+            params[row] = starts[k] + theta * width
+            interval[row] = k
+            row += 1
+    return points, params, interval

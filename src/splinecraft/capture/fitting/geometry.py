@@ -97,15 +97,10 @@ def group_max(groups: np.ndarray, values: np.ndarray, count: int):
 
 
 def eval_bezier(bezier: np.ndarray, piece: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """Points of the Bézier pieces ``bezier[piece]`` at ``theta`` (vectorized, cubic Bernstein weights)."""
-    s = 1.0 - theta
-    t2, s2 = theta * theta, s * s
-    weights = np.empty((theta.shape[0], 4))
-    weights[:, 0] = s2 * s
-    weights[:, 1] = 3.0 * theta * s2
-    weights[:, 2] = 3.0 * t2 * s
-    weights[:, 3] = t2 * theta
-    return np.einsum("nj,njd->nd", weights, bezier[piece])
+    """Points of the Bézier pieces ``bezier[piece]`` at ``theta`` (cubic Bernstein weights, one pass,
+    :func:`._kernels.eval_bezier`)."""
+    return _kernels.eval_bezier(np.ascontiguousarray(bezier, dtype=np.float64),
+                                np.ascontiguousarray(piece, dtype=np.int64), np.ascontiguousarray(theta, dtype=np.float64))
 
 
 def edge_table(line: np.ndarray):

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import hoschek_update
+from ._kernels import hoschek_update, interval_samples
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import edge_table, eval_bezier, group_max, sorted_group_max, windowed_distance
 from .lsq_setup import CornerTips, RotatedContour, curvature_knots
@@ -282,12 +282,7 @@ class OutlineRegression:
     def _curve_samples(bez, starts, ends, spacing):
         """Samples of every knot interval's Bézier about ``spacing`` apart (by the control polygon, at least 3,
         the interval's end left to the next one): points, parameters and interval numbers."""
-        lengths = np.hypot(*np.diff(bez, axis=1).transpose(2, 0, 1)).sum(axis=1)
-        counts = np.maximum(3, np.ceil(lengths / spacing).astype(np.int64))
-        iv = np.repeat(np.arange(starts.shape[0]), counts)
-        first = np.concatenate([[0], np.cumsum(counts)[:-1]])
-        theta = (np.arange(iv.shape[0]) - first[iv]) / counts[iv]
-        return eval_bezier(bez, iv, theta), starts[iv] + theta * (ends - starts)[iv], iv
+        return interval_samples(np.ascontiguousarray(bez, dtype=np.float64), starts, ends, float(spacing))
 
     def _probes(self, dense):
         """Contour points (``dense``: and edge midpoints), in parameter order: points, parameters, pieces and

@@ -261,3 +261,56 @@ def test_normal_equations_of_a_single_point_are_its_basis_products(size):
     np.testing.assert_allclose(basis, [1 / 48, 23 / 48, 23 / 48, 1 / 48])  # uniform cubic B-spline at 1/2
     np.testing.assert_allclose(rhs[cols, 0], size * 2.0 * basis)
     np.testing.assert_allclose(band[1, cols[:3]], size * 2.0 * basis[:3] * basis[1:])
+
+
+# ------------------------------------------------------------------------------ iso-line distance (noise)
+def _random_smooth_image(seed, shape):
+    from scipy.ndimage import gaussian_filter
+
+    rng = np.random.default_rng(seed)
+    mask = gaussian_filter(rng.random(shape), 2.0) > 0.5
+    return gaussian_filter(np.pad(mask.astype(float), 4), 1.0)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10_000), st.integers(6, 40), st.integers(6, 40))
+def test_iso_segments_are_the_edges_of_find_contours(seed, rows, cols):
+    """Same segments, same direction, same vertex coordinates as the polylines of
+    ``skimage.measure.find_contours`` (low values fully connected), in the pixel frame."""
+    from skimage.measure import find_contours
+
+    from splinecraft.capture.fitting import _iso_kernels
+
+    image = _random_smooth_image(seed, (rows, cols))
+    segments, cells = _iso_kernels.iso_segments(image, 0.5, 4)
+    expected = set()
+    for line in find_contours(image, 0.5):
+        xy = np.column_stack([line[:, 1] - 4 + 0.5, line[:, 0] - 4 + 0.5])
+        expected.update(tuple(np.concatenate([a, b])) for a, b in zip(xy[:-1], xy[1:]))
+    assert set(map(tuple, segments)) == expected
+    # each segment lies in the unit cell it is filed under
+    row, col = np.divmod(cells, image.shape[1] - 1)
+    for s in (0, 2):
+        assert np.all((segments[:, s] + 4 - 0.5 >= col - 1e-12) & (segments[:, s] + 4 - 0.5 <= col + 1 + 1e-12))
+        assert np.all((segments[:, s + 1] + 4 - 0.5 >= row - 1e-12) & (segments[:, s + 1] + 4 - 0.5 <= row + 1 + 1e-12))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10_000), st.integers(6, 40), st.integers(6, 40))
+def test_nearest_segment_distance_is_the_brute_force_minimum(seed, rows, cols):
+    from splinecraft.capture.fitting import _iso_kernels
+
+    image = _random_smooth_image(seed, (rows, cols))
+    segments, cells = _iso_kernels.iso_segments(image, 0.5, 4)
+    rng = np.random.default_rng(seed + 1)
+    points = rng.uniform(-6, max(rows, cols) + 6, size=(60, 2))
+    got = _iso_kernels.nearest_segment_distance(points, segments, cells, image.shape[0], image.shape[1], 4)
+    if not segments.shape[0]:
+        assert np.isinf(got).all()
+        return
+    a, b = segments[:, :2], segments[:, 2:]
+    ab = b - a
+    ap = points[:, None, :] - a[None]
+    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
+    brute = np.hypot(*(ap - t[..., None] * ab).transpose(2, 0, 1)).min(axis=1)
+    np.testing.assert_allclose(got, brute, rtol=0, atol=1e-12)

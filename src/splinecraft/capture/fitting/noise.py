@@ -33,13 +33,15 @@ NOISE_SAMPLE = 20000
 def boundary_noise(mask, contours, corner_lists) -> float:
     """Noise amplitude (px) of the boundaries of a bitmap: the ``NOISE_QUANTILE``-th percentile of the
     distance from the crack-outline points to the 0.5 iso-line of the ink mask smoothed by a Gaussian of
-    ``NOISE_SIGMA`` px, over the contours of at least 64 points, without the points within 5 steps of a
+    ``NOISE_SIGMA`` px (exact point-to-segment distances to its marching-squares segments,
+    :mod:`._iso_kernels`), over the contours of at least 64 points, without the points within 5 steps of a
     corner (at most ``NOISE_SAMPLE`` = 20 000 of them, evenly spread). About 0.27 px for clean renderings
     (0.23-0.36 over glyphs of three fonts at 48-1200 px, upright
     and rotated, one outlier of 0.62 at 48 px), 0.55-1.1 px for scan-like ones (blur 1-2 px); 0 when no
     contour qualifies."""
     from scipy.ndimage import gaussian_filter
-    from skimage import measure
+
+    from ._iso_kernels import iso_segments, nearest_segment_distance
 
     chosen = [(np.asarray(contours[k], float), np.asarray(corner_lists[k], dtype=np.int64))
               for k in np.flatnonzero(np.fromiter(map(len, contours), np.int64, len(contours)) >= _MIN_POINTS)]
@@ -47,9 +49,8 @@ def boundary_noise(mask, contours, corner_lists) -> float:
         return 0.0
     pad = 4
     smooth = gaussian_filter(np.pad(np.asarray(mask, float), pad), NOISE_SIGMA)
-    lines = [np.column_stack([c[:, 1] - pad + 0.5, c[:, 0] - pad + 0.5])
-             for c in measure.find_contours(smooth, 0.5) if c.shape[0] >= 2]
-    if not lines:
+    segments, cells = iso_segments(smooth, 0.5, pad)  # the marching-squares segments of find_contours
+    if not segments.shape[0]:
         return 0.0
     kept = []
     for points, corners in chosen:
@@ -62,37 +63,9 @@ def boundary_noise(mask, contours, corner_lists) -> float:
         return 0.0
     if kept.shape[0] > NOISE_SAMPLE:  # a percentile needs no more; keeps noise images linear in their size
         kept = kept[np.linspace(0, kept.shape[0] - 1, NOISE_SAMPLE).astype(np.int64)]
-    distances = _distance_to_lines(kept, lines)  # one tree of the iso-lines for all contours
+    distances = nearest_segment_distance(np.ascontiguousarray(kept), segments, cells, smooth.shape[0], smooth.shape[1],
+                                         pad)
     return float(np.percentile(distances, NOISE_QUANTILE))
-
-
-def _distance_to_lines(points, lines, neighbours=4):
-    """Distance from each point to the nearest of several polylines (exact point-to-segment distances to the
-    edges at the ``neighbours`` nearest vertices; edges never join two polylines)."""
-    from scipy.spatial import cKDTree
-
-    vertices = np.concatenate(lines)
-    line_of = np.repeat(np.arange(len(lines)), [line.shape[0] for line in lines])
-    tree = cKDTree(vertices)
-    k = min(neighbours, vertices.shape[0])
-    _, near = tree.query(points, k=k)
-    near = near.reshape(points.shape[0], k)
-    best = np.full(points.shape[0], np.inf)
-    last = vertices.shape[0] - 1
-    for step in (0, -1):  # the edge starting at the vertex and the one ending there
-        a = np.clip(near + step, 0, last)
-        b = np.clip(a + 1, 0, last)
-        valid = (line_of[a] == line_of[b]) & (a != b)
-        pa, pb = vertices[a], vertices[b]
-        ab = pb - pa
-        ap = points[:, None, :] - pa
-        denom = np.einsum("nkd,nkd->nk", ab, ab)
-        t = np.clip(np.einsum("nkd,nkd->nk", ap, ab) / np.where(denom > 0, denom, 1.0), 0.0, 1.0)
-        diff = ap - t[..., None] * ab
-        d = np.sqrt(np.einsum("nkd,nkd->nk", diff, diff))
-        d = np.where(valid, d, np.hypot(*(points[:, None, :] - pa).transpose(2, 0, 1)))
-        best = np.minimum(best, d.min(axis=1))
-    return best
 
 
 def noise_tolerance(epsilon, noise, factor=NOISE_FACTOR):

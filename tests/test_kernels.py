@@ -241,12 +241,39 @@ def test_bezier_points_and_interval_samples_match_the_vectorized_formulation(cou
     np.testing.assert_array_equal(points, _numpy_eval_bezier(bez, iv, fraction))
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 8), st.integers(0, 10_000), st.booleans())
+def test_group_max_matches_reduceat(count, seed, with_nan):
+    """Per group maximum and its first index, against ``numpy.maximum.reduceat`` and a plain search."""
+    rng = np.random.default_rng(seed)
+    groups = np.sort(rng.integers(0, count, 50))
+    values = rng.integers(-3, 4, 50).astype(float)  # ties
+    values[rng.random(50) < 0.2] = -np.inf
+    if with_nan:
+        values[rng.integers(0, 50)] = np.nan
+    best, at = geometry.group_max(groups, values, count)
+    expected = np.full(count, -np.inf)
+    starts = np.flatnonzero(np.concatenate([[True], groups[1:] != groups[:-1]]))
+    expected[groups[starts]] = np.maximum.reduceat(values, starts)
+    np.testing.assert_array_equal(best, expected)
+    for g in range(count):
+        hits = np.flatnonzero((groups == g) & (values == expected[g]))
+        assert at[g] == (hits[0] if hits.size else 0)
+
+
 def test_kernels_are_compiled_with_an_on_disk_cache():
-    """Every kernel is a numba dispatcher with ``cache=True`` (compiled once per machine, not per process)."""
-    for name in _kernels.__all__:
-        kernel = getattr(_kernels, name)
-        assert kernel.targetoptions.get("nogil") is True
-        assert kernel._cache.__class__.__name__ == "FunctionCache", name
+    """Every compiled loop is a numba dispatcher with ``cache=True`` (compiled once per machine, not per
+    process), and every public kernel is a thin wrapper around one of them."""
+    from numba.core.registry import CPUDispatcher
+
+    from splinecraft.capture.fitting import _iso_kernels
+
+    for module in (_kernels, _iso_kernels):
+        loops = [value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)]
+        assert len(loops) >= 3
+        for loop in loops:
+            assert loop.targetoptions.get("nogil") is True
+            assert loop._cache.__class__.__name__ == "FunctionCache", loop
 
 
 @pytest.mark.parametrize("size", [1, 3])

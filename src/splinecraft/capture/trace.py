@@ -65,6 +65,8 @@ from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
     check_small_outline, check_tau, make_rng
+from .fitting._iso_kernels import warm_up as warm_noise_kernels
+from .fitting._kernels import warm_up as warm_fit_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
 from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted
@@ -209,6 +211,8 @@ def trace(
             f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
         )
     notes = []
+    warm_fit_kernels()  # compiled or loaded before the budget starts (the first call of a process)
+    warm_noise_kernels()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
     points_list, corner_list, small, times, undetected = _contours(
         boundaries, settings, notes, Deadline(None if time_budget is None else time_budget / 2))

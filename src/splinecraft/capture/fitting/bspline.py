@@ -41,11 +41,7 @@ def interval_index(full: np.ndarray, u: np.ndarray, side: str = "right") -> np.n
 def cubic_basis(full: np.ndarray, i: np.ndarray, u: np.ndarray) -> np.ndarray:
     """The four non-zero cubic B-splines ``N_{i-3} .. N_i`` at ``u`` (in interval ``i`` of ``full``), an
     ``(n, 4)`` array (Cox-de Boor, :func:`._kernels.basis_matrix`)."""
-    return _kernels.basis_matrix(_floats(full), np.ascontiguousarray(i, dtype=np.int64), _floats(u))
-
-
-def _floats(values):
-    return np.ascontiguousarray(values, dtype=np.float64)
+    return _kernels.basis_matrix(full, i, u)
 
 
 def fit_coefficients(full: np.ndarray, u: np.ndarray, weights: np.ndarray, targets: np.ndarray, m: int,
@@ -59,7 +55,7 @@ def fit_coefficients(full: np.ndarray, u: np.ndarray, weights: np.ndarray, targe
     cutting the cyclic coupling with a Schur complement on the last three coefficients, so the cost is
     O(m) for any outline length.
     """
-    band, rhs = _kernels.normal_equations(_floats(full), _floats(u), _floats(weights), _floats(targets), int(m))
+    band, rhs = _kernels.normal_equations(full, u, weights, targets, m)
     scale = float(band[0].max()) or 1.0
     pen = regularization * scale
     band[0] += 6 * pen  # + pen * D^T D, D the cyclic second difference (rows 1, -2, 1)
@@ -120,5 +116,5 @@ def _solve_cyclic_band(band, rhs):
 def bezier_of_intervals(coef: np.ndarray, full: np.ndarray, m: int, starts: np.ndarray, ends: np.ndarray):
     """Exact Bézier control points (k, 4, 2) of the spline on its knot intervals ``[starts, ends]`` (from its
     values at theta = 0, 1/3, 2/3, 1, :func:`._kernels.spline_values`)."""
-    values = _kernels.spline_values(_floats(coef), _floats(full), int(m), _floats(starts), _floats(ends), _THETA4)
+    values = _kernels.spline_values(coef, full, m, starts, ends, _THETA4)
     return np.einsum("ij,kjd->kid", _FROM_SAMPLES, values)

@@ -75,32 +75,19 @@ def piece_deviation(bezier, contour, spacing=0.25):
 
 def sorted_group_max(groups: np.ndarray, values: np.ndarray, count: int) -> np.ndarray:
     """Per group ``g < count`` the maximum of ``values`` (``-inf`` if empty), for non-decreasing ``groups``."""
-    out = np.full(count, -np.inf)
-    if groups.shape[0] == 0:
-        return out
-    starts = np.flatnonzero(np.concatenate([[True], groups[1:] != groups[:-1]]))
-    out[groups[starts]] = np.maximum.reduceat(values, starts)
-    return out
+    return group_max(groups, values, count)[0]
 
 
 def group_max(groups: np.ndarray, values: np.ndarray, count: int):
     """Per group ``g < count`` (``groups`` non-decreasing): the maximum of ``values`` and the first index where
-    it occurs (``-inf`` and 0 for empty groups)."""
-    best = sorted_group_max(groups, values, count)
-    at = np.zeros(count, dtype=np.int64)
-    hits = np.flatnonzero(values == best[groups])
-    if hits.size:
-        g = groups[hits]
-        first = np.concatenate([[True], g[1:] != g[:-1]])
-        at[g[first]] = hits[first]
-    return best, at
+    it occurs (``-inf`` and 0 for empty groups); one pass, :func:`._kernels.group_max`."""
+    return _kernels.group_max(groups, values, count)
 
 
 def eval_bezier(bezier: np.ndarray, piece: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """Points of the Bézier pieces ``bezier[piece]`` at ``theta`` (cubic Bernstein weights, one pass,
     :func:`._kernels.eval_bezier`)."""
-    return _kernels.eval_bezier(np.ascontiguousarray(bezier, dtype=np.float64),
-                                np.ascontiguousarray(piece, dtype=np.int64), np.ascontiguousarray(theta, dtype=np.float64))
+    return _kernels.eval_bezier(bezier, piece, theta)
 
 
 def edge_table(line: np.ndarray):
@@ -119,10 +106,4 @@ def windowed_distance(points, centre, lo, hi, edges, window, wrap=0):
     Exact point-to-segment distances; the minimum over a subset of the edges, so never below the true
     closest-point distance to the polyline (an upper bound that is tight when the window holds the closest edge,
     which the fit's parameterization ensures; one pass per point, :func:`._kernels.windowed_distance`)."""
-    centre = np.ascontiguousarray(centre, dtype=np.int64)
-    clip = lo is not None
-    lo = np.ascontiguousarray(lo if clip else centre, dtype=np.int64)
-    hi = np.ascontiguousarray(hi if clip else centre, dtype=np.int64)
-    ax, ay, dx, dy, inverse = edges
-    return _kernels.windowed_distance(np.ascontiguousarray(points, dtype=np.float64), centre, lo, hi, ax, ay, dx, dy,
-                                      inverse, int(window), int(wrap), clip)
+    return _kernels.windowed_distance(points, centre, lo, hi, edges, window, wrap)

@@ -178,7 +178,7 @@ class OutlineRegression:
         are below ``hoschek_gate`` (projecting onto a bad curve scrambles the parameters)."""
         contour = self.contour
         n = contour.size
-        du = hoschek_update(u, contour.points, np.ascontiguousarray(bez), starts, ends, contour.piece_of_point[:n],
+        du = hoschek_update(u, contour.points, bez, starts, ends, contour.piece_of_point[:n],
                             contour.piece_count, self.hoschek_gate)
         un = np.clip(u + du, self.parameter_low[:n], self.parameter_high[:n])
         un[self.fixed[:n]] = self.base_parameter[:n][self.fixed[:n]]
@@ -282,7 +282,7 @@ class OutlineRegression:
     def _curve_samples(bez, starts, ends, spacing):
         """Samples of every knot interval's Bézier about ``spacing`` apart (by the control polygon, at least 3,
         the interval's end left to the next one): points, parameters and interval numbers."""
-        return interval_samples(np.ascontiguousarray(bez, dtype=np.float64), starts, ends, float(spacing))
+        return interval_samples(bez, starts, ends, spacing)
 
     def _probes(self, dense):
         """Contour points (``dense``: and edge midpoints), in parameter order: points, parameters, pieces and

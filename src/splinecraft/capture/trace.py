@@ -169,7 +169,7 @@ def trace(
         * ``corners``: corner points; ``knots_inserted``: knots added by the algorithm (corners excluded);
         * ``iterations``: the largest number of iterations of any boundary (boundaries are refined side
           by side, as in the merged snapshots); ``time_s``: wall time of the whole call
-          (``time_breakdown`` splits it: load, boundaries, corners, fit);
+          (``time_breakdown`` splits it: load, boundaries, corners, noise estimate, fit);
         * ``segments``: cubic Bézier pieces in the output;
         * ``data_reduction_pct`` = ``100 (1 - stored numbers / contour numbers)``, where the stored
           numbers are the coordinates of the output's Bézier control points (6 per piece of a closed
@@ -216,6 +216,7 @@ def trace(
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
     points_list, corner_list, small, times, undetected = _contours(
         boundaries, settings, notes, Deadline(None if time_budget is None else time_budget / 2))
+    detected = time.perf_counter()
     noise = boundary_noise(mask, points_list, corner_list) if noise_factor > 0 else 0.0
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
     if settings["tolerance"] > settings["epsilon"]:
@@ -241,7 +242,7 @@ def trace(
     stats["time_s"] = finished - started
     stats["time_breakdown"] = {
         "load_s": loaded - started, "boundaries_s": traced - loaded,
-        "corners_s": cornered - traced, "fit_s": finished - cornered,
+        "corners_s": detected - traced, "noise_s": cornered - detected, "fit_s": finished - cornered,
     }
     params = {
         "epsilon": settings["epsilon"], "method": settings["method"], "corner_method": settings["corner_method"],

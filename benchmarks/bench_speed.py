@@ -1,0 +1,230 @@
+"""Speed of outline capture, stage by stage, and before/after a change in one run (issue 9, "Speed").
+
+    .venv/bin/python benchmarks/bench_speed.py stages --yardstick ../shared/yardstick
+    .venv/bin/python benchmarks/bench_speed.py stages --yardstick ../shared/yardstick --compare OTHER/src
+    .venv/bin/python benchmarks/bench_speed.py explorer [--compare OTHER/src]
+    .venv/bin/python benchmarks/bench_speed.py jit
+    .venv/bin/python benchmarks/bench_speed.py blas
+
+* ``stages``: the in-process time of ``sc.trace`` at its defaults per shape (median of ``--repeat`` runs after
+  one warm-up), split by ``stats["time_breakdown"]`` (binarize, contour, corners, noise estimate, fit), median
+  over the 300-px upright glyphs of the yardstick's ``shapes/`` and over the scan-like glyphs of ``shapes2/``
+  (without the yardstick: the thesis's five objects of :mod:`splinecraft.datasets`). With ``--compare SRC``
+  the same measurement runs in two fresh processes per round, this tree and the ``src`` folder of another
+  checkout, alternating A B A B (``--rounds``), and the table shows both and their ratio.
+* ``explorer``: TraceExplorer on each thesis object, the time from an epsilon change (a slider) to the
+  re-traced, re-drawn state (median of ``--repeat`` changes between two values).
+* ``jit``: the first-call cost of the compiled kernels in a fresh process with an empty kernel cache (cold)
+  and again with the cache it left (warm): first ``sc.trace`` minus the second one.
+* ``blas``: the fit's small solves with the BLAS threads pinned to 1 (threadpoolctl) against the library's
+  default, with the other core kept busy by a spinning process, alternating.
+"""
+from __future__ import annotations
+
+import argparse
+import glob
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+STAGES = ("load_s", "boundaries_s", "corners_s", "noise_s", "fit_s")
+LABELS = {"load_s": "binarize", "boundaries_s": "contour", "corners_s": "corners", "noise_s": "noise estimate",
+          "corners_noise_s": "corners + noise estimate", "fit_s": "fit", "time_s": "sc.trace total"}
+ROWS = ("load_s", "boundaries_s", "corners_s", "noise_s", "corners_noise_s", "fit_s", "time_s")
+
+
+def _import(src):
+    sys.path.insert(0, src)
+    import splinecraft  # noqa: F401
+
+    return sys.modules["splinecraft"]
+
+
+def shape_sets(yardstick, sc):
+    """{group: [(name, mask)]}: 300-px upright glyphs and analytic shapes of shapes/, the scans of shapes2/."""
+    sets = {}
+    if yardstick and os.path.isdir(yardstick):
+        for subset, group, wanted in (("shapes", "300 px (shapes/)", lambda s: True),
+                                      ("shapes2", "scan-like (shapes2/)", lambda s: "scan-like" in s)):
+            for path in sorted(glob.glob(os.path.join(yardstick, subset, "*.json"))):
+                with open(path) as handle:
+                    source = json.load(handle)["source"]
+                if wanted(source):
+                    sets.setdefault(group, []).append((os.path.basename(path)[:-5], sc.load_bitmap(path[:-5] + ".png")))
+    else:
+        from splinecraft.datasets import THESIS_OBJECTS, thesis_object
+
+        sets["thesis objects"] = [(name, thesis_object(name)) for name in THESIS_OBJECTS]
+    return sets
+
+
+def measure_stages(src, yardstick, repeat):
+    """Per group and stage the median over shapes of the per-shape median (seconds); run in a fresh process."""
+    sc = _import(src)
+    out = {}
+    for group, shapes in shape_sets(yardstick, sc).items():
+        per_shape = {key: [] for key in STAGES + ("time_s",)}
+        for _, mask in shapes:
+            sc.trace(mask)
+            runs = [sc.trace(mask).stats for _ in range(repeat)]
+            for key in per_shape:
+                per_shape[key].append(statistics.median(
+                    r["time_s"] if key == "time_s" else r["time_breakdown"].get(key, 0.0) for r in runs))
+        per_shape["corners_noise_s"] = [a + b for a, b in zip(per_shape["corners_s"], per_shape["noise_s"])]
+        out[group] = {key: statistics.median(values) for key, values in per_shape.items()}
+    return out
+
+
+def _child(mode, src, args):
+    command = [sys.executable, os.path.abspath(__file__), mode, "--child", src, "--repeat", str(args.repeat)]
+    if getattr(args, "yardstick", None):
+        command += ["--yardstick", args.yardstick]
+    done = subprocess.run(command, capture_output=True, text=True, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def compare(mode, args):
+    """Alternate fresh processes of this tree (A) and ``--compare`` (B); median over rounds per figure."""
+    trees = {"this tree": os.path.join(ROOT, "src"), "other": os.path.abspath(args.compare)}
+    rounds = {name: [] for name in trees}
+    for _ in range(args.rounds):
+        for name, src in trees.items():
+            rounds[name].append(_child(mode, src, args))
+    return {name: _median_tree(results) for name, results in rounds.items()}
+
+
+def _median_tree(results):
+    if isinstance(results[0], dict):
+        return {key: _median_tree([r[key] for r in results]) for key in results[0]}
+    return statistics.median(results)
+
+
+def print_stages(table, other=None):
+    for group, figures in table.items():
+        print(f"\n#### {group}\n")
+        if other is None:
+            print("| stage | ms |\n|---|---|")
+            for key in ROWS:
+                print(f"| {LABELS[key]} | {1e3 * figures[key]:.1f} |")
+            continue
+        print("| stage | before (other) ms | after (this tree) ms | after / before |\n|---|---|---|---|")
+        for key in ROWS:
+            before, after = other[group][key], figures[key]
+            ratio = f"{after / before:.2f}" if before > 0 else "-"
+            print(f"| {LABELS[key]} | {1e3 * before:.1f} | {1e3 * after:.1f} | {ratio} |")
+
+
+def measure_explorer(src, repeat):
+    """Median seconds from an epsilon change to the re-drawn TraceExplorer, per thesis object."""
+    _import(src)
+    from splinecraft.datasets import THESIS_OBJECTS, thesis_object
+    from splinecraft.widgets.trace_explorer import TraceExplorer
+
+    out = {}
+    for name in THESIS_OBJECTS:
+        explorer = TraceExplorer(thesis_object(name))
+        times = []
+        for k in range(repeat + 1):
+            started = time.perf_counter()
+            explorer.epsilon = 1.5 if k % 2 == 0 else 2.0
+            times.append(time.perf_counter() - started)
+        out[name] = statistics.median(times[1:])
+    return out
+
+
+def measure_jit():
+    """Cold and warm first-call cost (s) of the kernels: fresh processes on an empty, then a used, cache."""
+    code = ("import time, splinecraft as sc\n"
+            "from splinecraft.datasets import thesis_object\n"
+            "mask = thesis_object('plane')\n"
+            "t0 = time.perf_counter(); sc.trace(mask); t1 = time.perf_counter(); sc.trace(mask); "
+            "t2 = time.perf_counter()\n"
+            "print((t1 - t0) - (t2 - t1))\n")
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=os.path.join(ROOT, "src"))
+        for name in ("cold", "warm", "warm again"):
+            done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
+            out[name] = float(done.stdout.strip().splitlines()[-1])
+    return out
+
+
+def measure_blas(rounds):
+    """Median seconds of the fit's dense small solves (m = 20..64) with BLAS pinned to one thread and with the
+    default, while a spinning process keeps the other core busy; alternating."""
+    import numpy as np
+    from threadpoolctl import threadpool_limits
+
+    rng = np.random.default_rng(0)
+    systems = []
+    for m in range(20, 65, 4):
+        a = rng.normal(size=(m, m))
+        systems.append((a @ a.T + m * np.eye(m), rng.normal(size=(m, 2))))
+
+    def solve_all():
+        started = time.perf_counter()
+        for _ in range(50):
+            for matrix, rhs in systems:
+                np.linalg.solve(matrix, rhs)
+        return time.perf_counter() - started
+
+    spinner = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    try:
+        times = {"default threads": [], "1 thread": []}
+        for _ in range(rounds):
+            times["default threads"].append(solve_all())
+            with threadpool_limits(limits=1, user_api="blas"):
+                times["1 thread"].append(solve_all())
+    finally:
+        spinner.kill()
+        spinner.wait()
+    return {key: statistics.median(values) for key, values in times.items()}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("mode", choices=("stages", "explorer", "jit", "blas"))
+    parser.add_argument("--yardstick", default=os.path.join(ROOT, "..", "shared", "yardstick"))
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--rounds", type=int, default=3, help="alternating rounds of --compare (or blas)")
+    parser.add_argument("--compare", default=None, help="src folder of another checkout (the 'before')")
+    parser.add_argument("--child", default=None, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    args.yardstick = os.path.abspath(args.yardstick) if os.path.isdir(args.yardstick) else None
+    if args.child:
+        result = measure_stages(args.child, args.yardstick, args.repeat) if args.mode == "stages" \
+            else measure_explorer(args.child, args.repeat)
+        print(json.dumps(result))
+        return
+    if args.mode in ("stages", "explorer"):
+        if args.compare:
+            both = compare(args.mode, args)
+            after, before = both["this tree"], both["other"]
+        else:
+            after, before = _child(args.mode, os.path.join(ROOT, "src"), args), None
+        if args.mode == "stages":
+            print_stages(after, before)
+        else:
+            print("| object | " + ("before ms | after ms | after / before |" if before else "ms |"))
+            print("|---|---|" + ("---|---|" if before else ""))
+            for name, seconds in after.items():
+                row = f"| {name} | " + (f"{1e3 * before[name]:.1f} | " if before else "") + f"{1e3 * seconds:.1f} |"
+                print(row + (f" {seconds / before[name]:.2f} |" if before else ""))
+    elif args.mode == "jit":
+        for name, seconds in measure_jit().items():
+            print(f"first-call cost, {name} cache: {seconds:.2f} s")
+    else:
+        for name, seconds in measure_blas(max(args.rounds, 5)).items():
+            print(f"{name}: {1e3 * seconds:.1f} ms for 600 solves (m = 20..64), other core busy")
+    print(f"# load average {' '.join(f'{x:.1f}' for x in os.getloadavg())}; {re.sub(chr(10), ' ', sys.version)}")
+
+
+if __name__ == "__main__":
+    main()

@@ -43,6 +43,15 @@ level: their default speck area is 0.
 :func:`remove_specks` removes ink components and fills holes with fewer than ``area`` pixels; a background
 component touching the image border is never a hole (a speck area larger than the background does not
 fill it).
+
+Pinholes
+--------
+:func:`fill_pinholes` (``sc.trace`` with ``min_speck_area=None``, every input): holes of fewer than
+``PINHOLE_AREA`` (3) pixels, as the boundary tracer sees them (its connectivity rule decides what is a hole),
+are filled. In a render by the pixel-centre rule such a hole is the trace of a slit or notch narrower than a
+pixel, not a hole of the shape: a true hole of at most 2 px lies within the fit's tolerance (epsilon + 1/2 px)
+of its filling, while tracing it adds an outline that is not there (potrace's ``turdsize`` default of 2 drops
+the same areas). ``min_speck_area=0`` keeps them.
 """
 from __future__ import annotations
 
@@ -56,7 +65,10 @@ from .._validation import check_choice
 
 __all__ = ["THRESHOLD_METHODS", "DEFAULT_THRESHOLD", "MIN_CONTRAST", "FALLBACK_THRESHOLD", "MAX_AUTO_SPECK",
            "check_threshold", "window_size", "threshold_level", "estimate_noise", "auto_speck_area",
-           "remove_specks"]
+           "remove_specks", "PINHOLE_AREA", "fill_pinholes"]
+
+#: Holes of fewer than this many pixels are pinholes (module docstring, "Pinholes").
+PINHOLE_AREA = 3
 
 #: Names accepted by ``threshold=``.
 THRESHOLD_METHODS = ("otsu", "sauvola", "local")
@@ -218,3 +230,26 @@ def remove_specks(mask, min_area, connectivity):
         if small.any():
             mask = mask | small[labels]
     return np.ascontiguousarray(mask, dtype=bool)
+
+
+def fill_pinholes(mask, boundaries, area=PINHOLE_AREA):
+    """The pixels of the holes of ``boundaries`` (those of ``mask``, from ``trace_boundaries``) that enclose
+    fewer than ``area`` <= 3 pixels set to ink (module docstring, "Pinholes").
+
+    Returns ``(mask, filled)``: the mask (a copy when any hole is filled) and the number of holes filled. A hole
+    of one or two pixels is a single pixel, two edge neighbours, or two diagonal neighbours whose other two
+    pixels of the 2 x 2 block are ink, so the paper pixels of its crack box are exactly its own. The caller
+    traces the filled mask again: under the minority rule a filled pixel can change the decision at a nearby
+    diagonal contact.
+    """
+    if isinstance(area, bool) or not isinstance(area, numbers.Integral) or not 0 <= area <= 3:
+        raise ValueError(f"area must be an integer in [0, 3] (holes of one or two pixels), got {area!r}")
+    small = [b for b in boundaries if b.is_hole and -int(b.area) < area]
+    if not small:
+        return mask, 0
+    mask = np.array(mask, dtype=bool, copy=True)
+    for boundary in small:
+        corners = np.asarray(boundary.crack_vertices)
+        (x0, y0), (x1, y1) = corners.min(axis=0).astype(int), corners.max(axis=0).astype(int)
+        mask[y0:y1, x0:x1] = True
+    return mask, len(small)

@@ -70,6 +70,7 @@ from .fitting._kernels import warm_up as warm_fit_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
 from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted
+from ._binarize import PINHOLE_AREA, fill_pinholes
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 
@@ -135,7 +136,10 @@ def trace(
         diagonal contact of pixels, the locally rarer colour, so hairlines stay whole and strokes touching
         at a corner leave no pinhole (:mod:`~splinecraft.capture.contour`); 8 or 4 fix it for the image.
     threshold, invert, min_speck_area
-        Binarization, see :func:`~splinecraft.capture.image.load_bitmap`.
+        Binarization, see :func:`~splinecraft.capture.image.load_bitmap`. With ``min_speck_area=None``
+        (default) the holes the tracer finds of fewer than ``PINHOLE_AREA`` (3) pixels are filled too, on any
+        input (``_binarize.fill_pinholes``; docs/capture.md §10, "Pinholes"; a note says how many);
+        ``min_speck_area=0`` keeps every pixel.
     tau : float, optional
         Distance constraint of Algs 4.2 / 4.3, passed to ``fit_outline``.
     contour : {"outline", "pixels"}
@@ -204,13 +208,18 @@ def trace(
                        connectivity=connectivity)
     loaded = time.perf_counter()
     boundaries = trace_boundaries(mask, connectivity=connectivity)
-    traced = time.perf_counter()
     if not boundaries:
         raise ValueError(
             "no shape found: the bitmap has no ink pixels after thresholding "
             f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
         )
     notes = []
+    if min_speck_area is None:
+        mask, boundaries, pinholes = _without_pinholes(mask, boundaries, connectivity)
+        if pinholes:
+            notes.append(f"filled {pinholes} pinhole{'' if pinholes == 1 else 's'} of fewer than {PINHOLE_AREA} "
+                         "pixels (docs/capture.md §10, 'Pinholes'; min_speck_area=0 keeps them)")
+    traced = time.perf_counter()
     warm_fit_kernels()  # compiled or loaded before the budget starts (the first call of a process)
     warm_noise_kernels()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
@@ -375,6 +384,18 @@ def _budget_notes(state, time_budget, notes):
     if stopped:
         notes.append(f"time budget of {time_budget:g} s: the knot rounds of {stopped} boundar"
                      f"{'y' if stopped == 1 else 'ies'} stopped before convergence")
+
+
+def _without_pinholes(mask, boundaries, connectivity):
+    """``mask`` with its pinholes filled (``_binarize.fill_pinholes``), its boundaries traced again, until none
+    is left (each round only adds ink, so this ends; one round in practice), and the number filled."""
+    total = 0
+    while True:
+        mask, filled = fill_pinholes(mask, boundaries)
+        if not filled:
+            return mask, boundaries, total
+        total += filled
+        boundaries = trace_boundaries(mask, connectivity=connectivity)
 
 
 def _detect(points, k, corner_method, corner_params, notes):

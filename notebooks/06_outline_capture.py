@@ -215,8 +215,9 @@ print("threshold=None stands for", repr(DEFAULT_THRESHOLD))
 # * **Otsu** (before): one level for the whole page. In the shadow the paper falls below it, and the paper and
 #   the letters on it become one blob that holds more than a quarter of all the ink; the letters in it are lost,
 #   and Otsu marks at least a third more of the page as ink than Sauvola does. Its count of outlines is no
-#   lower than Sauvola's, though: the blob is riddled with holes (paper a little lighter than the level; most of
-#   Otsu's holes are in it), so the count alone does not show the failure — the size of the largest blob does.
+#   lower than Sauvola's, though: the blob is riddled with holes (paper a little lighter than the level; more
+#   than a third of Otsu's holes are in it, once the pinholes of one or two pixels are filled), so the count
+#   alone does not show the failure — the size of the largest blob does.
 # * **Sauvola** (after): every letter its own outline, the largest blob a letter or two that touch (less than a
 #   tenth of the ink), and the fewest specks.
 # * **Local**: the letters separate too, but the noise of the shadow leaves more specks than Sauvola's.
@@ -262,7 +263,7 @@ assert scans["otsu"].mask.sum() > 4 / 3 * scans["sauvola"].mask.sum()    # the s
 assert len(scans["otsu"].boundaries) >= len(scans["sauvola"].boundaries)  # the count hides the failure
 otsu_blob = int(np.argmax(blob_sizes(scans["otsu"])))
 blob_holes = sum(boundary.is_hole and boundary.component == otsu_blob for boundary in scans["otsu"].boundaries)
-assert blob_holes > scans["otsu"].stats["holes"] / 2                     # most of Otsu's holes: in the blob
+assert blob_holes > scans["otsu"].stats["holes"] / 3                     # a third of Otsu's holes: in the blob
 assert specks(scans["local"]) > specks(scans["sauvola"])
 assert all(result.params["threshold"] == name for name, result in scans.items())
 print("all checks passed")

@@ -1,7 +1,8 @@
 """Real-browser test of the OutlineEditor's corner handles: select a corner, drag its handle with the mouse, and
 the Bézier control point next to the corner goes where the pointer put it (kernel state and drawn path); undo and
 redo with the keys; bad handle messages from the page are refused with a status and the page keeps showing the
-kernel's outline.
+kernel's outline. And a part of a contour (one run between corners) scaled per axis with the selection box's
+handle maps exactly.
 """
 from __future__ import annotations
 
@@ -107,3 +108,54 @@ def test_drag_a_corner_handle_then_undo_redo_and_refuse_bad_handles(lab):
     assert lab.python_json("len(editor._undo)") == history  # refusals add no undo step
     assert lab.python_json("editor.undo() and editor.outline.contours[{}].bezier()[{}, 1].round(9).tolist()"
                            .format(k, i)) == before
+
+
+RUN = """
+import numpy as _np
+_c = editor.outline.contours[0]
+_corners = _np.flatnonzero(_c.corners)
+_lengths = (_np.roll(_corners, -1) - _corners) % len(_c)
+_run = [int(k) for k in (_corners[_np.argmax(_lengths)] + _np.arange(int(_lengths.max()) + 1)) % len(_c)]
+_before = editor.outline
+editor.selection = [[0, k] for k in _run]
+"""
+
+# the affine map that took the selected knots where they are (least squares: exact when it is affine), and how
+# far the run's pieces and the other knots are from what that map and "stay" predict
+CHECK = """
+def _check():
+    new, old = editor.outline.contours[0], _before.contours[0]
+    a = _np.c_[old.points[_run], _np.ones(len(_run))]
+    affine, *_ = _np.linalg.lstsq(a, new.points[_run], rcond=None)
+    rest = _np.setdiff1d(_np.arange(len(old)), _run)
+    expected = old.bezier()[_run[:-1]] @ affine[:2] + affine[2]
+    return [float(_np.abs(a @ affine - new.points[_run]).max()),
+            float(_np.abs(new.bezier()[_run[:-1]] - expected).max()),
+            bool(_np.array_equal(new.points[rest], old.points[rest])), float(abs(_np.linalg.det(affine[:2]) - 1)),
+            editor.outline.contours[1] is _before.contours[1]]
+"""
+
+
+def test_scale_one_run_between_corners_per_axis_with_the_box_handle(lab):
+    """Part of a contour (one run between two corners) scaled per axis with Shift on the box's corner handle:
+    the selected knots move by one affine map, the run's pieces are exactly that map's image of the old ones,
+    the other knots and the hole stay."""
+    page, root = open_outline_editor(lab)
+    lab.execute(RUN + CHECK)
+    run = lab.python_json("_run")
+    page.wait_for_function("(el) => el.__splinecraft.screenHandle('scale-se') !== null", arg=root, timeout=20_000)
+    old = path_d(root, 0)
+    x, y = root.evaluate("el => el.__splinecraft.screenHandle('scale-se')")
+    page.mouse.move(x, y)
+    page.keyboard.down("Shift")
+    page.mouse.down()
+    for step in range(1, 6):
+        page.mouse.move(x + 8 * step, y + 2 * step)
+        page.wait_for_timeout(30)
+    page.mouse.up()
+    page.keyboard.up("Shift")
+    wait_python(lab, "editor.can_undo", lambda v: v is True)
+    fit, pieces, rest_kept, stretch, hole_kept = wait_python(lab, "_check()", lambda v: v[3] > 0.05)
+    assert len(run) >= 3 and fit < 1e-9 and pieces < 1e-9 and rest_kept and hole_kept
+    page.wait_for_function("([el, old]) => el.querySelector('[data-testid=contour-0]').getAttribute('d') !== old",
+                           arg=[root, old], timeout=20_000)

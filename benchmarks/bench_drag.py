@@ -23,6 +23,11 @@ measured separately in this process (no browser, no network) for comparison.
 main thread (scripts, style, layout, paint records) and the raster workers (the tiles of what was painted).
 CPU time is what a change of the page's work changes; unlike the latencies it hardly depends on the load.
 
+``--transport`` measures instead what the size of a kernel -> page message costs (to decide when a drag
+sends its geometry whole rather than as changed rows): debug pings whose answers carry 0, 4, 40 and 400 kB,
+``--moves`` of each per row, with the CPU per message of the kernel and of the server (``/proc``, Linux) and
+of the page (Chrome trace), and the round trip.
+
 ``--compare DIR`` measures this tree and the checkout ``DIR`` (e.g. ``git worktree add /tmp/old <commit>``)
 side by side on one TCP_NODELAY server: the notebook of each row puts ``DIR/src`` first on the kernel's
 ``sys.path`` (its ES modules come from ``DIR/js``), the rows alternate per size and ``--rounds`` repeats them
@@ -33,6 +38,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import platform
 import shutil
 import statistics
@@ -203,6 +209,100 @@ def compare(args) -> list:
     return rows
 
 
+#: Sizes (bytes) of the pong buffer in ``--transport``.
+PAYLOADS = (0, 4_000, 40_000, 400_000)
+
+
+def process_cpu_ms(pid: int) -> float:
+    """User + system CPU time (ms) that process ``pid`` has used so far (Linux ``/proc``)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) * 1e3 / os.sysconf("SC_CLK_TCK")
+
+
+def transport(args) -> list:
+    """CPU per kernel -> page message (kernel, server, page) and round trip, by the message's size."""
+    from labharness import Lab, launch_chromium, start_lab
+
+    rows = []
+    with start_lab(nodelay=True) as server, launch_chromium() as browser:
+        context = browser.new_context(viewport={"width": 1400, "height": 1000})
+        lab = Lab(server, context.new_page())
+        page = lab.open_notebook([points_cell(10)], name="bench_transport.ipynb")
+        root = page.wait_for_selector("[data-testid=spline-editor][data-ready='1']", timeout=60_000)
+        kernel_pid, server_pid = lab.python_json("[__import__('os').getpid(), __import__('os').getppid()]")
+        for round_index in range(args.rounds):
+            for size in PAYLOADS if round_index % 2 == 0 else PAYLOADS[::-1]:
+                trace_path = Path(tempfile.mkdtemp(prefix="bench-transport-")) / "trace.json"
+                browser.start_tracing(page=page, path=str(trace_path),
+                                      categories=["toplevel", "disabled-by-default-devtools.timeline"])
+                before = process_cpu_ms(kernel_pid), process_cpu_ms(server_pid)
+                trips = root.evaluate("async (el, [count, bytes]) => { const out = [];"
+                                      " for (let i = 0; i < count; i++) out.push((await el.__splinecraft.ping(bytes)).total);"
+                                      " return out; }", [args.moves, size])
+                after = process_cpu_ms(kernel_pid), process_cpu_ms(server_pid)
+                browser.stop_tracing()
+                cpu = renderer_cpu(trace_path, args.moves)
+                shutil.rmtree(trace_path.parent, ignore_errors=True)
+                rows.append({"bytes": size, "messages": len(trips), "round_trip": statistics.median(trips),
+                             "kernel": (after[0] - before[0]) / len(trips), "server": (after[1] - before[1]) / len(trips),
+                             "page_main": cpu["main"], "page_raster": cpu["raster"]})
+                print(f"round {round_index} {size} bytes: done", file=sys.stderr, flush=True)
+    return rows
+
+
+def delta_costs(sizes=(10, 30, 100, 300, 1000)) -> list:
+    """Per size: the time (us, best of 5 x 200) of the row comparison of one drag move
+    (:func:`splinecraft.widgets._editor_drawing.geometry_delta`, size rule off) and the Bézier + knot bytes
+    sent whole and as changed rows."""
+    import timeit
+    from unittest import mock
+
+    import splinecraft as sc
+    from splinecraft.widgets import _editor_drawing as drawing
+
+    rows = []
+    for n in sizes:
+        editor = sc.SplineEditor(spiral_points(n))
+        sent = editor.geometry
+        x, y = editor.points[n // 2]
+        editor._handle_message(editor, {"type": "drag", "seq": 1, "gesture": 1, "final": False, "index": n // 2,
+                                        "x": x + 3.0, "y": y - 3.0}, [])
+        current = editor.geometry
+        with mock.patch.object(drawing, "DELTA_MIN_BYTES", 0):
+            delta = drawing.geometry_delta(sent, current)
+            seconds = min(timeit.repeat(lambda: drawing.geometry_delta(sent, current), number=200, repeat=5)) / 200
+        whole = sum(len(current[key]) for key in drawing.DELTA_ROWS)
+        rows.append({"n": n, "us": 1e6 * seconds, "whole": whole,
+                     "delta": sum(len(delta[f"{key}_{part}"]) for key in drawing.DELTA_ROWS for part in ("rows", "data"))})
+    return rows
+
+
+def print_transport(rows) -> None:
+    print("| payload (kB) | messages | round trip, median (ms) | CPU per message: kernel / server / page main / page raster (ms) |")
+    print("|---:|---:|---:|---|")
+    for r in rows:
+        print(f"| {r['bytes'] / 1e3:g} | {r['messages']} | {r['round_trip']:.1f} | "
+              f"{r['kernel']:.2f} / {r['server']:.2f} / {r['page_main']:.2f} / {r['page_raster']:.2f} |")
+    parts = ("kernel", "server", "page_main")
+    mean = {size: {part: statistics.fmean(r[part] for r in rows if r["bytes"] == size) for part in parts} for size in PAYLOADS}
+    for size in PAYLOADS[1:]:
+        extra = {part: (mean[size][part] - mean[0][part]) / (size / 1e3) for part in parts}
+        print(f"\n{size / 1e3:g} kB against the empty message, CPU per kB (us): kernel {1e3 * extra['kernel']:.1f}, "
+              f"server {1e3 * extra['server']:.1f}, page main {1e3 * extra['page_main']:.1f}, "
+              f"all three {1e3 * sum(extra.values()):.1f}")
+    per_kb = {part: (mean[PAYLOADS[-1]][part] - mean[0][part]) / (PAYLOADS[-1] / 1e3) for part in parts}
+    senders = 1e3 * (per_kb["kernel"] + per_kb["server"])  # us per kB, from the largest payload
+    print("\nA drag move's geometry, whole or as changed rows (the row comparison timed in this process; the saved "
+          f"bytes priced at the {PAYLOADS[-1] / 1e3:g} kB rate: kernel + server {senders:.1f} us/kB, "
+          f"with the page {senders + 1e3 * per_kb['page_main']:.1f} us/kB):\n")
+    print("| points | comparison (us) | whole (bytes) | changed rows (bytes) | saved: kernel + server (us) | saved: with the page (us) |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    for r in delta_costs():
+        saved_kb = (r["whole"] - r["delta"]) / 1e3
+        print(f"| {r['n']} | {r['us']:.1f} | {r['whole']} | {r['delta']} | {senders * saved_kb:.1f} | "
+              f"{(senders + 1e3 * per_kb['page_main']) * saved_kb:.1f} |")
+
+
 def servers(args) -> list:
     """The stock server vs the TCP_NODELAY server, side by side per size."""
     from labharness import Lab, launch_chromium, start_lab
@@ -230,7 +330,15 @@ def main(argv=None):
     parser.add_argument("--rounds", type=int, default=2, help="with --compare: rounds, the order swapped each")
     parser.add_argument("--trace", action="store_true",
                         help="record a Chrome trace of each row's moves: the page's CPU per move (main thread, raster workers)")
+    parser.add_argument("--transport", action="store_true",
+                        help="CPU and round trip of a kernel -> page message by its size (0, 4, 40, 400 kB)")
     args = parser.parse_args(argv)
+    if args.transport:
+        rows = transport(args)
+        print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "
+              f"{args.moves} messages per row, {args.rounds} rounds\n")
+        print_transport(rows)
+        return
     rows = compare(args) if args.compare else servers(args)
 
     print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "

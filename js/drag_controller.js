@@ -114,21 +114,22 @@ export function createDragFlow(model, { onIdle = () => {}, message = dragMessage
 }
 
 /**
- * Round trips of an empty message through the kernel (the widget's `debug` on): `ping()` resolves to
- * {total, up, down} in ms; `handle(msg)` takes the kernel's custom messages (true for an answered pong).
+ * Round trips of an empty message through the kernel (the widget's `debug` on): `ping(bytes)` resolves to
+ * {total, up, down} in ms, the answer carrying `bytes` bytes (default none); `handle(msg)` takes the
+ * kernel's custom messages (true for an answered pong).
  */
 export function createPing(model) {
   const pending = new Map();
   let pingId = 0;
   return {
-    ping() {
+    ping(bytes = 0) {
       return new Promise((resolve) => {
         const id = ++pingId, t0 = performance.now(), wall0 = performance.timeOrigin + t0;
         pending.set(id, (kernelMs) => {
           const t1 = performance.now(), wall1 = performance.timeOrigin + t1;
           resolve({ total: t1 - t0, up: kernelMs - wall0, down: wall1 - kernelMs });
         });
-        model.send({ type: "ping", id });
+        model.send({ type: "ping", id, bytes });
       });
     },
     handle(msg) {

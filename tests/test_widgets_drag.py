@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import shutil
 import subprocess
+from unittest import mock
 
 import numpy as np
 import pytest
@@ -18,6 +19,7 @@ from hypothesis import strategies as st
 from ipywidgets.widgets.widget import _put_buffers
 
 from splinecraft.widgets import SplineEditor
+from splinecraft.widgets import _editor_drawing as drawing
 from splinecraft.widgets._assets import static_dir
 
 SETTINGS = settings(max_examples=25, deadline=None)
@@ -83,19 +85,37 @@ def drag(editor, index, xy, *, seq, final=False):
 @SETTINGS
 @given(form=st.sampled_from(["interpolant", "basis", "timmer_g2", "timmer_gc2"]), closed=st.booleans(),
        n=st.integers(5, 60), where=st.floats(0.0, 1.0),
-       steps=st.lists(st.tuples(st.floats(-30, 30), st.floats(-30, 30)), min_size=1, max_size=6))
-def test_page_holds_the_engine_curve_after_every_update(form, closed, n, where, steps):
-    editor = SplineEditor(spiral(n), form=form, closed=closed)
-    page = Page(editor)
-    index = min(int(where * n), n - 1)
-    start = np.array(editor.points[index])
-    for seq, step in enumerate(steps, start=1):
-        drag(editor, index, start + np.array(step), seq=seq)
+       steps=st.lists(st.tuples(st.floats(-30, 30), st.floats(-30, 30)), min_size=1, max_size=6),
+       min_bytes=st.sampled_from([0, drawing.DELTA_MIN_BYTES]))
+def test_page_holds_the_engine_curve_after_every_update(form, closed, n, where, steps, min_bytes):
+    """Whole or as rows (``min_bytes`` 0: even these small curves move as changed rows)."""
+    with mock.patch.object(drawing, "DELTA_MIN_BYTES", min_bytes):
+        editor = SplineEditor(spiral(n), form=form, closed=closed)
+        page = Page(editor)
+        index = min(int(where * n), n - 1)
+        start = np.array(editor.points[index])
+        for seq, step in enumerate(steps, start=1):
+            drag(editor, index, start + np.array(step), seq=seq)
+            assert ("base" in page.updates[-1]["geometry"]) == (min_bytes == 0)
+            assert (page.geometry["bezier"], page.geometry["knots"]) == engine_bytes(editor)
+            assert page.geometry["revision"] == editor.geometry["revision"]
+        drag(editor, index, start + np.array(steps[-1]), seq=len(steps) + 1, final=True)
         assert (page.geometry["bezier"], page.geometry["knots"]) == engine_bytes(editor)
-        assert page.geometry["revision"] == editor.geometry["revision"]
-    drag(editor, index, start + np.array(steps[-1]), seq=len(steps) + 1, final=True)
+        np.testing.assert_array_equal(page.points(), np.asarray(editor.points))
+
+
+@pytest.mark.parametrize("n", [20, 100, 101, 400])
+def test_small_curves_move_whole_large_ones_as_changed_rows(n):
+    """One rule decides (:data:`DELTA_MIN_BYTES`): below it a move sends the Bézier and knot buffers whole."""
+    editor = SplineEditor(spiral(n))
+    page = Page(editor)
+    drag(editor, n // 2, np.array(editor.points[n // 2]) + [4.0, 3.0], seq=1)
+    geometry = page.updates[-1]["geometry"]
+    small = len(editor.geometry["bezier"]) + len(editor.geometry["knots"]) < drawing.DELTA_MIN_BYTES
+    assert small == (n <= 100)
+    assert ("bezier" in geometry and "base" not in geometry) == small
+    assert "points" not in page.updates[-1]  # the page draws the dragged point itself either way
     assert (page.geometry["bezier"], page.geometry["knots"]) == engine_bytes(editor)
-    np.testing.assert_array_equal(page.points(), np.asarray(editor.points))
 
 
 @pytest.mark.parametrize("form", ["interpolant", "basis"])
@@ -118,7 +138,7 @@ def test_moves_send_changed_rows_and_no_points(form):
 
 
 def test_release_sends_everything_even_where_the_last_move_was():
-    editor = SplineEditor(spiral(40))
+    editor = SplineEditor(spiral(150))
     page = Page(editor)
     target = np.array(editor.points[7]) + [5.0, 5.0]
     drag(editor, 7, target, seq=1)
@@ -129,16 +149,16 @@ def test_release_sends_everything_even_where_the_last_move_was():
 
 
 def test_a_change_after_an_unreleased_drag_sends_the_points():
-    editor = SplineEditor(spiral(30))
+    editor = SplineEditor(spiral(150))
     page = Page(editor)
     drag(editor, 3, np.array(editor.points[3]) + [8.0, 0.0], seq=1)  # no release (the page went away)
-    editor.set_state({"point_tension": [1.5] * 30})
+    editor.set_state({"point_tension": [1.5] * 150})
     np.testing.assert_array_equal(page.points(), np.asarray(editor.points))
     assert (page.geometry["bezier"], page.geometry["knots"]) == engine_bytes(editor)
 
 
 def test_whole_state_and_resend_during_a_drag():
-    editor = SplineEditor(spiral(30))
+    editor = SplineEditor(spiral(150))
     page = Page(editor)
     drag(editor, 3, np.array(editor.points[3]) + [8.0, 0.0], seq=1)
     whole = editor.get_state()
@@ -153,7 +173,7 @@ def test_whole_state_and_resend_during_a_drag():
 
 
 def test_rejected_move_resyncs_whole_points():
-    editor = SplineEditor(spiral(30))
+    editor = SplineEditor(spiral(150))
     page = Page(editor)
     drag(editor, 3, np.array(editor.points[3]) + [8.0, 0.0], seq=1)
     drag(editor, 3, editor.points[4], seq=2)  # onto its neighbour: refused, the page is resynced
@@ -213,3 +233,17 @@ console.log("ok");
 """, encoding="utf-8")
     run = subprocess.run(["node", str(script)], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr
+
+
+def test_debug_ping_answers_with_the_asked_number_of_bytes():
+    editor = SplineEditor(spiral(6), debug=True)
+    answers = []
+    editor.send = lambda content, buffers=None: answers.append((content, buffers))
+    editor._handle_message(editor, {"type": "ping", "id": 3}, [])
+    editor._handle_message(editor, {"type": "ping", "id": 4, "bytes": 40_000}, [])
+    assert [(content["type"], content["id"]) for content, _ in answers] == [("pong", 3), ("pong", 4)]
+    assert answers[0][1] is None and [len(buffer) for buffer in answers[1][1]] == [40_000]
+    for bad in (-1, True, 1.5, 1 << 23, "40"):
+        answers.clear()
+        editor._handle_message(editor, {"type": "ping", "id": 5, "bytes": bad}, [])
+        assert answers == [] and editor.status_level == "error" and "bytes" in editor.status_message

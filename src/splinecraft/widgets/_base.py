@@ -381,9 +381,11 @@ class WidgetBase(anywidget.AnyWidget):
         self.send_state(key=[name for name in self.keys if not name.startswith("_") and name not in _NOT_RESYNCED])
 
     def _on_ping(self, content, _buffers):
-        """Transport round trip for the benchmarks (answered only with ``debug=True``)."""
+        """Transport round trip for the benchmarks (answered only with ``debug=True``); the answer carries a
+        buffer of ``bytes`` zero bytes (default none), to measure what a message's size costs."""
+        size = read_int(content, "bytes", low=0, high=1 << 22, default=0)
         self.send({"type": "pong", "id": read_int(content, "id", low=0, high=2**53),
-                   "kernel_ms": time.time() * 1e3})
+                   "kernel_ms": time.time() * 1e3}, buffers=[bytes(size)] if size else None)
 
     def _save_good(self):
         """What :meth:`_restore_good` needs to undo a failed message (default: nothing)."""

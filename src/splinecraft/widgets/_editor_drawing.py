@@ -14,7 +14,8 @@ from ..plot._layers import COMB_CAP
 from ._base import f32
 from ._forms import SEGMENT_LABELS
 
-__all__ = ["fitted_view", "comb_unit", "comb", "construction", "geometry", "geometry_delta", "clamp_parameter", "MAX_COMB_TEETH"]
+__all__ = ["fitted_view", "comb_unit", "comb", "construction", "geometry", "geometry_delta", "clamp_parameter",
+           "MAX_COMB_TEETH", "DELTA_MIN_BYTES"]
 
 #: Long curves draw every k-th comb tooth so that at most this many are sent (the envelope keeps every sample).
 MAX_COMB_TEETH = 1500
@@ -186,16 +187,23 @@ def geometry(spline, state: dict, display: dict, *, revision: int, seq: int, uni
 #: the basis form (§3) and, for the global interpolants, pieces whose change decays with the distance from
 #: the point (§2.2), so most float32 rows stay bit-identical.
 DELTA_ROWS = {"bezier": 32, "knots": 8}
+#: Geometries whose Bézier and knot buffers hold fewer bytes than this (an open curve of up to 100 points) go
+#: whole: there the comparison costs the kernel about as much as the bytes it saves cost the kernel and the
+#: server (``benchmarks/bench_drag.py --transport``; BENCHMARKS.md, "Drag latency").
+DELTA_MIN_BYTES = 4000
 
 
 def geometry_delta(sent: dict, current: dict) -> dict | None:
-    """``current`` as changes to ``sent`` (the geometry the page holds), or None when it must go whole.
+    """``current`` as changes to ``sent`` (the geometry the page holds), or None when it goes whole: when its
+    rows changed size, or when it is small (:data:`DELTA_MIN_BYTES`).
 
     For each buffer of :data:`DELTA_ROWS` of the same size in both, the delta carries ``<name>_rows``
     (int32 indices of the rows whose bytes differ) and ``<name>_data`` (those rows); everything else of
     ``current`` is copied as it is, and ``base`` names the revision of ``sent``. Applying it to ``sent``
     gives ``current`` byte for byte (``js/spline_editor.js``).
     """
+    if sum(len(current.get(key) or b"") for key in DELTA_ROWS) < DELTA_MIN_BYTES:
+        return None
     out = {key: value for key, value in current.items() if key not in DELTA_ROWS}
     out["base"] = sent["revision"]
     for key, row_bytes in DELTA_ROWS.items():

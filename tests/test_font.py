@@ -15,9 +15,25 @@ from splinecraft.outline.contour import bezier_signed_area
 DEJAVU = "DejaVu Sans"
 
 
+def _edited(trace):
+    """An OutlineEditor of ``trace`` after designer's edits: a corner's handle pulled, then the run that
+    starts at that corner scaled per axis (the font must hold what the editor shows)."""
+    editor = sc.OutlineEditor(trace)
+    contour = editor.outline.contours[0]
+    corner = int(np.flatnonzero(contour.corners)[0])
+    editor.move_handle(0, corner, "out", contour.bezier()[corner, 1] + [-6.0, 4.0])
+    corners = np.flatnonzero(contour.corners)
+    end = int(corners[1]) if corners.size > 1 else corner + len(contour)
+    run = (corner + np.arange(end - corner + 1)) % len(contour)
+    editor.scale(1.2, 0.9, knots=[(0, int(i)) for i in run])
+    assert editor.status_level == "info", editor.status_message
+    return editor
+
+
 @pytest.fixture(scope="module")
 def traced():
-    return {"D": sc.trace(datasets.thesis_object("D")), "o": from_knots([
+    d = sc.trace(datasets.thesis_object("D"))
+    return {"D": d, "E": _edited(d), "o": from_knots([
         np.array([[20, 10], [60, 30], [20, 50], [-20, 30]], float) + 30,
         (np.array([[20, 22], [36, 30], [20, 38], [4, 30]], float) + 30, [True] * 4)])}
 

@@ -129,6 +129,30 @@ def test_spline_values_and_bezier_pieces_match_scipy(m, seed, multiple):
     np.testing.assert_allclose(point, _collocation(full, m, middle) @ coef, atol=1e-8)
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 70), st.integers(0, 10_000))
+def test_penalized_normal_matches_the_fancy_index_assembly(m, seed):
+    """The penalty and the dense cyclic matrix, bit for bit as numpy's fancy-index additions build them
+    (wrapped entries of m < 7 added up in the same order)."""
+    rng = np.random.default_rng(seed)
+    band = rng.uniform(0.0, 2.0, size=(4, m))
+    expected = band.copy()
+    pen = 1e-8 * (float(expected[0].max()) or 1.0)
+    expected[0] += 6 * pen
+    expected[1] += -4 * pen
+    expected[2] += 1 * pen
+    dense = np.zeros((m, m))
+    idx = np.arange(m)
+    dense[idx, idx] = expected[0]
+    for k in (1, 2, 3):
+        dense[idx, (idx + k) % m] += expected[k]
+        dense[(idx + k) % m, idx] += expected[k]
+    got = _kernels.penalized_normal(band, 1e-8, True)
+    np.testing.assert_array_equal(band, expected)
+    np.testing.assert_array_equal(got, dense)
+    assert _kernels.penalized_normal(np.zeros((4, m)), 1e-8, False) is None
+
+
 def _numpy_hoschek(u, points, bez, starts, ends, piece_of, piece_count, gate):
     """The vectorized Newton step of the foot-point equation (the formulation the kernel replaced)."""
     seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)

@@ -46,6 +46,19 @@ def _end(image, level, r0, c0, which):
 
 
 @njit(**_JIT)
+def _cases_into(image, level, table, case):
+    """The marching-squares case of every cell into ``case``; returns the number of segments."""
+    count = 0
+    for r0 in range(image.shape[0] - 1):
+        for c0 in range(image.shape[1] - 1):
+            code = ((image[r0, c0] > level) * 1 + (image[r0, c0 + 1] > level) * 2
+                    + (image[r0 + 1, c0] > level) * 4 + (image[r0 + 1, c0 + 1] > level) * 8)
+            case[r0, c0] = code
+            count += (table[code, 0] >= 0) + (table[code, 2] >= 0)
+    return count
+
+
+@njit(**_JIT)
 def _segments_into(image, level, pad, case, table, segments, cells):
     cols = image.shape[1]
     row = 0
@@ -69,9 +82,8 @@ def iso_segments(image, level, pad):
     values connect), in the output frame ``x = column - pad + 0.5``, ``y = row - pad + 0.5``: an array (s, 4)
     of ``x0, y0, x1, y1`` and the row-major index of the cell of each segment, in raster order."""
     image = np.ascontiguousarray(image, dtype=np.float64)
-    high = image > level
-    case = (high[:-1, :-1] * 1 + high[:-1, 1:] * 2 + high[1:, :-1] * 4 + high[1:, 1:] * 8).astype(np.int64)
-    count = int((_CASE_ENDS[case, 0] >= 0).sum() + (_CASE_ENDS[case, 2] >= 0).sum())
+    case = np.empty((image.shape[0] - 1, image.shape[1] - 1), np.int64)
+    count = _cases_into(image, float(level), _CASE_ENDS, case)
     segments, cells = np.empty((count, 4)), np.empty(count, np.int64)
     _segments_into(image, float(level), float(pad), case, _CASE_ENDS, segments, cells)
     return segments, cells

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["basis_matrix", "normal_equations", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
+__all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "warm_up"]
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy")
@@ -132,6 +132,42 @@ def normal_equations(full, u, weights, targets, m):
     band, rhs, partial = np.zeros((4, m)), np.zeros((m, targets.shape[1])), np.zeros((10, m))
     _normal_into(_floats(full), _floats(u), _floats(weights), targets, int(m), band, rhs, partial)
     return band, rhs
+
+
+@njit(**_JIT)
+def _penalized_into(band, regularization, dense, normal):
+    scale = band[0, 0]
+    for a in range(band.shape[1]):
+        if not band[0, a] <= scale:  # NaN sticks, as in numpy's max
+            scale = band[0, a]
+    if scale == 0.0:
+        scale = 1.0
+    pen = regularization * scale
+    for a in range(band.shape[1]):
+        band[0, a] += 6 * pen
+        band[1, a] += -4 * pen
+        band[2, a] += 1 * pen
+    if not dense:
+        return
+    m = band.shape[1]
+    for a in range(m):
+        normal[a, a] = band[0, a]
+    for k in range(1, 4):
+        for a in range(m):
+            normal[a, (a + k) % m] += band[k, a]
+        for a in range(m):
+            normal[(a + k) % m, a] += band[k, a]
+
+
+def penalized_normal(band, regularization, dense):
+    """Add ``pen * D^T D`` to the cyclic band in place (``D`` the cyclic second difference, rows 1, -2, 1;
+    ``pen = regularization * max(band[0])``, the scale 1 for an all-zero diagonal) and, when ``dense``, the
+    full symmetric (m, m) matrix of the band (wrapped entries added up, also for m < 7), else None
+    (:func:`~.bspline.fit_coefficients`)."""
+    m = band.shape[1]
+    normal = np.zeros((m, m) if dense else (0, 0))
+    _penalized_into(band, float(regularization), bool(dense), normal)
+    return normal if dense else None
 
 
 @njit(**_JIT)
@@ -323,7 +359,8 @@ def warm_up():
     bez = np.cumsum(np.ones((2, 4, 2)), axis=1)
     starts, ends = np.array([0.0, 1.0]), np.array([1.0, 2.0])
     index = np.zeros(2, np.int64)
-    normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
+    band, _ = normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
+    penalized_normal(band, 1e-8, True)
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
     edges = (np.ones(3),) * 5

@@ -56,18 +56,9 @@ def fit_coefficients(full: np.ndarray, u: np.ndarray, weights: np.ndarray, targe
     O(m) for any outline length.
     """
     band, rhs = _kernels.normal_equations(full, u, weights, targets, m)
-    scale = float(band[0].max()) or 1.0
-    pen = regularization * scale
-    band[0] += 6 * pen  # + pen * D^T D, D the cyclic second difference (rows 1, -2, 1)
-    band[1] += -4 * pen
-    band[2] += 1 * pen
-    if m <= 64:  # small: assemble the dense cyclic matrix (wrapped entries add up, also for m < 7)
-        normal = np.zeros((m, m))
-        idx = np.arange(m)
-        normal[idx, idx] = band[0]
-        for k in (1, 2, 3):
-            normal[idx, (idx + k) % m] += band[k]
-            normal[(idx + k) % m, idx] += band[k]
+    # + pen * D^T D (D the cyclic second difference), and below 65 coefficients the dense cyclic matrix
+    normal = _kernels.penalized_normal(band, regularization, m <= 64)
+    if normal is not None:
         return np.linalg.solve(normal, rhs)
     return _solve_cyclic_band(band, rhs)
 

@@ -9,7 +9,8 @@
 * ``stages``: the in-process time of ``sc.trace`` at its defaults per shape (median of ``--repeat`` runs after
   one warm-up), split by ``stats["time_breakdown"]`` (binarize, contour, corners, noise estimate, fit), median
   over the 300-px upright glyphs of the yardstick's ``shapes/`` and over the scan-like glyphs of ``shapes2/``
-  (without the yardstick: the thesis's five objects of :mod:`splinecraft.datasets`). With ``--compare SRC``
+  (without the yardstick: the thesis's five objects of :mod:`splinecraft.datasets`), and the process CPU time
+  of the call (less inflated than wall time when other work shares the cores). With ``--compare SRC``
   the same measurement runs in two fresh processes per round, this tree and the ``src`` folder of another
   checkout, alternating A B A B (``--rounds``), and the table shows both and their ratio.
 * ``explorer``: TraceExplorer on each thesis object, the time from an epsilon change (a slider) to the
@@ -36,8 +37,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 STAGES = ("load_s", "boundaries_s", "corners_s", "noise_s", "fit_s")
 LABELS = {"load_s": "binarize", "boundaries_s": "contour", "corners_s": "corners", "noise_s": "noise estimate",
-          "corners_noise_s": "corners + noise estimate", "fit_s": "fit", "time_s": "sc.trace total"}
-ROWS = ("load_s", "boundaries_s", "corners_s", "noise_s", "corners_noise_s", "fit_s", "time_s")
+          "corners_noise_s": "corners + noise estimate", "fit_s": "fit", "time_s": "sc.trace total (wall)",
+          "cpu_s": "sc.trace total (process CPU time)"}
+ROWS = ("load_s", "boundaries_s", "corners_s", "noise_s", "corners_noise_s", "fit_s", "time_s", "cpu_s")
 
 
 def _import(src):
@@ -71,12 +73,18 @@ def measure_stages(src, yardstick, repeat):
     out = {}
     for group, shapes in shape_sets(yardstick, sc).items():
         per_shape = {key: [] for key in STAGES + ("time_s",)}
+        per_shape["cpu_s"] = []
         for _, mask in shapes:
             sc.trace(mask)
-            runs = [sc.trace(mask).stats for _ in range(repeat)]
-            for key in per_shape:
+            runs, cpu = [], []
+            for _ in range(repeat):
+                started = time.process_time()
+                runs.append(sc.trace(mask).stats)
+                cpu.append(time.process_time() - started)
+            for key in STAGES + ("time_s",):
                 per_shape[key].append(statistics.median(
                     r["time_s"] if key == "time_s" else r["time_breakdown"].get(key, 0.0) for r in runs))
+            per_shape["cpu_s"].append(statistics.median(cpu))
         per_shape["corners_noise_s"] = [a + b for a, b in zip(per_shape["corners_s"], per_shape["noise_s"])]
         out[group] = {key: statistics.median(values) for key, values in per_shape.items()}
     return out

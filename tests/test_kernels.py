@@ -285,6 +285,22 @@ def test_group_max_matches_reduceat(count, seed, with_nan):
         assert at[g] == (hits[0] if hits.size else 0)
 
 
+@settings(max_examples=30, deadline=None)
+@given(st.integers(1, 10), st.integers(0, 10_000))
+def test_curve_points_pick_the_piece_of_each_parameter(count, seed):
+    """Against the searchsorted-and-evaluate formulation, bit for bit, and the piece ends (closed form)."""
+    rng = np.random.default_rng(seed)
+    bez = np.cumsum(rng.normal(size=(count, 4, 2)), axis=1)
+    starts = np.concatenate([[0.0], np.cumsum(rng.uniform(0.5, 3.0, count - 1))])
+    ends = np.append(starts[1:], starts[-1] + 1.0)
+    u = np.concatenate([rng.uniform(-0.5, ends[-1] + 0.5, 40), starts, ends])
+    seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, count - 1)
+    expected = _numpy_eval_bezier(bez, seg, (u - starts[seg]) / (ends - starts)[seg])
+    got = _kernels.curve_points(bez, starts, ends, u)
+    np.testing.assert_array_equal(got, expected)
+    np.testing.assert_allclose(got[40:40 + count], bez[:, 0], atol=1e-12)
+
+
 def test_kernels_are_compiled_with_an_on_disk_cache():
     """Every compiled loop is a numba dispatcher with ``cache=True`` (compiled once per machine, not per
     process), and every public kernel is a thin wrapper around one of them."""

@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "warm_up"]
+           "interval_samples", "group_max", "curve_points", "warm_up"]
 
 _JIT = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy")
 
@@ -298,6 +298,24 @@ def eval_bezier(bez, piece, theta):
 
 
 @njit(**_JIT)
+def _curve_into(bez, starts, ends, u, out):
+    last = starts.shape[0] - 1
+    for j in range(u.shape[0]):
+        seg = min(max(_right_of(starts, u[j]) - 1, 0), last)
+        _bezier_point(bez, seg, (u[j] - starts[seg]) / (ends[seg] - starts[seg]), out, j)
+
+
+def curve_points(bez, starts, ends, u):
+    """Points of the piecewise curve whose piece ``k`` is ``bez[k]`` on ``[starts[k], ends[k]]`` at the
+    parameters ``u`` (the piece of ``u`` by searchsorted right, clipped to the pieces;
+    :meth:`~.lsq_model.OutlineRegression.curve_at`)."""
+    bez, u = _floats(bez), _floats(u)
+    out = np.empty((u.shape[0], bez.shape[2]))
+    _curve_into(bez, _floats(starts), _floats(ends), u, out)
+    return out
+
+
+@njit(**_JIT)
 def _samples_into(bez, starts, ends, counts, points, params):
     row = 0
     for k in range(bez.shape[0]):
@@ -367,6 +385,7 @@ def warm_up():
     windowed_distance(np.ones((2, 2)), index, index, index, edges, 1, 3)
     windowed_distance(np.ones((2, 2)), index, None, None, edges, 1, 3)
     eval_bezier(bez, index, np.array([0.1, 0.2]))
+    curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     interval_samples(bez, starts, ends, 0.5)
     group_max(index, np.ones(2), 1)
     _WARM.append(True)

@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import hoschek_update, interval_samples
+from ._kernels import curve_points, hoschek_update, interval_samples
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
-from .geometry import edge_table, eval_bezier, group_max, sorted_group_max, windowed_distance
+from .geometry import edge_table, group_max, sorted_group_max, windowed_distance
 from .lsq_setup import CornerTips, RotatedContour, curvature_knots
 
 __all__ = ["OutlineRegression"]
@@ -196,8 +196,7 @@ class OutlineRegression:
     def curve_at(self, u):
         """Points ``S(u)`` of the current fit (``u`` in ``[0, period]``)."""
         starts, ends = self.intervals()
-        seg = np.clip(np.searchsorted(starts, u, side="right") - 1, 0, starts.shape[0] - 1)
-        return eval_bezier(self._bezier, seg, (u - starts[seg]) / (ends - starts)[seg])
+        return curve_points(self._bezier, starts, ends, u)
 
     def point(self, index):
         """Contour point of a rotated index (modulo n)."""

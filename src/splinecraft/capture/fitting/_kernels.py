@@ -316,7 +316,20 @@ def curve_points(bez, starts, ends, u):
 
 
 @njit(**_JIT)
-def _samples_into(bez, starts, ends, counts, points, params):
+def _sample_counts_into(bez, spacing, counts):
+    """Per piece ``max(3, ceil(length of its control polygon / spacing))``; returns their sum."""
+    total = 0
+    for k in range(bez.shape[0]):
+        length = np.hypot(bez[k, 1, 0] - bez[k, 0, 0], bez[k, 1, 1] - bez[k, 0, 1])
+        length += np.hypot(bez[k, 2, 0] - bez[k, 1, 0], bez[k, 2, 1] - bez[k, 1, 1])
+        length += np.hypot(bez[k, 3, 0] - bez[k, 2, 0], bez[k, 3, 1] - bez[k, 2, 1])
+        counts[k] = max(3, np.int64(np.ceil(length / spacing)))
+        total += counts[k]
+    return total
+
+
+@njit(**_JIT)
+def _samples_into(bez, starts, ends, counts, points, params, interval):
     row = 0
     for k in range(bez.shape[0]):
         width = ends[k] - starts[k]
@@ -324,6 +337,7 @@ def _samples_into(bez, starts, ends, counts, points, params):
             theta = q / counts[k]
             _bezier_point(bez, k, theta, points, row)
             params[row] = starts[k] + theta * width
+            interval[row] = k
             row += 1
 
 
@@ -332,12 +346,11 @@ def interval_samples(bez, starts, ends, spacing):
     (at least 3, the interval's end left to the next one): points, parameters and interval numbers
     (:meth:`~.lsq_model.OutlineRegression.deviations`, docs/capture.md §12, "Stopping rule")."""
     bez = _floats(bez)
-    lengths = np.hypot(*np.diff(bez, axis=1).transpose(2, 0, 1)).sum(axis=1)
-    counts = np.maximum(3, np.ceil(lengths / spacing).astype(np.int64))
-    total = int(counts.sum())
-    points, params = np.empty((total, 2)), np.empty(total)
-    _samples_into(bez, _floats(starts), _floats(ends), counts, points, params)
-    return points, params, np.repeat(np.arange(bez.shape[0]), counts)
+    counts = np.empty(bez.shape[0], np.int64)
+    total = _sample_counts_into(bez, float(spacing), counts)
+    points, params, interval = np.empty((total, 2)), np.empty(total), np.empty(total, np.int64)
+    _samples_into(bez, _floats(starts), _floats(ends), counts, points, params, interval)
+    return points, params, interval
 
 
 @njit(**_JIT)

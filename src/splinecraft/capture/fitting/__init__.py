@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._threads import one_blas_thread
 from .geometry import piece_deviation, polyline_distance
 from .lsq import fit_lsq
 from .options import (DEFAULT_EPSILON, DEFAULT_METHOD, FALLBACK_PIECE, KNOT_METHODS, MIN_EPSILON, SMALL_OUTLINE,
@@ -146,7 +147,14 @@ def routes_to_small(method, point_count, small_outline):
 def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
                 deadline=None):
     """:func:`fit_outline` on checked arguments: route the contour to its family (``deadline``, a
-    :class:`~.budget.Deadline`, stops the knot rounds of ``"lsq"``)."""
+    :class:`~.budget.Deadline`, stops the knot rounds of ``"lsq"``); BLAS on one thread (:mod:`._threads`)."""
+    with one_blas_thread():
+        return _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline,
+                           opts, deadline)
+
+
+def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
+                deadline):
     if routes_to_small(method, points.shape[0], small_outline):
         return fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
     if method != "lsq":

@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...spline import Spline
+from ._threads import one_blas_thread
 from .options import check_corners, check_points
 from .results import FitResult, Snapshot
 
@@ -232,10 +233,11 @@ def fit_small_trusted(outlines, corners, epsilon, max_iterations, keep_snapshots
     neighbours) with sorted unique corner indices: one :class:`FitResult` per outline."""
     if not outlines:
         return []
-    batch = _SmallBatch(outlines, corners, epsilon, max_iterations, keep_snapshots)
-    batch.insert_knots()
-    batch.remove_knots()
-    return batch.results()
+    with one_blas_thread():  # the dense solves of long chains: see _threads
+        batch = _SmallBatch(outlines, corners, epsilon, max_iterations, keep_snapshots)
+        batch.insert_knots()
+        batch.remove_knots()
+        return batch.results()
 
 
 class _SmallBatch:

@@ -444,44 +444,6 @@ def test_engine_options_reach_the_thesis_interpolant():
 
 # ------------------------------------------------------------------------------------------ lsq internals
 
-@settings(max_examples=40, deadline=None)
-@given(st.integers(4, 120), st.integers(0, 10_000))
-def test_lsq_normal_equations_match_a_dense_least_squares_reference(m, seed):
-    """The banded cyclic normal-equation solve (dense below 65 coefficients, Schur-complement band solve
-    above) equals numpy's least squares on the explicit collocation matrix (scipy's BSpline basis)."""
-    from scipy.interpolate import BSpline
-
-    from splinecraft.capture.fitting import bspline
-
-    rng = np.random.default_rng(seed)
-    period = 100.0
-    tau = np.sort(rng.uniform(0, period, m))
-    tau[0] = 0.0
-    if np.diff(tau).min() < 1e-3:
-        tau = np.linspace(0, period, m, endpoint=False)
-    u = np.sort(rng.uniform(0, period, 12 * m))
-    weights = rng.uniform(0.1, 1.0, u.shape[0])
-    targets = rng.normal(size=(u.shape[0], 2))
-    full = bspline.periodic_knot_vector(tau, period)
-    regularization = 1e-8
-    solved = bspline.fit_coefficients(full, u, weights, targets, m, regularization)
-    # reference: periodic collocation matrix from scipy (coefficient k of full index k + 3 wraps to k mod m)
-    collocation = np.zeros((u.shape[0], m))
-    for k in range(full.shape[0] - 4):
-        column = BSpline.basis_element(full[k:k + 5], extrapolate=False)(u)
-        collocation[:, (k - 3) % m] += np.nan_to_num(column)
-    np.testing.assert_allclose(collocation.sum(axis=1), 1.0, atol=1e-12)
-    normal = collocation.T @ (weights[:, None] * collocation)
-    second_difference = np.zeros((m, m))
-    idx = np.arange(m)
-    second_difference[idx, idx] = 1.0
-    second_difference[idx, (idx + 1) % m] += -2.0
-    second_difference[idx, (idx + 2) % m] += 1.0
-    normal += regularization * np.diag(normal).max() * second_difference.T @ second_difference
-    reference = np.linalg.solve(normal, collocation.T @ (weights[:, None] * targets))
-    np.testing.assert_allclose(solved, reference, rtol=1e-6, atol=1e-6 * np.abs(reference).max())
-
-
 @settings(max_examples=30, deadline=None)
 @given(st.integers(5, 60), st.integers(0, 4), st.integers(0, 10_000))
 def test_windowed_distance_is_the_exact_distance_to_its_edges_and_an_upper_bound(count, window, seed):

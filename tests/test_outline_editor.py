@@ -318,3 +318,42 @@ def test_a_transform_gesture_of_one_run_between_corners_maps_it_exactly(editor):
     assert np.abs(edited.bezier()[pieces] - (start.bezier()[pieces] @ linear.T + offset)).max() < 1e-9
     assert editor.outline.contours[1] is before.contours[1]  # the hole has no selected knot
     assert editor.undo() and editor.outline is before
+
+
+def test_corner_handles_are_synced_lists_that_code_can_read_set_and_observe(editor):
+    """handles_out / handles_in: [dx, dy] per corner (None elsewhere); a handle drag updates them once, at the
+    release; setting them from code moves the control point exactly; undo restores them."""
+    start = editor.outline
+    k, i = first_corner(start)
+    contour = start.contours[k]
+    assert all(h is None for h, corner in zip(editor.handles_out[k], contour.corners) if not corner)
+    assert editor.handles_in[k][i] == contour.handles_in[i].tolist()  # a trace's corners keep its handles
+    seen = []
+    editor.observe(lambda change: seen.append(change["name"]), ["handles_out", "handles_in"])
+    knot = contour.points[i]
+    for step, final in ((1, False), (2, True)):
+        page(editor, type="handle", contour=k, knot=i, side="out", x=float(knot[0]) + 3 * step, y=float(knot[1]),
+             seq=step, gesture=4, final=final)
+    assert seen == ["handles_out"] and editor.handles_out[k][i] == [6.0, 0.0]
+    rows = [list(row) for row in editor.handles_in]
+    rows[k][i] = [-2.5, 1.5]
+    editor.handles_in = rows
+    bezier = editor.outline.contours[k].bezier()
+    assert np.allclose(bezier[i - 1, 2], knot + [-2.5, 1.5], rtol=0, atol=1e-12)
+    assert np.allclose(bezier[i, 1], knot + [6.0, 0.0], rtol=0, atol=1e-12)
+    assert editor.undo() and editor.handles_in[k][i] == contour.handles_in[i].tolist()
+    assert editor.undo() and editor.outline is start and editor.handles_out[k][i] == contour.handles_out[i].tolist()
+
+
+@pytest.mark.parametrize("entry, words", [([1.0], "two numbers"), (["a", 1.0], "two numbers"),
+                                          ([True, 1.0], "two numbers"), ([float("nan"), 0.0], "finite"),
+                                          ("far", "two numbers")])
+def test_bad_handles_from_code_keep_the_last_good_outline(editor, entry, words):
+    before = editor.outline
+    k, i = first_corner(before)
+    rows = [list(row) for row in editor.handles_out]
+    rows[k][i] = entry
+    with pytest.warns(OutlineEditorWarning, match=words):
+        editor.handles_out = rows
+    assert editor.outline is before and f"handles_out[{i}]" in editor.status_message
+    assert editor.handles_out[k][i] != entry  # the lists are put back

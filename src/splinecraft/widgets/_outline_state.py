@@ -11,9 +11,34 @@ from ..outline import Contour, Outline
 __all__ = ["OUTLINE_TRAITS", "DeviationCache", "clean_selection", "fitted_view", "grouped_by_contour", "outline_from_lists", "page_matrix",
            "png_of_mask", "synced_tables"]
 
-#: The synced lists that hold the outline, and the contour field each one shows.
+#: The synced lists that hold the outline, and the contour field each one shows (handles: ``[dx, dy]`` per corner,
+#: ``None`` at smooth knots and at corners without a handle).
 OUTLINE_TRAITS = {"contours": "points", "corners": "corners", "point_tension": "point_tension",
-                  "interval_weights": "interval_weights"}
+                  "interval_weights": "interval_weights", "handles_in": "handles_in", "handles_out": "handles_out"}
+_HANDLES = ("handles_in", "handles_out")
+
+
+def _row(contour, field) -> list:
+    """The synced row of ``contour``'s ``field`` (handles: ``None`` where there is none)."""
+    values = getattr(contour, field)
+    if field in _HANDLES:
+        return [None if np.isnan(h).any() else [float(h[0]), float(h[1])] for h in values]
+    return values.tolist()
+
+
+def _handles_of_row(row, name) -> np.ndarray:
+    """The ``(n, 2)`` handles of a synced row: ``None`` (no handle) or two finite numbers per knot."""
+    handles = np.full((len(row), 2), np.nan)
+    for i, entry in enumerate(row):
+        if entry is None:
+            continue
+        if (not isinstance(entry, (list, tuple)) or len(entry) != 2
+                or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in entry)):
+            raise TypeError(f"{name}[{i}] must be None or [dx, dy] (two numbers), got {entry!r:.40}")
+        if not all(np.isfinite(entry)):
+            raise ValueError(f"{name}[{i}] = {list(entry)!r} must be finite")
+        handles[i] = entry
+    return handles
 
 
 def _per_knot(rows, k, n, default):
@@ -21,7 +46,7 @@ def _per_knot(rows, k, n, default):
     return rows[k] if k < len(rows) and isinstance(rows[k], list) and len(rows[k]) == n else default
 
 
-def _contour_from_lists(contour, points, corners, tension, weights):
+def _contour_from_lists(contour, points, corners, tension, weights, handles=(None, None)):
     points = np.asarray(points, dtype=float)
     if points.shape == contour.points.shape:
         candidate = contour if np.array_equal(points, contour.points) else contour.moved(np.arange(len(contour)), points)
@@ -36,6 +61,9 @@ def _contour_from_lists(contour, points, corners, tension, weights):
     became = corners & ~candidate.corners  # a new corner starts without handles (Contour.with_corner)
     data["handles_in"][became] = np.nan
     data["handles_out"][became] = np.nan
+    for name, row in zip(_HANDLES, handles):  # given rows set every handle (ignored at smooth knots)
+        if row is not None:
+            data[name] = _handles_of_row(row, name)
     data.update(corners=corners, point_tension=np.asarray(_or(tension, n, candidate.point_tension), float),
                 interval_weights=np.asarray(_or(weights, n, candidate.interval_weights), float))
     return candidate.replace(**data)
@@ -45,16 +73,18 @@ def _or(values, n, default):
     return values if values is not None and len(values) == n else default
 
 
-def outline_from_lists(outline: Outline, contours, corners, point_tension, interval_weights) -> Outline:
-    """``outline`` with the knots, corner flags, tensions and weights of the editor's lists.
+def outline_from_lists(outline: Outline, contours, corners, point_tension, interval_weights, handles_in=None,
+                       handles_out=None) -> Outline:
+    """``outline`` with the knots, corner flags, tensions, weights and (when given) corner handles of the
+    editor's lists.
 
     Knots that moved keep their handles and rescale the steps of the changed intervals
     (:meth:`Contour.moved`); a contour whose knot count changed is rebuilt from its knots (chord steps).
     Raises ``TypeError``/``ValueError`` naming the contour for anything the outline refuses.
     """
     rows = (contours, corners, point_tension, interval_weights)
-    if not all(isinstance(r, list) for r in rows):
-        raise TypeError("contours, corners, point_tension and interval_weights must be lists")
+    if not all(isinstance(r, list) for r in rows + tuple(h for h in (handles_in, handles_out) if h is not None)):
+        raise TypeError("contours, corners, point_tension, interval_weights and the handles must be lists")
     if len(contours) != len(outline):
         raise ValueError(f"contours must list {len(outline)} contours (add or remove contours with the outline's "
                          f"methods), got {len(contours)}")
@@ -62,9 +92,11 @@ def outline_from_lists(outline: Outline, contours, corners, point_tension, inter
     for k, contour in enumerate(outline.contours):
         n = len(contours[k]) if isinstance(contours[k], list) else -1
         try:
+            handles = tuple(None if rows_of is None else _per_knot(rows_of, k, n, None)
+                            for rows_of in (handles_in, handles_out))
             built.append(_contour_from_lists(contour, contours[k], _per_knot(corners, k, n, None),
                                              _per_knot(point_tension, k, n, None),
-                                             _per_knot(interval_weights, k, n, None)))
+                                             _per_knot(interval_weights, k, n, None), handles))
         except (TypeError, ValueError) as exc:
             raise type(exc)(f"contour {k}: {exc}") from None
     return outline.with_contours(built)
@@ -80,7 +112,7 @@ def synced_tables(outline: Outline, current: dict, changed=None) -> dict:
     rows = range(len(outline)) if whole else sorted(changed)
     tables = {}
     for name, field in OUTLINE_TRAITS.items():
-        values = {k: getattr(outline.contours[k], field).tolist() for k in rows}
+        values = {k: _row(outline.contours[k], field) for k in rows}
         if whole:
             tables[name] = [values[k] for k in rows]
         elif any(current[name][k] != values[k] for k in rows):

@@ -6,7 +6,8 @@ form, thesis sections 3.1 and 5.1) and rebuilds the edited contours with the eng
 the deviation of each piece from the bitmap's contour) and turns pointer and keyboard input into messages.
 
 Code and page share the synced traits ``contours`` (knots per contour), ``corners`` (flags per knot),
-``point_tension`` / ``interval_weights`` (per knot / per piece) and ``selection`` (``[contour, knot]`` pairs).
+``point_tension`` / ``interval_weights`` (per knot / per piece), ``handles_in`` / ``handles_out`` (the corners'
+Bézier offsets, ``None`` where there is no handle) and ``selection`` (``[contour, knot]`` pairs).
 A bad value from either side keeps the last good outline and says why in ``status_message`` (from code also
 as an :class:`OutlineEditorWarning`).
 """
@@ -50,20 +51,22 @@ class OutlineEditor(OutlineGestures, WidgetBase):
 
     Page
     ----
-    Drag a knot (or the selected knots); click a knot to select it (Shift adds), click the curve to select
-    its contour, drag on the background for a box selection; a selected corner shows its two handles (the
-    Bézier control points next to it), and dragging one puts that control point under the pointer; double-click the curve to insert a knot; ``C``
-    or the button toggles corner / smooth; Delete removes the selected knots; arrow keys move the selection
-    (Shift: 10 px); the handles of the selection's box translate, rotate (round handle), scale (corners,
-    Shift: per axis) and shear (edge handles); the mirror buttons reflect the selection (or the whole shape)
-    about its box's vertical or horizontal centre line; Ctrl+Z / Ctrl+Y undo and redo; the wheel zooms, the
-    middle button pans, Fit resets the view.
+    Drag a knot (or the selected knots); click a knot to select it (Shift adds), click the curve to select its
+    contour, drag on the background for a box selection; a selected corner shows its two handles (the Bézier
+    control points next to it), and dragging one puts that control point under the pointer; double-click the
+    curve to insert a knot; ``C`` or the button toggles corner / smooth; Delete removes the selected knots;
+    arrow keys move the selection (Shift: 10 px); the handles of the selection's box translate, rotate (round
+    handle), scale (corners, Shift: per axis) and shear (edge handles); the mirror buttons reflect the selection
+    (or the whole shape) about its box's vertical or horizontal centre line; Ctrl+Z / Ctrl+Y undo and redo; the
+    wheel zooms, the middle button pans, Fit resets the view.
 
     Synced traits
     -------------
     contours : list of list of [x, y] -- the knots of every contour
     corners : list of list of bool -- corner flags
     point_tension, interval_weights : list of list of float -- per knot, per piece
+    handles_in, handles_out : list of list of [dx, dy] or None -- per knot, the Bézier offsets ``b2 - b3`` arriving
+        at and ``b1 - b0`` leaving a corner (``None``: no handle, the tangent follows the neighbours)
     selection : list of [contour, knot]
     max_deviation : float or None -- largest deviation (px) of a piece from the source contour
     can_undo, can_redo, status_message, status_level
@@ -83,6 +86,8 @@ class OutlineEditor(OutlineGestures, WidgetBase):
     corners = t.List().tag(sync=True)
     point_tension = t.List().tag(sync=True)
     interval_weights = t.List().tag(sync=True)
+    handles_in = t.List().tag(sync=True)
+    handles_out = t.List().tag(sync=True)
     selection = t.List().tag(sync=True)
     geometry = t.Dict().tag(sync=True)
     image = t.Bytes(b"").tag(sync=True)
@@ -332,7 +337,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
 
     def _outline_from_traits(self) -> Outline:
         return outline_from_lists(self._outline, self.contours, self.corners, self.point_tension,
-                                  self.interval_weights)
+                                  self.interval_weights, self.handles_in, self.handles_out)
 
     @t.validate("selection")
     def _valid_selection(self, proposal):

@@ -9,7 +9,7 @@
 // to a small SVG above the canvas for the drag, so they stay on top. When the drag ends the SVG shows again.
 // A marker layer (its path data written with `markers()`) keeps its own raster between frames and repaints
 // only the markers that moved (marker_cache.js); the canvas copies it in the layer's place.
-import { createMarkerCache } from "./marker_cache.js";
+import { createMarkerLayers, paintShape } from "./marker_cache.js";
 
 const NONE = new Set(["none", "transparent", ""]);
 
@@ -29,6 +29,20 @@ function layerStyle(path) {
   };
 }
 
+/** Size and place the canvas `element` (device pixels) and the label `overlay` exactly over `svg`. */
+function placeOver(svg, element, overlay, context) {
+  const width = Number(svg.getAttribute("width")), height = Number(svg.getAttribute("height"));
+  const ratio = window.devicePixelRatio || 1;
+  element.width = Math.round(width * ratio);
+  element.height = Math.round(height * ratio);
+  for (const node of [element, overlay]) {
+    Object.assign(node.style, { left: `${svg.offsetLeft}px`, top: `${svg.offsetTop}px`, width: `${width}px`, height: `${height}px` });
+  }
+  overlay.setAttribute("width", width);
+  overlay.setAttribute("height", height);
+  context.setTransform(ratio, 0, 0, ratio, 0, 0);
+}
+
 /**
  * Live painter for an editor canvas: `svg` (the drawing), `paths` (its layer paths, bottom to top),
  * `labels` (the <g> of text labels). Returns {element, overlay, begin(), end(), invalidate(), markers(),
@@ -43,24 +57,10 @@ export function createLivePainter(svg, paths, labels) {
   }
   element.dataset.testid = "live-canvas";
   const context = element.getContext("2d");
+  const place = () => placeOver(svg, element, overlay, context);
   const cache = new Map(); // path element -> {d, shape: Path2D}
-  const markerLayers = new Map(); // path element -> {d, centers, radius, shape}: what its data draws
-  const rasters = new Map(); // path element -> its marker raster (createMarkerCache) during a drag
+  const markerLayers = createMarkerLayers(); // the layers drawn from their rasters during a drag
   let styles = null, active = false, rafId = 0, cached = true;
-  const updates = { whole: 0, moved: 0, same: 0 }; // marker raster updates of this drag, by kind
-
-  function place() {
-    const width = Number(svg.getAttribute("width")), height = Number(svg.getAttribute("height"));
-    const ratio = window.devicePixelRatio || 1;
-    element.width = Math.round(width * ratio);
-    element.height = Math.round(height * ratio);
-    for (const node of [element, overlay]) {
-      Object.assign(node.style, { left: `${svg.offsetLeft}px`, top: `${svg.offsetTop}px`, width: `${width}px`, height: `${height}px` });
-    }
-    overlay.setAttribute("width", width);
-    overlay.setAttribute("height", height);
-    context.setTransform(ratio, 0, 0, ratio, 0, 0);
-  }
 
   function shapeOf(path) {
     const d = path.getAttribute("d") || "";
@@ -69,45 +69,16 @@ export function createLivePainter(svg, paths, labels) {
     return entry.shape;
   }
 
-  /** Layer `style`'s markers from its raster, brought up to date. */
-  function paintMarkers(style, markers) {
-    let raster = rasters.get(style.path);
-    if (!raster) rasters.set(style.path, (raster = createMarkerCache(style, element.width, element.height, window.devicePixelRatio || 1)));
-    updates[raster.update(markers)] += 1;
-    context.save();
-    context.setTransform(1, 0, 0, 1, 0, 0);
-    context.drawImage(raster.image, 0, 0);
-    context.restore();
-  }
-
   function paint() {
     rafId = 0;
     if (!active) return;
     context.clearRect(0, 0, element.width, element.height);
     for (const style of styles) {
       if (!style.fill && !style.stroke) continue;
-      const markers = markerLayers.get(style.path);
-      if (cached && markers && markers.d && markers.d === style.path.getAttribute("d")) {
-        context.globalAlpha = style.alpha;
-        paintMarkers(style, markers);
-        continue;
-      }
-      const shape = shapeOf(style.path);
-      if (!shape) continue;
       context.globalAlpha = style.alpha;
-      if (style.fill) {
-        context.fillStyle = style.fill;
-        context.fill(shape);
-      }
-      if (style.stroke) {
-        context.strokeStyle = style.stroke;
-        context.lineWidth = style.width;
-        context.lineCap = style.cap;
-        context.lineJoin = style.join;
-        context.miterLimit = 4; // the SVG default
-        context.setLineDash(style.dash);
-        context.stroke(shape);
-      }
+      if (cached && markerLayers.paint(context, style, element.width, element.height)) continue;
+      const shape = shapeOf(style.path);
+      if (shape) paintShape(context, style, shape);
     }
     context.globalAlpha = 1;
   }
@@ -119,20 +90,20 @@ export function createLivePainter(svg, paths, labels) {
      *  A change drops the rasters: the next cached paint starts them afresh. */
     get cached() { return cached; },
     set cached(value) {
-      if (cached !== !!value) rasters.clear();
+      if (cached !== !!value) markerLayers.clear();
       cached = !!value;
       paint();
     },
     /** How many marker raster updates of this drag repainted the whole layer, the moved markers, nothing. */
-    get updates() { return { ...updates }; },
+    get updates() { return { ...markerLayers.updates }; },
     /** Layer `path` now has path data `d`: markers of `radius`, `shape` at `centers` (CSS px, flat x, y). */
-    markers(path, d, centers, radius, shape) { markerLayers.set(path, { d, centers, radius, shape }); },
+    markers: markerLayers.set,
     /** A drag starts moving: paint on the canvas from now on, hide the SVG's path layers. */
     begin() {
       if (active) return;
       active = true;
       styles = styles ?? paths.map(layerStyle);
-      Object.assign(updates, { whole: 0, moved: 0, same: 0 });
+      markerLayers.clear();
       place();
       overlay.append(labels);
       element.style.display = overlay.style.display = "block";
@@ -152,7 +123,7 @@ export function createLivePainter(svg, paths, labels) {
       element.style.display = overlay.style.display = "none";
       context.clearRect(0, 0, element.width, element.height);
       cache.clear();
-      rasters.clear();
+      markerLayers.clear();
     },
   };
 }

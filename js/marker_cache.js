@@ -71,6 +71,20 @@ export function markersByTile(grid, centers, wanted = null) {
   return byTile;
 }
 
+/** Fill, then stroke `shape` (a Path2D) on `context` as layer `style` says (the SVG's miter limit, 4). */
+export function paintShape(context, style, shape) {
+  if (style.fill) {
+    context.fillStyle = style.fill;
+    context.fill(shape);
+  }
+  if (style.stroke) {
+    Object.assign(context, { strokeStyle: style.stroke, lineWidth: style.width, lineCap: style.cap,
+      lineJoin: style.join, miterLimit: 4 });
+    context.setLineDash(style.dash);
+    context.stroke(shape);
+  }
+}
+
 /**
  * The raster of one marker layer (`style`: fill, stroke, width, cap, join of the layer), `width` x `height`
  * device px at `ratio`. `update(markers)` brings it to `markers` = {centers, radius, shape} and returns
@@ -91,14 +105,7 @@ export function createMarkerCache(style, width, height, ratio) {
       context.rect(x0, y0, TILE, TILE);
       context.clip();
       context.setTransform(ratio, 0, 0, ratio, 0, 0);
-      const shapePath = new Path2D(markersPath(SCREEN, near, radius, shape));
-      if (style.fill) { context.fillStyle = style.fill; context.fill(shapePath); }
-      if (style.stroke) {
-        Object.assign(context, { strokeStyle: style.stroke, lineWidth: style.width, lineCap: style.cap,
-          lineJoin: style.join, miterLimit: 4 });
-        context.setLineDash(style.dash);
-        context.stroke(shapePath);
-      }
+      paintShape(context, style, new Path2D(markersPath(SCREEN, near, radius, shape)));
     }
     context.restore();
   }
@@ -127,6 +134,36 @@ export function createMarkerCache(style, width, height, ratio) {
       } else done = "same";
       painted = { centers: Float64Array.from(centers), radius, shape, grid };
       return done;
+    },
+  };
+}
+
+/**
+ * The marker layers of a live canvas. `set(path, d, centers, radius, shape)` records what layer `path`'s
+ * path data `d` draws; `paint(context, style, width, height)` copies the layer's raster, brought up to date,
+ * onto `context` and returns true, or returns false when the layer's data is no longer those markers;
+ * `clear()` drops the rasters; `updates` counts the raster updates since, by kind.
+ */
+export function createMarkerLayers() {
+  const layers = new Map(), rasters = new Map(), updates = { whole: 0, moved: 0, same: 0 };
+  return {
+    updates,
+    set(path, d, centers, radius, shape) { layers.set(path, { d, centers, radius, shape }); },
+    paint(context, style, width, height) {
+      const markers = layers.get(style.path);
+      if (!markers || !markers.d || markers.d !== style.path.getAttribute("d")) return false;
+      let raster = rasters.get(style.path);
+      if (!raster) rasters.set(style.path, (raster = createMarkerCache(style, width, height, window.devicePixelRatio || 1)));
+      updates[raster.update(markers)] += 1;
+      context.save();
+      context.setTransform(1, 0, 0, 1, 0, 0);
+      context.drawImage(raster.image, 0, 0);
+      context.restore();
+      return true;
+    },
+    clear() {
+      rasters.clear();
+      Object.assign(updates, { whole: 0, moved: 0, same: 0 });
     },
   };
 }

@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from splinecraft import _validation as v
@@ -181,6 +181,7 @@ def unit_steps(count):
 
 @FAST
 @given(unit_steps(6), st.integers(-300, 300), st.floats(-1e6, 1e6))
+@example([(4e-123, 1e-123)] * 6, 0, 1.0)  # a shift that erases the gaps: no premise, no verdict to keep
 def test_coincidence_verdict_is_scale_and_translation_free(raw, exponent, shift):
     points = np.cumsum(np.asarray(raw), axis=0)
     points[2] = points[1] + 1e-13 * (points[3] - points[1])  # likely coincident with points[1]
@@ -190,8 +191,13 @@ def test_coincidence_verdict_is_scale_and_translation_free(raw, exponent, shift)
         return
     gaps = v.relative_gaps(scaled)
     assert np.isfinite(gaps).all()
-    # the verdict moves only where a gap sits within rounding of the threshold
-    clear = np.abs(base_gaps - v.COINCIDENT_RTOL) > 1e-6 * v.COINCIDENT_RTOL + 1e-13 * (abs(shift) + 1.0)
+    # the verdict moves only where a gap sits within rounding of the threshold: adding the shift rounds every
+    # coordinate by up to eps * (|shift| + |point|), i.e. by that over the extent in relative units
+    extent = v.point_extent(points)
+    if not extent > 0:
+        return
+    rounding = 8 * np.finfo(float).eps * (abs(shift) + np.abs(points).max() + 1.0) / extent
+    clear = np.abs(base_gaps - v.COINCIDENT_RTOL) > 1e-6 * v.COINCIDENT_RTOL + rounding
     verdict = base_gaps > v.COINCIDENT_RTOL
     np.testing.assert_array_equal((gaps > v.COINCIDENT_RTOL)[clear], verdict[clear])
 

@@ -7,6 +7,8 @@ depend on which of the two ran).
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -404,3 +406,24 @@ def test_nearest_segment_distance_is_the_brute_force_minimum(seed, rows, cols):
     t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
     brute = np.hypot(*(ap - t[..., None] * ab).transpose(2, 0, 1)).min(axis=1)
     np.testing.assert_allclose(got, brute, rtol=0, atol=1e-12)
+
+
+def test_the_cache_goes_to_the_temporary_directory_when_nothing_else_is_writable(monkeypatch, tmp_path):
+    """numba refuses ``cache=True`` at import when neither the package's ``__pycache__`` nor the user's cache
+    folder can be written; ``_jit.ensure_cache_dir`` then gives it a folder of the temporary directory, and
+    leaves numba's own rule alone otherwise."""
+    import numba
+
+    from splinecraft.capture.fitting import _jit
+
+    monkeypatch.setattr(numba.config, "CACHE_DIR", "")
+    monkeypatch.setattr("tempfile.tempdir", str(tmp_path))
+    monkeypatch.setattr(_jit, "_writable", lambda folder: False)
+    folder = _jit.ensure_cache_dir()
+    assert folder is not None and folder.startswith(str(tmp_path)) and numba.config.CACHE_DIR == folder
+    monkeypatch.setattr(numba.config, "CACHE_DIR", "")
+    monkeypatch.setattr(_jit, "_writable", lambda folder: True)
+    assert _jit.ensure_cache_dir() is None and numba.config.CACHE_DIR == ""
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path / "own"))
+    assert _jit.ensure_cache_dir() is None and numba.config.CACHE_DIR == str(tmp_path / "own")
+    assert _jit._writable(str(tmp_path / "new" / "folder")) or os.geteuid() != 0

@@ -13,9 +13,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._jit import JIT_OPTIONS
+
 __all__ = ["iso_segments", "nearest_segment_distance", "warm_up"]
 
-_JIT = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy")
+_JIT = JIT_OPTIONS
 
 #: Per marching-squares case (bits: upper left, upper right, lower left, lower right above the level) the
 #: (from, to) ends of its one or two segments; ends 0 top, 1 bottom, 2 left, 3 right, -1 none. At the saddles

@@ -11,7 +11,8 @@ Layout (each module imports only those above it in this list):
 * :mod:`.results` -- :class:`FitResult`, :class:`Snapshot`;
 * :mod:`.geometry` -- deviation geometry (:func:`piece_deviation`, :func:`polyline_distance`);
 * :mod:`.thesis` -- the thesis's Algorithms 4.1-4.6;
-* :mod:`.bspline`, :mod:`.lsq_setup`, :mod:`.lsq_model`, :mod:`.lsq` -- the default ``"lsq"``;
+* :mod:`.bspline`, :mod:`.tips`, :mod:`.lsq_setup`, :mod:`.lsq_model`, :mod:`.lsq` -- the default ``"lsq"``
+  (:mod:`.tips`: corner tips extrapolated from the two sides that meet there);
 * :mod:`.small` -- the small-outline path of ``"lsq"``;
 * this module -- the public entries :func:`fit_outline` and :func:`fit_small_outlines`, and the one place
   that routes a contour to a family.

@@ -242,7 +242,9 @@ class LsqKnotInsertion:
             info={"options": {k: self.options[k] for k in LSQ_OPTIONS},
                   "corner_radii": model.tips.radius.tolist() if cornered else [],
                   "tip_gaps": model.tips.gap.tolist() if cornered else [],
-                  "tolerance_near_corners": epsilon + self.options["corner_allowance"],
+                  "tolerance_near_corners": epsilon + (float(model.tips.allowance.max()) if cornered
+                                                       else self.options["corner_allowance"]),
+                  "tips": model.tips.estimate.tolist() if cornered else [],
                   "reason": BUDGET_REASON.format(budget=self.deadline.budget)
                   if self.out_of_time and not converged else None},
         )

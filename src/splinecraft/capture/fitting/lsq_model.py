@@ -57,7 +57,7 @@ class OutlineRegression:
         self.fixed = np.zeros(n + 1, bool)  # points whose parameter never moves: the corners (or the seam)
         self.fixed[contour.corner_bounds if contour.corner_count else 0] = True
         self.tips = CornerTips.measure(contour, float(options["corner_radius"]), float(options["tip_gap"]),
-                                       bool(options["geometric_corners"]))
+                                       bool(options["geometric_corners"]), self.corner_allowance)
         self.base_parameter = self._base_parameter()
         self.period = float(self.base_parameter[-1])
         bounds, piece = contour.corner_bounds, contour.piece_of_point
@@ -119,6 +119,13 @@ class OutlineRegression:
         r = tips.zone_radius[contour.nearest_corner]
         active = (tips.radius > 0) | tips.allowance_kept
         return (r > 0) & active[contour.nearest_corner] & (contour.corner_distance < 2.0 * r + 1.0)
+
+    def allowance(self):
+        """Extra tolerance of every point (n + 1) in the zone of an extrapolated corner (that corner's
+        ``allowance``: ``corner_allowance``, or its extrapolated tip's distance from the contour), 0 elsewhere."""
+        if not self.contour.corner_count:
+            return np.zeros(self.contour.size + 1)
+        return np.where(self.zone(), self.tips.allowance[self.contour.nearest_corner], 0.0)
 
     def weights(self):
         """Weight of every contour point: ``min(1, (distance / r)^2)`` within the radius ``r`` of an extrapolated
@@ -218,6 +225,8 @@ class OutlineRegression:
         fitted = self.curve_at(self.base_parameter[corners])
         disp = np.hypot(*(fitted - contour.points[corners % contour.size]).T)
         limit = np.clip(0.5 / np.maximum(np.sin(0.5 * tips.angle), 1e-3), 0.75, self.epsilon + self.corner_allowance)
+        reach = np.hypot(*(tips.estimate - contour.points[corners % contour.size]).T)
+        limit = np.where(np.isfinite(reach), np.maximum(limit, reach + 0.25), limit)
         return np.flatnonzero((disp > limit) & (tips.radius > 0))
 
     # ---------------------------------------------------------------- deviations
@@ -253,15 +262,19 @@ class OutlineRegression:
             d_curve = windowed_distance(samples, centre, None, None, contour.edges, 1, n)
         probes, probe_u, probe_piece, is_point = self._probes(dense)
         d_data = self._data_distance(probes, probe_u, probe_piece, samples, params, bez, corner_par, spacing, dense)
-        zone = self.zone()
+        zone, allowance = self.zone(), self.allowance()
         if dense:
             probe_zone = np.empty(2 * n, bool)
             probe_zone[0::2], probe_zone[1::2] = zone[:n], zone[:n] | zone[1:]
+            probe_allowance = np.empty(2 * n)
+            probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
         else:
-            probe_zone = zone[:n]
-        tol_data = self.epsilon + self.corner_allowance * probe_zone
+            probe_zone, probe_allowance = zone[:n], allowance[:n]
+        tol_data = self.epsilon + probe_allowance
         curve_zone = np.interp(params, self.base_parameter, zone.astype(float)) > 0
-        tol_curve = self.epsilon + self.corner_allowance * curve_zone
+        nearest = np.clip(np.searchsorted(self.base_parameter, params), 0, n)
+        tol_curve = self.epsilon + np.where(curve_zone, np.maximum(allowance[nearest], allowance[np.maximum(
+            nearest - 1, 0)]), 0.0)
         data_iv = np.clip(np.searchsorted(ends, probe_u, side="left"), 0, k - 1)
         ex_curve, ex_data = d_curve - tol_curve, d_data - tol_data
         excess = np.maximum(sorted_group_max(iv, ex_curve, k), sorted_group_max(data_iv, ex_data, k))

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import edge_table
+from .geometry import edge_table, polyline_distance
+from .tips import MAX_TIP_REACH, tip_estimates
 
 __all__ = ["RotatedContour", "CornerTips", "thin_corners", "curvature_knots"]
 
@@ -66,12 +67,15 @@ class CornerTips:
     initial radius (the zone of ``epsilon + corner_allowance`` keeps its size); ``angle``: interior angle on the
     contour; ``allowance_kept``: the zone keeps its allowance although the corner follows the pixels;
     ``gap``: the angle-based parameter gap; ``gap_before``, ``gap_after``: the gaps used on both sides;
-    ``estimate``: straight-line intersection (NaN where there is none). An outline without corners has one
-    inert entry.
+    ``estimate``: the extrapolated tip (NaN where there is none); ``allowance``: the extra tolerance in the
+    corner's zone (``corner_allowance``, or the extrapolated tip's distance from the contour if larger). An
+    outline without corners has one inert entry.
     """
 
-    def __init__(self, radius, angle, gap):
+    def __init__(self, radius, angle, gap, allowance=0.0):
         self.radius = radius
+        self.base_allowance = float(allowance)
+        self.allowance = np.full(radius.shape[0], self.base_allowance)
         self.angle = angle
         self.gap = gap
         self.zone_radius = radius.copy()
@@ -86,7 +90,7 @@ class CornerTips:
         return tips
 
     @classmethod
-    def measure(cls, contour, corner_radius, tip_gap, geometric):
+    def measure(cls, contour, corner_radius, tip_gap, geometric, allowance=0.0):
         """Tips of the corners of ``contour``: radii by :func:`corner_radii`; a gap of
         ``tip_gap (1 / sin(theta / 2) - 1)`` px on each side (the pixel tip is truncated by about
         ``0.5 / sin(theta / 2) - 0.5`` px, and the pieces need that much parameter to reach the true corner),
@@ -95,50 +99,28 @@ class CornerTips:
             return cls.none()
         radius, angle = corner_radii(contour, corner_radius)
         gap = np.clip(tip_gap * (1.0 / np.maximum(np.sin(0.5 * angle), 0.1) - 1.0), 0.0, 3.0)
-        tips = cls(radius, angle, gap)
+        tips = cls(radius, angle, gap, allowance)
         if geometric:
             tips.geometric_gaps(contour)
         return tips
 
     def geometric_gaps(self, contour):
-        """Where the contour is straight enough on both sides of a corner, intersect total-least-squares lines
-        fitted to the contour just outside the truncated tip (arc distance ``r .. r + 8`` px, at most 0.45 of
-        the piece) and set the parameter gaps so that the parameter is the distance along those lines: the
-        pieces then reach the intersection without bending. Also remembers the intersection (``estimate``).
-        Corners whose lines are nearly parallel, or whose intersection is more than 3 px from the contour
-        corner, keep the angle-based gaps."""
-        arc, perimeter = contour.arc, contour.perimeter
-        lengths = np.diff(arc[contour.corner_bounds])
-        before_len, after_len = np.roll(lengths, 1), lengths
-        for c in range(contour.corner_count):
-            corner_index = contour.corner_bounds[c]
-            corner_arc = arc[corner_index]
-            start = max(self.radius[c], 1.0)
-            lines, anchors = [], []
-            for sign, side_len in ((-1, before_len[c]), (1, after_len[c])):
-                stop = min(start + 8.0, 0.45 * side_len)
-                if stop - start < 2.0:
-                    break
-                samples = (corner_arc + sign * np.linspace(start, stop, max(4, int(stop - start) * 2))) % perimeter
-                pts = contour.point_at_arc(samples)
-                centre = pts.mean(axis=0)
-                _, _, vt = np.linalg.svd(pts - centre, full_matrices=False)
-                lines.append((centre, vt[0]))
-                anchors.append(contour.point_at_arc(np.array([(corner_arc + sign * start) % perimeter]))[0])
-            if len(lines) < 2:
-                continue
-            (c1, d1), (c2, d2) = lines
-            cross = d1[0] * d2[1] - d1[1] * d2[0]
-            if abs(cross) < 0.2:  # nearly parallel (or a corner of less than ~12 deg): no reliable intersection
-                continue
-            delta = c2 - c1
-            crossing = c1 + (delta[0] * d2[1] - delta[1] * d2[0]) / cross * d1
-            corner_point = contour.points[corner_index % contour.size]
-            if not np.isfinite(crossing).all() or np.hypot(*(crossing - corner_point)) > 3.0:
-                continue
-            self.gap_before[c] = float(np.clip(np.hypot(*(crossing - anchors[0])) - start, 0.0, 3.0))
-            self.gap_after[c] = float(np.clip(np.hypot(*(crossing - anchors[1])) - start, 0.0, 3.0))
-            self.estimate[c] = crossing
+        """Extrapolated tips (:func:`~.tips.tip_estimates`): the two sides fitted beside the truncated tip and
+        intersected. Where that gives a tip, it is remembered (``estimate``), the parameter gaps are set so
+        that the parameter is the distance along the fitted sides (the pieces reach the tip without bending)
+        and the corner's allowance becomes at least the tip's distance from the contour (the true tip of a
+        rendering lies outside its crack outline, by at most :func:`~.tips.tip_reach`). Other corners keep
+        the angle-based gaps."""
+        estimate, start, anchors = tip_estimates(contour, self.angle, self.radius)
+        found = np.flatnonzero(np.isfinite(estimate[:, 0]))
+        if not found.size:
+            return
+        self.estimate[found] = estimate[found]
+        gaps = np.hypot(*(estimate[found, None, :] - anchors[found]).transpose(2, 0, 1)) - start[found, None]
+        gaps = np.clip(gaps, 0.0, MAX_TIP_REACH)
+        self.gap_before[found], self.gap_after[found] = gaps[:, 0], gaps[:, 1]
+        outside = polyline_distance(estimate[found], contour.points, closed=True)
+        self.allowance[found] = np.maximum(self.allowance[found], outside)
 
     def release(self, corner):
         """Halve the extrapolation radius of a corner (0 below 0.75 px: the pieces then follow the pixel tip).
@@ -146,6 +128,8 @@ class CornerTips:
         if self.radius[corner] <= 0:
             return False
         self.radius[corner] = 0.5 * self.radius[corner] if self.radius[corner] >= 1.5 else 0.0
+        if self.radius[corner] == 0.0:  # the pieces follow the pixels: no tip beyond them any more
+            self.allowance[corner] = self.base_allowance
         return True
 
 

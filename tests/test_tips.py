@@ -1,0 +1,134 @@
+"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq"): wedges rendered here from their exact
+polygons (pixel centres inside), traced at defaults; the traced corner must land within half a pixel of the
+true tip, although the rendering stops 1-3 px short of it.
+
+Sides within a few degrees of a pixel axis are left out of the wedges: a binary rendering does not resolve
+the offset of such a side (every offset within a pixel gives the same pixels), so no method can place the
+crossing of two sides better than half a pixel divided by the sine of their angle there.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from splinecraft.capture.fitting.tips import tip_reach
+from splinecraft.capture.trace import trace
+
+#: Sides stay at least this many degrees off the pixel axes (see the module docstring).
+AXIS_CLEARANCE = 6.0
+TIP_TOLERANCE = 0.5
+
+
+def render(vertices, size):
+    """Pixels whose centres lie inside the polygon (even-odd rule), as a bool image ``size x size``."""
+    yy, xx = np.mgrid[:size, :size] + 0.5
+    inside = np.zeros((size, size), bool)
+    for (x0, y0), (x1, y1) in zip(vertices, np.roll(vertices, -1, axis=0)):
+        if y0 == y1:
+            continue
+        crosses = (y0 > yy) != (y1 > yy)
+        inside ^= crosses & (xx < x0 + (yy - y0) * (x1 - x0) / (y1 - y0))
+    return inside
+
+
+def axis_clearance(directions):
+    """Smallest angle (degrees) of the given directions (radians) to the nearest pixel axis."""
+    degrees = np.degrees(np.asarray(directions)) % 90.0
+    return float(np.minimum(degrees, 90.0 - degrees).min())
+
+
+def wedge(opening, rotation, offset, concave):
+    """A wedge polygon and its tip. Convex: an isosceles triangle with the tip at the given opening (degrees)
+    and 60 px sides. Concave: a 110 px square with a V notch of that opening, 50 px deep, cut into one side
+    (the notch's tip is a corner of the ink turning the other way)."""
+    half = math.radians(opening) / 2
+    size = 150
+    centre = np.array([size / 2 + offset[0], size / 2 + offset[1]])
+    axis = np.array([math.cos(rotation), math.sin(rotation)])
+    normal = np.array([-axis[1], axis[0]])
+    if not concave:
+        tip = centre - 30.0 * axis
+        sides = [axis * math.cos(half) + sign * normal * math.sin(half) for sign in (1, -1)]
+        return np.array([tip, tip + 60.0 * sides[0], tip + 60.0 * sides[1]]), tip, size, (rotation + half,
+                                                                                           rotation - half)
+    tip = centre - 10.0 * axis
+    mouth = tip + 50.0 * axis
+    width = 50.0 * math.tan(half)
+    back = mouth - 110.0 * axis
+    vertices = np.array([tip, mouth + width * normal, mouth + 55.0 * normal, back + 55.0 * normal,
+                         back - 55.0 * normal, mouth - 55.0 * normal, mouth - width * normal])
+    return vertices, tip, size, (rotation + half, rotation - half, rotation)
+
+
+def wedge_cases(openings=(40.0, 45.0, 60.0, 80.0), per_opening=3, seed=20261201):
+    rng = np.random.default_rng(seed)
+    cases = []
+    for concave in (False, True):
+        for opening in openings:
+            drawn = 0
+            while drawn < per_opening:
+                rotation = rng.uniform(0.0, 2 * math.pi)
+                offset = tuple(rng.uniform(-0.5, 0.5, 2))
+                if axis_clearance(wedge(opening, rotation, offset, concave)[3]) < AXIS_CLEARANCE:
+                    continue
+                cases.append(pytest.param(opening, rotation, offset, concave,
+                                          id=f"{'notch' if concave else 'tip'}-{opening:.0f}deg-{drawn}"))
+                drawn += 1
+    return cases
+
+
+def traced_joins(result):
+    """The start points of all Bézier segments of all traced outlines (corners are among them)."""
+    return np.vstack([spline.bezier()[:, 0] for spline in result.splines])
+
+
+def traced_tip(opening, rotation, offset, concave):
+    """Trace the wedge; returns (distance of the nearest traced join to the true tip, distance of the crack
+    outline to it, the outline's Béziers, the index of that join)."""
+    vertices, tip, size, _ = wedge(opening, rotation, offset, concave)
+    result = trace(render(vertices, size))
+    assert result.stats["converged"]
+    # the thin end of a narrow notch may leave a lone background pixel (a hole of its own): the wedge is the
+    # longest outline
+    outline = int(np.argmax([points.shape[0] for points in result.points]))
+    bezier = result.splines[outline].bezier()
+    cut = np.hypot(*(result.points[outline] - tip).T).min()  # how far the crack outline stops from the tip
+    distance = np.hypot(*(bezier[:, 0] - tip).T)
+    return float(distance.min()), float(cut), bezier, int(np.argmin(distance))
+
+
+@pytest.mark.parametrize("opening,rotation,offset,concave", wedge_cases())
+def test_extrapolated_tip_of_an_acute_wedge_lands_within_half_a_pixel(opening, rotation, offset, concave):
+    reached, cut, bezier, nearest = traced_tip(opening, rotation, offset, concave)
+    assert reached <= TIP_TOLERANCE, (reached, cut)
+    # the corner at the tip is a corner of the fit: both pieces meet there, turning by the wedge's angle
+    incoming = bezier[nearest - 1, 3] - bezier[nearest - 1, 2]
+    outgoing = bezier[nearest, 1] - bezier[nearest, 0]
+    turn = math.degrees(math.acos(np.clip(incoming @ outgoing / (np.linalg.norm(incoming) * np.linalg.norm(outgoing)),
+                                          -1.0, 1.0)))
+    assert turn > 180.0 - opening - 20.0
+
+
+def test_tips_of_20_and_30_degrees_are_extrapolated_beyond_the_pixels():
+    """Narrower wedges: the pixels stop up to 2-3 px short of the tip. A side whose slope is close to a
+    fraction with a small denominator (1/4, 1/3, ...) is resolved only to about a quarter pixel, and the
+    crossing of two sides multiplies that by ``1 / sin(opening)``, so single wedges can miss by more than half
+    a pixel; most land within it, on average less than half as far as the pixels' own tip, and every one
+    within the reach the fit allows."""
+    cases = wedge_cases(openings=(20.0, 30.0), per_opening=4, seed=7)
+    reached, cuts = np.array([traced_tip(*case.values)[:2] for case in cases]).T
+    assert np.median(reached) <= TIP_TOLERANCE
+    assert np.mean(reached <= TIP_TOLERANCE) >= 0.75
+    assert np.median(cuts) > 2 * TIP_TOLERANCE  # clipping at the pixels could not do this
+    assert np.mean(reached) < 0.5 * np.mean(cuts)
+    assert np.all(reached <= tip_reach(math.radians(20.0)))
+
+
+def test_tip_reach_bounds_nearly_flat_corners():
+    angles = np.radians([10.0, 30.0, 90.0, 170.0, 180.0])
+    reach = tip_reach(angles)
+    assert np.all(np.diff(reach) <= 0)  # flatter corners reach less far
+    assert reach[-1] == pytest.approx(math.sqrt(0.5) + 0.5)
+    assert reach[0] <= 5.0

@@ -1,6 +1,7 @@
-"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq"): wedges rendered here from their exact
-polygons (pixel centres inside), traced at defaults; the traced corner must land within half a pixel of the
-true tip, although the rendering stops 1-3 px short of it.
+"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq", option ``geometric_corners``): wedges
+rendered here from their exact polygons (pixel centres inside), traced at defaults with the tips extrapolated;
+the traced corner must land within half a pixel of the true tip, although the rendering stops 1-3 px short
+of it.
 
 Sides within a few degrees of a pixel axis are left out of the wedges: a binary rendering does not resolve
 the offset of such a side (every offset within a pixel gives the same pixels), so no method can place the
@@ -19,6 +20,8 @@ from splinecraft.capture.trace import trace
 #: Sides stay at least this many degrees off the pixel axes (see the module docstring).
 AXIS_CLEARANCE = 6.0
 TIP_TOLERANCE = 0.5
+#: The option that extrapolates tips (off by default: docs/capture.md §12, "Corners of lsq").
+EXTRAPOLATED = {"geometric_corners": True}
 
 
 def render(vertices, size):
@@ -88,7 +91,7 @@ def traced_tip(opening, rotation, offset, concave):
     """Trace the wedge; returns (distance of the nearest traced join to the true tip, distance of the crack
     outline to it, the outline's Béziers, the index of that join)."""
     vertices, tip, size, _ = wedge(opening, rotation, offset, concave)
-    result = trace(render(vertices, size))
+    result = trace(render(vertices, size), fit_params=EXTRAPOLATED)
     assert result.stats["converged"]
     # the thin end of a narrow notch may leave a lone background pixel (a hole of its own): the wedge is the
     # longest outline

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .geometry import polyline_distance
+
 __all__ = ["tip_reach", "side_fit", "tip_estimates", "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
@@ -21,6 +23,12 @@ STRAIGHT_RESIDUAL = 0.8
 #: Longest side window (px of arc) and the shortest that still gives a direction.
 LONGEST_SIDE = 48.0
 SHORTEST_SIDE = 4.0
+#: A sharp tip of interior angle ``theta`` lies at most ``SHARP_TRUNCATION / sin(theta / 2)`` px outside the
+#: crack outline of its rendering (half a pixel diagonal, where the sides moved inwards by it meet); the sides
+#: of a corner rounded by a fillet of radius ``rho`` cross ``rho (1 / sin(theta / 2) - 1)`` px outside it, so
+#: the rule keeps the tips of fillets below ``SHARP_TRUNCATION / (1 - sin(theta / 2))`` px (2.4 px at 90
+#: degrees: there the crossing is within 1 px of the fillet) and drops the rest.
+SHARP_TRUNCATION = np.sqrt(0.5)
 #: Farthest an extrapolated tip may lie from its contour corner (px): the bound that keeps nearly parallel
 #: sides (or misread ones) from shooting the corner off.
 MAX_TIP_REACH = 5.0
@@ -122,7 +130,9 @@ def tip_estimates(contour, angle, radius):
     both sides fitted by :func:`side_fit` from ``max(radius, min(6, 1 / tan(angle / 2)))`` px of arc (where
     a wedge of that opening is about two pixels wide) to 0.8 of the side (at most :data:`LONGEST_SIDE` px
     further), intersected by :func:`_crossing`. Kept when the intersection lies within :func:`tip_reach` of
-    the contour corner (and within :data:`REACH_PER_SIDE` of the shorter window) and not more than :data:`BEHIND` behind it (along the bisector of the sides).
+    the contour corner (and within :data:`REACH_PER_SIDE` of the shorter window), no farther outside the
+    contour than a sharp tip can be (:data:`SHARP_TRUNCATION`) and not more than :data:`BEHIND` behind it
+    (along the bisector of the sides).
 
     Returns ``(estimate, start, anchors)``: estimate (k, 2), NaN where there is none; the window start per
     corner; the contour points at the window starts (k, 2, 2: before, after)."""
@@ -153,4 +163,11 @@ def tip_estimates(contour, angle, radius):
         if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
             continue
         estimate[c], anchors[c] = point, ends
+    # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of
+    # the sides of a rounded (or flattened) corner, which the pixels follow better than the crossing does
+    found = np.flatnonzero(np.isfinite(estimate[:, 0]))
+    if found.size:
+        outside = polyline_distance(estimate[found], contour.points, closed=True)
+        rounded = found[outside * np.sin(0.5 * angle[found]) > SHARP_TRUNCATION]
+        estimate[rounded], anchors[rounded] = np.nan, np.nan
     return estimate, start, anchors

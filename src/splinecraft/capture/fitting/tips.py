@@ -29,6 +29,11 @@ SHORTEST_SIDE = 4.0
 #: the rule keeps the tips of fillets below ``SHARP_TRUNCATION / (1 - sin(theta / 2))`` px (2.4 px at 90
 #: degrees: there the crossing is within 1 px of the fillet) and drops the rest.
 SHARP_TRUNCATION = np.sqrt(0.5)
+#: Only corners sharper than this (radians) are extrapolated: at 90 degrees and more a sharp tip lies at most
+#: ``sqrt(1/2) / sin(45 deg)`` = 1 px outside its pixels, within the tolerance of a fit that follows them
+#: (``epsilon + corner_allowance``), while their sides are often axis-aligned or flattened, where the crossing
+#: is least certain.
+MAX_EXTRAPOLATED_ANGLE = np.radians(90.0)
 #: Farthest an extrapolated tip may lie from its contour corner (px): the bound that keeps nearly parallel
 #: sides (or misread ones) from shooting the corner off.
 MAX_TIP_REACH = 5.0
@@ -165,6 +170,7 @@ def tip_estimates(contour, angle, radius):
         estimate[c], anchors[c] = point, ends
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of
     # the sides of a rounded (or flattened) corner, which the pixels follow better than the crossing does
+    estimate[angle >= MAX_EXTRAPOLATED_ANGLE] = np.nan
     found = np.flatnonzero(np.isfinite(estimate[:, 0]))
     if found.size:
         outside = polyline_distance(estimate[found], contour.points, closed=True)

@@ -73,6 +73,7 @@ from .fitting.small import fit_small_trusted
 from ._binarize import PINHOLE_AREA, fill_pinholes
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
+from .trace_stages import TraceStages
 
 __all__ = ["trace", "TraceResult", "TraceSnapshot", "SHORT_CONTOUR"]
 
@@ -102,6 +103,7 @@ def trace(
     fit_params=None,
     noise_factor=NOISE_FACTOR,
     time_budget=DEFAULT_TIME_BUDGET,
+    stages=None,
 ) -> TraceResult:
     """Trace the outline of a bitmap into smooth closed splines (thesis chapter 4; docs/capture.md).
 
@@ -163,6 +165,10 @@ def trace(
         :func:`trace` itself are not accepted here). ``small_outline`` (default
         ``fitting.SMALL_OUTLINE`` = 64; 0 = off) sets the contour length below which ``"lsq"`` boundaries are
         fitted together by ``fitting.fit_small_outlines``.
+    stages : :class:`~splinecraft.capture.trace_stages.TraceStages`, optional
+        Keeps the boundaries, corners and boundary noise of this call for the next one with the same bitmap
+        and the same settings of those stages (a re-trace after a change of ``epsilon``, ``method``, ``seed``
+        ...: docs/capture.md §13, "Re-tracing"); the result is the one without it. ``None``: nothing kept.
 
     Returns
     -------
@@ -204,29 +210,30 @@ def trace(
     noise_factor = _validation.check_number(noise_factor, "noise_factor", minimum=0.0)
     if time_budget is not None:
         time_budget = _validation.check_number(time_budget, "time_budget", minimum=0.0, inclusive=False)
+    if stages is not None and not isinstance(stages, TraceStages):
+        raise TypeError(f"stages must be a TraceStages or None, got {type(stages).__name__}")
+    stages = TraceStages(0) if stages is None else stages
     mask = load_bitmap(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
                        connectivity=connectivity)
     loaded = time.perf_counter()
-    boundaries = trace_boundaries(mask, connectivity=connectivity)
-    if not boundaries:
-        raise ValueError(
-            "no shape found: the bitmap has no ink pixels after thresholding "
-            f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
-        )
-    notes = []
-    if min_speck_area is None:
-        mask, boundaries, pinholes = _without_pinholes(mask, boundaries, connectivity)
-        if pinholes:
-            notes.append(f"filled {pinholes} pinhole{'' if pinholes == 1 else 's'} of fewer than {PINHOLE_AREA} "
-                         "pixels (docs/capture.md §10, 'Pinholes'; min_speck_area=0 keeps them)")
+    key = (stages.mask_key(mask), connectivity, min_speck_area is None)
+    (mask, boundaries, notes), _ = stages.remember(
+        "boundaries", key, lambda: _boundaries(mask, connectivity, min_speck_area, invert))
     traced = time.perf_counter()
     warm_fit_kernels()  # compiled or loaded before the budget starts (the first call of a process)
     warm_noise_kernels()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
-    points_list, corner_list, small, times, undetected = _contours(
-        boundaries, settings, notes, Deadline(None if time_budget is None else time_budget / 2))
+    key = (key, contour, _small_limit(settings), settings["corner_method"], settings["corner_params"], time_budget)
+    corner_deadline = Deadline(None if time_budget is None else time_budget / 2)
+    (points_list, corner_list, small, times, undetected, contour_notes), cached = stages.remember(
+        "contours", key, lambda: _contours(boundaries, settings, corner_deadline),
+        keep=lambda found: not found[4].any())  # kept only when every boundary got its corners
+    notes += contour_notes
+    if cached:
+        times[:] = 0.0  # no corner detection in this call
     detected = time.perf_counter()
-    noise = boundary_noise(mask, points_list, corner_list) if noise_factor > 0 else 0.0
+    noise, _ = stages.remember("noise", (key, noise_factor > 0), lambda: boundary_noise(
+        mask, points_list, corner_list) if noise_factor > 0 else 0.0)
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
@@ -296,11 +303,35 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
             "small_outline": small_limit, "contour": contour}
 
 
-def _contours(boundaries, settings, notes, deadline):
+def _boundaries(mask, connectivity, min_speck_area, invert):
+    """The boundaries of ``mask``, the mask with its pinholes filled (when ``min_speck_area`` is ``None``) and
+    the notes of both."""
+    boundaries = trace_boundaries(mask, connectivity=connectivity)
+    if not boundaries:
+        raise ValueError(
+            "no shape found: the bitmap has no ink pixels after thresholding "
+            f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
+        )
+    notes = []
+    if min_speck_area is None:
+        mask, boundaries, pinholes = _without_pinholes(mask, boundaries, connectivity)
+        if pinholes:
+            notes.append(f"filled {pinholes} pinhole{'' if pinholes == 1 else 's'} of fewer than {PINHOLE_AREA} "
+                         "pixels (docs/capture.md §10, 'Pinholes'; min_speck_area=0 keeps them)")
+    return mask, boundaries, notes
+
+
+def _small_limit(settings):
+    """The contour length below which boundaries take the small-outline path (0: none does)."""
+    return settings["small_outline"] if settings["method"] == "lsq" else 0
+
+
+def _contours(boundaries, settings, deadline):
     """The contour of every boundary, its corners, which boundaries take the small-outline path, the
-    seconds of corner detection per boundary, and which boundaries needed it but did not get it because
-    ``deadline`` had passed."""
-    small_limit = settings["small_outline"] if settings["method"] == "lsq" else 0
+    seconds of corner detection per boundary, which boundaries needed it but did not get it because
+    ``deadline`` had passed, and the notes."""
+    small_limit = _small_limit(settings)
+    notes = []
     points_list, corner_list, small = [], [], []
     times = np.zeros(len(boundaries))
     undetected = np.zeros(len(boundaries), bool)
@@ -330,7 +361,7 @@ def _contours(boundaries, settings, notes, deadline):
             "contour points, corners interpolated; stats['per_boundary'][k]['small_outline'])"
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
                "closed periodic curve" if skipped else ""))
-    return points_list, corner_list, small, times, undetected
+    return points_list, corner_list, small, times, undetected, notes
 
 
 def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, undetected):

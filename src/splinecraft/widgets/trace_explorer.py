@@ -23,6 +23,7 @@ import traitlets as t
 from .._validation import check_number
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
 from ..capture.fitting.options import DEFAULT_TAU
+from ..capture.trace_stages import TraceStages
 from . import _explorer_drawing as drawing
 from ._assets import load_css, load_esm
 from ._base import Bool, Float, Int, WidgetBase, read_str, run_with_budget, short_reason, view_problem
@@ -195,6 +196,7 @@ class TraceExplorer(WidgetBase):
             raise TypeError(f"TraceExplorer got unexpected argument(s): {', '.join(sorted(unknown))}")
         display = {k: trace_params.pop(k) for k in list(trace_params) if k in _DISPLAY + ("debug",)}
         self._result = None
+        self._stages = TraceStages()  # boundaries, corners and noise of the last bitmaps (a slider re-fits only)
         super().__init__(**display)
         self._extra = {k: trace_params[k] for k in ("threshold", "connectivity", "contour", "fit_params")
                        if k in trace_params}
@@ -344,7 +346,7 @@ class TraceExplorer(WidgetBase):
         return trace(
             mask, epsilon=settings["epsilon"], method=method, corner_method=settings["corner_method"] or None,
             corner_params=settings["corner_params"], seed=settings["seed"], max_iterations=settings["max_iterations"],
-            keep_snapshots=True, tau=tau, **params,
+            keep_snapshots=True, tau=tau, stages=self._stages, **params,
         )
 
     def _accept(self, result):

@@ -356,56 +356,80 @@ def test_normal_equations_of_a_single_point_are_its_basis_products(size):
 
 
 # ------------------------------------------------------------------------------ iso-line distance (noise)
-def _random_smooth_image(seed, shape):
+def _random_mask(seed, shape):
     from scipy.ndimage import gaussian_filter
 
     rng = np.random.default_rng(seed)
-    mask = gaussian_filter(rng.random(shape), 2.0) > 0.5
-    return gaussian_filter(np.pad(mask.astype(float), 4), 1.0)
+    return gaussian_filter(rng.random(shape), 2.0) > 0.5
 
 
 @settings(max_examples=25, deadline=None)
-@given(st.integers(0, 10_000), st.integers(6, 40), st.integers(6, 40))
-def test_iso_segments_are_the_edges_of_find_contours(seed, rows, cols):
-    """Same segments, same direction, same vertex coordinates as the polylines of
-    ``skimage.measure.find_contours`` (low values fully connected), in the pixel frame."""
+@given(st.integers(0, 10_000), st.integers(1, 30), st.integers(1, 30))
+def test_smoothed_values_are_those_of_gaussian_filter(seed, rows, cols):
+    """Each lazily smoothed value is ``gaussian_filter(np.pad(mask, 4), 1.0)`` at that pixel, bit for bit
+    (scipy's summation order; the reflection at the border reads the pad's zeros)."""
+    from scipy.ndimage import gaussian_filter
+
+    from splinecraft.capture.fitting import _iso_kernels
+
+    mask = _random_mask(seed, (rows, cols))
+    expected = gaussian_filter(np.pad(mask.astype(float), 4), 1.0)
+    weights = _iso_kernels.gaussian_weights(1.0)
+    smooth, row_memo = np.empty(expected.shape), np.empty(expected.shape)
+    known, row_known = np.zeros(expected.shape, np.uint8), np.zeros(expected.shape, np.uint8)
+    for r, c in np.ndindex(*expected.shape):
+        _iso_kernels._smooth_into(mask, 4, weights, r, c, smooth, known, row_memo, row_known)
+    np.testing.assert_array_equal(smooth, expected)
+
+
+def _segment_distances(points, segments):
+    """Brute force: every point to every segment ``x0, y0, x1, y1`` (the kernel's formula, vectorized)."""
+    a, ab = segments[None, :, :2], segments[None, :, 2:] - segments[None, :, :2]
+    ap = points[:, None, :] - a
+    denom = ab[..., 0] * ab[..., 0] + ab[..., 1] * ab[..., 1]
+    t = np.clip((ap[..., 0] * ab[..., 0] + ap[..., 1] * ab[..., 1]) / np.where(denom > 0, denom, 1.0), 0.0, 1.0)
+    dx, dy = ap[..., 0] - t * ab[..., 0], ap[..., 1] - t * ab[..., 1]
+    return np.sqrt(dx * dx + dy * dy).min(axis=1)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40))
+def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols):
+    """The distance to the nearest segment of ``skimage.measure.find_contours`` on the smoothed, padded
+    bitmap (its polylines cut into edges, in the pixel frame ``x = column - 4 + 0.5``), bit for bit, for points
+    on and far off the boundaries; ``None`` exactly when find_contours finds nothing."""
+    from scipy.ndimage import gaussian_filter
     from skimage.measure import find_contours
 
     from splinecraft.capture.fitting import _iso_kernels
 
-    image = _random_smooth_image(seed, (rows, cols))
-    segments, cells = _iso_kernels.iso_segments(image, 0.5, 4)
-    expected = set()
-    for line in find_contours(image, 0.5):
-        xy = np.column_stack([line[:, 1] - 4 + 0.5, line[:, 0] - 4 + 0.5])
-        expected.update(tuple(np.concatenate([a, b])) for a, b in zip(xy[:-1], xy[1:]))
-    assert set(map(tuple, segments)) == expected
-    # each segment lies in the unit cell it is filed under
-    row, col = np.divmod(cells, image.shape[1] - 1)
-    for s in (0, 2):
-        assert np.all((segments[:, s] + 4 - 0.5 >= col - 1e-12) & (segments[:, s] + 4 - 0.5 <= col + 1 + 1e-12))
-        assert np.all((segments[:, s + 1] + 4 - 0.5 >= row - 1e-12) & (segments[:, s + 1] + 4 - 0.5 <= row + 1 + 1e-12))
-
-
-@settings(max_examples=25, deadline=None)
-@given(st.integers(0, 10_000), st.integers(6, 40), st.integers(6, 40))
-def test_nearest_segment_distance_is_the_brute_force_minimum(seed, rows, cols):
-    from splinecraft.capture.fitting import _iso_kernels
-
-    image = _random_smooth_image(seed, (rows, cols))
-    segments, cells = _iso_kernels.iso_segments(image, 0.5, 4)
+    mask = _random_mask(seed, (rows, cols))
     rng = np.random.default_rng(seed + 1)
     points = rng.uniform(-6, max(rows, cols) + 6, size=(60, 2))
-    got = _iso_kernels.nearest_segment_distance(points, segments, cells, image.shape[0], image.shape[1], 4)
-    if not segments.shape[0]:
-        assert np.isinf(got).all()
+    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4)
+    lines = find_contours(gaussian_filter(np.pad(mask.astype(float), 4), 1.0), 0.5)
+    if not lines:
+        assert got is None
         return
-    a, b = segments[:, :2], segments[:, 2:]
-    ab = b - a
-    ap = points[:, None, :] - a[None]
-    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-300), 0.0, 1.0)
-    brute = np.hypot(*(ap - t[..., None] * ab).transpose(2, 0, 1)).min(axis=1)
-    np.testing.assert_allclose(got, brute, rtol=0, atol=1e-12)
+    segments = np.concatenate([np.column_stack([line[:-1, 1] - 4 + 0.5, line[:-1, 0] - 4 + 0.5,
+                                                line[1:, 1] - 4 + 0.5, line[1:, 0] - 4 + 0.5]) for line in lines])
+    np.testing.assert_array_equal(got, _segment_distances(points, segments))
+
+
+def test_iso_line_distance_of_a_hairline_is_none_and_of_a_square_its_closed_form():
+    """A 1-px line smoothed by a 1-px Gaussian never reaches 0.5 (no iso-line: ``None``); the iso-line of a
+    large square passes through the middle of its edges, so a point on the crack outline there is at ~0."""
+    from splinecraft.capture.fitting import _iso_kernels
+
+    line = np.zeros((9, 40), bool)
+    line[4, 2:38] = True
+    assert _iso_kernels.iso_line_distance(np.array([[10.0, 4.5]]), line, 1.0, 4) is None
+    square = np.zeros((40, 40), bool)
+    square[10:30, 10:30] = True
+    got = _iso_kernels.iso_line_distance(np.array([[20.0, 10.0], [20.0, 5.0]]), square, 1.0, 4)
+    np.testing.assert_allclose(got, [0.0, 5.0], atol=1e-9)
+    with pytest.raises(ValueError, match="pad"):
+        _iso_kernels.iso_line_distance(np.array([[20.0, 10.0]]), square, 1.0, 3)
 
 
 def test_the_cache_goes_to_the_temporary_directory_when_nothing_else_is_writable(monkeypatch, tmp_path):

@@ -39,18 +39,11 @@ def boundary_noise(mask, contours, corner_lists) -> float:
     (0.23-0.36 over glyphs of three fonts at 48-1200 px, upright
     and rotated, one outlier of 0.62 at 48 px), 0.55-1.1 px for scan-like ones (blur 1-2 px); 0 when no
     contour qualifies."""
-    from scipy.ndimage import gaussian_filter
-
-    from ._iso_kernels import iso_segments, nearest_segment_distance
+    from ._iso_kernels import iso_line_distance
 
     chosen = [(np.asarray(contours[k], float), np.asarray(corner_lists[k], dtype=np.int64))
               for k in np.flatnonzero(np.fromiter(map(len, contours), np.int64, len(contours)) >= _MIN_POINTS)]
     if not chosen:
-        return 0.0
-    pad = 4
-    smooth = gaussian_filter(np.pad(np.asarray(mask, float), pad), NOISE_SIGMA)
-    segments, cells = iso_segments(smooth, 0.5, pad)  # the marching-squares segments of find_contours
-    if not segments.shape[0]:
         return 0.0
     kept = []
     for points, corners in chosen:
@@ -63,8 +56,11 @@ def boundary_noise(mask, contours, corner_lists) -> float:
         return 0.0
     if kept.shape[0] > NOISE_SAMPLE:  # a percentile needs no more; keeps noise images linear in their size
         kept = kept[np.linspace(0, kept.shape[0] - 1, NOISE_SAMPLE).astype(np.int64)]
-    distances = nearest_segment_distance(np.ascontiguousarray(kept), segments, cells, smooth.shape[0], smooth.shape[1],
-                                         pad)
+    # the smoothed bitmap is padded by 4 px (the Gaussian's radius): its iso-line closes around ink that
+    # touches the border
+    distances = iso_line_distance(kept, mask, NOISE_SIGMA, 4)
+    if distances is None:  # the smoothed bitmap never reaches the level (hairlines only)
+        return 0.0
     return float(np.percentile(distances, NOISE_QUANTILE))
 
 

@@ -294,17 +294,21 @@ def test_arm_turn_matches_a_loop_over_samples_and_sides(seed, closed, tolerance)
 def test_arm_fit_straightness_is_exact_at_the_tolerance(length):
     # the squared-distance shortcut must give the answer of max(hypot(residual)) <= tolerance even when the
     # tolerance is that maximum itself (or the next float below it)
+    from splinecraft.capture.corners import _jump_kernels
+
     padded = _random_walk(length, 200, closed=False)
     starts = np.arange(0, 200 - length, 7)
-    mean, slope, _ = jump._arm_fit(padded, starts, length)
-    offsets = np.arange(length) - (length - 1) / 2
-    for row, start in enumerate(starts[:12]):
-        residual = padded[start:start + length] - mean[row] - offsets[:, None] * slope[row]
+    centred, weights = jump._arm_operators(length, 1)[1:]
+    line = np.empty(4)
+    for start in starts[:12]:
+        _jump_kernels._window_line(padded, start, length, weights, line)
+        residual = padded[start:start + length] - line[:2] - centred[:, None] * line[2:]
         largest = np.hypot(*residual.T).max()
-        assert jump._arm_fit(padded, starts, length, largest)[2][row]
-        assert not jump._arm_fit(padded, starts, length, np.nextafter(largest, 0.0))[2][row]
+        assert _jump_kernels._straight(padded, start, length, centred, line, largest)
+        assert not _jump_kernels._straight(padded, start, length, centred, line, np.nextafter(largest, 0.0))
     padded[starts[3] + 1] = np.nan                                  # a NaN sample is never straight
-    assert not jump._arm_fit(padded, starts, length, 1e9)[2][3]
+    _jump_kernels._window_line(padded, starts[3], length, weights, line)
+    assert not _jump_kernels._straight(padded, starts[3], length, centred, line, 1e9)
 
 
 # ------------------------------------------------------------------------------------------------ SRM05

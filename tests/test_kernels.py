@@ -432,13 +432,95 @@ def test_iso_line_distance_of_a_hairline_is_none_and_of_a_square_its_closed_form
         _iso_kernels.iso_line_distance(np.array([[20.0, 10.0]]), square, 1.0, 3)
 
 
+# ------------------------------------------------------------------------------ tangent-jump's arm search
+def _numpy_arm_fit(padded, starts, length, centred, slope_weights, tolerance):
+    """The vectorized line fit of the windows of ``length`` samples at ``starts`` (the formulation the kernel
+    replaced): sample-major block, running sums, squared-distance test with the ``hypot`` fallback."""
+    arm = np.take(padded, np.arange(length)[:, None] + starts[None, :], axis=0)
+    mean = arm.sum(axis=0) / length
+    slope = np.einsum("l,lad->ad", slope_weights, arm)
+    if tolerance is None:
+        return mean, slope, None
+    arm -= mean
+    arm -= centred[:, None, None] * slope
+    squared = np.square(arm)
+    worst = (squared[..., 0] + squared[..., 1]).max(axis=0)
+    limit = tolerance * tolerance
+    with np.errstate(invalid="ignore"):
+        straight = worst < limit * (1.0 - 1e-12)
+        unsure = ~straight & ~(worst > limit * (1.0 + 1e-12))
+        if unsure.any():
+            straight[unsure] = np.hypot(arm[..., 0][:, unsure], arm[..., 1][:, unsure]).max(axis=0) <= tolerance
+    return mean, slope, straight
+
+
+def _numpy_arm_lines(padded, reach, ladder, operators, tolerance):
+    """Arms grown rung by rung over all alive samples at once (each needed window fitted once per length)."""
+    m = padded.shape[0] - 2 * reach
+    alive = [np.arange(m), np.arange(m)]
+    out = np.full((2, m, 4), np.nan)
+    for rung, length in enumerate(ladder):
+        centred, slope_weights = operators(length)
+        first = [alive[0] + (reach - length + 1), alive[1] + reach]
+        needed = np.zeros(len(padded) - length + 1, dtype=bool)
+        for side in range(2):
+            needed[first[side]] = True
+        row_of_start = np.cumsum(needed) - 1
+        mean, slope, straight = _numpy_arm_fit(padded, np.flatnonzero(needed), length, centred, slope_weights,
+                                               tolerance if rung > 0 else None)
+        for side in range(2):
+            row = row_of_start[first[side]]
+            if rung > 0:
+                alive[side], row = alive[side][straight[row]], row[straight[row]]
+            out[side, alive[side], :2], out[side, alive[side], 2:] = mean[row], slope[row]
+    return out
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10_000), st.integers(8, 300), st.booleans(), st.sampled_from([0.05, 0.3, 1.0]))
+def test_arm_lines_match_the_vectorized_formulation(seed, m, closed, tolerance):
+    """Mean points and slopes of every sample's last straight arm on both sides, bit for bit those of the
+    numpy formulation (NaN where an arm of an open curve runs off an end)."""
+    from splinecraft.capture.corners import _jump, _jump_kernels
+
+    rng = np.random.default_rng(seed)
+    heading = np.cumsum(np.where(rng.uniform(size=m) < 0.1, rng.normal(0, 0.8, m), 0.0))
+    curve = np.cumsum(np.column_stack([np.cos(heading), np.sin(heading)]), axis=0) + rng.normal(0, 0.1, (m, 2))
+    ladder = [length for length in _jump._ARM_LADDER if length <= 40 and 2 * length < m] or [3]
+    reach = max(ladder)
+    if closed:
+        padded = curve[np.arange(-reach, m + reach) % m]
+    else:
+        padded = np.vstack([np.full((reach, 2), np.nan), curve, np.full((reach, 2), np.nan)])
+
+    def operators(length):
+        return _jump._arm_operators(length, 1)[1:]
+    got = _jump_kernels.arm_lines(padded, reach, ladder, operators, tolerance)
+    np.testing.assert_array_equal(got, _numpy_arm_lines(padded, reach, ladder, operators, tolerance))
+
+
+def test_arm_lines_of_a_corner_are_its_two_sides():
+    """An exact right angle (closed form): away from the corner the arms have grown to the longest length
+    and point along the sides; at the corner the backward arm runs along +x and the forward arm along +y."""
+    from splinecraft.capture.corners import _jump, _jump_kernels
+
+    side = np.arange(60.0)
+    curve = np.vstack([np.column_stack([side, np.zeros(60)]), np.column_stack([np.full(60, 60.0), side])])
+    padded = np.vstack([np.full((38, 2), np.nan), curve, np.full((38, 2), np.nan)])
+    ladder = [length for length in _jump._ARM_LADDER if length <= 38]
+    lines = _jump_kernels.arm_lines(padded, 38, ladder, lambda length: _jump._arm_operators(length, 1)[1:], 0.3)
+    np.testing.assert_allclose(lines[0, 60, 2:], [1.0, 0.0], atol=1e-12)   # arriving at (60, 0) along +x
+    np.testing.assert_allclose(lines[1, 60, 2:], [0.0, 1.0], atol=1e-12)   # leaving it along +y
+    np.testing.assert_allclose(lines[1, 10, :2], [10 + 18.5, 0.0], atol=1e-12)  # a 38-sample forward arm
+
+
 def test_the_cache_goes_to_the_temporary_directory_when_nothing_else_is_writable(monkeypatch, tmp_path):
     """numba refuses ``cache=True`` at import when neither the package's ``__pycache__`` nor the user's cache
     folder can be written; ``_jit.ensure_cache_dir`` then gives it a folder of the temporary directory, and
     leaves numba's own rule alone otherwise."""
     import numba
 
-    from splinecraft.capture.fitting import _jit
+    from splinecraft.capture import _jit
 
     monkeypatch.setattr(numba.config, "CACHE_DIR", "")
     monkeypatch.setattr("tempfile.tempdir", str(tmp_path))

@@ -65,6 +65,7 @@ from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
     check_small_outline, check_tau, make_rng
+from .corners._jump_kernels import warm_up as warm_corner_kernels
 from .fitting._iso_kernels import warm_up as warm_noise_kernels
 from .fitting._kernels import warm_up as warm_fit_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
@@ -222,6 +223,8 @@ def trace(
     traced = time.perf_counter()
     warm_fit_kernels()  # compiled or loaded before the budget starts (the first call of a process)
     warm_noise_kernels()
+    if settings["corner_method"] == "tangent-jump":
+        warm_corner_kernels()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
     key = (key, contour, _small_limit(settings), settings["corner_method"], settings["corner_params"], time_budget)
     corner_deadline = Deadline(None if time_budget is None else time_budget / 2)

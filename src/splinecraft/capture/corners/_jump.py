@@ -6,6 +6,7 @@ import warnings
 import numpy as np
 
 from ._common import _EMPTY, _check_int, _check_real, _circular_max_filter, _prepare, _result
+from ._jump_kernels import arm_lines
 
 
 
@@ -86,55 +87,15 @@ def _smooth(samples, sigma, closed):
                             np.convolve(padded[:, 1], kernel, "valid")])
 
 
-def _arm_fit(padded, starts, length, tolerance=None):
-    """Least-squares lines ``x(t) = mean + slope t`` of the arms (windows) of ``length`` samples starting at
-    the rows ``starts`` of ``padded``: their mean points, slopes (along travel) and, given a
-    ``tolerance``, whether every sample of the window lies within ``tolerance`` of its line (else None;
-    False where a window holds a NaN).
-
-    The windows are gathered as one ``(length, k, 2)`` block, sample-major, so that every sum over a
-    window runs as ``length`` vectorized additions over all windows at once; the mean is that running sum
-    divided by ``length`` and the slope the running sum of ``t / sum(t^2)`` times the samples -- in
-    floating point the same operations, in the same order, as a per-window mean and dot product.
-
-    The straightness test is ``max hypot(residual) <= tolerance``. It compares the squared distances with
-    ``tolerance**2`` (``hypot`` is several times slower) and calls ``hypot`` only for the windows whose
-    largest squared distance is within a relative ``1e-12`` of ``tolerance**2`` (or NaN), where rounding
-    could decide; the answer is therefore exactly that of ``hypot``.
-    """
-    _, centred, slope_weights = _arm_operators(length, 1)
-    arm = np.take(padded, np.arange(length)[:, None] + starts[None, :], axis=0)      # (length, k, 2)
-    mean = arm.sum(axis=0) / length
-    slope = np.einsum("l,lad->ad", slope_weights, arm)
-    if tolerance is None:
-        return mean, slope, None
-    arm -= mean
-    arm -= centred[:, None, None] * slope                       # residuals from the line
-    dx, dy = arm[..., 0], arm[..., 1]
-    squared = np.square(arm)
-    worst = (squared[..., 0] + squared[..., 1]).max(axis=0)
-    limit = tolerance * tolerance
-    with np.errstate(invalid="ignore"):
-        straight = worst < limit * (1.0 - 1e-12)
-        unsure = ~straight & ~(worst > limit * (1.0 + 1e-12))   # near the limit, or NaN
-        if unsure.any():
-            straight[unsure] = np.hypot(dx[:, unsure], dy[:, unsure]).max(axis=0) <= tolerance
-    return mean, slope, straight
-
-
 def _signed_arm_turn(R, closed, tolerance, ladder):
     """Signed turn (degrees, + = left in the frame of the points) between the straight arms before and
     after every sample of ``R``, and the two arm directions (along travel).
 
     Each arm starts at the sample and grows through ``ladder`` while every sample of it stays within
     ``tolerance`` of its least-squares line (the first length is always accepted); its direction is the
-    slope of that line. NaN where an arm of an open curve runs off an end.
-
-    Implementation: the backward arm of length ``L`` at sample ``i`` is the window of ``L`` samples of
-    the padded curve ending at ``i``, the forward arm the window starting there, so the forward arm of
-    ``i`` is the backward arm of ``i + L - 1``. For each length of the ladder, the line of every window
-    that a still growing arm needs is fitted once, for all those windows at once (:func:`_arm_fit`); an arm
-    stops at its first length that is not straight and keeps the line of the length before.
+    slope of that line. NaN where an arm of an open curve runs off an end. The search is compiled
+    (:func:`._jump_kernels.arm_lines`): the backward arm of length ``L`` at sample ``i`` is the window of
+    ``L`` samples of the padded curve ending at ``i``, the forward arm the window starting there.
     """
     m = len(R)
     reach = max(ladder)
@@ -142,38 +103,8 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
         padded = R[np.arange(-reach, m + reach) % m]
     else:
         padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
-    sides = (-1, 1)
-    alive = {side: np.arange(m) for side in sides}
-    # points and directions travel as complex numbers x + iy (a view of the float pairs, same bits):
-    # gathering and scattering 1-D arrays is many times faster than rows of (k, 2) arrays
-    directions = {side: np.full(m, complex(np.nan, np.nan)) for side in sides}
-    centres = {side: np.full(m, complex(np.nan, np.nan)) for side in sides}
-    line = {}                               # side -> (mean, slope) of the last straight arm of each alive sample
-    for rung, length in enumerate(ladder):
-        first = {-1: alive[-1] + (reach - length + 1), 1: alive[1] + reach}    # window starts in padded
-        needed = np.zeros(len(padded) - length + 1, dtype=bool)
-        for side in sides:
-            needed[first[side]] = True
-        row_of_start = np.cumsum(needed) - 1
-        mean, slope, straight = _arm_fit(padded, np.flatnonzero(needed), length,
-                                         tolerance if rung > 0 else None)
-        mean, slope = (np.ascontiguousarray(x).view(np.complex128).ravel() for x in (mean, slope))
-        for side in sides:
-            row = row_of_start[first[side]]
-            if rung > 0:                    # arms that stop here keep the line of the previous length
-                keep = straight[row]
-                stopped = ~keep
-                directions[side][alive[side][stopped]] = line[side][1][stopped]
-                centres[side][alive[side][stopped]] = line[side][0][stopped]
-                alive[side], row = alive[side][keep], row[keep]
-            line[side] = (mean[row], slope[row])
-        if not (alive[-1].size or alive[1].size):
-            break
-    for side in sides:                      # arms that reached the last length
-        directions[side][alive[side]] = line[side][1]
-        centres[side][alive[side]] = line[side][0]
-    directions, centres = ({side: x[side].view(np.float64).reshape(m, 2) for side in sides}
-                           for x in (directions, centres))
+    lines = arm_lines(padded, reach, ladder, lambda length: _arm_operators(length, 1)[1:], tolerance)
+    centres, directions = {-1: lines[0, :, :2], 1: lines[1, :, :2]}, {-1: lines[0, :, 2:], 1: lines[1, :, 2:]}
     a, b = directions[-1], directions[1]
     turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
     return turn, (centres[-1], a, centres[1], b)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import JIT_OPTIONS
+from .._jit import JIT_OPTIONS
 
 __all__ = ["gaussian_weights", "iso_line_distance", "warm_up"]
 

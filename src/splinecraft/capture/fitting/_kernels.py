@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import JIT_OPTIONS
+from .._jit import JIT_OPTIONS
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "warm_up"]

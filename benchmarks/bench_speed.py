@@ -17,7 +17,8 @@
   re-traced, re-drawn state (median of ``--repeat`` changes between two values).
 * ``jit``: the first-call cost of the compiled kernels in a fresh process with an empty kernel cache (cold)
   and again with the cache it left (warm): the time of the kernels' warm-up that ``sc.trace`` runs once per
-  process (after the imports, which are not counted), wall and CPU.
+  process (after the imports, which are not counted), wall and CPU, per kernel module (the fit, the noise
+  estimate, tangent-jump's arm search), and the cold compile time of each compiled function.
 * ``blas``: the fit's small solves with the BLAS threads pinned to 1 (threadpoolctl) against the library's
   default, with the other core kept busy by a spinning process, alternating.
 """
@@ -148,21 +149,61 @@ def measure_explorer(src, repeat):
     return out
 
 
+_JIT_CHILD = """
+import json, time, splinecraft as sc
+import scipy.ndimage, scipy.spatial, skimage.measure  # imports are not the kernels' cost
+from numba.core import event
+from splinecraft.capture.corners import _jump_kernels
+from splinecraft.capture.fitting import _iso_kernels, _kernels
+recorder = event.RecordingListener()
+event.register("numba:compile", recorder)
+modules = {"fit": _kernels, "noise estimate": _iso_kernels, "corners": _jump_kernels}
+out = {"modules": {}}
+w, c = time.perf_counter(), time.process_time()
+for name, module in modules.items():
+    w1, c1 = time.perf_counter(), time.process_time()
+    module.warm_up()
+    out["modules"][name] = (time.perf_counter() - w1, time.process_time() - c1)
+out["total"] = (time.perf_counter() - w, time.process_time() - c)
+own, stack = {}, []  # wall seconds of each compiled function itself (its callees' compiles subtracted)
+for stamp, record in recorder.buffer:
+    data = record.data or {}
+    key = data["dispatcher"].py_func.__qualname__ if "dispatcher" in data else "?"
+    if record.is_start:
+        stack.append([key, stamp, 0.0])
+        continue
+    key, begun, inner = stack.pop()
+    own[key] = own.get(key, 0.0) + (stamp - begun) - inner
+    if stack:
+        stack[-1][2] += stamp - begun
+out["functions"] = own
+print(json.dumps(out))
+"""
+
+
 def measure_jit():
-    """Cold and warm first-call cost (s) of the kernels: fresh processes on an empty, then a used, cache."""
-    code = ("import time, splinecraft as sc\n"
-            "import scipy.ndimage, scipy.spatial, skimage.measure  # imports are not the kernels' cost\n"
-            "from splinecraft.capture.fitting import _iso_kernels, _kernels\n"
-            "w, c = time.perf_counter(), time.process_time()\n"
-            "_kernels.warm_up(); _iso_kernels.warm_up()\n"
-            "print(time.perf_counter() - w, time.process_time() - c)\n")
+    """Cold and warm first-call cost of the kernels: fresh processes on an empty, then a used, cache; per
+    module (wall, CPU seconds) and, cold, the compile wall time of each compiled function itself."""
     out = {}
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=os.path.join(ROOT, "src"))
         for name in ("cold", "warm", "warm again"):
-            done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
-            out[name] = tuple(map(float, done.stdout.strip().splitlines()[-1].split()))
+            done = subprocess.run([sys.executable, "-c", _JIT_CHILD], capture_output=True, text=True, env=env,
+                                  check=True)
+            out[name] = json.loads(done.stdout.strip().splitlines()[-1])
     return out
+
+
+def print_jit(figures):
+    print("| cache | " + " | ".join(f"{name} wall / CPU s" for name in figures["cold"]["modules"])
+          + " | total wall / CPU s |")
+    print("|---|" + "---|" * (len(figures["cold"]["modules"]) + 1))
+    for name, run in figures.items():
+        cells = [f"{wall:.2f} / {cpu:.2f}" for wall, cpu in run["modules"].values()]
+        print(f"| {name} | " + " | ".join(cells) + f" | {run['total'][0]:.2f} / {run['total'][1]:.2f} |")
+    functions = sorted(figures["cold"]["functions"].items(), key=lambda item: -item[1])
+    print("\ncold compile, wall seconds per compiled function (its callees' compiles subtracted): "
+          + ", ".join(f"{name} {seconds:.2f}" for name, seconds in functions if seconds >= 0.01))
 
 
 def measure_blas(rounds):
@@ -227,8 +268,7 @@ def main(argv=None):
                 row = f"| {name} | " + (f"{1e3 * before[name]:.1f} | " if before else "") + f"{1e3 * seconds:.1f} |"
                 print(row + (f" {seconds / before[name]:.2f} |" if before else ""))
     elif args.mode == "jit":
-        for name, (wall, cpu) in measure_jit().items():
-            print(f"first-call cost of the kernels, {name} cache: {wall:.2f} s wall, {cpu:.2f} s CPU")
+        print_jit(measure_jit())
     else:
         for name, seconds in measure_blas(max(args.rounds, 5)).items():
             print(f"{name}: {1e3 * seconds:.1f} ms for 600 solves (m = 20..64), other core busy")

@@ -52,6 +52,9 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "tests" / "browser"))
+sys.path.insert(0, str(REPO / "benchmarks"))
+
+import drag_breakdown  # noqa: E402
 
 WARMUP = 10
 
@@ -123,7 +126,13 @@ def renderer_cpu(trace_path: Path, moves: int) -> dict:
     return {key: value / moves for key, value in cpu.items()}
 
 
-def browser_round_trips(lab, n: int, moves: int, src: str | None = None, trace: bool = False) -> dict:
+#: Trace categories: the page's tasks (CPU per move); with the V8 CPU profile for ``--breakdown``.
+TRACE_CATEGORIES = ["toplevel", "disabled-by-default-devtools.timeline"]
+PROFILE_CATEGORIES = TRACE_CATEGORIES + ["disabled-by-default-v8.cpu_profiler"]
+
+
+def browser_round_trips(lab, n: int, moves: int, src: str | None = None, trace: bool = False,
+                        breakdown: bool = False) -> dict:
     page = lab.open_notebook([points_cell(n, src)], name=f"bench_drag_{n}.ipynb")
     root = page.wait_for_selector("[data-testid=spline-editor][data-ready='1']", timeout=60_000)
     root.scroll_into_view_if_needed()
@@ -133,11 +142,15 @@ def browser_round_trips(lab, n: int, moves: int, src: str | None = None, trace: 
     if trace:
         trace_path = Path(tempfile.mkdtemp(prefix="bench-drag-")) / "trace.json"
         browser.start_tracing(page=page, path=str(trace_path),
-                              categories=["toplevel", "disabled-by-default-devtools.timeline"])
+                              categories=PROFILE_CATEGORIES if breakdown else TRACE_CATEGORIES)
     records, pings = drag_and_record(page, root, x, y, moves, trace=trace)
     cpu = {"main": float("nan"), "raster": float("nan")}
+    extra = {}
     if trace:
         cpu = renderer_cpu(trace_path, moves + WARMUP)
+        if breakdown:
+            extra["split"] = drag_breakdown.main_thread_split(trace_path, moves + WARMUP)
+            extra["no_browser_ping"] = drag_breakdown.server_round_trip(lab.server, lab.python_json("editor.comm.comm_id"))
         shutil.rmtree(trace_path.parent, ignore_errors=True)
     kernel_points = lab.python_json("len(editor.points)")
     assert kernel_points == n, kernel_points
@@ -150,7 +163,7 @@ def browser_round_trips(lab, n: int, moves: int, src: str | None = None, trace: 
         "dom_median": statistics.median(dom), "dom_p95": percentile(dom, 95),
         "frame_median": statistics.median(frame), "frame_p95": percentile(frame, 95),
         "wait_median": parts["wait"], "kernel_median_rt": parts["kernel"], "draw_median": parts["draw"],
-        "cpu_main": cpu["main"], "cpu_raster": cpu["raster"],
+        "cpu_main": cpu["main"], "cpu_raster": cpu["raster"], **extra,
     }
 
 
@@ -200,7 +213,8 @@ def compare(args) -> list:
             for n in args.sizes:
                 for label, src in (trees if round_index % 2 == 0 else trees[::-1]):
                     context = browser.new_context(viewport={"width": 1400, "height": 1000})
-                    row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, src, args.trace)
+                    row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, src, args.trace,
+                                              args.breakdown)
                     context.close()
                     server.shutdown_kernels()
                     row.update(server=label, kernel_median=kernel[label][n], round=round_index)
@@ -313,7 +327,8 @@ def servers(args) -> list:
             kernel = kernel_handling(n)
             for label, server in (("stock", stock), ("TCP_NODELAY", nodelay)):  # side by side, same n
                 context = browser.new_context(viewport={"width": 1400, "height": 1000})
-                row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, trace=args.trace)
+                row = browser_round_trips(Lab(server, context.new_page()), n, args.moves, trace=args.trace,
+                                              breakdown=args.breakdown)
                 context.close()
                 server.shutdown_kernels()
                 row.update(server=label, kernel_median=kernel)
@@ -330,9 +345,13 @@ def main(argv=None):
     parser.add_argument("--rounds", type=int, default=2, help="with --compare: rounds, the order swapped each")
     parser.add_argument("--trace", action="store_true",
                         help="record a Chrome trace of each row's moves: the page's CPU per move (main thread, raster workers)")
+    parser.add_argument("--breakdown", action="store_true",
+                        help="with the trace, the page's main thread per move by who runs (widget, JupyterLab's kernel "
+                             "status handling, message handling, browser) and the ping round trip without a browser")
     parser.add_argument("--transport", action="store_true",
                         help="CPU and round trip of a kernel -> page message by its size (0, 4, 40, 400 kB)")
     args = parser.parse_args(argv)
+    args.trace = args.trace or args.breakdown
     if args.transport:
         rows = transport(args)
         print(f"python {platform.python_version()}, {platform.machine()}, chromium via Playwright, "
@@ -351,6 +370,19 @@ def main(argv=None):
         print(f"| {r['n']} | {r['server']} | {r['moves']} | {r['dom_median']:.1f} | {r['dom_p95']:.1f} | {r['frame_median']:.1f} | "
               f"{r['frame_p95']:.1f} | {r['wait_median']:.1f} / {r['kernel_median_rt']:.1f} / {r['draw_median']:.1f} | "
               f"{r['kernel_median']:.2f} | {r['ping_median']:.1f} ({r['ping_up']:.1f} / {r['ping_down']:.1f}) | {r['cpu_main']:.1f} / {r['cpu_raster']:.1f} |")
+    if args.breakdown:
+        print_breakdown(rows)
+
+
+def print_breakdown(rows) -> None:
+    """The page's main thread per move by who runs it, and the ping without a browser (``--breakdown``)."""
+    print("\nThe page's main thread per move (V8 CPU profile samples, ms) and the empty message's round trip "
+          "with and without the browser (ms):\n")
+    print("| points | server | " + " | ".join(drag_breakdown.PARTS) + " | ping: page | ping: no browser |")
+    print("|---:|---|" + "---:|" * (len(drag_breakdown.PARTS) + 2))
+    for r in rows:
+        split = " | ".join(f"{r['split'][part]:.1f}" for part in drag_breakdown.PARTS)
+        print(f"| {r['n']} | {r['server']} | {split} | {r['ping_median']:.1f} | {r['no_browser_ping']:.1f} |")
 
 
 if __name__ == "__main__":

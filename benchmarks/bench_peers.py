@@ -5,6 +5,10 @@ held-out set of other font families and scripts (``heldout_shapes.py``; nothing 
     .venv/bin/python benchmarks/bench_peers.py                        # all sets, all tools, 3 timing runs
     .venv/bin/python benchmarks/bench_peers.py --sets shapes2 --tools splinecraft,potrace --repeat 1
     .venv/bin/python benchmarks/bench_peers.py --json out.json        # also every row as JSON
+    .venv/bin/python benchmarks/bench_peers.py --tools splinecraft,pixels  # against the raw pixel staircase
+
+``pixels`` (not among the default tools) is the bitmap's own crack outline, each boundary's polygon of pixel
+corners: the raw staircase a tracer must stay closer to the truth than (on scans, its rms).
 
 The peers are set up by the script itself, not as user dependencies: ``scripts/system-deps.sh potrace`` and
 the held-out fonts (``heldout_shapes.FONT_PACKAGES``), and ``pip install vtracer pyautotrace fonttools`` into
@@ -103,6 +107,22 @@ FIT_PARAMS = {}
 def run_splinecraft(mask, repeat):
     result, seconds = _timed(lambda: sc.trace(mask, fit_params=FIT_PARAMS or None), repeat)
     return result.to_svg(), seconds
+
+
+def run_pixels(mask, repeat):
+    """The raw pixel staircase: each boundary's crack polygon (pixel corners), the reference a fit must beat
+    on scans (issue 9: "rms to the true outline below that of the raw pixel staircase")."""
+    from splinecraft.capture.contour import trace_boundaries
+
+    def once():
+        paths = []
+        for boundary in trace_boundaries(mask, connectivity="minority"):
+            vertices = boundary.crack_vertices
+            paths.append("M " + " L ".join(f"{x:g} {y:g}" for x, y in vertices) + " Z")
+        height, width = mask.shape
+        return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}">'
+                f'<path fill-rule="evenodd" d="{" ".join(paths)}"/></svg>')
+    return _timed(once, repeat)
 
 
 def make_potrace(exe):
@@ -285,7 +305,7 @@ def main(argv=None):
     if potrace is None:
         sys.exit("potrace is not installed and scripts/system-deps.sh potrace failed")
     runners = {"splinecraft": run_splinecraft, "potrace": make_potrace(potrace), "vtracer": run_vtracer,
-               "autotrace": run_autotrace}
+               "autotrace": run_autotrace, "pixels": run_pixels}
     yardstick = os.path.abspath(args.yardstick)
     scorer, scorer_name = make_scorer(yardstick if os.path.isdir(yardstick) else None)
     version = subprocess.run([potrace, "--version"], capture_output=True, text=True).stdout.splitlines()[0]

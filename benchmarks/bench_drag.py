@@ -9,7 +9,12 @@ point in the middle and moves it 200 times by a few pixels. For every move the p
   DOM: the page throttles to the next animation frame, sends the position to the kernel, the kernel
   validates it, rebuilds the spline with the engine and sends back the Bézier pieces and overlays as
   float32 buffers, and the page rewrites the SVG path;
-* ``frame`` -- ``dom`` plus the wait for the next animation frame (when that path is painted).
+* ``frame`` -- ``dom`` plus the wait for the next animation frame (when that path is painted);
+* ``frames`` -- the same, frame-aligned: from the start of the animation frame the move came in
+  (``document.timeline.currentTime``) to the start of the frame whose callbacks see the new path (its
+  ``requestAnimationFrame`` timestamp), a whole number of frame intervals. The table gives its median in
+  frames and the share of moves painted in the very next frame: ``frame`` above has a floor of one
+  interval plus the callback's own delay after the frame start, this one does not.
 
 Each move waits until its own round trip is drawn before the next one, so latencies do not queue.
 The first 10 moves warm up and are dropped. The kernel-side handling time of one drag message is
@@ -126,6 +131,9 @@ def renderer_cpu(trace_path: Path, moves: int) -> dict:
     return {key: value / moves for key, value in cpu.items()}
 
 
+#: One animation frame at 60 Hz (ms): headless chromium's frame interval.
+FRAME_MS = 1000.0 / 60.0
+
 #: Trace categories: the page's tasks (CPU per move); with the V8 CPU profile for ``--breakdown``.
 TRACE_CATEGORIES = ["toplevel", "disabled-by-default-devtools.timeline"]
 PROFILE_CATEGORIES = TRACE_CATEGORIES + ["disabled-by-default-v8.cpu_profiler"]
@@ -157,11 +165,15 @@ def browser_round_trips(lab, n: int, moves: int, src: str | None = None, trace: 
     parts = {key: statistics.median(r[key] for r in records) for key in ("wait", "kernel", "draw")}
     dom = [r["dom"] for r in records]
     frame = [r["frame"] for r in records]
+    # frame-aligned latency in frame intervals (1 = painted in the frame after the move's); older trees lack it
+    frames = [r["frames"] / FRAME_MS for r in records if "frames" in r]
     return {
         "n": n, "moves": len(records), "ping_median": statistics.median(p["total"] for p in pings),
         "ping_up": statistics.median(p["up"] for p in pings), "ping_down": statistics.median(p["down"] for p in pings),
         "dom_median": statistics.median(dom), "dom_p95": percentile(dom, 95),
         "frame_median": statistics.median(frame), "frame_p95": percentile(frame, 95),
+        "frames_median": statistics.median(frames) if frames else float("nan"),
+        "next_frame": float(np.mean(np.round(frames) <= 1)) if frames else float("nan"),
         "wait_median": parts["wait"], "kernel_median_rt": parts["kernel"], "draw_median": parts["draw"],
         "cpu_main": cpu["main"], "cpu_raster": cpu["raster"], **extra,
     }
@@ -364,12 +376,13 @@ def main(argv=None):
           f"{args.moves} moves per row (after {WARMUP} warm-up moves)\n")
     print("| points | server | moves | pointer→path in DOM, median (ms) | p95 (ms) | →painted frame, median (ms) | p95 (ms) "
           "| of which: frame wait / send→answer / draw (ms) | kernel handler alone (ms) | empty message round trip: total (up / down) (ms) "
-          "| page CPU per move: main / raster (ms) |")
-    print("|---:|---|---:|---:|---:|---:|---:|---|---:|---:|---|")
+          "| page CPU per move: main / raster (ms) | frames to the paint: median (in the next frame) |")
+    print("|---:|---|---:|---:|---:|---:|---:|---|---:|---:|---|---|")
     for r in rows:
         print(f"| {r['n']} | {r['server']} | {r['moves']} | {r['dom_median']:.1f} | {r['dom_p95']:.1f} | {r['frame_median']:.1f} | "
               f"{r['frame_p95']:.1f} | {r['wait_median']:.1f} / {r['kernel_median_rt']:.1f} / {r['draw_median']:.1f} | "
-              f"{r['kernel_median']:.2f} | {r['ping_median']:.1f} ({r['ping_up']:.1f} / {r['ping_down']:.1f}) | {r['cpu_main']:.1f} / {r['cpu_raster']:.1f} |")
+              f"{r['kernel_median']:.2f} | {r['ping_median']:.1f} ({r['ping_up']:.1f} / {r['ping_down']:.1f}) | {r['cpu_main']:.1f} / {r['cpu_raster']:.1f} | "
+              f"{r['frames_median']:.0f} ({100 * r['next_frame']:.0f}%) |")
     if args.breakdown:
         print_breakdown(rows)
 

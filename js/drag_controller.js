@@ -15,17 +15,23 @@ function recordLatency(moveTimes, ackSeq, tArrive, root) {
   if (!times) return;
   const tDom = performance.now();
   for (const key of moveTimes.keys()) if (key <= ackSeq) moveTimes.delete(key);
-  requestAnimationFrame(() => {
+  requestAnimationFrame((frameTime) => {
     window.__splinecraft = window.__splinecraft ?? {};
     const log = (window.__splinecraft.dragLatencies = window.__splinecraft.dragLatencies ?? []);
     log.push({
       seq: ackSeq, n: root.dataset.npoints | 0,
       dom: tDom - times.move, frame: performance.now() - times.move, // pointermove -> path in DOM / -> next frame
       wait: times.sent - times.move, kernel: tArrive - times.sent, draw: tDom - tArrive, // the parts
+      // frame-aligned: from the start of the animation frame the move came in to the start of the one that
+      // paints its answer (a whole number of frame intervals; one interval = painted in the next frame)
+      frames: frameTime - times.moveFrame,
     });
     root.dataset.lastDrawnSeq = String(ackSeq);
   });
 }
+
+/** Start of the current animation frame (the timestamp its requestAnimationFrame callbacks get). */
+const frameStart = () => document.timeline?.currentTime ?? performance.now();
 
 const dragMessage = (drag) => ({ type: "drag", index: drag.index, x: drag.x, y: drag.y });
 
@@ -41,7 +47,7 @@ export function createDragFlow(model, { onIdle = () => {}, message = dragMessage
 
   function send(final) {
     seq += 1;
-    if (model.get("debug")) moveTimes.set(seq, { move: drag.tMove, sent: performance.now() });
+    if (model.get("debug")) moveTimes.set(seq, { move: drag.tMove, moveFrame: drag.tMoveFrame, sent: performance.now() });
     inFlight = { seq, t: performance.now() };
     model.send({ ...message(drag), seq, gesture, final });
   }
@@ -57,7 +63,7 @@ export function createDragFlow(model, { onIdle = () => {}, message = dragMessage
   /** Start a gesture; `fields` stay on it (what `message` reads). */
   function begin(fields, pointerId) {
     gesture += 1;
-    drag = { ...fields, pointerId, moved: false, tMove: performance.now() };
+    drag = { ...fields, pointerId, moved: false, tMove: performance.now(), tMoveFrame: frameStart() };
     return drag;
   }
   /** The gesture moved: take the new `fields`, send them on the next frame. */
@@ -65,6 +71,7 @@ export function createDragFlow(model, { onIdle = () => {}, message = dragMessage
     Object.assign(drag, fields);
     drag.moved = true;
     drag.tMove = performance.now();
+    drag.tMoveFrame = frameStart();
     pendingSend = true;
     schedule();
   }

@@ -13,8 +13,10 @@
   of the call (less inflated than wall time when other work shares the cores). With ``--compare SRC``
   the same measurement runs in two fresh processes per round, this tree and the ``src`` folder of another
   checkout, alternating A B A B (``--rounds``), and the table shows both and their ratio.
-* ``explorer``: TraceExplorer on each thesis object, the time from an epsilon change (a slider) to the
-  re-traced, re-drawn state (median of ``--repeat`` changes between two values).
+* ``explorer``: TraceExplorer on each thesis object, the time from a slider change to the re-traced,
+  re-drawn state (median of ``--repeat`` changes, each to a value not set before, so that nothing kept from
+  an earlier trace answers it), for a slider of the fit (epsilon 1.5, 1.55, 1.6 ...) and one of the corner
+  detector (tangent-jump's ``min_turn``, 24, 24.25, 24.5 ... degrees).
 * ``jit``: the first-call cost of the compiled kernels in a fresh process with an empty kernel cache (cold)
   and again with the cache it left (warm): the time of the kernels' warm-up that ``sc.trace`` runs once per
   process (after the imports, which are not counted), wall and CPU, per kernel module (the fit, the noise
@@ -131,21 +133,30 @@ def print_stages(table, other=None):
             print(f"| {LABELS[key]} | {1e3 * before:.1f} | {1e3 * after:.1f} | {ratio} |")
 
 
+#: The explorer's sliders measured: trait name and its value at the ``k``-th change.
+EXPLORER_SLIDERS = {
+    "epsilon": ("epsilon", lambda k: 1.5 + 0.05 * k),
+    "corner min_turn": ("corner_params", lambda k: {"min_turn": 24.0 + 0.25 * k}),
+}
+
+
 def measure_explorer(src, repeat):
-    """Median seconds from an epsilon change to the re-drawn TraceExplorer, per thesis object."""
+    """Median seconds from a slider change to the re-drawn TraceExplorer, per thesis object and slider."""
     _import(src)
     from splinecraft.datasets import THESIS_OBJECTS, thesis_object
     from splinecraft.widgets.trace_explorer import TraceExplorer
 
     out = {}
     for name in THESIS_OBJECTS:
-        explorer = TraceExplorer(thesis_object(name))
-        times = []
-        for k in range(repeat + 1):
-            started = time.perf_counter()
-            explorer.epsilon = 1.5 if k % 2 == 0 else 2.0
-            times.append(time.perf_counter() - started)
-        out[name] = statistics.median(times[1:])
+        explorer = TraceExplorer(thesis_object(name), corner_method="tangent-jump")
+        out[name] = {}
+        for slider, (trait, value) in EXPLORER_SLIDERS.items():
+            times = []
+            for k in range(repeat + 1):
+                started = time.perf_counter()
+                setattr(explorer, trait, value(k))
+                times.append(time.perf_counter() - started)
+            out[name][slider] = statistics.median(times[1:])
     return out
 
 
@@ -179,6 +190,15 @@ for stamp, record in recorder.buffer:
 out["functions"] = own
 print(json.dumps(out))
 """
+
+
+def print_explorer(after, before=None):
+    print("| object | slider | " + ("before ms | after ms | after / before |" if before else "ms |"))
+    print("|---|---|---|" + ("---|---|" if before else ""))
+    for name, sliders in after.items():
+        for slider, seconds in sliders.items():
+            row = f"| {name} | {slider} | " + (f"{1e3 * before[name][slider]:.1f} | " if before else "")
+            print(row + f"{1e3 * seconds:.1f} |" + (f" {seconds / before[name][slider]:.2f} |" if before else ""))
 
 
 def measure_jit():
@@ -262,11 +282,7 @@ def main(argv=None):
         if args.mode == "stages":
             print_stages(after, before)
         else:
-            print("| object | " + ("before ms | after ms | after / before |" if before else "ms |"))
-            print("|---|---|" + ("---|---|" if before else ""))
-            for name, seconds in after.items():
-                row = f"| {name} | " + (f"{1e3 * before[name]:.1f} | " if before else "") + f"{1e3 * seconds:.1f} |"
-                print(row + (f" {seconds / before[name]:.2f} |" if before else ""))
+            print_explorer(after, before)
     elif args.mode == "jit":
         print_jit(measure_jit())
     else:

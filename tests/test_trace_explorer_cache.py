@@ -8,7 +8,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from splinecraft.capture import KNOT_METHODS, trace
-from splinecraft.capture.trace_stages import STAGES, TraceStages
+from splinecraft.capture import TraceStages
+from splinecraft.capture.trace_stages import STAGES
 from splinecraft.widgets.trace_explorer import TAU_METHODS, TraceExplorer, demo_bitmap
 
 TIMES = ("time_s", "time_breakdown", "time_per_boundary_s")
@@ -34,7 +35,7 @@ def scan_like(size=64, seed=3):
     return mask
 
 
-SHAPES = {"block": block_with_hole(), "demo": demo_bitmap(64), "scan": scan_like()}
+SHAPES = {"block": block_with_hole(), "demo": demo_bitmap(48), "scan": scan_like()}
 
 
 def comparable(result) -> dict:
@@ -58,9 +59,10 @@ def outcome(image, **params):
         return type(exc).__name__, str(exc)
 
 
-# the settings a slider or a control of the explorer changes, and a few more of trace's
-slider_settings = st.fixed_dictionaries({}, optional={
-    "epsilon": st.sampled_from([0.5, 0.8, 1.5, 2.0, 3.0]),
+# the settings a slider or a control of the explorer changes, and a few more of trace's (epsilon >= 1: the
+# thesis's algorithms take a few hundred ms on these shapes below)
+epsilons = st.sampled_from([1.0, 1.5, 2.0, 3.0])
+other_settings = {
     "method": st.sampled_from(sorted(KNOT_METHODS)),
     "corner_method": st.sampled_from(["tangent-jump", "srm05", "ipan99", "rj73"]),
     "seed": st.integers(0, 3),
@@ -70,7 +72,10 @@ slider_settings = st.fixed_dictionaries({}, optional={
     "contour": st.sampled_from(["outline", "pixels"]),
     "connectivity": st.sampled_from(["minority", 4, 8]),
     "fit_params": st.sampled_from([{"small_outline": 0}, {"small_outline": 64}]),
-})
+}
+first_settings = st.fixed_dictionaries({"epsilon": epsilons}, optional=other_settings)
+changes = st.fixed_dictionaries({}, optional={"epsilon": epsilons, **other_settings}).filter(
+    lambda change: 1 <= len(change) <= 2)
 
 
 def _valid(params):
@@ -79,9 +84,8 @@ def _valid(params):
     return params
 
 
-@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(shape=st.sampled_from(sorted(SHAPES)), first=slider_settings,
-       change=slider_settings.filter(lambda change: 1 <= len(change) <= 2))
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(shape=st.sampled_from(sorted(SHAPES)), first=first_settings, change=changes)
 def test_a_trace_with_kept_stages_is_the_fresh_trace(shape, first, change):
     """A change of one or two settings (a slider, a control) after a trace with others."""
     image = SHAPES[shape]

@@ -7,6 +7,7 @@ from .contour import Boundary, trace_boundaries
 from .corners import corners, CORNER_METHODS
 from .fitting import fit_outline, FitResult, Snapshot, KNOT_METHODS
 from .trace import trace, TraceResult
+from .trace_stages import TraceStages
 
 __all__ = [
     "load_bitmap",
@@ -20,4 +21,5 @@ __all__ = [
     "KNOT_METHODS",
     "trace",
     "TraceResult",
+    "TraceStages",
 ]

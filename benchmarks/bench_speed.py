@@ -16,7 +16,8 @@
 * ``explorer``: TraceExplorer on each thesis object, the time from a slider change to the re-traced,
   re-drawn state (median of ``--repeat`` changes, each to a value not set before, so that nothing kept from
   an earlier trace answers it), for a slider of the fit (epsilon 1.5, 1.55, 1.6 ...) and one of the corner
-  detector (tangent-jump's ``min_turn``, 24, 24.25, 24.5 ... degrees).
+  detector (tangent-jump's ``min_turn``, 24, 24.25, 24.5 ... degrees); wall time and the process CPU time
+  of the change (all threads: the re-trace runs in a worker thread).
 * ``jit``: the first-call cost of the compiled kernels in a fresh process with an empty kernel cache (cold)
   and again with the cache it left (warm): the time of the kernels' warm-up that ``sc.trace`` runs once per
   process (after the imports, which are not counted), wall and CPU, per kernel module (the fit, the noise
@@ -141,7 +142,8 @@ EXPLORER_SLIDERS = {
 
 
 def measure_explorer(src, repeat):
-    """Median seconds from a slider change to the re-drawn TraceExplorer, per thesis object and slider."""
+    """Median seconds (wall and process CPU) from a slider change to the re-drawn TraceExplorer, per thesis
+    object and slider."""
     _import(src)
     from splinecraft.datasets import THESIS_OBJECTS, thesis_object
     from splinecraft.widgets.trace_explorer import TraceExplorer
@@ -153,10 +155,11 @@ def measure_explorer(src, repeat):
         for slider, (trait, value) in EXPLORER_SLIDERS.items():
             times = []
             for k in range(repeat + 1):
-                started = time.perf_counter()
+                started, cpu = time.perf_counter(), time.process_time()
                 setattr(explorer, trait, value(k))
-                times.append(time.perf_counter() - started)
-            out[name][slider] = statistics.median(times[1:])
+                times.append((time.perf_counter() - started, time.process_time() - cpu))
+            out[name][slider] = {"wall": statistics.median(wall for wall, _ in times[1:]),
+                                 "cpu": statistics.median(cpu for _, cpu in times[1:])}
     return out
 
 
@@ -193,12 +196,21 @@ print(json.dumps(out))
 
 
 def print_explorer(after, before=None):
-    print("| object | slider | " + ("before ms | after ms | after / before |" if before else "ms |"))
-    print("|---|---|---|" + ("---|---|" if before else ""))
+    if before is None:
+        print("| object | slider | wall ms | CPU ms |\n|---|---|---|---|")
+    else:
+        print("| object | slider | wall before ms | wall after ms | after / before | CPU before ms | CPU after ms "
+              "| after / before |\n|---|---|---|---|---|---|---|---|")
     for name, sliders in after.items():
-        for slider, seconds in sliders.items():
-            row = f"| {name} | {slider} | " + (f"{1e3 * before[name][slider]:.1f} | " if before else "")
-            print(row + f"{1e3 * seconds:.1f} |" + (f" {seconds / before[name][slider]:.2f} |" if before else ""))
+        for slider, figures in sliders.items():
+            cells = []
+            for kind in ("wall", "cpu"):
+                if before is None:
+                    cells.append(f"{1e3 * figures[kind]:.1f}")
+                    continue
+                old = before[name][slider][kind]
+                cells += [f"{1e3 * old:.1f}", f"{1e3 * figures[kind]:.1f}", f"{figures[kind] / old:.2f}"]
+            print(f"| {name} | {slider} | " + " | ".join(cells) + " |")
 
 
 def measure_jit():

@@ -163,6 +163,24 @@ def measure_explorer(src, repeat):
     return out
 
 
+def print_explorer(after, before=None):
+    if before is None:
+        print("| object | slider | wall ms | CPU ms |\n|---|---|---|---|")
+    else:
+        print("| object | slider | wall before ms | wall after ms | after / before | CPU before ms | CPU after ms "
+              "| after / before |\n|---|---|---|---|---|---|---|---|")
+    for name, sliders in after.items():
+        for slider, figures in sliders.items():
+            cells = []
+            for kind in ("wall", "cpu"):
+                if before is None:
+                    cells.append(f"{1e3 * figures[kind]:.1f}")
+                    continue
+                old = before[name][slider][kind]
+                cells += [f"{1e3 * old:.1f}", f"{1e3 * figures[kind]:.1f}", f"{figures[kind] / old:.2f}"]
+            print(f"| {name} | {slider} | " + " | ".join(cells) + " |")
+
+
 _JIT_CHILD = """
 import json, time, splinecraft as sc
 import scipy.ndimage, scipy.spatial, skimage.measure  # imports are not the kernels' cost
@@ -193,24 +211,6 @@ for stamp, record in recorder.buffer:
 out["functions"] = own
 print(json.dumps(out))
 """
-
-
-def print_explorer(after, before=None):
-    if before is None:
-        print("| object | slider | wall ms | CPU ms |\n|---|---|---|---|")
-    else:
-        print("| object | slider | wall before ms | wall after ms | after / before | CPU before ms | CPU after ms "
-              "| after / before |\n|---|---|---|---|---|---|---|---|")
-    for name, sliders in after.items():
-        for slider, figures in sliders.items():
-            cells = []
-            for kind in ("wall", "cpu"):
-                if before is None:
-                    cells.append(f"{1e3 * figures[kind]:.1f}")
-                    continue
-                old = before[name][slider][kind]
-                cells += [f"{1e3 * old:.1f}", f"{1e3 * figures[kind]:.1f}", f"{figures[kind] / old:.2f}"]
-            print(f"| {name} | {slider} | " + " | ".join(cells) + " |")
 
 
 def measure_jit():

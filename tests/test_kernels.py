@@ -326,6 +326,21 @@ def test_curve_points_pick_the_piece_of_each_parameter(count, seed):
     np.testing.assert_allclose(got[40:40 + count], bez[:, 0], atol=1e-12)
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 60), st.integers(0, 200), st.integers(0, 10_000), st.booleans(), st.booleans())
+def test_search_sorted_is_numpys_searchsorted(size, count, seed, sorted_keys, right):
+    """Same positions as ``numpy.searchsorted`` for sorted values with repeats, keys sorted or not, on and
+    between the values and beyond both ends, NaN keys last."""
+    rng = np.random.default_rng(seed)
+    values = np.sort(rng.integers(0, 20, size) * 0.5)
+    keys = rng.integers(-4, 46, count) * 0.25
+    keys[rng.uniform(size=count) < 0.05] = np.nan
+    if sorted_keys:
+        keys = np.sort(keys)
+    side = "right" if right else "left"
+    np.testing.assert_array_equal(_kernels.search_sorted(values, keys, side), np.searchsorted(values, keys, side))
+
+
 def test_kernels_are_compiled_with_an_on_disk_cache():
     """Every compiled loop is a numba dispatcher with ``cache=True`` (compiled once per machine, not per
     process), and every public kernel is a thin wrapper around one of them."""

@@ -21,7 +21,7 @@ from numba import njit
 from .._jit import JIT_OPTIONS
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "warm_up"]
+           "interval_samples", "group_max", "curve_points", "search_sorted", "warm_up"]
 
 _JIT = JIT_OPTIONS
 
@@ -369,6 +369,42 @@ def _group_max_into(groups, values, best, at):
             at[g] = 0
 
 
+@njit(**_JIT)
+def _search_into(values, keys, right, out):
+    """Per key the count of ``values`` (sorted, no NaN) below it (``right``: not above it), from the
+    previous key's answer: a galloping search forwards, a binary search backwards (linear total work for
+    sorted keys, any order allowed)."""
+    n = values.shape[0]
+    position = 0
+    for j in range(keys.shape[0]):
+        x = keys[j]
+        if x != x:  # NaN sorts after every value
+            out[j] = n
+            continue
+        if position > 0 and not (values[position - 1] <= x if right else values[position - 1] < x):
+            lo, hi = 0, position - 1
+        else:
+            lo, hi, step = position, position, 1
+            while hi < n and (values[hi] <= x if right else values[hi] < x):
+                lo, hi, step = hi + 1, min(hi + step, n), 2 * step
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if values[mid] <= x if right else values[mid] < x:
+                lo = mid + 1
+            else:
+                hi = mid
+        position = out[j] = lo
+
+
+def search_sorted(values, keys, side="left"):
+    """``numpy.searchsorted(values, keys, side)`` for sorted ``values`` without NaN, in one pass that walks
+    forward from each key's answer to the next (the keys of the fit's deviation check are sorted)."""
+    keys = _floats(keys)
+    out = np.empty(keys.shape[0], np.int64)
+    _search_into(_floats(values), keys, side == "right", out)
+    return out
+
+
 def group_max(groups, values, count):
     """Per group ``g < count`` (``groups`` non-decreasing): the maximum of ``values`` (``-inf`` if empty; NaN
     wins, as in ``numpy.maximum``) and the first index where it occurs (0 for empty groups and NaN maxima)."""
@@ -403,4 +439,5 @@ def warm_up():
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     interval_samples(bez, starts, ends, 0.5)
     group_max(index, np.ones(2), 1)
+    search_sorted(starts, u, "right")
     _WARM.append(True)

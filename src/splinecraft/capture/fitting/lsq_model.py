@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import curve_points, hoschek_update, interval_samples
+from ._kernels import curve_points, hoschek_update, interval_samples, search_sorted
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import edge_table, group_max, sorted_group_max, windowed_distance
 from .lsq_setup import CornerTips, RotatedContour, curvature_knots
@@ -252,8 +252,8 @@ class OutlineRegression:
         spacing = min(self.sample_spacing, 0.25) if dense else self.sample_spacing
         samples, params, iv = self._curve_samples(bez, starts, ends, spacing)
         corner_par = self.base_parameter[contour.corner_bounds]
-        spiece = np.clip(np.searchsorted(corner_par, params, side="right") - 1, 0, pieces - 1)
-        centre = np.clip(np.searchsorted(self.parameter, params) - 1, 0, n - 1)
+        spiece = np.clip(search_sorted(corner_par, params, "right") - 1, 0, pieces - 1)
+        centre = np.clip(search_sorted(self.parameter, params) - 1, 0, n - 1)
         bounds = contour.corner_bounds
         if contour.corner_count:  # the piece's own edges, and 3 more across each corner (it belongs to both)
             d_curve = windowed_distance(samples, centre, bounds[spiece] - 3, bounds[spiece + 1] + 2, contour.edges,
@@ -272,10 +272,10 @@ class OutlineRegression:
             probe_zone, probe_allowance = zone[:n], allowance[:n]
         tol_data = self.epsilon + probe_allowance
         curve_zone = np.interp(params, self.base_parameter, zone.astype(float)) > 0
-        nearest = np.clip(np.searchsorted(self.base_parameter, params), 0, n)
+        nearest = np.clip(search_sorted(self.base_parameter, params), 0, n)
         tol_curve = self.epsilon + np.where(curve_zone, np.maximum(allowance[nearest], allowance[np.maximum(
             nearest - 1, 0)]), 0.0)
-        data_iv = np.clip(np.searchsorted(ends, probe_u, side="left"), 0, k - 1)
+        data_iv = np.clip(search_sorted(ends, probe_u), 0, k - 1)
         ex_curve, ex_data = d_curve - tol_curve, d_data - tol_data
         excess = np.maximum(sorted_group_max(iv, ex_curve, k), sorted_group_max(data_iv, ex_data, k))
         piece_dev = np.maximum(sorted_group_max(spiece, d_curve, pieces), sorted_group_max(probe_piece, d_data, pieces))
@@ -319,9 +319,9 @@ class OutlineRegression:
             return d_data
         closed_samples = np.vstack([samples, bez[-1:, 3]])
         closed_params = np.append(params, self.period)
-        lo = np.searchsorted(closed_params, corner_par[probe_piece[loose]], side="left")
-        hi = np.maximum(np.searchsorted(closed_params, corner_par[probe_piece[loose] + 1], side="right") - 2, lo)
-        centre = np.clip(np.searchsorted(closed_params, probe_u[loose]), lo, hi)
+        lo = search_sorted(closed_params, corner_par[probe_piece[loose]])
+        hi = np.maximum(search_sorted(closed_params, corner_par[probe_piece[loose] + 1], "right") - 2, lo)
+        centre = np.clip(search_sorted(closed_params, probe_u[loose]), lo, hi)
         reach = int(np.ceil(3.0 / spacing))
         wrap = closed_samples.shape[0] - 1
         if self.contour.corner_count:  # the piece's own chords and a window across its corners

@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/bench_speed.py stages --yardstick ../shared/yardstick
     .venv/bin/python benchmarks/bench_speed.py stages --yardstick ../shared/yardstick --compare OTHER/src
     .venv/bin/python benchmarks/bench_speed.py explorer [--compare OTHER/src]
-    .venv/bin/python benchmarks/bench_speed.py jit
+    .venv/bin/python benchmarks/bench_speed.py jit [--compare OTHER/src --rounds 3]
     .venv/bin/python benchmarks/bench_speed.py blas
 
 * ``stages``: the in-process time of ``sc.trace`` at its defaults per shape (median of ``--repeat`` runs after
@@ -115,7 +115,9 @@ def compare(mode, args):
 
 def _median_tree(results):
     if isinstance(results[0], dict):
-        return {key: _median_tree([r[key] for r in results]) for key in results[0]}
+        return {key: _median_tree([r[key] for r in results if key in r]) for key in results[0]}
+    if isinstance(results[0], (list, tuple)):
+        return [_median_tree(list(column)) for column in zip(*results)]
     return statistics.median(results)
 
 
@@ -184,12 +186,17 @@ def print_explorer(after, before=None):
 _JIT_CHILD = """
 import json, time, splinecraft as sc
 import scipy.ndimage, scipy.spatial, skimage.measure  # imports are not the kernels' cost
+import importlib
 from numba.core import event
-from splinecraft.capture.corners import _jump_kernels
-from splinecraft.capture.fitting import _iso_kernels, _kernels
 recorder = event.RecordingListener()
 event.register("numba:compile", recorder)
-modules = {"fit": _kernels, "noise estimate": _iso_kernels, "corners": _jump_kernels}
+modules = {}
+for name, module in (("fit", "fitting._kernels"), ("noise estimate", "fitting._iso_kernels"),
+                     ("corners", "corners._jump_kernels")):
+    try:
+        modules[name] = importlib.import_module("splinecraft.capture." + module)
+    except ImportError:  # a tree without that kernel module
+        pass
 out = {"modules": {}}
 w, c = time.perf_counter(), time.process_time()
 for name, module in modules.items():
@@ -213,17 +220,31 @@ print(json.dumps(out))
 """
 
 
-def measure_jit():
-    """Cold and warm first-call cost of the kernels: fresh processes on an empty, then a used, cache; per
-    module (wall, CPU seconds) and, cold, the compile wall time of each compiled function itself."""
+def measure_jit(src):
+    """Cold and warm first-call cost of the kernels of the tree ``src``: fresh processes on an empty, then a
+    used, cache; per module (wall, CPU seconds) and, cold, the compile wall time of each compiled function
+    itself."""
     out = {}
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=os.path.join(ROOT, "src"))
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=src)
         for name in ("cold", "warm", "warm again"):
             done = subprocess.run([sys.executable, "-c", _JIT_CHILD], capture_output=True, text=True, env=env,
                                   check=True)
             out[name] = json.loads(done.stdout.strip().splitlines()[-1])
     return out
+
+
+def compare_jit(args):
+    """With ``--compare``: the cold and warm runs of both trees, alternating this tree and the other for
+    ``--rounds`` rounds (median per figure)."""
+    trees = {"this tree": os.path.join(ROOT, "src")}
+    if args.compare:
+        trees["other"] = os.path.abspath(args.compare)
+    rounds = {name: [] for name in trees}
+    for _ in range(args.rounds if args.compare else 1):
+        for name, src in trees.items():
+            rounds[name].append(measure_jit(src))
+    return {name: _median_tree(results) for name, results in rounds.items()}
 
 
 def print_jit(figures):
@@ -296,7 +317,10 @@ def main(argv=None):
         else:
             print_explorer(after, before)
     elif args.mode == "jit":
-        print_jit(measure_jit())
+        for name, figures in compare_jit(args).items():
+            if args.compare:
+                print(f"\n#### {name}\n")
+            print_jit(figures)
     else:
         for name, seconds in measure_blas(max(args.rounds, 5)).items():
             print(f"{name}: {1e3 * seconds:.1f} ms for 600 solves (m = 20..64), other core busy")

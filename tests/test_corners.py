@@ -301,14 +301,14 @@ def test_arm_fit_straightness_is_exact_at_the_tolerance(length):
     centred, weights = jump._arm_operators(length, 1)[1:]
     line = np.empty(4)
     for start in starts[:12]:
-        _jump_kernels._window_line(padded, start, length, weights, line)
+        _jump_kernels._window_fit(padded, start, length, centred, weights, 0.0, line)
         residual = padded[start:start + length] - line[:2] - centred[:, None] * line[2:]
         largest = np.hypot(*residual.T).max()
-        assert _jump_kernels._straight(padded, start, length, centred, line, largest)
-        assert not _jump_kernels._straight(padded, start, length, centred, line, np.nextafter(largest, 0.0))
+        assert _jump_kernels._window_fit(padded, start, length, centred, weights, largest, line)
+        assert not _jump_kernels._window_fit(padded, start, length, centred, weights, np.nextafter(largest, 0.0),
+                                             line)
     padded[starts[3] + 1] = np.nan                                  # a NaN sample is never straight
-    _jump_kernels._window_line(padded, starts[3], length, weights, line)
-    assert not _jump_kernels._straight(padded, starts[3], length, centred, line, 1e9)
+    assert not _jump_kernels._window_fit(padded, starts[3], length, centred, weights, 1e9, line)
 
 
 # ------------------------------------------------------------------------------------------------ SRM05

@@ -23,8 +23,10 @@ __all__ = ["arm_lines", "warm_up"]
 
 
 @njit(**JIT_OPTIONS)
-def _window_line(padded, start, length, weights, out):
-    """Mean point and slope of the window of ``length`` samples from row ``start`` into ``out[0:4]``."""
+def _window_fit(padded, start, length, centred, weights, tolerance, line):
+    """Mean point and slope of the window of ``length`` samples from row ``start`` into ``line[0:4]``, and,
+    for a ``tolerance`` > 0, whether every sample lies within it of that line (``max hypot <= tolerance``;
+    False where a sample is NaN); True for a ``tolerance`` of 0 (no test)."""
     sx, sy = padded[start, 0], padded[start, 1]
     kx, ky = 0.0 + weights[0] * sx, 0.0 + weights[0] * sy
     for t in range(1, length):
@@ -33,13 +35,9 @@ def _window_line(padded, start, length, weights, out):
         sy += y
         kx += weights[t] * x
         ky += weights[t] * y
-    out[0], out[1], out[2], out[3] = sx / length, sy / length, kx, ky
-
-
-@njit(**JIT_OPTIONS)
-def _straight(padded, start, length, centred, line, tolerance):
-    """Whether every sample of the window lies within ``tolerance`` of its line (``max hypot <= tolerance``;
-    False where a sample is NaN)."""
+    line[0], line[1], line[2], line[3] = sx / length, sy / length, kx, ky
+    if tolerance <= 0:
+        return True
     limit = tolerance * tolerance
     low, high = limit * (1.0 - 1e-12), limit * (1.0 + 1e-12)
     worst = 0.0
@@ -76,10 +74,10 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, alive, s
                 if not alive[side, i]:
                     continue
                 start = i + reach if side == 1 else i + reach - length + 1
-                if state[start] == 0:
-                    _window_line(padded, start, length, weights[rung], memo[start])
-                    state[start] = 1 if rung == 0 or _straight(padded, start, length, centred[rung], memo[start],
-                                                               tolerance) else 2
+                if state[start] == 0:  # the first length is always accepted
+                    straight = _window_fit(padded, start, length, centred[rung], weights[rung],
+                                           tolerance if rung > 0 else 0.0, memo[start])
+                    state[start] = 1 if straight else 2
                 if state[start] == 2:  # the arm stops: it keeps the line of the previous length
                     alive[side, i] = False
                     continue

@@ -51,99 +51,43 @@ def gaussian_weights(sigma):
 
 
 @njit(**_JIT)
-def _ink(mask, pad, r, c):
-    """The padded bitmap (ink 1.0, the ``pad`` border and beyond 0.0) at row ``r``, column ``c``."""
-    r, c = r - pad, c - pad
-    if r < 0 or c < 0 or r >= mask.shape[0] or c >= mask.shape[1]:
-        return 0.0
-    return 1.0 if mask[r, c] else 0.0
-
-
-@njit(**_JIT)
-def _row_pass(mask, pad, weights, r, c):
-    """The correlation along rows (axis 0) at ``(r, c)``: ``correlate1d``'s symmetric sum, the centre term
-    first, then the pairs from the farthest in (``(x[-j] + x[j]) w[-j]``)."""
-    radius = weights.shape[0] // 2
-    total = _ink(mask, pad, r, c) * weights[radius]
-    for j in range(-radius, 0):
-        total += (_ink(mask, pad, r + j, c) + _ink(mask, pad, r - j, c)) * weights[radius + j]
-    return total
-
-
-@njit(**_JIT)
 def _smooth_into(mask, pad, weights, r, c, smooth, known, row_memo, row_known):
-    """``smooth[r, c] = gaussian_filter(np.pad(mask, pad), sigma)[r, c]``: the correlation along columns
-    (axis 1) of the row pass (kept in ``row_memo``); outside the padded image the row pass is 0
-    (``pad >= radius``: scipy's reflection there reads the zeros of the border)."""
-    radius, cols = weights.shape[0] // 2, smooth.shape[1]
-    for cc in range(max(c - radius, 0), min(c + radius + 1, cols)):
-        if not row_known[r, cc]:
-            row_memo[r, cc], row_known[r, cc] = _row_pass(mask, pad, weights, r, cc), 1
+    """``smooth[r, c] = gaussian_filter(np.pad(mask, pad), sigma)[r, c]`` in scipy's arithmetic: the
+    correlation along columns (axis 1) of the correlation along rows (axis 0, kept in ``row_memo``), each
+    ``correlate1d``'s symmetric sum, the centre term first, then the pairs from the farthest in
+    (``(x[-j] + x[j]) w[-j]``). The padded bitmap is 1.0 on ink, 0.0 elsewhere and in the ``pad`` border;
+    outside the padded image the row pass is 0 (``pad >= radius``: scipy's reflection reads the border)."""
+    radius, rows, cols = weights.shape[0] // 2, mask.shape[0], mask.shape[1]
+    for cc in range(max(c - radius, 0), min(c + radius + 1, smooth.shape[1])):
+        if row_known[r, cc]:
+            continue
+        column = cc - pad
+        inside = 0 <= column < cols
+        total = (1.0 if inside and 0 <= r - pad < rows and mask[r - pad, column] else 0.0) * weights[radius]
+        for j in range(-radius, 0):
+            up, down = r - pad + j, r - pad - j
+            above = 1.0 if inside and 0 <= up < rows and mask[up, column] else 0.0
+            below = 1.0 if inside and 0 <= down < rows and mask[down, column] else 0.0
+            total += (above + below) * weights[radius + j]
+        row_memo[r, cc], row_known[r, cc] = total, 1
     total = row_memo[r, c] * weights[radius]
     for j in range(-radius, 0):
         left = row_memo[r, c + j] if c + j >= 0 else 0.0
-        right = row_memo[r, c - j] if c - j < cols else 0.0
+        right = row_memo[r, c - j] if c - j < smooth.shape[1] else 0.0
         total += (left + right) * weights[radius + j]
     smooth[r, c], known[r, c] = total, 1
 
 
 @njit(**_JIT)
-def _fraction(from_value, to_value, level):
-    if to_value == from_value:
-        return 0.0
-    return (level - from_value) / (to_value - from_value)
-
-
-@njit(**_JIT)
-def _end(corners, level, r0, c0, which):
-    """(row, column) of end ``which`` (0 top, 1 bottom, 2 left, 3 right) of the cell at ``r0, c0`` whose
-    corner values are ``corners`` = (upper left, upper right, lower left, lower right)."""
-    if which == 0:
-        return float(r0), c0 + _fraction(corners[0], corners[1], level)
-    if which == 1:
-        return float(r0 + 1), c0 + _fraction(corners[2], corners[3], level)
-    if which == 2:
-        return r0 + _fraction(corners[0], corners[2], level), float(c0)
-    return r0 + _fraction(corners[1], corners[3], level), float(c0 + 1)
-
-
-@njit(**_JIT)
-def _segment_distance(px, py, x0, y0, x1, y1):
-    """Exact distance from ``(px, py)`` to the segment ``x0, y0 -> x1, y1``."""
-    abx, aby = x1 - x0, y1 - y0
-    apx, apy = px - x0, py - y0
-    denom = abx * abx + aby * aby
-    t = (apx * abx + apy * aby) / (denom if denom > 0 else 1.0)
-    t = min(max(t, 0.0), 1.0)
-    dx, dy = apx - t * abx, apy - t * aby
-    return np.sqrt(dx * dx + dy * dy)
-
-
-@njit(**_JIT)
-def _cell_distance(px, py, r0, c0, pad, level, table, smooth, corners):
-    """Distance from ``(px, py)`` (output frame ``x = column - pad + 0.5``) to the nearest of the 0-2
-    marching-squares segments of cell ``r0, c0`` (``inf`` when it has none); its corner values are known."""
-    corners[0], corners[1] = smooth[r0, c0], smooth[r0, c0 + 1]
-    corners[2], corners[3] = smooth[r0 + 1, c0], smooth[r0 + 1, c0 + 1]
-    code = (corners[0] > level) * 1 + (corners[1] > level) * 2 + (corners[2] > level) * 4 + (corners[3] > level) * 8
-    best = np.inf
-    for q in (0, 2):
-        a, b = table[code, q], table[code, q + 1]
-        if a < 0:
-            break
-        ra, ca = _end(corners, level, r0, c0, a)
-        rb, cb = _end(corners, level, r0, c0, b)
-        d = _segment_distance(px, py, ca - pad + 0.5, ra - pad + 0.5, cb - pad + 0.5, rb - pad + 0.5)
-        if d < best:
-            best = d
-    return best
-
-
-@njit(**_JIT)
-def _nearest_into(points, mask, pad, weights, level, table, smooth, known, row_memo, row_known, corners, out):
+def _nearest_into(points, mask, pad, weights, level, table, smooth, known, row_memo, row_known, ends, out):
     """Ring search per point (see :func:`iso_line_distance`), computing the smoothed values of each visited
     cell's corners when first needed; stops after a point that finds no segment in the whole grid (then no
-    point can: returns False)."""
+    point can: returns False).
+
+    The 0-2 marching-squares segments of a cell end on its sides (0 top, 1 bottom, 2 left, 3 right), where
+    the level crosses between the side's two corners, ``from + (level - v_from) / (v_to - v_from)`` (0 when
+    they are equal), as ``find_contours`` interpolates; their ends go to ``ends`` in the output frame
+    (``x = column - pad + 0.5``), and the distance to a segment is exact (foot point clipped to it)."""
     grid_rows, grid_cols = smooth.shape[0] - 1, smooth.shape[1] - 1
     reach = max(grid_rows, grid_cols)
     for j in range(points.shape[0]):
@@ -152,18 +96,44 @@ def _nearest_into(points, mask, pad, weights, level, table, smooth, known, row_m
         col = min(max(int(np.floor(px - 0.5 + pad)), 0), grid_cols - 1)
         best = np.inf
         for ring in range(reach + 1):
-            for r in range(max(row - ring, 0), min(row + ring, grid_rows - 1) + 1):
-                step = 1 if abs(r - row) == ring else 2 * ring
-                for c in range(col - ring, col + ring + 1, step):
-                    if c < 0 or c >= grid_cols:
+            for r0 in range(max(row - ring, 0), min(row + ring, grid_rows - 1) + 1):
+                step = 1 if abs(r0 - row) == ring else 2 * ring
+                for c0 in range(col - ring, col + ring + 1, step):
+                    if c0 < 0 or c0 >= grid_cols:
                         continue
-                    for rr in (r, r + 1):
-                        for cc in (c, c + 1):
+                    for rr in (r0, r0 + 1):
+                        for cc in (c0, c0 + 1):
                             if not known[rr, cc]:
                                 _smooth_into(mask, pad, weights, rr, cc, smooth, known, row_memo, row_known)
-                    d = _cell_distance(px, py, r, c, pad, level, table, smooth, corners)
-                    if d < best:
-                        best = d
+                    upper_left, upper_right = smooth[r0, c0], smooth[r0, c0 + 1]
+                    lower_left, lower_right = smooth[r0 + 1, c0], smooth[r0 + 1, c0 + 1]
+                    code = ((upper_left > level) * 1 + (upper_right > level) * 2 + (lower_left > level) * 4
+                            + (lower_right > level) * 8)
+                    for q in (0, 2):
+                        if table[code, q] < 0:
+                            break
+                        for e in range(2):
+                            which = table[code, q + e]
+                            if which == 0:
+                                start, stop = upper_left, upper_right
+                            elif which == 1:
+                                start, stop = lower_left, lower_right
+                            elif which == 2:
+                                start, stop = upper_left, lower_left
+                            else:
+                                start, stop = upper_right, lower_right
+                            fraction = 0.0 if stop == start else (level - start) / (stop - start)
+                            if which < 2:  # along a row: (row, column + fraction)
+                                y, x = float(r0 + which), c0 + fraction
+                            else:          # along a column: (row + fraction, column)
+                                y, x = r0 + fraction, float(c0 + which - 2)
+                            ends[2 * e], ends[2 * e + 1] = x - pad + 0.5, y - pad + 0.5
+                        abx, aby = ends[2] - ends[0], ends[3] - ends[1]
+                        apx, apy = px - ends[0], py - ends[1]
+                        denom = abx * abx + aby * aby
+                        t = min(max((apx * abx + apy * aby) / (denom if denom > 0 else 1.0), 0.0), 1.0)
+                        dx, dy = apx - t * abx, apy - t * aby
+                        best = min(best, np.sqrt(dx * dx + dy * dy))
             if best <= ring:
                 break
         out[j] = best

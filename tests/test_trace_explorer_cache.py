@@ -171,13 +171,14 @@ def test_a_different_bitmap_is_a_different_key_and_old_ones_age_out():
     assert stages.misses == dict.fromkeys(STAGES, 4)
 
 
-def test_corners_the_budget_left_undetected_are_not_kept():
+def test_corners_the_budget_left_undetected_and_their_noise_are_not_kept():
     image = block_with_hole()
     stages = TraceStages()
     for _ in range(2):
         result = trace(image, epsilon=1.0, time_budget=1e-9, stages=stages)
         assert set(entry["budget"] for entry in result.stats["per_boundary"]) == {"polygon"}
     assert stages.misses["contours"] == 2 and stages.hits["contours"] == 0
+    assert stages.misses["noise"] == 2 and stages.hits["noise"] == 0  # measured on those corners
     trace(image, epsilon=1.0, stages=stages)  # a budget of its own: another key
     assert stages.misses["contours"] == 3
 

@@ -236,7 +236,7 @@ def trace(
         times[:] = 0.0  # no corner detection in this call
     detected = time.perf_counter()
     noise, _ = stages.remember("noise", (key, noise_factor > 0), lambda: boundary_noise(
-        mask, points_list, corner_list) if noise_factor > 0 else 0.0)
+        mask, points_list, corner_list) if noise_factor > 0 else 0.0, keep=lambda _: not undetected.any())
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "

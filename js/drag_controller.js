@@ -31,7 +31,7 @@ function recordLatency(moveTimes, ackSeq, tArrive, root) {
 }
 
 /** Start of the current animation frame (the timestamp its requestAnimationFrame callbacks get). */
-const frameStart = () => document.timeline?.currentTime ?? performance.now();
+const frameStart = () => globalThis.document?.timeline?.currentTime ?? performance.now();
 
 const dragMessage = (drag) => ({ type: "drag", index: drag.index, x: drag.x, y: drag.y });
 

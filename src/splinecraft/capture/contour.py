@@ -22,7 +22,7 @@ outer boundary at the top-left corner of its first ink pixel heading E, a hole h
 Algorithm (crack following, the pixel-edge form of Moore-neighbour tracing)
 ---------------------------------------------------------------------------
 1. Every ink/background pixel edge becomes a directed unit *crack* with the ink on its right.
-2. The successor of every crack is decided at once (numpy) from the two pixels ahead of its head
+2. The successor of every crack is decided from the two pixels ahead of its head
    vertex -- ahead-left ``AL`` and ahead-right ``AR`` -- which is Moore's clockwise neighbour scan
    reduced to its four outcomes: turn left if ``AL`` is ink (8-connectivity; 4-connectivity needs
    ``AL`` and ``AR``), go straight if ``AR`` is ink, else turn right. The only ambiguous case, the
@@ -38,56 +38,39 @@ Algorithm (crack following, the pixel-edge form of Moore-neighbour tracing)
    rendered glyphs of many sizes and rotations this matches the true number of contours far more often
    than either fixed connectivity (BENCHMARKS.md, "Contours"). Both boundaries through a saddle see the
    same decision (it depends on the vertex only), so the cycles stay consistent.
-3. The successor permutation splits into cycles (one per boundary); cycle membership and the position
-   of each crack in its cycle are found by pointer jumping (``O(E log L)`` for ``E`` cracks and longest
-   boundary ``L``, all in numpy), so no Python loop runs over boundary points.
+3. The successor permutation splits into cycles (one per boundary). One compiled raster pass
+   (:mod:`splinecraft.capture._cracks`) visits the pixel corners row by row and, at each, the crack directions
+   E, N, W, S; every crack not yet visited starts a cycle, followed to its end. So the boundaries come in the
+   order of their first cracks in raster order, each starting there, and no Python loop runs over boundaries
+   or points.
 4. The pixel chain is the sequence of ink pixels on the right of consecutive cracks with repeats
    removed; for 4-connectivity the corner pixel is inserted at every left turn so all steps are 4-steps.
-5. Components come from the cracks too (no label image): boundaries bounding the same horizontal ink
-   run belong to the same component (see :func:`_components`); a hole's ``parent`` is the outer boundary
-   of the component around it. Components are numbered like :func:`scipy.ndimage.label` numbers them
-   (raster order of their first pixels), which the tests check.
+5. Components come from the cracks too (no label image): in every pixel row the vertical cracks alternate,
+   an N crack starting an ink run and the next S crack ending it; both bound the same run, so their cycles
+   belong to the same component (union-find over the cycles). From any hole, the run left of its left-most
+   crack ends at a crack of a boundary reaching further left; repeating reaches the outer boundary, so every
+   boundary of a component is joined. A hole's ``parent`` is the outer boundary of the component around it.
+   Components are numbered like :func:`scipy.ndimage.label` numbers them (raster order of their first
+   pixels), which the tests check.
 
-Cost: the image is cropped to the ink's bounding box first. Memory is a few bool copies of the cropped
-mask plus about 100 bytes per crack; time is a few full-image numpy passes plus ``O(E log E)`` in the
-number of cracks ``E``: an 8000 x 8000 disc (31 200 cracks) traces in about 0.25 s.
+Cost: the image is cropped to the ink's bounding box first. Memory is one byte per pixel corner (the visited
+crack directions) plus about 60 bytes per crack; time is linear in the pixels and cracks (steps 2-5 are
+compiled: numba, cached on disk). The :class:`Boundary` objects share the tracer's arrays and slice their own
+on first access, so a bitmap of noise with 200 000 boundaries makes no 200 000 array copies up front
+(BENCHMARKS.md, "Speed (issue 9)").
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
-from ._saddle import CONNECTIVITIES, _minority_joins_ink, check_connectivity
+from ._cracks import FREEMAN_STEPS, MINORITY, boundary_arrays, follow_cracks
+from ._saddle import CONNECTIVITIES, check_connectivity
 
 __all__ = ["Boundary", "trace_boundaries", "FREEMAN_STEPS", "chain_to_pixels", "CONNECTIVITIES", "check_connectivity"]
 
-#: Freeman code -> (dx, dy) step in the (x right, y down) frame; codes count counter-clockwise on screen.
-FREEMAN_STEPS = np.array(
-    [[1, 0], [1, -1], [0, -1], [-1, -1], [-1, 0], [-1, 1], [0, 1], [1, 1]], dtype=np.int64
-)
-# Crack directions 0 = E, 1 = N, 2 = W, 3 = S are the even Freeman codes (crack d <-> Freeman 2d).
-_CRACK_STEPS = FREEMAN_STEPS[::2]
-# (dx, dy) + 1 -> Freeman code, flattened as 3 * (dy + 1) + (dx + 1); -1 marks the zero step.
-_CODE_OF_STEP = np.full(9, -1, dtype=np.int8)
-for _code, (_dx, _dy) in enumerate(FREEMAN_STEPS):
-    _CODE_OF_STEP[3 * (_dy + 1) + (_dx + 1)] = _code
+_CRACK_STEPS = FREEMAN_STEPS[::2]  # crack directions 0 E, 1 N, 2 W, 3 S are the even Freeman codes
 
 
-def _pixel_offsets(vectors):
-    """Pixel (col, row) offsets from a vertex for the pixels whose centres are at vertex + vectors/2."""
-    return (vectors - 1) // 2
-
-
-_LEFT = _CRACK_STEPS[[1, 2, 3, 0]]  # left-hand normal of each crack direction (on screen)
-# Pixels around the head vertex of a crack in direction d: ahead-left and ahead-right.
-_AHEAD_LEFT = _pixel_offsets(_CRACK_STEPS + _LEFT)
-_AHEAD_RIGHT = _pixel_offsets(_CRACK_STEPS - _LEFT)
-# Ink pixel on the right of a crack, relative to its tail vertex: centre at tail + (D - L) / 2.
-_RIGHT_OF_TAIL = _pixel_offsets(_CRACK_STEPS - _LEFT)
-
-
-@dataclass(eq=False)
 class Boundary:
     """One closed boundary (outer or hole) of an ink mask (thesis section 4.1.1; docs/capture.md).
 
@@ -120,15 +103,66 @@ class Boundary:
         encloses, positive for outer boundaries (ink on the right in the y-down frame), negative for holes.
     """
 
-    pixels: np.ndarray
-    chain_code: np.ndarray
-    connectivity: int
-    outline: np.ndarray
-    crack_vertices: np.ndarray
-    is_hole: bool
-    parent: int | None
-    component: int
-    area: int = field(default=0)
+    __slots__ = ("_pixels", "_chain_code", "_outline", "_crack_vertices", "_store", "_cycle", "connectivity",
+                 "is_hole", "parent", "component", "area")
+
+    def __init__(self, pixels, chain_code, connectivity, outline, crack_vertices, is_hole, parent, component,
+                 area=0):
+        self._pixels, self._chain_code, self._outline, self._crack_vertices = pixels, chain_code, outline, \
+            crack_vertices
+        self._store, self._cycle = None, -1
+        self.connectivity, self.is_hole, self.parent, self.component, self.area = (connectivity, is_hole, parent,
+                                                                                   component, area)
+
+    @classmethod
+    def _from_store(cls, store, cycle, connectivity, is_hole, parent, component, area):
+        """A boundary whose arrays are views of the tracer's shared arrays, made on first access."""
+        boundary = cls.__new__(cls)
+        boundary._pixels = boundary._chain_code = boundary._outline = boundary._crack_vertices = None
+        boundary._store, boundary._cycle = store, cycle
+        boundary.connectivity, boundary.is_hole, boundary.parent, boundary.component, boundary.area = (
+            connectivity, is_hole, parent, component, area)
+        return boundary
+
+    @property
+    def pixels(self) -> np.ndarray:
+        if self._pixels is None:
+            self._pixels = self._store.pixels(self._cycle)
+        return self._pixels
+
+    @pixels.setter
+    def pixels(self, value):
+        self._pixels = value
+
+    @property
+    def chain_code(self) -> np.ndarray:
+        if self._chain_code is None:
+            self._chain_code = self._store.chain_code(self._cycle)
+        return self._chain_code
+
+    @chain_code.setter
+    def chain_code(self, value):
+        self._chain_code = value
+
+    @property
+    def outline(self) -> np.ndarray:
+        if self._outline is None:
+            self._outline = self._store.outline(self._cycle)
+        return self._outline
+
+    @outline.setter
+    def outline(self, value):
+        self._outline = value
+
+    @property
+    def crack_vertices(self) -> np.ndarray:
+        if self._crack_vertices is None:
+            self._crack_vertices = self._store.crack_vertices(self._cycle)
+        return self._crack_vertices
+
+    @crack_vertices.setter
+    def crack_vertices(self, value):
+        self._crack_vertices = value
 
     @property
     def start(self) -> tuple:
@@ -141,7 +175,9 @@ class Boundary:
         return self.chain_code.astype(np.uint8).tobytes().translate(_DIGITS).decode("ascii")
 
     def __len__(self) -> int:
-        return int(self.outline.shape[0])
+        if self._outline is None:
+            return self._store.length(self._cycle)
+        return int(self._outline.shape[0])
 
     def __repr__(self) -> str:
         kind = "hole" if self.is_hole else "outer"
@@ -229,272 +265,68 @@ def trace_boundaries(mask, *, connectivity=8) -> list:
     sub = mask[row0:int(rows[-1]) + 1, col0:int(cols[-1]) + 1]
     padded = np.pad(sub, 1)
 
-    keys, row_stride = _crack_keys(padded)
-    cracks = _follow_cracks(padded, keys, row_stride, connectivity, sub)
-    del keys
-    del padded
-    return _build_boundaries(cracks, connectivity, offset=(col0 - 1, row0 - 1))
-
-
-# ---------------------------------------------------------------------------------------------------
-# steps 1-3: cracks, successors, cycles
-# ---------------------------------------------------------------------------------------------------
-def _crack_keys(padded):
-    """Sorted keys ``(Y * (Wp + 1) + X) * 4 + d`` of all cracks (tail vertex (X, Y), direction d).
-
-    Vertex coordinates are in the padded frame (padded pixel (i, j) covers [j, j+1] x [i, i+1]).
-    """
-    width = padded.shape[1]
-    row_stride = width + 1
-    flat = padded.reshape(-1)
-
-    def vertex(pixel):  # top-left corner of flat pixel index p = i * width + j -> i * (width + 1) + j
-        return pixel + pixel // width
-
-    # Pixel p and the pixel below it (p + width) differ: a horizontal crack.
-    upper = np.flatnonzero(flat[width:] != flat[:-width])
-    lower = upper + width
-    ink_below = flat[lower]
-    # E: top edge of an ink pixel under background, tail at its top-left corner;
-    # W: bottom edge of an ink pixel over background, tail at its bottom-right corner.
-    horizontal = np.where(ink_below, vertex(lower) * 4 + 0, (vertex(lower) + 1) * 4 + 2)
-    del upper, lower, ink_below
-    # Pixel p and its right neighbour p + 1 differ: a vertical crack (the pair that wraps from one row to
-    # the next is two padding pixels, never a crack).
-    left = np.flatnonzero(flat[1:] != flat[:-1])
-    ink_right = flat[left + 1]
-    # N: left edge of an ink pixel right of background, tail at its bottom-left corner;
-    # S: right edge of an ink pixel left of background, tail at its top-right corner.
-    vertical = np.where(ink_right, (vertex(left + 1) + row_stride) * 4 + 1, (vertex(left) + 1) * 4 + 3)
-    del left, ink_right
-    keys = np.concatenate([horizontal, vertical]).astype(np.int64, copy=False)
-    del horizontal, vertical
-    keys.sort()
-    return keys, row_stride
-
-
-def _follow_cracks(padded, keys, row_stride, connectivity, sub=None):
-    """Order the cracks into cycles.
-
-    Returns a dict with, in cycle order: tail ``x``, ``y`` (padded frame), direction ``d``, the
-    ``left_turn`` flag at the head, cycle ``offsets`` (length cycles + 1).
-    """
-    count = keys.size
-    index_type = np.int32 if count < 2**31 - 1 else np.int64
-    direction = (keys & 3).astype(np.int8)
-    vertex = keys >> 2
-    x = (vertex % row_stride).astype(index_type)
-    y = (vertex // row_stride).astype(index_type)
-    del vertex
-
-    head_x = x + _CRACK_STEPS[direction, 0].astype(index_type)
-    head_y = y + _CRACK_STEPS[direction, 1].astype(index_type)
-    ahead_left = padded[head_y + _AHEAD_LEFT[direction, 1], head_x + _AHEAD_LEFT[direction, 0]]
-    ahead_right = padded[head_y + _AHEAD_RIGHT[direction, 1], head_x + _AHEAD_RIGHT[direction, 0]]
-    if connectivity == 8:
-        left_turn = ahead_left
-    elif connectivity == 4:
-        left_turn = ahead_left & ahead_right
-    else:
-        left_turn = ahead_left & ahead_right
-        saddle = np.flatnonzero(ahead_left & ~ahead_right)
-        if saddle.size:
-            left_turn[saddle] = _minority_joins_ink(sub, head_x[saddle], head_y[saddle])
-    turn = np.where(left_turn, 1, np.where(ahead_right, 0, 3)).astype(np.int8)
-    del ahead_left, ahead_right
-    next_direction = (direction + turn) & 3
-    next_key = (head_y.astype(np.int64) * row_stride + head_x) * 4 + next_direction
-    del head_x, head_y, next_direction, turn
-    successor = np.searchsorted(keys, next_key).astype(index_type)
-    if successor.size and (successor.max() >= count or (keys[successor] != next_key).any()):
-        raise RuntimeError("internal error: a crack has no successor (tracer invariant broken)")
-    del next_key
-
-    start_of, position, offsets, starts = _cycles(successor)
-    del successor
-    order = np.empty(count, dtype=index_type)
-    cycle = np.searchsorted(starts, start_of)
-    order[offsets[cycle] + position] = np.arange(count, dtype=index_type)
-    return {
-        "x": x[order], "y": y[order], "d": direction[order],
-        "left_turn": left_turn[order], "offsets": offsets,
-    }
-
-
-def _cycles(successor):
-    """Decompose a permutation into cycles by pointer jumping (vectorized list ranking).
-
-    Returns ``(start_of, position, offsets, starts)``: the smallest index in each element's cycle (the
-    cycle's start), the element's distance from that start along the permutation, the cycle offsets in
-    the output order (cycles sorted by start index) and the sorted start indices.
-    """
-    count = successor.size
-    ids = np.arange(count, dtype=successor.dtype)
-    # Cycle start = minimum index in the cycle. After k rounds, start_of[i] = min over the window of
-    # 2^k elements from i. When a round changes nothing, every cycle is shorter than the window
-    # (otherwise the window ending just before the minimum would still change), so all are final.
-    start_of = ids.copy()
-    jump = successor.copy()
-    while True:
-        candidate = np.minimum(start_of, start_of[jump])
-        if np.array_equal(candidate, start_of):
-            break
-        start_of = candidate
-        jump = jump[jump]
-    del candidate
-    # Distance to the last element of the cycle (the one whose successor is the start).
-    is_last = successor == start_of
-    to_last = (~is_last).astype(successor.dtype)
-    jump = np.where(is_last, ids, successor)
-    del is_last
-    while True:
-        jumped = jump[jump]
-        if np.array_equal(jumped, jump):
-            break
-        to_last += to_last[jump]
-        jump = jumped
-    del jump, jumped
-    length = to_last[start_of] + 1
-    position = length - 1 - to_last
-    starts = np.flatnonzero(start_of == ids)
-    offsets = np.zeros(starts.size + 1, dtype=np.int64)
-    np.cumsum(length[starts], out=offsets[1:])
-    return start_of, position, offsets, starts
+    cracks = follow_cracks(padded, MINORITY if connectivity == "minority" else connectivity)
+    return _build_boundaries(cracks, connectivity, offset=(col0 - 1, row0 - 1), shape=padded.shape)
 
 
 # ---------------------------------------------------------------------------------------------------
 # steps 4-5: chains, areas, components
 # ---------------------------------------------------------------------------------------------------
-def _components(x, y, d, cycle_of, is_hole):
-    """Component index of every cycle (outer boundaries numbered in raster order), without a label image.
-
-    In every pixel row the vertical cracks alternate: an N crack starts an ink run, the next S crack ends
-    it. Both bound the same run, so their cycles belong to the same component; joining all such pairs
-    connects every boundary of a component. (From any hole, the run left of its left-most crack ends at a
-    crack of a boundary reaching further left; repeating reaches the outer boundary, which holds the
-    component's left-most crack.) Components are then the connected components of this graph
-    (:func:`scipy.sparse.csgraph.connected_components`), ``O(E log E)`` for ``E`` cracks.
-    """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    vertical = np.flatnonzero(d & 1)
-    row = np.where(d[vertical] == 1, y[vertical] - 1, y[vertical])
-    order = vertical[np.lexsort((x[vertical], row))]
-    starts, ends = order[0::2], order[1::2]
-    if not ((d[starts] == 1).all() and (d[ends] == 3).all()):
-        raise RuntimeError("internal error: ink runs do not alternate N/S cracks")
-    n_cycles = is_hole.size
-    graph = coo_matrix(
-        (np.ones(starts.size, dtype=np.int8), (cycle_of[starts], cycle_of[ends])), shape=(n_cycles, n_cycles)
-    )
-    _, group = connected_components(graph, directed=False)
-    outer = np.flatnonzero(~is_hole)
-    number_of_group = np.full(group.max() + 1, -1, dtype=np.int64)
-    number_of_group[group[outer]] = np.arange(outer.size)
-    component = number_of_group[group]
-    if (component < 0).any():
-        raise RuntimeError("internal error: a hole is not connected to an outer boundary")
-    return component
-
-
-def _pixel_chain(x64, y64, d, left_turn, offsets, connectivity):
-    """Pixel centres and Freeman codes of every cycle of cracks (thesis section 4.1.1; §10).
-
-    Returns ``(chain_col, chain_row, codes, kept_offsets)``: the chain's pixel columns and rows, the code of
-    each step to the next pixel of the same cycle, and the offsets of the cycles in those arrays.
-    """
-    n_cycles = offsets.size - 1
-    # Pixel chain: ink pixel on the right of each crack; 4-connectivity adds the corner at left turns.
-    right_col = x64 + _RIGHT_OF_TAIL[d, 0]
-    right_row = y64 + _RIGHT_OF_TAIL[d, 1]
-    if connectivity == 4:
-        emit = 1 + left_turn.astype(np.int64)
-        head_x, head_y = x64 + _CRACK_STEPS[d, 0], y64 + _CRACK_STEPS[d, 1]
-        corner_col = head_x + _AHEAD_RIGHT[d, 0]
-        corner_row = head_y + _AHEAD_RIGHT[d, 1]
-        slot = np.cumsum(emit) - emit
-        chain_col = np.empty(int(emit.sum()), dtype=np.int64)
-        chain_row = np.empty_like(chain_col)
-        chain_col[slot], chain_row[slot] = right_col, right_row
-        extra = slot[left_turn] + 1
-        chain_col[extra], chain_row[extra] = corner_col[left_turn], corner_row[left_turn]
-        chain_offsets = np.concatenate([[0], np.cumsum(emit)[offsets[1:] - 1]])
-    else:
-        chain_col, chain_row, chain_offsets = right_col, right_row, offsets
-    chain_next = np.arange(1, chain_col.size + 1)
-    chain_next[chain_offsets[1:] - 1] = chain_offsets[:-1]
-    # Keep the last pixel of each run of repeats, so every chain starts at the cycle's first pixel.
-    keep = (chain_col != chain_col[chain_next]) | (chain_row != chain_row[chain_next])
-    kept_per_cycle = np.add.reduceat(keep.astype(np.int64), chain_offsets[:-1])
-    keep[chain_offsets[:-1][kept_per_cycle == 0]] = True  # a single pixel: keep one
-    kept_per_cycle[kept_per_cycle == 0] = 1
-    chain_col, chain_row = chain_col[keep], chain_row[keep]
-    kept_offsets = np.zeros(n_cycles + 1, dtype=np.int64)
-    np.cumsum(kept_per_cycle, out=kept_offsets[1:])
-    kept_next = np.arange(1, chain_col.size + 1)
-    kept_next[kept_offsets[1:] - 1] = kept_offsets[:-1]
-    step_x = chain_col[kept_next] - chain_col
-    step_y = chain_row[kept_next] - chain_row
-    if np.abs(step_x).max(initial=0) > 1 or np.abs(step_y).max(initial=0) > 1:
-        raise RuntimeError("internal error: pixel chain has a step longer than one pixel")
-    codes = _CODE_OF_STEP[3 * (step_y + 1) + (step_x + 1)]
-    return chain_col, chain_row, codes, kept_offsets
-
-
-def _build_boundaries(cracks, connectivity, offset):
-    x, y, d, left_turn, offsets = (cracks[k] for k in ("x", "y", "d", "left_turn", "offsets"))
-    count = x.size
-    n_cycles = offsets.size - 1
-    cycle_of = np.repeat(np.arange(n_cycles), np.diff(offsets))
-    next_index = np.arange(1, count + 1)
-    next_index[offsets[1:] - 1] = offsets[:-1]
-
-    # Exact signed area (shoelace over integer vertices) per cycle.
-    x64, y64 = x.astype(np.int64), y.astype(np.int64)
-    cross = x64 * y64[next_index] - x64[next_index] * y64
-    area2 = np.add.reduceat(cross, offsets[:-1]) if count else np.zeros(0, np.int64)
-    del cross
-
-    chain_col, chain_row, codes, kept_offsets = _pixel_chain(x64, y64, d, left_turn, offsets, connectivity)
-
-    # Components: cycles that bound the same horizontal ink run belong to the same component.
-    is_hole = area2 < 0
-    n_outer = int((~is_hole).sum())
-    if n_outer == 1:
-        component = np.zeros(n_cycles, dtype=np.int64)
-    else:
-        component = _components(x64, y64, d, cycle_of, is_hole)
-    del cycle_of
-
+def _build_boundaries(cracks, connectivity, offset, shape):
+    """The :class:`Boundary` list of the cracks of a padded mask of ``shape`` (steps 4-5, compiled in
+    :func:`~splinecraft.capture._cracks.boundary_arrays`): grouped by component, outer boundary first."""
+    arrays = boundary_arrays(cracks, shape[1], shape[0], connectivity == 4)
+    area2, is_hole, component = arrays["area2"], arrays["is_hole"], arrays["component"]
+    n_cycles = area2.shape[0]
     # Order: by component, outer boundary first, then holes; cycles are already in raster order.
     order = np.lexsort((np.arange(n_cycles), is_hole, component))
-    offset_x, offset_y = offset
-    tails = np.column_stack([x64 + offset_x, y64 + offset_y]).astype(float)
-    midpoints = tails + 0.5 * _CRACK_STEPS[d]
-    centres = np.column_stack([chain_col + offset_x + 0.5, chain_row + offset_y + 0.5])
+    store = _BoundaryStore(cracks["x"], cracks["y"], cracks["d"], cracks["offsets"], arrays["chain_col"],
+                           arrays["chain_row"], arrays["codes"], arrays["kept_offsets"], offset)
+    # The parent of a hole: the position in ``order`` of its component's outer boundary (the first of its group).
+    position = np.empty(n_cycles, dtype=np.int64)
+    position[order] = np.arange(n_cycles)
+    outer_position = np.zeros(int(component.max(initial=-1)) + 1, dtype=np.int64)
+    outer_position[component[~is_hole]] = position[~is_hole]
+    parent = np.where(is_hole, outer_position[component], -1)
+    make = Boundary._from_store
+    return [
+        make(store, cycle, connectivity, hole, parent_index if hole else None, comp, area)
+        for cycle, hole, parent_index, comp, area in zip(
+            order.tolist(), is_hole[order].tolist(), parent[order].tolist(), component[order].tolist(),
+            (area2[order] // 2).tolist())
+    ]
 
-    boundaries = []
-    outer_index = {}
-    for cycle in order:
-        lo, hi = offsets[cycle], offsets[cycle + 1]
-        klo, khi = kept_offsets[cycle], kept_offsets[cycle + 1]
-        hole = bool(is_hole[cycle])
-        comp = int(component[cycle])
-        chain = codes[klo:khi] if khi - klo > 1 else np.zeros(0, dtype=np.int8)
-        if not hole:
-            outer_index[comp] = len(boundaries)
-        boundaries.append(
-            Boundary(
-                pixels=centres[klo:khi].copy(),
-                chain_code=chain.astype(np.int8),
-                connectivity=connectivity,
-                outline=midpoints[lo:hi].copy(),
-                crack_vertices=tails[lo:hi].copy(),
-                is_hole=hole,
-                parent=outer_index[comp] if hole else None,
-                component=comp,
-                area=int(area2[cycle] // 2),
-            )
-        )
-    return boundaries
+
+class _BoundaryStore:
+    """The arrays of all boundaries of one :func:`trace_boundaries` call, in cycle order; a boundary's arrays
+    are slices of them, made when first read (so a bitmap of noise with 10^5 boundaries costs no 10^5 array
+    copies)."""
+
+    __slots__ = ("x", "y", "offsets", "midpoints", "centres", "codes", "kept_offsets", "offset")
+
+    def __init__(self, x, y, d, offsets, chain_col, chain_row, codes, kept_offsets, offset):
+        offset_x, offset_y = offset
+        self.x, self.y, self.offsets, self.offset = x, y, offsets.tolist(), offset
+        self.midpoints = np.column_stack([x + offset_x, y + offset_y]).astype(float) + 0.5 * _CRACK_STEPS[d]
+        self.centres = np.column_stack([chain_col + offset_x + 0.5, chain_row + offset_y + 0.5])
+        self.codes = codes.astype(np.int8, copy=False)
+        self.kept_offsets = kept_offsets.tolist()
+
+    def length(self, cycle) -> int:
+        return self.offsets[cycle + 1] - self.offsets[cycle]
+
+    def outline(self, cycle) -> np.ndarray:
+        return self.midpoints[self.offsets[cycle]:self.offsets[cycle + 1]]
+
+    def crack_vertices(self, cycle) -> np.ndarray:
+        lo, hi = self.offsets[cycle], self.offsets[cycle + 1]
+        offset_x, offset_y = self.offset
+        return np.column_stack([self.x[lo:hi].astype(np.int64) + offset_x,
+                                self.y[lo:hi].astype(np.int64) + offset_y]).astype(float)
+
+    def pixels(self, cycle) -> np.ndarray:
+        return self.centres[self.kept_offsets[cycle]:self.kept_offsets[cycle + 1]]
+
+    def chain_code(self, cycle) -> np.ndarray:
+        lo, hi = self.kept_offsets[cycle], self.kept_offsets[cycle + 1]
+        return self.codes[lo:hi] if hi - lo > 1 else np.zeros(0, dtype=np.int8)

@@ -1,0 +1,307 @@
+"""Compiled crack following: every boundary of a padded ink mask in one raster pass (the algorithm of
+:mod:`splinecraft.capture.contour`, steps 1-3; docs/capture.md §10).
+
+The raster scan visits the pixel corners (vertices) row by row, left to right, and at each vertex the crack
+directions E, N, W, S in this order: the order of the keys ``(Y * (W + 1) + X) * 4 + d`` of the contour
+module. The first crack of a boundary met that way is its smallest key, so starting a cycle at every crack
+not yet visited and following successors until it closes lists the boundaries in the order of their first
+cracks, each from that crack, exactly as sorting the keys and ranking the successor permutation does. Memory:
+one byte per vertex (the visited directions) plus the per-crack output. numba, compiled on first use and
+cached on disk (``cache=True``, :mod:`splinecraft.capture.fitting._jit`).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .fitting._jit import JIT_OPTIONS
+
+__all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "MINORITY"]
+
+#: ``connectivity`` code of the minority rule in :func:`follow_cracks` (4 and 8 stand for themselves).
+MINORITY = 0
+
+#: Freeman code -> (dx, dy) step in the (x right, y down) frame; codes count counter-clockwise on screen
+#: (re-exported by :mod:`splinecraft.capture.contour`).
+FREEMAN_STEPS = np.array(
+    [[1, 0], [1, -1], [0, -1], [-1, -1], [-1, 0], [-1, 1], [0, 1], [1, 1]], dtype=np.int64
+)
+# Crack directions 0 = E, 1 = N, 2 = W, 3 = S are the even Freeman codes (crack d <-> Freeman 2d).
+_CRACK_STEPS = FREEMAN_STEPS[::2]
+_LEFT = _CRACK_STEPS[[1, 2, 3, 0]]  # left-hand normal of each crack direction (on screen)
+# (column, row) offsets from a vertex of the pixels whose centres are at vertex + vector / 2: ahead-left and
+# ahead-right of the head vertex of a crack of each direction. The ink pixel right of a crack sits at the
+# ahead-right offset from its tail (centre at tail + (D - L) / 2).
+_AHEAD_LEFT_X, _AHEAD_LEFT_Y = ((_CRACK_STEPS + _LEFT - 1) // 2).T.copy()
+_AHEAD_RIGHT_X, _AHEAD_RIGHT_Y = ((_CRACK_STEPS - _LEFT - 1) // 2).T.copy()
+_STEP_X, _STEP_Y = _CRACK_STEPS.T.copy()
+# (dx, dy) + 1 -> Freeman code, flattened as 3 * (dy + 1) + (dx + 1); -1 marks the zero step.
+_CODE_OF_STEP = np.full(9, -1, dtype=np.int8)
+_CODE_OF_STEP[3 * (FREEMAN_STEPS[:, 1] + 1) + (FREEMAN_STEPS[:, 0] + 1)] = np.arange(8)
+
+
+@njit(**JIT_OPTIONS)
+def _ink(padded, row, col):
+    """1 for an ink pixel, 0 for paper and for pixels outside the array."""
+    if row < 0 or col < 0 or row >= padded.shape[0] or col >= padded.shape[1]:
+        return 0
+    return 1 if padded[row, col] else 0
+
+
+@njit(**JIT_OPTIONS)
+def _minority_joins_ink(padded, vertex_x, vertex_y):
+    """The minority rule at the saddle vertex ``(vertex_x, vertex_y)`` (contour module, step 2): on the square
+    rings of side 4, 6 and 8 pixels centred on it, the first whose ink and paper counts differ decides; ink is
+    joined when it is not the majority there (all rings balanced: joined)."""
+    for radius in range(2, 5):
+        balance = 0
+        for row_offset in range(-radius, radius):
+            for col_offset in range(-radius, radius):
+                ring = max(abs(2 * row_offset + 1), abs(2 * col_offset + 1)) // 2 + 1  # max(|o + 1/2|) + 1/2
+                if ring == radius:
+                    balance += 2 * _ink(padded, vertex_y + row_offset, vertex_x + col_offset) - 1
+        if balance != 0:
+            return balance < 0
+    return True
+
+
+@njit(**JIT_OPTIONS)
+def _count_cracks(padded):
+    count = 0
+    for row in range(padded.shape[0]):
+        for col in range(padded.shape[1]):
+            here = padded[row, col]
+            if row + 1 < padded.shape[0] and padded[row + 1, col] != here:
+                count += 1
+            if col + 1 < padded.shape[1] and padded[row, col + 1] != here:
+                count += 1
+    return count
+
+
+@njit(**JIT_OPTIONS)
+def _starts_at(padded, vertex_x, vertex_y):
+    """Bit ``d`` set when a crack of direction ``d`` has its tail at the vertex (ink on its right)."""
+    up_left = _ink(padded, vertex_y - 1, vertex_x - 1)
+    up_right = _ink(padded, vertex_y - 1, vertex_x)
+    down_left = _ink(padded, vertex_y, vertex_x - 1)
+    down_right = _ink(padded, vertex_y, vertex_x)
+    return ((down_right & (1 - up_right)) | ((up_right & (1 - up_left)) << 1)
+            | ((up_left & (1 - down_left)) << 2) | ((down_left & (1 - down_right)) << 3))
+
+
+@njit(**JIT_OPTIONS)
+def _turn_left(padded, head_x, head_y, direction, connectivity):
+    """Whether the boundary turns left at the head vertex, and whether the pixel ahead-right is ink."""
+    ahead_left = _ink(padded, head_y + _AHEAD_LEFT_Y[direction], head_x + _AHEAD_LEFT_X[direction])
+    ahead_right = _ink(padded, head_y + _AHEAD_RIGHT_Y[direction], head_x + _AHEAD_RIGHT_X[direction])
+    if connectivity == 8:
+        left = ahead_left == 1
+    elif ahead_left == 1 and ahead_right == 0 and connectivity == MINORITY:
+        left = _minority_joins_ink(padded, head_x, head_y)
+    else:
+        left = ahead_left == 1 and ahead_right == 1
+    return left, ahead_right == 1
+
+
+@njit(**JIT_OPTIONS)
+def _follow_into(padded, connectivity, tail_x, tail_y, direction, left_turn, offsets):
+    """Fill the per-crack arrays in cycle order; returns the number of cycles, or -1 when a crack has no
+    successor (the tracer's invariant broken)."""
+    visited = np.zeros((padded.shape[0] + 1, padded.shape[1] + 1), dtype=np.uint8)
+    written = 0
+    cycles = 0
+    for vertex_y in range(padded.shape[0] + 1):
+        for vertex_x in range(padded.shape[1] + 1):
+            starting = _starts_at(padded, vertex_x, vertex_y) & ~visited[vertex_y, vertex_x]
+            for first in range(4):
+                if not (starting >> first) & 1 or (visited[vertex_y, vertex_x] >> first) & 1:
+                    continue
+                offsets[cycles] = written
+                cycles += 1
+                x, y, d = vertex_x, vertex_y, first
+                while True:
+                    if written >= tail_x.shape[0] or not (_starts_at(padded, x, y) >> d) & 1:
+                        return -1
+                    visited[y, x] |= np.uint8(1 << d)
+                    head_x, head_y = x + _STEP_X[d], y + _STEP_Y[d]
+                    left, ahead_right = _turn_left(padded, head_x, head_y, d, connectivity)
+                    tail_x[written], tail_y[written], direction[written] = x, y, d
+                    left_turn[written] = left
+                    written += 1
+                    d = (d + (1 if left else (0 if ahead_right else 3))) & 3
+                    x, y = head_x, head_y
+                    if x == vertex_x and y == vertex_y and d == first:
+                        break
+                    if (visited[y, x] >> d) & 1:
+                        return -1
+    offsets[cycles] = written
+    return cycles
+
+
+def follow_cracks(padded, connectivity):
+    """The cracks of ``padded`` (a bool mask with a background border) in cycle order.
+
+    ``connectivity`` is 4, 8 or :data:`MINORITY`. Returns a dict of the tail ``x``, ``y`` (int32, padded frame:
+    pixel (i, j) covers [j, j+1] x [i, i+1]), direction ``d`` (int8), the ``left_turn`` flag at the head and the
+    cycle ``offsets`` (int64, length cycles + 1).
+    """
+    padded = np.ascontiguousarray(padded, dtype=np.bool_)
+    count = _count_cracks(padded)
+    tail_x = np.empty(count, dtype=np.int32)
+    tail_y = np.empty(count, dtype=np.int32)
+    direction = np.empty(count, dtype=np.int8)
+    left_turn = np.empty(count, dtype=np.bool_)
+    offsets = np.empty(count + 1, dtype=np.int64)
+    cycles = _follow_into(padded, int(connectivity), tail_x, tail_y, direction, left_turn, offsets)
+    if cycles < 0:
+        raise RuntimeError("internal error: a crack has no successor (tracer invariant broken)")
+    return {"x": tail_x, "y": tail_y, "d": direction, "left_turn": left_turn, "offsets": offsets[:cycles + 1].copy()}
+
+
+@njit(**JIT_OPTIONS)
+def _shoelace_into(tail_x, tail_y, offsets, area2):
+    """Twice the signed shoelace area of every cycle of crack tails (integers: exact)."""
+    for cycle in range(offsets.shape[0] - 1):
+        lo, hi = offsets[cycle], offsets[cycle + 1]
+        total = 0
+        for i in range(lo, hi):
+            j = i + 1 if i + 1 < hi else lo
+            total += np.int64(tail_x[i]) * tail_y[j] - np.int64(tail_x[j]) * tail_y[i]
+        area2[cycle] = total
+
+
+@njit(**JIT_OPTIONS)
+def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, chain_col, chain_row, codes, kept_offsets):
+    """The pixel chain of every cycle (contour module, step 4): the ink pixel on the right of each crack (and,
+    for 4-connectivity, the corner pixel ahead-right at each left turn), the last of each run of repeats kept
+    (one pixel where all are equal), and the Freeman code of each step to the next kept pixel. Returns the
+    number of chain pixels, or -1 when a step is longer than one pixel."""
+    buffer_col = np.empty(2 * (offsets[offsets.shape[0] - 1] - offsets[0]) + 2, dtype=np.int64)
+    buffer_row = np.empty_like(buffer_col)
+    kept = 0
+    kept_offsets[0] = 0
+    for cycle in range(offsets.shape[0] - 1):
+        emitted = 0
+        for i in range(offsets[cycle], offsets[cycle + 1]):
+            d = direction[i]
+            buffer_col[emitted] = tail_x[i] + _AHEAD_RIGHT_X[d]  # the pixel right of the tail
+            buffer_row[emitted] = tail_y[i] + _AHEAD_RIGHT_Y[d]
+            emitted += 1
+            if four and left_turn[i]:
+                buffer_col[emitted] = tail_x[i] + _STEP_X[d] + _AHEAD_RIGHT_X[d]
+                buffer_row[emitted] = tail_y[i] + _STEP_Y[d] + _AHEAD_RIGHT_Y[d]
+                emitted += 1
+        first = kept
+        for j in range(emitted):
+            k = j + 1 if j + 1 < emitted else 0
+            if buffer_col[j] != buffer_col[k] or buffer_row[j] != buffer_row[k]:
+                chain_col[kept], chain_row[kept] = buffer_col[j], buffer_row[j]
+                kept += 1
+        if kept == first:
+            chain_col[kept], chain_row[kept] = buffer_col[0], buffer_row[0]
+            kept += 1
+        for j in range(first, kept):
+            k = j + 1 if j + 1 < kept else first
+            step_x, step_y = chain_col[k] - chain_col[j], chain_row[k] - chain_row[j]
+            if abs(step_x) > 1 or abs(step_y) > 1:
+                return -1
+            codes[j] = _CODE_OF_STEP[3 * (step_y + 1) + (step_x + 1)]
+        kept_offsets[cycle + 1] = kept
+    return kept
+
+
+@njit(**JIT_OPTIONS)
+def _root(parent, node):
+    while parent[node] != node:
+        parent[node] = parent[parent[node]]
+        node = parent[node]
+    return node
+
+
+@njit(**JIT_OPTIONS)
+def _components_into(tail_x, tail_y, direction, offsets, is_hole, width, height, component):
+    """Component of every cycle (contour module, step 5): in every pixel row an N crack starts an ink run and
+    the next S crack to its right ends it; the cycles of both are joined (union-find). Components are numbered
+    in the order of their outer cycles. Returns -1 when the runs do not alternate or a group has no outer
+    cycle (the tracer's invariant broken), else the number of components."""
+    n_cycles = offsets.shape[0] - 1
+    # Vertical cracks filed by pixel row (counting sort): N tails sit on the row's lower edge, S on its upper.
+    row_start = np.zeros(height + 2, dtype=np.int64)
+    for i in range(offsets[n_cycles]):
+        if direction[i] & 1:
+            row_start[(tail_y[i] - 1 if direction[i] == 1 else tail_y[i]) + 1] += 1
+    for row in range(height + 1):
+        row_start[row + 1] += row_start[row]
+    filed = np.empty(row_start[height + 1], dtype=np.int64)
+    fill = row_start.copy()
+    cycle_of = np.empty(offsets[n_cycles], dtype=np.int64)
+    for cycle in range(n_cycles):
+        for i in range(offsets[cycle], offsets[cycle + 1]):
+            cycle_of[i] = cycle
+            if direction[i] & 1:
+                row = tail_y[i] - 1 if direction[i] == 1 else tail_y[i]
+                filed[fill[row]] = i
+                fill[row] += 1
+    parent = np.arange(n_cycles)
+    run_cycle = np.full(width + 1, -1, dtype=np.int64)  # per vertex column of the row: the cycle of its crack
+    run_kind = np.zeros(width + 1, dtype=np.int8)
+    for row in range(height + 1):
+        if row_start[row] == row_start[row + 1]:
+            continue
+        first_x, last_x = width, 0
+        for f in range(row_start[row], row_start[row + 1]):  # mark the row's cracks, then walk its columns
+            x = tail_x[filed[f]]
+            run_cycle[x], run_kind[x] = cycle_of[filed[f]], direction[filed[f]]
+            first_x, last_x = min(first_x, x), max(last_x, x)
+        opened = -1
+        for x in range(first_x, last_x + 1):
+            if run_kind[x] == 1:
+                if opened >= 0:
+                    return -1
+                opened = run_cycle[x]
+            elif run_kind[x] == 3:
+                if opened < 0:
+                    return -1
+                a, b = _root(parent, opened), _root(parent, run_cycle[x])
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+                opened = -1
+            run_kind[x] = 0
+        if opened >= 0:
+            return -1
+    number_of_root = np.full(n_cycles, -1, dtype=np.int64)
+    count = 0
+    for cycle in range(n_cycles):
+        if not is_hole[cycle]:
+            number_of_root[_root(parent, cycle)] = count
+            count += 1
+    for cycle in range(n_cycles):
+        component[cycle] = number_of_root[_root(parent, cycle)]
+        if component[cycle] < 0:
+            return -1
+    return count
+
+
+def boundary_arrays(cracks, width, height, four):
+    """Per cycle of :func:`follow_cracks`: twice its signed area, its pixel chain (columns, rows, Freeman codes,
+    ``kept_offsets``) and its component (contour module, steps 4-5); ``width``, ``height`` are the padded
+    mask's."""
+    tail_x, tail_y, direction, left_turn, offsets = (cracks[k] for k in ("x", "y", "d", "left_turn", "offsets"))
+    n_cycles = offsets.shape[0] - 1
+    area2 = np.empty(n_cycles, dtype=np.int64)
+    _shoelace_into(tail_x, tail_y, offsets, area2)
+    capacity = tail_x.shape[0] * (2 if four else 1)
+    chain_col = np.empty(capacity, dtype=np.int64)
+    chain_row = np.empty(capacity, dtype=np.int64)
+    codes = np.empty(capacity, dtype=np.int8)
+    kept_offsets = np.empty(n_cycles + 1, dtype=np.int64)
+    kept = _chains_into(tail_x, tail_y, direction, left_turn, offsets, bool(four), chain_col, chain_row, codes,
+                        kept_offsets)
+    if kept < 0:
+        raise RuntimeError("internal error: pixel chain has a step longer than one pixel")
+    is_hole = area2 < 0
+    component = np.empty(n_cycles, dtype=np.int64)
+    if _components_into(tail_x, tail_y, direction, offsets, is_hole, width, height, component) < 0:
+        raise RuntimeError("internal error: ink runs do not alternate N/S cracks, or a hole has no outer boundary")
+    return {"area2": area2, "chain_col": chain_col[:kept].copy(), "chain_row": chain_row[:kept].copy(),
+            "codes": codes[:kept].copy(), "kept_offsets": kept_offsets, "is_hole": is_hole, "component": component}

@@ -69,6 +69,7 @@ from .corners._jump_kernels import warm_up as warm_corner_kernels
 from .fitting._iso_kernels import warm_up as warm_noise_kernels
 from .fitting._kernels import warm_up as warm_fit_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
+from .fitting.results import BoundaryList
 from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted
 from ._binarize import PINHOLE_AREA, fill_pinholes
@@ -242,14 +243,13 @@ def trace(
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
                      f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
     cornered = time.perf_counter()
-    fits, budget_state = _fit_boundaries(points_list, corner_list, small, settings, deadline, times,
-                                         undetected)
+    (fits, splines, polygons), budget_state = _fit_boundaries(points_list, corner_list, small, settings, deadline,
+                                                              times, undetected)
     _budget_notes(budget_state, time_budget, notes)
     finished = time.perf_counter()
 
-    splines = [fit.spline for fit in fits]
     merged = merge_snapshots(fits) if settings["keep_snapshots"] else []
-    stats = _stats(boundaries, points_list, corner_list, fits, splines, settings["max_iterations"])
+    stats = _stats(boundaries, points_list, corner_list, fits, polygons, settings["max_iterations"])
     for k, entry in enumerate(stats["per_boundary"]):
         if entry["reason"] is not None:
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
@@ -403,9 +403,20 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         if fits[k].info.get("reason") and deadline.passed():
             state[k] = "stopped"
     left = [k for k, fit in enumerate(fits) if fit is None]
-    for k, fit in zip(left, polygon_fits([points_list[k] for k in left], epsilon, keep)):
-        fits[k], state[k] = fit, "polygon"
-    return fits, state
+    polygons = polygon_fits([points_list[k] for k in left], epsilon, keep)
+    for k in left:
+        state[k] = "polygon"
+    return _lazy_fits(fits, left, polygons), state
+
+
+def _lazy_fits(fits, left, polygons):
+    """The fits (a :class:`~splinecraft.capture.fitting.results.BoundaryList`) and splines of all boundaries:
+    the polygons of ``left`` (``polygons``, a ``PolygonFits``) made when first read."""
+    position = dict(zip(left, range(len(left))))
+    splines = [None if fit is None else fit.spline for fit in fits]
+    return (BoundaryList(fits, lambda k: polygons[position[k]]),
+            BoundaryList(splines, lambda k: polygons.spline(position[k])),
+            {"left": np.asarray(left, dtype=np.int64), "segments": getattr(polygons, "segments", np.zeros(0, int))})
 
 
 def _budget_notes(state, time_budget, notes):
@@ -465,11 +476,39 @@ def _unconverged_reason(fit, max_iterations):
             "corner was left to release")
 
 
-def _stats(boundaries, points_list, corner_list, fits, splines, max_iterations) -> dict:
-    contour_points = int(sum(len(p) for p in points_list))
-    knots_inserted = int(sum(int(fit.knots_inserted) for fit in fits))
-    segments = int(sum(s.n_segments for s in splines))
+def _stats(boundaries, points_list, corner_list, fits, polygons, max_iterations) -> dict:
+    """The statistics of :func:`trace`; the polygons (``polygons["left"]``, see :func:`_lazy_fits`) enter with
+    their known values (no iterations, no knots, deviation 0, converged) without making their objects."""
+    lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
+    contour_points = int(lengths.sum())
+    segments = np.zeros(len(points_list), dtype=np.int64)
+    segments[polygons["left"]] = polygons["segments"]
+    is_polygon = np.zeros(len(points_list), bool)
+    is_polygon[polygons["left"]] = True
+    fitted = np.flatnonzero(~is_polygon).tolist()
+    for k in fitted:
+        segments[k] = fits[k].spline.n_segments
+    fitted_fits = [fits[k] for k in fitted]
+    knots_inserted = int(sum(int(fit.knots_inserted) for fit in fitted_fits))
     holes = int(sum(b.is_hole for b in boundaries))
+    polygon_entry = {"knots_inserted": 0, "iterations": 0, "max_error": 0.0, "hausdorff": 0.0, "converged": True,
+                     "small_outline": False, "reason": None}
+    per_boundary = []
+    for k, (b, c, fitted_here) in enumerate(zip(boundaries, corner_list, (~is_polygon).tolist())):
+        if fitted_here:
+            fit = fits[k]
+            entry = {"knots_inserted": int(fit.knots_inserted), "iterations": int(fit.iterations),
+                     "max_error": float(fit.max_error), "hausdorff": float(fit.hausdorff),
+                     "converged": bool(fit.converged), "small_outline": bool(fit.info.get("small_outline", False)),
+                     "reason": _unconverged_reason(fit, max_iterations)}
+        else:
+            entry = polygon_entry
+        per_boundary.append({
+            "is_hole": bool(b.is_hole), "contour_points": int(lengths[k]), "corners": int(len(c)),
+            "knots_inserted": entry["knots_inserted"], "iterations": entry["iterations"],
+            "segments": int(segments[k]), "max_error": entry["max_error"], "hausdorff": entry["hausdorff"],
+            "converged": entry["converged"], "small_outline": entry["small_outline"], "reason": entry["reason"]})
+    some_polygon = [0.0] if is_polygon.any() else []  # the polygons' iterations, errors and deviations
     return {
         "boundaries": len(boundaries),
         "outer": len(boundaries) - holes,
@@ -477,22 +516,12 @@ def _stats(boundaries, points_list, corner_list, fits, splines, max_iterations) 
         "contour_points": contour_points,
         "corners": int(sum(len(c) for c in corner_list)),
         "knots_inserted": knots_inserted,
-        "iterations": int(max(int(fit.iterations) for fit in fits)),
-        "segments": segments,
-        "data_reduction_pct": 100.0 * (1.0 - 6.0 * segments / (2.0 * contour_points)),
+        "iterations": int(max(some_polygon + [int(fit.iterations) for fit in fitted_fits])),
+        "segments": int(segments.sum()),
+        "data_reduction_pct": 100.0 * (1.0 - 6.0 * int(segments.sum()) / (2.0 * contour_points)),
         "data_reduction_pct_thesis": 100.0 * (1.0 - knots_inserted / contour_points),
-        "max_error": float(max(float(fit.max_error) for fit in fits)),
-        "hausdorff": float(max(float(fit.hausdorff) for fit in fits)),
-        "converged": bool(all(bool(fit.converged) for fit in fits)),
-        "per_boundary": [
-            {
-                "is_hole": bool(b.is_hole), "contour_points": int(len(p)), "corners": int(len(c)),
-                "knots_inserted": int(fit.knots_inserted), "iterations": int(fit.iterations),
-                "segments": int(s.n_segments), "max_error": float(fit.max_error),
-                "hausdorff": float(fit.hausdorff), "converged": bool(fit.converged),
-                "small_outline": bool(fit.info.get("small_outline", False)),
-                "reason": _unconverged_reason(fit, max_iterations),
-            }
-            for b, p, c, fit, s in zip(boundaries, points_list, corner_list, fits, splines)
-        ],
+        "max_error": float(max(some_polygon + [float(fit.max_error) for fit in fitted_fits])),
+        "hausdorff": float(max(some_polygon + [float(fit.hausdorff) for fit in fitted_fits])),
+        "converged": bool(all(bool(fit.converged) for fit in fitted_fits)),
+        "per_boundary": per_boundary,
     }

@@ -91,10 +91,13 @@ class TraceResult:
         The contour fitted for each boundary (``Boundary.outline`` or ``Boundary.pixels``).
     corners : list of ndarray of int
         Corner indices into ``points[k]``.
-    fits : list of fitting.FitResult
-        Per boundary: pieces, knot indices, snapshots, errors, convergence.
-    splines : list of Spline
-        The final closed curve of every boundary, in the pixel frame.
+    fits : sequence of fitting.FitResult
+        Per boundary: pieces, knot indices, snapshots, errors, convergence. A list-like
+        ``fitting.results.BoundaryList``: the polygons of the boundaries a spent time budget left (docs/capture.md
+        §12, "Time budget") are made when first read, so a noise image with 10^5 of them stays light.
+    splines : sequence of Spline
+        The final closed curve of every boundary, in the pixel frame (``splines[k] is fits[k].spline``; made on
+        first read like ``fits``).
     snapshots : list of TraceSnapshot
         Merged per-iteration view (iteration 0 .. max over boundaries); empty when
         ``keep_snapshots=False``. The last one equals the result.

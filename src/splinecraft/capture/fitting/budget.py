@@ -10,14 +10,16 @@ contour (deviation 0, so within any ``epsilon``), in linear time and without cor
 """
 from __future__ import annotations
 
+import operator
 import time
+from collections.abc import Sequence
 
 import numpy as np
 
 from ...spline import Spline
 from .results import FitResult, Snapshot
 
-__all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "BUDGET_REASON"]
+__all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON"]
 
 #: Seconds for corner detection and fitting of all boundaries of one :func:`~splinecraft.capture.trace.trace`
 #: call (``None`` = no budget).
@@ -75,18 +77,60 @@ def polygon_fits(outlines, epsilon, keep_snapshots) -> list:
     knots[np.arange(vertex.shape[0]) + outline_of[vertex] + 1] = running - base[outline_of[vertex]]
     local = vertex - offsets[outline_of[vertex]]
     pairs = np.column_stack([local, local[after]])
-    return [_polygon(np.ascontiguousarray(planar[:, :, lo:hi]), knots[lo + b: hi + b + 1].copy(), pairs[lo:hi],
-                     epsilon, keep_snapshots)
-            for b, (lo, hi) in enumerate(zip(bounds[:-1].tolist(), bounds[1:].tolist()))]
+    return PolygonFits(planar, knots, pairs, bounds, epsilon, keep_snapshots)
 
 
-def _polygon(planar, knots, pairs, epsilon, keep_snapshots):
-    """The :class:`FitResult` of one polygon: ``planar`` its ``(4, 2, m)`` Bézier points, ``pairs`` the contour
-    indices of each piece's ends."""
+class PolygonFits(Sequence):
+    """The polygon :class:`FitResult` of every outline of one :func:`polygon_fits` call, each made on first
+    access from the shared arrays of all (then kept): a noise image leaves 10^5 boundaries to the polygon and
+    needs none of their objects to count its segments (:attr:`segments`) or write its statistics."""
+
+    def __init__(self, planar, knots, pairs, bounds, epsilon, keep_snapshots):
+        self._planar, self._knots, self._pairs = planar, knots, pairs
+        self._bounds = bounds.tolist()
+        self._epsilon, self._keep = float(epsilon), bool(keep_snapshots)
+        self._fits, self._splines = {}, {}
+        #: Bezier pieces of every outline's polygon.
+        self.segments = np.diff(bounds)
+
+    def __len__(self) -> int:
+        return len(self._bounds) - 1
+
+    def __getitem__(self, b):
+        if isinstance(b, slice):
+            return [self[k] for k in range(*b.indices(len(self)))]
+        b = _index(b, len(self))
+        fit = self._fits.get(b)
+        if fit is None:
+            lo, hi = self._bounds[b], self._bounds[b + 1]
+            fit = self._fits[b] = _polygon(self.spline(b), self._pairs[lo:hi], self._epsilon, self._keep)
+        return fit
+
+    def spline(self, b) -> Spline:
+        """The spline of outline ``b`` (that of its fit, ``self[b].spline``)."""
+        b = _index(b, len(self))
+        spline = self._splines.get(b)
+        if spline is None:
+            lo, hi = self._bounds[b], self._bounds[b + 1]
+            planar = np.ascontiguousarray(self._planar[:, :, lo:hi])
+            spline = self._splines[b] = Spline._from_trusted(
+                planar, self._knots[lo + b: hi + b + 1].copy(), closed=True, auxiliary={"F": planar[0].T.copy()},
+                info={"form": "outline_fit", "method": "polygon", "epsilon": self._epsilon, "pieces": hi - lo})
+        return spline
+
+
+def _index(k, length) -> int:
+    k = operator.index(k)
+    if not -length <= k < length:
+        raise IndexError(f"index {k} out of range for {length} outlines")
+    return k % length
+
+
+def _polygon(spline, pairs, epsilon, keep_snapshots):
+    """The :class:`FitResult` of one polygon: ``spline`` its curve, ``pairs`` the contour indices of each piece's
+    ends."""
     m = pairs.shape[0]
-    spline = Spline._from_trusted(planar, knots, closed=True, auxiliary={"F": planar[0].T.copy()},
-                                  info={"form": "outline_fit", "method": "polygon", "epsilon": float(epsilon),
-                                        "pieces": int(m)})
+    planar, knots = spline._planar, spline.knots
     knot_lists = list(pairs)
     snapshots = [Snapshot(iteration=0, knot_indices=knot_lists, bezier=planar.transpose(2, 0, 1).copy(),
                           piece_max_error=np.zeros(m), piece_hausdorff=np.zeros(m), candidates=[], phase="initial",

@@ -5,9 +5,45 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from hypothesis import given, settings, strategies as st
+
+from splinecraft.capture.contour import trace_boundaries
 from splinecraft.capture.fitting.budget import polygon_fits
 from splinecraft.capture.fitting.results import BoundaryList
 from splinecraft.capture.trace import trace
+
+
+def reference_polygons(outlines):
+    """The numpy formulation the compiled polygon pass replaced (turning points, thirds, running knots)."""
+    lengths = np.array([o.shape[0] for o in outlines], dtype=np.int64)
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    points = np.concatenate(outlines).astype(float, copy=False)
+    following = np.arange(points.shape[0]) + 1
+    following[offsets + lengths - 1] = offsets
+    preceding = np.arange(points.shape[0]) - 1
+    preceding[offsets] = offsets + lengths - 1
+    step = points[following] - points
+    direction = step / np.hypot(step[:, 0], step[:, 1])[:, None]
+    before = direction[preceding]
+    turning = (np.abs(direction[:, 0] * before[:, 1] - direction[:, 1] * before[:, 0])
+               + (1.0 - np.einsum("ij,ij->i", direction, before))) > 1e-9
+    outline_of = np.repeat(np.arange(lengths.shape[0]), lengths)
+    few = np.bincount(outline_of[turning], minlength=lengths.shape[0]) < 3
+    turning[np.isin(outline_of, np.flatnonzero(few))] = True
+    vertex = np.flatnonzero(turning)
+    bounds = np.searchsorted(outline_of[vertex], np.arange(lengths.shape[0] + 1))
+    after = np.arange(1, vertex.shape[0] + 1)
+    after[bounds[1:] - 1] = bounds[:-1]
+    start, end = points[vertex], points[vertex[after]]
+    chord = end - start
+    planar = np.stack([start, start + chord / 3.0, start + 2.0 * chord / 3.0, end]).transpose(0, 2, 1)
+    running = np.cumsum(np.hypot(chord[:, 0], chord[:, 1]))
+    base = np.concatenate([[0.0], running])[bounds[:-1]]
+    knots = np.zeros(vertex.shape[0] + lengths.shape[0])
+    knots[np.arange(vertex.shape[0]) + outline_of[vertex] + 1] = running - base[outline_of[vertex]]
+    local = vertex - offsets[outline_of[vertex]]
+    pairs = np.column_stack([local, local[after]])
+    return planar, knots, pairs, bounds
 
 
 def noise_image(size, seed):
@@ -76,3 +112,24 @@ def test_boundary_list_behaves_like_a_list():
     with pytest.raises(IndexError):
         items[4]
     assert "4 boundaries" in repr(items)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), density=st.floats(0.1, 0.9), scale=st.sampled_from([0.0, 0.5, 10.0]))
+def test_polygon_pass_matches_the_numpy_formulation(seed, density, scale):
+    """Crack outlines of a random bitmap, plus (scale > 0) random polylines on a half-pixel grid or anywhere."""
+    rng = np.random.default_rng(seed)
+    outlines = [b.outline for b in trace_boundaries(rng.random((30, 30)) < density)]
+    if scale:
+        outlines += [np.round(rng.normal(size=(int(rng.integers(4, 20)), 2)) * 4) * scale for _ in range(20)]
+        outlines = [o for o in outlines if (np.diff(o, axis=0, append=o[:1]) != 0).any(axis=1).all()]
+    if not outlines:
+        return
+    planar, knots, pairs, bounds = reference_polygons(outlines)
+    fits = polygon_fits(outlines, 0.8, False)
+    assert list(np.diff(bounds)) == list(fits.segments)
+    for b, fit in enumerate(fits):
+        lo, hi = bounds[b], bounds[b + 1]
+        np.testing.assert_array_equal(fit.spline.bezier(), planar[:, :, lo:hi].transpose(2, 0, 1))
+        np.testing.assert_array_equal(fit.spline.knots, knots[lo + b: hi + b + 1])
+        np.testing.assert_array_equal(np.array(fit.pieces).reshape(-1, 2), pairs[lo:hi])

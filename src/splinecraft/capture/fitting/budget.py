@@ -15,8 +15,10 @@ import time
 from collections.abc import Sequence
 
 import numpy as np
+from numba import njit
 
 from ...spline import Spline
+from ._jit import JIT_OPTIONS
 from .results import FitResult, Snapshot
 
 __all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON"]
@@ -41,43 +43,86 @@ class Deadline:
         return self.end is not None and time.perf_counter() > self.end
 
 
-def polygon_fits(outlines, epsilon, keep_snapshots) -> list:
+def polygon_fits(outlines, epsilon, keep_snapshots):
     """Every closed polyline of ``outlines`` as a spline: one straight cubic Bézier (control points at thirds)
     per run between turning points (where the step direction changes), so its deviation from the contour is
-    0. The turning points of all outlines are found in one pass."""
+    0. The turning points of all outlines are found in one compiled pass; the objects of each outline are made
+    when first read (:class:`PolygonFits`)."""
     if not outlines:
         return []
-    lengths = np.array([o.shape[0] for o in outlines], dtype=np.int64)
-    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-    points = np.concatenate(outlines).astype(float, copy=False)
-    following = np.arange(points.shape[0]) + 1
-    following[offsets + lengths - 1] = offsets
-    preceding = np.arange(points.shape[0]) - 1
-    preceding[offsets] = offsets + lengths - 1
-    step = points[following] - points
-    direction = step / np.hypot(step[:, 0], step[:, 1])[:, None]
-    before = direction[preceding]
-    turning = (np.abs(direction[:, 0] * before[:, 1] - direction[:, 1] * before[:, 0])
-               + (1.0 - np.einsum("ij,ij->i", direction, before))) > 1e-9
-    outline_of = np.repeat(np.arange(lengths.shape[0]), lengths)
-    few = np.bincount(outline_of[turning], minlength=lengths.shape[0]) < 3
-    turning[np.isin(outline_of, np.flatnonzero(few))] = True  # cannot happen for >= 4 distinct points
-    vertex = np.flatnonzero(turning)
-    bounds = np.searchsorted(outline_of[vertex], np.arange(lengths.shape[0] + 1))
-    # the next vertex of every vertex, wrapping within its outline
-    after = np.arange(1, vertex.shape[0] + 1)
-    after[bounds[1:] - 1] = bounds[:-1]
-    start, end = points[vertex], points[vertex[after]]
-    chord = end - start
-    planar = np.stack([start, start + chord / 3.0, start + 2.0 * chord / 3.0, end]).transpose(0, 2, 1)
-    # knots of all outlines in one array: outline b owns entries bounds[b] + b .. bounds[b + 1] + b, from 0
-    running = np.cumsum(np.hypot(chord[:, 0], chord[:, 1]))
-    base = np.concatenate([[0.0], running])[bounds[:-1]]
-    knots = np.zeros(vertex.shape[0] + lengths.shape[0])
-    knots[np.arange(vertex.shape[0]) + outline_of[vertex] + 1] = running - base[outline_of[vertex]]
-    local = vertex - offsets[outline_of[vertex]]
-    pairs = np.column_stack([local, local[after]])
+    lengths = np.fromiter(map(len, outlines), np.int64, len(outlines))
+    offsets = np.zeros(lengths.shape[0] + 1, dtype=np.int64)
+    np.cumsum(lengths, out=offsets[1:])
+    points = np.ascontiguousarray(np.concatenate(outlines), dtype=float)
+    turning = np.empty(points.shape[0], dtype=np.bool_)
+    bounds = np.empty(lengths.shape[0] + 1, dtype=np.int64)
+    vertices = _turning_into(points, offsets, turning, bounds)
+    planar = np.empty((4, 2, vertices), dtype=float)
+    knots = np.empty(vertices + lengths.shape[0], dtype=float)
+    pairs = np.empty((vertices, 2), dtype=np.int64)
+    _polygons_into(points, offsets, turning, bounds, planar, knots, pairs)
     return PolygonFits(planar, knots, pairs, bounds, epsilon, keep_snapshots)
+
+
+@njit(**JIT_OPTIONS)
+def _turning_into(points, offsets, turning, bounds):
+    """Flag the turning points of every closed polyline ``points[offsets[b]:offsets[b + 1]]`` (the step direction
+    changes there: ``|cross| + (1 - dot) > 1e-9`` of the unit steps before and after; all points of a polyline
+    with fewer than 3), the vertex offsets of each polyline into ``bounds``; returns the number of vertices."""
+    total = 0
+    bounds[0] = 0
+    for outline in range(offsets.shape[0] - 1):
+        lo, hi = offsets[outline], offsets[outline + 1]
+        count = 0
+        for i in range(lo, hi):
+            after = i + 1 if i + 1 < hi else lo
+            before = i - 1 if i > lo else hi - 1
+            step_x, step_y = points[after, 0] - points[i, 0], points[after, 1] - points[i, 1]
+            length = np.hypot(step_x, step_y)
+            direction_x, direction_y = step_x / length, step_y / length
+            step_x, step_y = points[i, 0] - points[before, 0], points[i, 1] - points[before, 1]
+            length = np.hypot(step_x, step_y)
+            before_x, before_y = step_x / length, step_y / length
+            turning[i] = (abs(direction_x * before_y - direction_y * before_x)
+                          + (1.0 - (direction_x * before_x + direction_y * before_y))) > 1e-9
+            count += turning[i]
+        if count < 3:  # cannot happen for >= 4 distinct points
+            turning[lo:hi] = True
+            count = hi - lo
+        total += count
+        bounds[outline + 1] = total
+    return total
+
+
+@njit(**JIT_OPTIONS)
+def _polygons_into(points, offsets, turning, bounds, planar, knots, pairs):
+    """The straight Bezier pieces between consecutive turning points (control points at thirds), into
+    ``planar`` (4, 2, vertices); the chord-length knots of outline ``b``, from 0, into
+    ``knots[bounds[b] + b: bounds[b + 1] + b + 1]`` (differences of one running sum over all outlines); the
+    contour indices of each piece's ends into ``pairs``."""
+    running = 0.0
+    for outline in range(offsets.shape[0] - 1):
+        lo, hi = offsets[outline], offsets[outline + 1]
+        first = bounds[outline]
+        vertex = first
+        for i in range(lo, hi):
+            if turning[i]:
+                pairs[vertex, 0] = i - lo
+                vertex += 1
+        base = running
+        knots[first + outline] = 0.0
+        for vertex in range(first, bounds[outline + 1]):
+            following = vertex + 1 if vertex + 1 < bounds[outline + 1] else first
+            pairs[vertex, 1] = pairs[following, 0]
+            start, end = lo + pairs[vertex, 0], lo + pairs[following, 0]
+            for axis in range(2):
+                chord = points[end, axis] - points[start, axis]
+                planar[0, axis, vertex] = points[start, axis]
+                planar[1, axis, vertex] = points[start, axis] + chord / 3.0
+                planar[2, axis, vertex] = points[start, axis] + 2.0 * chord / 3.0
+                planar[3, axis, vertex] = points[end, axis]
+            running += np.hypot(points[end, 0] - points[start, 0], points[end, 1] - points[start, 1])
+            knots[vertex + outline + 1] = running - base
 
 
 class PolygonFits(Sequence):

@@ -244,12 +244,12 @@ def fill_pinholes(mask, boundaries, area=PINHOLE_AREA):
     """
     if isinstance(area, bool) or not isinstance(area, numbers.Integral) or not 0 <= area <= 3:
         raise ValueError(f"area must be an integer in [0, 3] (holes of one or two pixels), got {area!r}")
-    small = [b for b in boundaries if b.is_hole and -int(b.area) < area]
-    if not small:
+    from .contour import hole_boxes
+
+    boxes = hole_boxes(boundaries, area)
+    if not boxes.shape[0]:
         return mask, 0
     mask = np.array(mask, dtype=bool, copy=True)
-    for boundary in small:
-        corners = np.asarray(boundary.crack_vertices)
-        (x0, y0), (x1, y1) = corners.min(axis=0).astype(int), corners.max(axis=0).astype(int)
+    for x0, y0, x1, y1 in boxes.tolist():
         mask[y0:y1, x0:x1] = True
-    return mask, len(small)
+    return mask, boxes.shape[0]

@@ -16,7 +16,7 @@ from numba import njit
 
 from .fitting._jit import JIT_OPTIONS
 
-__all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "MINORITY"]
+__all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "crack_points", "MINORITY"]
 
 #: ``connectivity`` code of the minority rule in :func:`follow_cracks` (4 and 8 stand for themselves).
 MINORITY = 0
@@ -305,3 +305,22 @@ def boundary_arrays(cracks, width, height, four):
         raise RuntimeError("internal error: ink runs do not alternate N/S cracks, or a hole has no outer boundary")
     return {"area2": area2, "chain_col": chain_col[:kept].copy(), "chain_row": chain_row[:kept].copy(),
             "codes": codes[:kept].copy(), "kept_offsets": kept_offsets, "is_hole": is_hole, "component": component}
+
+
+@njit(**JIT_OPTIONS)
+def _points_into(tail_x, tail_y, direction, chain_col, chain_row, offset_x, offset_y, midpoints, centres):
+    for i in range(tail_x.shape[0]):
+        midpoints[i, 0] = float(tail_x[i] + offset_x) + 0.5 * _STEP_X[direction[i]]
+        midpoints[i, 1] = float(tail_y[i] + offset_y) + 0.5 * _STEP_Y[direction[i]]
+    for i in range(chain_col.shape[0]):
+        centres[i, 0] = float(chain_col[i] + offset_x) + 0.5
+        centres[i, 1] = float(chain_row[i] + offset_y) + 0.5
+
+
+def crack_points(tail_x, tail_y, direction, chain_col, chain_row, offset):
+    """The crack midpoints (tail + half a step) and the pixel centres of the chains, ``(n, 2)`` floats in the
+    image frame (``offset`` = the padded frame's origin there)."""
+    midpoints = np.empty((tail_x.shape[0], 2), dtype=float)
+    centres = np.empty((chain_col.shape[0], 2), dtype=float)
+    _points_into(tail_x, tail_y, direction, chain_col, chain_row, int(offset[0]), int(offset[1]), midpoints, centres)
+    return midpoints, centres

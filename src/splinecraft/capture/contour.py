@@ -61,12 +61,15 @@ on first access, so a bitmap of noise with 200 000 boundaries makes no 200 000 a
 """
 from __future__ import annotations
 
+import operator
+from collections.abc import Sequence
+
 import numpy as np
 
-from ._cracks import FREEMAN_STEPS, MINORITY, boundary_arrays, follow_cracks
+from ._cracks import FREEMAN_STEPS, MINORITY, boundary_arrays, crack_points, follow_cracks
 from ._saddle import CONNECTIVITIES, check_connectivity
 
-__all__ = ["Boundary", "trace_boundaries", "FREEMAN_STEPS", "chain_to_pixels", "CONNECTIVITIES", "check_connectivity"]
+__all__ = ["Boundary", "Boundaries", "trace_boundaries", "hole_boxes", "FREEMAN_STEPS", "chain_to_pixels", "CONNECTIVITIES", "check_connectivity"]
 
 _CRACK_STEPS = FREEMAN_STEPS[::2]  # crack directions 0 E, 1 N, 2 W, 3 S are the even Freeman codes
 
@@ -245,9 +248,10 @@ def trace_boundaries(mask, *, connectivity=8) -> list:
 
     Returns
     -------
-    list of Boundary
+    Boundaries (a list-like sequence of Boundary; ``[]`` when the mask has no ink)
         Grouped by component (raster order of each component's first pixel): the outer boundary, then
-        its holes (raster order of their first pixels). Empty when the mask has no ink.
+        its holes (raster order of their first pixels). The objects are made on first access; their scalar
+        attributes are also arrays of the sequence (:class:`Boundaries`).
 
     Raises
     ------
@@ -288,13 +292,73 @@ def _build_boundaries(cracks, connectivity, offset, shape):
     outer_position = np.zeros(int(component.max(initial=-1)) + 1, dtype=np.int64)
     outer_position[component[~is_hole]] = position[~is_hole]
     parent = np.where(is_hole, outer_position[component], -1)
-    make = Boundary._from_store
-    return [
-        make(store, cycle, connectivity, hole, parent_index if hole else None, comp, area)
-        for cycle, hole, parent_index, comp, area in zip(
-            order.tolist(), is_hole[order].tolist(), parent[order].tolist(), component[order].tolist(),
-            (area2[order] // 2).tolist())
-    ]
+    return Boundaries(store, order, is_hole[order], parent[order], component[order], area2[order] // 2,
+                      connectivity)
+
+
+class Boundaries(Sequence):
+    """The boundaries of one :func:`trace_boundaries` call: a list of :class:`Boundary` (indexing, slicing,
+    iteration, ``len``, comparison with a list), each made on first access, and their scalar attributes as
+    arrays in the same order (``is_hole``, ``parent`` (-1 for outer boundaries), ``component``, ``area``,
+    ``lengths`` = contour points of each crack outline). A bitmap of noise has 10^5 boundaries; code that needs
+    one attribute of all of them reads the array instead of making every object."""
+
+    def __init__(self, store, cycles, is_hole, parent, component, area, connectivity):
+        self._store, self._cycles, self._connectivity = store, cycles, connectivity
+        self.is_hole, self.parent, self.component, self.area = is_hole, parent, component, area
+        self.lengths = np.diff(store.offsets_array)[cycles]
+        self._made = [None] * cycles.shape[0]
+
+    def __len__(self) -> int:
+        return len(self._made)
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return [self[i] for i in range(*k.indices(len(self._made)))]
+        boundary = self._made[k]
+        if boundary is None:
+            k = operator.index(k) % len(self._made)
+            hole = bool(self.is_hole[k])
+            boundary = self._made[k] = Boundary._from_store(
+                self._store, int(self._cycles[k]), self._connectivity, hole, int(self.parent[k]) if hole else None,
+                int(self.component[k]), int(self.area[k]))
+        return boundary
+
+    def __setitem__(self, k, boundary):
+        self._made[k] = boundary
+
+    def __eq__(self, other):
+        return isinstance(other, (list, Boundaries)) and len(other) == len(self) and all(
+            a is b for a, b in zip(self, other))
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        holes = int(self.is_hole.sum())
+        return f"Boundaries({len(self)} boundaries: {len(self) - holes} outer, {holes} holes)"
+
+    def outlines(self) -> list:
+        """The crack outline of every boundary (``self[k].outline``, the same arrays), without making the
+        :class:`Boundary` objects."""
+        made, outline = self._made, self._store.outline
+        return [outline(cycle) if boundary is None else boundary.outline
+                for cycle, boundary in zip(self._cycles.tolist(), made)]
+
+    def hole_boxes(self, max_area) -> np.ndarray:
+        """``(x0, y0, x1, y1)`` of the crack vertices of every hole enclosing fewer than ``max_area`` pixels, as an
+        ``(k, 4)`` int array (image frame)."""
+        chosen = np.flatnonzero(self.is_hole & (-self.area < max_area))
+        return self._store.boxes(self._cycles[chosen])
+
+
+def hole_boxes(boundaries, max_area) -> np.ndarray:
+    """The crack boxes ``(x0, y0, x1, y1)`` of the holes among ``boundaries`` (:class:`Boundaries` or any list of
+    :class:`Boundary`) that enclose fewer than ``max_area`` pixels, an ``(k, 4)`` int array."""
+    if isinstance(boundaries, Boundaries):
+        return boundaries.hole_boxes(max_area)
+    boxes = [np.concatenate([np.asarray(b.crack_vertices).min(axis=0), np.asarray(b.crack_vertices).max(axis=0)])
+             for b in boundaries if b.is_hole and -int(b.area) < max_area]
+    return np.array(boxes, dtype=np.int64).reshape(-1, 4)
 
 
 class _BoundaryStore:
@@ -302,15 +366,23 @@ class _BoundaryStore:
     are slices of them, made when first read (so a bitmap of noise with 10^5 boundaries costs no 10^5 array
     copies)."""
 
-    __slots__ = ("x", "y", "offsets", "midpoints", "centres", "codes", "kept_offsets", "offset")
+    __slots__ = ("x", "y", "offsets", "offsets_array", "midpoints", "centres", "codes", "kept_offsets", "offset")
 
     def __init__(self, x, y, d, offsets, chain_col, chain_row, codes, kept_offsets, offset):
-        offset_x, offset_y = offset
-        self.x, self.y, self.offsets, self.offset = x, y, offsets.tolist(), offset
-        self.midpoints = np.column_stack([x + offset_x, y + offset_y]).astype(float) + 0.5 * _CRACK_STEPS[d]
-        self.centres = np.column_stack([chain_col + offset_x + 0.5, chain_row + offset_y + 0.5])
+        self.x, self.y, self.offsets_array, self.offset = x, y, offsets, offset
+        self.offsets = offsets.tolist()
+        self.midpoints, self.centres = crack_points(x, y, d, chain_col, chain_row, offset)
         self.codes = codes.astype(np.int8, copy=False)
         self.kept_offsets = kept_offsets.tolist()
+
+    def boxes(self, cycles) -> np.ndarray:
+        """``(x0, y0, x1, y1)`` of the crack vertices of each of ``cycles`` (image frame)."""
+        if not cycles.shape[0]:
+            return np.zeros((0, 4), dtype=np.int64)
+        starts = self.offsets_array[:-1]
+        box = np.column_stack([np.minimum.reduceat(self.x, starts)[cycles], np.minimum.reduceat(self.y, starts)[cycles],
+                               np.maximum.reduceat(self.x, starts)[cycles], np.maximum.reduceat(self.y, starts)[cycles]])
+        return box.astype(np.int64) + np.array(self.offset * 2, dtype=np.int64)
 
     def length(self, cycle) -> int:
         return self.offsets[cycle + 1] - self.offsets[cycle]

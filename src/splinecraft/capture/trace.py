@@ -57,7 +57,7 @@ import time
 import numpy as np
 
 from .. import _validation
-from .contour import trace_boundaries
+from .contour import Boundaries, trace_boundaries
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
 from .corners import check_params as check_corner_params
@@ -79,6 +79,9 @@ from .trace_stages import TraceStages
 
 __all__ = ["trace", "TraceResult", "TraceSnapshot", "SHORT_CONTOUR"]
 
+#: The corners of a boundary without corner detection (one shared empty array).
+_NO_CORNERS = np.zeros(0, dtype=np.intp)
+_NO_CORNERS.flags.writeable = False
 #: Contours with fewer points than this whose corner detection fails are fitted without corners.
 SHORT_CONTOUR = 64
 #: Contours with fewer points than this skip corner detection when they take the small-outline path of
@@ -335,27 +338,20 @@ def _contours(boundaries, settings, deadline):
     ``deadline`` had passed, and the notes."""
     small_limit = _small_limit(settings)
     notes = []
-    points_list, corner_list, small = [], [], []
+    points_list = _contour_points(boundaries, settings["contour"], notes)
+    lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
+    small = [k for k, count in enumerate(lengths.tolist()) if routes_to_small(settings["method"], count, small_limit)]
     times = np.zeros(len(boundaries))
     undetected = np.zeros(len(boundaries), bool)
-    for k, boundary in enumerate(boundaries):
-        points = boundary.outline if settings["contour"] == "outline" else boundary.pixels
-        if len(points) < 4:  # pixel chains of tiny components: fall back to the crack outline
-            notes.append(f"boundary {k}: pixel chain has {len(points)} point(s); fitted its crack outline")
-            points = boundary.outline
-        elif settings["contour"] == "pixels":
-            points = check_points(points)
-        points_list.append(np.asarray(points, dtype=float))
-        if routes_to_small(settings["method"], len(points), small_limit):
-            small.append(k)
-        undetected[k] = len(points) >= min(small_limit, CORNERLESS_CONTOUR) and deadline.passed()
-        if len(points) < min(small_limit, CORNERLESS_CONTOUR) or undetected[k]:
-            corner_list.append(np.zeros(0, dtype=np.intp))
-        else:
-            started = time.perf_counter()
-            corner_list.append(_detect(points_list[-1], k, settings["corner_method"], settings["corner_params"],
-                                       notes))
-            times[k] = time.perf_counter() - started
+    detect = lengths >= min(small_limit, CORNERLESS_CONTOUR)
+    corner_list = [_NO_CORNERS] * len(boundaries)
+    for k in np.flatnonzero(detect).tolist():
+        if deadline.passed():  # and so for every later boundary: they get no corners
+            undetected[k:] = detect[k:]
+            break
+        started = time.perf_counter()
+        corner_list[k] = _detect(points_list[k], k, settings["corner_method"], settings["corner_params"], notes)
+        times[k] = time.perf_counter() - started
     if small:
         skipped = sum(len(points_list[k]) < CORNERLESS_CONTOUR for k in small)
         notes.append(
@@ -365,6 +361,24 @@ def _contours(boundaries, settings, deadline):
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
                "closed periodic curve" if skipped else ""))
     return points_list, corner_list, small, times, undetected, notes
+
+
+def _contour_points(boundaries, contour, notes):
+    """The contour fitted for every boundary: its crack outline, or its pixel chain (``contour="pixels"``) where
+    that has at least 4 points."""
+    if contour == "outline":
+        outlines = boundaries.outlines() if isinstance(boundaries, Boundaries) else [b.outline for b in boundaries]
+        return [np.asarray(points, dtype=float) for points in outlines]
+    points_list = []
+    for k, boundary in enumerate(boundaries):
+        points = boundary.pixels
+        if len(points) < 4:  # pixel chains of tiny components: fall back to the crack outline
+            notes.append(f"boundary {k}: pixel chain has {len(points)} point(s); fitted its crack outline")
+            points = boundary.outline
+        else:
+            points = check_points(points)
+        points_list.append(np.asarray(points, dtype=float))
+    return points_list
 
 
 def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, undetected):
@@ -490,11 +504,13 @@ def _stats(boundaries, points_list, corner_list, fits, polygons, max_iterations)
         segments[k] = fits[k].spline.n_segments
     fitted_fits = [fits[k] for k in fitted]
     knots_inserted = int(sum(int(fit.knots_inserted) for fit in fitted_fits))
-    holes = int(sum(b.is_hole for b in boundaries))
+    is_hole = (boundaries.is_hole if isinstance(boundaries, Boundaries)
+               else np.array([b.is_hole for b in boundaries], dtype=bool))
+    holes = int(is_hole.sum())
     polygon_entry = {"knots_inserted": 0, "iterations": 0, "max_error": 0.0, "hausdorff": 0.0, "converged": True,
                      "small_outline": False, "reason": None}
     per_boundary = []
-    for k, (b, c, fitted_here) in enumerate(zip(boundaries, corner_list, (~is_polygon).tolist())):
+    for k, (hole, c, fitted_here) in enumerate(zip(is_hole.tolist(), corner_list, (~is_polygon).tolist())):
         if fitted_here:
             fit = fits[k]
             entry = {"knots_inserted": int(fit.knots_inserted), "iterations": int(fit.iterations),
@@ -504,7 +520,7 @@ def _stats(boundaries, points_list, corner_list, fits, polygons, max_iterations)
         else:
             entry = polygon_entry
         per_boundary.append({
-            "is_hole": bool(b.is_hole), "contour_points": int(lengths[k]), "corners": int(len(c)),
+            "is_hole": hole, "contour_points": int(lengths[k]), "corners": int(len(c)),
             "knots_inserted": entry["knots_inserted"], "iterations": entry["iterations"],
             "segments": int(segments[k]), "max_error": entry["max_error"], "hausdorff": entry["hausdorff"],
             "converged": entry["converged"], "small_outline": entry["small_outline"], "reason": entry["reason"]})

@@ -340,9 +340,10 @@ class Boundaries(Sequence):
     def outlines(self) -> list:
         """The crack outline of every boundary (``self[k].outline``, the same arrays), without making the
         :class:`Boundary` objects."""
-        made, outline = self._made, self._store.outline
-        return [outline(cycle) if boundary is None else boundary.outline
-                for cycle, boundary in zip(self._cycles.tolist(), made)]
+        store = self._store
+        views = np.split(store.midpoints, store.offsets_array[1:-1])  # in cycle order
+        return [views[cycle] if boundary is None else boundary.outline
+                for cycle, boundary in zip(self._cycles.tolist(), self._made)]
 
     def hole_boxes(self, max_area) -> np.ndarray:
         """``(x0, y0, x1, y1)`` of the crack vertices of every hole enclosing fewer than ``max_area`` pixels, as an

@@ -58,6 +58,7 @@ import numpy as np
 
 from .. import _validation
 from .contour import Boundaries, trace_boundaries
+from .trace_stats import trace_stats
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
 from .corners import check_params as check_corner_params
@@ -252,12 +253,11 @@ def trace(
     finished = time.perf_counter()
 
     merged = merge_snapshots(fits) if settings["keep_snapshots"] else []
-    stats = _stats(boundaries, points_list, corner_list, fits, polygons, settings["max_iterations"])
-    for k, entry in enumerate(stats["per_boundary"]):
+    stats = trace_stats(boundaries, points_list, corner_list, fits, polygons, budget_state, settings["max_iterations"])
+    for k in polygons["fitted"]:
+        entry = stats["per_boundary"][k]
         if entry["reason"] is not None:
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
-    for entry, state in zip(stats["per_boundary"], budget_state):
-        entry["budget"] = state
     stats["time_per_boundary_s"] = times.tolist()
     stats["boundary_noise"] = noise
     stats["tolerance"] = settings["tolerance"]
@@ -402,10 +402,10 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         times[chunk] += (time.perf_counter() - started) / len(chunk)
     method = settings["method"]
     for k, (points, corner_idx) in enumerate(zip(points_list, corner_list)):
-        if fits[k] is not None:
+        if fits[k] is not None or undetected[k]:
             continue
-        if deadline.passed() or undetected[k]:
-            continue
+        if deadline.passed():  # and so for every later boundary: they get their polygon
+            break
         started = time.perf_counter()
         rng = make_rng(_child_seed(settings["seed"], k)) if method != "lsq" else None
         try:
@@ -430,7 +430,8 @@ def _lazy_fits(fits, left, polygons):
     splines = [None if fit is None else fit.spline for fit in fits]
     return (BoundaryList(fits, lambda k: polygons[position[k]]),
             BoundaryList(splines, lambda k: polygons.spline(position[k])),
-            {"left": np.asarray(left, dtype=np.int64), "segments": getattr(polygons, "segments", np.zeros(0, int))})
+            {"left": np.asarray(left, dtype=np.int64), "segments": getattr(polygons, "segments", np.zeros(0, int)),
+             "fitted": [k for k, fit in enumerate(fits) if fit is not None]})
 
 
 def _budget_notes(state, time_budget, notes):
@@ -475,69 +476,3 @@ def _child_seed(seed, k):
     if seed is None:
         return None
     return int(np.random.SeedSequence(seed, spawn_key=(k,)).generate_state(1, dtype=np.uint32)[0])
-
-
-def _unconverged_reason(fit, max_iterations):
-    """Why a boundary's fit did not converge (``None`` when it did)."""
-    if fit.converged:
-        return None
-    if fit.info.get("reason"):
-        return str(fit.info["reason"])
-    if fit.iterations >= max_iterations:
-        return f"max_iterations={max_iterations} reached with a deviation of {fit.hausdorff:.3g} px"
-    return (f"knot insertion stopped after {fit.iterations} iterations with a deviation of {fit.hausdorff:.3g} px: "
-            "no failing interval could take another knot (knots must stay min_gap contour steps apart) and no "
-            "corner was left to release")
-
-
-def _stats(boundaries, points_list, corner_list, fits, polygons, max_iterations) -> dict:
-    """The statistics of :func:`trace`; the polygons (``polygons["left"]``, see :func:`_lazy_fits`) enter with
-    their known values (no iterations, no knots, deviation 0, converged) without making their objects."""
-    lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
-    contour_points = int(lengths.sum())
-    segments = np.zeros(len(points_list), dtype=np.int64)
-    segments[polygons["left"]] = polygons["segments"]
-    is_polygon = np.zeros(len(points_list), bool)
-    is_polygon[polygons["left"]] = True
-    fitted = np.flatnonzero(~is_polygon).tolist()
-    for k in fitted:
-        segments[k] = fits[k].spline.n_segments
-    fitted_fits = [fits[k] for k in fitted]
-    knots_inserted = int(sum(int(fit.knots_inserted) for fit in fitted_fits))
-    is_hole = (boundaries.is_hole if isinstance(boundaries, Boundaries)
-               else np.array([b.is_hole for b in boundaries], dtype=bool))
-    holes = int(is_hole.sum())
-    polygon_entry = {"knots_inserted": 0, "iterations": 0, "max_error": 0.0, "hausdorff": 0.0, "converged": True,
-                     "small_outline": False, "reason": None}
-    per_boundary = []
-    for k, (hole, c, fitted_here) in enumerate(zip(is_hole.tolist(), corner_list, (~is_polygon).tolist())):
-        if fitted_here:
-            fit = fits[k]
-            entry = {"knots_inserted": int(fit.knots_inserted), "iterations": int(fit.iterations),
-                     "max_error": float(fit.max_error), "hausdorff": float(fit.hausdorff),
-                     "converged": bool(fit.converged), "small_outline": bool(fit.info.get("small_outline", False)),
-                     "reason": _unconverged_reason(fit, max_iterations)}
-        else:
-            entry = polygon_entry
-        per_boundary.append({
-            "is_hole": hole, "contour_points": int(lengths[k]), "corners": int(len(c)),
-            "knots_inserted": entry["knots_inserted"], "iterations": entry["iterations"],
-            "segments": int(segments[k]), "max_error": entry["max_error"], "hausdorff": entry["hausdorff"],
-            "converged": entry["converged"], "small_outline": entry["small_outline"], "reason": entry["reason"]})
-    some_polygon = [0.0] if is_polygon.any() else []  # the polygons' iterations, errors and deviations
-    return {
-        "boundaries": len(boundaries),
-        "outer": len(boundaries) - holes,
-        "holes": holes,
-        "contour_points": contour_points,
-        "corners": int(sum(len(c) for c in corner_list)),
-        "knots_inserted": knots_inserted,
-        "iterations": int(max(some_polygon + [int(fit.iterations) for fit in fitted_fits])),
-        "segments": int(segments.sum()),
-        "data_reduction_pct": 100.0 * (1.0 - 6.0 * int(segments.sum()) / (2.0 * contour_points)),
-        "data_reduction_pct_thesis": 100.0 * (1.0 - knots_inserted / contour_points),
-        "max_error": float(max(some_polygon + [float(fit.max_error) for fit in fitted_fits])),
-        "hausdorff": float(max(some_polygon + [float(fit.hausdorff) for fit in fitted_fits])),
-        "converged": bool(all(bool(fit.converged) for fit in fitted_fits)),
-        "per_boundary": per_boundary,
-    }

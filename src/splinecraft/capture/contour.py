@@ -340,9 +340,8 @@ class Boundaries(Sequence):
     def outlines(self) -> list:
         """The crack outline of every boundary (``self[k].outline``, the same arrays), without making the
         :class:`Boundary` objects."""
-        store = self._store
-        views = np.split(store.midpoints, store.offsets_array[1:-1])  # in cycle order
-        return [views[cycle] if boundary is None else boundary.outline
+        midpoints, offsets = self._store.midpoints, self._store.offsets
+        return [midpoints[offsets[cycle]:offsets[cycle + 1]] if boundary is None else boundary.outline
                 for cycle, boundary in zip(self._cycles.tolist(), self._made)]
 
     def hole_boxes(self, max_area) -> np.ndarray:

@@ -2,6 +2,9 @@
 noise image's polygons cost no objects until read, and read the same as when they are made up front."""
 from __future__ import annotations
 
+import copy
+import pickle
+
 import numpy as np
 import pytest
 
@@ -81,6 +84,15 @@ def test_stats_of_unread_polygons_match_their_objects(spent):
             fit.knots_inserted, fit.iterations, fit.converged)
         assert entry["hausdorff"] == fit.hausdorff == 0.0 and entry["reason"] is None
         assert entry["budget"] == "polygon"
+
+
+def test_unread_polygons_survive_pickle_and_deepcopy():
+    lean = trace(noise_image(24, 5), time_budget=1e-9, keep_snapshots=False)
+    copies = [pickle.loads(pickle.dumps(lean)), copy.deepcopy(lean)]
+    assert lean.fits.made() == 0 and all(c.fits.made() == 0 for c in copies)
+    for copied in copies:
+        assert copied.to_svg() == lean.to_svg()
+        assert [b.area for b in copied.boundaries] == [b.area for b in lean.boundaries]
 
 
 def test_made_on_access_reads_as_made_up_front(spent):

@@ -428,10 +428,21 @@ def _lazy_fits(fits, left, polygons):
     the polygons of ``left`` (``polygons``, a ``PolygonFits``) made when first read."""
     position = dict(zip(left, range(len(left))))
     splines = [None if fit is None else fit.spline for fit in fits]
-    return (BoundaryList(fits, lambda k: polygons[position[k]]),
-            BoundaryList(splines, lambda k: polygons.spline(position[k])),
+    return (BoundaryList(fits, _Polygon(polygons, position, "fit")),
+            BoundaryList(splines, _Polygon(polygons, position, "spline")),
             {"left": np.asarray(left, dtype=np.int64), "segments": getattr(polygons, "segments", np.zeros(0, int)),
              "fitted": [k for k, fit in enumerate(fits) if fit is not None]})
+
+
+class _Polygon:
+    """Boundary ``k`` -> its polygon's fit or spline (a picklable maker for :class:`BoundaryList`)."""
+
+    def __init__(self, polygons, position, kind):
+        self.polygons, self.position, self.kind = polygons, position, kind
+
+    def __call__(self, k):
+        index = self.position[k]
+        return self.polygons[index] if self.kind == "fit" else self.polygons.spline(index)
 
 
 def _budget_notes(state, time_budget, notes):

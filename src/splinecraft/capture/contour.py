@@ -61,17 +61,35 @@ on first access, so a bitmap of noise with 200 000 boundaries makes no 200 000 a
 """
 from __future__ import annotations
 
-import operator
-from collections.abc import Sequence
-
 import numpy as np
 
 from ._cracks import FREEMAN_STEPS, MINORITY, boundary_arrays, crack_points, follow_cracks
+from ._lazy import LazyList
 from ._saddle import CONNECTIVITIES, check_connectivity
 
 __all__ = ["Boundary", "Boundaries", "trace_boundaries", "hole_boxes", "FREEMAN_STEPS", "chain_to_pixels", "CONNECTIVITIES", "check_connectivity"]
 
 _CRACK_STEPS = FREEMAN_STEPS[::2]  # crack directions 0 E, 1 N, 2 W, 3 S are the even Freeman codes
+
+
+class _StoreArray:
+    """An array attribute of :class:`Boundary`: the value set, else the slice of the tracer's shared arrays,
+    made on first read and kept (slot ``_<name>``)."""
+
+    def __set_name__(self, owner, name):
+        self.name, self.slot = name, "_" + name
+
+    def __get__(self, boundary, owner=None):
+        if boundary is None:
+            return self
+        value = getattr(boundary, self.slot)
+        if value is None:
+            value = getattr(boundary._store, self.name)(boundary._cycle)
+            setattr(boundary, self.slot, value)
+        return value
+
+    def __set__(self, boundary, value):
+        setattr(boundary, self.slot, value)
 
 
 class Boundary:
@@ -127,45 +145,10 @@ class Boundary:
             connectivity, is_hole, parent, component, area)
         return boundary
 
-    @property
-    def pixels(self) -> np.ndarray:
-        if self._pixels is None:
-            self._pixels = self._store.pixels(self._cycle)
-        return self._pixels
-
-    @pixels.setter
-    def pixels(self, value):
-        self._pixels = value
-
-    @property
-    def chain_code(self) -> np.ndarray:
-        if self._chain_code is None:
-            self._chain_code = self._store.chain_code(self._cycle)
-        return self._chain_code
-
-    @chain_code.setter
-    def chain_code(self, value):
-        self._chain_code = value
-
-    @property
-    def outline(self) -> np.ndarray:
-        if self._outline is None:
-            self._outline = self._store.outline(self._cycle)
-        return self._outline
-
-    @outline.setter
-    def outline(self, value):
-        self._outline = value
-
-    @property
-    def crack_vertices(self) -> np.ndarray:
-        if self._crack_vertices is None:
-            self._crack_vertices = self._store.crack_vertices(self._cycle)
-        return self._crack_vertices
-
-    @crack_vertices.setter
-    def crack_vertices(self, value):
-        self._crack_vertices = value
+    pixels = _StoreArray()
+    chain_code = _StoreArray()
+    outline = _StoreArray()
+    crack_vertices = _StoreArray()
 
     @property
     def start(self) -> tuple:
@@ -296,7 +279,7 @@ def _build_boundaries(cracks, connectivity, offset, shape):
                       connectivity)
 
 
-class Boundaries(Sequence):
+class Boundaries(LazyList):
     """The boundaries of one :func:`trace_boundaries` call: a list of :class:`Boundary` (indexing, slicing,
     iteration, ``len``, comparison with a list), each made on first access, and their scalar attributes as
     arrays in the same order (``is_hole``, ``parent`` (-1 for outer boundaries), ``component``, ``area``,
@@ -304,34 +287,15 @@ class Boundaries(Sequence):
     one attribute of all of them reads the array instead of making every object."""
 
     def __init__(self, store, cycles, is_hole, parent, component, area, connectivity):
+        super().__init__([None] * cycles.shape[0], self._boundary)
         self._store, self._cycles, self._connectivity = store, cycles, connectivity
         self.is_hole, self.parent, self.component, self.area = is_hole, parent, component, area
         self.lengths = np.diff(store.offsets_array)[cycles]
-        self._made = [None] * cycles.shape[0]
 
-    def __len__(self) -> int:
-        return len(self._made)
-
-    def __getitem__(self, k):
-        if isinstance(k, slice):
-            return [self[i] for i in range(*k.indices(len(self._made)))]
-        boundary = self._made[k]
-        if boundary is None:
-            k = operator.index(k) % len(self._made)
-            hole = bool(self.is_hole[k])
-            boundary = self._made[k] = Boundary._from_store(
-                self._store, int(self._cycles[k]), self._connectivity, hole, int(self.parent[k]) if hole else None,
-                int(self.component[k]), int(self.area[k]))
-        return boundary
-
-    def __setitem__(self, k, boundary):
-        self._made[k] = boundary
-
-    def __eq__(self, other):
-        return isinstance(other, (list, Boundaries)) and len(other) == len(self) and all(
-            a is b for a, b in zip(self, other))
-
-    __hash__ = None
+    def _boundary(self, k) -> Boundary:
+        hole = bool(self.is_hole[k])
+        return Boundary._from_store(self._store, int(self._cycles[k]), self._connectivity, hole,
+                                    int(self.parent[k]) if hole else None, int(self.component[k]), int(self.area[k]))
 
     def __repr__(self) -> str:
         holes = int(self.is_hole.sum())
@@ -342,7 +306,7 @@ class Boundaries(Sequence):
         :class:`Boundary` objects."""
         midpoints, offsets = self._store.midpoints, self._store.offsets
         return [midpoints[offsets[cycle]:offsets[cycle + 1]] if boundary is None else boundary.outline
-                for cycle, boundary in zip(self._cycles.tolist(), self._made)]
+                for cycle, boundary in zip(self._cycles.tolist(), self._items)]
 
     def hole_boxes(self, max_area) -> np.ndarray:
         """``(x0, y0, x1, y1)`` of the crack vertices of every hole enclosing fewer than ``max_area`` pixels, as an

@@ -5,13 +5,12 @@ except its defaults.
 """
 from __future__ import annotations
 
-import operator
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ...spline import Spline
+from .._lazy import LazyList
 from .options import DEFAULT_EPSILON, DEFAULT_METHOD
 
 __all__ = ["Snapshot", "FitResult", "BoundaryList"]
@@ -123,7 +122,7 @@ class FitResult:
     info: dict = field(default_factory=dict)
 
 
-class BoundaryList(Sequence):
+class BoundaryList(LazyList):
     """A list of per-boundary results of which some are made on first access, then kept (docs/capture.md
     §12, "Time budget"): ``items[k]`` is the result of boundary ``k``, or ``None`` where ``make(k)`` builds it.
 
@@ -131,41 +130,6 @@ class BoundaryList(Sequence):
     boundaries to the polygon fit; their ``FitResult`` and ``Spline`` objects cost about 50 us and a few kB each,
     and are made only for the boundaries read.
     """
-
-    __slots__ = ("_items", "_make")
-
-    def __init__(self, items, make):
-        self._items = list(items)
-        self._make = make
-
-    def __len__(self) -> int:
-        return len(self._items)
-
-    def __getitem__(self, k):
-        if isinstance(k, slice):
-            return [self[i] for i in range(*k.indices(len(self._items)))]
-        item = self._items[k]
-        if item is None:
-            k = operator.index(k) % len(self._items)
-            item = self._items[k] = self._make(k)
-        return item
-
-    def __setitem__(self, k, value):
-        self._items[k] = value
-
-    def __iter__(self):
-        for k, item in enumerate(self._items):
-            yield self[k] if item is None else item
-
-    def __eq__(self, other):
-        return isinstance(other, (list, BoundaryList)) and len(other) == len(self) and all(
-            a is b or a == b for a, b in zip(self, other))
-
-    __hash__ = None
-
-    def made(self) -> int:
-        """How many items exist (made up front or on access)."""
-        return sum(item is not None for item in self._items)
 
     def __repr__(self) -> str:
         return f"BoundaryList({len(self)} boundaries, {self.made()} made)"

@@ -7,14 +7,14 @@ module. The first crack of a boundary met that way is its smallest key, so start
 not yet visited and following successors until it closes lists the boundaries in the order of their first
 cracks, each from that crack, exactly as sorting the keys and ranking the successor permutation does. Memory:
 one byte per vertex (the visited directions) plus the per-crack output. numba, compiled on first use and
-cached on disk (``cache=True``, :mod:`splinecraft.capture.fitting._jit`).
+cached on disk (``cache=True``, :mod:`splinecraft.capture._jit`).
 """
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
-from .fitting._jit import JIT_OPTIONS
+from ._jit import JIT_OPTIONS
 
 __all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "crack_points", "MINORITY"]
 

@@ -1,5 +1,6 @@
 """Options of the compiled kernels (:mod:`.fitting._kernels`, :mod:`.fitting._iso_kernels`,
-:mod:`.corners._jump_kernels`) and where numba caches them.
+:mod:`.corners._jump_kernels`, the tracer's :mod:`._cracks` and the polygons of :mod:`.fitting.budget`) and where
+numba caches them.
 
 numba compiles each kernel on its first call and keeps the machine code on disk (``cache=True``): in the
 ``__pycache__`` folder next to the module, else in the user's cache folder (``~/.cache/numba``), else under

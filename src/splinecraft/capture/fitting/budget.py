@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from ...spline import Spline
-from ._jit import JIT_OPTIONS
+from .._jit import JIT_OPTIONS
 from .results import FitResult, Snapshot
 
 __all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON"]

@@ -192,11 +192,13 @@ recorder = event.RecordingListener()
 event.register("numba:compile", recorder)
 modules = {}
 for name, module in (("fit", "fitting._kernels"), ("noise estimate", "fitting._iso_kernels"),
-                     ("corners", "corners._jump_kernels")):
+                     ("corners", "corners._jump_kernels"), ("tracer", "_cracks"), ("polygons", "fitting.budget")):
     try:
         modules[name] = importlib.import_module("splinecraft.capture." + module)
     except ImportError:  # a tree without that kernel module
         pass
+    if name in modules and not hasattr(modules[name], "warm_up"):  # a tree whose module has no kernels yet
+        del modules[name]
 out = {"modules": {}}
 w, c = time.perf_counter(), time.process_time()
 for name, module in modules.items():

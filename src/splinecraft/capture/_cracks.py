@@ -16,7 +16,7 @@ from numba import njit
 
 from ._jit import JIT_OPTIONS
 
-__all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "crack_points", "MINORITY"]
+__all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "crack_points", "MINORITY", "warm_up"]
 
 #: ``connectivity`` code of the minority rule in :func:`follow_cracks` (4 and 8 stand for themselves).
 MINORITY = 0
@@ -324,3 +324,16 @@ def crack_points(tail_x, tail_y, direction, chain_col, chain_row, offset):
     centres = np.empty((chain_col.shape[0], 2), dtype=float)
     _points_into(tail_x, tail_y, direction, chain_col, chain_row, int(offset[0]), int(offset[1]), midpoints, centres)
     return midpoints, centres
+
+
+def warm_up():
+    """Compile (empty cache) or load (``cache=True``) every kernel of the tracer, on a tiny mask (a hole, a
+    diagonal contact): the first-call cost that ``benchmarks/bench_speed.py jit`` measures."""
+    padded = np.zeros((6, 6), dtype=np.bool_)
+    padded[1:4, 1:4] = True
+    padded[2, 2] = False
+    padded[4, 4] = True
+    for connectivity in (MINORITY, 4):
+        cracks = follow_cracks(padded, connectivity)
+        arrays = boundary_arrays(cracks, 6, 6, connectivity == 4)
+        crack_points(cracks["x"], cracks["y"], cracks["d"], arrays["chain_col"], arrays["chain_row"], (0, 0))

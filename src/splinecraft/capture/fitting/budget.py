@@ -21,7 +21,7 @@ from ...spline import Spline
 from .._jit import JIT_OPTIONS
 from .results import FitResult, Snapshot
 
-__all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON"]
+__all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON", "warm_up"]
 
 #: Seconds for corner detection and fitting of all boundaries of one :func:`~splinecraft.capture.trace.trace`
 #: call (``None`` = no budget).
@@ -186,3 +186,8 @@ def _polygon(spline, pairs, epsilon, keep_snapshots):
         epsilon=float(epsilon), thesis_stop_iteration=None, corners_used=pairs[:, 0].copy(),
         info={"polygon": True, "reason": None, "tolerance_near_corners": float(epsilon),
               "model": "the contour itself: straight pieces between its turning points (time budget spent)"})
+
+
+def warm_up():
+    """Compile (empty cache) or load (``cache=True``) the polygon kernels, on one tiny square."""
+    polygon_fits([np.array([[0.0, 0.5], [0.5, 0.0], [1.0, 0.5], [0.5, 1.0]])], 1.0, False)

@@ -340,7 +340,7 @@ def _contours(boundaries, settings, deadline):
     notes = []
     points_list = _contour_points(boundaries, settings["contour"], notes)
     lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
-    small = [k for k, count in enumerate(lengths.tolist()) if routes_to_small(settings["method"], count, small_limit)]
+    small = np.flatnonzero(routes_to_small(settings["method"], lengths, small_limit)).tolist()  # the rule, all at once
     times = np.zeros(len(boundaries))
     undetected = np.zeros(len(boundaries), bool)
     detect = lengths >= min(small_limit, CORNERLESS_CONTOUR)
@@ -353,7 +353,7 @@ def _contours(boundaries, settings, deadline):
         corner_list[k] = _detect(points_list[k], k, settings["corner_method"], settings["corner_params"], notes)
         times[k] = time.perf_counter() - started
     if small:
-        skipped = sum(len(points_list[k]) < CORNERLESS_CONTOUR for k in small)
+        skipped = int((lengths[small] < CORNERLESS_CONTOUR).sum())
         notes.append(
             f"{len(small)} boundar{'y' if len(small) == 1 else 'ies'} of fewer than {small_limit} contour points "
             "fitted together by the small-outline path of 'lsq' (fitting.fit_small_outlines: interpolant through "
@@ -367,8 +367,9 @@ def _contour_points(boundaries, contour, notes):
     """The contour fitted for every boundary: its crack outline, or its pixel chain (``contour="pixels"``) where
     that has at least 4 points."""
     if contour == "outline":
-        outlines = boundaries.outlines() if isinstance(boundaries, Boundaries) else [b.outline for b in boundaries]
-        return [np.asarray(points, dtype=float) for points in outlines]
+        if isinstance(boundaries, Boundaries):
+            return boundaries.outlines()  # float (n, 2) arrays already
+        return [np.asarray(b.outline, dtype=float) for b in boundaries]
     points_list = []
     for k, boundary in enumerate(boundaries):
         points = boundary.pixels

@@ -104,10 +104,9 @@ def _turn_left(padded, head_x, head_y, direction, connectivity):
 
 
 @njit(**JIT_OPTIONS)
-def _follow_into(padded, connectivity, tail_x, tail_y, direction, left_turn, offsets):
-    """Fill the per-crack arrays in cycle order; returns the number of cycles, or -1 when a crack has no
-    successor (the tracer's invariant broken)."""
-    visited = np.zeros((padded.shape[0] + 1, padded.shape[1] + 1), dtype=np.uint8)
+def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_turn, offsets):
+    """Fill the per-crack arrays in cycle order (``visited``: zeros, one byte per vertex); returns the number of
+    cycles, or -1 when a crack has no successor (the tracer's invariant broken)."""
     written = 0
     cycles = 0
     for vertex_y in range(padded.shape[0] + 1):
@@ -152,7 +151,8 @@ def follow_cracks(padded, connectivity):
     direction = np.empty(count, dtype=np.int8)
     left_turn = np.empty(count, dtype=np.bool_)
     offsets = np.empty(count + 1, dtype=np.int64)
-    cycles = _follow_into(padded, int(connectivity), tail_x, tail_y, direction, left_turn, offsets)
+    visited = np.zeros((padded.shape[0] + 1, padded.shape[1] + 1), dtype=np.uint8)
+    cycles = _follow_into(padded, int(connectivity), visited, tail_x, tail_y, direction, left_turn, offsets)
     if cycles < 0:
         raise RuntimeError("internal error: a crack has no successor (tracer invariant broken)")
     return {"x": tail_x, "y": tail_y, "d": direction, "left_turn": left_turn, "offsets": offsets[:cycles + 1].copy()}
@@ -171,13 +171,13 @@ def _shoelace_into(tail_x, tail_y, offsets, area2):
 
 
 @njit(**JIT_OPTIONS)
-def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, chain_col, chain_row, codes, kept_offsets):
+def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, buffer_col, buffer_row, chain_col, chain_row,
+                 codes, kept_offsets):
     """The pixel chain of every cycle (contour module, step 4): the ink pixel on the right of each crack (and,
     for 4-connectivity, the corner pixel ahead-right at each left turn), the last of each run of repeats kept
     (one pixel where all are equal), and the Freeman code of each step to the next kept pixel. Returns the
-    number of chain pixels, or -1 when a step is longer than one pixel."""
-    buffer_col = np.empty(2 * (offsets[offsets.shape[0] - 1] - offsets[0]) + 2, dtype=np.int64)
-    buffer_row = np.empty_like(buffer_col)
+    number of chain pixels, or -1 when a step is longer than one pixel (``buffer_*``: room for the longest
+    cycle's pixels)."""
     kept = 0
     kept_offsets[0] = 0
     for cycle in range(offsets.shape[0] - 1):
@@ -219,22 +219,22 @@ def _root(parent, node):
 
 
 @njit(**JIT_OPTIONS)
-def _components_into(tail_x, tail_y, direction, offsets, is_hole, width, height, component):
+def _components_into(tail_x, tail_y, direction, offsets, is_hole, work, component):
     """Component of every cycle (contour module, step 5): in every pixel row an N crack starts an ink run and
     the next S crack to its right ends it; the cycles of both are joined (union-find). Components are numbered
     in the order of their outer cycles. Returns -1 when the runs do not alternate or a group has no outer
-    cycle (the tracer's invariant broken), else the number of components."""
+    cycle (the tracer's invariant broken), else the number of components. ``work`` holds the scratch arrays
+    (:func:`_component_work`)."""
     n_cycles = offsets.shape[0] - 1
+    row_start, fill, filed, cycle_of, parent, run_cycle, run_kind, number_of_root = work
+    height, width = row_start.shape[0] - 2, run_cycle.shape[0] - 1
     # Vertical cracks filed by pixel row (counting sort): N tails sit on the row's lower edge, S on its upper.
-    row_start = np.zeros(height + 2, dtype=np.int64)
     for i in range(offsets[n_cycles]):
         if direction[i] & 1:
             row_start[(tail_y[i] - 1 if direction[i] == 1 else tail_y[i]) + 1] += 1
     for row in range(height + 1):
         row_start[row + 1] += row_start[row]
-    filed = np.empty(row_start[height + 1], dtype=np.int64)
-    fill = row_start.copy()
-    cycle_of = np.empty(offsets[n_cycles], dtype=np.int64)
+    fill[:] = row_start
     for cycle in range(n_cycles):
         for i in range(offsets[cycle], offsets[cycle + 1]):
             cycle_of[i] = cycle
@@ -242,9 +242,8 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, width, height,
                 row = tail_y[i] - 1 if direction[i] == 1 else tail_y[i]
                 filed[fill[row]] = i
                 fill[row] += 1
-    parent = np.arange(n_cycles)
-    run_cycle = np.full(width + 1, -1, dtype=np.int64)  # per vertex column of the row: the cycle of its crack
-    run_kind = np.zeros(width + 1, dtype=np.int8)
+    for cycle in range(n_cycles):
+        parent[cycle] = cycle
     for row in range(height + 1):
         if row_start[row] == row_start[row + 1]:
             continue
@@ -269,8 +268,9 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, width, height,
             run_kind[x] = 0
         if opened >= 0:
             return -1
-    number_of_root = np.full(n_cycles, -1, dtype=np.int64)
     count = 0
+    for cycle in range(n_cycles):
+        number_of_root[cycle] = -1
     for cycle in range(n_cycles):
         if not is_hole[cycle]:
             number_of_root[_root(parent, cycle)] = count
@@ -280,6 +280,18 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, width, height,
         if component[cycle] < 0:
             return -1
     return count
+
+
+def _component_work(direction, offsets, width, height):
+    """Scratch arrays of :func:`_components_into` (allocated here: allocation in compiled code costs compile
+    time): the rows' first filed cracks and fill positions, the filed vertical cracks, each crack's cycle, the
+    union-find parents, the row's cycle and kind per vertex column (the cycle of its crack; kind 0 none, 1 N, 3 S),
+    each root's component."""
+    n_cycles, count = offsets.shape[0] - 1, int(offsets[-1])
+    vertical = int(np.count_nonzero(direction & 1))
+    return (np.zeros(height + 2, dtype=np.int64), np.empty(height + 2, dtype=np.int64), np.empty(vertical, np.int64),
+            np.empty(count, dtype=np.int64), np.empty(n_cycles, dtype=np.int64), np.zeros(width + 1, dtype=np.int64),
+            np.zeros(width + 1, dtype=np.int8), np.empty(n_cycles, dtype=np.int64))
 
 
 def boundary_arrays(cracks, width, height, four):
@@ -295,13 +307,16 @@ def boundary_arrays(cracks, width, height, four):
     chain_row = np.empty(capacity, dtype=np.int64)
     codes = np.empty(capacity, dtype=np.int8)
     kept_offsets = np.empty(n_cycles + 1, dtype=np.int64)
-    kept = _chains_into(tail_x, tail_y, direction, left_turn, offsets, bool(four), chain_col, chain_row, codes,
-                        kept_offsets)
+    longest = int(np.diff(offsets).max(initial=0))
+    buffer_col, buffer_row = np.empty(2 * longest + 2, dtype=np.int64), np.empty(2 * longest + 2, dtype=np.int64)
+    kept = _chains_into(tail_x, tail_y, direction, left_turn, offsets, bool(four), buffer_col, buffer_row, chain_col,
+                        chain_row, codes, kept_offsets)
     if kept < 0:
         raise RuntimeError("internal error: pixel chain has a step longer than one pixel")
     is_hole = area2 < 0
     component = np.empty(n_cycles, dtype=np.int64)
-    if _components_into(tail_x, tail_y, direction, offsets, is_hole, width, height, component) < 0:
+    if _components_into(tail_x, tail_y, direction, offsets, is_hole, _component_work(direction, offsets, width, height),
+                        component) < 0:
         raise RuntimeError("internal error: ink runs do not alternate N/S cracks, or a hole has no outer boundary")
     return {"area2": area2, "chain_col": chain_col[:kept].copy(), "chain_row": chain_row[:kept].copy(),
             "codes": codes[:kept].copy(), "kept_offsets": kept_offsets, "is_hole": is_hole, "component": component}

@@ -360,3 +360,19 @@ def test_boundary_arrays_are_read_on_demand_and_settable():
     hole = boundaries[1]
     assert hole.is_hole and hole.parent == 0 and hole.area == -1
     assert np.array_equal(hole.crack_vertices, [[2, 2], [2, 3], [3, 3], [3, 2]])
+
+
+def test_tracer_kernels_are_cached_and_warm_up_runs():
+    """The tracer's compiled loops (and the polygons') use numba's on-disk cache, release the GIL, and their
+    warm-up covers them without error."""
+    from numba.core.registry import CPUDispatcher
+
+    from splinecraft.capture.fitting import budget
+
+    for module, names in ((_cracks, {"_follow_into", "_chains_into", "_components_into", "_points_into"}),
+                          (budget, {"_turning_into", "_polygons_into"})):
+        loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}
+        assert names <= set(loops), sorted(loops)
+        for loop in loops.values():
+            assert loop.targetoptions.get("nogil") is True and loop._cache.__class__.__name__ == "FunctionCache"
+        module.warm_up()

@@ -95,6 +95,9 @@ class _StoreArray:
 class Boundary:
     """One closed boundary (outer or hole) of an ink mask (thesis section 4.1.1; docs/capture.md).
 
+    Those of :func:`trace_boundaries` hold views of the tracer's shared arrays, sliced when an array attribute
+    is first read (then kept; assigning one replaces it); ``Boundary(...)`` takes the arrays themselves.
+
     Attributes
     ----------
     pixels : ndarray (n, 2) float

@@ -83,20 +83,21 @@ def _contour_from_pieces(pieces):
     return pts, corners
 
 
-def _shape(name, contours, corners, margin=4):
+def _shape(name, contours, corners, margin=4, segments=None):
     allp = np.concatenate(contours)
     lo = np.floor(allp.min(0)) - margin
     contours = [c - lo for c in contours]
     corners = [tuple(np.asarray(c) - lo) for c in corners]
     hi = np.ceil(np.concatenate(contours).max(0)) + margin
-    return {"name": name, "width": int(hi[0]), "height": int(hi[1]), "contours": contours, "corners": corners}
+    return {"name": name, "width": int(hi[0]), "height": int(hi[1]), "contours": contours, "corners": corners,
+            "segments": segments}
 
 
 def polygon_shape(name, vertices):
     v = np.asarray(vertices, float)
     pieces = [_line(v[i], v[(i + 1) % len(v)]) for i in range(len(v))]
     pts, corners = _contour_from_pieces(pieces)
-    return _shape(name, [pts], corners)
+    return _shape(name, [pts], corners, segments=len(v))
 
 
 def regular_polygon(name, n, radius, rotation=0.0):
@@ -115,7 +116,7 @@ def ellipse(name, rx, ry, rotation=0.0):
     a = 2 * np.pi * np.arange(n) / n
     x, y = rx * np.cos(a), ry * np.sin(a)
     c, s = np.cos(rotation), np.sin(rotation)
-    return _shape(name, [np.column_stack([c * x - s * y, s * x + c * y])], [])
+    return _shape(name, [np.column_stack([c * x - s * y, s * x + c * y])], [], segments=4)
 
 
 def blob(name, radius, seed, harmonics=4, amplitude=0.18):
@@ -138,7 +139,7 @@ def lens(name, chord, bulge):
     top = _arc((0, off), radius, -np.pi / 2 - ang, -np.pi / 2 + ang)  # left tip -> right tip over the top
     bot = _arc((0, -off), radius, np.pi / 2 - ang, np.pi / 2 + ang)   # right tip -> left tip
     pts, corners = _contour_from_pieces([top, bot])
-    return _shape(name, [pts], corners)
+    return _shape(name, [pts], corners, segments=2)
 
 
 def rounded_rect(name, w, h, r):
@@ -149,7 +150,7 @@ def rounded_rect(name, w, h, r):
         _line((0, h - r), (0, r)), _arc((r, r), r, np.pi, 1.5 * np.pi),
     ]
     pts, corners = _contour_from_pieces(pieces)
-    return _shape(name, [pts], corners)
+    return _shape(name, [pts], corners, segments=8)
 
 
 def _circle_points(radius, centre=(0.0, 0.0)):
@@ -160,7 +161,7 @@ def _circle_points(radius, centre=(0.0, 0.0)):
 
 def ring(name, r_out, r_in, offset=(0.0, 0.0)):
     """Annulus (a hole inside a disc); ``offset`` moves the hole's centre."""
-    return _shape(name, [_circle_points(r_out), _circle_points(r_in, offset)[::-1]], [])
+    return _shape(name, [_circle_points(r_out), _circle_points(r_in, offset)[::-1]], [], segments=8)
 
 
 def d_shape(name, size):
@@ -177,7 +178,7 @@ def d_shape(name, size):
     inner_pieces = outline(t, t, size - 2 * t, size * 0.75 - 1.3 * t)
     outer, c1 = _contour_from_pieces(outer_pieces)
     inner, c2 = _contour_from_pieces(inner_pieces)
-    return _shape(name, [outer, inner[::-1]], c1 + c2)
+    return _shape(name, [outer, inner[::-1]], c1 + c2, segments=6)  # per contour: stem, two quarter ellipses
 
 
 # ------------------------------------------------------------------------------------ TrueType glyphs
@@ -276,7 +277,8 @@ class _TrueType:
 
 
 def _glyph_contour(points, scale, dx, dy):
-    """TrueType quadratic contour -> dense polyline (pixel frame) and its > 30 degree corners."""
+    """TrueType quadratic contour -> dense polyline (pixel frame), its > 30 degree corners and its number of
+    segments (lines and quadratic arcs)."""
     pts = [(dx + scale * x, dy - scale * y, on) for x, y, on in points]
     # expand implied on-curve points
     full = []
@@ -300,23 +302,29 @@ def _glyph_contour(points, scale, dx, dy):
             p2 = full[(i + 2) % n]
             pieces.append(_quad(p0[:2], p1[:2], p2[:2]))
             i += 2
-    return _contour_from_pieces(pieces)
+    return (*_contour_from_pieces(pieces), len(pieces))
 
 
 FONT_DIR = "/usr/share/fonts/truetype/dejavu"
 GLYPH_FONTS = ("DejaVuSerif.ttf", "DejaVuSans-Bold.ttf", "DejaVuSansMono.ttf")
 
 
-def glyph(font_file, char, height_px=300):
+def glyph(font_file, char, height_px=300, rotation_deg=0.0):
+    """A glyph of ``font_file`` at a cap height of about ``height_px``, turned by ``rotation_deg`` (about its
+    origin, before the frame is fitted around it); ``segments`` is the font's own count."""
     font = _TrueType(os.path.join(FONT_DIR, font_file))
     scale = height_px / (0.73 * font.units)  # cap height ~ height_px
-    contours, corners = [], []
+    turn = np.radians(rotation_deg)
+    matrix = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+    contours, corners, segments = [], [], 0
     for raw in font.contours(char):
-        c, k = _glyph_contour(raw, scale, 0.0, 0.0)
-        contours.append(c)
-        corners.extend(k)
+        c, k, count = _glyph_contour(raw, scale, 0.0, 0.0)
+        contours.append(c @ matrix.T)
+        corners.extend(tuple(matrix @ np.asarray(xy)) for xy in k)
+        segments += count
     tag = font_file.replace("DejaVu", "").replace(".ttf", "")
-    return _shape(f"{tag}_{char}_{height_px}", contours, corners)
+    suffix = f"_r{rotation_deg:g}" if rotation_deg else ""
+    return _shape(f"{tag}_{char}_{height_px}{suffix}", contours, corners, segments=segments)
 
 
 def fonts_available():
@@ -326,16 +334,11 @@ def fonts_available():
 # ------------------------------------------------------------------------------------------ rasterizing
 
 def rasterize(shape):
-    """Ink mask (H, W): pixel centres inside the outline (even-odd over all contours)."""
-    from skimage.draw import polygon as fill_polygon
+    """Ink mask (H, W): pixel centres inside the outline (even-odd over all contours); the scanline fill of
+    ``heldout_shapes.rasterize`` (linear in edges + pixels, so 1200-px glyphs render in a fraction of a second)."""
+    from heldout_shapes import rasterize as scanline_fill
 
-    mask = np.zeros((shape["height"], shape["width"]), bool)
-    for c in shape["contours"]:
-        rr, cc = fill_polygon(c[:, 1] - 0.5, c[:, 0] - 0.5, mask.shape)
-        layer = np.zeros_like(mask)
-        layer[rr, cc] = True
-        mask ^= layer
-    return mask
+    return scanline_fill(shape)
 
 
 # ------------------------------------------------------------------------------------------- the set
@@ -372,6 +375,35 @@ def tuning_set(include_glyphs=True, glyph_chars="BDGKMRSWaegk&3ACEHNPQUVXZ25ry",
                     pass
     return shapes
 
+
+
+def size_set(glyph_chars="BDGKMRSWaegk&3", sizes=(48, 64, 600, 1200), analytic_scale=4.0):
+    """Renders of the tuning set's shapes at other sizes (deterministic): glyphs at cap heights ``sizes``
+    (every other one turned by an angle of 0-90 degrees), and the smooth analytic shapes drawn
+    ``analytic_scale`` times larger. ``group`` of each: ``small`` (<= 64 px), ``large`` (>= 600 px) or
+    ``analytic-large``."""
+    shapes = []
+    k = analytic_scale
+    for shape in (ellipse("disc40", 40 * k, 40 * k), ellipse("ellipse", 110 * k, 45 * k, 0.4),
+                  blob("blob1", 80 * k, 1), blob("blob3", 120 * k, 3), lens("lens", 160 * k, 50 * k),
+                  rounded_rect("roundrect", 180 * k, 120 * k, 30 * k), ring("ring", 70 * k, 45 * k),
+                  d_shape("D_hand", 200 * k)):
+        shape["name"] += f"_x{k:g}"
+        shape["group"] = "analytic-large"
+        shapes.append(shape)
+    if not fonts_available():
+        return shapes
+    for index, ch in enumerate(glyph_chars):
+        font = GLYPH_FONTS[index % len(GLYPH_FONTS)]
+        for j, size in enumerate(sizes):
+            turn = float((17 + 37 * index) % 90) if (index + j) % 2 else 0.0
+            try:
+                shape = glyph(font, ch, size, turn)
+            except ValueError:
+                continue
+            shape["group"] = "small" if size <= 64 else "large" if size >= 600 else "medium"
+            shapes.append(shape)
+    return shapes
 
 # ------------------------------------------------------------------------------------------- scoring
 

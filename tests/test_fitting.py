@@ -298,12 +298,13 @@ def test_lsq_extrapolates_acute_corners_beyond_the_pixel_tip():
 
 @pytest.mark.parametrize("name", ["square", "star", "blob"])
 def test_lsq_result_is_the_thesis_interpolant_through_its_knot_points(name):
-    """Every piece of the result is interpolate(F, knots, clamped) of the engine (v = 0, omega = 1), and an
-    outline without corners is the engine's periodic interpolant through its knot points."""
+    """With C2 joints (``joint_continuity=2``) every piece of the result is interpolate(F, knots, clamped) of
+    the engine (v = 0, omega = 1), and an outline without corners is the engine's periodic interpolant through
+    its knot points."""
     from splinecraft.spline import interpolate
 
     outline, corners, _ = shape(name)
-    result = fit_outline(outline, corners, epsilon=0.6)
+    result = fit_outline(outline, corners, epsilon=0.6, joint_continuity=2)
     bez = result.spline.bezier()
     knots = result.spline.knots
     F = result.spline.knot_points

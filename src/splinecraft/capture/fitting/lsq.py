@@ -18,8 +18,10 @@ from .results import FitResult, Snapshot
 __all__ = ["fit_lsq", "LsqKnotInsertion"]
 
 _HOOK_REASON = "the fitted corner moved farther than a truncated pixel tip can be"
-#: Knot-removal rounds after convergence (each tries the cheapest half of the simple knots).
+#: Knot-removal rounds after convergence (each tries the cheapest half of the simple knots); with C1 joints
+#: (``joint_continuity=1``) failed rounds are retried with fewer picks, and count too.
 REMOVAL_ROUNDS = 4
+REMOVAL_ROUNDS_C1 = 8
 
 
 def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None):
@@ -149,33 +151,28 @@ class LsqKnotInsertion:
 
     def remove_knots(self, dev):
         """Knot removal: drop the cheapest half of the simple knots (no two neighbours), refit, put back the
-        ones whose intervals then fail, and repeat while removals stick (at most :data:`REMOVAL_ROUNDS`)."""
+        ones whose intervals then fail, and repeat while removals stick (at most :data:`REMOVAL_ROUNDS`). A
+        round whose put-back fit still fails goes back to the fit before it; that ends the removal, except with
+        C1 joints (``joint_continuity=1``: fewer, freer knots whose removals interact more), where the round is
+        tried again with the cheaper half of its picks, down to one knot (:data:`REMOVAL_ROUNDS_C1` rounds)."""
         model = self.model
-        for _ in range(REMOVAL_ROUNDS):
+        share = 1.0
+        retry = model.knot_multiplicity > 1
+        for _ in range(REMOVAL_ROUNDS_C1 if retry else REMOVAL_ROUNDS):
             if self.iteration >= self.max_iterations:
                 break
-            picked = self._removal_picks(dev)
+            picked = self._removal_picks(dev, share)
             if not picked:
                 break
             saved, saved_dev = model.save(), dev
-            model.remove(picked)
-            model.fit(hoschek_steps=1)
-            dev = model.deviations()
-            self.iteration += 1
-            failing = np.flatnonzero(dev["excess"] > 0)
-            restored = []
-            if failing.size:
-                lo, hi = dev["starts"][failing], dev["ends"][failing]
-                values = model.base_parameter[np.asarray(picked)]
-                back = (values[:, None] >= lo[None, :] - 1e-9) & (values[:, None] <= hi[None, :] + 1e-9)
-                restored = [k for k, hit in zip(picked, back.any(axis=1)) if hit]
-                model.restore(restored)
-                model.fit(hoschek_steps=1)
-                dev = model.deviations()
-                if (dev["excess"] > 0).any():  # back to the fit before this round (it met the tolerance)
-                    model.load(saved)
-                    return saved_dev
-            removed = [k for k in picked if k not in restored]
+            dev, removed, restored = self._removal_round(dev, picked)
+            if dev is None:  # back to the fit before this round (it met the tolerance)
+                model.load(saved)
+                dev = saved_dev
+                if len(picked) == 1 or not retry:
+                    break
+                share *= 0.5
+                continue
             if self.keep:
                 piece_of = model.contour.piece_of_point
                 self.snapshot(dev, [self.candidate(piece_of[k], k, True, "removed: the fit stays within the "
@@ -186,16 +183,38 @@ class LsqKnotInsertion:
                 break
         return dev
 
-    def _removal_picks(self, dev):
-        """The cheapest half of the removable knots by :meth:`OutlineRegression.removal_scores`, no two
-        neighbours."""
+    def _removal_round(self, dev, picked):
+        """Remove ``picked``, refit, put back the picks inside failing intervals and refit. Returns the new
+        deviations (None when the fit still fails), the removed and the restored knots."""
+        model = self.model
+        model.remove(picked)
+        model.fit(hoschek_steps=1)
+        dev = model.deviations()
+        self.iteration += 1
+        failing = np.flatnonzero(dev["excess"] > 0)
+        restored = []
+        if failing.size:
+            lo, hi = dev["starts"][failing], dev["ends"][failing]
+            values = model.base_parameter[np.asarray(picked)]
+            back = (values[:, None] >= lo[None, :] - 1e-9) & (values[:, None] <= hi[None, :] + 1e-9)
+            restored = [k for k, hit in zip(picked, back.any(axis=1)) if hit]
+            model.restore(restored)
+            model.fit(hoschek_steps=1)
+            dev = model.deviations()
+            if (dev["excess"] > 0).any():
+                return None, [], restored
+        return dev, [k for k in picked if k not in restored], restored
+
+    def _removal_picks(self, dev, share=1.0):
+        """The cheapest half of the removable knots by :meth:`OutlineRegression.removal_scores` (times
+        ``share``, at least one), no two neighbours."""
         model = self.model
         removable = model.removable_knots()
         if removable.size == 0:
             return []
         scores = model.removal_scores(dev["bezier"])
         scores = scores[np.isin(model.simple_knots, removable)]
-        order = np.argsort(scores, kind="stable")[: max(1, removable.size // 2)]
+        order = np.argsort(scores, kind="stable")[: max(1, int(share * (removable.size // 2)))]
         position = {int(k): i for i, k in enumerate(model.knot_indices())}
         taken, picked = set(), []
         for o in order:

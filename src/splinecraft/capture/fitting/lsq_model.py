@@ -50,6 +50,8 @@ class OutlineRegression:
         self.sample_spacing = float(options["sample_spacing"])
         self.hoschek_gate = float(options["hoschek_gate"])
         self.corner_pin = float(options["corner_pin"])
+        #: multiplicity of every inserted knot: 1 (the spline is C2 there) or 2 (C1, as a font's segments join)
+        self.knot_multiplicity = 3 - int(options["joint_continuity"])
         if contour.corner_count:
             self.simple_knots = np.zeros(0, dtype=np.int64)
         else:  # four equally spaced knots, the seam knot 0 among them
@@ -88,10 +90,11 @@ class OutlineRegression:
 
     # ---------------------------------------------------------------- knots, weights, zones
     def knot_values(self):
-        """The knots of one period: corners three times, simple knots once, sorted."""
+        """The knots of one period: corners three times, the inserted knots ``knot_multiplicity`` times, sorted."""
         bounds = self.contour.corner_bounds
         corners = np.repeat(self.base_parameter[bounds[:-1]], 3) if self.contour.corner_count else np.zeros(0)
-        return np.sort(np.concatenate([corners, self.base_parameter[self.simple_knots]]))
+        inserted = np.repeat(self.base_parameter[self.simple_knots], self.knot_multiplicity)
+        return np.sort(np.concatenate([corners, inserted]))
 
     def knot_indices(self):
         """Sorted rotated indices of all knots (corners once, simple knots) and the closing index n."""
@@ -412,7 +415,8 @@ class OutlineRegression:
     # ---------------------------------------------------------------- knot removal
     def removal_scores(self, bezier):
         """For every simple knot: score = |jump of S'''| * h^3 / 48, about the deviation that removing the knot
-        causes (the size of the cubic's departure from one polynomial)."""
+        causes (the size of the cubic's departure from one polynomial), plus |jump of S''| * h^2 / 16 where
+        S'' jumps (knots of multiplicity 2, ``joint_continuity=1``)."""
         starts, ends = self.intervals()
         h = ends - starts
         third = 6.0 * (bezier[:, 3] - 3 * bezier[:, 2] + 3 * bezier[:, 1] - bezier[:, 0]) / (h[:, None] ** 3)
@@ -421,7 +425,12 @@ class OutlineRegression:
         left = (right - 1) % starts.shape[0]
         jump = np.hypot(*(third[right] - third[left]).T)
         span = 0.5 * (h[left] + h[right])
-        return jump * span**3 / 48.0
+        if self.knot_multiplicity == 1:
+            return jump * span**3 / 48.0
+        second_start = 6.0 * (bezier[:, 2] - 2 * bezier[:, 1] + bezier[:, 0]) / (h[:, None] ** 2)
+        second_end = 6.0 * (bezier[:, 3] - 2 * bezier[:, 2] + bezier[:, 1]) / (h[:, None] ** 2)
+        bend = np.hypot(*(second_start[right] - second_end[left]).T)
+        return bend * span**2 / 16.0 + jump * span**3 / 48.0
 
     def removable_knots(self):
         """Simple knots that may be removed (not the seam knot 0 of an outline without corners)."""

@@ -52,7 +52,7 @@ THESIS_OPTIONS = ENGINE_OPTIONS + ("tangent_stride", "fuzzy_weights")
 #: Options of ``"lsq"`` and their defaults (the meaning of each: docs/capture.md §12, "Options of lsq").
 LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, "min_gap": 3, "remove_knots": True,
                 "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": False, "corner_pin": 1000.0,
-                "initial_density": 0.01, "fallback": True}
+                "initial_density": 0.01, "fallback": True, "joint_continuity": 2}
 LSQ_OPTIONS = tuple(LSQ_DEFAULTS)
 _LSQ_REALS = ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin",
               "initial_density")
@@ -167,6 +167,8 @@ def _check_lsq_options(options):
     out["sample_spacing"] = _validation.check_number(out["sample_spacing"], "sample_spacing (px)", minimum=0.0,
                                                      maximum=2.0, inclusive=(False, True))
     out["min_gap"] = _validation.check_int(out["min_gap"], "min_gap", minimum=1)
+    out["joint_continuity"] = _validation.check_int(out["joint_continuity"], "joint_continuity (1 = C1, 2 = C2)",
+                                                    minimum=1, maximum=2)
     for key in _LSQ_BOOLS:
         out[key] = _validation.check_bool(out[key], key)
     return out

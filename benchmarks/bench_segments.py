@@ -1,0 +1,96 @@
+"""Segments against the true outline's, by size: the synthetic set at 48-1200 px, fit variants side by side.
+
+The tuning set of ``synthetic_shapes`` (300-px glyphs and analytic shapes) and its ``size_set`` (glyphs at
+48, 64, 600 and 1200 px, every other one turned; analytic shapes four times larger) are traced by
+``sc.trace`` once per variant (``--variants``: a JSON list of ``fit_params`` dicts, ``{}`` = the defaults),
+shape by shape with the variants interleaved, and scored by ``synthetic_shapes.score_beziers``. Per group:
+share within 1 px (symmetric Hausdorff) / median rms px / median segments per true segment / pooled corner
+F1, and the median time of each variant relative to the first.
+
+    .venv/bin/python benchmarks/bench_segments.py --variants '[{}, {"initial_density": 0}]'
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+
+import splinecraft as sc  # noqa: E402
+import synthetic_shapes as S  # noqa: E402
+
+GROUP_ORDER = ("small", "medium", "glyph300", "large", "analytic", "analytic-large")
+
+
+def shapes(groups):
+    out = []
+    for shape in S.tuning_set():
+        shape["group"] = "glyph300" if shape["name"].endswith("_300") else "analytic"
+        out.append(shape)
+    out += S.size_set()
+    return [s for s in out if not groups or s["group"] in groups]
+
+
+def measure(shape_list, variants):
+    rows = []
+    for shape in shape_list:
+        mask = S.rasterize(shape)
+        for v, params in enumerate(variants):
+            start = time.perf_counter()
+            result = sc.trace(mask, fit_params=params or None)
+            seconds = time.perf_counter() - start
+            score = S.score_beziers(shape, [np.asarray(s.bezier()) for s in result.splines])
+            rows.append({"name": shape["name"], "group": shape["group"], "variant": v, "time": seconds,
+                         "true_segments": shape.get("segments"), **score,
+                         "corner_tp": round(score["corner_r"] * score["true_corners"])})
+        print(shape["name"], " ".join(f"{r['segments']}/{r['true_segments']} {r['max_dev']:.2f}"
+                                      for r in rows[-len(variants):]), file=sys.stderr, flush=True)
+    return rows
+
+
+def summarize(rows):
+    dev = np.array([r["max_dev"] for r in rows])
+    ratio = [r["segments"] / r["true_segments"] for r in rows if r["true_segments"]]
+    tp = sum(r["corner_tp"] for r in rows)
+    found = sum(r["corners"] for r in rows)
+    truth = sum(r["true_corners"] for r in rows)
+    return (f"{100 * np.mean(dev <= 1.0):.0f}% / {np.median([r['rms_dev'] for r in rows]):.3f} / "
+            f"{np.median(ratio) if ratio else float('nan'):.2f} / {2 * tp / (found + truth) if found + truth else 1:.2f}")
+
+
+def print_table(rows, variants):
+    print("| group | n | " + " | ".join(json.dumps(v) for v in variants) + " |")
+    print("|---|---|" + "---|" * len(variants))
+    groups = [g for g in GROUP_ORDER if any(r["group"] == g for r in rows)]
+    for label, subset in [(g, [r for r in rows if r["group"] == g]) for g in groups] + [("all", rows)]:
+        cells = [summarize([r for r in subset if r["variant"] == v]) for v in range(len(variants))]
+        print(f"| {label} | {len(subset) // len(variants)} | " + " | ".join(cells) + " |")
+    base = {r["name"]: r["time"] for r in rows if r["variant"] == 0}
+    ratios = [np.median([r["time"] / base[r["name"]] for r in rows if r["variant"] == v])
+              for v in range(len(variants))]
+    print("\nCells: within 1 px / median rms px / median segments per true segment / pooled corner F1. "
+          "Median time per shape relative to the first variant: " + ", ".join(f"{t:.2f}" for t in ratios))
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--variants", default="[{}]", help="JSON list of fit_params dicts ({} = defaults)")
+    parser.add_argument("--groups", default="", help="comma-separated groups (default: all)")
+    parser.add_argument("--json", default=None, help="write every row to this JSON file")
+    args = parser.parse_args(argv)
+    variants = json.loads(args.variants)
+    rows = measure(shapes([g for g in args.groups.split(",") if g]), variants)
+    print_table(rows, variants)
+    if args.json:
+        with open(args.json, "w") as handle:
+            json.dump(rows, handle, indent=1, default=float)
+
+
+if __name__ == "__main__":
+    main()

@@ -161,6 +161,10 @@ def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep
     if method != "lsq":
         return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
     result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline)
+    if not result.converged and not result.info["reason"] and opts["joint_continuity"] == 1:
+        # C1 knots got stuck (docs/capture.md §12, "Joints of lsq"): the C2 fit next, then the fallback below
+        result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, dict(opts, joint_continuity=2),
+                         deadline)
     if (result.converged or result.info["reason"] or not opts["fallback"]
             or _longest_piece(points.shape[0], corners) > FALLBACK_PIECE):
         return result

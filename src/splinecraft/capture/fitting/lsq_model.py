@@ -93,8 +93,23 @@ class OutlineRegression:
         """The knots of one period: corners three times, the inserted knots ``knot_multiplicity`` times, sorted."""
         bounds = self.contour.corner_bounds
         corners = np.repeat(self.base_parameter[bounds[:-1]], 3) if self.contour.corner_count else np.zeros(0)
-        inserted = np.repeat(self.base_parameter[self.simple_knots], self.knot_multiplicity)
+        inserted = np.repeat(self.base_parameter[self.simple_knots], self.inserted_multiplicity())
         return np.sort(np.concatenate([corners, inserted]))
+
+    def inserted_multiplicity(self):
+        """Multiplicity of every simple knot: ``knot_multiplicity``, but 1 (C2) for the first and the last
+        inserted knot of each piece between corners: the end pieces reach a truncated tip by extrapolation,
+        which a C1 knot beside the corner would let bend into the rounded pixels (docs/capture.md §12,
+        "Joints of lsq")."""
+        knots = self.simple_knots
+        multiplicity = np.full(knots.shape[0], self.knot_multiplicity, dtype=np.int64)
+        if self.knot_multiplicity == 1 or not self.contour.corner_count or not knots.size:
+            return multiplicity
+        piece = self.contour.piece_of_point[knots]
+        first = np.diff(piece, prepend=-1) != 0
+        last = np.diff(piece, append=piece.max() + 1) != 0
+        multiplicity[first | last] = 1
+        return multiplicity
 
     def knot_indices(self):
         """Sorted rotated indices of all knots (corners once, simple knots) and the closing index n."""

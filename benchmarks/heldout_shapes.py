@@ -40,6 +40,8 @@ FAMILIES = {
 }
 STEP = 0.1
 CORNER_DEG = 30.0
+#: Segments shorter than this (px of arc) are below the pixel's resolution: a run of them is one join.
+MIN_RESOLVED = 1.0
 MARGIN = 6
 
 
@@ -137,20 +139,42 @@ def _place(contours, transform):
     return placed
 
 
+def _segment_length(pts):
+    rough = _bezier(pts, np.linspace(0, 1, 33))
+    return float(np.hypot(*np.diff(rough, axis=0).T).sum())
+
+
+def _contour_corners(segs, lengths):
+    """True corners of one placed contour: joins turning by more than ``CORNER_DEG``, where a run of
+    segments shorter than ``MIN_RESOLVED`` px counts as one join (the turn from the tangent entering the run
+    to the tangent leaving it; the corner at the middle of the run). A contour made only of such segments
+    keeps the plain rule."""
+    n = len(segs)
+    tiny = np.asarray(lengths) < MIN_RESOLVED
+    if tiny.all() or not tiny.any():
+        tiny = np.zeros(n, dtype=bool)
+    resolved = np.flatnonzero(~tiny)
+    corners = []
+    for before, after in zip(resolved, np.roll(resolved, -1)):
+        run = [k % n for k in range(before + 1, after + (n if after <= before else 0))]
+        turn = _turn(_end_tangents(segs[before][1])[1], _end_tangents(segs[after][1])[0])
+        if turn > CORNER_DEG:
+            point = 0.5 * (segs[run[0]][1][0] + segs[after][1][0]) if run else segs[after][1][0]
+            corners.append((float(point[0]), float(point[1])))
+    return corners
+
+
 def _dense_and_corners(contours):
     dense, corners = [], []
     for segs in contours:
-        parts = []
+        parts, lengths = [], []
         for kind, pts in segs:
-            rough = _bezier(pts, np.linspace(0, 1, 33))
-            length = np.hypot(*np.diff(rough, axis=0).T).sum()
+            length = _segment_length(pts)
             n = max(2, int(np.ceil(length / STEP)))
             parts.append(_bezier(pts, np.arange(n) / n))
+            lengths.append(length)
         dense.append(np.concatenate(parts))
-        for k, (_, pts) in enumerate(segs):
-            before = segs[k - 1][1]
-            if _turn(_end_tangents(before)[1], _end_tangents(pts)[0]) > CORNER_DEG:
-                corners.append((float(pts[0][0]), float(pts[0][1])))
+        corners.extend(_contour_corners(segs, lengths))
     return dense, corners
 
 

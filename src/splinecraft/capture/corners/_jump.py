@@ -5,7 +5,8 @@ import warnings
 
 import numpy as np
 
-from ._common import _EMPTY, _check_int, _check_real, _circular_max_filter, _prepare, _result
+from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _prepare, _result
+from ._fillet import release_fillets
 from ._jump_kernels import arm_lines
 
 
@@ -123,7 +124,7 @@ def _line_intersection(c1, a, c2, b):
 
 
 def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=25.0, min_excess=25.0,
-                 flank=(4, 10), max_arm=40, separation=2):
+                 flank=(4, 10), max_arm=40, separation=2, fillets=False):
     """Corners as jumps of the tangent direction between straight arms (this project's detector).
 
     Designed for crack outlines of rasterized shapes (staircase noise of about half a pixel) and tuned on
@@ -182,13 +183,18 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         positives) and cost 1.2-2x the time on outlines with long straight sides.
     separation : int, default 2
         Half width (samples) of the non-maximum suppression, in ``[1, MAX_SEPARATION]`` (500).
+    fillets : bool, default False
+        Step 7, the fillet test (:mod:`._fillet`, docs/capture.md §11): release every corner whose sides cross
+        farther beyond the outline than the pixels of a sharp tip can lie (a rounded corner). Off by default:
+        it removes false corners on softly rounded faces, but the fit does not yet follow every released
+        fillet within 1 px (``BENCHMARKS.md``, "Fillets").
 
     Returns
     -------
     numpy.ndarray of intp
         Sorted indices into ``points``; empty when the outline is shorter than 8 px.
     """
-    settings = _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation)
+    settings = _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets)
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
@@ -208,6 +214,8 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
                       size[chosen], closed)
     if not closed:
         nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
+    if settings["fillets"]:
+        nearest = release_fillets(P, arc, perimeter, closed, np.unique(nearest))
     return _result(nearest, keep)
 
 
@@ -228,7 +236,7 @@ def _intrinsic_start(P):
     return int(best[0])
 
 
-def _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation):
+def _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets=False):
     """tangent-jump's parameters checked against their documented domains and bounds."""
     if isinstance(flank, (str, bytes)) or np.ndim(flank) != 1 or len(flank) != 2:
         raise TypeError(f"flank must be a pair of integers (near, far), got {flank!r}")
@@ -241,6 +249,7 @@ def _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, 
         "near": near, "far": _check_int(flank[1], "flank[1]", low=near, high=MAX_FLANK),
         "max_arm": _check_int(max_arm, "max_arm", low=3, high=max(_ARM_LADDER)),
         "separation": _check_int(separation, "separation", low=1, high=MAX_SEPARATION),
+        "fillets": _check_bool(fillets, "fillets"),
     }
 
 

@@ -284,6 +284,49 @@ def _rounded_rect(rng):
     return _transform([pts], corners, rng.uniform(0, 2 * np.pi))
 
 
+def _filleted_polygon(rng, radius=None, min_turn=35.0, max_turn=160.0):
+    """A random polygon (turns of ``min_turn``..``max_turn`` deg, convex and concave) at a random rotation
+    whose corners are, each with probability 1/2, rounded by a circular fillet of radius 1-8 px (``radius``
+    fixes it): the sharp ones are its true corners, the filleted ones are not (tangent-continuous joins).
+    Returns ``(contours, corners)``; every corner entry is ``(x, y, turn, fillet_radius)`` with radius 0 for
+    sharp ones, so that the benchmark can report by radius (``fillet_corners``)."""
+    while True:
+        k = int(rng.integers(4, 10))
+        ang = np.sort(rng.uniform(0, 2 * np.pi, k))
+        v = np.column_stack([np.cos(ang), np.sin(ang)]) * (rng.uniform(0.35, 1.0, k) * rng.uniform(40, 170))[:, None]
+        e = np.roll(v, -1, 0) - v
+        a, b = np.roll(e, 1, 0), e
+        cosine = (a * b).sum(1) / (np.hypot(*a.T) * np.hypot(*b.T))
+        turn = np.degrees(np.arccos(np.clip(cosine, -1, 1)))
+        if turn.min() < min_turn or turn.max() > max_turn:
+            continue
+        radii = np.where(rng.uniform(size=k) < 0.5, 0.0,
+                         radius if radius is not None else rng.uniform(1.0, 8.0, k))
+        tangent = radii * np.tan(np.radians(turn) / 2)
+        edge = np.hypot(*e.T)
+        if np.any(tangent + np.roll(tangent, -1) + 8.0 > edge):
+            continue
+        break
+    pieces, corners = [], []
+    for i in range(k):
+        u1, u2 = a[i] / np.hypot(*a[i]), b[i] / np.hypot(*b[i])
+        left = np.sign(u1[0] * u2[1] - u1[1] * u2[0])
+        if radii[i] > 0:
+            t0 = v[i] - tangent[i] * u1
+            centre = t0 + left * radii[i] * np.array([-u1[1], u1[0]])
+            start = np.arctan2(*(t0 - centre)[::-1])
+            pieces.append(_arc(centre, radii[i], start, start + left * np.radians(turn[i])))
+            begin = v[i] + tangent[i] * u2
+        else:
+            begin = v[i]
+        end = v[(i + 1) % k] - tangent[(i + 1) % k] * u2
+        pieces.append(_line(begin, end))
+        corners.append((v[i][0], v[i][1], turn[i], radii[i]))
+    pts = np.concatenate(pieces)
+    contours, placed = _transform([pts], corners, rng.uniform(0, 2 * np.pi))
+    return contours, [c[:3] for c in placed if c[3] == 0], {"fillets": [c for c in placed if c[3] > 0]}
+
+
 FONT_FILES = ("DejaVuSerif.ttf", "DejaVuSans-Bold.ttf", "DejaVuSansMono.ttf", "DejaVuSerif-Bold.ttf",
               "DejaVuSerifCondensed-Italic.ttf")
 FONT_CHARS = "ABEFHKMNRTVWXYZbdfhkmnpqrtwxyz1247#&%$@"
@@ -325,13 +368,14 @@ FAMILIES = {
 }
 
 
-def _shape(name, family, contours, corners, rng, margin=5):
+def _shape(name, family, contours, corners, rng, margin=5, fillets=()):
     shift = -np.concatenate(contours).min(0) + margin + rng.uniform(0, 1, 2)
     contours = [p + shift for p in contours]
     corners = [tuple(np.asarray(q[:2]) + shift) + tuple(q[2:]) for q in corners]
+    fillets = [tuple(np.asarray(q[:2]) + shift) + tuple(q[2:]) for q in fillets]
     hi = np.ceil(np.concatenate(contours).max(0)) + margin
     return {"name": name, "family": family, "width": int(hi[0]), "height": int(hi[1]),
-            "contours": contours, "corners": corners}
+            "contours": contours, "corners": corners, "fillets": fillets}
 
 
 def rasterize(shape):
@@ -359,6 +403,9 @@ def rasterize(shape):
 
 
 def synthetic_set(seed=1, per_family=40, fonts=True):
+    """The synthetic families (:data:`FAMILIES`, DejaVu glyphs as ``font`` where the fonts are installed) and
+    the ``fillet`` family (:func:`_filleted_polygon`, drawn from a stream of its own), traced to crack
+    outlines."""
     rng = np.random.default_rng(seed)
     team = _team_glyph_reader() if fonts else None
     families = dict(FAMILIES)
@@ -369,6 +416,10 @@ def synthetic_set(seed=1, per_family=40, fonts=True):
         for k in range(per_family):
             contours, corners = make(rng)
             shapes.append(_shape(f"{family}{k}", family, contours, corners, rng))
+    fillet_rng = np.random.default_rng(1000 + seed)     # its own stream: the other families stay as they were
+    for k in range(per_family):
+        contours, corners, extra = _filleted_polygon(fillet_rng)
+        shapes.append(_shape(f"fillet{k}", "fillet", contours, corners, fillet_rng, **extra))
     for s in shapes:
         s["outlines"] = [b.outline for b in contour.trace_boundaries(rasterize(s))]
     return shapes, team is not None
@@ -519,6 +570,67 @@ def report_turn_recall(results, methods):
 
 
 # ================================================================================== speed of tangent-jump
+def report_fillets(shapes):
+    """tangent-jump without and with its fillet test on the fillet family: the share of fillets reported as a
+    corner (a detected corner within 3 px of the fillet's vertex or within its radius of it), by radius and
+    turn, and the recall of the family's sharp corners."""
+    family = [s for s in shapes if s["family"] == "fillet"]
+    radii, turns = ((1, 2), (2, 4), (4, 6), (6, 8)), ((35, 80), (80, 120), (120, 160))
+    rows, sharp = [], {}
+    for fillets in (False, True):
+        counts = {}
+        hits = total = 0
+        for s in family:
+            found = np.concatenate([o[cm.tangent_jump(o, fillets=fillets)] for o in s["outlines"]])
+            for x, y, turn, radius in s["fillets"]:
+                d = np.hypot(*(found - [x, y]).T).min() if len(found) else np.inf
+                key = (next(r for r in radii if r[0] <= radius <= r[1]), next(t for t in turns if t[0] <= turn <= t[1]))
+                cell = counts.setdefault(key, [0, 0])
+                cell[0] += d <= max(MATCH_PX, radius)
+                cell[1] += 1
+            tp, _, fn, _ = match(found, s["corners"])
+            hits, total = hits + tp, total + tp + fn
+        sharp[fillets] = (hits, total)
+        for r in radii:
+            rows.append([f"fillets={fillets}", f"r {r[0]}-{r[1]} px"] + [
+                f"{counts[(r, t)][0]}/{counts[(r, t)][1]}" if (r, t) in counts else "-" for t in turns])
+    print("\n### tangent-jump on fillets (fillet family): fillets reported as corners, by radius and turn\n")
+    print(_table(["fillet test", "radius"] + [f"turn {lo}-{hi} deg" for lo, hi in turns], rows))
+    print("\nsharp corners of the family found: " + ", ".join(
+        f"fillets={k} {h}/{t}" for k, (h, t) in sharp.items()))
+
+
+def report_heldout(families, fit_params=None):
+    """Per held-out glyph (``heldout_shapes.py``, upright 300 px glyphs of ``families``): the true corners,
+    the corners of ``sc.trace``'s SVG and their one-to-one match within 3 px (the project's own scorer,
+    ``synthetic_shapes``): which true corners are missed and which traced ones are false."""
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    import heldout_shapes
+    import synthetic_shapes
+    import splinecraft as sc
+
+    pooled = {}
+    for shape in heldout_shapes.heldout_set():
+        if shape["family"] not in families or shape["group"] != shape["family"]:
+            continue
+        result = sc.trace(heldout_shapes.rasterize(shape), fit_params=fit_params)
+        found = [c for b in synthetic_shapes.svg_beziers(result.to_svg()) for c in synthetic_shapes.bezier_corners(b)]
+        tp, fp, fn, hit = match(found, shape["corners"])
+        print(f"\n{shape['name']}: {len(shape['corners'])} true corners, {len(found)} traced, {tp} matched")
+        for (x, y), ok in zip(shape["corners"], hit):
+            print(f"    true   ({x:7.1f}, {y:7.1f}) {'matched' if ok else 'MISSED'}")
+        truth = np.asarray(shape["corners"], float).reshape(-1, 2)
+        for x, y in found:
+            near = np.hypot(*(truth - [x, y]).T).min() if len(truth) else np.inf
+            if near > MATCH_PX:
+                print(f"    traced ({x:7.1f}, {y:7.1f}) FALSE")
+        cell = pooled.setdefault(shape["family"], [0, 0, 0])
+        cell[0], cell[1], cell[2] = cell[0] + tp, cell[1] + fp, cell[2] + fn
+    print()
+    for family, (tp, fp, fn) in pooled.items():
+        print(f"{family}: TP {tp} FP {fp} FN {fn} pooled F1 {_f1(tp, fp, fn):.3f}")
+
+
 SPEED_BASELINE = "f9c1a15"      # last revision before the arm fits were vectorized over windows
 
 
@@ -583,7 +695,13 @@ def main(argv=None):
     parser.add_argument("--speed", nargs="?", const=SPEED_BASELINE, metavar="REVISION",
                         help="only time tangent-jump against its code at a git revision "
                              f"(default {SPEED_BASELINE}) and exit")
+    parser.add_argument("--heldout", metavar="FAMILIES",
+                        help="only list, per upright held-out glyph of these families (comma-separated, e.g. "
+                             "oldstyle,arabic), the true corners, sc.trace's and their match, and exit")
     args = parser.parse_args(argv)
+    if args.heldout:
+        report_heldout(args.heldout.split(","))
+        return
     if args.speed:
         report_speed(args.speed)
         return
@@ -593,7 +711,7 @@ def main(argv=None):
 
     if not args.skip_synthetic:
         shapes, fonts = synthetic_set(args.seed, args.per_family)
-        fams = ["polygon", "star", "glyph", "mixed", "smooth"] + (["font"] if fonts else [])
+        fams = ["polygon", "star", "glyph", "mixed", "smooth", "fillet"] + (["font"] if fonts else [])
         print(f"\nsynthetic set: seed {args.seed}, {len(shapes)} shapes "
               f"({args.per_family} per family: {', '.join(fams)}), "
               f"{sum(len(s['corners']) for s in shapes)} true corners"
@@ -601,6 +719,15 @@ def main(argv=None):
         res = report_methods(f"Synthetic set, seed {args.seed} (3 px matching)", shapes, methods, fams)
         dump["synthetic"] = {m: {k: v for k, v in r.items() if k != "turn_hits"} for m, r in res.items()}
         report_turn_recall(res, methods)
+        if "tangent-jump" in methods:
+            fillet_res = evaluate(lambda o: cm.tangent_jump(o, fillets=True), shapes)
+            tp, fp, fn, p, rc, f1 = fillet_res["families"]["all"]
+            print(f"\ntangent-jump with fillets=True: TP {tp} FP {fp} FN {fn} P {p:.3f} R {rc:.3f} F1 {f1:.3f}; "
+                  + ", ".join(f"F1 {f} {fillet_res['families'][f][5]:.3f}" for f in fams if f != "smooth"
+                              and f in fillet_res["families"])
+                  + f"; FP smooth {fillet_res['families'].get('smooth', (0, 0))[1]}; "
+                  f"{fillet_res['ms_per_shape']:.1f} ms/shape")
+            report_fillets(shapes)
         report_srm05_readings(f"SRM05 readings on the synthetic set, seed {args.seed}", shapes)
         report_resolution()
 

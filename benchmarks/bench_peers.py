@@ -100,12 +100,15 @@ def _timed(run, repeat):
     return out, statistics.median(times)
 
 
-#: ``fit_params`` of ``sc.trace`` (``--fit-params``; empty = the defaults).
+#: ``fit_params`` and ``corner_params`` of ``sc.trace`` (``--fit-params``, ``--corner-params``; empty = the
+#: defaults).
 FIT_PARAMS = {}
+CORNER_PARAMS = {}
 
 
 def run_splinecraft(mask, repeat):
-    result, seconds = _timed(lambda: sc.trace(mask, fit_params=FIT_PARAMS or None), repeat)
+    result, seconds = _timed(lambda: sc.trace(mask, fit_params=FIT_PARAMS or None,
+                                              corner_params=CORNER_PARAMS or None), repeat)
     return result.to_svg(), seconds
 
 
@@ -295,8 +298,11 @@ def main(argv=None):
     parser.add_argument("--out", default=None, help="folder for the traced SVGs")
     parser.add_argument("--json", default=None, help="write every row to this JSON file")
     parser.add_argument("--fit-params", default="{}", help="JSON dict of sc.trace's fit_params (default: none)")
+    parser.add_argument("--corner-params", default="{}",
+                        help="JSON dict of sc.trace's corner_params (default: none)")
     args = parser.parse_args(argv)
     FIT_PARAMS.update(json.loads(args.fit_params))
+    CORNER_PARAMS.update(json.loads(args.corner_params))
     tools = [t for t in args.tools.split(",") if t]
     sets = [s for s in args.sets.split(",") if s]
     if "potrace" not in tools:

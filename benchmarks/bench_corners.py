@@ -600,7 +600,7 @@ def report_fillets(shapes):
         f"fillets={k} {h}/{t}" for k, (h, t) in sharp.items()))
 
 
-def report_heldout(families, fit_params=None):
+def report_heldout(families, corner_params=None):
     """Per held-out glyph (``heldout_shapes.py``, upright 300 px glyphs of ``families``): the true corners,
     the corners of ``sc.trace``'s SVG and their one-to-one match within 3 px (the project's own scorer,
     ``synthetic_shapes``): which true corners are missed and which traced ones are false."""
@@ -613,7 +613,7 @@ def report_heldout(families, fit_params=None):
     for shape in heldout_shapes.heldout_set():
         if shape["family"] not in families or shape["group"] != shape["family"]:
             continue
-        result = sc.trace(heldout_shapes.rasterize(shape), fit_params=fit_params)
+        result = sc.trace(heldout_shapes.rasterize(shape), corner_params=corner_params)
         found = [c for b in synthetic_shapes.svg_beziers(result.to_svg()) for c in synthetic_shapes.bezier_corners(b)]
         tp, fp, fn, hit = match(found, shape["corners"])
         print(f"\n{shape['name']}: {len(shape['corners'])} true corners, {len(found)} traced, {tp} matched")
@@ -698,9 +698,11 @@ def main(argv=None):
     parser.add_argument("--heldout", metavar="FAMILIES",
                         help="only list, per upright held-out glyph of these families (comma-separated, e.g. "
                              "oldstyle,arabic), the true corners, sc.trace's and their match, and exit")
+    parser.add_argument("--fillets", action="store_true", help="with --heldout: trace with tangent-jump's "
+                        "fillet test on (corner_params={'fillets': True})")
     args = parser.parse_args(argv)
     if args.heldout:
-        report_heldout(args.heldout.split(","))
+        report_heldout(args.heldout.split(","), {"fillets": True} if args.fillets else None)
         return
     if args.speed:
         report_speed(args.speed)
@@ -747,6 +749,11 @@ def main(argv=None):
                          ", ".join(f"{n} {v:.2f}" for n, v in worst)])
         print("\n" + _table(["method", "median F1 per shape", "shapes with F1 = 1",
                              f"corner-free shapes ({len(free)}) with a false corner", "worst shapes"], rows))
+        if "tangent-jump" in methods:
+            fillet_res = evaluate(lambda o: cm.tangent_jump(o, fillets=True), shapes)
+            tp, fp, fn, p, rc, f1 = fillet_res["families"]["all"]
+            print(f"\ntangent-jump with fillets=True on the yardstick: TP {tp} FP {fp} FN {fn} P {p:.3f} R {rc:.3f} "
+                  f"F1 {f1:.3f}; {fillet_res['ms_per_shape']:.1f} ms/shape")
         report_srm05_readings("SRM05 readings on the yardstick", shapes)
         dump["yardstick"] = {m: {k: v for k, v in r.items() if k != "turn_hits"} for m, r in res.items()}
     else:

@@ -509,9 +509,9 @@ def polygon_mask(vertices, size):
     return mask
 
 
-def corner_points(mask):
-    """Positions of tangent-jump's corners on every boundary of a mask."""
-    found = [b.outline[corners(b.outline, "tangent-jump")] for b in contour.trace_boundaries(mask)]
+def corner_points(mask, **params):
+    """Positions of tangent-jump's corners on every boundary of a mask (``params``: the detector's)."""
+    found = [b.outline[corners(b.outline, "tangent-jump", **params)] for b in contour.trace_boundaries(mask)]
     return np.vstack(found) if found else np.zeros((0, 2))
 
 
@@ -550,4 +550,26 @@ def test_rotation_by_any_angle_changes_the_corner_count_by_at_most_one(vertices,
     size = 140
     upright = len(corner_points(polygon_mask(vertices + size / 2, size)))
     turned = len(corner_points(polygon_mask(rotate(vertices, angle) + size / 2, size)))
+    assert abs(turned - upright) <= 1
+
+
+@settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(well_posed_polygons())
+def test_corners_with_the_fillet_test_turn_with_the_shape_by_90_degrees(vertices):
+    size = 140
+    mask = polygon_mask(vertices + size / 2, size)
+    before = corner_points(mask, fillets=True)
+    after = corner_points(np.rot90(mask), fillets=True)   # (x, y) -> (y, size - x)
+    moved = np.column_stack([before[:, 1], size - before[:, 0]])
+    assert len(after) == len(before)
+    for point in moved:
+        assert np.hypot(*(after - point).T).min() <= 1e-9
+
+
+@settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(well_posed_polygons(), st.floats(0, 2 * np.pi))
+def test_rotation_with_the_fillet_test_changes_the_corner_count_by_at_most_one(vertices, angle):
+    size = 140
+    upright = len(corner_points(polygon_mask(vertices + size / 2, size), fillets=True))
+    turned = len(corner_points(polygon_mask(rotate(vertices, angle) + size / 2, size), fillets=True))
     assert abs(turned - upright) <= 1

@@ -555,15 +555,17 @@ def test_rotation_by_any_angle_changes_the_corner_count_by_at_most_one(vertices,
 
 @settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(well_posed_polygons())
-def test_corners_with_the_fillet_test_turn_with_the_shape_by_90_degrees(vertices):
+def test_corners_with_the_fillet_test_turn_with_the_shape_by_90_180_and_270_degrees(vertices):
     size = 140
     mask = polygon_mask(vertices + size / 2, size)
-    before = corner_points(mask, fillets=True)
-    after = corner_points(np.rot90(mask), fillets=True)   # (x, y) -> (y, size - x)
-    moved = np.column_stack([before[:, 1], size - before[:, 0]])
-    assert len(after) == len(before)
-    for point in moved:
-        assert np.hypot(*(after - point).T).min() <= 1e-9
+    expected = corner_points(mask, fillets=True)
+    for turns in (1, 2, 3):
+        # np.rot90 maps the pixel frame's point (x, y) to (y, size - x), once per quarter turn
+        expected = np.column_stack([expected[:, 1], size - expected[:, 0]])
+        found = corner_points(np.rot90(mask, turns), fillets=True)
+        order = lambda points: points[np.lexsort(points.T[::-1])]            # noqa: E731
+        assert found.shape == expected.shape
+        assert np.allclose(order(found), order(expected), atol=1e-9), turns
 
 
 @settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
-from scipy.spatial import cKDTree
 
 from splinecraft.capture.contour import trace_boundaries
 from splinecraft.capture.fitting import fit_outline
+from test_fitting import hausdorff as deviation  # the independent symmetric check of test_fitting
 
 
 def blob_radius(angle, harmonics):
@@ -34,33 +34,6 @@ def render_blob(radius, harmonics, offset=(0.37, 0.21)):
     r = radius * blob_radius(a, harmonics)
     dense = centre + np.column_stack([r * np.cos(a), r * np.sin(a)])
     return trace_boundaries(mask)[0].outline, dense
-
-
-def curve_samples(bezier, step=0.1):
-    out = []
-    for b in np.asarray(bezier, float):
-        length = np.hypot(*np.diff(b, axis=0).T).sum()
-        t = np.linspace(0, 1, max(4, int(np.ceil(length / step)) + 1))[:, None]
-        out.append((1 - t) ** 3 * b[0] + 3 * t * (1 - t) ** 2 * b[1] + 3 * t**2 * (1 - t) * b[2] + t**3 * b[3])
-    return np.concatenate(out)
-
-
-def distance_to_polyline(points, line):
-    """Exact distance from points to a closed polyline (over the edges of the 8 nearest edge midpoints)."""
-    a, b = line, np.roll(line, -1, axis=0)
-    _, idx = cKDTree((a + b) / 2).query(points, k=min(8, len(line)))
-    aa, ab = a[idx], (b - a)[idx]
-    ap = points[:, None, :] - aa
-    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-18), 0, 1)
-    return np.hypot(*(ap - t[..., None] * ab).transpose(2, 0, 1)).min(axis=1)
-
-
-def deviation(bezier, outline):
-    """Symmetric distance between the curve and the contour polyline (curve samples to its edges; contour
-    points and edge midpoints to the sampled curve)."""
-    curve = curve_samples(bezier)
-    probes = np.vstack([outline, 0.5 * (outline + np.roll(outline, -1, axis=0))])
-    return max(distance_to_polyline(curve, outline).max(), distance_to_polyline(probes, curve).max())
 
 
 harmonic = st.tuples(st.floats(-0.12, 0.12), st.floats(0.0, 2 * np.pi))

@@ -41,7 +41,7 @@ const dragMessage = (drag) => ({ type: "drag", index: drag.index, x: drag.x, y: 
  */
 export function createDragFlow(model, { onIdle = () => {}, message = dragMessage } = {}) {
   let seq = 0, gesture = 0, inFlight = null, pendingSend = false, rafId = 0;
-  let drag = null; // {index, x, y, pointerId, moved, tMove, ox, oy}
+  let drag = null; // {index, x, y, pointerId, moved, ox, oy; with debug: tMove, tMoveFrame}
   let released = null; // a finished drag whose final position the kernel has not answered yet
   const moveTimes = new Map(); // seq -> {move, sent} (debug only)
 
@@ -50,6 +50,12 @@ export function createDragFlow(model, { onIdle = () => {}, message = dragMessage
     if (model.get("debug")) moveTimes.set(seq, { move: drag.tMove, moveFrame: drag.tMoveFrame, sent: performance.now() });
     inFlight = { seq, t: performance.now() };
     model.send({ ...message(drag), seq, gesture, final });
+  }
+  /** Debug only: when the current move came in (page clock and its animation frame's start). */
+  function stamp() {
+    if (!model.get("debug")) return;
+    drag.tMove = performance.now();
+    drag.tMoveFrame = frameStart();
   }
   function frame() {
     rafId = 0;
@@ -63,15 +69,15 @@ export function createDragFlow(model, { onIdle = () => {}, message = dragMessage
   /** Start a gesture; `fields` stay on it (what `message` reads). */
   function begin(fields, pointerId) {
     gesture += 1;
-    drag = { ...fields, pointerId, moved: false, tMove: performance.now(), tMoveFrame: frameStart() };
+    drag = { ...fields, pointerId, moved: false };
+    stamp();
     return drag;
   }
   /** The gesture moved: take the new `fields`, send them on the next frame. */
   function update(fields) {
     Object.assign(drag, fields);
     drag.moved = true;
-    drag.tMove = performance.now();
-    drag.tMoveFrame = frameStart();
+    stamp();
     pendingSend = true;
     schedule();
   }

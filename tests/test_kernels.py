@@ -551,3 +551,105 @@ def test_the_cache_goes_to_the_temporary_directory_when_nothing_else_is_writable
     monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path / "own"))
     assert _jit.ensure_cache_dir() is None and numba.config.CACHE_DIR == str(tmp_path / "own")
     assert _jit._writable(str(tmp_path / "new" / "folder")) or os.geteuid() != 0
+
+
+def _numpy_group_max(groups, values, count):
+    """Per group maximum, ``-inf`` when empty, NaN wins (``numpy.maximum.at``)."""
+    best = np.full(count, -np.inf)
+    np.maximum.at(best, groups, values)
+    return best
+
+
+def _numpy_deviations(model, dense):
+    """The deviation check of an ``lsq`` fit state, vectorized with numpy's own searches, ``numpy.interp`` and
+    the windowed distances above (the formulation :func:`_kernels.deviation_measures` replaced)."""
+    contour = model.contour
+    n, pieces = contour.size, contour.piece_count
+    starts, ends = model.intervals()
+    bez = model.bezier()
+    k = starts.shape[0]
+    spacing = min(model.sample_spacing, 0.25) if dense else model.sample_spacing
+    samples, params, iv = _kernels.interval_samples(bez, starts, ends, spacing)
+    corner_par = model.base_parameter[contour.corner_bounds]
+    spiece = np.clip(np.searchsorted(corner_par, params, "right") - 1, 0, pieces - 1)
+    centre = np.clip(np.searchsorted(model.parameter, params) - 1, 0, n - 1)
+    bounds = contour.corner_bounds
+    if contour.corner_count:
+        d_curve = _numpy_windowed(samples, centre, bounds[spiece] - 3, bounds[spiece + 1] + 2, contour.edges, 1, n)
+    else:
+        d_curve = _numpy_windowed(samples, centre, None, None, contour.edges, 1, n)
+    if dense:
+        probes = np.empty((2 * n, 2))
+        probes[0::2], probes[1::2] = contour.points, 0.5 * (contour.closed_points[:-1] + contour.closed_points[1:])
+        probe_u = np.empty(2 * n)
+        probe_u[0::2], probe_u[1::2] = model.parameter[:n], 0.5 * (model.parameter[:-1] + model.parameter[1:])
+        probe_piece, is_point = np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n)
+    else:
+        probes, probe_u, probe_piece, is_point = contour.points, model.parameter[:n], contour.piece_of_point[:n], \
+            np.ones(n, bool)
+    seg = np.clip(np.searchsorted(starts, probe_u, "right") - 1, 0, k - 1)
+    curve = _numpy_eval_bezier(bez, seg, (probe_u - starts[seg]) / (ends - starts)[seg])
+    d_data = np.hypot(*(curve - probes).T)
+    loose = np.flatnonzero(d_data > (0.5 * model.epsilon if dense else model.epsilon))
+    if loose.size:
+        closed_samples = np.vstack([samples, bez[-1:, 3]])
+        closed_params = np.append(params, model.period)
+        lo = np.searchsorted(closed_params, corner_par[probe_piece[loose]])
+        hi = np.maximum(np.searchsorted(closed_params, corner_par[probe_piece[loose] + 1], "right") - 2, lo)
+        near_centre = np.clip(np.searchsorted(closed_params, probe_u[loose]), lo, hi)
+        reach = int(np.ceil(3.0 / spacing))
+        window = (lo - reach, hi + reach) if contour.corner_count else (None, None)
+        near = _numpy_windowed(probes[loose], near_centre, *window, geometry.edge_table(closed_samples), reach,
+                               closed_samples.shape[0] - 1)
+        d_data[loose] = np.minimum(d_data[loose], near)
+    zone, allowance = model.zone(), model.allowance()
+    if dense:
+        probe_allowance = np.empty(2 * n)
+        probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
+    else:
+        probe_allowance = allowance[:n]
+    tol_data = model.epsilon + probe_allowance
+    curve_zone = np.interp(params, model.base_parameter, zone.astype(float)) > 0
+    nearest = np.clip(np.searchsorted(model.base_parameter, params), 0, n)
+    tol_curve = model.epsilon + np.where(curve_zone, np.maximum(allowance[nearest],
+                                                                allowance[np.maximum(nearest - 1, 0)]), 0.0)
+    data_iv = np.clip(np.searchsorted(ends, probe_u), 0, k - 1)
+    ex_curve, ex_data = d_curve - tol_curve, d_data - tol_data
+    gm = _numpy_group_max
+    return {
+        "excess": np.maximum(gm(iv, ex_curve, k), gm(data_iv, ex_data, k)),
+        "piece_dev": np.maximum(np.maximum(gm(spiece, d_curve, pieces), gm(probe_piece, d_data, pieces)), 0.0),
+        "piece_err": np.maximum(gm(probe_piece[is_point], d_data[is_point], pieces), 0.0),
+        "piece_excess": np.maximum(gm(spiece, ex_curve, pieces), gm(probe_piece, ex_data, pieces)),
+        "d_data": d_data, "tol_data": tol_data, "data_iv": data_iv, "d_curve": d_curve, "tol_curve": tol_curve,
+        "curve_zone": curve_zone, "probe_u": probe_u, "curve_params": params, "curve_iv": iv,
+    }
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10_000), st.integers(0, 5), st.booleans(), st.floats(0.3, 2.0))
+def test_deviation_measures_match_the_vectorized_formulation(seed, corners, dense, epsilon):
+    """The one-pass deviation check of an ``lsq`` fit state (random staircase-noisy outlines with 0-5 corners,
+    fitted, some corners released, a coarse fit so some probes are refined) equals the numpy formulation bit
+    for bit."""
+    from splinecraft.capture.fitting.lsq_model import OutlineRegression
+    from splinecraft.capture.fitting.options import LSQ_DEFAULTS
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(60, 240))
+    angle = np.sort(rng.uniform(0.0, 2 * np.pi, n))
+    radius = 30.0 * (1.0 + 0.3 * np.sin(3 * angle + rng.uniform(0, 6)))
+    points = np.round(np.column_stack([radius * np.cos(angle), radius * np.sin(angle)]) * 2.0) / 2.0
+    points = points[np.any(np.diff(points, axis=0, append=points[:1]) != 0, axis=1)]
+    chosen = np.sort(rng.choice(points.shape[0], size=corners, replace=False)) if corners else np.zeros(0, int)
+    chosen = chosen[np.diff(chosen, prepend=-100) > 8] if corners else chosen
+    model = OutlineRegression(points, chosen.astype(np.int64), epsilon, dict(LSQ_DEFAULTS))
+    model.seed_knots(float(rng.choice([0.0, LSQ_DEFAULTS["initial_density"]])))
+    model.fit(hoschek_steps=int(rng.integers(0, 3)))
+    if model.contour.corner_count and rng.random() < 0.5:
+        model.tips.release(0)
+        model.tips.allowance_kept[-1] = True
+    got = model.deviations(dense=dense)
+    expected = _numpy_deviations(model, dense)
+    for key, value in expected.items():
+        np.testing.assert_array_equal(got[key], value, err_msg=key)

@@ -110,12 +110,25 @@ def corners(points, method="srm05", *, closed=True, **params):
     return detector(points, closed=closed, **params)
 
 
+#: detector function -> its sorted keyword-only parameters but ``closed`` (``inspect.signature`` once per detector,
+#: not once per outline)
+_KEYWORDS = {}
+
+
+def _keywords(detector):
+    accepted = _KEYWORDS.get(detector)
+    if accepted is None:
+        accepted = _KEYWORDS[detector] = sorted(
+            key for key, parameter in inspect.signature(detector).parameters.items()
+            if parameter.kind is inspect.Parameter.KEYWORD_ONLY and key != "closed")
+    return list(accepted)
+
+
 def check_params(method, params, name="params"):
     """The keyword parameters of detector ``method`` (a known name): a dict with string keys naming its own
     parameters; ``closed`` and ``method`` are set by the caller. ``TypeError`` names the bad key and lists
     the accepted ones."""
-    accepted = sorted(key for key, parameter in inspect.signature(CORNER_METHODS[method]).parameters.items()
-                      if parameter.kind is inspect.Parameter.KEYWORD_ONLY and key != "closed")
+    accepted = _keywords(CORNER_METHODS[method])
     params = _validation.check_options(params, name, reserved=("closed", "method"),
                                        reserved_reason="the outline's closedness and the detector are chosen "
                                        "by the caller")

@@ -21,7 +21,7 @@ from numba import njit
 from .._jit import JIT_OPTIONS
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "search_sorted", "warm_up"]
+           "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up"]
 
 _JIT = JIT_OPTIONS
 
@@ -440,4 +440,202 @@ def warm_up():
     interval_samples(bez, starts, ends, 0.5)
     group_max(index, np.ones(2), 1)
     search_sorted(starts, u, "right")
+    samples, params, iv = interval_samples(bez, starts, ends, 0.5)
+    deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
+                       np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
+                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2), 2.0,
+                       1.0, 0.0, 2)
     _WARM.append(True)
+
+
+
+@njit(**_JIT)
+def _walk(values, x, position, right):
+    """``numpy.searchsorted(values, x, "right" if right else "left")`` for ``values`` sorted without NaN, walked
+    from the answer ``position`` of a nearby key (linear total work for sorted keys, exact from any start)."""
+    n = values.shape[0]
+    if x != x:  # NaN sorts after every value
+        return n
+    if right:
+        while position > 0 and values[position - 1] > x:
+            position -= 1
+        while position < n and values[position] <= x:
+            position += 1
+    else:
+        while position > 0 and values[position - 1] >= x:
+            position -= 1
+        while position < n and values[position] < x:
+            position += 1
+    return position
+
+
+@njit(**_JIT)
+def _larger(a, b):
+    """``numpy.maximum(a, b)`` of two floats (NaN wins)."""
+    if a != a or a >= b:
+        return a
+    return b
+
+
+@njit(**_JIT)
+def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corner_par, bounds, cornered, parameter, base, ex, ey,
+                    edx, edy, einv, probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above, reach, d_curve, tol_curve, curve_zone, d_data, tol_data, data_iv, excess,
+                    piece_dev, piece_err, piece_excess):
+    n = parameter.shape[0] - 1
+    pieces = piece_dev.shape[0]
+    k = starts.shape[0]
+    total = samples.shape[0]
+    last = k - 1
+    for g in range(k):
+        excess[g] = -np.inf
+    for g in range(pieces):
+        piece_dev[g] = piece_err[g] = piece_excess[g] = -np.inf
+    # curve -> contour: each sample to the contour edges around its corresponding contour position
+    at_corner = at_parameter = at_base = at_base_right = 0  # the searches' answers for the previous key
+    for s in range(total):
+        u = params[s]
+        at_corner = _walk(corner_par, u, at_corner, True)
+        at_parameter = _walk(parameter, u, at_parameter, False)
+        piece = min(max(at_corner - 1, 0), pieces - 1)
+        centre = min(max(at_parameter - 1, 0), n - 1)
+        best = np.inf
+        for offset in range(-1, 2):
+            e = centre + offset
+            if cornered:  # the piece's own edges, and 3 more across each corner
+                e = min(max(e, bounds[piece] - 3), bounds[piece + 1] + 2)
+            e %= n
+            px = samples[s, 0] - ex[e]
+            py = samples[s, 1] - ey[e]
+            t = (px * edx[e] + py * edy[e]) * einv[e]
+            t = min(max(t, 0.0), 1.0)
+            px -= t * edx[e]
+            py -= t * edy[e]
+            squared = px * px + py * py
+            if squared < best:
+                best = squared
+        d = np.sqrt(best)
+        d_curve[s] = d
+        # numpy.interp(u, base, zone) > 0 in numpy's arithmetic: the interval base[j] <= u < base[j + 1], the
+        # end values outside it, zone[j] at u == base[j], else slope * (u - base[j]) + zone[j] (and its retries)
+        if u > base[n]:
+            value = zone[n]
+        elif u < base[0]:
+            value = zone[0]
+        else:
+            at_base_right = _walk(base, u, at_base_right, True)
+            j = at_base_right - 1
+            if j >= n or base[j] == u:
+                value = zone[min(j, n)]
+            else:
+                slope = (zone[j + 1] - zone[j]) / (base[j + 1] - base[j])
+                value = slope * (u - base[j]) + zone[j]
+                if value != value:
+                    value = slope * (u - base[j + 1]) + zone[j + 1]
+                    if value != value and zone[j] == zone[j + 1]:
+                        value = zone[j]
+        inside = value > 0
+        curve_zone[s] = inside
+        extra = 0.0
+        if inside:
+            at_base = _walk(base, u, at_base, False)
+            nearest = min(max(at_base, 0), n)
+            a, b = allowance[nearest], allowance[max(nearest - 1, 0)]
+            extra = _larger(a, b)
+        tol_curve[s] = epsilon + extra
+        ex_curve = d - tol_curve[s]
+        excess[iv[s]] = _larger(excess[iv[s]], ex_curve)
+        piece_dev[piece] = _larger(piece_dev[piece], d)
+        piece_excess[piece] = _larger(piece_excess[piece], ex_curve)
+    # contour -> curve: each probe to its corresponding curve point, refined where loose by the nearest chord
+    # of the curve samples (closed by the last piece's end point) within ``reach`` samples
+    at_start = at_end = at_lo = at_hi = at_centre = 0
+    for p in range(probe_u.shape[0]):
+        u = probe_u[p]
+        at_start = _walk(starts, u, at_start, True)
+        seg = min(max(at_start - 1, 0), last)
+        theta = (u - starts[seg]) / (ends[seg] - starts[seg])
+        s1 = 1.0 - theta
+        t2, s2 = theta * theta, s1 * s1
+        w0, w1, w2, w3 = s2 * s1, 3.0 * theta * s2, 3.0 * t2 * s1, t2 * theta
+        cx = w0 * bez[seg, 0, 0] + w1 * bez[seg, 1, 0] + w2 * bez[seg, 2, 0] + w3 * bez[seg, 3, 0]
+        cy = w0 * bez[seg, 0, 1] + w1 * bez[seg, 1, 1] + w2 * bez[seg, 2, 1] + w3 * bez[seg, 3, 1]
+        d = np.hypot(cx - probes[p, 0], cy - probes[p, 1])
+        if d > loose_above:
+            piece = probe_piece[p]
+            at_lo = _walk(closed_params, corner_par[piece], at_lo, False)
+            at_hi = _walk(closed_params, corner_par[piece + 1], at_hi, True)
+            at_centre = _walk(closed_params, u, at_centre, False)
+            lo = at_lo
+            hi = max(at_hi - 2, lo)
+            centre = min(max(at_centre, lo), hi)
+            best = np.inf
+            for offset in range(-reach, reach + 1):
+                e = centre + offset
+                if cornered:  # the piece's own chords and a window across its corners
+                    e = min(max(e, lo - reach), hi + reach)
+                e %= total
+                ax, ay = samples[e, 0], samples[e, 1]
+                if e + 1 < total:
+                    bx, by = samples[e + 1, 0], samples[e + 1, 1]
+                else:
+                    bx, by = bez[last, 3, 0], bez[last, 3, 1]
+                dx, dy = bx - ax, by - ay
+                den = dx * dx + dy * dy
+                inverse = 1.0 / (den if den > 0 else 1.0)
+                px = probes[p, 0] - ax
+                py = probes[p, 1] - ay
+                t = (px * dx + py * dy) * inverse
+                t = min(max(t, 0.0), 1.0)
+                px -= t * dx
+                py -= t * dy
+                squared = px * px + py * py
+                if squared < best:
+                    best = squared
+            near = np.sqrt(best)
+            if near < d or near != near:
+                d = near
+        d_data[p] = d
+        tol_data[p] = epsilon + probe_allowance[p]
+        at_end = _walk(ends, u, at_end, False)
+        interval = min(max(at_end, 0), last)
+        data_iv[p] = interval
+        ex_data = d - tol_data[p]
+        excess[interval] = _larger(excess[interval], ex_data)
+        piece = probe_piece[p]
+        piece_dev[piece] = _larger(piece_dev[piece], d)
+        piece_excess[piece] = _larger(piece_excess[piece], ex_data)
+        if is_point[p]:
+            piece_err[piece] = _larger(piece_err[piece], d)
+    for g in range(pieces):
+        piece_dev[g] = _larger(piece_dev[g], 0.0)
+        piece_err[g] = _larger(piece_err[g], 0.0)
+
+
+def deviation_measures(bez, starts, ends, samples, params, iv, corner_par, bounds, cornered, parameter, base, edges,
+                       probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, period, epsilon,
+                       loose_above, reach):
+    """The deviation check of the current fit in one pass (:meth:`~.lsq_model.OutlineRegression.deviations`,
+    docs/capture.md §12, "Stopping rule"), the operations of its numpy formulation in their order:
+    the windowed closest-point distance of every curve sample (``samples``, ``params``, interval ``iv``) to the
+    contour edges (``edges``, :func:`~.geometry.edge_table`), its tolerance (``epsilon``, plus the largest
+    ``allowance`` of the two contour points around it where ``numpy.interp`` of ``zone`` is positive) and its
+    piece; every probe's distance to its corresponding curve point, refined above ``loose_above`` by the chords
+    of the curve samples within ``reach`` samples (clipped to the probe's piece and ``reach`` more); then the
+    per-interval worst excess and the per-piece maxima (``-inf`` for empty groups, NaN wins, as
+    :func:`group_max` and ``numpy.maximum``). Returns the dict entries of ``deviations``."""
+    total, count, pieces = samples.shape[0], probe_u.shape[0], corner_par.shape[0] - 1
+    d_curve, tol_curve, curve_zone = np.empty(total), np.empty(total), np.empty(total, np.bool_)
+    d_data, tol_data, data_iv = np.empty(count), np.empty(count), np.empty(count, np.int64)
+    excess, piece_dev, piece_err, piece_excess = np.empty(starts.shape[0]), np.empty(pieces), np.empty(pieces), \
+        np.empty(pieces)
+    params = _floats(params)
+    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), params, np.append(params, period),
+                    _ints(iv), _floats(corner_par), _ints(bounds), bool(cornered), _floats(parameter), _floats(base),
+                    *(_floats(column) for column in edges), _floats(probes), _floats(probe_u), _ints(probe_piece),
+                    np.ascontiguousarray(is_point, dtype=np.bool_), _floats(zone), _floats(allowance),
+                    _floats(probe_allowance), float(epsilon), float(loose_above), int(reach),
+                    d_curve, tol_curve, curve_zone, d_data, tol_data, data_iv, excess, piece_dev, piece_err,
+                    piece_excess)
+    return {"excess": excess, "piece_dev": piece_dev, "piece_err": piece_err, "piece_excess": piece_excess,
+            "d_data": d_data, "tol_data": tol_data, "data_iv": data_iv, "d_curve": d_curve, "tol_curve": tol_curve,
+            "curve_zone": curve_zone}

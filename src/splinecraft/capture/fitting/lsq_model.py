@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import curve_points, hoschek_update, interval_samples, search_sorted
+from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
-from .geometry import edge_table, group_max, sorted_group_max, windowed_distance
+from .geometry import group_max
 from .lsq_setup import CornerTips, RotatedContour, curvature_knots
 
 __all__ = ["OutlineRegression"]
@@ -66,6 +66,8 @@ class OutlineRegression:
         self.parameter_low = self.base_parameter[bounds[piece]]
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
         self.parameter = self.base_parameter.copy()
+        self._zone_cache = None  # (tip state, zones) of _zones
+        self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
 
     def seed_knots(self, density):
         """First simple knots placed by the contour's curvature (:func:`~.lsq_setup.curvature_knots`)."""
@@ -263,23 +265,32 @@ class OutlineRegression:
         error (contour point to its corresponding curve point) and the worst excess, and the per-probe arrays
         that :meth:`insert` needs."""
         contour = self.contour
-        n, pieces = contour.size, contour.piece_count
+        n = contour.size
         starts, ends = self.intervals()
         bez = self.bezier()
-        k = starts.shape[0]
         spacing = min(self.sample_spacing, 0.25) if dense else self.sample_spacing
         samples, params, iv = self._curve_samples(bez, starts, ends, spacing)
-        corner_par = self.base_parameter[contour.corner_bounds]
-        spiece = np.clip(search_sorted(corner_par, params, "right") - 1, 0, pieces - 1)
-        centre = np.clip(search_sorted(self.parameter, params) - 1, 0, n - 1)
-        bounds = contour.corner_bounds
-        if contour.corner_count:  # the piece's own edges, and 3 more across each corner (it belongs to both)
-            d_curve = windowed_distance(samples, centre, bounds[spiece] - 3, bounds[spiece + 1] + 2, contour.edges,
-                                        1, n)
-        else:
-            d_curve = windowed_distance(samples, centre, None, None, contour.edges, 1, n)
         probes, probe_u, probe_piece, is_point = self._probes(dense)
-        d_data = self._data_distance(probes, probe_u, probe_piece, samples, params, bez, corner_par, spacing, dense)
+        zone, allowance, probe_zone, probe_allowance = self._zones(dense)
+        dev = deviation_measures(bez, starts, ends, samples, params, iv, self.base_parameter[contour.corner_bounds],
+                                 contour.corner_bounds, contour.corner_count > 0, self.parameter, self.base_parameter,
+                                 contour.edges, probes, probe_u, probe_piece, is_point, zone, allowance,
+                                 probe_allowance, self.period, self.epsilon,
+                                 0.5 * self.epsilon if dense else self.epsilon, int(np.ceil(3.0 / spacing)))
+        dev.update(starts=starts, ends=ends, probe_u=probe_u, probe_zone=probe_zone, curve_iv=iv, curve_params=params,
+                   bezier=bez, dense=dense)
+        return dev
+
+    def _zones(self, dense):
+        """The corner zones (:meth:`zone`, as floats) and :meth:`allowance` of every contour point and of every
+        probe (``dense``: the edge midpoints between, in a zone where either end is, with the larger allowance);
+        kept while the corners' tip state is unchanged."""
+        tips = self.tips
+        key = (dense, tips.radius.tobytes(), tips.allowance_kept.tobytes(), tips.allowance.tobytes())
+        cached = self._zone_cache
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        n = self.contour.size
         zone, allowance = self.zone(), self.allowance()
         if dense:
             probe_zone = np.empty(2 * n, bool)
@@ -288,25 +299,9 @@ class OutlineRegression:
             probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
         else:
             probe_zone, probe_allowance = zone[:n], allowance[:n]
-        tol_data = self.epsilon + probe_allowance
-        curve_zone = np.interp(params, self.base_parameter, zone.astype(float)) > 0
-        nearest = np.clip(search_sorted(self.base_parameter, params), 0, n)
-        tol_curve = self.epsilon + np.where(curve_zone, np.maximum(allowance[nearest], allowance[np.maximum(
-            nearest - 1, 0)]), 0.0)
-        data_iv = np.clip(search_sorted(ends, probe_u), 0, k - 1)
-        ex_curve, ex_data = d_curve - tol_curve, d_data - tol_data
-        excess = np.maximum(sorted_group_max(iv, ex_curve, k), sorted_group_max(data_iv, ex_data, k))
-        piece_dev = np.maximum(sorted_group_max(spiece, d_curve, pieces), sorted_group_max(probe_piece, d_data, pieces))
-        piece_dev = np.maximum(piece_dev, 0.0)
-        piece_err = np.maximum(sorted_group_max(probe_piece[is_point], d_data[is_point], pieces), 0.0)
-        piece_excess = np.maximum(sorted_group_max(spiece, ex_curve, pieces),
-                                  sorted_group_max(probe_piece, ex_data, pieces))
-        return {
-            "starts": starts, "ends": ends, "excess": excess, "piece_dev": piece_dev, "piece_err": piece_err,
-            "piece_excess": piece_excess, "d_data": d_data, "tol_data": tol_data, "data_iv": data_iv,
-            "probe_u": probe_u, "probe_zone": probe_zone, "d_curve": d_curve, "tol_curve": tol_curve,
-            "curve_iv": iv, "curve_params": params, "curve_zone": curve_zone, "bezier": bez, "dense": dense,
-        }
+        value = (zone.astype(float), allowance, probe_zone, probe_allowance)
+        self._zone_cache = (key, value)
+        return value
 
     @staticmethod
     def _curve_samples(bez, starts, ends, spacing):
@@ -321,34 +316,14 @@ class OutlineRegression:
         n = contour.size
         if not dense:
             return contour.points, self.parameter[:n], contour.piece_of_point[:n], np.ones(n, bool)
-        probes = np.empty((2 * n, 2))
-        probes[0::2], probes[1::2] = contour.points, 0.5 * (contour.closed_points[:-1] + contour.closed_points[1:])
+        if self._dense_probes is None:  # the contour's points and edge midpoints never change
+            probes = np.empty((2 * n, 2))
+            probes[0::2], probes[1::2] = contour.points, 0.5 * (contour.closed_points[:-1] + contour.closed_points[1:])
+            self._dense_probes = (probes, np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n))
+        probes, probe_piece, is_point = self._dense_probes
         probe_u = np.empty(2 * n)
         probe_u[0::2], probe_u[1::2] = self.parameter[:n], 0.5 * (self.parameter[:-1] + self.parameter[1:])
-        return probes, probe_u, np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n)
-
-    def _data_distance(self, probes, probe_u, probe_piece, samples, params, bez, corner_par, spacing, dense):
-        """Distance of every probe to its corresponding curve point; the bound is tight where Hoschek converged,
-        so it is refined where it matters (above the tolerance, and in the dense check that reports the final
-        deviation above ``epsilon / 2``): the nearest chord of the curve samples within 3 px of parameter."""
-        d_data = np.hypot(*(self.curve_at(probe_u) - probes).T)
-        loose = np.flatnonzero(d_data > (0.5 * self.epsilon if dense else self.epsilon))
-        if not loose.size:
-            return d_data
-        closed_samples = np.vstack([samples, bez[-1:, 3]])
-        closed_params = np.append(params, self.period)
-        lo = search_sorted(closed_params, corner_par[probe_piece[loose]])
-        hi = np.maximum(search_sorted(closed_params, corner_par[probe_piece[loose] + 1], "right") - 2, lo)
-        centre = np.clip(search_sorted(closed_params, probe_u[loose]), lo, hi)
-        reach = int(np.ceil(3.0 / spacing))
-        wrap = closed_samples.shape[0] - 1
-        if self.contour.corner_count:  # the piece's own chords and a window across its corners
-            near = windowed_distance(probes[loose], centre, lo - reach, hi + reach, edge_table(closed_samples),
-                                     reach, wrap)
-        else:
-            near = windowed_distance(probes[loose], centre, None, None, edge_table(closed_samples), reach, wrap)
-        d_data[loose] = np.minimum(d_data[loose], near)
-        return d_data
+        return probes, probe_u, probe_piece, is_point
 
     # ---------------------------------------------------------------- knot insertion
     def insert(self, dev):

@@ -234,7 +234,8 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, work, componen
             row_start[(tail_y[i] - 1 if direction[i] == 1 else tail_y[i]) + 1] += 1
     for row in range(height + 1):
         row_start[row + 1] += row_start[row]
-    fill[:] = row_start
+    for row in range(height + 2):  # an element loop: a slice assignment compiles numba's shape-error messages
+        fill[row] = row_start[row]
     for cycle in range(n_cycles):
         for i in range(offsets[cycle], offsets[cycle + 1]):
             cycle_of[i] = cycle
@@ -252,7 +253,7 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, work, componen
             x = tail_x[filed[f]]
             run_cycle[x], run_kind[x] = cycle_of[filed[f]], direction[filed[f]]
             first_x, last_x = min(first_x, x), max(last_x, x)
-        opened = -1
+        opened = np.int64(-1)  # not the literal -1: that would compile _root a second time
         for x in range(first_x, last_x + 1):
             if run_kind[x] == 1:
                 if opened >= 0:

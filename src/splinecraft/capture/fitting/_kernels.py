@@ -55,28 +55,29 @@ def _interval(full, u):
 
 
 @njit(**_JIT)
-def _positive(denom):
-    return denom if denom > 0 else 1.0
-
-
-@njit(**_JIT)
 def _basis(full, i, u):
     """The four non-zero cubic B-splines ``N_{i-3} .. N_i`` at ``u``: the Cox-de Boor recurrence
     ``new_r = saved + right_{r+1} temp``, ``saved = left_{j-r} temp``, ``temp = old_r / (right_{r+1} +
     left_{j-r})`` for j = 1, 2, 3, written out."""
     left1, left2, left3 = u - full[i], u - full[i - 1], u - full[i - 2]
     right1, right2, right3 = full[i + 1] - u, full[i + 2] - u, full[i + 3] - u
-    temp = 1.0 / _positive(right1 + left1)                               # j = 1
+    denom = right1 + left1
+    temp = 1.0 / (denom if denom > 0 else 1.0)  # j = 1
     b0, b1 = 0.0 + right1 * temp, left1 * temp
-    temp = b0 / _positive(right1 + left2)                                # j = 2
+    denom = right1 + left2
+    temp = b0 / (denom if denom > 0 else 1.0)  # j = 2
     c0, saved = 0.0 + right1 * temp, left2 * temp
-    temp = b1 / _positive(right2 + left1)
+    denom = right2 + left1
+    temp = b1 / (denom if denom > 0 else 1.0)
     c1, c2 = saved + right2 * temp, left1 * temp
-    temp = c0 / _positive(right1 + left3)                                # j = 3
+    denom = right1 + left3
+    temp = c0 / (denom if denom > 0 else 1.0)  # j = 3
     d0, saved = 0.0 + right1 * temp, left3 * temp
-    temp = c1 / _positive(right2 + left2)
+    denom = right2 + left2
+    temp = c1 / (denom if denom > 0 else 1.0)
     d1, saved = saved + right2 * temp, left2 * temp
-    temp = c2 / _positive(right3 + left1)
+    denom = right3 + left1
+    temp = c2 / (denom if denom > 0 else 1.0)
     d2, d3 = saved + right3 * temp, left1 * temp
     return d0, d1, d2, d3
 
@@ -332,7 +333,7 @@ def _sample_counts_into(bez, spacing, counts):
 
 @njit(**_JIT)
 def _samples_into(bez, starts, ends, counts, points, params, interval):
-    row = 0
+    row = np.int64(0)  # not the literal 0: that would compile _bezier_point a second time
     for k in range(bez.shape[0]):
         width = ends[k] - starts[k]
         for q in range(counts[k]):

@@ -219,14 +219,15 @@ def _root(parent, node):
 
 
 @njit(**JIT_OPTIONS)
-def _components_into(tail_x, tail_y, direction, offsets, is_hole, work, component):
+def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fill, filed, cycle_of, parent, run_cycle,
+                     run_kind, number_of_root, component):
     """Component of every cycle (contour module, step 5): in every pixel row an N crack starts an ink run and
     the next S crack to its right ends it; the cycles of both are joined (union-find). Components are numbered
     in the order of their outer cycles. Returns -1 when the runs do not alternate or a group has no outer
-    cycle (the tracer's invariant broken), else the number of components. ``work`` holds the scratch arrays
-    (:func:`_component_work`)."""
+    cycle (the tracer's invariant broken), else the number of components. ``row_start`` .. ``number_of_root``
+    are the scratch arrays of :func:`_component_work` (separate arguments: a tuple of arrays costs compile
+    time)."""
     n_cycles = offsets.shape[0] - 1
-    row_start, fill, filed, cycle_of, parent, run_cycle, run_kind, number_of_root = work
     height, width = row_start.shape[0] - 2, run_cycle.shape[0] - 1
     # Vertical cracks filed by pixel row (counting sort): N tails sit on the row's lower edge, S on its upper.
     for i in range(offsets[n_cycles]):
@@ -252,7 +253,10 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, work, componen
         for f in range(row_start[row], row_start[row + 1]):  # mark the row's cracks, then walk its columns
             x = tail_x[filed[f]]
             run_cycle[x], run_kind[x] = cycle_of[filed[f]], direction[filed[f]]
-            first_x, last_x = min(first_x, x), max(last_x, x)
+            if x < first_x:
+                first_x = x
+            if x > last_x:
+                last_x = x
         opened = np.int64(-1)  # not the literal -1: that would compile _root a second time
         for x in range(first_x, last_x + 1):
             if run_kind[x] == 1:
@@ -316,7 +320,7 @@ def boundary_arrays(cracks, width, height, four):
         raise RuntimeError("internal error: pixel chain has a step longer than one pixel")
     is_hole = area2 < 0
     component = np.empty(n_cycles, dtype=np.int64)
-    if _components_into(tail_x, tail_y, direction, offsets, is_hole, _component_work(direction, offsets, width, height),
+    if _components_into(tail_x, tail_y, direction, offsets, is_hole, *_component_work(direction, offsets, width, height),
                         component) < 0:
         raise RuntimeError("internal error: ink runs do not alternate N/S cracks, or a hole has no outer boundary")
     return {"area2": area2, "chain_col": chain_col[:kept].copy(), "chain_row": chain_row[:kept].copy(),

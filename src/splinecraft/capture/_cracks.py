@@ -49,23 +49,6 @@ def _ink(padded, row, col):
 
 
 @njit(**JIT_OPTIONS)
-def _minority_joins_ink(padded, vertex_x, vertex_y):
-    """The minority rule at the saddle vertex ``(vertex_x, vertex_y)`` (contour module, step 2): on the square
-    rings of side 4, 6 and 8 pixels centred on it, the first whose ink and paper counts differ decides; ink is
-    joined when it is not the majority there (all rings balanced: joined)."""
-    for radius in range(2, 5):
-        balance = 0
-        for row_offset in range(-radius, radius):
-            for col_offset in range(-radius, radius):
-                ring = max(abs(2 * row_offset + 1), abs(2 * col_offset + 1)) // 2 + 1  # max(|o + 1/2|) + 1/2
-                if ring == radius:
-                    balance += 2 * _ink(padded, vertex_y + row_offset, vertex_x + col_offset) - 1
-        if balance != 0:
-            return balance < 0
-    return True
-
-
-@njit(**JIT_OPTIONS)
 def _count_cracks(padded):
     count = 0
     for row in range(padded.shape[0]):
@@ -90,20 +73,6 @@ def _starts_at(padded, vertex_x, vertex_y):
 
 
 @njit(**JIT_OPTIONS)
-def _turn_left(padded, head_x, head_y, direction, connectivity):
-    """Whether the boundary turns left at the head vertex, and whether the pixel ahead-right is ink."""
-    ahead_left = _ink(padded, head_y + _AHEAD_LEFT_Y[direction], head_x + _AHEAD_LEFT_X[direction])
-    ahead_right = _ink(padded, head_y + _AHEAD_RIGHT_Y[direction], head_x + _AHEAD_RIGHT_X[direction])
-    if connectivity == 8:
-        left = ahead_left == 1
-    elif ahead_left == 1 and ahead_right == 0 and connectivity == MINORITY:
-        left = _minority_joins_ink(padded, head_x, head_y)
-    else:
-        left = ahead_left == 1 and ahead_right == 1
-    return left, ahead_right == 1
-
-
-@njit(**JIT_OPTIONS)
 def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_turn, offsets):
     """Fill the per-crack arrays in cycle order (``visited``: zeros, one byte per vertex); returns the number of
     cycles, or -1 when a crack has no successor (the tracer's invariant broken)."""
@@ -123,7 +92,30 @@ def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_
                         return -1
                     visited[y, x] |= np.uint8(1 << d)
                     head_x, head_y = x + _STEP_X[d], y + _STEP_Y[d]
-                    left, ahead_right = _turn_left(padded, head_x, head_y, d, connectivity)
+                    # Does the boundary turn left at the head vertex? (ahead-right ink: it goes straight on.)
+                    ahead_left = _ink(padded, head_y + _AHEAD_LEFT_Y[d], head_x + _AHEAD_LEFT_X[d])
+                    ahead_right = _ink(padded, head_y + _AHEAD_RIGHT_Y[d], head_x + _AHEAD_RIGHT_X[d]) == 1
+                    if connectivity == 8:
+                        left = ahead_left == 1
+                    elif ahead_left == 1 and not ahead_right and connectivity == MINORITY:
+                        # The minority rule at the saddle (contour module, step 2): on the square rings of
+                        # side 4, 6 and 8 pixels centred on the head vertex, the first whose ink and paper
+                        # counts differ decides; ink is joined when it is not the majority there (all rings
+                        # balanced: joined). Ring ``radius``: the offsets -radius..radius-1 with a first or
+                        # last one on either axis.
+                        left = True
+                        for radius in range(2, 5):
+                            balance = 0
+                            for row_offset in range(-radius, radius):
+                                edge_row = row_offset == -radius or row_offset == radius - 1
+                                step = 1 if edge_row else 2 * radius - 1
+                                for col_offset in range(-radius, radius, step):
+                                    balance += 2 * _ink(padded, head_y + row_offset, head_x + col_offset) - 1
+                            if balance != 0:
+                                left = balance < 0
+                                break
+                    else:
+                        left = ahead_left == 1 and ahead_right
                     tail_x[written], tail_y[written], direction[written] = x, y, d
                     left_turn[written] = left
                     written += 1

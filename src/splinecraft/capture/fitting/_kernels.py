@@ -34,6 +34,10 @@ def _ints(values):
     return np.ascontiguousarray(values, dtype=np.int64)
 
 
+# Empty arguments of the kernels' unused outputs (one compiled signature for both uses of a kernel).
+_NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty((0, 2))
+
+
 @njit(**_JIT)
 def _right_of(values, x):
     """The number of ``values`` (sorted) that are ``<= x``: ``numpy.searchsorted(values, x, side="right")``."""
@@ -120,10 +124,12 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         partial[7, k2] += w2 * n2
         partial[8, k2] += w2 * n3
         partial[9, k3] += w3 * n3
-    shift = (0, 1, 2, 3, 0, 1, 2, 0, 1, 0)  # pair (r, s) in the order r, then s: band row s - r
-    for pair in range(10):
-        for a in range(m):
-            band[shift[pair], a] += partial[pair, a]
+    pair = 0
+    for r in range(4):  # pair (r, s) in the order r, then s: band row s - r
+        for s in range(r, 4):
+            for a in range(m):
+                band[s - r, a] += partial[pair, a]
+            pair += 1
 
 
 def normal_equations(full, u, weights, targets, m):
@@ -286,26 +292,25 @@ def _bezier_point(bez, k, theta, out, row):
         out[row, d] = w0 * bez[k, 0, d] + w1 * bez[k, 1, d] + w2 * bez[k, 2, d] + w3 * bez[k, 3, d]
 
 
-@njit(**_JIT)
-def _eval_into(bez, piece, theta, out):
-    for j in range(theta.shape[0]):
-        _bezier_point(bez, piece[j], theta[j], out, j)
-
-
 def eval_bezier(bez, piece, theta):
     """Points of the Bézier pieces ``bez[piece[j]]`` at ``theta[j]`` (:func:`~.geometry.eval_bezier`)."""
     bez, theta = _floats(bez), _floats(theta)
     out = np.empty((theta.shape[0], bez.shape[2]))
-    _eval_into(bez, _ints(piece), theta, out)
+    _curve_into(bez, _NO_FLOATS, _NO_FLOATS, theta, _ints(piece), True, out)
     return out
 
 
 @njit(**_JIT)
-def _curve_into(bez, starts, ends, u, out):
+def _curve_into(bez, starts, ends, u, piece, given, out):
+    """``out[j]`` = the piece ``piece[j]`` at the fraction ``u[j]`` when ``given``, else the piece of ``u[j]``
+    (searchsorted right in ``starts``, clipped to the pieces) at its fraction of ``[starts, ends]``."""
     last = starts.shape[0] - 1
     for j in range(u.shape[0]):
-        seg = min(max(_right_of(starts, u[j]) - 1, 0), last)
-        _bezier_point(bez, seg, (u[j] - starts[seg]) / (ends[seg] - starts[seg]), out, j)
+        if given:
+            _bezier_point(bez, piece[j], u[j], out, j)
+        else:
+            seg = min(max(_right_of(starts, u[j]) - 1, 0), last)
+            _bezier_point(bez, seg, (u[j] - starts[seg]) / (ends[seg] - starts[seg]), out, j)
 
 
 def curve_points(bez, starts, ends, u):
@@ -314,25 +319,24 @@ def curve_points(bez, starts, ends, u):
     :meth:`~.lsq_model.OutlineRegression.curve_at`)."""
     bez, u = _floats(bez), _floats(u)
     out = np.empty((u.shape[0], bez.shape[2]))
-    _curve_into(bez, _floats(starts), _floats(ends), u, out)
+    _curve_into(bez, _floats(starts), _floats(ends), u, _NO_INTS, False, out)
     return out
 
 
 @njit(**_JIT)
-def _sample_counts_into(bez, spacing, counts):
-    """Per piece ``max(3, ceil(length of its control polygon / spacing))``; returns their sum."""
-    total = 0
-    for k in range(bez.shape[0]):
-        length = np.hypot(bez[k, 1, 0] - bez[k, 0, 0], bez[k, 1, 1] - bez[k, 0, 1])
-        length += np.hypot(bez[k, 2, 0] - bez[k, 1, 0], bez[k, 2, 1] - bez[k, 1, 1])
-        length += np.hypot(bez[k, 3, 0] - bez[k, 2, 0], bez[k, 3, 1] - bez[k, 2, 1])
-        counts[k] = max(3, np.int64(np.ceil(length / spacing)))
-        total += counts[k]
-    return total
-
-
-@njit(**_JIT)
-def _samples_into(bez, starts, ends, counts, points, params, interval):
+def _samples_into(bez, spacing, starts, ends, counts, count_only, points, params, interval):
+    """With ``count_only``: per piece ``max(3, ceil(length of its control polygon / spacing))`` into ``counts``;
+    returns their sum. Else the samples of the pieces by those counts into ``points``, ``params`` and
+    ``interval``."""
+    if count_only:
+        total = 0
+        for k in range(bez.shape[0]):
+            length = np.hypot(bez[k, 1, 0] - bez[k, 0, 0], bez[k, 1, 1] - bez[k, 0, 1])
+            length += np.hypot(bez[k, 2, 0] - bez[k, 1, 0], bez[k, 2, 1] - bez[k, 1, 1])
+            length += np.hypot(bez[k, 3, 0] - bez[k, 2, 0], bez[k, 3, 1] - bez[k, 2, 1])
+            counts[k] = max(3, np.int64(np.ceil(length / spacing)))
+            total += counts[k]
+        return total
     row = np.int64(0)  # not the literal 0: that would compile _bezier_point a second time
     for k in range(bez.shape[0]):
         width = ends[k] - starts[k]
@@ -342,6 +346,7 @@ def _samples_into(bez, starts, ends, counts, points, params, interval):
             params[row] = starts[k] + theta * width
             interval[row] = k
             row += 1
+    return row
 
 
 def interval_samples(bez, starts, ends, spacing):
@@ -349,10 +354,11 @@ def interval_samples(bez, starts, ends, spacing):
     (at least 3, the interval's end left to the next one): points, parameters and interval numbers
     (:meth:`~.lsq_model.OutlineRegression.deviations`, docs/capture.md §12, "Stopping rule")."""
     bez = _floats(bez)
+    starts, ends, spacing = _floats(starts), _floats(ends), float(spacing)
     counts = np.empty(bez.shape[0], np.int64)
-    total = _sample_counts_into(bez, float(spacing), counts)
+    total = _samples_into(bez, spacing, starts, ends, counts, True, _NO_POINTS, _NO_FLOATS, _NO_INTS)
     points, params, interval = np.empty((total, 2)), np.empty(total), np.empty(total, np.int64)
-    _samples_into(bez, _floats(starts), _floats(ends), counts, points, params, interval)
+    _samples_into(bez, spacing, starts, ends, counts, False, points, params, interval)
     return points, params, interval
 
 

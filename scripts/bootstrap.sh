@@ -27,4 +27,7 @@ if [ -n "$extras" ]; then
 else
   .venv/bin/python -m pip install --quiet -e .
 fi
+# Compile the numba kernels into their on-disk cache now, so the first trace of a session does not wait
+# for it (docs/capture.md, "Compiled kernels"); a failure here only means the first trace compiles them.
+.venv/bin/python -c "from splinecraft.capture._jit import warm_up_all; warm_up_all()" || echo "bootstrap: warming the kernel cache failed; the first trace compiles the kernels" >&2
 touch "$stamp"

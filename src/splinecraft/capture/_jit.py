@@ -16,7 +16,7 @@ import tempfile
 
 import numba
 
-__all__ = ["JIT_OPTIONS", "ensure_cache_dir"]
+__all__ = ["JIT_OPTIONS", "ensure_cache_dir", "warm_up_all", "KERNEL_MODULES"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
@@ -52,3 +52,15 @@ def ensure_cache_dir() -> str | None:
 
 
 ensure_cache_dir()
+
+#: The modules with compiled kernels, each with a ``warm_up()`` (relative to :mod:`splinecraft.capture`).
+KERNEL_MODULES = ("fitting._kernels", "fitting._iso_kernels", "corners._jump_kernels", "_cracks", "fitting.budget")
+
+
+def warm_up_all():
+    """Compile (empty cache) or load every kernel; ``scripts/bootstrap.sh`` runs this after an install so
+    that the first trace of a session finds the cache filled."""
+    import importlib
+
+    for name in KERNEL_MODULES:
+        importlib.import_module("splinecraft.capture." + name).warm_up()

@@ -439,14 +439,10 @@ def warm_up():
     penalized_normal(band, 1e-8, True)
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
-    edges = (np.ones(3),) * 5
-    windowed_distance(np.ones((2, 2)), index, index, index, edges, 1, 3)
-    windowed_distance(np.ones((2, 2)), index, None, None, edges, 1, 3)
+    edges = (np.ones(3),) * 5  # windowed_distance and search_sorted: no longer in a trace, compiled when used
     eval_bezier(bez, index, np.array([0.1, 0.2]))
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
-    interval_samples(bez, starts, ends, 0.5)
     group_max(index, np.ones(2), 1)
-    search_sorted(starts, u, "right")
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
     deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
                        np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
@@ -457,22 +453,30 @@ def warm_up():
 
 
 @njit(**_JIT)
-def _walk(values, x, position, right):
-    """``numpy.searchsorted(values, x, "right" if right else "left")`` for ``values`` sorted without NaN, walked
-    from the answer ``position`` of a nearby key (linear total work for sorted keys, exact from any start)."""
+def _walk_right(values, x, position):
+    """``numpy.searchsorted(values, x, "right")`` for ``values`` sorted without NaN, walked from the answer
+    ``position`` of a nearby key (linear total work for sorted keys, exact from any start). Two functions, not
+    one with a flag: the literal flag of each call would compile a version of its own."""
     n = values.shape[0]
     if x != x:  # NaN sorts after every value
         return n
-    if right:
-        while position > 0 and values[position - 1] > x:
-            position -= 1
-        while position < n and values[position] <= x:
-            position += 1
-    else:
-        while position > 0 and values[position - 1] >= x:
-            position -= 1
-        while position < n and values[position] < x:
-            position += 1
+    while position > 0 and values[position - 1] > x:
+        position -= 1
+    while position < n and values[position] <= x:
+        position += 1
+    return position
+
+
+@njit(**_JIT)
+def _walk_left(values, x, position):
+    """``numpy.searchsorted(values, x, "left")``, walked as :func:`_walk_right`."""
+    n = values.shape[0]
+    if x != x:
+        return n
+    while position > 0 and values[position - 1] >= x:
+        position -= 1
+    while position < n and values[position] < x:
+        position += 1
     return position
 
 
@@ -498,11 +502,12 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
     for g in range(pieces):
         piece_dev[g] = piece_err[g] = piece_excess[g] = -np.inf
     # curve -> contour: each sample to the contour edges around its corresponding contour position
-    at_corner = at_parameter = at_base = at_base_right = 0  # the searches' answers for the previous key
+    # the searches' answers for the previous key (not the literal 0: that would compile the walks twice)
+    at_corner = at_parameter = at_base = at_base_right = np.int64(0)
     for s in range(total):
         u = params[s]
-        at_corner = _walk(corner_par, u, at_corner, True)
-        at_parameter = _walk(parameter, u, at_parameter, False)
+        at_corner = _walk_right(corner_par, u, at_corner)
+        at_parameter = _walk_left(parameter, u, at_parameter)
         piece = min(max(at_corner - 1, 0), pieces - 1)
         centre = min(max(at_parameter - 1, 0), n - 1)
         best = np.inf
@@ -529,7 +534,7 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
         elif u < base[0]:
             value = zone[0]
         else:
-            at_base_right = _walk(base, u, at_base_right, True)
+            at_base_right = _walk_right(base, u, at_base_right)
             j = at_base_right - 1
             if j >= n or base[j] == u:
                 value = zone[min(j, n)]
@@ -544,7 +549,7 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
         curve_zone[s] = inside
         extra = 0.0
         if inside:
-            at_base = _walk(base, u, at_base, False)
+            at_base = _walk_left(base, u, at_base)
             nearest = min(max(at_base, 0), n)
             a, b = allowance[nearest], allowance[max(nearest - 1, 0)]
             extra = _larger(a, b)
@@ -555,10 +560,10 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
         piece_excess[piece] = _larger(piece_excess[piece], ex_curve)
     # contour -> curve: each probe to its corresponding curve point, refined where loose by the nearest chord
     # of the curve samples (closed by the last piece's end point) within ``reach`` samples
-    at_start = at_end = at_lo = at_hi = at_centre = 0
+    at_start = at_end = at_lo = at_hi = at_centre = np.int64(0)
     for p in range(probe_u.shape[0]):
         u = probe_u[p]
-        at_start = _walk(starts, u, at_start, True)
+        at_start = _walk_right(starts, u, at_start)
         seg = min(max(at_start - 1, 0), last)
         theta = (u - starts[seg]) / (ends[seg] - starts[seg])
         s1 = 1.0 - theta
@@ -569,9 +574,9 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
         d = np.hypot(cx - probes[p, 0], cy - probes[p, 1])
         if d > loose_above:
             piece = probe_piece[p]
-            at_lo = _walk(closed_params, corner_par[piece], at_lo, False)
-            at_hi = _walk(closed_params, corner_par[piece + 1], at_hi, True)
-            at_centre = _walk(closed_params, u, at_centre, False)
+            at_lo = _walk_left(closed_params, corner_par[piece], at_lo)
+            at_hi = _walk_right(closed_params, corner_par[piece + 1], at_hi)
+            at_centre = _walk_left(closed_params, u, at_centre)
             lo = at_lo
             hi = max(at_hi - 2, lo)
             centre = min(max(at_centre, lo), hi)
@@ -603,7 +608,7 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
                 d = near
         d_data[p] = d
         tol_data[p] = epsilon + probe_allowance[p]
-        at_end = _walk(ends, u, at_end, False)
+        at_end = _walk_left(ends, u, at_end)
         interval = min(max(at_end, 0), last)
         data_iv[p] = interval
         ex_data = d - tol_data[p]

@@ -1,4 +1,4 @@
-"""Which threshold should ``threshold=None`` stand for? ``"otsu"``, ``"sauvola"`` and ``"local"`` side by side.
+"""Which threshold should ``threshold=None`` stand for? ``"background"``, ``"otsu"``, ``"sauvola"`` and ``"local"`` side by side.
 
     .venv/bin/python benchmarks/bench_threshold.py [--yardstick DIR] [--out benchmarks/out]
 
@@ -33,7 +33,7 @@ sys.path.insert(0, HERE)
 import splinecraft as sc  # noqa: E402
 from bench_peers import make_scorer  # noqa: E402
 
-METHODS = ("otsu", "sauvola", "local")
+METHODS = ("background", "otsu", "sauvola", "local")
 
 
 def _lit(gray, darkest=0.35):

@@ -150,13 +150,16 @@ print("runs that hit the 200-iteration cap before reaching ε:", unconverged or 
 #   algorithm; the number of Bézier segments is the honest size of the result (see also notebook 07).
 
 # %% [markdown]
-# ## 5. A real scan: one threshold for the page, or one per pixel
+# ## 5. A real scan: one threshold for the page, one per pixel, or the paper followed across it
 #
 # Everything so far was drawn from exact shapes. `skimage.data.page()` is a photographed page of text, lit
 # unevenly: the paper is light at the top right and falls to dark grey towards the lower left. The first step
 # of `sc.trace` turns the gray image into ink, `ink = gray <= level`, and `threshold=` chooses the level
 # (docs/capture.md §9; the rules are in `splinecraft.capture._binarize`):
 #
+# * `"background"` (the default): the paper's brightness is estimated across the page from the pixels a first
+#   pass calls paper, and the level is half way between it and the ink (a blurred edge crosses that level
+#   where the edge really is);
 # * `"otsu"`: one global level for the whole image (Otsu's method);
 # * `"sauvola"`: a level per pixel from the mean and spread of the gray values in a window around it, made for
 #   text;
@@ -172,7 +175,7 @@ import skimage.data
 from splinecraft.capture.image import DEFAULT_THRESHOLD
 
 scan = skimage.data.page()[:100, :160]
-THRESHOLDS = ("otsu", "sauvola", "local")
+THRESHOLDS = ("otsu", "sauvola", "local", "background")
 SPECK = 10                                          # outlines of fewer pixels: i-dots, full stops, specks
 scans = {name: sc.trace(scan, threshold=name, keep_snapshots=False) for name in THRESHOLDS}
 
@@ -205,8 +208,8 @@ display(sc.plot.table(["threshold", "ink (% of the page)", "outlines", "holes", 
                         int(blob_sizes(result).max()), round(100 * blob_sizes(result).max() / result.mask.sum(), 1),
                         specks(result)] for name, result in scans.items()]))
 display(sc.plot.grid(*[ipw.VBox([sc.plot.bitmap(scans[name].mask, height=180), ipw.Label(f"threshold={name!r}")])
-                       for name in THRESHOLDS], columns=3))
-display(sc.plot.grid(*[scan_figure(name) for name in THRESHOLDS], columns=3))
+                       for name in THRESHOLDS], columns=4))
+display(sc.plot.grid(*[scan_figure(name) for name in THRESHOLDS], columns=2))
 print("threshold=None stands for", repr(DEFAULT_THRESHOLD))
 
 # %% [markdown]
@@ -221,10 +224,13 @@ print("threshold=None stands for", repr(DEFAULT_THRESHOLD))
 # * **Sauvola** (after): every letter its own outline, the largest blob a letter or two that touch (less than a
 #   tenth of the ink), and the fewest specks.
 # * **Local**: the letters separate too, but the noise of the shadow leaves more specks than Sauvola's.
-#
-# The default, `threshold=None`, stays Otsu's global level (printed above): it was chosen by measurement on
-# scans of glyphs, where Otsu traces best (BENCHMARKS.md, "Thresholds"). For documents with uneven lighting
-# and thin strokes pass `threshold="sauvola"`.
+# * **Background** (the default, `threshold=None`, printed above): the letters separate as with Sauvola, and
+#   the level sits half way between the paper and the ink wherever the light falls. A window statistic such as
+#   Sauvola's depends on how much ink the window holds: inside a stroke wider than the window it drifts into
+#   the ink's own noise and opens holes, so on scans of large glyphs it breaks one outline into dozens. The
+#   background midpoint does not; it was chosen by measurement on scans of glyphs under even and uneven
+#   lighting and on this page (BENCHMARKS.md, "Thresholds"). Strokes fainter than half the ink's contrast
+#   fall on the paper side: for faint pencil, pass `threshold="sauvola"`.
 
 # %% [markdown]
 # ## Check
@@ -259,6 +265,9 @@ for result in scans.values():                        # a blob's outlines add up 
 ink_share = {name: blob_sizes(result).max() / result.mask.sum() for name, result in scans.items()}
 assert ink_share["otsu"] > 1 / 4                     # Otsu: one blob holds more than a quarter of the ink
 assert ink_share["sauvola"] < 1 / 10 and ink_share["local"] < 1 / 10      # per pixel: no such blob
+assert ink_share["background"] < 1 / 10 and DEFAULT_THRESHOLD == "background"   # nor under the default
+assert scans["otsu"].mask.sum() > 4 / 3 * scans["background"].mask.sum()
+assert specks(scans["background"]) <= specks(scans["local"])
 assert scans["otsu"].mask.sum() > 4 / 3 * scans["sauvola"].mask.sum()    # the shadow counted as ink
 assert len(scans["otsu"].boundaries) >= len(scans["sauvola"].boundaries)  # the count hides the failure
 otsu_blob = int(np.argmax(blob_sizes(scans["otsu"])))

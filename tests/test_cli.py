@@ -418,7 +418,7 @@ def test_cli_defaults_trace_like_the_library(tmp_path):
 
 @pytest.mark.parametrize("name, value, noise", [
     *(("connectivity", connectivity, 0.0) for connectivity in ("minority", 4, 8)),
-    *(("threshold", threshold, 0.05) for threshold in ("otsu", "sauvola", "local", 0.5)),
+    *(("threshold", threshold, 0.05) for threshold in ("background", "otsu", "sauvola", "local", 0.5)),
 ])
 def test_cli_connectivity_and_threshold_take_the_library_values(tmp_path, name, value, noise):
     source = tmp_path / "scan.png"
@@ -431,7 +431,7 @@ def test_cli_connectivity_and_threshold_take_the_library_values(tmp_path, name, 
 @pytest.mark.parametrize("option, value, message", [
     ("--connectivity", "6", "expected one of minority, 4, 8"),
     ("--connectivity", "Minority", "expected one of minority, 4, 8"),
-    ("--threshold", "otsu2", "expected one of otsu, sauvola, local or a number in [0, 1]"),
+    ("--threshold", "otsu2", "expected one of background, otsu, sauvola, local or a number in [0, 1]"),
     ("--threshold", "1.5", "must be in [0, 1]"),
     ("--threshold", "nan", "must be in [0, 1]"),
 ])
@@ -451,4 +451,4 @@ def test_help_names_the_library_choices():
     assert result.returncode == 0
     text = " ".join(result.stdout.split())
     assert "--connectivity {minority,4,8}" in text and "default minority" in text
-    assert "--threshold {otsu,sauvola,local}|NUMBER" in text and "default otsu" in text
+    assert "--threshold {background,otsu,sauvola,local}|NUMBER" in text and "default background" in text

@@ -13,7 +13,8 @@ from PIL import Image
 from scipy import ndimage
 from skimage.filters import threshold_otsu
 
-from splinecraft.capture.image import FALLBACK_THRESHOLD, MIN_CONTRAST, _to_gray, load_bitmap
+from splinecraft.capture._binarize import threshold_level
+from splinecraft.capture.image import DEFAULT_THRESHOLD, FALLBACK_THRESHOLD, MIN_CONTRAST, _to_gray, load_bitmap
 
 
 def shape_mask(height=40, width=50):
@@ -192,14 +193,28 @@ def test_explicit_threshold_and_invert(gray, threshold, invert):
     np.testing.assert_array_equal(mask, ~expected if invert else expected)
 
 
-def test_otsu_by_default():
+def test_otsu_is_skimages_level():
     rng = np.random.default_rng(3)
     mask = shape_mask()
     gray = np.clip(np.where(mask, 60, 190) + rng.normal(0, 25, mask.shape), 0, 255).astype(np.uint8)
     level = threshold_otsu(gray)
-    np.testing.assert_array_equal(load_bitmap(gray, min_speck_area=0), gray <= level)
-    assert load_bitmap(gray, threshold="otsu", min_speck_area=0).sum() == (gray <= level).sum()
-    np.testing.assert_array_equal(load_bitmap(gray, invert=True, min_speck_area=0), gray > level)
+    np.testing.assert_array_equal(load_bitmap(gray, threshold="otsu", min_speck_area=0), gray <= level)
+    np.testing.assert_array_equal(load_bitmap(gray, threshold="otsu", invert=True, min_speck_area=0), gray > level)
+
+
+def test_background_by_default():
+    """``threshold=None`` is the background-normalized midpoint (chosen by BENCHMARKS.md, "Thresholds"); on
+    even paper it is the midpoint of the two gray levels, (60 + 190) / 2, whatever the noise."""
+    assert DEFAULT_THRESHOLD == "background"
+    rng = np.random.default_rng(3)
+    mask = shape_mask()
+    gray = np.clip(np.where(mask, 60, 190) + rng.normal(0, 8, mask.shape), 0, 255).astype(np.uint8)
+    found = load_bitmap(gray, min_speck_area=0)
+    np.testing.assert_array_equal(found, load_bitmap(gray, threshold="background", min_speck_area=0))
+    np.testing.assert_array_equal(load_bitmap(gray, invert=True, min_speck_area=0), ~found)
+    level = threshold_level(gray, 255, "background")
+    assert np.abs(level - 125).max() < 8          # the midpoint, up to the noise of the two estimates
+    assert (found != mask).mean() < 0.005
 
 
 @settings(max_examples=40, deadline=None)
@@ -212,7 +227,7 @@ def test_otsu_level_matches_skimage(seed, dtype):
     gray = rng.integers(lo, min(hi, top) + 1, size=(rng.integers(2, 40), rng.integers(2, 40))).astype(dtype)
     if gray.max() - gray.min() < MIN_CONTRAST * top:
         return
-    np.testing.assert_array_equal(load_bitmap(gray, min_speck_area=0), gray <= threshold_otsu(gray))
+    np.testing.assert_array_equal(load_bitmap(gray, threshold="otsu", min_speck_area=0), gray <= threshold_otsu(gray))
 
 
 @pytest.mark.parametrize(
@@ -334,7 +349,7 @@ def text_mask(height=120, width=200):
     return mask
 
 
-@pytest.mark.parametrize("method", ["sauvola", "local"])
+@pytest.mark.parametrize("method", ["background", "sauvola", "local"])
 def test_local_thresholds_follow_uneven_lighting(method):
     mask = text_mask()
     gray = lit_gray(mask)
@@ -344,16 +359,71 @@ def test_local_thresholds_follow_uneven_lighting(method):
     assert (global_level != mask).mean() > (found != mask).mean()
 
 
-@pytest.mark.parametrize("method", ["otsu", "sauvola", "local"])
+@pytest.mark.parametrize("method", ["background", "otsu", "sauvola", "local"])
 def test_every_threshold_keeps_a_bilevel_image(method):
     mask = shape_mask(80, 100)                 # wide ink areas and wide paper: uniform windows
     np.testing.assert_array_equal(load_bitmap(gray_image(mask), threshold=method), mask)
 
 
+def blurred_disc(radius, sigma, size, lighting, noise=0.0, seed=0):
+    """Gray render (0..1) of a black disc on paper, blurred by a Gaussian of ``sigma`` px (4x supersampled),
+    times a lighting ramp falling from 1 at the top left to ``lighting`` at the bottom right, plus noise."""
+    fine = (np.mgrid[:4 * size, :4 * size] + 0.5) / 4 - size / 2
+    ink = (np.hypot(fine[0], fine[1]) <= radius).astype(float)
+    gray = 1.0 - ndimage.gaussian_filter(ink, 4 * sigma).reshape(size, 4, size, 4).mean(axis=(1, 3))
+    ramp = 1.0 - (1.0 - lighting) * np.add.outer(np.arange(size), np.arange(size)) / (2 * size)
+    return np.clip(gray * ramp + np.random.default_rng(seed).normal(0.0, noise, gray.shape), 0.0, 1.0)
+
+
+@settings(max_examples=12, deadline=None)
+@given(radius=st.floats(12.0, 40.0), sigma=st.floats(0.5, 2.5), lighting=st.floats(0.3, 1.0),
+       seed=st.integers(0, 2**16))
+def test_background_threshold_keeps_a_blurred_edge_in_place(radius, sigma, lighting, seed):
+    """The midpoint between paper and ink under the local lighting is where a blurred edge crosses its true
+    position: the ink area of a blurred, unevenly lit disc is its true area (pi r^2, up to the curvature shift
+    of a blurred circle's half-level line, about sigma^2 / (2 r), and the pixel rounding); a global level
+    puts the edge where the lighting says, not where the disc is."""
+    size = int(2 * radius + 8 * sigma + 24)
+    gray = blurred_disc(radius, sigma, size, lighting, noise=0.02, seed=seed)
+    found = load_bitmap(gray, threshold="background", min_speck_area=0)
+    shift = sigma**2 / (2 * radius)
+    area_error = abs(found.sum() - np.pi * radius**2)
+    assert area_error <= 2 * np.pi * radius * (shift + 0.15) + 6
+    labels, count = ndimage.label(found, structure=np.ones((3, 3)))
+    assert count == 1 and ndimage.label(~found)[1] == 1          # one disc, no specks, no holes
+
+
+def test_background_threshold_seeds_large_images_from_block_means(monkeypatch):
+    """Images over ROUGH_PIXELS get their first (Sauvola) pass on block means; the final level is still
+    per pixel, so the thin strokes of an unevenly lit page come out as with the pass at full size. Blocks of
+    2 x 2 against strokes of 3 px: the factor grows as the square root of the pixel count, and so do the
+    strokes of a page scanned at a higher resolution."""
+    from splinecraft.capture import _binarize
+
+    mask = text_mask()
+    gray = lit_gray(mask)
+    full = load_bitmap(gray, threshold="background", min_speck_area=0)
+    monkeypatch.setattr(_binarize, "ROUGH_PIXELS", mask.size // 4)     # blocks of 2 x 2 pixels
+    blocks = load_bitmap(gray, threshold="background", min_speck_area=0)
+    assert (blocks != mask).mean() < 0.01 and (full != mask).mean() < 0.01
+
+
+def test_background_threshold_gives_wide_strokes_no_holes():
+    """Ink wider than the window: Sauvola's level tracks the window mean into the ink's own noise (holes),
+    the background midpoint stays half way to the paper."""
+    yy, xx = np.mgrid[:160, :160]
+    mask = (np.abs(xx - 80) < 45) & (np.abs(yy - 80) < 60)        # 90 px wide, the window is 21 px
+    gray = np.clip(np.where(mask, 0.0, 1.0) + np.random.default_rng(1).normal(0.0, 0.05, mask.shape), 0, 1)
+    found = load_bitmap(gray, threshold="background", min_speck_area=0)
+    np.testing.assert_array_equal(found, mask)
+    assert (load_bitmap(gray, threshold="sauvola", min_speck_area=0) != mask).sum() > 0
+
+
 def test_threshold_names_and_default():
     mask = shape_mask()
     gray = gray_image(mask, ink=40, paper=210)
-    np.testing.assert_array_equal(load_bitmap(gray), load_bitmap(gray, threshold="otsu"))
+    np.testing.assert_array_equal(load_bitmap(gray), load_bitmap(gray, threshold="background"))
+    np.testing.assert_array_equal(load_bitmap(gray), mask)
     with pytest.raises(ValueError, match="threshold.*sauvola"):
         load_bitmap(gray, threshold="niblack")
     with pytest.raises(TypeError, match="threshold"):

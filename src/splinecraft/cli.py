@@ -79,7 +79,7 @@ def _batch_size(text):
 
 
 def _threshold(text):
-    """``--threshold``: a method name of the library (``otsu``, ``sauvola``, ``local``) or a fraction of white."""
+    """``--threshold``: a method name of the library (``background``, ``otsu``, ``sauvola``, ``local``) or a fraction of white."""
     from .capture._binarize import THRESHOLD_METHODS, check_threshold
 
     if text in THRESHOLD_METHODS:
@@ -177,8 +177,8 @@ def build_parser() -> argparse.ArgumentParser:
     threshold_default = defaults["threshold"] or DEFAULT_THRESHOLD
     tracer.add_argument("--threshold", type=_threshold, default=defaults["threshold"],
                         metavar="{" + ",".join(THRESHOLD_METHODS) + "}|NUMBER",
-                        help="gray threshold: a method (otsu: one global level; sauvola, local: a level per "
-                             "pixel, for uneven lighting) or a fraction of white in [0, 1] "
+                        help="gray threshold: a method (background: half way between paper and ink under the local "
+                             "lighting; otsu: one global level; sauvola, local: a level per pixel from a window) or a fraction of white in [0, 1] "
                              f"(default {threshold_default})")
     tracer.add_argument("--invert", action="store_true", default=defaults["invert"],
                         help="light pixels are the shape")

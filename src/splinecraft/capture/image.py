@@ -12,9 +12,11 @@ Conventions
   PIL's ``convert("L")``, rounded the same way for 8-bit data). Transparency is composited on
   **white** paper, so a black shape on a transparent background is ink.
 * **Ink is dark** by default: ``ink = gray <= threshold``; ``invert=True`` makes light pixels ink.
-* **Threshold.** ``"otsu"`` (global, Otsu's method), ``"sauvola"`` or ``"local"`` (a level per pixel, for
-  uneven lighting) or a fraction of white in ``[0, 1]`` (for an 8-bit gray level ``g`` pass ``g / 255``);
-  ``None`` (default) is ``DEFAULT_THRESHOLD`` (``"otsu"``). When the image has too little contrast for any
+* **Threshold.** ``"background"`` (half way between the paper and the ink under the local lighting: the
+  paper's brightness is estimated across the image, so uneven lighting and strokes of any width are
+  followed), ``"otsu"`` (global, Otsu's method), ``"sauvola"`` or ``"local"`` (a level per pixel from a
+  window) or a fraction of white in ``[0, 1]`` (for an 8-bit gray level ``g`` pass ``g / 255``);
+  ``None`` (default) is ``DEFAULT_THRESHOLD`` (``"background"``). When the image has too little contrast for any
   of the methods to mean anything (``max - min < MIN_CONTRAST`` of full scale, e.g. a blank page with JPEG
   noise, or a uniform image) the fixed mid-gray threshold ``0.5`` is used instead, so an all-white image
   has no ink and an all-black image is all ink. The methods, their window and the measurement behind the
@@ -80,9 +82,9 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
         ``(H, W, 2)`` (gray + alpha), ``(H, W, 3)`` (RGB) or ``(H, W, 4)`` (RGBA) with dtype bool (2-D only),
         uint8, uint16, another integer type with values in ``[0, 255]``, or float in ``[0, 1]``; or a PIL
         image of any mode.
-    threshold : {"otsu", "sauvola", "local"} or float in [0, 1], optional
-        How ink (``gray <= level``) is told from paper: Otsu's global level, a per-pixel Sauvola or local
-        level, or a fixed fraction of white. ``None``: ``DEFAULT_THRESHOLD``. Images with less than
+    threshold : {"background", "otsu", "sauvola", "local"} or float in [0, 1], optional
+        How ink (``gray <= level``) is told from paper: the midpoint between the local paper brightness and
+        the ink, Otsu's global level, a per-pixel Sauvola or local level, or a fixed fraction of white. ``None``: ``DEFAULT_THRESHOLD``. Images with less than
         ``MIN_CONTRAST`` contrast use ``FALLBACK_THRESHOLD``. Not allowed for bool masks.
     invert : bool, optional
         Light pixels are ink (white shape on black), or, for a bool mask, ``False`` pixels are ink.

@@ -67,6 +67,7 @@ class OutlineRegression:
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
         self.parameter = self.base_parameter.copy()
         self._zone_cache = None  # (tip state, zones) of _zones
+        self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
 
     def seed_knots(self, density):
@@ -175,17 +176,10 @@ class OutlineRegression:
     def fit(self, hoschek_steps=1):
         """Solve the weighted least-squares problem, then ``hoschek_steps`` times correct the parameters
         (one Newton step of the foot-point equation) and solve again."""
-        knots = self.knot_values()
-        count = knots.shape[0]
-        knot_vector = periodic_knot_vector(knots, self.period)
-        weights = self.weights()
+        count, knot_vector, starts, ends = self._knot_setup()
+        pins, targets, all_weights = self._weight_setup()
         n = self.contour.size
         u = self.parameter[:n]
-        distinct = np.unique(np.append(knots, self.period))
-        starts, ends = distinct[:-1], distinct[1:]
-        pins = self._pins()
-        targets = self.contour.points if pins is None else np.vstack([self.contour.points, pins[1]])
-        all_weights = weights if pins is None else np.concatenate([weights, pins[2]])
         for step in range(hoschek_steps + 1):
             uu = u if pins is None else np.concatenate([u, pins[0]])
             coefficients = fit_coefficients(knot_vector, uu, all_weights, targets, count)
@@ -198,6 +192,28 @@ class OutlineRegression:
         self._starts, self._ends = starts, ends
         self._bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
         return coefficients
+
+    def _knot_setup(self):
+        """The knots' part of :meth:`fit` (kept while the simple knots are unchanged): the coefficient count,
+        the full periodic knot vector and the knot intervals (multiple knots once)."""
+        key = self.simple_knots.tobytes()
+        if self._knot_cache is None or self._knot_cache[0] != key:
+            knots = self.knot_values()
+            distinct = np.unique(np.append(knots, self.period))
+            self._knot_cache = (key, (knots.shape[0], periodic_knot_vector(knots, self.period), distinct[:-1],
+                                      distinct[1:]))
+        return self._knot_cache[1]
+
+    def _weight_setup(self):
+        """The data part of :meth:`fit` (kept while the corners' radii and tips are unchanged): the corner pins
+        (:meth:`_pins`), the targets (contour points, then the pins) and their weights (:meth:`weights`)."""
+        key = self.tips.radius.tobytes() + self.tips.estimate.tobytes()
+        if self._weight_cache is None or self._weight_cache[0] != key:
+            weights, pins = self.weights(), self._pins()
+            targets = self.contour.points if pins is None else np.vstack([self.contour.points, pins[1]])
+            all_weights = weights if pins is None else np.concatenate([weights, pins[2]])
+            self._weight_cache = (key, (pins, targets, all_weights))
+        return self._weight_cache[1]
 
     def _hoschek_step(self, u, bez, starts, ends):
         """One Newton step of the foot-point equation ``(S(u) - Q) . S'(u) = 0`` for every contour point, with

@@ -147,6 +147,9 @@ def test_spline_values_and_bezier_pieces_match_scipy(m, seed, multiple):
     reference = (_collocation(full, m, inner.reshape(-1)) @ coef).reshape(values.shape)
     np.testing.assert_allclose(values, reference, atol=1e-8)
     bez = bspline.bezier_of_intervals(coef, full, m, starts, ends)
+    # the Bezier points mixed in the kernel are einsum's, bit for bit (the formulation the mix replaced)
+    samples = _kernels.spline_values(coef, full, m, starts, ends, bspline._THETA4)
+    np.testing.assert_array_equal(bez, np.einsum("ij,kjd->kid", bspline._FROM_SAMPLES, samples))
     t = 0.3
     point = ((1 - t) ** 3 * bez[:, 0] + 3 * t * (1 - t) ** 2 * bez[:, 1] + 3 * t * t * (1 - t) * bez[:, 2]
              + t ** 3 * bez[:, 3])

@@ -180,7 +180,7 @@ def penalized_normal(band, regularization, dense):
 
 
 @njit(**_JIT)
-def _values_into(coef, full, m, starts, ends, theta, out):
+def _values_into(coef, full, m, starts, ends, theta, out, mix, mixed):
     for k in range(starts.shape[0]):
         width = ends[k] - starts[k]
         i = _interval(full, starts[k] + 0.5 * width)
@@ -189,16 +189,27 @@ def _values_into(coef, full, m, starts, ends, theta, out):
             for d in range(coef.shape[1]):
                 out[k, t, d] = (n0 * coef[(i - 6) % m, d] + n1 * coef[(i - 5) % m, d]
                                 + n2 * coef[(i - 4) % m, d] + n3 * coef[(i - 3) % m, d])
+        for r in range(mix.shape[0]):  # numpy.einsum("rt,ktd->krd", mix, out): from 0, in the order of t
+            for d in range(coef.shape[1]):
+                total = 0.0
+                for t in range(theta.shape[0]):
+                    total += mix[r, t] * out[k, t, d]
+                mixed[k, r, d] = total
 
 
-def spline_values(coef, full, m, starts, ends, theta):
+def spline_values(coef, full, m, starts, ends, theta, mix=None):
     """Values of the periodic spline (coefficients ``coef`` (m, d)) at ``starts[k] + (ends[k] - starts[k]) *
     theta[q]`` for every knot interval ``k`` and fraction ``theta[q]``, evaluated in the interval that holds
-    the interval's midpoint: an array (k, len(theta), d) (:func:`~.bspline.bezier_of_intervals`)."""
+    the interval's midpoint: an array (k, len(theta), d). With a matrix ``mix`` (r, len(theta)) instead the
+    values mixed by it per interval, ``numpy.einsum("rq,kqd->krd", mix, values)`` (a product sum from 0 in the
+    order of q, as einsum adds; :func:`~.bspline.bezier_of_intervals`)."""
     coef, starts = _floats(coef), _floats(starts)
     out = np.empty((starts.shape[0], len(theta), coef.shape[1]))
-    _values_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta), out)
-    return out
+    rows = 0 if mix is None else mix.shape[0]
+    mixed = np.empty((starts.shape[0] if rows else 0, rows, coef.shape[1]))
+    _values_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta), out,
+                 _floats(mix) if rows else np.empty((0, len(theta))), mixed)
+    return mixed if rows else out
 
 
 @njit(**_JIT)

@@ -106,6 +106,5 @@ def _solve_cyclic_band(band, rhs):
 
 def bezier_of_intervals(coef: np.ndarray, full: np.ndarray, m: int, starts: np.ndarray, ends: np.ndarray):
     """Exact Bézier control points (k, 4, 2) of the spline on its knot intervals ``[starts, ends]`` (from its
-    values at theta = 0, 1/3, 2/3, 1, :func:`._kernels.spline_values`)."""
-    values = _kernels.spline_values(coef, full, m, starts, ends, _THETA4)
-    return np.einsum("ij,kjd->kid", _FROM_SAMPLES, values)
+    values at theta = 0, 1/3, 2/3, 1 times the inverse Bernstein matrix, :func:`._kernels.spline_values`)."""
+    return _kernels.spline_values(coef, full, m, starts, ends, _THETA4, _FROM_SAMPLES)

@@ -216,6 +216,16 @@ def test_hoschek_step_matches_the_vectorized_formulation(count, seed, gate):
     piece_of = np.sort(rng.integers(0, 3, 60))
     got = _kernels.hoschek_update(u, points, bez, starts, ends, piece_of, 3, gate)
     np.testing.assert_array_equal(got, _numpy_hoschek(u, points, bez, starts, ends, piece_of, 3, gate))
+    # the stepped parameters: clipped (signed zeros and crossed bounds too), fixed points, non-decreasing
+    low, high = u - rng.uniform(0.0, 1.5, 60), u + rng.uniform(-0.2, 1.5, 60)
+    low[:3], high[:3] = np.array([0.0, -0.0, 0.0]), np.array([-0.0, 0.0, 0.0])
+    fixed, base = rng.random(60) < 0.2, rng.uniform(0, bounds[-1], 60)
+    moved = _kernels.hoschek_update(u, points, bez, starts, ends, piece_of, 3, gate, (low, high, fixed, base))
+    expected = np.clip(u + got, low, high)
+    expected[fixed] = base[fixed]
+    expected = np.maximum.accumulate(expected)
+    np.testing.assert_array_equal(moved, expected)
+    np.testing.assert_array_equal(np.signbit(moved), np.signbit(expected))
 
 
 def test_hoschek_step_lands_on_the_foot_point_of_a_straight_piece():

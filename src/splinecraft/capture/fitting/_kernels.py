@@ -213,7 +213,7 @@ def spline_values(coef, full, m, starts, ends, theta, mix=None):
 
 
 @njit(**_JIT)
-def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst):
+def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, low, high, fixed, base, moved):
     last = starts.shape[0] - 1
     for j in range(u.shape[0]):
         seg = min(max(_right_of(starts, u[j]) - 1, 0), last)
@@ -246,17 +246,41 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst):
     for j in range(u.shape[0]):
         if worst[piece_of[j]] > gate:
             du[j] = 0.0
+    if moved.shape[0] != u.shape[0]:
+        return
+    # the new parameters: numpy.clip(u + du, low, high), base where fixed, numpy.maximum.accumulate (numpy's
+    # maximum and minimum: the first operand where it is NaN or wins strictly, else the second)
+    previous = 0.0
+    for j in range(u.shape[0]):
+        x = u[j] + du[j]
+        if not (x != x or x > low[j]):
+            x = low[j]
+        if not (x != x or x < high[j]):
+            x = high[j]
+        if fixed[j]:
+            x = base[j]
+        if j > 0 and (previous != previous or previous > x):
+            x = previous
+        moved[j] = previous = x
 
 
-def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate):
+def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bounds=None):
     """One Newton step of the foot-point equation ``(S(u) - Q) . S'(u) = 0`` per contour point
     (:meth:`~.lsq_model.OutlineRegression._hoschek_step`): the steps ``du`` (clipped to +-2), zero in the
-    pieces (``piece_of``, non-decreasing) whose largest residual exceeds ``gate``."""
+    pieces (``piece_of``, non-decreasing) whose largest residual exceeds ``gate``. With ``bounds = (low, high,
+    fixed, base)`` instead the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
+    high)`` with ``base`` where ``fixed``."""
     u = _floats(u)
     du, res, worst = np.empty(u.shape[0]), np.empty(u.shape[0]), np.empty(int(piece_count))
+    if bounds is None:
+        low = high = base = moved = np.empty(0)
+        fixed = np.empty(0, np.bool_)
+    else:
+        low, high, base = _floats(bounds[0]), _floats(bounds[1]), _floats(bounds[3])
+        fixed, moved = np.ascontiguousarray(bounds[2], dtype=np.bool_), np.empty(u.shape[0])
     _hoschek_into(u, _floats(points), _floats(bez), _floats(starts), _floats(ends), _ints(piece_of), float(gate),
-                  du, res, worst)
-    return du
+                  du, res, worst, low, high, fixed, base, moved)
+    return du if bounds is None else moved
 
 
 @njit(**_JIT)
@@ -493,8 +517,8 @@ def _walk_left(values, x, position):
 
 @njit(**_JIT)
 def _larger(a, b):
-    """``numpy.maximum(a, b)`` of two floats (NaN wins)."""
-    if a != a or a >= b:
+    """``numpy.maximum(a, b)`` of two floats: ``a`` where it is NaN or larger, else ``b``."""
+    if a != a or a > b:
         return a
     return b
 

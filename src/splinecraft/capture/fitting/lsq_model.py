@@ -221,11 +221,10 @@ class OutlineRegression:
         are below ``hoschek_gate`` (projecting onto a bad curve scrambles the parameters)."""
         contour = self.contour
         n = contour.size
-        du = hoschek_update(u, contour.points, bez, starts, ends, contour.piece_of_point[:n],
-                            contour.piece_count, self.hoschek_gate)
-        un = np.clip(u + du, self.parameter_low[:n], self.parameter_high[:n])
-        un[self.fixed[:n]] = self.base_parameter[:n][self.fixed[:n]]
-        return np.maximum.accumulate(un)
+        # the step, clipped to the piece, the fixed points at their base parameter, kept non-decreasing
+        return hoschek_update(u, contour.points, bez, starts, ends, contour.piece_of_point[:n], contour.piece_count,
+                              self.hoschek_gate, (self.parameter_low[:n], self.parameter_high[:n], self.fixed[:n],
+                                                  self.base_parameter[:n]))
 
     # ---------------------------------------------------------------- geometry of the current fit
     def intervals(self):

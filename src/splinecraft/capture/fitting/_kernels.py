@@ -564,7 +564,9 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
         d_curve[s] = d
         # numpy.interp(u, base, zone) > 0 in numpy's arithmetic: the interval base[j] <= u < base[j + 1], the
         # end values outside it, zone[j] at u == base[j], else slope * (u - base[j]) + zone[j] (and its retries)
-        if u > base[n]:
+        if u != u:
+            value = u
+        elif u > base[n]:
             value = zone[n]
         elif u < base[0]:
             value = zone[0]
@@ -573,6 +575,8 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
             j = at_base_right - 1
             if j >= n or base[j] == u:
                 value = zone[min(j, n)]
+            elif zone[j] == zone[j + 1]:  # slope 0 (base increases): 0 * (u - base[j]) + zone[j] for finite u
+                value = zone[j]
             else:
                 slope = (zone[j + 1] - zone[j]) / (base[j + 1] - base[j])
                 value = slope * (u - base[j]) + zone[j]

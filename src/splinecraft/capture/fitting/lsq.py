@@ -213,7 +213,7 @@ class LsqKnotInsertion:
         if removable.size == 0:
             return []
         scores = model.removal_scores(dev["bezier"])
-        scores = scores[np.isin(model.simple_knots, removable)]
+        scores = scores[model.removable_mask()]  # the simple knots are unique: those in removable
         order = np.argsort(scores, kind="stable")[: max(1, int(share * (removable.size // 2)))]
         position = {int(k): i for i, k in enumerate(model.knot_indices())}
         taken, picked = set(), []

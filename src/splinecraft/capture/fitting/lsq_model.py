@@ -68,6 +68,8 @@ class OutlineRegression:
         self.parameter = self.base_parameter.copy()
         self._zone_cache = None  # (tip state, zones) of _zones
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
+        self._knot_index_cache = None  # (simple knots, knot_indices)
+        self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
         self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
 
     def seed_knots(self, density):
@@ -115,21 +117,25 @@ class OutlineRegression:
         return multiplicity
 
     def knot_indices(self):
-        """Sorted rotated indices of all knots (corners once, simple knots) and the closing index n."""
-        return np.unique(np.concatenate([self.contour.corner_bounds, self.simple_knots]))
+        """Sorted rotated indices of all knots (corners once, simple knots) and the closing index n (kept while
+        the simple knots are unchanged; do not modify)."""
+        key = self.simple_knots.tobytes()
+        if self._knot_index_cache is None or self._knot_index_cache[0] != key:
+            self._knot_index_cache = (key, np.unique(np.concatenate([self.contour.corner_bounds, self.simple_knots])))
+        return self._knot_index_cache[1]
 
     def knot_lists(self):
         """Per piece, the caller's contour indices of its knots (corners at both ends; without corners the
         seam knot at both ends)."""
         contour = self.contour
+        if not contour.corner_count:
+            return [contour.original_index(np.append(self.simple_knots, contour.size))]
         knots = self.knot_indices()
         bounds = contour.corner_bounds
-        out = []
-        for a, b in zip(bounds[:-1], bounds[1:]):
-            inside = knots[(knots >= a) & (knots <= b)] if contour.corner_count else \
-                np.append(self.simple_knots, contour.size)
-            out.append(contour.original_index(inside))
-        return out
+        original = contour.original_index(knots)
+        # the knots from corner a to corner b, both included: one slice of the sorted knots per piece
+        first, last = np.searchsorted(knots, bounds[:-1]).tolist(), np.searchsorted(knots, bounds[1:], "right").tolist()
+        return [original[lo:hi].copy() for lo, hi in zip(first, last)]
 
     def zone(self):
         """Boolean per point (n + 1): within ``2 r + 1`` px (arc length) of a corner whose tip is still
@@ -257,11 +263,15 @@ class OutlineRegression:
         if not contour.corner_count:
             return np.zeros(0, dtype=np.int64)
         corners = contour.corner_bounds[:-1]
-        fitted = self.curve_at(self.base_parameter[corners])
-        disp = np.hypot(*(fitted - contour.points[corners % contour.size]).T)
-        limit = np.clip(0.5 / np.maximum(np.sin(0.5 * tips.angle), 1e-3), 0.75, self.epsilon + self.corner_allowance)
-        reach = np.hypot(*(tips.estimate - contour.points[corners % contour.size]).T)
-        limit = np.where(np.isfinite(reach), np.maximum(limit, reach + 0.25), limit)
+        key = tips.angle.tobytes() + tips.estimate.tobytes()
+        if self._hook_limit is None or self._hook_limit[0] != key:  # kept while the tips' angles and estimates are
+            limit = np.clip(0.5 / np.maximum(np.sin(0.5 * tips.angle), 1e-3), 0.75,
+                            self.epsilon + self.corner_allowance)
+            reach = np.hypot(*(tips.estimate - contour.points[corners % contour.size]).T)
+            self._hook_limit = (key, self.base_parameter[corners], contour.points[corners % contour.size],
+                                np.where(np.isfinite(reach), np.maximum(limit, reach + 0.25), limit))
+        _, at, points, limit = self._hook_limit
+        disp = np.hypot(*(self.curve_at(at) - points).T)
         return np.flatnonzero((disp > limit) & (tips.radius > 0))
 
     # ---------------------------------------------------------------- deviations
@@ -373,7 +383,7 @@ class OutlineRegression:
                 in_data = in_d[f] >= in_c[f]
                 best = in_d[f] if in_data else in_c[f]
                 where = u_data[in_d_at[f]] if in_data else u_curve[in_c_at[f]]
-                c = int(self.contour.nearest_corner[int(np.clip(np.searchsorted(self.parameter, where), 0, n))])
+                c = int(self.contour.nearest_corner[min(max(int(np.searchsorted(self.parameter, where)), 0), n)])
                 if self.tips.release(c):
                     released.append(c)
                     continue
@@ -389,7 +399,7 @@ class OutlineRegression:
             if right - left < 2 * self.min_gap:
                 stuck.append(int(f))
                 continue
-            j = int(np.clip(np.searchsorted(self.parameter[:n], where), left + self.min_gap, right - self.min_gap))
+            j = min(max(int(np.searchsorted(self.parameter[:n], where)), left + self.min_gap), right - self.min_gap)
             new.append((j, int(f), float(best)))
         if new:
             self.simple_knots = np.unique(np.concatenate([self.simple_knots, [j for j, _, _ in new]]).astype(np.int64))
@@ -437,9 +447,13 @@ class OutlineRegression:
         bend = np.hypot(*(second_start[right] - second_end[left]).T)
         return bend * span**2 / 16.0 + jump * span**3 / 48.0
 
+    def removable_mask(self):
+        """Which simple knots may be removed (not the seam knot 0 of an outline without corners)."""
+        return (self.simple_knots != 0) | (self.contour.corner_count > 0)
+
     def removable_knots(self):
         """Simple knots that may be removed (not the seam knot 0 of an outline without corners)."""
-        return self.simple_knots[(self.simple_knots != 0) | (self.contour.corner_count > 0)]
+        return self.simple_knots[self.removable_mask()]
 
     def remove(self, indices):
         """Remove simple knots (never the seam knot at index 0 of an outline without corners, where the

@@ -602,3 +602,23 @@ def test_rotation_with_the_fillet_test_changes_the_corner_count_by_at_most_one(v
     upright = len(corner_points(polygon_mask(vertices + size / 2, size), fillets=True))
     turned = len(corner_points(polygon_mask(rotate(vertices, angle) + size / 2, size), fillets=True))
     assert abs(turned - upright) <= 1
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 40), st.integers(0, 12), st.booleans(), st.integers(0, 10_000))
+def test_circular_max_filter_is_the_maximum_over_each_window(n, half_width, closed, seed):
+    """The running maximum of the corner detectors against the plain window maximum (cyclic windows that
+    wrap more than once on short closed curves, ``fill`` beyond an open curve's ends, NaN wins)."""
+    from splinecraft.capture.corners._common import _circular_max_filter
+
+    rng = np.random.default_rng(seed)
+    values = rng.integers(-3, 4, n).astype(float)
+    values[rng.random(n) < 0.1] = np.nan
+    values[rng.random(n) < 0.1] = -np.inf
+    got = _circular_max_filter(values, half_width, closed)
+    expected = np.empty(n)
+    for i in range(n):
+        window = [values[(i + k) % n] if closed else (values[i + k] if 0 <= i + k < n else -np.inf)
+                  for k in range(-half_width, half_width + 1)]
+        expected[i] = np.max(window)
+    np.testing.assert_array_equal(got, expected)

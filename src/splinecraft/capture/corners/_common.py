@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 from ... import _validation
 
@@ -103,19 +102,20 @@ def _k_cosines(P, kmax, closed):
 
 
 def _circular_max_filter(values, half_width, closed, fill=-np.inf):
-    """Maximum of ``values`` over ``[i - half_width, i + half_width]`` (cyclic when closed)."""
+    """Maximum of ``values`` over ``[i - half_width, i + half_width]`` (cyclic when closed; ``fill`` beyond the
+    ends of an open curve): one padded copy, then ``numpy.maximum`` of its shifted views (NaN wins)."""
     if half_width <= 0:
         return values.copy()
     n = len(values)
     if closed:
-        reps = -(-(2 * half_width + 1) // n) + 1
-        tiled = np.tile(values, 2 * reps + 1)
-        start = reps * n - half_width
-        windows = sliding_window_view(tiled[start:start + n + 2 * half_width], 2 * half_width + 1)
+        padded = values[np.arange(-half_width, n + half_width) % n]
     else:
         padded = np.concatenate([np.full(half_width, fill), values, np.full(half_width, fill)])
-        windows = sliding_window_view(padded, 2 * half_width + 1)
-    return windows.max(axis=1)
+    out = padded[half_width: half_width + n].copy()
+    for offset in range(1, half_width + 1):
+        np.maximum(out, padded[half_width - offset: half_width - offset + n], out=out)
+        np.maximum(out, padded[half_width + offset: half_width + offset + n], out=out)
+    return out
 
 
 def _thin_by_strength(candidates, strength, P, min_distance):

@@ -276,7 +276,7 @@ def _jump_peaks(turn, closed, settings):
     with np.errstate(invalid="ignore"):
         excess = np.abs(turn - baseline)
         size = np.abs(turn)
-        strength = np.nan_to_num(size, nan=-np.inf)
+        strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
         peak = (strength >= _circular_max_filter(strength, separation, closed)) \
             & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
     chosen = np.flatnonzero(peak)

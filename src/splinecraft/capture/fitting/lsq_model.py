@@ -458,8 +458,13 @@ class OutlineRegression:
     def remove(self, indices):
         """Remove simple knots (never the seam knot at index 0 of an outline without corners, where the
         knot intervals start)."""
-        keep = ~np.isin(self.simple_knots, indices) | (self.simple_knots == 0)
-        self.simple_knots = self.simple_knots[keep]
+        knots = self.simple_knots
+        indices = np.asarray(indices, dtype=np.int64).reshape(-1)
+        at = np.minimum(np.searchsorted(knots, indices), max(knots.shape[0] - 1, 0))
+        keep = np.ones(knots.shape[0], bool)
+        if knots.shape[0]:  # the simple knots are sorted and unique: a membership test by position
+            keep[at[knots[at] == indices]] = False
+        self.simple_knots = knots[keep | (knots == 0)]
 
     def restore(self, indices):
         self.simple_knots = np.unique(np.concatenate([self.simple_knots, np.asarray(indices, dtype=np.int64)]))

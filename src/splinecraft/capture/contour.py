@@ -253,7 +253,8 @@ def trace_boundaries(mask, *, connectivity=8) -> list:
     cols = np.flatnonzero(mask.any(axis=0))
     row0, col0 = int(rows[0]), int(cols[0])
     sub = mask[row0:int(rows[-1]) + 1, col0:int(cols[-1]) + 1]
-    padded = np.pad(sub, 1)
+    padded = np.zeros((sub.shape[0] + 2, sub.shape[1] + 2), dtype=sub.dtype)  # np.pad(sub, 1), without its overhead
+    padded[1:-1, 1:-1] = sub
 
     cracks = follow_cracks(padded, MINORITY if connectivity == "minority" else connectivity)
     return _build_boundaries(cracks, connectivity, offset=(col0 - 1, row0 - 1), shape=padded.shape)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 
 from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _prepare, _result
 from ._fillet import release_fillets
@@ -260,10 +261,10 @@ def _jump_peaks(turn, closed, settings):
     m = len(turn)
     near, far, separation = settings["near"], settings["far"], settings["separation"]
     offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
-    idx = np.arange(m)[:, None] + offsets[None, :]
-    if closed:
-        flanks = turn[idx % m]
+    if closed:  # turn[(i + offsets) % m]: columns of the windows of one wrapped copy
+        flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
     else:
+        idx = np.arange(m)[:, None] + offsets[None, :]
         flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
     if np.isnan(flanks).any():              # open ends
         with warnings.catch_warnings():

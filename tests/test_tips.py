@@ -135,3 +135,52 @@ def test_tip_reach_bounds_nearly_flat_corners():
     assert np.all(np.diff(reach) <= 0)  # flatter corners reach less far
     assert reach[-1] == pytest.approx(math.sqrt(0.5) + 0.5)
     assert reach[0] <= 5.0
+
+
+def test_pixel_pairs_are_the_ink_and_paper_pixels_beside_each_crack():
+    from splinecraft.capture.contour import trace_boundaries
+    from splinecraft.capture.fitting.tips import pixel_pairs
+
+    rng = np.random.default_rng(3)
+    mask = rng.random((40, 40)) < 0.45
+    mask[[0, -1]] = False
+    mask[:, [0, -1]] = False
+    for boundary in trace_boundaries(mask):
+        ink, paper = pixel_pairs(boundary.outline)
+        assert np.all(np.hypot(*(ink - paper).T) == pytest.approx(1.0))
+        assert mask[np.floor(ink[:, 1]).astype(int), np.floor(ink[:, 0]).astype(int)].all()
+        assert not mask[np.floor(paper[:, 1]).astype(int), np.floor(paper[:, 0]).astype(int)].any()
+    assert pixel_pairs(np.array([[0.1, 0.2], [1.0, 0.5], [2.0, 1.5], [3.0, 0.5]])) is None
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_separating_line_lies_in_the_preimage_of_a_digitized_line(seed):
+    """A half-plane rendered by the pixel-centre rule: the line that separates the ink and paper centres beside
+    its cracks with the largest margin separates them (it is in the preimage), and lies within the preimage's
+    spread of the true line."""
+    from splinecraft.capture.contour import trace_boundaries
+    from splinecraft.capture.fitting.tips import SideFit, _separating_line, pixel_pairs
+
+    rng = np.random.default_rng(seed)
+    angle = rng.uniform(0.0, 2 * math.pi)
+    while axis_clearance([angle]) < AXIS_CLEARANCE:
+        angle = rng.uniform(0.0, 2 * math.pi)
+    size = 80
+    centre = np.array([size / 2, size / 2]) + rng.uniform(-0.5, 0.5, 2)
+    direction = np.array([math.cos(angle), math.sin(angle)])
+    normal = np.array([-direction[1], direction[0]])
+    yy, xx = np.mgrid[:size, :size] + 0.5
+    mask = ((np.stack([xx, yy], -1) - centre) @ normal > 0) & (np.hypot(xx - size / 2, yy - size / 2) < 35)
+    outline = max(trace_boundaries(mask), key=lambda b: b.outline.shape[0]).outline
+    ink, paper = pixel_pairs(outline)
+    near = np.abs((outline - centre) @ normal) < 1.0  # the cracks of the straight side
+    near &= np.abs((outline - centre) @ direction) < 25
+    ink, paper = ink[near], paper[near]
+    guess = SideFit(centre + 0.3 * normal, direction, np.zeros(3), 50.0)  # any frame near the side
+    line = _separating_line(guess, ink, paper)
+    assert line is not None and line.margin > 0
+    assert np.all(line.inkward(ink) > 0) and np.all(line.inkward(paper) < 0)
+    truth = SideFit(centre, direction, np.zeros(3), 50.0, ink=line.ink * np.sign(line.normal @ normal))
+    assert np.all(truth.inkward(ink) > 0) and np.all(truth.inkward(paper) < 0)  # the truth is in the preimage
+    assert abs((line.centre - centre) @ normal) < 0.5
+    assert abs(line.direction @ normal) < 0.05

@@ -15,7 +15,7 @@ import numpy as np
 
 from .geometry import polyline_distance
 
-__all__ = ["tip_reach", "side_fit", "tip_estimates", "SideFit"]
+__all__ = ["tip_reach", "side_fit", "tip_estimates", "tip_contradiction", "pixel_pairs", "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
 #: straight side stays within half a pixel diagonal of its line.
@@ -43,6 +43,13 @@ REACH_PER_SIDE = 0.25
 #: How far (px) an extrapolated tip may lie behind its contour corner (towards the pieces): the crack outline
 #: goes round whole pixels, so it can pass a tip by up to half a pixel diagonal.
 BEHIND = 1.0
+#: Arc (px) beyond the side windows' start whose pixels the extrapolated tip must agree with, and how far (px)
+#: a pixel centre may lie on the wrong side of the extrapolated wedge before the tip counts as contradicted
+#: (:func:`tip_contradiction`).
+TIP_ZONE = 1.0
+CONTRADICTION = 0.1
+#: Range of slopes (in the frame of the least-squares line) searched for the separating line of a side.
+SLOPE_SEARCH = 0.25
 #: Sides that meet at less than this angle (radians, between their directions) give no reliable intersection.
 MIN_CROSSING = np.radians(8.0)
 
@@ -58,12 +65,22 @@ def tip_reach(angle):
 class SideFit:
     """A side beside a corner: total-least-squares line (``centre``, unit ``direction``, ``normal``) and, on a
     curved side, a parabola ``y = c0 + c1 t + c2 t^2`` in that line's frame (``coefficients``; zeros on a
-    straight side); ``length``: the window's arc length (px)."""
+    straight side); ``length``: the window's arc length (px); ``ink``: +1 or -1, the side of the normal the
+    ink pixels lie on (0 where the contour is not a crack outline); ``margin``: the smallest distance (px,
+    across the frame) of the window's pixel centres from the side, when the side separates them (else 0)."""
 
-    def __init__(self, centre, direction, coefficients, length):
+    def __init__(self, centre, direction, coefficients, length, ink=0.0, margin=0.0):
         self.centre, self.direction, self.length = centre, direction, length
         self.normal = np.array([-direction[1], direction[0]])
         self.coefficients = coefficients
+        self.ink, self.margin = ink, margin
+
+    def inkward(self, points):
+        """Signed offset (px, across the frame) of ``points`` from the side, positive on its ink side."""
+        local = points - self.centre
+        t, y = local @ self.direction, local @ self.normal
+        c0, c1, c2 = self.coefficients
+        return self.ink * (y - (c0 + t * (c1 + t * c2)))
 
     def point(self, t):
         c0, c1, c2 = self.coefficients
@@ -93,15 +110,91 @@ def _window_fit(points, length):
     return None
 
 
-def side_fit(contour, corner_arc, sign, start, stop):
+def pixel_pairs(points):
+    """The two pixel centres beside every point of a crack outline (``points``: unit-crack midpoints in the
+    tracer's order, ink on the left of the direction of travel, docs/capture.md §10): ``(ink, paper)``, each
+    (n, 2); None if ``points`` are not crack midpoints (another contour form)."""
+    points = np.asarray(points, float)
+    n = points.shape[0]
+    if n < 4:
+        return None
+    frac = np.abs(points - np.round(points))
+    horizontal = (frac[:, 1] < 1e-6) & (np.abs(frac[:, 0] - 0.5) < 1e-6)
+    vertical = (frac[:, 0] < 1e-6) & (np.abs(frac[:, 1] - 0.5) < 1e-6)
+    if not np.all(horizontal | vertical):
+        return None
+    travel = np.roll(points, -1, axis=0) - np.roll(points, 1, axis=0)
+    step = np.where(horizontal[:, None], np.column_stack([np.sign(travel[:, 0]), np.zeros(n)]),
+                    np.column_stack([np.zeros(n), np.sign(travel[:, 1])]))
+    left = 0.5 * np.column_stack([-step[:, 1], step[:, 0]])
+    return points + left, points - left
+
+
+def _arc_window(contour, corner_arc, sign, start, stop):
+    """Indices of the contour points ``start`` to ``stop`` px of arc from ``corner_arc`` towards ``sign``."""
+    arc, perimeter = contour.arc[:-1], contour.perimeter
+    low, high = (corner_arc + start, corner_arc + stop) if sign > 0 else (corner_arc - stop, corner_arc - start)
+    shift = np.floor(low / perimeter) * perimeter  # the window from low to high, wrapped into [0, perimeter)
+    low, high = low - shift, high - shift
+    indices = np.arange(np.searchsorted(arc, low, side="left"),
+                        np.searchsorted(arc, min(high, perimeter), side="right"))
+    if high > perimeter:
+        indices = np.concatenate([indices, np.arange(0, np.searchsorted(arc, high - perimeter, side="right"))])
+    return indices
+
+
+def _separating_line(fit, ink, paper):
+    """The line that separates the pixel centres ``ink`` from ``paper`` with the largest margin (measured across
+    the frame of ``fit``): the centre of the set of lines whose digitization gives these pixels (the preimage
+    of a digital straight segment), or None when no line separates them (a ragged or curved window).
+
+    In the frame of ``fit`` the line is ``y = c0 + c1 t``; for a slope ``c1`` the best offset and margin are in
+    closed form (half the gap between the lowest ink and the highest paper offset ``y - c1 t``), and the margin
+    is a concave function of ``c1``, maximised on grids of slopes, each zoomed around the best of the last
+    (to about 1e-7)."""
+    t_ink, y_ink = (ink - fit.centre) @ fit.direction, (ink - fit.centre) @ fit.normal
+    t_paper, y_paper = (paper - fit.centre) @ fit.direction, (paper - fit.centre) @ fit.normal
+    sign = 1.0 if np.mean(y_ink) >= np.mean(y_paper) else -1.0
+    y_ink, y_paper = sign * y_ink, sign * y_paper  # ink above the line: y_ink - line >= margin
+
+    slopes, step = np.linspace(-SLOPE_SEARCH, SLOPE_SEARCH, 33), SLOPE_SEARCH / 16
+    for _ in range(5):  # grids of 33 slopes, each zoomed to two steps of the last around its best
+        above = (y_ink[None, :] - slopes[:, None] * t_ink[None, :]).min(axis=1)
+        below = (y_paper[None, :] - slopes[:, None] * t_paper[None, :]).max(axis=1)
+        best = int(np.argmax(above - below))
+        slope = slopes[best]
+        slopes, step = np.linspace(slope - step, slope + step, 33), step / 16
+    above, below = (y_ink - slope * t_ink).min(), (y_paper - slope * t_paper).max()
+    margin = 0.5 * (above - below)
+    if margin <= 0.0:
+        return None
+    offset = sign * 0.5 * (above + below)
+    direction = fit.direction + sign * slope * fit.normal
+    direction /= np.hypot(*direction)
+    return SideFit(fit.centre + offset * fit.normal, direction, np.zeros(3), fit.length, sign,
+                   float(margin / np.hypot(1.0, slope)))
+
+
+def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
     """The side of a corner at arc length ``corner_arc`` towards ``sign`` (+1 forwards, -1 backwards): the
     contour polyline sampled every 0.5 px from ``start`` to ``stop`` px of arc away, fitted by
     :func:`_window_fit`; where neither a line nor a parabola fits, the window shrinks from its far end (by a
-    quarter at a time) down to :data:`SHORTEST_SIDE`. Returns a :class:`SideFit` or None."""
+    quarter at a time) down to :data:`SHORTEST_SIDE`. With ``pairs`` (:func:`pixel_pairs` of the contour) a
+    straight side is replaced by the line that separates the window's ink and paper pixel centres with the
+    largest margin (:func:`_separating_line`), where there is one. Returns a :class:`SideFit` or None."""
     while stop - start >= SHORTEST_SIDE:
         offsets = np.arange(start, stop + 1e-9, 0.5)
         fit = _window_fit(contour.point_at_arc((corner_arc + sign * offsets) % contour.perimeter), stop - start)
         if fit is not None:
+            if pairs is not None:
+                window = _arc_window(contour, corner_arc, sign, start, stop)
+                if window.size >= 4:
+                    ink, paper = pairs[0][window], pairs[1][window]
+                    separating = None if fit.coefficients.any() else _separating_line(fit, ink, paper)
+                    if separating is not None:
+                        return separating
+                    side = np.mean((ink - paper) @ fit.normal)
+                    fit.ink = 1.0 if side >= 0 else -1.0
             return fit
         stop = start + 0.75 * (stop - start)
     return None
@@ -130,6 +223,22 @@ def _crossing(first, second):
     return first.point(t[0])
 
 
+def tip_contradiction(contour, corner_arc, zone, sides, pairs):
+    """How far (px) the wedge of two :class:`SideFit` (crossing at the tip) contradicts the pixels of the
+    truncated tip: the pixel centres beside the contour within ``zone`` px of arc of the corner, ink ones
+    that fall outside the wedge's ink and paper ones inside it; the largest such offset (<= 0: consistent).
+    The ink of a convex corner is where both sides have ink, that of a concave one (a notch) where either
+    has."""
+    zone_points = np.concatenate([_arc_window(contour, corner_arc, -1, 0.0, zone),
+                                  _arc_window(contour, corner_arc, 1, 0.0, zone)])
+    ink, paper = pairs[0][zone_points], pairs[1][zone_points]
+    convex = sides[0].inkward(sides[1].centre[None])[0] > 0
+    combine = np.minimum if convex else np.maximum
+    ink_depth = combine(sides[0].inkward(ink), sides[1].inkward(ink))
+    paper_depth = combine(sides[0].inkward(paper), sides[1].inkward(paper))
+    return float(max((-ink_depth).max(), paper_depth.max()))
+
+
 def tip_estimates(contour, angle, radius):
     """Per corner of ``contour`` (a :class:`~.lsq_setup.RotatedContour` with corners), the extrapolated tip:
     both sides fitted by :func:`side_fit` from ``max(radius, min(6, 1 / tan(angle / 2)))`` px of arc (where
@@ -149,12 +258,13 @@ def tip_estimates(contour, angle, radius):
     reach = tip_reach(angle)
     estimate = np.full((count, 2), np.nan)
     anchors = np.full((count, 2, 2), np.nan)
+    pairs = pixel_pairs(contour.points)
     for c in range(count):
         corner_arc = arc[contour.corner_bounds[c]]
         sides = []
         for sign, side_len in ((-1, before_len[c]), (1, after_len[c])):
             stop = min(start[c] + LONGEST_SIDE, 0.8 * side_len)
-            sides.append(side_fit(contour, corner_arc, sign, start[c], stop))
+            sides.append(side_fit(contour, corner_arc, sign, start[c], stop, pairs))
         if sides[0] is None or sides[1] is None:
             continue
         windows = [side.length for side in sides]
@@ -166,6 +276,9 @@ def tip_estimates(contour, angle, radius):
             continue
         outward = corner_point - 0.5 * (ends[0] + ends[1])  # along the bisector, away from the pieces
         if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
+            continue
+        if pairs is not None and sides[0].ink and sides[1].ink and \
+                tip_contradiction(contour, corner_arc, start[c] + TIP_ZONE, sides, pairs) > CONTRADICTION:
             continue
         estimate[c], anchors[c] = point, ends
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of

@@ -1,5 +1,5 @@
-"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq", option ``geometric_corners``): wedges
-rendered here from their exact polygons (pixel centres inside), traced at defaults with the tips extrapolated;
+"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq", option ``geometric_corners``, on by
+default): wedges rendered here from their exact polygons (pixel centres inside), traced at defaults;
 the traced corner must land within half a pixel of the true tip, although the rendering stops 1-3 px short
 of it.
 
@@ -20,8 +20,6 @@ from splinecraft.capture.trace import trace
 #: Sides stay at least this many degrees off the pixel axes (see the module docstring).
 AXIS_CLEARANCE = 6.0
 TIP_TOLERANCE = 0.5
-#: The option that extrapolates tips (off by default: docs/capture.md §12, "Corners of lsq").
-EXTRAPOLATED = {"geometric_corners": True}
 
 
 def render(vertices, size):
@@ -91,7 +89,7 @@ def traced_tip(opening, rotation, offset, concave):
     """Trace the wedge; returns (distance of the nearest traced join to the true tip, distance of the crack
     outline to it, the outline's Béziers, the index of that join)."""
     vertices, tip, size, _ = wedge(opening, rotation, offset, concave)
-    result = trace(render(vertices, size), fit_params=EXTRAPOLATED)
+    result = trace(render(vertices, size))
     assert result.stats["converged"]
     # the thin end of a narrow notch may leave a lone background pixel (a hole of its own): the wedge is the
     # longest outline

@@ -255,10 +255,10 @@ def tip_estimates(contour, angle, radius):
     before_len, after_len = np.roll(lengths, 1), lengths
     count = contour.corner_count
     start = np.maximum(radius, np.clip(1.0 / np.maximum(np.tan(0.5 * angle), 1e-6), 1.0, 6.0))
-    reach = tip_reach(angle)
     estimate = np.full((count, 2), np.nan)
     anchors = np.full((count, 2, 2), np.nan)
     pairs = pixel_pairs(contour.points)
+    opening = np.array(angle, float)
     for c in range(count):
         corner_arc = arc[contour.corner_bounds[c]]
         sides = []
@@ -271,8 +271,14 @@ def tip_estimates(contour, angle, radius):
         point = _crossing(*sides)
         corner_point = contour.points[contour.corner_bounds[c] % contour.size]
         ends = contour.point_at_arc((corner_arc + np.array([-start[c], start[c]])) % perimeter)
-        if point is None or not np.isfinite(point).all() or \
-                np.hypot(*(point - corner_point)) > min(reach[c], REACH_PER_SIDE * min(windows)):
+        if point is None or not np.isfinite(point).all():
+            continue
+        # the opening of the fitted sides (the contour's angle, measured on chords from the truncated tip, is
+        # blunter than a narrow wedge's)
+        away = [side.tangent(side.local(point)) for side in sides]  # the sides' tangents at the crossing
+        away = [a * np.sign((side.centre - point) @ a) / np.hypot(*a) for a, side in zip(away, sides)]
+        opening[c] = np.arccos(np.clip(away[0] @ away[1], -1.0, 1.0))
+        if np.hypot(*(point - corner_point)) > min(tip_reach(opening[c]), REACH_PER_SIDE * min(windows)):
             continue
         outward = corner_point - 0.5 * (ends[0] + ends[1])  # along the bisector, away from the pieces
         if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
@@ -287,6 +293,6 @@ def tip_estimates(contour, angle, radius):
     found = np.flatnonzero(np.isfinite(estimate[:, 0]))
     if found.size:
         outside = polyline_distance(estimate[found], contour.points, closed=True)
-        rounded = found[outside * np.sin(0.5 * angle[found]) > SHARP_TRUNCATION]
+        rounded = found[outside * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
         estimate[rounded], anchors[rounded] = np.nan, np.nan
     return estimate, start, anchors

@@ -1,13 +1,19 @@
-"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq"): the two sides that meet at a corner,
-fitted by least squares beside the truncated pixel tip and extended to their intersection.
+"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq"; on by default, ``geometric_corners``): the
+two sides that meet at a corner, measured beside the truncated pixel tip and extended to their intersection.
 
 A rendering cuts an acute tip off: where a wedge of opening ``theta`` is narrower than about a pixel no pixel
 centre is inside it, so the crack outline stops up to ``sqrt(1/2) / sin(theta / 2)`` px short of the true tip
 (the point where the two sides, moved inwards by the half-diagonal of a pixel, meet). The sides themselves are
-well measured away from the tip: a least-squares line through a few dozen pixels of staircase has an offset
-error of a few hundredths of a pixel (except for sides within a few degrees of an axis, whose offset no
-binary rendering resolves better than half a pixel). :func:`side_fit` fits each side, :func:`tip_estimates`
-intersects them.
+well measured away from the tip. Every crack of the outline separates an ink pixel centre from a paper pixel
+centre (:func:`pixel_pairs`); a straight side is the line that separates the window's ink centres from its
+paper centres with the largest margin, the centre of the digital straight segment's preimage (the set of
+lines whose rendering gives exactly those pixels), and a least-squares line only where no line separates
+them; a curved side is a least-squares parabola (:func:`side_fit`). Sides within a few degrees of an axis
+are resolved only to half a pixel by any method. :func:`tip_estimates` intersects the sides, bounds the
+crossing (reach and how far outside the pixels a sharp tip can lie, from the opening of the fitted sides at
+the crossing) and drops a crossing whose wedge the pixels contradict: an ink centre near the tip outside it
+or a paper centre inside it by more than ``CONTRADICTION`` px (:func:`tip_contradiction`).
+"""
 """
 from __future__ import annotations
 

@@ -14,7 +14,6 @@ crossing (reach and how far outside the pixels a sharp tip can lie, from the ope
 the crossing) and drops a crossing whose wedge the pixels contradict: an ink centre near the tip outside it
 or a paper centre inside it by more than ``CONTRADICTION`` px (:func:`tip_contradiction`).
 """
-"""
 from __future__ import annotations
 
 import numpy as np

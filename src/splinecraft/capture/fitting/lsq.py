@@ -12,6 +12,7 @@ from ...spline import Spline
 from .lsq_model import OutlineRegression
 from .budget import BUDGET_REASON
 from .lsq_setup import thin_corners
+from .merge import merge_segments
 from .options import LSQ_OPTIONS
 from .results import FitResult, Snapshot
 
@@ -125,7 +126,20 @@ class LsqKnotInsertion:
         if not dev["dense"]:
             dev = model.deviations(dense=True)
             converged = converged and not (dev["excess"] > 0).any()
+        if converged and self.options["merge_tolerance"] > 0:
+            dev = self.merge(dev)
         return self.result(dev, converged)
+
+    def merge(self, dev):
+        """Segment merging (:mod:`.merge`, docs/capture.md §12, "Merged segments") on the converged fit; a
+        snapshot of phase ``"remove"`` records the joins that went away."""
+        dev, removed = merge_segments(self.model, dev, self.options["merge_tolerance"])
+        if len(removed):
+            self.iteration += 1
+            piece_of = self.model.contour.piece_of_point
+            self.snapshot(dev, [self.candidate(piece_of[k], k, True, "merged: one cubic spans the joins beside "
+                                               "it within the tolerance", "remove") for k in removed], "remove")
+        return dev
 
     def insert_round(self, dev):
         """One insertion round; returns the new deviations and whether anything changed."""

@@ -1,0 +1,434 @@
+"""Segment merging after the ``"lsq"`` fit: runs of consecutive Bézier segments between two corners become one
+G1 cubic where one cubic stays within the fit's tolerance of the contour (docs/capture.md §12, "Merged
+segments").
+
+The ``C^2`` regression spline needs about twice a font's segments on large renders (its curvature is
+continuous at every knot, a font's jumps at every join; §12, "Joints of lsq"). This stage keeps that fit's
+smoothness and gives ``G^1`` segment counts, in the manner of potrace's curve optimisation (``opticurve``): every
+run of 2 to :data:`MAX_RUN` consecutive segments of one piece (turning by at most :data:`MAX_TURN` in all) is
+fitted by one cubic with the run's end points and end tangent directions kept, its two handle lengths chosen by
+least squares on the contour points the run covers (with foot-point parameter corrections). A run qualifies
+when that cubic stays within the fit's tolerance of those contour points (``epsilon``, plus the corner
+allowance in the zone of an extrapolated corner) and within ``merge_tolerance`` of the fitted curve it
+replaces; dynamic programming over each piece picks the fewest segments (ties: the smallest squared
+deviation from the fitted curve). The merged outline is then measured by the fit's own dense check
+(:meth:`~.lsq_model.OutlineRegression.deviations`), and a merged segment that fails it goes back to its
+original segments, so the guarantee of §12 holds unchanged.
+
+Every candidate run is fitted and checked at once (one set of array operations for all runs of the outline);
+only the dynamic programme is a loop over the segments.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._kernels import curve_points
+
+__all__ = ["merge_segments", "MAX_RUN", "MAX_TURN"]
+
+#: Longest run of segments tried as one cubic.
+MAX_RUN = 12
+#: Largest total turn (radians) of the tangent along a run tried as one cubic (a cubic with both handles
+#: positive turns by less than pi; a quarter circle turns by pi / 2).
+MAX_TURN = 0.8 * np.pi
+#: A run keeps growing after this many consecutive lengths that did not qualify (a pair can fail where a triple
+#: fits, the joins of a C2 fit being where they are).
+MISSES = 2
+#: Half-width of the window of the parabola that gives a join's tangent direction, in units of the shorter
+#: neighbouring segment's parameter length.
+WINDOW = 0.5
+#: Contour points a candidate cubic is fitted to (evenly spread over the run; all of them are checked).
+FIT_POINTS = 32
+#: Foot-point corrections of the contour points' parameters on a candidate cubic (each followed by a refit).
+NEWTON_STEPS = 3
+#: Margin (px) below the tolerance that a candidate must keep on the contour points (the dense check also
+#: measures edge midpoints and curve samples; a merged segment that fails it is undone).
+MARGIN = 0.0
+
+
+def _unit(v):
+    length = np.hypot(v[:, 0], v[:, 1])
+    return v / np.where(length > 0, length, 1.0)[:, None], length
+
+
+def _bernstein(t):
+    s = 1.0 - t
+    return s**3, 3 * s * s * t, 3 * s * t * t, t**3
+
+
+def _turns(bez):
+    """Per segment the total turn (radians) of its control polygon, and the turn at its start join."""
+    d = np.diff(bez, axis=1)  # (k, 3, 2)
+    ang = np.arctan2(d[..., 1], d[..., 0])
+    inner = np.abs(np.angle(np.exp(1j * np.diff(ang, axis=1)))).sum(axis=1)
+    return inner
+
+
+def _tangents(bez):
+    start = bez[:, 1] - bez[:, 0]
+    start = np.where((np.hypot(*start.T) > 1e-9)[:, None], start, bez[:, 2] - bez[:, 0])
+    end = bez[:, 3] - bez[:, 2]
+    end = np.where((np.hypot(*end.T) > 1e-9)[:, None], end, bez[:, 3] - bez[:, 1])
+    return _unit(start)[0], _unit(end)[0]
+
+
+def fit_runs(bez, starts, ends, points, u, first, length, directions=None, steps=NEWTON_STEPS):
+    """One cubic per run from the run's first end point to its last: with ``directions = (d0, d1)`` (unit
+    vectors per run) the handles lie along them and their two lengths are fitted, without (``None``) both
+    handles are free vectors; least squares on the contour points whose parameter lies in the run (at most
+    about :data:`FIT_POINTS` of them evenly spread, with ``steps`` foot-point corrections of their parameters;
+    then every covered point gets its parameter on the cubic by one correction from the interpolated one).
+    Returns the cubics (r, 4, 2), the handle lengths along the start and end direction (r, 2), and per
+    covered point (grouped by run, in parameter order) the run, the point index and its parameter ``t``."""
+    last = first + length - 1
+    lo = np.searchsorted(u, starts[first], side="left")
+    hi = np.searchsorted(u, ends[last], side="right")
+    count = np.maximum(hi - lo, 0)
+    run = np.repeat(np.arange(first.shape[0]), count)
+    offsets = np.concatenate([[0], np.cumsum(count)[:-1]])
+    within = np.arange(run.shape[0]) - offsets[run]
+    idx = lo[run] + within
+    stride = np.maximum(1, count // FIT_POINTS)
+    sub = (within % stride[run] == 0) | (within == count[run] - 1)
+    p0, p3 = bez[first, 0], bez[last, 3]
+    if directions is None:
+        t0, _ = _tangents(bez[first])
+        _, t1 = _tangents(bez[last])
+    else:
+        t0, t1 = directions
+    span = ends[last] - starts[first]
+    t_all = np.clip((u[idx] - starts[first][run]) / span[run], 0.0, 1.0)
+    rs, q, t = run[sub], points[idx[sub]], t_all[sub]
+    r = first.shape[0]
+    chord = np.hypot(*(p3 - p0).T)
+    bound = 4.0 * chord[:, None] + 1.0
+    handles = np.zeros((r, 2))
+    cubic = np.empty((r, 4, 2))
+    cubic[:, 0], cubic[:, 3] = p0, p3
+    for step in range(steps + 1):
+        b0, b1, b2, b3 = _bernstein(t)
+        rest = q - p0[rs] * (b0 + b1)[:, None] - p3[rs] * (b2 + b3)[:, None]
+        if directions is None:  # rest = h0 b1 - h1 b2: one 2 x 2 system per coordinate
+            m11 = np.bincount(rs, b1 * b1, r) + 1e-9
+            m12 = -np.bincount(rs, b1 * b2, r)
+            m22 = np.bincount(rs, b2 * b2, r) + 1e-9
+            det = m11 * m22 - m12 * m12
+            h0, h1 = np.empty((r, 2)), np.empty((r, 2))
+            for d in range(2):
+                r1 = np.bincount(rs, b1 * rest[:, d], r)
+                r2 = -np.bincount(rs, b2 * rest[:, d], r)
+                h0[:, d] = (m22 * r1 - m12 * r2) / det
+                h1[:, d] = (m11 * r2 - m12 * r1) / det
+            h0, h1 = np.clip(h0, -bound, bound), np.clip(h1, -bound, bound)
+            cubic[:, 1], cubic[:, 2] = p0 + h0, p3 - h1
+            handles[:, 0], handles[:, 1] = (h0 * t0).sum(1), (h1 * t1).sum(1)
+        else:  # rest = a d0 b1 - b d1 b2
+            a1 = t0[rs] * b1[:, None]
+            a2 = -t1[rs] * b2[:, None]
+            m11 = np.bincount(rs, (a1 * a1).sum(1), r) + 1e-9
+            m12 = np.bincount(rs, (a1 * a2).sum(1), r)
+            m22 = np.bincount(rs, (a2 * a2).sum(1), r) + 1e-9
+            r1 = np.bincount(rs, (a1 * rest).sum(1), r)
+            r2 = np.bincount(rs, (a2 * rest).sum(1), r)
+            det = m11 * m22 - m12 * m12
+            handles[:, 0] = (m22 * r1 - m12 * r2) / det
+            handles[:, 1] = (m11 * r2 - m12 * r1) / det
+            handles = np.clip(handles, -bound, bound)
+            cubic[:, 1] = p0 + handles[:, :1] * t0
+            cubic[:, 2] = p3 - handles[:, 1:] * t1
+        if step == steps:
+            break
+        t = _newton(cubic[rs], q, t)
+    if sub.all():
+        return cubic, handles, run, idx, t
+    # every covered point: the parameter interpolated between its run's fitted ones, then one correction
+    key = run + 0.999 * t_all
+    t_all = np.interp(key, key[sub], t)
+    t_all = _newton(cubic[run], points[idx], t_all)
+    return cubic, handles, run, idx, t_all
+
+
+def _newton(c, q, t):
+    """One foot-point Newton step of ``(B(t) - q) . B'(t) = 0`` per point on its cubic ``c``."""
+    s = 1.0 - t
+    b = (s**3)[:, None] * c[:, 0] + (3 * s * s * t)[:, None] * c[:, 1] + (3 * s * t * t)[:, None] * c[:, 2] \
+        + (t**3)[:, None] * c[:, 3]
+    d0, d1, d2 = c[:, 1] - c[:, 0], c[:, 2] - c[:, 1], c[:, 3] - c[:, 2]
+    first = 3 * ((s * s)[:, None] * d0 + (2 * s * t)[:, None] * d1 + (t * t)[:, None] * d2)
+    second = 6 * (s[:, None] * (d1 - d0) + t[:, None] * (d2 - d1))
+    res = b - q
+    speed2 = (first * first).sum(1)
+    den = speed2 + (res * second).sum(1)
+    den = np.where(den > 0.1 * speed2, den, speed2)
+    step = -(res * first).sum(1) / np.maximum(den, 1e-300)
+    return np.clip(t + np.clip(step, -0.25, 0.25), 0.0, 1.0)
+
+
+def _qualify(fit, points, tol, fitted, tolerance, r, margin):
+    """Which runs qualify (within the tolerance of their contour points less :data:`MARGIN`, within
+    ``tolerance`` of the fitted curve, positive handles), and their squared deviation from the fitted curve."""
+    cubic, handles, run, idx, t = fit
+    on_curve = _eval(cubic[run], t)
+    heads = np.flatnonzero(np.diff(run, prepend=-1))
+    present = run[heads]
+    excess = np.full(r, np.inf)
+    gap = on_curve - points[idx]
+    distance = np.hypot(*gap.T)
+    # a point whose foot lies beyond an end of the run: its distance to the tangent line there (the G1
+    # neighbour continues along it)
+    for end, (a, b) in ((t <= 0.0, (0, 1)), (t >= 1.0, (2, 3))):
+        if end.any():
+            c = cubic[run[end]]
+            d, _ = _unit(c[:, b] - c[:, a])
+            g = gap[end]
+            distance[end] = np.abs(g[:, 0] * d[:, 1] - g[:, 1] * d[:, 0])
+    excess[present] = np.maximum.reduceat(distance - tol[idx] + margin, heads)
+    drift = np.hypot(*(on_curve - fitted[idx]).T)
+    worst = np.full(r, np.inf)
+    worst[present] = np.maximum.reduceat(drift, heads)
+    spread = np.bincount(run, drift**2, r)
+    counted = np.bincount(run, minlength=r)
+    chord = np.hypot(*(cubic[:, 3] - cubic[:, 0]).T)
+    ok = (excess <= 0) & (worst <= tolerance) & (handles > 1e-3 * chord[:, None]).all(axis=1) & (counted >= 4)
+    return ok, spread
+
+
+def _eval(c, t):
+    s = 1.0 - t
+    return (s**3)[:, None] * c[:, 0] + (3 * s * s * t)[:, None] * c[:, 1] + (3 * s * t * t)[:, None] * c[:, 2] \
+        + (t**3)[:, None] * c[:, 3]
+
+
+def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW):
+    """Tangent direction at every join ``j`` (the start of segment ``j``) where ``interior[j]``: a parabola
+    ``y = a + b x + c x^2`` fitted by least squares to the contour points within ``window`` times the shorter
+    neighbouring segment's parameter length of the join, in the frame of the fitted curve's tangent there; the
+    direction is ``(1, b)`` in that frame. Elsewhere the fitted curve's own direction."""
+    k = bez.shape[0]
+    head, _ = _tangents(bez)
+    out = head.copy()
+    j = np.flatnonzero(interior)
+    if not j.size:
+        return out
+    h = ends - starts
+    reach = window * np.maximum(h[j], h[j - 1])
+    lo = np.searchsorted(u, np.maximum(starts[j] - reach, bounds[0][j]), side="left")
+    hi = np.searchsorted(u, np.minimum(starts[j] + reach, bounds[1][j]), side="right")
+    count = np.maximum(hi - lo, 0)
+    grp = np.repeat(np.arange(j.shape[0]), count)
+    offsets = np.concatenate([[0], np.cumsum(count)[:-1]])
+    idx = lo[grp] + np.arange(grp.shape[0]) - offsets[grp]
+    p, tx = bez[j, 0], head[j]
+    rel = points[idx] - p[grp]
+    x = (rel * tx[grp]).sum(1)
+    y = rel[:, 1] * tx[grp, 0] - rel[:, 0] * tx[grp, 1]
+    scale = np.maximum(reach, 1.0)[grp]
+    x = x / scale
+    r = j.shape[0]
+    sums = [np.bincount(grp, x**e, r) for e in range(5)]
+    rhs = [np.bincount(grp, y * x**e, r) for e in range(3)]
+    m = np.empty((r, 3, 3))
+    for a_ in range(3):
+        for b_ in range(3):
+            m[:, a_, b_] = sums[a_ + b_]
+    m += 1e-9 * np.eye(3)
+    good = count >= 6
+    coef = np.zeros((r, 3))
+    if good.any():
+        coef[good] = np.linalg.solve(m[good], np.stack(rhs, axis=1)[good][..., None])[..., 0]
+    slope = coef[:, 1] / np.maximum(reach, 1.0)
+    normal = np.column_stack([-tx[:, 1], tx[:, 0]])
+    d = _unit(tx + slope[:, None] * normal)[0]
+    out[j[good]] = d[good]
+    return out
+
+
+def merge_segments(model, dev, tolerance):
+    """Merge runs of segments of the converged fit of ``model`` (an :class:`~.lsq_model.OutlineRegression`
+    whose dense deviations are ``dev``); ``tolerance`` (px) bounds the distance of a merged cubic from the
+    fitted curve it replaces. The model's fit state (Bézier segments, intervals, parameters, simple knots) is
+    replaced by the merged one when anything merges. Returns the dense deviations of the result (``dev`` when
+    nothing merged) and the simple knots removed."""
+    bez, starts, ends = dev["bezier"], dev["starts"], dev["ends"]
+    k = bez.shape[0]
+    contour = model.contour
+    n = contour.size
+    if k < 2:
+        return dev, []
+    corner_par = model.base_parameter[contour.corner_bounds]
+    seg_piece = np.clip(np.searchsorted(corner_par, starts, side="right") - 1, 0, contour.piece_count - 1)
+    u = model.parameter[:n]
+    points = contour.points
+    tol = dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"]
+    fitted = curve_points(bez, starts, ends, u)
+    # joins inside a piece may take a new direction (the seam of an outline without corners is one too)
+    cornered = contour.corner_count > 0
+    interior = np.zeros(k + 1, bool)
+    interior[1:k] = seg_piece[1:] == seg_piece[:-1]
+    o_head, o_tail = _tangents(bez)
+    if cornered:
+        direction = join_directions(bez, starts, ends, points, u, interior[:k],
+                                    (corner_par[seg_piece], corner_par[seg_piece + 1]))
+    else:  # the window of the seam reaches around it: the contour once more on either side
+        interior[0] = interior[k] = True
+        period = model.period
+        wide = np.concatenate([u - period, u, u + period])
+        direction = join_directions(bez, starts, ends, np.vstack([points] * 3), wide, interior[:k],
+                                    (np.full(k, -np.inf), np.full(k, np.inf)))
+    cand = _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece, interior, direction,
+                       o_head, o_tail)
+    if not (cand["length"] > 1).any():
+        return dev, []
+    saved = model.save()
+    allowed = np.ones(cand["first"].shape[0], bool)
+    for _ in range(4):
+        chosen = choose_runs(k, cand, allowed, periodic=not cornered)
+        if not (cand["length"][chosen] > 1).any():
+            break
+        _put_state(model, saved, bez, starts, ends, points, cand, chosen)
+        new_dev = model.deviations(dense=True)
+        failing = np.flatnonzero(new_dev["excess"] > 0)
+        if not failing.size:
+            values = model.base_parameter[saved["simple_knots"]]
+            keep = np.isin(values, new_dev["starts"])
+            model.simple_knots = saved["simple_knots"][keep]
+            return new_dev, saved["simple_knots"][~keep]
+        # a run that fails the dense check is not taken again (a segment as it was never fails it)
+        allowed[chosen[failing]] = False
+        allowed[:k] = True
+    model.load(saved)
+    return dev, []
+
+
+def choose_runs(k, cand, allowed, periodic=False):
+    """Fewest segments for the chain of ``k`` segments from the allowed candidate runs, each join in the
+    direction state its two runs agree on (0: the fitted curve's direction, 1: the new one; with ``periodic``
+    the chain's two ends are one join, in either state, else state 0), ties broken by the smallest total cost;
+    returns the chosen candidates' indices in chain order."""
+    first, length = cand["first"].tolist(), cand["length"].tolist()
+    s0, s1, cost = cand["s0"].tolist(), cand["s1"].tolist(), cand["spread"].tolist()
+    by_end = {}
+    for c in np.flatnonzero(allowed).tolist():
+        by_end.setdefault(first[c] + length[c], []).append(c)
+    never = (1 << 60, 0.0)
+    result = None
+    for seam in ((0, 1) if periodic else (0,)):
+        best = [[never, never] for _ in range(k + 1)]
+        back = [[-1, -1] for _ in range(k + 1)]
+        best[0][seam] = (0, 0.0)
+        for j in range(1, k + 1):
+            for c in by_end.get(j, ()):
+                count, total = best[first[c]][s0[c]]
+                if count == never[0]:
+                    continue
+                option = (count + 1, total + cost[c])
+                if option < best[j][s1[c]]:
+                    best[j][s1[c]], back[j][s1[c]] = option, c
+        if best[k][seam][0] == never[0] or (result is not None and best[k][seam] >= result[0]):
+            continue
+        chosen, j, state = [], k, seam
+        while j > 0:
+            c = back[j][state]
+            chosen.append(c)
+            j, state = first[c], s0[c]
+        result = (best[k][seam], chosen[::-1])
+    return np.asarray(result[1], dtype=np.int64)
+
+
+def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece, interior, direction, o_head,
+                o_tail):
+    """Every qualifying run with the direction states of its two end joins (0: the fitted curve's direction,
+    1: :func:`join_directions`, only at interior joins), grown one segment at a time from every start while one
+    of its states qualifies or it has failed at most :data:`MISSES` lengths in a row (potrace's opticurve stops
+    at the first failure). Candidates ``0 .. k - 1`` are the segments as they were (states 0, 0; cost 0)."""
+    k = bez.shape[0]
+    turn = np.concatenate([[0.0], np.cumsum(_turns(bez))])
+    out = {"first": [np.arange(k)], "length": [np.ones(k, np.int64)], "s0": [np.zeros(k, np.int64)],
+           "s1": [np.zeros(k, np.int64)], "spread": [np.zeros(k)], "cubic": [bez]}
+    active = np.arange(k)
+    misses = np.zeros(k, np.int64)
+    for length in range(1, min(MAX_RUN, k) + 1):
+        keep = active + length <= k
+        active, misses = active[keep], misses[keep]
+        keep = (seg_piece[active] == seg_piece[active + length - 1]) & (turn[active + length] - turn[active]
+                                                                         <= MAX_TURN)
+        active, misses = active[keep], misses[keep]
+        if not active.size:
+            break
+        last = active + length - 1
+        rows, sa, sb = [], [], []
+        for a in (0, 1):
+            for b in (0, 1):
+                if length == 1 and a == 0 and b == 0:
+                    continue  # the segment as it was
+                if length > 1 and not (a and b):
+                    # a longer run takes the new directions wherever it may (a kept segment beside it is
+                    # refitted as a run of one instead)
+                    valid = np.ones(active.shape[0], bool)
+                    if a == 0:
+                        valid &= ~interior[active]
+                    if b == 0:
+                        valid &= ~interior[last + 1]
+                    if a:
+                        valid &= interior[active]
+                    if b:
+                        valid &= interior[last + 1]
+                    rows.append(np.flatnonzero(valid))
+                    sa.append(np.full(rows[-1].shape[0], a))
+                    sb.append(np.full(rows[-1].shape[0], b))
+                    continue
+                valid = np.ones(active.shape[0], bool)
+                if a:
+                    valid &= interior[active]
+                if b:
+                    valid &= interior[last + 1]
+                rows.append(np.flatnonzero(valid))
+                sa.append(np.full(rows[-1].shape[0], a))
+                sb.append(np.full(rows[-1].shape[0], b))
+        rows, sa, sb = np.concatenate(rows), np.concatenate(sa), np.concatenate(sb)
+        if rows.size:
+            f, end = active[rows], last[rows]
+            d0 = np.where(sa[:, None] == 1, direction[f], o_head[f])
+            d1 = np.where(sb[:, None] == 1, direction[(end + 1) % k], o_tail[end])
+            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1))
+            ok, spread = _qualify(fit, points, tol, fitted, tolerance, f.shape[0], MARGIN)
+            out["first"].append(f[ok])
+            out["length"].append(np.full(int(ok.sum()), length))
+            out["s0"].append(sa[ok])
+            out["s1"].append(sb[ok])
+            out["spread"].append(spread[ok])
+            out["cubic"].append(fit[0][ok])
+            any_ok = np.zeros(active.shape[0], bool)
+            any_ok[rows[ok]] = True
+        else:
+            any_ok = np.zeros(active.shape[0], bool)
+        if length == 1:
+            any_ok[:] = True  # every segment starts runs
+        misses = np.where(any_ok, 0, misses + 1)
+        keep = misses <= MISSES
+        active, misses = active[keep], misses[keep]
+    cand = {key: np.concatenate(value) for key, value in out.items()}
+    cand["direction"], cand["o_head"], cand["o_tail"] = direction, o_head, o_tail
+    return cand
+
+
+def _put_state(model, saved, bez, starts, ends, points, cand, chosen):
+    """Put the chosen runs (in chain order) into ``model``: one cubic per run on the run's parameter interval,
+    the contour points of refitted runs re-parameterized on them (a segment kept as it was keeps its
+    parameters)."""
+    model.load(saved)
+    k = bez.shape[0]
+    f, length = cand["first"][chosen], cand["length"][chosen]
+    last = f + length - 1
+    refit = chosen >= k
+    parameter = model.parameter.copy()
+    if refit.any():
+        fr, lr, c = f[refit], length[refit], chosen[refit]
+        d0 = np.where(cand["s0"][c][:, None] == 1, cand["direction"][fr], cand["o_head"][fr])
+        d1 = np.where(cand["s1"][c][:, None] == 1, cand["direction"][(fr + lr) % k], cand["o_tail"][fr + lr - 1])
+        _, _, run, idx, t = fit_runs(bez, starts, ends, points, model.parameter[:points.shape[0]], fr, lr, (d0, d1))
+        s, e = starts[fr[run]], ends[fr[run] + lr[run] - 1]
+        parameter[idx] = s + t * (e - s)
+    parameter[model.fixed] = model.base_parameter[model.fixed]
+    model.parameter = np.maximum.accumulate(parameter)
+    model._bezier, model._starts, model._ends = cand["cubic"][chosen].copy(), starts[f], ends[last]

@@ -1,0 +1,133 @@
+"""Segment merging after the ``"lsq"`` fit (option ``merge_tolerance``; docs/capture.md §12, "Merged
+segments"): blobs, discs, ellipses and polygons rendered here, fitted with and without merging, and checked
+against their pixels (independent symmetric deviation of test_fitting), against each other (merging only takes
+joins away) and at the joins (G1: one tangent direction on both sides).
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from splinecraft.capture.contour import trace_boundaries
+from splinecraft.capture.fitting import fit_outline
+from test_fitting import hausdorff as deviation, polygon_shape
+from test_fitting_size import render_blob
+
+MERGE = 0.5
+
+
+def render_ellipse(a, b, angle=0.0, offset=(0.37, 0.21)):
+    """Crack outline and dense exact outline of an ellipse of semi-axes ``a``, ``b`` turned by ``angle``: a pixel
+    is ink when its centre lies inside (exact test)."""
+    size = int(np.ceil(2 * max(a, b))) + 8
+    centre = np.array([size / 2 + offset[0], size / 2 + offset[1]])
+    yy, xx = np.mgrid[0:size, 0:size]
+    dx, dy = xx + 0.5 - centre[0], yy + 0.5 - centre[1]
+    c, s = np.cos(angle), np.sin(angle)
+    mask = ((c * dx + s * dy) / a) ** 2 + ((-s * dx + c * dy) / b) ** 2 < 1.0
+    t = np.linspace(0, 2 * np.pi, int(40 * max(a, b)), endpoint=False)
+    x, y = a * np.cos(t), b * np.sin(t)
+    dense = centre + np.column_stack([c * x - s * y, s * x + c * y])
+    return trace_boundaries(mask)[0].outline, dense
+
+
+def joins_inside_pieces(fit):
+    """Indices ``i`` of the segments whose end joins the next segment inside a piece (not at a corner)."""
+    corners = set(int(c) for c in np.concatenate([k[[0, -1]] for k in fit.knot_indices]))
+    ends = np.concatenate([k[1:] for k in fit.knot_indices])
+    return np.flatnonzero([int(e) not in corners for e in ends])
+
+
+def assert_g1(fit):
+    """At every join inside a piece the two segments share the point and the tangent direction."""
+    bez = fit.spline.bezier()
+    scale = np.abs(bez).max()
+    inner = joins_inside_pieces(fit)
+    nxt = (inner + 1) % bez.shape[0]
+    np.testing.assert_allclose(bez[inner, 3], bez[nxt, 0], atol=1e-9 * scale)
+    out = bez[inner, 3] - bez[inner, 2]
+    into = bez[nxt, 1] - bez[nxt, 0]
+    cross = out[:, 0] * into[:, 1] - out[:, 1] * into[:, 0]
+    norms = np.hypot(*out.T) * np.hypot(*into.T)
+    assert (np.abs(cross) <= 1e-7 * norms).all()
+    assert ((out * into).sum(1) > 0).all()
+
+
+harmonic = st.tuples(st.floats(-0.12, 0.12), st.floats(0.0, 2 * np.pi))
+
+
+@settings(max_examples=8, deadline=None)
+@given(st.lists(harmonic, min_size=1, max_size=3), st.floats(24.0, 40.0), st.sampled_from([1, 2, 4]))
+def test_merged_blobs_stay_within_epsilon_with_no_more_segments(harmonics, radius, scale):
+    """Merging keeps the guarantee (docs/capture.md §12: within epsilon of the pixels, measured here
+    independently), only removes joins of the fit it starts from, and leaves G1 joins."""
+    outline, _ = render_blob(radius * scale, harmonics)
+    plain = fit_outline(outline, np.zeros(0, int), epsilon=0.8, keep_snapshots=False)
+    fit = fit_outline(outline, np.zeros(0, int), epsilon=0.8, merge_tolerance=MERGE, keep_snapshots=False)
+    assert plain.converged and fit.converged
+    assert deviation(fit.spline.bezier(), outline) <= 0.8 + 0.05
+    assert fit.spline.bezier().shape[0] <= plain.spline.bezier().shape[0]
+    assert set(fit.knot_indices[0].tolist()) <= set(plain.knot_indices[0].tolist())
+    assert_g1(fit)
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(3, 7), st.floats(0.0, 1.0), st.integers(0, 10_000), st.sampled_from([1, 3]))
+def test_merged_polygons_keep_the_guarantee_and_their_corners(count, rotation, seed, scale):
+    """Polygons (corners extrapolated or not): the merged fit keeps its corners and pieces, stays within the
+    tolerance near corners (docs/capture.md §12, "Guarantee") and has no more segments per piece."""
+    rng = np.random.default_rng(seed)
+    angles = rotation + 2 * np.pi * (np.arange(count) + rng.uniform(-0.2, 0.2, count)) / count
+    radius = rng.uniform(10, 20) * scale
+    size = int(2 * radius + 16)
+    vertices = np.column_stack([size / 2 + radius * np.cos(angles), size / 2 + radius * np.sin(angles)])
+    outline, corners, _ = polygon_shape(vertices, size)
+    plain = fit_outline(outline, corners, keep_snapshots=False)
+    fit = fit_outline(outline, corners, merge_tolerance=MERGE, keep_snapshots=False)
+    assert fit.converged
+    np.testing.assert_array_equal(fit.corners_used, plain.corners_used)
+    assert fit.pieces == plain.pieces
+    for merged, kept in zip(fit.knot_indices, plain.knot_indices):
+        assert set(merged.tolist()) <= set(kept.tolist())
+    bound = fit.info["tolerance_near_corners"]
+    assert deviation(fit.spline.bezier(), outline) <= bound + 0.05
+    assert_g1(fit)
+
+
+@pytest.mark.parametrize("radius", [40.0, 160.0])
+@pytest.mark.parametrize("offset", [(0.37, 0.21), (0.05, 0.5)])
+def test_a_disc_merges_to_four_segments(radius, offset):
+    """Four cubics with G1 joins (the quarter-circle Bézier) are within 2.7e-4 r of a circle of radius r:
+    0.04 px at r = 160, so where the C2 fit needs more than four segments the merged fit of a disc has four,
+    a font's count, and stays within about a pixel of the true circle."""
+    outline, dense = render_blob(radius, [], offset=offset)
+    plain = fit_outline(outline, np.zeros(0, int), keep_snapshots=False)
+    fit = fit_outline(outline, np.zeros(0, int), merge_tolerance=MERGE, keep_snapshots=False)
+    assert fit.converged
+    assert fit.spline.bezier().shape[0] <= 4
+    assert deviation(fit.spline.bezier(), outline) <= 0.8 + 0.05
+    assert deviation(fit.spline.bezier(), dense) <= 1.0
+
+
+def test_merging_is_off_by_default_and_checked():
+    """``merge_tolerance=0`` (the default) is the fit as it was; a negative tolerance is refused."""
+    outline, _ = render_blob(60.0, [(0.1, 0.3)])
+    plain = fit_outline(outline, np.zeros(0, int))
+    off = fit_outline(outline, np.zeros(0, int), merge_tolerance=0.0)
+    np.testing.assert_array_equal(plain.spline.bezier(), off.spline.bezier())
+    with pytest.raises(ValueError, match="merge_tolerance"):
+        fit_outline(outline, np.zeros(0, int), merge_tolerance=-1.0)
+
+
+def test_merge_snapshot_records_the_joins_removed():
+    """The merge is the last snapshot, of phase "remove", and its removed joins are the knots that went."""
+    outline, _ = render_blob(120.0, [(0.08, 0.4)])
+    plain = fit_outline(outline, np.zeros(0, int))
+    fit = fit_outline(outline, np.zeros(0, int), merge_tolerance=MERGE)
+    gone = set(plain.knot_indices[0].tolist()) - set(fit.knot_indices[0].tolist())
+    assert gone
+    last = fit.snapshots[-1]
+    assert last.phase == "remove"
+    np.testing.assert_allclose(last.bezier, fit.spline.bezier(), rtol=0, atol=1e-9 * np.abs(last.bezier).max())
+    assert {c["index"] for c in last.candidates if c["action"] == "remove"} == gone

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import _merge_kernels
 from ._kernels import curve_points
 
 __all__ = ["merge_segments", "MAX_RUN", "MAX_TURN"]
@@ -39,8 +40,10 @@ MISSES = 2
 WINDOW = 0.5
 #: Contour points a candidate cubic is fitted to (evenly spread over the run; all of them are checked).
 FIT_POINTS = 32
+#: Fewest parameter units (about px of arc) between a cut at an extremum and either end of its segment.
+MIN_SPLIT = 2.0
 #: Foot-point corrections of the contour points' parameters on a candidate cubic (each followed by a refit).
-NEWTON_STEPS = 3
+NEWTON_STEPS = 4
 #: Margin (px) below the tolerance that a candidate must keep on the contour points (the dense check also
 #: measures edge midpoints and curve samples; a merged segment that fails it is undone).
 MARGIN = 0.0
@@ -50,10 +53,6 @@ def _unit(v):
     length = np.hypot(v[:, 0], v[:, 1])
     return v / np.where(length > 0, length, 1.0)[:, None], length
 
-
-def _bernstein(t):
-    s = 1.0 - t
-    return s**3, 3 * s * s * t, 3 * s * t * t, t**3
 
 
 def _turns(bez):
@@ -72,131 +71,31 @@ def _tangents(bez):
     return _unit(start)[0], _unit(end)[0]
 
 
-def fit_runs(bez, starts, ends, points, u, first, length, directions=None, steps=NEWTON_STEPS):
-    """One cubic per run from the run's first end point to its last: with ``directions = (d0, d1)`` (unit
-    vectors per run) the handles lie along them and their two lengths are fitted, without (``None``) both
-    handles are free vectors; least squares on the contour points whose parameter lies in the run (at most
-    about :data:`FIT_POINTS` of them evenly spread, with ``steps`` foot-point corrections of their parameters;
-    then every covered point gets its parameter on the cubic by one correction from the interpolated one).
-    Returns the cubics (r, 4, 2), the handle lengths along the start and end direction (r, 2), and per
-    covered point (grouped by run, in parameter order) the run, the point index and its parameter ``t``."""
+def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitted):
+    """One cubic per run from the run's first end point to its last, its handles along ``directions = (d0,
+    d1)`` (unit vectors per run) with their two lengths fitted by least squares to the contour points whose
+    parameter lies in the run (:func:`._merge_kernels.fit_runs`). Returns a dict: the cubics (r, 4, 2), the
+    handle lengths (r, 2), the covered points (``lo``, ``count`` per run), their parameters ``t`` on the
+    cubics (grouped by run), and per run the largest excess over ``tol``, the largest (``drift``) and the
+    summed squared distance (``spread``) from the ``fitted`` curve at the same points."""
     last = first + length - 1
     lo = np.searchsorted(u, starts[first], side="left")
     hi = np.searchsorted(u, ends[last], side="right")
     count = np.maximum(hi - lo, 0)
-    run = np.repeat(np.arange(first.shape[0]), count)
-    offsets = np.concatenate([[0], np.cumsum(count)[:-1]])
-    within = np.arange(run.shape[0]) - offsets[run]
-    idx = lo[run] + within
-    stride = np.maximum(1, count // FIT_POINTS)
-    sub = (within % stride[run] == 0) | (within == count[run] - 1)
-    p0, p3 = bez[first, 0], bez[last, 3]
-    if directions is None:
-        t0, _ = _tangents(bez[first])
-        _, t1 = _tangents(bez[last])
-    else:
-        t0, t1 = directions
     span = ends[last] - starts[first]
-    t_all = np.clip((u[idx] - starts[first][run]) / span[run], 0.0, 1.0)
-    rs, q, t = run[sub], points[idx[sub]], t_all[sub]
-    r = first.shape[0]
-    chord = np.hypot(*(p3 - p0).T)
-    bound = 4.0 * chord[:, None] + 1.0
-    handles = np.zeros((r, 2))
-    cubic = np.empty((r, 4, 2))
-    cubic[:, 0], cubic[:, 3] = p0, p3
-    for step in range(steps + 1):
-        b0, b1, b2, b3 = _bernstein(t)
-        rest = q - p0[rs] * (b0 + b1)[:, None] - p3[rs] * (b2 + b3)[:, None]
-        if directions is None:  # rest = h0 b1 - h1 b2: one 2 x 2 system per coordinate
-            m11 = np.bincount(rs, b1 * b1, r) + 1e-9
-            m12 = -np.bincount(rs, b1 * b2, r)
-            m22 = np.bincount(rs, b2 * b2, r) + 1e-9
-            det = m11 * m22 - m12 * m12
-            h0, h1 = np.empty((r, 2)), np.empty((r, 2))
-            for d in range(2):
-                r1 = np.bincount(rs, b1 * rest[:, d], r)
-                r2 = -np.bincount(rs, b2 * rest[:, d], r)
-                h0[:, d] = (m22 * r1 - m12 * r2) / det
-                h1[:, d] = (m11 * r2 - m12 * r1) / det
-            h0, h1 = np.clip(h0, -bound, bound), np.clip(h1, -bound, bound)
-            cubic[:, 1], cubic[:, 2] = p0 + h0, p3 - h1
-            handles[:, 0], handles[:, 1] = (h0 * t0).sum(1), (h1 * t1).sum(1)
-        else:  # rest = a d0 b1 - b d1 b2
-            a1 = t0[rs] * b1[:, None]
-            a2 = -t1[rs] * b2[:, None]
-            m11 = np.bincount(rs, (a1 * a1).sum(1), r) + 1e-9
-            m12 = np.bincount(rs, (a1 * a2).sum(1), r)
-            m22 = np.bincount(rs, (a2 * a2).sum(1), r) + 1e-9
-            r1 = np.bincount(rs, (a1 * rest).sum(1), r)
-            r2 = np.bincount(rs, (a2 * rest).sum(1), r)
-            det = m11 * m22 - m12 * m12
-            handles[:, 0] = (m22 * r1 - m12 * r2) / det
-            handles[:, 1] = (m11 * r2 - m12 * r1) / det
-            handles = np.clip(handles, -bound, bound)
-            cubic[:, 1] = p0 + handles[:, :1] * t0
-            cubic[:, 2] = p3 - handles[:, 1:] * t1
-        if step == steps:
-            break
-        t = _newton(cubic[rs], q, t)
-    if sub.all():
-        return cubic, handles, run, idx, t
-    # every covered point: the parameter interpolated between its run's fitted ones, then one correction
-    key = run + 0.999 * t_all
-    t_all = np.interp(key, key[sub], t)
-    t_all = _newton(cubic[run], points[idx], t_all)
-    return cubic, handles, run, idx, t_all
+    cubic, handles, offsets, t, excess, drift, spread = _merge_kernels.fit_runs(
+        bez[first, 0], bez[last, 3], directions[0], directions[1], lo, count, points, u, starts[first], span, tol,
+        fitted, NEWTON_STEPS, FIT_POINTS)
+    return {"cubic": cubic, "handles": handles, "lo": lo, "count": count, "t": t, "excess": excess,
+            "drift": drift, "spread": spread}
 
 
-def _newton(c, q, t):
-    """One foot-point Newton step of ``(B(t) - q) . B'(t) = 0`` per point on its cubic ``c``."""
-    s = 1.0 - t
-    b = (s**3)[:, None] * c[:, 0] + (3 * s * s * t)[:, None] * c[:, 1] + (3 * s * t * t)[:, None] * c[:, 2] \
-        + (t**3)[:, None] * c[:, 3]
-    d0, d1, d2 = c[:, 1] - c[:, 0], c[:, 2] - c[:, 1], c[:, 3] - c[:, 2]
-    first = 3 * ((s * s)[:, None] * d0 + (2 * s * t)[:, None] * d1 + (t * t)[:, None] * d2)
-    second = 6 * (s[:, None] * (d1 - d0) + t[:, None] * (d2 - d1))
-    res = b - q
-    speed2 = (first * first).sum(1)
-    den = speed2 + (res * second).sum(1)
-    den = np.where(den > 0.1 * speed2, den, speed2)
-    step = -(res * first).sum(1) / np.maximum(den, 1e-300)
-    return np.clip(t + np.clip(step, -0.25, 0.25), 0.0, 1.0)
-
-
-def _qualify(fit, points, tol, fitted, tolerance, r, margin):
-    """Which runs qualify (within the tolerance of their contour points less :data:`MARGIN`, within
-    ``tolerance`` of the fitted curve, positive handles), and their squared deviation from the fitted curve."""
-    cubic, handles, run, idx, t = fit
-    on_curve = _eval(cubic[run], t)
-    heads = np.flatnonzero(np.diff(run, prepend=-1))
-    present = run[heads]
-    excess = np.full(r, np.inf)
-    gap = on_curve - points[idx]
-    distance = np.hypot(*gap.T)
-    # a point whose foot lies beyond an end of the run: its distance to the tangent line there (the G1
-    # neighbour continues along it)
-    for end, (a, b) in ((t <= 0.0, (0, 1)), (t >= 1.0, (2, 3))):
-        if end.any():
-            c = cubic[run[end]]
-            d, _ = _unit(c[:, b] - c[:, a])
-            g = gap[end]
-            distance[end] = np.abs(g[:, 0] * d[:, 1] - g[:, 1] * d[:, 0])
-    excess[present] = np.maximum.reduceat(distance - tol[idx] + margin, heads)
-    drift = np.hypot(*(on_curve - fitted[idx]).T)
-    worst = np.full(r, np.inf)
-    worst[present] = np.maximum.reduceat(drift, heads)
-    spread = np.bincount(run, drift**2, r)
-    counted = np.bincount(run, minlength=r)
-    chord = np.hypot(*(cubic[:, 3] - cubic[:, 0]).T)
-    ok = (excess <= 0) & (worst <= tolerance) & (handles > 1e-3 * chord[:, None]).all(axis=1) & (counted >= 4)
-    return ok, spread
-
-
-def _eval(c, t):
-    s = 1.0 - t
-    return (s**3)[:, None] * c[:, 0] + (3 * s * s * t)[:, None] * c[:, 1] + (3 * s * t * t)[:, None] * c[:, 2] \
-        + (t**3)[:, None] * c[:, 3]
+def _qualify(fit, tolerance, margin):
+    """Which runs qualify: within the tolerance of their contour points (less ``margin``), within
+    ``tolerance`` of the fitted curve, both handles positive, at least four points."""
+    chord = np.hypot(*(fit["cubic"][:, 3] - fit["cubic"][:, 0]).T)
+    return ((fit["excess"] + margin <= 0) & (fit["drift"] <= tolerance)
+            & (fit["handles"] > 1e-3 * chord[:, None]).all(axis=1) & (fit["count"] >= 4))
 
 
 def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW):
@@ -243,24 +142,77 @@ def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDO
     return out
 
 
+def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
+    """The fitted segments cut (exactly) where their tangent is horizontal or vertical, a font's usual join
+    points, at least ``min_gap`` parameter units from either end of a segment: the Bézier pieces, their
+    parameter intervals and the segment each comes from."""
+    d0, d1, d2 = bez[:, 1] - bez[:, 0], bez[:, 2] - bez[:, 1], bez[:, 3] - bez[:, 2]
+    a, b, c = d0 - 2 * d1 + d2, 2 * (d1 - d0), d0
+    h = ends - starts
+    roots = []
+    for sign in (-1.0, 1.0):
+        disc = b * b - 4 * a * c
+        with np.errstate(divide="ignore", invalid="ignore"):
+            quad = (-b + sign * np.sqrt(np.where(disc >= 0, disc, np.nan))) / (2 * a)
+            lin = -c / b
+        roots.append(np.where(np.abs(a) > 1e-12 * (np.abs(b) + np.abs(c) + 1e-300), quad,
+                              lin if sign > 0 else np.nan))
+    t = np.concatenate(roots, axis=1)  # (k, 4): x and y roots
+    low = np.minimum(min_gap / np.maximum(h, 1e-12), 0.5)[:, None]
+    t = np.where((t > low) & (t < 1 - low), t, np.nan)
+    t = np.sort(t, axis=1)
+    t = np.where(np.diff(t, axis=1, prepend=-np.inf) > low, t, np.nan)  # cuts closer than that: one
+    t = np.sort(t, axis=1)
+    cuts = (~np.isnan(t)).sum(axis=1)
+    pieces = cuts + 1
+    origin = np.repeat(np.arange(bez.shape[0]), pieces)
+    bounds = np.concatenate([np.zeros((bez.shape[0], 1)), np.nan_to_num(t, nan=2.0), np.ones((bez.shape[0], 1))],
+                            axis=1)
+    bounds = np.sort(bounds, axis=1)
+    pos = np.arange(origin.shape[0]) - np.repeat(np.cumsum(pieces) - pieces, pieces)
+    ta, tb = bounds[origin, pos], bounds[origin, pos + 1]
+    c_ = bez[origin]
+    pa, pb = _curve(c_, ta), _curve(c_, tb)
+    va, vb = _speed(c_, ta), _speed(c_, tb)
+    width = (tb - ta)[:, None]
+    out = np.stack([pa, pa + width * va / 3.0, pb - width * vb / 3.0, pb], axis=1)
+    out[pos == 0, 0] = bez[origin[pos == 0], 0]
+    last = pos == pieces[origin] - 1
+    out[last, 3] = bez[origin[last], 3]
+    return out, starts[origin] + ta * h[origin], starts[origin] + tb * h[origin], origin
+
+
+def _curve(c, t):
+    s = (1.0 - t)[:, None]
+    t = t[:, None]
+    return s**3 * c[:, 0] + 3 * s * s * t * c[:, 1] + 3 * s * t * t * c[:, 2] + t**3 * c[:, 3]
+
+
+def _speed(c, t):
+    s = (1.0 - t)[:, None]
+    t = t[:, None]
+    return 3 * (s * s * (c[:, 1] - c[:, 0]) + 2 * s * t * (c[:, 2] - c[:, 1]) + t * t * (c[:, 3] - c[:, 2]))
+
+
 def merge_segments(model, dev, tolerance):
     """Merge runs of segments of the converged fit of ``model`` (an :class:`~.lsq_model.OutlineRegression`
     whose dense deviations are ``dev``); ``tolerance`` (px) bounds the distance of a merged cubic from the
     fitted curve it replaces. The model's fit state (Bézier segments, intervals, parameters, simple knots) is
     replaced by the merged one when anything merges. Returns the dense deviations of the result (``dev`` when
     nothing merged) and the simple knots removed."""
-    bez, starts, ends = dev["bezier"], dev["starts"], dev["ends"]
-    k = bez.shape[0]
+    fit_bez = dev["bezier"]
     contour = model.contour
     n = contour.size
-    if k < 2:
+    if fit_bez.shape[0] < 2:
         return dev, []
+    bez, starts, ends, origin = split_at_extrema(fit_bez, dev["starts"], dev["ends"])
+    k = bez.shape[0]
     corner_par = model.base_parameter[contour.corner_bounds]
     seg_piece = np.clip(np.searchsorted(corner_par, starts, side="right") - 1, 0, contour.piece_count - 1)
     u = model.parameter[:n]
     points = contour.points
     tol = dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"]
-    fitted = curve_points(bez, starts, ends, u)
+    fitted = curve_points(fit_bez, dev["starts"], dev["ends"], u)
     # joins inside a piece may take a new direction (the seam of an outline without corners is one too)
     cornered = contour.corner_count > 0
     interior = np.zeros(k + 1, bool)
@@ -276,28 +228,48 @@ def merge_segments(model, dev, tolerance):
         direction = join_directions(bez, starts, ends, np.vstack([points] * 3), wide, interior[:k],
                                     (np.full(k, -np.inf), np.full(k, np.inf)))
     cand = _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece, interior, direction,
-                       o_head, o_tail)
+                       o_head, o_tail, fit_bez, origin)
     if not (cand["length"] > 1).any():
         return dev, []
     saved = model.save()
     allowed = np.ones(cand["first"].shape[0], bool)
     for _ in range(4):
         chosen = choose_runs(k, cand, allowed, periodic=not cornered)
-        if not (cand["length"][chosen] > 1).any():
+        if chosen.shape[0] >= fit_bez.shape[0]:
             break
-        _put_state(model, saved, bez, starts, ends, points, cand, chosen)
+        _put_state(model, saved, bez, starts, ends, points, tol, fitted, cand, chosen)
         new_dev = model.deviations(dense=True)
         failing = np.flatnonzero(new_dev["excess"] > 0)
-        if not failing.size:
-            values = model.base_parameter[saved["simple_knots"]]
-            keep = np.isin(values, new_dev["starts"])
-            model.simple_knots = saved["simple_knots"][keep]
-            return new_dev, saved["simple_knots"][~keep]
-        # a run that fails the dense check is not taken again (a segment as it was never fails it)
+        joins = _join_indices(model, new_dev["starts"], cornered)
+        if not failing.size and joins is not None:
+            gone = saved["simple_knots"][~np.isin(saved["simple_knots"], joins)]
+            model.simple_knots = joins
+            return new_dev, gone
+        if joins is None:  # two joins at one contour point: no knot list for them
+            break
+        # a run that fails the dense check is not taken again (the fit's own segments never fail it)
         allowed[chosen[failing]] = False
-        allowed[:k] = True
+        allowed[~cand["refit"]] = True
     model.load(saved)
     return dev, []
+
+
+def _join_indices(model, join_values, cornered):
+    """The rotated contour indices of the joins (the simple knots of the merged outline): per join inside a piece
+    the contour point whose parameter is nearest; None when two joins would share one."""
+    contour = model.contour
+    n = contour.size
+    corner_values = model.base_parameter[contour.corner_bounds]
+    inner = join_values[~np.isin(join_values, corner_values)] if cornered else join_values
+    parameter = model.parameter[: n + 1]
+    j = np.clip(np.searchsorted(parameter, inner), 1, n)
+    j = np.where(np.abs(parameter[j - 1] - inner) <= np.abs(parameter[j] - inner), j - 1, j)
+    if not cornered:
+        j[np.isclose(inner, 0.0)] = 0
+    j = j % n
+    if np.unique(j).shape[0] != j.shape[0] or (cornered and np.isin(j, contour.corner_bounds).any()):
+        return None
+    return np.sort(j).astype(np.int64)
 
 
 def choose_runs(k, cand, allowed, periodic=False):
@@ -336,15 +308,20 @@ def choose_runs(k, cand, allowed, periodic=False):
 
 
 def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece, interior, direction, o_head,
-                o_tail):
+                o_tail, fit_bez, origin):
     """Every qualifying run with the direction states of its two end joins (0: the fitted curve's direction,
     1: :func:`join_directions`, only at interior joins), grown one segment at a time from every start while one
     of its states qualifies or it has failed at most :data:`MISSES` lengths in a row (potrace's opticurve stops
     at the first failure). Candidates ``0 .. k - 1`` are the segments as they were (states 0, 0; cost 0)."""
     k = bez.shape[0]
     turn = np.concatenate([[0.0], np.cumsum(_turns(bez))])
-    out = {"first": [np.arange(k)], "length": [np.ones(k, np.int64)], "s0": [np.zeros(k, np.int64)],
-           "s1": [np.zeros(k, np.int64)], "spread": [np.zeros(k)], "cubic": [bez]}
+    # the fitted segments as they were: their pieces between extrema, and each whole (states 0, 0; cost 0)
+    heads = np.flatnonzero(np.diff(origin, prepend=-1))
+    whole = np.diff(np.append(heads, k))
+    out = {"first": [np.arange(k), heads[whole > 1]], "length": [np.ones(k, np.int64), whole[whole > 1]],
+           "s0": [np.zeros(k + int((whole > 1).sum()), np.int64)], "s1": [np.zeros(k + int((whole > 1).sum()), np.int64)],
+           "spread": [np.zeros(k + int((whole > 1).sum()))], "cubic": [bez, fit_bez[origin[heads[whole > 1]]]],
+           "refit": [np.zeros(k + int((whole > 1).sum()), bool)]}
     active = np.arange(k)
     misses = np.zeros(k, np.int64)
     for length in range(1, min(MAX_RUN, k) + 1):
@@ -390,14 +367,15 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
             f, end = active[rows], last[rows]
             d0 = np.where(sa[:, None] == 1, direction[f], o_head[f])
             d1 = np.where(sb[:, None] == 1, direction[(end + 1) % k], o_tail[end])
-            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1))
-            ok, spread = _qualify(fit, points, tol, fitted, tolerance, f.shape[0], MARGIN)
+            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1), tol, fitted)
+            ok, spread = _qualify(fit, tolerance, MARGIN), fit["spread"]
             out["first"].append(f[ok])
             out["length"].append(np.full(int(ok.sum()), length))
             out["s0"].append(sa[ok])
             out["s1"].append(sb[ok])
             out["spread"].append(spread[ok])
-            out["cubic"].append(fit[0][ok])
+            out["cubic"].append(fit["cubic"][ok])
+            out["refit"].append(np.ones(int(ok.sum()), bool))
             any_ok = np.zeros(active.shape[0], bool)
             any_ok[rows[ok]] = True
         else:
@@ -412,7 +390,7 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     return cand
 
 
-def _put_state(model, saved, bez, starts, ends, points, cand, chosen):
+def _put_state(model, saved, bez, starts, ends, points, tol, fitted, cand, chosen):
     """Put the chosen runs (in chain order) into ``model``: one cubic per run on the run's parameter interval,
     the contour points of refitted runs re-parameterized on them (a segment kept as it was keeps its
     parameters)."""
@@ -420,15 +398,18 @@ def _put_state(model, saved, bez, starts, ends, points, cand, chosen):
     k = bez.shape[0]
     f, length = cand["first"][chosen], cand["length"][chosen]
     last = f + length - 1
-    refit = chosen >= k
+    refit = cand["refit"][chosen]
     parameter = model.parameter.copy()
     if refit.any():
         fr, lr, c = f[refit], length[refit], chosen[refit]
         d0 = np.where(cand["s0"][c][:, None] == 1, cand["direction"][fr], cand["o_head"][fr])
         d1 = np.where(cand["s1"][c][:, None] == 1, cand["direction"][(fr + lr) % k], cand["o_tail"][fr + lr - 1])
-        _, _, run, idx, t = fit_runs(bez, starts, ends, points, model.parameter[:points.shape[0]], fr, lr, (d0, d1))
+        fit = fit_runs(bez, starts, ends, points, model.parameter[:points.shape[0]], fr, lr, (d0, d1), tol, fitted)
+        run = np.repeat(np.arange(fr.shape[0]), fit["count"])
+        idx = fit["lo"][run] + np.arange(run.shape[0]) - np.repeat(np.cumsum(fit["count"]) - fit["count"],
+                                                                    fit["count"])
         s, e = starts[fr[run]], ends[fr[run] + lr[run] - 1]
-        parameter[idx] = s + t * (e - s)
+        parameter[idx] = s + fit["t"] * (e - s)
     parameter[model.fixed] = model.base_parameter[model.fixed]
     model.parameter = np.maximum.accumulate(parameter)
     model._bezier, model._starts, model._ends = cand["cubic"][chosen].copy(), starts[f], ends[last]

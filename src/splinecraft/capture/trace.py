@@ -69,6 +69,7 @@ from .fitting.options import check_count, check_epsilon, check_flag, check_metho
 from .corners._jump_kernels import warm_up as warm_corner_kernels
 from .fitting._iso_kernels import warm_up as warm_noise_kernels
 from .fitting._kernels import warm_up as warm_fit_kernels
+from .fitting._merge_kernels import warm_up as warm_merge_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
 from .fitting.results import BoundaryList
 from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
@@ -228,6 +229,8 @@ def trace(
     traced = time.perf_counter()
     warm_fit_kernels()  # compiled or loaded before the budget starts (the first call of a process)
     warm_noise_kernels()
+    if settings["fit_params"].get("merge_tolerance", 0) > 0:
+        warm_merge_kernels()  # only where segment merging is asked for (it is off by default)
     if settings["corner_method"] == "tangent-jump":
         warm_corner_kernels()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget

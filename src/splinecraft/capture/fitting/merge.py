@@ -1,22 +1,32 @@
-"""Segment merging after the ``"lsq"`` fit: runs of consecutive Bézier segments between two corners become one
-G1 cubic where one cubic stays within the fit's tolerance of the contour (docs/capture.md §12, "Merged
-segments").
+"""Segment merging after the ``"lsq"`` fit (option ``merge_tolerance``): runs of consecutive Bézier segments
+between two corners become one G1 cubic where one cubic stays within the fit's tolerance of the contour
+(docs/capture.md §12, "Merged segments").
 
 The ``C^2`` regression spline needs about twice a font's segments on large renders (its curvature is
-continuous at every knot, a font's jumps at every join; §12, "Joints of lsq"). This stage keeps that fit's
-smoothness and gives ``G^1`` segment counts, in the manner of potrace's curve optimisation (``opticurve``): every
-run of 2 to :data:`MAX_RUN` consecutive segments of one piece (turning by at most :data:`MAX_TURN` in all) is
-fitted by one cubic with the run's end points and end tangent directions kept, its two handle lengths chosen by
-least squares on the contour points the run covers (with foot-point parameter corrections). A run qualifies
-when that cubic stays within the fit's tolerance of those contour points (``epsilon``, plus the corner
-allowance in the zone of an extrapolated corner) and within ``merge_tolerance`` of the fitted curve it
-replaces; dynamic programming over each piece picks the fewest segments (ties: the smallest squared
-deviation from the fitted curve). The merged outline is then measured by the fit's own dense check
-(:meth:`~.lsq_model.OutlineRegression.deviations`), and a merged segment that fails it goes back to its
-original segments, so the guarantee of §12 holds unchanged.
+continuous at every knot, a font's jumps at every join; §12, "Joints of lsq"). This stage keeps that fit and
+gives ``G^1`` segment counts, in the manner of potrace's curve optimisation (``opticurve``):
 
-Every candidate run is fitted and checked at once (one set of array operations for all runs of the outline);
-only the dynamic programme is a loop over the segments.
+1. the fitted segments are cut (exactly, de Casteljau) where their tangent is horizontal or vertical, the
+   points where a font puts its nodes (:func:`split_at_extrema`);
+2. every join inside a piece gets a second tangent direction besides the fitted curve's, from a parabola fitted
+   to the contour around it (:func:`join_directions`; the fitted curve's direction follows the pixel staircase
+   on large renders);
+3. every run of 1 to :data:`MAX_RUN` consecutive segments of one piece (turning by at most :data:`MAX_TURN`) is
+   fitted by one cubic with the run's end points and a direction at each end, its two handle lengths fitted to
+   the contour points the run covers (:mod:`._merge_kernels`: least squares, then normal distances at the
+   points' feet). A run qualifies when the cubic stays within the fit's tolerance of those points (``epsilon``,
+   plus the allowance near an extrapolated corner) and within ``merge_tolerance`` of the fitted curve there;
+4. dynamic programming over the chain (each join in one of its two direction states, so that both sides of
+   every join share one tangent direction) picks the fewest segments, ties to the smallest squared distance
+   from the fitted curve; the fitted segments as they were are always among the choices, so merging never
+   adds segments;
+5. the merged outline is measured by the fit's own dense check
+   (:meth:`~.lsq_model.OutlineRegression.deviations`), a merged segment that fails it is not chosen again and
+   the programme runs once more (at most four times, else the fit stays as it was): the guarantee of §12 holds
+   unchanged.
+
+All candidate runs of a length are fitted and checked in one compiled pass; the dynamic programme is a loop
+over the segments.
 """
 from __future__ import annotations
 
@@ -25,7 +35,7 @@ import numpy as np
 from . import _merge_kernels
 from ._kernels import curve_points
 
-__all__ = ["merge_segments", "MAX_RUN", "MAX_TURN"]
+__all__ = ["merge_segments", "split_at_extrema", "join_directions", "MAX_RUN", "MAX_TURN"]
 
 #: Longest run of segments tried as one cubic.
 MAX_RUN = 12
@@ -35,17 +45,19 @@ MAX_TURN = 0.8 * np.pi
 #: A run keeps growing after this many consecutive lengths that did not qualify (a pair can fail where a triple
 #: fits, the joins of a C2 fit being where they are).
 MISSES = 2
-#: Half-width of the window of the parabola that gives a join's tangent direction, in units of the shorter
-#: neighbouring segment's parameter length.
+#: Half-width of the window of the parabola that gives a join's tangent direction, in units of the longer
+#: neighbouring segment's parameter length (clipped to the piece).
 WINDOW = 0.5
 #: Contour points a candidate cubic is fitted to (evenly spread over the run; all of them are checked).
 FIT_POINTS = 32
 #: Fewest parameter units (about px of arc) between a cut at an extremum and either end of its segment.
 MIN_SPLIT = 2.0
-#: Foot-point corrections of the contour points' parameters on a candidate cubic (each followed by a refit).
+#: Solves of a candidate cubic's handle lengths after the first, each after two foot-point corrections of
+#: its points' parameters.
 NEWTON_STEPS = 4
 #: Margin (px) below the tolerance that a candidate must keep on the contour points (the dense check also
-#: measures edge midpoints and curve samples; a merged segment that fails it is undone).
+#: measures edge midpoints and curve samples; a merged segment that fails it is not chosen again). A disc's
+#: staircase is up to 0.7 px from the circle, so at epsilon = 0.8 a margin leaves no room.
 MARGIN = 0.0
 
 
@@ -100,9 +112,10 @@ def _qualify(fit, tolerance, margin):
 
 def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW):
     """Tangent direction at every join ``j`` (the start of segment ``j``) where ``interior[j]``: a parabola
-    ``y = a + b x + c x^2`` fitted by least squares to the contour points within ``window`` times the shorter
-    neighbouring segment's parameter length of the join, in the frame of the fitted curve's tangent there; the
-    direction is ``(1, b)`` in that frame. Elsewhere the fitted curve's own direction."""
+    ``y = a + b x + c x^2`` fitted by least squares to the contour points within ``window`` times the longer
+    neighbouring segment's parameter length of the join (inside ``bounds``, per join), in the frame of the
+    fitted curve's tangent there; the direction is ``(1, b)`` in that frame. Elsewhere (and where fewer than
+    six points fall in the window) the fitted curve's own direction."""
     k = bez.shape[0]
     head, _ = _tangents(bez)
     out = head.copy()
@@ -196,10 +209,11 @@ def _speed(c, t):
 
 def merge_segments(model, dev, tolerance):
     """Merge runs of segments of the converged fit of ``model`` (an :class:`~.lsq_model.OutlineRegression`
-    whose dense deviations are ``dev``); ``tolerance`` (px) bounds the distance of a merged cubic from the
-    fitted curve it replaces. The model's fit state (Bézier segments, intervals, parameters, simple knots) is
-    replaced by the merged one when anything merges. Returns the dense deviations of the result (``dev`` when
-    nothing merged) and the simple knots removed."""
+    whose dense deviations are ``dev``; module docstring); ``tolerance`` (px) bounds the distance of a merged
+    cubic from the fitted curve it replaces. When anything merges, the model's fit state (Bézier segments,
+    intervals, parameters) becomes the merged one and its simple knots the joins (the contour point nearest
+    each). Returns the dense deviations of the result (``dev`` when nothing merged) and the simple knots that
+    are no longer joins."""
     fit_bez = dev["bezier"]
     contour = model.contour
     n = contour.size

@@ -54,7 +54,8 @@ def ensure_cache_dir() -> str | None:
 ensure_cache_dir()
 
 #: The modules with compiled kernels, each with a ``warm_up()`` (relative to :mod:`splinecraft.capture`).
-KERNEL_MODULES = ("fitting._kernels", "fitting._iso_kernels", "corners._jump_kernels", "_cracks", "fitting.budget")
+KERNEL_MODULES = ("fitting._kernels", "fitting._iso_kernels", "corners._jump_kernels", "_cracks", "fitting.budget",
+                  "fitting._merge_kernels")
 
 
 def warm_up_all():

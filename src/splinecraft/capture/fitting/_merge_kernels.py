@@ -26,11 +26,11 @@ DAMPING = 1e-3
 
 
 @njit(**JIT_OPTIONS)
-def _point(c, t, out):
+def _point(c, t):
     s = 1.0 - t
     b0, b1, b2, b3 = s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t
-    for d in range(2):
-        out[d] = b0 * c[0, d] + b1 * c[1, d] + b2 * c[2, d] + b3 * c[3, d]
+    return (b0 * c[0, 0] + b1 * c[1, 0] + b2 * c[2, 0] + b3 * c[3, 0],
+            b0 * c[0, 1] + b1 * c[1, 1] + b2 * c[2, 1] + b3 * c[3, 1])
 
 
 @njit(**JIT_OPTIONS)
@@ -59,7 +59,6 @@ def _newton(c, qx, qy, t):
 @njit(**JIT_OPTIONS)
 def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, tol, fitted, steps, fit_points,
                    scratch, cubic, handles, t_out, excess, drift, spread):
-    point = np.empty(2)
     for r in range(p0.shape[0]):
         n = count[r]
         stride = max(1, n // fit_points)
@@ -155,8 +154,8 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             q = lo[r] + j
             t = _newton(c, points[q, 0], points[q, 1], t)
             t_out[offsets[r] + j] = t
-            _point(c, t, point)
-            gx, gy = point[0] - points[q, 0], point[1] - points[q, 1]
+            px, py = _point(c, t)
+            gx, gy = px - points[q, 0], py - points[q, 1]
             if t <= 0.0 or t >= 1.0:
                 k0, k1 = (0, 1) if t <= 0.0 else (2, 3)
                 dx, dy = c[k1, 0] - c[k0, 0], c[k1, 1] - c[k0, 1]
@@ -165,7 +164,7 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             else:
                 dist = np.hypot(gx, gy)
             worst = max(worst, dist - tol[q])
-            off = np.hypot(point[0] - fitted[q, 0], point[1] - fitted[q, 1])
+            off = np.hypot(px - fitted[q, 0], py - fitted[q, 1])
             far = max(far, off)
             total += off * off
         excess[r], drift[r], spread[r] = worst, far, total

@@ -601,7 +601,8 @@ def report_fillets(shapes):
 
 
 def report_heldout(families, corner_params=None):
-    """Per held-out glyph (``heldout_shapes.py``, upright 300 px glyphs of ``families``): the true corners,
+    """Per held-out glyph (``heldout_shapes.py``: upright 300 px glyphs of the families in ``families``, and
+    every glyph of the groups in it, e.g. ``small``, ``rotated``, ``large``, ``scan``): the true corners,
     the corners of ``sc.trace``'s SVG and their one-to-one match within 3 px (the project's own scorer,
     ``synthetic_shapes``): which true corners are missed and which traced ones are false."""
     sys.path.insert(0, str(REPO / "benchmarks"))
@@ -611,9 +612,11 @@ def report_heldout(families, corner_params=None):
 
     pooled = {}
     for shape in heldout_shapes.heldout_set():
-        if shape["family"] not in families or shape["group"] != shape["family"]:
+        upright = shape["family"] in families and shape["group"] == shape["family"]
+        if not upright and shape["group"] not in families:
             continue
-        result = sc.trace(heldout_shapes.rasterize(shape), corner_params=corner_params)
+        mask = shape["mask"] if "mask" in shape else heldout_shapes.rasterize(shape)
+        result = sc.trace(mask, corner_params=corner_params)
         found = [c for b in synthetic_shapes.svg_beziers(result.to_svg()) for c in synthetic_shapes.bezier_corners(b)]
         tp, fp, fn, hit = match(found, shape["corners"])
         print(f"\n{shape['name']}: {len(shape['corners'])} true corners, {len(found)} traced, {tp} matched")
@@ -624,7 +627,7 @@ def report_heldout(families, corner_params=None):
             near = np.hypot(*(truth - [x, y]).T).min() if len(truth) else np.inf
             if near > MATCH_PX:
                 print(f"    traced ({x:7.1f}, {y:7.1f}) FALSE")
-        cell = pooled.setdefault(shape["family"], [0, 0, 0])
+        cell = pooled.setdefault(shape["family"] if upright else shape["group"], [0, 0, 0])
         cell[0], cell[1], cell[2] = cell[0] + tp, cell[1] + fp, cell[2] + fn
     print()
     for family, (tp, fp, fn) in pooled.items():
@@ -697,7 +700,8 @@ def main(argv=None):
                              f"(default {SPEED_BASELINE}) and exit")
     parser.add_argument("--heldout", metavar="FAMILIES",
                         help="only list, per upright held-out glyph of these families (comma-separated, e.g. "
-                             "oldstyle,arabic), the true corners, sc.trace's and their match, and exit")
+                             "oldstyle,arabic) and per glyph of these groups (small, rotated, large, scan), the "
+                             "true corners, sc.trace's and their match, and exit")
     parser.add_argument("--fillets", action="store_true", help="with --heldout: trace with tangent-jump's "
                         "fillet test on (corner_params={'fillets': True})")
     args = parser.parse_args(argv)

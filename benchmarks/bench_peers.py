@@ -127,6 +127,16 @@ def run_splinecraft(mask, repeat):
     return result.to_svg(), seconds
 
 
+def make_variant(params):
+    """A runner of ``sc.trace`` with this variant's ``fit_params`` and ``corner_params`` (``--variants``)."""
+    fit, corner = params.get("fit_params") or None, params.get("corner_params") or None
+
+    def run(mask, repeat):
+        result, seconds = _timed(lambda: sc.trace(mask, fit_params=fit, corner_params=corner), repeat)
+        return result.to_svg(), seconds
+    return run
+
+
 def run_pixels(mask, repeat):
     """The raw pixel staircase: each boundary's crack polygon (pixel corners), the reference a fit must beat
     on scans (issue 9: "rms to the true outline below that of the raw pixel staircase")."""
@@ -318,12 +328,18 @@ def main(argv=None):
     parser.add_argument("--fit-params", default="{}", help="JSON dict of sc.trace's fit_params (default: none)")
     parser.add_argument("--corner-params", default="{}",
                         help="JSON dict of sc.trace's corner_params (default: none)")
+    parser.add_argument("--variants", default="[]",
+                        help="JSON list of {\"fit_params\": {...}, \"corner_params\": {...}}: sc.trace once per "
+                        "variant, interleaved shape by shape, as the tools splinecraft[0], splinecraft[1], ...")
     args = parser.parse_args(argv)
     global CLOCK
     CLOCK = args.clock
+    variants = json.loads(args.variants)
     FIT_PARAMS.update(json.loads(args.fit_params))
     CORNER_PARAMS.update(json.loads(args.corner_params))
     tools = [t for t in args.tools.split(",") if t]
+    if variants:
+        tools = [f"splinecraft[{k}]" for k in range(len(variants))] + [t for t in tools if t != "splinecraft"]
     sets = [s for s in args.sets.split(",") if s]
     if "potrace" not in tools:
         tools.append("potrace")                       # the time ratios need it
@@ -332,6 +348,9 @@ def main(argv=None):
         sys.exit("potrace is not installed and scripts/system-deps.sh potrace failed")
     runners = {"splinecraft": run_splinecraft, "potrace": make_potrace(potrace), "vtracer": run_vtracer,
                "autotrace": run_autotrace, "pixels": run_pixels}
+    runners.update({f"splinecraft[{k}]": make_variant(v) for k, v in enumerate(variants)})
+    for k, v in enumerate(variants):
+        print(f"splinecraft[{k}]: {json.dumps(v)}")
     yardstick = os.path.abspath(args.yardstick)
     scorer, scorer_name = make_scorer(yardstick if os.path.isdir(yardstick) else None)
     version = subprocess.run([potrace, "--version"], capture_output=True, text=True).stdout.splitlines()[0]

@@ -2,7 +2,8 @@
 
 The tuning set of ``synthetic_shapes`` (300-px glyphs and analytic shapes) and its ``size_set`` (glyphs at
 48, 64, 600 and 1200 px, every other one turned; analytic shapes four times larger) are traced by
-``sc.trace`` once per variant (``--variants``: a JSON list of ``fit_params`` dicts, ``{}`` = the defaults),
+``sc.trace`` once per variant (``--variants``: a JSON list of ``fit_params`` dicts, ``{}`` = the defaults; a
+key ``"corner_params"`` in a dict is that variant's ``corner_params``),
 shape by shape with the variants interleaved, and scored by ``synthetic_shapes.score_beziers``. Per group:
 share within 1 px (symmetric Hausdorff) / median rms px / median segments per true segment / pooled corner
 F1, and the median time of each variant relative to the first.
@@ -42,8 +43,10 @@ def measure(shape_list, variants):
     for shape in shape_list:
         mask = S.rasterize(shape)
         for v, params in enumerate(variants):
+            params = dict(params)
+            corner_params = params.pop("corner_params", None)
             start = time.perf_counter()
-            result = sc.trace(mask, fit_params=params or None)
+            result = sc.trace(mask, fit_params=params or None, corner_params=corner_params)
             seconds = time.perf_counter() - start
             score = S.score_beziers(shape, [np.asarray(s.bezier()) for s in result.splines])
             rows.append({"name": shape["name"], "group": shape["group"], "variant": v, "time": seconds,
@@ -80,7 +83,8 @@ def print_table(rows, variants):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--variants", default="[{}]", help="JSON list of fit_params dicts ({} = defaults)")
+    parser.add_argument("--variants", default="[{}]", help="JSON list of fit_params dicts ({} = defaults; a key "
+                        "\"corner_params\" holds that variant's corner_params)")
     parser.add_argument("--groups", default="", help="comma-separated groups (default: all)")
     parser.add_argument("--json", default=None, help="write every row to this JSON file")
     args = parser.parse_args(argv)

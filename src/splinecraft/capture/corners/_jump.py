@@ -186,9 +186,11 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         Half width (samples) of the non-maximum suppression, in ``[1, MAX_SEPARATION]`` (500).
     fillets : bool, default False
         Step 7, the fillet test (:mod:`._fillet`, docs/capture.md §11): release every corner whose sides cross
-        farther beyond the outline than the pixels of a sharp tip can lie (a rounded corner). Off by default:
-        it removes false corners on softly rounded faces, but the fit does not yet follow every released
-        fillet within 1 px (``BENCHMARKS.md``, "Fillets").
+        farther beyond the outline than the pixels of a sharp tip can lie (a rounded corner). Off by default: the
+        lsq fit's pixel check (docs/capture.md §12, "Pixel consistency") now holds the released fillets within
+        1 px as often as the default holds the corners, but the test still releases some sharp corners (a serif
+        corner of ``tests/test_corners.py`` at some rotations) (``BENCHMARKS.md``, "Fillets", "Pixel
+        consistency").
 
     Returns
     -------

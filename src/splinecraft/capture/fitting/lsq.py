@@ -126,6 +126,9 @@ class LsqKnotInsertion:
         if not dev["dense"]:
             dev = model.deviations(dense=True)
             converged = converged and not (dev["excess"] > 0).any()
+        if not converged and dev["pixel"] is not None and not self.out_of_time:
+            # the pixel check only asks for knots: within the tolerance is converged
+            converged = not (dev["tol_excess"] > 0).any()
         if converged and self.options["merge_tolerance"] > 0:
             dev = self.merge(dev)
         return self.result(dev, converged)
@@ -147,14 +150,32 @@ class LsqKnotInsertion:
         piece_of = model.contour.piece_of_point
         new, stuck, released = model.insert(dev)
         candidates = [self.candidate(piece_of[j], j, True, f"worst point of interval {f}: deviation exceeds the "
-                                     f"tolerance by {excess:.2f} px", "insert") for j, f, excess in new]
+                                     f"tolerance (or the pixel check's slack) by {excess:.2f} px", "insert")
+                      for j, f, excess in new]
         for f in stuck:
             j = model.point_before(dev["starts"][f])
             candidates.append(self.candidate(piece_of[j], j, False, f"interval {f} fails but its knots are < "
                                              f"{2 * model.min_gap} steps apart", "insert"))
+        for f in model.last_waived:
+            j = model.point_before(dev["starts"][f])
+            candidates.append(self.candidate(piece_of[j], j, False, f"interval {f} passes beside the pixels but its "
+                                             f"knots are < {2 * model.min_gap} steps apart: pixel check waived there",
+                                             "insert"))
         if not new and not released and stuck:
             released = model.release_corners(dev, stuck)
+        if not new and not released and stuck:
+            # last resort before giving up (and the small-outline fallback): knots closer than min_gap
+            waived = model.last_waived
+            tight, _, released = model.insert(dev, tight=True)
+            new, model.last_waived = tight, waived
+            candidates += [self.candidate(piece_of[j], j, True, f"worst point of interval {f}: its knots are < "
+                                          f"{2 * model.min_gap} steps apart, a knot closer than min_gap", "insert")
+                           for j, f, _ in tight]
         candidates += [self.corner_candidate(c, "its zone exceeded eps + corner_allowance") for c in released]
+        if model.last_waived and not new and not released:  # only waivers: measure again without them
+            dev = model.deviations()
+            self.snapshot(dev, candidates, "insert")
+            return dev, True
         if not new and not released:
             self.snapshot(dev, candidates, "insert")
             return dev, False
@@ -255,7 +276,7 @@ class LsqKnotInsertion:
                               "pieces": int(contour.piece_count)})
         if self.keep and self.snapshots:
             last = self.snapshots[-1]
-            if np.array_equal(last.bezier, bezier):  # same state, now measured by the dense check
+            if np.array_equal(last.bezier, bezier) and last.iteration == self.iteration:  # same state, dense check
                 last.piece_max_error = dev["piece_err"].copy()
                 last.piece_hausdorff = dev["piece_dev"].copy()
                 last.finished = dev["piece_excess"] <= 0

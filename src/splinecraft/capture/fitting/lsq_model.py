@@ -19,9 +19,14 @@ import numpy as np
 from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import group_max
-from .lsq_setup import CornerTips, RotatedContour, curvature_knots
+from .lsq_setup import CornerTips, RotatedContour, crack_normals, curvature_knots
+from .options import DEFAULT_EPSILON
 
 __all__ = ["OutlineRegression"]
+
+#: Smallest curvature (1/px) of the fitted curve at which the pixel check applies (:meth:`pixel_excess`):
+#: bends of radius up to 50 px, where a cut-short fillet or rounded corner lies.
+PIXEL_MIN_CURVATURE = 1.0 / 50.0
 
 
 class OutlineRegression:
@@ -71,6 +76,16 @@ class OutlineRegression:
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
         self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
+        # the pixel check (docs/capture.md §12, "Pixel consistency"): crack normals of a crack outline, or None
+        # (C2 joints only: the freer C1 fit, joint_continuity=1, keeps a disc's four pieces 0.1-0.2 px beside them)
+        # (nor with merge_tolerance > 0: merging rebuilds the segments under its own tolerance)
+        self.crack_normal = crack_normals(contour.points) if options["pixel_check"] and \
+            self.knot_multiplicity == 1 and not float(options.get("merge_tolerance", 0.0)) > 0 else None
+        self.pixel_slack = float(options["pixel_slack"]) + max(0.0, self.epsilon - DEFAULT_EPSILON)
+        self.pixel_waived = np.zeros(n, bool)
+        self.pixel_exempt = self._pixel_exempt() if self.crack_normal is not None else None
+        #: intervals whose pixel check failed but could not be split in the last :meth:`insert` (then waived)
+        self.last_waived = []
 
     def seed_knots(self, density):
         """First simple knots placed by the contour's curvature (:func:`~.lsq_setup.curvature_knots`)."""
@@ -274,6 +289,61 @@ class OutlineRegression:
         disp = np.hypot(*(self.curve_at(at) - points).T)
         return np.flatnonzero((disp > limit) & (tips.radius > 0))
 
+    # ---------------------------------------------------------------- pixel consistency
+    def _pixel_exempt(self):
+        """Contour points the pixel check leaves out: within ``2 r + 1`` px (arc length, at least 2 px) of a
+        corner, ``r`` its initial weighting radius, where the pieces reach past the truncated pixel tip."""
+        contour = self.contour
+        n = contour.size
+        if not contour.corner_count:
+            return np.zeros(n, bool)
+        reach = np.maximum(2.0 * self.tips.zone_radius[contour.nearest_corner[:n]] + 1.0, 2.0)
+        return contour.corner_distance[:n] < reach
+
+    def pixel_excess(self):
+        """Per contour point of a crack outline: how far (px) the fitted curve passes beside the segment
+        between the two pixel centres its crack separates, on the inner side of a bend of the curve (the
+        point lies on the curve's convex side, and the curve turns by at least :data:`PIXEL_MIN_CURVATURE`),
+        less ``pixel_slack``; ``-inf`` elsewhere, near corners and where waived. The true boundary of a
+        point-sampled render crosses every such segment (an inside and an outside pixel centre, 1 px apart),
+        and very nearly so for area-sampled renders; a curve that passes inside a bend beside it cuts the
+        bend (a fillet, a rounded corner) short. Beyond a bend is where extrapolated tips go and is not
+        checked. The curve is taken locally as its tangent line at the point's foot point (two Gauss-Newton
+        steps of the foot-point equation from the point's parameter)."""
+        n = self.contour.size
+        out = np.full(n, -np.inf)
+        idx = np.flatnonzero(~(self.pixel_exempt | self.pixel_waived))
+        if not idx.size:
+            return out
+        m = self.contour.points[idx]
+        u = self.parameter[idx].copy()
+        lo, hi = self.parameter_low[idx], self.parameter_high[idx]
+        h = 0.1
+        for step in range(3):
+            a, b = np.maximum(u - h, lo), np.minimum(u + h, hi)
+            before, point, after = self.curve_at(a), self.curve_at(u), self.curve_at(b)
+            derivative = (after - before) / np.maximum(b - a, 1e-12)[:, None]
+            if step == 2:
+                break
+            speed = np.maximum(np.einsum("kd,kd->k", derivative, derivative), 1e-12)
+            du = np.clip(np.einsum("kd,kd->k", m - point, derivative) / speed, -2.0, 2.0)
+            u = np.clip(u + du, lo, hi)
+        length = np.maximum(np.hypot(*derivative.T), 1e-12)
+        normal = np.column_stack([-derivative[:, 1], derivative[:, 0]]) / length[:, None]
+        # the bend: second difference of the three samples, along the normal, per squared arc length
+        wide = np.maximum(np.minimum(u - a, b - u), 1e-12)
+        second = ((after - point) / np.maximum(b - u, 1e-12)[:, None] - (point - before)
+                  / np.maximum(u - a, 1e-12)[:, None]) / (0.5 * (b - a))[:, None]
+        bend = np.einsum("kd,kd->k", second, normal) / length**2
+        bend = np.where(wide > 0.25 * h, bend, 0.0)
+        crack = self.crack_normal[idx]
+        side = np.einsum("kd,kd->k", m - point, normal)           # the crack midpoint's side of the curve
+        reach = 0.5 * np.abs(np.einsum("kd,kd->k", crack, normal))  # the centres lie side +- reach
+        beside = np.abs(side) - reach
+        inner = (np.abs(bend) >= PIXEL_MIN_CURVATURE) & (side * bend < 0)  # the pixels on the convex side
+        out[idx] = np.where(inner, np.maximum(beside, 0.0) - self.pixel_slack, -np.inf)
+        return out
+
     # ---------------------------------------------------------------- deviations
     def deviations(self, dense=False):
         """Closest-point deviations of the current fit, both directions (upper bounds, docs/capture.md §12).
@@ -304,6 +374,17 @@ class OutlineRegression:
                                  0.5 * self.epsilon if dense else self.epsilon, int(np.ceil(3.0 / spacing)))
         dev.update(starts=starts, ends=ends, probe_u=probe_u, probe_zone=probe_zone, curve_iv=iv, curve_params=params,
                    bezier=bez, dense=dense)
+        dev.update(tol_excess=dev["excess"], pixel=None, pixel_iv=None)
+        if self.crack_normal is not None:
+            k = starts.shape[0]
+            pixel = self.pixel_excess()
+            pixel_iv = np.clip(np.searchsorted(ends, self.parameter[:n]), 0, k - 1)
+            if contour.corner_count:  # not in a piece's end intervals: they reach the corner's tip, or its pixels
+                tip = self.base_parameter[contour.corner_bounds[:-1]]
+                end = np.isin(starts, tip) | np.isin(ends, tip) | np.isin(ends, tip + self.period)
+                pixel = np.where(end[pixel_iv], -np.inf, pixel)
+            dev.update(excess=np.maximum(dev["excess"], group_max(pixel_iv, pixel, k)[0]), pixel=pixel,
+                       pixel_iv=pixel_iv)
         return dev
 
     def _zones(self, dense):
@@ -351,14 +432,15 @@ class OutlineRegression:
         return probes, probe_u, probe_piece, is_point
 
     # ---------------------------------------------------------------- knot insertion
-    def insert(self, dev):
+    def insert(self, dev, tight=False):
         """Insert one knot into every failing knot interval, at its worst point outside the corner zones,
         kept in the middle half of the interval. Where an interval fails only inside the zone of an
         extrapolated corner, knots cannot help (the fit ignores the truncated tip), so that corner stops being
         extrapolated instead.
 
         Returns (new knots as (rotated index, interval, excess), intervals that could not be split because
-        their knots are fewer than ``2 min_gap`` steps apart, released corners)."""
+        their knots are fewer than ``2 min_gap`` steps apart, released corners). ``tight``: the last resort of a
+        round in which nothing else helped, knots down to one contour step apart, and no pixel-check intervals."""
         n = self.contour.size
         excess = dev["excess"]
         failing = np.flatnonzero(excess > 0)
@@ -377,9 +459,18 @@ class OutlineRegression:
         knots = self.knot_indices()
         knot_values = self.base_parameter[knots]
         new, stuck, released = [], [], []
+        self.last_waived = []
+        if dev["pixel"] is not None:
+            pixel_worst, pixel_at = group_max(dev["pixel_iv"], dev["pixel"], k)
+        gap = 1 if tight else self.min_gap
         for f in failing:
             a, b = dev["starts"][f], dev["ends"][f]
-            if max(out_d[f], out_c[f]) <= 0:
+            pixel_only = dev["tol_excess"][f] <= 0
+            if pixel_only and tight:
+                continue
+            if pixel_only:  # within the tolerance, but not consistent with the pixels: a knot at the worst point
+                best, where = pixel_worst[f], self.parameter[pixel_at[f]]
+            elif max(out_d[f], out_c[f]) <= 0:
                 in_data = in_d[f] >= in_c[f]
                 best = in_d[f] if in_data else in_c[f]
                 where = u_data[in_d_at[f]] if in_data else u_curve[in_c_at[f]]
@@ -396,10 +487,14 @@ class OutlineRegression:
             where = min(max(where, a + quarter), b - quarter)
             left = int(knots[min(np.searchsorted(knot_values, a - 1e-9), knots.shape[0] - 1)])
             right = int(knots[min(np.searchsorted(knot_values, b - 1e-9), knots.shape[0] - 1)])
-            if right - left < 2 * self.min_gap:
-                stuck.append(int(f))
+            if right - left < 2 * gap:
+                if pixel_only:  # no knot fits: the check gives way there for the rest of the fit
+                    self.pixel_waived[dev["pixel_iv"] == f] = True
+                    self.last_waived.append(int(f))
+                else:
+                    stuck.append(int(f))
                 continue
-            j = min(max(int(np.searchsorted(self.parameter[:n], where)), left + self.min_gap), right - self.min_gap)
+            j = min(max(int(np.searchsorted(self.parameter[:n], where)), left + gap), right - gap)
             new.append((j, int(f), float(best)))
         if new:
             self.simple_knots = np.unique(np.concatenate([self.simple_knots, [j for j, _, _ in new]]).astype(np.int64))

@@ -9,7 +9,7 @@ import numpy as np
 from .geometry import edge_table, polyline_distance
 from .tips import MAX_TIP_REACH, tip_estimates
 
-__all__ = ["RotatedContour", "CornerTips", "thin_corners", "curvature_knots"]
+__all__ = ["RotatedContour", "CornerTips", "thin_corners", "curvature_knots", "crack_normals"]
 
 #: Curvature rates below this (1/px) count as straight in :func:`curvature_knots`: what is left of the pixel
 #: staircase on long straight sides.
@@ -233,3 +233,17 @@ def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     if contour.corner_count or merged.shape[0] >= 4:  # a periodic spline needs four knots
         return merged
     return None
+
+
+def crack_normals(points):
+    """Per point of a crack outline (midpoints of unit pixel edges, pixel corners on integers), the unit normal
+    of its crack: ``(1, 0)`` for a vertical crack (integer x, half-integer y), ``(0, 1)`` for a horizontal one;
+    the pixel centres on both sides lie half a pixel along it. None when not every point is such a midpoint (a
+    polyline that is not a crack outline gets no pixel check)."""
+    frac = points - np.floor(points)
+    whole = (frac < 1e-9) | (frac > 1.0 - 1e-9)
+    half = np.abs(frac - 0.5) < 1e-9
+    vertical, horizontal = whole[:, 0] & half[:, 1], half[:, 0] & whole[:, 1]
+    if not (vertical | horizontal).all():
+        return None
+    return np.where(vertical[:, None], np.array([1.0, 0.0]), np.array([0.0, 1.0]))

@@ -43,15 +43,23 @@ def filleted_polygon(vertices, radii, step=0.05):
     return np.vstack(points)
 
 
-def outline_of(dense, margin=6):
-    """Rasterize a closed dense outline (pixel ink where its centre is inside) and trace its crack outline;
-    returns the outline and the shift applied to the coordinates."""
+def mask_of(dense, margin=6):
+    """Ink where the pixel centre is inside the closed dense outline, and the outline shifted into the mask's
+    frame."""
     shift = margin - np.floor(dense.min(axis=0))
     placed = dense + shift
     height, width = (np.ceil(placed.max(axis=0)).astype(int) + margin)[::-1]
     mask = np.zeros((height, width), bool)
     rows, cols = fill_polygon(placed[:, 1] - 0.5, placed[:, 0] - 0.5, mask.shape)
     mask[rows, cols] = True
+    return mask, placed
+
+
+def outline_of(dense, margin=6):
+    """Rasterize a closed dense outline (pixel ink where its centre is inside) and trace its crack outline;
+    returns the outline and the shift applied to the coordinates."""
+    shift = margin - np.floor(dense.min(axis=0))
+    mask, _ = mask_of(dense, margin)
     outer = [b for b in trace_boundaries(mask) if not b.is_hole]
     assert len(outer) == 1
     return outer[0].outline, shift

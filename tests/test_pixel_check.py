@@ -9,29 +9,16 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
-from skimage.draw import polygon as fill_polygon
 
 import splinecraft as sc
 from splinecraft.capture.contour import trace_boundaries
 from splinecraft.capture.corners import corners
 from splinecraft.capture.fitting import fit_outline
 from splinecraft.capture.fitting.lsq_setup import crack_normals
-from test_fillets import filleted_polygon, rotated_square  # the fillet construction of test_fillets
+from test_fillets import filleted_polygon, mask_of, rotated_square  # test_fillets' fillets and rendering
 
 SETTINGS = settings(max_examples=12, deadline=None, derandomize=True, database=None,
                     suppress_health_check=[HealthCheck.too_slow])
-
-
-def mask_of(dense, margin=6):
-    """Ink where the pixel centre is inside the closed dense outline (test_fillets' rendering), and the outline
-    shifted into the mask's frame."""
-    shift = margin - np.floor(dense.min(axis=0))
-    placed = dense + shift
-    height, width = (np.ceil(placed.max(axis=0)).astype(int) + margin)[::-1]
-    mask = np.zeros((height, width), bool)
-    rows, cols = fill_polygon(placed[:, 1] - 0.5, placed[:, 0] - 0.5, mask.shape)
-    mask[rows, cols] = True
-    return mask, placed
 
 
 @SETTINGS

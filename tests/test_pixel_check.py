@@ -87,7 +87,7 @@ def test_the_check_only_adds_knots_and_keeps_the_guarantee(radius, angle, seed):
     boundary, = [b for b in trace_boundaries(mask) if not b.is_hole]
     points = boundary.outline
     found = corners(points, "tangent-jump")
-    on, off = fit_outline(points, found), fit_outline(points, found, pixel_check=False)
+    on, off = fit_outline(points, found, pixel_check=True), fit_outline(points, found)
     for fit in (on, off):
         assert fit.converged
         assert fit.hausdorff <= fit.info["tolerance_near_corners"] + 1e-9

@@ -352,27 +352,15 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
             for b in (0, 1):
                 if length == 1 and a == 0 and b == 0:
                     continue  # the segment as it was
-                if length > 1 and not (a and b):
-                    # a longer run takes the new directions wherever it may (a kept segment beside it is
-                    # refitted as a run of one instead)
-                    valid = np.ones(active.shape[0], bool)
-                    if a == 0:
-                        valid &= ~interior[active]
-                    if b == 0:
-                        valid &= ~interior[last + 1]
-                    if a:
-                        valid &= interior[active]
-                    if b:
-                        valid &= interior[last + 1]
-                    rows.append(np.flatnonzero(valid))
-                    sa.append(np.full(rows[-1].shape[0], a))
-                    sb.append(np.full(rows[-1].shape[0], b))
-                    continue
+                # an end at a join takes the new direction if asked (a == 1), and a longer run takes it wherever
+                # it may: its end keeps the old one only where the join has no new direction (a kept segment
+                # beside it is refitted as a run of one instead)
                 valid = np.ones(active.shape[0], bool)
-                if a:
-                    valid &= interior[active]
-                if b:
-                    valid &= interior[last + 1]
+                for flag, joins in ((a, interior[active]), (b, interior[last + 1])):
+                    if flag:
+                        valid &= joins
+                    elif length > 1:
+                        valid &= ~joins
                 rows.append(np.flatnonzero(valid))
                 sa.append(np.full(rows[-1].shape[0], a))
                 sb.append(np.full(rows[-1].shape[0], b))

@@ -690,7 +690,9 @@ def test_large_speckle_outline_converges_through_the_fallback():
     from splinecraft.capture.trace import trace
 
     mask = np.random.default_rng(0).random((70, 70)) < 0.5
-    result = trace(mask, epsilon=0.8, keep_snapshots=False, noise_factor=0)  # the tolerance is epsilon
+    # no time budget: this is about the fallback converging, and under a loaded machine the default 5 s budget
+    # can end the fit first (the budget has its own tests in test_trace_budget.py)
+    result = trace(mask, epsilon=0.8, keep_snapshots=False, noise_factor=0, time_budget=None)
     assert result.stats["converged"] and result.stats["hausdorff"] <= 0.8 + 0.5 + 1e-9
     rescued = [k for k, fit in enumerate(result.fits) if "fallback_from" in fit.info]
     assert any(len(result.points[k]) > 512 for k in rescued)

@@ -3,12 +3,16 @@
 The tuning set of ``synthetic_shapes`` (300-px glyphs and analytic shapes) and its ``size_set`` (glyphs at
 48, 64, 600 and 1200 px, every other one turned; analytic shapes four times larger) are traced by
 ``sc.trace`` once per variant (``--variants``: a JSON list of ``fit_params`` dicts, ``{}`` = the defaults; a
-key ``"corner_params"`` in a dict is that variant's ``corner_params``),
+key ``"corner_params"`` in a dict is that variant's ``corner_params``, a key ``"tip_angles"`` sets angle
+constants of ``capture.fitting.tips`` in degrees for that variant, e.g. ``{"MAX_OBTUSE_ANGLE": 110}``),
 shape by shape with the variants interleaved, and scored by ``synthetic_shapes.score_beziers``. Per group:
 share within 1 px (symmetric Hausdorff) / median rms px / median segments per true segment / pooled corner
 F1, and the median time of each variant relative to the first.
 
     .venv/bin/python benchmarks/bench_segments.py --variants '[{}, {"initial_density": 0}]'
+
+The small synthetic shapes (``synthetic_shapes.small_set``: glyphs at 40-64 px, random small polygons and
+blobs, turned) are measured only when asked for: ``--groups small-glyph,small-polygon,small-blob``.
 """
 from __future__ import annotations
 
@@ -25,8 +29,12 @@ sys.path.insert(0, HERE)
 
 import splinecraft as sc  # noqa: E402
 import synthetic_shapes as S  # noqa: E402
+from splinecraft.capture.fitting import tips  # noqa: E402
 
-GROUP_ORDER = ("small", "medium", "glyph300", "large", "analytic", "analytic-large")
+GROUP_ORDER = ("small", "medium", "glyph300", "large", "analytic", "analytic-large", "small-glyph", "small-polygon",
+               "small-blob")
+SMALL_GROUPS = ("small-glyph", "small-polygon", "small-blob")
+TIP_ANGLES = {name: getattr(tips, name) for name in ("MAX_EXTRAPOLATED_ANGLE", "MAX_OBTUSE_ANGLE")}
 
 
 def shapes(groups):
@@ -35,6 +43,8 @@ def shapes(groups):
         shape["group"] = "glyph300" if shape["name"].endswith("_300") else "analytic"
         out.append(shape)
     out += S.size_set()
+    if any(g in SMALL_GROUPS for g in groups):  # synthetic_shapes.small_set only when asked for
+        out += S.small_set()
     return [s for s in out if not groups or s["group"] in groups]
 
 
@@ -45,6 +55,9 @@ def measure(shape_list, variants):
         for v, params in enumerate(variants):
             params = dict(params)
             corner_params = params.pop("corner_params", None)
+            angles = {**TIP_ANGLES, **{k: np.radians(v) for k, v in params.pop("tip_angles", {}).items()}}
+            for constant, value in angles.items():  # the defaults, then this variant's
+                setattr(tips, constant, value)
             start = time.perf_counter()
             result = sc.trace(mask, fit_params=params or None, corner_params=corner_params)
             seconds = time.perf_counter() - start

@@ -405,6 +405,42 @@ def size_set(glyph_chars="BDGKMRSWaegk&3", sizes=(48, 64, 600, 1200), analytic_s
             shapes.append(shape)
     return shapes
 
+def small_set(glyph_chars="BDEGHKMNRSWaegkmnr&3", sizes=(40, 48, 56, 64), polygons=16, blobs=8, seed=9):
+    """Small glyph-like renders (deterministic), for the fit of small outlines: glyphs of the tuning fonts at
+    cap heights ``sizes`` (one size per glyph in turn, turned by 0-90 degrees, every third upright), random
+    polygons (4-8 vertices, 12-30 px across, interior angles of every kind, random rotation) and smooth
+    blobs of 8-20 px radius. ``group``: ``small-glyph``, ``small-polygon`` or ``small-blob``."""
+    rng = np.random.default_rng(seed)
+    shapes = []
+    if fonts_available():
+        for index, ch in enumerate(glyph_chars):
+            font = GLYPH_FONTS[index % len(GLYPH_FONTS)]
+            for j in range(2):
+                size = sizes[(index + j) % len(sizes)]
+                turn = 0.0 if (index + j) % 3 == 0 else float(np.round(rng.uniform(0.0, 90.0), 1))
+                try:
+                    shape = glyph(font, ch, size, turn)
+                except ValueError:
+                    continue
+                shape["group"] = "small-glyph"
+                shapes.append(shape)
+    for k in range(polygons):
+        n = int(rng.integers(4, 9))
+        angles = np.sort(rng.uniform(0.0, 2 * np.pi, n))
+        while np.min(np.diff(np.concatenate([angles, angles[:1] + 2 * np.pi]))) < 0.35:
+            angles = np.sort(rng.uniform(0.0, 2 * np.pi, n))
+        radius = rng.uniform(6.0, 15.0) * rng.uniform(0.6, 1.0, n)
+        vertices = np.column_stack([radius * np.cos(angles), radius * np.sin(angles)])
+        vertices += rng.uniform(0.0, 1.0, 2)
+        shape = polygon_shape(f"poly{k}_{n}", vertices)
+        shape["group"] = "small-polygon"
+        shapes.append(shape)
+    for k in range(blobs):
+        shape = blob(f"blob_small{k}", rng.uniform(8.0, 20.0), seed * 100 + k)
+        shape["group"] = "small-blob"
+        shapes.append(shape)
+    return shapes
+
 # ------------------------------------------------------------------------------------------- scoring
 
 def _dense_bezier(bezier, step=0.1):

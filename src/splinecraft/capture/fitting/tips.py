@@ -39,6 +39,12 @@ SHARP_TRUNCATION = np.sqrt(0.5)
 #: (``epsilon + corner_allowance``), while their sides are often axis-aligned or flattened, where the crossing
 #: is least certain.
 MAX_EXTRAPOLATED_ANGLE = np.radians(90.0)
+#: Corners from :data:`MAX_EXTRAPOLATED_ANGLE` up to this interior angle (radians, measured on the contour) are
+#: extrapolated too where both sides are straight runs that the pixels pin down (a separating line on each
+#: side, :func:`_separating_line`), with the same bounds and consistency test. Equal to
+#: :data:`MAX_EXTRAPOLATED_ANGLE` (off): on the small synthetic shapes (``synthetic_shapes.small_set``) 100,
+#: 110, 125 and 150 degrees each lose shapes within 1 px (BENCHMARKS.md, "Small outlines: obtuse tips").
+MAX_OBTUSE_ANGLE = MAX_EXTRAPOLATED_ANGLE
 #: Farthest an extrapolated tip may lie from its contour corner (px): the bound that keeps nearly parallel
 #: sides (or misread ones) from shooting the corner off.
 MAX_TIP_REACH = 5.0
@@ -264,6 +270,7 @@ def tip_estimates(contour, angle, radius):
     anchors = np.full((count, 2, 2), np.nan)
     pairs = pixel_pairs(contour.points)
     opening = np.array(angle, float)
+    straight = np.zeros(count, bool)  # both sides separating lines (digital straight segments)
     for c in range(count):
         corner_arc = arc[contour.corner_bounds[c]]
         sides = []
@@ -273,6 +280,7 @@ def tip_estimates(contour, angle, radius):
         if sides[0] is None or sides[1] is None:
             continue
         windows = [side.length for side in sides]
+        straight[c] = sides[0].margin > 0 and sides[1].margin > 0
         point = _crossing(*sides)
         corner_point = contour.points[contour.corner_bounds[c] % contour.size]
         ends = contour.point_at_arc((corner_arc + np.array([-start[c], start[c]])) % perimeter)
@@ -294,7 +302,8 @@ def tip_estimates(contour, angle, radius):
         estimate[c], anchors[c] = point, ends
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of
     # the sides of a rounded (or flattened) corner, which the pixels follow better than the crossing does
-    estimate[angle >= MAX_EXTRAPOLATED_ANGLE] = np.nan
+    # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides)
+    estimate[(angle >= MAX_EXTRAPOLATED_ANGLE) & ~(straight & (angle < MAX_OBTUSE_ANGLE))] = np.nan
     found = np.flatnonzero(np.isfinite(estimate[:, 0]))
     if found.size:
         outside = polyline_distance(estimate[found], contour.points, closed=True)

@@ -21,7 +21,9 @@
 * ``jit``: the first-call cost of the compiled kernels in a fresh process with an empty kernel cache (cold)
   and again with the cache it left (warm): the time of the kernels' warm-up that ``sc.trace`` runs once per
   process (after the imports, which are not counted), wall and CPU, per kernel module (the fit, the noise
-  estimate, tangent-jump's arm search), and the cold compile time of each compiled function.
+  estimate, tangent-jump's arm search, the tracer, the polygons, segment merging), the cold compile time of each
+  compiled function, and the first ``sc.trace`` of a fresh process (the thesis's "ali", at defaults and with
+  ``merge_tolerance`` 0.5), cold on an empty cache and warm on the cache it left, imports not counted.
 * ``blas``: the fit's small solves with the BLAS threads pinned to 1 (threadpoolctl) against the library's
   default, with the other core kept busy by a spinning process, alternating.
 """
@@ -192,7 +194,8 @@ recorder = event.RecordingListener()
 event.register("numba:compile", recorder)
 modules = {}
 for name, module in (("fit", "fitting._kernels"), ("noise estimate", "fitting._iso_kernels"),
-                     ("corners", "corners._jump_kernels"), ("tracer", "_cracks"), ("polygons", "fitting.budget")):
+                     ("corners", "corners._jump_kernels"), ("tracer", "_cracks"), ("polygons", "fitting.budget"),
+                     ("merge", "fitting._merge_kernels")):
     try:
         modules[name] = importlib.import_module("splinecraft.capture." + module)
     except ImportError:  # a tree without that kernel module
@@ -222,6 +225,20 @@ print(json.dumps(out))
 """
 
 
+_TRACE_CHILD = """
+import json, sys, time, splinecraft as sc
+import scipy.ndimage, scipy.spatial, skimage.measure  # imports are not the kernels' cost
+from splinecraft.datasets import thesis_object
+image = thesis_object("ali")
+w, c = time.perf_counter(), time.process_time()
+sc.trace(image, **json.loads(sys.argv[1]))
+print(json.dumps({"total": (time.perf_counter() - w, time.process_time() - c)}))
+"""
+
+#: The first ``sc.trace`` calls timed by the ``jit`` mode: at defaults and with segment merging on.
+_TRACE_CALLS = {"sc.trace (defaults)": {}, "sc.trace (merge_tolerance 0.5)": {"fit_params": {"merge_tolerance": 0.5}}}
+
+
 def measure_jit(src):
     """Cold and warm first-call cost of the kernels of the tree ``src``: fresh processes on an empty, then a
     used, cache; per module (wall, CPU seconds) and, cold, the compile wall time of each compiled function
@@ -233,6 +250,14 @@ def measure_jit(src):
             done = subprocess.run([sys.executable, "-c", _JIT_CHILD], capture_output=True, text=True, env=env,
                                   check=True)
             out[name] = json.loads(done.stdout.strip().splitlines()[-1])
+    for label, kwargs in _TRACE_CALLS.items():  # the first sc.trace of a process, each on its own empty cache
+        with tempfile.TemporaryDirectory() as cache:
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=src)
+            for name in ("cold", "warm"):
+                done = subprocess.run([sys.executable, "-c", _TRACE_CHILD, json.dumps(kwargs)], capture_output=True,
+                                      text=True, env=env, check=True)
+                out.setdefault("first trace", {}).setdefault(label, {})[name] = json.loads(
+                    done.stdout.strip().splitlines()[-1])["total"]
     return out
 
 
@@ -250,10 +275,16 @@ def compare_jit(args):
 
 
 def print_jit(figures):
+    print("| first call in a fresh process | cold (empty cache) wall / CPU s | warm (cached) wall / CPU s |\n|---|---|---|")
+    for label, runs in figures.get("first trace", {}).items():
+        print(f"| {label} | {runs['cold'][0]:.2f} / {runs['cold'][1]:.2f} | {runs['warm'][0]:.2f} / {runs['warm'][1]:.2f} |")
+    print()
     print("| cache | " + " | ".join(f"{name} wall / CPU s" for name in figures["cold"]["modules"])
           + " | total wall / CPU s |")
     print("|---|" + "---|" * (len(figures["cold"]["modules"]) + 1))
     for name, run in figures.items():
+        if name == "first trace":
+            continue
         cells = [f"{wall:.2f} / {cpu:.2f}" for wall, cpu in run["modules"].values()]
         print(f"| {name} | " + " | ".join(cells) + f" | {run['total'][0]:.2f} / {run['total'][1]:.2f} |")
     functions = sorted(figures["cold"]["functions"].items(), key=lambda item: -item[1])

@@ -153,7 +153,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="trace bitmaps into smooth outlines (SVG or JSON)",
         description="Trace the outline of each bitmap (outer contours and holes) into closed cubic splines: "
                     "chain-code boundary, corners, spline fit with knot insertion until the error is "
-                    "below EPSILON pixels.",
+                    "below EPSILON pixels. The first trace after an install compiles the kernels (numba, "
+                    "about 10 s CPU on a quiet machine) and caches them on disk; every later process "
+                    "loads them in well under a second (BENCHMARKS.md, 'First-call cost').",
     )
     tracer.add_argument("inputs", nargs="+", metavar="IN", help="image files (PNG, JPEG, BMP, GIF, TIFF)")
     tracer.add_argument("-o", "--output", required=True, metavar="OUT",

@@ -257,7 +257,9 @@ def tip_estimates(contour, angle, radius):
     further), intersected by :func:`_crossing`. Kept when the intersection lies within :func:`tip_reach` of
     the contour corner (and within :data:`REACH_PER_SIDE` of the shorter window), no farther outside the
     contour than a sharp tip can be (:data:`SHARP_TRUNCATION`) and not more than :data:`BEHIND` behind it
-    (along the bisector of the sides).
+    (along the bisector of the sides). Only corners sharper than :data:`MAX_EXTRAPOLATED_ANGLE` (or than
+    :data:`MAX_OBTUSE_ANGLE` between two straight sides) are measured (the others get no estimate, and their
+    sides are not fitted).
 
     Returns ``(estimate, start, anchors)``: estimate (k, 2), NaN where there is none; the window start per
     corner; the contour points at the window starts (k, 2, 2: before, after)."""
@@ -268,16 +270,23 @@ def tip_estimates(contour, angle, radius):
     start = np.maximum(radius, np.clip(1.0 / np.maximum(np.tan(0.5 * angle), 1e-6), 1.0, 6.0))
     estimate = np.full((count, 2), np.nan)
     anchors = np.full((count, 2, 2), np.nan)
-    pairs = pixel_pairs(contour.points)
     opening = np.array(angle, float)
     straight = np.zeros(count, bool)  # both sides separating lines (digital straight segments)
-    for c in range(count):
+    # a corner at max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE) or blunter is not extrapolated: its sides are
+    # not fitted
+    acute = np.flatnonzero(~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE)))
+    if not acute.size:
+        return estimate, start, anchors
+    pairs = pixel_pairs(contour.points)
+    for c in acute:
         corner_arc = arc[contour.corner_bounds[c]]
         sides = []
         for sign, side_len in ((-1, before_len[c]), (1, after_len[c])):
             stop = min(start[c] + LONGEST_SIDE, 0.8 * side_len)
             sides.append(side_fit(contour, corner_arc, sign, start[c], stop, pairs))
-        if sides[0] is None or sides[1] is None:
+            if sides[-1] is None:  # no crossing without both sides
+                break
+        if len(sides) < 2 or sides[1] is None:
             continue
         windows = [side.length for side in sides]
         straight[c] = sides[0].margin > 0 and sides[1].margin > 0

@@ -12,8 +12,9 @@ A closed run of cubic Bézier pieces (an SVG subpath, a font glyph's contour, a 
   ``omega_i > 0`` the knot is **smooth** with that ``v_i``, else it becomes a corner. A loop without corners
   must also close up (steps and weights back to their start values), else knot 0 becomes a corner.
 
-The result is then rebuilt by the engine and compared with the input; pieces that do not match (the engine
-refuses a tension, rounding) get corners at their ends, so the conversion is always exact to rounding.
+The result is then rebuilt by the engine and compared with the input: a knot whose negative tension the engine
+refuses (§2.5, outside the dominant domain) becomes a corner, and pieces that do not match (rounding) get corners
+at their ends, so the conversion is always exact to rounding.
 The project's own curves (``v = 0``, ``omega = 1``) come back with those values.
 """
 from __future__ import annotations
@@ -159,6 +160,14 @@ def contour_from_bezier(bezier, corners=None) -> Contour:
             contour = Contour(bezier[:, 0], corner_mask, handles_in=into, handles_out=out, steps=steps,
                               point_tension=_snap(tension, 0.0), interval_weights=_snap(weights, 1.0))
         except ValueError:
+            # a negative tension outside the domain where the tangent system is dominant (§2.5; the engine
+            # refuses it): that knot becomes a corner, the most negative first (a positive tension never
+            # breaks dominance); other refusals: every knot
+            negative = np.flatnonzero(~corner_mask & (tension < 0))
+            if negative.size:
+                corner_mask = corner_mask.copy()
+                corner_mask[negative[np.argmin(tension[negative])]] = True
+                continue
             contour = None
             bad = np.ones(n, bool)
         else:

@@ -63,7 +63,7 @@ def test_merged_blobs_stay_within_epsilon_with_no_more_segments(harmonics, radiu
     """Merging keeps the guarantee (docs/capture.md §12: within epsilon of the pixels, measured here
     independently), only removes joins of the fit it starts from, and leaves G1 joins."""
     outline, _ = render_blob(radius * scale, harmonics)
-    plain = fit_outline(outline, np.zeros(0, int), epsilon=0.8, keep_snapshots=False)
+    plain = fit_outline(outline, np.zeros(0, int), epsilon=0.8, merge_tolerance=0.0, keep_snapshots=False)
     fit = fit_outline(outline, np.zeros(0, int), epsilon=0.8, merge_tolerance=MERGE, keep_snapshots=False)
     assert plain.converged and fit.converged
     assert deviation(fit.spline.bezier(), outline) <= 0.8 + 0.05
@@ -83,7 +83,7 @@ def test_merged_polygons_keep_the_guarantee_and_their_corners(count, rotation, s
     size = int(2 * radius + 16)
     vertices = np.column_stack([size / 2 + radius * np.cos(angles), size / 2 + radius * np.sin(angles)])
     outline, corners, _ = polygon_shape(vertices, size)
-    plain = fit_outline(outline, corners, keep_snapshots=False)
+    plain = fit_outline(outline, corners, merge_tolerance=0.0, keep_snapshots=False)
     fit = fit_outline(outline, corners, merge_tolerance=MERGE, keep_snapshots=False)
     assert fit.converged
     np.testing.assert_array_equal(fit.corners_used, plain.corners_used)
@@ -102,7 +102,7 @@ def test_a_disc_merges_to_four_segments(radius, offset):
     0.04 px at r = 160, so where the C2 fit needs more than four segments the merged fit of a disc has four,
     a font's count, and stays within about a pixel of the true circle."""
     outline, dense = render_blob(radius, [], offset=offset)
-    plain = fit_outline(outline, np.zeros(0, int), keep_snapshots=False)
+    plain = fit_outline(outline, np.zeros(0, int), merge_tolerance=0.0, keep_snapshots=False)
     fit = fit_outline(outline, np.zeros(0, int), merge_tolerance=MERGE, keep_snapshots=False)
     assert fit.converged
     assert fit.spline.bezier().shape[0] <= 4
@@ -126,12 +126,21 @@ def test_an_ellipse_merges_to_four_segments(angle):
     assert_g1(fit)
 
 
-def test_merging_is_off_by_default_and_checked():
-    """``merge_tolerance=0`` (the default) is the fit as it was; a negative tolerance is refused."""
-    outline, _ = render_blob(60.0, [(0.1, 0.3)])
-    plain = fit_outline(outline, np.zeros(0, int))
+def test_merging_is_on_by_default_and_checked():
+    """``merge_tolerance=0.5`` px is the default (docs/capture.md §12, "Merged segments"); ``merge_tolerance=0``
+    is the C2 fit as it was, which has no fewer segments and whose last snapshot is its own; a negative
+    tolerance is refused."""
+    outline, _ = render_blob(120.0, [(0.08, 0.4)])
+    default = fit_outline(outline, np.zeros(0, int))
+    merged = fit_outline(outline, np.zeros(0, int), merge_tolerance=0.5)
     off = fit_outline(outline, np.zeros(0, int), merge_tolerance=0.0)
-    np.testing.assert_array_equal(plain.spline.bezier(), off.spline.bezier())
+    np.testing.assert_array_equal(default.spline.bezier(), merged.spline.bezier())
+    assert default.spline.bezier().shape[0] < off.spline.bezier().shape[0]
+    np.testing.assert_allclose(off.snapshots[-1].bezier, off.spline.bezier(), rtol=0,
+                               atol=1e-9 * np.abs(off.spline.bezier()).max())
+    assert len(default.snapshots) == len(off.snapshots) + 1
+    for a, b in zip(default.snapshots, off.snapshots):  # the knot-insertion history is the unmerged fit's
+        np.testing.assert_array_equal(a.bezier, b.bezier)
     with pytest.raises(ValueError, match="merge_tolerance"):
         fit_outline(outline, np.zeros(0, int), merge_tolerance=-1.0)
 
@@ -139,7 +148,7 @@ def test_merging_is_off_by_default_and_checked():
 def test_merge_snapshot_records_the_joins_removed():
     """The merge is the last snapshot, of phase "remove", and its removed joins are the knots that went."""
     outline, _ = render_blob(120.0, [(0.08, 0.4)])
-    plain = fit_outline(outline, np.zeros(0, int))
+    plain = fit_outline(outline, np.zeros(0, int), merge_tolerance=0.0)
     fit = fit_outline(outline, np.zeros(0, int), merge_tolerance=MERGE)
     gone = set(plain.knot_indices[0].tolist()) - set(fit.knot_indices[0].tolist())
     assert gone

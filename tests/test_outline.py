@@ -109,12 +109,52 @@ def test_a_trace_comes_in_exactly_with_its_corners_and_sources(traced_d):
     for contour, spline in zip(outline.contours, traced_d.splines):
         assert np.abs(contour.bezier() - spline.bezier()).max() < 1e-9
     assert sum(int(c.corners.sum()) for c in outline.contours) == traced_d.stats["corners"]
-    # the project's own curves come back with v = 0 and omega = 1
-    assert all((c.point_tension == 0).all() and (c.interval_weights == 1).all() for c in outline.contours)
     assert outline.bitmap.shape == traced_d.mask.shape
     assert (outline.width, outline.height) == (traced_d.width, traced_d.height)
     # the deviation from the bitmap's contour is the trace's own measure
     assert outline.max_deviation() == pytest.approx(traced_d.stats["hausdorff"], abs=0.15)
+
+
+def test_the_unmerged_trace_comes_in_with_v_0_and_omega_1():
+    """The C2 fit before merging (``merge_tolerance=0``) is the project's own spline form: it comes back with
+    v = 0 and omega = 1 and with the trace's corners only (docs/capture.md §12, "Merged segments")."""
+    traced = sc.trace(datasets.thesis_object("D"), fit_params={"merge_tolerance": 0.0})
+    outline = as_outline(traced)
+    assert all((c.point_tension == 0).all() and (c.interval_weights == 1).all() for c in outline.contours)
+    assert sum(int(c.corners.sum()) for c in outline.contours) == traced.stats["corners"]
+
+
+def _curvature_ratio(bezier):
+    """Per knot the curvature at the end of the piece before it over that at the start of the piece after it."""
+    def curvature(d1, d2):
+        return (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.hypot(*d1.T) ** 3
+    before = np.roll(bezier, 1, axis=0)
+    end = curvature(before[:, 3] - before[:, 2], before[:, 1] - 2 * before[:, 2] + before[:, 3])
+    start = curvature(bezier[:, 1] - bezier[:, 0], bezier[:, 0] - 2 * bezier[:, 1] + bezier[:, 2])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return end / start
+
+
+@pytest.mark.parametrize("name", ["ali", "apple", "D"])
+def test_a_merged_trace_keeps_its_smooth_joins_smooth(name):
+    """The merged joins are G1 with a curvature jump; the spline form takes a jump by a positive ratio (interval
+    weights, thesis eqs 3.13-3.14), so a join whose two curvatures have one sign stays smooth, unless the
+    engine refuses its tension (§2.5), then it alone becomes a corner; the trace's corners stay corners."""
+    traced = sc.trace(datasets.thesis_object(name))
+    outline = as_outline(traced)
+    for fit, spline, contour in zip(traced.fits, traced.splines, outline.contours):
+        bezier = spline.bezier()
+        assert np.abs(contour.bezier() - bezier).max() < 1e-9 * max(1.0, np.abs(bezier).max())
+        trace_corners = np.zeros(len(bezier), bool)
+        if len(fit.corners_used):
+            counts = [len(k) - 1 for k in fit.knot_indices]
+            trace_corners[np.concatenate([[0], np.cumsum(counts)[:-1]])] = True
+        assert (contour.corners >= trace_corners).all()
+        ratio = _curvature_ratio(bezier)
+        extra = contour.corners & ~trace_corners
+        same_sign = ~trace_corners & (ratio > 0)
+        # before the fix every knot of ali's first contour became a corner (one refused tension)
+        assert (extra & same_sign).sum() <= max(1, same_sign.sum() // 10)
 
 
 def test_an_iteration_of_the_trace_can_be_opened(traced_d):

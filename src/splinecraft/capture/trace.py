@@ -64,8 +64,8 @@ from .corners import CORNER_METHODS
 from .corners import check_params as check_corner_params
 from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
-from .fitting.options import check_count, check_epsilon, check_flag, check_method, check_options, check_points, \
-    check_small_outline, check_tau, make_rng
+from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
+    check_points, check_small_outline, check_tau, make_rng
 from .corners._jump_kernels import warm_up as warm_corner_kernels
 from .fitting._iso_kernels import warm_up as warm_noise_kernels
 from .fitting._kernels import warm_up as warm_fit_kernels
@@ -229,8 +229,9 @@ def trace(
     traced = time.perf_counter()
     warm_fit_kernels()  # compiled or loaded before the budget starts (the first call of a process)
     warm_noise_kernels()
-    if settings["fit_params"].get("merge_tolerance", 0) > 0:
-        warm_merge_kernels()  # only where segment merging is asked for (it is off by default)
+    if settings["method"] == "lsq" and settings["fit_params"].get("merge_tolerance",
+                                                                     LSQ_DEFAULTS["merge_tolerance"]) > 0:
+        warm_merge_kernels()  # where segment merging runs (the default of lsq; merge_tolerance=0 turns it off)
     if settings["corner_method"] == "tangent-jump":
         warm_corner_kernels()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget

@@ -14,7 +14,7 @@ Layout (each module imports only those above it in this list):
 * :mod:`.bspline`, :mod:`.tips`, :mod:`.lsq_setup`, :mod:`.lsq_model`, :mod:`.lsq` -- the default ``"lsq"``
   (:mod:`.tips`: corner tips extrapolated from the two sides that meet there);
 * :mod:`.small` -- the small-outline path of ``"lsq"``;
-* :mod:`.merge` -- optional segment merging after ``"lsq"`` (``merge_tolerance``);
+* :mod:`.merge` -- segment merging after ``"lsq"`` (``merge_tolerance``, on by default);
 * this module -- the public entries :func:`fit_outline` and :func:`fit_small_outlines`, and the one place
   that routes a contour to a family.
 """

@@ -1,6 +1,6 @@
-"""Segment merging after the ``"lsq"`` fit (option ``merge_tolerance``): runs of consecutive Bézier segments
-between two corners become one G1 cubic where one cubic stays within the fit's tolerance of the contour
-(docs/capture.md §12, "Merged segments").
+"""Segment merging after the ``"lsq"`` fit (option ``merge_tolerance``, 0.5 px by default, 0 = off): runs of
+consecutive Bézier segments between two corners become one G1 cubic where one cubic stays within the fit's
+tolerance of the contour (docs/capture.md §12, "Merged segments").
 
 The ``C^2`` regression spline needs about twice a font's segments on large renders (its curvature is
 continuous at every knot, a font's jumps at every join; §12, "Joints of lsq"). This stage keeps that fit and

@@ -300,11 +300,12 @@ def test_lsq_extrapolates_acute_corners_beyond_the_pixel_tip():
 def test_lsq_result_is_the_thesis_interpolant_through_its_knot_points(name):
     """With C2 joints (``joint_continuity=2``) every piece of the result is interpolate(F, knots, clamped) of
     the engine (v = 0, omega = 1), and an outline without corners is the engine's periodic interpolant through
-    its knot points."""
+    its knot points. Of the fit before merging (``merge_tolerance=0``): the merged outline is G1 only
+    (docs/capture.md §12, "Merged segments"; test_merge)."""
     from splinecraft.spline import interpolate
 
     outline, corners, _ = shape(name)
-    result = fit_outline(outline, corners, epsilon=0.6, joint_continuity=2)
+    result = fit_outline(outline, corners, epsilon=0.6, joint_continuity=2, merge_tolerance=0.0)
     bez = result.spline.bezier()
     knots = result.spline.knots
     F = result.spline.knot_points

@@ -634,3 +634,26 @@ def test_tangent_jump_finds_the_tips_of_a_star_whose_tip_pixel_is_detached():
     """The case hypothesis found: the raster of this star is the body and one lone tip pixel."""
     outline, truth = polygon_outline(star(5, 60.0, 60.0 * 0.40625, 1.5), largest=True)
     assert_exact_corners(outline, cm.tangent_jump(outline), truth, tol=2.5)
+
+
+@settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(well_posed_polygons())
+def test_corners_with_the_wedge_test_turn_with_the_shape_by_90_degrees(vertices):
+    size = 140
+    mask = polygon_mask(vertices + size / 2, size)
+    assume(not maps_onto_itself(mask, (1,)))    # a symmetric mask: test_symmetric_masks_keep_their_corners
+    before = corner_points(mask, wedge=True)
+    after = corner_points(np.rot90(mask), wedge=True)     # (x, y) -> (y, size - x)
+    moved = np.column_stack([before[:, 1], size - before[:, 0]])
+    assert len(after) == len(before)
+    for point in moved:
+        assert np.hypot(*(after - point).T).min() <= 1e-9
+
+
+@settings(SETTINGS, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(well_posed_polygons(), st.floats(0, 2 * np.pi))
+def test_rotation_with_the_wedge_test_changes_the_corner_count_by_at_most_one(vertices, angle):
+    size = 140
+    upright = len(corner_points(polygon_mask(vertices + size / 2, size), wedge=True))
+    turned = len(corner_points(polygon_mask(rotate(vertices, angle) + size / 2, size), wedge=True))
+    assert abs(turned - upright) <= 1

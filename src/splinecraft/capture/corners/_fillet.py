@@ -251,3 +251,80 @@ def release_fillets(P, arc, perimeter, closed, found):
     before, after = _rooms(arc[found], perimeter, closed)
     depth = rounding_depths(P, arc, perimeter, closed, arc[found], before, after)
     return found[depth <= SHARP_TRUNCATION + DEPTH_MARGIN]
+
+
+#: Where the side lines of the wedge test start (px of arc from the corner, at most this fraction of the room
+#: to the neighbouring corner), and their longest length (px of arc).
+WEDGE_START = 4.0
+WEDGE_START_SHARE = 0.3
+WEDGE_LENGTH = 24.0
+#: How far (px) a paper pixel centre may lie inside (or an ink centre outside) the sharp wedge of a corner's
+#: two separating side lines before the pixels contradict a sharp corner there.
+WEDGE_CONTRADICTION = 0.2
+#: Shortest side window (px of arc) of the wedge test; a corner with a shorter side is not tested (a short
+#: window fixes its line's slope too loosely to extrapolate it to the corner).
+WEDGE_SHORTEST = 12.0
+
+
+class _Polyline:
+    """The few attributes of a closed outline that :func:`~splinecraft.capture.fitting.tips.side_fit` reads."""
+
+    def __init__(self, P, arc, perimeter):
+        self.points, self.closed_points = P, np.vstack([P, P[:1]])
+        self.arc, self.perimeter = np.concatenate([arc, [perimeter]]), perimeter
+
+    def point_at_arc(self, where):
+        return np.column_stack([np.interp(where, self.arc, self.closed_points[:, 0]),
+                                np.interp(where, self.arc, self.closed_points[:, 1])])
+
+
+def wedge_contradictions(P, arc, perimeter, at, room_before, room_after):
+    """Per corner at arc positions ``at`` of a closed crack outline ``P``: how far (px) the pixels near it
+    contradict a sharp corner, the wedge of its two sides (docs/capture.md §11, step 7). Each side is the
+    line that separates the ink and paper pixel centres of a window from ``min(WEDGE_START, WEDGE_START_SHARE
+    * room)`` px of arc on with the largest margin (the centre of the digital straight segment's preimage,
+    :func:`~splinecraft.capture.fitting.tips.side_fit`); the pixel centres beside the outline nearer the
+    corner than the windows must then lie on their own side of the wedge (ink inside, paper outside,
+    :func:`~splinecraft.capture.fitting.tips.tip_contradiction`). A fillet leaves paper centres inside the
+    wedge of its sides (its rounding is about ``r^2 (tan(phi / 2) - phi / 2)`` px^2 for a turn ``phi``); a
+    sharp corner leaves none but for the lines' own error, bounded by each line's margin (the half-width of
+    its preimage at the window) grown linearly to the corner (``margin (1 + 2 d / L)`` at ``d`` px from the
+    window's centre, ``L`` its length), which is subtracted. NaN where a side is not a digital straight segment
+    or the outline is not a crack outline (no test)."""
+    from ..fitting.tips import pixel_pairs, side_fit, tip_contradiction
+    at = np.asarray(at, float)
+    out = np.full(at.shape, np.nan)
+    pairs = pixel_pairs(P)
+    if pairs is None:
+        return out
+    outline = _Polyline(P, arc, perimeter)
+    for k, corner_arc in enumerate(at):
+        start = min(WEDGE_START, WEDGE_START_SHARE * room_before[k], WEDGE_START_SHARE * room_after[k])
+        sides = []
+        for sign, room in ((-1, room_before[k]), (1, room_after[k])):
+            stop = min(start + WEDGE_LENGTH, room - 2.0)
+            sides.append(side_fit(outline, corner_arc, sign, start, stop, pairs) if stop - start >= WEDGE_SHORTEST else None)
+        if any(s is None or s.margin <= 0.0 or s.coefficients.any() for s in sides):
+            continue
+        if abs(sides[0].direction @ sides[1].direction) > np.cos(np.radians(20.0)):
+            continue                                    # nearly straight through: no wedge to speak of
+        base = tip_contradiction(outline, corner_arc, start, sides, pairs)
+        # slack: each side's preimage half-width (its margin) grown to the corner over the window
+        slack = 0.0
+        for s in sides:
+            d = abs(s.local(outline.point_at_arc(np.array([corner_arc % perimeter]))[0]))
+            slack = max(slack, s.margin * (1.0 + 2.0 * d / max(s.length, 1e-9)))
+        out[k] = base - slack
+    return out
+
+
+def release_wedge_fillets(P, arc, perimeter, closed, found):
+    """The corners ``found`` (sorted indices into a closed crack outline ``P``) whose pixels do not contradict
+    the sharp wedge of their sides by more than :data:`WEDGE_CONTRADICTION` px (:func:`wedge_contradictions`);
+    the others are fillets and are released. Open outlines and other contour forms are returned as given."""
+    found = np.asarray(found, dtype=np.intp)
+    if not found.size or not closed:
+        return found
+    before, after = _rooms(arc[found], perimeter, closed)
+    contradiction = wedge_contradictions(P, arc, perimeter, arc[found], before, after)
+    return found[~(contradiction > WEDGE_CONTRADICTION)]

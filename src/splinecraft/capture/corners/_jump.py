@@ -7,7 +7,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _prepare, _result
-from ._fillet import release_fillets
+from ._fillet import release_fillets, release_wedge_fillets
 from ._jump_kernels import arm_lines
 
 
@@ -125,7 +125,7 @@ def _line_intersection(c1, a, c2, b):
 
 
 def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=25.0, min_excess=25.0,
-                 flank=(4, 10), max_arm=40, separation=2, fillets=False):
+                 flank=(4, 10), max_arm=40, separation=2, fillets=False, wedge=False):
     """Corners as jumps of the tangent direction between straight arms (this project's detector).
 
     Designed for crack outlines of rasterized shapes (staircase noise of about half a pixel) and tuned on
@@ -191,6 +191,11 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         1 px as often as the default holds the corners, but the test still releases some sharp corners (a serif
         corner of ``tests/test_corners.py`` at some rotations) (``BENCHMARKS.md``, "Fillets", "Pixel
         consistency").
+    wedge : bool, default False
+        Step 7b, the wedge test (:func:`._fillet.wedge_contradictions`): release every corner of a closed crack
+        outline whose two sides are digital straight segments of at least 12 px and whose pixels near the
+        corner contradict the sharp wedge of those sides (paper pixel centres inside it, ink ones outside) by
+        more than 0.2 px beyond the lines' own uncertainty (``BENCHMARKS.md``, "Corner F1 on old-style").
 
     Returns
     -------
@@ -198,6 +203,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         Sorted indices into ``points``; empty when the outline is shorter than 8 px.
     """
     settings = _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets)
+    settings["wedge"] = _check_bool(wedge, "wedge")
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
@@ -219,6 +225,8 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
     if settings["fillets"]:
         nearest = release_fillets(P, arc, perimeter, closed, np.unique(nearest))
+    if settings["wedge"]:
+        nearest = release_wedge_fillets(P, arc, perimeter, closed, np.unique(nearest))
     return _result(nearest, keep)
 
 

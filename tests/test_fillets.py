@@ -101,14 +101,16 @@ def test_without_the_fillet_test_these_fillets_count_as_corners(radius, angle):
     assert len(found) == 4 and len(tangent_jump(outline, fillets=True)) == 2
 
 
+@pytest.mark.parametrize("options", [{}, {"wedge": True}], ids=["fillet-test", "wedge-test"])
 @SETTINGS
 @given(count=st.integers(3, 8), angle=st.floats(0, 2 * np.pi), radius=st.floats(30.0, 80.0),
        dx=st.floats(0, 1), dy=st.floats(0, 1))
-def test_the_sharp_corners_of_regular_polygons_are_all_kept(count, angle, radius, dx, dy):
+def test_the_sharp_corners_of_regular_polygons_are_all_kept(options, count, angle, radius, dx, dy):
+    # neither the fillet test (on by default) nor the wedge test releases a sharp corner
     turns = angle + 2 * np.pi * np.arange(count) / count
     vertices = np.column_stack([np.cos(turns), np.sin(turns)]) * radius + [dx, dy]
     outline, shift = outline_of(vertices)
-    with_test, without = tangent_jump(outline), tangent_jump(outline, fillets=False)
+    with_test, without = tangent_jump(outline, **options), tangent_jump(outline, fillets=False)
     assert np.array_equal(with_test, without)
     assert len(with_test) == count
 
@@ -147,16 +149,6 @@ def test_fillets_must_be_a_bool():
 
 # ---- the wedge test (wedge=True, _fillet.wedge_contradictions): paper pixel centres inside the sharp wedge of
 # a corner's digital straight sides
-
-
-@SETTINGS
-@given(count=st.integers(3, 8), angle=st.floats(0, 2 * np.pi), radius=st.floats(30.0, 80.0),
-       dx=st.floats(0, 1), dy=st.floats(0, 1))
-def test_the_wedge_test_keeps_the_sharp_corners_of_regular_polygons(count, angle, radius, dx, dy):
-    turns = angle + 2 * np.pi * np.arange(count) / count
-    vertices = np.column_stack([np.cos(turns), np.sin(turns)]) * radius + [dx, dy]
-    outline, _ = outline_of(vertices)
-    assert np.array_equal(tangent_jump(outline, wedge=True), tangent_jump(outline))
 
 
 @SETTINGS

@@ -137,7 +137,12 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
        removes single-pixel bumps of the staircase. An outline whose points lie more than
        ``SAMPLES_PER_POINT`` (4) px apart on average is resampled at ``perimeter / (4 n)`` instead, so a call
        costs ``O(n)`` memory whatever the scale of the coordinates (the sample counts below are then in
-       that step).
+       that step). A closed outline is resampled from a start and a direction the shape picks
+       (:func:`_canonical_starts`: the farthest point from the centroid, exact ties going to the point and
+       way round whose followers are farther), relative to that point, so the corners do not depend on
+       where the outline starts and turn or reflect with the pixel frame exactly. Where a symmetry of the
+       outline ties several starts, steps 1-6 run from each and :func:`_symmetric_union` keeps one version
+       of every corner, so the corners are as symmetric as the outline.
     2. **Arms.** At every sample two arms grow, one backwards and one forwards, through the lengths
        3, 4, 5, 6, 8, ... ``max_arm`` samples for as long as every sample of the arm stays within
        ``tolerance`` px of the arm's least-squares line. The arm direction is that line's (long arms on
@@ -207,13 +212,42 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
-    if closed:                              # resample from a point the shape itself picks (_intrinsic_start)
-        start = _intrinsic_start(P)
-        P, keep = np.roll(P, -start, axis=0), np.roll(keep, -start)
+    n = len(P)
+    starts = _canonical_starts(P) if closed else [(0, 1)]
+    runs = []
+    for start, direction in starts:         # one, or one per symmetry of a symmetric outline
+        order = (start + direction * np.arange(n)) % n          # the outline from ``start`` that way round
+        found = _detect(P[order], closed, settings)
+        if found is None:
+            return _EMPTY.copy()
+        runs.append(order[found])
+    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_order(P))
+    if settings["fillets"] or settings["wedge"]:
+        first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
+        rolled = np.roll(P, -first, axis=0)
+        _, arc = _arc_lengths(rolled, closed)
+        perimeter, arc = arc[-1], arc[:n]
+        found = (np.unique(nearest) - first) % n
+        if settings["fillets"]:
+            found = release_fillets(rolled, arc, perimeter, closed, np.unique(found))
+        if settings["wedge"]:
+            found = release_wedge_fillets(rolled, arc, perimeter, closed, np.unique(found))
+        nearest = (np.asarray(found, dtype=np.intp) + first) % n
+    return _result(nearest, keep)
+
+
+def _detect(P, closed, settings):
+    """Steps 1-6 on the outline as given (a closed one from its first point): the corners' indices into
+    ``P``, or None when the outline is shorter than 8 samples.
+
+    The work is done relative to the first point (``P - P[0]``): a quarter turn or reflection of the pixel
+    frame then maps every intermediate value onto the turned one exactly (the outline's coordinates are
+    half-integers, so the shift is exact, and every step treats x and y alike), not just to rounding."""
+    P = P - P[0]
     step = _sample_step(P, closed)
     samples, where, arc, perimeter = _resample(P, closed, step)
     if len(samples) < 8:
-        return _EMPTY.copy()
+        return None
     samples = _smooth(samples, settings["smoothing"] / step, closed)
     ladder = [length for length in _ARM_LADDER if length <= settings["max_arm"] and 2 * length < len(samples)] \
         or [3]
@@ -223,28 +257,119 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
                       size[chosen], closed)
     if not closed:
         nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
-    if settings["fillets"]:
-        nearest = release_fillets(P, arc, perimeter, closed, np.unique(nearest))
-    if settings["wedge"]:
-        nearest = release_wedge_fillets(P, arc, perimeter, closed, np.unique(nearest))
-    return _result(nearest, keep)
+    return np.asarray(nearest, dtype=np.intp)
 
 
-def _intrinsic_start(P):
-    """Where the resampling of a closed outline starts: the point farthest from the centroid, ties (to 1e-12
-    of the largest squared distance) going to the point whose followers are farther (lexicographically, over
-    the next 64 points). The choice moves with the shape under rotation, reflection-free similarity and a
-    change of the first point, so the corners do too (rounding cannot flip a tie)."""
+#: Largest power of two (as ``2**k``) by which the coordinates are scaled to integers for the exact order of
+#: :func:`_point_order` (crack outlines need ``k = 1``); other coordinates use a rounded order.
+_EXACT_SCALE = 16
+
+
+def _distance_levels(P):
+    """An integer per point whose order (and ties) are those of the squared distances from the centroid.
+
+    For coordinates that are multiples of ``2**-k`` (``k <= 16``: pixel and crack outlines) the level is the
+    exact integer ``n |q_i|^2 - 2 q_i . sum(q)`` of the scaled coordinates ``q`` (``n`` times the squared
+    distance less a constant), so equal distances are equal and the order does not depend on the first point,
+    a quarter turn or a reflection (a shift of the frame adds a constant). Other coordinates fall back to the
+    squared distances rounded to 1e-12 of the largest."""
+    n = len(P)
+    for k in range(_EXACT_SCALE + 1):
+        scaled = P * 2.0 ** k
+        if np.all(scaled == np.round(scaled)) and np.abs(scaled).max() < 2.0 ** 52:
+            break
+    else:
+        scaled = None
+    if scaled is not None:
+        q = scaled - scaled.min(axis=0)                     # integers in [0, extent]
+        extent = float(q.max()) if n else 0.0
+        if 8.0 * n * (extent + 1.0) ** 2 < 2.0 ** 62:
+            q = q.astype(np.int64)
+            total = q.sum(axis=0)
+            return n * np.sum(q * q, axis=1) - 2 * (q @ total)
+        q = [(int(x), int(y)) for x, y in q.tolist()]       # exact, with Python integers
+        tx, ty = sum(x for x, _ in q), sum(y for _, y in q)
+        exact = np.array([n * (x * x + y * y) - 2 * (x * tx + y * ty) for x, y in q], dtype=object)
+        return np.unique(exact, return_inverse=True)[1].reshape(-1).astype(np.int64)
     squared = np.sum((P - P.mean(axis=0)) ** 2, axis=1)
     top = squared.max()
     if not np.isfinite(top) or top <= 0:
-        return 0
-    level = np.round(squared / top * 1e12)
-    best = np.flatnonzero(level == level.max())
-    if best.size > 1:
-        follow = level[(best[:, None] + np.arange(1, 65)[None, :]) % len(P)]
-        best = best[np.lexsort(follow.T[::-1])[-1:]]
-    return int(best[0])
+        return np.zeros(n, dtype=np.int64)
+    return np.round(squared / top * 1e12).astype(np.int64)
+
+
+def _point_order(P):
+    """Comparison key of the points of a closed outline: the levels of :func:`_distance_levels` read from the
+    point both ways along the outline, the larger of the two sequences first (the same for a point and its
+    mirror image), then the sequence along the outline's own way round (compared lexicographically).
+    Returns a function ``key(i)`` giving that as an array."""
+    levels = _distance_levels(P)
+    n = len(P)
+    ring = np.arange(n)
+
+    def key(i):
+        ahead, behind = levels[(i + ring) % n], levels[(i - ring) % n]
+        differ = np.flatnonzero(ahead != behind)
+        larger = behind if differ.size and behind[differ[0]] > ahead[differ[0]] else ahead
+        return np.concatenate([larger, ahead])
+    return key
+
+
+def _canonical_starts(P):
+    """Where and which way round the resampling of a closed outline starts: the pairs ``(point, direction)``
+    (direction +1 along the outline, -1 against it) whose sequence of :func:`_distance_levels` read from the
+    point that way is lexicographically the largest -- the farthest point from the centroid, ties going to
+    the point and direction whose followers are farther, over the whole outline. The choice is a property of
+    the shape: it moves with it under a change of the first point, a quarter turn or a reflection of the
+    frame (a reflection reverses the outline's way round, and the choice with it), with no rounding to flip
+    it. Several pairs tie only on an outline that a rotation or a reflection maps onto itself (one pair per
+    element of its symmetry group); all of them are returned, sorted by point, along the outline first."""
+    n = len(P)
+    levels = _distance_levels(P)
+    top = np.flatnonzero(levels == levels.max())
+    point = np.concatenate([top, top])
+    way = np.repeat([1, -1], len(top))
+    offset, block = 1, 64
+    while point.size > 1 and offset < n:
+        ahead = np.arange(offset, min(offset + block, n))
+        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
+        best = rows[np.lexsort(rows.T[::-1])[-1]]
+        keep = np.all(rows == best, axis=1)
+        point, way = point[keep], way[keep]
+        offset, block = offset + len(ahead), 2 * block
+    order = np.lexsort((-way, point))
+    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
+
+
+def _symmetric_union(P, runs, key, reach=3.0):
+    """The corners of the runs from the tied starts of a symmetric outline, as one set that the symmetry
+    maps onto itself.
+
+    Each run is the image of the others under the symmetry, so a corner whose placement depends on where
+    the resampling starts (one pixel either way) has a version in each run. Every corner of any run is kept
+    unless a corner of another run lies within ``reach`` px of arc of it, no run has both, and that corner's
+    :func:`_point_order` key is larger: the versions of one corner reduce to the one the shape itself
+    prefers, while two corners that one run reports stay two."""
+    segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
+    union = np.unique(np.concatenate(runs))
+    sets = [set(run.tolist()) for run in runs]
+    member = np.array([[int(index) in found for found in sets] for index in union])
+    dropped = np.zeros(len(union), dtype=bool)
+    m = len(union)
+    for a in range(m):                      # pairs (a, b) with b at most ``reach`` ahead of a
+        for step in range(1, m):
+            b = (a + step) % m
+            i, j = int(union[a]), int(union[b])
+            gap = segment[i:j] if j > i else np.concatenate([segment[i:], segment[:j]])
+            if np.sum(gap) > reach:
+                break
+            if (member[a] & member[b]).any():
+                continue
+            ka, kb = key(i), key(j)
+            differ = np.flatnonzero(ka != kb)
+            if differ.size:
+                dropped[a if kb[differ[0]] > ka[differ[0]] else b] = True
+    return union[~dropped]
 
 
 def _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets=False):

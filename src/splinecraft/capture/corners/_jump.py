@@ -213,15 +213,21 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     if len(P) < 3:
         return _EMPTY.copy()
     n = len(P)
-    starts = _canonical_starts(P) if closed else [(0, 1)]
-    runs = []
+    levels = _distance_levels(P) if closed else None
+    starts = _canonical_starts(levels) if closed else [(0, 1)]
+    runs, done = [], []
     for start, direction in starts:         # one, or one per symmetry of a symmetric outline
         order = (start + direction * np.arange(n)) % n          # the outline from ``start`` that way round
-        found = _detect(P[order], closed, settings)
+        relative = P[order] - P[start] if len(starts) > 1 else None
+        # a start whose outline is a quarter turn or reflection of one already run gives that run's corners
+        found = next((found for other, found in done if _congruent(relative, other)), None)
         if found is None:
-            return _EMPTY.copy()
+            found = _detect(P[order], closed, settings)
+            if found is None:
+                return _EMPTY.copy()
+            done.append((relative, found))
         runs.append(order[found])
-    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_order(P))
+    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_order(levels))
     if settings["fillets"] or settings["wedge"]:
         first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
         rolled = np.roll(P, -first, axis=0)
@@ -234,6 +240,17 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
             found = release_wedge_fillets(rolled, arc, perimeter, closed, np.unique(found))
         nearest = (np.asarray(found, dtype=np.intp) + first) % n
     return _result(nearest, keep)
+
+
+#: The quarter turns and reflections of the frame, as (swap x and y, sign of x, sign of y).
+_FRAME_MAPS = [(swap, sx, sy) for swap in (False, True) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
+
+
+def _congruent(a, b):
+    """Whether the point sequences ``a`` and ``b`` (relative to their first points) are one the image of the
+    other under a quarter turn or a reflection of the frame, exactly (then steps 1-6 find the same corners
+    in both, :func:`_detect`)."""
+    return any(np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b) for swap, sx, sy in _FRAME_MAPS)
 
 
 def _detect(P, closed, settings):
@@ -281,15 +298,16 @@ def _distance_levels(P):
     else:
         scaled = None
     if scaled is not None:
-        q = scaled - scaled.min(axis=0)                     # integers in [0, extent]
-        extent = float(q.max()) if n else 0.0
+        x, y = scaled[:, 0], scaled[:, 1]
+        x, y = x - x.min(), y - y.min()                      # integers in [0, extent]
+        extent = max(float(x.max()), float(y.max()))
         if 8.0 * n * (extent + 1.0) ** 2 < 2.0 ** 62:
-            q = q.astype(np.int64)
-            total = q.sum(axis=0)
-            return n * np.sum(q * q, axis=1) - 2 * (q @ total)
-        q = [(int(x), int(y)) for x, y in q.tolist()]       # exact, with Python integers
-        tx, ty = sum(x for x, _ in q), sum(y for _, y in q)
-        exact = np.array([n * (x * x + y * y) - 2 * (x * tx + y * ty) for x, y in q], dtype=object)
+            x, y = x.astype(np.int64), y.astype(np.int64)
+            tx, ty = int(x.sum()), int(y.sum())
+            return x * (n * x - 2 * tx) + y * (n * y - 2 * ty)
+        q = [(int(a), int(b)) for a, b in zip(x.tolist(), y.tolist())]   # exact, with Python integers
+        tx, ty = sum(a for a, _ in q), sum(b for _, b in q)
+        exact = np.array([a * (n * a - 2 * tx) + b * (n * b - 2 * ty) for a, b in q], dtype=object)
         return np.unique(exact, return_inverse=True)[1].reshape(-1).astype(np.int64)
     squared = np.sum((P - P.mean(axis=0)) ** 2, axis=1)
     top = squared.max()
@@ -298,45 +316,51 @@ def _distance_levels(P):
     return np.round(squared / top * 1e12).astype(np.int64)
 
 
-def _point_order(P):
-    """Comparison key of the points of a closed outline: the levels of :func:`_distance_levels` read from the
-    point both ways along the outline, the larger of the two sequences first (the same for a point and its
-    mirror image), then the sequence along the outline's own way round (compared lexicographically).
+def _later(a, b):
+    """Whether the sequence ``b`` is lexicographically larger than ``a`` (equal lengths)."""
+    differ = np.flatnonzero(a != b)
+    return bool(differ.size) and b[differ[0]] > a[differ[0]]
+
+
+def _point_order(levels):
+    """Comparison key of the points of a closed outline: its ``levels`` (:func:`_distance_levels`) read from
+    the point both ways along the outline, the larger of the two sequences first (the same for a point and
+    its mirror image), then the sequence along the outline's own way round (compared lexicographically).
     Returns a function ``key(i)`` giving that as an array."""
-    levels = _distance_levels(P)
-    n = len(P)
+    n = len(levels)
     ring = np.arange(n)
 
     def key(i):
         ahead, behind = levels[(i + ring) % n], levels[(i - ring) % n]
-        differ = np.flatnonzero(ahead != behind)
-        larger = behind if differ.size and behind[differ[0]] > ahead[differ[0]] else ahead
-        return np.concatenate([larger, ahead])
+        return np.concatenate([behind if _later(ahead, behind) else ahead, ahead])
     return key
 
 
-def _canonical_starts(P):
+def _canonical_starts(levels):
     """Where and which way round the resampling of a closed outline starts: the pairs ``(point, direction)``
-    (direction +1 along the outline, -1 against it) whose sequence of :func:`_distance_levels` read from the
-    point that way is lexicographically the largest -- the farthest point from the centroid, ties going to
-    the point and direction whose followers are farther, over the whole outline. The choice is a property of
-    the shape: it moves with it under a change of the first point, a quarter turn or a reflection of the
-    frame (a reflection reverses the outline's way round, and the choice with it), with no rounding to flip
-    it. Several pairs tie only on an outline that a rotation or a reflection maps onto itself (one pair per
-    element of its symmetry group); all of them are returned, sorted by point, along the outline first."""
-    n = len(P)
-    levels = _distance_levels(P)
+    (direction +1 along the outline, -1 against it) whose sequence of ``levels`` (:func:`_distance_levels`)
+    read from the point that way is lexicographically the largest -- the farthest point from the centroid,
+    ties going to the point and direction whose followers are farther, over the whole outline. The choice is
+    a property of the shape: it moves with it under a change of the first point, a quarter turn or a
+    reflection of the frame (a reflection reverses the outline's way round, and the choice with it), with no
+    rounding to flip it. Several pairs tie only on an outline that a rotation or a reflection maps onto
+    itself (one pair per element of its symmetry group); all of them are returned, sorted by point, along
+    the outline first."""
+    n = len(levels)
     top = np.flatnonzero(levels == levels.max())
     point = np.concatenate([top, top])
     way = np.repeat([1, -1], len(top))
-    offset, block = 1, 64
+    offset, block = 1, 16
     while point.size > 1 and offset < n:
         ahead = np.arange(offset, min(offset + block, n))
         rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[np.lexsort(rows.T[::-1])[-1]]
+        best = rows[0]
+        for row in rows[1:]:
+            if _later(best, row):
+                best = row
         keep = np.all(rows == best, axis=1)
         point, way = point[keep], way[keep]
-        offset, block = offset + len(ahead), 2 * block
+        offset, block = offset + len(ahead), 4 * block
     order = np.lexsort((-way, point))
     return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
 
@@ -366,9 +390,8 @@ def _symmetric_union(P, runs, key, reach=3.0):
             if (member[a] & member[b]).any():
                 continue
             ka, kb = key(i), key(j)
-            differ = np.flatnonzero(ka != kb)
-            if differ.size:
-                dropped[a if kb[differ[0]] > ka[differ[0]] else b] = True
+            if not np.array_equal(ka, kb):
+                dropped[a if _later(ka, kb) else b] = True
     return union[~dropped]
 
 

@@ -32,6 +32,7 @@ from __future__ import annotations
 import argparse
 import glob
 import importlib
+import io
 import importlib.util
 import json
 import os
@@ -638,14 +639,29 @@ SPEED_BASELINE = "f9c1a15"      # last revision before the arm fits were vectori
 
 
 def _corners_at_revision(revision):
-    """``capture/corners.py`` as of a git ``revision``, loaded as a separate module."""
+    """``splinecraft.capture.corners`` as of a git ``revision`` (a module file or, since the layout of issue 8,
+    a package), imported from an exported copy of that revision's ``src`` beside the working tree's modules:
+    the working tree's ``splinecraft`` modules are set aside while the old one is imported and put back after,
+    so both stay usable in one process (each keeps its own module globals)."""
     import subprocess
-    import types
-    text = subprocess.run(["git", "-C", str(REPO), "show", f"{revision}:src/splinecraft/capture/corners.py"],
-                          check=True, capture_output=True, text=True).stdout
-    module = types.ModuleType(f"_corners_{revision}")
-    exec(compile(text, f"corners.py@{revision}", "exec"), module.__dict__)
-    return module
+    import tarfile
+    import tempfile
+    folder = tempfile.mkdtemp(prefix=f"corners-{revision}-")
+    archive = subprocess.run(["git", "-C", str(REPO), "archive", revision, "src/splinecraft"],
+                             check=True, capture_output=True).stdout
+    with tarfile.open(fileobj=io.BytesIO(archive)) as tar:
+        tar.extractall(folder)
+    ours = {name: module for name, module in sys.modules.items() if name.split(".")[0] == "splinecraft"}
+    for name in ours:
+        del sys.modules[name]
+    sys.path.insert(0, os.path.join(folder, "src"))
+    try:
+        return importlib.import_module("splinecraft.capture.corners")
+    finally:
+        sys.path.remove(os.path.join(folder, "src"))
+        for name in [name for name in sys.modules if name.split(".")[0] == "splinecraft"]:
+            del sys.modules[name]
+        sys.modules.update(ours)
 
 
 def report_speed(revision=SPEED_BASELINE, repeats=31):

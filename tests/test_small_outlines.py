@@ -144,3 +144,40 @@ def test_a_right_angle_corner_at_48_px_is_a_corner_of_the_fit(rotation, offset):
         turn = math.degrees(math.acos(np.clip(incoming @ outgoing / (np.linalg.norm(incoming)
                                                                      * np.linalg.norm(outgoing)), -1.0, 1.0)))
         assert 70.0 <= turn <= 110.0, turn
+
+
+def cut_stroke(rng, size=64):
+    """A straight stroke 4-5.5 px wide and 40 px long about the image centre, turned, square at one end and cut
+    at 40-60 degrees to its axis at the other: the cut is a short side (5-9 px) between an acute corner and an
+    obtuse one, as at the stroke ends of small glyphs. Returns the vertices (the acute tip last) and the
+    directions of the sides."""
+    width, length = rng.uniform(4.0, 5.5), 40.0
+    cut, turn = math.radians(rng.uniform(40.0, 60.0)), rng.uniform(0.0, 2 * math.pi)
+    along = np.array([math.cos(turn), math.sin(turn)])
+    across = np.array([-along[1], along[0]])
+    first = np.full(2, size / 2) + rng.uniform(-0.5, 0.5, 2) - 0.5 * length * along - 0.5 * width * across
+    vertices = np.array([first, first + width * across, first + width * across + length * along,
+                         first + (length + width / math.tan(cut)) * along])
+    return vertices, [turn, turn + math.pi / 2 - cut]
+
+
+def test_the_acute_corner_of_a_cut_stroke_end_is_extrapolated_along_its_short_side():
+    """The cut end of a thin stroke (sides at least 6 degrees off the pixel axes): the cut is too short for a
+    side window of its own beside the acute corner, so the whole cut is one line shared by its two corners
+    (``tips.short_side``, docs/capture.md §12, "Corners of lsq") and the tip is the crossing of that line with
+    the long side. Without the shared line the pieces extrapolate by themselves: on these 48 cases the tip was
+    missed by 0.17 px (median), at most by 1.12 px, and 88% of the strokes were within 1 px (with it: 0.12,
+    0.75 px and 94%)."""
+    rng = np.random.default_rng(20261204)
+    misses, deviations = [], []
+    while len(misses) < 48:
+        vertices, directions = cut_stroke(rng)
+        if axis_clearance(directions) < 6.0:
+            continue
+        curve = dense_beziers(trace(render(vertices, 64)))
+        misses.append(cKDTree(curve).query(vertices[3])[0])
+        deviations.append(hausdorff(curve, dense_polygon(vertices)))
+    misses, deviations = np.array(misses), np.array(deviations)
+    assert np.median(misses) <= 0.14, np.round(misses, 2)
+    assert misses.max() <= 0.9, np.round(misses, 2)
+    assert np.mean(deviations <= 1.0) >= 0.9, np.round(deviations, 2)

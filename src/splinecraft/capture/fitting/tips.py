@@ -8,11 +8,14 @@ well measured away from the tip. Every crack of the outline separates an ink pix
 centre (:func:`pixel_pairs`); a straight side is the line that separates the window's ink centres from its
 paper centres with the largest margin, the centre of the digital straight segment's preimage (the set of
 lines whose rendering gives exactly those pixels), and a least-squares line only where no line separates
-them; a curved side is a least-squares parabola (:func:`side_fit`). Sides within a few degrees of an axis
-are resolved only to half a pixel by any method. :func:`tip_estimates` intersects the sides, bounds the
-crossing (reach and how far outside the pixels a sharp tip can lie, from the opening of the fitted sides at
-the crossing) and drops a crossing whose wedge the pixels contradict: an ink centre near the tip outside it
-or a paper centre inside it by more than ``CONTRADICTION`` px (:func:`tip_contradiction`).
+them; a curved side is a least-squares parabola (:func:`side_fit`). A side too short for a window of its own
+(the face of a stroke end or a serif on a small glyph) is one separating line over the whole side, shared by
+its two corners, without the pixel centres that the neighbouring sides explain (:func:`short_side`). Sides
+within a few degrees of an axis are resolved only to half a pixel by any method. :func:`tip_estimates`
+intersects the sides, bounds the crossing (reach and how far outside the pixels a sharp tip can lie, from the
+opening of the fitted sides at the crossing) and drops a crossing whose wedge the pixels contradict: an ink
+centre near the tip outside it or a paper centre inside it by more than ``CONTRADICTION`` px
+(:func:`tip_contradiction`).
 """
 from __future__ import annotations
 
@@ -20,7 +23,8 @@ import numpy as np
 
 from .geometry import polyline_distance
 
-__all__ = ["tip_reach", "side_fit", "tip_estimates", "tip_contradiction", "pixel_pairs", "SideFit"]
+__all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "pixel_pairs",
+           "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
 #: straight side stays within half a pixel diagonal of its line.
@@ -63,6 +67,10 @@ CONTRADICTION = 0.1
 SLOPE_SEARCH = 0.25
 #: Sides that meet at less than this angle (radians, between their directions) give no reliable intersection.
 MIN_CROSSING = np.radians(8.0)
+#: On a short side (:func:`short_side`), a pixel centre within this distance (px) of a neighbouring side's line
+#: may lie on either side of the true line (a side is resolved to about half a pixel), so the neighbour does
+#: not explain it and it does not constrain the short side either.
+NEIGHBOUR_BAND = 0.5
 
 
 def tip_reach(angle):
@@ -211,6 +219,39 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
     return None
 
 
+def short_side(contour, piece, pairs, neighbours):
+    """The whole side ``piece`` (between corners ``piece`` and ``piece + 1`` of ``contour``) as one line shared by
+    both corners: the separating line (:func:`_separating_line`) of the ink and paper pixel centres beside the
+    contour points of the piece, in the frame of the piece's least-squares line. Near a corner some of these
+    centres belong to the neighbouring side (``neighbours``: the :class:`SideFit` beyond the piece's first and
+    last corner, or None): beside a convex corner a paper centre outside the neighbour's line is paper because
+    of the neighbour, beside a notch an ink centre inside it is ink because of the neighbour; such centres, and
+    those within :data:`NEIGHBOUR_BAND` of the neighbour's line, are left out. Returns a :class:`SideFit`
+    (``length``: the piece's arc length) or None (a curved or ragged piece, no separating line, too few
+    centres left)."""
+    if any(side is None or not side.ink for side in neighbours):  # the centres near that corner cannot be sorted
+        return None
+    n = contour.size
+    lo, hi = int(contour.corner_bounds[piece]), int(contour.corner_bounds[piece + 1])  # the contour starts at a corner
+    length = float(contour.arc[hi] - contour.arc[lo])
+    offsets = np.arange(0.0, length + 1e-9, 0.5)
+    fit = _window_fit(contour.point_at_arc((contour.arc[lo] + offsets) % contour.perimeter), length)
+    if fit is None or fit.coefficients.any():
+        return None
+    index = np.arange(lo, hi + 1) % n
+    ink, paper = pairs[0][index], pairs[1][index]
+    keep_ink, keep_paper = np.ones(index.size, bool), np.ones(index.size, bool)
+    for side, far in zip(neighbours, (contour.points[hi % n], contour.points[lo % n])):
+        if side.inkward(far[None])[0] > 0:  # convex corner: the piece lies on the neighbour's ink side
+            keep_paper &= side.inkward(paper) >= NEIGHBOUR_BAND
+        else:
+            keep_ink &= side.inkward(ink) <= -NEIGHBOUR_BAND
+    ink, paper = ink[keep_ink], paper[keep_paper]
+    if ink.shape[0] < 2 or paper.shape[0] < 2:
+        return None
+    return _separating_line(fit, ink, paper)
+
+
 def _crossing(first, second):
     """Intersection of two :class:`SideFit`: the lines' crossing, refined by Newton steps on the parabolas.
     None for sides meeting at less than :data:`MIN_CROSSING`."""
@@ -261,6 +302,14 @@ def tip_estimates(contour, angle, radius):
     :data:`MAX_OBTUSE_ANGLE` between two straight sides) are measured (the others get no estimate, and their
     sides are not fitted).
 
+    A side whose window would be shorter than :data:`SHORTEST_SIDE` is a short side: the whole side between
+    its two corners is one line shared by both (:func:`short_side`, its neighbours the sides beyond its
+    corners). A corner with one short side is measured whatever its angle on the contour (measured on chords
+    that reach past the short side, it is blunter than the corner), and keeps its tip only where the other
+    side is a separating line too and the fitted sides meet at less than :data:`MAX_EXTRAPOLATED_ANGLE`; the
+    reach is bounded by the other side's window only (the tip lies at the end of the shared side). A corner
+    between two short sides gets no estimate.
+
     Returns ``(estimate, start, anchors)``: estimate (k, 2), NaN where there is none; the window start per
     corner; the contour points at the window starts (k, 2, 2: before, after)."""
     arc, perimeter = contour.arc, contour.perimeter
@@ -272,23 +321,50 @@ def tip_estimates(contour, angle, radius):
     anchors = np.full((count, 2, 2), np.nan)
     opening = np.array(angle, float)
     straight = np.zeros(count, bool)  # both sides separating lines (digital straight segments)
+    # the side windows (before, after): a side shorter than SHORTEST_SIDE from the window start to 0.8 of the
+    # side is a short side, the whole side one line shared by its two corners (short_side)
+    stops = np.minimum(start[:, None] + LONGEST_SIDE, 0.8 * np.column_stack([before_len, after_len]))
+    short = stops - start[:, None] < SHORTEST_SIDE
+    one_short = short.sum(axis=1) == 1
     # a corner at max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE) or blunter is not extrapolated: its sides are
-    # not fitted
-    acute = np.flatnonzero(~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE)))
-    if not acute.size:
+    # not fitted; a corner with one short side is measured whatever its angle on the contour (the angle
+    # measured on chords that reach past the short side is blunter than the corner) and kept only if its sides
+    # meet at less than MAX_EXTRAPOLATED_ANGLE
+    acute = ~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE))
+    if not (acute | one_short).any():
         return estimate, start, anchors
     pairs = pixel_pairs(contour.points)
-    for c in acute:
+    if pairs is None:
+        one_short[:] = False
+    candidates = np.flatnonzero(acute | one_short)
+    regular, shared = {}, {}
+
+    def side_of(c, k):
+        """Side ``k`` (0: before, 1: after) of corner ``c``: its own window, or None where that is short."""
+        if (c, k) not in regular:
+            regular[c, k] = side_fit(contour, arc[contour.corner_bounds[c]], 2 * k - 1, start[c], stops[c, k], pairs)
+        return regular[c, k]
+
+    def shared_side(piece):
+        """The short side ``piece`` (from corner ``piece`` to the next): one line for both its corners."""
+        if piece not in shared:
+            shared[piece] = short_side(contour, piece, pairs, (side_of(piece, 0), side_of((piece + 1) % count, 1)))
+        return shared[piece]
+
+    for c in candidates:
         corner_arc = arc[contour.corner_bounds[c]]
         sides = []
-        for sign, side_len in ((-1, before_len[c]), (1, after_len[c])):
-            stop = min(start[c] + LONGEST_SIDE, 0.8 * side_len)
-            sides.append(side_fit(contour, corner_arc, sign, start[c], stop, pairs))
+        for k in (0, 1):
+            sides.append(shared_side((c - 1 + k) % count) if short[c, k] and one_short[c] else side_of(c, k))
             if sides[-1] is None:  # no crossing without both sides
                 break
         if len(sides) < 2 or sides[1] is None:
             continue
-        windows = [side.length for side in sides]
+        if one_short[c] and not (sides[0].margin > 0 and sides[1].margin > 0):  # a curved side beside a short one:
+            continue  # its parabola, fitted far along the side, misses the tip by up to a pixel
+        # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
+        # other side's window bounds the reach
+        windows = [side.length for side, is_short in zip(sides, short[c]) if not (is_short and one_short[c])]
         straight[c] = sides[0].margin > 0 and sides[1].margin > 0
         point = _crossing(*sides)
         corner_point = contour.points[contour.corner_bounds[c] % contour.size]
@@ -311,8 +387,10 @@ def tip_estimates(contour, angle, radius):
         estimate[c], anchors[c] = point, ends
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of
     # the sides of a rounded (or flattened) corner, which the pixels follow better than the crossing does
-    # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides)
-    estimate[(angle >= MAX_EXTRAPOLATED_ANGLE) & ~(straight & (angle < MAX_OBTUSE_ANGLE))] = np.nan
+    # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides); where one side is short, the
+    # angle is the opening of the fitted sides
+    gate = np.where(one_short, opening, angle)
+    estimate[(gate >= MAX_EXTRAPOLATED_ANGLE) & ~(straight & (gate < MAX_OBTUSE_ANGLE))] = np.nan
     found = np.flatnonzero(np.isfinite(estimate[:, 0]))
     if found.size:
         outside = polyline_distance(estimate[found], contour.points, closed=True)

@@ -353,15 +353,16 @@ def tip_estimates(contour, angle, radius):
 
     for c in candidates:
         corner_arc = arc[contour.corner_bounds[c]]
-        sides = []
-        for k in (0, 1):
-            sides.append(shared_side((c - 1 + k) % count) if short[c, k] and one_short[c] else side_of(c, k))
-            if sides[-1] is None:  # no crossing without both sides
+        sides = [None, None]
+        for k in (1, 0) if one_short[c] and short[c, 0] else (0, 1):  # beside a short side, the other one first
+            sides[k] = shared_side((c - 1 + k) % count) if short[c, k] and one_short[c] else side_of(c, k)
+            # no crossing without both sides; beside a short side, none where the other side is curved (its
+            # parabola, fitted far along the side, misses the tip by up to a pixel)
+            if sides[k] is None or (one_short[c] and not sides[k].margin > 0):
                 break
-        if len(sides) < 2 or sides[1] is None:
+        if sides[0] is None or sides[1] is None or (one_short[c] and not (sides[0].margin > 0 and
+                                                                          sides[1].margin > 0)):
             continue
-        if one_short[c] and not (sides[0].margin > 0 and sides[1].margin > 0):  # a curved side beside a short one:
-            continue  # its parabola, fitted far along the side, misses the tip by up to a pixel
         # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
         # other side's window bounds the reach
         windows = [side.length for side, is_short in zip(sides, short[c]) if not (is_short and one_short[c])]

@@ -224,15 +224,16 @@ def short_side(contour, piece, pairs, neighbours):
     both corners: the separating line (:func:`_separating_line`) of the ink and paper pixel centres beside the
     contour points of the piece, in the frame of the piece's least-squares line. Near a corner some of these
     centres belong to the neighbouring side (``neighbours``: the :class:`SideFit` beyond the piece's first and
-    last corner, or None): beside a convex corner a paper centre outside the neighbour's line is paper because
-    of the neighbour, beside a notch an ink centre inside it is ink because of the neighbour; such centres, and
-    those within :data:`NEIGHBOUR_BAND` of the neighbour's line, are left out. Returns a :class:`SideFit`
-    (``length``: the piece's arc length) or None (a curved or ragged piece, no separating line, too few
-    centres left)."""
-    if any(side is None or not side.ink for side in neighbours):  # the centres near that corner cannot be sorted
+    last corner, each fitted on its own window): beside a convex corner a paper centre outside the neighbour's
+    line is paper because of the neighbour, beside a notch an ink centre inside it is ink because of the
+    neighbour; such centres, and those within :data:`NEIGHBOUR_BAND` of the neighbour's line, are left out.
+    Returns a :class:`SideFit` (``length``: the piece's arc length) or None: a neighbour without a fit (the
+    centres near that corner cannot be sorted), a curved or ragged piece, too few centres left or no line
+    that separates them."""
+    if any(side is None or not side.ink for side in neighbours):
         return None
     n = contour.size
-    lo, hi = int(contour.corner_bounds[piece]), int(contour.corner_bounds[piece + 1])  # the contour starts at a corner
+    lo, hi = int(contour.corner_bounds[piece]), int(contour.corner_bounds[piece + 1])  # (no piece wraps round)
     length = float(contour.arc[hi] - contour.arc[lo])
     offsets = np.arange(0.0, length + 1e-9, 0.5)
     fit = _window_fit(contour.point_at_arc((contour.arc[lo] + offsets) % contour.perimeter), length)
@@ -353,15 +354,15 @@ def tip_estimates(contour, angle, radius):
 
     for c in candidates:
         corner_arc = arc[contour.corner_bounds[c]]
-        sides = [None, None]
+        sides, measured = [None, None], True
         for k in (1, 0) if one_short[c] and short[c, 0] else (0, 1):  # beside a short side, the other one first
             sides[k] = shared_side((c - 1 + k) % count) if short[c, k] and one_short[c] else side_of(c, k)
             # no crossing without both sides; beside a short side, none where the other side is curved (its
             # parabola, fitted far along the side, misses the tip by up to a pixel)
             if sides[k] is None or (one_short[c] and not sides[k].margin > 0):
+                measured = False
                 break
-        if sides[0] is None or sides[1] is None or (one_short[c] and not (sides[0].margin > 0 and
-                                                                          sides[1].margin > 0)):
+        if not measured:
             continue
         # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
         # other side's window bounds the reach

@@ -228,20 +228,32 @@ class Interrupted(KeyboardInterrupt):
 @contextlib.contextmanager
 def _signals_raise():
     """SIGINT and SIGTERM raise :class:`Interrupted` in the main thread; further ones are ignored while the
-    run cleans up (workers killed, partial files removed, manifest written), then the old handlers return."""
+    run cleans up (workers killed, partial files removed, manifest written), then the old handlers return.
+
+    Yields :func:`check`, which raises :class:`Interrupted` again if a signal has arrived: Python runs a signal
+    handler between any two bytecodes of the main thread, also inside a ``__del__`` or a weakref callback
+    (a zip file's clean-up, say), where the exception it raises is printed and dropped. The run calls
+    ``check`` after every finished file and once at its end, so such a signal still stops it."""
+    received = []
+
+    def check():
+        if received:
+            raise Interrupted(received[0])
+
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield check
         return
     stopping = (signal.SIGINT, signal.SIGTERM)
 
     def handler(signum, frame):
         for number in stopping:
             signal.signal(number, signal.SIG_IGN)
+        received.append(signum)
         raise Interrupted(signum)
 
     previous = {number: signal.signal(number, handler) for number in stopping}
     try:
-        yield
+        yield check
     finally:
         for number, old in previous.items():
             signal.signal(number, old)
@@ -333,9 +345,12 @@ def _run_trace(args) -> int:
         manifest = os.path.join(args.output, MANIFEST_NAME)
     counts = {"ok": 0, "failed": 0, "skipped": 0}
 
+    stop_if_signalled = None
+
     def report(record):
         from tqdm import tqdm
 
+        stop_if_signalled()
         counts[record.status] = counts.get(record.status, 0) + 1
         if record.status == "failed":
             tqdm.write(f"{PROG}: {record.input}: {record.error}", file=sys.stderr)
@@ -344,11 +359,12 @@ def _run_trace(args) -> int:
 
     show = len(pairs) > 1 and not args.quiet and sys.stderr.isatty()
     try:
-        with _signals_raise():
+        with _signals_raise() as stop_if_signalled:
             result = run_batch(plan, manifest=manifest, scheduler=args.scheduler,
                                jobs=_job_count(args.jobs, args.scheduler), batch_size=args.batch_size,
                                resume=args.resume, format=fmt, decimals=args.decimals, progress=show,
                                on_record=report, trace_params=options)
+            stop_if_signalled()
     except Interrupted as stop:
         finished = counts["ok"] + counts["skipped"]
         print(f"{PROG}: interrupted by {signal.Signals(stop.signum).name}: {finished} of {len(pairs)} files "

@@ -261,8 +261,9 @@ def tip_estimates(contour, angle, radius):
     :data:`MAX_OBTUSE_ANGLE` between two straight sides) are measured (the others get no estimate, and their
     sides are not fitted).
 
-    Returns ``(estimate, start, anchors)``: estimate (k, 2), NaN where there is none; the window start per
-    corner; the contour points at the window starts (k, 2, 2: before, after)."""
+    Returns ``(estimate, start, anchors, outside)``: estimate (k, 2), NaN where there is none; the window start
+    per corner; the contour points at the window starts (k, 2, 2: before, after); the estimate's distance from
+    the contour (px; NaN where there is none)."""
     arc, perimeter = contour.arc, contour.perimeter
     lengths = np.diff(arc[contour.corner_bounds])
     before_len, after_len = np.roll(lengths, 1), lengths
@@ -276,7 +277,7 @@ def tip_estimates(contour, angle, radius):
     # not fitted
     acute = np.flatnonzero(~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE)))
     if not acute.size:
-        return estimate, start, anchors
+        return estimate, start, anchors, np.full(count, np.nan)
     pairs = pixel_pairs(contour.points)
     for c in acute:
         corner_arc = arc[contour.corner_bounds[c]]
@@ -314,8 +315,9 @@ def tip_estimates(contour, angle, radius):
     # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides)
     estimate[(angle >= MAX_EXTRAPOLATED_ANGLE) & ~(straight & (angle < MAX_OBTUSE_ANGLE))] = np.nan
     found = np.flatnonzero(np.isfinite(estimate[:, 0]))
+    distance = np.full(count, np.nan)
     if found.size:
-        outside = polyline_distance(estimate[found], contour.points, closed=True)
+        outside = distance[found] = polyline_distance(estimate[found], contour.points, closed=True)
         rounded = found[outside * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
-        estimate[rounded], anchors[rounded] = np.nan, np.nan
-    return estimate, start, anchors
+        estimate[rounded], anchors[rounded], distance[rounded] = np.nan, np.nan, np.nan
+    return estimate, start, anchors, distance

@@ -362,11 +362,13 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
         # end keeps the old one only where the join has no new direction (a kept segment beside it is refitted
         # as a run of one instead); a single segment in states (0, 0) is the segment as it was
         head_join, tail_join = interior[active], interior[last + 1]
-        head_old, tail_old = (~head_join, ~tail_join) if length > 1 else (True, True)
-        valid = np.stack(np.broadcast_arrays(head_old & tail_old, head_old & tail_join, head_join & tail_old,
-                                             head_join & tail_join))
-        if length == 1:
-            valid[0] = False
+        valid = np.empty((4, active.shape[0]), bool)
+        if length > 1:
+            head_old, tail_old = ~head_join, ~tail_join
+            valid[0], valid[1], valid[2] = head_old & tail_old, head_old & tail_join, head_join & tail_old
+        else:
+            valid[0], valid[1], valid[2] = False, tail_join, head_join
+        valid[3] = head_join & tail_join
         states, rows = np.nonzero(valid)
         sa, sb = states >> 1, states & 1
         if rows.size:

@@ -119,14 +119,16 @@ def _qualify(fit, tolerance, margin):
             & (fit["handles"] > 1e-3 * chord[:, None]).all(axis=1) & (fit["count"] >= 4))
 
 
-def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW):
+def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW, head=None):
     """Tangent direction at every join ``j`` (the start of segment ``j``) where ``interior[j]``: a parabola
     ``y = a + b x + c x^2`` fitted by least squares to the contour points within ``window`` times the longer
     neighbouring segment's parameter length of the join (inside ``bounds``, per join), in the frame of the
     fitted curve's tangent there; the direction is ``(1, b)`` in that frame. Elsewhere (and where fewer than
-    six points fall in the window) the fitted curve's own direction."""
+    six points fall in the window) the fitted curve's own direction (``head``: the segments' start tangents, when
+    the caller has them)."""
     k = bez.shape[0]
-    head, _ = _tangents(bez)
+    if head is None:
+        head, _ = _tangents(bez)
     out = head.copy()
     j = np.flatnonzero(interior)
     if not j.size:
@@ -171,15 +173,13 @@ def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
     d0, d1, d2 = bez[:, 1] - bez[:, 0], bez[:, 2] - bez[:, 1], bez[:, 3] - bez[:, 2]
     a, b, c = d0 - 2 * d1 + d2, 2 * (d1 - d0), d0
     h = ends - starts
-    roots = []
-    for sign in (-1.0, 1.0):
-        disc = b * b - 4 * a * c
-        with np.errstate(divide="ignore", invalid="ignore"):
-            quad = (-b + sign * np.sqrt(np.where(disc >= 0, disc, np.nan))) / (2 * a)
-            lin = -c / b
-        roots.append(np.where(np.abs(a) > 1e-12 * (np.abs(b) + np.abs(c) + 1e-300), quad,
-                              lin if sign > 0 else np.nan))
-    t = np.concatenate(roots, axis=1)  # (k, 4): x and y roots
+    disc = b * b - 4 * a * c
+    quadratic = np.abs(a) > 1e-12 * (np.abs(b) + np.abs(c) + 1e-300)
+    t = np.empty((bez.shape[0], 4))  # (k, 4): x and y roots
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root, twice, lin = np.sqrt(np.where(disc >= 0, disc, np.nan)), 2 * a, -c / b
+        t[:, :2] = np.where(quadratic, (-b + -1.0 * root) / twice, np.nan)
+        t[:, 2:] = np.where(quadratic, (-b + 1.0 * root) / twice, lin)
     low = np.minimum(min_gap / np.maximum(h, 1e-12), 0.5)[:, None]
     t = np.where((t > low) & (t < 1 - low), t, np.nan)
     t = np.sort(t, axis=1)
@@ -188,9 +188,9 @@ def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
     cuts = (~np.isnan(t)).sum(axis=1)
     pieces = cuts + 1
     origin = np.repeat(np.arange(bez.shape[0]), pieces)
-    bounds = np.concatenate([np.zeros((bez.shape[0], 1)), np.nan_to_num(t, nan=2.0), np.ones((bez.shape[0], 1))],
-                            axis=1)
-    bounds = np.sort(bounds, axis=1)
+    bounds = np.empty((bez.shape[0], 6))
+    bounds[:, 0], bounds[:, 1:5], bounds[:, 5] = 0.0, np.where(np.isnan(t), 2.0, t), 1.0
+    bounds.sort(axis=1)
     pos = np.arange(origin.shape[0]) - np.repeat(np.cumsum(pieces) - pieces, pieces)
     ta, tb = bounds[origin, pos], bounds[origin, pos + 1]
     c_ = bez[origin]
@@ -243,13 +243,13 @@ def merge_segments(model, dev, tolerance):
     o_head, o_tail = _tangents(bez)
     if cornered:
         direction = join_directions(bez, starts, ends, points, u, interior[:k],
-                                    (corner_par[seg_piece], corner_par[seg_piece + 1]))
+                                    (corner_par[seg_piece], corner_par[seg_piece + 1]), head=o_head)
     else:  # the window of the seam reaches around it: the contour once more on either side
         interior[0] = interior[k] = True
         period = model.period
         wide = np.concatenate([u - period, u, u + period])
         direction = join_directions(bez, starts, ends, np.vstack([points] * 3), wide, interior[:k],
-                                    (np.full(k, -np.inf), np.full(k, np.inf)))
+                                    (np.full(k, -np.inf), np.full(k, np.inf)), head=o_head)
     cand = _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece, interior, direction,
                        o_head, o_tail, fit_bez, origin)
     if not (cand["length"] > 1).any():

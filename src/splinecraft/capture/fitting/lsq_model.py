@@ -24,6 +24,18 @@ from .options import DEFAULT_EPSILON
 
 __all__ = ["OutlineRegression"]
 
+
+def _unique(values):
+    """``numpy.unique`` of a 1-d array without NaN (sorted, each value once) by a sort and a mask: the knot lists
+    here are short and ``unique``'s set-up costs more than the work."""
+    values = np.sort(values)
+    if values.shape[0] < 2:
+        return values
+    keep = np.empty(values.shape[0], bool)
+    keep[0] = True
+    np.not_equal(values[1:], values[:-1], out=keep[1:])
+    return values[keep]
+
 #: Smallest curvature (1/px) of the fitted curve at which the pixel check applies (:meth:`pixel_excess`):
 #: bends of radius up to 50 px, where a cut-short fillet or rounded corner lies.
 PIXEL_MIN_CURVATURE = 1.0 / 50.0
@@ -136,7 +148,7 @@ class OutlineRegression:
         the simple knots are unchanged; do not modify)."""
         key = self.simple_knots.tobytes()
         if self._knot_index_cache is None or self._knot_index_cache[0] != key:
-            self._knot_index_cache = (key, np.unique(np.concatenate([self.contour.corner_bounds, self.simple_knots])))
+            self._knot_index_cache = (key, _unique(np.concatenate([self.contour.corner_bounds, self.simple_knots])))
         return self._knot_index_cache[1]
 
     def knot_lists(self):
@@ -220,7 +232,7 @@ class OutlineRegression:
         key = self.simple_knots.tobytes()
         if self._knot_cache is None or self._knot_cache[0] != key:
             knots = self.knot_values()
-            distinct = np.unique(np.append(knots, self.period))
+            distinct = _unique(np.append(knots, self.period))
             self._knot_cache = (key, (knots.shape[0], periodic_knot_vector(knots, self.period), distinct[:-1],
                                       distinct[1:]))
         return self._knot_cache[1]
@@ -497,7 +509,7 @@ class OutlineRegression:
             j = min(max(int(np.searchsorted(self.parameter[:n], where)), left + gap), right - gap)
             new.append((j, int(f), float(best)))
         if new:
-            self.simple_knots = np.unique(np.concatenate([self.simple_knots, [j for j, _, _ in new]]).astype(np.int64))
+            self.simple_knots = _unique(np.concatenate([self.simple_knots, [j for j, _, _ in new]]).astype(np.int64))
         return new, stuck, released
 
     def release_corners(self, dev, stuck):
@@ -562,7 +574,7 @@ class OutlineRegression:
         self.simple_knots = knots[keep | (knots == 0)]
 
     def restore(self, indices):
-        self.simple_knots = np.unique(np.concatenate([self.simple_knots, np.asarray(indices, dtype=np.int64)]))
+        self.simple_knots = _unique(np.concatenate([self.simple_knots, np.asarray(indices, dtype=np.int64)]))
 
     _FIT_STATE = ("simple_knots", "parameter", "coefficients", "knot_vector", "coefficient_count", "_starts",
                   "_ends", "_bezier")

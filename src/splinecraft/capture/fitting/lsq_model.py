@@ -83,7 +83,7 @@ class OutlineRegression:
         self.parameter_low = self.base_parameter[bounds[piece]]
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
         self.parameter = self.base_parameter.copy()
-        self._zone_cache = None  # (tip state, zones) of _zones
+        self._zone_cache = None  # (tip state, {dense: zones}) of _zones
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
@@ -402,12 +402,14 @@ class OutlineRegression:
     def _zones(self, dense):
         """The corner zones (:meth:`zone`, as floats) and :meth:`allowance` of every contour point and of every
         probe (``dense``: the edge midpoints between, in a zone where either end is, with the larger allowance);
-        kept while the corners' tip state is unchanged."""
+        kept while the corners' tip state is unchanged (both forms: the rounds alternate between them)."""
         tips = self.tips
-        key = (dense, tips.radius.tobytes(), tips.allowance_kept.tobytes(), tips.allowance.tobytes())
+        key = (tips.radius.tobytes(), tips.allowance_kept.tobytes(), tips.allowance.tobytes())
         cached = self._zone_cache
-        if cached is not None and cached[0] == key:
-            return cached[1]
+        if cached is None or cached[0] != key:
+            cached = self._zone_cache = (key, {})
+        if dense in cached[1]:
+            return cached[1][dense]
         n = self.contour.size
         zone, allowance = self.zone(), self.allowance()
         if dense:
@@ -417,8 +419,7 @@ class OutlineRegression:
             probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
         else:
             probe_zone, probe_allowance = zone[:n], allowance[:n]
-        value = (zone.astype(float), allowance, probe_zone, probe_allowance)
-        self._zone_cache = (key, value)
+        value = cached[1][dense] = (zone.astype(float), allowance, probe_zone, probe_allowance)
         return value
 
     @staticmethod

@@ -92,13 +92,14 @@ def _tangents(bez):
     return _unit(start)[0], _unit(end)[0]
 
 
-def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitted):
+def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitted, limits=(np.inf, np.inf)):
     """One cubic per run from the run's first end point to its last, its handles along ``directions = (d0,
     d1)`` (unit vectors per run) with their two lengths fitted by least squares to the contour points whose
     parameter lies in the run (:func:`._merge_kernels.fit_runs`). Returns a dict: the cubics (r, 4, 2), the
     handle lengths (r, 2), the covered points (``lo``, ``count`` per run), their parameters ``t`` on the
     cubics (grouped by run), and per run the largest excess over ``tol``, the largest (``drift``) and the
-    summed squared distance (``spread``) from the ``fitted`` curve at the same points."""
+    summed squared distance (``spread``) from the ``fitted`` curve at the same points; a run stops measuring once
+    its excess or drift exceeds ``limits`` (:func:`._merge_kernels.fit_runs`: it cannot qualify then)."""
     last = first + length - 1
     lo = np.searchsorted(u, starts[first], side="left")
     hi = np.searchsorted(u, ends[last], side="right")
@@ -106,7 +107,7 @@ def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitte
     span = ends[last] - starts[first]
     cubic, handles, offsets, t, excess, drift, spread = _merge_kernels.fit_runs(
         bez[first, 0], bez[last, 3], directions[0], directions[1], lo, count, points, u, starts[first], span, tol,
-        fitted, NEWTON_STEPS, FIT_POINTS)
+        fitted, NEWTON_STEPS, FIT_POINTS, limits)
     return {"cubic": cubic, "handles": handles, "lo": lo, "count": count, "t": t, "excess": excess,
             "drift": drift, "spread": spread}
 
@@ -375,7 +376,8 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
             f, end = active[rows], last[rows]
             d0 = np.where(sa[:, None] == 1, direction[f], o_head[f])
             d1 = np.where(sb[:, None] == 1, direction[(end + 1) % k], o_tail[end])
-            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1), tol, fitted)
+            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1), tol, fitted,
+                           (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
             ok, spread = _qualify(fit, tolerance, MARGIN), fit["spread"]
             chosen = int(ok.sum())
             out["first"].append(f[ok])

@@ -115,14 +115,14 @@ def check_number(value, name: str, *, minimum=None, maximum=None, inclusive=True
         raise TypeError(f"{name} must be a real number, got {_describe(value)} ({_kind(value)})")
     number = _as_float(value, name)
     low_closed, high_closed = _inclusive_pair(inclusive)
-    bounds = _bounds_text(minimum, maximum, (low_closed, high_closed))
     if number != number or (finite and not np.isfinite(number)):
+        bounds = _bounds_text(minimum, maximum, (low_closed, high_closed))
         what = f"a finite number {bounds}" if bounds else "a finite number"
         raise ValueError(f"{name} must be {what}, got {number!r}")
     too_low = minimum is not None and (number < minimum or (not low_closed and number == minimum))
     too_high = maximum is not None and (number > maximum or (not high_closed and number == maximum))
     if too_low or too_high:
-        raise ValueError(f"{name} must be {bounds}, got {number!r}")
+        raise ValueError(f"{name} must be {_bounds_text(minimum, maximum, (low_closed, high_closed))}, got {number!r}")
     return number
 
 

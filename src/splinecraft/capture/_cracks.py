@@ -78,8 +78,14 @@ def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_
     cycles, or -1 when a crack has no successor (the tracer's invariant broken)."""
     written = 0
     cycles = 0
-    for vertex_y in range(padded.shape[0] + 1):
-        for vertex_x in range(padded.shape[1] + 1):
+    height, width = padded.shape
+    for vertex_y in range(height + 1):
+        for vertex_x in range(width + 1):
+            if 0 < vertex_y < height and 0 < vertex_x < width:  # inside: no crack where the 2 x 2 pixels agree
+                here = padded[vertex_y, vertex_x]
+                if (padded[vertex_y - 1, vertex_x - 1] == here and padded[vertex_y - 1, vertex_x] == here
+                        and padded[vertex_y, vertex_x - 1] == here):
+                    continue
             starting = _starts_at(padded, vertex_x, vertex_y) & ~visited[vertex_y, vertex_x]
             for first in range(4):
                 if not (starting >> first) & 1 or (visited[vertex_y, vertex_x] >> first) & 1:

@@ -26,25 +26,35 @@ DAMPING = 1e-3
 
 
 @njit(**JIT_OPTIONS)
-def _point(c, t):
-    s = 1.0 - t
-    b0, b1, b2, b3 = s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t
-    return (b0 * c[0, 0] + b1 * c[1, 0] + b2 * c[2, 0] + b3 * c[3, 0],
-            b0 * c[0, 1] + b1 * c[1, 1] + b2 * c[2, 1] + b3 * c[3, 1])
+def _coefficients(c):
+    """The control points of the cubic ``c`` (x then y) and the differences of its derivatives, the values
+    :func:`_point` and :func:`_newton` take (computed once per cubic instead of once per point)."""
+    e0x, e1x, e2x = c[1, 0] - c[0, 0], c[2, 0] - c[1, 0], c[3, 0] - c[2, 0]
+    e0y, e1y, e2y = c[1, 1] - c[0, 1], c[2, 1] - c[1, 1], c[3, 1] - c[2, 1]
+    return (c[0, 0], c[1, 0], c[2, 0], c[3, 0], c[0, 1], c[1, 1], c[2, 1], c[3, 1], e0x, e1x, e2x, e0y, e1y, e2y,
+            e1x - e0x, e2x - e1x, e1y - e0y, e2y - e1y)
 
 
 @njit(**JIT_OPTIONS)
-def _newton(c, qx, qy, t):
-    """One foot-point Newton step of ``(B(t) - q) . B'(t) = 0`` on the cubic ``c``, clipped to [0, 1]."""
+def _point(k, t):
+    """The point at ``t`` of the cubic of coefficients ``k`` (:func:`_coefficients`)."""
     s = 1.0 - t
-    rx = s * s * s * c[0, 0] + 3.0 * s * s * t * c[1, 0] + 3.0 * s * t * t * c[2, 0] + t * t * t * c[3, 0] - qx
-    ry = s * s * s * c[0, 1] + 3.0 * s * s * t * c[1, 1] + 3.0 * s * t * t * c[2, 1] + t * t * t * c[3, 1] - qy
-    e0x, e1x, e2x = c[1, 0] - c[0, 0], c[2, 0] - c[1, 0], c[3, 0] - c[2, 0]
-    e0y, e1y, e2y = c[1, 1] - c[0, 1], c[2, 1] - c[1, 1], c[3, 1] - c[2, 1]
+    b0, b1, b2, b3 = s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t
+    return b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3], b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
+
+
+@njit(**JIT_OPTIONS)
+def _newton(k, qx, qy, t):
+    """One foot-point Newton step of ``(B(t) - q) . B'(t) = 0`` on the cubic of coefficients ``k``
+    (:func:`_coefficients`), clipped to [0, 1]."""
+    c0x, c1x, c2x, c3x, c0y, c1y, c2y, c3y, e0x, e1x, e2x, e0y, e1y, e2y, f0x, f1x, f0y, f1y = k
+    s = 1.0 - t
+    rx = s * s * s * c0x + 3.0 * s * s * t * c1x + 3.0 * s * t * t * c2x + t * t * t * c3x - qx
+    ry = s * s * s * c0y + 3.0 * s * s * t * c1y + 3.0 * s * t * t * c2y + t * t * t * c3y - qy
     fx = 3.0 * (s * s * e0x + 2.0 * s * t * e1x + t * t * e2x)
     fy = 3.0 * (s * s * e0y + 2.0 * s * t * e1y + t * t * e2y)
-    gx = 6.0 * (s * (e1x - e0x) + t * (e2x - e1x))
-    gy = 6.0 * (s * (e1y - e0y) + t * (e2y - e1y))
+    gx = 6.0 * (s * f0x + t * f1x)
+    gy = 6.0 * (s * f0y + t * f1y)
     speed2 = fx * fx + fy * fy
     den = speed2 + rx * gx + ry * gy
     if not den > 0.1 * speed2:
@@ -58,7 +68,7 @@ def _newton(c, qx, qy, t):
 
 @njit(**JIT_OPTIONS)
 def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, tol, fitted, steps, fit_points,
-                   scratch, cubic, handles, t_out, excess, drift, spread):
+                   limits, scratch, cubic, handles, t_out, excess, drift, spread):
     for r in range(p0.shape[0]):
         n = count[r]
         stride = max(1, n // fit_points)
@@ -77,8 +87,9 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
         bound = 4.0 * chord + 1.0
         c = cubic[r]
         for d in range(2):
-            c[0, d] = p0[r, d]
-            c[3, d] = p3[r, d]
+            c[0, d] = c[1, d] = p0[r, d]
+            c[3, d] = c[2, d] = p3[r, d]
+        k = _coefficients(c)  # the chord (the first solve does not use it)
         for step in range(steps + 1):
             # the first solve minimises the distances to the points at their parameters; the later ones the
             # distances along the curve's normal at the points' feet (plus TANGENTIAL times the rest), which
@@ -100,8 +111,7 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                     r1 += a1x * restx + a1y * resty
                     r2 += a2x * restx + a2y * resty
                 else:
-                    e0x, e1x, e2x = c[1, 0] - c[0, 0], c[2, 0] - c[1, 0], c[3, 0] - c[2, 0]
-                    e0y, e1y, e2y = c[1, 1] - c[0, 1], c[2, 1] - c[1, 1], c[3, 1] - c[2, 1]
+                    e0x, e1x, e2x, e0y, e1y, e2y = k[8], k[9], k[10], k[11], k[12], k[13]
                     tx = s * s * e0x + 2.0 * s * t * e1x + t * t * e2x
                     ty = s * s * e0y + 2.0 * s * t * e1y + t * t * e2y
                     norm = np.hypot(tx, ty)
@@ -134,16 +144,20 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             for d in range(2):
                 c[1, d] = p0[r, d] + a * d0[r, d]
                 c[2, d] = p3[r, d] - b * d1[r, d]
+            k = _coefficients(c)
             if step == steps:
                 break
             for i in range(m):
                 q = lo[r] + int(scratch[i, 0])
-                t = _newton(c, points[q, 0], points[q, 1], scratch[i, 1])
-                scratch[i, 1] = _newton(c, points[q, 0], points[q, 1], t)
-        # every covered point: parameter interpolated between the fitted ones, one Newton step, distance
+                t = _newton(k, points[q, 0], points[q, 1], scratch[i, 1])
+                scratch[i, 1] = _newton(k, points[q, 0], points[q, 1], t)
+        # every covered point: parameter interpolated between the fitted ones, one Newton step, distance (until
+        # the run can no longer qualify: its excess or drift above ``limits``)
         worst, far, total = -np.inf, 0.0, 0.0
         i = 0
         for j in range(n):
+            if worst > limits[0] or far > limits[1]:
+                break
             while i + 1 < m and scratch[i + 1, 0] < j:
                 i += 1
             if i + 1 < m and scratch[i + 1, 0] > scratch[i, 0]:
@@ -152,9 +166,9 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             else:
                 t = scratch[i, 1]
             q = lo[r] + j
-            t = _newton(c, points[q, 0], points[q, 1], t)
+            t = _newton(k, points[q, 0], points[q, 1], t)
             t_out[offsets[r] + j] = t
-            px, py = _point(c, t)
+            px, py = _point(k, t)
             gx, gy = px - points[q, 0], py - points[q, 1]
             if t <= 0.0 or t >= 1.0:
                 k0, k1 = (0, 1) if t <= 0.0 else (2, 3)
@@ -170,11 +184,15 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
         excess[r], drift[r], spread[r] = worst, far, total
 
 
-def fit_runs(p0, p3, d0, d1, lo, count, points, u, start, span, tol, fitted, steps, fit_points):
+def fit_runs(p0, p3, d0, d1, lo, count, points, u, start, span, tol, fitted, steps, fit_points,
+             limits=(np.inf, np.inf)):
     """Per run (rows of ``p0``, ``p3``, ``d0``, ``d1``, ``lo``, ``count``, ``start``, ``span``): the cubic
     (r, 4, 2), its handle lengths (r, 2), the parameters of its ``count`` contour points from ``lo`` (grouped by
     run), the largest excess of their distances over ``tol``, the largest and the summed squared distance of
-    their curve points from ``fitted`` (the fitted curve at the same contour points)."""
+    their curve points from ``fitted`` (the fitted curve at the same contour points). ``limits = (excess,
+    drift)``: a run stops measuring its points once its excess or drift so far exceeds them (it cannot
+    qualify then): its excess or drift is still above the limit, its parameters from there on and its spread are
+    not measured."""
     f = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
     count = np.ascontiguousarray(count, dtype=np.int64)
     r = count.shape[0]
@@ -187,8 +205,8 @@ def fit_runs(p0, p3, d0, d1, lo, count, points, u, start, span, tol, fitted, ste
     t_out = np.empty(total)
     excess, drift, spread = np.empty(r), np.empty(r), np.empty(r)
     _fit_runs_into(f(p0), f(p3), f(d0), f(d1), np.ascontiguousarray(lo, dtype=np.int64), count, offsets, f(points),
-                   f(u), f(start), f(span), f(tol), f(fitted), int(steps), int(fit_points), scratch, cubic, handles,
-                   t_out, excess, drift, spread)
+                   f(u), f(start), f(span), f(tol), f(fitted), int(steps), int(fit_points),
+                   np.array(limits, dtype=np.float64), scratch, cubic, handles, t_out, excess, drift, spread)
     return cubic, handles, offsets, t_out, excess, drift, spread
 
 

@@ -55,9 +55,10 @@ class LsqKnotInsertion:
     # ---------------------------------------------------------------- records
     def candidate(self, piece, index, accepted, reason, action):
         """A snapshot candidate record for the rotated contour ``index``."""
-        return {"piece": int(piece), "index": int(self.model.contour.original_index(index)),
-                "point": tuple(map(float, self.model.point(index))), "accepted": bool(accepted), "reason": reason,
-                "membership": None, "action": action}
+        contour, index = self.model.contour, int(index)  # the contour's original_index and point, on one int
+        return {"piece": int(piece), "index": (index + contour.rotation) % contour.size,
+                "point": tuple(contour.points[index % contour.size].tolist()), "accepted": bool(accepted),
+                "reason": reason, "membership": None, "action": action}
 
     def corner_candidate(self, corner, reason):
         contour = self.model.contour

@@ -24,6 +24,18 @@ from .options import DEFAULT_EPSILON
 
 __all__ = ["OutlineRegression"]
 
+
+def _unique(values):
+    """``numpy.unique`` of a 1-d array without NaN (sorted, each value once) by a sort and a mask: the knot lists
+    here are short and ``unique``'s set-up costs more than the work."""
+    values = np.sort(values)
+    if values.shape[0] < 2:
+        return values
+    keep = np.empty(values.shape[0], bool)
+    keep[0] = True
+    np.not_equal(values[1:], values[:-1], out=keep[1:])
+    return values[keep]
+
 #: Smallest curvature (1/px) of the fitted curve at which the pixel check applies (:meth:`pixel_excess`):
 #: bends of radius up to 50 px, where a cut-short fillet or rounded corner lies.
 PIXEL_MIN_CURVATURE = 1.0 / 50.0
@@ -71,7 +83,7 @@ class OutlineRegression:
         self.parameter_low = self.base_parameter[bounds[piece]]
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
         self.parameter = self.base_parameter.copy()
-        self._zone_cache = None  # (tip state, zones) of _zones
+        self._zone_cache = None  # (tip state, {dense: zones}) of _zones
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
@@ -136,7 +148,7 @@ class OutlineRegression:
         the simple knots are unchanged; do not modify)."""
         key = self.simple_knots.tobytes()
         if self._knot_index_cache is None or self._knot_index_cache[0] != key:
-            self._knot_index_cache = (key, np.unique(np.concatenate([self.contour.corner_bounds, self.simple_knots])))
+            self._knot_index_cache = (key, _unique(np.concatenate([self.contour.corner_bounds, self.simple_knots])))
         return self._knot_index_cache[1]
 
     def knot_lists(self):
@@ -220,7 +232,7 @@ class OutlineRegression:
         key = self.simple_knots.tobytes()
         if self._knot_cache is None or self._knot_cache[0] != key:
             knots = self.knot_values()
-            distinct = np.unique(np.append(knots, self.period))
+            distinct = _unique(np.append(knots, self.period))
             self._knot_cache = (key, (knots.shape[0], periodic_knot_vector(knots, self.period), distinct[:-1],
                                       distinct[1:]))
         return self._knot_cache[1]
@@ -390,12 +402,14 @@ class OutlineRegression:
     def _zones(self, dense):
         """The corner zones (:meth:`zone`, as floats) and :meth:`allowance` of every contour point and of every
         probe (``dense``: the edge midpoints between, in a zone where either end is, with the larger allowance);
-        kept while the corners' tip state is unchanged."""
+        kept while the corners' tip state is unchanged (both forms: the rounds alternate between them)."""
         tips = self.tips
-        key = (dense, tips.radius.tobytes(), tips.allowance_kept.tobytes(), tips.allowance.tobytes())
+        key = (tips.radius.tobytes(), tips.allowance_kept.tobytes(), tips.allowance.tobytes())
         cached = self._zone_cache
-        if cached is not None and cached[0] == key:
-            return cached[1]
+        if cached is None or cached[0] != key:
+            cached = self._zone_cache = (key, {})
+        if dense in cached[1]:
+            return cached[1][dense]
         n = self.contour.size
         zone, allowance = self.zone(), self.allowance()
         if dense:
@@ -405,8 +419,7 @@ class OutlineRegression:
             probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
         else:
             probe_zone, probe_allowance = zone[:n], allowance[:n]
-        value = (zone.astype(float), allowance, probe_zone, probe_allowance)
-        self._zone_cache = (key, value)
+        value = cached[1][dense] = (zone.astype(float), allowance, probe_zone, probe_allowance)
         return value
 
     @staticmethod
@@ -497,7 +510,7 @@ class OutlineRegression:
             j = min(max(int(np.searchsorted(self.parameter[:n], where)), left + gap), right - gap)
             new.append((j, int(f), float(best)))
         if new:
-            self.simple_knots = np.unique(np.concatenate([self.simple_knots, [j for j, _, _ in new]]).astype(np.int64))
+            self.simple_knots = _unique(np.concatenate([self.simple_knots, [j for j, _, _ in new]]).astype(np.int64))
         return new, stuck, released
 
     def release_corners(self, dev, stuck):
@@ -562,7 +575,7 @@ class OutlineRegression:
         self.simple_knots = knots[keep | (knots == 0)]
 
     def restore(self, indices):
-        self.simple_knots = np.unique(np.concatenate([self.simple_knots, np.asarray(indices, dtype=np.int64)]))
+        self.simple_knots = _unique(np.concatenate([self.simple_knots, np.asarray(indices, dtype=np.int64)]))
 
     _FIT_STATE = ("simple_knots", "parameter", "coefficients", "knot_vector", "coefficient_count", "_starts",
                   "_ends", "_bezier")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import edge_table, polyline_distance
+from .geometry import edge_table
 from .tips import MAX_TIP_REACH, tip_estimates
 
 __all__ = ["RotatedContour", "CornerTips", "thin_corners", "curvature_knots", "crack_normals"]
@@ -111,7 +111,7 @@ class CornerTips:
         and the corner's allowance becomes at least the tip's distance from the contour (the true tip of a
         rendering lies outside its crack outline, by at most :func:`~.tips.tip_reach`). Other corners keep
         the angle-based gaps."""
-        estimate, start, anchors = tip_estimates(contour, self.angle, self.radius)
+        estimate, start, anchors, outside = tip_estimates(contour, self.angle, self.radius)
         found = np.flatnonzero(np.isfinite(estimate[:, 0]))
         if not found.size:
             return
@@ -119,8 +119,7 @@ class CornerTips:
         gaps = np.hypot(*(estimate[found, None, :] - anchors[found]).transpose(2, 0, 1)) - start[found, None]
         gaps = np.clip(gaps, 0.0, MAX_TIP_REACH)
         self.gap_before[found], self.gap_after[found] = gaps[:, 0], gaps[:, 1]
-        outside = polyline_distance(estimate[found], contour.points, closed=True)
-        self.allowance[found] = np.maximum(self.allowance[found], outside)
+        self.allowance[found] = np.maximum(self.allowance[found], outside[found])
 
     def release(self, corner):
         """Halve the extrapolation radius of a corner (0 below 0.75 px: the pieces then follow the pixel tip).

@@ -61,6 +61,15 @@ NEWTON_STEPS = 4
 MARGIN = 0.0
 
 
+def _member(values, sorted_set):
+    """``numpy.isin(values, sorted_set)`` for a sorted ``sorted_set`` (a binary search per value, not a sort of
+    both: the arrays here are short and ``isin``'s set-up costs more than its search)."""
+    if not sorted_set.shape[0]:
+        return np.zeros(values.shape[0], bool)
+    at = np.minimum(np.searchsorted(sorted_set, values), sorted_set.shape[0] - 1)
+    return sorted_set[at] == values
+
+
 def _unit(v):
     length = np.hypot(v[:, 0], v[:, 1])
     return v / np.where(length > 0, length, 1.0)[:, None], length
@@ -83,13 +92,14 @@ def _tangents(bez):
     return _unit(start)[0], _unit(end)[0]
 
 
-def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitted):
+def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitted, limits=(np.inf, np.inf)):
     """One cubic per run from the run's first end point to its last, its handles along ``directions = (d0,
     d1)`` (unit vectors per run) with their two lengths fitted by least squares to the contour points whose
     parameter lies in the run (:func:`._merge_kernels.fit_runs`). Returns a dict: the cubics (r, 4, 2), the
     handle lengths (r, 2), the covered points (``lo``, ``count`` per run), their parameters ``t`` on the
     cubics (grouped by run), and per run the largest excess over ``tol``, the largest (``drift``) and the
-    summed squared distance (``spread``) from the ``fitted`` curve at the same points."""
+    summed squared distance (``spread``) from the ``fitted`` curve at the same points; a run stops measuring once
+    its excess or drift exceeds ``limits`` (:func:`._merge_kernels.fit_runs`: it cannot qualify then)."""
     last = first + length - 1
     lo = np.searchsorted(u, starts[first], side="left")
     hi = np.searchsorted(u, ends[last], side="right")
@@ -97,7 +107,7 @@ def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitte
     span = ends[last] - starts[first]
     cubic, handles, offsets, t, excess, drift, spread = _merge_kernels.fit_runs(
         bez[first, 0], bez[last, 3], directions[0], directions[1], lo, count, points, u, starts[first], span, tol,
-        fitted, NEWTON_STEPS, FIT_POINTS)
+        fitted, NEWTON_STEPS, FIT_POINTS, limits)
     return {"cubic": cubic, "handles": handles, "lo": lo, "count": count, "t": t, "excess": excess,
             "drift": drift, "spread": spread}
 
@@ -110,14 +120,16 @@ def _qualify(fit, tolerance, margin):
             & (fit["handles"] > 1e-3 * chord[:, None]).all(axis=1) & (fit["count"] >= 4))
 
 
-def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW):
+def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW, head=None):
     """Tangent direction at every join ``j`` (the start of segment ``j``) where ``interior[j]``: a parabola
     ``y = a + b x + c x^2`` fitted by least squares to the contour points within ``window`` times the longer
     neighbouring segment's parameter length of the join (inside ``bounds``, per join), in the frame of the
     fitted curve's tangent there; the direction is ``(1, b)`` in that frame. Elsewhere (and where fewer than
-    six points fall in the window) the fitted curve's own direction."""
+    six points fall in the window) the fitted curve's own direction (``head``: the segments' start tangents, when
+    the caller has them)."""
     k = bez.shape[0]
-    head, _ = _tangents(bez)
+    if head is None:
+        head, _ = _tangents(bez)
     out = head.copy()
     j = np.flatnonzero(interior)
     if not j.size:
@@ -162,15 +174,13 @@ def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
     d0, d1, d2 = bez[:, 1] - bez[:, 0], bez[:, 2] - bez[:, 1], bez[:, 3] - bez[:, 2]
     a, b, c = d0 - 2 * d1 + d2, 2 * (d1 - d0), d0
     h = ends - starts
-    roots = []
-    for sign in (-1.0, 1.0):
-        disc = b * b - 4 * a * c
-        with np.errstate(divide="ignore", invalid="ignore"):
-            quad = (-b + sign * np.sqrt(np.where(disc >= 0, disc, np.nan))) / (2 * a)
-            lin = -c / b
-        roots.append(np.where(np.abs(a) > 1e-12 * (np.abs(b) + np.abs(c) + 1e-300), quad,
-                              lin if sign > 0 else np.nan))
-    t = np.concatenate(roots, axis=1)  # (k, 4): x and y roots
+    disc = b * b - 4 * a * c
+    quadratic = np.abs(a) > 1e-12 * (np.abs(b) + np.abs(c) + 1e-300)
+    t = np.empty((bez.shape[0], 4))  # (k, 4): x and y roots
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root, twice, lin = np.sqrt(np.where(disc >= 0, disc, np.nan)), 2 * a, -c / b
+        t[:, :2] = np.where(quadratic, (-b + -1.0 * root) / twice, np.nan)
+        t[:, 2:] = np.where(quadratic, (-b + 1.0 * root) / twice, lin)
     low = np.minimum(min_gap / np.maximum(h, 1e-12), 0.5)[:, None]
     t = np.where((t > low) & (t < 1 - low), t, np.nan)
     t = np.sort(t, axis=1)
@@ -179,9 +189,9 @@ def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
     cuts = (~np.isnan(t)).sum(axis=1)
     pieces = cuts + 1
     origin = np.repeat(np.arange(bez.shape[0]), pieces)
-    bounds = np.concatenate([np.zeros((bez.shape[0], 1)), np.nan_to_num(t, nan=2.0), np.ones((bez.shape[0], 1))],
-                            axis=1)
-    bounds = np.sort(bounds, axis=1)
+    bounds = np.empty((bez.shape[0], 6))
+    bounds[:, 0], bounds[:, 1:5], bounds[:, 5] = 0.0, np.where(np.isnan(t), 2.0, t), 1.0
+    bounds.sort(axis=1)
     pos = np.arange(origin.shape[0]) - np.repeat(np.cumsum(pieces) - pieces, pieces)
     ta, tb = bounds[origin, pos], bounds[origin, pos + 1]
     c_ = bez[origin]
@@ -234,13 +244,13 @@ def merge_segments(model, dev, tolerance):
     o_head, o_tail = _tangents(bez)
     if cornered:
         direction = join_directions(bez, starts, ends, points, u, interior[:k],
-                                    (corner_par[seg_piece], corner_par[seg_piece + 1]))
+                                    (corner_par[seg_piece], corner_par[seg_piece + 1]), head=o_head)
     else:  # the window of the seam reaches around it: the contour once more on either side
         interior[0] = interior[k] = True
         period = model.period
         wide = np.concatenate([u - period, u, u + period])
         direction = join_directions(bez, starts, ends, np.vstack([points] * 3), wide, interior[:k],
-                                    (np.full(k, -np.inf), np.full(k, np.inf)))
+                                    (np.full(k, -np.inf), np.full(k, np.inf)), head=o_head)
     cand = _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece, interior, direction,
                        o_head, o_tail, fit_bez, origin)
     if not (cand["length"] > 1).any():
@@ -251,12 +261,12 @@ def merge_segments(model, dev, tolerance):
         chosen = choose_runs(k, cand, allowed, periodic=not cornered)
         if chosen.shape[0] >= fit_bez.shape[0]:
             break
-        _put_state(model, saved, bez, starts, ends, points, tol, fitted, cand, chosen)
+        _put_state(model, saved, starts, ends, points, cand, chosen)
         new_dev = model.deviations(dense=True)
         failing = np.flatnonzero(new_dev["excess"] > 0)
         joins = _join_indices(model, new_dev["starts"], cornered)
         if not failing.size and joins is not None:
-            gone = saved["simple_knots"][~np.isin(saved["simple_knots"], joins)]
+            gone = saved["simple_knots"][~_member(saved["simple_knots"], joins)]
             model.simple_knots = joins
             return new_dev, gone
         if joins is None:  # two joins at one contour point: no knot list for them
@@ -274,16 +284,16 @@ def _join_indices(model, join_values, cornered):
     contour = model.contour
     n = contour.size
     corner_values = model.base_parameter[contour.corner_bounds]
-    inner = join_values[~np.isin(join_values, corner_values)] if cornered else join_values
+    inner = join_values[~_member(join_values, corner_values)] if cornered else join_values
     parameter = model.parameter[: n + 1]
     j = np.clip(np.searchsorted(parameter, inner), 1, n)
     j = np.where(np.abs(parameter[j - 1] - inner) <= np.abs(parameter[j] - inner), j - 1, j)
     if not cornered:
         j[np.isclose(inner, 0.0)] = 0
-    j = j % n
-    if np.unique(j).shape[0] != j.shape[0] or (cornered and np.isin(j, contour.corner_bounds).any()):
+    j = np.sort(j % n).astype(np.int64)
+    if (j[1:] == j[:-1]).any() or (cornered and _member(j, contour.corner_bounds).any()):
         return None
-    return np.sort(j).astype(np.int64)
+    return j
 
 
 def choose_runs(k, cand, allowed, periodic=False):
@@ -332,10 +342,11 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     # the fitted segments as they were: their pieces between extrema, and each whole (states 0, 0; cost 0)
     heads = np.flatnonzero(np.diff(origin, prepend=-1))
     whole = np.diff(np.append(heads, k))
+    kept = k + int((whole > 1).sum())
     out = {"first": [np.arange(k), heads[whole > 1]], "length": [np.ones(k, np.int64), whole[whole > 1]],
-           "s0": [np.zeros(k + int((whole > 1).sum()), np.int64)], "s1": [np.zeros(k + int((whole > 1).sum()), np.int64)],
-           "spread": [np.zeros(k + int((whole > 1).sum()))], "cubic": [bez, fit_bez[origin[heads[whole > 1]]]],
-           "refit": [np.zeros(k + int((whole > 1).sum()), bool)]}
+           "s0": [np.zeros(kept, np.int64)], "s1": [np.zeros(kept, np.int64)],
+           "spread": [np.zeros(kept)], "cubic": [bez, fit_bez[origin[heads[whole > 1]]]],
+           "refit": [np.zeros(kept, bool)], "t": [np.zeros(0)], "t_count": [np.zeros(kept, np.int64)]}
     active = np.arange(k)
     misses = np.zeros(k, np.int64)
     for length in range(1, min(MAX_RUN, k) + 1):
@@ -347,37 +358,38 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
         if not active.size:
             break
         last = active + length - 1
-        rows, sa, sb = [], [], []
-        for a in (0, 1):
-            for b in (0, 1):
-                if length == 1 and a == 0 and b == 0:
-                    continue  # the segment as it was
-                # an end at a join takes the new direction if asked (a == 1), and a longer run takes it wherever
-                # it may: its end keeps the old one only where the join has no new direction (a kept segment
-                # beside it is refitted as a run of one instead)
-                valid = np.ones(active.shape[0], bool)
-                for flag, joins in ((a, interior[active]), (b, interior[last + 1])):
-                    if flag:
-                        valid &= joins
-                    elif length > 1:
-                        valid &= ~joins
-                rows.append(np.flatnonzero(valid))
-                sa.append(np.full(rows[-1].shape[0], a))
-                sb.append(np.full(rows[-1].shape[0], b))
-        rows, sa, sb = np.concatenate(rows), np.concatenate(sa), np.concatenate(sb)
+        # the end states (a, b) in the order (0, 0), (0, 1), (1, 0), (1, 1), the runs of each in start order: an
+        # end at a join takes the new direction if asked (a == 1), and a longer run takes it wherever it may: its
+        # end keeps the old one only where the join has no new direction (a kept segment beside it is refitted
+        # as a run of one instead); a single segment in states (0, 0) is the segment as it was
+        head_join, tail_join = interior[active], interior[last + 1]
+        valid = np.empty((4, active.shape[0]), bool)
+        if length > 1:
+            head_old, tail_old = ~head_join, ~tail_join
+            valid[0], valid[1], valid[2] = head_old & tail_old, head_old & tail_join, head_join & tail_old
+        else:
+            valid[0], valid[1], valid[2] = False, tail_join, head_join
+        valid[3] = head_join & tail_join
+        states, rows = np.nonzero(valid)
+        sa, sb = states >> 1, states & 1
         if rows.size:
             f, end = active[rows], last[rows]
             d0 = np.where(sa[:, None] == 1, direction[f], o_head[f])
             d1 = np.where(sb[:, None] == 1, direction[(end + 1) % k], o_tail[end])
-            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1), tol, fitted)
+            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1), tol, fitted,
+                           (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
             ok, spread = _qualify(fit, tolerance, MARGIN), fit["spread"]
+            chosen = int(ok.sum())
             out["first"].append(f[ok])
-            out["length"].append(np.full(int(ok.sum()), length))
+            out["length"].append(np.full(chosen, length))
             out["s0"].append(sa[ok])
             out["s1"].append(sb[ok])
             out["spread"].append(spread[ok])
             out["cubic"].append(fit["cubic"][ok])
-            out["refit"].append(np.ones(int(ok.sum()), bool))
+            out["refit"].append(np.ones(chosen, bool))
+            # the parameters of the covered points on each qualifying cubic (a chosen run takes them)
+            out["t"].append(fit["t"][np.repeat(ok, fit["count"])])
+            out["t_count"].append(fit["count"][ok])
             any_ok = np.zeros(active.shape[0], bool)
             any_ok[rows[ok]] = True
         else:
@@ -388,30 +400,30 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
         keep = misses <= MISSES
         active, misses = active[keep], misses[keep]
     cand = {key: np.concatenate(value) for key, value in out.items()}
+    cand["t_start"] = np.cumsum(cand["t_count"]) - cand["t_count"]
     cand["direction"], cand["o_head"], cand["o_tail"] = direction, o_head, o_tail
     return cand
 
 
-def _put_state(model, saved, bez, starts, ends, points, tol, fitted, cand, chosen):
+def _put_state(model, saved, starts, ends, points, cand, chosen):
     """Put the chosen runs (in chain order) into ``model``: one cubic per run on the run's parameter interval,
     the contour points of refitted runs re-parameterized on them (a segment kept as it was keeps its
     parameters)."""
     model.load(saved)
-    k = bez.shape[0]
     f, length = cand["first"][chosen], cand["length"][chosen]
     last = f + length - 1
     refit = cand["refit"][chosen]
     parameter = model.parameter.copy()
     if refit.any():
+        # the parameters the candidate's fit gave its points (:func:`_candidates`, on the same parameters)
         fr, lr, c = f[refit], length[refit], chosen[refit]
-        d0 = np.where(cand["s0"][c][:, None] == 1, cand["direction"][fr], cand["o_head"][fr])
-        d1 = np.where(cand["s1"][c][:, None] == 1, cand["direction"][(fr + lr) % k], cand["o_tail"][fr + lr - 1])
-        fit = fit_runs(bez, starts, ends, points, model.parameter[:points.shape[0]], fr, lr, (d0, d1), tol, fitted)
-        run = np.repeat(np.arange(fr.shape[0]), fit["count"])
-        idx = fit["lo"][run] + np.arange(run.shape[0]) - np.repeat(np.cumsum(fit["count"]) - fit["count"],
-                                                                    fit["count"])
+        count = cand["t_count"][c]
+        lo = np.searchsorted(model.parameter[:points.shape[0]], starts[fr], side="left")
+        run = np.repeat(np.arange(fr.shape[0]), count)
+        within = np.arange(run.shape[0]) - np.repeat(np.cumsum(count) - count, count)
+        idx = lo[run] + within
         s, e = starts[fr[run]], ends[fr[run] + lr[run] - 1]
-        parameter[idx] = s + fit["t"] * (e - s)
+        parameter[idx] = s + cand["t"][cand["t_start"][c][run] + within] * (e - s)
     parameter[model.fixed] = model.base_parameter[model.fixed]
     model.parameter = np.maximum.accumulate(parameter)
     model._bezier, model._starts, model._ends = cand["cubic"][chosen].copy(), starts[f], ends[last]

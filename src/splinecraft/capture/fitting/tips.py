@@ -162,6 +162,22 @@ def _arc_window(contour, corner_arc, sign, start, stop):
     return indices
 
 
+_STEPS = np.arange(17.0)
+
+
+def _slope_grid(start, stop):
+    """``numpy.linspace(start, stop, 17)`` in its arithmetic (``arange(17) * step + start``, the last value
+    ``stop``), without its set-up."""
+    step = (stop - start) / 16
+    grid = _STEPS * step if step != 0 else _STEPS / 16 * (stop - start)
+    grid += start
+    grid[-1] = stop
+    return grid
+
+
+_FIRST_SLOPES = np.linspace(-SLOPE_SEARCH, SLOPE_SEARCH, 17)
+
+
 def _separating_line(fit, ink, paper):
     """The line that separates the pixel centres ``ink`` from ``paper`` with the largest margin (measured across
     the frame of ``fit``): the centre of the set of lines whose digitization gives these pixels (the preimage
@@ -176,13 +192,15 @@ def _separating_line(fit, ink, paper):
     sign = 1.0 if np.mean(y_ink) >= np.mean(y_paper) else -1.0
     y_ink, y_paper = sign * y_ink, sign * y_paper  # ink above the line: y_ink - line >= margin
 
-    slopes, step = np.linspace(-SLOPE_SEARCH, SLOPE_SEARCH, 17), SLOPE_SEARCH / 8
+    ink_count = t_ink.shape[0]
+    t_all, y_all = np.concatenate([t_ink, t_paper]), np.concatenate([y_ink, y_paper])
+    slopes, step = _FIRST_SLOPES, SLOPE_SEARCH / 8
     for _ in range(5):  # grids of 17 slopes, each zoomed to two steps of the last around its best
-        above = (y_ink[None, :] - slopes[:, None] * t_ink[None, :]).min(axis=1)
-        below = (y_paper[None, :] - slopes[:, None] * t_paper[None, :]).max(axis=1)
+        offsets = y_all[None, :] - slopes[:, None] * t_all[None, :]
+        above, below = offsets[:, :ink_count].min(axis=1), offsets[:, ink_count:].max(axis=1)
         best = int(np.argmax(above - below))
         slope = slopes[best]
-        slopes, step = np.linspace(slope - step, slope + step, 17), step / 8
+        slopes, step = _slope_grid(slope - step, slope + step), step / 8
     above, below = (y_ink - slope * t_ink).min(), (y_paper - slope * t_paper).max()
     margin = 0.5 * (above - below)
     if margin <= 0.0:
@@ -311,8 +329,9 @@ def tip_estimates(contour, angle, radius):
     reach is bounded by the other side's window only (the tip lies at the end of the shared side). A corner
     between two short sides gets no estimate.
 
-    Returns ``(estimate, start, anchors)``: estimate (k, 2), NaN where there is none; the window start per
-    corner; the contour points at the window starts (k, 2, 2: before, after)."""
+    Returns ``(estimate, start, anchors, outside)``: estimate (k, 2), NaN where there is none; the window start
+    per corner; the contour points at the window starts (k, 2, 2: before, after); the estimate's distance from
+    the contour (px; NaN where there is none)."""
     arc, perimeter = contour.arc, contour.perimeter
     lengths = np.diff(arc[contour.corner_bounds])
     before_len, after_len = np.roll(lengths, 1), lengths
@@ -333,7 +352,7 @@ def tip_estimates(contour, angle, radius):
     # meet at less than MAX_EXTRAPOLATED_ANGLE
     acute = ~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE))
     if not (acute | one_short).any():
-        return estimate, start, anchors
+        return estimate, start, anchors, np.full(count, np.nan)
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False
@@ -394,8 +413,9 @@ def tip_estimates(contour, angle, radius):
     gate = np.where(one_short, opening, angle)
     estimate[(gate >= MAX_EXTRAPOLATED_ANGLE) & ~(straight & (gate < MAX_OBTUSE_ANGLE))] = np.nan
     found = np.flatnonzero(np.isfinite(estimate[:, 0]))
+    distance = np.full(count, np.nan)
     if found.size:
-        outside = polyline_distance(estimate[found], contour.points, closed=True)
+        outside = distance[found] = polyline_distance(estimate[found], contour.points, closed=True)
         rounded = found[outside * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
-        estimate[rounded], anchors[rounded] = np.nan, np.nan
-    return estimate, start, anchors
+        estimate[rounded], anchors[rounded], distance[rounded] = np.nan, np.nan, np.nan
+    return estimate, start, anchors, distance

@@ -15,9 +15,12 @@ two-sided deviation between its curve and its contour section is within ``epsilo
 of two or more contour steps gets a knot at its contour point farthest from the curve (kept in the middle
 half of the interval). Once an outline is within ``epsilon``, knot-removal rounds (snapshot phase
 ``"remove"``) drop every other inner knot, put back those whose interval then fails and go back to the
-round's start if the outline still fails, as long as removals stick. When every contour point is a knot the
-curve interpolates them all, so a crack outline converges for any ``epsilon`` above that interpolant's own
-deviation (about 0.1-0.2 px); below it the result says so (``FitResult.info["reason"]``).
+round's start if the outline still fails, as long as removals stick. Acute corners of outlines that pass
+:func:`_tip_candidates` get the extrapolated tip of ``"lsq"`` (:func:`_corner_tips`): the tip is the knot point
+of both chains that meet there, and the corner's zone has the allowance of ``"lsq"`` in the deviation check.
+When every contour point is a knot the curve interpolates them all, so a crack outline converges for any
+``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px); below it the result says so
+(``FitResult.info["reason"]``).
 """
 from __future__ import annotations
 
@@ -28,6 +31,7 @@ from ._threads import one_blas_thread
 from .lsq_setup import CornerTips, RotatedContour
 from .options import LSQ_DEFAULTS, check_corners, check_points
 from .results import FitResult, Snapshot
+from .tips import LONGEST_SIDE, MIN_CROSSING, SHORTEST_SIDE
 
 __all__ = ["fit_small_trusted", "check_outlines"]
 
@@ -40,14 +44,16 @@ _SMALL_BUCKETS = (1, 2, 4, 8, 16, 32, 64)
 _SMALL_SECTION = 64
 #: Knot-removal rounds after convergence (each tries every other inner knot of a piece).
 _REMOVAL_ROUNDS = 4
-#: Pre-test of the corners whose tip is extrapolated (:func:`_tip_candidates`): both sides at least this long
-#: (px of arc), the contour's angle (chords of up to 6 steps) below ``_TIP_TEST_ANGLE`` and both side windows
-#: (2 to ``0.8`` of the side, at most ``_TIP_TEST_WINDOW`` contour steps) within ``_TIP_TEST_RESIDUAL`` px of a
-#: line or parabola. Only outlines with such a corner are measured by :mod:`.tips` (speckle rarely passes).
+#: Pre-test of the corners whose tip is extrapolated (:func:`_tip_candidates`): both sides at least
+#: ``_TIP_TEST_SIDE`` px of arc, the contour's angle (chords of up to 6 steps) below ``_TIP_TEST_ANGLE``, both side
+#: windows of :func:`~.tips.tip_estimates` (from its window start to 0.8 of the side) at least
+#: :data:`~.tips.SHORTEST_SIDE` long, and the contour points of both (at most ``_TIP_TEST_WINDOW`` steps) within
+#: ``_TIP_TEST_RESIDUAL`` px of a parabola, their axes crossing at :data:`~.tips.MIN_CROSSING` or more. Only
+#: those corners are measured by :mod:`.tips` (speckle rarely passes).
 _TIP_TEST_SIDE = 8.0
 _TIP_TEST_ANGLE = np.radians(100.0)
 _TIP_TEST_WINDOW = 24
-_TIP_TEST_RESIDUAL = 0.8
+_TIP_TEST_RESIDUAL = 0.7
 
 
 def _small_chains(lengths, corner_lists):
@@ -233,12 +239,13 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h, 
 def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
     """Outlines of the batch with a corner whose tip may be extrapolated: a cheap vectorized pre-test of
     :func:`~.tips.tip_estimates`' conditions (both sides long enough for a side window of their own, an acute
-    contour angle, both side windows close to a line or parabola; constants ``_TIP_TEST_*``). Boolean per
-    outline."""
+    contour angle, both side windows close to a parabola; constants ``_TIP_TEST_*``). Returns the
+    outlines with such a corner (boolean per outline) and the corners that pass (boolean, the outlines' corners
+    one after the other)."""
     counts = np.array([c.shape[0] for c in corners], dtype=np.int64)
     wanted = np.zeros(lengths.shape[0], bool)
     if not counts.any():
-        return wanted
+        return wanted, np.zeros(0, bool)
     outline = np.repeat(np.arange(lengths.shape[0]), counts)
     c = np.concatenate([np.asarray(k, dtype=np.int64) for k in corners])
     n = lengths[outline]
@@ -257,21 +264,30 @@ def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
 
     side_after = arc[at(following)] + (following // n) * perimeter[outline] - arc[at(c)]
     side_before = np.where(first, side_after[last_of], np.roll(side_after, 1))
-    ok = (side_before >= _TIP_TEST_SIDE) & (side_after >= _TIP_TEST_SIDE)
     reach = np.minimum(6, (0.4 * np.minimum(steps_before, steps_after)).astype(np.int64))
     a, b = points[at(c - reach)] - points[at(c)], points[at(c + reach)] - points[at(c)]
-    cos = (a * b).sum(axis=1) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-12)
-    ok &= cos > np.cos(_TIP_TEST_ANGLE)
-    j = np.arange(2, _TIP_TEST_WINDOW + 1)[None, :]
-    for sign, steps in ((-1, steps_before), (1, steps_after)):
-        if not ok.any():
-            break
+    theta = np.arccos(np.clip((a * b).sum(axis=1) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-12), -1.0, 1.0))
+    # the side windows of tip_estimates (from the window start to 0.8 of the side), none of them short
+    cotangent = 1.0 / np.maximum(np.tan(0.5 * theta), 1e-6)
+    radius = np.minimum(np.clip(LSQ_DEFAULTS["corner_radius"] * cotangent, 1.0, 3.0 * LSQ_DEFAULTS["corner_radius"]),
+                        0.2 * np.minimum(side_before, side_after))
+    start = np.maximum(radius, np.clip(cotangent, 1.0, 6.0))
+    window = np.minimum(0.8 * np.minimum(side_before, side_after), start + LONGEST_SIDE) - start
+    ok = (theta < _TIP_TEST_ANGLE) & (window >= SHORTEST_SIDE) & (np.minimum(side_before, side_after)
+                                                                  >= _TIP_TEST_SIDE)
+    j = np.arange(1, _TIP_TEST_WINDOW + 1)[None, :]
+    direction = np.zeros((2, ok.shape[0]))  # of both windows' principal axes (radians)
+    for side, (sign, steps) in enumerate(((-1, steps_before), (1, steps_after))):
         rows = np.flatnonzero(ok)
+        if not rows.size:
+            return wanted, ok
+        near = np.ceil(start[rows])[:, None]
         far = np.clip((0.8 * steps[rows]).astype(np.int64), 4, _TIP_TEST_WINDOW)[:, None]
-        mask = (j <= far).astype(float)
-        window = points[at(c[rows, None] + sign * np.minimum(j, far), rows)]
+        mask = ((j >= near) & (j <= far)).astype(float)
+        mask[mask.sum(axis=1) < 3] = 1.0
+        window_points = points[at(c[rows, None] + sign * np.minimum(j, far), rows)]
         weight = mask / mask.sum(axis=1, keepdims=True)
-        d = window - (weight[..., None] * window).sum(axis=1)[:, None]
+        d = window_points - (weight[..., None] * window_points).sum(axis=1)[:, None]
         sxx, syy = (weight * d[..., 0] ** 2).sum(axis=1), (weight * d[..., 1] ** 2).sum(axis=1)
         phi = 0.5 * np.arctan2(2.0 * (weight * d[..., 0] * d[..., 1]).sum(axis=1), sxx - syy)[:, None]
         t = d[..., 0] * np.cos(phi) + d[..., 1] * np.sin(phi)  # along the principal direction
@@ -281,19 +297,22 @@ def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
         coefficients = np.linalg.solve(normal, np.einsum("ijk,ij->ik", design, y)[..., None])[..., 0]
         residual = np.abs(y * mask - np.einsum("ijk,ik->ij", design, coefficients)).max(axis=1)
         ok[rows] &= residual <= _TIP_TEST_RESIDUAL
+        direction[side, rows] = phi[:, 0]
+    # sides meeting at less than tips.MIN_CROSSING give no tip
+    ok &= np.abs(np.sin(direction[0] - direction[1])) >= np.sin(MIN_CROSSING)
     wanted[outline[ok]] = True
-    return wanted
+    return wanted, ok
 
 
-def _corner_tips(outline, corners):
-    """The extrapolated tips of one outline's corners, by the machinery of ``"lsq"``
-    (:meth:`~.lsq_setup.CornerTips.measure` at the ``"lsq"`` defaults, :func:`~.tips.tip_estimates`): per
-    corner (in the order of ``corners``) the tip (NaN where there is none), the zone radius (px of arc: the
+def _corner_tips(outline, corners, measured):
+    """The extrapolated tips of one outline's corners ``measured`` (boolean per corner), by the machinery of
+    ``"lsq"`` (:meth:`~.lsq_setup.CornerTips.measure` at the ``"lsq"`` defaults, :func:`~.tips.tip_estimates`):
+    per corner (in the order of ``corners``) the tip (NaN where there is none), the zone radius (px of arc: the
     zone of "Guarantee" is ``2 r + 1``) and the allowance in that zone (``corner_allowance``, or the tip's
     distance from the contour if larger)."""
     contour = RotatedContour(outline, corners)
     tips = CornerTips.measure(contour, LSQ_DEFAULTS["corner_radius"], LSQ_DEFAULTS["tip_gap"], True,
-                              LSQ_DEFAULTS["corner_allowance"])
+                              LSQ_DEFAULTS["corner_allowance"], measured)
     # the rotated contour starts at corners[0], so its corners are in the caller's order
     return tips.estimate, 2.0 * tips.zone_radius + 1.0, tips.allowance
 
@@ -380,9 +399,11 @@ class _SmallBatch:
         self.zone_lo, self.allow_lo = np.zeros(chains), np.zeros(chains)
         self.zone_hi, self.allow_hi = np.zeros(chains), np.zeros(chains)
         self.tip_allowance = np.zeros(self.count)  # largest allowance per outline
-        wanted = _tip_candidates(self.points, self.offsets, self.lengths, self.arc, self.perimeter, corners)
+        wanted, passing = _tip_candidates(self.points, self.offsets, self.lengths, self.arc, self.perimeter,
+                                          corners)
+        first = np.cumsum([0] + [c.shape[0] for c in corners])  # of every outline's corners in ``passing``
         for b in np.flatnonzero(wanted):
-            estimate, zone, allowance = _corner_tips(outlines[b], corners[b])
+            estimate, zone, allowance = _corner_tips(outlines[b], corners[b], passing[first[b]:first[b + 1]])
             kept = np.flatnonzero(np.isfinite(estimate[:, 0]))
             if not kept.size:
                 continue
@@ -589,7 +610,8 @@ def _small_state(lo, hi, klo, khi, ev, n, iteration, epsilon, phase, candidates)
     snapshot = Snapshot(iteration=iteration, knot_indices=knot_lists, bezier=ev["bezier"][lo:hi],
                         piece_max_error=piece_err, piece_hausdorff=piece_dev, candidates=candidates,
                         phase="initial" if iteration == 0 else phase, thesis_stop=False,
-                        finished=np.maximum.reduceat(ev["excess"][lo:hi], interval_first) <= epsilon, knots=np.append(starts, u[khi - 1]), closed=True)
+                        finished=np.maximum.reduceat(ev["excess"][lo:hi], interval_first) <= epsilon,
+                        knots=np.append(starts, u[khi - 1]), closed=True)
     failing = ev["failing"][lo:hi]
     return {"snapshot": snapshot, "failing": bool(failing.any()),
             "splittable": bool((failing & (ev["steps"][lo:hi] >= 2)).any()), "iteration": iteration}

@@ -15,7 +15,8 @@ Documented outcomes for degenerate input
 * small outlines (fewer than ``fitting.SMALL_OUTLINE`` = 64 contour points: single pixels, dominos, specks,
   short diagonal chains) with the default method ``"lsq"``: all fitted together by
   :func:`~splinecraft.capture.fitting.fit_small_outlines` (interpolant through contour points with knot
-  insertion, corners interpolated; converged means within ``epsilon`` everywhere); below
+  insertion, corners interpolated or, where acute, extrapolated tips; converged means within ``epsilon`` except
+  in a tip's zone); below
   :data:`CORNERLESS_CONTOUR` = 20 points without corner detection, as one closed periodic curve. Any other
   contour too short for the corner detector: no corners, one closed periodic curve. Both are recorded in
   :attr:`TraceResult.notes`;
@@ -361,7 +362,8 @@ def _contours(boundaries, settings, deadline):
         notes.append(
             f"{len(small)} boundar{'y' if len(small) == 1 else 'ies'} of fewer than {small_limit} contour points "
             "fitted together by the small-outline path of 'lsq' (fitting.fit_small_outlines: interpolant through "
-            "contour points, corners interpolated; stats['per_boundary'][k]['small_outline'])"
+            "contour points, acute tips extrapolated where a pre-test passes; "
+            "stats['per_boundary'][k]['small_outline'])"
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
                "closed periodic curve" if skipped else ""))
     return points_list, corner_list, small, times, undetected, notes

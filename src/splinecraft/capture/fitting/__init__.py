@@ -101,8 +101,9 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         Keep every iteration in :attr:`FitResult.snapshots`.
     small_outline : int >= 0, optional
         ``"lsq"`` fits contours of fewer points than this (``None``: :data:`SMALL_OUTLINE` = 64) with
-        :func:`fit_small_outlines` (corners interpolated, not extrapolated, so the ``"lsq"`` options do not
-        apply there). ``0`` fits every contour with the regression spline.
+        :func:`fit_small_outlines` (the ``"lsq"`` options do not apply there; acute corners of outlines that
+        pass a pre-test get the tips of the ``"lsq"`` defaults, docs/capture.md §12, "Small outlines"). ``0``
+        fits every contour with the regression spline.
     **options
         Thesis methods: ``point_tension``, ``interval_weights``, ``alpha``, ``beta``, ``point_tension_scale``
         (passed to :func:`~splinecraft.spline.interpolate`, per piece), ``tangent_stride`` (default 3),

@@ -90,28 +90,29 @@ class CornerTips:
         return tips
 
     @classmethod
-    def measure(cls, contour, corner_radius, tip_gap, geometric, allowance=0.0):
+    def measure(cls, contour, corner_radius, tip_gap, geometric, allowance=0.0, measured=None):
         """Tips of the corners of ``contour``: radii by :func:`corner_radii`; a gap of
         ``tip_gap (1 / sin(theta / 2) - 1)`` px on each side (the pixel tip is truncated by about
         ``0.5 / sin(theta / 2) - 0.5`` px, and the pieces need that much parameter to reach the true corner),
-        at most 3 px; with ``geometric`` the gaps of :meth:`geometric_gaps` where those apply."""
+        at most 3 px; with ``geometric`` the gaps of :meth:`geometric_gaps` where those apply (``measured``: the
+        corners measured there, default all)."""
         if not contour.corner_count:
             return cls.none()
         radius, angle = corner_radii(contour, corner_radius)
         gap = np.clip(tip_gap * (1.0 / np.maximum(np.sin(0.5 * angle), 0.1) - 1.0), 0.0, 3.0)
         tips = cls(radius, angle, gap, allowance)
         if geometric:
-            tips.geometric_gaps(contour)
+            tips.geometric_gaps(contour, measured)
         return tips
 
-    def geometric_gaps(self, contour):
+    def geometric_gaps(self, contour, measured=None):
         """Extrapolated tips (:func:`~.tips.tip_estimates`): the two sides fitted beside the truncated tip and
         intersected. Where that gives a tip, it is remembered (``estimate``), the parameter gaps are set so
         that the parameter is the distance along the fitted sides (the pieces reach the tip without bending)
         and the corner's allowance becomes at least the tip's distance from the contour (the true tip of a
         rendering lies outside its crack outline, by at most :func:`~.tips.tip_reach`). Other corners keep
         the angle-based gaps."""
-        estimate, start, anchors, outside = tip_estimates(contour, self.angle, self.radius)
+        estimate, start, anchors, outside = tip_estimates(contour, self.angle, self.radius, measured)
         found = np.flatnonzero(np.isfinite(estimate[:, 0]))
         if not found.size:
             return

@@ -15,9 +15,12 @@ two-sided deviation between its curve and its contour section is within ``epsilo
 of two or more contour steps gets a knot at its contour point farthest from the curve (kept in the middle
 half of the interval). Once an outline is within ``epsilon``, knot-removal rounds (snapshot phase
 ``"remove"``) drop every other inner knot, put back those whose interval then fails and go back to the
-round's start if the outline still fails, as long as removals stick. When every contour point is a knot the
-curve interpolates them all, so a crack outline converges for any ``epsilon`` above that interpolant's own
-deviation (about 0.1-0.2 px); below it the result says so (``FitResult.info["reason"]``).
+round's start if the outline still fails, as long as removals stick. Acute corners of outlines that pass
+:func:`_tip_candidates` get the extrapolated tip of ``"lsq"`` (:func:`_corner_tips`): the tip is the knot point
+of both chains that meet there, and the corner's zone has the allowance of ``"lsq"`` in the deviation check.
+When every contour point is a knot the curve interpolates them all, so a crack outline converges for any
+``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px); below it the result says so
+(``FitResult.info["reason"]``).
 """
 from __future__ import annotations
 
@@ -25,8 +28,10 @@ import numpy as np
 
 from ...spline import Spline
 from ._threads import one_blas_thread
-from .options import check_corners, check_points
+from .lsq_setup import CornerTips, RotatedContour
+from .options import LSQ_DEFAULTS, check_corners, check_points
 from .results import FitResult, Snapshot
+from .tips import LONGEST_SIDE, MIN_CROSSING, SHORTEST_SIDE
 
 __all__ = ["fit_small_trusted", "check_outlines"]
 
@@ -39,6 +44,16 @@ _SMALL_BUCKETS = (1, 2, 4, 8, 16, 32, 64)
 _SMALL_SECTION = 64
 #: Knot-removal rounds after convergence (each tries every other inner knot of a piece).
 _REMOVAL_ROUNDS = 4
+#: Pre-test of the corners whose tip is extrapolated (:func:`_tip_candidates`): both sides at least
+#: ``_TIP_TEST_SIDE`` px of arc, the contour's angle (chords of up to 6 steps) below ``_TIP_TEST_ANGLE``, both side
+#: windows of :func:`~.tips.tip_estimates` (from its window start to 0.8 of the side) at least
+#: :data:`~.tips.SHORTEST_SIDE` long, and the contour points of both (at most ``_TIP_TEST_WINDOW`` steps) within
+#: ``_TIP_TEST_RESIDUAL`` px of a parabola, their axes crossing at :data:`~.tips.MIN_CROSSING` or more. Only
+#: those corners are measured by :mod:`.tips` (speckle rarely passes).
+_TIP_TEST_SIDE = 8.0
+_TIP_TEST_ANGLE = np.radians(100.0)
+_TIP_TEST_WINDOW = 24
+_TIP_TEST_RESIDUAL = 0.7
 
 
 def _small_chains(lengths, corner_lists):
@@ -150,10 +165,16 @@ def _segment_distance_grid(px, py, ax, ay, dx, dy):
     return np.sqrt(rx * rx + ry * ry)
 
 
-def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
+def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h, zones=None):
     """Per knot interval: the two-sided deviation between its Bézier and its contour section (contour
     points ``a .. a + steps``), the thesis error (contour point vs the curve point at its chord-length
-    parameter, thesis eq 4.11) and the contour point farthest from the curve.
+    parameter, thesis eq 4.11), the contour point farthest from the curve (beyond its allowance) and the
+    deviation beyond the allowance (the deviation itself without ``zones``).
+
+    ``zones`` (per interval: the arc length of its chain's first end, that end's zone and allowance, the same
+    for the last end) gives the corner zones of extrapolated tips: a contour point or curve sample (at its
+    parameter, the contour's arc length) within the zone of an end counts its distance less that end's
+    allowance.
 
     Intervals are grouped by section length (caps ``_SMALL_BUCKETS``; shorter sections repeat their last
     point, which changes no minimum) and by sample count (powers of two), and done bucket by bucket with
@@ -163,8 +184,13 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
     """
     count = a.shape[0]
     deviation = np.zeros(count)
+    excess = deviation if zones is None else np.zeros(count)
     thesis = np.zeros(count)
     worst = a.copy()
+
+    def allowed(rows, at):  # allowance at arc lengths ``at`` (rows, m) of the intervals ``rows``
+        lo, lo_zone, lo_allow, hi, hi_zone, hi_allow = (z[rows, None] for z in zones)
+        return np.maximum(np.where(at - lo < lo_zone, lo_allow, 0.0), np.where(hi - at < hi_zone, hi_allow, 0.0))
     control_length = np.hypot(*np.diff(bezier, axis=1).transpose(2, 0, 1)).sum(axis=1)
     # per interval ceil(length / spacing) + 1 >= 3 samples; the last one is repeated up to the bucket's count
     # (repeats change no minimum or maximum, so each interval's numbers do not depend on the batch)
@@ -187,19 +213,108 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h):
         vx, vy = vertices[..., 0], vertices[..., 1]
         ex, ey = np.diff(vx, axis=1), np.diff(vy, axis=1)
         to_contour = _segment_distance_grid(samples[..., 0], samples[..., 1], vx[:, :-1], vy[:, :-1], ex, ey)
-        curve_side = to_contour.min(axis=2).max(axis=1)
+        curve_near = to_contour.min(axis=2)
+        curve_side = curve_near.max(axis=1)
         probes_x = np.concatenate([vx, 0.5 * (vx[:, :-1] + vx[:, 1:])], axis=1)
         probes_y = np.concatenate([vy, 0.5 * (vy[:, :-1] + vy[:, 1:])], axis=1)
         sx, sy = samples[..., 0], samples[..., 1]
         to_curve = _segment_distance_grid(probes_x, probes_y, sx[:, :-1], sy[:, :-1], np.diff(sx, axis=1),
                                           np.diff(sy, axis=1)).min(axis=2)
         deviation[rows] = np.maximum(curve_side, to_curve.max(axis=1))
+        index_arc = contour_arc(rows, index)
+        if zones is not None:
+            sample_arc = u0[rows, None] + theta * h[rows, None]
+            curve_near -= allowed(rows, sample_arc)
+            to_curve -= allowed(rows, np.concatenate([index_arc, 0.5 * (index_arc[:, :-1] + index_arc[:, 1:])],
+                                                     axis=1))
+            excess[rows] = np.maximum(curve_near.max(axis=1), to_curve.max(axis=1))
         worst[rows] = index[np.arange(rows.shape[0]), np.argmax(to_curve[:, : cap + 1], axis=1)]
         # thesis error: contour point j vs the curve at theta = (s_j - s_a) / h
-        theta_j = np.clip((contour_arc(rows, index) - u0[rows, None]) / h[rows, None], 0.0, 1.0)
+        theta_j = np.clip((index_arc - u0[rows, None]) / h[rows, None], 0.0, 1.0)
         at = _bernstein(bezier[rows], theta_j)
         thesis[rows] = np.hypot(*(at - vertices).transpose(2, 0, 1)).max(axis=1)
-    return deviation, thesis, worst
+    return deviation, thesis, worst, excess
+
+
+def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
+    """Outlines of the batch with a corner whose tip may be extrapolated: a cheap vectorized pre-test of
+    :func:`~.tips.tip_estimates`' conditions (both sides long enough for a side window of their own, an acute
+    contour angle, both side windows close to a parabola; constants ``_TIP_TEST_*``). Returns the
+    outlines with such a corner (boolean per outline) and the corners that pass (boolean, the outlines' corners
+    one after the other)."""
+    counts = np.array([c.shape[0] for c in corners], dtype=np.int64)
+    wanted = np.zeros(lengths.shape[0], bool)
+    if not counts.any():
+        return wanted, np.zeros(0, bool)
+    outline = np.repeat(np.arange(lengths.shape[0]), counts)
+    c = np.concatenate([np.asarray(k, dtype=np.int64) for k in corners])
+    n = lengths[outline]
+    entry = np.arange(c.shape[0])
+    first = np.concatenate([[True], outline[1:] != outline[:-1]])
+    last = np.concatenate([outline[1:] != outline[:-1], [True]])
+    first_of = np.maximum.accumulate(np.where(first, entry, 0))
+    last_of = np.flatnonzero(last)[np.cumsum(first) - 1]
+    following = np.where(last, c[first_of] + n, c[np.minimum(entry + 1, c.shape[0] - 1)])  # the next corner
+    steps_after = following - c
+    steps_before = np.where(first, steps_after[last_of], np.roll(steps_after, 1))
+
+    def at(i, rows=slice(None)):  # global point indices of unwrapped contour indices (rows of corners first)
+        shape = (-1,) + (1,) * (np.ndim(i) - 1)
+        return offsets[outline[rows]].reshape(shape) + i % n[rows].reshape(shape)
+
+    side_after = arc[at(following)] + (following // n) * perimeter[outline] - arc[at(c)]
+    side_before = np.where(first, side_after[last_of], np.roll(side_after, 1))
+    reach = np.minimum(6, (0.4 * np.minimum(steps_before, steps_after)).astype(np.int64))
+    a, b = points[at(c - reach)] - points[at(c)], points[at(c + reach)] - points[at(c)]
+    theta = np.arccos(np.clip((a * b).sum(axis=1) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-12), -1.0, 1.0))
+    # the side windows of tip_estimates (from the window start to 0.8 of the side), none of them short
+    cotangent = 1.0 / np.maximum(np.tan(0.5 * theta), 1e-6)
+    radius = np.minimum(np.clip(LSQ_DEFAULTS["corner_radius"] * cotangent, 1.0, 3.0 * LSQ_DEFAULTS["corner_radius"]),
+                        0.2 * np.minimum(side_before, side_after))
+    start = np.maximum(radius, np.clip(cotangent, 1.0, 6.0))
+    window = np.minimum(0.8 * np.minimum(side_before, side_after), start + LONGEST_SIDE) - start
+    ok = (theta < _TIP_TEST_ANGLE) & (window >= SHORTEST_SIDE) & (np.minimum(side_before, side_after)
+                                                                  >= _TIP_TEST_SIDE)
+    j = np.arange(1, _TIP_TEST_WINDOW + 1)[None, :]
+    direction = np.zeros((2, ok.shape[0]))  # of both windows' principal axes (radians)
+    for side, (sign, steps) in enumerate(((-1, steps_before), (1, steps_after))):
+        rows = np.flatnonzero(ok)
+        if not rows.size:
+            return wanted, ok
+        near = np.ceil(start[rows])[:, None]
+        far = np.clip((0.8 * steps[rows]).astype(np.int64), 4, _TIP_TEST_WINDOW)[:, None]
+        mask = ((j >= near) & (j <= far)).astype(float)
+        mask[mask.sum(axis=1) < 3] = 1.0
+        window_points = points[at(c[rows, None] + sign * np.minimum(j, far), rows)]
+        weight = mask / mask.sum(axis=1, keepdims=True)
+        d = window_points - (weight[..., None] * window_points).sum(axis=1)[:, None]
+        sxx, syy = (weight * d[..., 0] ** 2).sum(axis=1), (weight * d[..., 1] ** 2).sum(axis=1)
+        phi = 0.5 * np.arctan2(2.0 * (weight * d[..., 0] * d[..., 1]).sum(axis=1), sxx - syy)[:, None]
+        t = d[..., 0] * np.cos(phi) + d[..., 1] * np.sin(phi)  # along the principal direction
+        y = d[..., 1] * np.cos(phi) - d[..., 0] * np.sin(phi)
+        design = np.stack([np.ones_like(t), t, t * t], axis=2) * mask[..., None]
+        normal = np.einsum("ijk,ijl->ikl", design, design) + 1e-9 * np.eye(3)
+        coefficients = np.linalg.solve(normal, np.einsum("ijk,ij->ik", design, y)[..., None])[..., 0]
+        residual = np.abs(y * mask - np.einsum("ijk,ik->ij", design, coefficients)).max(axis=1)
+        ok[rows] &= residual <= _TIP_TEST_RESIDUAL
+        direction[side, rows] = phi[:, 0]
+    # sides meeting at less than tips.MIN_CROSSING give no tip
+    ok &= np.abs(np.sin(direction[0] - direction[1])) >= np.sin(MIN_CROSSING)
+    wanted[outline[ok]] = True
+    return wanted, ok
+
+
+def _corner_tips(outline, corners, measured):
+    """The extrapolated tips of one outline's corners ``measured`` (boolean per corner), by the machinery of
+    ``"lsq"`` (:meth:`~.lsq_setup.CornerTips.measure` at the ``"lsq"`` defaults, :func:`~.tips.tip_estimates`):
+    per corner (in the order of ``corners``) the tip (NaN where there is none), the zone radius (px of arc: the
+    zone of "Guarantee" is ``2 r + 1``) and the allowance in that zone (``corner_allowance``, or the tip's
+    distance from the contour if larger)."""
+    contour = RotatedContour(outline, corners)
+    tips = CornerTips.measure(contour, LSQ_DEFAULTS["corner_radius"], LSQ_DEFAULTS["tip_gap"], True,
+                              LSQ_DEFAULTS["corner_allowance"], measured)
+    # the rotated contour starts at corners[0], so its corners are in the caller's order
+    return tips.estimate, 2.0 * tips.zone_radius + 1.0, tips.allowance
 
 
 def check_outlines(outlines, corner_lists):
@@ -267,10 +382,42 @@ class _SmallBatch:
          self.knot_index) = _small_chains(lengths, corners)
         count = self.count = lengths.shape[0]
         self.chains_first = np.searchsorted(self.chain_outline, np.arange(count))  # first chain of every outline
+        self._measure_tips(outlines, corners)
         self.history = [[] for _ in range(count)]
         self.pending = {}  # candidates of the next snapshot, per outline
         self.iterations = np.zeros(count, dtype=np.int64)
         self.failed = np.zeros(count, bool)
+
+    def _measure_tips(self, outlines, corners):
+        """Extrapolated tips of acute corners (docs/capture.md §12, "Small outlines"): the outlines that pass
+        :func:`_tip_candidates` are measured by :func:`_corner_tips`; a kept tip replaces its corner as the knot
+        point of both chains that meet there (``knot_points``), and every chain gets the zone (px of arc from
+        its end) and allowance of the tip at either end (``zone_lo``, ``allow_lo``, ``zone_hi``, ``allow_hi``;
+        0 where there is none)."""
+        self.knot_points = self.points
+        chains = self.chain_outline.shape[0]
+        self.zone_lo, self.allow_lo = np.zeros(chains), np.zeros(chains)
+        self.zone_hi, self.allow_hi = np.zeros(chains), np.zeros(chains)
+        self.tip_allowance = np.zeros(self.count)  # largest allowance per outline
+        wanted, passing = _tip_candidates(self.points, self.offsets, self.lengths, self.arc, self.perimeter,
+                                          corners)
+        first = np.cumsum([0] + [c.shape[0] for c in corners])  # of every outline's corners in ``passing``
+        for b in np.flatnonzero(wanted):
+            estimate, zone, allowance = _corner_tips(outlines[b], corners[b], passing[first[b]:first[b + 1]])
+            kept = np.flatnonzero(np.isfinite(estimate[:, 0]))
+            if not kept.size:
+                continue
+            if self.knot_points is self.points:
+                self.knot_points = self.points.copy()
+            n = int(self.lengths[b])
+            self.knot_points[self.offsets[b] + corners[b][kept]] = estimate[kept]
+            self.tip_allowance[b] = allowance[kept].max()
+            mine = np.flatnonzero(self.chain_outline == b)
+            for k in kept:
+                at_lo = mine[self.chain_start[mine] % n == corners[b][k]]
+                at_hi = mine[(self.chain_start[mine] + self.chain_steps[mine]) % n == corners[b][k]]
+                self.zone_lo[at_lo], self.allow_lo[at_lo] = zone[k], allowance[k]
+                self.zone_hi[at_hi], self.allow_hi[at_hi] = zone[k], allowance[k]
 
     def wrap(self, outline, index):
         return self.offsets[outline] + index % self.lengths[outline]
@@ -282,7 +429,7 @@ class _SmallBatch:
         """Solve and measure the chains of the given knot entries (sorted by chain, then contour index)."""
         k_outline = self.chain_outline[k_chain]
         u = self.arc_of(k_outline, k_index)
-        knot_points = self.points[self.wrap(k_outline, k_index)]
+        knot_points = self.knot_points[self.wrap(k_outline, k_index)]
         moments = _small_moments(k_chain, u, knot_points, self.chain_loop)
         left = np.flatnonzero(k_chain[:-1] == k_chain[1:])  # interval = knot entry and its successor
         right = left + 1
@@ -290,12 +437,19 @@ class _SmallBatch:
         bezier = _small_bezier(knot_points[left], knot_points[right], moments[left], moments[right], h)
         i_outline = k_outline[left]
         steps = k_index[right] - k_index[left]
-        deviation, thesis, worst = _small_interval_errors(
+        i_chain = k_chain[left]
+        zones = None
+        if self.knot_points is not self.points:  # tips: each interval's distances to its chain's ends
+            chain_lo = self.arc_of(self.chain_outline[i_chain], self.chain_start[i_chain])
+            chain_hi = self.arc_of(self.chain_outline[i_chain], self.chain_start[i_chain] + self.chain_steps[i_chain])
+            zones = (chain_lo, self.zone_lo[i_chain], self.allow_lo[i_chain], chain_hi, self.zone_hi[i_chain],
+                     self.allow_hi[i_chain])
+        deviation, thesis, worst, excess = _small_interval_errors(
             bezier, k_index[left], steps, lambda rows, index: self.points[self.wrap(i_outline[rows, None], index)],
-            lambda rows, index: self.arc_of(i_outline[rows, None], index), u[left], h)
+            lambda rows, index: self.arc_of(i_outline[rows, None], index), u[left], h, zones)
         return {"k_chain": k_chain, "k_index": k_index, "k_outline": k_outline, "u": u, "left": left,
                 "bezier": bezier, "i_outline": i_outline, "steps": steps, "deviation": deviation,
-                "thesis": thesis, "worst": worst, "failing": deviation > self.epsilon}
+                "thesis": thesis, "worst": worst, "excess": excess, "failing": excess > self.epsilon}
 
     def states(self, ev, wanted, phase, candidates):
         """Per outline with ``wanted[b]`` in ``ev``: its state (snapshot and flags), a dict."""
@@ -433,7 +587,7 @@ class _SmallBatch:
             if self.keep:  # the same knots as its last snapshot, so the same numbers: use that object
                 state["snapshot"] = self.history[b][-1]
             results.append(_small_result(state, self.history[b], self.corners[b], self.lengths[b], self.epsilon,
-                                         self.max_iterations))
+                                         self.max_iterations, float(self.tip_allowance[b])))
         return results
 
 def _candidate(piece, index, point, accepted, reason, action):
@@ -456,13 +610,14 @@ def _small_state(lo, hi, klo, khi, ev, n, iteration, epsilon, phase, candidates)
     snapshot = Snapshot(iteration=iteration, knot_indices=knot_lists, bezier=ev["bezier"][lo:hi],
                         piece_max_error=piece_err, piece_hausdorff=piece_dev, candidates=candidates,
                         phase="initial" if iteration == 0 else phase, thesis_stop=False,
-                        finished=piece_dev <= epsilon, knots=np.append(starts, u[khi - 1]), closed=True)
+                        finished=np.maximum.reduceat(ev["excess"][lo:hi], interval_first) <= epsilon,
+                        knots=np.append(starts, u[khi - 1]), closed=True)
     failing = ev["failing"][lo:hi]
     return {"snapshot": snapshot, "failing": bool(failing.any()),
             "splittable": bool((failing & (ev["steps"][lo:hi] >= 2)).any()), "iteration": iteration}
 
 
-def _small_result(state, history, corners, n, epsilon, max_iterations):
+def _small_result(state, history, corners, n, epsilon, max_iterations, allowance=0.0):
     """FitResult of one outline of :func:`fit_small_outlines` from its final round."""
     snapshot = state["snapshot"]
     bezier = np.asarray(snapshot.bezier)
@@ -490,7 +645,7 @@ def _small_result(state, history, corners, n, epsilon, max_iterations):
         max_error=float(np.max(snapshot.piece_max_error)), hausdorff=float(np.max(snapshot.piece_hausdorff)),
         converged=bool(converged), knots_inserted=int(distinct_knots - corners.shape[0]),
         method="lsq", epsilon=epsilon, thesis_stop_iteration=None, corners_used=corners.copy(),
-        info={"small_outline": True, "reason": reason, "tolerance_near_corners": epsilon,
+        info={"small_outline": True, "reason": reason, "tolerance_near_corners": epsilon + allowance,
               "model": "C2 cubic interpolant through contour points (v = 0, omega = 1), arc-length parameter, "
                        "natural ends at corners"},
     )

@@ -310,7 +310,7 @@ def tip_contradiction(contour, corner_arc, zone, sides, pairs):
     return float(max((-ink_depth).max(), paper_depth.max()))
 
 
-def tip_estimates(contour, angle, radius):
+def tip_estimates(contour, angle, radius, measured=None):
     """Per corner of ``contour`` (a :class:`~.lsq_setup.RotatedContour` with corners), the extrapolated tip:
     both sides fitted by :func:`side_fit` from ``max(radius, min(6, 1 / tan(angle / 2)))`` px of arc (where
     a wedge of that opening is about two pixels wide) to 0.8 of the side (at most :data:`LONGEST_SIDE` px
@@ -328,6 +328,9 @@ def tip_estimates(contour, angle, radius):
     side is a separating line too and the fitted sides meet at less than :data:`MAX_EXTRAPOLATED_ANGLE`; the
     reach is bounded by the other side's window only (the tip lies at the end of the shared side). A corner
     between two short sides gets no estimate.
+
+    ``measured`` (boolean per corner, optional): only these corners are measured (the small-outline path
+    measures the corners its pre-test passes, docs/capture.md §12, "Small outlines").
 
     Returns ``(estimate, start, anchors, outside)``: estimate (k, 2), NaN where there is none; the window start
     per corner; the contour points at the window starts (k, 2, 2: before, after); the estimate's distance from
@@ -351,12 +354,13 @@ def tip_estimates(contour, angle, radius):
     # measured on chords that reach past the short side is blunter than the corner) and kept only if its sides
     # meet at less than MAX_EXTRAPOLATED_ANGLE
     acute = ~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE))
-    if not (acute | one_short).any():
+    wanted = (acute | one_short) if measured is None else (acute | one_short) & measured
+    if not wanted.any():
         return estimate, start, anchors, np.full(count, np.nan)
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False
-    candidates = np.flatnonzero(acute | one_short)
+    candidates = np.flatnonzero(wanted)
     regular, shared = {}, {}
 
     def side_of(c, k):

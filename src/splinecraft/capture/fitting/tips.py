@@ -116,10 +116,11 @@ def _window_fit(points, length):
     """Line, then parabola, through ``points`` (``length`` px of arc); the first whose residuals stay within
     :data:`STRAIGHT_RESIDUAL`, or None."""
     centre = points.mean(axis=0)
-    _, _, vt = np.linalg.svd(points - centre, full_matrices=False)
+    local = points - centre
+    _, _, vt = np.linalg.svd(local, full_matrices=False)
     direction = vt[0]
     normal = np.array([-direction[1], direction[0]])
-    t, y = (points - centre) @ direction, (points - centre) @ normal
+    t, y = local @ direction, local @ normal
     if np.abs(y).max() <= STRAIGHT_RESIDUAL:
         return SideFit(centre, direction, np.zeros(3), length)
     design = np.column_stack([np.ones_like(t), t, t * t])
@@ -187,9 +188,11 @@ def _separating_line(fit, ink, paper):
     closed form (half the gap between the lowest ink and the highest paper offset ``y - c1 t``), and the margin
     is a concave function of ``c1``, maximised on grids of slopes, each zoomed around the best of the last
     (to about 1e-5)."""
-    t_ink, y_ink = (ink - fit.centre) @ fit.direction, (ink - fit.centre) @ fit.normal
-    t_paper, y_paper = (paper - fit.centre) @ fit.direction, (paper - fit.centre) @ fit.normal
-    sign = 1.0 if np.mean(y_ink) >= np.mean(y_paper) else -1.0
+    ink_local, paper_local = ink - fit.centre, paper - fit.centre
+    t_ink, y_ink = ink_local @ fit.direction, ink_local @ fit.normal
+    t_paper, y_paper = paper_local @ fit.direction, paper_local @ fit.normal
+    # numpy.mean's arithmetic (the pairwise sum, then one division) without its set-up
+    sign = 1.0 if y_ink.sum() / y_ink.shape[0] >= y_paper.sum() / y_paper.shape[0] else -1.0
     y_ink, y_paper = sign * y_ink, sign * y_paper  # ink above the line: y_ink - line >= margin
 
     ink_count = t_ink.shape[0]

@@ -222,9 +222,13 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
     quarter at a time) down to :data:`SHORTEST_SIDE`. With ``pairs`` (:func:`pixel_pairs` of the contour) a
     straight side is replaced by the line that separates the window's ink and paper pixel centres with the
     largest margin (:func:`_separating_line`), where there is one. Returns a :class:`SideFit` or None."""
+    if stop - start < SHORTEST_SIDE:
+        return None
+    # a shrunk window's samples are the first ones of the longest window's (numpy.arange from the same start,
+    # point_at_arc point by point): sampled once
+    samples = contour.point_at_arc((corner_arc + sign * np.arange(start, stop + 1e-9, 0.5)) % contour.perimeter)
     while stop - start >= SHORTEST_SIDE:
-        offsets = np.arange(start, stop + 1e-9, 0.5)
-        fit = _window_fit(contour.point_at_arc((corner_arc + sign * offsets) % contour.perimeter), stop - start)
+        fit = _window_fit(samples[: np.arange(start, stop + 1e-9, 0.5).shape[0]], stop - start)
         if fit is not None:
             if pairs is not None:
                 window = _arc_window(contour, corner_arc, sign, start, stop)

@@ -102,8 +102,11 @@ def basis_matrix(full, i, u):
 
 @njit(**_JIT)
 def _normal_into(full, u, weights, targets, m, band, rhs, partial):
+    at = np.int64(0)  # the previous point's search answer (the parameters are sorted but for the pins at the end)
+    last = full.shape[0] - 5
     for j in range(u.shape[0]):
-        i = _interval(full, u[j])
+        at = _walk_right(full, u[j], at)
+        i = min(max(at - 1, 3), last)  # _interval
         n0, n1, n2, n3 = _basis(full, i, u[j])
         w = weights[j]
         w0, w1, w2, w3 = n0 * w, n1 * w, n2 * w, n3 * w
@@ -215,8 +218,10 @@ def spline_values(coef, full, m, starts, ends, theta, mix=None):
 @njit(**_JIT)
 def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, low, high, fixed, base, moved):
     last = starts.shape[0] - 1
+    at = np.int64(0)  # the previous point's search answer (the parameters are sorted)
     for j in range(u.shape[0]):
-        seg = min(max(_right_of(starts, u[j]) - 1, 0), last)
+        at = _walk_right(starts, u[j], at)
+        seg = min(max(at - 1, 0), last)
         h = ends[seg] - starts[seg]
         theta = (u[j] - starts[seg]) / h
         r0 = r1 = p0 = p1 = q0 = q1 = 0.0

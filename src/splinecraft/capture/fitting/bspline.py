@@ -63,6 +63,39 @@ def fit_coefficients(full: np.ndarray, u: np.ndarray, weights: np.ndarray, targe
     return _solve_cyclic_band(band, rhs)
 
 
+def _cyclic_coupling(m):
+    """Where the band entries of the cyclic coupling go (:func:`_solve_cyclic_band`), for ``m`` unknowns split
+    as ``[y (m - 3), z (3)]``: per contribution its band row and column and its place in one flat buffer, ``[D
+    (3 x 3) | C ((m - 3) x 3)]``, in the order of the loop over rows ``k`` then columns ``a`` (repeated places
+    are added in that order by ``numpy.add.at``). Depends on ``m`` only: kept per ``m``."""
+    if m not in _COUPLING:
+        w, nb = 3, m - 3
+        rows, columns, places = [], [], []
+        for k in range(4):
+            for a in range(nb - 3, m):
+                b = (a + k) % m
+                if k == 0:
+                    if a >= nb:  # D's diagonal
+                        rows.append(k), columns.append(a), places.append((a - nb) * w + (a - nb))
+                    continue
+                if a < nb and b < nb:
+                    continue  # inside B (already stored when b = a + k without wrap)
+                if a >= nb and b >= nb:
+                    rows += [k, k]
+                    columns += [a, a]
+                    places += [(a - nb) * w + (b - nb), (b - nb) * w + (a - nb)]
+                elif a < nb:
+                    rows.append(k), columns.append(a), places.append(w * w + a * w + (b - nb))
+                else:
+                    rows.append(k), columns.append(a), places.append(w * w + b * w + (a - nb))
+        _COUPLING[m] = (np.array(rows, dtype=np.intp), np.array(columns, dtype=np.intp),
+                        np.array(places, dtype=np.intp))
+    return _COUPLING[m]
+
+
+_COUPLING = {}
+
+
 def _solve_cyclic_band(band, rhs):
     """Solve the symmetric cyclic matrix with upper band ``band[k, a] = A[a, (a + k) % m]`` (k <= 3)."""
     m = band.shape[1]
@@ -72,29 +105,13 @@ def _solve_cyclic_band(band, rhs):
     ab = np.zeros((4, nb))  # upper form for solveh_banded: ab[3 - k, j] = B[j - k, j]
     for k in range(4):
         ab[3 - k, k:] = band[k, : nb - k]
-    C = np.zeros((nb, w))
-    Dm = np.zeros((w, w))
-    for k in range(4):
-        for a in range(nb - 3, m):
-            b = (a + k) % m
-            if k == 0 and a >= nb:
-                Dm[a - nb, a - nb] += band[0, a]
-                continue
-            val = band[k, a]
-            if val == 0.0 or k == 0:
-                continue
-            ia, ib = a, b
-            if ia < nb and ib < nb:
-                continue  # inside B (already stored when b = a + k without wrap)
-            if ia >= nb and ib >= nb:
-                Dm[ia - nb, ib - nb] += val
-                Dm[ib - nb, ia - nb] += val
-            elif ia < nb:
-                C[ia, ib - nb] += val
-            else:
-                C[ib, ia - nb] += val
-    # B entries that wrapped are none (B is the leading block without wrap); band entries with a < nb,
-    # b = a + k < nb are in ab; those with a + k >= m wrap to b < a: handled above (ib < nb, ia >= nb or not)
+    # the entries of B that wrapped are none (B is the leading block without wrap); band entries with a < nb,
+    # b = a + k < nb are in ab; those with a + k >= m wrap to b < a (:func:`_cyclic_coupling`). Each lands
+    # in D or C by one in-order addition onto zeros (a zero entry adds nothing)
+    rows, columns, places = _cyclic_coupling(m)
+    coupling = np.zeros(w * w + nb * w)
+    np.add.at(coupling, places, band[rows, columns])
+    Dm, C = coupling[: w * w].reshape(w, w), coupling[w * w:].reshape(nb, w)
     rhs_y, rhs_z = rhs[:nb], rhs[nb:]
     sol = solveh_banded(ab, np.hstack([rhs_y, C]), check_finite=False)
     By, BC = sol[:, : rhs.shape[1]], sol[:, rhs.shape[1]:]

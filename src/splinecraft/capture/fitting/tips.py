@@ -116,10 +116,11 @@ def _window_fit(points, length):
     """Line, then parabola, through ``points`` (``length`` px of arc); the first whose residuals stay within
     :data:`STRAIGHT_RESIDUAL`, or None."""
     centre = points.mean(axis=0)
-    _, _, vt = np.linalg.svd(points - centre, full_matrices=False)
+    local = points - centre
+    _, _, vt = np.linalg.svd(local, full_matrices=False)
     direction = vt[0]
     normal = np.array([-direction[1], direction[0]])
-    t, y = (points - centre) @ direction, (points - centre) @ normal
+    t, y = local @ direction, local @ normal
     if np.abs(y).max() <= STRAIGHT_RESIDUAL:
         return SideFit(centre, direction, np.zeros(3), length)
     design = np.column_stack([np.ones_like(t), t, t * t])
@@ -187,9 +188,11 @@ def _separating_line(fit, ink, paper):
     closed form (half the gap between the lowest ink and the highest paper offset ``y - c1 t``), and the margin
     is a concave function of ``c1``, maximised on grids of slopes, each zoomed around the best of the last
     (to about 1e-5)."""
-    t_ink, y_ink = (ink - fit.centre) @ fit.direction, (ink - fit.centre) @ fit.normal
-    t_paper, y_paper = (paper - fit.centre) @ fit.direction, (paper - fit.centre) @ fit.normal
-    sign = 1.0 if np.mean(y_ink) >= np.mean(y_paper) else -1.0
+    ink_local, paper_local = ink - fit.centre, paper - fit.centre
+    t_ink, y_ink = ink_local @ fit.direction, ink_local @ fit.normal
+    t_paper, y_paper = paper_local @ fit.direction, paper_local @ fit.normal
+    # numpy.mean's arithmetic (the pairwise sum, then one division) without its set-up
+    sign = 1.0 if y_ink.sum() / y_ink.shape[0] >= y_paper.sum() / y_paper.shape[0] else -1.0
     y_ink, y_paper = sign * y_ink, sign * y_paper  # ink above the line: y_ink - line >= margin
 
     ink_count = t_ink.shape[0]
@@ -219,9 +222,13 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
     quarter at a time) down to :data:`SHORTEST_SIDE`. With ``pairs`` (:func:`pixel_pairs` of the contour) a
     straight side is replaced by the line that separates the window's ink and paper pixel centres with the
     largest margin (:func:`_separating_line`), where there is one. Returns a :class:`SideFit` or None."""
+    if stop - start < SHORTEST_SIDE:
+        return None
+    # a shrunk window's samples are the first ones of the longest window's (numpy.arange from the same start,
+    # point_at_arc point by point): sampled once
+    samples = contour.point_at_arc((corner_arc + sign * np.arange(start, stop + 1e-9, 0.5)) % contour.perimeter)
     while stop - start >= SHORTEST_SIDE:
-        offsets = np.arange(start, stop + 1e-9, 0.5)
-        fit = _window_fit(contour.point_at_arc((corner_arc + sign * offsets) % contour.perimeter), stop - start)
+        fit = _window_fit(samples[: np.arange(start, stop + 1e-9, 0.5).shape[0]], stop - start)
         if fit is not None:
             if pairs is not None:
                 window = _arc_window(contour, corner_arc, sign, start, stop)

@@ -167,10 +167,12 @@ print("runs that hit the 200-iteration cap before reaching ε:", unconverged or 
 # * or a number, a fixed fraction of white.
 #
 # We trace the top-left 100 × 160 px of the page (the title, three lines of text and the edge of the shadow):
-# the whole page (191 × 384 px, 370–700 outlines) takes several seconds per threshold. A *blob* is one traced
+# the whole page (191 × 384 px, 280–470 outlines) takes several seconds per threshold. A *blob* is one traced
 # component: its ink pixels are the area inside its outer outline less the areas of its holes.
 
 # %%
+import re
+
 import skimage.data
 from splinecraft.capture.image import DEFAULT_THRESHOLD
 
@@ -191,6 +193,12 @@ def specks(result):
     return sum(not boundary.is_hole and boundary.area < SPECK for boundary in result.boundaries)
 
 
+def dropped(result):
+    """Ink specks of one or two pixels that sc.trace dropped before tracing (its note says how many)."""
+    counts = [re.search(r"dropped (\d+) speck", note) for note in result.notes]
+    return sum(int(found.group(1)) for found in counts if found)
+
+
 def scan_figure(name):
     result = scans[name]
     largest = int(np.argmax(blob_sizes(result)))
@@ -203,10 +211,10 @@ def scan_figure(name):
 
 
 display(sc.plot.table(["threshold", "ink (% of the page)", "outlines", "holes", "largest blob (px)",
-                       "its share of the ink (%)", f"specks (< {SPECK} px)"],
+                       "its share of the ink (%)", f"specks (< {SPECK} px)", "specks of 1-2 px dropped"],
                       [[name, round(100 * result.mask.mean(), 1), len(result.boundaries), result.stats["holes"],
                         int(blob_sizes(result).max()), round(100 * blob_sizes(result).max() / result.mask.sum(), 1),
-                        specks(result)] for name, result in scans.items()]))
+                        specks(result), dropped(result)] for name, result in scans.items()]))
 display(sc.plot.grid(*[ipw.VBox([sc.plot.bitmap(scans[name].mask, height=180), ipw.Label(f"threshold={name!r}")])
                        for name in THRESHOLDS], columns=4))
 display(sc.plot.grid(*[scan_figure(name) for name in THRESHOLDS], columns=2))
@@ -217,13 +225,15 @@ print("threshold=None stands for", repr(DEFAULT_THRESHOLD))
 #
 # * **Otsu** (before): one level for the whole page. In the shadow the paper falls below it, and the paper and
 #   the letters on it become one blob that holds more than a quarter of all the ink; the letters in it are lost,
-#   and Otsu marks at least a third more of the page as ink than Sauvola does. Its count of outlines is no
-#   lower than Sauvola's, though: the blob is riddled with holes (paper a little lighter than the level; more
+#   and Otsu marks at least a third more of the page as ink than Sauvola does. Its count of outlines is within a
+#   tenth of Sauvola's, though: the blob is riddled with holes (paper a little lighter than the level; more
 #   than a third of Otsu's holes are in it, once the pinholes of one or two pixels are filled), so the count
 #   alone does not show the failure — the size of the largest blob does.
 # * **Sauvola** (after): every letter its own outline, the largest blob a letter or two that touch (less than a
-#   tenth of the ink), and the fewest specks.
-# * **Local**: the letters separate too, but the noise of the shadow leaves more specks than Sauvola's.
+#   tenth of the ink).
+# * **Local**: the letters separate too, but the noise of the shadow scatters specks: more of one or two pixels
+#   than Sauvola's. `sc.trace` drops specks of one or two pixels as it fills pinholes (the last column; a note
+#   of the result says how many; `min_speck_area=0` keeps every pixel), so most of them never become outlines.
 # * **Background** (the default, `threshold=None`, printed above): the letters separate as with Sauvola, and
 #   the level sits half way between the paper and the ink wherever the light falls. A window statistic such as
 #   Sauvola's depends on how much ink the window holds: inside a stroke wider than the window it drifts into
@@ -269,10 +279,11 @@ assert ink_share["background"] < 1 / 10 and DEFAULT_THRESHOLD == "background"   
 assert scans["otsu"].mask.sum() > 4 / 3 * scans["background"].mask.sum()
 assert specks(scans["background"]) <= specks(scans["local"])
 assert scans["otsu"].mask.sum() > 4 / 3 * scans["sauvola"].mask.sum()    # the shadow counted as ink
-assert len(scans["otsu"].boundaries) >= len(scans["sauvola"].boundaries)  # the count hides the failure
+assert abs(len(scans["otsu"].boundaries) - len(scans["sauvola"].boundaries)) <= len(scans["sauvola"].boundaries) / 10
+#                                                                           (the count hides the failure)
 otsu_blob = int(np.argmax(blob_sizes(scans["otsu"])))
 blob_holes = sum(boundary.is_hole and boundary.component == otsu_blob for boundary in scans["otsu"].boundaries)
 assert blob_holes > scans["otsu"].stats["holes"] / 3                     # a third of Otsu's holes: in the blob
-assert specks(scans["local"]) > specks(scans["sauvola"])
+assert dropped(scans["local"]) > dropped(scans["sauvola"])
 assert all(result.params["threshold"] == name for name, result in scans.items())
 print("all checks passed")

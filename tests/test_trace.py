@@ -408,7 +408,8 @@ def test_noise_image_converges_reproducibly_with_consistent_snapshots():
     from splinecraft.capture.fitting import SMALL_OUTLINE, fit_outline
 
     mask = np.random.default_rng(0).random((40, 40)) < 0.3
-    result = trace(mask, epsilon=0.8, noise_factor=0)  # at epsilon itself (the noise rule would raise it)
+    # at epsilon itself (the noise rule would raise it); every speck kept (by default those of 1-2 px are dropped)
+    result = trace(mask, epsilon=0.8, noise_factor=0, min_speck_area=0)
     small = [k for k, p in enumerate(result.points) if len(p) < SMALL_OUTLINE]
     assert len(small) > 50 and result.stats["boundaries"] > len(small)  # large outlines too
     for k in small:
@@ -419,7 +420,7 @@ def test_noise_image_converges_reproducibly_with_consistent_snapshots():
         np.testing.assert_array_equal(single.spline.bezier(), fit.spline.bezier())
     for entry, fit in zip(result.stats["per_boundary"], result.fits):
         assert (entry["reason"] is None) == fit.converged
-    again = trace(mask, epsilon=0.8, noise_factor=0)
+    again = trace(mask, epsilon=0.8, noise_factor=0, min_speck_area=0)
     assert again.to_svg() == result.to_svg()
     for fit in result.fits:  # the full lsq path's Spline snaps the joins (ulps); the small path is exact
         check = np.testing.assert_array_equal if fit.info.get("small_outline") else np.testing.assert_allclose
@@ -428,7 +429,7 @@ def test_noise_image_converges_reproducibly_with_consistent_snapshots():
     assert [m.iteration for m in merged] == list(range(result.stats["iterations"] + 1))
     assert merged[-1].finished.all()
     np.testing.assert_allclose(merged[-1].bezier, np.concatenate([s.bezier() for s in result.splines]))
-    lean = trace(mask, epsilon=0.8, noise_factor=0, keep_snapshots=False)
+    lean = trace(mask, epsilon=0.8, noise_factor=0, min_speck_area=0, keep_snapshots=False)
     assert lean.to_svg() == result.to_svg() and lean.snapshots == []
 
 

@@ -69,6 +69,11 @@ are filled. In a render by the pixel-centre rule such a hole is the trace of a s
 pixel, not a hole of the shape: a true hole of at most 2 px lies within the fit's tolerance (epsilon + 1/2 px)
 of its filling, while tracing it adds an outline that is not there (potrace's ``turdsize`` default of 2 drops
 the same areas). ``min_speck_area=0`` keeps them.
+
+:func:`drop_specks` does the same for ink: outer boundaries of fewer than ``PINHOLE_AREA`` pixels turn into
+paper, after the pinholes, while a larger outline is left (a bitmap of nothing but specks keeps them). A 1-bit
+bitmap gets no automatic speck area (it has no gray level), and in a render by the pixel-centre rule such a
+component is a fragment of a hairline or of a cut-off tip, not an outline of the shape.
 """
 from __future__ import annotations
 
@@ -82,7 +87,7 @@ from .._validation import check_choice
 
 __all__ = ["THRESHOLD_METHODS", "DEFAULT_THRESHOLD", "BACKGROUND_MARGIN", "BACKGROUND_ROUNDS", "MIN_CONTRAST", "FALLBACK_THRESHOLD", "MAX_AUTO_SPECK",
            "check_threshold", "window_size", "threshold_level", "estimate_noise", "auto_speck_area",
-           "remove_specks", "PINHOLE_AREA", "fill_pinholes"]
+           "remove_specks", "PINHOLE_AREA", "fill_pinholes", "drop_specks"]
 
 #: Holes of fewer than this many pixels are pinholes (module docstring, "Pinholes").
 PINHOLE_AREA = 3
@@ -368,4 +373,29 @@ def fill_pinholes(mask, boundaries, area=PINHOLE_AREA):
     mask = np.array(mask, dtype=bool, copy=True)
     for x0, y0, x1, y1 in boxes.tolist():
         mask[y0:y1, x0:x1] = True
+    return mask, boxes.shape[0]
+
+
+def drop_specks(mask, boundaries, area=PINHOLE_AREA):
+    """The pixels of the outer boundaries of ``boundaries`` (those of ``mask``, from ``trace_boundaries``) that
+    enclose fewer than ``area`` <= 3 pixels set to paper, the ink counterpart of :func:`fill_pinholes` (module
+    docstring, "Pinholes"); nothing is dropped when no other outer boundary is left (a bitmap that is only
+    specks keeps them).
+
+    Returns ``(mask, dropped)``: the mask (a copy when any speck is dropped) and the number of specks dropped. An
+    ink component of one or two pixels is a single pixel, two edge neighbours, or two diagonal neighbours whose
+    other two pixels of the 2 x 2 block are paper, so the ink pixels of its crack box are exactly its own.
+    """
+    if isinstance(area, bool) or not isinstance(area, numbers.Integral) or not 0 <= area <= 3:
+        raise ValueError(f"area must be an integer in [0, 3] (specks of one or two pixels), got {area!r}")
+    from .contour import speck_boxes
+
+    boxes = speck_boxes(boundaries, area)
+    holes = getattr(boundaries, "is_hole", None)  # a Boundaries object has the array; a list has Boundary items
+    outer = int((~holes).sum()) if isinstance(holes, np.ndarray) else sum(not b.is_hole for b in boundaries)
+    if not boxes.shape[0] or boxes.shape[0] >= outer:
+        return mask, 0
+    mask = np.array(mask, dtype=bool, copy=True)
+    for x0, y0, x1, y1 in boxes.tolist():
+        mask[y0:y1, x0:x1] = False
     return mask, boxes.shape[0]

@@ -318,6 +318,22 @@ class Boundaries(LazyList):
         chosen = np.flatnonzero(self.is_hole & (-self.area < max_area))
         return self._store.boxes(self._cycles[chosen])
 
+    def speck_boxes(self, max_area) -> np.ndarray:
+        """``(x0, y0, x1, y1)`` of the crack vertices of every outer boundary enclosing fewer than ``max_area``
+        pixels (an ink speck), as an ``(k, 4)`` int array (image frame)."""
+        chosen = np.flatnonzero(~self.is_hole & (self.area < max_area))
+        return self._store.boxes(self._cycles[chosen])
+
+
+def speck_boxes(boundaries, max_area) -> np.ndarray:
+    """The crack boxes ``(x0, y0, x1, y1)`` of the outer boundaries among ``boundaries`` (:class:`Boundaries` or
+    any list of :class:`Boundary`) that enclose fewer than ``max_area`` pixels, an ``(k, 4)`` int array."""
+    if isinstance(boundaries, Boundaries):
+        return boundaries.speck_boxes(max_area)
+    boxes = [np.concatenate([np.asarray(b.crack_vertices).min(axis=0), np.asarray(b.crack_vertices).max(axis=0)])
+             for b in boundaries if not b.is_hole and int(b.area) < max_area]
+    return np.array(boxes, dtype=np.int64).reshape(-1, 4)
+
 
 def hole_boxes(boundaries, max_area) -> np.ndarray:
     """The crack boxes ``(x0, y0, x1, y1)`` of the holes among ``boundaries`` (:class:`Boundaries` or any list of

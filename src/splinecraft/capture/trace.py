@@ -75,7 +75,7 @@ from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_
 from .fitting.results import BoundaryList
 from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted
-from ._binarize import PINHOLE_AREA, fill_pinholes
+from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 from .trace_stages import TraceStages
@@ -147,9 +147,10 @@ def trace(
         at a corner leave no pinhole (:mod:`~splinecraft.capture.contour`); 8 or 4 fix it for the image.
     threshold, invert, min_speck_area
         Binarization, see :func:`~splinecraft.capture.image.load_bitmap`. With ``min_speck_area=None``
-        (default) the holes the tracer finds of fewer than ``PINHOLE_AREA`` (3) pixels are filled too, on any
-        input (``_binarize.fill_pinholes``; docs/capture.md §10, "Pinholes"; a note says how many);
-        ``min_speck_area=0`` keeps every pixel.
+        (default) the holes the tracer finds of fewer than ``PINHOLE_AREA`` (3) pixels are filled too, and its
+        ink specks of fewer than 3 pixels dropped where a larger outline is left, on any input
+        (``_binarize.fill_pinholes``, ``_binarize.drop_specks``; docs/capture.md §10, "Pinholes"; a note says
+        how many); ``min_speck_area=0`` keeps every pixel.
     tau : float, optional
         Distance constraint of Algs 4.2 / 4.3, passed to ``fit_outline``.
     contour : {"outline", "pixels"}
@@ -315,8 +316,8 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
 
 
 def _boundaries(mask, connectivity, min_speck_area, invert):
-    """The boundaries of ``mask``, the mask with its pinholes filled (when ``min_speck_area`` is ``None``) and
-    the notes of both."""
+    """The boundaries of ``mask``, the mask with its pinholes filled and its specks dropped (when
+    ``min_speck_area`` is ``None``) and the notes of both."""
     boundaries = trace_boundaries(mask, connectivity=connectivity)
     if not boundaries:
         raise ValueError(
@@ -325,10 +326,12 @@ def _boundaries(mask, connectivity, min_speck_area, invert):
         )
     notes = []
     if min_speck_area is None:
-        mask, boundaries, pinholes = _without_pinholes(mask, boundaries, connectivity)
-        if pinholes:
-            notes.append(f"filled {pinholes} pinhole{'' if pinholes == 1 else 's'} of fewer than {PINHOLE_AREA} "
-                         "pixels (docs/capture.md §10, 'Pinholes'; min_speck_area=0 keeps them)")
+        mask, boundaries, pinholes, specks = _without_pinholes(mask, boundaries, connectivity)
+        done = ([f"filled {pinholes} pinhole{'' if pinholes == 1 else 's'}"] if pinholes else []) + \
+            ([f"dropped {specks} speck{'' if specks == 1 else 's'}"] if specks else [])
+        if done:
+            notes.append(f"{' and '.join(done)} of fewer than {PINHOLE_AREA} pixels (docs/capture.md §10, "
+                         "'Pinholes'; min_speck_area=0 keeps them)")
     return mask, boundaries, notes
 
 
@@ -465,15 +468,22 @@ def _budget_notes(state, time_budget, notes):
 
 
 def _without_pinholes(mask, boundaries, connectivity):
-    """``mask`` with its pinholes filled (``_binarize.fill_pinholes``), its boundaries traced again, until none
-    is left (each round only adds ink, so this ends; one round in practice), and the number filled."""
-    total = 0
+    """``mask`` with its pinholes filled (``_binarize.fill_pinholes``), then its ink specks dropped
+    (``_binarize.drop_specks``), its boundaries traced again, until neither is left, and the numbers filled and
+    dropped. Pinholes are filled until none is left (each round only adds ink, so this ends; one round in
+    practice); specks are dropped once, after that (a dropped speck leaves paper beside no other ink, so it
+    opens no hole)."""
+    filled_total = 0
     while True:
         mask, filled = fill_pinholes(mask, boundaries)
         if not filled:
-            return mask, boundaries, total
-        total += filled
+            break
+        filled_total += filled
         boundaries = trace_boundaries(mask, connectivity=connectivity)
+    mask, dropped = drop_specks(mask, boundaries)
+    if dropped:
+        boundaries = trace_boundaries(mask, connectivity=connectivity)
+    return mask, boundaries, filled_total, dropped
 
 
 def _detect(points, k, corner_method, corner_params, notes):

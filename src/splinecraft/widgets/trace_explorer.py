@@ -343,6 +343,9 @@ class TraceExplorer(WidgetBase):
                 raise TypeError(f"corner parameter {name} must be a number, got {value!r:.40}")
         tau = settings["tau"] if method in TAU_METHODS else None
         params = {k: v for k, v in self._extra.items() if k != "threshold"}  # the mask is already binary
+        # despeckle None: trace's default cleaning of the bitmap (pinholes and specks of 1-2 px); a number: the
+        # bitmap is cleaned as asked already (0 keeps every pixel), as sc.trace(image, min_speck_area=k) does
+        params["min_speck_area"] = None if self.despeckle is None else 0
         return trace(
             mask, epsilon=settings["epsilon"], method=method, corner_method=settings["corner_method"] or None,
             corner_params=settings["corner_params"], seed=settings["seed"], max_iterations=settings["max_iterations"],

@@ -4,7 +4,8 @@ The tuning set of ``synthetic_shapes`` (300-px glyphs and analytic shapes) and i
 48, 64, 600 and 1200 px, every other one turned; analytic shapes four times larger) are traced by
 ``sc.trace`` once per variant (``--variants``: a JSON list of ``fit_params`` dicts, ``{}`` = the defaults; a
 key ``"corner_params"`` in a dict is that variant's ``corner_params``, a key ``"tip_angles"`` sets angle
-constants of ``capture.fitting.tips`` in degrees for that variant, e.g. ``{"MAX_OBTUSE_ANGLE": 110}``),
+constants of ``capture.fitting.tips`` in degrees for that variant, e.g. ``{"MAX_OBTUSE_ANGLE": 110}``, and a
+key ``"tip_constants"`` its other constants as they are, e.g. ``{"CONTRADICTION": 0.05}``),
 shape by shape with the variants interleaved, and scored by ``synthetic_shapes.score_beziers``. Per group:
 share within 1 px (symmetric Hausdorff) / median rms px / median segments per true segment / pooled corner
 F1, and the median time of each variant relative to the first.
@@ -35,6 +36,9 @@ GROUP_ORDER = ("small", "medium", "glyph300", "large", "analytic", "analytic-lar
                "small-blob")
 SMALL_GROUPS = ("small-glyph", "small-polygon", "small-blob")
 TIP_ANGLES = {name: getattr(tips, name) for name in ("MAX_EXTRAPOLATED_ANGLE", "MAX_OBTUSE_ANGLE")}
+#: The other constants a variant may set (``"tip_constants"``), restored to these defaults before every variant.
+TIP_CONSTANTS = {name: getattr(tips, name) for name in ("CONTRADICTION", "TIP_ZONE", "MAX_TIP_REACH", "REACH_PER_SIDE",
+                                                        "BEHIND", "SHARP_TRUNCATION", "MIN_CROSSING")}
 
 
 def shapes(groups):
@@ -56,6 +60,7 @@ def measure(shape_list, variants):
             params = dict(params)
             corner_params = params.pop("corner_params", None)
             angles = {**TIP_ANGLES, **{k: np.radians(v) for k, v in params.pop("tip_angles", {}).items()}}
+            angles.update({**TIP_CONSTANTS, **params.pop("tip_constants", {})})
             for constant, value in angles.items():  # the defaults, then this variant's
                 setattr(tips, constant, value)
             start = time.perf_counter()

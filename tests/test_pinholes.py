@@ -13,10 +13,15 @@ import splinecraft as sc
 from splinecraft.capture._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 
 
-@pytest.mark.filterwarnings("ignore:the mask.s True pixels:UserWarning")
-@settings(max_examples=100, deadline=None)
-@given(mask=arrays(bool, st.tuples(st.integers(3, 12), st.integers(3, 12)), elements=st.booleans()),
-       connectivity=st.sampled_from([4, 8, "minority"]))
+def random_masks(test):
+    """The property tests' inputs: small random bitmaps under every connectivity rule."""
+    test = given(mask=arrays(bool, st.tuples(st.integers(3, 12), st.integers(3, 12)), elements=st.booleans()),
+                 connectivity=st.sampled_from([4, 8, "minority"]))(test)
+    return pytest.mark.filterwarnings("ignore:the mask.s True pixels:UserWarning")(
+        settings(max_examples=100, deadline=None)(test))
+
+
+@random_masks
 def test_only_pinhole_pixels_turn_into_ink_and_none_is_left(mask, connectivity):
     boundaries = sc.trace_boundaries(mask, connectivity=connectivity)
     filled, count = fill_pinholes(mask, boundaries)
@@ -49,10 +54,7 @@ def test_only_pinhole_pixels_turn_into_ink_and_none_is_left(mask, connectivity):
                 assert not result.mask[rows, columns].any()
 
 
-@pytest.mark.filterwarnings("ignore:the mask.s True pixels:UserWarning")
-@settings(max_examples=100, deadline=None)
-@given(mask=arrays(bool, st.tuples(st.integers(3, 12), st.integers(3, 12)), elements=st.booleans()),
-       connectivity=st.sampled_from([4, 8, "minority"]))
+@random_masks
 def test_only_speck_pixels_turn_into_paper(mask, connectivity):
     boundaries = sc.trace_boundaries(mask, connectivity=connectivity)
     dropped, count = drop_specks(mask, boundaries)

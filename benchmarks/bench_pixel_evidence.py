@@ -137,6 +137,27 @@ def rounded_twin(contours, bitmap, corner):
     return largest
 
 
+def smallest_radius(contours, point, reach=6.0):
+    """The truth's smallest radius of curvature (px) within ``reach`` px of arc of its point nearest ``point``
+    (turn of consecutive edges of the dense polyline over their mean length)."""
+    nearest = [np.hypot(*(np.asarray(c, float) - point).T) for c in contours]
+    which = int(np.argmin([d.min() for d in nearest]))
+    line = np.asarray(contours[which], float)
+    k, n = int(np.argmin(nearest[which])), len(line)
+    edge_vec = np.roll(line, -1, axis=0) - line
+    edge = np.hypot(*edge_vec.T)
+    forward = np.cumsum(np.roll(edge, -k))
+    backward = np.cumsum(np.roll(edge, -k)[::-1])
+    lo = k - int(np.searchsorted(backward, reach)) - 1
+    hi = k + int(np.searchsorted(forward, reach)) + 1
+    at = np.arange(lo, hi + 1) % n
+    angle = np.arctan2(edge_vec[at, 1], edge_vec[at, 0])
+    turn = np.abs(np.angle(np.exp(1j * np.diff(angle))))
+    length = 0.5 * (edge[at[:-1]] + edge[at[1:]])
+    curvature = turn / np.maximum(length, 1e-12)
+    return float(1.0 / curvature.max()) if curvature.max() > 0 else np.inf
+
+
 def report_corners(families):
     """Per family (upright 300-px held-out glyphs): false corners and their sharp twins, missed corners and
     their nearest true neighbour."""
@@ -154,21 +175,23 @@ def report_corners(families):
         truth = np.asarray(shape["corners"], float).reshape(-1, 2)
         tp, fp, fn, hit = match(found, truth)
         cell = pooled.setdefault(label, {"tp": 0, "fp": 0, "fn": 0, "twin30": 0, "twin60": 0, "fn_pair": 0,
-                                         "turns": [], "cut_tp": [], "cut_fn": []})
+                                         "turns": [], "cut_tp": [], "cut_fn": [], "radii": []})
         cell["tp"], cell["fp"], cell["fn"] = cell["tp"] + tp, cell["fp"] + fp, cell["fn"] + fn
         print(f"\n{shape['name']}: {len(truth)} true corners, {len(found)} traced, {tp} matched")
         for point in found:
             if len(truth) and np.hypot(*(truth - point).T).min() <= MATCH_PX:
                 continue
             twin = sharp_twin(contours, bitmap, point)
+            radius = smallest_radius(contours, point)
+            cell["radii"].append(radius)
             if twin is None:
-                print(f"    false ({point[0]:7.1f}, {point[1]:7.1f}): no sharp twin")
+                print(f"    false ({point[0]:7.1f}, {point[1]:7.1f}): truth's radius {radius:.2f} px, no sharp twin")
                 continue
             half, turn, corner = twin
             cell["twin30"] += 1
             cell["twin60"] += turn > 60.0
             cell["turns"].append(turn)
-            print(f"    false ({point[0]:7.1f}, {point[1]:7.1f}): sharp twin turning {turn:5.1f} deg at "
+            print(f"    false ({point[0]:7.1f}, {point[1]:7.1f}): truth's radius {radius:.2f} px, sharp twin turning {turn:5.1f} deg at "
                   f"{np.hypot(*(corner - point)):.2f} px (arc +-{half} px replaced)")
         for j in range(len(truth)):
             cut = rounded_twin(contours, bitmap, truth[j])
@@ -181,16 +204,26 @@ def report_corners(families):
             print(f"    missed ({truth[j][0]:7.1f}, {truth[j][1]:7.1f}): nearest other true corner {gap:.1f} px; "
                   f"rounded off over {cut} px each side, the same bitmap")
     print("\n| group | TP | FP | FN | corner F1 | FP with a sharp twin (> 30 deg / > 60 deg) | median twin turn |"
-          " FN within 3 px of another true corner | rounded twin's cut-back, median TP / FN (px) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          " FN within 3 px of another true corner | rounded twin's cut-back, median TP / FN (px) |"
+          " truth's radius at the FP, min-median-max (px) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for label, c in pooled.items():
         tp, fp, fn = c["tp"], c["fp"], c["fn"]
         f1 = 2 * tp / (2 * tp + fp + fn) if tp + fp + fn else 1.0
         turn = f"{np.median(c['turns']):.0f} deg" if c["turns"] else "-"
         cuts = " / ".join(f"{np.median(c[key]):.2f}" if c[key] else "-" for key in ("cut_tp", "cut_fn"))
         print(f"| {label} | {tp} | {fp} | {fn} | {f1:.3f} | {c['twin30']} / {c['twin60']} of {fp} | {turn} | "
-              f"{c['fn_pair']} of {fn} | {cuts} |")
+              f"{c['fn_pair']} of {fn} | {cuts} | {_spread(c['radii'])} |")
     return pooled
+
+
+def _spread(values):
+    """min - median - max of the finite ``values``, and how many are straight (infinite radius)."""
+    values = np.asarray(values, float)
+    finite = values[np.isfinite(values)]
+    text = " - ".join(f"{v:.2f}" for v in np.quantile(finite, [0.0, 0.5, 1.0])) if finite.size else "-"
+    straight = int((~np.isfinite(values)).sum())
+    return text + (f" ({straight} straight)" if straight else "")
 
 
 def _misses_of(dense_truth, dense_traced, limit=1.0, gap=5):

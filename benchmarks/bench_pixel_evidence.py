@@ -60,6 +60,17 @@ def render(contours, height, width):
     return heldout_shapes.rasterize({"contours": contours, "height": height, "width": width})
 
 
+def _around(contours, point):
+    """The contour nearest ``point`` (its index and points), the index ``k`` of its point nearest ``point``, and
+    the cumulative arc lengths from ``k`` forward and backward along it (closed)."""
+    nearest = [np.hypot(*(np.asarray(c, float) - point).T) for c in contours]
+    which = int(np.argmin([d.min() for d in nearest]))
+    line = np.asarray(contours[which], float)
+    k = int(np.argmin(nearest[which]))
+    edge = np.roll(np.hypot(*(np.roll(line, -1, axis=0) - line).T), -k)
+    return which, line, k, np.cumsum(edge), np.cumsum(edge[::-1])
+
+
 def _arc_index(arc_forward, arc_backward, at, n, k):
     """Index of the contour point ``at`` px of arc from point ``k`` (forward when positive)."""
     if at >= 0:
@@ -71,13 +82,8 @@ def sharp_twin(contours, bitmap, point):
     """The sharpest twin of the closed polylines ``contours`` with a corner near ``point``: the arc of the
     nearest contour around it replaced by the crossing of the arc's end tangents (module docstring). Returns
     ``(half_width, turn_deg, corner_xy)`` or None when no such twin renders to ``bitmap``."""
-    nearest = [np.hypot(*(np.asarray(c, float) - point).T) for c in contours]
-    which = int(np.argmin([d.min() for d in nearest]))
-    line = np.asarray(contours[which], float)
-    k, n = int(np.argmin(nearest[which])), len(line)
-    edge = np.hypot(*(np.roll(line, -1, axis=0) - line).T)
-    forward = np.cumsum(np.roll(edge, -k))
-    backward = np.cumsum(np.roll(edge, -k)[::-1])
+    which, line, k, forward, backward = _around(contours, point)
+    n = len(line)
     height, width = bitmap.shape
     best = None
     for half in ARC_HALF_WIDTHS:
@@ -112,13 +118,8 @@ def rounded_twin(contours, bitmap, corner):
     rounded off -- the arc from ``t`` px before to ``t`` px after it replaced by the quadratic Bezier whose
     control point is the corner (tangent to both sides where they are straight; its joins turn by a tenth of
     the corner's turn, so it has no corner) -- renders to ``bitmap``; 0.0 when none does."""
-    nearest = [np.hypot(*(np.asarray(c, float) - corner).T) for c in contours]
-    which = int(np.argmin([d.min() for d in nearest]))
-    line = np.asarray(contours[which], float)
-    k, n = int(np.argmin(nearest[which])), len(line)
-    edge = np.hypot(*(np.roll(line, -1, axis=0) - line).T)
-    forward = np.cumsum(np.roll(edge, -k))
-    backward = np.cumsum(np.roll(edge, -k)[::-1])
+    which, line, k, forward, backward = _around(contours, corner)
+    n = len(line)
     height, width = bitmap.shape
     s = np.linspace(0.0, 1.0, 11)[1:-1, None]
     largest = 0.0
@@ -140,14 +141,10 @@ def rounded_twin(contours, bitmap, corner):
 def smallest_radius(contours, point, reach=6.0):
     """The truth's smallest radius of curvature (px) within ``reach`` px of arc of its point nearest ``point``
     (turn of consecutive edges of the dense polyline over their mean length)."""
-    nearest = [np.hypot(*(np.asarray(c, float) - point).T) for c in contours]
-    which = int(np.argmin([d.min() for d in nearest]))
-    line = np.asarray(contours[which], float)
-    k, n = int(np.argmin(nearest[which])), len(line)
+    _, line, k, forward, backward = _around(contours, point)
+    n = len(line)
     edge_vec = np.roll(line, -1, axis=0) - line
     edge = np.hypot(*edge_vec.T)
-    forward = np.cumsum(np.roll(edge, -k))
-    backward = np.cumsum(np.roll(edge, -k)[::-1])
     lo = k - int(np.searchsorted(backward, reach)) - 1
     hi = k + int(np.searchsorted(forward, reach)) + 1
     at = np.arange(lo, hi + 1) % n

@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.ndimage import gaussian_filter
 
 from splinecraft.capture.fitting.geometry import sample_bezier
-from splinecraft.capture.fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
+from splinecraft.capture.fitting.noise import (CLEAN_NOISE, NOISE_FACTOR, THIN_AREA, boundary_noise, noise_tolerance,
+                                               thin_feature_pixels)
 from splinecraft.capture.trace import trace
 
 SUPERSAMPLE = 4
@@ -131,3 +134,46 @@ def test_noise_image_converges_within_its_raised_tolerance():
     assert result.stats["converged"]
     assert result.stats["hausdorff"] <= result.stats["tolerance"] + 0.5 + 1e-9
     assert any("boundary noise" in note for note in result.notes)
+
+
+def test_thin_feature_pixels_are_long_hairlines_and_narrow_gaps():
+    """Ink or paper at most 2 px wide in a piece of at least THIN_AREA pixels; a bump or a notch of noise, a
+    stroke 3 px wide and ink that merely touches the image border are not thin features."""
+    mask = np.zeros((50, 60), bool)
+    mask[5, 5:30] = True                    # a hairline, 1 px wide
+    mask[10:12, 5:30] = True                # a stroke 2 px wide
+    mask[15:18, 5:30] = True                # 3 px wide: resolved
+    mask[22:40, 5:20] = True
+    mask[22:40, 21:36] = True               # two blocks with a gap 1 px wide and 18 px long between them
+    mask[32:34, 40] = True                  # a two-pixel bump under a block: noise, not a hairline
+    mask[24:32, 38:50] = True
+    mask[0:3, 50:60] = True                 # 3 px of ink against the top border
+    thin = thin_feature_pixels(mask)
+    assert thin[5, 5:30].all() and thin[10:12, 5:30].all()
+    assert not thin[15:18].any()
+    assert thin[24:38, 20].all() and not thin[22:40, 5:20].any()  # (the gap's open ends are not thin)
+    assert not thin[24:34, 38:50].any()
+    assert not thin[0:3, 50:60].any()
+    assert not thin_feature_pixels(mask, min_area=1000).any()
+    assert THIN_AREA == 10
+
+
+@settings(max_examples=12, deadline=None)
+@given(width=st.floats(1.1, 1.6), radius=st.floats(40.0, 80.0), dx=st.floats(0.0, 1.0), dy=st.floats(0.0, 1.0))
+def test_hairline_rings_are_not_noise(width, radius, dx, dy):
+    """A clean ring 1.1-1.6 px wide is a hairline: the blurred bitmap has no boundary of its own along most of
+    it, which used to read as noise of 6-160 px (and a tolerance of twice that). Its points are left out, the
+    fit keeps epsilon and both traced circles lie within 1 px of the true ones."""
+    size = int(2 * radius + 20)
+    centre = (size / 2 + dx, size / 2 + dy)
+    distance = lambda x, y: np.hypot(x - centre[0], y - centre[1])  # noqa: E731
+    mask = _render(lambda x, y: (distance(x, y) >= radius) & (distance(x, y) <= radius + width), size)
+    result = trace(mask, keep_snapshots=False)
+    assert result.stats["boundary_noise"] <= CLEAN_NOISE
+    assert result.stats["tolerance"] == result.params["epsilon"]
+    assert not any("boundary noise" in note for note in result.notes)
+    curves = [sample_bezier(spline.bezier(), 0.2)[0] for spline in result.splines if spline is not None]
+    assert len(curves) == 2
+    for curve in curves:
+        off = np.minimum(np.abs(distance(*curve.T) - radius), np.abs(distance(*curve.T) - radius - width))
+        assert off.max() <= 1.0

@@ -6,13 +6,18 @@ staircase: it strays from the smooth boundary of the lightly blurred bitmap by a
 from corners, at any size and rotation. A scanned, blurred and thresholded, or otherwise noisy bitmap has
 ragged boundaries: bumps and notches a pixel or two wide that stray further. :func:`boundary_noise` measures
 that as one number per image; :func:`noise_tolerance` turns it into the fit's tolerance.
+
+Hairlines are not noise: a stroke (or a gap) at most 2 px wide has no smooth boundary of its own after the
+blur (the blurred level of a 1.2 px stroke stays below one half), so its points are left out
+(:func:`thin_feature_pixels`).
 """
 from __future__ import annotations
 
 import numpy as np
+from scipy import ndimage
 
-__all__ = ["NOISE_SIGMA", "NOISE_QUANTILE", "NOISE_FACTOR", "CLEAN_NOISE", "NOISE_SAMPLE",
-           "boundary_noise", "noise_tolerance"]
+__all__ = ["NOISE_SIGMA", "NOISE_QUANTILE", "NOISE_FACTOR", "CLEAN_NOISE", "NOISE_SAMPLE", "THIN_AREA",
+           "boundary_noise", "noise_tolerance", "thin_feature_pixels"]
 
 #: Standard deviation (px) of the Gaussian that smooths the bitmap for the reference boundary.
 NOISE_SIGMA = 1.0
@@ -28,6 +33,62 @@ _CORNER_SPAN = 5
 _MIN_POINTS = 64
 #: At most this many contour points (evenly spread over all qualifying ones) are measured.
 NOISE_SAMPLE = 20000
+#: Thin ink or paper (at most 2 px wide) in a connected piece of at least this many pixels is a hairline or a
+#: narrow gap, not a bump of noise (those are a few pixels): its contour points are not measured.
+THIN_AREA = 10
+
+_SQUARE = np.ones((3, 3), bool)
+
+
+def _cross_opening(region, outside):
+    """Morphological opening of a bool image by the 3 x 3 cross (4-neighbourhood), the image continued by
+    ``outside`` beyond its border."""
+    padded = np.full((region.shape[0] + 2, region.shape[1] + 2), outside, dtype=bool)
+    padded[1:-1, 1:-1] = region
+    eroded = padded[1:-1, 1:-1] & padded[:-2, 1:-1]
+    eroded &= padded[2:, 1:-1]
+    eroded &= padded[1:-1, :-2]
+    eroded &= padded[1:-1, 2:]
+    padded[1:-1, 1:-1] = eroded
+    opened = eroded | padded[:-2, 1:-1]
+    opened |= padded[2:, 1:-1]
+    opened |= padded[1:-1, :-2]
+    opened |= padded[1:-1, 2:]
+    return opened
+
+
+def thin_feature_pixels(mask, min_area=THIN_AREA):
+    """Pixels of hairlines and narrow gaps: the ink pixels that a morphological opening of the ink by the
+    3 x 3 cross removes (ink at most 2 px wide; outside the image is paper), and likewise the paper pixels
+    for the paper (outside the image is paper too), kept where they form 8-connected pieces of at least
+    ``min_area`` pixels (a bump or notch of noise is smaller)."""
+    mask = np.asarray(mask, dtype=bool)
+    out = np.zeros(mask.shape, bool)
+    for region, outside in ((mask, False), (~mask, True)):
+        thin = region > _cross_opening(region, outside)
+        if np.count_nonzero(thin) < min_area:  # no piece can be large enough
+            continue
+        rows, cols = np.flatnonzero(thin.any(axis=1)), np.flatnonzero(thin.any(axis=0))
+        box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+        labels, count = ndimage.label(thin[box], structure=_SQUARE)
+        large = np.bincount(labels.ravel(), minlength=count + 1) >= min_area
+        large[0] = False
+        out[box] |= large[labels]
+    return out
+
+
+def _on_thin_features(points, thin):
+    """Whether either pixel beside each crack midpoint (pixel corners on integer coordinates: a midpoint on a
+    horizontal crack has an integer ``y``) is in ``thin``; a point that is not a crack midpoint looks at the
+    pixels beside it across the nearer axis."""
+    x, y = points[:, 0], points[:, 1]
+    horizontal = np.abs(y - np.round(y)) < 1e-9
+    rows = np.floor(np.column_stack([y - 0.5 * horizontal, y + 0.5 * horizontal])).astype(np.int64)
+    cols = np.floor(np.column_stack([x - 0.5 * ~horizontal, x + 0.5 * ~horizontal])).astype(np.int64)
+    inside = (rows >= 0) & (rows < thin.shape[0]) & (cols >= 0) & (cols < thin.shape[1])
+    hit = np.zeros(rows.shape, bool)
+    hit[inside] = thin[rows[inside], cols[inside]]
+    return hit.any(axis=1)
 
 
 def boundary_noise(mask, contours, corner_lists) -> float:
@@ -35,21 +96,25 @@ def boundary_noise(mask, contours, corner_lists) -> float:
     distance from the crack-outline points to the 0.5 iso-line of the ink mask smoothed by a Gaussian of
     ``NOISE_SIGMA`` px (exact point-to-segment distances to its marching-squares segments,
     :mod:`._iso_kernels`), over the contours of at least 64 points, without the points within 5 steps of a
-    corner (at most ``NOISE_SAMPLE`` = 20 000 of them, evenly spread). About 0.27 px for clean renderings
-    (0.23-0.36 over glyphs of three fonts at 48-1200 px, upright
-    and rotated, one outlier of 0.62 at 48 px), 0.55-1.1 px for scan-like ones (blur 1-2 px); 0 when no
-    contour qualifies."""
+    corner and the points beside hairlines and narrow gaps (:func:`thin_feature_pixels`: at most 2 px wide, in
+    pieces of at least ``THIN_AREA`` = 10 pixels, where the blurred bitmap has no boundary of its own: a clean
+    ring 1.2 px wide measured 28 px without this rule), at most ``NOISE_SAMPLE`` = 20 000 of them, evenly
+    spread. About 0.27 px for clean renderings (0.23-0.36 over glyphs of three fonts at 48-1200 px, upright and
+    rotated, one outlier of 0.62 at 48 px), 0.55-1.1 px for scan-like ones (blur 1-2 px); 0 when no contour
+    qualifies."""
     from ._iso_kernels import iso_line_distance
 
     chosen = [(np.asarray(contours[k], float), np.asarray(corner_lists[k], dtype=np.int64))
               for k in np.flatnonzero(np.fromiter(map(len, contours), np.int64, len(contours)) >= _MIN_POINTS)]
     if not chosen:
         return 0.0
+    thin = thin_feature_pixels(mask)
     kept = []
     for points, corners in chosen:
         keep = np.ones(points.shape[0], bool)
         if corners.size:
             keep[(corners[:, None] + np.arange(-_CORNER_SPAN, _CORNER_SPAN + 1)[None, :]) % points.shape[0]] = False
+        keep &= ~_on_thin_features(points, thin)
         kept.append(points[keep])
     kept = np.concatenate(kept)
     if not kept.shape[0]:

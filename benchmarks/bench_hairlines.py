@@ -1,0 +1,120 @@
+"""Hairlines and the boundary-noise estimate (issue 9): clean thin strokes and real scans, before and after.
+
+    .venv/bin/python benchmarks/bench_hairlines.py
+    .venv/bin/python benchmarks/bench_hairlines.py --compare OTHER/src
+
+Clean strokes of width 1.2-3 px along a sine wave and a spiral, and rings of those widths, are rendered with
+the pixel-centre rule (``heldout_shapes.rasterize``) from their exact outlines (the centre line offset by half
+the width on both sides) and traced with ``sc.trace`` at its defaults. Per shape the table gives the boundary
+noise estimate (``stats["boundary_noise"]``), the fit's tolerance, the largest and rms distance between the
+traced and the exact outline (both ways, ``synthetic_shapes.score_beziers``) and the segment count. The real
+scans of ``skimage.data`` (``page``, ``text``, ``camera``, ``coins``, default threshold) have no exact outline:
+noise, tolerance, outlines and segments only. With ``--compare SRC`` the same shapes are traced by the
+``src`` folder of another checkout in a second process, and both columns are printed side by side.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+WIDTHS = (1.2, 1.5, 2.0, 3.0)
+
+
+def _stroke(centre_line, width, size):
+    """The exact outline of a stroke of ``width`` around an open centre line, as one closed polyline."""
+    tangent = np.gradient(centre_line, axis=0)
+    tangent /= np.hypot(*tangent.T)[:, None]
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])
+    outline = np.vstack([centre_line + normal * width / 2, (centre_line - normal * width / 2)[::-1]])
+    return {"contours": [outline], "height": size, "width": size, "corners": []}
+
+
+def _ring(radius, width, size, centre=(150.3, 150.7)):
+    angle = np.linspace(0.0, 2 * np.pi, 4000, endpoint=False)
+    circle = np.column_stack([np.cos(angle), np.sin(angle)])
+    return {"contours": [centre + (radius + width) * circle, centre + radius * circle[::-1]], "height": size,
+            "width": size, "corners": []}
+
+
+def shapes():
+    s = np.linspace(0.0, 1.0, 4000)
+    turn = np.linspace(0.5, 6 * np.pi, 6000)
+    out = []
+    for width in WIDTHS:
+        out.append((f"sine, {width} px", _stroke(np.column_stack([20 + 260 * s, 150 + 60 * np.sin(6 * np.pi * s)]),
+                                                 width, 300)))
+        out.append((f"spiral, {width} px", _stroke(np.column_stack([150 + (4 + 7 * turn) * np.cos(turn),
+                                                                    150 + (4 + 7 * turn) * np.sin(turn)]), width, 300)))
+        out.append((f"ring r 80, {width} px", _ring(80.0, width, 300)))
+    return out
+
+
+def measure(src):
+    """Rows for the tree whose ``src`` folder is ``src`` (run in a process of its own)."""
+    sys.path.insert(0, src)
+    sys.path.insert(0, HERE)
+    import warnings
+
+    import skimage.data
+
+    import heldout_shapes
+    import splinecraft as sc
+    import synthetic_shapes
+
+    warnings.simplefilter("ignore")
+    rows = []
+    for name, shape in shapes():
+        result = sc.trace(heldout_shapes.rasterize(shape), keep_snapshots=False)
+        score = synthetic_shapes.score_beziers(shape, synthetic_shapes.svg_beziers(result.to_svg()))
+        rows.append({"name": name, "noise": result.stats["boundary_noise"], "tolerance": result.stats["tolerance"],
+                     "max": score["max_dev"], "rms": score["rms_dev"], "segments": score["segments"],
+                     "outlines": len(result.boundaries)})
+    for name in ("page", "text", "camera", "coins"):
+        result = sc.trace(getattr(skimage.data, name)(), keep_snapshots=False)
+        segments = sum(spline.n_segments for spline in result.splines if spline is not None)
+        rows.append({"name": f"skimage.data.{name}()", "noise": result.stats["boundary_noise"],
+                     "tolerance": result.stats["tolerance"], "max": None, "rms": None, "segments": segments,
+                     "outlines": len(result.boundaries)})
+    return rows
+
+
+def _cell(row):
+    quality = "" if row["max"] is None else f"{row['max']:.2f} / {row['rms']:.2f} / "
+    return f"{row['noise']:.2f} / {row['tolerance']:.2f} / {quality}{row['segments']} ({row['outlines']} outlines)"
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--compare", help="the src folder of another checkout (the 'before')")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.child:
+        print(json.dumps(measure(args.child)))
+        return
+
+    def run(src):
+        done = subprocess.run([sys.executable, __file__, "--child", src], capture_output=True, text=True, check=True)
+        return json.loads(done.stdout.strip().splitlines()[-1])
+
+    after = run(os.path.join(ROOT, "src"))
+    before = run(os.path.abspath(args.compare)) if args.compare else None
+    print("Cells: noise px / tolerance px / max / rms px to the exact outline / segments (outlines)\n")
+    if before:
+        print("| shape | before | after |\n|---|---|---|")
+        for old, new in zip(before, after):
+            print(f"| {new['name']} | {_cell(old)} | {_cell(new)} |")
+    else:
+        print("| shape | this tree |\n|---|---|")
+        for new in after:
+            print(f"| {new['name']} | {_cell(new)} |")
+
+
+if __name__ == "__main__":
+    main()

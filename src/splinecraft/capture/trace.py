@@ -160,7 +160,9 @@ def trace(
         ``fitting.noise.CLEAN_NOISE`` (0.4 px) the fit's tolerance is ``max(epsilon, noise_factor * noise)``;
         ``noise`` is the 99.5th percentile of the distance from the crack outline to the boundary of the
         bitmap smoothed by a 1-px Gaussian (:func:`~splinecraft.capture.fitting.noise.boundary_noise`; about
-        0.27 px on clean renderings, which keep ``epsilon``, 0.55-1.1 px on scans). 0 turns the rule off.
+        0.27 px on clean renderings, which keep ``epsilon``, 0.55-1.1 px on scans), leaving out the points
+        beside hairlines and gaps at most 2 px wide, which the blur erases (they are not noise). 0 turns the
+        rule off.
     time_budget : float > 0 or None
         Seconds for corner detection and fitting of all boundaries together (docs/capture.md §12, "Time
         budget"; default ``fitting.budget.DEFAULT_TIME_BUDGET`` = 5 s; ``None``: no budget). Boundaries

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -240,3 +241,17 @@ def test_inverted_bool_mask_warns_through_trace():
     with pytest.warns(UserWarning, match="invert=True"):
         result = sc.trace(~small_mask())
     assert result.stats["boundaries"] >= 1
+
+
+@pytest.mark.parametrize("method", sorted(CORNER_METHODS))
+def test_corners_of_an_outline_beyond_pixel_scale_say_so(method):
+    """Coordinates of 1e300 px overflowed the detectors' squared lengths (RuntimeWarnings, a meaningless result):
+    beyond 1e15 px the outline is refused with the reason; 1e12 px still works."""
+    angles = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    ring = np.column_stack([np.cos(angles), np.sin(angles)]) * np.where(np.arange(40) % 5 == 0, 1, 0.6)[:, None]
+    with pytest.raises(ValueError, match=r"points\[0\].*pixel units"):
+        corners(ring * 1e300, method)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        found = corners(ring * 1e12, method)
+    assert found.dtype == np.intp

@@ -23,7 +23,8 @@ Conventions shared by all detectors
 * Consecutive duplicate points are merged before detection; returned indices refer to the input and,
   inside a run of duplicates, to its first point.
 * Input validation: ``points`` must be a real ``(n, 2)`` array (``TypeError`` / ``ValueError``
-  otherwise); a NaN or infinite coordinate raises ``ValueError`` naming its index. A parameter outside
+  otherwise); a NaN or infinite coordinate, or one beyond ``MAX_COORDINATE`` = 1e15 px (pixel units:
+  squared window lengths would overflow), raises ``ValueError`` naming its index. A parameter outside
   its domain raises ``ValueError`` naming the parameter. An outline with too few points for the
   detector's window (for example the 4-point outline of a single-pixel speck) has **no corners**: the
   detectors return an empty array rather than raise, so that tracing can run every detector on every

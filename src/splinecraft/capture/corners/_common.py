@@ -8,6 +8,9 @@ from ... import _validation
 
 
 _EMPTY = np.zeros(0, dtype=np.intp)
+#: Largest coordinate magnitude (px) of an outline: beyond 2**53 a double has no fractional pixels left, and the
+#: squared lengths of the detectors' windows overflow long before 1e300.
+MAX_COORDINATE = 1e15
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -49,6 +52,11 @@ def _prepare(points, closed):
     if not finite.all():
         bad = int(np.flatnonzero(~finite)[0])
         raise ValueError(f"points[{bad}] is not finite: {array[bad].tolist()}")
+    large = np.abs(array).max(axis=1) > MAX_COORDINATE if len(array) else np.zeros(0, bool)
+    if large.any():
+        bad = int(np.flatnonzero(large)[0])
+        raise ValueError(f"points[{bad}] = {array[bad].tolist()} is beyond {MAX_COORDINATE:g} px: corner detection "
+                         f"works in pixel units (scale the outline down)")
     if len(array) == 0:
         return array, _EMPTY
     keep = np.ones(len(array), dtype=bool)

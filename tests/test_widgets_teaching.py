@@ -3,6 +3,7 @@ labels and status texts (issue 12). Reference values from the engine's own queri
 from __future__ import annotations
 
 import io
+import warnings
 
 import numpy as np
 import pytest
@@ -151,11 +152,33 @@ def test_explorer_image_controls_threshold_invert_despeckle():
     explorer.set_state({"threshold": "local"})
     np.testing.assert_array_equal(explorer.mask, load_bitmap(gray, threshold="local", min_speck_area=4))
     before = explorer.mask.copy()
-    explorer.set_state({"invert": True})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the bitmap's warning goes to the status line, not to a lost thread
+        explorer.set_state({"invert": True})
     np.testing.assert_array_equal(explorer.mask, load_bitmap(gray, threshold="local", invert=True, min_speck_area=4))
     assert not np.array_equal(explorer.mask, before)
+    # inverted, the paper is ink and touches every border: the status says so
+    assert explorer.status_level == "warning" and "may be the traced shape" in explorer.status_message
+    assert explorer.status_message.startswith("Bitmap made again (invert); Traced")
     result = explorer.result
     explorer.set_state({"threshold": "bogus"})
     assert explorer.threshold == "local" and explorer.result is result and explorer.status_level == "error"
     assert explorer.options["image_is_mask"] is False
     assert TraceExplorer().options["image_is_mask"] is True  # the demo is a bool mask: no threshold control
+    explorer.set_state({"invert": False})
+    assert explorer.status_level == "info"
+
+
+def test_explorer_shows_the_bitmaps_warning_and_passes_it_on():
+    """A bitmap whose True pixels fill the border (ink may be inverted): the constructor warns its caller and
+    the status line shows it; a clean bitmap gives an info status."""
+    from splinecraft.widgets import TraceExplorer
+
+    framed = ~np.pad(np.ones((10, 10), bool), 10)  # True everywhere but a square: the paper looks like ink
+    with pytest.warns(UserWarning, match="True is ink here"):
+        explorer = TraceExplorer(framed)
+    assert explorer.status_level == "warning" and "True is ink here" in explorer.status_message
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert explorer.load(~framed)
+    assert explorer.status_level == "info" and "Warning" not in explorer.status_message

@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from splinecraft.widgets import SplineEditor
+from splinecraft.widgets import SplineEditor, SplineEditorWarning
 from splinecraft.widgets import _editor_state as model
 
 POINTS = [[60.0, 300.0], [160.0, 120.0], [300.0, 80.0], [440.0, 160.0], [540.0, 320.0]]
@@ -189,7 +189,9 @@ def test_editor_exact_bools_and_capped_points():
     assert editor.points == POINTS and "max_points" in editor.status_message and "points" in page.updated()
     editor.set_state({"points": memoryview(many[:-8])})  # not whole (x, y) pairs
     assert editor.points == POINTS and "whole number" in editor.status_message
-    assert editor.add_point(700.0, 300.0) == 5 and editor.add_point(800.0, 300.0) == -1
+    assert editor.add_point(700.0, 300.0) == 5
+    with pytest.warns(SplineEditorWarning, match="max_points"):
+        assert editor.add_point(800.0, 300.0) == -1
     editor.max_points = 10
     assert editor.add_point(800.0, 300.0) == 6
 

@@ -101,4 +101,7 @@ def test_explorer_image_controls(lab):
                            ".getAttribute('href') !== old", arg=image, timeout=20_000)
     root.query_selector("[data-testid=threshold]").select_option("local")
     assert wait_python(lab, "explorer.threshold", lambda value: value == "local") == "local"
-    assert lab.python_json("explorer.status_level") == "info"
+    # inverted, the paper is the ink and touches every border: the page says the ink may be inverted
+    assert lab.python_json("explorer.status_level") == "warning"
+    page.wait_for_selector("[data-testid=trace-explorer] [data-testid=status].sc-status-warning", timeout=20_000)
+    assert "may be the traced shape" in root.query_selector("[data-testid=status]").inner_text()

@@ -15,6 +15,7 @@ from __future__ import annotations
 import inspect
 import io
 import numbers
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -215,8 +216,10 @@ class TraceExplorer(WidgetBase):
             "max_iterations": int(trace_params.get("max_iterations", 200)),
         }
         self._source = demo_bitmap() if image is None else image
-        mask = self._load(self._source)
-        result = self._run(mask, settings)  # raises for bad constructor arguments
+        # raises for bad constructor arguments; the bitmap's warnings go to the status line and to the caller
+        (mask, result), self._load_notes = self._noting_warnings(lambda: self._load_and_run(self._source, settings))
+        for note in self._load_notes:
+            warnings.warn(note, UserWarning, stacklevel=2)
         # show the defaults trace() resolved (params records the names it used)
         settings["corner_method"] = settings["corner_method"] or str(result.params.get("corner_method") or "")
         settings["method"] = settings["method"] or str(result.params.get("method") or "")
@@ -226,7 +229,7 @@ class TraceExplorer(WidgetBase):
             self.options = self._options()
         self._set_image(mask)
         self._accept(result)
-        self._set_status(self._summary_message(), "info")
+        self._show_summary("", self._load_notes)
 
     # ------------------------------------------------------------------ public API
     @property
@@ -256,8 +259,8 @@ class TraceExplorer(WidgetBase):
         settings = self._settings()
         try:
             with self._busy():
-                mask, result = run_with_budget(lambda: self._load_and_run(image, settings), self.time_budget_s,
-                                               "tracing the image")
+                (mask, result), notes = self._noting_warnings(lambda: run_with_budget(
+                    lambda: self._load_and_run(image, settings), self.time_budget_s, "tracing the image"))
         except Exception as exc:  # noqa: BLE001 - unreadable, too large, out of memory or time: keep the last result
             self._reject(short_reason(exc))
             return False
@@ -266,7 +269,8 @@ class TraceExplorer(WidgetBase):
             self.options = self._options()
         self._set_image(mask)
         self._accept(result)
-        self._set_status(self._summary_message(), "info")
+        self._load_notes = notes
+        self._show_summary("", notes)
         return True
 
     def edit(self, **params):
@@ -330,6 +334,32 @@ class TraceExplorer(WidgetBase):
     def _load_and_run(self, image, settings):
         mask = self._load(image)
         return mask, self._run(mask, settings)
+
+    @staticmethod
+    def _noting_warnings(function):
+        """``function()`` and the messages of the user warnings raised while it runs (for example that a
+        bitmap's ink touches every border, so it may be inverted): the status line shows them, where a Python
+        warning from the tracing thread would go unseen. Other warnings are passed on. Called on the kernel's
+        thread around :func:`run_with_budget` (``catch_warnings`` is process-wide: entered by the worker, it
+        would also swallow the warnings of a timed-out call's rejection on this thread)."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            value = function()
+        notes = []
+        for record in caught:
+            if issubclass(record.category, UserWarning):
+                notes.append(short_reason(str(record.message)))
+            else:
+                warnings.warn_explicit(record.message, record.category, record.filename, record.lineno)
+        return value, list(dict.fromkeys(notes))
+
+    def _show_summary(self, prefix: str, notes) -> None:
+        """The summary status, or a warning status that adds the trace's warnings to it."""
+        message = f"{prefix}{self._summary_message()}"
+        if notes:
+            self._set_status(f"{message} Warning: {' '.join(notes)}", "warning")
+        else:
+            self._set_status(message, "info")
 
     def _run(self, mask, settings):
         """``trace`` with these settings (it checks them and names a bad one)."""
@@ -424,7 +454,8 @@ class TraceExplorer(WidgetBase):
             settings["corner_params"] = {k: v for k, v in settings["corner_params"].items() if k in allowed}
         try:
             with self._busy():
-                result = run_with_budget(lambda: self._run(self._mask, settings), self.time_budget_s, "the re-trace")
+                result, notes = self._noting_warnings(lambda: run_with_budget(
+                    lambda: self._run(self._mask, settings), self.time_budget_s, "the re-trace"))
         except BaseException as exc:  # even MemoryError or Ctrl+C: the last good settings come back
             self._restore_settings()
             if not isinstance(exc, Exception):
@@ -435,7 +466,7 @@ class TraceExplorer(WidgetBase):
             if settings["corner_params"] != self.corner_params:
                 self.corner_params = settings["corner_params"]
         self._accept(result)
-        self._set_status(self._summary_message(), "info")
+        self._show_summary("", notes)
 
     def _restore_settings(self):
         """Put back the settings of the last good result."""
@@ -454,7 +485,7 @@ class TraceExplorer(WidgetBase):
                          resync=_IMAGE_SETTINGS)
             return
         if self.load(self._source):
-            self._set_status(f"Bitmap made again ({change['name']}); {self._summary_message()}", "info")
+            self._show_summary(f"Bitmap made again ({change['name']}); ", self._load_notes)
         else:
             self._restore_settings()
             if self._from_page:
@@ -490,7 +521,7 @@ class TraceExplorer(WidgetBase):
             self._reject("the upload arrived without data")
             return
         if self.load(bytes(buffers[0])):
-            self._set_status(f"{name}: {self._summary_message()}", "info")
+            self._show_summary(f"{name}: ", self._load_notes)
 
     def _save_good(self):
         return self._result, dict(getattr(self, "_good", {}))

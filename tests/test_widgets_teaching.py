@@ -175,9 +175,9 @@ def test_explorer_shows_the_bitmaps_warning_and_passes_it_on():
     from splinecraft.widgets import TraceExplorer
 
     framed = ~np.pad(np.ones((10, 10), bool), 10)  # True everywhere but a square: the paper looks like ink
-    with pytest.warns(UserWarning, match="True is ink here"):
+    with pytest.warns(UserWarning, match="background may be the traced shape: toggle invert"):
         explorer = TraceExplorer(framed)
-    assert explorer.status_level == "warning" and "True is ink here" in explorer.status_message
+    assert explorer.status_level == "warning" and "toggle invert" in explorer.status_message
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert explorer.load(~framed)

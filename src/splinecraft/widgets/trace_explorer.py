@@ -15,6 +15,7 @@ from __future__ import annotations
 import inspect
 import io
 import numbers
+import re
 import warnings
 from pathlib import Path
 
@@ -66,6 +67,18 @@ MAX_PIXELS = 4_000_000
 TIME_BUDGET_S = 60.0
 #: Knot-insertion methods that take the distance constraint tau (thesis Algorithms 4.2, 4.3).
 TAU_METHODS = tuple(DEFAULT_TAU)
+
+
+_POLARITY = re.compile(r"the mask's True pixels cover (\d+)% of its border and touch every side")
+
+
+def _for_the_page(message: str) -> str:
+    """A tracing warning as the status line says it: the ink-polarity warning names the page's control."""
+    found = _POLARITY.match(message)
+    if found:
+        return (f"the ink covers {found.group(1)}% of the border and touches every side, so the background may be "
+                f"the traced shape: toggle invert if so.")
+    return message
 
 
 class TraceExplorerWarning(UserWarning):
@@ -348,7 +361,7 @@ class TraceExplorer(WidgetBase):
         notes = []
         for record in caught:
             if issubclass(record.category, UserWarning):
-                notes.append(short_reason(str(record.message)))
+                notes.append(short_reason(_for_the_page(str(record.message))))
             else:
                 warnings.warn_explicit(record.message, record.category, record.filename, record.lineno)
         return value, list(dict.fromkeys(notes))

@@ -23,7 +23,7 @@ Conventions
   default are in :mod:`splinecraft.capture._binarize`.
 * **Bool arrays** are masks already (``True`` = ink); only ``invert`` applies to them. When more than three
   quarters of the border pixels are ``True`` and ``True`` touches all four borders, the mask most likely has its
-  background as ``True`` (``skimage.data.horse()`` does): a ``UserWarning`` says so and how to flip it
+  background as ``True`` (``skimage.data.horse()`` does): an :class:`InkPolarityWarning` (a ``UserWarning``) says so and how to flip it
   (``invert=True`` or ``~mask``); the mask is still used as given.
 * **Specks.** ``min_speck_area=k`` removes ink components *and* holes (background components not touching
   the image border) with fewer than ``k`` pixels; ink components use the tracer's ``connectivity``, holes
@@ -146,15 +146,25 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
     return mask
 
 
+class InkPolarityWarning(UserWarning):
+    """A bool mask whose True pixels fill its border: the ink may be inverted. ``border_share`` is the share
+    (0..1) of border pixels that are True."""
+
+    def __init__(self, message, border_share):
+        super().__init__(message)
+        self.border_share = float(border_share)
+
+
 def _warn_if_inverted(mask):
     """Warn when a bool mask looks like True = background (module docstring, "Bool arrays")."""
     border = np.concatenate([mask[0], mask[-1], mask[1:-1, 0], mask[1:-1, -1]])
     touches = mask[0].any() and mask[-1].any() and mask[:, 0].any() and mask[:, -1].any()
     if touches and 4 * int(border.sum()) > 3 * border.size and not mask.all():
-        warnings.warn(
-            f"the mask's True pixels cover {100 * border.mean():.0f}% of its border and touch every side: "
+        share = border.mean()
+        warnings.warn(InkPolarityWarning(
+            f"the mask's True pixels cover {100 * share:.0f}% of its border and touch every side: "
             "True is ink here, so the background may be the traced shape; if True marks the background, "
-            "pass invert=True (or ~mask)", UserWarning, stacklevel=3)
+            "pass invert=True (or ~mask)", share), stacklevel=3)
 
 
 # ---------------------------------------------------------------------------------------------------

@@ -15,7 +15,6 @@ from __future__ import annotations
 import inspect
 import io
 import numbers
-import re
 import warnings
 from pathlib import Path
 
@@ -25,6 +24,7 @@ import traitlets as t
 from .._validation import check_number
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
 from ..capture.fitting.options import DEFAULT_TAU
+from ..capture.image import InkPolarityWarning
 from ..capture.trace_stages import TraceStages
 from . import _explorer_drawing as drawing
 from ._assets import load_css, load_esm
@@ -69,16 +69,12 @@ TIME_BUDGET_S = 60.0
 TAU_METHODS = tuple(DEFAULT_TAU)
 
 
-_POLARITY = re.compile(r"the mask's True pixels cover (\d+)% of its border and touch every side")
-
-
-def _for_the_page(message: str) -> str:
+def _for_the_page(warning: Warning) -> str:
     """A tracing warning as the status line says it: the ink-polarity warning names the page's control."""
-    found = _POLARITY.match(message)
-    if found:
-        return (f"the ink covers {found.group(1)}% of the border and touches every side, so the background may be "
-                f"the traced shape: toggle invert if so.")
-    return message
+    if isinstance(warning, InkPolarityWarning):
+        return (f"the ink covers {100 * warning.border_share:.0f}% of the border and touches every side, so the "
+                f"background may be the traced shape: toggle invert if so.")
+    return str(warning)
 
 
 class TraceExplorerWarning(UserWarning):
@@ -361,7 +357,7 @@ class TraceExplorer(WidgetBase):
         notes = []
         for record in caught:
             if issubclass(record.category, UserWarning):
-                notes.append(short_reason(_for_the_page(str(record.message))))
+                notes.append(short_reason(_for_the_page(record.message)))
             else:
                 warnings.warn_explicit(record.message, record.category, record.filename, record.lineno)
         return value, list(dict.fromkeys(notes))

@@ -313,6 +313,21 @@ def test_spec_nonnegativity_domain_for_constant_tension():
         basis_functions(t, 12, point_tension=-4.0)
 
 
+def test_huge_positive_tension_reports_an_overflow_not_a_vanishing_d():
+    """Two neighbouring tensions beyond about 2.7e154 overflow D_i (~ v**2 / 4): the message says so instead of
+    calling D_i vanishing and advising v > -2(...), which such a v already satisfies."""
+    points = np.array([[0, 0], [1, 2], [3, 1], [4, 4], [6, 0], [7, 3.0]])
+    curve = basis_spline(points, point_tension=1e150)  # still finite: the cusp limit F_j -> P_j (§4.5)
+    np.testing.assert_allclose(curve.auxiliary["F"], points[1:-1], atol=1e-12)
+    for tension in (1e155, 1e300):
+        with pytest.raises(ValueError, match="overflows float64") as caught:
+            basis_spline(points, point_tension=tension)
+        assert "vanishes" not in str(caught.value)
+    single = np.zeros(len(points))
+    single[2] = 1e300
+    assert np.isfinite(basis_spline(points, point_tension=single).bezier()).all()
+
+
 def test_closed_three_points_and_basis_functions_variants():
     points = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 2.0]])
     loop = basis_spline(points, closed=True, point_tension=[0.5, 0.0, 2.0], interval_weights=[1.0, 2.0, 0.5])

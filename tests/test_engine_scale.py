@@ -54,6 +54,20 @@ def test_sample_and_curvature_at_extreme_scales(name, build, scale):
 
 
 
+@pytest.mark.parametrize("radius, offset", [(1.0, 1e13), (1e-3, 1e7), (1e-3, 1e9), (1e5, -1e15)])
+def test_curvature_comb_is_translation_invariant(radius, offset):
+    """Moving a curve away from the origin keeps every comb tooth (the cusp test measures the curve's extent,
+    not its distance from the origin): same count, and the same teeth up to the coordinates' rounding."""
+    angle = np.linspace(0.0, 2.0 * np.pi, 8, endpoint=False)
+    circle = radius * np.c_[np.cos(angle), np.sin(angle)]
+    reference = sc.interpolate(circle, closed=True).curvature_comb(scale=radius * radius)
+    moved = sc.interpolate(circle + offset, closed=True).curvature_comb(scale=radius * radius)
+    assert len(moved[0]) == len(reference[0]) == 8 * 16
+    rounding = 1e4 * np.finfo(float).eps * abs(offset)
+    np.testing.assert_allclose(moved[0] - offset, reference[0], atol=rounding)
+    np.testing.assert_allclose(moved[1] - offset, reference[1], atol=rounding + 1e-6 * radius)
+
+
 # ---------------------------------------------------------------------------------------------- messages at the limits
 @pytest.mark.parametrize("scale", [1e-300, 1e-160, 1e150, 1e300])
 def test_interpolant_at_extreme_scales_keeps_its_meaning(scale):

@@ -144,6 +144,8 @@ def test_check_options():
 @pytest.mark.parametrize("value, error, text", [
     ("abc", TypeError, "points must be numeric"),
     ([[0, 0], [1]], TypeError, "points must be a numeric array"),
+    ([["0", "0"], ["1", "2"]], TypeError, "points must be numeric, got a list containing strings"),
+    ([(0, 0), (1, "2")], TypeError, "points must be numeric, got a list containing strings"),
     (np.array([[1j, 0]]), TypeError, "points must be real"),
     ([[0, 0], [np.nan, 1]], ValueError, r"points\[1, 0\] is nan"),
     ([[0, 0], [1, np.inf]], ValueError, r"points\[1, 1\] is inf"),

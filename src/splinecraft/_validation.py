@@ -229,6 +229,13 @@ def as_float_array(value, name: str, *, ndim: int | None = None, copy: bool = Fa
             raise TypeError(f"{name} must be real, got complex values")
         if value.dtype.kind != "O":
             raise TypeError(f"{name} must be a numeric array, got dtype {value.dtype}")
+    if not isinstance(value, np.ndarray) and isinstance(value, (list, tuple)):
+        try:  # numpy would parse numeric strings inside lists ([["0", "1"]]); refuse them like a str array
+            kind = np.asarray(value).dtype.kind
+        except (TypeError, ValueError, OverflowError):
+            kind = None  # ragged or odd: the conversion below says why
+        if kind in ("U", "S"):
+            raise TypeError(f"{name} must be numeric, got a list containing strings")
     try:
         array = np.array(value, dtype=float, copy=True) if copy else np.asarray(value, dtype=float)
     except (TypeError, ValueError, OverflowError) as exc:

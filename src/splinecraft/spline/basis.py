@@ -40,6 +40,8 @@ MAX_BASIS_FUNCTIONS = 10_000_000
 
 # |D_i| <= DEGENERATE_RTOL * (sum of the absolute values of its three terms) counts as vanishing.
 DEGENERATE_RTOL = 1e-12
+_OVERFLOW_MESSAGE = ("the basis form overflows float64 with these point_tension and interval_weights "
+                     "(a closed form of §4.2 leaves the float64 range); use values of moderate size")
 
 
 def _leg_steps(control_points, knots, closed, ends, n_control):
@@ -141,6 +143,8 @@ def _basis_coefficients(steps, weights, tension, closed, ends):
     t3 = a(first - 2, length) * (h_m2 + h_m1) * d_here
     D = t1 + t2 + t3
     size = np.abs(t1) + np.abs(t2) + np.abs(t3)
+    if not np.isfinite(size).all():  # an overflow, not a vanishing D (e.g. two neighbouring tensions > 1e154)
+        raise ValueError(_OVERFLOW_MESSAGE)
     degenerate = (np.abs(D) <= DEGENERATE_RTOL * size) | (size == 0)
     if not closed and ends == "clamped":
         degenerate[0] = degenerate[-1] = False  # D_1 = D_{n+1} = 0 by construction; limits below
@@ -352,8 +356,7 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         planar, knot_values, F, M = _assemble(scaled, values, steps, weights, tension, closed, ends)
     if not (np.isfinite(planar).all() and np.isfinite(M).all()):
-        raise ValueError("the basis form overflows float64 with these point_tension and interval_weights "
-                         "(a closed form of §4.2 leaves the float64 range); use values of moderate size")
+        raise ValueError(_OVERFLOW_MESSAGE)
     if exponent:
         planar, F = np.ldexp(planar, exponent), np.ldexp(F, exponent)
         M = np.ldexp(M, exponent - knot_scale)

@@ -71,8 +71,13 @@ def curvature_comb(spline, scale=1.0, samples_per_segment=16):
     size = np.max(np.abs(d1), axis=0)
     unit = d1 / np.where(size > 0, size, 1.0)
     length = np.sqrt(np.einsum("dk,dk->k", unit, unit))
-    scale_ref = float(np.max(np.abs(spline._planar))) or 1.0
-    keep = size * length > 1e-12 * scale_ref
+    # A sample is a cusp (no tangent, no tooth) where the speed is below what the control points resolve:
+    # 1e-12 of the curve's extent, or the rounding of coordinates far from the origin (64 ulp of the largest),
+    # whichever is larger. Measured against the extent, not the coordinates, so moving a curve keeps its comb.
+    planar = spline._planar.transpose(1, 0, 2).reshape(spline.dim, -1)
+    extent = float(np.max(np.ptp(planar, axis=1)))
+    resolution = max(1e-12 * extent, 64.0 * np.finfo(float).eps * float(np.max(np.abs(planar))))
+    keep = size * length > (resolution or np.finfo(float).tiny)
     points, d1, d2, unit, length = points[:, keep], d1[:, keep], d2[:, keep], unit[:, keep], length[keep]
     kappa = curvature_from(d1, d2)
     with np.errstate(over="ignore", invalid="ignore"):

@@ -33,9 +33,12 @@ _CORNER_SPAN = 5
 _MIN_POINTS = 64
 #: At most this many contour points (evenly spread over all qualifying ones) are measured.
 NOISE_SAMPLE = 20000
-#: Thin ink or paper (at most 2 px wide) in a connected piece of at least this many pixels is a hairline or a
-#: narrow gap, not a bump of noise (those are a few pixels): its contour points are not measured.
-THIN_AREA = 10
+#: Thin ink or paper (at most 2 px wide) in a connected piece of at least this many pixels is a hairline, a
+#: short spur or serif, or a narrow gap: its contour points are not measured. The noise of a scan is still
+#: measured, at its many bumps of 1-3 thin pixels and at its wider bumps: over 145 scan-like renders (blur
+#: 0.5-2 px, noise 0.2-0.45) no estimate changes between 10 and 3, while a clean 24-px glyph's serif of 4-9
+#: pixels read as 1-4 px of noise with 10 (docs/capture.md §12).
+THIN_AREA = 4
 
 _SQUARE = np.ones((3, 3), bool)
 
@@ -97,8 +100,8 @@ def boundary_noise(mask, contours, corner_lists) -> float:
     ``NOISE_SIGMA`` px (exact point-to-segment distances to its marching-squares segments,
     :mod:`._iso_kernels`), over the contours of at least 64 points, without the points within 5 steps of a
     corner and the points beside hairlines and narrow gaps (:func:`thin_feature_pixels`: at most 2 px wide, in
-    pieces of at least ``THIN_AREA`` = 10 pixels, where the blurred bitmap has no boundary of its own: a clean
-    ring 1.2 px wide measured 28 px without this rule), at most ``NOISE_SAMPLE`` = 20 000 of them, evenly
+    pieces of at least ``THIN_AREA`` = 4 pixels, where the blurred bitmap has no boundary of its own: a clean
+    ring 1.2 px wide measured 28 px without this rule, a 6-px spur on a clean render 4.5 px), at most ``NOISE_SAMPLE`` = 20 000 of them, evenly
     spread. About 0.27 px for clean renderings (0.23-0.36 over glyphs of three fonts at 48-1200 px, upright and
     rotated, one outlier of 0.62 at 48 px), 0.55-1.1 px for scan-like ones (blur 1-2 px); 0 when no contour
     qualifies."""

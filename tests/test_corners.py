@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import inspect
 import sys
 from pathlib import Path
 
@@ -505,6 +506,52 @@ def test_parameters_of_the_wrong_type_name_the_parameter(method, params, name):
     outline, _ = polygon_outline([(0, 0), (40, 0), (40, 40), (0, 40)])
     with pytest.raises(TypeError, match=name):
         corners(outline, method, **params)
+
+
+@pytest.mark.parametrize("method, params, error, name", [
+    ("srm05", {"ta": 0}, ValueError, "ta"), ("srm05", {"ta": 500}, ValueError, "ta"),
+    ("srm05", {"zct": -1}, ValueError, "zct"), ("srm05", {"dt": float("nan")}, ValueError, "dt"),
+    ("srm05", {"zct": 2.5}, TypeError, "zct"), ("srm05", {"ta": "152"}, TypeError, "ta"),
+    ("rj73", {"m": 0}, ValueError, "m"), ("rj73", {"m": 2.5}, TypeError, "m"),
+    ("rw75", {"max_angle": 181}, ValueError, "max_angle"), ("fd77", {"s": 1}, ValueError, "s"),
+    ("fd77", {"s": None}, TypeError, "s"), ("bt87", {"s_min": 5, "s_max": 3}, ValueError, "s_max"),
+    ("bt87", {"s_min": 9}, ValueError, "s_max"),            # against the default s_max = 7
+    ("bt87", {"arm_limit": 0}, ValueError, "arm_limit"), ("ipan99", {"d_min": 10}, ValueError, "d_max"),
+    ("ipan99", {"alpha_max": 200}, ValueError, "alpha_max"), ("tc89", {"max_angle": -1}, ValueError, "max_angle"),
+    ("tangent-jump", {"min_turn": -5}, ValueError, "min_turn"), ("tangent-jump", {"tolerance": 0}, ValueError,
+                                                                  "tolerance"),
+    ("tangent-jump", {"flank": (5, 2)}, ValueError, "flank"), ("tangent-jump", {"flank": 4}, TypeError, "flank"),
+    ("tangent-jump", {"max_arm": 2}, ValueError, "max_arm"), ("tangent-jump", {"wedge": 1}, TypeError, "wedge"),
+])
+def test_check_params_checks_the_values_by_the_detectors_rule(method, params, error, name):
+    """``check_params`` used to check only the names and types of the keys; the values were checked by the
+    detector, on the first outline. Now it runs the detector's own check, naming ``name[key]``, the value and the
+    range, and the detector called directly raises the same error under the plain name."""
+    with pytest.raises(error, match=rf"corner_params\['{name}'\].*\(the '{method}' corner detector\)"):
+        cm.check_params(method, params, "corner_params")
+    outline, _ = polygon_outline([(0, 0), (40, 0), (40, 40), (0, 40)])
+    with pytest.raises(error) as direct:
+        corners(outline, method, **params)
+    assert str(direct.value).startswith(name) and "corner_params" not in str(direct.value)
+
+
+def test_check_params_message_names_key_value_and_range():
+    with pytest.raises(ValueError, match=r"^corner_params\['min_turn'\] must be >= 0 and < 180, got -5\.0 "
+                                         r"\(the 'tangent-jump' corner detector\)$"):
+        cm.check_params("tangent-jump", {"min_turn": -5}, "corner_params")
+    with pytest.raises(ValueError, match=r"corner_params\['ta'\] must be > 0 and < 180, got 500"):
+        cm.check_params("srm05", {"ta": 500}, "corner_params")
+
+
+@pytest.mark.parametrize("method", sorted(CORNER_METHODS))
+def test_check_params_accepts_the_defaults_and_returns_the_params_as_given(method):
+    assert cm.check_params(method, None) == {}
+    detector = CORNER_METHODS[method]
+    defaults = {key: p.default for key, p in inspect.signature(detector).parameters.items()
+                if p.kind is p.KEYWORD_ONLY and key != "closed"}
+    assert cm.check_params(method, defaults, "corner_params") == defaults
+    # one rule in one place: every detector has its check, the one the detector itself runs
+    assert set(cm._PARAM_CHECKS) == set(CORNER_METHODS.values())
 
 
 # ------------------------------------------------------------------------------------------------ invariance

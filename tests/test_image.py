@@ -3,7 +3,10 @@
 References: PIL's own colour conversion (``convert("L")``), skimage's Otsu threshold, explicit numpy
 formulas, and the masks the test images were drawn from.
 """
+import gc
 import io
+import os
+import warnings
 
 import numpy as np
 import pytest
@@ -83,7 +86,8 @@ def test_multiframe_gif_uses_first_frame(tmp_path):
     frames = [Image.fromarray(gray_image(m)).convert("P") for m in (first, second)]
     path = tmp_path / "anim.gif"
     frames[0].save(path, save_all=True, append_images=frames[1:])
-    assert Image.open(path).n_frames == 2
+    with Image.open(path) as img:
+        assert img.n_frames == 2
     np.testing.assert_array_equal(load_bitmap(path), first)
 
 
@@ -518,3 +522,102 @@ def test_non_image_file_is_a_clear_error(tmp_path):
     path.write_text("plain text, not a PNG")
     with pytest.raises(ValueError, match="notes.png.*not an image"):
         load_bitmap(path)
+
+
+# ------------------------------------------------------------------------------ array subclasses, handles, bytes
+@pytest.mark.parametrize("image, invert, fill", [
+    (np.ma.masked_array(gray_image(shape_mask()), mask=~shape_mask()), False, "255"),
+    (np.ma.masked_array(gray_image(shape_mask())), False, "255"),          # nothing masked: still refused
+    (np.ma.masked_array(gray_image(shape_mask(), 0.0, 1.0, np.float64)), False, "1.0"),
+    (np.ma.masked_array(gray_image(shape_mask(), 0, 65535, np.uint16)), False, "65535"),
+    (np.ma.masked_array(gray_image(shape_mask())), True, "0"),
+    (np.ma.masked_array(shape_mask()), False, "False"),
+    (np.ma.masked_array(shape_mask()), True, "True"),
+])
+def test_a_masked_array_is_refused_with_how_to_fill_it(image, invert, fill):
+    """A masked array used to fail deep in the noise estimate ("cannot convert float NaN to integer") after numpy
+    UserWarnings; now it is a TypeError saying how to fill the masked pixels as paper, and nothing else leaks."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(TypeError, match=rf"masked array.*image\.filled\({fill}\)"):
+            load_bitmap(image, invert=invert)
+    value = (fill == "True") if fill in ("True", "False") else float(fill)
+    filled = image.filled(value)        # as the message says: then it loads
+    np.testing.assert_array_equal(load_bitmap(filled, invert=invert), load_bitmap(np.asarray(filled), invert=invert))
+
+
+def test_masked_array_dark_is_ink_wording():
+    image = np.ma.masked_array(gray_image(shape_mask()), mask=~shape_mask())
+    with pytest.raises(TypeError, match=r"image\.filled\(255\) to make them white paper \(dark is ink\)"):
+        _to_gray(image)
+
+
+def test_matrix_and_other_subclasses_are_read_as_plain_arrays(tmp_path):
+    """np.matrix used to raise "only 0-dimensional arrays can be converted to Python scalars"."""
+    mask = shape_mask()
+    gray = gray_image(mask)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PendingDeprecationWarning)  # numpy's own, on making a matrix
+        matrix = np.asmatrix(gray)
+        bool_matrix = np.asmatrix(mask)
+    np.testing.assert_array_equal(load_bitmap(matrix), mask)
+    np.testing.assert_array_equal(load_bitmap(bool_matrix), mask)
+    mapped = np.memmap(tmp_path / "gray.u8", dtype=np.uint8, mode="w+", shape=gray.shape)
+    mapped[:] = gray
+    np.testing.assert_array_equal(load_bitmap(mapped), mask)
+    assert type(load_bitmap(mapped)) is np.ndarray
+    del mapped
+
+
+def _unclosed(path, load):
+    """The ResourceWarnings about ``path`` raised while ``load()`` runs and its garbage is collected."""
+    gc.collect()  # earlier garbage is not ours
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ResourceWarning)
+        try:
+            load()
+        except ValueError:
+            pass
+        gc.collect()
+    return [str(w.message) for w in caught if issubclass(w.category, ResourceWarning) and str(path) in str(w.message)]
+
+
+@pytest.mark.parametrize("name, kwargs", [
+    ("shape.gif", {}), ("shape.ico", {}), ("anim.gif", {}), ("pages.tif", {}), ("truncated.png", {}),
+    ("truncated.gif", {}), ("shape.png", {"max_pixels": 10}), ("anim.gif", {"max_pixels": 10}),
+])
+def test_image_files_are_closed(tmp_path, name, kwargs):
+    """GIF, ICO and multi-page files (kept open by PIL for seeking), truncated files and files over max_pixels
+    used to leave their handle open (ResourceWarning: unclosed file)."""
+    mask = shape_mask()
+    frames = [Image.fromarray(gray_image(m)) for m in (mask, ~mask)]
+    stem, suffix = name.split(".")
+    path = tmp_path / name
+    if stem == "truncated":
+        full = tmp_path / f"full.{suffix}"
+        frames[0].save(full, save_all=True, append_images=frames[1:])
+        path.write_bytes(full.read_bytes()[: full.stat().st_size // 2])
+    elif stem in ("anim", "pages"):
+        frames[0].save(path, save_all=True, append_images=frames[1:])
+    else:
+        frames[0].save(path)
+    assert _unclosed(path, lambda: load_bitmap(path, **kwargs)) == []
+    with path.open("rb") as handle:  # a file object belongs to the caller: it stays open
+        try:
+            load_bitmap(handle, **kwargs)
+        except ValueError:
+            pass
+        assert not handle.closed
+
+
+def test_a_path_given_as_bytes_says_to_pass_str(tmp_path):
+    """Bytes are the encoded file, never a file name (they may come from an upload); a path given as bytes used
+    to get just "image bytes (27 bytes): not an image file"."""
+    path = tmp_path / "shape.png"
+    Image.fromarray(gray_image(shape_mask())).save(path)
+    for wrapped in (os.fsencode(path), bytearray(os.fsencode(path)), memoryview(os.fsencode(path)), b"shape.png"):
+        with pytest.raises(ValueError, match=r"not an image file.*pass it as str or pathlib\.Path"):
+            load_bitmap(wrapped)
+    with pytest.raises(ValueError, match="not an image file") as caught:  # no hint where it cannot be a name
+        load_bitmap(b"this is not an image at all")
+    assert "pathlib" not in str(caught.value)

@@ -8,6 +8,7 @@ seconds.
 """
 from __future__ import annotations
 
+import importlib
 import io
 import math
 import warnings
@@ -228,6 +229,62 @@ def test_trace_names_the_bad_argument(kwargs, name):
     with pytest.raises((TypeError, ValueError)) as caught:
         sc.trace(small_mask(), **kwargs)
     names_the_argument(caught.value, name)
+
+
+def square_mask(side=9):
+    """One square of ``4 side`` contour points: 36 for the default, a short contour (fewer than 64 points)."""
+    mask = np.zeros((side + 10, side + 10), bool)
+    mask[5:5 + side, 5:5 + side] = True
+    return mask
+
+
+@pytest.mark.parametrize("side", [9, 60])
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(corner_params={"min_turn": -5}), r"corner_params\['min_turn'\] must be >= 0 and < 180, got -5"),
+    (dict(corner_method="srm05", corner_params={"ta": 500}), r"corner_params\['ta'\] must be > 0 and < 180, got 500"),
+    (dict(corner_method="bt87", corner_params={"s_min": 9}), r"corner_params\['s_max'\] must be >= "),
+])
+def test_trace_refuses_a_bad_corner_params_value_up_front(side, kwargs, message):
+    """A bad value used to be checked by the detector: on a short contour (36 points) it became the note "too few
+    for corner detection" and the square got no corners; on a large one it came after loading and tracing, as
+    "boundary 0: corner detection failed"."""
+    with pytest.raises(ValueError, match=message) as caught:
+        sc.trace(square_mask(side), **kwargs)
+    assert "boundary" not in str(caught.value)
+
+
+def test_trace_checks_corner_params_before_the_image():
+    with pytest.raises(ValueError, match=r"corner_params\['min_turn'\]"):
+        sc.trace("/nonexistent/shape.png", corner_params={"min_turn": -5})
+
+
+def test_corner_detection_of_a_short_contour_does_not_hide_a_parameter_error():
+    trace_module = importlib.import_module("splinecraft.capture.trace")  # the module, not the function
+    points = np.asarray(trace_boundaries(square_mask())[0].outline, float)
+    assert len(points) < trace_module.SHORT_CONTOUR
+    notes = []
+    with pytest.raises(ValueError, match=r"corner_params\['min_turn'\]"):
+        trace_module._detect(points, 0, "tangent-jump", {"min_turn": -5}, notes)
+    assert notes == []
+    assert len(trace_module._detect(points, 0, "tangent-jump", {}, notes)) == 4 and notes == []
+
+
+def test_trace_of_a_masked_array_or_a_matrix():
+    gray = np.where(small_mask(), 0, 255).astype(np.uint8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(TypeError, match=r"masked array.*filled\(255\)"):
+            sc.trace(np.ma.masked_array(gray, mask=gray > 0))
+        matrix = np.asarray(gray).view(np.matrix)
+        assert sc.trace(matrix).stats["boundaries"] == sc.trace(gray).stats["boundaries"] == 2
+
+
+def test_trace_of_a_path_given_as_bytes(tmp_path):
+    path = tmp_path / "shape.png"
+    path.write_bytes(encoded(small_mask()))
+    with pytest.raises(ValueError, match=r"not an image file.*pass it as str or pathlib\.Path"):
+        sc.trace(bytes(path))
+    assert sc.trace(path).stats["boundaries"] == 2
 
 
 def test_trace_of_png_bytes_and_of_garbage_bytes():

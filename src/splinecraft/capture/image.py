@@ -35,7 +35,18 @@ Conventions
   ``ValueError``, so a small file that decodes to a huge image (a decompression bomb) costs nothing.
   Numpy arrays are already in memory and are not capped.
 * **Bytes** (``bytes``, ``bytearray``, ``memoryview``) are an encoded image file (PNG, JPEG, ...), as read
-  from disk or received from a page.
+  from disk or received from a page. They are never read as a file name, even when they spell one (bytes
+  may come from an upload, and reading them as a path would let the data pick a file on this machine): a
+  path given as bytes is a ``ValueError`` ("not an image file"); when the bytes look like a file name (text
+  with a directory separator or an extension; the file system is not consulted) the message says to pass
+  it as ``str`` or ``pathlib.Path`` (``os.fsdecode(path)``).
+* **Array subclasses.** ``np.matrix``, ``np.memmap`` and other ``ndarray`` subclasses are read as the plain
+  array they hold (``np.asarray``). A numpy **masked array** is a ``TypeError``: a masked pixel has no gray level,
+  and which one it stands for is the caller's choice. Fill the masked pixels first, usually as
+  paper: ``image.filled(255)`` for 8-bit data, ``image.filled(1.0)`` for float (``0`` with ``invert=True``),
+  ``mask.filled(False)`` for a bool mask.
+* **Files** are closed when loading returns or fails (files PIL opened from a path; a file object passed in
+  stays open, it belongs to the caller).
 * **Multi-frame files** (animated GIF, multi-page TIFF): the first frame is used.
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
@@ -81,7 +92,10 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
         encoded file itself as ``bytes``; an array of shape ``(H, W)`` (bool mask, or gray), ``(H, W, 1)``,
         ``(H, W, 2)`` (gray + alpha), ``(H, W, 3)`` (RGB) or ``(H, W, 4)`` (RGBA) with dtype bool (2-D only),
         uint8, uint16, another integer type with values in ``[0, 255]``, or float in ``[0, 1]``; or a PIL
-        image of any mode.
+        image of any mode. Bytes are always the encoded file, never a file name (pass a path as ``str`` or
+        ``pathlib.Path``). An ``ndarray`` subclass (``np.matrix``, ``np.memmap``) is read as ``np.asarray``
+        of it; a masked array is refused (fill it first, e.g. ``image.filled(255)``: masked pixels become
+        paper).
     threshold : {"background", "otsu", "sauvola", "local"} or float in [0, 1], optional
         How ink (``gray <= level``) is told from paper: the midpoint between the local paper brightness and
         the ink, Otsu's global level, a per-pixel Sauvola or local level, or a fixed fraction of white. ``None``: ``DEFAULT_THRESHOLD``. Images with less than
@@ -111,7 +125,7 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
         image over ``max_pixels``; an empty array, wrong number of dimensions or channels, NaN/inf or
         out-of-range values; a bad threshold.
     TypeError
-        Unsupported input type or dtype, or a non-bool ``invert``.
+        Unsupported input type or dtype, a numpy masked array, or a non-bool ``invert``.
     """
     threshold = _binarize.check_threshold(threshold)
     if not isinstance(invert, (bool, np.bool_)):
@@ -121,6 +135,8 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
     connectivity = check_connectivity(connectivity)
     max_pixels = _check_count(max_pixels, "max_pixels")
 
+    if isinstance(image, np.ndarray):
+        image = _plain_array(image, invert)
     if isinstance(image, np.ndarray) and image.dtype == bool:
         if image.ndim != 2:
             raise ValueError(f"a bool mask must be 2-D (H, W), got shape {image.shape}")
@@ -178,6 +194,26 @@ def _check_count(value, name):
     return int(value)
 
 
+def _plain_array(image, invert):
+    """``image`` as a plain ndarray (module docstring, "Array subclasses"); a masked array is a TypeError
+    saying how to fill it."""
+    if isinstance(image, np.ma.MaskedArray):
+        if image.dtype.kind == "b":
+            fill, means = ("True", "background (False is ink with invert=True)") if invert else \
+                ("False", "background (True is ink)")
+        else:
+            white = "1.0" if image.dtype.kind == "f" else "65535" if image.dtype == np.uint16 else "255"
+            fill, means = ("0", "black paper (light is ink with invert=True)") if invert else \
+                (white, "white paper (dark is ink)")
+        raise TypeError(
+            "image is a numpy masked array, which is not supported (a masked pixel has no gray level to "
+            f"threshold): fill the masked pixels first, e.g. image.filled({fill}) to make them {means}, and "
+            "pass the filled array")
+    if type(image) is not np.ndarray:  # np.matrix, np.memmap, ...: the plain array they hold
+        image = np.asarray(image)
+    return image
+
+
 def _check_not_empty(shape):
     if len(shape) < 2 or shape[0] == 0 or shape[1] == 0:
         raise ValueError(f"image is empty (shape {shape}); it needs at least one pixel")
@@ -198,14 +234,15 @@ def _to_gray(image, max_pixels=MAX_PIXELS):
         if not data:
             raise ValueError("image bytes are empty; pass the bytes of an encoded image file (PNG, JPEG, ...)")
         name = f"image bytes ({len(data)} bytes)"
-        return _pil_to_gray(_open_image_file(io.BytesIO(data), name=name, max_pixels=max_pixels), name=name)
+        img = _open_image_file(io.BytesIO(data), name=name, max_pixels=max_pixels, hint=_path_hint(data))
+        return _pil_to_gray(img, name=name)
     if isinstance(image, (str, os.PathLike)):
         return _pil_to_gray(_open_image_file(image, max_pixels=max_pixels), name=os.fsdecode(image))
     if isinstance(image, (io.IOBase,)) or (hasattr(image, "read") and hasattr(image, "seek")):
         name = getattr(image, "name", "image file object")
         return _pil_to_gray(_open_image_file(image, name=str(name), max_pixels=max_pixels), name=str(name))
     if isinstance(image, np.ndarray):
-        return _array_to_gray(image)
+        return _array_to_gray(_plain_array(image, False))
     raise TypeError(
         "image must be a path, a binary file object, a numpy array or a PIL image, "
         f"got {type(image).__name__}"
@@ -221,9 +258,35 @@ def _check_size(img, name, max_pixels):
             "(checked before decoding; pass a larger max_pixels to load it anyway)")
 
 
-def _open_image_file(source, name=None, max_pixels=MAX_PIXELS):
+#: Longest bytes that can be a file name worth a hint (PATH_MAX of Linux).
+_PATH_BYTES = 4096
+
+
+def _path_hint(data):
+    """For bytes that are not an image: a hint when they look like a file name, as ``os.fsencode(path)`` gives
+    (short printable text with a directory separator or a file extension). Only the text is looked at, never
+    the file system: bytes may come from anywhere (module docstring, "Bytes")."""
+    if len(data) > _PATH_BYTES:
+        return ""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        return ""
+    separators = {"/", os.sep, os.altsep} - {None}
+    if not text.isprintable() or not (any(sep in text for sep in separators) or len(os.path.splitext(text)[1]) > 1):
+        return ""
+    return (f"; if {_short(text)!r} is a file name, pass it as str or pathlib.Path (e.g. os.fsdecode(path)): "
+            "bytes are read as the encoded image file itself, never as a path")
+
+
+def _short(text, limit=60):
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
     """Open an image file with PIL, check its size from the header, then decode it; PIL's errors become
-    ValueError naming the file."""
+    ValueError naming the file (``hint`` is added to the "not an image file" one). A file PIL opened itself
+    (from a path) is closed before this returns or raises; the returned image holds its pixels."""
     from PIL import Image, UnidentifiedImageError
 
     if name is None:
@@ -239,24 +302,25 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS):
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
             img = Image.open(source)
     except UnidentifiedImageError:
-        raise ValueError(f"{name}: not an image file (PIL cannot identify its format)") from None
+        raise ValueError(f"{name}: not an image file (PIL cannot identify its format){hint}") from None
     except Image.DecompressionBombError as exc:
         raise ValueError(f"{name}: image too large for PIL's decompression-bomb limit: {exc}") from None
     except MemoryError:
         raise
     except Exception as exc:  # OSError, SyntaxError, ... from a format plugin
         raise ValueError(f"{name}: cannot read image file: {exc}") from None
-    _check_size(img, name, max_pixels)
-    try:
-        if getattr(img, "n_frames", 1) > 1:
-            img.seek(0)
-        with warnings.catch_warnings():    # our own cap has been applied; PIL's softer warning is moot
-            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-            img.load()
-    except MemoryError:
-        raise
-    except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
-        raise ValueError(f"{name}: truncated or corrupt image file ({type(exc).__name__}: {exc})") from None
+    with img:  # closes the file PIL opened (multi-frame formats keep it open for seeking), data or error
+        _check_size(img, name, max_pixels)
+        try:
+            if getattr(img, "n_frames", 1) > 1:
+                img.seek(0)
+            with warnings.catch_warnings():    # our own cap has been applied; PIL's softer warning is moot
+                warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+                img.load()
+        except MemoryError:
+            raise
+        except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
+            raise ValueError(f"{name}: truncated or corrupt image file ({type(exc).__name__}: {exc})") from None
     return img
 
 

@@ -489,11 +489,13 @@ def _without_pinholes(mask, boundaries, connectivity):
 
 
 def _detect(points, k, corner_method, corner_params, notes):
-    """Corner indices of one contour; contours too short for the detector get none (closed periodic fit)."""
+    """Corner indices of one contour; contours too short for the detector get none (closed periodic fit).
+    A bad ``corner_params`` value is never taken for a short contour: it raises, naming the key."""
     kwargs = dict(corner_params, method=corner_method)
     try:
         found = detect_corners(points, closed=True, **kwargs)
     except ValueError as exc:
+        check_corner_params(corner_method, corner_params, "corner_params")  # checked up front too; raises on a bad one
         if len(points) >= SHORT_CONTOUR:
             raise ValueError(f"boundary {k}: corner detection failed: {exc}") from exc
         notes.append(f"boundary {k}: {len(points)} points are too few for corner detection ({exc}); "

@@ -25,7 +25,9 @@ Conventions shared by all detectors
 * Input validation: ``points`` must be a real ``(n, 2)`` array (``TypeError`` / ``ValueError``
   otherwise); a NaN or infinite coordinate, or one beyond ``MAX_COORDINATE`` = 1e15 px (pixel units:
   squared window lengths would overflow), raises ``ValueError`` naming its index. A parameter outside
-  its domain raises ``ValueError`` naming the parameter. An outline with too few points for the
+  its domain raises ``ValueError`` naming the parameter; :func:`check_params` runs the same check on a
+  parameter dict before any outline is seen (so :func:`~splinecraft.capture.trace.trace` refuses a bad
+  ``corner_params`` value before it loads the image). An outline with too few points for the
   detector's window (for example the 4-point outline of a single-pixel speck) has **no corners**: the
   detectors return an empty array rather than raise, so that tracing can run every detector on every
   boundary of an image.
@@ -41,12 +43,14 @@ from __future__ import annotations
 import inspect
 
 from ... import _validation
-from ._classic import bt87, fd77, ipan99, rj73, rw75, tc89
-from ._jump import tangent_jump
-from ._thesis import srm05
+from ._classic import (bt87, check_bt87_params, check_fd77_params, check_ipan99_params, check_k_cosine_params,
+                       check_tc89_params, fd77, ipan99, rj73, rw75, tc89)
+from ._jump import check_tangent_jump_params, tangent_jump
+from ._thesis import check_srm05_params, srm05
 
 __all__ = [
     "corners",
+    "check_params",
     "CORNER_METHODS",
     "CAPTURE_DEFAULT",
     "srm05",
@@ -78,6 +82,20 @@ CORNER_METHODS = {
     "tangent-jump": tangent_jump,
 }
 
+#: Detector function -> the check of its parameters (keyword arguments: every parameter but ``closed``, and
+#: ``label``), the one the detector itself runs; it returns the checked values and raises ``TypeError`` /
+#: ``ValueError`` naming the parameter, the value and the accepted range.
+_PARAM_CHECKS = {
+    srm05: check_srm05_params,
+    rj73: check_k_cosine_params,
+    rw75: check_k_cosine_params,
+    fd77: check_fd77_params,
+    bt87: check_bt87_params,
+    ipan99: check_ipan99_params,
+    tc89: check_tc89_params,
+    tangent_jump: check_tangent_jump_params,
+}
+
 
 def corners(points, method="srm05", *, closed=True, **params):
     """Corner indices of an outline by the detector ``method`` (a key of :data:`CORNER_METHODS`).
@@ -95,7 +113,7 @@ def corners(points, method="srm05", *, closed=True, **params):
         Closed outline (default) or open polyline (its end points are never reported).
     **params
         The detector's own parameters (see its docstring); an unknown name raises ``TypeError`` listing
-        the accepted ones (:func:`check_params`).
+        the accepted ones, a value outside its domain ``ValueError`` naming it (the detector's check).
 
     Returns
     -------
@@ -107,29 +125,26 @@ def corners(points, method="srm05", *, closed=True, **params):
     if method not in CORNER_METHODS:
         raise ValueError(f"unknown corner method {method!r}; choose one of {sorted(CORNER_METHODS)}")
     detector = CORNER_METHODS[method]
-    check_params(method, params)
+    _check_keys(method, params, "params")  # the values: the detector checks them itself, by the same rule
     return detector(points, closed=closed, **params)
 
 
-#: detector function -> its sorted keyword-only parameters but ``closed`` (``inspect.signature`` once per detector,
-#: not once per outline)
-_KEYWORDS = {}
+#: detector function -> its keyword-only parameters but ``closed`` and their defaults (``inspect.signature``
+#: once per detector, not once per outline)
+_DEFAULTS = {}
 
 
-def _keywords(detector):
-    accepted = _KEYWORDS.get(detector)
-    if accepted is None:
-        accepted = _KEYWORDS[detector] = sorted(
-            key for key, parameter in inspect.signature(detector).parameters.items()
-            if parameter.kind is inspect.Parameter.KEYWORD_ONLY and key != "closed")
-    return list(accepted)
+def _defaults(detector):
+    defaults = _DEFAULTS.get(detector)
+    if defaults is None:
+        defaults = _DEFAULTS[detector] = {
+            key: parameter.default for key, parameter in inspect.signature(detector).parameters.items()
+            if parameter.kind is inspect.Parameter.KEYWORD_ONLY and key != "closed"}
+    return defaults
 
 
-def check_params(method, params, name="params"):
-    """The keyword parameters of detector ``method`` (a known name): a dict with string keys naming its own
-    parameters; ``closed`` and ``method`` are set by the caller. ``TypeError`` names the bad key and lists
-    the accepted ones."""
-    accepted = _keywords(CORNER_METHODS[method])
+def _check_keys(method, params, name):
+    accepted = sorted(_defaults(CORNER_METHODS[method]))
     params = _validation.check_options(params, name, reserved=("closed", "method"),
                                        reserved_reason="the outline's closedness and the detector are chosen "
                                        "by the caller")
@@ -137,4 +152,23 @@ def check_params(method, params, name="params"):
         if key not in accepted:
             raise TypeError(f"{name} has an unexpected keyword {key!r} for the {method!r} detector; its "
                             f"parameters are {accepted}")
+    return params
+
+
+def check_params(method, params, name="params"):
+    """The keyword parameters of detector ``method`` (a known name), checked before any outline is seen: a dict
+    with string keys naming its own parameters (``closed`` and ``method`` are set by the caller), each value in
+    its domain. ``TypeError`` names a bad key and lists the accepted ones; a value of the wrong type or outside
+    its domain raises ``TypeError`` / ``ValueError`` naming it as ``name[key]``, the value and the accepted
+    range, e.g. ``corner_params['min_turn'] must be >= 0 and < 180, got -5.0``. The values are checked by the
+    detector's own check (``_PARAM_CHECKS``; the detector runs the same one), together with the defaults of
+    the parameters not given (``s_max >= s_min`` of ``"bt87"`` involves both). Returns ``params`` as given (a
+    new dict)."""
+    params = _check_keys(method, params, name)
+    detector = CORNER_METHODS[method]
+    try:
+        _PARAM_CHECKS[detector](**{**_defaults(detector), **params}, label=lambda key: f"{name}[{key!r}]")
+    except (TypeError, ValueError) as exc:
+        kind = ValueError if isinstance(exc, ValueError) else TypeError
+        raise kind(f"{exc} (the {method!r} corner detector)") from None
     return params

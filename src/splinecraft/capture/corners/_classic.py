@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import (_EMPTY, _check_int, _check_real, _circular_max_filter, _k_cosines, _offset_points, _prepare,
-                      _result, _thin_by_strength, _variable_window_maxima)
+from ._common import (_EMPTY, _check_int, _check_real, _circular_max_filter, _k_cosines, _offset_points, _plain,
+                      _prepare, _result, _thin_by_strength, _variable_window_maxima)
 
 
 
@@ -62,24 +62,30 @@ MAX_SCALE = 200
 MAX_DISTANCE = 200.0
 
 
+def check_k_cosine_params(*, m, max_angle, label=_plain):
+    """RJ73's and RW75's parameters checked against their documented domains (the one rule, used by the
+    detectors and by :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a parameter in
+    messages."""
+    return {"m": None if m is None else _check_int(m, label("m"), low=1, high=MAX_SCALE),
+            "max_angle": _check_real(max_angle, label("max_angle"), low=0.0, high=180.0, low_open=True)}
+
+
 def _check_m(m, n):
-    """RJ73/RW75's largest k: ``n / 10`` for None (the paper's choice), at most ``(n - 1) // 2`` and
-    ``MAX_SCALE``."""
-    m = max(1, int(round(n / 10))) if m is None else _check_int(m, "m", low=1, high=MAX_SCALE)
+    """RJ73/RW75's largest k (``m`` checked): ``n / 10`` for None (the paper's choice), at most ``(n - 1) // 2``
+    and ``MAX_SCALE``."""
+    m = max(1, int(round(n / 10))) if m is None else m
     return min(m, (n - 1) // 2, MAX_SCALE)
 
 
 def _k_cosine_input(points, closed, m, max_angle):
     """Arguments of RJ73 / RW75 checked and their k-cosine table: ``(P, keep, m, cosines, max_angle)``, or
     None for fewer than 5 distinct points (``m`` and ``max_angle`` are validated first either way)."""
-    max_angle = _check_real(max_angle, "max_angle", low=0.0, high=180.0, low_open=True)
+    settings = check_k_cosine_params(m=m, max_angle=max_angle)
     P, keep = _prepare(points, closed)
-    if m is not None:
-        _check_int(m, "m", low=1, high=MAX_SCALE)
     if len(P) < 5:
         return None
-    m = _check_m(m, len(P))
-    return P, keep, m, _k_cosines(P, m, closed), max_angle
+    m = _check_m(settings["m"], len(P))
+    return P, keep, m, _k_cosines(P, m, closed), settings["max_angle"]
 
 
 def rj73(points, *, closed=True, m=5, max_angle=120.0):
@@ -241,13 +247,19 @@ def fd77(points, *, closed=True, s=5, threshold=1000.0):
     numpy.ndarray of intp
         Sorted indices; empty for fewer than ``2 s + 3`` distinct points.
     """
-    s = _check_int(s, "s", low=2, high=MAX_SCALE)
-    threshold = _check_real(threshold, "threshold", low=0.0)
+    s, threshold = check_fd77_params(s=s, threshold=threshold).values()
     P, keep = _prepare(points, closed)
     if len(P) < 2 * s + 3:
         return _EMPTY.copy()
     K = _fd_cornerity(P, s, closed)
     return _result(_peaks(K, threshold, s, closed, P, 1.5), keep)
+
+
+def check_fd77_params(*, s, threshold, label=_plain):
+    """FD77's parameters checked against their documented domains (used by :func:`fd77` and by
+    :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a parameter in messages."""
+    return {"s": _check_int(s, label("s"), low=2, high=MAX_SCALE),
+            "threshold": _check_real(threshold, label("threshold"), low=0.0)}
 
 
 def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=300.0):
@@ -276,17 +288,25 @@ def bt87(points, *, closed=True, s_min=3, s_max=7, arm_limit=15, threshold=300.0
     numpy.ndarray of intp
         Sorted indices; empty for fewer than ``2 s_max + 3`` distinct points.
     """
-    s_min = _check_int(s_min, "s_min", low=2, high=MAX_SCALE)
-    s_max = _check_int(s_max, "s_max", low=2, high=MAX_SCALE)
-    if s_max < s_min:
-        raise ValueError(f"s_max must be >= s_min, got s_min={s_min}, s_max={s_max}")
-    arm_limit = _check_int(arm_limit, "arm_limit", low=1, high=100 * MAX_SCALE)
-    threshold = _check_real(threshold, "threshold", low=0.0)
+    s_min, s_max, arm_limit, threshold = check_bt87_params(s_min=s_min, s_max=s_max, arm_limit=arm_limit,
+                                                           threshold=threshold).values()
     P, keep = _prepare(points, closed)
     if len(P) < 2 * s_max + 3:
         return _EMPTY.copy()
     K = np.mean([_fd_cornerity(P, s, closed, arm_limit) for s in range(s_min, s_max + 1)], axis=0)
     return _result(_peaks(K, threshold, s_max, closed, P, 1.5), keep)
+
+
+def check_bt87_params(*, s_min, s_max, arm_limit, threshold, label=_plain):
+    """BT87's parameters checked against their documented domains (used by :func:`bt87` and by
+    :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a parameter in messages."""
+    s_min = _check_int(s_min, label("s_min"), low=2, high=MAX_SCALE)
+    s_max = _check_int(s_max, label("s_max"), low=2, high=MAX_SCALE)
+    if s_max < s_min:
+        raise ValueError(f"{label('s_max')} must be >= {label('s_min')}, got s_min={s_min}, s_max={s_max}")
+    return {"s_min": s_min, "s_max": s_max,
+            "arm_limit": _check_int(arm_limit, label("arm_limit"), low=1, high=100 * MAX_SCALE),
+            "threshold": _check_real(threshold, label("threshold"), low=0.0)}
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -351,11 +371,7 @@ def ipan99(points, *, closed=True, d_min=7.0, d_max=9.0, alpha_max=150.0):
     numpy.ndarray of intp
         Sorted indices; empty for fewer than 5 distinct points.
     """
-    d_min = _check_real(d_min, "d_min", low=0.0, high=MAX_DISTANCE)
-    d_max = _check_real(d_max, "d_max", low=0.0, low_open=True, high=MAX_DISTANCE)
-    if d_max < d_min:
-        raise ValueError(f"d_max must be >= d_min, got d_min={d_min:g}, d_max={d_max:g}")
-    alpha_max = _check_real(alpha_max, "alpha_max", low=0.0, high=180.0, low_open=True)
+    d_min, d_max, alpha_max = check_ipan99_params(d_min=d_min, d_max=d_max, alpha_max=alpha_max).values()
     P, keep = _prepare(points, closed)
     n = len(P)
     if n < 5:
@@ -370,6 +386,17 @@ def ipan99(points, *, closed=True, d_min=7.0, d_max=9.0, alpha_max=150.0):
     sharpness = np.where(candidate, 180.0 - alpha, -np.inf)
     chosen = np.flatnonzero(candidate)
     return _result(_thin_by_strength(chosen, sharpness, P, d_max), keep)
+
+
+def check_ipan99_params(*, d_min, d_max, alpha_max, label=_plain):
+    """IPAN99's parameters checked against their documented domains (used by :func:`ipan99` and by
+    :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a parameter in messages."""
+    d_min = _check_real(d_min, label("d_min"), low=0.0, high=MAX_DISTANCE)
+    d_max = _check_real(d_max, label("d_max"), low=0.0, low_open=True, high=MAX_DISTANCE)
+    if d_max < d_min:
+        raise ValueError(f"{label('d_max')} must be >= {label('d_min')}, got d_min={d_min:g}, d_max={d_max:g}")
+    return {"d_min": d_min, "d_max": d_max,
+            "alpha_max": _check_real(alpha_max, label("alpha_max"), low=0.0, high=180.0, low_open=True)}
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -440,7 +467,7 @@ def tc89(points, *, closed=True, max_angle=120.0):
     numpy.ndarray of intp
         Sorted indices; empty for fewer than 5 distinct points.
     """
-    max_angle = _check_real(max_angle, "max_angle", low=0.0, high=180.0, low_open=True)
+    max_angle = check_tc89_params(max_angle=max_angle)["max_angle"]
     P, keep = _prepare(points, closed)
     n = len(P)
     if n < 5:
@@ -464,3 +491,9 @@ def tc89(points, *, closed=True, max_angle=120.0):
         alive[[0, -1]] = False
     chosen = np.flatnonzero(alive)
     return _result(_thin_by_strength(chosen, np.nan_to_num(significance, nan=-2), P, 1.5), keep)
+
+
+def check_tc89_params(*, max_angle, label=_plain):
+    """TC89's parameter checked against its documented domain (used by :func:`tc89` and by
+    :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names it in messages."""
+    return {"max_angle": _check_real(max_angle, label("max_angle"), low=0.0, high=180.0, low_open=True)}

@@ -16,6 +16,12 @@ MAX_COORDINATE = 1e15
 # ----------------------------------------------------------------------------------------------------------
 # validation
 # ----------------------------------------------------------------------------------------------------------
+def _plain(key):
+    """The name of parameter ``key`` in messages of a detector called directly: the key itself. The parameter
+    checks take such a ``label`` (``check_params`` passes one that gives ``corner_params['key']``)."""
+    return key
+
+
 def _check_bool(value, name):
     return _validation.check_bool(value, name)
 

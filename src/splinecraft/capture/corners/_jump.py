@@ -6,7 +6,7 @@ import warnings
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _prepare, _result
+from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _plain, _prepare, _result
 from ._fillet import release_fillets, release_wedge_fillets
 from ._jump_kernels import arm_lines
 
@@ -207,8 +207,9 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     numpy.ndarray of intp
         Sorted indices into ``points``; empty when the outline is shorter than 8 px.
     """
-    settings = _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets)
-    settings["wedge"] = _check_bool(wedge, "wedge")
+    settings = check_tangent_jump_params(smoothing=smoothing, tolerance=tolerance, min_turn=min_turn,
+                                         min_excess=min_excess, flank=flank, max_arm=max_arm, separation=separation,
+                                         fillets=fillets, wedge=wedge)
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
@@ -395,20 +396,24 @@ def _symmetric_union(P, runs, key, reach=3.0):
     return union[~dropped]
 
 
-def _check_settings(smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets=False):
-    """tangent-jump's parameters checked against their documented domains and bounds."""
+def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets,
+                              wedge, label=_plain):
+    """tangent-jump's parameters checked against their documented domains and bounds (the one rule, used by
+    :func:`tangent_jump` and by :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a
+    parameter in messages. Returns the settings of :func:`_detect` (``flank`` split into ``near`` and ``far``)."""
     if isinstance(flank, (str, bytes)) or np.ndim(flank) != 1 or len(flank) != 2:
-        raise TypeError(f"flank must be a pair of integers (near, far), got {flank!r}")
-    near = _check_int(flank[0], "flank[0]", low=1, high=MAX_FLANK)
+        raise TypeError(f"{label('flank')} must be a pair of integers (near, far), got {flank!r}")
+    near = _check_int(flank[0], f"{label('flank')}[0]", low=1, high=MAX_FLANK)
     return {
-        "smoothing": _check_real(smoothing, "smoothing", low=0.0, high=MAX_SMOOTHING),
-        "tolerance": _check_real(tolerance, "tolerance", low=0.0, low_open=True, high=MAX_TOLERANCE),
-        "min_turn": _check_real(min_turn, "min_turn", low=0.0, high=180.0, high_open=True),
-        "min_excess": _check_real(min_excess, "min_excess", low=0.0, high=180.0, high_open=True),
-        "near": near, "far": _check_int(flank[1], "flank[1]", low=near, high=MAX_FLANK),
-        "max_arm": _check_int(max_arm, "max_arm", low=3, high=max(_ARM_LADDER)),
-        "separation": _check_int(separation, "separation", low=1, high=MAX_SEPARATION),
-        "fillets": _check_bool(fillets, "fillets"),
+        "smoothing": _check_real(smoothing, label("smoothing"), low=0.0, high=MAX_SMOOTHING),
+        "tolerance": _check_real(tolerance, label("tolerance"), low=0.0, low_open=True, high=MAX_TOLERANCE),
+        "min_turn": _check_real(min_turn, label("min_turn"), low=0.0, high=180.0, high_open=True),
+        "min_excess": _check_real(min_excess, label("min_excess"), low=0.0, high=180.0, high_open=True),
+        "near": near, "far": _check_int(flank[1], f"{label('flank')}[1]", low=near, high=MAX_FLANK),
+        "max_arm": _check_int(max_arm, label("max_arm"), low=3, high=max(_ARM_LADDER)),
+        "separation": _check_int(separation, label("separation"), low=1, high=MAX_SEPARATION),
+        "fillets": _check_bool(fillets, label("fillets")),
+        "wedge": _check_bool(wedge, label("wedge")),
     }
 
 

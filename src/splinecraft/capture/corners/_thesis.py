@@ -5,7 +5,7 @@ import heapq
 
 import numpy as np
 
-from ._common import _EMPTY, _check_int, _check_real, _prepare, _result
+from ._common import _EMPTY, _check_int, _check_real, _plain, _prepare, _result
 
 
 
@@ -262,7 +262,15 @@ def srm05(points, *, closed=True, zct=7, dt=5.0, ta=152.0):
     TypeError, ValueError
         Bad ``points`` (NaN/inf names the index) or a parameter outside its domain (named).
     """
-    zct = _check_int(zct, "zct", low=0)
-    dt = _check_real(dt, "dt", low=0.0)
-    ta = _check_real(ta, "ta", low=0.0, high=180.0, low_open=True, high_open=True)
-    return _srm05(points, closed, zct, dt, ta)
+    settings = check_srm05_params(zct=zct, dt=dt, ta=ta)
+    return _srm05(points, closed, settings["zct"], settings["dt"], settings["ta"])
+
+
+def check_srm05_params(*, zct, dt, ta, label=_plain):
+    """SRM05's parameters checked against their documented domains (the one rule, used by :func:`srm05` and by
+    :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a parameter in messages."""
+    return {
+        "zct": _check_int(zct, label("zct"), low=0),
+        "dt": _check_real(dt, label("dt"), low=0.0),
+        "ta": _check_real(ta, label("ta"), low=0.0, high=180.0, low_open=True, high_open=True),
+    }

@@ -487,3 +487,18 @@ def test_handle_edits_name_the_bad_argument():
     outline = Outline([square], width=20, height=20)
     moved = outline.move_handle(0, 2, "in", (10, 5))
     assert np.allclose(moved.contours[0].bezier()[1, 2], [10, 5]) and outline.contours[0] is square
+
+
+def test_curve_bounds_are_the_curves_box_inside_the_control_box():
+    """A drop whose handles reach past its tip: the curve box (cubic extrema) is what dense sampling finds,
+    the control box is wider."""
+    drop = from_bezier([np.array([[[0, 50], [-40, 0], [100, 0], [100, 50]],
+                                  [[100, 50], [100, 100], [-40, 100], [0, 50]]], float)])
+    theta = np.linspace(0, 1, 20001)[:, None, None]
+    pieces = drop.bezier()[0][None]
+    samples = ((1 - theta) ** 3 * pieces[:, :, 0] + 3 * (1 - theta) ** 2 * theta * pieces[:, :, 1]
+               + 3 * (1 - theta) * theta ** 2 * pieces[:, :, 2] + theta ** 3 * pieces[:, :, 3]).reshape(-1, 2)
+    low, high = drop.curve_bounds()
+    assert np.allclose(low, samples.min(axis=0), atol=1e-6) and np.allclose(high, samples.max(axis=0), atol=1e-6)
+    control_low, _ = drop.bounds()
+    assert control_low[0] < low[0] - 20

@@ -2,14 +2,19 @@
 
 * :func:`build` writes a UFO source (ufoLib2), a compiled OpenType font with CFF outlines (exact cubics) and a
   TrueType font (quadratics from fontTools' ``cu2qu``, within ``ttf_max_error`` font units of the cubics), and
-  returns the paths. :func:`to_glyph` makes one UFO glyph.
+  returns the paths. :func:`to_glyph` makes one UFO glyph. Everything is checked and compiled in memory
+  before any file is written (16-bit coordinates, duplicate glyphs or code points, ``cu2qu`` failures are
+  a ``ValueError``); the style name sets the linked-family fields (name IDs 1-6, ``fsSelection``,
+  ``macStyle``, ``usWeightClass``; :func:`_set_style`).
 * :func:`glyph_outline` reads a glyph of any font file (or installed family, found with ``fc-match``) into an
-  :class:`~splinecraft.outline.Outline` (quadratic TrueType pieces raised to cubics exactly).
+  :class:`~splinecraft.outline.Outline` (quadratic TrueType pieces raised to cubics exactly, components
+  decomposed).
 
 Frames. Outlines live in a y-down frame (pixels of a bitmap); font units are y-up with the baseline at 0. A
 point ``(x, y)`` maps to ``((x - x_min) s + sidebearing, (baseline - y) s)`` with ``s = scale`` font units per
 frame unit, ``x_min`` the left of the glyph's curves and ``baseline`` the outline's own (``Outline.baseline``,
-set for font glyphs) or else the bottom of its curves. The default scale is the same for every glyph of a
+set for font glyphs) or else the bottom of its curves (the curves' own box, :meth:`Outline.curve_bounds`, not the
+control points'). The default scale is the same for every glyph of a
 font: the tallest glyph (curve bounding box) spans ``ascender`` units.
 
 Winding. Contours are oriented by nesting depth (even = filled, odd = hole; the even-odd rule of the SVG
@@ -81,10 +86,14 @@ def _reverse(bezier):
 
 def font_contours(source, *, scale=1.0, baseline=None, sidebearing=0.0):
     """The contours of ``source`` in font units (y up), PostScript winding: a list of ``(m, 4, 2)`` arrays,
-    and the advance width ``(x_max - x_min) s + 2 sidebearing`` (see the module docstring)."""
+    and the advance width ``(x_max - x_min) s + 2 sidebearing`` (see the module docstring).
+
+    ``x_min``, ``x_max`` and the default baseline are those of the curves' own bounding box
+    (:meth:`Outline.curve_bounds`), not of the control points: a handle reaching past the curve does not
+    move the glyph."""
     outline = as_outline(source)
     scale = check_positive_number(scale, "scale")
-    low, high = outline.bounds()
+    low, high = outline.curve_bounds()
     if baseline is None:
         baseline = outline.baseline if outline.baseline is not None else float(high[1])
     curves = []
@@ -104,31 +113,47 @@ def _xy(point):
     return tuple(int(v) if float(v).is_integer() else float(v) for v in point)
 
 
-def _draw(curves, pen):
-    """Segment-pen drawing; pieces whose control points lie on their chord become lines."""
+def _is_line(piece):
+    """Whether a cubic piece is straight: both handles on its chord (relative tolerance 1e-9)."""
+    chord = piece[3] - piece[0]
+    length = math.hypot(*chord)
+    if not length:
+        return False
+    offsets = piece[1:3] - piece[0]
+    off_line = np.abs(offsets[:, 0] * chord[1] - offsets[:, 1] * chord[0])
+    return bool((off_line <= 1e-9 * length * max(length, 1.0)).all())
+
+
+def _draw(curves, pen, *, rounded=False):
+    """Segment-pen drawing; pieces whose control points lie on their chord become lines. Straightness is
+    decided on the given (unrounded) curves, so that the UFO (``rounded=True``: integer coordinates) and
+    the compiled fonts (which round the same curves themselves) have the same lines."""
+    def point(p):
+        return _xy(np.round(p) if rounded else p)
+
     for bezier in curves:
-        pen.moveTo(_xy(bezier[0, 0]))
+        pen.moveTo(point(bezier[0, 0]))
         for piece in bezier:
-            chord = piece[3] - piece[0]
-            length = math.hypot(*chord)
-            offsets = piece[1:3] - piece[0]
-            off_line = np.abs(offsets[:, 0] * chord[1] - offsets[:, 1] * chord[0]) if length else np.ones(2)
-            if length and (off_line <= 1e-9 * length * max(length, 1.0)).all():
-                pen.lineTo(_xy(piece[3]))
+            if _is_line(piece):
+                pen.lineTo(point(piece[3]))
             else:
-                pen.curveTo(_xy(piece[1]), _xy(piece[2]), _xy(piece[3]))
+                pen.curveTo(point(piece[1]), point(piece[2]), point(piece[3]))
         pen.closePath()
 
 
 # ---------------------------------------------------------------------------------------------- UFO glyphs
 def _glyph_name(key):
-    from fontTools.agl import UV2AGL
+    """``(glyph name, code point or None)`` of a glyph key: a single character (its AGL name), or a glyph
+    name with the code point the Adobe Glyph List gives it when it names one character (``"space"``,
+    ``"eacute"``, ``"uni20AC"``; not suffixed alternates such as ``"a.alt"``, nor ligatures)."""
+    from fontTools.agl import UV2AGL, toUnicode
 
     if isinstance(key, str) and len(key) == 1:
         code = ord(key)
         return UV2AGL.get(code, f"uni{code:04X}" if code <= 0xFFFF else f"u{code:05X}"), code
     if isinstance(key, str) and re.fullmatch(r"[A-Za-z_.][A-Za-z0-9_.\-]*", key):
-        return key, None
+        text = toUnicode(key) if "." not in key else ""
+        return key, ord(text) if len(text) == 1 else None
     raise ValueError(f"glyph key {key!r} must be a single character or a glyph name")
 
 
@@ -144,7 +169,7 @@ def _glyph(source, name, unicode, scale, baseline, sidebearing):
     glyph = Glyph(glyph_name)
     glyph.unicodes = [] if code is None else [code]
     glyph.width = round(advance)
-    _draw([np.round(c) for c in curves], glyph.getPen())
+    _draw(curves, glyph.getPen(), rounded=True)
     return glyph, curves, round(advance)
 
 
@@ -152,7 +177,8 @@ def to_glyph(source, name=None, *, unicode=None, scale=1.0, baseline=None, sideb
     """A :class:`ufoLib2.objects.Glyph` of ``source`` (an outline, a TraceResult, an editor, ...).
 
     ``name`` is a single character (its Unicode code point and AGL name are used) or a glyph name (default
-    the outline's name or ``"glyph"``); ``unicode`` overrides the code point. Geometry as in
+    the outline's name or ``"glyph"``; a name the Adobe Glyph List maps to one character, such as
+    ``"space"`` or ``"eacute"``, gets that code point); ``unicode`` overrides the code point. Geometry as in
     :func:`font_contours`, coordinates rounded to integer font units; the advance is the glyph's width plus
     two ``sidebearing``.
     """
@@ -160,11 +186,25 @@ def to_glyph(source, name=None, *, unicode=None, scale=1.0, baseline=None, sideb
 
 
 def _default_scale(outlines, ascender):
-    heights = []
-    for outline in outlines:
-        low, high = outline.bounds()
-        heights.append(float(high[1] - low[1]))
-    return ascender / max(heights)
+    """Font units per frame unit making the tallest glyph's curve bounding box ``ascender`` high."""
+    tallest = max(float(np.ptp([bound[1] for bound in outline.curve_bounds()])) for outline in outlines)
+    if not tallest > 0:
+        raise ValueError("every glyph has zero height, so there is no default scale; pass scale=")
+    return ascender / tallest
+
+
+#: The range of coordinates in glyf, CFF widths and head/hhea metrics (int16).
+_INT16 = (-32768, 32767)
+
+
+def _check_range(name, curves, advance):
+    """Refuse a glyph whose rounded coordinates or advance do not fit the fonts' 16-bit fields."""
+    points = np.round(np.concatenate([c.reshape(-1, 2) for c in curves])) if curves else np.zeros((1, 2))
+    low, high = float(points.min()), float(points.max())
+    if low < _INT16[0] or high > _INT16[1] or not 0 <= advance <= 65535:
+        value = max((low, high, advance), key=abs)
+        raise ValueError(f"glyph {name!r} reaches {value:g} font units, beyond the 16-bit range of font "
+                         f"coordinates ({_INT16[0]} .. {_INT16[1]}, advance <= 65535); use a smaller scale")
 
 
 def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", units_per_em=1000, ascender=800,
@@ -214,15 +254,27 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     info.familyName, info.styleName = family, style
     info.unitsPerEm, info.ascender, info.descender = units_per_em, ascender, descender
     info.capHeight, info.xHeight = ascender, round(ascender * 0.66)
-    curves = {}
+    _set_style(info)
+    curves, keys, codes = {}, {}, {}
     for key, outline in outlines.items():
-        glyph, curves[glyph.name], _ = _glyph(outline, key, None, scale, None, sidebearing)
+        glyph, glyph_curves, advance = _glyph(outline, key, None, scale, None, sidebearing)
+        if glyph.name in keys:
+            raise ValueError(f"glyphs[{keys[glyph.name]!r}] and glyphs[{key!r}] are both the glyph {glyph.name!r}")
+        for code in glyph.unicodes:
+            if code in codes:
+                raise ValueError(f"glyphs[{codes[code]!r}] and glyphs[{key!r}] both map U+{code:04X}")
+            codes[code] = key
+        _check_range(glyph.name, glyph_curves, advance)
+        keys[glyph.name], curves[glyph.name] = key, glyph_curves
         font.addGlyph(glyph)
-    if "space" not in font:
+    if "space" not in font and 0x20 not in codes:
         font.newGlyph("space").width = units_per_em // 4
         font["space"].unicodes = [0x20]
     if ".notdef" not in font:
         font.newGlyph(".notdef").width = units_per_em // 2
+    # compile both fonts in memory first: nothing is written unless all three can be
+    otf = _compile(font, curves, cff=True, max_error=ttf_max_error)
+    ttf = _compile(font, curves, cff=False, max_error=ttf_max_error)
     output = Path(os.fspath(output_dir))
     output.mkdir(parents=True, exist_ok=True)
     stem = f"{re.sub(r'[^A-Za-z0-9]+', '', family) or 'Font'}-{re.sub(r'[^A-Za-z0-9]+', '', style) or 'Regular'}"
@@ -230,17 +282,62 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     if paths.ufo.exists():
         shutil.rmtree(paths.ufo)
     font.save(paths.ufo)
-    _compile(font, curves, paths.otf, cff=True, max_error=ttf_max_error)
-    _compile(font, curves, paths.ttf, cff=False, max_error=ttf_max_error)
+    paths.otf.write_bytes(otf)
+    paths.ttf.write_bytes(ttf)
     return paths
 
 
-def _compile(font, curves, path, *, cff, max_error):
-    """Compile the UFO's glyphs into an OTF (CFF) or TTF; outlines are drawn from the unrounded ``curves``
+#: usWeightClass of the weight words of a style name (the OpenType OS/2 spec's names).
+_WEIGHTS = {"thin": 100, "hairline": 100, "extralight": 200, "ultralight": 200, "light": 300, "regular": 400,
+            "normal": 400, "book": 400, "medium": 500, "semibold": 600, "demibold": 600, "bold": 700,
+            "extrabold": 800, "ultrabold": 800, "black": 900, "heavy": 900}
+
+
+def _set_style(info):
+    """Style-linking fields of the UFO ``info`` from its style name (the ufo2ft / OpenType conventions).
+
+    "Bold" and "Italic" (or "Oblique") are the linked styles: ``styleMapStyleName`` is ``regular``, ``bold``,
+    ``italic`` or ``bold italic``; any other words ("Light", "Condensed") go into ``styleMapFamilyName``
+    ("Family Light", with "Family" / "Light Italic" as the typographic names). The weight class comes from
+    the weight word (default 400).
+    """
+    words = info.styleName.split()
+    lower = [word.lower().replace("-", "") for word in words]
+    bold, italic = "bold" in lower, bool({"italic", "oblique"} & set(lower))
+    extra = [w for w, low in zip(words, lower) if low not in ("bold", "italic", "oblique", "regular")]
+    info.styleMapStyleName = " ".join(["bold"] * bold + ["italic"] * italic) or "regular"
+    info.styleMapFamilyName = " ".join([info.familyName] + extra)
+    info.openTypeOS2WeightClass = next((_WEIGHTS[w] for w in lower if w in _WEIGHTS and w != "regular"), 400)
+    if extra:
+        info.openTypeNamePreferredFamilyName, info.openTypeNamePreferredSubfamilyName = info.familyName, info.styleName
+
+
+def _naming(info, postscript):
+    """Name table strings (IDs 1-6, and 16/17 for styles beyond the four linked ones), fsSelection bits
+    (0 italic, 5 bold, 6 regular), head.macStyle bits (0 bold, 1 italic) and usWeightClass."""
+    linked = info.styleMapStyleName
+    bold, italic = "bold" in linked, "italic" in linked
+    names = {"familyName": info.styleMapFamilyName, "styleName": linked.title(),
+             "uniqueFontIdentifier": f"1.000;NONE;{postscript}", "fullName": f"{info.familyName} {info.styleName}",
+             "version": "Version 1.000", "psName": postscript}
+    if info.openTypeNamePreferredFamilyName:
+        names["typographicFamily"] = info.openTypeNamePreferredFamilyName
+        names["typographicSubfamily"] = info.openTypeNamePreferredSubfamilyName
+    fs_selection = (1 << 0) * italic | (1 << 5) * bold | (1 << 6) * (not bold and not italic)
+    return names, fs_selection, (1 << 0) * bold | (1 << 1) * italic, info.openTypeOS2WeightClass
+
+
+def _compile(font, curves, *, cff, max_error):
+    """The bytes of an OTF (CFF) or TTF of the UFO's glyphs; outlines are drawn from the unrounded ``curves``
     (glyph name -> font-unit Bézier arrays), so that each format rounds once."""
+    import io
+
+    from fontTools.cu2qu.errors import ApproxNotFoundError
     from fontTools.fontBuilder import FontBuilder
-    from fontTools.pens.boundsPen import ControlBoundsPen
+    from fontTools.misc.arrayTools import intRect
+    from fontTools.pens.boundsPen import BoundsPen
     from fontTools.pens.cu2quPen import Cu2QuPen
+    from fontTools.pens.roundingPen import RoundingPen
     from fontTools.pens.t2CharStringPen import T2CharStringPen
     from fontTools.pens.ttGlyphPen import TTGlyphPen
 
@@ -261,36 +358,49 @@ def _compile(font, curves, path, *, cff, max_error):
             else:
                 glyph.draw(pen)
 
-        bounds_pen = ControlBoundsPen(None)
-        draw(bounds_pen)
-        bounds = bounds_pen.bounds or (0, 0, 0, 0)
-        y_min, y_max = min(y_min, bounds[1]), max(y_max, bounds[3])
-        # hmtx's left side bearing is the glyph's x_min (of the rounded control points, as glyf computes it)
-        metrics[name] = (int(glyph.width), round(bounds[0]))
         if cff:
             pen = T2CharStringPen(int(glyph.width), None)
             draw(pen)
             outlines[name] = pen.getCharString()
+            bounds_pen = BoundsPen(None)  # the curves' box of the charstring (which rounds to integers)
+            draw(RoundingPen(bounds_pen))
+            bounds = bounds_pen.bounds
         else:
             pen = TTGlyphPen(None)
-            draw(Cu2QuPen(pen, max_error, reverse_direction=True))
+            try:
+                draw(Cu2QuPen(pen, max_error, reverse_direction=True))
+            except ApproxNotFoundError:
+                raise ValueError(f"glyph {name!r}: cu2qu finds no quadratics within ttf_max_error={max_error:g} "
+                                 "font units; use a larger ttf_max_error") from None
             outlines[name] = pen.glyph()
-            if outlines[name].numberOfContours > 0:
-                metrics[name] = (int(glyph.width), int(min(x for x, _ in outlines[name].coordinates)))
-    postscript = re.sub(r"[^A-Za-z0-9-]", "", f"{info.familyName}-{info.styleName}")
+            coordinates = outlines[name].coordinates if outlines[name].numberOfContours > 0 else []
+            bounds = (*np.min(coordinates, axis=0), *np.max(coordinates, axis=0)) if len(coordinates) else None
+        # hmtx's left side bearing is the glyph's x_min (glyf: of its points; CFF: of its curves)
+        bounds = intRect(bounds) if bounds else (0, 0, 0, 0)
+        y_min, y_max = min(y_min, bounds[1]), max(y_max, bounds[3])
+        metrics[name] = (int(glyph.width), int(bounds[0]))
+    postscript = re.sub(r"[^A-Za-z0-9-]", "", f"{info.familyName}-{info.styleName}")[:63]
+    names, fs_selection, mac_style, weight = _naming(info, postscript)
     if cff:
-        builder.setupCFF(postscript, {"FullName": f"{info.familyName} {info.styleName}"}, outlines, {})
+        builder.setupCFF(postscript, {"FullName": names["fullName"], "FamilyName": info.familyName,
+                                      "Weight": info.styleName}, outlines, {})
     else:
         builder.setupGlyf(outlines)
     builder.setupHorizontalMetrics(metrics)
     builder.setupHorizontalHeader(ascent=info.ascender, descent=info.descender)
-    builder.setupNameTable({"familyName": info.familyName, "styleName": info.styleName,
-                            "psName": postscript})
+    builder.setupNameTable(names)
     builder.setupOS2(sTypoAscender=info.ascender, sTypoDescender=info.descender, sTypoLineGap=0,
                      usWinAscent=max(info.ascender, int(y_max)), usWinDescent=max(-info.descender, -int(y_min)),
-                     sxHeight=info.xHeight, sCapHeight=info.capHeight)
+                     sxHeight=info.xHeight, sCapHeight=info.capHeight, fsSelection=fs_selection,
+                     usWeightClass=weight)
+    builder.updateHead(macStyle=mac_style)
     builder.setupPost()
-    builder.save(os.fspath(path))
+    data = io.BytesIO()
+    try:
+        builder.save(data)
+    except Exception as exc:  # fontTools' struct / overflow errors: a value out of a table field's range
+        raise ValueError(f"cannot compile the {'OTF' if cff else 'TTF'}: {type(exc).__name__}: {exc}") from None
+    return data.getvalue()
 
 
 # ---------------------------------------------------------------------------------------------- reading
@@ -322,10 +432,17 @@ def _open_font(font, font_number):
         raise ValueError(f"cannot read the font file {str(path)!r}: {type(exc).__name__}: {exc}") from None
 
 
-class _BezierPen:
-    """A fontTools segment pen collecting closed contours as cubic Bézier arrays."""
+#: A contour whose end is within this many font units of its start is closed by moving its end onto the start:
+#: font coordinates are integers (glyf) or 16.16 fixed point (CFF: steps of 1.5e-5 units, which add up along
+#: a charstring), so such a gap is rounding, not a segment. A wider gap gets a closing line.
+CLOSE_TOLERANCE = 1e-3
 
-    def __init__(self):
+
+class _BezierPen:
+    """A fontTools segment pen collecting closed contours as cubic Bézier arrays; components are drawn
+    (decomposed, with their transformation) from ``glyph_set``, the font's glyph set."""
+
+    def __init__(self, glyph_set=None):
         from fontTools.pens.basePen import BasePen
 
         collector = self
@@ -352,16 +469,21 @@ class _BezierPen:
                 collector.position = end
 
             def _closePath(self):
-                if not np.allclose(collector.position, collector.start):
-                    self._lineTo(tuple(collector.start))
-                if collector.current:
-                    collector.contours.append(np.array(collector.current))
+                if not collector.current:
+                    return
+                bezier = np.array(collector.current)
+                if np.hypot(*(bezier[-1, 3] - bezier[0, 0])) <= CLOSE_TOLERANCE:
+                    bezier[-1, 3] = bezier[0, 0]
+                else:
+                    end, start = bezier[-1, 3], bezier[0, 0]
+                    bezier = np.vstack([bezier, [[end, end + (start - end) / 3, end + 2 * (start - end) / 3, start]]])
+                collector.contours.append(bezier)
 
             def _endPath(self):
                 collector.open_contours += 1
 
         self.contours, self.open_contours = [], 0
-        self.pen = Pen(None)
+        self.pen = Pen(glyph_set)
 
 
 def glyph_outline(font, char, *, font_number=0) -> Outline:
@@ -400,7 +522,7 @@ def glyph_outline(font, char, *, font_number=0) -> Outline:
         if name not in ttfont.getGlyphOrder():
             raise ValueError(f"{str(path)!r} has no glyph named {name!r}")
     glyph_set = ttfont.getGlyphSet()
-    collector = _BezierPen()
+    collector = _BezierPen(glyph_set)
     glyph_set[name].draw(collector.pen)
     if not collector.contours:
         raise ValueError(f"glyph {name!r} of {str(path)!r} has no closed contours (a space or a mark?)")

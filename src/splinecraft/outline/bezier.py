@@ -16,6 +16,17 @@ The result is then rebuilt by the engine and compared with the input: a knot who
 refuses (§2.5, outside the dominant domain) becomes a corner, and pieces that do not match (rounding) get corners
 at their ends, so the conversion is always exact to rounding.
 The project's own curves (``v = 0``, ``omega = 1``) come back with those values.
+
+Rounded input. Curves read from text with a few decimals (an SVG written with ``decimals=4``) are the
+exact curves moved by up to ``rounding`` per coordinate, which bends every G¹ joint a little. Given that
+``rounding``, a knot is tested for G¹ with the sine tolerance the rounding can cause,
+``2 sqrt(2) rounding (1 / |out| + 1 / |in|)`` (each handle is the difference of two rounded points; capped at
+``MAX_ROUNDING_SINE``: handles too short to show a direction stay corners); a loop's steps and weights
+spread their closing error evenly instead of demanding exact closure, and the final comparison accepts
+pieces within ``MATCH_ROUNDING * rounding`` of the input (at least the ``MATCH_TOLERANCE`` of exact
+input). So a smooth knot comes back smooth when a smooth contour reproduces the rounded numbers to a few
+roundings, and a real corner (a kink larger than the rounding explains, or one no smooth curve matches)
+stays a corner.
 """
 from __future__ import annotations
 
@@ -23,11 +34,15 @@ import numpy as np
 
 from .contour import Contour
 
-__all__ = ["contour_from_bezier", "drop_degenerate_pieces"]
+__all__ = ["contour_from_bezier", "drop_degenerate_pieces", "curve_bounds"]
 
 #: Relative tolerance of the G¹ test (sine of the angle between the handles) and of the exactness check.
 SMOOTH_TOLERANCE = 1e-9
 MATCH_TOLERANCE = 1e-7
+#: Rounded input: the largest sine tolerance the rounding may give a knot, and the accepted distance of the
+#: rebuilt control points from the input, in units of the rounding.
+MAX_ROUNDING_SINE = 0.02
+MATCH_ROUNDING = 8.0
 
 
 def drop_degenerate_pieces(bezier) -> np.ndarray:
@@ -38,14 +53,36 @@ def drop_degenerate_pieces(bezier) -> np.ndarray:
     return bezier[spread > 1e-12 * scale]
 
 
+def curve_bounds(curves):
+    """``(low, high)`` corners of the bounding box of the cubic Bézier curves ``curves`` (a list of
+    ``(m, 4, 2)`` arrays): each coordinate's extremes are at the piece ends or where its derivative
+    ``3 (a t^2 + b t + c)`` vanishes in ``(0, 1)``, with ``a = d0 - 2 d1 + d2``, ``b = 2 (d1 - d0)``, ``c = d0``
+    and ``d_k = b_{k+1} - b_k`` (the control points' box contains it)."""
+    pieces = np.concatenate([np.asarray(c, float).reshape(-1, 4, 2) for c in curves])
+    d = np.diff(pieces, axis=1)  # (P, 3, 2)
+    a, b, c = d[:, 0] - 2 * d[:, 1] + d[:, 2], 2 * (d[:, 1] - d[:, 0]), d[:, 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = np.sqrt(b * b - 4 * a * c)  # NaN: no real root
+        q = -0.5 * (b + np.where(b < 0, -root, root))  # the stable pair of roots q / a and c / q
+        theta = np.stack([q / a, c / q])  # (2, P, 2); where a = 0 the first is infinite, the second -c/b
+    theta = np.where(np.isfinite(theta) & (theta > 0) & (theta < 1), theta, 0.0)
+    one = 1.0 - theta
+    values = (one ** 3 * pieces[:, 0] + 3 * one * one * theta * pieces[:, 1]
+              + 3 * one * theta * theta * pieces[:, 2] + theta ** 3 * pieces[:, 3])
+    ends = pieces[:, [0, 3]].reshape(-1, 2)
+    every = np.concatenate([values.reshape(-1, 2), ends])
+    return every.min(axis=0), every.max(axis=0)
+
+
 def _handles(bezier):
     out = bezier[:, 1] - bezier[:, 0]
     into = np.roll(bezier[:, 2] - bezier[:, 3], 1, axis=0)  # arriving at knot i: piece i - 1
     return out, into
 
 
-def _g1_joints(bezier):
-    """Knots whose two handles are non-zero, collinear and opposite (a G¹ joint)."""
+def _g1_joints(bezier, rounding=0.0):
+    """Knots whose two handles are non-zero, collinear and opposite (a G¹ joint), within the sine tolerance
+    that a ``rounding`` of the coordinates can cause (module docstring)."""
     out, into = _handles(bezier)
     length_out, length_in = np.hypot(*out.T), np.hypot(*into.T)
     scale = max(float(np.ptp(bezier.reshape(-1, 2), axis=0).max()), 1e-300)
@@ -53,7 +90,8 @@ def _g1_joints(bezier):
     with np.errstate(divide="ignore", invalid="ignore"):
         sine = (out[:, 0] * into[:, 1] - out[:, 1] * into[:, 0]) / (length_out * length_in)
         opposite = (out * into).sum(axis=1) < 0
-    return nonzero & opposite & (np.abs(sine) <= SMOOTH_TOLERANCE)
+        rounded = np.minimum(2 * np.sqrt(2) * rounding * (1 / length_out + 1 / length_in), MAX_ROUNDING_SINE)
+    return nonzero & opposite & (np.abs(sine) <= SMOOTH_TOLERANCE + np.nan_to_num(rounded))
 
 
 def _runs(corners):
@@ -77,8 +115,10 @@ def _second_derivatives(bezier, steps):
     return start, end
 
 
-def _solve_run(bezier, run, steps, weights, tension, closing):
-    """Steps, weights and tensions along one run; returns the first interior knot that cannot be smooth."""
+def _solve_run(bezier, run, steps, weights, tension, closing, exact=True):
+    """Steps, weights and tensions along one run; returns the first interior knot that cannot be smooth.
+    ``exact=False`` (rounded input): a loop's steps and weights need not come back to their start values
+    exactly; the rebuilt curve is compared with the input instead."""
     out, into = _handles(bezier)
     chords = np.hypot(*(bezier[:, 3] - bezier[:, 0]).T)
     intervals = run[:-1]
@@ -87,8 +127,10 @@ def _solve_run(bezier, run, steps, weights, tension, closing):
         steps[i] = steps[previous] * np.hypot(*out[i]) / np.hypot(*into[i])
     if closing:  # a loop without corners: the step at knot 0 must come back to itself
         back = steps[intervals[-1]] * np.hypot(*out[run[0]]) / np.hypot(*into[run[0]])
-        if not np.isclose(back, steps[run[0]], rtol=1e-9, atol=0.0):
+        if exact and not np.isclose(back, steps[run[0]], rtol=1e-9, atol=0.0):
             return int(run[0])
+        if not exact:  # rounded input: spread the closing error evenly, every step ratio by the same factor
+            steps[intervals] *= (back / steps[run[0]]) ** (-np.arange(intervals.size) / intervals.size)
     steps[intervals] *= chords[intervals].sum() / steps[intervals].sum()
     start, end = _second_derivatives(bezier, steps)
     weights[intervals[0]] = 1.0
@@ -113,21 +155,28 @@ def _solve_run(bezier, run, steps, weights, tension, closing):
         if not weight > 0:
             return int(i)
         if closing and i == intervals[0]:
-            if not np.isclose(weight, weights[i], rtol=1e-9):
+            if exact and not np.isclose(weight, weights[i], rtol=1e-9):
                 return int(i)
+            if not exact:  # rounded input: spread the closing error of the weights evenly, as for the steps
+                tension[i] = v
+                factors = (weight / weights[i]) ** (-np.arange(intervals.size) / intervals.size)
+                tension[intervals[1:]] *= factors[:-1]  # v_k scales with omega_{k-1}
+                tension[i] *= factors[-1]
+                weights[intervals] *= factors
+                return None
         else:
             weights[i] = weight
         tension[i] = v
     return None
 
 
-def _attempt(bezier, corners):
+def _attempt(bezier, corners, exact=True):
     n = bezier.shape[0]
     while True:
         steps, weights, tension = np.ones(n), np.ones(n), np.zeros(n)
         failed = None
         for run in _runs(corners):
-            failed = _solve_run(bezier, run, steps, weights, tension, closing=not corners.any())
+            failed = _solve_run(bezier, run, steps, weights, tension, closing=not corners.any(), exact=exact)
             if failed is not None:
                 break
         if failed is None:
@@ -137,11 +186,17 @@ def _attempt(bezier, corners):
         corners[failed] = True
 
 
-def contour_from_bezier(bezier, corners=None) -> Contour:
+def contour_from_bezier(bezier, corners=None, *, rounding=0.0) -> Contour:
     """The contour reproducing the closed Bézier curve ``bezier`` ``(N, 4, 2)`` (module docstring).
 
     ``corners`` (optional, N booleans) forces corners at those knots (e.g. a trace's corners).
+    ``rounding`` (optional): how far each coordinate may be from the exact curve (half a unit of the last
+    decimal place written); smooth knots bent by that rounding stay smooth, and the result is within
+    ``MATCH_ROUNDING * rounding`` of ``bezier`` instead of exact.
     """
+    rounding = float(rounding)
+    if not (np.isfinite(rounding) and rounding >= 0):
+        raise ValueError(f"rounding must be a finite number >= 0, got {rounding!r}")
     bezier = np.asarray(bezier, float)
     if bezier.ndim != 3 or bezier.shape[1:] != (4, 2):
         raise ValueError(f"bezier must have shape (N, 4, 2), got {bezier.shape}")
@@ -151,10 +206,12 @@ def contour_from_bezier(bezier, corners=None) -> Contour:
         n = bezier.shape[0]
         corners = None if corners is None else np.r_[np.asarray(corners, bool), np.zeros(n, bool)][:n]
     forced = np.zeros(n, bool) if corners is None else np.asarray(corners, bool).copy()
-    corner_mask = forced | ~_g1_joints(bezier)
     scale = max(float(np.ptp(bezier.reshape(-1, 2), axis=0).max()), 1.0)
+    exact = rounding <= 1e-12 * scale  # exact input (or floats written in full): the loop checks apply
+    corner_mask = forced | ~_g1_joints(bezier, rounding)
+    tolerance = max(MATCH_TOLERANCE * scale, MATCH_ROUNDING * rounding)
     for _ in range(n + 1):
-        steps, weights, tension = _attempt(bezier, corner_mask)
+        steps, weights, tension = _attempt(bezier, corner_mask, exact)
         out, into = _handles(bezier)
         try:
             contour = Contour(bezier[:, 0], corner_mask, handles_in=into, handles_out=out, steps=steps,
@@ -171,7 +228,7 @@ def contour_from_bezier(bezier, corners=None) -> Contour:
             contour = None
             bad = np.ones(n, bool)
         else:
-            bad = np.abs(contour.bezier() - bezier).max(axis=(1, 2)) > MATCH_TOLERANCE * scale
+            bad = np.abs(contour.bezier() - bezier).max(axis=(1, 2)) > tolerance
             if not bad.any():
                 return contour
         worse = corner_mask | bad | np.roll(bad, 1)

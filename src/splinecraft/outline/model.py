@@ -14,10 +14,12 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 from pathlib import Path
 
 import numpy as np
 
+from .bezier import curve_bounds
 from .contour import Contour, _indices
 from .transforms import affine_parts, reflection, rotation, scaling, shearing, translation
 
@@ -26,6 +28,8 @@ __all__ = ["Outline", "contour_deviation", "DEVIATION_SPACING"]
 #: Curve sampling step (px) of the deviation measure.
 DEVIATION_SPACING = 0.25
 _FORMAT = "splinecraft.Outline"
+#: Characters XML 1.0 cannot hold (control characters other than tab and newlines, surrogates, U+FFFE/F).
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
 
 def _sample_pieces(bezier, spacing):
@@ -135,6 +139,11 @@ class Outline:
         """``(low, high)`` corners of the control points' bounding box (contains the curves)."""
         points = np.concatenate([b.reshape(-1, 2) for b in self.bezier()])
         return points.min(axis=0), points.max(axis=0)
+
+    def curve_bounds(self):
+        """``(low, high)`` corners of the curves' own (tight) bounding box, from the cubic extrema
+        (:func:`~splinecraft.outline.bezier.curve_bounds`); inside :meth:`bounds`."""
+        return curve_bounds(self.bezier())
 
     def knot_points(self) -> list:
         return [np.array(contour.points) for contour in self.contours]
@@ -295,12 +304,17 @@ class Outline:
 
     def to_svg(self, *, decimals=4, fill="black", title=None) -> str:
         """Standalone SVG: one ``<path>`` of exact cubic Béziers, ``fill-rule="evenodd"``, in the frame
-        (``width``/``height``/``viewBox``); ``decimals=None`` writes exact floats."""
+        (``width``/``height``/``viewBox``); ``decimals=None`` writes exact floats. A ``title`` (default the
+        name) or ``fill`` with a character XML cannot hold (a control character) is a ``ValueError``."""
         from ..spline.svg import svg_document
 
+        title = title if title is not None else self.name
+        for label, text in (("title", title), ("fill", fill)):
+            bad = _NOT_XML.search(text) if isinstance(text, str) else None
+            if bad:
+                raise ValueError(f"{label} {text!r} contains U+{ord(bad.group()):04X}, a character XML cannot hold")
         width, height = int(math.ceil(self.width)), int(math.ceil(self.height))
-        return svg_document(self.svg_path_data(decimals=decimals), width, height, fill=fill,
-                            title=title if title is not None else self.name)
+        return svg_document(self.svg_path_data(decimals=decimals), width, height, fill=fill, title=title)
 
     def save_svg(self, path, **options) -> Path:
         """Write :meth:`to_svg` to ``path``; returns the path."""

@@ -4,7 +4,9 @@
   boundary's curve exactly (:func:`~splinecraft.outline.bezier.contour_from_bezier`, with the trace's corners
   as corners), its contour polyline as the source for the deviation, and the bitmap.
 * :func:`from_svg`: a file, a document or bare path data of closed cubic / line subpaths, such as the
-  project's own exports and potrace's (``transform`` attributes of the path and its groups are applied).
+  project's own exports and potrace's (``transform`` attributes of the path and its groups are applied;
+  numbers follow the SVG grammar, exponents included; the written precision is taken as rounding, so
+  smooth knots of a rounded export stay smooth).
   Arcs, quadratic and smooth commands are refused naming the subpath; so are unclosed subpaths unless
   ``close_open=True`` (a straight closing segment is added).
 * :func:`from_knots`: contours given as knots with corner flags.
@@ -25,14 +27,18 @@ from .model import Outline
 __all__ = ["as_outline", "from_trace", "from_svg", "from_knots", "from_bezier"]
 
 _SVG_NS = "{http://www.w3.org/2000/svg}"
-_COMMAND = re.compile(r"[A-Za-z]")
 _SUPPORTED = set("MmCcLlHhVvZz")
+#: Path data: a moveto command and its first coordinate (SVG 1.1 section 8.3.9: every path starts so).
+_PATH_DATA = re.compile(r"\s*[Mm]\s*[-+.\d]")
 
 
-def from_bezier(curves, *, corners=None, **frame) -> Outline:
+def from_bezier(curves, *, corners=None, rounding=0.0, **frame) -> Outline:
     """An outline of closed Bézier curves (a list of ``(m, 4, 2)`` arrays), reproduced exactly.
 
-    ``corners`` (optional): per curve, booleans forcing corners at its knots. ``frame``: keyword arguments of
+    ``corners`` (optional): per curve, booleans forcing corners at its knots. ``rounding`` (optional): how far
+    the coordinates may be from the exact curves (rounded text); smooth knots bent by it stay smooth and
+    the outline is within a few times ``rounding`` of the curves
+    (:func:`~splinecraft.outline.bezier.contour_from_bezier`). ``frame``: keyword arguments of
     :class:`Outline` (``width``, ``height``, ``sources``, ``bitmap``, ``baseline``, ``name``).
     """
     contours = []
@@ -50,7 +56,7 @@ def from_bezier(curves, *, corners=None, **frame) -> Outline:
         if not np.allclose(bezier[-1, 3], bezier[0, 0], rtol=0, atol=1e-9 * max(1.0, np.abs(bezier).max())):
             raise ValueError(f"curves[{k}] is not closed: it ends at {bezier[-1, 3].tolist()}, not at its start "
                              f"{bezier[0, 0].tolist()}")
-        contours.append(contour_from_bezier(bezier, forced))
+        contours.append(contour_from_bezier(bezier, forced, rounding=rounding))
     return Outline(contours, **frame)
 
 
@@ -143,9 +149,13 @@ def _paths(element, matrix, found):
 
 
 def _check_commands(d, where):
-    """Refuse commands the reader does not convert, naming the subpath they are in."""
+    """Refuse commands the reader does not convert, naming the subpath they are in. The data is split into
+    tokens as the SVG path grammar reads it (:func:`~splinecraft.capture.svg.parse_path_data`), so the ``e``
+    of a number's exponent (``1e-05``) is part of the number, not a command."""
+    from ..capture.svg import _TOKEN
+
     subpath = -1
-    for command in _COMMAND.findall(d):
+    for command in (token for token in _TOKEN.findall(d) if token.isalpha()):
         if command in "Mm":
             subpath += 1
         elif command not in _SUPPORTED:
@@ -155,19 +165,50 @@ def _check_commands(d, where):
                              "convert it to cubic Béziers (C) and lines (L) first")
 
 
+def _is_file(text):
+    """Whether ``text`` names an existing file (False for text no file can be named by: too long, NUL)."""
+    try:
+        return Path(text).is_file()
+    except (OSError, ValueError):
+        return False
+
+
+def _is_inline(source):
+    """Whether the string ``source`` is an SVG document or path data rather than a file name: it starts
+    with ``<``, or it reads as path data (a moveto and a number) and names no existing file."""
+    if not isinstance(source, str):
+        return False
+    return source.lstrip().startswith("<") or (bool(_PATH_DATA.match(source)) and not _is_file(source))
+
+
+#: A number of SVG path data: mantissa digits after the point, and the exponent.
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?(\d*)|\.(\d+))(?:[eE]([-+]?\d+))?")
+
+
+def _rounding(d):
+    """Half a unit of the finest decimal place written in the path data ``d``: how far its numbers may be
+    from the exact ones if they were rounded (writers round to a fixed number of places and drop
+    trailing zeros, so the finest place is the one they kept)."""
+    places = [len(point or fraction) - int(exponent or 0) for point, fraction, exponent in _NUMBER.findall(d)]
+    return 0.5 * 10.0 ** -max(places) if places else 0.0
+
+
 def from_svg(source, *, close_open=False, name=None) -> Outline:
     """An outline from an SVG file path, an SVG document or bare path data (see the module docstring).
 
+    A string is a document when it starts with ``<``, path data when it starts with a moveto and a number
+    (``"M 0,0 ..."``) unless a file of that name exists, and else a file name (``"moon.svg"``).
     The frame is the document's ``width``/``height`` (or its ``viewBox`` size); path data alone gets the
-    bounding box of its curves.
+    bounding box of its curves. Numbers written with few decimals (the default ``to_svg(decimals=4)``) are
+    taken as rounded: knots whose handles are collinear up to that rounding stay smooth when a smooth
+    contour reproduces the numbers within a few times the rounding (``rounding`` of :func:`from_bezier`).
     """
     from ..capture.svg import parse_path_data
 
     text = source
-    inline = isinstance(source, str) and source.lstrip().startswith(("<", "M", "m"))
-    if isinstance(source, os.PathLike) or (isinstance(source, str) and not inline):
+    if isinstance(source, os.PathLike) or (isinstance(source, str) and not _is_inline(source)):
         path = Path(os.fspath(source))
-        if not path.is_file():
+        if not _is_file(path):
             raise FileNotFoundError(f"no SVG file {str(path)!r}")
         text = path.read_text(encoding="utf-8")
     if not isinstance(text, str):
@@ -183,10 +224,11 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
         width, height = _frame(root)
     else:
         found = [(text, np.eye(3))]
-    curves = []
+    curves, rounding = [], 0.0
     for p, (d, matrix) in enumerate(found):
         where = f"path {p}, " if len(found) > 1 else ""
         _check_commands(d, where)
+        rounding = max(rounding, _rounding(d) * float(np.linalg.norm(matrix[:2, :2], 2)))
         for s, (bezier, closed) in enumerate(parse_path_data(d)):
             if not closed:
                 if not close_open:
@@ -199,7 +241,7 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
             curves.append(mapped)
     if not curves:
         raise ValueError("the SVG has no path with a closed subpath")
-    return from_bezier(curves, width=width, height=height, name=name)
+    return from_bezier(curves, rounding=rounding, width=width, height=height, name=name)
 
 
 def _frame(root):
@@ -239,7 +281,9 @@ def as_outline(source, **options) -> Outline:
         text = os.fspath(source)
         if isinstance(source, str) and text.lstrip().startswith("{"):
             return Outline.from_json(text)
-        if not text.lstrip().startswith(("<", "M", "m")) and Path(text).suffix.lower() == ".json":
+        if not _is_inline(source) and Path(text).suffix.lower() == ".json":
+            if not _is_file(text):
+                raise FileNotFoundError(f"no JSON file {text!r}")
             return Outline.from_json(Path(text).read_text(encoding="utf-8"))
         return from_svg(source, **options)
     if isinstance(source, (list, tuple)) and source and all(

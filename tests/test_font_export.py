@@ -1,0 +1,159 @@
+"""Fonts, the export/import audit: composite and CFF glyphs read, the curves' (not the control points') box
+places a glyph, straight edges stay lines in every format, and ``build`` refuses what it cannot write before
+writing anything, with the naming and style fields of a linked family."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fontTools.pens.boundsPen import BoundsPen
+from fontTools.pens.recordingPen import DecomposingRecordingPen, RecordingPen
+from fontTools.ttLib import TTFont
+
+from splinecraft import font
+from splinecraft.outline import Outline, from_bezier, from_svg
+from splinecraft.outline.contour import Contour
+
+SQUARE = "M0 0 L100 0 L100 100 L0 100 Z"
+
+
+def _system_font(*parts):
+    path = Path("/usr/share/fonts", *parts)
+    if not path.is_file():
+        pytest.skip(f"{path} is not installed")
+    return path
+
+
+@pytest.fixture
+def dejavu_sans():
+    return _system_font("truetype", "dejavu", "DejaVuSans.ttf")
+
+
+@pytest.fixture
+def eb_garamond():
+    return _system_font("opentype", "ebgaramond", "EBGaramond12-Regular.otf")
+
+
+def _curve_box(path, name):
+    compiled = TTFont(path)
+    pen = BoundsPen(compiled.getGlyphSet())
+    compiled.getGlyphSet()[name].draw(pen)
+    return pen.bounds, compiled["hmtx"][name][0]
+
+
+# ---------------------------------------------------------------------------------------------- reading
+def test_composite_truetype_glyphs_are_decomposed(dejavu_sans):
+    ttfont = TTFont(dejavu_sans)
+    name = ttfont.getBestCmap()[ord("é")]
+    assert ttfont["glyf"][name].isComposite()
+    glyph = font.glyph_outline(dejavu_sans, "é")
+    recorded = DecomposingRecordingPen(ttfont.getGlyphSet())
+    ttfont.getGlyphSet()[name].draw(recorded)
+    reference = font._BezierPen()
+    recorded.replay(reference.pen)
+    ascender = ttfont["hhea"].ascent
+    assert len(glyph) == len(reference.contours) == 3
+    for contour, expected in zip(glyph.contours, reference.contours):
+        got = contour.bezier() * [1, -1] + [0, ascender]  # back to y up
+        assert np.abs(got - expected).max() < 1e-9
+
+
+def test_a_cff_contour_ending_a_rounding_away_from_its_start_is_read(eb_garamond):
+    glyph = font.glyph_outline(eb_garamond, "uni20D3")  # its end is 1.5e-5 units from its start
+    assert len(glyph) >= 1
+
+
+def test_the_pen_closes_a_rounding_gap_by_snapping_and_a_real_gap_with_a_line():
+    collector = font._BezierPen()
+    pen = collector.pen
+    for end, pieces in (((1.5e-5, 0.0), 3), ((0.0, 5.0), 4)):
+        pen.moveTo((0, 0))
+        pen.lineTo((100, 0))
+        pen.curveTo((100, 60), (40, 100), (0, 100))
+        pen.lineTo(end)
+        pen.closePath()
+        contour = collector.contours[-1]
+        assert len(contour) == pieces and np.array_equal(contour[-1, 3], [0.0, 0.0])
+    assert len(from_bezier(collector.contours)) == 2
+
+
+# ---------------------------------------------------------------------------------------------- placement
+def test_the_curve_box_not_the_control_box_places_and_scales_the_glyph(tmp_path):
+    """A drop whose left handles reach 40 units past its tip: side bearings, baseline and the default
+    scale (tallest curve box = ascender) hold for the curves."""
+    drop = from_bezier([np.array([[[0, 50], [-40, 0], [100, 0], [100, 50]],
+                                  [[100, 50], [100, 100], [-40, 100], [0, 50]]], float)])
+    curves, advance = font.font_contours(drop, scale=8.0, sidebearing=50)
+    low = np.min([c[..., 0].min() for c in curves])
+    assert low < 0  # the handles reach past the side bearing, the curve does not
+    files = font.build({"o": drop}, output_dir=tmp_path, sidebearing=50)
+    for kind in ("otf", "ttf"):
+        (x_min, y_min, x_max, y_max), width = _curve_box(getattr(files, kind), "o")
+        assert abs(x_min - 50) <= 1 and abs(width - x_max - 50) <= 1
+        assert abs(y_min) <= 1 and abs(y_max - 800) <= 1
+
+
+def test_straight_edges_are_lines_in_the_ufo_as_in_the_compiled_fonts(tmp_path):
+    triangle = from_svg("M0 0 L100 0 L50 71 Z")
+    recorded = RecordingPen()
+    font.to_glyph(triangle, "a", scale=1.0).draw(recorded)
+    assert [op for op, _ in recorded.value] == ["moveTo", "lineTo", "lineTo", "closePath"]
+    import ufoLib2
+
+    files = font.build({"a": triangle}, output_dir=tmp_path, scale=1.0)
+    ufo = RecordingPen()
+    ufoLib2.Font.open(files.ufo)["a"].draw(ufo)
+    for kind in ("otf", "ttf"):
+        compiled = TTFont(getattr(files, kind))
+        pen = RecordingPen()
+        compiled.getGlyphSet()["a"].draw(pen)
+        assert {op for op, _ in pen.value} <= {"moveTo", "lineTo", "closePath"}
+    assert {op for op, _ in ufo.value} <= {"moveTo", "lineTo", "closePath"}
+
+
+def test_win_ascent_covers_the_rounded_glyph(tmp_path):
+    files = font.build({"a": from_svg(SQUARE)}, output_dir=tmp_path, scale=8.006)  # top at 800.6 units
+    for kind in ("otf", "ttf"):
+        compiled = TTFont(getattr(files, kind))
+        (_, y_min, _, y_max), _ = _curve_box(getattr(files, kind), "a")
+        assert compiled["OS/2"].usWinAscent >= math.ceil(y_max) == 801
+        assert compiled["OS/2"].usWinDescent >= -math.floor(y_min)
+
+
+# ---------------------------------------------------------------------------------------------- build
+def test_a_glyph_named_space_is_the_space_and_agl_names_get_their_code_points(tmp_path):
+    square = from_svg(SQUARE)
+    files = font.build({"a": square, "space": square.scale(0.1), "eacute": square}, output_dir=tmp_path)
+    cmap = TTFont(files.otf).getBestCmap()
+    assert cmap[0x20] == "space" and cmap[0xE9] == "eacute" and cmap[ord("a")] == "a"
+
+
+@pytest.mark.parametrize("glyphs, options, message", [
+    ({"a": Outline([Contour(np.array([[0, 0], [50, 0], [100, 0]], float))])}, {}, "zero height"),
+    ({"é": from_svg(SQUARE), "eacute": from_svg(SQUARE)}, {}, r"both the glyph 'eacute'"),
+    ({"A": from_svg(SQUARE), "uni0041": from_svg(SQUARE)}, {}, "both map U\\+0041"),
+    ({"a": from_svg(SQUARE)}, {"scale": 400}, "16-bit range"),
+    ({"a": from_svg("M0 0 C 300 -900 700 900 1000 0 L 1000 500 Z")}, {"ttf_max_error": 1e-6}, "ttf_max_error"),
+])
+def test_build_refuses_what_it_cannot_write_before_writing(tmp_path, glyphs, options, message):
+    with pytest.raises(ValueError, match=message):
+        font.build(glyphs, output_dir=tmp_path / "out", **options)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("style, fs_selection, mac_style, weight, family", [
+    ("Regular", 0x40, 0, 400, "Test Sans"),
+    ("Bold", 0x20, 1, 700, "Test Sans"),
+    ("Italic", 0x01, 2, 400, "Test Sans"),
+    ("Bold Italic", 0x21, 3, 700, "Test Sans"),
+    ("Light", 0x40, 0, 300, "Test Sans Light"),
+])
+def test_names_and_style_linking(tmp_path, style, fs_selection, mac_style, weight, family):
+    files = font.build({"a": from_svg(SQUARE)}, family="Test Sans", style=style, output_dir=tmp_path)
+    for kind in ("otf", "ttf"):
+        compiled = TTFont(getattr(files, kind))
+        names = compiled["name"]
+        assert {1, 2, 3, 4, 6} <= {record.nameID for record in names.names}
+        assert names.getDebugName(1) == family and names.getDebugName(4) == f"Test Sans {style}"
+        assert compiled["OS/2"].fsSelection == fs_selection and compiled["head"].macStyle == mac_style
+        assert compiled["OS/2"].usWeightClass == weight

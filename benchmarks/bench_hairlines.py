@@ -2,6 +2,7 @@
 
     .venv/bin/python benchmarks/bench_hairlines.py
     .venv/bin/python benchmarks/bench_hairlines.py --compare OTHER/src
+    .venv/bin/python benchmarks/bench_hairlines.py --small --compare OTHER/src
 
 Clean strokes of width 1.2-3 px along a sine wave and a spiral, and rings of those widths, are rendered with
 the pixel-centre rule (``heldout_shapes.rasterize``) from their exact outlines (the centre line offset by half
@@ -11,6 +12,9 @@ traced and the exact outline (both ways, ``synthetic_shapes.score_beziers``) and
 scans of ``skimage.data`` (``page``, ``text``, ``camera``, ``coins``, default threshold) have no exact outline:
 noise, tolerance, outlines and segments only. With ``--compare SRC`` the same shapes are traced by the
 ``src`` folder of another checkout in a second process, and both columns are printed side by side.
+With ``--small`` the shapes are clean renders of the held-out families' glyphs at 24-48 px instead (small
+text, whose serifs, arms and spurs are a few pixels): per size, how many had their tolerance raised by the
+noise rule, the share within 1 px of the exact outline, and the median and largest distance.
 """
 from __future__ import annotations
 
@@ -56,6 +60,63 @@ def shapes():
     return out
 
 
+SMALL_SIZES = (24, 32, 40, 48)
+
+
+def small_glyphs(per_family=8):
+    """Clean renders (pixel-centre rule) of the held-out families' first ``per_family`` glyphs at the sizes of
+    small text, where serifs, arms and spurs are a few pixels wide."""
+    import heldout_shapes
+
+    out = []
+    for label, (path, chars) in heldout_shapes.available_families().items():
+        for size in SMALL_SIZES:
+            for char in chars[:per_family]:
+                shape = heldout_shapes.glyph_shape(path, char, size, 0.0, label)
+                if shape is not None:
+                    out.append((f"{label} {char} {size} px", shape))
+    return out
+
+
+def measure_small(src):
+    """Per small glyph: noise, tolerance and the largest distance to the exact outline."""
+    sys.path.insert(0, src)
+    sys.path.insert(0, HERE)
+    import warnings
+
+    import heldout_shapes
+    import splinecraft as sc
+    import synthetic_shapes
+
+    warnings.simplefilter("ignore")
+    rows = []
+    for name, shape in small_glyphs():
+        result = sc.trace(heldout_shapes.rasterize(shape), keep_snapshots=False)
+        score = synthetic_shapes.score_beziers(shape, synthetic_shapes.svg_beziers(result.to_svg()))
+        rows.append({"name": name, "size": shape["size"], "noise": result.stats["boundary_noise"],
+                     "tolerance": result.stats["tolerance"], "max": score["max_dev"],
+                     "epsilon": result.params["epsilon"]})
+    return rows
+
+
+def _small_table(before, after):
+    columns = [("before", before), ("after", after)] if before else [("this tree", after)]
+    print("Cells: tolerance raised by the noise rule / within 1 px of the exact outline / median and largest "
+          "distance px\n")
+    print("| size | n | " + " | ".join(label for label, _ in columns) + " |")
+    print("|---|---|" + "---|" * len(columns))
+    for size in SMALL_SIZES + (None,):
+        cells = []
+        for _, rows in columns:
+            picked = [row for row in rows if size is None or row["size"] == size]
+            raised = sum(row["tolerance"] > row["epsilon"] for row in picked)
+            within = sum(row["max"] <= 1.0 for row in picked)
+            distances = np.array([row["max"] for row in picked])
+            cells.append(f"{raised} / {100 * within / len(picked):.0f}% / {np.median(distances):.2f}, "
+                         f"{distances.max():.2f}")
+        print(f"| {size or 'all'} | {len(picked)} | " + " | ".join(cells) + " |")
+
+
 def measure(src):
     """Rows for the tree whose ``src`` folder is ``src`` (run in a process of its own)."""
     sys.path.insert(0, src)
@@ -93,18 +154,24 @@ def _cell(row):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--compare", help="the src folder of another checkout (the 'before')")
+    parser.add_argument("--small", action="store_true",
+                        help="clean glyphs of small text (24-48 px) instead: the noise rule's false alarms")
     parser.add_argument("--child", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.child:
-        print(json.dumps(measure(args.child)))
+        print(json.dumps(measure_small(args.child) if args.small else measure(args.child)))
         return
 
     def run(src):
-        done = subprocess.run([sys.executable, __file__, "--child", src], capture_output=True, text=True, check=True)
+        command = [sys.executable, __file__, "--child", src] + (["--small"] if args.small else [])
+        done = subprocess.run(command, capture_output=True, text=True, check=True)
         return json.loads(done.stdout.strip().splitlines()[-1])
 
     after = run(os.path.join(ROOT, "src"))
     before = run(os.path.abspath(args.compare)) if args.compare else None
+    if args.small:
+        _small_table(before, after)
+        return
     print("Cells: noise px / tolerance px / max / rms px to the exact outline / segments (outlines)\n")
     if before:
         print("| shape | before | after |\n|---|---|---|")

@@ -621,3 +621,69 @@ def test_a_path_given_as_bytes_says_to_pass_str(tmp_path):
     with pytest.raises(ValueError, match="not an image file") as caught:  # no hint where it cannot be a name
         load_bitmap(b"this is not an image at all")
     assert "pathlib" not in str(caught.value)
+
+
+# ------------------------------------------------------------------------------ holes without edges, 0/1 masks
+def _disc_on_paper(size, radius, paper, ink, hole_radius=0.0):
+    """A disc of ink whose gray runs from ink[0] to ink[1] left to right, on paper running likewise (8-bit),
+    with an optional paper counter at its centre; and the true mask."""
+    rows, cols = np.mgrid[:size, :size] + 0.5
+    distance = np.hypot(cols - size / 2, rows - size / 2)
+    mask = (distance < radius) & (distance >= hole_radius)
+    ramp = np.linspace(0.0, 1.0, size)[None, :]
+    gray = np.where(mask, ink[0] + (ink[1] - ink[0]) * ramp, paper[0] + (paper[1] - paper[0]) * ramp)
+    return np.rint(gray).astype(np.uint8), mask
+
+
+@pytest.mark.parametrize("size, radius", [(64, 20), (256, 80), (512, 200)])
+@pytest.mark.parametrize("paper, ink", [((200, 250), (20, 40)), ((120, 250), (10, 60)), ((250, 250), (10, 90))])
+def test_a_dark_area_whose_ink_drifts_lighter_gets_no_hole(size, radius, paper, ink):
+    """Inside a wide dark area the first (Sauvola) pass called the lighter ink paper, and the paper estimate
+    taken there confirmed it: a hole of 25-55 % of the disc (11 of these 9 x 2 cases). A hole no edge bounds
+    is ink now; the mask is the disc exactly."""
+    gray, mask = _disc_on_paper(size, radius, paper, ink)
+    np.testing.assert_array_equal(load_bitmap(gray, min_speck_area=0), mask)
+
+
+@pytest.mark.parametrize("hole_radius", [3.0, 6.0, 30.0])
+@pytest.mark.parametrize("paper, ink", [((200, 250), (10, 90)), ((150, 250), (20, 20))])
+def test_a_true_counter_is_kept_under_the_same_drift(hole_radius, paper, ink):
+    """A counter (paper inside the ink, as bright as the paper outside) has an edge: it stays a hole, small
+    or large, blurred or not; and the ink around it stays ink. Around a small counter in a wide dark area
+    the first pass called ink paper, even with ink of one gray (about 7 700 pixels wrong), and that stretch
+    was one hole with the counter."""
+    gray, mask = _disc_on_paper(256, 80, paper, ink, hole_radius=hole_radius)
+    np.testing.assert_array_equal(load_bitmap(gray, min_speck_area=0), mask)
+    blurred = np.rint(ndimage.gaussian_filter(gray.astype(float), 1.5)).astype(np.uint8)
+    found = load_bitmap(blurred, min_speck_area=0)
+    holes = ndimage.label(~found)[0]
+    centre = holes[128, 128]
+    assert centre != 0 and centre not in (holes[0, 0], holes[-1, -1])   # the counter is paper, not ink
+    assert abs(int((holes == centre).sum()) - np.pi * hole_radius ** 2) <= 2 * np.pi * hole_radius + 8
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.int64])
+def test_an_integer_array_of_zeros_and_ones_is_a_mask(dtype):
+    """mask.astype(int): 1 is ink, as in the bool mask it came from; read as gray, 0 and 1 of 255 (or 65535)
+    were two shades of black and every pixel became ink: a frame of 4 segments, silently."""
+    rows, cols = np.mgrid[:64, :64]
+    mask = np.hypot(cols - 32, rows - 32) < 20
+    np.testing.assert_array_equal(load_bitmap(mask.astype(dtype)), mask)
+    np.testing.assert_array_equal(load_bitmap(mask.astype(dtype), invert=True), ~mask)
+    with pytest.warns(UserWarning, match="True pixels cover"):          # the background as 1: the bool rule
+        np.testing.assert_array_equal(load_bitmap((~mask).astype(dtype)), ~mask)
+    assert load_bitmap(mask.astype(dtype), threshold=0.5).all()          # an explicit threshold: gray, obeyed
+
+
+def test_low_contrast_data_thresholded_into_ink_only_warns():
+    """12-bit data in a 16-bit array span less than MIN_CONTRAST of 65535: the fixed level makes every pixel
+    ink, and a warning says how to scale the data; scaled, the shape comes back."""
+    rows, cols = np.mgrid[:64, :64]
+    mask = np.hypot(cols - 32, rows - 32) < 20
+    twelve_bit = np.where(mask, 300, 4000).astype(np.uint16)
+    with pytest.warns(UserWarning, match=r"12-bit values in uint16\), scale them first"):
+        assert load_bitmap(twelve_bit).all()
+    np.testing.assert_array_equal(load_bitmap(twelve_bit / twelve_bit.max()), mask)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert not load_bitmap(np.full((20, 20), 250, np.uint8) - np.eye(20, dtype=np.uint8)).any()  # blank

@@ -89,6 +89,8 @@ __all__ = ["THRESHOLD_METHODS", "DEFAULT_THRESHOLD", "BACKGROUND_MARGIN", "BACKG
            "check_threshold", "window_size", "threshold_level", "estimate_noise", "auto_speck_area",
            "remove_specks", "PINHOLE_AREA", "fill_pinholes", "drop_specks"]
 
+#: Reach (px) of the ring of ink around a hole whose gray a hole is compared with (:func:`_fill_holes_without_edges`).
+HOLE_RING = 3
 #: Holes of fewer than this many pixels are pinholes (module docstring, "Pinholes").
 PINHOLE_AREA = 3
 
@@ -210,8 +212,76 @@ def _background_level(gray, white):
             break
     if level is None:                              # one class only: nothing to take a midpoint of
         return _otsu_level(gray, int(gray.min()), int(gray.max())) if gray.dtype.kind == "u" else _otsu_level(gray)
+    _fill_holes_without_edges(scaled, level, rho)
     return level * np.float32(white)
 
+
+def _fill_holes_without_edges(scaled, level, rho):
+    """Make ink of the holes no edge bounds (in place on ``level``). A hole (paper enclosed by ink) is kept
+    when its brightest gray (smoothed by a Gaussian of 1 px) ``h`` and the mean gray ``r`` of the ink within
+    ``HOLE_RING`` px around it satisfy ``r <= h (1 + rho) / 2``: were the hole paper, its ink would lie below
+    the midpoint. Inside a wide dark area whose ink drifts lighter (uneven toner, a gradient fill), or around
+    a small counter in a wide dark area, the first pass can call ink paper, and the paper estimate taken
+    there confirms it; the gray is continuous across such a boundary (``r`` close to ``h``), while a true
+    counter, however small or blurred, is brighter than its ink by the ink's contrast. Such a stretch that
+    reaches a true counter is one hole with it: so each kept hole's part below its own midpoint ``(h + d) /
+    2`` (``d`` the darkest smoothed ink around it), piece by piece, takes the same test with the piece's mean
+    gray for ``h`` (the dim side of a counter under uneven light passes it; a stretch of ink does not).
+    BENCHMARKS.md, "Thresholds, third round", has the cases and the measurement."""
+    from scipy import ndimage
+
+    paper = scaled > level
+    labels, count = ndimage.label(paper)           # 4-connected paper: the holes of 8-connected ink
+    if count == 0:
+        return
+    is_hole = np.ones(count + 1, bool)
+    is_hole[0] = False
+    is_hole[labels[0]] = is_hole[labels[-1]] = is_hole[labels[:, 0]] = is_hole[labels[:, -1]] = False
+    if not is_hole.any():
+        return
+    labels[~is_hole[labels]] = 0                   # holes only
+    smooth = ndimage.gaussian_filter(scaled, 1.0)
+    weak, bright, darkest = _weak_pieces(labels, count, scaled, smooth, paper, rho)
+    kept = is_hole & ~weak
+    rows, cols = np.nonzero(labels)
+    piece = labels[rows, cols]
+    dim = kept[piece] & (smooth[rows, cols] < (bright[piece] + darkest[piece]) / 2.0)
+    fill = weak[piece]
+    if dim.any():
+        parts = np.zeros_like(labels)
+        parts[rows[dim], cols[dim]] = 1
+        parts, part_count = ndimage.label(parts)
+        part_weak = _weak_pieces(parts, part_count, scaled, smooth, paper, rho, typical=True)[0]
+        fill |= part_weak[parts[rows, cols]]
+    level[rows[fill], cols[fill]] = np.float32(1.0)
+
+
+def _weak_pieces(labels, count, scaled, smooth, paper, rho, typical=False):
+    """Per label of ``labels`` (pieces of paper; 0 = none): whether no edge bounds it (``r > h (1 + rho) /
+    2``, :func:`_fill_holes_without_edges`), its brightest smoothed gray ``h`` (with ``typical``: its mean
+    gray, for the dim parts of a hole, whose brightest pixels are the blur of the counter beside them) and the
+    darkest smoothed gray of the ink within ``HOLE_RING`` px."""
+    from scipy import ndimage
+
+    rows, cols = np.nonzero(labels)
+    if typical:
+        sizes = np.bincount(labels[rows, cols], minlength=count + 1)
+        bright = (np.bincount(labels[rows, cols], weights=scaled[rows, cols], minlength=count + 1)
+                  / np.maximum(sizes, 1)).astype(np.float32)
+    else:
+        bright = np.zeros(count + 1, np.float32)
+        np.maximum.at(bright, labels[rows, cols], smooth[rows, cols])
+    ring = ndimage.maximum_filter(labels, size=2 * HOLE_RING + 1)
+    ring[paper] = 0
+    counts = np.bincount(ring.ravel(), minlength=count + 1)
+    sums = np.bincount(ring.ravel(), weights=scaled.ravel(), minlength=count + 1)
+    ring_mean = sums / np.maximum(counts, 1)
+    darkest = np.full(count + 1, np.inf, np.float32)
+    ring_rows, ring_cols = np.nonzero(ring)
+    np.minimum.at(darkest, ring[ring_rows, ring_cols], smooth[ring_rows, ring_cols])
+    weak = (counts > 0) & (ring_mean > bright * (1.0 + rho) / 2.0)
+    weak[0] = False
+    return weak, bright, darkest
 
 def _rough_ink(scaled):
     """The first pass of ``"background"``: Sauvola's mask, on block means of ``f x f`` pixels (bilinear

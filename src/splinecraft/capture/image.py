@@ -19,9 +19,13 @@ Conventions
   ``None`` (default) is ``DEFAULT_THRESHOLD`` (``"background"``). When the image has too little contrast for any
   of the methods to mean anything (``max - min < MIN_CONTRAST`` of full scale, e.g. a blank page with JPEG
   noise, or a uniform image) the fixed mid-gray threshold ``0.5`` is used instead, so an all-white image
-  has no ink and an all-black image is all ink. The methods, their window and the measurement behind the
+  has no ink and an all-black image is all ink. When that makes every pixel of an image that does have two
+  gray levels ink (12-bit data in a 16-bit array), a ``UserWarning`` says so and how to scale it. The methods, their window and the measurement behind the
   default are in :mod:`splinecraft.capture._binarize`.
-* **Bool arrays** are masks already (``True`` = ink); only ``invert`` applies to them. When more than three
+* **Bool arrays** are masks already (``True`` = ink); only ``invert`` applies to them. So is a 2-D **integer
+  array of 0 and 1 only** (``mask.astype(np.uint8)``, a label image) when ``threshold`` is ``None``: ``1`` = ink,
+  as for the bool mask it came from (read as gray, ``0`` and ``1`` of 255 are two shades of black); with an
+  explicit ``threshold`` it is gray. When more than three
   quarters of the border pixels are ``True`` and ``True`` touches all four borders, the mask most likely has its
   background as ``True`` (``skimage.data.horse()`` does): an :class:`InkPolarityWarning` (a ``UserWarning``) says so and how to flip it
   (``invert=True`` or ``~mask``); the mask is still used as given.
@@ -137,6 +141,8 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
 
     if isinstance(image, np.ndarray):
         image = _plain_array(image, invert)
+        if threshold is None and _is_zero_one_mask(image):
+            image = image.astype(bool)  # mask.astype(np.uint8): a mask, not a nearly black gray image
     if isinstance(image, np.ndarray) and image.dtype == bool:
         if image.ndim != 2:
             raise ValueError(f"a bool mask must be 2-D (H, W), got shape {image.shape}")
@@ -151,6 +157,7 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
         gray, white = _to_gray(image, max_pixels)
         level = _binarize.threshold_level(gray, white, threshold)
         mask = np.ascontiguousarray(gray <= level)
+        _warn_if_flat(gray, white, threshold, mask)
         speck = min_speck_area
         if speck is None:
             speck = _binarize.auto_speck_area(gray, white, level, mask, _binarize.estimate_noise(gray, white))
@@ -186,6 +193,31 @@ def _warn_if_inverted(mask):
 # ---------------------------------------------------------------------------------------------------
 # validation helpers
 # ---------------------------------------------------------------------------------------------------
+def _is_zero_one_mask(image):
+    """A 2-D integer array holding 0 and 1 only (and both): a mask as ``mask.astype(int)`` makes it."""
+    if image.ndim != 2 or image.dtype.kind not in "iu" or image.size == 0:
+        return False
+    lo, hi = image.min(), image.max()
+    return lo == 0 and hi == 1
+
+
+def _warn_if_flat(gray, white, threshold, mask):
+    """Warn when a gray image with some contrast, but less than ``MIN_CONTRAST`` of white, was thresholded at
+    the fixed ``FALLBACK_THRESHOLD`` into ink only (module docstring, "Threshold"): e.g. 12-bit data in a
+    16-bit array, whose gray range is below 7 % of 65535. (Paper only is a blank page with some noise.)"""
+    if not (threshold is None or isinstance(threshold, str)) or not mask.all():
+        return
+    lo, hi = float(gray.min()), float(gray.max())
+    if lo == hi or hi - lo >= _binarize.MIN_CONTRAST * white:
+        return
+    warnings.warn(
+        f"the image's gray levels span {lo:g}-{hi:g} of white = {white:g} ({100 * (hi - lo) / white:.1f}%), "
+        f"less than the {100 * _binarize.MIN_CONTRAST:.0f}% any threshold method needs, so the fixed level "
+        f"{_binarize.FALLBACK_THRESHOLD:g} of white made every pixel ink; if the "
+        "data use fewer bits than their dtype (e.g. 12-bit values in uint16), scale them first (image / "
+        "image.max()), or pass threshold= as a fraction of white", stacklevel=3)
+
+
 def _check_count(value, name):
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"{name} must be a non-negative int, got {type(value).__name__}")

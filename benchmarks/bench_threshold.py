@@ -13,6 +13,8 @@ Three inputs:
 * ``skimage.data.page()`` and ``skimage.data.text()`` (no ground truth): the ink share, the number of ink
   components and the share of the ink in the largest component (one solid blob means the lighting won).
   With ``--out`` the masks are written as PNGs.
+* wide dark areas whose ink (or paper) runs between two grays, with and without a small counter
+  (:func:`dark_areas`): exact masks, wrong pixels counted.
 
 Every trace runs ``sc.trace`` at its defaults except ``threshold``. Last, the time of ``load_bitmap`` per
 method (median of 5 after a warm-up, in this process) on a 300-px scan-like gray glyph, ``page()`` and a
@@ -106,6 +108,46 @@ def _times(glyph):
     print("\nCells: ms per load_bitmap call (median of 5).")
 
 
+def dark_areas():
+    """Wide dark areas on paper (discs of 20-200 px radius; ink and paper each running left to right between
+    two 8-bit grays, as uneven toner or a gradient fill), with and without a paper counter of 3-30 px at the
+    centre: exact masks, so every wrong pixel counts. Yields (label, gray, true mask)."""
+    for size, radius in ((64, 20), (256, 80), (512, 200), (512, 120)):
+        for paper, ink in (((200, 250), (20, 40)), ((120, 250), (10, 60)), ((250, 250), (30, 30)),
+                           ((250, 250), (10, 90))):
+            yield "no counter", *_disc(size, radius, paper, ink, 0.0)
+    for paper, ink in (((200, 250), (20, 40)), ((120, 250), (10, 60)), ((250, 250), (10, 90)),
+                       ((200, 250), (10, 30)), ((150, 250), (20, 20))):
+        for counter in (3.0, 6.0, 30.0):
+            yield "counter", *_disc(256, 80, paper, ink, counter)
+
+
+def _disc(size, radius, paper, ink, counter):
+    rows, cols = np.mgrid[:size, :size] + 0.5
+    distance = np.hypot(cols - size / 2, rows - size / 2)
+    mask = (distance < radius) & (distance >= counter)
+    ramp = np.linspace(0.0, 1.0, size)[None, :]
+    gray = np.where(mask, ink[0] + (ink[1] - ink[0]) * ramp, paper[0] + (paper[1] - paper[0]) * ramp)
+    return np.rint(gray).astype(np.uint8), mask
+
+
+def _dark_area_rows():
+    groups = {}
+    for label, gray, mask in dark_areas():
+        for method in METHODS:
+            wrong = int((sc.load_bitmap(gray, threshold=method, min_speck_area=0) != mask).sum())
+            cell = groups.setdefault(label, {}).setdefault(method, [0, 0, 0])
+            cell[0] += 1
+            cell[1] += wrong > 0
+            cell[2] += wrong
+    print("\n| dark areas | n | " + " | ".join(METHODS) + " |")
+    print("|---|---|" + "---|" * len(METHODS))
+    for label, cells in groups.items():
+        count = next(iter(cells.values()))[0]
+        print(f"| {label} | {count} | " + " | ".join(f"{cells[m][1]} / {cells[m][2]}" for m in METHODS) + " |")
+    print("\nCells: cases with a wrong pixel / wrong pixels in all (a hole of paper inside the ink, mostly).")
+
+
 def main(argv=None):
     import heldout_shapes as H
     from bench_peers import ensure_peers
@@ -143,6 +185,7 @@ def main(argv=None):
     entries += [("held-out scan-like gray, even paper", even), ("held-out scan-like gray, uneven lighting", lit)]
     _score_rows(entries, scorer)
     _pages(args.out)
+    _dark_area_rows()
     _times(even[0][1])
 
 

@@ -61,8 +61,8 @@ def test_missing_files_and_broken_documents():
         from_svg("no/such/file.svg")
     with pytest.raises(ValueError, match="not a readable SVG"):
         from_svg("<svg><path d='M 0 0'></svg>")
-    with pytest.raises(ValueError, match="<rect>"):
-        from_svg('<svg xmlns="http://www.w3.org/2000/svg"><rect width="3" height="4"/></svg>')
+    with pytest.raises(ValueError, match="<circle>"):
+        from_svg('<svg xmlns="http://www.w3.org/2000/svg"><circle r="3"/></svg>')
     with pytest.raises(ValueError, match="no path"):
         from_svg('<svg xmlns="http://www.w3.org/2000/svg"></svg>')
 
@@ -148,3 +148,88 @@ def test_a_title_xml_cannot_hold_is_refused():
     with pytest.raises(ValueError, match="U\\+0001"):
         outline.to_svg(title="bad\x01title")
     assert "<title>é &amp; co</title>" in outline.to_svg(title="é & co")
+
+
+def _svg(body, attributes='width="20" height="20"'):
+    return f'<svg xmlns="http://www.w3.org/2000/svg" {attributes}>{body}</svg>'
+
+
+SQUARE = '<path d="M0 0 L10 0 L10 10 L0 10 Z"/>'
+HIDDEN = '<path d="M100 100 L200 100 L200 200 Z"/>'
+
+
+@pytest.mark.parametrize("wrapper", [
+    "<defs>{}</defs>", "<symbol id='s'>{}</symbol>", "<mask id='m'>{}</mask>", "<clipPath id='c'>{}</clipPath>",
+    "<marker id='k'>{}</marker>", "<pattern id='p'>{}</pattern>", "<g display='none'>{}</g>",
+    "<g style='fill:red; display : none'><g>{}</g></g>", "<g><path style='display:none' d='M100 100 L200 100 L200 200 Z'/></g>",
+])
+def test_paths_that_are_never_drawn_are_skipped(wrapper):
+    outline = from_svg(_svg(wrapper.format(HIDDEN) + SQUARE))
+    assert len(outline) == 1  # before: the hidden triangle came in as a second contour
+    assert np.allclose(outline.bounds()[1], [10, 10])
+    # the style property overrides the presentation attribute: this one is drawn
+    assert len(from_svg(_svg(f'<g display="none" style="display:inline">{HIDDEN}</g>' + SQUARE))) == 2
+
+
+def test_a_rect_in_a_clip_path_does_not_abort_the_import():
+    outline = from_svg(_svg(f'<clipPath id="c"><rect width="20" height="20"/></clipPath>'
+                            '<path clip-path="url(#c)" d="M0 0 L10 0 L10 10 L0 10 Z"/>'))
+    assert len(outline) == 1 and np.allclose(outline.bounds()[1], [10, 10])
+
+
+def test_drawn_rects_and_polygons_are_read_as_lines():
+    outline = from_svg(_svg('<rect x="1" y="2" width="3" height="4"/><polygon points="10,0 20,0 20,10"/>'
+                            '<rect width="0" height="5"/>'))
+    assert len(outline) == 2  # the zero-width rect draws nothing
+    rect, triangle = (c.bezier() for c in outline.contours)
+    assert np.allclose(rect[:, 0], [[1, 2], [4, 2], [4, 6], [1, 6]]) and outline.contours[0].corners.all()
+    assert np.allclose(triangle[:, 0], [[10, 0], [20, 0], [20, 10]]) and outline.contours[1].corners.all()
+
+
+def test_an_open_polyline_is_refused_unless_closed():
+    body = '<polyline points="0,0 10,0 10,10"/>'
+    with pytest.raises(ValueError, match="<polyline> \\(shape 0\\), subpath 0 is not closed"):
+        from_svg(_svg(body))
+    assert np.allclose(from_svg(_svg(body), close_open=True).contours[0].bezier()[-1, 3], [0, 0])
+
+
+@pytest.mark.parametrize("body, message", [
+    ('<circle cx="5" cy="5" r="3"/>', "<circle> elements are not converted"),
+    ('<ellipse rx="5" ry="3"/>', "<ellipse> elements are not converted"),
+    ('<rect width="5" height="5" rx="1"/>', "<rect> with rounded corners"),
+    ('<line x2="5" y2="5"/>', "<line> encloses no area"),
+    ('<polygon points="0,0 10,0 10"/>', "<polygon> points must be an even count"),
+    ('<svg viewBox="0 0 5 5"><path d="M0 0 L10 0 L10 10 Z"/></svg>', "nested <svg> with its own viewBox"),
+])
+def test_shapes_that_are_not_converted_are_refused_naming_the_element(body, message):
+    with pytest.raises(ValueError, match=message):
+        from_svg(_svg(body))
+
+
+@pytest.mark.parametrize("attributes, frame, low, high", [
+    ('viewBox="-20 -20 40 40"', (40, 40), (20, 20), (30, 30)),  # the origin is moved
+    ('width="200" height="200" viewBox="0 0 20 20"', (200, 200), (0, 0), (100, 100)),  # scaled to the size
+    ('width="200" viewBox="0 0 20 40"', (200, 400), (0, 0), (100, 100)),  # the missing side keeps the aspect
+    ('width="200" height="100" viewBox="0 0 10 10"', (200, 100), (50, 0), (150, 100)),  # xMidYMid meet
+    ('width="200" height="100" viewBox="0 0 10 10" preserveAspectRatio="xMinYMin slice"', (200, 100), (0, 0),
+     (200, 200)),
+    ('width="200" height="100" viewBox="0 0 10 10" preserveAspectRatio="none"', (200, 100), (0, 0), (200, 100)),
+    ('width="80pt" height="30pt" viewBox="0 0 40 30"', (80, 30), (20, 0), (30, 10)),  # print size: viewBox units
+    ('width="100%" height="100%" viewBox="5 5 20 20"', (20, 20), (-5, -5), (5, 5)),
+])
+def test_the_viewbox_maps_the_curves_into_the_frame(attributes, frame, low, high):
+    outline = from_svg(_svg('<path d="M0 0 L10 0 L10 10 L0 10 Z"/>', attributes))
+    assert np.allclose((outline.width, outline.height), frame)
+    assert np.allclose(outline.bounds()[0], low) and np.allclose(outline.bounds()[1], high)
+    again = from_svg(outline.to_svg())  # the re-export shows the same picture
+    assert np.allclose(again.bounds()[0], low) and np.allclose(again.bounds()[1], high)
+
+
+def test_physical_sizes_without_a_viewbox_are_px_at_96_dpi_and_other_units_are_refused():
+    outline = from_svg(_svg(SQUARE, 'width="10mm" height="1in"'))
+    assert np.allclose((outline.width, outline.height), (96 / 2.54, 96))
+    assert np.allclose(outline.bounds()[1], [10, 10])  # user units are px
+    with pytest.raises(ValueError, match="<svg> width='10em' is not read"):
+        from_svg(_svg(SQUARE, 'width="10em" height="10"'))
+    with pytest.raises(ValueError, match="viewBox '0 0 10' must be four numbers"):
+        from_svg(_svg(SQUARE, 'viewBox="0 0 10"'))

@@ -9,6 +9,18 @@
   smooth knots of a rounded export stay smooth).
   Arcs, quadratic and smooth commands are refused naming the subpath; so are unclosed subpaths unless
   ``close_open=True`` (a straight closing segment is added).
+  Only what a viewer draws is read (SVG 1.1/2 rendering rules): the content of ``<defs>``, ``<symbol>``,
+  ``<mask>``, ``<clipPath>``, ``<marker>``, ``<pattern>`` (drawn only through references, which are not
+  followed: ``<use>`` is ignored), elements of other XML namespaces and ``display="none"`` /
+  ``style="display:none"`` subtrees are skipped (CSS ``<style>`` sheets are not read). Drawn basic shapes:
+  ``<rect>`` (square corners) and ``<polygon>`` are read exactly as closed line subpaths, ``<polyline>`` as an
+  open one; ``<circle>``, ``<ellipse>``, rounded ``<rect>`` (arcs, like ``A`` in path data) and ``<line>``
+  (no area) are refused naming the element.
+  The document's ``viewBox`` is applied (SVG 1.1 section 7.7, ``preserveAspectRatio`` included): curves and
+  frame are in the coordinates a viewer shows at the document's ``width``/``height`` in px (unitless, px,
+  in, cm, mm, pt, pc at 96 px to the inch; ``%`` reads as absent; other units are refused). A size in a
+  physical unit with a viewBox (potrace writes ``pt``) is taken as a print size: the picture is read in the
+  viewBox's units (see ``_frame``).
 * :func:`from_knots`: contours given as knots with corner flags.
 """
 from __future__ import annotations
@@ -137,13 +149,98 @@ def _transform_matrix(text):
     return matrix
 
 
-def _paths(element, matrix, found):
-    matrix = matrix @ _transform_matrix(element.get("transform"))
+#: Elements whose content is never drawn by itself (templates and resources, drawn only through a reference:
+#: ``<use>``, ``clip-path``, ``mask``, ``marker``, ``fill="url(...)"``), SVG 1.1 sections 5.3, 5.5, 11.6, 14.3, 14.4, 13.3.
+_NOT_RENDERED = {"defs", "symbol", "mask", "clipPath", "marker", "pattern", "linearGradient", "radialGradient",
+                 "filter", "metadata", "foreignObject", "title", "desc", "style", "script"}
+#: CSS absolute lengths in px (CSS Values 3: 1in = 96px = 2.54cm = 72pt = 6pc).
+_UNITS = {"": 1.0, "px": 1.0, "in": 96.0, "cm": 96.0 / 2.54, "mm": 9.6 / 2.54, "pt": 96.0 / 72.0, "pc": 16.0}
+_LENGTH = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([a-zA-Z%]*)\s*$")
+
+
+def _parse_length(element, attribute, *, percent=False):
+    """The length attribute as ``(number, unit)`` (``None`` when absent): unitless or px, in, cm, mm, pt, pc
+    (and ``%`` when ``percent``); other units are refused naming the element and attribute."""
+    value = element.get(attribute)
+    if value is None or value.strip() in ("", "auto"):
+        return None
+    match = _LENGTH.match(value)
+    unit = match.group(2).lower() if match else None
+    if unit not in _UNITS and not (unit == "%" and percent):
+        tag = element.tag.replace(_SVG_NS, "")
+        raise ValueError(f"<{tag}> {attribute}={value!r} is not read: lengths must be numbers, unitless or in "
+                         f"px, in, cm, mm, pt or pc{' (or % for the document size)' if percent else ''}")
+    return float(match.group(1)), unit
+
+
+def _length(element, attribute):
+    """The length attribute in px (96 px to the inch), ``None`` when absent (:func:`_parse_length`)."""
+    length = _parse_length(element, attribute)
+    return None if length is None else length[0] * _UNITS[length[1]]
+
+
+def _hidden(element):
+    """Whether ``display`` is ``none`` (the ``style`` property overrides the presentation attribute)."""
+    display = element.get("display")
+    for declaration in (element.get("style") or "").split(";"):
+        key, _, value = declaration.partition(":")
+        if key.strip().lower() == "display":
+            display = value
+    return display is not None and display.replace("!important", "").strip().lower() == "none"
+
+
+def _shape_data(element, tag):
+    """Path data (and the text its rounding is read from) of a drawn basic shape (SVG 1.1 section 9): ``<rect>`` (without rounded corners) and
+    ``<polygon>`` as closed line subpaths, ``<polyline>`` as an open one; ``None`` when it draws nothing.
+    Circles, ellipses, rounded rectangles (arcs) and lines (no area) are refused naming the element."""
+    if tag in ("circle", "ellipse"):
+        raise ValueError(f"SVG <{tag}> elements are not converted (their arcs would need an approximation); "
+                         "convert them to <path> with cubic Béziers first")
+    if tag == "line":
+        raise ValueError("an SVG <line> encloses no area and is not read; draw the shape as a closed <path>")
+    if tag == "rect":
+        x, y = _length(element, "x") or 0.0, _length(element, "y") or 0.0
+        width, height = _length(element, "width"), _length(element, "height")
+        if any(_length(element, radius) for radius in ("rx", "ry")):
+            raise ValueError("an SVG <rect> with rounded corners (rx/ry) is not converted (its corners are arcs); "
+                             "convert it to <path> with cubic Béziers first")
+        if width is None or height is None or width == 0 or height == 0:
+            return None  # SVG 1.1 section 9.2: a zero width or height disables rendering
+        if width < 0 or height < 0:
+            raise ValueError(f"an SVG <rect> has a negative width or height ({width:g} x {height:g})")
+        written = " ".join(element.get(name) or "0" for name in ("x", "y", "width", "height"))
+        return f"M{x!r} {y!r} H{x + width!r} V{y + height!r} H{x!r} Z", written
+    points = element.get("points", "")
+    from ..capture.svg import _TOKEN
+
+    values = _TOKEN.findall(points)
+    if any(not _NUMBER.fullmatch(value) for value in values) or len(values) % 2:
+        raise ValueError(f"SVG <{tag}> points must be an even count of numbers (x, y pairs), got {points!r}")
+    if not values:
+        return None
+    return "M" + " ".join(values) + (" Z" if tag == "polygon" else ""), points
+
+
+def _paths(element, matrix, found, viewport=None):
+    """Collect ``(label, path data, matrix, written numbers)`` of what ``element`` draws: its own and its groups'
+    ``transform`` (and, for the document, ``viewport``: the viewBox mapping) applied; elements that are
+    never drawn (:data:`_NOT_RENDERED`, other XML namespaces) and ``display: none`` subtrees are skipped."""
+    if element.tag.startswith("{") and not element.tag.startswith(_SVG_NS):
+        return
     tag = element.tag.replace(_SVG_NS, "")
+    if tag in _NOT_RENDERED or _hidden(element):
+        return
+    if tag == "svg" and viewport is None and any(element.get(key) for key in ("viewBox", "x", "y")):
+        raise ValueError("a nested <svg> with its own viewBox or x/y is not read; flatten it into a group first")
+    matrix = matrix @ _transform_matrix(element.get("transform"))
+    if viewport is not None:
+        matrix = matrix @ viewport
     if tag == "path":
-        found.append((element.get("d", ""), matrix))
+        found.append((f"path {len(found)}", element.get("d", ""), matrix, element.get("d", "")))
     elif tag in ("rect", "circle", "ellipse", "polygon", "polyline", "line"):
-        raise ValueError(f"SVG <{tag}> elements are not read; convert them to <path> first")
+        shape = _shape_data(element, tag)
+        if shape is not None:
+            found.append((f"<{tag}> (shape {len(found)})", shape[0], matrix, shape[1]))
     for child in element:
         _paths(child, matrix, found)
 
@@ -198,8 +295,12 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
 
     A string is a document when it starts with ``<``, path data when it starts with a moveto and a number
     (``"M 0,0 ..."``) unless a file of that name exists, and else a file name (``"moon.svg"``).
-    The frame is the document's ``width``/``height`` (or its ``viewBox`` size); path data alone gets the
-    bounding box of its curves. Numbers written with few decimals (the default ``to_svg(decimals=4)``) are
+    The frame is the document's ``width``/``height`` in px (or its ``viewBox`` size), and the curves are mapped
+    into it by the viewBox transform: ``viewBox="-20 -20 40 40"`` moves the origin to the frame's centre,
+    ``width="200" viewBox="0 0 20 20"`` scales by 10; with a physical size (``width="40pt"``) the frame is
+    in the viewBox's units. Path data alone gets the bounding box of its curves. Paths that are never drawn
+    (in ``<defs>``, ``<clipPath>``, ... or under ``display:none``) are skipped; ``<rect>``/``<polygon>``/
+    ``<polyline>`` are read as lines, other shapes refused (module docstring). Numbers written with few decimals (the default ``to_svg(decimals=4)``) are
     taken as rounded: knots whose handles are collinear up to that rounding stay smooth when a smooth
     contour reproduces the numbers within a few times the rounding (``rounding`` of :func:`from_bezier`).
     """
@@ -219,16 +320,16 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
             root = ET.fromstring(text.encode("utf-8") if text.lstrip().startswith("<?xml") else text)
         except ET.ParseError as exc:
             raise ValueError(f"not a readable SVG document: {exc}") from None
+        width, height, viewport = _frame(root)
         found = []
-        _paths(root, np.eye(3), found)
-        width, height = _frame(root)
+        _paths(root, np.eye(3), found, viewport)
     else:
-        found = [(text, np.eye(3))]
+        found = [("path 0", text, np.eye(3), text)]
     curves, rounding = [], 0.0
-    for p, (d, matrix) in enumerate(found):
-        where = f"path {p}, " if len(found) > 1 else ""
+    for label, d, matrix, written in found:
+        where = f"{label}, " if len(found) > 1 or not label.startswith("path") else ""
         _check_commands(d, where)
-        rounding = max(rounding, _rounding(d) * float(np.linalg.norm(matrix[:2, :2], 2)))
+        rounding = max(rounding, _rounding(written) * float(np.linalg.norm(matrix[:2, :2], 2)))
         for s, (bezier, closed) in enumerate(parse_path_data(d)):
             if not closed:
                 if not close_open:
@@ -245,19 +346,58 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
 
 
 def _frame(root):
-    def number(value):
-        if value is None:
-            return None
-        match = re.match(r"\s*([-+]?\d*\.?\d+(?:[eE][-+]?\d+)?)", value)
-        return float(match.group(1)) if match else None
+    """The frame (``width``, ``height``) of the document and the matrix from its user space (the ``viewBox``)
+    to the frame: the SVG 1.1 section 7.7 viewBox transform, ``preserveAspectRatio`` included.
 
-    width, height = number(root.get("width")), number(root.get("height"))
-    box = root.get("viewBox")
-    if box and (width is None or height is None):
-        values = [float(v) for v in re.split(r"[\s,]+", box.strip()) if v]
-        if len(values) == 4:
-            width, height = values[2], values[3]
-    return width, height
+    ``width``/``height`` are unitless, px, in, cm, mm, pt or pc (96 px to the inch), or ``%`` (read as
+    absent). Without a viewBox the frame is that size in px (user units are px) and the matrix is the identity
+    (an absent size gives ``None``: the curves' bounding box). With a viewBox, an absent size is the viewBox
+    size (one absent side follows the viewBox's aspect ratio), and the viewBox is translated by
+    ``-min-x, -min-y`` and scaled into the frame. When a side is given in a physical unit (potrace writes
+    ``pt``), that is a print size of the picture: the frame and the matrix are divided by the viewBox's scale
+    (the smaller of x and y), so the curves keep the viewBox's units (potrace's pixels).
+    """
+    lengths = [_parse_length(root, side, percent=True) for side in ("width", "height")]
+    lengths = [None if length is None or length[1] == "%" else length for length in lengths]
+    units = {length[1] for length in lengths if length is not None}
+    physical = bool(units - {"", "px"})
+    same = len(units) == 1  # a physical size in one unit is read in that unit (the result does not depend on it)
+    width, height = (None if length is None else length[0] * (1.0 if physical and same else _UNITS[length[1]])
+                     for length in lengths)
+    box = (root.get("viewBox") or "").strip()
+    if not box:
+        return width, height, np.eye(3)
+    try:
+        vx, vy, vw, vh = (float(v) for v in re.split(r"[\s,]+", box))
+    except ValueError:
+        vx = vy = vw = vh = float("nan")
+    if not (np.isfinite([vx, vy, vw, vh]).all() and vw > 0 and vh > 0):
+        raise ValueError(f"the SVG viewBox {box!r} must be four numbers: min-x, min-y, width > 0, height > 0")
+    if width is None and height is None:
+        width, height = vw, vh
+    elif width is None:
+        width = height * vw / vh
+    elif height is None:
+        height = width * vh / vw
+    if not (width > 0 and height > 0):
+        raise ValueError(f"the SVG width and height must be > 0, got {width:g} x {height:g}")
+    sx, sy = width / vw, height / vh
+    words = [word for word in (root.get("preserveAspectRatio") or "").split() if word != "defer"]
+    align = words[0] if words else "xMidYMid"
+    if align != "none":
+        sx = sy = max(sx, sy) if words[1:2] == ["slice"] else min(sx, sy)
+        fractions = {"Min": 0.0, "Mid": 0.5, "Max": 1.0}
+        fx, fy = fractions.get(align[1:4], 0.5), fractions.get(align[5:8], 0.5)
+    else:
+        fx = fy = 0.0
+    matrix = np.array([[sx, 0.0, (width - vw * sx) * fx - vx * sx],
+                       [0.0, sy, (height - vh * sy) * fy - vy * sy],
+                       [0.0, 0.0, 1.0]])
+    if physical:
+        scale = min(sx, sy)
+        matrix[:2] /= scale
+        width, height = width / scale, height / scale
+    return width, height, matrix
 
 
 # ---------------------------------------------------------------------------------------------- dispatch

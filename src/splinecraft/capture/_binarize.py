@@ -284,51 +284,69 @@ def _weak_pieces(labels, count, scaled, smooth, paper, rho, typical=False):
     return weak, bright, darkest
 
 def _rough_ink(scaled):
-    """The first pass of ``"background"``: Sauvola's mask, on block means of ``f x f`` pixels (bilinear
-    would not help: the mask only seeds the estimates) when the image has more than ``ROUGH_PIXELS``."""
+    """The first pass of ``"background"``: Sauvola's mask, on block means of about ``f x f`` pixels placed
+    symmetrically about the centre (:func:`_centred_blocks`; bilinear would not help: the mask only seeds
+    the estimates) when the image has more than ``ROUGH_PIXELS``."""
     height, width = scaled.shape
     factor = max(1, math.ceil(math.sqrt(height * width / ROUGH_PIXELS)))
     if factor == 1:
         return scaled <= _window_level(scaled, 1.0, "sauvola")
-    rows, cols = -(-height // factor), -(-width // factor)
-    padded = np.pad(scaled, ((0, rows * factor - height), (0, cols * factor - width)), mode="edge")
-    small = padded.reshape(rows, factor, cols, factor).mean(axis=(1, 3), dtype=np.float32)
+    (size_r, rows, off_r), (size_c, cols, off_c) = _centred_blocks(height, factor), _centred_blocks(width, factor)
+    padded = np.pad(scaled, ((off_r, rows * size_r - height - off_r), (off_c, cols * size_c - width - off_c)),
+                    mode="edge")
+    small = padded.reshape(rows, size_r, cols, size_c).mean(axis=(1, 3), dtype=np.float32)
     rough = small <= _window_level(small, 1.0, "sauvola")
-    return np.ascontiguousarray(np.repeat(np.repeat(rough, factor, axis=0), factor, axis=1)[:height, :width])
+    rough = np.repeat(np.repeat(rough, size_r, axis=0), size_c, axis=1)
+    return np.ascontiguousarray(rough[off_r:off_r + height, off_c:off_c + width])
+
+
+def _centred_blocks(length, block):
+    """Blocks of about ``block`` px along an axis of ``length`` px, placed symmetrically about its centre:
+    ``(size, count, offset)``, the padded axis ``count * size`` px with ``offset`` px before the first pixel
+    and as many after the last (``size`` is ``block`` or, for an odd ``length`` and an even ``block``,
+    ``block - 1``), so a flip or a quarter turn of the image turns the block grid with it."""
+    size = block - 1 if block > 1 and block % 2 == 0 and length % 2 else block
+    count = -(-length // size)
+    if (count * size - length) % 2:
+        count += 1
+    return size, count, (count * size - length) // 2
 
 
 def _smooth_surface(values, support, sigma):
     """Gaussian-weighted mean of ``values`` over the ``support`` pixels (normalized convolution), smooth at
-    the scale ``sigma`` px: computed on blocks of ``max(1, sigma // 4)`` px and interpolated bilinearly back
-    to the pixels; where no support pixel lies within reach, the nearest estimate."""
+    the scale ``sigma`` px: computed on blocks of about ``max(1, sigma // 4)`` px placed symmetrically about
+    the image centre (:func:`_centred_blocks`) and interpolated bilinearly back to the pixels; where no
+    support pixel lies within reach, the nearest estimate."""
     from scipy import ndimage
 
     height, width = values.shape
     block = max(1, int(sigma // 4))
-    rows, cols = -(-height // block), -(-width // block)
-    weight = np.zeros((rows * block, cols * block), np.float32)
+    (size_r, rows, off_r), (size_c, cols, off_c) = _centred_blocks(height, block), _centred_blocks(width, block)
+    weight = np.zeros((rows * size_r, cols * size_c), np.float32)
     weighted = np.zeros_like(weight)
-    weight[:height, :width] = support
-    weighted[:height, :width] = np.where(support, values, np.float32(0.0))
-    weight = weight.reshape(rows, block, cols, block).sum(axis=(1, 3))
-    weighted = weighted.reshape(rows, block, cols, block).sum(axis=(1, 3))
-    total = ndimage.gaussian_filter(weight, sigma / block, mode="nearest")
-    surface = ndimage.gaussian_filter(weighted, sigma / block, mode="nearest") / np.maximum(total, 1e-30)
-    reached = total > 1e-3 * block * block
+    inner = (slice(off_r, off_r + height), slice(off_c, off_c + width))
+    weight[inner] = support
+    weighted[inner] = np.where(support, values, np.float32(0.0))
+    weight = weight.reshape(rows, size_r, cols, size_c).sum(axis=(1, 3))
+    weighted = weighted.reshape(rows, size_r, cols, size_c).sum(axis=(1, 3))
+    spread = (sigma / size_r, sigma / size_c)
+    total = ndimage.gaussian_filter(weight, spread, mode="nearest")
+    surface = ndimage.gaussian_filter(weighted, spread, mode="nearest") / np.maximum(total, 1e-30)
+    reached = total > 1e-3 * size_r * size_c
     if not reached.all():
         nearest = ndimage.distance_transform_edt(~reached, return_distances=False, return_indices=True)
         surface = surface[nearest[0], nearest[1]]
-    if block == 1:
+    if size_r == size_c == 1:
         return surface.astype(np.float32)
-    # block centres at (k + 1/2) block - 1/2 pixels; linear between them, constant beyond the outer ones
-    def weights(count, size):
-        position = (np.arange(size, dtype=np.float64) + 0.5) / block - 0.5
+    # block centres at (k + 1/2) size - 1/2 - offset pixels; linear between them, constant beyond the outer ones
+    def weights(count, size, offset, length):
+        position = (np.arange(length, dtype=np.float64) + offset + 0.5) / size - 0.5
         start = np.clip(np.floor(position).astype(int), 0, count - 1)
         stop = np.minimum(start + 1, count - 1)
         share = np.clip(position - start, 0.0, 1.0).astype(np.float32)
         return start, stop, share
-    r0, r1, rw = weights(rows, height)
-    c0, c1, cw = weights(cols, width)
+    r0, r1, rw = weights(rows, size_r, off_r, height)
+    c0, c1, cw = weights(cols, size_c, off_c, width)
     along = surface[:, c0] * (1 - cw) + surface[:, c1] * cw
     return (along[r0] * (1 - rw)[:, None] + along[r1] * rw[:, None]).astype(np.float32)
 
@@ -350,33 +368,44 @@ def _otsu_level(gray, lo=None, hi=None):
     return float(threshold_otsu(hist=(counts[lo:], np.arange(lo, hi + 1))))
 
 
-def _row_stride(shape, budget=1 << 22):
-    """Every how many rows (an even number) to read so that about ``budget`` pixels are read."""
-    stride = max(1, int(shape[0] * shape[1] // budget))
-    return stride + stride % 2 if stride > 1 else 1
-
-
 def estimate_noise(gray, white):
-    """Per-pixel noise standard deviation as a fraction of white (MAD of the finest diagonal Haar detail,
-    on evenly spaced pairs of rows of at most about 4 Mpx); 0 for images smaller than 2 x 2."""
-    height, width = (s - s % 2 for s in gray.shape)
+    """Per-pixel noise standard deviation as a fraction of white: the MAD of the finest diagonal Haar detail
+    ``(a - b - c + d) / 2`` over every 2 x 2 window (for images over about 4 Mpx, the windows at evenly spaced
+    rows and columns, placed symmetrically about the centre), so a flip, a quarter turn or a transpose of the
+    image gives the same estimate; 0 for images smaller than 2 x 2."""
+    height, width = gray.shape
     if height < 2 or width < 2:
         return 0.0
-    stride = _row_stride(gray.shape)
-    top = np.arange(0, height, 2 * stride) if stride > 1 else np.arange(0, height, 2)
-    even = gray[top, :width].astype(np.float32)
-    odd = gray[top + 1, :width].astype(np.float32)
-    detail = (even[:, 0::2] - even[:, 1::2] - odd[:, 0::2] + odd[:, 1::2]) / (2 * np.float32(white))
+    stride = _window_stride(gray.shape)
+    rows, cols = _centred_starts(height - 1, stride), _centred_starts(width - 1, stride)
+    top, bottom = gray[rows].astype(np.float32), gray[rows + 1].astype(np.float32)
+    detail = (top[:, cols] - top[:, cols + 1] - bottom[:, cols] + bottom[:, cols + 1]) / (2 * np.float32(white))
     return float(np.median(np.abs(detail)) / 0.6745)
+
+
+def _window_stride(shape, budget=1 << 22):
+    """Every how many rows and columns to read 2 x 2 windows so that about ``budget`` are read."""
+    return max(1, int(math.sqrt(shape[0] * shape[1] / budget)))
+
+
+def _centred_starts(count, stride):
+    """Of the positions ``0 .. count - 1``, every ``stride``-th, placed symmetrically: position ``k`` is
+    taken exactly when ``count - 1 - k`` is."""
+    if stride == 1:
+        return np.arange(count)
+    offset = ((count - 1) % stride) // 2
+    starts = np.arange(offset, count, stride)
+    return np.union1d(starts, count - 1 - starts)
 
 
 def auto_speck_area(gray, white, level, mask, sigma):
     """Default speck area from the noise ``sigma`` (fraction of white): the smallest ``k`` with
     ``N (8 p)^k < 1`` (module docstring); 0 when no speck is expected. The median margins are taken on
-    evenly spaced rows (at most about 4 Mpx)."""
+    evenly spaced rows and columns placed symmetrically about the centre (at most about 4 Mpx)."""
     if sigma <= 0:
         return 0
-    rows = slice(None, None, _row_stride(gray.shape))
+    stride = _window_stride(gray.shape)
+    rows = np.ix_(_centred_starts(gray.shape[0], stride), _centred_starts(gray.shape[1], stride))
     local = np.ndim(level) == 2
     margin = (gray[rows].astype(np.float32) - (level[rows] if local else np.float32(level))) / np.float32(white)
     ink_rows = mask[rows]

@@ -78,8 +78,9 @@ def small_glyphs(per_family=8):
     return out
 
 
-def measure_small(src):
-    """Per small glyph: noise, tolerance and the largest distance to the exact outline."""
+def _traced(src, shapes_of):
+    """``(name, shape, result, score)`` per shape of ``shapes_of()``, traced at the defaults by the tree whose
+    ``src`` folder is ``src`` (run in a process of its own) and scored against the exact outline."""
     sys.path.insert(0, src)
     sys.path.insert(0, HERE)
     import warnings
@@ -89,14 +90,16 @@ def measure_small(src):
     import synthetic_shapes
 
     warnings.simplefilter("ignore")
-    rows = []
-    for name, shape in small_glyphs():
+    for name, shape in shapes_of():
         result = sc.trace(heldout_shapes.rasterize(shape), keep_snapshots=False)
-        score = synthetic_shapes.score_beziers(shape, synthetic_shapes.svg_beziers(result.to_svg()))
-        rows.append({"name": name, "size": shape["size"], "noise": result.stats["boundary_noise"],
-                     "tolerance": result.stats["tolerance"], "max": score["max_dev"],
-                     "epsilon": result.params["epsilon"]})
-    return rows
+        yield name, shape, result, synthetic_shapes.score_beziers(shape, synthetic_shapes.svg_beziers(result.to_svg()))
+
+
+def measure_small(src):
+    """Per small glyph: noise, tolerance and the largest distance to the exact outline."""
+    return [{"name": name, "size": shape["size"], "noise": result.stats["boundary_noise"],
+             "tolerance": result.stats["tolerance"], "max": score["max_dev"], "epsilon": result.params["epsilon"]}
+            for name, shape, result, score in _traced(src, small_glyphs)]
 
 
 def _small_table(before, after):
@@ -119,24 +122,13 @@ def _small_table(before, after):
 
 def measure(src):
     """Rows for the tree whose ``src`` folder is ``src`` (run in a process of its own)."""
-    sys.path.insert(0, src)
-    sys.path.insert(0, HERE)
-    import warnings
-
     import skimage.data
 
-    import heldout_shapes
+    rows = [{"name": name, "noise": result.stats["boundary_noise"], "tolerance": result.stats["tolerance"],
+             "max": score["max_dev"], "rms": score["rms_dev"], "segments": score["segments"],
+             "outlines": len(result.boundaries)} for name, _, result, score in _traced(src, shapes)]
     import splinecraft as sc
-    import synthetic_shapes
 
-    warnings.simplefilter("ignore")
-    rows = []
-    for name, shape in shapes():
-        result = sc.trace(heldout_shapes.rasterize(shape), keep_snapshots=False)
-        score = synthetic_shapes.score_beziers(shape, synthetic_shapes.svg_beziers(result.to_svg()))
-        rows.append({"name": name, "noise": result.stats["boundary_noise"], "tolerance": result.stats["tolerance"],
-                     "max": score["max_dev"], "rms": score["rms_dev"], "segments": score["segments"],
-                     "outlines": len(result.boundaries)})
     for name in ("page", "text", "camera", "coins"):
         result = sc.trace(getattr(skimage.data, name)(), keep_snapshots=False)
         segments = sum(spline.n_segments for spline in result.splines if spline is not None)

@@ -133,7 +133,9 @@ def trace(
         module's recommendation for outline capture, ``"tangent-jump"``). The thesis's detector is
         ``"srm05"``.
     corner_params : dict, optional
-        Parameters of the corner detector (e.g. ``{"zct": 7, "dt": 5, "ta": 152}`` for SRM05).
+        Parameters of the corner detector (e.g. ``{"zct": 7, "dt": 5, "ta": 152}`` for SRM05). Names, types
+        and ranges are checked before the image is read (the detector's own check,
+        :func:`splinecraft.capture.corners.check_params`): a bad value raises naming the key and its range.
     seed : int >= 0 or None
         Seed of the random algorithms. Boundary ``k`` uses the independent child seed
         ``SeedSequence(seed, spawn_key=(k,))``, so runs with the same seed are identical.

@@ -23,6 +23,7 @@ from PIL import Image
 import splinecraft as sc
 from splinecraft.capture import CORNER_METHODS, load_bitmap, trace_boundaries
 from splinecraft.capture.corners import corners
+from splinecraft.capture.image import InkPolarityWarning
 
 FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -74,7 +75,9 @@ def names_the_argument(error, *names):
 @given(hostile_images())
 def test_load_bitmap_of_a_hostile_image(image):
     try:
-        mask = load_bitmap(image)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            mask = load_bitmap(image)
     except (TypeError, ValueError) as error:
         names_the_argument(error, "image", "mask", "array", "bytes", "dtype", "value", "path")
         return
@@ -84,6 +87,9 @@ def test_load_bitmap_of_a_hostile_image(image):
     assert mask.dtype == bool and mask.ndim == 2
     if isinstance(image, np.ndarray):
         assert mask.shape == image.shape[:2]
+    for warning in caught:  # only the documented ones: ink polarity, or low contrast thresholded into ink
+        assert isinstance(warning.message, InkPolarityWarning) or (
+            "made every pixel ink" in str(warning.message) and mask.all()), warning.message
 
 
 @FUZZ

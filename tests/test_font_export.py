@@ -157,3 +157,42 @@ def test_names_and_style_linking(tmp_path, style, fs_selection, mac_style, weigh
         assert names.getDebugName(1) == family and names.getDebugName(4) == f"Test Sans {style}"
         assert compiled["OS/2"].fsSelection == fs_selection and compiled["head"].macStyle == mac_style
         assert compiled["OS/2"].usWeightClass == weight
+
+
+def test_a_truetype_plus_of_overlapping_contours_keeps_its_centre(tmp_path):
+    """A TrueType "+" whose second contour starts at a point inside the first: the font fills the overlap by the
+    nonzero rule, and so do the rebuilt OTF and TTF (both bars outer, the same direction), not a hole."""
+    from fontTools.fontBuilder import FontBuilder
+    from fontTools.pens.pointInsidePen import PointInsidePen
+    from fontTools.pens.ttGlyphPen import TTGlyphPen
+
+    pen = TTGlyphPen(None)
+    for contour in ([(0, 40), (0, 80), (200, 80), (200, 40)], [(80, 60), (80, 200), (120, 200), (120, 0), (80, 0)]):
+        pen.moveTo(contour[0])
+        for point in contour[1:]:
+            pen.lineTo(point)
+        pen.closePath()
+    builder = FontBuilder(1000, isTTF=True)
+    builder.setupGlyphOrder([".notdef", "plus"])
+    builder.setupCharacterMap({ord("+"): "plus"})
+    builder.setupGlyf({".notdef": TTGlyphPen(None).glyph(), "plus": pen.glyph()})
+    builder.setupHorizontalMetrics({".notdef": (500, 0), "plus": (300, 0)})
+    builder.setupHorizontalHeader(ascent=800, descent=-200)
+    builder.setupNameTable({"familyName": "Plus", "styleName": "Regular"})
+    builder.setupOS2()
+    builder.setupPost()
+    builder.save(tmp_path / "plus.ttf")
+
+    def winding(path, point):
+        ttfont = TTFont(path)
+        inside = PointInsidePen(ttfont.getGlyphSet(), point)
+        ttfont.getGlyphSet()["plus"].draw(inside)
+        return inside.getWinding()
+
+    assert winding(tmp_path / "plus.ttf", (100, 60)) != 0
+    outline = font.glyph_outline(tmp_path / "plus.ttf", "+")
+    files = font.build({"+": outline}, output_dir=tmp_path / "out", scale=1.0, sidebearing=0)
+    for kind in ("otf", "ttf"):
+        assert abs(winding(getattr(files, kind), (100, 60))) == 2
+        assert abs(winding(getattr(files, kind), (100, 20))) == 1 and winding(getattr(files, kind), (20, 20)) == 0
+    assert outline.nesting_depths().tolist() == [0, 0]

@@ -398,18 +398,71 @@ def test_json_round_trip_is_exact(traced_d):
         Outline.from_json('{"type": "other"}')
 
 
-def test_svg_is_one_even_odd_path_of_exact_cubics(traced_d, tmp_path):
+def test_svg_is_one_nonzero_path_of_exact_cubics(traced_d, tmp_path):
+    """nonzero, not evenodd: the contours are oriented by nesting (outer positive, holes negative), so the two
+    rules agree on nested contours, and nonzero also fills overlapping outer contours as their union (the
+    even-odd rule would punch a hole there). A trace is already oriented so: its curves are written as they are."""
     from splinecraft.capture.svg import read_svg_paths
 
     outline = as_outline(traced_d)
     path = outline.save_svg(tmp_path / "d.svg", decimals=None)
     document = read_svg_paths(path.read_text())
-    assert len(document["paths"]) == 1 and document["paths"][0]["fill_rule"] == "evenodd"
+    assert len(document["paths"]) == 1 and document["paths"][0]["fill_rule"] == "nonzero"
     for (bezier, closed), contour in zip(document["paths"][0]["subpaths"], outline.contours):
         assert closed and np.array_equal(bezier, contour.bezier())
     again = as_outline(path)
     for a, b in zip(again.contours, outline.contours):
         assert np.abs(a.bezier() - b.bezier()).max() < 1e-9
+
+
+def _winding(curves, point, samples=64):
+    """Winding number of closed Bézier curves about ``point`` (dense polygons; signed angle sum)."""
+    total = 0.0
+    theta = np.linspace(0.0, 1.0, samples, endpoint=False)
+    one = 1.0 - theta
+    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+    for bezier in curves:
+        ring = np.einsum("sk,pkd->psd", weights, np.asarray(bezier, float)).reshape(-1, 2) - point
+        angles = np.arctan2(ring[:, 1], ring[:, 0])
+        total += np.sum((np.diff(np.r_[angles, angles[:1]]) + np.pi) % (2 * np.pi) - np.pi)
+    return round(total / (2 * np.pi))
+
+
+def test_nested_holes_and_islands_of_a_trace_keep_their_depths_and_directions():
+    """A ring with a dot inside, the dot with a hole, and a bar beside: depths 0/1/2/3 by plain nesting (traced
+    contours never overlap), and the trace's own orientation (outer positive, holes negative) is kept."""
+    from splinecraft.outline.contour import bezier_signed_area
+
+    yy, xx = np.mgrid[:80, :80]
+    radius = np.hypot(yy - 40, xx - 40)
+    bitmap = ((radius < 35) & (radius > 22)) | (radius < 12) | ((np.abs(xx - 4) < 2) & (yy > 5) & (yy < 20))
+    bitmap[38:43, 38:43] = False
+    outline = as_outline(sc.trace(bitmap))
+    curves = outline.bezier()
+    by_area = np.argsort([-abs(bezier_signed_area(c)) for c in curves])
+    depths = outline.nesting_depths()[by_area]
+    areas = np.array([bezier_signed_area(c) for c in curves])[by_area]
+    assert sorted(depths.tolist()) == [0, 0, 1, 2, 3]
+    assert ((areas > 0) == (depths % 2 == 0)).all()
+    for before, after in zip(curves, outline.oriented_bezier()):
+        assert np.array_equal(before, after)
+    # the fill: ring ink, between ring and dot empty, dot ink, the dot's hole empty
+    winding = [_winding(outline.oriented_bezier(), p) for p in ([40, 11], [40, 26], [40, 33], [40, 40])]
+    assert [w != 0 for w in winding] == [True, False, True, False]
+
+
+def test_overlapping_contours_are_not_nested_and_stay_outer():
+    """A "+" of two bars: the vertical bar starts inside the horizontal one but is not inside it as a whole, so
+    both are outer contours (depth 0) and fill as their union; a square wholly inside is a hole whichever way it
+    runs."""
+    horizontal = [[0, 40], [200, 40], [200, 80], [0, 80]]
+    vertical = [[80, 60], [80, 0], [120, 0], [120, 200], [80, 200]]
+    square = [[150, 50], [150, 70], [170, 70], [170, 50]]
+    outline = from_knots([(np.array(c, float), [True] * len(c)) for c in (horizontal, vertical, square)])
+    assert outline.nesting_depths().tolist() == [0, 0, 1]
+    curves = outline.oriented_bezier()
+    assert _winding(curves, [100, 60]) == 2 and _winding(curves, [160, 60]) == 0
+    assert _winding(curves, [100, 20]) == 1 and _winding(curves, [20, 60]) == 1
 
 
 def test_knot_lists_make_contours_with_holes():
@@ -502,3 +555,16 @@ def test_curve_bounds_are_the_curves_box_inside_the_control_box():
     assert np.allclose(low, samples.min(axis=0), atol=1e-6) and np.allclose(high, samples.max(axis=0), atol=1e-6)
     control_low, _ = drop.bounds()
     assert control_low[0] < low[0] - 20
+
+
+def test_a_hole_grazing_its_outer_curve_stays_a_hole():
+    """A fitted hole may cross its outer curve by a hair at a thin wall (within the fit's tolerance): it is
+    still nested (90 % of its samples inside), so it stays a hole; a bar overlapping a square by 40 % of its
+    length is not nested and stays outer."""
+    outer = [[0, 0], [100, 0], [100, 100], [0, 100]]
+    hole = [[10, 10], [10, 90], [99, 90], [100.3, 50], [99, 10]]     # a tip 0.3 beyond the outer's side
+    bar = [[60, 40], [60, 60], [160, 60], [160, 40]]
+    grazing = from_knots([(np.array(c, float), [True] * len(c)) for c in (outer, hole)])
+    assert grazing.nesting_depths().tolist() == [0, 1]
+    overlapping = from_knots([(np.array(c, float), [True] * 4) for c in (outer, bar)])
+    assert overlapping.nesting_depths().tolist() == [0, 0]

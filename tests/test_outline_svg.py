@@ -233,3 +233,53 @@ def test_physical_sizes_without_a_viewbox_are_px_at_96_dpi_and_other_units_are_r
         from_svg(_svg(SQUARE, 'width="10em" height="10"'))
     with pytest.raises(ValueError, match="viewBox '0 0 10' must be four numbers"):
         from_svg(_svg(SQUARE, 'viewBox="0 0 10"'))
+
+
+PLUS = "M0 40 L200 40 L200 80 L0 80 Z M80 0 L120 0 L120 200 L80 200 Z"  # two bars, the same direction
+
+
+def _winding(curves, point, samples=64):
+    """Winding number of closed Bézier curves about ``point`` (dense polygons; signed angle sum)."""
+    total = 0.0
+    theta = np.linspace(0.0, 1.0, samples, endpoint=False)
+    one = 1.0 - theta
+    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+    for bezier in curves:
+        ring = np.einsum("sk,pkd->psd", weights, np.asarray(bezier, float)).reshape(-1, 2) - point
+        angles = np.arctan2(ring[:, 1], ring[:, 0])
+        total += np.sum((np.diff(np.r_[angles, angles[:1]]) + np.pi) % (2 * np.pi) - np.pi)
+    return round(total / (2 * np.pi))
+
+
+def test_a_plus_of_overlapping_bars_keeps_its_centre_under_nonzero():
+    """nonzero is the SVG default: the centre of the "+" (winding 2) is ink, and it stays ink after the round
+    trip (the export writes fill-rule nonzero with both bars outer)."""
+    from splinecraft.capture.svg import read_svg_paths
+
+    outline = from_svg(_svg(f'<path d="{PLUS}"/>', 'width="200" height="200"'))
+    document = read_svg_paths(outline.to_svg())
+    path, = document["paths"]
+    assert path["fill_rule"] == "nonzero"
+    curves = [bezier for bezier, _ in path["subpaths"]]
+    assert _winding(curves, [100, 60]) != 0 and _winding(curves, [100, 20]) != 0
+    assert _winding(curves, [20, 20]) == 0
+    assert len(outline) == 2 and outline.nesting_depths().tolist() == [0, 0]
+    again = from_svg(outline.to_svg())
+    assert _winding(again.oriented_bezier(), [100, 60]) != 0
+
+
+@pytest.mark.parametrize("attributes", ['fill-rule="evenodd"', 'style="fill:black; fill-rule: evenodd"'])
+def test_the_fill_rule_is_read_from_the_path_or_its_group(attributes):
+    """A square inside a square drawn the same way: a hole under evenodd (kept, and written as a hole), ink on
+    both sides under nonzero (it adds nothing, so it is dropped); the rule is inherited from a group."""
+    nested = "M0 0 L100 0 L100 100 L0 100 Z M30 30 L70 30 L70 70 L30 70 Z"
+    evenodd = from_svg(_svg(f'<g {attributes}><path d="{nested}"/></g>', 'width="100" height="100"'))
+    assert len(evenodd) == 2 and evenodd.nesting_depths().tolist() == [0, 1]
+    assert _winding(evenodd.oriented_bezier(), [50, 50]) == 0
+    nonzero = from_svg(_svg(f'<path d="{nested}"/>', 'width="100" height="100"'))
+    assert len(nonzero) == 1 and _winding(nonzero.oriented_bezier(), [50, 50]) != 0
+    # a hole drawn the other way is a hole under both rules
+    hole = "M0 0 L100 0 L100 100 L0 100 Z M30 30 L30 70 L70 70 L70 30 Z"
+    for rule in ("nonzero", "evenodd"):
+        outline = from_svg(_svg(f'<path fill-rule="{rule}" d="{hole}"/>', 'width="100" height="100"'))
+        assert len(outline) == 2 and _winding(outline.oriented_bezier(), [50, 50]) == 0

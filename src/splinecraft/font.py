@@ -17,9 +17,11 @@ set for font glyphs) or else the bottom of its curves (the curves' own box, :met
 control points'). The default scale is the same for every glyph of a
 font: the tallest glyph (curve bounding box) spans ``ascender`` units.
 
-Winding. Contours are oriented by nesting depth (even = filled, odd = hole; the even-odd rule of the SVG
-output): in the UFO and the CFF font filled contours run counter-clockwise (y up, the PostScript rule),
-in the TrueType font clockwise (the TrueType rule; ``cu2qu`` reverses them). Rounding to integer font
+Winding. Contours are oriented by nesting depth (even = filled, odd = hole), the rule of the outline model
+(:func:`splinecraft.outline.model.nesting_depths`): a contour is nested in another only when it lies inside it
+as a whole, so contours that partly overlap (a "+" of two bars, a swash crossing a stem; common in fonts, which
+fill by the nonzero rule) keep the same direction and fill as their union, as in the font they came from. In
+the UFO and the CFF font filled contours run counter-clockwise (y up, the PostScript rule), in the TrueType font clockwise (the TrueType rule; ``cu2qu`` reverses them). Rounding to integer font
 units moves the curve by at most ``sqrt(2) / 2`` units (the Bézier convex hull), so the OTF is within 0.71
 units and the TTF within ``ttf_max_error + 0.71`` units of the outline.
 """
@@ -38,6 +40,7 @@ import numpy as np
 from ._validation import check_positive_number
 from .outline import Outline, as_outline
 from .outline.contour import bezier_signed_area
+from .outline.model import nesting_depths
 
 __all__ = ["build", "to_glyph", "glyph_outline", "font_contours", "FontFiles", "TTF_MAX_ERROR"]
 
@@ -61,25 +64,6 @@ class FontFiles:
 
 
 # ---------------------------------------------------------------------------------------------- geometry
-def _polygon(bezier, samples=16):
-    theta = np.linspace(0.0, 1.0, samples, endpoint=False)
-    one = 1.0 - theta
-    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
-    return np.einsum("sk,pkd->psd", weights, bezier).reshape(-1, 2)
-
-
-def _nesting_depth(curves):
-    """How many other contours contain each contour (tested at its first point)."""
-    from skimage.measure import points_in_poly
-
-    polygons = [_polygon(b) for b in curves]
-    depth = np.zeros(len(curves), dtype=int)
-    for k, curve in enumerate(curves):
-        probe = curve[:1, 0]
-        depth[k] = sum(bool(points_in_poly(probe, polygon)[0]) for j, polygon in enumerate(polygons) if j != k)
-    return depth
-
-
 def _reverse(bezier):
     return bezier[::-1, ::-1].copy()
 
@@ -102,7 +86,7 @@ def font_contours(source, *, scale=1.0, baseline=None, sidebearing=0.0):
         mapped[..., 0] = (bezier[..., 0] - low[0]) * scale + sidebearing
         mapped[..., 1] = (baseline - bezier[..., 1]) * scale
         curves.append(mapped)
-    for k, depth in enumerate(_nesting_depth(curves)):
+    for k, depth in enumerate(nesting_depths(curves)):
         if (bezier_signed_area(curves[k]) > 0) != (depth % 2 == 0):
             curves[k] = _reverse(curves[k])
     return curves, float((high[0] - low[0]) * scale + 2 * sidebearing)

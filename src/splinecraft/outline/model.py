@@ -3,8 +3,19 @@
 An :class:`Outline` is immutable: every edit and transform returns a new outline, rebuilding only the
 contours it changed with the engine (:class:`~splinecraft.outline.contour.Contour`), so an edit history is
 a list of outlines that share their unchanged contours. The frame is the bitmap's pixel frame of
-docs/capture.md (x right, y down, ``width x height``); fills are even-odd, so the orientation of a contour
-does not matter for drawing (fonts orient them, see :mod:`splinecraft.font`).
+docs/capture.md (x right, y down, ``width x height``).
+
+Fill (the nesting rule). A contour is *nested* in another when it lies inside it as a whole (at least 90 % of
+the samples of its curve inside the other and at most 10 % of the other's inside it, so a fitted hole that
+grazes its outer curve at a thin wall stays a hole; :func:`nesting`); its nesting depth is
+the number of contours it is nested in (:func:`nesting_depths`). Even depth is ink, odd depth a hole, and
+contours that only partly overlap are not nested in each other, so overlapping outer contours fill as their
+union. The stored orientation of a contour does not matter: the exports orient every contour by its depth
+(:meth:`Outline.oriented_bezier`: outer contours positive signed area, holes negative), and with those
+orientations the nonzero rule -- the rule of fonts and the SVG default -- draws exactly this fill (the even-odd
+rule would punch a hole where outer contours overlap), so :meth:`Outline.to_svg` writes ``fill-rule="nonzero"``
+and fonts use the same depths (:mod:`splinecraft.font`). Traced outlines never overlap; for them the rule is
+the plain even-odd nesting of their boundaries.
 
 Knots are addressed as ``(contour, knot)`` pairs; transforms take ``contours=`` (whole contours: exact
 affine images, thesis section 3.3) and/or ``knots=`` (single knots); with neither they act on the whole shape.
@@ -23,8 +34,12 @@ from .bezier import curve_bounds
 from .contour import Contour, _indices
 from .transforms import affine_parts, reflection, rotation, scaling, shearing, translation
 
-__all__ = ["Outline", "contour_deviation", "DEVIATION_SPACING"]
+__all__ = ["Outline", "contour_deviation", "nesting_depths", "DEVIATION_SPACING"]
 
+#: Curve samples per piece of the nesting test (:func:`nesting_depths`).
+NESTING_SAMPLES = 16
+#: Point x edge pairs per block of the vectorised ray test.
+_RAY_BLOCK = 1 << 22
 #: Curve sampling step (px) of the deviation measure.
 DEVIATION_SPACING = 0.25
 _FORMAT = "splinecraft.Outline"
@@ -42,6 +57,57 @@ def _sample_pieces(bezier, spacing):
     one = 1.0 - theta
     weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
     return np.einsum("nk,nkd->nd", weights, bezier[piece]), piece
+
+
+def _ring(bezier, samples=NESTING_SAMPLES):
+    """``samples`` points per piece of closed Bézier pieces ``(m, 4, 2)``, as a closed polygon ``(m samples, 2)``."""
+    theta = np.linspace(0.0, 1.0, samples, endpoint=False)
+    one = 1.0 - theta
+    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
+    return np.einsum("sk,pkd->psd", weights, np.asarray(bezier, float)).reshape(-1, 2)
+
+
+def _inside(points, polygon):
+    """Even-odd ray test of ``points`` (n, 2) against the closed ``polygon`` (m, 2), vectorised in blocks."""
+    a, b = polygon, np.roll(polygon, -1, axis=0)
+    rise = b[:, 1] - a[:, 1]
+    slope = np.divide(b[:, 0] - a[:, 0], rise, out=np.zeros_like(rise), where=rise != 0)
+    result = np.empty(len(points), bool)
+    step = max(1, _RAY_BLOCK // max(len(polygon), 1))
+    for start in range(0, len(points), step):
+        x, y = points[start:start + step, :1], points[start:start + step, 1:]
+        straddle = (a[:, 1] > y) != (b[:, 1] > y)
+        crossing = a[:, 0] + (y - a[:, 1]) * slope
+        result[start:start + step] = np.count_nonzero(straddle & (x < crossing), axis=1) % 2 == 1
+    return result
+
+
+#: Share of a contour's curve samples that must lie inside another for it to be nested there (:func:`nesting`).
+NESTED_SHARE = 0.9
+
+
+def nesting(curves) -> np.ndarray:
+    """``inside[j, k]``: contour ``k`` lies inside contour ``j`` as a whole (closed Bézier pieces ``(m, 4, 2)``
+    each): at least ``NESTED_SHARE`` of the curve samples of ``k`` are inside ``j`` and at most ``1 -
+    NESTED_SHARE`` of those of ``j`` inside ``k``. Contours that only partly overlap are not nested either way
+    (module docstring); a fitted hole that grazes its outer curve at a thin wall, within the fit's tolerance,
+    is still nested."""
+    rings = [_ring(b) for b in curves]
+    low = np.array([r.min(axis=0) for r in rings]).reshape(-1, 2)
+    high = np.array([r.max(axis=0) for r in rings]).reshape(-1, 2)
+    inside = np.zeros((len(rings), len(rings)), bool)
+    for j, outer in enumerate(rings):
+        for k, inner in enumerate(rings):
+            if j == k or (high[k] < low[j]).any() or (low[k] > high[j]).any():  # boxes apart
+                continue
+            inside[j, k] = (np.mean(_inside(inner, outer)) >= NESTED_SHARE
+                            and np.mean(_inside(outer, inner)) <= 1.0 - NESTED_SHARE)
+    return inside
+
+
+def nesting_depths(curves) -> np.ndarray:
+    """How many other contours each contour lies inside as a whole (:func:`nesting`): even = ink, odd = hole."""
+    return nesting(curves).sum(axis=0).astype(int)
 
 
 def contour_deviation(contour, source, spacing=DEVIATION_SPACING) -> np.ndarray:
@@ -144,6 +210,22 @@ class Outline:
         """``(low, high)`` corners of the curves' own (tight) bounding box, from the cubic extrema
         (:func:`~splinecraft.outline.bezier.curve_bounds`); inside :meth:`bounds`."""
         return curve_bounds(self.bezier())
+
+    def nesting_depths(self) -> np.ndarray:
+        """Per contour, how many others it lies inside as a whole (module docstring): even = ink, odd = hole."""
+        return nesting_depths(self.bezier())
+
+    def oriented_bezier(self) -> list:
+        """:meth:`bezier` with every contour oriented by its nesting depth: outer contours (even depth) with
+        positive signed area in the frame, holes negative (a contour running the other way is reversed). Drawn
+        with the nonzero rule this is the outline's fill, overlapping outer contours included."""
+        from .contour import bezier_signed_area
+
+        curves = self.bezier()
+        for k, depth in enumerate(nesting_depths(curves)):
+            if (bezier_signed_area(curves[k]) > 0) != (depth % 2 == 0):
+                curves[k] = curves[k][::-1, ::-1].copy()
+        return curves
 
     def knot_points(self) -> list:
         return [np.array(contour.points) for contour in self.contours]
@@ -300,10 +382,11 @@ class Outline:
     def svg_path_data(self, *, decimals=4) -> str:
         from ..spline.svg import path_data
 
-        return path_data(self.bezier(), decimals=decimals)
+        return path_data(self.oriented_bezier(), decimals=decimals)
 
     def to_svg(self, *, decimals=4, fill="black", title=None) -> str:
-        """Standalone SVG: one ``<path>`` of exact cubic Béziers, ``fill-rule="evenodd"``, in the frame
+        """Standalone SVG: one ``<path>`` of exact cubic Béziers oriented by nesting (:meth:`oriented_bezier`),
+        ``fill-rule="nonzero"`` (overlapping outer contours fill as their union; module docstring), in the frame
         (``width``/``height``/``viewBox``); ``decimals=None`` writes exact floats. A ``title`` (default the
         name) or ``fill`` with a character XML cannot hold (a control character) is a ``ValueError``."""
         from ..spline.svg import svg_document
@@ -314,7 +397,8 @@ class Outline:
             if bad:
                 raise ValueError(f"{label} {text!r} contains U+{ord(bad.group()):04X}, a character XML cannot hold")
         width, height = int(math.ceil(self.width)), int(math.ceil(self.height))
-        return svg_document(self.svg_path_data(decimals=decimals), width, height, fill=fill, title=title)
+        return svg_document(self.svg_path_data(decimals=decimals), width, height, fill=fill, title=title,
+                            fill_rule="nonzero")
 
     def save_svg(self, path, **options) -> Path:
         """Write :meth:`to_svg` to ``path``; returns the path."""

@@ -21,6 +21,15 @@
   in, cm, mm, pt, pc at 96 px to the inch; ``%`` reads as absent; other units are refused). A size in a
   physical unit with a viewBox (potrace writes ``pt``) is taken as a print size: the picture is read in the
   viewBox's units (see ``_frame``).
+  The ``fill-rule`` of each path (attribute or ``style``, inherited from its groups; ``nonzero`` by default) is
+  read into the outline's nesting rule (:mod:`splinecraft.outline.model`), which is direction-free: a contour
+  inside another as a whole is a hole, partly overlapping contours fill as their union. Under ``evenodd`` the
+  subpaths are taken as they are. Under ``nonzero`` overlapping subpaths of the same direction stay outer
+  (their union, as the viewer draws them), and a subpath lying wholly inside others with ink on both of its
+  sides (winding number nonzero inside and out, e.g. an inner contour drawn the same way as the outer one) adds
+  nothing to the fill and is dropped. What neither rule can hold without boolean operations is not
+  reproduced: the hole ``evenodd`` leaves where subpaths partly overlap, or a nonzero overlap of opposite
+  directions. Bare path data has no fill rule; its subpaths are taken as they are.
 * :func:`from_knots`: contours given as knots with corner flags.
 """
 from __future__ import annotations
@@ -221,9 +230,20 @@ def _shape_data(element, tag):
     return "M" + " ".join(values) + (" Z" if tag == "polygon" else ""), points
 
 
-def _paths(element, matrix, found, viewport=None):
-    """Collect ``(label, path data, matrix, written numbers)`` of what ``element`` draws: its own and its groups'
-    ``transform`` (and, for the document, ``viewport``: the viewBox mapping) applied; elements that are
+_FILL_RULE = re.compile(r"(?:^|;)\s*fill-rule\s*:\s*([A-Za-z]+)")
+
+
+def _fill_rule(element, inherited):
+    """The ``fill-rule`` of ``element``: its ``style`` declaration, else its attribute, else ``inherited``."""
+    found = _FILL_RULE.search(element.get("style") or "")
+    value = (found.group(1) if found else element.get("fill-rule") or "").strip().lower()
+    return value if value in ("nonzero", "evenodd") else inherited
+
+
+def _paths(element, matrix, found, viewport=None, rule="nonzero"):
+    """Collect ``(label, path data, matrix, written numbers, fill rule)`` of what ``element`` draws: its own and its
+    groups' ``transform`` (and, for the document, ``viewport``: the viewBox mapping) applied, the ``fill-rule``
+    inherited; elements that are
     never drawn (:data:`_NOT_RENDERED`, other XML namespaces) and ``display: none`` subtrees are skipped."""
     if element.tag.startswith("{") and not element.tag.startswith(_SVG_NS):
         return
@@ -235,14 +255,28 @@ def _paths(element, matrix, found, viewport=None):
     matrix = matrix @ _transform_matrix(element.get("transform"))
     if viewport is not None:
         matrix = matrix @ viewport
+    rule = _fill_rule(element, rule)
     if tag == "path":
-        found.append((f"path {len(found)}", element.get("d", ""), matrix, element.get("d", "")))
+        found.append((f"path {len(found)}", element.get("d", ""), matrix, element.get("d", ""), rule))
     elif tag in ("rect", "circle", "ellipse", "polygon", "polyline", "line"):
         shape = _shape_data(element, tag)
         if shape is not None:
-            found.append((f"<{tag}> (shape {len(found)})", shape[0], matrix, shape[1]))
+            found.append((f"<{tag}> (shape {len(found)})", shape[0], matrix, shape[1], rule))
     for child in element:
-        _paths(child, matrix, found)
+        _paths(child, matrix, found, rule=rule)
+
+
+def _nonzero_covered(curves):
+    """Indices of the subpaths of one nonzero-filled path that add nothing to its fill: each lies wholly inside
+    others (:func:`~splinecraft.outline.model.nesting`) and the winding number of the path is nonzero on both of
+    its sides (counting the subpaths it is nested in; partly overlapping ones do not change its sides' fill)."""
+    from .contour import bezier_signed_area
+    from .model import nesting
+
+    inside = nesting(curves)
+    turns = np.sign([bezier_signed_area(c) for c in curves]).astype(int)
+    around = turns @ inside  # winding just outside each subpath, from those it lies in
+    return [k for k in range(len(curves)) if around[k] != 0 and around[k] + turns[k] != 0]
 
 
 def _check_commands(d, where):
@@ -324,9 +358,10 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
         found = []
         _paths(root, np.eye(3), found, viewport)
     else:
-        found = [("path 0", text, np.eye(3), text)]
+        found = [("path 0", text, np.eye(3), text, "evenodd")]  # no document, no fill rule: taken as it is
     curves, rounding = [], 0.0
-    for label, d, matrix, written in found:
+    for label, d, matrix, written, rule in found:
+        path_curves = []
         where = f"{label}, " if len(found) > 1 or not label.startswith("path") else ""
         _check_commands(d, where)
         rounding = max(rounding, _rounding(written) * float(np.linalg.norm(matrix[:2, :2], 2)))
@@ -338,8 +373,11 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
                 start, end = bezier[0, 0], bezier[-1, 3]
                 if not np.allclose(start, end):
                     bezier = np.vstack([bezier, [[end, end + (start - end) / 3, end + 2 * (start - end) / 3, start]]])
-            mapped = bezier @ matrix[:2, :2].T + matrix[:2, 2]
-            curves.append(mapped)
+            path_curves.append(bezier @ matrix[:2, :2].T + matrix[:2, 2])
+        if rule == "nonzero" and len(path_curves) > 1:
+            covered = set(_nonzero_covered(path_curves))
+            path_curves = [c for k, c in enumerate(path_curves) if k not in covered]
+        curves.extend(path_curves)
     if not curves:
         raise ValueError("the SVG has no path with a closed subpath")
     return from_bezier(curves, rounding=rounding, width=width, height=height, name=name)

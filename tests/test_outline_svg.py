@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from splinecraft.outline import Outline, as_outline, from_svg
+from test_outline import _winding  # the same winding-number reference, one copy
 
 # potrace's SVG layout: a group flipping y and scaling by 1/10, relative cubic and line commands
 POTRACE_SVG = """<?xml version="1.0" standalone="no"?>
@@ -236,19 +237,6 @@ def test_physical_sizes_without_a_viewbox_are_px_at_96_dpi_and_other_units_are_r
 
 
 PLUS = "M0 40 L200 40 L200 80 L0 80 Z M80 0 L120 0 L120 200 L80 200 Z"  # two bars, the same direction
-
-
-def _winding(curves, point, samples=64):
-    """Winding number of closed Bézier curves about ``point`` (dense polygons; signed angle sum)."""
-    total = 0.0
-    theta = np.linspace(0.0, 1.0, samples, endpoint=False)
-    one = 1.0 - theta
-    weights = np.stack([one ** 3, 3 * one * one * theta, 3 * one * theta * theta, theta ** 3], axis=1)
-    for bezier in curves:
-        ring = np.einsum("sk,pkd->psd", weights, np.asarray(bezier, float)).reshape(-1, 2) - point
-        angles = np.arctan2(ring[:, 1], ring[:, 0])
-        total += np.sum((np.diff(np.r_[angles, angles[:1]]) + np.pi) % (2 * np.pi) - np.pi)
-    return round(total / (2 * np.pi))
 
 
 def test_a_plus_of_overlapping_bars_keeps_its_centre_under_nonzero():

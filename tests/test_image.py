@@ -731,3 +731,15 @@ def test_noise_estimate_is_the_same_for_every_turn():
     assert expected > 0.01
     for forward, _ in DIHEDRAL.values():
         assert estimate_noise(np.ascontiguousarray(forward(gray)), 255) == expected
+
+
+def test_noise_estimate_reads_at_most_its_budget_of_windows(monkeypatch):
+    """Above about 4 Mpx the 2 x 2 windows are read on a grid of rows and columns, at most about 4 M of them
+    (a 12 Mpx page read every window: 12 M, three times the budget)."""
+    from splinecraft.capture import _binarize
+
+    for shape in ((3000, 4000), (2000, 2000), (5001, 3007), (300, 300)):
+        stride = _binarize._window_stride(shape)
+        count = len(_binarize._centred_starts(shape[0] - 1, stride)) * len(_binarize._centred_starts(shape[1] - 1, stride))
+        assert count <= 1.1 * (1 << 22)
+        assert stride == 1 or count >= (1 << 22) / 8

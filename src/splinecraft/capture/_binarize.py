@@ -384,18 +384,18 @@ def estimate_noise(gray, white):
 
 
 def _window_stride(shape, budget=1 << 22):
-    """Every how many rows and columns to read 2 x 2 windows so that about ``budget`` are read."""
-    return max(1, int(math.sqrt(shape[0] * shape[1] / budget)))
+    """Every how many rows and columns to read 2 x 2 windows so that at most about ``budget`` are read."""
+    return max(1, math.ceil(math.sqrt(shape[0] * shape[1] / budget)))
 
 
 def _centred_starts(count, stride):
-    """Of the positions ``0 .. count - 1``, every ``stride``-th, placed symmetrically: position ``k`` is
-    taken exactly when ``count - 1 - k`` is."""
+    """About every ``stride``-th of the positions ``0 .. count - 1``, evenly spread and placed symmetrically:
+    position ``k`` is taken exactly when ``count - 1 - k`` is."""
     if stride == 1:
         return np.arange(count)
-    offset = ((count - 1) % stride) // 2
-    starts = np.arange(offset, count, stride)
-    return np.union1d(starts, count - 1 - starts)
+    taken = -(-count // stride)
+    first = np.floor(np.arange((taken + 1) // 2) * ((count - 1) / max(taken - 1, 1)) + 0.5).astype(np.int64)
+    return np.unique(np.concatenate([first, count - 1 - first]))
 
 
 def auto_speck_area(gray, white, level, mask, sigma):

@@ -1,6 +1,8 @@
 """Time budget of trace (docs/capture.md §12, "Time budget"): documented, reported per boundary, never a hang."""
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -81,3 +83,32 @@ def test_lsq_rounds_stop_at_a_passed_deadline():
     assert stopped.info["reason"] == BUDGET_REASON.format(budget=1e-9)
     free = fit_outline(points, [], epsilon=0.05, keep_snapshots=False)
     assert free.iterations > 0 and free.info["reason"] is None
+
+
+class _DeadlineAfterOneCheck(Deadline):
+    """A deadline that passes after it has been asked once (the corner loop detects one boundary, then stops)."""
+
+    def __init__(self, budget):
+        super().__init__(budget)
+        self.checks = 0
+
+    def passed(self) -> bool:
+        self.checks += 1
+        return self.end is not None and self.checks > 1
+
+
+def test_noise_estimate_leaves_out_boundaries_the_budget_left_without_corners(monkeypatch):
+    # three clean 40-px squares: corners excluded, their crack outlines lie within 0.4 px of the blurred
+    # bitmap's iso-line; counted, the corners (which the iso-line cuts) read as noise
+    mask = np.zeros((60, 170), bool)
+    for left in (8, 64, 120):
+        mask[10:50, left:left + 40] = True
+    full = trace(mask, time_budget=None)
+    assert full.stats["boundary_noise"] <= 0.4
+    # the module (its name is shadowed by the function in the package)
+    monkeypatch.setattr(sys.modules["splinecraft.capture.trace"], "Deadline", _DeadlineAfterOneCheck)
+    cut = trace(mask, time_budget=5.0)
+    polygons = [entry["budget"] == "polygon" for entry in cut.stats["per_boundary"]]
+    assert any(polygons) and not all(polygons)  # the budget really cut corner detection short
+    assert cut.stats["boundary_noise"] <= 0.4
+    assert cut.stats["tolerance"] == full.stats["tolerance"] == full.params["epsilon"]

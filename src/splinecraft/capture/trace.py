@@ -250,8 +250,12 @@ def trace(
     if cached:
         times[:] = 0.0  # no corner detection in this call
     detected = time.perf_counter()
+    # measured on the boundaries that got their corners: a boundary the corner deadline left without them
+    # would count its corners as noise (the blurred iso-line cuts every corner)
+    with_corners = np.flatnonzero(~undetected).tolist()
     noise, _ = stages.remember("noise", (key, noise_factor > 0), lambda: boundary_noise(
-        mask, points_list, corner_list) if noise_factor > 0 else 0.0, keep=lambda _: not undetected.any())
+        mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
+        if noise_factor > 0 else 0.0, keep=lambda _: not undetected.any())
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "

@@ -112,14 +112,20 @@ def boundary_noise(mask, contours, corner_lists) -> float:
     if not chosen:
         return 0.0
     thin = thin_feature_pixels(mask)
-    kept = []
-    for points, corners in chosen:
-        keep = np.ones(points.shape[0], bool)
-        if corners.size:
-            keep[(corners[:, None] + np.arange(-_CORNER_SPAN, _CORNER_SPAN + 1)[None, :]) % points.shape[0]] = False
-        keep &= ~_on_thin_features(points, thin)
-        kept.append(points[keep])
-    kept = np.concatenate(kept)
+    # one pass over all chosen contours: each point's position within its own contour, and a corner's span
+    # marked by its contour's offset (modulo that contour's length)
+    sizes = np.fromiter((points.shape[0] for points, _ in chosen), np.int64, len(chosen))
+    offsets = np.cumsum(sizes) - sizes
+    points = np.concatenate([points for points, _ in chosen])
+    keep = np.ones(points.shape[0], bool)
+    corner_counts = np.fromiter((corners.size for _, corners in chosen), np.int64, len(chosen))
+    if corner_counts.any():
+        corners = np.concatenate([corners for _, corners in chosen])
+        owner = np.repeat(np.arange(len(chosen)), corner_counts)
+        span = corners[:, None] + np.arange(-_CORNER_SPAN, _CORNER_SPAN + 1)[None, :]
+        keep[offsets[owner, None] + span % sizes[owner, None]] = False
+    keep &= ~_on_thin_features(points, thin)
+    kept = points[keep]
     if not kept.shape[0]:
         return 0.0
     if kept.shape[0] > NOISE_SAMPLE:  # a percentile needs no more; keeps noise images linear in their size

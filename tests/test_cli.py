@@ -446,6 +446,48 @@ def test_bad_connectivity_or_threshold_is_a_usage_error(tmp_path, capsys, option
     assert not (tmp_path / "x.svg").exists()
 
 
+
+@pytest.mark.parametrize("option, value, expected", [
+    ("--time-budget", "none", None), ("--time-budget", "None", None), ("--time-budget", "30", 30.0),
+    ("--noise-factor", "0", 0.0), ("--noise-factor", "3.5", 3.5),
+])
+def test_cli_time_budget_and_noise_factor_take_the_library_values(tmp_path, option, value, expected):
+    source = tmp_path / "scan.png"
+    write_noisy_scan(source)
+    name = option[2:].replace("-", "_")
+    by_cli = cli_document(source, tmp_path / "out.json", option, value)
+    assert by_cli["params"][name] == expected
+    assert by_cli == library_document(source, **{name: expected})
+
+
+def test_cli_noise_factor_zero_keeps_epsilon_on_a_noisy_scan(tmp_path):
+    source = tmp_path / "scan.png"
+    write_noisy_scan(source, noise=0.3)
+    raised = cli_document(source, tmp_path / "default.json")
+    assert raised["stats"]["tolerance"] > raised["params"]["epsilon"]  # the scan is ragged enough to raise it
+    kept = cli_document(source, tmp_path / "zero.json", "--noise-factor", 0)
+    assert kept["stats"]["tolerance"] == kept["params"]["epsilon"]
+
+
+@pytest.mark.parametrize("option, value, message", [
+    ("--time-budget", "0", "must be a finite number of seconds > 0, or none"),
+    ("--time-budget", "-1", "must be a finite number of seconds > 0, or none"),
+    ("--time-budget", "inf", "must be a finite number of seconds > 0, or none"),
+    ("--time-budget", "nan", "must be a finite number of seconds > 0, or none"),
+    ("--time-budget", "soon", "expected seconds (a number > 0) or none"),
+    ("--noise-factor", "-2", "must be a finite number >= 0"),
+    ("--noise-factor", "x", "not a number"),
+])
+def test_bad_time_budget_or_noise_factor_is_a_usage_error(tmp_path, capsys, option, value, message):
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    with pytest.raises(SystemExit) as stop:
+        main(["trace", str(source), "-o", str(tmp_path / "x.svg"), option, value])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert option in err and message in err
+    assert not (tmp_path / "x.svg").exists()
+
 def test_help_names_the_library_choices():
     result = run_cli("trace", "--help")
     assert result.returncode == 0

@@ -72,6 +72,29 @@ def _positive_int(text):
     return value
 
 
+def _time_budget(text):
+    """``--time-budget``: seconds (> 0) or ``none`` (no budget), as the library's ``time_budget=``."""
+    if text.strip().lower() == "none":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected seconds (a number > 0) or none, got {text!r}") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number of seconds > 0, or none; got {text}")
+    return value
+
+
+def _noise_factor(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text}")
+    return value
+
+
 def _batch_size(text):
     if text == "auto":
         return text
@@ -194,6 +217,13 @@ def build_parser() -> argparse.ArgumentParser:
                              f"colour is joined; default {defaults['connectivity']})")
     tracer.add_argument("--contour", choices=("outline", "pixels"), default=defaults["contour"],
                         help=f"fit the crack outline or the pixel-centre chain (default {defaults['contour']})")
+    tracer.add_argument("--noise-factor", type=_noise_factor, default=defaults["noise_factor"],
+                        help="on ragged (scanned) boundaries the fit's tolerance is this times the boundary noise "
+                             f"estimate (0: always EPSILON; default {defaults['noise_factor']:g})")
+    tracer.add_argument("--time-budget", type=_time_budget, default=defaults["time_budget"], metavar="SECONDS|none",
+                        help="seconds for corner detection and fitting per file; boundaries not started in time "
+                             "get the polygon of their contour, and a note says so (a page of text needs more "
+                             f"than the default: none = no budget; default {defaults['time_budget']:g})")
     tracer.add_argument("--decimals", type=_non_negative_int, default=4,
                         help="decimal places of SVG coordinates (default 4)")
     tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,
@@ -335,6 +365,7 @@ def _run_trace(args) -> int:
         "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
         "max_iterations": args.max_iterations, "threshold": args.threshold, "invert": args.invert,
         "min_speck_area": args.min_speck_area, "connectivity": args.connectivity, "contour": args.contour,
+        "noise_factor": args.noise_factor, "time_budget": args.time_budget,
     }
     if pairs[0][1] == "-":
         return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals)

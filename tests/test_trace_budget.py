@@ -112,3 +112,60 @@ def test_noise_estimate_leaves_out_boundaries_the_budget_left_without_corners(mo
     assert any(polygons) and not all(polygons)  # the budget really cut corner detection short
     assert cut.stats["boundary_noise"] <= 0.4
     assert cut.stats["tolerance"] == full.stats["tolerance"] == full.params["epsilon"]
+
+
+class _DeadlinePassingAfter(Deadline):
+    """A deadline that passes after it has been asked ``checks`` times."""
+
+    def __init__(self, checks):
+        super().__init__(1.0)
+        self.checks, self.asked = checks, 0
+
+    def passed(self) -> bool:
+        self.asked += 1
+        return self.asked > self.checks
+
+
+def _stuck_speckle_outline():
+    """A speckle outline on which the regression spline gets stuck (the fallback test of test_fitting)."""
+    from splinecraft.capture.contour import trace_boundaries
+    from splinecraft.capture.corners import corners as detect_corners
+
+    mask = np.random.default_rng(0).random((60, 60)) < 0.3
+    for boundary in trace_boundaries(mask):
+        outline = np.asarray(boundary.outline, float)
+        if len(outline) < 64:
+            continue
+        corners = np.unique(detect_corners(outline, method="tangent-jump")).astype(np.int64)
+        if not fit_outline(outline, corners, fallback=False).converged:
+            return outline, corners
+    raise AssertionError("no stuck outline in the speckle mask")
+
+
+def test_fallback_fit_is_not_started_once_the_budget_has_run_out():
+    from splinecraft.capture.fitting import fit_trusted
+    from splinecraft.capture.fitting.budget import FALLBACK_BUDGET_REASON
+
+    outline, corners = _stuck_speckle_outline()
+    options = check_options("lsq", {})
+    rescued = fit_trusted(outline, corners, 0.8, "lsq", None, None, 200, False, 0, options, Deadline(None))
+    assert rescued.converged and "fallback_from" in rescued.info  # with time, the fallback rescues it
+    # the deadline holds through the knot rounds (which stop stuck, not out of time) and has passed after them
+    rounds = _DeadlinePassingAfter(10**6)
+    fit_trusted(outline, corners, 0.8, "lsq", None, None, 200, False, 0, dict(options, fallback=False), rounds)
+    late = _DeadlinePassingAfter(rounds.asked)
+    stopped = fit_trusted(outline, corners, 0.8, "lsq", None, None, 200, False, 0, options, late)
+    assert not stopped.converged and "fallback_from" not in stopped.info
+    assert stopped.info["reason"] == FALLBACK_BUDGET_REASON.format(budget=1.0)
+
+
+def test_small_outline_rounds_stop_at_a_passed_deadline():
+    from splinecraft.capture.fitting.small import fit_small_trusted
+
+    outline, corners = _stuck_speckle_outline()  # a long outline: many insertion rounds through its points
+    full = fit_small_trusted([outline], [corners], 0.3, 200, True)[0]
+    assert full.converged and full.iterations > 2
+    (cut,) = fit_small_trusted([outline], [corners], 0.3, 200, True, _DeadlinePassingAfter(1))
+    assert not cut.converged and cut.iterations < full.iterations
+    assert cut.info["reason"] == BUDGET_REASON.format(budget=1.0)
+    assert cut.snapshots[-1].phase == "insert"  # no removal rounds after the deadline

@@ -415,8 +415,10 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         started = time.perf_counter()
         corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in chunk]
         for k, fit in zip(chunk, fit_small_trusted([points_list[k] for k in chunk], corners, epsilon,
-                                                   max_iterations, keep)):
+                                                   max_iterations, keep, deadline)):
             fits[k] = fit
+            if fit.info.get("reason") and deadline.passed():
+                state[k] = "stopped"
         times[chunk] += (time.perf_counter() - started) / len(chunk)
     method = settings["method"]
     for k, (points, corner_idx) in enumerate(zip(points_list, corner_list)):

@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._threads import one_blas_thread
+from .budget import FALLBACK_BUDGET_REASON
 from .geometry import piece_deviation, polyline_distance
 from .lsq import fit_lsq
 from .options import (DEFAULT_EPSILON, DEFAULT_METHOD, FALLBACK_PIECE, KNOT_METHODS, MIN_EPSILON, SMALL_OUTLINE,
@@ -173,7 +174,10 @@ def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep
     # the regression spline got stuck (typically short pieces between many corners of a noisy outline, where
     # no knot fits min_gap steps from the others): the interpolant path through contour points always gets
     # there, since with every contour point a knot the curve interpolates them all
-    fallback = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
+    if deadline is not None and deadline.passed():  # no time left for a second fit
+        result.info["reason"] = FALLBACK_BUDGET_REASON.format(budget=deadline.budget)
+        return result
+    fallback = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots, deadline)[0]
     if fallback.converged or fallback.hausdorff < result.hausdorff:
         fallback.info["fallback_from"] = {"method": "lsq", "hausdorff": result.hausdorff,
                                           "iterations": result.iterations, "knots_inserted": result.knots_inserted}

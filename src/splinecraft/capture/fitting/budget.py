@@ -21,7 +21,8 @@ from ...spline import Spline
 from .._jit import JIT_OPTIONS
 from .results import FitResult, Snapshot
 
-__all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON", "warm_up"]
+__all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON",
+           "FALLBACK_BUDGET_REASON", "warm_up"]
 
 #: Seconds for corner detection and fitting of all boundaries of one :func:`~splinecraft.capture.trace.trace`
 #: call (``None`` = no budget).
@@ -30,6 +31,10 @@ DEFAULT_TIME_BUDGET = 5.0
 SMALL_CHUNK = 1024
 #: ``reason`` of a boundary whose knot rounds were stopped by the budget (formatted with the budget, s).
 BUDGET_REASON = "the time budget of {budget:g} s ran out during its knot rounds (trace(time_budget=))"
+#: ``reason`` of a boundary whose regression spline got stuck when the budget had run out: its fallback fit
+#: (``fit_outline``'s ``fallback``) is not started.
+FALLBACK_BUDGET_REASON = ("the time budget of {budget:g} s ran out before the fallback fit of its stuck knot rounds "
+                          "(trace(time_budget=))")
 
 
 class Deadline:

@@ -28,6 +28,7 @@ import numpy as np
 
 from ...spline import Spline
 from ._threads import one_blas_thread
+from .budget import BUDGET_REASON
 from .lsq_setup import CornerTips, RotatedContour
 from .options import LSQ_DEFAULTS, check_corners, check_points
 from .results import FitResult, Snapshot
@@ -343,15 +344,18 @@ def check_outlines(outlines, corner_lists):
     return outlines, [check_corners(c, int(n)) for c, n in zip(corner_lists, lengths)]
 
 
-def fit_small_trusted(outlines, corners, epsilon, max_iterations, keep_snapshots):
+def fit_small_trusted(outlines, corners, epsilon, max_iterations, keep_snapshots, deadline=None):
     """The small-outline fit of checked contours (float ``(n, 2)`` arrays, ``n >= 4``, no coincident
-    neighbours) with sorted unique corner indices: one :class:`FitResult` per outline."""
+    neighbours) with sorted unique corner indices: one :class:`FitResult` per outline. ``deadline`` (a
+    :class:`~.budget.Deadline`) stops the insertion rounds once it has passed (no removal rounds then); an
+    outline left failing says so in ``info["reason"]`` (:data:`~.budget.BUDGET_REASON`)."""
     if not outlines:
         return []
     with one_blas_thread():  # the dense solves of long chains: see _threads
-        batch = _SmallBatch(outlines, corners, epsilon, max_iterations, keep_snapshots)
+        batch = _SmallBatch(outlines, corners, epsilon, max_iterations, keep_snapshots, deadline)
         batch.insert_knots()
-        batch.remove_knots()
+        if not batch.out_of_time:
+            batch.remove_knots()
         return batch.results()
 
 
@@ -359,8 +363,9 @@ class _SmallBatch:
     """All small outlines of a call, refined side by side. Knots are entries ``(chain, unwrapped contour
     index)`` sorted by chain and index; an outline's numbers never depend on the rest of the batch."""
 
-    def __init__(self, outlines, corners, epsilon, max_iterations, keep_snapshots):
+    def __init__(self, outlines, corners, epsilon, max_iterations, keep_snapshots, deadline=None):
         self.epsilon, self.max_iterations, self.keep = epsilon, max_iterations, keep_snapshots
+        self.deadline, self.out_of_time = deadline, False
         self.corners = corners
         lengths = self.lengths = np.array([o.shape[0] for o in outlines], dtype=np.int64)
         points = self.points = np.concatenate(outlines)
@@ -488,6 +493,10 @@ class _SmallBatch:
             active &= ~stop
             if not active.any():
                 return
+            if self.deadline is not None and self.deadline.passed():  # the outlines still failing stay so
+                self.out_of_time = True
+                self.failed |= active
+                return
             adds = np.flatnonzero(splittable & active[i_outline])
             quarter = np.maximum(1, ev["steps"][adds] // 4)
             new_index = np.clip(ev["worst"][adds], k_index_ev[left[adds]] + quarter,
@@ -588,6 +597,8 @@ class _SmallBatch:
                 state["snapshot"] = self.history[b][-1]
             results.append(_small_result(state, self.history[b], self.corners[b], self.lengths[b], self.epsilon,
                                          self.max_iterations, float(self.tip_allowance[b])))
+            if self.out_of_time and state["failing"]:
+                results[-1].info["reason"] = BUDGET_REASON.format(budget=self.deadline.budget)
         return results
 
 def _candidate(piece, index, point, accepted, reason, action):

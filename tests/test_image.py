@@ -70,6 +70,50 @@ def test_jpeg_differs_only_at_the_edge(tmp_path):
     assert wrong.sum() < 0.02 * mask.size
 
 
+
+@pytest.mark.parametrize("suffix", [".png", ".jpg", ".webp"])  # (PIL turns TIFFs by their tag itself on load)
+@pytest.mark.parametrize("orientation", range(1, 9))
+def test_exif_orientation_is_applied_as_a_viewer_shows_it(tmp_path, orientation, suffix):
+    """A phone stores the sensor's pixels and an EXIF orientation tag that says how to show them; the bitmap
+    is what a viewer shows (PIL's ``ImageOps.exif_transpose`` as the reference)."""
+    from PIL import ImageOps
+
+    upright = shape_mask(40, 64)  # not square and without symmetry: every turn and mirror shows
+    stored = _stored_for(upright, orientation)
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    path = tmp_path / f"photo{suffix}"
+    stored.save(path, exif=exif.tobytes(), **({"quality": 95} if suffix == ".jpg" else {"lossless": True}
+                                              if suffix == ".webp" else {}))
+    viewer = np.asarray(ImageOps.exif_transpose(Image.open(path)).convert("L")) < 128
+    assert viewer.shape == upright.shape
+    loaded = load_bitmap(path)
+    np.testing.assert_array_equal(loaded, viewer)
+    np.testing.assert_array_equal(load_bitmap(path.read_bytes()), viewer)
+    if suffix != ".jpg":  # lossless
+        np.testing.assert_array_equal(loaded, upright)
+
+
+def _tagged(image, orientation):
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    image.info["exif"] = exif.tobytes()
+    image.getexif()[0x0112] = orientation
+    return image
+
+
+def _stored_for(upright, orientation):
+    """The stored pixels whose EXIF ``orientation`` shows ``upright``: found by trying each transpose."""
+    from PIL import ImageOps
+
+    image = Image.fromarray(gray_image(upright))
+    for method in Image.Transpose:
+        candidate = image.transpose(method)
+        shown = ImageOps.exif_transpose(_tagged(candidate.copy(), orientation))
+        if np.array_equal(np.asarray(shown) < 128, upright):
+            return candidate
+    raise AssertionError(f"no transpose is shown upright under orientation {orientation}")
+
 def test_transparent_png_is_composited_on_white(tmp_path):
     mask = shape_mask()
     rgba = np.zeros(mask.shape + (4,), np.uint8)  # transparent black everywhere ...

@@ -93,7 +93,7 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
     ----------
     image : str | os.PathLike | bytes | file object | numpy.ndarray | PIL.Image.Image
         A path or binary file object of a PNG, JPEG, BMP, GIF or TIFF file (anything PIL reads), or the
-        encoded file itself as ``bytes``; an array of shape ``(H, W)`` (bool mask, or gray), ``(H, W, 1)``,
+        encoded file itself as ``bytes`` (turned by its EXIF orientation tag, as a viewer shows it); an array of shape ``(H, W)`` (bool mask, or gray), ``(H, W, 1)``,
         ``(H, W, 2)`` (gray + alpha), ``(H, W, 3)`` (RGB) or ``(H, W, 4)`` (RGBA) with dtype bool (2-D only),
         uint8, uint16, another integer type with values in ``[0, 255]``, or float in ``[0, 1]``; or a PIL
         image of any mode. Bytes are always the encoded file, never a file name (pass a path as ``str`` or
@@ -353,7 +353,21 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             raise
         except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
             raise ValueError(f"{name}: truncated or corrupt image file ({type(exc).__name__}: {exc})") from None
-    return img
+        return _upright(img)
+
+
+def _upright(img):
+    """The image as a viewer shows it: turned and mirrored by its EXIF orientation tag (phone cameras store the
+    sensor's pixels and a tag that says how to turn them), unchanged without a tag or with orientation 1."""
+    from PIL import ImageOps
+
+    try:
+        orientation = img.getexif().get(0x0112, 1)  # the EXIF "Orientation" tag
+    except Exception:  # a malformed EXIF block: the pixels as stored
+        return img
+    if orientation not in range(2, 9):
+        return img
+    return ImageOps.exif_transpose(img)
 
 
 def _pil_to_gray(img, name):

@@ -516,3 +516,19 @@ def test_a_signal_whose_exception_a_destructor_drops_still_stops_the_run():
     assert went_on == [True]
     assert stopped.value.signum == signal.SIGTERM
     assert signal.getsignal(signal.SIGTERM) == before         # the old handler is back
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="file names of arbitrary bytes are a POSIX matter")
+@pytest.mark.parametrize("raw_name, shown", [(b"caf\xe9.png", "caf\ufffd.png"), (b"scan\x01.png", "scan\ufffd.png"),
+                                             (b"a & <b>.png", "a & <b>.png")])
+def test_a_file_name_xml_cannot_hold_still_gives_a_well_formed_svg(tmp_path, raw_name, shown):
+    # a Latin-1 name from an old archive decodes to surrogates (os.fsdecode), a control character is legal in
+    # a POSIX name: neither may reach the SVG's <title> as it is (the file failed, or the SVG was not XML)
+    write_shape(tmp_path / "ok.png", "disc")
+    source = os.path.join(os.fsencode(tmp_path), raw_name)
+    os.rename(tmp_path / "ok.png", source)
+    out = tmp_path / "out.svg"
+    assert main(["trace", os.fsdecode(source), "-o", str(out), "-q"]) == 0
+    root = ET.fromstring(out.read_bytes())
+    assert root.find(f"{SVG}title").text == shown
+    assert subpath_count(out.read_text(encoding="utf-8"))[0] == 1

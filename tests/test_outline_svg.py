@@ -271,3 +271,17 @@ def test_the_fill_rule_is_read_from_the_path_or_its_group(attributes):
     for rule in ("nonzero", "evenodd"):
         outline = from_svg(_svg(f'<path fill-rule="{rule}" d="{hole}"/>', 'width="100" height="100"'))
         assert len(outline) == 2 and _winding(outline.oriented_bezier(), [50, 50]) == 0
+
+
+def test_svg_document_refuses_text_xml_cannot_hold_and_xml_safe_replaces_it():
+    import xml.etree.ElementTree as ET
+
+    from splinecraft.spline.svg import svg_document, xml_safe
+
+    for field in ("title", "fill", "stroke"):
+        with pytest.raises(ValueError, match=f"{field} .*U\\+001B"):
+            svg_document("M0 0 L1 1 Z", 2, 2, **{field: "x\x1by"})
+    with pytest.raises(ValueError, match="U\\+DCE9"):
+        svg_document("M0 0 L1 1 Z", 2, 2, title="caf\udce9")
+    assert xml_safe("caf\udce9\x01\tok\n") == "caf\ufffd\ufffd\tok\n"
+    ET.fromstring(svg_document("M0 0 L1 1 Z", 2, 2, title=xml_safe("caf\udce9 & \x07")))

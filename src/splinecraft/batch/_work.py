@@ -19,6 +19,8 @@ import time
 
 import numpy as np
 
+from ..spline.svg import xml_safe
+
 #: Suffix of the temporary files that outputs are written through (``.NAME.RANDOM.splinecraft-part``).
 PART_SUFFIX = ".splinecraft-part"
 #: Stats of each file kept in its record and in the manifest.
@@ -65,7 +67,9 @@ def render(result, fmt, decimals, title) -> bytes:
         for name in TIMING_STATS:
             document["stats"].pop(name, None)
         return json.dumps(document, allow_nan=False).encode("utf-8")
-    return result.to_svg(decimals=decimals, title=title).encode("utf-8")
+    # the title is the input's file name, which may hold bytes no encoding decoded (os.fsdecode's surrogates)
+    # or control characters: XML cannot hold those
+    return result.to_svg(decimals=decimals, title=None if title is None else xml_safe(title)).encode("utf-8")
 
 
 def _process_umask() -> int:

@@ -25,7 +25,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import re
 from pathlib import Path
 
 import numpy as np
@@ -43,8 +42,6 @@ _RAY_BLOCK = 1 << 22
 #: Curve sampling step (px) of the deviation measure.
 DEVIATION_SPACING = 0.25
 _FORMAT = "splinecraft.Outline"
-#: Characters XML 1.0 cannot hold (control characters other than tab and newlines, surrogates, U+FFFE/F).
-_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
 
 def _sample_pieces(bezier, spacing):
@@ -392,10 +389,6 @@ class Outline:
         from ..spline.svg import svg_document
 
         title = title if title is not None else self.name
-        for label, text in (("title", title), ("fill", fill)):
-            bad = _NOT_XML.search(text) if isinstance(text, str) else None
-            if bad:
-                raise ValueError(f"{label} {text!r} contains U+{ord(bad.group()):04X}, a character XML cannot hold")
         width, height = int(math.ceil(self.width)), int(math.ceil(self.height))
         return svg_document(self.svg_path_data(decimals=decimals), width, height, fill=fill, title=title,
                             fill_rule="nonzero")

@@ -8,6 +8,7 @@ dropped, or written exactly (``decimals=None``, shortest round-trip text).
 from __future__ import annotations
 
 import numbers
+import re
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
@@ -110,8 +111,25 @@ def path_data(curves, *, decimals: int | None = 4, closed=True) -> str:
     return " ".join(parts)
 
 
+#: Characters XML 1.0 does not allow in a document (C0 controls but tab and newlines, lone surrogates such as a
+#: file name's undecodable bytes from ``os.fsdecode``, U+FFFE and U+FFFF).
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
 def _escape(text: str) -> str:
     return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+
+def xml_safe(text: str) -> str:
+    """``text`` with every character XML cannot hold replaced by U+FFFD (for titles made from file names)."""
+    return _NOT_XML.sub("\ufffd", text)
+
+
+def _check_xml_text(text, label):
+    bad = _NOT_XML.search(text) if isinstance(text, str) else None
+    if bad:
+        raise ValueError(f"{label} {text!r} contains U+{ord(bad.group()):04X}, a character XML cannot hold "
+                         "(splinecraft.spline.svg.xml_safe replaces such characters)")
 
 
 def _size_text(value, name, fmt):
@@ -127,10 +145,13 @@ def svg_document(d: str, width, height, *, fill: str = "black", title: str | Non
     By default it is the filled outline of a traced bitmap: ``width x height`` pixels, ``viewBox="0 0 W
     H"``, even-odd fill, no stroke. ``view_box=(x, y, w, h)`` sets another frame (e.g. a curve's
     bounding box), ``fill="none"`` with a ``stroke`` colour and ``stroke_width`` draws a line.
-    ``decimals`` rounds the view box and sizes that are not integers.
+    ``decimals`` rounds the view box and sizes that are not integers. A ``title``, ``fill`` or ``stroke``
+    with a character XML cannot hold (a control character, a lone surrogate) is a ``ValueError``.
     """
     if not isinstance(d, str):
         raise TypeError(f"d must be SVG path data (str), got {type(d).__name__}")
+    for label, text in (("title", title), ("fill", fill), ("stroke", stroke)):
+        _check_xml_text(text, label)
     fmt = _formatter(_check_decimals(decimals))
     width_text = _size_text(width, "width", fmt)
     height_text = _size_text(height, "height", fmt)

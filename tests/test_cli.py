@@ -532,3 +532,19 @@ def test_a_file_name_xml_cannot_hold_still_gives_a_well_formed_svg(tmp_path, raw
     root = ET.fromstring(out.read_bytes())
     assert root.find(f"{SVG}title").text == shown
     assert subpath_count(out.read_text(encoding="utf-8"))[0] == 1
+
+
+def test_help_examples_of_corner_params_run(tmp_path):
+    """The --corner-param examples of --help run as written (a thesis detector's parameter once named for the
+    default detector was refused)."""
+    import re
+
+    shown = subprocess.run([sys.executable, "-m", "splinecraft.cli", "trace", "--help"], capture_output=True,
+                           text=True, timeout=300, env={**os.environ, "COLUMNS": "1000"})  # no wrapped options
+    text = " ".join(shown.stdout.split())
+    examples = re.findall(r"e\.g\. (--corner-param \S+) for the default \S+, (--corner-method \S+ --corner-param \S+?)\)",
+                          text)
+    assert examples, text
+    write_shape(tmp_path / "disc.png", "disc")
+    for example in examples[0]:
+        assert main(["trace", str(tmp_path / "disc.png"), "-o", str(tmp_path / "out.svg"), "-q", *example.split()]) == 0

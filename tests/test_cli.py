@@ -542,7 +542,7 @@ def test_help_examples_of_corner_params_run(tmp_path):
     shown = subprocess.run([sys.executable, "-m", "splinecraft.cli", "trace", "--help"], capture_output=True,
                            text=True, timeout=300, env={**os.environ, "COLUMNS": "1000"})  # no wrapped options
     text = " ".join(shown.stdout.split())
-    examples = re.findall(r"e\.g\. (--corner-param \S+) for the default \S+, (--corner-method \S+ --corner-param \S+?)\)",
+    examples = re.findall(r"e\.g\. (--corner-param \S+) for the default \S+, (--corner-method \S+ --corner-param \S+) for the thesis",
                           text)
     assert examples, text
     write_shape(tmp_path / "disc.png", "disc")

@@ -193,7 +193,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="corner detector (default: the library default)")
     tracer.add_argument("--corner-param", type=_key_value, action="append", default=[], metavar="NAME=VALUE",
                         help="corner detector parameter, repeatable (e.g. --corner-param min_turn=30 for the default "
-                             "tangent-jump, --corner-method rj73 --corner-param ta=150)")
+                             "tangent-jump, --corner-method srm05 --corner-param ta=150 for the thesis's)")
     tracer.add_argument("--seed", type=_non_negative_int, default=defaults["seed"],
                         help="seed of the random algorithms")
     tracer.add_argument("--tau", type=float, default=defaults["tau"], help="distance constraint of Algs 4.2/4.3")

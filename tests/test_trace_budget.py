@@ -169,3 +169,24 @@ def test_small_outline_rounds_stop_at_a_passed_deadline():
     assert not cut.converged and cut.iterations < full.iterations
     assert cut.info["reason"] == BUDGET_REASON.format(budget=1.0)
     assert cut.snapshots[-1].phase == "insert"  # no removal rounds after the deadline
+
+
+def test_noise_estimate_is_not_charged_to_the_budget(monkeypatch):
+    """The budget covers corner detection and fitting (docs/capture.md §12, "Time budget"); a noise estimate
+    that takes long (a large image) leaves the fits their time."""
+    import time as clock
+
+    module = sys.modules["splinecraft.capture.trace"]
+    real = module.boundary_noise
+
+    def slow_noise(*args):
+        clock.sleep(1.5)  # three budgets' worth
+        return real(*args)
+
+    monkeypatch.setattr(module, "boundary_noise", slow_noise)
+    yy, xx = np.mgrid[:64, :64] + 0.5
+    disc = (xx - 32) ** 2 + (yy - 30) ** 2 <= 20**2
+    result = trace(disc, time_budget=0.5)
+    (entry,) = result.stats["per_boundary"]
+    assert entry["budget"] is None and result.stats["converged"]
+    assert result.stats["time_breakdown"]["noise_s"] >= 1.5

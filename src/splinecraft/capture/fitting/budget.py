@@ -47,6 +47,11 @@ class Deadline:
     def passed(self) -> bool:
         return self.end is not None and time.perf_counter() > self.end
 
+    def extend(self, seconds):
+        """Move the end later by ``seconds`` (work the budget does not cover, done while it ran)."""
+        if self.end is not None:
+            self.end += float(seconds)
+
 
 def polygon_fits(outlines, epsilon, keep_snapshots):
     """Every closed polyline of ``outlines`` as a spline: one straight cubic Bézier (control points at thirds)

@@ -17,7 +17,8 @@ from scipy import ndimage
 from skimage.filters import threshold_otsu
 
 from splinecraft.capture._binarize import threshold_level
-from splinecraft.capture.image import DEFAULT_THRESHOLD, FALLBACK_THRESHOLD, MIN_CONTRAST, _to_gray, load_bitmap
+from splinecraft.capture.image import (DEFAULT_THRESHOLD, FALLBACK_THRESHOLD, MIN_CONTRAST, InkPolarityWarning,
+                                      _to_gray, load_bitmap)
 
 
 def shape_mask(height=40, width=50):
@@ -236,7 +237,9 @@ def test_alpha_composite_on_white(rgba):
     st.booleans(),
 )
 def test_explicit_threshold_and_invert(gray, threshold, invert):
-    mask = load_bitmap(gray, threshold=threshold, invert=invert, min_speck_area=0)  # no despeckling of noise
+    with warnings.catch_warnings():  # random gray may have a dark border: the polarity hint is beside the point
+        warnings.simplefilter("ignore", InkPolarityWarning)
+        mask = load_bitmap(gray, threshold=threshold, invert=invert, min_speck_area=0)  # no despeckling of noise
     expected = gray <= threshold * 255
     np.testing.assert_array_equal(mask, ~expected if invert else expected)
 
@@ -787,3 +790,33 @@ def test_noise_estimate_reads_at_most_its_budget_of_windows(monkeypatch):
         count = len(_binarize._centred_starts(shape[0] - 1, stride)) * len(_binarize._centred_starts(shape[1] - 1, stride))
         assert count <= 1.1 * (1 << 22)
         assert stride == 1 or count >= (1 << 22) / 8
+
+
+def _text_page(light_on_dark, size=(160, 240)):
+    """Bars of 'text' on paper with a little noise: dark on light, or light on dark."""
+    ink = np.zeros(size, bool)
+    for row in range(20, size[0] - 20, 24):
+        for col in range(16, size[1] - 16, 18):
+            ink[row:row + 12, col:col + 10] = True
+    ink_level, paper_level = (0.85, 0.08) if light_on_dark else (0.08, 0.85)
+    gray = np.where(ink, ink_level, paper_level) + np.random.default_rng(0).normal(0, 0.01, size)
+    return np.clip(gray * 255, 0, 255).round().astype(np.uint8), ink
+
+
+@pytest.mark.parametrize("threshold", [None, "otsu", "sauvola", 0.5])
+def test_light_on_dark_gray_image_warns_where_the_call_is(threshold):
+    import splinecraft as sc
+
+    negative, ink = _text_page(True)
+    with pytest.warns(InkPolarityWarning, match="invert=True") as record:
+        load_bitmap(negative, threshold=threshold)
+    assert record[0].filename == __file__  # the user's line, not the package's
+    assert record[0].message.border_share == 1.0
+    with pytest.warns(InkPolarityWarning) as record:
+        sc.trace(negative, threshold=threshold)
+    assert record[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_array_equal(load_bitmap(negative, threshold="otsu", invert=True), ink)
+        positive, ink = _text_page(False)
+        np.testing.assert_array_equal(load_bitmap(positive, threshold="otsu"), ink)

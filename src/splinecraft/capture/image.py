@@ -29,6 +29,11 @@ Conventions
   quarters of the border pixels are ``True`` and ``True`` touches all four borders, the mask most likely has its
   background as ``True`` (``skimage.data.horse()`` does): an :class:`InkPolarityWarning` (a ``UserWarning``) says so and how to flip it
   (``invert=True`` or ``~mask``); the mask is still used as given.
+* **Light on dark** gray images (a negative scan, a dark-mode screenshot, ``skimage.data.coins()``): ink is
+  dark, so their background is the shape. When more than three quarters of the border pixels are darker than
+  the image's Otsu level (on at most about a million pixels, evenly spread) and dark pixels lie on all four
+  borders, the same :class:`InkPolarityWarning` says so and that ``invert=True`` traces the light shapes
+  (unless ``invert`` is given). The threshold is applied as asked.
 * **Specks.** ``min_speck_area=k`` removes ink components *and* holes (background components not touching
   the image border) with fewer than ``k`` pixels; ink components use the tracer's ``connectivity``, holes
   the complementary one. ``None`` (default) sets ``k`` from the image's noise estimate (the rule is in
@@ -61,6 +66,7 @@ from __future__ import annotations
 import io
 import numbers
 import os
+import sys
 import warnings
 
 import numpy as np
@@ -158,6 +164,8 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
         level = _binarize.threshold_level(gray, white, threshold)
         mask = np.ascontiguousarray(gray <= level)
         _warn_if_flat(gray, white, threshold, mask)
+        if not invert:
+            _warn_if_light_on_dark(gray, white)
         speck = min_speck_area
         if speck is None:
             speck = _binarize.auto_speck_area(gray, white, level, mask, _binarize.estimate_noise(gray, white))
@@ -170,8 +178,8 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
 
 
 class InkPolarityWarning(UserWarning):
-    """A bool mask whose True pixels fill its border: the ink may be inverted. ``border_share`` is the share
-    (0..1) of border pixels that are True."""
+    """A bool mask whose True pixels fill its border, or a gray image whose border is dark: the ink may be
+    inverted. ``border_share`` is the share (0..1) of border pixels that are True (dark)."""
 
     def __init__(self, message, border_share):
         super().__init__(message)
@@ -184,10 +192,48 @@ def _warn_if_inverted(mask):
     touches = mask[0].any() and mask[-1].any() and mask[:, 0].any() and mask[:, -1].any()
     if touches and 4 * int(border.sum()) > 3 * border.size and not mask.all():
         share = border.mean()
-        warnings.warn(InkPolarityWarning(
+        _warn(InkPolarityWarning(
             f"the mask's True pixels cover {100 * share:.0f}% of its border and touch every side: "
             "True is ink here, so the background may be the traced shape; if True marks the background, "
-            "pass invert=True (or ~mask)", share), stacklevel=3)
+            "pass invert=True (or ~mask)", share))
+
+
+def _warn(warning):
+    """``warnings.warn`` pointing at the first frame outside this package (the user's call of ``sc.trace``,
+    ``load_bitmap``, a widget ...), whichever path inside the package led here."""
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    frame, level = sys._getframe(1), 2  # stacklevel 2: the frame that called _warn
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(package + os.sep):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(warning, stacklevel=level)
+
+
+#: The polarity test of gray images reads at most about this many pixels for the Otsu level.
+_POLARITY_SAMPLE = 1 << 20
+
+
+def _warn_if_light_on_dark(gray, white):
+    """Warn when a gray image looks like light shapes on a dark background (module docstring, "Light on
+    dark"): its border mostly below the image's Otsu level, dark on every side."""
+    from skimage.filters import threshold_otsu
+
+    if min(gray.shape) < 3:
+        return
+    step = max(1, int(np.ceil(np.sqrt(gray.size / _POLARITY_SAMPLE))))
+    sample = gray[::step, ::step]
+    lo, hi = sample.min(), sample.max()
+    if float(hi) - float(lo) < _binarize.MIN_CONTRAST * white:
+        return
+    level = threshold_otsu(sample)
+    sides = (gray[0], gray[-1], gray[1:-1, 0], gray[1:-1, -1])
+    dark = [side <= level for side in sides]
+    count, total = sum(int(d.sum()) for d in dark), sum(d.size for d in dark)
+    if 4 * count > 3 * total and all(d.any() for d in dark):
+        share = count / total
+        _warn(InkPolarityWarning(
+            f"{100 * share:.0f}% of the image's border is darker than its Otsu level ({float(level) / white:.2f} "
+            "of white): dark is ink, so a dark background may be traced as the shape; if the shapes are light on "
+            "dark, pass invert=True", share))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -210,12 +256,12 @@ def _warn_if_flat(gray, white, threshold, mask):
     lo, hi = float(gray.min()), float(gray.max())
     if lo == hi or hi - lo >= _binarize.MIN_CONTRAST * white:
         return
-    warnings.warn(
+    _warn(UserWarning(
         f"the image's gray levels span {lo:g}-{hi:g} of white = {white:g} ({100 * (hi - lo) / white:.1f}%), "
         f"less than the {100 * _binarize.MIN_CONTRAST:.0f}% any threshold method needs, so the fixed level "
         f"{_binarize.FALLBACK_THRESHOLD:g} of white made every pixel ink; if the "
         "data use fewer bits than their dtype (e.g. 12-bit values in uint16), scale them first (image / "
-        "image.max()), or pass threshold= as a fraction of white", stacklevel=3)
+        "image.max()), or pass threshold= as a fraction of white"))
 
 
 def _check_count(value, name):

@@ -548,3 +548,22 @@ def test_help_examples_of_corner_params_run(tmp_path):
     write_shape(tmp_path / "disc.png", "disc")
     for example in examples[0]:
         assert main(["trace", str(tmp_path / "disc.png"), "-o", str(tmp_path / "out.svg"), "-q", *example.split()]) == 0
+
+
+def test_a_files_warnings_are_printed_with_its_name_even_when_quiet(tmp_path):
+    """A warning of one file's trace (here the ink polarity of light shapes on a dark background) is printed
+    as 'splinecraft: FILE: warning: ...' and kept in the manifest, not as a Python warning of the package's
+    own source line; the other file has none."""
+    negative = tmp_path / "negative.png"
+    mask = write_shape(tmp_path / "positive.png", "disc")
+    Image.fromarray(np.where(mask, 230, 20).astype(np.uint8)).save(negative)
+    result = run_cli("trace", negative, tmp_path / "positive.png", "-o", tmp_path / "out", "-q", "--no-resume")
+    assert result.returncode == 0
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith(f"splinecraft: {negative}: warning: InkPolarityWarning: ")
+    assert "invert=True" in lines[0] and ".py:" not in result.stderr
+    entries = {os.path.basename(json.loads(line)["input"]): json.loads(line)
+               for line in (tmp_path / "out" / "splinecraft-manifest.jsonl").read_text().splitlines()}
+    assert entries["negative.png"]["warnings"] == [lines[0].split("warning: ", 1)[1]]
+    assert entries["positive.png"]["warnings"] == []

@@ -344,6 +344,8 @@ def _trace_to_stdout(source, fmt, options, decimals) -> int:
 
     planned = PlannedFile(index=0, source=source, label=source, output=None, title=os.path.basename(source))
     (record,) = run_batch([planned], trace_params=options, progress=False, format=fmt, decimals=decimals)
+    for line in record.warnings:
+        print(f"{PROG}: {source}: warning: {line}", file=sys.stderr)
     if record.status != "ok":
         print(f"{PROG}: {source}: {record.error}", file=sys.stderr)
         return 1
@@ -384,6 +386,8 @@ def _run_trace(args) -> int:
 
         stop_if_signalled()
         counts[record.status] = counts.get(record.status, 0) + 1
+        for line in record.warnings:  # even with -q: they say the output may not be what was meant
+            tqdm.write(f"{PROG}: {record.input}: warning: {line}", file=sys.stderr)
         if record.status == "failed":
             tqdm.write(f"{PROG}: {record.input}: {record.error}", file=sys.stderr)
         elif record.status == "ok" and args.verbose:

@@ -41,7 +41,8 @@ class FileRecord:
     hashes of input, settings and output still match), ``"failed"`` (``error`` says why, in one line) or
     ``"cancelled"`` (the run was stopped before this file). ``stats`` holds the main columns of
     ``TraceResult.stats``; ``result`` is the :class:`~splinecraft.capture.trace.TraceResult` itself when
-    ``output_dir`` is ``None``.
+    ``output_dir`` is ``None``. ``warnings``: the warnings its trace gave (``"Category: message"``, e.g. an
+    ink polarity that looks inverted), kept with the file instead of printed by the worker.
     """
 
     input: str
@@ -54,6 +55,7 @@ class FileRecord:
     output_sha256: str | None = None
     index: int = 0
     result: object = field(default=None, repr=False)
+    warnings: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """The record without ``result`` (JSON-able)."""
@@ -142,7 +144,8 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     Returns
     -------
     BatchResult
-        One :class:`FileRecord` per input, in input order; ``.to_dataframe()`` with pandas.
+        One :class:`FileRecord` per input, in input order; ``.to_dataframe()`` with pandas. The warnings of
+        each file's trace are in its record's ``warnings`` (and its manifest line), not printed.
 
     Raises
     ------
@@ -189,7 +192,8 @@ class _Run:
             job = self.planned[raw["index"]]
             record = FileRecord(input=job.label, output=job.output, status=raw["status"], error=raw["error"],
                                 time_s=raw["time_s"], stats=raw["stats"], input_sha256=raw["input_sha256"],
-                                output_sha256=raw["output_sha256"], index=job.index, result=raw["result"])
+                                output_sha256=raw["output_sha256"], index=job.index, result=raw["result"],
+                                warnings=list(raw.get("warnings", ())))
             records.append(record)
             if self.manifest is not None and record.status in ("ok", "failed"):
                 lines.append(self._line(record))
@@ -206,7 +210,8 @@ class _Run:
 
         return {"output": self.manifest.key(record.output), "input": record.input, "status": record.status,
                 "input_sha256": record.input_sha256, "params_sha256": self.params_hash,
-                "output_sha256": record.output_sha256, "error": record.error, "time_s": round(record.time_s, 6),
+                "output_sha256": record.output_sha256, "error": record.error, "warnings": record.warnings,
+                "time_s": round(record.time_s, 6),
                 "stats": record.stats, "finished": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
                 "splinecraft": __version__}
 

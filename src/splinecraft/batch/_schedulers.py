@@ -41,7 +41,7 @@ def cpu_count() -> int:
 
 def failed_records(batch, reason) -> list:
     return [{"index": item["index"], "status": "failed", "error": reason, "input_sha256": None,
-             "output_sha256": None, "stats": None, "result": None, "time_s": 0.0} for item in batch]
+             "output_sha256": None, "stats": None, "result": None, "time_s": 0.0, "warnings": []} for item in batch]
 
 
 def _import_dask(what):

@@ -16,6 +16,7 @@ import sys
 import tempfile
 import threading
 import time
+import warnings
 
 import numpy as np
 
@@ -148,6 +149,17 @@ def failure_reason(exc, source_name=None) -> str:
     return f"{type(exc).__name__}: {message}" if message else type(exc).__name__
 
 
+def _warning_lines(caught) -> list:
+    """One line per distinct warning of a file's trace: ``Category: message`` (first line of the message)."""
+    lines = []
+    for warning in caught:
+        text = str(warning.message).strip().splitlines()
+        line = f"{warning.category.__name__}: {text[0] if text else ''}"
+        if line not in lines:
+            lines.append(line)
+    return lines
+
+
 def _summary(stats) -> dict:
     return {name: stats[name] for name in RECORD_STATS if name in stats}
 
@@ -159,9 +171,12 @@ def trace_one(item, settings) -> dict:
     started = time.perf_counter()
     source, output = item["source"], item["output"]
     record = {"index": item["index"], "status": "failed", "error": None, "input_sha256": None,
-              "output_sha256": None, "stats": None, "result": None}
+              "output_sha256": None, "stats": None, "result": None, "warnings": []}
     try:
-        result = trace(source, **settings["trace"])  # first: the loader's messages name the file
+        with warnings.catch_warnings(record=True) as caught:  # kept with the file they are about
+            warnings.simplefilter("always")
+            result = trace(source, **settings["trace"])  # first: the loader's messages name the file
+        record["warnings"] = _warning_lines(caught)
         record["input_sha256"] = input_sha256(source)
         if output is None:
             record["result"] = result
@@ -193,7 +208,7 @@ def trace_batch(items, settings) -> list:
         if stop is not None and stop.is_set():
             records.append({"index": item["index"], "status": "cancelled", "error": "run stopped",
                             "input_sha256": None, "output_sha256": None, "stats": None, "result": None,
-                            "time_s": 0.0})
+                            "time_s": 0.0, "warnings": []})
             continue
         records.append(trace_one(item, settings))
     return records

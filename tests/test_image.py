@@ -410,6 +410,37 @@ def test_local_thresholds_follow_uneven_lighting(method):
     assert (global_level != mask).mean() > (found != mask).mean()
 
 
+@pytest.mark.parametrize("falloff", [0.5, 0.4, 0.3])
+@pytest.mark.parametrize("method", ["background", "sauvola", "local"])
+def test_blank_paper_far_from_the_text_stays_paper_where_the_light_falls_off(method, falloff):
+    """Text in the left third of a page, the light falling off linearly to ``falloff`` at the right edge: the
+    blank paper on the right is darker than the level measured beside the text, but it is paper (a flat area
+    with no edge inside takes the class its rim decides). Carrying the nearest edge's level made 15-40 % of
+    it ink at a fall-off of 50 %."""
+    height, width = 200, 600
+    text = np.zeros((height, width), bool)
+    text[:, :200] = text_mask(height, 200)
+    ramp = 1.0 - (1.0 - falloff) * (np.arange(width) + 0.5) / width
+    gray = ndimage.gaussian_filter(np.where(text, 0.15, 0.92), 1.0) * ramp[None, :]
+    gray = np.clip(255 * (gray + np.random.default_rng(1).normal(0.0, 0.01, gray.shape)), 0, 255).astype(np.uint8)
+    found = load_bitmap(gray, threshold=method, min_speck_area=0)
+    far = ndimage.distance_transform_edt(~text) > 30
+    assert not (found & far).any()
+    assert found[text].mean() > 0.8  # and the text is found
+
+
+def test_jpeg_paper_stays_paper_under_the_local_threshold(tmp_path):
+    """A JPEG quantizes the fine detail the noise estimate reads away (the estimate is 0, so is "local"'s
+    offset): its blank paper is flat, and stays paper."""
+    mask = text_mask(240, 320)
+    gray = np.clip(255 * (np.where(mask, 0.1, 0.9) + np.random.default_rng(2).normal(0, 0.01, mask.shape)),
+                   0, 255).astype(np.uint8)
+    path = tmp_path / "page.jpg"
+    Image.fromarray(gray).save(path, quality=30)
+    far = ndimage.distance_transform_edt(~mask) > 12
+    for method in ("background", "sauvola", "local"):
+        assert not (load_bitmap(path, threshold=method) & far).any(), method
+
 @pytest.mark.parametrize("method", ["background", "otsu", "sauvola", "local"])
 def test_every_threshold_keeps_a_bilevel_image(method):
     mask = shape_mask(80, 100)                 # wide ink areas and wide paper: uniform windows

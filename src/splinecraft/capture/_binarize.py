@@ -37,8 +37,11 @@ side, at least 15 and at most 255. Where a window's standard deviation is below 
 below twice the noise estimate (blank paper, or the inside of a stroke wider than the window: nothing but
 noise) a local level means nothing (half the pixels of a uniform area lie below its own mean): such a pixel
 takes the level of the nearest pixel whose window does see an edge (the threshold surface is carried into the
-flat areas from the edges, so dim paper stays paper and a wide stroke stays ink); an image without any edge
-uses Otsu's level. The local methods hold a few float arrays of the image's size (about 40 bytes per pixel). ``DEFAULT_THRESHOLD``
+flat areas from the edges). A connected flat area has no edge inside, so it is all paper or all ink: the
+pixels of its rim (beside it, on its side of the edges) decide which by majority, and a flat pixel that the
+carried level would put in the other class gets that level mirrored about its own gray. So blank paper stays
+paper however far the light falls off from where the text is, and a wide stroke stays ink; an image without
+any edge uses Otsu's level. The local methods hold a few float arrays of the image's size (about 40 bytes per pixel). ``DEFAULT_THRESHOLD``
 is the method ``threshold=None`` stands for; BENCHMARKS.md ("Thresholds") gives the measurement it was chosen
 by.
 
@@ -178,10 +181,32 @@ def _window_level(gray, white, method):
     flat = spread < max(MIN_CONTRAST / 2, 2.0 * estimate_noise(gray, white))
     if flat.all():
         return _otsu_level(gray, int(lo), int(hi)) if gray.dtype.kind == "u" else _otsu_level(gray)
-    if flat.any():                          # windows of nothing but noise take the nearest edge's level
-        nearest = ndimage.distance_transform_edt(flat, return_distances=False, return_indices=True)
-        level = level[nearest[0], nearest[1]]
+    if flat.any():                          # windows of nothing but noise: their flat area's class
+        level = _flat_area_level(scaled, level, flat)
     return level * white
+
+
+def _flat_area_level(scaled, level, flat):
+    """The level of the flat pixels (module docstring, "flat areas"): a connected flat area has no edge inside,
+    so it is all paper or all ink; the pixels of its rim (the pixels beside it whose window sees an edge, on
+    the area's side of that edge) vote with their own levels. A flat pixel starts from the level of the
+    nearest rim pixel (the threshold surface carried in from the edges) and, where that puts it in the other
+    class than its area's vote, takes that level mirrored about its own gray (same margin, the area's side):
+    a dim stretch of blank paper far from the text whose light it was measured in stays paper."""
+    from scipy import ndimage
+
+    labels, count = ndimage.label(flat)     # 4-connected flat areas
+    rim = ndimage.binary_dilation(flat) & ~flat
+    owner = ndimage.grey_dilation(labels, footprint=ndimage.generate_binary_structure(2, 1))[rim]
+    rim_ink = (scaled[rim] <= level[rim]).astype(np.float64)
+    votes = np.bincount(owner, minlength=count + 1).astype(np.float64)
+    ink_area = np.bincount(owner, weights=rim_ink, minlength=count + 1) * 2.0 > votes
+    nearest = ndimage.distance_transform_edt(flat, return_distances=False, return_indices=True)
+    carried = level[nearest[0], nearest[1]]
+    area_ink = ink_area[labels]
+    wrong = flat & ((scaled <= carried) != area_ink)
+    carried[wrong] = 2.0 * scaled[wrong] - carried[wrong]
+    return carried
 
 
 def _background_level(gray, white):

@@ -431,7 +431,7 @@ def test_cli_connectivity_and_threshold_take_the_library_values(tmp_path, name, 
 @pytest.mark.parametrize("option, value, message", [
     ("--connectivity", "6", "expected one of minority, 4, 8"),
     ("--connectivity", "Minority", "expected one of minority, 4, 8"),
-    ("--threshold", "otsu2", "expected one of background, otsu, sauvola, local or a number in [0, 1]"),
+    ("--threshold", "otsu2", "expected one of background, otsu, sauvola, local, alpha or a number in [0, 1]"),
     ("--threshold", "1.5", "must be in [0, 1]"),
     ("--threshold", "nan", "must be in [0, 1]"),
 ])
@@ -493,7 +493,7 @@ def test_help_names_the_library_choices():
     assert result.returncode == 0
     text = " ".join(result.stdout.split())
     assert "--connectivity {minority,4,8}" in text and "default minority" in text
-    assert "--threshold {background,otsu,sauvola,local}|NUMBER" in text and "default background" in text
+    assert "--threshold {background,otsu,sauvola,local,alpha}|NUMBER" in text and "default background" in text
 
 
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")   # the dropped exception

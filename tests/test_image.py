@@ -851,3 +851,38 @@ def test_light_on_dark_gray_image_warns_where_the_call_is(threshold):
         np.testing.assert_array_equal(load_bitmap(negative, threshold="otsu", invert=True), ink)
         positive, ink = _text_page(False)
         np.testing.assert_array_equal(load_bitmap(positive, threshold="otsu"), ink)
+
+
+@pytest.mark.parametrize("mode", ["RGBA", "LA", "P"])  # P: a palette with a transparent entry
+def test_alpha_threshold_traces_a_white_logo_on_a_transparent_background(tmp_path, mode):
+    """A white logo made for dark pages vanishes when composited on white paper; threshold="alpha" traces
+    its opaque pixels, from a file, bytes, a PIL image or an array."""
+    import splinecraft as sc
+
+    logo = shape_mask()
+    rgba = np.zeros(logo.shape + (4,), np.uint8)
+    rgba[..., :3] = 255                                     # white everywhere, opaque only on the logo
+    rgba[..., 3] = np.where(logo, 255, 0)
+    image = Image.fromarray(rgba, "RGBA")
+    if mode != "RGBA":
+        image = image.convert(mode)
+    path = tmp_path / "logo.png"
+    image.save(path)
+    with pytest.raises(ValueError, match="threshold='alpha'"):
+        sc.trace(path)                                      # the hint names the way out
+    for source in (path, path.read_bytes(), Image.open(path)):
+        np.testing.assert_array_equal(load_bitmap(source, threshold="alpha"), logo)
+    np.testing.assert_array_equal(load_bitmap(rgba, threshold="alpha"), logo)
+    np.testing.assert_array_equal(load_bitmap(rgba[..., [0, 3]], threshold="alpha"), logo)
+    half = rgba.astype(np.float64) / 255
+    half[..., 3] *= 0.6                                     # 60 % opaque is still ink, 40 % not
+    np.testing.assert_array_equal(load_bitmap(half, threshold="alpha"), logo)
+    half[..., 3] *= 0.4 / 0.6
+    assert not load_bitmap(half, threshold="alpha").any()
+
+
+@pytest.mark.parametrize("source", [np.zeros((8, 8), np.uint8), np.zeros((8, 8, 3), np.uint8),
+                                    Image.new("RGB", (8, 8))])
+def test_alpha_threshold_without_an_alpha_channel_is_a_clear_error(source):
+    with pytest.raises(ValueError, match="has no alpha channel"):
+        load_bitmap(source, threshold="alpha")

@@ -30,6 +30,9 @@ Thresholds (``threshold=``)
 * ``"local"`` -- a level per pixel, the Gaussian-weighted window mean less three times the noise estimate
   (:func:`skimage.filters.threshold_local`, ``method="gaussian"``; without the offset half the paper pixels
   of a window of plain paper would fall below its mean).
+* ``"alpha"`` -- the opacity instead of the gray: a pixel at least half opaque is ink (a logo or a cut-out
+  on a transparent background, whatever its colours: a white logo made for dark pages included). The image
+  must have an alpha channel (RGBA, LA, a palette or gray with a transparent colour, a 2- or 4-channel array).
 * a number in ``[0, 1]`` -- a fixed fraction of white.
 
 The window of the local methods is ``window_size(shape)`` pixels: an odd number, 1/8 of the smaller image
@@ -98,7 +101,7 @@ HOLE_RING = 3
 PINHOLE_AREA = 3
 
 #: Names accepted by ``threshold=``.
-THRESHOLD_METHODS = ("background", "otsu", "sauvola", "local")
+THRESHOLD_METHODS = ("background", "otsu", "sauvola", "local", "alpha")
 #: The method ``threshold=None`` uses (chosen by the measurement in BENCHMARKS.md, "Thresholds").
 DEFAULT_THRESHOLD = "background"
 #: ``"background"``: pixels within this distance (px) of the other class are left out of either estimate.
@@ -151,6 +154,8 @@ def threshold_level(gray, white, threshold):
     method = DEFAULT_THRESHOLD if threshold is None else threshold
     if not isinstance(method, str):
         return method * white
+    if method == "alpha":  # the gray is the transparency (image.py): at least half opaque is ink
+        return FALLBACK_THRESHOLD * white
     lo, hi = float(gray.min()), float(gray.max())
     if hi - lo < MIN_CONTRAST * white:
         return FALLBACK_THRESHOLD * white

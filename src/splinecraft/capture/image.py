@@ -12,6 +12,8 @@ Conventions
   PIL's ``convert("L")``, rounded the same way for 8-bit data). Transparency is composited on
   **white** paper, so a black shape on a transparent background is ink.
 * **Ink is dark** by default: ``ink = gray <= threshold``; ``invert=True`` makes light pixels ink.
+  ``threshold="alpha"`` reads the opacity instead: a pixel at least half opaque is ink, whatever its colour
+  (a white logo on a transparent background, which compositing on white would erase).
 * **Threshold.** ``"background"`` (half way between the paper and the ink under the local lighting: the
   paper's brightness is estimated across the image, so uneven lighting and strokes of any width are
   followed), ``"otsu"`` (global, Otsu's method), ``"sauvola"`` or ``"local"`` (a level per pixel from a
@@ -160,11 +162,11 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
             _warn_if_inverted(mask)
         speck = min_speck_area or 0
     else:
-        gray, white = _to_gray(image, max_pixels)
+        gray, white = _to_gray(image, max_pixels, alpha=threshold == "alpha")
         level = _binarize.threshold_level(gray, white, threshold)
         mask = np.ascontiguousarray(gray <= level)
         _warn_if_flat(gray, white, threshold, mask)
-        if not invert:
+        if not invert and threshold != "alpha":
             _warn_if_light_on_dark(gray, white)
         speck = min_speck_area
         if speck is None:
@@ -300,27 +302,29 @@ def _check_not_empty(shape):
 # ---------------------------------------------------------------------------------------------------
 # input -> (gray array, white value)
 # ---------------------------------------------------------------------------------------------------
-def _to_gray(image, max_pixels=MAX_PIXELS):
-    """Return ``(gray, white)``: a 2-D numeric array and the value that means white."""
+def _to_gray(image, max_pixels=MAX_PIXELS, alpha=False):
+    """Return ``(gray, white)``: a 2-D numeric array and the value that means white. With ``alpha`` the gray
+    is the transparency, ``white - alpha`` (opaque is black), for ``threshold="alpha"``."""
     from PIL import Image
 
     if isinstance(image, Image.Image):
         _check_size(image, "PIL image", max_pixels)
-        return _pil_to_gray(image, name="PIL image")
+        return _pil_to_gray(image, name="PIL image", alpha=alpha)
     if isinstance(image, (bytes, bytearray, memoryview)):
         data = bytes(image)
         if not data:
             raise ValueError("image bytes are empty; pass the bytes of an encoded image file (PNG, JPEG, ...)")
         name = f"image bytes ({len(data)} bytes)"
         img = _open_image_file(io.BytesIO(data), name=name, max_pixels=max_pixels, hint=_path_hint(data))
-        return _pil_to_gray(img, name=name)
+        return _pil_to_gray(img, name=name, alpha=alpha)
     if isinstance(image, (str, os.PathLike)):
-        return _pil_to_gray(_open_image_file(image, max_pixels=max_pixels), name=os.fsdecode(image))
+        return _pil_to_gray(_open_image_file(image, max_pixels=max_pixels), name=os.fsdecode(image), alpha=alpha)
     if isinstance(image, (io.IOBase,)) or (hasattr(image, "read") and hasattr(image, "seek")):
         name = getattr(image, "name", "image file object")
-        return _pil_to_gray(_open_image_file(image, name=str(name), max_pixels=max_pixels), name=str(name))
+        return _pil_to_gray(_open_image_file(image, name=str(name), max_pixels=max_pixels), name=str(name),
+                            alpha=alpha)
     if isinstance(image, np.ndarray):
-        return _array_to_gray(_plain_array(image, False))
+        return _array_to_gray(_plain_array(image, False), alpha=alpha)
     raise TypeError(
         "image must be a path, a binary file object, a numpy array or a PIL image, "
         f"got {type(image).__name__}"
@@ -416,9 +420,18 @@ def _upright(img):
     return ImageOps.exif_transpose(img)
 
 
-def _pil_to_gray(img, name):
+def _no_alpha(what):
+    return ValueError(f"{what} has no alpha channel: threshold='alpha' traces the opaque pixels of an image with "
+                      "transparency (RGBA, LA, a palette or gray with a transparent colour); use another threshold")
+
+
+def _pil_to_gray(img, name, alpha=False):
     mode = img.mode
     _check_not_empty((img.height, img.width))
+    if alpha:
+        if not img.has_transparency_data:
+            raise _no_alpha(name)
+        return 255 - np.asarray(img.convert("RGBA"))[..., 3], 255
     if mode == "1":
         return np.asarray(img, dtype=np.uint8), 1  # True = white in PIL's 1-bit mode
     if mode in ("P", "PA"):
@@ -449,8 +462,9 @@ def _pil_to_gray(img, name):
     return _array_to_gray(arr)
 
 
-def _array_to_gray(arr):
-    """Validate a numeric array and reduce it to one gray channel; returns ``(gray, white)``."""
+def _array_to_gray(arr, alpha=False):
+    """Validate a numeric array and reduce it to one gray channel; returns ``(gray, white)`` (``alpha``: the
+    transparency instead, ``white - alpha``)."""
     if arr.dtype.kind not in "buif":
         raise TypeError(
             f"image array must have a bool, integer or float dtype, got {arr.dtype} "
@@ -469,6 +483,10 @@ def _array_to_gray(arr):
     if not arr.dtype.isnative:  # big-endian data, e.g. PIL's "I;16B"
         arr = arr.astype(arr.dtype.newbyteorder("="))
     arr, white = _normalise_dtype(arr)
+    if alpha:
+        if arr.ndim == 2 or arr.shape[2] not in (2, 4):
+            raise _no_alpha(f"an image array of shape {arr.shape}")
+        return white - arr[..., -1], white
     if arr.ndim == 2:
         return arr, white
     channels = arr.shape[2]

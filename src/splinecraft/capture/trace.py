@@ -331,7 +331,8 @@ def _boundaries(mask, connectivity, min_speck_area, invert):
     if not boundaries:
         raise ValueError(
             "no shape found: the bitmap has no ink pixels after thresholding "
-            f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert)"
+            f"(an all-white image? ink is {'light' if invert else 'dark'}; see threshold/invert; a light shape on a "
+            "transparent background is composited on white: threshold='alpha' traces its opaque pixels)"
         )
     notes = []
     if min_speck_area is None:

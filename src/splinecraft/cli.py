@@ -45,14 +45,18 @@ PROG = "splinecraft"
 # ---------------------------------------------------------------------------------------------------
 # argument parsing
 # ---------------------------------------------------------------------------------------------------
-def _positive_float(text):
+def _finite_number(text, low=0.0, inclusive=False):
     try:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text}")
+    if not (value >= low if inclusive else value > low) or value == float("inf"):  # NaN fails both
+        raise argparse.ArgumentTypeError(f"must be a finite number {'>=' if inclusive else '>'} {low:g}, got {text}")
     return value
+
+
+def _positive_float(text):
+    return _finite_number(text)
 
 
 def _non_negative_int(text):
@@ -74,25 +78,11 @@ def _positive_int(text):
 
 def _time_budget(text):
     """``--time-budget``: seconds (> 0) or ``none`` (no budget), as the library's ``time_budget=``."""
-    if text.strip().lower() == "none":
-        return None
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected seconds (a number > 0) or none, got {text!r}") from None
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number of seconds > 0, or none; got {text}")
-    return value
+    return None if text.strip().lower() == "none" else _finite_number(text)
 
 
 def _noise_factor(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not 0 <= value < float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text}")
-    return value
+    return _finite_number(text, inclusive=True)
 
 
 def _batch_size(text):

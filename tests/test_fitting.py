@@ -690,7 +690,9 @@ def test_large_speckle_outline_converges_through_the_fallback():
     epsilon (+ 0.5 px at the lsq outlines' corner tips)."""
     from splinecraft.capture.trace import trace
 
-    mask = np.random.default_rng(0).random((70, 70)) < 0.5
+    # (seed 1: the 2672-point outline of seed 0 no longer stalls since stuck intervals get their arc-length
+    # parameters back, docs/capture.md §12, "The lsq method"; the lsq fit converges there with 353 segments)
+    mask = np.random.default_rng(1).random((70, 70)) < 0.5
     # no time budget: this is about the fallback converging, and under a loaded machine the default 5 s budget
     # can end the fit first (the budget has its own tests in test_trace_budget.py)
     result = trace(mask, epsilon=0.8, keep_snapshots=False, noise_factor=0, time_budget=None)

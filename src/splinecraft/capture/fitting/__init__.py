@@ -109,10 +109,12 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         Thesis methods: ``point_tension``, ``interval_weights``, ``alpha``, ``beta``, ``point_tension_scale``
         (passed to :func:`~splinecraft.spline.interpolate`, per piece), ``tangent_stride`` (default 3),
         ``fuzzy_weights=(w, v)`` (default (0.7, 0.3), ``w > v``). ``"lsq"``: the keys of
-        :data:`~.options.LSQ_DEFAULTS`, explained in docs/capture.md §12, "Options of lsq"; with ``fallback``
-        (default True) a contour on which the regression spline cannot reach ``epsilon``, and whose longest
-        piece has at most :data:`FALLBACK_PIECE` steps, is refitted by :func:`fit_small_outlines`
-        (``info["fallback_from"]`` records the first attempt).
+        :data:`~.options.LSQ_DEFAULTS`, explained in docs/capture.md §12, "Options of lsq". A regression
+        spline that gets stuck above ``epsilon`` runs once more with the parameters around its stuck knot
+        intervals reset to arc length (``info["retry_from"]`` records the first run when the second is kept,
+        docs/capture.md §12, "The lsq method"); with ``fallback`` (default True) a contour on which it still
+        cannot reach ``epsilon``, and whose longest piece has at most :data:`FALLBACK_PIECE` steps, is refitted
+        by :func:`fit_small_outlines` (``info["fallback_from"]`` records the lsq attempt).
 
     Returns
     -------

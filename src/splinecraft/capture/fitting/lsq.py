@@ -27,8 +27,22 @@ REMOVAL_ROUNDS_C1 = 8
 
 def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None):
     """``"lsq"`` on a checked contour (corners sorted and unique; ``options`` from ``check_options``); the
-    knot rounds stop once ``deadline`` (a :class:`~.budget.Deadline`) has passed."""
-    return LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline).run()
+    knot rounds stop once ``deadline`` (a :class:`~.budget.Deadline`) has passed.
+
+    A fit that gets stuck above the tolerance (not stopped by the deadline) is run once more with
+    ``reset_stuck``: where knot intervals fail and cannot be split, the parameters around them go back to arc
+    length before knots closer than ``min_gap`` are tried (:meth:`OutlineRegression.reset_parameters`). The
+    second run is kept when it converges or deviates less (``info["retry_from"]`` records the first)."""
+    result = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline).run()
+    if result.converged or result.info["reason"] or (deadline is not None and deadline.passed()):
+        return result
+    retry = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline,
+                             reset_stuck=True).run()
+    if retry.converged or retry.hausdorff < result.hausdorff:
+        retry.info["retry_from"] = {"hausdorff": result.hausdorff, "iterations": result.iterations,
+                                    "knots_inserted": result.knots_inserted}
+        return retry
+    return result
 
 
 class LsqKnotInsertion:
@@ -40,7 +54,8 @@ class LsqKnotInsertion:
     dense check of the guarantee before stopping.
     """
 
-    def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None):
+    def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None,
+                 reset_stuck=False):
         self.model = OutlineRegression(points, thin_corners(points, corners, options["min_gap"]), epsilon, options)
         self.model.seed_knots(options["initial_density"])
         self.epsilon = epsilon
@@ -51,6 +66,9 @@ class LsqKnotInsertion:
         self.iteration = 0
         self.deadline = deadline
         self.out_of_time = False
+        #: where no knot fits into a failing interval, its parameters go back to arc length before knots closer
+        #: than min_gap are tried (the second run of :func:`fit_lsq`)
+        self.reset_stuck = bool(reset_stuck)
 
     # ---------------------------------------------------------------- records
     def candidate(self, piece, index, accepted, reason, action):
@@ -132,6 +150,8 @@ class LsqKnotInsertion:
             converged = not (dev["tol_excess"] > 0).any()
         if converged and self.options["merge_tolerance"] > 0:
             dev = self.merge(dev)
+        if not converged:  # the deviation reported: the windowed bound can be loose on a fit that went wrong
+            dev = model.tighten(dev)
         return self.result(dev, converged)
 
     def merge(self, dev):
@@ -164,6 +184,20 @@ class LsqKnotInsertion:
                                              "insert"))
         if not new and not released and stuck:
             released = model.release_corners(dev, stuck)
+        if not new and not released and stuck and self.reset_stuck:
+            # the parameters around the stuck intervals back to arc length (a projection onto a curve that
+            # misses the contour there bunches them up and leaves knot intervals without data), then refit
+            reset = model.reset_parameters(dev, stuck)
+            if reset:
+                for f in reset:
+                    j = model.point_before(dev["starts"][f])
+                    candidates.append(self.candidate(piece_of[j], j, False, f"interval {f} fails but its knots are "
+                                                     f"< {2 * model.min_gap} steps apart: the parameters around it "
+                                                     "go back to arc length", "insert"))
+                candidates += self.settle(1)
+                dev = model.deviations()
+                self.snapshot(dev, candidates, "insert")
+                return dev, True
         if not new and not released and stuck:
             # last resort before giving up (and the small-outline fallback): knots closer than min_gap
             waived = model.last_waived

@@ -18,7 +18,7 @@ import numpy as np
 
 from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
-from .geometry import group_max
+from .geometry import group_max, piece_deviation
 from .lsq_setup import CornerTips, RotatedContour, crack_normals, curvature_knots
 from .options import DEFAULT_EPSILON
 
@@ -75,6 +75,8 @@ class OutlineRegression:
             self.simple_knots = np.unique(np.round(np.arange(4) * n / 4).astype(np.int64))
         self.fixed = np.zeros(n + 1, bool)  # points whose parameter never moves: the corners (or the seam)
         self.fixed[contour.corner_bounds if contour.corner_count else 0] = True
+        #: points whose parameter went back to its base value for good (:meth:`reset_parameters`)
+        self.held = np.zeros(n + 1, bool)
         self.tips = CornerTips.measure(contour, float(options["corner_radius"]), float(options["tip_gap"]),
                                        bool(options["geometric_corners"]), self.corner_allowance)
         self.base_parameter = self._base_parameter()
@@ -83,6 +85,7 @@ class OutlineRegression:
         self.parameter_low = self.base_parameter[bounds[piece]]
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
         self.parameter = self.base_parameter.copy()
+        self._step_bounds = self._parameter_bounds()  # (low, high, fixed) of the Hoschek steps
         self._zone_cache = None  # (tip state, {dense: zones}) of _zones
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
@@ -254,10 +257,53 @@ class OutlineRegression:
         are below ``hoschek_gate`` (projecting onto a bad curve scrambles the parameters)."""
         contour = self.contour
         n = contour.size
-        # the step, clipped to the piece, the fixed points at their base parameter, kept non-decreasing
+        low, high, fixed = self._step_bounds
+        # the step, clipped between the fixed (or held) points around it, those at their base parameter, kept
+        # non-decreasing
         return hoschek_update(u, contour.points, bez, starts, ends, contour.piece_of_point[:n], contour.piece_count,
-                              self.hoschek_gate, (self.parameter_low[:n], self.parameter_high[:n], self.fixed[:n],
-                                                  self.base_parameter[:n]))
+                              self.hoschek_gate, (low, high, fixed, self.base_parameter[:n]))
+
+    def _parameter_bounds(self):
+        """Per contour point, the base parameters of the nearest fixed or held points at or before and at or
+        after it (the closing index ``n`` counts as fixed), and which points are fixed or held: the range of
+        its Hoschek steps. Without held points these are the piece's corners (the seam)."""
+        n = self.contour.size
+        anchor = self.fixed | self.held
+        anchor[n] = True
+        index = np.arange(n + 1)
+        before = np.maximum.accumulate(np.where(anchor, index, 0))
+        after = np.minimum.accumulate(np.where(anchor, index, n)[::-1])[::-1]
+        return self.base_parameter[before[:n]], self.base_parameter[after[:n]], anchor[:n].copy()
+
+    def reset_parameters(self, dev, stuck, reach=2):
+        """Give the points around the stuck knot intervals ``stuck`` (from ``reach`` knots before each one to
+        ``reach`` knots after it, within its piece) their base parameter (arc length) back, and hold them there
+        for the rest of the fit (no more Hoschek steps). Projected onto a curve that misses the contour there,
+        their parameters can have bunched up and left knot intervals next to them with few data points or
+        none; the least-squares spline is then free to loop there, and no knot can be inserted between knots
+        fewer than ``2 min_gap`` steps apart (docs/capture.md §12, "The lsq method"). Returns the intervals
+        whose points had moved from there."""
+        contour = self.contour
+        n = contour.size
+        knots = self.knot_indices()
+        knot_values = self.base_parameter[knots]
+        reset = []
+        for f in stuck:
+            first = min(int(np.searchsorted(knot_values, dev["starts"][f] - 1e-9)), knots.shape[0] - 1)
+            piece = contour.piece_of_point[knots[first]]
+            lo = max(int(knots[max(first - reach, 0)]), int(contour.corner_bounds[piece]))
+            hi = min(int(knots[min(first + 1 + reach, knots.shape[0] - 1)]), int(contour.corner_bounds[piece + 1]))
+            if hi <= lo or self.held[lo:hi + 1].all():
+                continue
+            self.held[lo:hi + 1] = True
+            if np.any(self.parameter[lo:hi + 1] != self.base_parameter[lo:hi + 1]):
+                reset.append(int(f))
+        self.held[n] = False  # the closing index is the seam, not a contour point
+        base, u = self.base_parameter, self.parameter
+        u[self.held] = base[self.held]
+        self._step_bounds = low, high, _ = self._parameter_bounds()
+        u[:n] = np.minimum(np.maximum(u[:n], low), high)  # in order with the held points
+        return reset
 
     # ---------------------------------------------------------------- geometry of the current fit
     def intervals(self):
@@ -397,6 +443,31 @@ class OutlineRegression:
                 pixel = np.where(end[pixel_iv], -np.inf, pixel)
             dev.update(excess=np.maximum(dev["excess"], group_max(pixel_iv, pixel, k)[0]), pixel=pixel,
                        pixel_iv=pixel_iv)
+        return dev
+
+    def tighten(self, dev):
+        """Where a piece's windowed deviation (:meth:`deviations`) exceeds ``epsilon``, the smaller of it and the
+        piece's closest-point deviation over all its edges (:func:`~.geometry.piece_deviation`, with the three
+        edges across each corner that the window reaches too), in ``dev["piece_dev"]`` (both bound the true
+        distance from above). The window follows the parameterization: where that has gone wrong (a curve that
+        loops through knot intervals without data, on a fit that did not converge) it can miss the nearest
+        edges and report several times the true distance."""
+        contour = self.contour
+        n, bounds = contour.size, contour.corner_bounds
+        starts = dev["starts"]
+        piece_dev = dev["piece_dev"].copy()
+        corner_par = self.base_parameter[bounds]
+        for p in np.flatnonzero(piece_dev > self.epsilon):
+            lo, hi = np.searchsorted(starts, corner_par[p] - 1e-9), np.searchsorted(starts, corner_par[p + 1] - 1e-9)
+            if hi <= lo:
+                continue
+            if contour.corner_count:
+                idx = np.arange(bounds[p] - 3, bounds[p + 1] + 4) % n
+            else:
+                idx = np.arange(n + 1) % n
+            exact = piece_deviation(dev["bezier"][lo:hi], contour.points[idx])
+            piece_dev[p] = min(piece_dev[p], exact)
+        dev["piece_dev"] = piece_dev
         return dev
 
     def _zones(self, dense):

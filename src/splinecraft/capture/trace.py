@@ -166,8 +166,8 @@ def trace(
         beside hairlines and gaps at most 2 px wide, which the blur erases (they are not noise). 0 turns the
         rule off.
     time_budget : float > 0 or None
-        Seconds for corner detection and fitting of all boundaries together, not the noise estimate
-        (docs/capture.md §12, "Time budget"; default ``fitting.budget.DEFAULT_TIME_BUDGET`` = 5 s; ``None``: no budget). Boundaries
+        Seconds for corner detection and fitting of all boundaries together (not the noise estimate, unless
+        corner detection used up its half; docs/capture.md §12, "Time budget"; default ``fitting.budget.DEFAULT_TIME_BUDGET`` = 5 s; ``None``: no budget). Boundaries
         started within it get their full fit, whose knot rounds stop when it runs out (``reason`` says so);
         the boundaries left get the polygon of their contour (straight pieces between its turning points,
         deviation 0, no corner detection). ``stats["per_boundary"][k]["budget"]`` is ``None``,
@@ -256,7 +256,8 @@ def trace(
     noise, _ = stages.remember("noise", (key, noise_factor > 0), lambda: boundary_noise(
         mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
         if noise_factor > 0 else 0.0, keep=lambda _: not undetected.any())
-    deadline.extend(time.perf_counter() - detected)  # the budget covers corners and fits, not the noise estimate
+    if not undetected.any():  # the budget covers corners and fits, not the noise estimate, unless it is spent
+        deadline.extend(time.perf_counter() - detected)  # already (noise images: the cap is what matters)
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "

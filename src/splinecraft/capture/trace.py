@@ -168,7 +168,8 @@ def trace(
     time_budget : float > 0 or None
         Seconds for corner detection and fitting of all boundaries together (not the noise estimate, unless
         corner detection used up its half; docs/capture.md §12, "Time budget"; default
-        ``fitting.budget.DEFAULT_TIME_BUDGET`` = 5 s; ``None``: no budget). Boundaries started within it get their full fit, whose knot rounds stop when it runs out (``reason`` says so);
+        ``fitting.budget.DEFAULT_TIME_BUDGET`` = 5 s; ``None``: no budget). Boundaries started within it get
+        their full fit, whose knot rounds stop when it runs out (``reason`` says so);
         the boundaries left get the polygon of their contour (straight pieces between its turning points,
         deviation 0, no corner detection). ``stats["per_boundary"][k]["budget"]`` is ``None``,
         ``"stopped"`` or ``"polygon"``, and ``stats["time_per_boundary_s"][k]`` is the boundary's corner and

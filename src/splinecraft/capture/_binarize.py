@@ -224,17 +224,22 @@ def _background_level(gray, white):
     reach = 2 * BACKGROUND_MARGIN + 1               # erosion by a square: a pixel with no other class within
     level = None
     for _ in range(BACKGROUND_ROUNDS):
-        as_bytes = ink.view(np.uint8)
-        paper_core = ndimage.maximum_filter(as_bytes, reach, mode="nearest") == 0
-        ink_core = ndimage.minimum_filter(as_bytes, reach, mode="nearest") == 1
+        paper_core = ~_box_max(ink, reach)
+        ink_core = ~_box_max(~ink, reach)
         paper_core = paper_core if paper_core.any() else ~ink
         ink_core = ink_core if ink_core.any() else ink
         if not paper_core.any() or not ink_core.any():
             break
-        paper = np.maximum(_smooth_surface(scaled, paper_core, sigma), np.float32(MIN_CONTRAST / 100))
+        del level                                  # the last round's level: memory for this round's
+        paper = _smooth_surface(scaled, paper_core, sigma)
+        np.maximum(paper, np.float32(MIN_CONTRAST / 100), out=paper)
+        del paper_core
         ratio = scaled[ink_core] / paper[ink_core]
+        del ink_core
         rho = min(max(float(np.median(ratio[::max(1, ratio.size // 1_000_000)])), 0.0), 1.0 - MIN_CONTRAST)
-        level = paper * np.float32((1.0 + rho) / 2.0)
+        level = paper                              # in place: the paper surface is not needed again
+        level *= np.float32((1.0 + rho) / 2.0)
+        del paper
         new_ink = scaled <= level
         changed = np.count_nonzero(new_ink != ink)
         ink = new_ink
@@ -242,8 +247,10 @@ def _background_level(gray, white):
             break
     if level is None:                              # one class only: nothing to take a midpoint of
         return _otsu_level(gray, int(gray.min()), int(gray.max())) if gray.dtype.kind == "u" else _otsu_level(gray)
+    ink = new_ink = None
     _fill_holes_without_edges(scaled, level, rho)
-    return level * np.float32(white)
+    level *= np.float32(white)
+    return level
 
 
 def _fill_holes_without_edges(scaled, level, rho):
@@ -270,48 +277,117 @@ def _fill_holes_without_edges(scaled, level, rho):
     if not is_hole.any():
         return
     labels[~is_hole[labels]] = 0                   # holes only
-    smooth = ndimage.gaussian_filter(scaled, 1.0)
-    weak, bright, darkest = _weak_pieces(labels, count, scaled, smooth, paper, rho)
-    kept = is_hole & ~weak
     rows, cols = np.nonzero(labels)
+    smooth = _blur_near(scaled, rows, cols, HOLE_RING)
+    weak, bright, darkest = _weak_pieces(labels, count, scaled, smooth, paper, rho, (rows, cols))
+    kept = is_hole & ~weak
     piece = labels[rows, cols]
     dim = kept[piece] & (smooth[rows, cols] < (bright[piece] + darkest[piece]) / 2.0)
     fill = weak[piece]
-    if dim.any():
-        parts = np.zeros_like(labels)
+    if dim.any():                                  # labelled within the dim pixels' box (one pixel more)
+        top, bottom, left, right = _box_around(rows[dim], cols[dim], 1, labels.shape)
+        parts = np.zeros(labels.shape, labels.dtype)
         parts[rows[dim], cols[dim]] = 1
-        parts, part_count = ndimage.label(parts)
-        part_weak = _weak_pieces(parts, part_count, scaled, smooth, paper, rho, typical=True)[0]
+        parts[top:bottom, left:right], part_count = ndimage.label(parts[top:bottom, left:right])
+        part_weak = _weak_pieces(parts, part_count, scaled, smooth, paper, rho, (rows[dim], cols[dim]),
+                                 typical=True)[0]
         fill |= part_weak[parts[rows, cols]]
     level[rows[fill], cols[fill]] = np.float32(1.0)
 
 
-def _weak_pieces(labels, count, scaled, smooth, paper, rho, typical=False):
-    """Per label of ``labels`` (pieces of paper; 0 = none): whether no edge bounds it (``r > h (1 + rho) /
-    2``, :func:`_fill_holes_without_edges`), its brightest smoothed gray ``h`` (with ``typical``: its mean
-    gray, for the dim parts of a hole, whose brightest pixels are the blur of the counter beside them) and the
-    darkest smoothed gray of the ink within ``HOLE_RING`` px."""
-    from scipy import ndimage
-
-    rows, cols = np.nonzero(labels)
+def _weak_pieces(labels, count, scaled, smooth, paper, rho, where, typical=False):
+    """Per label of ``labels`` (pieces of paper; 0 = none, ``where`` the rows and columns of the others in
+    C order): whether no edge bounds it (``r > h (1 + rho) / 2``, :func:`_fill_holes_without_edges`), its
+    brightest smoothed gray ``h`` (with ``typical``: its mean gray, for the dim parts of a hole, whose
+    brightest pixels are the blur of the counter beside them) and the darkest smoothed gray of the ink within
+    ``HOLE_RING`` px."""
+    rows, cols = where
+    piece = labels[rows, cols]
     if typical:
-        sizes = np.bincount(labels[rows, cols], minlength=count + 1)
-        bright = (np.bincount(labels[rows, cols], weights=scaled[rows, cols], minlength=count + 1)
+        sizes = np.bincount(piece, minlength=count + 1)
+        bright = (np.bincount(piece, weights=scaled[rows, cols], minlength=count + 1)
                   / np.maximum(sizes, 1)).astype(np.float32)
     else:
         bright = np.zeros(count + 1, np.float32)
-        np.maximum.at(bright, labels[rows, cols], smooth[rows, cols])
-    ring = ndimage.maximum_filter(labels, size=2 * HOLE_RING + 1)
-    ring[paper] = 0
-    counts = np.bincount(ring.ravel(), minlength=count + 1)
-    sums = np.bincount(ring.ravel(), weights=scaled.ravel(), minlength=count + 1)
+        np.maximum.at(bright, piece, smooth[rows, cols])
+    ring_rows, ring_cols, ring_piece = _ring(labels, paper, rows, cols)
+    counts = np.bincount(ring_piece, minlength=count + 1)
+    sums = np.bincount(ring_piece, weights=scaled[ring_rows, ring_cols], minlength=count + 1)
     ring_mean = sums / np.maximum(counts, 1)
     darkest = np.full(count + 1, np.inf, np.float32)
-    ring_rows, ring_cols = np.nonzero(ring)
-    np.minimum.at(darkest, ring[ring_rows, ring_cols], smooth[ring_rows, ring_cols])
+    np.minimum.at(darkest, ring_piece, smooth[ring_rows, ring_cols])
     weak = (counts > 0) & (ring_mean > bright * (1.0 + rho) / 2.0)
     weak[0] = False
     return weak, bright, darkest
+
+def _ring(labels, paper, rows, cols):
+    """The ink pixels within ``HOLE_RING`` px (Chebyshev) of a labelled pixel (``rows, cols``, C order): their
+    rows, columns (C order) and the largest label within that reach, ``maximum_filter(labels, 2 HOLE_RING +
+    1)`` at the ink pixels. Computed in bands of rows of the labelled pixels' box (no ring lies beyond it), so
+    no image-sized temporaries."""
+    top, bottom, left, right = _box_around(rows, cols, HOLE_RING, labels.shape)
+    found = []
+    for start in range(top, bottom, _BLOCK_ROWS):
+        stop = min(start + _BLOCK_ROWS, bottom)
+        first, last = max(start - HOLE_RING, top), min(stop + HOLE_RING, bottom)
+        ring = _box_max(labels[first:last, left:right], 2 * HOLE_RING + 1)[start - first:stop - first]
+        ring[paper[start:stop, left:right]] = 0
+        band_rows, band_cols = np.nonzero(ring)
+        found.append((band_rows + start, band_cols + left, ring[band_rows, band_cols]))
+    return tuple(np.concatenate(parts) for parts in zip(*found))
+
+
+def _box_around(rows, cols, margin, shape):
+    """``(top, bottom, left, right)``: the bounding box of the pixels ``rows, cols`` grown by ``margin`` px,
+    clipped to an image of ``shape``."""
+    return (max(int(rows.min()) - margin, 0), min(int(rows.max()) + margin + 1, shape[0]),
+            max(int(cols.min()) - margin, 0), min(int(cols.max()) + margin + 1, shape[1]))
+
+
+def _blur_near(scaled, rows, cols, reach, sigma=1.0):
+    """``scipy.ndimage.gaussian_filter(scaled, sigma)`` at the pixels within ``reach`` px (Chebyshev) of the
+    pixels ``rows, cols`` (in C order), bit for bit; other pixels hold 0 or that value. The filter runs on one box per run
+    of such rows, grown by the kernel's radius (or cut by the image border, where the filter reflects the
+    same way), so a page whose holes sit on text lines blurs the lines, not the margins between them."""
+    from scipy import ndimage
+
+    height, width = scaled.shape
+    radius = int(4.0 * float(sigma) + 0.5)          # gaussian_filter's default truncate = 4
+    out = np.zeros(scaled.shape, np.float32)
+    if rows.size == 0:
+        return out
+    near = np.bincount(rows, minlength=height)      # rows with a pixel, spread by reach below and above
+    near = np.convolve(near, np.ones(2 * reach + 1, np.int64))[reach:reach + height] > 0
+    edges = np.flatnonzero(np.diff(np.concatenate([[False], near, [False]]).astype(np.int8)))
+    starts, stops = edges[0::2], edges[1::2]
+    keep = np.concatenate([[True], starts[1:] - stops[:-1] > 2 * radius])   # close runs share one box
+    starts, stops = starts[keep], np.concatenate([stops[np.flatnonzero(keep)[1:] - 1], stops[-1:]])
+    for start, stop in zip(starts.tolist(), stops.tolist()):
+        lo, hi = np.searchsorted(rows, [start - reach, stop + reach])
+        left, right = max(int(cols[lo:hi].min()) - reach, 0), min(int(cols[lo:hi].max()) + reach + 1, width)
+        top, bottom = max(start - radius, 0), min(stop + radius, height)
+        first, last = max(left - radius, 0), min(right + radius, width)
+        blurred = ndimage.gaussian_filter(scaled[top:bottom, first:last], sigma)
+        out[start:stop, left:right] = blurred[start - top:stop - top, left - first:right - first]
+    return out
+
+
+def _box_max(values, size):
+    """``scipy.ndimage.maximum_filter(values, size, mode="nearest")`` for an odd ``size``: the largest value
+    of the ``size x size`` square centred on each pixel, clipped at the image border. The same values, by
+    shifted whole-array ``np.maximum`` passes, ``size - 1`` per axis (scipy's filter took 1.7 s for a 5 x 5
+    square on a 48-Mpx mask, this 0.1 s; BENCHMARKS.md, "Session 13")."""
+    radius = size // 2
+    for axis in (0, 1):
+        source, values = values, values.copy()
+        for shift in range(1, radius + 1):
+            ahead = [slice(None)] * 2
+            behind = [slice(None)] * 2
+            ahead[axis], behind[axis] = slice(shift, None), slice(None, -shift)
+            np.maximum(values[tuple(ahead)], source[tuple(behind)], out=values[tuple(ahead)])
+            np.maximum(values[tuple(behind)], source[tuple(ahead)], out=values[tuple(behind)])
+    return values
+
 
 def _rough_ink(scaled):
     """The first pass of ``"background"``: Sauvola's mask, on block means of about ``f x f`` pixels placed
@@ -352,12 +428,11 @@ def _smooth_surface(values, support, sigma):
     height, width = values.shape
     block = max(1, int(sigma // 4))
     (size_r, rows, off_r), (size_c, cols, off_c) = _centred_blocks(height, block), _centred_blocks(width, block)
-    weight = np.zeros((rows * size_r, cols * size_c), np.float32)
-    weighted = np.zeros_like(weight)
     inner = (slice(off_r, off_r + height), slice(off_c, off_c + width))
-    weight[inner] = support
-    weighted[inner] = np.where(support, values, np.float32(0.0))
-    weight = weight.reshape(rows, size_r, cols, size_c).sum(axis=(1, 3))
+    weighted = np.zeros((rows * size_r, cols * size_c), np.float32)
+    weighted[inner] = support
+    weight = weighted.reshape(rows, size_r, cols, size_c).sum(axis=(1, 3))
+    np.multiply(values, weighted[inner], out=weighted[inner])    # the values where supported, else 0
     weighted = weighted.reshape(rows, size_r, cols, size_c).sum(axis=(1, 3))
     spread = (sigma / size_r, sigma / size_c)
     total = ndimage.gaussian_filter(weight, spread, mode="nearest")
@@ -377,8 +452,13 @@ def _smooth_surface(values, support, sigma):
         return start, stop, share
     r0, r1, rw = weights(rows, size_r, off_r, height)
     c0, c1, cw = weights(cols, size_c, off_c, width)
-    along = surface[:, c0] * (1 - cw) + surface[:, c1] * cw
-    return (along[r0] * (1 - rw)[:, None] + along[r1] * rw[:, None]).astype(np.float32)
+    along = (surface[:, c0] * (1 - cw) + surface[:, c1] * cw).astype(np.float32)
+    out = np.empty((height, width), np.float32)
+    for start in range(0, height, _BLOCK_ROWS):     # in bands of rows: no image-sized temporaries
+        band = slice(start, start + _BLOCK_ROWS)
+        np.multiply(along[r0[band]], (1 - rw[band])[:, None], out=out[band])
+        out[band] += along[r1[band]] * rw[band, None]
+    return out
 
 
 def _otsu_level(gray, lo=None, hi=None):

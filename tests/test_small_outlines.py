@@ -16,6 +16,7 @@ import pytest
 from scipy import ndimage
 from scipy.spatial import cKDTree
 
+import splinecraft as sc
 from splinecraft.capture.trace import trace
 
 from test_tips import axis_clearance, render
@@ -219,3 +220,52 @@ def test_acute_tips_of_small_outlines_are_extrapolated():
     assert np.median(misses) <= 0.35, np.round(misses, 2)
     assert np.mean(misses <= 0.5) >= 0.6, np.round(misses, 2)
     assert np.mean(misses <= 1.0) >= 0.8, np.round(misses, 2)
+
+
+# --- thin strokes: a small-outline fit that collapses is fitted by the regression spline (keeps_area) ---
+
+def _curve_area(result, k=0):
+    from splinecraft.spline.segment import bezier_signed_area
+    return bezier_signed_area(np.asarray(result.bezier()[k]))
+
+
+@pytest.mark.parametrize("length", [12, 16, 20, 28])
+def test_a_one_pixel_dash_keeps_its_ink(length):
+    """A 1-px bar of fewer than 64 crack points: both long sides used to pass the deviation test on one chord
+    through its middle, a closed curve of zero area (the dash vanished from the SVG)."""
+    mask = np.zeros((11, length + 10), bool)
+    mask[5, 5:5 + length] = True
+    result = sc.trace(mask)
+    assert len(result.boundaries) == 1 and len(result.boundaries[0].outline) < 64   # the small-outline size
+    assert _curve_area(result) >= 0.8 * length
+    assert result.stats["max_error"] <= result.stats["tolerance"] + 1e-9
+
+
+@pytest.mark.parametrize("length", [9, 20])
+def test_a_one_pixel_slit_keeps_its_paper(length):
+    mask = np.ones((20, 40), bool)
+    mask[8, 5:5 + length] = False
+    with pytest.warns(sc.capture.image.InkPolarityWarning):
+        result = sc.trace(mask)
+    holes = [k for k, boundary in enumerate(result.boundaries) if boundary.is_hole]
+    assert len(holes) == 1
+    assert -_curve_area(result, holes[0]) >= 0.8 * length
+
+
+def test_keeps_area_tells_a_collapsed_or_twisted_fit_from_a_faithful_one():
+    from splinecraft.capture.fitting.small import MIN_AREA_SHARE, keeps_area
+
+    square = np.array([[0.5, 0.0], [1.5, 0.0], [2.0, 0.5], [2.0, 1.5], [1.5, 2.0], [0.5, 2.0], [0.0, 1.5],
+                       [0.0, 0.5]])
+    corners = np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]])
+    lines = np.stack([corners, np.roll(corners, -1, axis=0)], axis=1)           # the square's four sides
+    faithful = np.stack([lines[:, 0], (2 * lines[:, 0] + lines[:, 1]) / 3, (lines[:, 0] + 2 * lines[:, 1]) / 3,
+                         lines[:, 1]], axis=1)
+    assert keeps_area(square, faithful)
+    assert not keeps_area(square, faithful[::-1, ::-1])                           # turned inside out
+    chord = np.array([[[0.0, 1.0], [1.0, 1.0], [1.0, 1.0], [2.0, 1.0]], [[2.0, 1.0], [1.0, 1.0], [1.0, 1.0],
+                                                                         [0.0, 1.0]]])
+    assert not keeps_area(square, chord)                                          # no area at all
+    shrunk = (faithful - 1.0) * np.sqrt(MIN_AREA_SHARE * 3.5 / 4.0) * 0.99 + 1.0    # just under the share
+    assert not keeps_area(square, shrunk)
+    assert keeps_area(square, (faithful - 1.0) * np.sqrt(MIN_AREA_SHARE * 3.5 / 4.0) * 1.01 + 1.0)

@@ -74,7 +74,7 @@ from .fitting._merge_kernels import warm_up as warm_merge_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
 from .fitting.results import BoundaryList
 from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
-from .fitting.small import fit_small_trusted
+from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
@@ -420,6 +420,8 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in chunk]
         for k, fit in zip(chunk, fit_small_trusted([points_list[k] for k in chunk], corners, epsilon,
                                                    max_iterations, keep, deadline)):
+            if settings["contour"] == "outline" and not keeps_area(points_list[k], fit.spline.bezier()):
+                continue    # collapsed on a thin stroke: fitted by the regression spline below (keeps_area)
             fits[k] = fit
             if fit.info.get("reason") and deadline.passed():
                 state[k] = "stopped"

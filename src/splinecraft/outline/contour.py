@@ -26,6 +26,7 @@ import numbers
 import numpy as np
 
 from ..spline import Spline, interpolate
+from ..spline.segment import bezier_signed_area
 
 __all__ = ["Contour", "MIN_KNOTS", "bezier_signed_area"]
 
@@ -346,23 +347,6 @@ class Contour:
         return cls(data["points"], data.get("corners"), handles_in=handles(data.get("handles_in")),
                    handles_out=handles(data.get("handles_out")), steps=data.get("steps"),
                    point_tension=data.get("point_tension", 0.0), interval_weights=data.get("interval_weights", 1.0))
-
-
-_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(3)
-
-
-def bezier_signed_area(bezier) -> float:
-    """Signed area of closed cubic Bézier pieces ``(m, 4, 2)``: ``1/2 \\oint (x dy - y dx)``, exact (the
-    integrand is a polynomial of degree 5, integrated by 3-point Gauss-Legendre)."""
-    bezier = np.asarray(bezier, float)
-    t = 0.5 * (_GAUSS_NODES + 1.0)
-    one = 1.0 - t
-    basis = np.stack([one ** 3, 3 * one * one * t, 3 * one * t * t, t ** 3])  # (4, q)
-    derivative = np.stack([-3 * one * one, 3 * one * (one - 2 * t), 3 * t * (2 * one - t), 3 * t * t])
-    value = np.einsum("iq,pid->pqd", basis, bezier)
-    slope = np.einsum("iq,pid->pqd", derivative, bezier)
-    cross = value[..., 0] * slope[..., 1] - value[..., 1] * slope[..., 0]
-    return float(0.25 * np.einsum("pq,q->", cross, _GAUSS_WEIGHTS))
 
 
 def _indices(values, n) -> np.ndarray:

@@ -22,6 +22,7 @@ from .._validation import as_float_array, check_strictly_increasing
 from .piecewise import Spline
 
 __all__ = [
+    "bezier_signed_area",
     "CLASS_PRESETS",
     "generic_segment",
     "blending_functions",
@@ -225,3 +226,20 @@ def class_polygon(bezier: np.ndarray, steps: np.ndarray, alpha, beta):
     V = bezier[:, 0] + (3.0 / alpha) * (bezier[:, 1] - bezier[:, 0])
     W = bezier[:, 3] - (3.0 / beta) * (bezier[:, 3] - bezier[:, 2])
     return V, W
+
+
+_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(3)
+
+
+def bezier_signed_area(bezier) -> float:
+    """Signed area of closed cubic Bézier pieces ``(m, 4, 2)``: ``1/2 \\oint (x dy - y dx)``, exact (the
+    integrand is a polynomial of degree 5, integrated by 3-point Gauss-Legendre)."""
+    bezier = np.asarray(bezier, float)
+    t = 0.5 * (_GAUSS_NODES + 1.0)
+    one = 1.0 - t
+    basis = np.stack([one ** 3, 3 * one * one * t, 3 * one * t * t, t ** 3])  # (4, q)
+    derivative = np.stack([-3 * one * one, 3 * one * (one - 2 * t), 3 * t * (2 * one - t), 3 * t * t])
+    value = np.einsum("iq,pid->pqd", basis, bezier)
+    slope = np.einsum("iq,pid->pqd", derivative, bezier)
+    cross = value[..., 0] * slope[..., 1] - value[..., 1] * slope[..., 0]
+    return float(0.25 * np.einsum("pq,q->", cross, _GAUSS_WEIGHTS))

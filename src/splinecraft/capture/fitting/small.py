@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...spline import Spline
+from ...spline.segment import bezier_signed_area
 from ._threads import one_blas_thread
 from .budget import BUDGET_REASON
 from .lsq_setup import CornerTips, RotatedContour
@@ -34,7 +35,7 @@ from .options import LSQ_DEFAULTS, check_corners, check_points
 from .results import FitResult, Snapshot
 from .tips import LONGEST_SIDE, MIN_CROSSING, SHORTEST_SIDE
 
-__all__ = ["fit_small_trusted", "check_outlines"]
+__all__ = ["fit_small_trusted", "check_outlines", "MIN_AREA_SHARE", "keeps_area"]
 
 #: Spacing (px) of the curve samples of the deviation check.
 _SMALL_SPACING = 0.25
@@ -55,6 +56,30 @@ _TIP_TEST_SIDE = 8.0
 _TIP_TEST_ANGLE = np.radians(100.0)
 _TIP_TEST_WINDOW = 24
 _TIP_TEST_RESIDUAL = 0.7
+
+
+#: :func:`keeps_area`: the least share of its contour's signed area a small-outline fit must enclose.
+MIN_AREA_SHARE = 0.5
+
+
+def keeps_area(outline, bezier):
+    """Whether the closed curve ``bezier`` (``(m, 4, 2)``) fitted to the closed contour ``outline`` (``(n, 2)``)
+    encloses at least ``MIN_AREA_SHARE`` of the contour's signed area (shoelace), with the same orientation.
+
+    The small-outline fit accepts a knot interval when its two-sided distance to the contour is within
+    ``epsilon`` (0.8 px by default). On a stroke of ink or paper narrower than about ``2 epsilon`` (a dash 1-2
+    px wide, a fragment of a hairline, a slit between two spikes, a diagonal chain of speckle) both sides of
+    the stroke can pass that test on one chord through its middle, or cross over: a curve of little or no area,
+    or one turned inside out, that draws nothing where the pixels have ink. A faithful fit keeps about the
+    contour's area (the deviation moves it by a fraction of a pixel per unit of length), so ``trace`` fits an
+    outline that fails this test by the regression spline of ``"lsq"`` instead, which follows the cracks
+    (docs/capture.md §12, "Small outlines")."""
+    points = np.asarray(outline, float)
+    x, y = points[:, 0], points[:, 1]
+    contour_area = 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    if contour_area == 0.0:
+        return True
+    return bezier_signed_area(bezier) / contour_area >= MIN_AREA_SHARE
 
 
 def _small_chains(lengths, corner_lists):

@@ -420,8 +420,8 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in chunk]
         for k, fit in zip(chunk, fit_small_trusted([points_list[k] for k in chunk], corners, epsilon,
                                                    max_iterations, keep, deadline)):
-            if settings["contour"] == "outline" and not keeps_area(points_list[k], fit.spline.bezier()):
-                continue    # collapsed on a thin stroke: fitted by the regression spline below (keeps_area)
+            if not keeps_area(points_list[k], fit.spline.bezier()):
+                continue    # collapsed on a thin stroke: fitted by the regression spline below (as fit_outline)
             fits[k] = fit
             if fit.info.get("reason") and deadline.passed():
                 state[k] = "stopped"

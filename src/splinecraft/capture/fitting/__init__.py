@@ -30,7 +30,7 @@ from .options import (DEFAULT_EPSILON, DEFAULT_METHOD, FALLBACK_PIECE, KNOT_METH
                       THESIS_METHODS, check_corners, check_count, check_epsilon, check_flag, check_method,
                       check_options, check_points, check_small_outline, check_tau, make_rng)
 from .results import FitResult, Snapshot
-from .small import check_outlines, fit_small_trusted
+from .small import check_outlines, fit_small_trusted, keeps_area
 from .thesis import fit_thesis
 
 __all__ = ["fit_outline", "fit_small_outlines", "FitResult", "Snapshot", "KNOT_METHODS", "THESIS_METHODS",
@@ -62,7 +62,9 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     Returns
     -------
     list of FitResult
-        One per outline, ``method="lsq"``, ``info["small_outline"] = True``.
+        One per outline, ``method="lsq"``, ``info["small_outline"] = True``. These are the small path's own
+        fits: :func:`fit_outline` and ``trace`` fit an outline by the regression spline instead when its fit
+        here encloses less than half its area (``small.keeps_area``: a thin stroke collapsed onto one chord).
     """
     epsilon = check_epsilon(epsilon)
     max_iterations = check_count(max_iterations, "max_iterations", 1)
@@ -162,7 +164,10 @@ def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep
 def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
                 deadline):
     if routes_to_small(method, points.shape[0], small_outline):
-        return fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
+        result = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
+        if keeps_area(points, result.spline.bezier()):
+            return result
+        # collapsed on a thin stroke (small.keeps_area): the regression spline of "lsq" below follows the cracks
     if method != "lsq":
         return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
     result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline)

@@ -825,3 +825,46 @@ def test_corners_of_a_mask_a_quarter_turn_maps_onto_itself_are_mapped_onto_thems
     turned = np.column_stack([found[:, 1], size - found[:, 0]])             # (x, y) -> (y, size - x)
     for point in turned:
         assert np.hypot(*(found - point).T).min() <= 1e-9
+
+
+def _ellipse_mask(a, b, angle, dx, dy, size=100):
+    rows, cols = np.mgrid[:size, :size] + 0.5
+    x, y = cols - size / 2 - dx, rows - size / 2 - dy
+    c, s = np.cos(np.radians(angle)), np.sin(np.radians(angle))
+    return ((c * x + s * y) / a) ** 2 + ((-s * x + c * y) / b) ** 2 < 1
+
+
+def test_spread_turns_leave_the_smooth_ends_of_ellipses_without_corners():
+    """Step 5b (``spread``): the ends of ellipses of 2.9-6.5 px radius of curvature (semi-axes 25-35 by 10-14
+    px, 7 rotations, 3 sub-pixel offsets) are smooth; the flank median of step 4 saw the flatter outline
+    beyond them and 46 of these 84 renders got corners. A lone corner whose turn is less than half the turn
+    across 8 samples either side is dropped; with ``spread=0`` the old rule is back."""
+    from splinecraft.capture.contour import trace_boundaries
+    from splinecraft.capture.corners import corners
+
+    with_corners = {0.5: 0, 0.0: 0}
+    renders = 0
+    for a, b in [(30, 12), (30, 14), (25, 10), (35, 14)]:
+        for angle in (0, 15, 30, 45, 60, 75, 90):
+            for dx, dy in ((0.0, 0.0), (0.21, 0.37), (0.5, 0.5)):
+                (boundary,) = trace_boundaries(_ellipse_mask(a, b, angle, dx, dy))
+                renders += 1
+                for spread in with_corners:
+                    with_corners[spread] += len(corners(boundary.outline, "tangent-jump", spread=spread)) > 0
+    assert with_corners[0.5] <= renders // 5 < with_corners[0.0]
+
+
+@pytest.mark.parametrize("angle", [0, 17, 45, 73])
+def test_spread_turns_keep_the_corners_of_a_rounded_off_polygon(angle):
+    """The corners step 5b must keep: a hexagon and a rectangle with sharp corners, turned, keep all theirs."""
+    from splinecraft.capture.contour import trace_boundaries
+    from splinecraft.capture.corners import corners
+
+    for count, radius in ((6, 30), (4, 28)):
+        theta = np.radians(angle) + 2 * np.pi * np.arange(count) / count
+        vertices = np.stack([50 + radius * np.cos(theta), 50 + radius * np.sin(theta)], axis=1)
+        rows, cols = fill_polygon(vertices[:, 1], vertices[:, 0], (100, 100))
+        mask = np.zeros((100, 100), bool)
+        mask[rows, cols] = True
+        (boundary,) = trace_boundaries(mask)
+        assert len(corners(boundary.outline, "tangent-jump")) == count

@@ -91,14 +91,19 @@ def test_a_fillet_seen_as_one_corner_is_released_and_the_sharp_corners_stay(radi
 @pytest.mark.parametrize("radius, angle", [(6.0, 0.0), (6.0, 5 * np.pi / 22), (7.0, 2 * np.pi / 22), (7.0, 3 * np.pi / 22),
                                            (8.0, 5 * np.pi / 22), (9.0, 6 * np.pi / 22)])
 def test_without_the_fillet_test_these_fillets_count_as_corners(radius, angle):
-    # the reason for the test: tangent-jump's arms alone see these right-angle fillets as corners; larger
-    # fillets spread their turn beyond the arms' flanks
+    # the reason for the test: tangent-jump's arms alone (without step 5b, spread turns, which releases some of
+    # them too) see these right-angle fillets as corners; larger fillets spread their turn beyond the arms' flanks
     vertices = rotated_square(60.0, angle)
     outline, shift = outline_of(filleted_polygon(vertices, [radius, 0.0, radius, 0.0]))
-    found = outline[tangent_jump(outline, fillets=False)]
+    found = outline[tangent_jump(outline, fillets=False, spread=0.0)]
     for vertex in vertices[[0, 2]] + shift:
         assert np.hypot(*(found - vertex).T).min() <= radius      # on the fillet (tangent length = radius)
-    assert len(found) == 4 and len(tangent_jump(outline, fillets=True)) == 2
+    assert len(found) == 4 and len(tangent_jump(outline, fillets=True, spread=0.0)) == 2
+    # spread turns only release corners: the square's two sharp corners stay, fillet corners may go
+    spread = set(tangent_jump(outline, fillets=False).tolist())
+    assert spread <= set(tangent_jump(outline, fillets=False, spread=0.0).tolist()) and len(spread) >= 2
+    both = tangent_jump(outline, fillets=True).tolist()
+    assert both == tangent_jump(outline, fillets=True, spread=0.0).tolist() and len(both) == 2
 
 
 @pytest.mark.parametrize("options", [{}, {"wedge": True}], ids=["fillet-test", "wedge-test"])

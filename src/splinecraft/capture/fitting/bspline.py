@@ -7,7 +7,8 @@ fit (O(m) for any outline length) and the exact Bézier pieces of the spline on 
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import solveh_banded
+from scipy.linalg import LinAlgError
+from scipy.linalg.lapack import dpbsv
 
 from . import _kernels
 
@@ -102,7 +103,7 @@ def _solve_cyclic_band(band, rhs):
     w = 3
     # split unknowns: x = [y (m - w), z (w)]; A = [[B, C], [C^T, D]] with B banded (non-cyclic part)
     nb = m - w
-    ab = np.zeros((4, nb))  # upper form for solveh_banded: ab[3 - k, j] = B[j - k, j]
+    ab = np.zeros((4, nb))  # upper form for pbsv (scipy's solveh_banded): ab[3 - k, j] = B[j - k, j]
     for k in range(4):
         ab[3 - k, k:] = band[k, : nb - k]
     # the entries of B that wrapped are none (B is the leading block without wrap); band entries with a < nb,
@@ -113,7 +114,12 @@ def _solve_cyclic_band(band, rhs):
     np.add.at(coupling, places, band[rows, columns])
     Dm, C = coupling[: w * w].reshape(w, w), coupling[w * w:].reshape(nb, w)
     rhs_y, rhs_z = rhs[:nb], rhs[nb:]
-    sol = solveh_banded(ab, np.hstack([rhs_y, C]), check_finite=False)
+    # scipy.linalg.solveh_banded(ab, ..., check_finite=False) is this LAPACK call (pbsv of float64), less its set-up
+    _, sol, info = dpbsv(ab, np.hstack([rhs_y, C]), lower=0, overwrite_ab=0, overwrite_b=0)
+    if info > 0:
+        raise LinAlgError(f"{info}th leading minor not positive definite")
+    if info < 0:
+        raise ValueError(f"illegal value in {-info}th argument of internal pbsv")
     By, BC = sol[:, : rhs.shape[1]], sol[:, rhs.shape[1]:]
     schur = Dm - C.T @ BC
     z = np.linalg.solve(schur, rhs_z - C.T @ By)

@@ -117,7 +117,7 @@ class OutlineRegression:
         after, before = self.tips.gap_after, self.tips.gap_before
         lengths = np.diff(contour.arc[contour.corner_bounds])
         # piece k: corner k, gap_after[k], the piece's arc length, gap_before[k + 1], corner k + 1
-        corner_par = np.concatenate([[0.0], np.cumsum(after + lengths + np.roll(before, -1))])
+        corner_par = np.concatenate([[0.0], np.cumsum(after + lengths + np.concatenate([before[1:], before[:1]]))])
         k = contour.piece_of_point
         base = corner_par[k] + after[k] + contour.arc - contour.arc[contour.corner_bounds[k]]
         base[contour.corner_bounds] = corner_par
@@ -547,7 +547,11 @@ class OutlineRegression:
         if dev["pixel"] is not None:
             pixel_worst, pixel_at = group_max(dev["pixel_iv"], dev["pixel"], k)
         gap = 1 if tight else self.min_gap
-        for f in failing:
+        # the knots at (or first after) the ends of every failing interval, one search for all of them
+        last_knot = knots.shape[0] - 1
+        lefts = knots[np.minimum(np.searchsorted(knot_values, dev["starts"][failing] - 1e-9), last_knot)].tolist()
+        rights = knots[np.minimum(np.searchsorted(knot_values, dev["ends"][failing] - 1e-9), last_knot)].tolist()
+        for f, left, right in zip(failing, lefts, rights):
             a, b = dev["starts"][f], dev["ends"][f]
             pixel_only = dev["tol_excess"][f] <= 0
             if pixel_only and tight:
@@ -569,8 +573,6 @@ class OutlineRegression:
                 best, where = out_c[f], u_curve[out_c_at[f]]
             quarter = 0.25 * (b - a)
             where = min(max(where, a + quarter), b - quarter)
-            left = int(knots[min(np.searchsorted(knot_values, a - 1e-9), knots.shape[0] - 1)])
-            right = int(knots[min(np.searchsorted(knot_values, b - 1e-9), knots.shape[0] - 1)])
             if right - left < 2 * gap:
                 if pixel_only:  # no knot fits: the check gives way there for the rest of the fit
                     self.pixel_waived[dev["pixel_iv"] == f] = True

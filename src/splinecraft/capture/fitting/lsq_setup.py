@@ -31,8 +31,9 @@ class RotatedContour:
         self.size = n
         self.corner_count = count = corners.shape[0]
         self.rotation = int(corners[0]) if count else 0
-        self.points = np.roll(points, -self.rotation, axis=0)
-        self.closed_points = np.vstack([self.points, self.points[:1]])
+        # numpy.roll(points, -rotation, axis=0), and the first point again at the end
+        self.closed_points = np.concatenate([points[self.rotation:], points[: self.rotation + 1]])
+        self.points = self.closed_points[:-1]
         self.edges = edge_table(self.closed_points)
         self.arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(self.closed_points, axis=0).T))])
         self.perimeter = float(self.arc[-1])
@@ -52,8 +53,11 @@ class RotatedContour:
 
     def point_at_arc(self, arc):
         """Points of the contour polyline at arc lengths ``arc`` (in ``[0, perimeter]``)."""
-        return np.column_stack([np.interp(arc, self.arc, self.closed_points[:, 0]),
-                                np.interp(arc, self.arc, self.closed_points[:, 1])])
+        arc = np.asarray(arc).reshape(-1)
+        out = np.empty((arc.shape[0], 2))  # numpy.column_stack of the two interpolations, without its set-up
+        out[:, 0] = np.interp(arc, self.arc, self.closed_points[:, 0])
+        out[:, 1] = np.interp(arc, self.arc, self.closed_points[:, 1])
+        return out
 
     def original_index(self, index):
         """Index into the caller's contour of a rotated index."""
@@ -141,7 +145,7 @@ def corner_radii(contour, corner_radius):
     arc, perimeter, bounds = contour.arc, contour.perimeter, contour.corner_bounds
     corner_arc = arc[bounds[:-1]]
     piece_len = np.diff(arc[bounds])
-    before = np.roll(piece_len, 1)
+    before = np.concatenate([piece_len[-1:], piece_len[:-1]])  # numpy.roll(piece_len, 1)
     q_back = contour.point_at_arc((corner_arc - np.minimum(6.0, 0.4 * before)) % perimeter)
     q_fwd = contour.point_at_arc((corner_arc + np.minimum(6.0, 0.4 * piece_len)) % perimeter)
     corner = contour.points[bounds[:-1] % contour.size]

@@ -100,13 +100,13 @@ def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitte
     cubics (grouped by run), and per run the largest excess over ``tol``, the largest (``drift``) and the
     summed squared distance (``spread``) from the ``fitted`` curve at the same points; a run stops measuring once
     its excess or drift exceeds ``limits`` (:func:`._merge_kernels.fit_runs`: it cannot qualify then)."""
-    last = first + length - 1
-    lo = np.searchsorted(u, starts[first], side="left")
-    hi = np.searchsorted(u, ends[last], side="right")
-    count = np.maximum(hi - lo, 0)
-    span = ends[last] - starts[first]
+    last = first + (length - 1)
+    start, end = starts[first], ends[last]
+    lo = np.searchsorted(u, start, side="left")
+    count = np.searchsorted(u, end, side="right") - lo
+    np.maximum(count, 0, out=count)
     cubic, handles, offsets, t, excess, drift, spread = _merge_kernels.fit_runs(
-        bez[first, 0], bez[last, 3], directions[0], directions[1], lo, count, points, u, starts[first], span, tol,
+        bez[first, 0], bez[last, 3], directions[0], directions[1], lo, count, points, u, start, end - start, tol,
         fitted, NEWTON_STEPS, FIT_POINTS, limits)
     return {"cubic": cubic, "handles": handles, "lo": lo, "count": count, "t": t, "excess": excess,
             "drift": drift, "spread": spread}
@@ -183,9 +183,12 @@ def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
         t[:, 2:] = np.where(quadratic, (-b + 1.0 * root) / twice, lin)
     low = np.minimum(min_gap / np.maximum(h, 1e-12), 0.5)[:, None]
     t = np.where((t > low) & (t < 1 - low), t, np.nan)
-    t = np.sort(t, axis=1)
-    t = np.where(np.diff(t, axis=1, prepend=-np.inf) > low, t, np.nan)  # cuts closer than that: one
-    t = np.sort(t, axis=1)
+    t.sort(axis=1)
+    gap = np.empty_like(t)  # numpy.diff(t, axis=1, prepend=-inf) without its set-up
+    gap[:, 0] = t[:, 0] - -np.inf
+    np.subtract(t[:, 1:], t[:, :-1], out=gap[:, 1:])
+    t = np.where(gap > low, t, np.nan)  # cuts closer than that: one
+    t.sort(axis=1)
     cuts = (~np.isnan(t)).sum(axis=1)
     pieces = cuts + 1
     origin = np.repeat(np.arange(bez.shape[0]), pieces)
@@ -194,9 +197,10 @@ def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
     bounds.sort(axis=1)
     pos = np.arange(origin.shape[0]) - np.repeat(np.cumsum(pieces) - pieces, pieces)
     ta, tb = bounds[origin, pos], bounds[origin, pos + 1]
-    c_ = bez[origin]
-    pa, pb = _curve(c_, ta), _curve(c_, tb)
-    va, vb = _speed(c_, ta), _speed(c_, tb)
+    both = np.concatenate([origin, origin])  # each piece's start and end in one pass (the same arithmetic)
+    c_, tt = bez[both], np.concatenate([ta, tb])
+    point, speed, half = _curve(c_, tt), _speed(c_, tt), origin.shape[0]
+    pa, pb, va, vb = point[:half], point[half:], speed[:half], speed[half:]
     width = (tb - ta)[:, None]
     out = np.stack([pa, pa + width * va / 3.0, pb - width * vb / 3.0, pb], axis=1)
     out[pos == 0, 0] = bez[origin[pos == 0], 0]
@@ -340,7 +344,7 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     k = bez.shape[0]
     turn = np.concatenate([[0.0], np.cumsum(_turns(bez))])
     # the fitted segments as they were: their pieces between extrema, and each whole (states 0, 0; cost 0)
-    heads = np.flatnonzero(np.diff(origin, prepend=-1))
+    heads = np.flatnonzero(np.concatenate([[True], origin[1:] != origin[:-1]]))  # where origin changes
     whole = np.diff(np.append(heads, k))
     kept = k + int((whole > 1).sum())
     out = {"first": [np.arange(k), heads[whole > 1]], "length": [np.ones(k, np.int64), whole[whole > 1]],
@@ -349,15 +353,19 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
            "refit": [np.zeros(kept, bool)], "t": [np.zeros(0)], "t_count": [np.zeros(kept, np.int64)]}
     active = np.arange(k)
     misses = np.zeros(k, np.int64)
+    # a run's start direction in state a is head_dir[a, first], its end direction in state b tail_dir[b, last] (the
+    # new direction of the join after its last segment); a run's states are (a, b) = divmod(state, 2)
+    head_dir = np.stack([o_head, direction])
+    tail_dir = np.stack([o_tail, np.concatenate([direction[1:], direction[:1]])])
+    state_a, state_b = np.array([0, 0, 1, 1]), np.array([0, 1, 0, 1])
     for length in range(1, min(MAX_RUN, k) + 1):
-        keep = active + length <= k
-        active, misses = active[keep], misses[keep]
-        keep = (seg_piece[active] == seg_piece[active + length - 1]) & (turn[active + length] - turn[active]
-                                                                         <= MAX_TURN)
-        active, misses = active[keep], misses[keep]
+        active = active[: np.searchsorted(active, k - length, side="right")]  # active + length <= k (sorted)
+        misses = misses[: active.shape[0]]
+        last = active + (length - 1)
+        keep = (seg_piece[active] == seg_piece[last]) & (turn[last + 1] - turn[active] <= MAX_TURN)
+        active, misses, last = active[keep], misses[keep], last[keep]
         if not active.size:
             break
-        last = active + length - 1
         # the end states (a, b) in the order (0, 0), (0, 1), (1, 0), (1, 1), the runs of each in start order: an
         # end at a join takes the new direction if asked (a == 1), and a longer run takes it wherever it may: its
         # end keeps the old one only where the join has no new direction (a kept segment beside it is refitted
@@ -371,29 +379,25 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
             valid[0], valid[1], valid[2] = False, tail_join, head_join
         valid[3] = head_join & tail_join
         states, rows = np.nonzero(valid)
-        sa, sb = states >> 1, states & 1
+        sa, sb = state_a[states], state_b[states]
+        any_ok = np.zeros(active.shape[0], bool)
         if rows.size:
             f, end = active[rows], last[rows]
-            d0 = np.where(sa[:, None] == 1, direction[f], o_head[f])
-            d1 = np.where(sb[:, None] == 1, direction[(end + 1) % k], o_tail[end])
-            fit = fit_runs(bez, starts, ends, points, u, f, np.full(f.shape[0], length), (d0, d1), tol, fitted,
+            fit = fit_runs(bez, starts, ends, points, u, f, length, (head_dir[sa, f], tail_dir[sb, end]), tol, fitted,
                            (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
-            ok, spread = _qualify(fit, tolerance, MARGIN), fit["spread"]
-            chosen = int(ok.sum())
-            out["first"].append(f[ok])
-            out["length"].append(np.full(chosen, length))
-            out["s0"].append(sa[ok])
-            out["s1"].append(sb[ok])
-            out["spread"].append(spread[ok])
-            out["cubic"].append(fit["cubic"][ok])
-            out["refit"].append(np.ones(chosen, bool))
+            ok = _qualify(fit, tolerance, MARGIN)
+            chosen = np.flatnonzero(ok)
+            out["first"].append(f[chosen])
+            out["length"].append(np.full(chosen.shape[0], length))
+            out["s0"].append(sa[chosen])
+            out["s1"].append(sb[chosen])
+            out["spread"].append(fit["spread"][chosen])
+            out["cubic"].append(fit["cubic"][chosen])
+            out["refit"].append(np.ones(chosen.shape[0], bool))
             # the parameters of the covered points on each qualifying cubic (a chosen run takes them)
             out["t"].append(fit["t"][np.repeat(ok, fit["count"])])
-            out["t_count"].append(fit["count"][ok])
-            any_ok = np.zeros(active.shape[0], bool)
-            any_ok[rows[ok]] = True
-        else:
-            any_ok = np.zeros(active.shape[0], bool)
+            out["t_count"].append(fit["count"][chosen])
+            any_ok[rows[chosen]] = True
         if length == 1:
             any_ok[:] = True  # every segment starts runs
         misses = np.where(any_ok, 0, misses + 1)

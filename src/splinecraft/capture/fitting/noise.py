@@ -60,6 +60,19 @@ def _cross_opening(region, outside):
     return opened
 
 
+def _close_gaps(values, size):
+    """Per value (``0 <= values < size``) its place among the sorted distinct ``values`` when every gap between
+    two consecutive ones is narrowed to 1 (consecutive values stay consecutive): strictly increasing in the
+    value, and two values differ by at most 1 exactly when their places do."""
+    present = np.zeros(size, bool)
+    present[values] = True
+    distinct = np.flatnonzero(present)
+    place = np.zeros(size, np.int64)
+    place[distinct] = np.arange(distinct.shape[0])
+    place[distinct[1:]] += np.cumsum(distinct[1:] - distinct[:-1] > 1)
+    return place[values]
+
+
 def thin_feature_pixels(mask, min_area=THIN_AREA):
     """Pixels of hairlines and narrow gaps: the ink pixels that a morphological opening of the ink by the
     3 x 3 cross removes (ink at most 2 px wide; outside the image is paper), and likewise the paper pixels
@@ -69,14 +82,22 @@ def thin_feature_pixels(mask, min_area=THIN_AREA):
     out = np.zeros(mask.shape, bool)
     for region, outside in ((mask, False), (~mask, True)):
         thin = region > _cross_opening(region, outside)
-        if np.count_nonzero(thin) < min_area:  # no piece can be large enough
+        # few pixels: the pieces are labelled, sized and marked at these only (found in the rows that have any)
+        rows = np.flatnonzero(thin.any(axis=1))
+        at, cols = np.nonzero(thin[rows])
+        rows = rows[at]
+        if rows.shape[0] < min_area:  # no piece can be large enough
             continue
-        rows, cols = np.flatnonzero(thin.any(axis=1)), np.flatnonzero(thin.any(axis=0))
-        box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
-        labels, count = ndimage.label(thin[box], structure=_SQUARE)
-        large = np.bincount(labels.ravel(), minlength=count + 1) >= min_area
-        large[0] = False
-        out[box] |= large[labels]
+        # labelled on the thin pixels' own rows and columns, every gap between two of them narrowed to one
+        # empty row or column: two pixels are neighbours there exactly when they are here
+        at_row, at_col = _close_gaps(rows, mask.shape[0]), _close_gaps(cols, mask.shape[1])
+        packed = np.zeros((at_row.max() + 1, at_col.max() + 1), bool)
+        packed[at_row, at_col] = True
+        labels, count = ndimage.label(packed, structure=_SQUARE)
+        label = labels[at_row, at_col]
+        large = np.bincount(label, minlength=count + 1) >= min_area
+        hit = large[label]
+        out[rows[hit], cols[hit]] = True
     return out
 
 

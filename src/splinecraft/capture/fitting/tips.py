@@ -115,7 +115,7 @@ class SideFit:
 def _window_fit(points, length):
     """Line, then parabola, through ``points`` (``length`` px of arc); the first whose residuals stay within
     :data:`STRAIGHT_RESIDUAL`, or None."""
-    centre = points.mean(axis=0)
+    centre = np.add.reduce(points, axis=0) / points.shape[0]  # numpy.mean's arithmetic without its set-up
     local = points - centre
     _, _, vt = np.linalg.svd(local, full_matrices=False)
     direction = vt[0]
@@ -123,7 +123,8 @@ def _window_fit(points, length):
     t, y = local @ direction, local @ normal
     if np.abs(y).max() <= STRAIGHT_RESIDUAL:
         return SideFit(centre, direction, np.zeros(3), length)
-    design = np.column_stack([np.ones_like(t), t, t * t])
+    design = np.empty((t.shape[0], 3))
+    design[:, 0], design[:, 1], design[:, 2] = 1.0, t, t * t
     coefficients = np.linalg.lstsq(design, y, rcond=None)[0]
     if np.abs(y - design @ coefficients).max() <= STRAIGHT_RESIDUAL:
         return SideFit(centre, direction, coefficients, length)
@@ -143,7 +144,9 @@ def pixel_pairs(points):
     vertical = (frac[:, 0] < 1e-6) & (np.abs(frac[:, 1] - 0.5) < 1e-6)
     if not np.all(horizontal | vertical):
         return None
-    travel = np.roll(points, -1, axis=0) - np.roll(points, 1, axis=0)
+    travel = np.empty_like(points)  # the next point less the previous one, cyclically
+    np.subtract(points[2:], points[:-2], out=travel[1:-1])
+    travel[0], travel[-1] = points[1] - points[-1], points[0] - points[-2]
     step = np.where(horizontal[:, None], np.column_stack([np.sign(travel[:, 0]), np.zeros(n)]),
                     np.column_stack([np.zeros(n), np.sign(travel[:, 1])]))
     left = 0.5 * np.column_stack([-step[:, 1], step[:, 0]])
@@ -237,7 +240,8 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
                     separating = None if fit.coefficients.any() else _separating_line(fit, ink, paper)
                     if separating is not None:
                         return separating
-                    side = np.mean((ink - paper) @ fit.normal)
+                    across = (ink - paper) @ fit.normal
+                    side = np.add.reduce(across) / across.shape[0]  # numpy.mean's arithmetic
                     fit.ink = 1.0 if side >= 0 else -1.0
             return fit
         stop = start + 0.75 * (stop - start)
@@ -344,7 +348,7 @@ def tip_estimates(contour, angle, radius, measured=None):
     the contour (px; NaN where there is none)."""
     arc, perimeter = contour.arc, contour.perimeter
     lengths = np.diff(arc[contour.corner_bounds])
-    before_len, after_len = np.roll(lengths, 1), lengths
+    before_len, after_len = np.concatenate([lengths[-1:], lengths[:-1]]), lengths  # numpy.roll(lengths, 1)
     count = contour.corner_count
     start = np.maximum(radius, np.clip(1.0 / np.maximum(np.tan(0.5 * angle), 1e-6), 1.0, 6.0))
     estimate = np.full((count, 2), np.nan)

@@ -216,8 +216,6 @@ def _flat_area_level(scaled, level, flat):
 
 def _background_level(gray, white):
     """The level of ``"background"`` (module docstring): ``B (1 + rho) / 2`` on the gray scale."""
-    from scipy import ndimage
-
     scaled = gray.astype(np.float32) / np.float32(white)
     ink = _rough_ink(scaled)
     sigma = window_size(gray.shape) / 2.0

@@ -71,8 +71,8 @@ def keeps_area(outline, bezier):
     px wide, a fragment of a hairline, a slit between two spikes, a diagonal chain of speckle) both sides of
     the stroke can pass that test on one chord through its middle, or cross over: a curve of little or no area,
     or one turned inside out, that draws nothing where the pixels have ink. A faithful fit keeps about the
-    contour's area (the deviation moves it by a fraction of a pixel per unit of length), so ``trace`` fits an
-    outline that fails this test by the regression spline of ``"lsq"`` instead, which follows the cracks
+    contour's area (the deviation moves it by a fraction of a pixel per unit of length), so ``fit_outline`` and
+    ``trace`` fit an outline that fails this test by the regression spline of ``"lsq"`` instead, which follows the cracks
     (docs/capture.md §12, "Small outlines")."""
     points = np.asarray(outline, float)
     x, y = points[:, 0], points[:, 1]

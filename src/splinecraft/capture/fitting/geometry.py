@@ -8,7 +8,16 @@ import numpy as np
 from . import _kernels
 
 __all__ = ["polyline_distance", "piece_deviation", "sample_bezier", "eval_bezier", "edge_table",
-           "windowed_distance", "sorted_group_max", "group_max"]
+           "windowed_distance", "sorted_group_max", "group_max", "member_sorted"]
+
+
+def member_sorted(values, sorted_set):
+    """``numpy.isin(values, sorted_set)`` for a sorted ``sorted_set`` (a binary search per value, not a sort of
+    both: the arrays here are short and ``isin``'s set-up costs more than its search)."""
+    if not sorted_set.shape[0]:
+        return np.zeros(values.shape[0], bool)
+    at = np.minimum(np.searchsorted(sorted_set, values), sorted_set.shape[0] - 1)
+    return sorted_set[at] == values
 
 
 def _segment_distances(points, a, b):

@@ -11,6 +11,7 @@ import numpy as np
 from ...spline import Spline
 from .lsq_model import OutlineRegression
 from .budget import BUDGET_REASON
+from .jumps import REFIT_MARGIN, curvature_jumps
 from .lsq_setup import thin_corners
 from .merge import merge_segments
 from .options import LSQ_OPTIONS
@@ -32,17 +33,45 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
     A fit that gets stuck above the tolerance (not stopped by the deadline) is run once more with
     ``reset_stuck``: where knot intervals fail and cannot be split, the parameters around them go back to arc
     length before knots closer than ``min_gap`` are tried (:meth:`OutlineRegression.reset_parameters`). The
-    second run is kept when it converges or deviates less (``info["retry_from"]`` records the first)."""
-    result = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline).run()
-    if result.converged or result.info["reason"] or (deadline is not None and deadline.passed()):
+    second run is kept when it converges or deviates less (``info["retry_from"]`` records the first).
+
+    With ``curvature_jumps`` (the default) and merging on (``merge_tolerance > 0``: the result is a ``G^1``
+    chain then, not the thesis's ``C^2`` fit), a converged fit whose ``C^2`` curve shows curvature jumps
+    (:func:`~.jumps.curvature_jumps`) is fitted once more with a ``C^1`` knot at each jump
+    (:meth:`OutlineRegression.seed_jumps`), where the fit has at least ``REFIT_MARGIN`` segments more than
+    jumps (a leaner fit has little to gain: :mod:`.jumps`); the refit is kept when it
+    converges with fewer segments, or as many and a smaller Hausdorff deviation (``info["curvature_jumps"]``
+    records both; docs/capture.md §12, "Curvature jumps")."""
+    insertion = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline)
+    result = insertion.run()
+    if not result.converged and not result.info["reason"] and not (deadline is not None and deadline.passed()):
+        retry_insertion = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options,
+                                           deadline, reset_stuck=True)
+        retry = retry_insertion.run()
+        if retry.converged or retry.hausdorff < result.hausdorff:
+            retry.info["retry_from"] = {"hausdorff": result.hausdorff, "iterations": result.iterations,
+                                        "knots_inserted": result.knots_inserted}
+            result, insertion = retry, retry_insertion
+    values, scales = insertion.jumps
+    segments = _segment_count(result)
+    if (not result.converged or not values.size or segments < values.size + REFIT_MARGIN
+            or (deadline is not None and deadline.passed())):
         return result
-    retry = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline,
-                             reset_stuck=True).run()
-    if retry.converged or retry.hausdorff < result.hausdorff:
-        retry.info["retry_from"] = {"hausdorff": result.hausdorff, "iterations": result.iterations,
-                                    "knots_inserted": result.knots_inserted}
-        return retry
+    refit = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline,
+                             jumps=(values, scales)).run()
+    refit_segments = _segment_count(refit)
+    record = {"jumps": int(values.size), "segments": refit_segments, "segments_without": segments,
+              "hausdorff": refit.hausdorff, "hausdorff_without": result.hausdorff}
+    if refit.converged and (refit_segments, refit.hausdorff) < (segments, result.hausdorff):
+        refit.info.update({k: v for k, v in result.info.items() if k == "retry_from"})
+        refit.info["curvature_jumps"] = dict(record, kept=True)
+        return refit
+    result.info["curvature_jumps"] = dict(record, kept=False)
     return result
+
+
+def _segment_count(result):
+    return int(result.spline.bezier().shape[0])
 
 
 class LsqKnotInsertion:
@@ -55,9 +84,15 @@ class LsqKnotInsertion:
     """
 
     def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None,
-                 reset_stuck=False):
+                 reset_stuck=False, jumps=None):
         self.model = OutlineRegression(points, thin_corners(points, corners, options["min_gap"]), epsilon, options)
         self.model.seed_knots(options["initial_density"])
+        if jumps is not None:  # C1 knots at the curvature jumps of a first fit (fit_lsq)
+            self.model.seed_jumps(*jumps)
+        #: the curvature jumps of the converged C2 fit (parameters, window half-widths; :func:`curvature_jumps`),
+        #: measured before merging on a fit without jump knots when the options ``curvature_jumps`` and
+        #: ``merge_tolerance`` are on
+        self.jumps = (np.zeros(0), np.zeros(0, np.int64))
         self.epsilon = epsilon
         self.max_iterations = max_iterations
         self.keep = keep_snapshots
@@ -148,6 +183,10 @@ class LsqKnotInsertion:
         if not converged and dev["pixel"] is not None and not self.out_of_time:
             # the pixel check only asks for knots: within the tolerance is converged
             converged = not (dev["tol_excess"] > 0).any()
+        if converged and self.options["curvature_jumps"] and self.options["merge_tolerance"] > 0 \
+                and not model.jump_knots.size:  # the merged outline is G1; unmerged, the thesis's C2 fit stays
+            corner_values = model.base_parameter[model.contour.corner_bounds] if model.contour.corner_count else ()
+            self.jumps = curvature_jumps(dev["bezier"], dev["starts"], dev["ends"], corner_values, self.epsilon)
         if converged and self.options["merge_tolerance"] > 0:
             dev = self.merge(dev)
         if not converged:  # the deviation reported: the windowed bound can be loose on a fit that went wrong

@@ -18,7 +18,8 @@ import numpy as np
 
 from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
-from .geometry import group_max, piece_deviation
+from .geometry import group_max, member_sorted, piece_deviation
+from .jumps import locate_on_contour
 from .lsq_setup import CornerTips, RotatedContour, crack_normals, curvature_knots
 from .options import DEFAULT_EPSILON
 
@@ -69,6 +70,9 @@ class OutlineRegression:
         self.corner_pin = float(options["corner_pin"])
         #: multiplicity of every inserted knot: 1 (the spline is C2 there) or 2 (C1, as a font's segments join)
         self.knot_multiplicity = 3 - int(options["joint_continuity"])
+        #: simple knots of multiplicity 2 at the curvature jumps of an earlier fit (:mod:`.jumps`): sorted rotated
+        #: contour indices, never removed (:meth:`seed_jumps`)
+        self.jump_knots = np.zeros(0, dtype=np.int64)
         if contour.corner_count:
             self.simple_knots = np.zeros(0, dtype=np.int64)
         else:  # four equally spaced knots, the seam knot 0 among them
@@ -108,6 +112,41 @@ class OutlineRegression:
         if seeded is not None:
             self.simple_knots = seeded
 
+    def seed_jumps(self, values, scales):
+        """``C^1`` knots at the curvature jumps ``values`` (parameters of an earlier fit of this contour, found
+        at window half-widths ``scales``; :func:`~.jumps.curvature_jumps`): each becomes a simple knot of
+        multiplicity 2 at the contour point whose base parameter is nearest, and the first knots within half
+        its scale (at least ``min_gap`` steps) go (the jump knot takes the step they were placed for), except
+        the seam knot 0 of an outline without corners, which a jump closer than ``min_gap`` moves onto. The
+        jump knots are never removed."""
+        contour = self.contour
+        n = contour.size
+        base = self.base_parameter[:n]
+        values = np.asarray(values, float).reshape(-1)
+        j = np.clip(np.searchsorted(base, values), 1, n - 1)
+        j = np.where(np.abs(base[j - 1] - values) <= np.abs(base[j] - values), j - 1, j)
+        inside = ~member_sorted(j, contour.corner_bounds) if contour.corner_count else np.ones(j.shape[0], bool)
+        j, reach = j[inside], np.asarray(scales, float)[inside]
+        if not j.size:
+            return
+        bounds = contour.corner_bounds
+        piece = contour.piece_of_point[j]
+        j = locate_on_contour(contour.points, j, reach.astype(np.int64), np.column_stack([bounds[piece],
+                              bounds[piece + 1]]), not contour.corner_count)
+        knots = self.simple_knots
+        clearance = np.maximum(0.5 * reach, self.min_gap)
+        if not contour.corner_count:
+            # the seam knot 0 stays (the knot intervals start there): a jump closer to it than min_gap moves onto it
+            seam_gap = np.minimum(base[j], self.period - base[j])
+            j = np.where(seam_gap < self.min_gap, 0, j)
+        gap = np.abs(base[knots][:, None] - base[j][None, :])
+        gap = np.minimum(gap, self.period - gap)  # around the seam of an outline without corners
+        clear = (gap < clearance[None, :]).any(axis=1)
+        if not contour.corner_count:
+            clear &= knots != 0
+        self.jump_knots = _unique(j.astype(np.int64))
+        self.simple_knots = _unique(np.concatenate([knots[~clear], self.jump_knots]))
+
     def _base_parameter(self):
         """Base parameter of every contour point (n + 1 values): arc length, plus the gaps on both sides of
         each corner (the corner's own point sits in the middle of its gap)."""
@@ -138,6 +177,8 @@ class OutlineRegression:
         "Joints of lsq")."""
         knots = self.simple_knots
         multiplicity = np.full(knots.shape[0], self.knot_multiplicity, dtype=np.int64)
+        if self.jump_knots.size and knots.size:
+            multiplicity[member_sorted(knots, self.jump_knots)] = 2
         if self.knot_multiplicity == 1 or not self.contour.corner_count or not knots.size:
             return multiplicity
         piece = self.contour.piece_of_point[knots]
@@ -629,11 +670,15 @@ class OutlineRegression:
         return bend * span**2 / 16.0 + jump * span**3 / 48.0
 
     def removable_mask(self):
-        """Which simple knots may be removed (not the seam knot 0 of an outline without corners)."""
-        return (self.simple_knots != 0) | (self.contour.corner_count > 0)
+        """Which simple knots may be removed (not the seam knot 0 of an outline without corners, nor a jump
+        knot)."""
+        mask = (self.simple_knots != 0) | (self.contour.corner_count > 0)
+        if self.jump_knots.size:
+            mask &= ~member_sorted(self.simple_knots, self.jump_knots)
+        return mask
 
     def removable_knots(self):
-        """Simple knots that may be removed (not the seam knot 0 of an outline without corners)."""
+        """Simple knots that may be removed (:meth:`removable_mask`)."""
         return self.simple_knots[self.removable_mask()]
 
     def remove(self, indices):

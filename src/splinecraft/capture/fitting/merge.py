@@ -34,6 +34,7 @@ import numpy as np
 
 from . import _merge_kernels
 from ._kernels import curve_points
+from .geometry import member_sorted
 
 __all__ = ["merge_segments", "split_at_extrema", "join_directions", "MAX_RUN", "MAX_TURN"]
 
@@ -59,15 +60,6 @@ NEWTON_STEPS = 4
 #: measures edge midpoints and curve samples; a merged segment that fails it is not chosen again). A disc's
 #: staircase is up to 0.7 px from the circle, so at epsilon = 0.8 a margin leaves no room.
 MARGIN = 0.0
-
-
-def _member(values, sorted_set):
-    """``numpy.isin(values, sorted_set)`` for a sorted ``sorted_set`` (a binary search per value, not a sort of
-    both: the arrays here are short and ``isin``'s set-up costs more than its search)."""
-    if not sorted_set.shape[0]:
-        return np.zeros(values.shape[0], bool)
-    at = np.minimum(np.searchsorted(sorted_set, values), sorted_set.shape[0] - 1)
-    return sorted_set[at] == values
 
 
 def _unit(v):
@@ -270,7 +262,7 @@ def merge_segments(model, dev, tolerance):
         failing = np.flatnonzero(new_dev["excess"] > 0)
         joins = _join_indices(model, new_dev["starts"], cornered)
         if not failing.size and joins is not None:
-            gone = saved["simple_knots"][~_member(saved["simple_knots"], joins)]
+            gone = saved["simple_knots"][~member_sorted(saved["simple_knots"], joins)]
             model.simple_knots = joins
             return new_dev, gone
         if joins is None:  # two joins at one contour point: no knot list for them
@@ -288,14 +280,14 @@ def _join_indices(model, join_values, cornered):
     contour = model.contour
     n = contour.size
     corner_values = model.base_parameter[contour.corner_bounds]
-    inner = join_values[~_member(join_values, corner_values)] if cornered else join_values
+    inner = join_values[~member_sorted(join_values, corner_values)] if cornered else join_values
     parameter = model.parameter[: n + 1]
     j = np.clip(np.searchsorted(parameter, inner), 1, n)
     j = np.where(np.abs(parameter[j - 1] - inner) <= np.abs(parameter[j] - inner), j - 1, j)
     if not cornered:
         j[np.isclose(inner, 0.0)] = 0
     j = np.sort(j % n).astype(np.int64)
-    if (j[1:] == j[:-1]).any() or (cornered and _member(j, contour.corner_bounds).any()):
+    if (j[1:] == j[:-1]).any() or (cornered and member_sorted(j, contour.corner_bounds).any()):
         return None
     return j
 

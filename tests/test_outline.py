@@ -104,11 +104,22 @@ def test_any_closed_bezier_curve_is_reproduced_exactly(n, seed, kink_bits):
 
 
 def test_a_trace_comes_in_exactly_with_its_corners_and_sources(traced_d):
+    """Every corner of the trace is a corner of the outline; a smooth join becomes one only where its two
+    curvatures differ in sign (an S-bend at a join, which no positive weight ratio takes; docs/capture.md §12,
+    "Merged segments"): D's curvature jumps give it one (docs/capture.md §12, "Curvature jumps")."""
     outline = as_outline(traced_d)
     assert len(outline) == len(traced_d.splines)
     for contour, spline in zip(outline.contours, traced_d.splines):
         assert np.abs(contour.bezier() - spline.bezier()).max() < 1e-9
-    assert sum(int(c.corners.sum()) for c in outline.contours) == traced_d.stats["corners"]
+    for fit, spline, contour in zip(traced_d.fits, traced_d.splines, outline.contours):
+        trace_corners = np.zeros(len(spline.bezier()), bool)
+        if len(fit.corners_used):
+            counts = [len(k) - 1 for k in fit.knot_indices]
+            trace_corners[np.concatenate([[0], np.cumsum(counts)[:-1]])] = True
+        assert (contour.corners >= trace_corners).all()
+        extra = contour.corners & ~trace_corners
+        assert (_curvature_ratio(spline.bezier())[extra] <= 0).all()
+    assert sum(int(c.corners.sum()) for c in outline.contours) >= traced_d.stats["corners"]
     assert outline.bitmap.shape == traced_d.mask.shape
     assert (outline.width, outline.height) == (traced_d.width, traced_d.height)
     # the deviation from the bitmap's contour is the trace's own measure

@@ -18,8 +18,9 @@ between corners (the whole outline, periodic, without corners):
    ``(s, s + L]`` minus its mean over ``[s - L, s)`` (both windows inside the piece);
 3. a jump at ``s`` when ``|D_L(s)|`` is the largest within ``s +- L`` (one per step), **significant**: the
    deviation ``|D_L| L^2 / 8`` that a step of that size makes from one smooth arc over the window is at least
-   :data:`SIGNIFICANCE` ``* epsilon``, and **isolated**: ``|D_L(s +- L)| <= ISOLATION |D_L(s)|`` (a step; a
-   smoothly varying curvature, as on an ellipse, keeps ``D_L`` near ``kappa' L`` over long stretches);
+   :data:`SIGNIFICANCE` ``* epsilon`` (``epsilon`` itself), and **isolated**: ``|D_L(s +- L)| <= ISOLATION
+   |D_L(s)|`` (a step; a smoothly varying curvature, as on an ellipse, keeps ``D_L`` near ``kappa' L`` over
+   long stretches);
 4. the detections of all scales, the largest scale first: one within ``max(L, L')`` of a larger one's is the
    same jump.
 
@@ -37,8 +38,8 @@ __all__ = ["curvature_jumps", "locate_on_contour", "SCALES", "SIGNIFICANCE", "IS
 #: Window half-widths ``L`` (px of arc) at which a step of the curvature is looked for.
 SCALES = (8, 16, 32, 64, 128)
 #: A step counts when ``|D_L| L^2 / 8``, the deviation it makes from one arc over the window, is at least this
-#: share of ``epsilon``.
-SIGNIFICANCE = 0.25
+#: share of ``epsilon``: a smaller step the ``C^2`` fit follows within the tolerance without extra knots.
+SIGNIFICANCE = 1.0
 #: A step, not a ramp: ``|D_L|`` one window away on either side is at most this share of its peak.
 ISOLATION = 0.5
 #: The refit runs where the merged first fit has at least this many segments more than jumps. Each jump knot

@@ -1,0 +1,93 @@
+"""Curvature jumps (docs/capture.md §12, "Curvature jumps"): shapes made of lines and arcs, traced with and
+without the option ``curvature_jumps`` and by potrace, side by side in one run.
+
+Shapes (``synthetic_shapes``, exact outlines): two rounded rectangles, a stadium, a turned ellipse, a ring, a
+'D', a star and a hexagon, each at 1x, 4x and 12x (about 250, 1000 and 3000 px). Per shape: segments against the
+true count, the largest deviation from the exact outline (px), and the time of each trace (CPU seconds of this
+process; potrace's CLI in wall seconds).
+
+    .venv/bin/python benchmarks/bench_jumps.py [--scales 1,4,12] [--no-potrace]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import splinecraft as sc  # noqa: E402
+import synthetic_shapes as S  # noqa: E402
+
+
+def stadium(name, width, height):
+    """Two straight sides and two half circles (6 true segments)."""
+    radius = height / 2
+    right, left = (width - radius, radius), (radius, radius)
+    pieces = [S._line((radius, 0), (width - radius, 0)), S._arc(right, radius, -np.pi / 2, np.pi / 2),
+              S._line((width - radius, height), (radius, height)), S._arc(left, radius, np.pi / 2, 1.5 * np.pi)]
+    points, corners = S._contour_from_pieces(pieces)
+    return S._shape(name, [points], corners, segments=6)
+
+
+def shapes(scales):
+    out = []
+    for k in scales:
+        out += [S.rounded_rect(f"rounded_a_{k}x", 200 * k, 120 * k, 20 * k),
+                S.rounded_rect(f"rounded_b_{k}x", 240 * k, 160 * k, 50 * k),
+                stadium(f"stadium_{k}x", 240 * k, 90 * k),
+                S.ellipse(f"ellipse_{k}x", 110 * k, 60 * k, 0.3),
+                S.ring(f"ring_{k}x", 100 * k, 60 * k),
+                S.d_shape(f"D_{k}x", 200 * k),
+                S.star(f"star_{k}x", 5, 110 * k, 45 * k),
+                S.regular_polygon(f"hexagon_{k}x", 6, 100 * k, 0.2)]
+    return out
+
+
+def trace(mask, jumps):
+    start = time.process_time()
+    result = sc.trace(mask, fit_params={"curvature_jumps": jumps}, time_budget=None)
+    return [np.asarray(s.bezier()) for s in result.splines], time.process_time() - start
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scales", default="1,4,12")
+    parser.add_argument("--no-potrace", action="store_true")
+    args = parser.parse_args(argv)
+    use_potrace = not args.no_potrace and shutil.which("potrace")
+    rows = []
+    trace(S.rasterize(shapes([1])[0]), True)  # compiled kernels loaded before the first measurement
+    print("| shape | true | without: segments / max px / s | with: segments / max px / s "
+          "| potrace: segments / max px |")
+    print("|---|---|---|---|---|")
+    for shape in shapes([int(k) for k in args.scales.split(",")]):
+        mask = S.rasterize(shape)
+        cells = []
+        for jumps in (False, True):
+            beziers, seconds = trace(mask, jumps)
+            score = S.score_beziers(shape, beziers)
+            cells.append((score["segments"], score["max_dev"], seconds))
+        if use_potrace:
+            svg, _ = S.run_potrace(mask)
+            score = S.score_beziers(shape, S.svg_beziers(svg))
+            cells.append((score["segments"], score["max_dev"], float("nan")))
+        rows.append((shape, cells))
+        text = " | ".join(f"{c[0]} / {c[1]:.2f}" + ("" if np.isnan(c[2]) else f" / {c[2]:.3f}") for c in cells)
+        print(f"| {shape['name']} | {shape['segments']} | {text} |", flush=True)
+    ratio = lambda k: np.median([c[k][0] / s["segments"] for s, c in rows])  # noqa: E731
+    print(f"\nMedian segments per true segment: without {ratio(0):.2f}, with {ratio(1):.2f}"
+          + (f", potrace {ratio(2):.2f}" if use_potrace else ""))
+    print(f"Largest deviation (px): without {max(c[0][1] for _, c in rows):.2f}, "
+          f"with {max(c[1][1] for _, c in rows):.2f}" + (f", potrace {max(c[2][1] for _, c in rows):.2f}"
+                                                           if use_potrace else ""))
+    print(f"CPU time with / without, summed: {sum(c[1][2] for _, c in rows) / sum(c[0][2] for _, c in rows):.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -171,15 +171,15 @@ class OutlineRegression:
         return np.sort(np.concatenate([corners, inserted]))
 
     def inserted_multiplicity(self):
-        """Multiplicity of every simple knot: ``knot_multiplicity``, but 1 (C2) for the first and the last
-        inserted knot of each piece between corners: the end pieces reach a truncated tip by extrapolation,
-        which a C1 knot beside the corner would let bend into the rounded pixels (docs/capture.md §12,
-        "Joints of lsq")."""
+        """Multiplicity of every simple knot: ``knot_multiplicity`` (2 for the jump knots), but 1 (C2) for the
+        first and the last inserted knot of each piece between corners: the end pieces reach a truncated tip by
+        extrapolation, which a C1 knot beside the corner would let bend into the rounded pixels (docs/capture.md
+        §12, "Joints of lsq"; a jump knot there is a simple knot while it is first or last)."""
         knots = self.simple_knots
         multiplicity = np.full(knots.shape[0], self.knot_multiplicity, dtype=np.int64)
         if self.jump_knots.size and knots.size:
             multiplicity[member_sorted(knots, self.jump_knots)] = 2
-        if self.knot_multiplicity == 1 or not self.contour.corner_count or not knots.size:
+        if not self.contour.corner_count or not knots.size or (multiplicity == 1).all():
             return multiplicity
         piece = self.contour.piece_of_point[knots]
         first = np.diff(piece, prepend=-1) != 0

@@ -263,3 +263,26 @@ def test_the_option_is_checked():
     outline, _ = render_rounded_rectangle(120, 80, 20)
     with pytest.raises(TypeError, match="curvature_jumps"):
         fit_outline(outline, [], curvature_jumps="yes")
+
+
+def test_the_refit_counts_the_segments_of_the_pieces_with_jumps_only():
+    """``REFIT_MARGIN`` is measured in the pieces between corners that hold a jump: segments elsewhere (a
+    glyph's serifs) cannot be saved by a C1 knot there."""
+    from types import SimpleNamespace
+
+    from splinecraft.capture.fitting.lsq import _segments_beside
+
+    outline, _ = render_rounded_rectangle(300, 180, 40)
+    n = outline.shape[0]
+    corners = np.array([0, n // 4, n // 2])
+    model = OutlineRegression(outline, corners, 0.8, dict(LSQ_DEFAULTS))
+    bounds = model.contour.corner_bounds
+    # pieces of 5, 2 and 7 segments
+    knots = [np.linspace(bounds[k], bounds[k + 1], count + 1).astype(int) for k, count in enumerate((5, 2, 7))]
+    result = SimpleNamespace(knot_indices=knots)
+    middle = lambda k: 0.5 * (model.base_parameter[bounds[k]] + model.base_parameter[bounds[k + 1]])  # noqa: E731
+    assert _segments_beside(model, result, np.array([middle(1)])) == 2
+    assert _segments_beside(model, result, np.array([middle(0), middle(2)])) == 12
+    assert _segments_beside(model, result, np.array([middle(0), middle(0) + 1.0])) == 5
+    cornerless = OutlineRegression(outline, np.zeros(0, np.int64), 0.8, dict(LSQ_DEFAULTS))
+    assert _segments_beside(cornerless, SimpleNamespace(knot_indices=[np.arange(10)]), np.array([3.0])) == 9

@@ -38,8 +38,8 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
     With ``curvature_jumps`` (the default) and merging on (``merge_tolerance > 0``: the result is a ``G^1``
     chain then, not the thesis's ``C^2`` fit), a converged fit whose ``C^2`` curve shows curvature jumps
     (:func:`~.jumps.curvature_jumps`) is fitted once more with a ``C^1`` knot at each jump
-    (:meth:`OutlineRegression.seed_jumps`), where the fit has at least ``REFIT_MARGIN`` segments more than
-    jumps (a leaner fit has little to gain: :mod:`.jumps`); the refit is kept when it
+    (:meth:`OutlineRegression.seed_jumps`), where the pieces that hold the jumps have at least ``REFIT_MARGIN``
+    segments more than jumps (a leaner fit has little to gain: :mod:`.jumps`); the refit is kept when it
     converges with fewer segments, or as many and a smaller Hausdorff deviation (``info["curvature_jumps"]``
     records both; docs/capture.md §12, "Curvature jumps")."""
     insertion = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline)
@@ -53,10 +53,10 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
                                         "knots_inserted": result.knots_inserted}
             result, insertion = retry, retry_insertion
     values, scales = insertion.jumps
-    segments = _segment_count(result)
-    if (not result.converged or not values.size or segments < values.size + REFIT_MARGIN
-            or (deadline is not None and deadline.passed())):
+    if (not result.converged or not values.size or _segments_beside(insertion.model, result, values) < values.size
+            + REFIT_MARGIN or (deadline is not None and deadline.passed())):
         return result
+    segments = _segment_count(result)
     refit = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline,
                              jumps=(values, scales)).run()
     refit_segments = _segment_count(refit)
@@ -72,6 +72,17 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
 
 def _segment_count(result):
     return int(result.spline.bezier().shape[0])
+
+
+def _segments_beside(model, result, values):
+    """Segments of ``result`` in the pieces between corners that hold a jump at one of ``values``."""
+    contour = model.contour
+    per_piece = np.array([len(k) - 1 for k in result.knot_indices])
+    if not contour.corner_count or per_piece.shape[0] != contour.piece_count:
+        return int(per_piece.sum())
+    corner_values = model.base_parameter[contour.corner_bounds]
+    pieces = np.unique(np.clip(np.searchsorted(corner_values, values, side="right") - 1, 0, contour.piece_count - 1))
+    return int(per_piece[pieces].sum())
 
 
 class LsqKnotInsertion:

@@ -1,5 +1,6 @@
-"""Curvature jumps (docs/capture.md §12, "Curvature jumps"): shapes made of lines and arcs, traced with and
-without the option ``curvature_jumps`` and by potrace, side by side in one run.
+"""Curvature jumps (docs/capture.md §12, "Curvature jumps"): shapes made of lines and arcs, traced with the
+option ``curvature_jumps`` off and at its default (``"smooth"``: outlines without corners) and by potrace, side by
+side in one run.
 
 Shapes (``synthetic_shapes``, exact outlines): two rounded rectangles, a stadium, a turned ellipse, a ring, a
 'D', a star and a hexagon, each at 1x, 4x and 12x (about 250, 1000 and 3000 px). Per shape: segments against the
@@ -51,7 +52,7 @@ def shapes(scales):
 
 def trace(mask, jumps):
     start = time.process_time()
-    result = sc.trace(mask, fit_params={"curvature_jumps": jumps}, time_budget=None)
+    result = sc.trace(mask, fit_params=None if jumps else {"curvature_jumps": False}, time_budget=None)
     return [np.asarray(s.bezier()) for s in result.splines], time.process_time() - start
 
 
@@ -63,7 +64,7 @@ def main(argv=None):
     use_potrace = not args.no_potrace and shutil.which("potrace")
     rows = []
     trace(S.rasterize(shapes([1])[0]), True)  # compiled kernels loaded before the first measurement
-    print("| shape | true | without: segments / max px / s | with: segments / max px / s "
+    print("| shape | true | off: segments / max px / s | default: segments / max px / s "
           "| potrace: segments / max px |")
     print("|---|---|---|---|---|")
     for shape in shapes([int(k) for k in args.scales.split(",")]):
@@ -81,12 +82,12 @@ def main(argv=None):
         text = " | ".join(f"{c[0]} / {c[1]:.2f}" + ("" if np.isnan(c[2]) else f" / {c[2]:.3f}") for c in cells)
         print(f"| {shape['name']} | {shape['segments']} | {text} |", flush=True)
     ratio = lambda k: np.median([c[k][0] / s["segments"] for s, c in rows])  # noqa: E731
-    print(f"\nMedian segments per true segment: without {ratio(0):.2f}, with {ratio(1):.2f}"
+    print(f"\nMedian segments per true segment: off {ratio(0):.2f}, default {ratio(1):.2f}"
           + (f", potrace {ratio(2):.2f}" if use_potrace else ""))
-    print(f"Largest deviation (px): without {max(c[0][1] for _, c in rows):.2f}, "
-          f"with {max(c[1][1] for _, c in rows):.2f}" + (f", potrace {max(c[2][1] for _, c in rows):.2f}"
+    print(f"Largest deviation (px): off {max(c[0][1] for _, c in rows):.2f}, "
+          f"default {max(c[1][1] for _, c in rows):.2f}" + (f", potrace {max(c[2][1] for _, c in rows):.2f}"
                                                            if use_potrace else ""))
-    print(f"CPU time with / without, summed: {sum(c[1][2] for _, c in rows) / sum(c[0][2] for _, c in rows):.2f}")
+    print(f"CPU time default / off, summed: {sum(c[1][2] for _, c in rows) / sum(c[0][2] for _, c in rows):.2f}")
 
 
 if __name__ == "__main__":

@@ -261,8 +261,28 @@ def test_without_merging_the_fit_stays_the_thesis_c2_fit():
 
 def test_the_option_is_checked():
     outline, _ = render_rounded_rectangle(120, 80, 20)
-    with pytest.raises(TypeError, match="curvature_jumps"):
+    with pytest.raises(ValueError, match="curvature_jumps"):
         fit_outline(outline, [], curvature_jumps="yes")
+    with pytest.raises(ValueError, match="curvature_jumps"):
+        fit_outline(outline, [], curvature_jumps=1)
+    with pytest.raises(TypeError, match="curvature_jumps"):
+        fit_outline(outline, [], curvature_jumps=["smooth"])
+
+
+def test_by_default_only_outlines_without_corners_are_refitted():
+    """``"smooth"`` (the default) leaves an outline with corners as the C2 fit and merging make it; ``True``
+    refits it too: the rounded rectangle with two of its straight sides' ends made corners."""
+    outline, _ = render_rounded_rectangle(900, 560, 120)
+    n = outline.shape[0]
+    corners = [0, n // 2]
+    default = fit_outline(outline, corners, keep_snapshots=False)
+    everywhere = fit_outline(outline, corners, keep_snapshots=False, curvature_jumps=True)
+    plain = fit_outline(outline, corners, keep_snapshots=False, curvature_jumps=False)
+    assert "curvature_jumps" not in default.info
+    np.testing.assert_array_equal(default.spline.bezier(), plain.spline.bezier())
+    record = everywhere.info["curvature_jumps"]
+    assert record["jumps"] >= 4 and record["segments_without"] == plain.spline.bezier().shape[0]
+    assert everywhere.spline.bezier().shape[0] <= plain.spline.bezier().shape[0]
 
 
 def test_the_refit_counts_the_segments_of_the_pieces_with_jumps_only():

@@ -106,7 +106,7 @@ def test_any_closed_bezier_curve_is_reproduced_exactly(n, seed, kink_bits):
 def test_a_trace_comes_in_exactly_with_its_corners_and_sources(traced_d):
     """Every corner of the trace is a corner of the outline; a smooth join becomes one only where its two
     curvatures differ in sign (an S-bend at a join, which no positive weight ratio takes; docs/capture.md §12,
-    "Merged segments"): D's curvature jumps give it one (docs/capture.md §12, "Curvature jumps")."""
+    "Merged segments"; with ``curvature_jumps=True`` D's jump knots give it one)."""
     outline = as_outline(traced_d)
     assert len(outline) == len(traced_d.splines)
     for contour, spline in zip(outline.contours, traced_d.splines):

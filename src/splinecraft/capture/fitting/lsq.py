@@ -35,8 +35,9 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
     length before knots closer than ``min_gap`` are tried (:meth:`OutlineRegression.reset_parameters`). The
     second run is kept when it converges or deviates less (``info["retry_from"]`` records the first).
 
-    With ``curvature_jumps`` (the default) and merging on (``merge_tolerance > 0``: the result is a ``G^1``
-    chain then, not the thesis's ``C^2`` fit), a converged fit whose ``C^2`` curve shows curvature jumps
+    With ``curvature_jumps`` (``"smooth"``, the default: outlines without corners; ``True``: every outline) and
+    merging on (``merge_tolerance > 0``: the result is a ``G^1`` chain then, not the thesis's ``C^2`` fit), a
+    converged fit whose ``C^2`` curve shows curvature jumps
     (:func:`~.jumps.curvature_jumps`) is fitted once more with a ``C^1`` knot at each jump
     (:meth:`OutlineRegression.seed_jumps`), where the pieces that hold the jumps have at least ``REFIT_MARGIN``
     segments more than jumps (a leaner fit has little to gain: :mod:`.jumps`); the refit is kept when it
@@ -101,8 +102,8 @@ class LsqKnotInsertion:
         if jumps is not None:  # C1 knots at the curvature jumps of a first fit (fit_lsq)
             self.model.seed_jumps(*jumps)
         #: the curvature jumps of the converged C2 fit (parameters, window half-widths; :func:`curvature_jumps`),
-        #: measured before merging on a fit without jump knots when the options ``curvature_jumps`` and
-        #: ``merge_tolerance`` are on
+        #: measured before merging on a fit without jump knots where the option ``curvature_jumps`` asks for it
+        #: and merging is on
         self.jumps = (np.zeros(0), np.zeros(0, np.int64))
         self.epsilon = epsilon
         self.max_iterations = max_iterations
@@ -194,8 +195,10 @@ class LsqKnotInsertion:
         if not converged and dev["pixel"] is not None and not self.out_of_time:
             # the pixel check only asks for knots: within the tolerance is converged
             converged = not (dev["tol_excess"] > 0).any()
-        if converged and self.options["curvature_jumps"] and self.options["merge_tolerance"] > 0 \
-                and not model.jump_knots.size:  # the merged outline is G1; unmerged, the thesis's C2 fit stays
+        jumps = self.options["curvature_jumps"]
+        if converged and jumps and (jumps is True or not model.contour.corner_count) \
+                and self.options["merge_tolerance"] > 0 and not model.jump_knots.size:
+            # the merged outline is G1; unmerged, the thesis's C2 fit stays ("smooth": outlines without corners)
             corner_values = model.base_parameter[model.contour.corner_bounds] if model.contour.corner_count else ()
             self.jumps = curvature_jumps(dev["bezier"], dev["starts"], dev["ends"], corner_values, self.epsilon)
         if converged and self.options["merge_tolerance"] > 0:

@@ -53,11 +53,11 @@ THESIS_OPTIONS = ENGINE_OPTIONS + ("tangent_stride", "fuzzy_weights")
 LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, "min_gap": 3, "remove_knots": True,
                 "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": True, "corner_pin": 1000.0,
                 "initial_density": 0.01, "fallback": True, "joint_continuity": 2, "merge_tolerance": 0.5,
-                "pixel_check": False, "pixel_slack": 0.1, "curvature_jumps": True}
+                "pixel_check": False, "pixel_slack": 0.1, "curvature_jumps": "smooth"}
 LSQ_OPTIONS = tuple(LSQ_DEFAULTS)
 _LSQ_REALS = ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin",
               "initial_density", "merge_tolerance", "pixel_slack")
-_LSQ_BOOLS = ("remove_knots", "geometric_corners", "fallback", "pixel_check", "curvature_jumps")
+_LSQ_BOOLS = ("remove_knots", "geometric_corners", "fallback", "pixel_check")
 
 
 def check_points(points):
@@ -172,6 +172,9 @@ def _check_lsq_options(options):
                                                     minimum=1, maximum=2)
     for key in _LSQ_BOOLS:
         out[key] = _validation.check_bool(out[key], key)
+    # "smooth": outlines without corners; True: every outline; False: none (docs/capture.md §12, "Curvature jumps")
+    out["curvature_jumps"] = _validation.check_choice(out["curvature_jumps"], "curvature_jumps",
+                                                      (False, True, "smooth"))
     return out
 
 

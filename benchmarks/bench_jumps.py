@@ -8,6 +8,10 @@ true count, the largest deviation from the exact outline (px), and the time of e
 process; potrace's CLI in wall seconds).
 
     .venv/bin/python benchmarks/bench_jumps.py [--scales 1,4,12] [--no-potrace]
+
+``--refits``: the cost control instead. The quick held-out glyph set (``heldout_shapes``, 3 per family, one
+scan each) traced with ``curvature_jumps=True`` (every outline), once with ``REFIT_MARGIN`` = 0 (every outline
+with a jump is refitted) and once at its value: refits run, refits kept, segments in all, CPU seconds.
 """
 from __future__ import annotations
 
@@ -56,11 +60,38 @@ def trace(mask, jumps):
     return [np.asarray(s.bezier()) for s in result.splines], time.process_time() - start
 
 
+def refits():
+    import heldout_shapes as H
+    from splinecraft.capture.fitting import lsq
+
+    masks = [s["mask"] if "mask" in s else H.rasterize(s) for s in H.heldout_set(per_family=3, scans=1)]
+    sc.trace(masks[0])  # compiled kernels loaded before the first measurement
+    print("| REFIT_MARGIN | refits | kept | segments | CPU s |")
+    print("|---|---|---|---|---|")
+    kept_value = lsq.REFIT_MARGIN
+    for margin in (0, kept_value, None):
+        lsq.REFIT_MARGIN = kept_value if margin is None else margin
+        tried = kept = segments = 0
+        start = time.process_time()
+        for mask in masks:
+            result = sc.trace(mask, fit_params={"curvature_jumps": margin is not None})
+            records = [f.info["curvature_jumps"] for f in result.fits if "curvature_jumps" in f.info]
+            tried += len(records)
+            kept += sum(r["kept"] for r in records)
+            segments += sum(len(s.bezier()) for s in result.splines)
+        label = "off (`curvature_jumps=False`)" if margin is None else str(margin)
+        print(f"| {label} | {tried} | {kept} | {segments} | {time.process_time() - start:.2f} |", flush=True)
+    lsq.REFIT_MARGIN = kept_value
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scales", default="1,4,12")
     parser.add_argument("--no-potrace", action="store_true")
+    parser.add_argument("--refits", action="store_true", help="the cost control on held-out glyphs instead")
     args = parser.parse_args(argv)
+    if args.refits:
+        return refits()
     use_potrace = not args.no_potrace and shutil.which("potrace")
     rows = []
     trace(S.rasterize(shapes([1])[0]), True)  # compiled kernels loaded before the first measurement

@@ -45,8 +45,8 @@ ISOLATION = 0.5
 #: The refit runs where the merged first fit has, in the pieces between corners that hold a jump, at least this
 #: many segments more than jumps. Each jump knot is a join of the refit, so pieces with about a segment per jump
 #: have nothing to save; a ``C^2`` fit spends several knots around each jump, which merging does not always take
-#: back. On the quick held-out set (``bench_peers.py --quick``, 79 outlines) this runs 28 refits instead of 38
-#: (every outline with a jump) and keeps 50 of the 52 segments they save (BENCHMARKS.md, "Curvature jumps").
+#: back. On the quick held-out glyphs (79 outlines, ``bench_jumps.py --refits``) this runs 28 refits instead of
+#: 47 (every outline with a jump) and keeps 50 of the 54 segments they save (BENCHMARKS.md, "Session 14").
 REFIT_MARGIN = 4
 
 

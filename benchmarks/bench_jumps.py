@@ -7,7 +7,7 @@ Shapes (``synthetic_shapes``, exact outlines): two rounded rectangles, a stadium
 true count, the largest deviation from the exact outline (px), and the time of each trace (CPU seconds of this
 process; potrace's CLI in wall seconds).
 
-    .venv/bin/python benchmarks/bench_jumps.py [--scales 1,4,12] [--no-potrace]
+    .venv/bin/python benchmarks/bench_jumps.py [--scales 1,4,12] [--rotate DEGREES] [--no-potrace]
 
 ``--refits``: the cost control instead. The quick held-out glyph set (``heldout_shapes``, 3 per family, one
 scan each) traced with ``curvature_jumps=True`` (every outline), once with ``REFIT_MARGIN`` = 0 (every outline
@@ -40,7 +40,22 @@ def stadium(name, width, height):
     return S._shape(name, [points], corners, segments=6)
 
 
-def shapes(scales):
+def rotated(shape, degrees):
+    """The shape turned by ``degrees`` about the origin of its outline, re-framed (exact outline and corners)."""
+    if not degrees:
+        return shape
+    a = np.radians(degrees)
+    turn = np.array([[np.cos(a), np.sin(a)], [-np.sin(a), np.cos(a)]])
+    contours = [np.asarray(c) @ turn for c in shape["contours"]]
+    corners = [tuple(np.asarray(c) @ turn) for c in shape["corners"]]
+    return S._shape(f"{shape['name']}_r{degrees:g}", contours, corners, segments=shape["segments"])
+
+
+def shapes(scales, degrees=0.0):
+    return [rotated(shape, degrees) for shape in _upright(scales)]
+
+
+def _upright(scales):
     out = []
     for k in scales:
         out += [S.rounded_rect(f"rounded_a_{k}x", 200 * k, 120 * k, 20 * k),
@@ -88,6 +103,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scales", default="1,4,12")
     parser.add_argument("--no-potrace", action="store_true")
+    parser.add_argument("--rotate", type=float, default=0.0, help="turn every shape by this many degrees")
     parser.add_argument("--refits", action="store_true", help="the cost control on held-out glyphs instead")
     args = parser.parse_args(argv)
     if args.refits:
@@ -98,7 +114,7 @@ def main(argv=None):
     print("| shape | true | off: segments / max px / s | default: segments / max px / s "
           "| potrace: segments / max px |")
     print("|---|---|---|---|---|")
-    for shape in shapes([int(k) for k in args.scales.split(",")]):
+    for shape in shapes([int(k) for k in args.scales.split(",")], args.rotate):
         mask = S.rasterize(shape)
         cells = []
         for jumps in (False, True):

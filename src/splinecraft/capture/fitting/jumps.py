@@ -33,6 +33,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import maximum_filter1d
 
+from ...spline.curvature import curvature_from
+
 __all__ = ["curvature_jumps", "locate_on_contour", "SCALES", "SIGNIFICANCE", "ISOLATION", "REFIT_MARGIN"]
 
 #: Window half-widths ``L`` (px of arc) at which a step of the curvature is looked for.
@@ -62,9 +64,8 @@ def _samples(bezier, starts, ends):
     s, tt = (1.0 - t)[:, None], t[:, None]
     d1 = 3.0 * (s * s * (c[:, 1] - c[:, 0]) + 2.0 * s * tt * (c[:, 2] - c[:, 1]) + tt * tt * (c[:, 3] - c[:, 2]))
     d2 = 6.0 * (s * (c[:, 2] - 2.0 * c[:, 1] + c[:, 0]) + tt * (c[:, 3] - 2.0 * c[:, 2] + c[:, 1]))
-    speed = np.hypot(d1[:, 0], d1[:, 1])
-    kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(speed, 1e-12) ** 3
-    return kappa, starts[seg] + t * h[seg], speed / count[seg]
+    kappa = np.nan_to_num(curvature_from(d1.T, d2.T))  # the one formula of §7 (NaN where S' = 0: none here)
+    return kappa, starts[seg] + t * h[seg], np.hypot(d1[:, 0], d1[:, 1]) / count[seg]
 
 
 def curvature_jumps(bezier, starts, ends, corner_values, epsilon, scales=SCALES, significance=SIGNIFICANCE,

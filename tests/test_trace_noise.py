@@ -202,3 +202,72 @@ def test_hairline_rings_are_not_noise(width, radius, dx, dy):
     for curve in curves:
         off = np.minimum(np.abs(distance(*curve.T) - radius), np.abs(distance(*curve.T) - radius - width))
         assert off.max() <= 1.0
+
+
+def _inside_triangle(vertices):
+    """Inside the triangle ``vertices`` (counter-clockwise or not): the same side of all three edges."""
+    vertices = np.asarray(vertices, float)
+
+    def inside(x, y):
+        sides = [(b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])
+                 for a, b in zip(vertices, np.roll(vertices, -1, axis=0))]
+        return ((sides[0] >= 0) & (sides[1] >= 0) & (sides[2] >= 0)) | \
+            ((sides[0] <= 0) & (sides[1] <= 0) & (sides[2] <= 0))
+    return inside
+
+
+#: An acute triangle (tips of about 36, 62 and 82 degrees), sides well off the pixel axes.
+TRIANGLE = [(21.3, 118.2), (122.6, 96.1), (38.4, 17.9)]
+
+
+def _tips_found(result):
+    """Extrapolated tips (finite estimates) over the fitted boundaries of a trace."""
+    return sum(int(np.isfinite(np.asarray(fit.info["tips"], float)).all(axis=-1).sum())
+               for fit in result.fits if fit is not None and len(fit.info.get("tips", [])))
+
+
+def test_tips_are_extrapolated_on_clean_boundaries_and_follow_the_pixels_on_noisy_ones():
+    """``geometric_corners="clean"`` (the default): the tips of a clean render are extrapolated, those of a
+    scan-like render of the same triangle are not (the trace then equals ``geometric_corners=False`` bit for bit,
+    and says why in a note); ``True`` and ``False`` force either way."""
+    inside = _inside_triangle(TRIANGLE)
+    clean = _render(inside, 140)
+    default = trace(clean, keep_snapshots=False)
+    assert default.stats["boundary_noise"] <= CLEAN_NOISE and default.stats["extrapolated_tips"] is True
+    assert _tips_found(default) >= 1
+    assert default.to_svg() == trace(clean, keep_snapshots=False, fit_params={"geometric_corners": True}).to_svg()
+    off = trace(clean, keep_snapshots=False, fit_params={"geometric_corners": False})
+    assert off.stats["extrapolated_tips"] is False and _tips_found(off) == 0
+
+    scan = _scan_like(inside, 140, 1.5, 0.25, 11)
+    noisy = trace(scan, keep_snapshots=False)
+    assert noisy.stats["boundary_noise"] > CLEAN_NOISE and noisy.stats["extrapolated_tips"] is False
+    assert _tips_found(noisy) == 0
+    assert any("corner tips follow the pixels" in note for note in noisy.notes)
+    assert noisy.to_svg() == trace(scan, keep_snapshots=False, fit_params={"geometric_corners": False}).to_svg()
+    forced = trace(scan, keep_snapshots=False, fit_params={"geometric_corners": True})
+    assert forced.stats["extrapolated_tips"] is True
+    assert not any("corner tips follow the pixels" in note for note in forced.notes)
+    # without the noise estimate the boundary counts as clean
+    unmeasured = trace(scan, keep_snapshots=False, noise_factor=0)
+    assert unmeasured.stats["extrapolated_tips"] is True
+
+
+def test_geometric_corners_option_is_validated_and_resolved():
+    from splinecraft.capture.fitting import fit_outline
+    from splinecraft.capture.fitting.options import extrapolates_tips
+
+    assert [extrapolates_tips(v, noisy) for v in ("clean", True, False) for noisy in (False, True)] == \
+        [True, False, True, True, False, False]
+    mask = _render(_inside_triangle(TRIANGLE), 140)
+    for bad in ("yes", 2, None):
+        with pytest.raises((ValueError, TypeError), match="geometric_corners"):
+            trace(mask, fit_params={"geometric_corners": bad})
+    # a contour fitted by itself has no noise estimate: "clean" extrapolates, as True does
+    result = trace(mask, keep_snapshots=False)
+    k = int(np.argmax([len(p) for p in result.points]))
+    points, corners = result.points[k], result.corners[k]
+    fits = [fit_outline(points, corners, geometric_corners=value) for value in ("clean", True, False)]
+    assert np.array_equal(fits[0].spline.bezier(), fits[1].spline.bezier())
+    assert np.isfinite(np.asarray(fits[0].info["tips"], float)).all(axis=-1).any()
+    assert not np.isfinite(np.asarray(fits[2].info["tips"], float)).any()

@@ -66,14 +66,14 @@ from .corners import check_params as check_corner_params
 from .corners import corners as detect_corners
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
-    check_points, check_small_outline, check_tau, make_rng
+    check_points, check_small_outline, check_tau, extrapolates_tips, make_rng
 from .corners._jump_kernels import warm_up as warm_corner_kernels
 from .fitting._iso_kernels import warm_up as warm_noise_kernels
 from .fitting._kernels import warm_up as warm_fit_kernels
 from .fitting._merge_kernels import warm_up as warm_merge_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
 from .fitting.results import BoundaryList
-from .fitting.noise import NOISE_FACTOR, boundary_noise, noise_tolerance
+from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 from .image import load_bitmap
@@ -164,7 +164,8 @@ def trace(
         bitmap smoothed by a 1-px Gaussian (:func:`~splinecraft.capture.fitting.noise.boundary_noise`; about
         0.27 px on clean renderings, which keep ``epsilon``, 0.55-1.1 px on scans), leaving out the points
         beside hairlines and gaps at most 2 px wide, which the blur erases (they are not noise). 0 turns the
-        rule off.
+        rule off. Above ``CLEAN_NOISE`` the corner tips also follow the pixels instead of being extrapolated
+        (``fit_params["geometric_corners"]``, default ``"clean"``; ``stats["extrapolated_tips"]``).
     time_budget : float > 0 or None
         Seconds for corner detection and fitting of all boundaries together (not the noise estimate, unless
         corner detection used up its half; docs/capture.md §12, "Time budget"; default
@@ -206,7 +207,9 @@ def trace(
           two-sided geometric deviation, px): maxima over boundaries; ``converged``: all boundaries met
           ``epsilon``; counts of ``boundaries``, ``outer`` and ``holes``; ``per_boundary`` details
           (with ``small_outline``: fitted by the small-outline path, and ``reason``: why the boundary did
-          not converge, ``None`` when it did).
+          not converge, ``None`` when it did);
+        * ``boundary_noise`` and ``tolerance`` (``noise_factor``); ``extrapolated_tips``: whether the
+          ``"lsq"`` fits extrapolated corner tips (``None`` for the thesis methods).
 
     Raises
     ------
@@ -263,6 +266,10 @@ def trace(
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
                      f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
+    tips = _resolve_tips(settings, noise)
+    if tips is False and settings["options"]["geometric_corners"] == "clean":
+        notes.append(f"boundary noise {noise:.2f} px: corner tips follow the pixels (geometric_corners='clean' "
+                     f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
     cornered = time.perf_counter()
     (fits, splines, polygons), budget_state = _fit_boundaries(points_list, corner_list, small, settings, deadline,
                                                               times, undetected)
@@ -277,6 +284,7 @@ def trace(
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
     stats["time_per_boundary_s"] = times.tolist()
     stats["boundary_noise"] = noise
+    stats["extrapolated_tips"] = tips
     stats["tolerance"] = settings["tolerance"]
     stats["time_s"] = finished - started
     stats["time_breakdown"] = {
@@ -403,6 +411,18 @@ def _contour_points(boundaries, contour, notes):
     return points_list
 
 
+def _resolve_tips(settings, noise):
+    """Whether the ``"lsq"`` fits extrapolate corner tips (``fit_params["geometric_corners"]``, default
+    ``"clean"``: where the boundary noise is at most ``CLEAN_NOISE``; :func:`.fitting.options.extrapolates_tips`);
+    the choice goes into ``settings["fit_options"]`` as a plain bool. ``None`` for the thesis methods."""
+    if settings["method"] != "lsq":
+        settings["fit_options"] = settings["options"]
+        return None
+    tips = extrapolates_tips(settings["options"]["geometric_corners"], noisy=float(noise) > CLEAN_NOISE)
+    settings["fit_options"] = dict(settings["options"], geometric_corners=tips)
+    return tips
+
+
 def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, undetected):
     """The fit of every boundary: the small ones together (in batches of ``SMALL_CHUNK``), the others one by
     one (trusted arguments), each started only while ``deadline`` has not passed and with its corners detected
@@ -436,7 +456,7 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         rng = make_rng(_child_seed(settings["seed"], k)) if method != "lsq" else None
         try:
             fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), epsilon, method,
-                                  settings["tau"], rng, max_iterations, keep, 0, settings["options"], deadline)
+                                  settings["tau"], rng, max_iterations, keep, 0, settings["fit_options"], deadline)
         except ValueError as exc:
             raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
         times[k] += time.perf_counter() - started

@@ -21,7 +21,7 @@ from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
 from .lsq_setup import CornerTips, RotatedContour, crack_normals, curvature_knots
-from .options import DEFAULT_EPSILON
+from .options import DEFAULT_EPSILON, extrapolates_tips
 
 __all__ = ["OutlineRegression"]
 
@@ -82,7 +82,8 @@ class OutlineRegression:
         #: points whose parameter went back to its base value for good (:meth:`reset_parameters`)
         self.held = np.zeros(n + 1, bool)
         self.tips = CornerTips.measure(contour, float(options["corner_radius"]), float(options["tip_gap"]),
-                                       bool(options["geometric_corners"]), self.corner_allowance)
+                                       extrapolates_tips(options["geometric_corners"]),
+                                       self.corner_allowance)
         self.base_parameter = self._base_parameter()
         self.period = float(self.base_parameter[-1])
         bounds, piece = contour.corner_bounds, contour.piece_of_point

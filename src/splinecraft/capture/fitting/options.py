@@ -51,13 +51,13 @@ ENGINE_OPTIONS = ("point_tension", "interval_weights", "alpha", "beta", "point_t
 THESIS_OPTIONS = ENGINE_OPTIONS + ("tangent_stride", "fuzzy_weights")
 #: Options of ``"lsq"`` and their defaults (the meaning of each: docs/capture.md §12, "Options of lsq").
 LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, "min_gap": 3, "remove_knots": True,
-                "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": True, "corner_pin": 1000.0,
+                "hoschek_gate": 2.0, "sample_spacing": 0.5, "geometric_corners": "clean", "corner_pin": 1000.0,
                 "initial_density": 0.01, "fallback": True, "joint_continuity": 2, "merge_tolerance": 0.5,
                 "pixel_check": False, "pixel_slack": 0.1, "curvature_jumps": "smooth"}
 LSQ_OPTIONS = tuple(LSQ_DEFAULTS)
 _LSQ_REALS = ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin",
               "initial_density", "merge_tolerance", "pixel_slack")
-_LSQ_BOOLS = ("remove_knots", "geometric_corners", "fallback", "pixel_check")
+_LSQ_BOOLS = ("remove_knots", "fallback", "pixel_check")
 
 
 def check_points(points):
@@ -172,10 +172,28 @@ def _check_lsq_options(options):
                                                     minimum=1, maximum=2)
     for key in _LSQ_BOOLS:
         out[key] = _validation.check_bool(out[key], key)
+    # "clean": extrapolated unless trace() measured a noisy boundary; True: always; False: never (docs/capture.md
+    # §12, "Corners of lsq"); resolved by :func:`extrapolates_tips`
+    out["geometric_corners"] = _validation.check_choice(out["geometric_corners"], "geometric_corners",
+                                                        (False, True, "clean"))
     # "smooth": outlines without corners; True: every outline; False: none (docs/capture.md §12, "Curvature jumps")
     out["curvature_jumps"] = _validation.check_choice(out["curvature_jumps"], "curvature_jumps",
                                                       (False, True, "smooth"))
     return out
+
+
+def extrapolates_tips(geometric_corners, noisy=False):
+    """Whether the ``"lsq"`` fit extrapolates corner tips (option ``geometric_corners``, docs/capture.md §12,
+    "Corners of lsq"): ``True`` and ``False`` say so; ``"clean"`` (the default) extrapolates unless the boundary
+    is ``noisy``, i.e. :func:`~splinecraft.capture.trace.trace`'s boundary-noise estimate exceeds
+    ``fitting.noise.CLEAN_NOISE``. The extrapolation reads each side as a digital straight segment (a line that
+    separates the side's ink pixel centres from its paper ones, checked against the tip's pixels to 0.1 px);
+    on a boundary ragged by noise no such line exists and the test against the tip's pixels measures the noise,
+    so the tips would cost the fit's setup and change nothing (BENCHMARKS.md, "Session 15"). A contour fitted
+    by itself (``fit_outline``) has no noise estimate: ``"clean"`` extrapolates there."""
+    if geometric_corners == "clean":
+        return not noisy
+    return bool(geometric_corners)
 
 
 def _check_thesis_options(options):

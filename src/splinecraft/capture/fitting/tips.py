@@ -1,4 +1,5 @@
-"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq"; on by default, ``geometric_corners``): the
+"""Extrapolated corner tips (docs/capture.md §12, "Corners of lsq"; ``geometric_corners``, by default on clean
+boundaries, :func:`~.options.extrapolates_tips`): the
 two sides that meet at a corner, measured beside the truncated pixel tip and extended to their intersection.
 
 A rendering cuts an acute tip off: where a wedge of opening ``theta`` is narrower than about a pixel no pixel

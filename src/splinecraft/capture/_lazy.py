@@ -43,6 +43,10 @@ class LazyList(Sequence):
 
     __hash__ = None
 
+    def missing(self) -> list:
+        """The indices of the items not made yet."""
+        return [k for k, item in enumerate(self._items) if item is None]
+
     def made(self) -> int:
         """How many items exist (made up front or on access)."""
         return sum(item is not None for item in self._items)

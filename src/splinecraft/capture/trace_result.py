@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._json import to_jsonable
+from ._lazy import LazyList
 from ..spline.svg import path_data, svg_document
 
 __all__ = ["TraceResult", "TraceSnapshot", "merge_snapshots", "jsonable"]
@@ -256,18 +257,37 @@ def _snapshot_dict(snapshot) -> dict:
 
 
 def merge_snapshots(fits) -> list:
-    """One TraceSnapshot per iteration 0 .. max, each boundary at its latest snapshot up to then."""
-    per_boundary = [list(fit.snapshots) for fit in fits]
-    if any(not snaps for snaps in per_boundary):
+    """One TraceSnapshot per iteration 0 .. max, each boundary at its latest snapshot up to then.
+
+    ``fits`` may be a :class:`~splinecraft.capture.fitting.results.BoundaryList` whose unread items are the
+    polygons of a spent time budget (docs/capture.md §12, "Time budget"): each has one snapshot, at iteration 0
+    and finished, so it stands in every merged snapshot without being made; a merged snapshot makes it when read.
+    """
+    pending = set(fits.missing()) if isinstance(fits, LazyList) else set()
+    made = [k for k in range(len(fits)) if k not in pending]
+    per_boundary = {k: list(fits[k].snapshots) for k in made}
+    if any(not snaps for snaps in per_boundary.values()):
         return []
-    iterations = [np.array([s.iteration for s in snaps]) for snaps in per_boundary]
-    last = max(int(it[-1]) for it in iterations)
+    iterations = {k: np.array([s.iteration for s in snaps]) for k, snaps in per_boundary.items()}
+    last = max((int(its[-1]) for its in iterations.values()), default=0)
     merged = []
     for iteration in range(last + 1):
-        chosen, finished = [], []
-        for snaps, its in zip(per_boundary, iterations):
+        chosen, finished = [None] * len(fits), np.ones(len(fits), bool)
+        for k in made:
+            its = iterations[k]
             position = max(int(np.searchsorted(its, iteration, side="right")) - 1, 0)
-            chosen.append(snaps[position])
-            finished.append(iteration >= its[-1])
-        merged.append(TraceSnapshot(iteration=iteration, snapshots=chosen, finished=np.array(finished)))
+            chosen[k] = per_boundary[k][position]
+            finished[k] = iteration >= its[-1]
+        snapshots = LazyList(chosen, _FirstSnapshot(fits)) if pending else chosen
+        merged.append(TraceSnapshot(iteration=iteration, snapshots=snapshots, finished=finished))
     return merged
+
+
+class _FirstSnapshot:
+    """Boundary ``k`` -> the one snapshot of its (polygon) fit, made when read (a picklable maker)."""
+
+    def __init__(self, fits):
+        self.fits = fits
+
+    def __call__(self, k):
+        return self.fits[k].snapshots[0]

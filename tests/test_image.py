@@ -886,3 +886,21 @@ def test_alpha_threshold_traces_a_white_logo_on_a_transparent_background(tmp_pat
 def test_alpha_threshold_without_an_alpha_channel_is_a_clear_error(source):
     with pytest.raises(ValueError, match="has no alpha channel"):
         load_bitmap(source, threshold="alpha")
+
+
+def test_max_pixels_above_pils_own_limit_loads(tmp_path, monkeypatch):
+    """PIL refuses images over twice its MAX_IMAGE_PIXELS before we see them; a max_pixels above that limit
+    must still load the image (and leave PIL's limit as it was), one below it must name max_pixels."""
+    mask = shape_mask()
+    path = tmp_path / "shape.png"
+    Image.fromarray(gray_image(mask)).save(path)
+    data = path.read_bytes()
+    monkeypatch.setattr(Image, "MAX_IMAGE_PIXELS", mask.size // 4)   # PIL errors above mask.size // 2
+    for source in (path, data):
+        with pytest.raises(Image.DecompressionBombError):
+            Image.open(source if isinstance(source, os.PathLike) else io.BytesIO(source))
+        np.testing.assert_array_equal(load_bitmap(source, max_pixels=mask.size), mask)
+        assert Image.MAX_IMAGE_PIXELS == mask.size // 4
+        with pytest.raises(ValueError, match=r"more than max_pixels=.*pass a larger max_pixels"):
+            load_bitmap(source, max_pixels=mask.size // 3)
+        assert Image.MAX_IMAGE_PIXELS == mask.size // 4

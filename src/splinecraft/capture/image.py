@@ -44,6 +44,8 @@ Conventions
 * **Size cap.** Image files, encoded bytes and PIL images are measured from their header before any pixel
   is decoded: more than ``max_pixels`` pixels (default ``MAX_PIXELS`` = 10^8, e.g. 10 000 x 10 000) is a
   ``ValueError``, so a small file that decodes to a huge image (a decompression bomb) costs nothing.
+  PIL's own bomb limit (``PIL.Image.MAX_IMAGE_PIXELS``) is raised to ``max_pixels`` while such a file is
+  opened when ``max_pixels`` is larger, so ``max_pixels`` is the one cap that decides.
   Numpy arrays are already in memory and are not capped.
 * **Bytes** (``bytes``, ``bytearray``, ``memoryview``) are an encoded image file (PNG, JPEG, ...), as read
   from disk or received from a page. They are never read as a file name, even when they spell one (bytes
@@ -65,10 +67,12 @@ row blocks), so an 8000 x 8000 8-bit image needs about 64 MB for the gray channe
 """
 from __future__ import annotations
 
+import contextlib
 import io
 import numbers
 import os
 import sys
+import threading
 import warnings
 
 import numpy as np
@@ -380,13 +384,17 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
         if os.path.isdir(name):
             raise ValueError(f"{name}: is a directory, not an image file")
     try:
-        with warnings.catch_warnings():    # PIL's soft size warning: the cap below decides (module docstring)
+        with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
+            # PIL's soft size warning: the cap below decides (module docstring)
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
             img = Image.open(source)
     except UnidentifiedImageError:
         raise ValueError(f"{name}: not an image file (PIL cannot identify its format){hint}") from None
     except Image.DecompressionBombError as exc:
-        raise ValueError(f"{name}: image too large for PIL's decompression-bomb limit: {exc}") from None
+        # PIL refuses at twice its MAX_IMAGE_PIXELS, which _pil_limit_at_least keeps at or above max_pixels:
+        # the image is over max_pixels too, and a larger max_pixels does load it.
+        raise ValueError(f"{name}: more than max_pixels={max_pixels} pixels (PIL: {exc}); checked before "
+                         "decoding; pass a larger max_pixels to load it anyway") from None
     except MemoryError:
         raise
     except Exception as exc:  # OSError, SyntaxError, ... from a format plugin
@@ -394,16 +402,42 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
     with img:  # closes the file PIL opened (multi-frame formats keep it open for seeking), data or error
         _check_size(img, name, max_pixels)
         try:
-            if getattr(img, "n_frames", 1) > 1:
-                img.seek(0)
-            with warnings.catch_warnings():    # our own cap has been applied; PIL's softer warning is moot
+            with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
+                # our own cap has been applied; PIL's checks (seeking a frame runs one) are moot
                 warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+                if getattr(img, "n_frames", 1) > 1:
+                    img.seek(0)
                 img.load()
         except MemoryError:
             raise
         except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
             raise ValueError(f"{name}: truncated or corrupt image file ({type(exc).__name__}: {exc})") from None
         return _upright(img)
+
+
+_PIL_LIMIT_LOCK = threading.Lock()
+
+
+@contextlib.contextmanager
+def _pil_limit_at_least(max_pixels):
+    """PIL's own decompression-bomb check (an error above ``2 * PIL.Image.MAX_IMAGE_PIXELS``, 179 Mpx by
+    default) raised, for this ``Image.open``, so that it never refuses an image within ``max_pixels``: the
+    cap of this module is the one that decides. The limit is PIL's global; it is changed only when
+    ``max_pixels`` is above it (never at the default ``MAX_PIXELS``), under a lock, and restored on the way out.
+    Another thread opening an image with PIL directly in that moment sees the raised limit."""
+    from PIL import Image
+
+    limit = Image.MAX_IMAGE_PIXELS
+    if limit is None or 2 * limit >= max_pixels:
+        yield
+        return
+    with _PIL_LIMIT_LOCK:
+        saved = Image.MAX_IMAGE_PIXELS
+        Image.MAX_IMAGE_PIXELS = None if saved is None else max(saved, max_pixels)
+        try:
+            yield
+        finally:
+            Image.MAX_IMAGE_PIXELS = saved
 
 
 def _upright(img):

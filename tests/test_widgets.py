@@ -183,6 +183,13 @@ def test_basis_form_relative_tension_scale():
     with pytest.warns(SplineEditorWarning, match="must be > -2"):
         editor.point_tension = [3.0, -2.5, 3.0, 3.0, 3.0]
     assert editor.point_tension == [3.0] * 5
+    editor.point_tension = 4.0            # a single number is broadcast, as in the constructor
+    assert editor.point_tension == [4.0] * 5
+    with pytest.warns(SplineEditorWarning, match="must be > -2.*kept the last good curve"):
+        editor.point_tension = -2.5       # and a bad one is refused like a bad list
+    assert editor.point_tension == [4.0] * 5
+    editor.interval_weights = np.float64(2.0)
+    assert editor.interval_weights == [2.0] * 4
 
 
 # ---------------------------------------------------------------------------------------------- bad values

@@ -57,6 +57,10 @@ def test_t_slider_draws_the_de_casteljau_construction_of_its_piece():
     np.testing.assert_allclose(buffer(editor.geometry["construction_class"]), built.class_polygon, atol=1e-3)
     with pytest.warns(SplineEditorWarning, match="outside the curve's parameters"):
         editor.t = t1 + 1e6
+    kept = editor.t
+    with pytest.warns(SplineEditorWarning, match="t = nan is not a number"):
+        editor.t = float("nan")
+    assert editor.t == kept
     editor.points = [[0.0, 0.0], [10.0, 0.0], [20.0, 5.0], [30.0, 0.0]]  # a shorter curve: t moves into it
     assert editor.spline.knots[0] <= editor.t <= editor.spline.knots[-1]
     editor.t = None

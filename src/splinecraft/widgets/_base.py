@@ -101,11 +101,17 @@ class Float(t.Float):
 
 
 class NumberList(t.List):
-    """A list of numbers; numpy arrays are accepted, ``None`` items (NaN from the page) become NaN, bools are refused."""
+    """A list of numbers; numpy arrays are accepted, ``None`` items (NaN from the page) become NaN, bools are refused.
+
+    A single number is broadcast to the list's current length (``editor.point_tension = 2.0`` sets every
+    point's tension, as the constructor's ``point_tension=2.0`` does); the widget then checks the values."""
 
     def validate(self, obj, value):
         if getattr(obj, "_applying", 0) and isinstance(value, list):
             return value  # the widget's own value, checked already
+        if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
+            current = obj._trait_values.get(self.name) or [None]
+            value = [value] * len(current)
         if isinstance(value, np.ndarray):
             value = value.tolist()
         if isinstance(value, (list, tuple)):

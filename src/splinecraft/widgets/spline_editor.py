@@ -71,7 +71,8 @@ class SplineEditor(WidgetBase):
     --------------------------------------------------------
     points : list of [x, y]
     point_tension : list of float, one per point (``v_i``, §2.2; ``tension_scale`` says the unit)
-    interval_weights : list of float, one per interval (``omega_i > 0``)
+    interval_weights : list of float, one per interval (``omega_i > 0``); setting either list to a single
+        number sets every item to it
     alpha, beta : float -- class parameters; what they mean depends on ``form`` (see
         :func:`splinecraft.widgets._forms.build_spline`): for the interpolant and basis forms they only
         move the auxiliary points V, W (E1).
@@ -375,6 +376,8 @@ class SplineEditor(WidgetBase):
             return f"comb size must be a number in (0, 1000], got {value}"
         if name == "view":
             return view_problem(value)
+        if name == "t" and value is not None and value != value:
+            return "t = nan is not a number; pass a parameter value, or None to hide the point"
         if name == "t" and value is not None and self._spline is not None and \
                 not self._spline.knots[0] <= value <= self._spline.knots[-1]:
             return f"t = {value:g} is outside the curve's parameters [{self._spline.knots[0]:g}, {self._spline.knots[-1]:g}]"

@@ -233,6 +233,10 @@ def test_all_black_is_the_frame_rectangle():
     result = trace(np.zeros((30, 40), np.uint8), epsilon=1.0)
     assert len(result.boundaries) == 1
     assert curve_to_polygon_deviation(result, [(0, 0), (40, 0), (40, 30), (0, 30)]) <= 1.5
+    assert any("every pixel is ink" in note for note in result.notes)
+    mask = np.ones((30, 40), bool)
+    mask[0, 0] = False                      # not every pixel: no such note
+    assert not any("every pixel is ink" in note for note in trace(mask, epsilon=1.0).notes)
 
 
 def test_single_pixel_and_tiny_components():

@@ -11,7 +11,8 @@ thesis sections 4.2-4.3). The :class:`TraceResult` keeps every intermediate resu
 Documented outcomes for degenerate input
 ----------------------------------------
 * all-white image (no ink after thresholding): ``ValueError("no shape found ...")``;
-* all-black image: the ink is the whole frame, the result is the frame rectangle (4 corners);
+* all-black image (every pixel ink): the ink is the whole frame, the result is the frame rectangle (4 corners)
+  and a note in :attr:`TraceResult.notes` says so;
 * small outlines (fewer than ``fitting.SMALL_OUTLINE`` = 64 contour points: single pixels, dominos, specks,
   short diagonal chains) with the default method ``"lsq"``: all fitted together by
   :func:`~splinecraft.capture.fitting.fit_small_outlines` (interpolant through contour points with knot
@@ -345,6 +346,9 @@ def _boundaries(mask, connectivity, min_speck_area, invert):
             "transparent background is composited on white: threshold='alpha' traces its opaque pixels)"
         )
     notes = []
+    if len(boundaries) == 1 and mask.all():
+        notes.append("every pixel is ink: the outline is the image's frame (an all-black image, or a mask whose "
+                     f"True marks the background? ink is {'light' if invert else 'dark'}; see threshold/invert)")
     if min_speck_area is None:
         mask, boundaries, pinholes, specks = _without_pinholes(mask, boundaries, connectivity)
         done = ([f"filled {pinholes} pinhole{'' if pinholes == 1 else 's'}"] if pinholes else []) + \

@@ -237,6 +237,50 @@ def test_tangent_jump_translation_and_quarter_turn():
     assert matched(found[:, ::-1] * np.array([1.0, -1.0]), base, 1.0) == len(base)
 
 
+@SETTINGS
+@given(scale=st.sampled_from([1.25, 2.0, 2.5, 3.0, 5.0]), n=st.integers(3, 7), rotation=st.floats(0.0, 1.0))
+def test_tangent_jump_scale_is_the_outline_divided_by_it(scale, n, rotation):
+    """Step 0: ``scale=k`` finds the corners of the outline divided by k (up to where the outline's canonical
+    start falls, chosen exactly on the crack outline and by a rounded order on the divided one), and keeps the
+    quarter-turn invariance exactly; ``scale=1`` is the default."""
+    outline, _ = polygon_outline(star(n, 70, 35, rotation))
+    found = cm.tangent_jump(outline, scale=scale)
+    divided = cm.tangent_jump(outline / scale)
+    assert len(found) == len(divided) and matched(outline[found], outline[divided], 1.5 * scale) == len(found)
+    assert cm.tangent_jump(outline, scale=1.0).tolist() == cm.tangent_jump(outline).tolist()
+    turned = outline[:, ::-1] * np.array([-1.0, 1.0])          # (x, y) -> (-y, x)
+    assert sorted(map(tuple, turned[cm.tangent_jump(turned, scale=scale)].tolist())) == \
+        sorted(map(tuple, turned[found].tolist()))
+
+
+def test_detection_scale_is_one_on_clean_outlines_and_grows_with_the_noise():
+    rng = np.random.default_rng(5)
+    clean, _ = polygon_outline(star(5, 70, 35, 0.3))
+    assert cm.detection_scale(clean) == 1.0
+    square = np.array([[0, 0], [120, 0], [120, 120], [0, 120]], float)
+    side = np.linspace(0.0, 1.0, 120, endpoint=False)[:, None]
+    dense = np.concatenate([a + side * (b - a) for a, b in zip(square, np.roll(square, -1, axis=0))])
+    normal = np.concatenate([np.tile(v, (120, 1)) for v in ([0, -1], [1, 0], [0, 1], [-1, 0])])
+    scales = [cm.detection_scale(dense + normal * rng.normal(0.0, amplitude, (len(dense), 1)))
+              for amplitude in (0.05, 0.4, 1.0, 3.0)]
+    assert scales[0] == 1.0 and scales[2] > scales[1] > 1.0
+    assert scales[3] == 1.0   # rough at every scale of the ladder: noise without a shape, the pixel scale
+    # the noisy square keeps its four corners at its own scale, not at the pixel scale
+    noisy = dense + normal * rng.normal(0.0, 1.0, (len(dense), 1))
+    assert len(cm.tangent_jump(noisy, scale=cm.detection_scale(noisy))) == 4
+    assert len(cm.tangent_jump(noisy)) > 4
+    assert cm.detection_scale(square[:2]) == 1.0              # too short to tell: the pixel scale
+
+
+@pytest.mark.parametrize("bad, error", [(0.5, ValueError), (65.0, ValueError), (float("nan"), ValueError),
+                                        ("2", TypeError), (True, TypeError)])
+def test_tangent_jump_scale_is_validated(bad, error):
+    with pytest.raises(error, match="scale"):
+        cm.tangent_jump(np.array([[0, 0], [30, 0], [30, 30], [0, 30]], float), scale=bad)
+    with pytest.raises(error, match=r"corner_params\['scale'\]"):
+        cm.check_params("tangent-jump", {"scale": bad}, "corner_params")
+
+
 def test_tangent_jump_works_on_sparse_polylines_and_open_curves():
     # the detector resamples: a 4-point square is enough; on an open L the bend is the only corner
     square = np.array([[0, 0], [30, 0], [30, 30], [0, 30]], float)

@@ -271,3 +271,31 @@ def test_geometric_corners_option_is_validated_and_resolved():
     assert np.array_equal(fits[0].spline.bezier(), fits[1].spline.bezier())
     assert np.isfinite(np.asarray(fits[0].info["tips"], float)).all(axis=-1).any()
     assert not np.isfinite(np.asarray(fits[2].info["tips"], float)).any()
+
+
+def _square_corners(centre, half, angle):
+    c, s = np.cos(angle), np.sin(angle)
+    local = np.array([[half, half], [-half, half], [-half, -half], [half, -half]])
+    return local @ np.array([[c, s], [-s, c]]) + centre
+
+
+@pytest.mark.parametrize("sigma, noise, seed", [(1.5, 0.6, 1), (2.0, 0.6, 2), (2.0, 0.3, 3), (1.5, 0.45, 4)])
+def test_noisier_scans_keep_the_true_corners(sigma, noise, seed):
+    """Scans noisier than a clean staircase by more than the corner detector's pixel-scale arms tolerate:
+    the corners are detected at the coarser scale of the noise (corners.detection_scale), so a circle has
+    none and a square its four, where the pixel scale finds dozens of false ones."""
+    circle, _ = SHAPES["circle"]
+    result = trace(_scan_like(circle, 140, sigma, noise, seed), keep_snapshots=False)
+    big = [k for k, points in enumerate(result.points) if len(points) >= 64]
+    assert [len(result.corners[k]) for k in big] == [0] * len(big)
+    assert max(result.stats["per_boundary"][k]["corner_scale"] for k in big) > 1.0
+    square, _ = SHAPES["square"]
+    result = trace(_scan_like(square, 140, sigma, noise, seed), keep_snapshots=False)
+    (k,) = [k for k, points in enumerate(result.points) if len(points) >= 200]
+    found = result.points[k][result.corners[k]]
+    truth = _square_corners((70.2, 70.7), 45.0, 0.35)
+    assert len(found) == 4
+    assert np.hypot(*(found[:, None, :] - truth[None, :, :]).transpose(2, 0, 1)).min(axis=1).max() <= 3.0
+    pixel_scale = trace(_scan_like(square, 140, sigma, noise, seed), keep_snapshots=False,
+                        corner_params={"scale": 1})        # the option that keeps the pixel scale
+    assert len(pixel_scale.corners[k]) > 4 and all(e["corner_scale"] == 1.0 for e in pixel_scale.stats["per_boundary"])

@@ -65,6 +65,7 @@ from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
 from .corners import check_params as check_corner_params
 from .corners import corners as detect_corners
+from .corners import detection_scale
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
     check_points, check_small_outline, check_tau, extrapolates_tips, make_rng
@@ -166,7 +167,10 @@ def trace(
         0.27 px on clean renderings, which keep ``epsilon``, 0.55-1.1 px on scans), leaving out the points
         beside hairlines and gaps at most 2 px wide, which the blur erases (they are not noise). 0 turns the
         rule off. Above ``CLEAN_NOISE`` the corner tips also follow the pixels instead of being extrapolated
-        (``fit_params["geometric_corners"]``, default ``"clean"``; ``stats["extrapolated_tips"]``).
+        (``fit_params["geometric_corners"]``, default ``"clean"``; ``stats["extrapolated_tips"]``), and the
+        corners of tangent-jump are detected again at the scale of each boundary's noise
+        (:func:`~splinecraft.capture.corners.detection_scale`; ``stats["per_boundary"][k]["corner_scale"]``;
+        ``corner_params={"scale": 1}`` keeps the pixel scale).
     time_budget : float > 0 or None
         Seconds for corner detection and fitting of all boundaries together (not the noise estimate, unless
         corner detection used up its half; docs/capture.md §12, "Time budget"; default
@@ -258,9 +262,24 @@ def trace(
     # measured on the boundaries that got their corners: a boundary the corner deadline left without them
     # would count its corners as noise (the blurred iso-line cuts every corner)
     with_corners = np.flatnonzero(~undetected).tolist()
-    noise, _ = stages.remember("noise", (key, noise_factor > 0), lambda: boundary_noise(
-        mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
-        if noise_factor > 0 else 0.0, keep=lambda _: not undetected.any())
+
+    def measure_noise():
+        if noise_factor <= 0:
+            return 0.0, {}
+        noise = boundary_noise(mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
+        return noise, _coarse_corners(points_list, noise, undetected, settings, corner_deadline)
+
+    (noise, coarse), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
+                                         keep=lambda _: not undetected.any())
+    corner_scale = np.ones(len(points_list))
+    for k, (scale, found) in coarse.items():
+        corner_scale[k], corner_list[k] = scale, found
+    if coarse:
+        scales = corner_scale[list(coarse)]
+        notes.append(f"boundary noise {noise:.2f} px: the corners of {len(coarse)} boundar"
+                     f"{'y' if len(coarse) == 1 else 'ies'} detected at a coarser scale ({scales.min():g}"
+                     f"{'' if scales.min() == scales.max() else f'-{scales.max():g}'} px, corners.detection_scale; "
+                     "corner_params={'scale': 1} keeps the pixel scale)")
     if not undetected.any():  # the budget covers corners and fits, not the noise estimate, unless it is spent
         deadline.extend(time.perf_counter() - detected)  # already (noise images: the cap is what matters)
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
@@ -284,6 +303,8 @@ def trace(
         if entry["reason"] is not None:
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
     stats["time_per_boundary_s"] = times.tolist()
+    for entry, scale in zip(stats["per_boundary"], corner_scale.tolist()):
+        entry["corner_scale"] = scale
     stats["boundary_noise"] = noise
     stats["extrapolated_tips"] = tips
     stats["tolerance"] = settings["tolerance"]
@@ -394,6 +415,26 @@ def _contours(boundaries, settings, deadline):
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
                "closed periodic curve" if skipped else ""))
     return points_list, corner_list, small, times, undetected, notes
+
+
+def _coarse_corners(points_list, noise, undetected, settings, deadline):
+    """Corners detected again at the scale of the noise (docs/capture.md §11, "Noisy boundaries"): on a bitmap
+    whose boundary noise exceeds ``CLEAN_NOISE``, every boundary the noise is measured on (at least
+    ``SHORT_CONTOUR`` points, corners detected) whose :func:`~.corners.detection_scale` ``k`` exceeds 1 gets the
+    corners of ``tangent_jump(..., scale=k)``; ``{boundary: (k, corners)}``. Not with another detector or a
+    ``scale`` in ``corner_params``, and no boundary once ``deadline`` has passed."""
+    if noise <= CLEAN_NOISE or settings["corner_method"] != "tangent-jump" or "scale" in settings["corner_params"]:
+        return {}
+    coarse = {}
+    for k, points in enumerate(points_list):
+        if deadline.passed():
+            break
+        if undetected[k] or len(points) < SHORT_CONTOUR:
+            continue
+        scale = detection_scale(points)
+        if scale > 1.0:
+            coarse[k] = (scale, _detect(points, k, "tangent-jump", {**settings["corner_params"], "scale": scale}, []))
+    return coarse
 
 
 def _contour_points(boundaries, contour, notes):

@@ -11,8 +11,9 @@ and the boundary noise as they were. Passed as ``trace(..., stages=TraceStages()
   for ``"lsq"``, else 0), ``corner_method``, ``corner_params`` and ``time_budget`` -- the fitted contours,
   their corners, which take the small-outline path, and the notes; kept only when every boundary got its
   corner detection within the budget;
-* ``"noise"``: that key and whether the noise rule is on (``noise_factor > 0``) -- the boundary noise; kept
-  only when the contours were (it is measured on their corners).
+* ``"noise"``: that key and whether the noise rule is on (``noise_factor > 0``) -- the boundary noise and the
+  corners detected again at the scale of a noisy boundary; kept only when the contours were (the noise is
+  measured on their corners).
 
 Keys compare by ``repr``, so ``7`` and ``7.0`` are different keys (a miss is always safe). Values are copied
 in and out, so a result may be changed without changing the next one: a result traced with the stages of an

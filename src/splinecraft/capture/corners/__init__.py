@@ -45,7 +45,7 @@ import inspect
 from ... import _validation
 from ._classic import (bt87, check_bt87_params, check_fd77_params, check_ipan99_params, check_k_cosine_params,
                        check_tc89_params, fd77, ipan99, rj73, rw75, tc89)
-from ._jump import check_tangent_jump_params, tangent_jump
+from ._jump import check_tangent_jump_params, detection_scale, tangent_jump
 from ._thesis import check_srm05_params, srm05
 
 __all__ = [
@@ -61,6 +61,7 @@ __all__ = [
     "ipan99",
     "tc89",
     "tangent_jump",
+    "detection_scale",
 ]
 
 #: The detector recommended for outline capture (see ``BENCHMARKS.md``, "Corner detectors").

@@ -26,6 +26,14 @@ MAX_SMOOTHING = 50.0
 MAX_TOLERANCE = 50.0
 MAX_FLANK = 500
 MAX_SEPARATION = 500
+#: Largest detection ``scale`` of :func:`tangent_jump`.
+MAX_SCALE = 64.0
+#: :func:`detection_scale`: the scales tried, smallest first, the roughness a clean pixel staircase stays
+#: within (px, robust spread of the outline about its Gaussian smoothing at ``ROUGHNESS_SIGMA`` px) and that
+#: smoothing.
+SCALE_LADDER = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0)
+CLEAN_ROUGHNESS = 0.2
+ROUGHNESS_SIGMA = 2.0
 
 
 def _arm_operators(length, side):
@@ -89,6 +97,42 @@ def _smooth(samples, sigma, closed):
                             np.convolve(padded[:, 1], kernel, "valid")])
 
 
+def outline_roughness(points, sigma, closed=True):
+    """Robust spread (px) of an outline about its own Gaussian smoothing of ``sigma`` px: the outline resampled
+    at 1 px (:func:`_sample_step`), its residuals from the smoothed samples along the smoothed normals, and
+    1.4826 times their median absolute deviation from their median (a normal's standard deviation). The
+    median takes out the smoothing's pull towards the centre of curvature (the same along an arc) and ignores
+    the few samples beside corners."""
+    P, _ = _prepare(points, closed)
+    if len(P) < 3:
+        return 0.0
+    P = P - P[0]
+    samples, _, _, _ = _resample(P, closed, _sample_step(P, closed))
+    if len(samples) < 8:
+        return 0.0
+    smooth = _smooth(samples, sigma, closed)
+    tangent = np.roll(smooth, -1, axis=0) - np.roll(smooth, 1, axis=0) if closed else np.gradient(smooth, axis=0)
+    length = np.hypot(*tangent.T)
+    residual = ((samples - smooth)[:, 0] * -tangent[:, 1] + (samples - smooth)[:, 1] * tangent[:, 0]) \
+        / np.maximum(length, 1e-12)
+    return float(1.4826 * np.median(np.abs(residual - np.median(residual))))
+
+
+def detection_scale(points, closed=True):
+    """The scale at which :func:`tangent_jump` sees an outline as a clean one: the smallest ``k`` of
+    :data:`SCALE_LADDER` (1 .. 8) whose outline, divided by ``k``, is as smooth as a clean pixel staircase,
+    ``outline_roughness(points, ROUGHNESS_SIGMA * k) <= CLEAN_ROUGHNESS * k`` (2 px and 0.2 px). A clean crack
+    outline is 0.09-0.2 px rough at 2 px (median 0.17 over the synthetic shapes of
+    ``benchmarks/synthetic_shapes.py``), so it gets 1; scan-like ones (blurred, noisy, thresholded bitmaps)
+    1.25-8 (BENCHMARKS.md, "Session 18"). An outline that is rough at every scale of the ladder has no shape
+    for the detector to see (the boundary of a noise image): 1, the pixel scale, whose many short pieces
+    also fit fastest."""
+    for k in SCALE_LADDER:
+        if outline_roughness(points, ROUGHNESS_SIGMA * k, closed) <= CLEAN_ROUGHNESS * k:
+            return k
+    return 1.0
+
+
 def _signed_arm_turn(R, closed, tolerance, ladder):
     """Signed turn (degrees, + = left in the frame of the points) between the straight arms before and
     after every sample of ``R``, and the two arm directions (along travel).
@@ -125,7 +169,7 @@ def _line_intersection(c1, a, c2, b):
 
 
 def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=25.0, min_excess=25.0,
-                 flank=(4, 10), max_arm=40, separation=2, spread=0.5, fillets=False, wedge=False):
+                 flank=(4, 10), max_arm=40, separation=2, spread=0.5, fillets=False, wedge=False, scale=1.0):
     """Corners as jumps of the tangent direction between straight arms (this project's detector).
 
     Designed for crack outlines of rasterized shapes (staircase noise of about half a pixel) and tuned on
@@ -165,6 +209,12 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
        turn below 100 deg the one nearest to the apex where the two arm lines meet; for a sharper turn,
        whose rasterized tip is cut off (the apex lies beyond the outline), the one farthest out along the
        bisector ``a/|a| - b/|b|`` of the arm directions, where the vertex of the two sides is extreme.
+
+    0. **Scale.** Steps 1-6 run on the outline divided by ``scale`` (default 1), so every length above
+       (smoothing, tolerance, flanks, arms, separation, the 3 px of step 6) counts in units of ``scale`` px:
+       the detector sees a noisy outline at the coarser scale where its wiggles are as small as the
+       staircase of a clean one (:func:`detection_scale` finds that scale;
+       :func:`~splinecraft.capture.trace.trace` uses it on noisy bitmaps).
 
     Corners are joins turning by more than 30 degrees (the yardstick's definition); ``min_excess`` sits a
     little below that because ``E`` underestimates obtuse corners next to staircase-noisy sides. Limits
@@ -212,6 +262,9 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         outline whose two sides are digital straight segments of at least 12 px and whose pixels near the
         corner contradict the sharp wedge of those sides (paper pixel centres inside it, ink ones outside) by
         more than 0.2 px beyond the lines' own uncertainty (``BENCHMARKS.md``, "Corner F1 on old-style").
+    scale : float, default 1.0
+        Step 0, in ``[1, MAX_SCALE]`` = [1, 64]: the unit (px) of every length parameter. Steps 7 and 7b work
+        on the outline as given.
 
     Returns
     -------
@@ -220,7 +273,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     """
     settings = check_tangent_jump_params(smoothing=smoothing, tolerance=tolerance, min_turn=min_turn,
                                          min_excess=min_excess, flank=flank, max_arm=max_arm, separation=separation,
-                                         spread=spread, fillets=fillets, wedge=wedge)
+                                         spread=spread, fillets=fillets, wedge=wedge, scale=scale)
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
@@ -273,6 +326,8 @@ def _detect(P, closed, settings):
     frame then maps every intermediate value onto the turned one exactly (the outline's coordinates are
     half-integers, so the shift is exact, and every step treats x and y alike), not just to rounding."""
     P = P - P[0]
+    if settings["scale"] != 1.0:  # step 0 (a division commutes with the frame's quarter turns and reflections)
+        P = P / settings["scale"]
     step = _sample_step(P, closed)
     samples, where, arc, perimeter = _resample(P, closed, step)
     if len(samples) < 8:
@@ -409,7 +464,7 @@ def _symmetric_union(P, runs, key, reach=3.0):
 
 
 def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets,
-                              wedge, spread=0.5, label=_plain):
+                              wedge, spread=0.5, scale=1.0, label=_plain):
     """tangent-jump's parameters checked against their documented domains and bounds (the one rule, used by
     :func:`tangent_jump` and by :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a
     parameter in messages. Returns the settings of :func:`_detect` (``flank`` split into ``near`` and ``far``)."""
@@ -427,6 +482,7 @@ def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, fla
         "spread": _check_real(spread, label("spread"), low=0.0, high=1.0),
         "fillets": _check_bool(fillets, label("fillets")),
         "wedge": _check_bool(wedge, label("wedge")),
+        "scale": _check_real(scale, label("scale"), low=1.0, high=MAX_SCALE),
     }
 
 

@@ -299,3 +299,26 @@ def test_noisier_scans_keep_the_true_corners(sigma, noise, seed):
     pixel_scale = trace(_scan_like(square, 140, sigma, noise, seed), keep_snapshots=False,
                         corner_params={"scale": 1})        # the option that keeps the pixel scale
     assert len(pixel_scale.corners[k]) > 4 and all(e["corner_scale"] == 1.0 for e in pixel_scale.stats["per_boundary"])
+
+
+@pytest.mark.parametrize("noise, seed", [(0.15, 0), (0.25, 1), (0.35, 2)])
+def test_a_disc_scanned_with_heavy_pixel_noise_keeps_few_segments(noise, seed):
+    """Per-pixel noise on a blurred disc (heavier than the 4x-averaged scans above): the bumps stray 2-4 px
+    from the circle, beyond the image-wide tolerance; the boundary, seen at its coarser scale k, is fitted
+    with k * epsilon and keeps a handful of segments, no corner, and an rms below the staircase's."""
+    centre, radius = (100.3, 99.7), 60.0
+    y, x = np.mgrid[0:200, 0:200] + 0.5
+    paper = (np.hypot(x - centre[0], y - centre[1]) > radius).astype(float)
+    gray = np.clip(gaussian_filter(paper, 2.0) + np.random.default_rng(seed).normal(0.0, noise, paper.shape), 0, 1)
+    result = trace(gray, keep_snapshots=False)
+    (k,) = [k for k, points in enumerate(result.points) if len(points) >= 200]
+    entry = result.stats["per_boundary"][k]
+    assert entry["corner_scale"] > 1.0 and entry["corners"] == 0
+    assert entry["tolerance"] == pytest.approx(max(result.stats["tolerance"], entry["corner_scale"] * 0.8))
+    assert entry["converged"] and entry["hausdorff"] <= entry["tolerance"] + 1e-9
+    assert result.splines[k].n_segments <= 16
+    curve, _, _ = sample_bezier(result.splines[k].bezier(), 0.1)
+    rms = lambda p: np.sqrt(np.mean(_circle_distance(p, centre, radius) ** 2))  # noqa: E731
+    assert rms(curve) < rms(result.points[k])
+    pixel_scale = trace(gray, keep_snapshots=False, corner_params={"scale": 1})
+    assert pixel_scale.splines[k].n_segments > 3 * result.splines[k].n_segments

@@ -65,7 +65,7 @@ from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
 from .corners import check_params as check_corner_params
 from .corners import corners as detect_corners
-from .corners import detection_scale
+from .corners._jump import checked_detection_scale
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
     check_points, check_small_outline, check_tau, extrapolates_tips, make_rng
@@ -170,7 +170,8 @@ def trace(
         (``fit_params["geometric_corners"]``, default ``"clean"``; ``stats["extrapolated_tips"]``), and the
         corners of tangent-jump are detected again at the scale of each boundary's noise
         (:func:`~splinecraft.capture.corners.detection_scale`; ``stats["per_boundary"][k]["corner_scale"]``;
-        ``corner_params={"scale": 1}`` keeps the pixel scale).
+        ``corner_params={"scale": 1}`` keeps the pixel scale); a boundary seen at scale ``k > 1`` is fitted
+        with the tolerance ``max(tolerance, k * epsilon)`` (``stats["per_boundary"][k]["tolerance"]``).
     time_budget : float > 0 or None
         Seconds for corner detection and fitting of all boundaries together (not the noise estimate, unless
         corner detection used up its half; docs/capture.md §12, "Time budget"; default
@@ -211,8 +212,9 @@ def trace(
         * ``max_error`` (thesis error, spline point vs its contour point) and ``hausdorff`` (true
           two-sided geometric deviation, px): maxima over boundaries; ``converged``: all boundaries met
           ``epsilon``; counts of ``boundaries``, ``outer`` and ``holes``; ``per_boundary`` details
-          (with ``small_outline``: fitted by the small-outline path, and ``reason``: why the boundary did
-          not converge, ``None`` when it did);
+          (with ``small_outline``: fitted by the small-outline path, ``reason``: why the boundary did
+          not converge, ``None`` when it did, ``corner_scale`` and ``tolerance``: the scale of its corners
+          and the tolerance of its fit, see ``noise_factor``);
         * ``boundary_noise`` and ``tolerance`` (``noise_factor``); ``extrapolated_tips``: whether the
           ``"lsq"`` fits extrapolated corner tips (``None`` for the thesis methods).
 
@@ -283,6 +285,8 @@ def trace(
     if not undetected.any():  # the budget covers corners and fits, not the noise estimate, unless it is spent
         deadline.extend(time.perf_counter() - detected)  # already (noise images: the cap is what matters)
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
+    # a boundary seen at the coarser scale k is fitted as the clean staircase it is there: epsilon in units of k
+    tolerances = np.maximum(settings["tolerance"], corner_scale * settings["epsilon"])
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
                      f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
@@ -292,7 +296,7 @@ def trace(
                      f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
     cornered = time.perf_counter()
     (fits, splines, polygons), budget_state = _fit_boundaries(points_list, corner_list, small, settings, deadline,
-                                                              times, undetected)
+                                                              times, undetected, tolerances)
     _budget_notes(budget_state, time_budget, notes)
     finished = time.perf_counter()
 
@@ -303,8 +307,8 @@ def trace(
         if entry["reason"] is not None:
             notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
     stats["time_per_boundary_s"] = times.tolist()
-    for entry, scale in zip(stats["per_boundary"], corner_scale.tolist()):
-        entry["corner_scale"] = scale
+    for entry, scale, tolerance in zip(stats["per_boundary"], corner_scale.tolist(), tolerances.tolist()):
+        entry["corner_scale"], entry["tolerance"] = scale, tolerance
     stats["boundary_noise"] = noise
     stats["extrapolated_tips"] = tips
     stats["tolerance"] = settings["tolerance"]
@@ -431,7 +435,7 @@ def _coarse_corners(points_list, noise, undetected, settings, deadline):
             break
         if undetected[k] or len(points) < SHORT_CONTOUR:
             continue
-        scale = detection_scale(points)
+        scale = checked_detection_scale(points)
         if scale > 1.0:
             coarse[k] = (scale, _detect(points, k, "tangent-jump", {**settings["corner_params"], "scale": scale}, []))
     return coarse
@@ -468,7 +472,7 @@ def _resolve_tips(settings, noise):
     return tips
 
 
-def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, undetected):
+def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, undetected, tolerances):
     """The fit of every boundary: the small ones together (in batches of ``SMALL_CHUNK``), the others one by
     one (trusted arguments), each started only while ``deadline`` has not passed and with its corners detected
     (else its polygon). Returns
@@ -500,7 +504,7 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         started = time.perf_counter()
         rng = make_rng(_child_seed(settings["seed"], k)) if method != "lsq" else None
         try:
-            fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), epsilon, method,
+            fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), float(tolerances[k]), method,
                                   settings["tau"], rng, max_iterations, keep, 0, settings["fit_options"], deadline)
         except ValueError as exc:
             raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc

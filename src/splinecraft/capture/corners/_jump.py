@@ -102,19 +102,39 @@ def outline_roughness(points, sigma, closed=True):
     at 1 px (:func:`_sample_step`), its residuals from the smoothed samples along the smoothed normals, and
     1.4826 times their median absolute deviation from their median (a normal's standard deviation). The
     median takes out the smoothing's pull towards the centre of curvature (the same along an arc) and ignores
-    the few samples beside corners."""
-    P, _ = _prepare(points, closed)
+    the few samples beside corners. 0 for an outline of fewer than 8 samples."""
+    return _roughness(*_roughness_samples(points, closed), sigma, closed)
+
+
+def _roughness_samples(points, closed, checked=False):
+    """The outline (checked and its consecutive duplicates merged, unless ``checked``) resampled at
+    :func:`_sample_step` (1 px on crack outlines), relative to its first point, and that step; ``None`` samples
+    when there are fewer than 8."""
+    P = np.asarray(points, dtype=float) if checked else _prepare(points, closed)[0]
     if len(P) < 3:
-        return 0.0
+        return None, 1.0
     P = P - P[0]
-    samples, _, _, _ = _resample(P, closed, _sample_step(P, closed))
-    if len(samples) < 8:
+    ring, arc = _arc_lengths(P, closed)
+    step = max(1.0, float(arc[-1]) / (SAMPLES_PER_POINT * len(P)))          # _sample_step
+    count = int(round(arc[-1] / step))
+    if count < 8:
+        return None, step
+    where = np.arange(count) * (arc[-1] / count) if closed else np.linspace(0.0, arc[-1], count + 1)
+    return np.column_stack([np.interp(where, arc, ring[:, 0]), np.interp(where, arc, ring[:, 1])]), step
+
+
+def _roughness(samples, step, sigma, closed):
+    """:func:`outline_roughness` of an outline resampled at ``step`` px (:func:`_roughness_samples`)."""
+    if samples is None:
         return 0.0
-    smooth = _smooth(samples, sigma, closed)
-    tangent = np.roll(smooth, -1, axis=0) - np.roll(smooth, 1, axis=0) if closed else np.gradient(smooth, axis=0)
-    length = np.hypot(*tangent.T)
-    residual = ((samples - smooth)[:, 0] * -tangent[:, 1] + (samples - smooth)[:, 1] * tangent[:, 0]) \
-        / np.maximum(length, 1e-12)
+    smooth = _smooth(samples, sigma / step, closed)
+    offset = samples - smooth                                     # sample minus its smoothed point
+    tangent = np.empty_like(smooth)                               # the smoothed curve's central differences
+    tangent[1:-1] = smooth[2:] - smooth[:-2]
+    tangent[0], tangent[-1] = (smooth[1] - smooth[-1], smooth[0] - smooth[-2]) if closed else \
+        (smooth[1] - smooth[0], smooth[-1] - smooth[-2])
+    residual = (offset[:, 1] * tangent[:, 0] - offset[:, 0] * tangent[:, 1]) / \
+        np.maximum(np.hypot(tangent[:, 0], tangent[:, 1]), 1e-12)
     return float(1.4826 * np.median(np.abs(residual - np.median(residual))))
 
 
@@ -126,9 +146,19 @@ def detection_scale(points, closed=True):
     ``benchmarks/synthetic_shapes.py``), so it gets 1; scan-like ones (blurred, noisy, thresholded bitmaps)
     1.25-8 (BENCHMARKS.md, "Session 18"). An outline that is rough at every scale of the ladder has no shape
     for the detector to see (the boundary of a noise image): 1, the pixel scale, whose many short pieces
-    also fit fastest."""
+    also fit fastest. The outline is resampled once for all scales."""
+    return _scale_of(*_roughness_samples(points, closed), closed)
+
+
+def checked_detection_scale(points):
+    """:func:`detection_scale` of a closed outline known to be finite and without consecutive duplicates
+    (a crack outline of :mod:`~splinecraft.capture.contour`), not checked again."""
+    return _scale_of(*_roughness_samples(points, True, checked=True), True)
+
+
+def _scale_of(samples, step, closed):
     for k in SCALE_LADDER:
-        if outline_roughness(points, ROUGHNESS_SIGMA * k, closed) <= CLEAN_ROUGHNESS * k:
+        if _roughness(samples, step, ROUGHNESS_SIGMA * k, closed) <= CLEAN_ROUGHNESS * k:
             return k
     return 1.0
 

@@ -34,6 +34,11 @@ MAX_SCALE = 64.0
 SCALE_LADDER = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0)
 CLEAN_ROUGHNESS = 0.2
 ROUGHNESS_SIGMA = 2.0
+#: :func:`outline_roughness` reads the spread from this quantile of the absolute deviations (the quarter of
+#: the samples nearest the median: robust to corners on up to three quarters of a small outline's samples),
+#: divided by the same quantile of a standard normal's, ``ROUGHNESS_QUANTILE_NORMAL`` (0.3186).
+ROUGHNESS_QUANTILE = 0.25
+ROUGHNESS_QUANTILE_NORMAL = 0.31863936396437514   # scipy.stats.norm.ppf(0.5 + ROUGHNESS_QUANTILE / 2)
 
 
 def _arm_operators(length, side):
@@ -100,9 +105,12 @@ def _smooth(samples, sigma, closed):
 def outline_roughness(points, sigma, closed=True):
     """Robust spread (px) of an outline about its own Gaussian smoothing of ``sigma`` px: the outline resampled
     at 1 px (:func:`_sample_step`), its residuals from the smoothed samples along the smoothed normals, and
-    1.4826 times their median absolute deviation from their median (a normal's standard deviation). The
-    median takes out the smoothing's pull towards the centre of curvature (the same along an arc) and ignores
-    the few samples beside corners. 0 for an outline of fewer than 8 samples."""
+    the ``ROUGHNESS_QUANTILE`` (0.25) quantile of their absolute deviations from their median, divided by the
+    same quantile of a standard normal's (so a normal's standard deviation). The median takes out the
+    smoothing's pull towards the centre of curvature (the same along an arc); the low quantile ignores the
+    samples beside corners, even on a small polygon where they are most of them (the median absolute
+    deviation read a clean 84-point polygon as rough at every scale up to 4 and lost three of its four
+    corners). 0 for an outline of fewer than 8 samples."""
     return _roughness(*_roughness_samples(points, closed), sigma, closed)
 
 
@@ -135,15 +143,16 @@ def _roughness(samples, step, sigma, closed):
         (smooth[1] - smooth[0], smooth[-1] - smooth[-2])
     residual = (offset[:, 1] * tangent[:, 0] - offset[:, 0] * tangent[:, 1]) / \
         np.maximum(np.hypot(tangent[:, 0], tangent[:, 1]), 1e-12)
-    return float(1.4826 * np.median(np.abs(residual - np.median(residual))))
+    deviation = np.abs(residual - np.median(residual))
+    return float(np.quantile(deviation, ROUGHNESS_QUANTILE) / ROUGHNESS_QUANTILE_NORMAL)
 
 
 def detection_scale(points, closed=True):
     """The scale at which :func:`tangent_jump` sees an outline as a clean one: the smallest ``k`` of
     :data:`SCALE_LADDER` (1 .. 8) whose outline, divided by ``k``, is as smooth as a clean pixel staircase,
     ``outline_roughness(points, ROUGHNESS_SIGMA * k) <= CLEAN_ROUGHNESS * k`` (2 px and 0.2 px). A clean crack
-    outline is 0.09-0.2 px rough at 2 px (median 0.17 over the synthetic shapes of
-    ``benchmarks/synthetic_shapes.py``), so it gets 1; scan-like ones (blurred, noisy, thresholded bitmaps)
+    outline is 0-0.2 px rough at 2 px (median 0.006 over the 60 outlines of the tuning set of
+    ``benchmarks/synthetic_shapes.py`` at 200 px), so it gets 1; scan-like ones (blurred, noisy, thresholded bitmaps)
     1.25-8 (BENCHMARKS.md, "Session 18"). An outline that is rough at every scale of the ladder has no shape
     for the detector to see (the boundary of a noise image): 1, the pixel scale, whose many short pieces
     also fit fastest. The outline is resampled once for all scales."""

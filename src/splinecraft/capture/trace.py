@@ -16,9 +16,12 @@ Documented outcomes for degenerate input
 * small outlines (fewer than ``fitting.SMALL_OUTLINE`` = 64 contour points: single pixels, dominos, specks,
   short diagonal chains) with the default method ``"lsq"``: all fitted together by
   :func:`~splinecraft.capture.fitting.fit_small_outlines` (interpolant through contour points with knot
-  insertion, corners interpolated or, where acute, extrapolated tips; converged means within ``epsilon`` except
+  insertion, corners interpolated or, where acute, extrapolated tips, at pixel corners the vertex; converged
+  means within ``epsilon`` except
   in a tip's zone); below
-  :data:`CORNERLESS_CONTOUR` = 20 points without corner detection, as one closed periodic curve. Any other
+  :data:`CORNERLESS_CONTOUR` = 20 points without corner detection, as one closed periodic curve, except for
+  their pixel corners (tangent-jump's step 9, docs/capture.md §11: a block of 3 x 3 to 4 x 5 pixels is its
+  rectangle; strokes 1-2 px wide have none). Any other
   contour too short for the corner detector: no corners, one closed periodic curve. Both are recorded in
   :attr:`TraceResult.notes`;
 * 1-pixel-wide lines: the crack outline goes round the line (a thin closed shape of width 1);
@@ -78,6 +81,7 @@ from .fitting.results import BoundaryList
 from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
+from ._pixel_corners import merge_pixel_corners, pixel_corners
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 from .trace_stages import TraceStages
@@ -90,7 +94,9 @@ _NO_CORNERS.flags.writeable = False
 #: Contours with fewer points than this whose corner detection fails are fitted without corners.
 SHORT_CONTOUR = 64
 #: Contours with fewer points than this skip corner detection when they take the small-outline path of
-#: ``"lsq"`` (single pixels, dominos, specks, short diagonal chains): one periodic closed curve.
+#: ``"lsq"`` (single pixels, dominos, specks, short diagonal chains): one periodic closed curve, unless they
+#: have pixel corners (tangent-jump's step 9, found for every boundary at once; docs/capture.md §12, "Small
+#: outlines": a block of at least 3 x 3 pixels is its rectangle).
 CORNERLESS_CONTOUR = 20
 
 
@@ -402,22 +408,36 @@ def _contours(boundaries, settings, deadline):
     undetected = np.zeros(len(boundaries), bool)
     detect = lengths >= min(small_limit, CORNERLESS_CONTOUR)
     corner_list = [_NO_CORNERS] * len(boundaries)
+    corner_params = settings["corner_params"]
+    # tangent-jump's step 9, the pixel corners, for all boundaries at once (one vectorized call), also for those
+    # without corner detection; the detector itself runs without it
+    pixel = settings["corner_method"] == "tangent-jump" and corner_params.get("pixel_corners", True)
+    if pixel:
+        corner_params = dict(corner_params, pixel_corners=False)
+        at, _ = pixel_corners(np.concatenate(points_list), lengths) if len(points_list) else (np.zeros(0, bool), None)
+        pixel_index = [np.flatnonzero(found) for found in np.split(at, np.cumsum(lengths)[:-1])]
     for k in np.flatnonzero(detect).tolist():
         if deadline.passed():  # and so for every later boundary: they get no corners
             undetected[k:] = detect[k:]
             break
         started = time.perf_counter()
-        corner_list[k] = _detect(points_list[k], k, settings["corner_method"], settings["corner_params"], notes)
+        corner_list[k] = _detect(points_list[k], k, settings["corner_method"], corner_params, notes)
+        if pixel and pixel_index[k].size:
+            corner_list[k] = merge_pixel_corners(corner_list[k], pixel_index[k], lengths[k])
         times[k] = time.perf_counter() - started
+    if pixel:
+        for k in np.flatnonzero(~detect).tolist():
+            if pixel_index[k].size:
+                corner_list[k] = pixel_index[k].astype(np.intp)
     if small:
         skipped = int((lengths[small] < CORNERLESS_CONTOUR).sum())
         notes.append(
             f"{len(small)} boundar{'y' if len(small) == 1 else 'ies'} of fewer than {small_limit} contour points "
             "fitted together by the small-outline path of 'lsq' (fitting.fit_small_outlines: interpolant through "
-            "contour points, acute tips extrapolated where a pre-test passes; "
+            "contour points, acute tips extrapolated where a pre-test passes, pixel corners at their vertex; "
             "stats['per_boundary'][k]['small_outline'])"
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
-               "closed periodic curve" if skipped else ""))
+               "closed periodic curve unless they have pixel corners" if skipped else ""))
     return points_list, corner_list, small, times, undetected, notes
 
 

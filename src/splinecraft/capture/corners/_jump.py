@@ -9,6 +9,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _plain, _prepare, _result
 from ._fillet import release_fillets, release_wedge_fillets
 from ._jump_kernels import arm_lines
+from .._pixel_corners import with_pixel_corners
 
 
 
@@ -208,7 +209,8 @@ def _line_intersection(c1, a, c2, b):
 
 
 def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=25.0, min_excess=25.0,
-                 flank=(4, 10), max_arm=40, separation=2, spread=0.5, fillets=False, wedge=False, scale=1.0):
+                 flank=(4, 10), max_arm=40, separation=2, spread=0.5, fillets=False, wedge=False,
+                 pixel_corners=True, scale=1.0):
     """Corners as jumps of the tangent direction between straight arms (this project's detector).
 
     Designed for crack outlines of rasterized shapes (staircase noise of about half a pixel) and tuned on
@@ -301,6 +303,15 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         outline whose two sides are digital straight segments of at least 12 px and whose pixels near the
         corner contradict the sharp wedge of those sides (paper pixel centres inside it, ink ones outside) by
         more than 0.2 px beyond the lines' own uncertainty (``BENCHMARKS.md``, "Corner F1 on old-style").
+    pixel_corners : bool, default True
+        Step 9 (closed crack outlines only; :mod:`splinecraft.capture._pixel_corners`, docs/capture.md §11,
+        "Pixel corners"): every turn of the pixel boundary between two axis-aligned straight runs of at least
+        3 cracks (neither the tread of a staircase) is a corner, at the point after the turn's vertex, in place
+        of a corner found within one point of it. Such a turn is where two straight sides of the shape meet as
+        far as the pixels show, also where steps 1-6 see nothing (sides of 3-5 px: the ends of a 3-px bar, a
+        5 x 5 block) or put the corner on the midpoint before the vertex. The fit puts the corner's knot point
+        on the vertex (docs/capture.md §12). A rendering of a smooth curve has no such turn. Not at a ``scale``
+        above 1, where a pixel-sized turn is below the scale the corners are seen at (the noise).
     scale : float, default 1.0
         Step 0, in ``[1, MAX_SCALE]`` = [1, 64]: the unit (px) of every length parameter. Steps 7 and 7b work
         on the outline as given.
@@ -312,10 +323,20 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
     """
     settings = check_tangent_jump_params(smoothing=smoothing, tolerance=tolerance, min_turn=min_turn,
                                          min_excess=min_excess, flank=flank, max_arm=max_arm, separation=separation,
-                                         spread=spread, fillets=fillets, wedge=wedge, scale=scale)
+                                         spread=spread, fillets=fillets, wedge=wedge, pixel_corners=pixel_corners,
+                                         scale=scale)
     P, keep = _prepare(points, closed)
     if len(P) < 3:
         return _EMPTY.copy()
+    found = _tangent_jump(P, closed, settings)
+    if settings["pixel_corners"] and closed and settings["scale"] == 1.0:  # a pixel is below a coarser scale
+        found = with_pixel_corners(found, P)
+    return _result(found, keep)
+
+
+def _tangent_jump(P, closed, settings):
+    """Steps 1-8 of :func:`tangent_jump` on the distinct points ``P``: indices into ``P`` (empty when the
+    outline is shorter than 8 samples)."""
     n = len(P)
     levels = _distance_levels(P) if closed else None
     starts = _canonical_starts(levels) if closed else [(0, 1)]
@@ -328,7 +349,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         if found is None:
             found = _detect(P[order], closed, settings)
             if found is None:
-                return _EMPTY.copy()
+                return np.zeros(0, dtype=np.intp)
             done.append((relative, found))
         runs.append(order[found])
     nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_order(levels))
@@ -343,7 +364,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
         if settings["wedge"]:
             found = release_wedge_fillets(rolled, arc, perimeter, closed, np.unique(found))
         nearest = (np.asarray(found, dtype=np.intp) + first) % n
-    return _result(nearest, keep)
+    return np.unique(np.asarray(nearest, dtype=np.intp))
 
 
 #: The quarter turns and reflections of the frame, as (swap x and y, sign of x, sign of y).
@@ -503,7 +524,7 @@ def _symmetric_union(P, runs, key, reach=3.0):
 
 
 def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets,
-                              wedge, spread=0.5, scale=1.0, label=_plain):
+                              wedge, spread=0.5, pixel_corners=True, scale=1.0, label=_plain):
     """tangent-jump's parameters checked against their documented domains and bounds (the one rule, used by
     :func:`tangent_jump` and by :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a
     parameter in messages. Returns the settings of :func:`_detect` (``flank`` split into ``near`` and ``far``)."""
@@ -521,6 +542,7 @@ def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, fla
         "spread": _check_real(spread, label("spread"), low=0.0, high=1.0),
         "fillets": _check_bool(fillets, label("fillets")),
         "wedge": _check_bool(wedge, label("wedge")),
+        "pixel_corners": _check_bool(pixel_corners, label("pixel_corners")),
         "scale": _check_real(scale, label("scale"), low=1.0, high=MAX_SCALE),
     }
 

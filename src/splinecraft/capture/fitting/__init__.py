@@ -47,8 +47,10 @@ def fit_small_outlines(outlines, corner_lists=None, *, epsilon=DEFAULT_EPSILON, 
     that are contour points (arc-length parameter; one periodic loop without corners, natural ends at
     corners), with knots inserted at the farthest contour point of every interval whose two-sided deviation
     exceeds ``epsilon``; all outlines refine side by side, stacked dense solves per round (docs/capture.md
-    §12, "Small outlines"). ``converged=True`` means ``hausdorff <= epsilon`` everywhere (corners are
-    interpolated, so no corner allowance); otherwise ``FitResult.info["reason"]`` says why.
+    §12, "Small outlines"). Corners are interpolated, except an acute corner whose tip is extrapolated and a
+    corner beside a pixel corner (a turn of a crack outline between two axis-aligned straight runs), whose knot
+    point is that vertex. ``converged=True`` means ``hausdorff <= epsilon`` everywhere but in the zones of those
+    corners, where it is ``info["tolerance_near_corners"]``; otherwise ``FitResult.info["reason"]`` says why.
 
     Parameters
     ----------

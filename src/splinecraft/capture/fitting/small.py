@@ -16,8 +16,10 @@ of two or more contour steps gets a knot at its contour point farthest from the 
 half of the interval). Once an outline is within ``epsilon``, knot-removal rounds (snapshot phase
 ``"remove"``) drop every other inner knot, put back those whose interval then fails and go back to the
 round's start if the outline still fails, as long as removals stick. Acute corners of outlines that pass
-:func:`_tip_candidates` get the extrapolated tip of ``"lsq"`` (:func:`_corner_tips`): the tip is the knot point
-of both chains that meet there, and the corner's zone has the allowance of ``"lsq"`` in the deviation check.
+:func:`_tip_candidates` get the extrapolated tip of ``"lsq"`` (:func:`_corner_tips`), and so do the corners beside
+a pixel corner of a crack outline (a turn between two axis-aligned straight runs, :mod:`.._pixel_corners`), whose
+tip is that vertex: the tip is the knot point of both chains that meet there, and the corner's zone has the
+allowance of ``"lsq"`` in the deviation check.
 When every contour point is a knot the curve interpolates them all, so a crack outline converges for any
 ``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px); below it the result says so
 (``FitResult.info["reason"]``).
@@ -27,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...spline import Spline
+from .._pixel_corners import corner_vertices
 from ...spline.segment import bezier_signed_area
 from ._threads import one_blas_thread
 from .budget import BUDGET_REASON
@@ -265,7 +268,8 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h, 
 def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
     """Outlines of the batch with a corner whose tip may be extrapolated: a cheap vectorized pre-test of
     :func:`~.tips.tip_estimates`' conditions (both sides long enough for a side window of their own, an acute
-    contour angle, both side windows close to a parabola; constants ``_TIP_TEST_*``). Returns the
+    contour angle, both side windows close to a parabola; constants ``_TIP_TEST_*``), or a corner beside a pixel
+    corner (:func:`.._pixel_corners.corner_vertices`, whose tip is that vertex). Returns the
     outlines with such a corner (boolean per outline) and the corners that pass (boolean, the outlines' corners
     one after the other)."""
     counts = np.array([c.shape[0] for c in corners], dtype=np.int64)
@@ -306,7 +310,7 @@ def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
     for side, (sign, steps) in enumerate(((-1, steps_before), (1, steps_after))):
         rows = np.flatnonzero(ok)
         if not rows.size:
-            return wanted, ok
+            break
         near = np.ceil(start[rows])[:, None]
         far = np.clip((0.8 * steps[rows]).astype(np.int64), 4, _TIP_TEST_WINDOW)[:, None]
         mask = ((j >= near) & (j <= far)).astype(float)
@@ -326,6 +330,8 @@ def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
         direction[side, rows] = phi[:, 0]
     # sides meeting at less than tips.MIN_CROSSING give no tip
     ok &= np.abs(np.sin(direction[0] - direction[1])) >= np.sin(MIN_CROSSING)
+    # the corners beside a pixel corner: their tip is its vertex (tips.tip_estimates)
+    ok |= np.isfinite(corner_vertices(points, lengths, outline, c)[:, 0])
     wanted[outline[ok]] = True
     return wanted, ok
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._pixel_corners import corner_vertices
 from .geometry import polyline_distance
 
 __all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "pixel_pairs",
@@ -341,6 +342,12 @@ def tip_estimates(contour, angle, radius, measured=None):
     reach is bounded by the other side's window only (the tip lies at the end of the shared side). A corner
     between two short sides gets no estimate.
 
+    A corner beside a pixel corner of a crack outline (one of the two contour points beside a turn of the
+    pixel boundary between two axis-aligned straight runs, :mod:`splinecraft.capture._pixel_corners`) has that
+    vertex as its tip whatever its angle: each run's separating line is the crack line itself, so their
+    crossing is exact (as far as the pixels go) and lies on the pixel boundary, 0.35 px outside the contour's
+    chamfer; its sides are not fitted.
+
     ``measured`` (boolean per corner, optional): only these corners are measured (the small-outline path
     measures the corners its pre-test passes, docs/capture.md §12, "Small outlines").
 
@@ -366,9 +373,14 @@ def tip_estimates(contour, angle, radius, measured=None):
     # measured on chords that reach past the short side is blunter than the corner) and kept only if its sides
     # meet at less than MAX_EXTRAPOLATED_ANGLE
     acute = ~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE))
+    # pixel corners: the vertex, no sides fitted
+    vertex = corner_vertices(contour.points, [contour.size], np.zeros(count, dtype=np.int64),
+                             contour.corner_bounds[:-1])
+    pixel = np.isfinite(vertex[:, 0]) if measured is None else np.isfinite(vertex[:, 0]) & measured
     wanted = (acute | one_short) if measured is None else (acute | one_short) & measured
+    wanted &= ~pixel
     if not wanted.any():
-        return estimate, start, anchors, np.full(count, np.nan)
+        return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan))
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False
@@ -434,4 +446,20 @@ def tip_estimates(contour, angle, radius, measured=None):
         outside = distance[found] = polyline_distance(estimate[found], contour.points, closed=True)
         rounded = found[outside * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
         estimate[rounded], anchors[rounded], distance[rounded] = np.nan, np.nan, np.nan
+    return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance)
+
+
+def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance):
+    """:func:`tip_estimates`' results with the pixel corners ``pixel`` (boolean per corner) at their vertex
+    (``vertex``, per corner): the estimate, the contour points at the window starts and the distance from the
+    contour."""
+    if not pixel.any():
+        return estimate, start, anchors, distance
+    found = np.flatnonzero(pixel)
+    corner_arc = contour.arc[contour.corner_bounds[found]]
+    estimate[found] = vertex[found]
+    before = contour.point_at_arc((corner_arc - start[found]) % contour.perimeter)
+    after = contour.point_at_arc((corner_arc + start[found]) % contour.perimeter)
+    anchors[found] = np.stack([before, after], axis=1)
+    distance[found] = polyline_distance(vertex[found], contour.points, closed=True)
     return estimate, start, anchors, distance

@@ -1,0 +1,144 @@
+"""Pixel corners of crack outlines: turns of the pixel boundary between two axis-aligned straight sides
+(docs/capture.md §11, "Pixel corners"; §12, "Small outlines").
+
+A crack outline (docs/capture.md §10) lists the midpoints of the unit cracks between ink and paper pixels, so
+the pixel boundary's own vertices are not contour points: where it turns, the polyline of midpoints cuts the
+turn by a chamfer 0.35 px inside it, and a corner detector can only mark one of the two midpoints beside it,
+half a pixel along one side. Where both sides of the turn are axis-aligned straight runs, the two sides of the
+shape are pinned down exactly as far as the pixels go (every line of the preimage of such a run lies within
+half a pixel of the crack line, which is the preimage's centre: the separating line of ``fitting.tips``), and
+their crossing is the turn's vertex, the pixel corner. :func:`pixel_corners` finds those vertices:
+
+* both runs that meet at the vertex are at least :data:`MIN_RUN` cracks long (a turn beside a run of one or
+  two cracks is a step of a staircase, a rounded corner or a nub, not two straight sides);
+* neither run continues beyond its far end as the tread of a staircase (a step of one crack, then a run
+  parallel to it the same way): that is a side a little off the axis, whose line (and corner) the run
+  alone does not give.
+
+A smooth curve never makes such a turn: two adjacent runs of three cracks or more at right angles need the
+curve to turn by more than 50 degrees within about 3 px, and a fillet of more than 1.7 px radius leaves the
+corner pixel out (runs ``L, 1, 1, L``); a fillet below that renders exactly as a sharp corner. Outlines of
+any other form (pixel chains, resampled or scaled polylines) have no pixel corners.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["MIN_RUN", "pixel_corners", "outline_pixel_corners", "corner_vertices", "with_pixel_corners",
+           "merge_pixel_corners"]
+
+#: Fewest cracks of each of the two straight runs that meet at a pixel corner.
+MIN_RUN = 3
+
+_UNIT = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
+
+
+def pixel_corners(points, lengths):
+    """Pixel corners of closed crack outlines stacked one after the other (``points`` ``(N, 2)``, outline
+    ``b`` has ``lengths[b]`` points, first point not repeated).
+
+    Returns ``(at, vertex)``: ``at[i]`` (bool, ``N``) says that the outline turns at a pixel corner between
+    its point before ``i`` (cyclically) and point ``i``, and ``vertex[i]`` (``(N, 2)``, NaN elsewhere) is that
+    corner, the vertex shared by the two cracks. An outline whose points are not the midpoints of a closed
+    chain of unit cracks gets none. Vectorized over all outlines; an outline's result does not depend on the
+    others."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
+    total = points.shape[0]
+    at = np.zeros(total, bool)
+    vertex = np.full((total, 2), np.nan)
+    if total == 0:
+        return at, vertex
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    outline = np.repeat(np.arange(lengths.shape[0]), lengths)
+    local = np.arange(total) - offsets[outline]
+    n = lengths[outline]
+    prev = offsets[outline] + (local - 1) % n
+    nxt = offsets[outline] + (local + 1) % n
+    # a crack midpoint has one integer and one half-integer coordinate; its direction of travel points from
+    # the point before it towards the point after it along its own axis
+    frac = np.abs(points - np.floor(points))
+    horizontal = (frac[:, 1] == 0.0) & (frac[:, 0] == 0.5)
+    vertical = (frac[:, 0] == 0.0) & (frac[:, 1] == 0.5)
+    travel = points[nxt] - points[prev]
+    code = np.where(horizontal, np.where(travel[:, 0] > 0, 0, 2), np.where(travel[:, 1] > 0, 1, 3))
+    unit = _UNIT[code]
+    # a closed chain of unit cracks: each crack starts where the one before it ends
+    chained = (horizontal | vertical) & np.all(points[prev] + 0.5 * unit[prev] == points - 0.5 * unit, axis=1)
+    good = np.bincount(outline, weights=~chained, minlength=lengths.shape[0]) == 0
+    good &= lengths >= 4
+    if not good.any():
+        return at, vertex
+    # runs of cracks of one direction: run starts, and per outline its runs in order (cyclically)
+    start = good[outline] & (code != code[prev])
+    first = np.flatnonzero(start)  # global index of every run's first crack, sorted (by outline, then index)
+    run_outline = outline[first]
+    count = np.bincount(run_outline, minlength=lengths.shape[0])
+    run_offset = np.concatenate([[0], np.cumsum(count)[:-1]])
+    j = np.arange(first.shape[0]) - run_offset[run_outline]  # a run's rank in its outline
+    k = count[run_outline]
+    following = first[run_offset[run_outline] + (j + 1) % k]
+    length = (following - first) % lengths[run_outline]
+    length = np.where(length == 0, lengths[run_outline], length)
+    direction = code[first]
+
+    def run(m):  # the run m places after each run (negative: before), within its outline
+        return run_offset[run_outline] + (j + m) % k
+
+    # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
+    corner = (length[run(-1)] >= MIN_RUN) & (length >= MIN_RUN)
+    corner &= ~((length[run(-2)] == 1) & (direction[run(-3)] == direction[run(-1)]))
+    corner &= ~((length[run(1)] == 1) & (direction[run(2)] == direction))
+    corner &= k >= 4
+    index = first[corner]
+    at[index] = True
+    vertex[index] = points[index] - 0.5 * unit[index]
+    return at, vertex
+
+
+def outline_pixel_corners(points):
+    """The indices of the points of one closed crack outline that follow a pixel corner (:func:`pixel_corners`),
+    sorted, and those corners (``(k, 2)``)."""
+    points = np.asarray(points, float)
+    at, vertex = pixel_corners(points, [points.shape[0]])
+    index = np.flatnonzero(at)
+    return index, vertex[index]
+
+
+def corner_vertices(points, lengths, outline, corners):
+    """The pixel corner beside each given corner of stacked crack outlines (``points``, ``lengths`` as in
+    :func:`pixel_corners`): ``outline`` and ``corners`` (int arrays of one length) name the outline and the
+    index within it of each corner. A corner at one of the two points beside a pixel corner (the point
+    before it or the point after it) gets that vertex; others get NaN. Returns ``(k, 2)``."""
+    lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
+    outline = np.asarray(outline, dtype=np.int64).reshape(-1)
+    corners = np.asarray(corners, dtype=np.int64).reshape(-1)
+    out = np.full((corners.shape[0], 2), np.nan)
+    if not corners.size:
+        return out
+    at, vertex = pixel_corners(points, lengths)
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    n = lengths[outline]
+    here = offsets[outline] + corners % n  # the vertex between the corner's point and the one before it
+    after = offsets[outline] + (corners + 1) % n  # ... between the corner's point and the one after it
+    out = np.where(at[here][:, None], vertex[here], np.where(at[after][:, None], vertex[after], np.nan))
+    return out
+
+
+def with_pixel_corners(found, points):
+    """The corners ``found`` (indices into the closed outline ``points``) with its pixel corners
+    (:func:`merge_pixel_corners` of :func:`outline_pixel_corners`). Sorted, unique."""
+    return merge_pixel_corners(found, outline_pixel_corners(points)[0], len(points))
+
+
+def merge_pixel_corners(found, index, n):
+    """The corners ``found`` (indices into a closed outline of ``n`` points) with its pixel corners ``index``
+    (the points after their vertices): every pixel corner is a corner, in place of any corner of ``found`` within
+    one point of it (the two midpoints beside the vertex, or the middle crack of a side of three); the rest of
+    ``found`` stays. Sorted, unique."""
+    found = np.asarray(found, dtype=np.intp).reshape(-1)
+    if not len(index):
+        return found
+    gap = np.abs(found[:, None] - index[None, :]) % n
+    near = (np.minimum(gap, n - gap) <= 1).any(axis=1)
+    return np.unique(np.concatenate([found[~near], index])).astype(np.intp)

@@ -1,0 +1,241 @@
+"""Axis-aligned blocks of pixels keep their corners and sides (docs/capture.md §11, "Pixel corners"; §12, "Small
+outlines"): the crack outline's points are crack midpoints, so a block's true corners are not contour points;
+its pixel corners (turns between two axis-aligned straight runs of at least 3 cracks) are corners at their
+vertices, in both fit paths (the small-outline interpolant below 64 contour points, the regression spline
+above). Everything is generated here.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import splinecraft as sc
+from splinecraft.capture._pixel_corners import (MIN_RUN, corner_vertices, merge_pixel_corners, outline_pixel_corners,
+                                                pixel_corners)
+from splinecraft.capture.contour import trace_boundaries
+from splinecraft.capture.corners import check_params, tangent_jump
+from splinecraft.spline.segment import bezier_signed_area
+
+
+def block(height, width, top=5, left=5, margin=5, hole=None):
+    """A mask with one ``height`` x ``width`` block of ink at (``top``, ``left``), and ``hole`` (top, left, height,
+    width, relative to the block) cut out of it."""
+    mask = np.zeros((top + height + margin, left + width + margin), bool)
+    mask[top:top + height, left:left + width] = True
+    if hole is not None:
+        t, l, h, w = hole
+        mask[top + t:top + t + h, left + l:left + l + w] = False
+    return mask
+
+
+def rectangle_vertices(top, left, height, width):
+    return np.array([(left, top), (left + width, top), (left + width, top + height), (left, top + height)], float)
+
+
+def dense(bezier, step=0.05):
+    out = []
+    for piece in np.asarray(bezier, float):
+        length = np.hypot(*np.diff(piece, axis=0).T).sum()
+        t = np.linspace(0.0, 1.0, max(4, int(np.ceil(length / step)) + 1))[:, None]
+        out.append((1 - t) ** 3 * piece[0] + 3 * t * (1 - t) ** 2 * piece[1] + 3 * t**2 * (1 - t) * piece[2]
+                   + t**3 * piece[3])
+    return np.concatenate(out)
+
+
+def rectangle_distance(samples, vertices):
+    """Distance of every sample from the boundary of the axis-aligned rectangle ``vertices``."""
+    (x0, y0), (x1, y1) = vertices.min(axis=0), vertices.max(axis=0)
+    x, y = samples[:, 0], samples[:, 1]
+    outside = np.hypot(np.maximum(np.maximum(x0 - x, x - x1), 0.0), np.maximum(np.maximum(y0 - y, y - y1), 0.0))
+    inside = np.minimum(np.minimum(x - x0, x1 - x), np.minimum(y - y0, y1 - y))
+    return np.where(outside > 0, outside, np.abs(inside))
+
+
+def check_rectangle(bezier, vertices, corner_tolerance=0.15, side_tolerance=0.15, area_share=0.02):
+    """The closed Bézier chain ``bezier`` traces the rectangle ``vertices``: a join within ``corner_tolerance`` of
+    every corner, every point within ``side_tolerance`` of the rectangle's sides and the four corners within that
+    of the curve, its area within ``area_share`` of the rectangle's."""
+    bezier = np.asarray(bezier, float)
+    joins = bezier[:, 0]
+    misses = [float(np.hypot(*(joins - v).T).min()) for v in vertices]
+    assert max(misses) <= corner_tolerance, (np.round(misses, 3), np.round(joins, 3).tolist())
+    samples = dense(bezier)
+    assert rectangle_distance(samples, vertices).max() <= side_tolerance
+    area = abs(np.prod(vertices.max(axis=0) - vertices.min(axis=0)))
+    assert abs(abs(bezier_signed_area(bezier)) / area - 1.0) <= area_share
+
+
+# ------------------------------------------------------------------------------------------- traced blocks
+
+@pytest.mark.parametrize("height,width", [(8, 10), (5, 5), (4, 4), (6, 9), (12, 20), (3, 7), (3, 3), (3, 30),
+                                          (4, 30), (20, 20), (30, 30)])
+def test_a_block_traces_to_its_rectangle(height, width):
+    """The blocks of the pinwheel report (8 x 10 came back with every corner half a pixel along a side, an area of
+    70 for 80; 5 x 5 as a turned square) and others across both fit paths and the 20-point limit of corner
+    detection: four joins at the pixel corners, the sides on the pixel edges."""
+    result = sc.trace(block(height, width))
+    assert len(result.splines) == 1 and result.stats["converged"]
+    bezier = result.splines[0].bezier()
+    # exact up to the weight of the regression spline's corner pins (about 1e-6 px)
+    check_rectangle(bezier, rectangle_vertices(5, 5, height, width), corner_tolerance=1e-5, side_tolerance=0.01,
+                    area_share=1e-4)
+    assert len(bezier) == 4
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(3, 30), st.integers(3, 30), st.integers(0, 12), st.integers(0, 12), st.integers(1, 9),
+       st.booleans())
+def test_random_blocks_keep_their_corners_and_area(height, width, top, left, margin, with_hole):
+    """Blocks of 3-30 px sides anywhere in the image (and a block with a rectangular hole, whose outline turns the
+    other way round): every corner within 0.15 px of a join of the fit, the sides within 0.15 px of the pixel
+    edges, the area within 2 %."""
+    hole = None
+    if with_hole and height >= 9 and width >= 9:
+        hole = (3, 3, height - 6, width - 6)
+    mask = block(height, width, top, left, margin, hole)
+    result = sc.trace(mask)
+    assert result.stats["converged"]
+    outer = rectangle_vertices(top, left, height, width)
+    expected = [outer] if hole is None else [outer, rectangle_vertices(top + 3, left + 3, height - 6, width - 6)]
+    assert len(result.splines) == len(expected)
+    for vertices in expected:  # the spline whose joins span about that rectangle
+        spline = min(result.splines, key=lambda s: np.abs(np.concatenate([
+            s.bezier()[:, 0].min(axis=0) - vertices.min(axis=0), s.bezier()[:, 0].max(axis=0) - vertices.max(axis=0)])).sum())
+        check_rectangle(spline.bezier(), vertices)
+
+
+def test_an_l_shaped_outline_has_its_six_pixel_corners():
+    """Convex and concave pixel corners alike (an L of two bars 5 px wide): six joins at the vertices."""
+    mask = np.zeros((30, 30), bool)
+    mask[5:20, 5:10] = True
+    mask[15:20, 5:20] = True
+    result = sc.trace(mask)
+    vertices = np.array([(5, 5), (10, 5), (10, 15), (20, 15), (20, 20), (5, 20)], float)
+    joins = result.splines[0].bezier()[:, 0]
+    assert max(np.hypot(*(joins - v).T).min() for v in vertices) <= 1e-5
+    assert abs(bezier_signed_area(result.splines[0].bezier())) == pytest.approx(mask.sum(), rel=1e-5)
+
+
+@pytest.mark.parametrize("height,width", [(1, 1), (1, 5), (2, 2), (2, 6), (1, 12), (2, 12)])
+def test_blocks_one_or_two_pixels_wide_stay_without_pixel_corners(height, width):
+    """The choice for strokes of 1-2 px (specks, dominos, dashes, hairline fragments): no pixel corners (their sides
+    across the stroke are runs of 1 or 2 cracks); below 20 contour points they stay one periodic closed curve."""
+    mask = block(height, width)
+    (boundary,) = trace_boundaries(mask)
+    assert outline_pixel_corners(np.asarray(boundary.outline, float))[0].size == 0
+    result = sc.trace(mask, min_speck_area=0)
+    if 2 * (height + width) < 20:
+        assert result.corners[0].size == 0
+
+
+def test_pixel_corners_can_be_turned_off():
+    """``corner_params={"pixel_corners": False}`` traces as before: the detector's corners only (none on a 5 x 5
+    block), so its outline is one periodic curve."""
+    check_params("tangent-jump", {"pixel_corners": False})
+    with pytest.raises(TypeError):
+        check_params("tangent-jump", {"pixel_corners": "yes"})
+    mask = block(5, 5)
+    assert sc.trace(mask).corners[0].size == 4
+    assert sc.trace(mask, corner_params={"pixel_corners": False}).corners[0].size == 0
+
+
+# ------------------------------------------------------------------------------------------- the rule itself
+
+def outline_of(mask):
+    return [np.asarray(b.outline, float) for b in trace_boundaries(mask)]
+
+
+def test_pixel_corners_of_a_block_are_its_four_corners():
+    (points,) = outline_of(block(3, 7))
+    index, vertices = outline_pixel_corners(points)
+    assert sorted(map(tuple, vertices.tolist())) == sorted(map(tuple, rectangle_vertices(5, 5, 3, 7).tolist()))
+    # the point after each vertex: half a pixel from it, and the point before as well
+    n = len(points)
+    assert np.allclose(np.hypot(*(points[index] - vertices).T), 0.5)
+    assert np.allclose(np.hypot(*(points[(index - 1) % n] - vertices).T), 0.5)
+    # a corner at either point beside a vertex names it; a corner elsewhere (the middle of a long side) names none
+    middle = int(np.argmax(np.min(np.abs(np.arange(n)[:, None] - index[None, :]) % n, axis=1)
+                           * np.min((index[None, :] - np.arange(n)[:, None]) % n, axis=1)))
+    assert min(np.abs(middle - index).min(), n - np.abs(middle - index).max()) >= 2
+    got = corner_vertices(points, [n], np.zeros(3, int), np.array([index[0], (index[1] - 1) % n, middle]))
+    np.testing.assert_array_equal(got[:2], vertices[:2])
+    assert np.isnan(got[2]).all()
+
+
+@pytest.mark.parametrize("slope", [1 / 12, 1 / 5, 1 / 3, 2 / 5, 1.0])
+def test_a_staircase_has_no_pixel_corners(slope):
+    """A thick bar turned off the axes: its sides are staircases of runs a few cracks long, whose turns are not
+    pixel corners (the runs continue beyond each step as treads)."""
+    rows, cols = np.mgrid[:80, :80]
+    # a band between two parallel lines of the given slope, cut by two lines across it far apart
+    along = (cols + slope * rows) / np.hypot(1.0, slope)
+    across = (rows - slope * cols) / np.hypot(1.0, slope)
+    mask = (np.abs(across - across[40, 40] - 0.3) < 6.0) & (np.abs(along - along[40, 40]) < 30.0)
+    for points in outline_of(mask):
+        index, vertices = outline_pixel_corners(points)
+        # only the band's four ends can be corners at all; none of them lies inside the straight sides
+        middle = np.abs((vertices[:, 0] + slope * vertices[:, 1]) / np.hypot(1.0, slope) - along[40, 40]) < 24.0
+        assert not middle.any(), vertices[middle]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.floats(3.1, 20.0), st.floats(0.0, 1.0), st.floats(0.0, 1.0))
+def test_a_disc_has_no_pixel_corners(radius, dx, dy):
+    """A rendered disc of radius above 3.05 px never turns between two straight runs of 3 cracks. Smaller ones can:
+    a 3 x 3, 4 x 4 or 5 x 5 block (with a nub at radius 3) is a disc of radius 1.4-2, 2.1-2.5 or 2.8-3.05 px as
+    well, and there the block reading wins."""
+    rows, cols = np.mgrid[:48, :48]
+    mask = (cols + 0.5 - 24 - dx) ** 2 + (rows + 0.5 - 24 - dy) ** 2 <= radius * radius
+    for points in outline_of(mask):
+        assert outline_pixel_corners(points)[0].size == 0
+
+
+def test_only_crack_outlines_have_pixel_corners():
+    """Pixel chains, shifted or scaled outlines are not crack outlines: no pixel corners."""
+    mask = block(6, 8)
+    (points,) = outline_of(mask)
+    (boundary,) = trace_boundaries(mask)
+    assert outline_pixel_corners(points)[0].size == 4
+    for other in (np.asarray(boundary.pixels, float), points + 0.25, points * 2.0):
+        assert outline_pixel_corners(other)[0].size == 0
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000))
+def test_pixel_corners_of_a_batch_are_those_of_each_outline(seed):
+    """The vectorized batch gives every outline the pixel corners it has alone; every pixel corner is a turn
+    between two runs of at least MIN_RUN cracks."""
+    rng = np.random.default_rng(seed)
+    mask = np.zeros((40, 40), bool)
+    for _ in range(6):
+        top, left = rng.integers(0, 34, 2)
+        height, width = rng.integers(1, 8, 2)
+        mask[top:top + height, left:left + width] = True
+    outlines = outline_of(mask)
+    at, vertices = pixel_corners(np.concatenate(outlines), [len(o) for o in outlines])
+    start = 0
+    for points in outlines:
+        index, own = outline_pixel_corners(points)
+        np.testing.assert_array_equal(np.flatnonzero(at[start:start + len(points)]), index)
+        np.testing.assert_array_equal(vertices[start + index], own)
+        n = len(points)
+        for i in index:
+            assert np.allclose(np.abs(points[(i + np.arange(MIN_RUN)) % n] - points[i]).min(axis=1), 0.0)
+            assert np.allclose(np.abs(points[(i - 1 - np.arange(MIN_RUN)) % n] - points[(i - 1) % n]).min(axis=1),
+                               0.0)
+        start += len(points)
+
+
+def test_detected_corners_beside_a_pixel_corner_give_way_to_it():
+    """tangent-jump's step 9: a detected corner within one point of a pixel corner is replaced by it, the others
+    stay; off, the detector's own corners."""
+    (points,) = outline_of(block(4, 12))
+    index, _ = outline_pixel_corners(points)
+    n = len(points)
+    far = (index[0] + 6) % n  # the middle of a long side
+    assert np.min(np.minimum(np.abs(far - index), n - np.abs(far - index))) >= 2
+    merged = merge_pixel_corners(np.array([(index[0] - 1) % n, (index[1] + 1) % n, far]), index, n)
+    np.testing.assert_array_equal(merged, np.unique(np.append(index, far)))
+    np.testing.assert_array_equal(tangent_jump(points), np.sort(index))
+    assert tangent_jump(points, pixel_corners=False).size <= 4

@@ -180,9 +180,11 @@ def test_a_staircase_has_no_pixel_corners(slope):
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.floats(3.1, 20.0), st.floats(0.0, 1.0), st.floats(0.0, 1.0))
+@given(st.floats(3.15, 20.0), st.floats(0.0, 1.0), st.floats(0.0, 1.0))
 def test_a_disc_has_no_pixel_corners(radius, dx, dy):
-    """A rendered disc of radius above 3.05 px never turns between two straight runs of 3 cracks. Smaller ones can:
+    """A rendered disc of radius above 3.1 px never turns between two straight runs of 3 cracks (a scan of
+    radii 3.05-8 in steps of 0.01-0.05 px over 65 x 65 offsets found such turns up to 3.09 px, and at 3.1 px
+    exactly where pixel centres lie on the circle). Smaller ones can:
     a 3 x 3, 4 x 4 or 5 x 5 block (with a nub at radius 3) is a disc of radius 1.4-2, 2.1-2.5 or 2.8-3.05 px as
     well, and there the block reading wins."""
     rows, cols = np.mgrid[:48, :48]

@@ -241,3 +241,24 @@ def test_detected_corners_beside_a_pixel_corner_give_way_to_it():
     np.testing.assert_array_equal(merged, np.unique(np.append(index, far)))
     np.testing.assert_array_equal(tangent_jump(points), np.sort(index))
     assert tangent_jump(points, pixel_corners=False).size <= 4
+
+
+@pytest.mark.parametrize("chunk", [1, 16, 40, 1 << 18])
+def test_pixel_corner_indices_in_chunks_are_those_of_each_outline(chunk, monkeypatch):
+    """trace's call: chunks of whole outlines (bounded temporaries on noise images of millions of points) give
+    every outline its own pixel corners, whatever the chunk size."""
+    import splinecraft.capture._pixel_corners as module
+
+    rng = np.random.default_rng(7)
+    mask = np.zeros((60, 60), bool)
+    for _ in range(12):
+        top, left = rng.integers(0, 54, 2)
+        height, width = rng.integers(1, 9, 2)
+        mask[top:top + height, left:left + width] = True
+    outlines = outline_of(mask)
+    monkeypatch.setattr(module, "CHUNK_POINTS", chunk)
+    found = module.pixel_corner_indices(outlines)
+    assert len(found) == len(outlines) and sum(len(f) for f in found) > 0
+    for points, index in zip(outlines, found):
+        np.testing.assert_array_equal(index, outline_pixel_corners(points)[0])
+    assert module.pixel_corner_indices([]) == []

@@ -25,10 +25,14 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["MIN_RUN", "pixel_corners", "outline_pixel_corners", "corner_vertices", "with_pixel_corners",
-           "merge_pixel_corners"]
+           "merge_pixel_corners", "pixel_corner_indices"]
 
 #: Fewest cracks of each of the two straight runs that meet at a pixel corner.
 MIN_RUN = 3
+
+#: Points per call of :func:`pixel_corners` in :func:`pixel_corner_indices` (its temporaries are some 30 arrays of
+#: the points' length: a bounded chunk keeps a noise image of millions of contour points within its memory).
+CHUNK_POINTS = 1 << 18
 
 _UNIT = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
 
@@ -142,3 +146,18 @@ def merge_pixel_corners(found, index, n):
     gap = np.abs(found[:, None] - index[None, :]) % n
     near = (np.minimum(gap, n - gap) <= 1).any(axis=1)
     return np.unique(np.concatenate([found[~near], index])).astype(np.intp)
+
+
+def pixel_corner_indices(points_list):
+    """:func:`outline_pixel_corners`' indices for every closed crack outline of ``points_list``, by
+    :func:`pixel_corners` on chunks of whole outlines of about ``CHUNK_POINTS`` points (an outline's result does
+    not depend on the others; the chunks bound the temporaries)."""
+    lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
+    found = []
+    first = 0
+    while first < len(points_list):
+        last = first + max(1, int(np.searchsorted(np.cumsum(lengths[first:]), CHUNK_POINTS, side="right")))
+        at, _ = pixel_corners(np.concatenate(points_list[first:last]), lengths[first:last])
+        found += [np.flatnonzero(part) for part in np.split(at, np.cumsum(lengths[first:last])[:-1])]
+        first = last
+    return found

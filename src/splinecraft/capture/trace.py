@@ -81,7 +81,7 @@ from .fitting.results import BoundaryList
 from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
-from ._pixel_corners import merge_pixel_corners, pixel_corners
+from ._pixel_corners import merge_pixel_corners, pixel_corner_indices
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 from .trace_stages import TraceStages
@@ -414,8 +414,7 @@ def _contours(boundaries, settings, deadline):
     pixel = settings["corner_method"] == "tangent-jump" and corner_params.get("pixel_corners", True)
     if pixel:
         corner_params = dict(corner_params, pixel_corners=False)
-        at, _ = pixel_corners(np.concatenate(points_list), lengths) if len(points_list) else (np.zeros(0, bool), None)
-        pixel_index = [np.flatnonzero(found) for found in np.split(at, np.cumsum(lengths)[:-1])]
+        pixel_index = pixel_corner_indices(points_list)
     for k in np.flatnonzero(detect).tolist():
         if deadline.passed():  # and so for every later boundary: they get no corners
             undetected[k:] = detect[k:]

@@ -273,12 +273,12 @@ def trace(
 
     def measure_noise():
         if noise_factor <= 0:
-            return 0.0, {}
+            return 0.0, {}, True
         noise = boundary_noise(mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
-        return noise, _coarse_corners(points_list, noise, undetected, settings, corner_deadline)
+        return (noise, *_coarse_corners(points_list, noise, undetected, settings, corner_deadline))
 
-    (noise, coarse), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
-                                         keep=lambda _: not undetected.any())
+    (noise, coarse, _), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
+                                            keep=lambda found: not undetected.any() and found[2])
     corner_scale = np.ones(len(points_list))
     for k, (scale, found) in coarse.items():
         corner_scale[k], corner_list[k] = scale, found
@@ -441,23 +441,24 @@ def _contours(boundaries, settings, deadline):
 
 
 def _coarse_corners(points_list, noise, undetected, settings, deadline):
-    """Corners detected again at the scale of the noise (docs/capture.md §11, "Noisy boundaries"): on a bitmap
+    """Corners detected again at the scale of the noise (docs/capture.md §12, "Noisy boundaries"): on a bitmap
     whose boundary noise exceeds ``CLEAN_NOISE``, every boundary the noise is measured on (at least
     ``SHORT_CONTOUR`` points, corners detected) whose :func:`~.corners.detection_scale` ``k`` exceeds 1 gets the
-    corners of ``tangent_jump(..., scale=k)``; ``{boundary: (k, corners)}``. Not with another detector or a
-    ``scale`` in ``corner_params``, and no boundary once ``deadline`` has passed."""
+    corners of ``tangent_jump(..., scale=k)``; ``{boundary: (k, corners)}`` and whether every boundary was
+    seen. Not with another detector or a ``scale`` in ``corner_params``, and no boundary once ``deadline`` has
+    passed."""
     if noise <= CLEAN_NOISE or settings["corner_method"] != "tangent-jump" or "scale" in settings["corner_params"]:
-        return {}
+        return {}, True
     coarse = {}
     for k, points in enumerate(points_list):
         if deadline.passed():
-            break
+            return coarse, False
         if undetected[k] or len(points) < SHORT_CONTOUR:
             continue
         scale = checked_detection_scale(points)
         if scale > 1.0:
             coarse[k] = (scale, _detect(points, k, "tangent-jump", {**settings["corner_params"], "scale": scale}, []))
-    return coarse
+    return coarse, True
 
 
 def _contour_points(boundaries, contour, notes):
@@ -523,8 +524,9 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         started = time.perf_counter()
         rng = make_rng(_child_seed(settings["seed"], k)) if method != "lsq" else None
         try:
-            fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), float(tolerances[k]), method,
-                                  settings["tau"], rng, max_iterations, keep, 0, settings["fit_options"], deadline)
+            fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), float(tolerances[k]),
+                                  method, settings["tau"], rng, max_iterations, keep, 0, settings["fit_options"],
+                                  deadline)
         except ValueError as exc:
             raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
         times[k] += time.perf_counter() - started

@@ -203,18 +203,23 @@ def test_only_crack_outlines_have_pixel_corners():
         assert outline_pixel_corners(other)[0].size == 0
 
 
+def random_blocks(seed, size, count, largest):
+    """A ``size`` x ``size`` mask with ``count`` random blocks of 1 to ``largest`` px sides (overlaps merge)."""
+    rng = np.random.default_rng(seed)
+    mask = np.zeros((size, size), bool)
+    for _ in range(count):
+        top, left = rng.integers(0, size - 6, 2)
+        height, width = rng.integers(1, largest + 1, 2)
+        mask[top:top + height, left:left + width] = True
+    return mask
+
+
 @settings(max_examples=30, deadline=None)
 @given(st.integers(0, 10_000))
 def test_pixel_corners_of_a_batch_are_those_of_each_outline(seed):
     """The vectorized batch gives every outline the pixel corners it has alone; every pixel corner is a turn
     between two runs of at least MIN_RUN cracks."""
-    rng = np.random.default_rng(seed)
-    mask = np.zeros((40, 40), bool)
-    for _ in range(6):
-        top, left = rng.integers(0, 34, 2)
-        height, width = rng.integers(1, 8, 2)
-        mask[top:top + height, left:left + width] = True
-    outlines = outline_of(mask)
+    outlines = outline_of(random_blocks(seed, size=40, count=6, largest=7))
     at, vertices = pixel_corners(np.concatenate(outlines), [len(o) for o in outlines])
     start = 0
     for points in outlines:
@@ -249,13 +254,7 @@ def test_pixel_corner_indices_in_chunks_are_those_of_each_outline(chunk, monkeyp
     every outline its own pixel corners, whatever the chunk size."""
     import splinecraft.capture._pixel_corners as module
 
-    rng = np.random.default_rng(7)
-    mask = np.zeros((60, 60), bool)
-    for _ in range(12):
-        top, left = rng.integers(0, 54, 2)
-        height, width = rng.integers(1, 9, 2)
-        mask[top:top + height, left:left + width] = True
-    outlines = outline_of(mask)
+    outlines = outline_of(random_blocks(7, size=60, count=12, largest=8))
     monkeypatch.setattr(module, "CHUNK_POINTS", chunk)
     found = module.pixel_corner_indices(outlines)
     assert len(found) == len(outlines) and sum(len(f) for f in found) > 0

@@ -123,13 +123,9 @@ def _roughness_samples(points, closed, checked=False):
     if len(P) < 3:
         return None, 1.0
     P = P - P[0]
-    ring, arc = _arc_lengths(P, closed)
-    step = max(1.0, float(arc[-1]) / (SAMPLES_PER_POINT * len(P)))          # _sample_step
-    count = int(round(arc[-1] / step))
-    if count < 8:
-        return None, step
-    where = np.arange(count) * (arc[-1] / count) if closed else np.linspace(0.0, arc[-1], count + 1)
-    return np.column_stack([np.interp(where, arc, ring[:, 0]), np.interp(where, arc, ring[:, 1])]), step
+    step = _sample_step(P, closed)
+    samples = _resample(P, closed, step)[0]
+    return (samples if len(samples) >= 8 else None), step
 
 
 def _roughness(samples, step, sigma, closed):

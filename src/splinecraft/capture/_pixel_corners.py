@@ -13,7 +13,10 @@ their crossing is the turn's vertex, the pixel corner. :func:`pixel_corners` fin
   two cracks is a step of a staircase, a rounded corner or a nub, not two straight sides);
 * neither run continues beyond its far end as the tread of a staircase (a step of one crack, then a run
   parallel to it the same way): that is a side a little off the axis, whose line (and corner) the run
-  alone does not give.
+  alone does not give;
+* or the vertex is one of the two of a run of one or two cracks between two such runs that go the opposite
+  ways (a U-turn): the square end of a stroke 1-2 px wide, whose sides are the two long runs and whose end is
+  the short one (docs/capture.md §11, "Stroke ends"). A staircase never turns back.
 
 A smooth curve never makes such a turn: two adjacent runs of three cracks or more at right angles need the
 curve to turn by more than 50 degrees within about 3 px, and a fillet of more than 1.7 px radius leaves the
@@ -93,6 +96,15 @@ def pixel_corners(points, lengths):
     corner = (length[run(-1)] >= MIN_RUN) & (length >= MIN_RUN)
     corner &= ~((length[run(-2)] == 1) & (direction[run(-3)] == direction[run(-1)]))
     corner &= ~((length[run(1)] == 1) & (direction[run(2)] == direction))
+    # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the opposite
+    # ways round (a U-turn), each of them not a staircase's tread at its far end; both of its vertices
+    end = (length < MIN_RUN) & (length[run(-1)] >= MIN_RUN) & (length[run(1)] >= MIN_RUN)
+    end &= direction[run(-1)] == (direction[run(1)] + 2) % 4
+    end &= ~((length[run(-2)] == 1) & (direction[run(-3)] == direction[run(-1)]))
+    end &= ~((length[run(2)] == 1) & (direction[run(3)] == direction[run(1)]))
+    end &= k >= 4
+    corner |= end
+    corner[run(1)[end]] = True
     corner &= k >= 4
     index = first[corner]
     at[index] = True

@@ -239,16 +239,30 @@ class OutlineRegression:
         return np.maximum(w[: contour.size], 1e-3)
 
     def _pins(self):
-        """Virtual data points at the straight-line corner estimates (weight ``corner_pin``), or None."""
-        tips = self.tips
-        if not self.contour.corner_count or self.corner_pin <= 0:
+        """Virtual data points (weight ``corner_pin``), or None: at the straight-line corner estimates, and at a
+        third and two thirds of every piece of fewer than ``min_gap`` contour steps between two estimated corners
+        (the end of a stroke one or two pixels wide between its two pixel corners, which :func:`~.lsq_setup.thin_corners`
+        keeps), on the chord between the estimates: that piece's one or two contour points leave its cubic
+        underdetermined, and its cracks lie on the chord."""
+        tips, contour = self.tips, self.contour
+        if not contour.corner_count or self.corner_pin <= 0:
             return None
         ok = np.isfinite(tips.estimate[:, 0]) & (tips.radius > 0)
         if not ok.any():
             return None
         idx = np.flatnonzero(ok)
-        return (self.base_parameter[self.contour.corner_bounds[idx]], tips.estimate[idx],
-                np.full(idx.shape[0], self.corner_pin))
+        parameters, targets = [self.base_parameter[contour.corner_bounds[idx]]], [tips.estimate[idx]]
+        bounds = contour.corner_bounds
+        nxt = (np.arange(contour.corner_count) + 1) % contour.corner_count
+        short = np.flatnonzero((np.diff(bounds) < self.min_gap) & ok & ok[nxt])
+        if short.size:
+            third = np.array([1.0, 2.0]) / 3.0
+            low, high = self.base_parameter[bounds[short]], self.base_parameter[bounds[short + 1]]
+            parameters.append((low[:, None] + third * (high - low)[:, None]).ravel())
+            start, end = tips.estimate[short], tips.estimate[nxt[short]]
+            targets.append((start[:, None, :] + third[None, :, None] * (end - start)[:, None, :]).reshape(-1, 2))
+        parameters, targets = np.concatenate(parameters), np.concatenate(targets)
+        return parameters, targets, np.full(parameters.shape[0], self.corner_pin)
 
     # ---------------------------------------------------------------- fitting
     def fit(self, hoschek_steps=1):

@@ -168,13 +168,15 @@ def thin_corners(points, corners, min_gap):
     a, b = points[corners] - points[(corners - 3) % n], points[(corners + 3) % n] - points[corners]
     cos = (a * b).sum(1) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
     turn = np.arccos(np.clip(cos, -1.0, 1.0))
+    from .._pixel_corners import outline_pixel_corners
+    pixel = np.isin(corners, outline_pixel_corners(points)[0])
     keep = list(range(corners.shape[0]))
     changed = True
     while changed and len(keep) > 1:
         changed = False
         for pos in range(len(keep)):
             i, j = keep[pos], keep[(pos + 1) % len(keep)]
-            if i != j and (corners[j] - corners[i]) % n < min_gap:
+            if i != j and (corners[j] - corners[i]) % n < min_gap and not (pixel[i] and pixel[j]):
                 keep.remove(i if turn[i] < turn[j] else j)
                 changed = True
                 break

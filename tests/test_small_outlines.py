@@ -168,7 +168,8 @@ def test_the_acute_corner_of_a_cut_stroke_end_is_extrapolated_along_its_short_si
     (``tips.short_side``, docs/capture.md §12, "Corners of lsq") and the tip is the crossing of that line with
     the long side. Without the shared line the pieces extrapolate by themselves: on these 48 cases the tip was
     missed by 0.17 px (median), at most by 1.12 px, and 88% of the strokes were within 1 px (with it: 0.12,
-    0.75 px and 94%)."""
+    0.75 px and 94%). The square end's two corners, merged into one by the detector on 3 of the 48, are split by
+    tangent-jump's stroke ends (step 6b): 0.105, 0.75 px and 100% (without: 0.13, 0.75 px and 94%)."""
     rng = np.random.default_rng(20261204)
     misses, deviations = [], []
     while len(misses) < 48:
@@ -181,7 +182,7 @@ def test_the_acute_corner_of_a_cut_stroke_end_is_extrapolated_along_its_short_si
     misses, deviations = np.array(misses), np.array(deviations)
     assert np.median(misses) <= 0.14, np.round(misses, 2)
     assert misses.max() <= 0.9, np.round(misses, 2)
-    assert np.mean(deviations <= 1.0) >= 0.9, np.round(deviations, 2)
+    assert np.mean(deviations <= 1.0) >= 0.97, np.round(deviations, 2)
 
 
 def acute_triangle(rng, size=40):

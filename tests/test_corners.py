@@ -272,6 +272,35 @@ def test_detection_scale_is_one_on_clean_outlines_and_grows_with_the_noise():
     assert cm.detection_scale(square[:2]) == 1.0              # too short to tell: the pixel scale
 
 
+@pytest.mark.parametrize("side", [6, 8, 10, 12, 16, 24])
+def test_a_clean_small_square_is_seen_at_the_pixel_scale(side):
+    """A tester's clean 6-10 px squares got 2.5-5 (the smoothing of 2k px measured the square itself) and
+    tangent-jump at that scale found none of their corners; a scale k is tried only where the outline is at least
+    SAMPLES_AT_SCALE samples long at it."""
+    mask = np.zeros((side + 4, side + 4), bool)
+    mask[2:2 + side, 2:2 + side] = True
+    outline = np.asarray(contour.trace_boundaries(mask)[0].outline, float)
+    scale = cm.detection_scale(outline)
+    assert scale == 1.0
+    assert len(cm.tangent_jump(outline, scale=scale)) == 4
+
+
+@SETTINGS
+@given(side=st.integers(12, 60), seed=st.integers(0, 10_000))
+def test_detection_scale_leaves_the_detector_room(side, seed):
+    """Whatever the noise, the scale leaves a noisy square of 12-60 px at least SAMPLES_AT_SCALE samples (or is 1):
+    a tester's noisy 24-px square got 8, lost its corners and came back as a blob 5 px off."""
+    rng = np.random.default_rng(seed)
+    steps = np.linspace(0.0, 1.0, 4 * side, endpoint=False)[:, None]
+    square = np.array([[0, 0], [side, 0], [side, side], [0, side]], float)
+    dense = np.concatenate([a + steps[::4] * (b - a) for a, b in zip(square, np.roll(square, -1, axis=0))])
+    noisy = dense + rng.normal(0.0, rng.uniform(0.2, 1.5), dense.shape)
+    scale = cm.detection_scale(noisy)
+    length = np.hypot(*np.diff(np.vstack([noisy, noisy[:1]]), axis=0).T).sum()
+    # the outline is resampled at 1 px: round(length) samples, so half a sample of rounding
+    assert scale == 1.0 or length / scale >= importlib.import_module("splinecraft.capture.corners._jump").SAMPLES_AT_SCALE - 0.5
+
+
 @pytest.mark.parametrize("bad, error", [(0.5, ValueError), (65.0, ValueError), (float("nan"), ValueError),
                                         ("2", TypeError), (True, TypeError)])
 def test_tangent_jump_scale_is_validated(bad, error):

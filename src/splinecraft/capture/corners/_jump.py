@@ -35,6 +35,10 @@ MAX_SCALE = 64.0
 SCALE_LADDER = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0)
 CLEAN_ROUGHNESS = 0.2
 ROUGHNESS_SIGMA = 2.0
+#: :func:`detection_scale`: the fewest samples an outline must have at a scale ``k`` (its length over ``k``) for
+#: that scale to be tried: :func:`tangent_jump`'s flanks (10 samples either side) and longer arms need room, and
+#: the roughness measured with a smoothing of ``2 k`` px on a shorter outline is that of its own shape.
+SAMPLES_AT_SCALE = 64
 #: :func:`outline_roughness` reads the spread from this quantile of the absolute deviations (the quarter of
 #: the samples nearest the median: robust to corners on up to three quarters of a small outline's samples),
 #: divided by the same quantile of a standard normal's, ``ROUGHNESS_QUANTILE_NORMAL`` (0.3186).
@@ -150,9 +154,14 @@ def detection_scale(points, closed=True):
     ``outline_roughness(points, ROUGHNESS_SIGMA * k) <= CLEAN_ROUGHNESS * k`` (2 px and 0.2 px). A clean crack
     outline is 0-0.2 px rough at 2 px (median 0.006 over the 60 outlines of the tuning set of
     ``benchmarks/synthetic_shapes.py`` at 200 px), so it gets 1; scan-like ones (blurred, noisy, thresholded bitmaps)
-    1.25-8 (BENCHMARKS.md, "Session 18"). An outline that is rough at every scale of the ladder has no shape
-    for the detector to see (the boundary of a noise image): 1, the pixel scale, whose many short pieces
-    also fit fastest. The outline is resampled once for all scales."""
+    1.25-8 (BENCHMARKS.md, "Session 18"). Only the scales ``k`` at which the outline is at least
+    ``SAMPLES_AT_SCALE`` (64) samples long are tried (its length is at least ``64 k`` px): on a shorter one the
+    detector's flanks and arms reach past the neighbouring corners, and the smoothing of ``2 k`` px measures the
+    shape itself (a clean 8 x 8 square read 1.4 px rough at 4 and got 4, where the detector finds none of its
+    corners; a noisy 24-px square got 8 and came back as a blob). An outline that is rough at every scale it is
+    long enough for gets the largest of them; one rough at every scale of the ladder has no shape for the
+    detector to see (the boundary of a noise image): 1, the pixel scale, whose many short pieces also fit
+    fastest. The outline is resampled once for all scales."""
     return _scale_of(*_roughness_samples(points, closed), closed)
 
 
@@ -163,10 +172,15 @@ def checked_detection_scale(points):
 
 
 def _scale_of(samples, step, closed):
-    for k in SCALE_LADDER:
+    if samples is None:
+        return 1.0
+    largest = len(samples) * step / SAMPLES_AT_SCALE      # the outline holds SAMPLES_AT_SCALE samples at scale k
+    ladder = [k for k in SCALE_LADDER if k <= largest] or [1.0]
+    for k in ladder:
         if _roughness(samples, step, ROUGHNESS_SIGMA * k, closed) <= CLEAN_ROUGHNESS * k:
             return k
-    return 1.0
+    # rough at every scale it can be seen at: too small for a coarser one (its largest), or noise all through
+    return ladder[-1] if len(ladder) < len(SCALE_LADDER) else 1.0
 
 
 def _signed_arm_turn(R, closed, tolerance, ladder):

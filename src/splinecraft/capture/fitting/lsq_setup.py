@@ -23,14 +23,17 @@ class RotatedContour:
     cumulative arc lengths), ``perimeter``, ``corner_count``, ``corner_bounds`` (rotated corner indices, then
     ``size``: piece ``k`` runs from ``corner_bounds[k]`` to ``corner_bounds[k + 1]``; without corners one
     piece ``0 .. size``), ``piece_of_point`` (n + 1), ``corner_distance`` (arc length to the nearest corner,
-    n + 1) and ``nearest_corner``.
+    n + 1), ``nearest_corner`` and ``pixel_corners``: the contour's
+    :class:`~splinecraft.capture._pixel_corners.PixelCorners` (rotated), when the caller has found them
+    (``pixel_corners``, of the contour as given), else ``None`` (:func:`~.tips.tip_estimates` finds them then).
     """
 
-    def __init__(self, points, corners):
+    def __init__(self, points, corners, pixel_corners=None):
         n = points.shape[0]
         self.size = n
         self.corner_count = count = corners.shape[0]
         self.rotation = int(corners[0]) if count else 0
+        self.pixel_corners = None if pixel_corners is None else pixel_corners.rotated(self.rotation, n)
         # numpy.roll(points, -rotation, axis=0), and the first point again at the end
         self.closed_points = np.concatenate([points[self.rotation:], points[: self.rotation + 1]])
         self.points = self.closed_points[:-1]

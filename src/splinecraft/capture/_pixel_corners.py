@@ -193,9 +193,10 @@ def pixel_corners_of_outlines(points_list):
     while first < len(points_list):
         last = first + max(1, int(np.searchsorted(np.cumsum(lengths[first:]), CHUNK_POINTS, side="right")))
         at, vertex = pixel_corners(np.concatenate(points_list[first:last]), lengths[first:last])
-        bounds = np.cumsum(lengths[first:last])[:-1]
-        for part, corner in zip(np.split(at, bounds), np.split(vertex, bounds)):
-            index = np.flatnonzero(part)
-            found.append(PixelCorners(index, corner[index]))
+        hits = np.flatnonzero(at)  # in the chunk, outline by outline
+        offsets = np.cumsum(lengths[first:last]) - lengths[first:last]
+        cuts = np.searchsorted(hits, offsets[1:])
+        for offset, index, corner in zip(offsets.tolist(), np.split(hits, cuts), np.split(vertex[hits], cuts)):
+            found.append(PixelCorners(index - offset, corner))
         first = last
     return found

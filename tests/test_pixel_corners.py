@@ -12,7 +12,7 @@ from hypothesis import given, settings, strategies as st
 
 import splinecraft as sc
 from splinecraft.capture._pixel_corners import (MIN_RUN, corner_vertices, merge_pixel_corners, outline_pixel_corners,
-                                                pixel_corners)
+                                                pixel_corners, pixel_corners_of_outlines)
 from splinecraft.capture.contour import trace_boundaries
 from splinecraft.capture.corners import check_params, tangent_jump
 from splinecraft.spline.segment import bezier_signed_area
@@ -315,15 +315,99 @@ def test_detected_corners_beside_a_pixel_corner_give_way_to_it():
 
 
 @pytest.mark.parametrize("chunk", [1, 16, 40, 1 << 18])
-def test_pixel_corner_indices_in_chunks_are_those_of_each_outline(chunk, monkeypatch):
+def test_pixel_corners_of_outlines_in_chunks_are_those_of_each_outline(chunk, monkeypatch):
     """trace's call: chunks of whole outlines (bounded temporaries on noise images of millions of points) give
-    every outline its own pixel corners, whatever the chunk size."""
+    every outline its own pixel corners and vertices, whatever the chunk size."""
     import splinecraft.capture._pixel_corners as module
 
     outlines = outline_of(random_blocks(7, size=60, count=12, largest=8))
     monkeypatch.setattr(module, "CHUNK_POINTS", chunk)
-    found = module.pixel_corner_indices(outlines)
-    assert len(found) == len(outlines) and sum(len(f) for f in found) > 0
-    for points, index in zip(outlines, found):
-        np.testing.assert_array_equal(index, outline_pixel_corners(points)[0])
-    assert module.pixel_corner_indices([]) == []
+    found = module.pixel_corners_of_outlines(outlines)
+    assert len(found) == len(outlines) and sum(len(f.index) for f in found) > 0
+    for points, (index, vertex) in zip(outlines, found):
+        own = outline_pixel_corners(points)
+        np.testing.assert_array_equal(index, own.index)
+        np.testing.assert_array_equal(vertex, own.vertex)
+    assert module.pixel_corners_of_outlines([]) == []
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(0, 1000))
+def test_pixel_corners_found_once_give_the_vertices_found_again(seed, turn):
+    """The pixel corners the corner stage finds (``pixel_corners_of_outlines``) and hands to the fit name the
+    same vertex beside every point as :func:`corner_vertices` finding them itself, also on a contour rotated to
+    start elsewhere (``RotatedContour``, as the fit sees it)."""
+    from splinecraft.capture.fitting.lsq_setup import RotatedContour
+
+    mask = np.pad(random_blocks(seed, size=40, count=6, largest=7), ((0, 0), (0, 20)))
+    mask[5:12, 45:53] = True  # a block apart from the random ones: an outline with four pixel corners
+    outlines = outline_of(mask)
+    lengths = [len(o) for o in outlines]
+    found = pixel_corners_of_outlines(outlines)
+    outline = np.repeat(np.arange(len(outlines)), lengths)
+    every = np.concatenate([np.arange(n) for n in lengths])
+    stacked = np.concatenate(outlines)
+    again = corner_vertices(stacked, lengths, outline, every)
+    np.testing.assert_array_equal(corner_vertices(stacked, lengths, outline, every, found), again)
+    assert np.isfinite(again[:, 0]).sum() >= 8  # both points beside each of the block's corners
+    for points, own in zip(outlines, found):
+        n = len(points)
+        corners = np.unique(np.array([turn % n, (turn * 7 + 3) % n]))
+        handed = RotatedContour(points, corners, own)
+        alone = outline_pixel_corners(handed.points)
+        np.testing.assert_array_equal(handed.pixel_corners.index, alone.index)
+        np.testing.assert_array_equal(handed.pixel_corners.vertex, alone.vertex)
+        assert RotatedContour(points, corners).pixel_corners is None
+    with pytest.raises(ValueError, match="pixel corners of"):
+        corner_vertices(stacked, lengths, outline, every, found[:-1])
+
+
+def _blocks_and_wedge():
+    """Blocks of pixels (small outlines, some with pixel corners), a large rectangle (pixel corners of a regression
+    spline) and a clean acute wedge (an extrapolated tip): both fit paths measure corner tips."""
+    mask = random_blocks(3, size=120, count=10, largest=7)
+    mask[60:100, 10:50] = True
+    rows, cols = np.mgrid[:120, :120] + 0.5
+    mask |= (cols > 60) & (cols < 115) & (np.abs(rows - 80.0) < 0.35 * (cols - 60))
+    return mask
+
+
+def test_trace_finds_the_pixel_corners_once_and_the_fit_uses_them(monkeypatch):
+    """``trace`` finds the pixel corners once, in its corner stage (one chunk here), and the fit's corner tips
+    (``tips.tip_estimates``, the small-outline path's pre-test) take those: every lookup gets them handed down,
+    and they name the vertices a lookup of its own finds. A direct call of the fit finds them itself."""
+    import splinecraft.capture._pixel_corners as module
+    from splinecraft.capture.fitting import small, tips
+
+    original_corners, original_vertices = module.pixel_corners, module.corner_vertices
+    found_calls, lookups = [], []
+
+    def counting(points, lengths):
+        found_calls.append(len(points))
+        return original_corners(points, lengths)
+
+    def checking(points, lengths, outline, corners, found=None):
+        got = original_vertices(points, lengths, outline, corners, found)
+        lookups.append((found is not None, np.isfinite(got[:, 0]).sum()))
+        np.testing.assert_array_equal(got, original_vertices(points, lengths, outline, corners))
+        return got
+
+    monkeypatch.setattr(module, "pixel_corners", counting)
+    monkeypatch.setattr(tips, "corner_vertices", checking)
+    monkeypatch.setattr(small, "corner_vertices", checking)
+    result = sc.trace(_blocks_and_wedge(), time_budget=None)
+    assert result.stats["extrapolated_tips"] is True
+    small_count = sum(entry["small_outline"] for entry in result.stats["per_boundary"])
+    assert small_count >= 3 and small_count < len(result.points)
+    total = sum(len(points) for points in result.points)
+    # the corner stage's one call, then only the checks' own lookups (which pass no pixel corners)
+    assert found_calls[0] == total
+    assert len(found_calls) == 1 + sum(1 for handed, _ in lookups if handed)
+    assert lookups and all(handed for handed, _ in lookups)
+    assert sum(hits for _, hits in lookups) >= 8  # the rectangle's four corners, the blocks' corners
+    found_calls.clear(), lookups.clear()
+    from splinecraft.capture.fitting import fit_outline
+
+    points, corners = result.points[0], result.corners[0]
+    fit_outline(points, corners, small_outline=0)
+    assert lookups and not any(handed for handed, _ in lookups) and len(found_calls) >= 1

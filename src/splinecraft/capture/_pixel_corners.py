@@ -25,19 +25,36 @@ any other form (pixel chains, resampled or scaled polylines) have no pixel corne
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-__all__ = ["MIN_RUN", "pixel_corners", "outline_pixel_corners", "corner_vertices", "with_pixel_corners",
-           "merge_pixel_corners", "pixel_corner_indices"]
+__all__ = ["MIN_RUN", "PixelCorners", "pixel_corners", "outline_pixel_corners", "corner_vertices",
+           "with_pixel_corners", "merge_pixel_corners", "pixel_corners_of_outlines"]
 
 #: Fewest cracks of each of the two straight runs that meet at a pixel corner.
 MIN_RUN = 3
 
-#: Points per call of :func:`pixel_corners` in :func:`pixel_corner_indices` (its temporaries are some 30 arrays of
+#: Points per call of :func:`pixel_corners` in :func:`pixel_corners_of_outlines` (its temporaries are some 30 arrays of
 #: the points' length: a bounded chunk keeps a noise image of millions of contour points within its memory).
 CHUNK_POINTS = 1 << 18
 
 _UNIT = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
+
+
+class PixelCorners(NamedTuple):
+    """The pixel corners of one closed outline (:func:`pixel_corners`): ``index``, the sorted indices of the
+    points that follow them, and ``vertex`` (``(k, 2)``, in the order of ``index``), the corners themselves."""
+
+    index: np.ndarray
+    vertex: np.ndarray
+
+    def rotated(self, rotation, n):
+        """The same corners of the outline of ``n`` points read from its point ``rotation`` (index ``i`` becomes
+        ``(i - rotation) % n``), sorted again."""
+        index = (self.index - rotation) % n
+        order = np.argsort(index, kind="stable")
+        return PixelCorners(index[order], self.vertex[order])
 
 
 def pixel_corners(points, lengths):
@@ -113,32 +130,50 @@ def pixel_corners(points, lengths):
 
 
 def outline_pixel_corners(points):
-    """The indices of the points of one closed crack outline that follow a pixel corner (:func:`pixel_corners`),
-    sorted, and those corners (``(k, 2)``)."""
+    """The :class:`PixelCorners` of one closed crack outline (:func:`pixel_corners`): the sorted indices of the
+    points that follow a pixel corner, and those corners (``(k, 2)``)."""
     points = np.asarray(points, float)
     at, vertex = pixel_corners(points, [points.shape[0]])
     index = np.flatnonzero(at)
-    return index, vertex[index]
+    return PixelCorners(index, vertex[index])
 
 
-def corner_vertices(points, lengths, outline, corners):
+def corner_vertices(points, lengths, outline, corners, found=None):
     """The pixel corner beside each given corner of stacked crack outlines (``points``, ``lengths`` as in
     :func:`pixel_corners`): ``outline`` and ``corners`` (int arrays of one length) name the outline and the
     index within it of each corner. A corner at one of the two points beside a pixel corner (the point
-    before it or the point after it) gets that vertex; others get NaN. Returns ``(k, 2)``."""
+    before it or the point after it) gets that vertex; others get NaN. Returns ``(k, 2)``.
+
+    ``found``: the :class:`PixelCorners` of every outline, already found (trace's corner stage,
+    :func:`pixel_corners_of_outlines`); ``None``: :func:`pixel_corners` finds them here."""
     lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
     outline = np.asarray(outline, dtype=np.int64).reshape(-1)
     corners = np.asarray(corners, dtype=np.int64).reshape(-1)
     out = np.full((corners.shape[0], 2), np.nan)
     if not corners.size:
         return out
-    at, vertex = pixel_corners(points, lengths)
+    at, vertex = pixel_corners(points, lengths) if found is None else _stacked(found, lengths)
     offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
     n = lengths[outline]
     here = offsets[outline] + corners % n  # the vertex between the corner's point and the one before it
     after = offsets[outline] + (corners + 1) % n  # ... between the corner's point and the one after it
     out = np.where(at[here][:, None], vertex[here], np.where(at[after][:, None], vertex[after], np.nan))
     return out
+
+
+def _stacked(found, lengths):
+    """:func:`pixel_corners`' ``(at, vertex)`` of stacked outlines of ``lengths`` points from the
+    :class:`PixelCorners` of each (``found``)."""
+    if len(found) != lengths.shape[0]:
+        raise ValueError(f"found has pixel corners of {len(found)} outlines for {lengths.shape[0]}")
+    total = int(lengths.sum())
+    at = np.zeros(total, bool)
+    vertex = np.full((total, 2), np.nan)
+    offsets = np.cumsum(lengths) - lengths
+    for offset, (index, corner) in zip(offsets.tolist(), found):
+        at[offset + index] = True
+        vertex[offset + index] = corner
+    return at, vertex
 
 
 def with_pixel_corners(found, points):
@@ -160,8 +195,8 @@ def merge_pixel_corners(found, index, n):
     return np.unique(np.concatenate([found[~near], index])).astype(np.intp)
 
 
-def pixel_corner_indices(points_list):
-    """:func:`outline_pixel_corners`' indices for every closed crack outline of ``points_list``, by
+def pixel_corners_of_outlines(points_list):
+    """:func:`outline_pixel_corners` (a :class:`PixelCorners`) of every closed crack outline of ``points_list``, by
     :func:`pixel_corners` on chunks of whole outlines of about ``CHUNK_POINTS`` points (an outline's result does
     not depend on the others; the chunks bound the temporaries)."""
     lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
@@ -169,7 +204,11 @@ def pixel_corner_indices(points_list):
     first = 0
     while first < len(points_list):
         last = first + max(1, int(np.searchsorted(np.cumsum(lengths[first:]), CHUNK_POINTS, side="right")))
-        at, _ = pixel_corners(np.concatenate(points_list[first:last]), lengths[first:last])
-        found += [np.flatnonzero(part) for part in np.split(at, np.cumsum(lengths[first:last])[:-1])]
+        at, vertex = pixel_corners(np.concatenate(points_list[first:last]), lengths[first:last])
+        hits = np.flatnonzero(at)  # in the chunk, outline by outline
+        offsets = np.cumsum(lengths[first:last]) - lengths[first:last]
+        cuts = np.searchsorted(hits, offsets[1:])
+        for offset, index, corner in zip(offsets.tolist(), np.split(hits, cuts), np.split(vertex[hits], cuts)):
+            found.append(PixelCorners(index - offset, corner))
         first = last
     return found

@@ -81,7 +81,7 @@ from .fitting.results import BoundaryList
 from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
-from ._pixel_corners import merge_pixel_corners, pixel_corner_indices
+from ._pixel_corners import merge_pixel_corners, pixel_corners_of_outlines
 from .image import load_bitmap
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 from .trace_stages import TraceStages
@@ -260,9 +260,9 @@ def trace(
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
     key = (key, contour, _small_limit(settings), settings["corner_method"], settings["corner_params"], time_budget)
     corner_deadline = Deadline(None if time_budget is None else time_budget / 2)
-    (points_list, corner_list, small, times, undetected, contour_notes), cached = stages.remember(
+    (points_list, corner_list, pixel_list, small, times, undetected, contour_notes), cached = stages.remember(
         "contours", key, lambda: _contours(boundaries, settings, corner_deadline),
-        keep=lambda found: not found[4].any())  # kept only when every boundary got its corners
+        keep=lambda found: not found[5].any())  # kept only when every boundary got its corners
     notes += contour_notes
     if cached:
         times[:] = 0.0  # no corner detection in this call
@@ -301,8 +301,8 @@ def trace(
         notes.append(f"boundary noise {noise:.2f} px: corner tips follow the pixels (geometric_corners='clean' "
                      f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
     cornered = time.perf_counter()
-    (fits, splines, polygons), budget_state = _fit_boundaries(points_list, corner_list, small, settings, deadline,
-                                                              times, undetected, tolerances)
+    (fits, splines, polygons), budget_state = _fit_boundaries(points_list, corner_list, pixel_list, small, settings,
+                                                              deadline, times, undetected, tolerances)
     _budget_notes(budget_state, time_budget, notes)
     finished = time.perf_counter()
 
@@ -396,9 +396,10 @@ def _small_limit(settings):
 
 
 def _contours(boundaries, settings, deadline):
-    """The contour of every boundary, its corners, which boundaries take the small-outline path, the
-    seconds of corner detection per boundary, which boundaries needed it but did not get it because
-    ``deadline`` had passed, and the notes."""
+    """The contour of every boundary, its corners, its pixel corners (a
+    :class:`~._pixel_corners.PixelCorners`, found with tangent-jump's step 9, else ``None``: the fit finds them
+    where it needs them), which boundaries take the small-outline path, the seconds of corner detection per
+    boundary, which boundaries needed it but did not get it because ``deadline`` had passed, and the notes."""
     small_limit = _small_limit(settings)
     notes = []
     points_list = _contour_points(boundaries, settings["contour"], notes)
@@ -408,26 +409,27 @@ def _contours(boundaries, settings, deadline):
     undetected = np.zeros(len(boundaries), bool)
     detect = lengths >= min(small_limit, CORNERLESS_CONTOUR)
     corner_list = [_NO_CORNERS] * len(boundaries)
+    pixel_list = [None] * len(boundaries)
     corner_params = settings["corner_params"]
-    # tangent-jump's step 9, the pixel corners, for all boundaries at once (one vectorized call), also for those
-    # without corner detection; the detector itself runs without it
+    # tangent-jump's step 9, the pixel corners, for all boundaries at once (vectorized, in chunks), also for those
+    # without corner detection; the detector itself runs without it, and the fit's corner tips take them from here
     pixel = settings["corner_method"] == "tangent-jump" and corner_params.get("pixel_corners", True)
     if pixel:
         corner_params = dict(corner_params, pixel_corners=False)
-        pixel_index = pixel_corner_indices(points_list)
+        pixel_list = pixel_corners_of_outlines(points_list)
     for k in np.flatnonzero(detect).tolist():
         if deadline.passed():  # and so for every later boundary: they get no corners
             undetected[k:] = detect[k:]
             break
         started = time.perf_counter()
         corner_list[k] = _detect(points_list[k], k, settings["corner_method"], corner_params, notes)
-        if pixel and pixel_index[k].size:
-            corner_list[k] = merge_pixel_corners(corner_list[k], pixel_index[k], lengths[k])
+        if pixel and pixel_list[k].index.size:
+            corner_list[k] = merge_pixel_corners(corner_list[k], pixel_list[k].index, lengths[k])
         times[k] = time.perf_counter() - started
     if pixel:
         for k in np.flatnonzero(~detect).tolist():
-            if pixel_index[k].size:
-                corner_list[k] = pixel_index[k].astype(np.intp)
+            if pixel_list[k].index.size:
+                corner_list[k] = pixel_list[k].index.astype(np.intp)
     if small:
         skipped = int((lengths[small] < CORNERLESS_CONTOUR).sum())
         notes.append(
@@ -437,7 +439,7 @@ def _contours(boundaries, settings, deadline):
             "stats['per_boundary'][k]['small_outline'])"
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
                "closed periodic curve unless they have pixel corners" if skipped else ""))
-    return points_list, corner_list, small, times, undetected, notes
+    return points_list, corner_list, pixel_list, small, times, undetected, notes
 
 
 def _coarse_corners(points_list, noise, undetected, settings, deadline):
@@ -492,10 +494,10 @@ def _resolve_tips(settings, noise):
     return tips
 
 
-def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, undetected, tolerances):
+def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadline, times, undetected, tolerances):
     """The fit of every boundary: the small ones together (in batches of ``SMALL_CHUNK``), the others one by
-    one (trusted arguments), each started only while ``deadline`` has not passed and with its corners detected
-    (else its polygon). Returns
+    one (trusted arguments, with their pixel corners ``pixel_list`` where the corner stage found them), each
+    started only while ``deadline`` has not passed and with its corners detected (else its polygon). Returns
     the fits and the budget state of each boundary (``None``, ``"stopped"`` or ``"polygon"``); adds the fit
     seconds to ``times``."""
     epsilon, max_iterations, keep = settings["tolerance"], settings["max_iterations"], settings["keep_snapshots"]
@@ -507,8 +509,9 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         chunk = small[first: first + SMALL_CHUNK]
         started = time.perf_counter()
         corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in chunk]
+        pixel = None if pixel_list[chunk[0]] is None else [pixel_list[k] for k in chunk]  # all found, or none
         for k, fit in zip(chunk, fit_small_trusted([points_list[k] for k in chunk], corners, epsilon,
-                                                   max_iterations, keep, deadline)):
+                                                   max_iterations, keep, deadline, pixel)):
             if not keeps_area(points_list[k], fit.spline.bezier()):
                 continue    # collapsed on a thin stroke: fitted by the regression spline below (as fit_outline)
             fits[k] = fit
@@ -526,7 +529,7 @@ def _fit_boundaries(points_list, corner_list, small, settings, deadline, times, 
         try:
             fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), float(tolerances[k]),
                                   method, settings["tau"], rng, max_iterations, keep, 0, settings["fit_options"],
-                                  deadline)
+                                  deadline, pixel_list[k])
         except ValueError as exc:
             raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
         times[k] += time.perf_counter() - started

@@ -155,28 +155,33 @@ def routes_to_small(method, point_count, small_outline):
 
 
 def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
-                deadline=None):
+                deadline=None, pixel_corners=None):
     """:func:`fit_outline` on checked arguments: route the contour to its family (``deadline``, a
-    :class:`~.budget.Deadline`, stops the knot rounds of ``"lsq"``); BLAS on one thread (:mod:`._threads`)."""
+    :class:`~.budget.Deadline`, stops the knot rounds of ``"lsq"``); BLAS on one thread (:mod:`._threads`).
+    ``pixel_corners``: the contour's :class:`~splinecraft.capture._pixel_corners.PixelCorners` where the caller
+    has found them (trace's corner stage), for the corner tips of ``"lsq"`` and the small-outline path; ``None``:
+    found where needed."""
     with one_blas_thread():
         return _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline,
-                           opts, deadline)
+                           opts, deadline, pixel_corners)
 
 
 def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
-                deadline):
+                deadline, pixel_corners):
+    pixel_list = None if pixel_corners is None else [pixel_corners]
     if routes_to_small(method, points.shape[0], small_outline):
-        result = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots)[0]
+        result = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots,
+                                   pixel_corners=pixel_list)[0]
         if keeps_area(points, result.spline.bezier()):
             return result
         # collapsed on a thin stroke (small.keeps_area): the regression spline of "lsq" below follows the cracks
     if method != "lsq":
         return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
-    result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline)
+    result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline, pixel_corners)
     if not result.converged and not result.info["reason"] and opts["joint_continuity"] == 1:
         # C1 knots got stuck (docs/capture.md §12, "Joints of lsq"): the C2 fit next, then the fallback below
         result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, dict(opts, joint_continuity=2),
-                         deadline)
+                         deadline, pixel_corners)
     if (result.converged or result.info["reason"] or not opts["fallback"]
             or _longest_piece(points.shape[0], corners) > FALLBACK_PIECE):
         return result
@@ -186,7 +191,8 @@ def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep
     if deadline is not None and deadline.passed():  # no time left for a second fit
         result.info["reason"] = FALLBACK_BUDGET_REASON.format(budget=deadline.budget)
         return result
-    fallback = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots, deadline)[0]
+    fallback = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots, deadline,
+                                 pixel_list)[0]
     if fallback.converged or fallback.hausdorff < result.hausdorff:
         fallback.info["fallback_from"] = {"method": "lsq", "hausdorff": result.hausdorff,
                                           "iterations": result.iterations, "knots_inserted": result.knots_inserted}

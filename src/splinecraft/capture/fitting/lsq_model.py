@@ -52,6 +52,8 @@ class OutlineRegression:
     corners : sorted unique corner indices into ``points`` (may be empty).
     epsilon : tolerance (px) of the stopping rule.
     options : the ``"lsq"`` options (:data:`~splinecraft.capture.fitting.options.LSQ_DEFAULTS`, checked).
+    pixel_corners : the contour's :class:`~splinecraft.capture._pixel_corners.PixelCorners`, or ``None``: found
+        where the corner tips need them (:class:`~.lsq_setup.RotatedContour`).
 
     Main attributes: ``contour`` (:class:`~.lsq_setup.RotatedContour`), ``tips``
     (:class:`~.lsq_setup.CornerTips`), ``simple_knots`` (rotated contour indices of the simple knots),
@@ -59,8 +61,8 @@ class OutlineRegression:
     parameter of every contour point), ``period``.
     """
 
-    def __init__(self, points, corners, epsilon, options):
-        contour = self.contour = RotatedContour(np.asarray(points, float), corners)
+    def __init__(self, points, corners, epsilon, options, pixel_corners=None):
+        contour = self.contour = RotatedContour(np.asarray(points, float), corners, pixel_corners)
         n = contour.size
         self.epsilon = float(epsilon)
         self.corner_allowance = float(options["corner_allowance"])

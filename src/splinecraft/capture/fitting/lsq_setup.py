@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._pixel_corners import outline_pixel_corners
 from .geometry import edge_table
 from .tips import MAX_TIP_REACH, tip_estimates
 
@@ -23,14 +24,17 @@ class RotatedContour:
     cumulative arc lengths), ``perimeter``, ``corner_count``, ``corner_bounds`` (rotated corner indices, then
     ``size``: piece ``k`` runs from ``corner_bounds[k]`` to ``corner_bounds[k + 1]``; without corners one
     piece ``0 .. size``), ``piece_of_point`` (n + 1), ``corner_distance`` (arc length to the nearest corner,
-    n + 1) and ``nearest_corner``.
+    n + 1), ``nearest_corner`` and ``pixel_corners``: the contour's
+    :class:`~splinecraft.capture._pixel_corners.PixelCorners` (rotated), when the caller has found them
+    (``pixel_corners``, of the contour as given), else ``None`` (:func:`~.tips.tip_estimates` finds them then).
     """
 
-    def __init__(self, points, corners):
+    def __init__(self, points, corners, pixel_corners=None):
         n = points.shape[0]
         self.size = n
         self.corner_count = count = corners.shape[0]
         self.rotation = int(corners[0]) if count else 0
+        self.pixel_corners = None if pixel_corners is None else pixel_corners.rotated(self.rotation, n)
         # numpy.roll(points, -rotation, axis=0), and the first point again at the end
         self.closed_points = np.concatenate([points[self.rotation:], points[: self.rotation + 1]])
         self.points = self.closed_points[:-1]
@@ -158,18 +162,22 @@ def corner_radii(contour, corner_radius):
     return radius, theta
 
 
-def thin_corners(points, corners, min_gap):
+def thin_corners(points, corners, min_gap, pixel_corners=None):
     """Drop corners fewer than ``min_gap`` contour steps after another one (a piece needs a few points to be
     fitted); of two such corners the one where the contour turns more (chords to the points 3 steps away)
-    is kept."""
+    is kept. Two pixel corners stay (the ends of a stroke 1-2 px wide, docs/capture.md §11 step 9: their piece
+    is pinned to its chord, :meth:`~.lsq_model.OutlineRegression._pins`); ``pixel_corners`` is the contour's
+    :class:`~splinecraft.capture._pixel_corners.PixelCorners` where the caller has them (else they are found
+    here, only when two corners are that close)."""
     n = points.shape[0]
-    if corners.shape[0] < 2:
+    if corners.shape[0] < 2 or not np.any(np.diff(np.append(corners, corners[0] + n)) < min_gap):
         return corners
     a, b = points[corners] - points[(corners - 3) % n], points[(corners + 3) % n] - points[corners]
     cos = (a * b).sum(1) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
     turn = np.arccos(np.clip(cos, -1.0, 1.0))
-    from .._pixel_corners import outline_pixel_corners
-    pixel = np.isin(corners, outline_pixel_corners(points)[0])
+    if pixel_corners is None:
+        pixel_corners = outline_pixel_corners(points)
+    pixel = np.isin(corners, pixel_corners.index)
     keep = list(range(corners.shape[0]))
     changed = True
     while changed and len(keep) > 1:

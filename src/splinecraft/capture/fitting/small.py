@@ -265,11 +265,12 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h, 
     return deviation, thesis, worst, excess
 
 
-def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
+def _tip_candidates(points, offsets, lengths, arc, perimeter, corners, pixel_corners=None):
     """Outlines of the batch with a corner whose tip may be extrapolated: a cheap vectorized pre-test of
     :func:`~.tips.tip_estimates`' conditions (both sides long enough for a side window of their own, an acute
     contour angle, both side windows close to a parabola; constants ``_TIP_TEST_*``), or a corner beside a pixel
-    corner (:func:`.._pixel_corners.corner_vertices`, whose tip is that vertex). Returns the
+    corner (:func:`.._pixel_corners.corner_vertices`, whose tip is that vertex; ``pixel_corners``: the outlines'
+    :class:`~.._pixel_corners.PixelCorners` where the caller found them, else found there). Returns the
     outlines with such a corner (boolean per outline) and the corners that pass (boolean, the outlines' corners
     one after the other)."""
     counts = np.array([c.shape[0] for c in corners], dtype=np.int64)
@@ -331,18 +332,19 @@ def _tip_candidates(points, offsets, lengths, arc, perimeter, corners):
     # sides meeting at less than tips.MIN_CROSSING give no tip
     ok &= np.abs(np.sin(direction[0] - direction[1])) >= np.sin(MIN_CROSSING)
     # the corners beside a pixel corner: their tip is its vertex (tips.tip_estimates)
-    ok |= np.isfinite(corner_vertices(points, lengths, outline, c)[:, 0])
+    ok |= np.isfinite(corner_vertices(points, lengths, outline, c, pixel_corners)[:, 0])
     wanted[outline[ok]] = True
     return wanted, ok
 
 
-def _corner_tips(outline, corners, measured):
+def _corner_tips(outline, corners, measured, pixel_corners=None):
     """The extrapolated tips of one outline's corners ``measured`` (boolean per corner), by the machinery of
-    ``"lsq"`` (:meth:`~.lsq_setup.CornerTips.measure` at the ``"lsq"`` defaults, :func:`~.tips.tip_estimates`):
+    ``"lsq"`` (:meth:`~.lsq_setup.CornerTips.measure` at the ``"lsq"`` defaults, :func:`~.tips.tip_estimates`;
+    ``pixel_corners``: the outline's :class:`~.._pixel_corners.PixelCorners`, or ``None``: found there):
     per corner (in the order of ``corners``) the tip (NaN where there is none), the zone radius (px of arc: the
     zone of "Guarantee" is ``2 r + 1``) and the allowance in that zone (``corner_allowance``, or the tip's
     distance from the contour if larger)."""
-    contour = RotatedContour(outline, corners)
+    contour = RotatedContour(outline, corners, pixel_corners)
     tips = CornerTips.measure(contour, LSQ_DEFAULTS["corner_radius"], LSQ_DEFAULTS["tip_gap"], True,
                               LSQ_DEFAULTS["corner_allowance"], measured)
     # the rotated contour starts at corners[0], so its corners are in the caller's order
@@ -375,15 +377,17 @@ def check_outlines(outlines, corner_lists):
     return outlines, [check_corners(c, int(n)) for c, n in zip(corner_lists, lengths)]
 
 
-def fit_small_trusted(outlines, corners, epsilon, max_iterations, keep_snapshots, deadline=None):
+def fit_small_trusted(outlines, corners, epsilon, max_iterations, keep_snapshots, deadline=None, pixel_corners=None):
     """The small-outline fit of checked contours (float ``(n, 2)`` arrays, ``n >= 4``, no coincident
     neighbours) with sorted unique corner indices: one :class:`FitResult` per outline. ``deadline`` (a
     :class:`~.budget.Deadline`) stops the insertion rounds once it has passed (no removal rounds then); an
-    outline left failing says so in ``info["reason"]`` (:data:`~.budget.BUDGET_REASON`)."""
+    outline left failing says so in ``info["reason"]`` (:data:`~.budget.BUDGET_REASON`). ``pixel_corners``: the
+    :class:`~.._pixel_corners.PixelCorners` of every outline where the caller has found them (trace's corner
+    stage); ``None``: found here."""
     if not outlines:
         return []
     with one_blas_thread():  # the dense solves of long chains: see _threads
-        batch = _SmallBatch(outlines, corners, epsilon, max_iterations, keep_snapshots, deadline)
+        batch = _SmallBatch(outlines, corners, epsilon, max_iterations, keep_snapshots, deadline, pixel_corners)
         batch.insert_knots()
         if not batch.out_of_time:
             batch.remove_knots()
@@ -394,7 +398,7 @@ class _SmallBatch:
     """All small outlines of a call, refined side by side. Knots are entries ``(chain, unwrapped contour
     index)`` sorted by chain and index; an outline's numbers never depend on the rest of the batch."""
 
-    def __init__(self, outlines, corners, epsilon, max_iterations, keep_snapshots, deadline=None):
+    def __init__(self, outlines, corners, epsilon, max_iterations, keep_snapshots, deadline=None, pixel_corners=None):
         self.epsilon, self.max_iterations, self.keep = epsilon, max_iterations, keep_snapshots
         self.deadline, self.out_of_time = deadline, False
         self.corners = corners
@@ -418,28 +422,30 @@ class _SmallBatch:
          self.knot_index) = _small_chains(lengths, corners)
         count = self.count = lengths.shape[0]
         self.chains_first = np.searchsorted(self.chain_outline, np.arange(count))  # first chain of every outline
-        self._measure_tips(outlines, corners)
+        self._measure_tips(outlines, corners, pixel_corners)
         self.history = [[] for _ in range(count)]
         self.pending = {}  # candidates of the next snapshot, per outline
         self.iterations = np.zeros(count, dtype=np.int64)
         self.failed = np.zeros(count, bool)
 
-    def _measure_tips(self, outlines, corners):
+    def _measure_tips(self, outlines, corners, pixel_corners=None):
         """Extrapolated tips of acute corners (docs/capture.md §12, "Small outlines"): the outlines that pass
         :func:`_tip_candidates` are measured by :func:`_corner_tips`; a kept tip replaces its corner as the knot
         point of both chains that meet there (``knot_points``), and every chain gets the zone (px of arc from
         its end) and allowance of the tip at either end (``zone_lo``, ``allow_lo``, ``zone_hi``, ``allow_hi``;
-        0 where there is none)."""
+        0 where there is none). ``pixel_corners``: those of every outline (:class:`~.._pixel_corners.PixelCorners`),
+        or ``None``: found where needed."""
         self.knot_points = self.points
         chains = self.chain_outline.shape[0]
         self.zone_lo, self.allow_lo = np.zeros(chains), np.zeros(chains)
         self.zone_hi, self.allow_hi = np.zeros(chains), np.zeros(chains)
         self.tip_allowance = np.zeros(self.count)  # largest allowance per outline
         wanted, passing = _tip_candidates(self.points, self.offsets, self.lengths, self.arc, self.perimeter,
-                                          corners)
+                                          corners, pixel_corners)
         first = np.cumsum([0] + [c.shape[0] for c in corners])  # of every outline's corners in ``passing``
         for b in np.flatnonzero(wanted):
-            estimate, zone, allowance = _corner_tips(outlines[b], corners[b], passing[first[b]:first[b + 1]])
+            estimate, zone, allowance = _corner_tips(outlines[b], corners[b], passing[first[b]:first[b + 1]],
+                                                     None if pixel_corners is None else pixel_corners[b])
             kept = np.flatnonzero(np.isfinite(estimate[:, 0]))
             if not kept.size:
                 continue

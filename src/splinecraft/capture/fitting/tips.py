@@ -346,7 +346,8 @@ def tip_estimates(contour, angle, radius, measured=None):
     pixel boundary between two axis-aligned straight runs, :mod:`splinecraft.capture._pixel_corners`) has that
     vertex as its tip whatever its angle: each run's separating line is the crack line itself, so their
     crossing is exact (as far as the pixels go) and lies on the pixel boundary, 0.35 px outside the contour's
-    chamfer; its sides are not fitted.
+    chamfer; its sides are not fitted. The pixel corners are ``contour.pixel_corners`` where the caller found
+    them (trace's corner stage), else found here.
 
     ``measured`` (boolean per corner, optional): only these corners are measured (the small-outline path
     measures the corners its pre-test passes, docs/capture.md §12, "Small outlines").
@@ -375,7 +376,8 @@ def tip_estimates(contour, angle, radius, measured=None):
     acute = ~(opening >= max(MAX_EXTRAPOLATED_ANGLE, MAX_OBTUSE_ANGLE))
     # pixel corners: the vertex, no sides fitted
     vertex = corner_vertices(contour.points, [contour.size], np.zeros(count, dtype=np.int64),
-                             contour.corner_bounds[:-1])
+                             contour.corner_bounds[:-1],
+                             None if contour.pixel_corners is None else [contour.pixel_corners])
     pixel = np.isfinite(vertex[:, 0]) if measured is None else np.isfinite(vertex[:, 0]) & measured
     wanted = (acute | one_short) if measured is None else (acute | one_short) & measured
     wanted &= ~pixel

@@ -353,3 +353,55 @@ def test_a_small_noisy_square_is_not_smoothed_away(seed):
         return max(cKDTree(truth_dense).query(points)[0].max(), cKDTree(points).query(truth_dense)[0].max())
     assert distance(curve) <= distance(result.points[k]) + 0.25, (distance(curve), distance(result.points[k]))
     assert result.splines[k].n_segments <= 16
+
+
+def _noisy_disc(seed, size=200, radius=60.0, noise=0.25):
+    centre = (size / 2 + 0.3, size / 2 - 0.3)
+    y, x = np.mgrid[0:size, 0:size] + 0.5
+    paper = (np.hypot(x - centre[0], y - centre[1]) > radius).astype(float)
+    return np.clip(gaussian_filter(paper, 2.0) + np.random.default_rng(seed).normal(0.0, noise, paper.shape), 0, 1)
+
+
+@pytest.mark.parametrize("epsilon", [1.0, 3.0])
+def test_the_noise_scale_does_not_multiply_a_raised_epsilon(epsilon):
+    """A boundary seen at the noise's scale k is fitted with max(tolerance, k * min(epsilon, DEFAULT_EPSILON)): the
+    clean staircase it is at that scale. A tester's epsilon of 3 on a noisy disc got k * epsilon = 12 px and came
+    back 6 px off the circle."""
+    result = trace(_noisy_disc(1), epsilon=epsilon, keep_snapshots=False)
+    (k,) = [k for k, points in enumerate(result.points) if len(points) >= 200]
+    entry = result.stats["per_boundary"][k]
+    assert entry["corner_scale"] > 1.0
+    assert entry["tolerance"] == pytest.approx(max(result.stats["tolerance"], entry["corner_scale"] * 0.8))
+    assert entry["tolerance"] < entry["corner_scale"] * epsilon
+    curve, _, _ = sample_bezier(result.splines[k].bezier(), 0.1)
+    assert _circle_distance(curve, (100.3, 99.7), 60.0).max() <= max(epsilon, entry["tolerance"]) + 1.0
+
+
+def test_a_chosen_scale_is_every_boundarys_and_adds_no_pixel_corners():
+    """corner_params={"scale": 4} on a clean 80-px square: the four corners tangent-jump finds at scale 4 (a tester
+    got eight: the pixel corners were added beside them), and stats report that scale."""
+    mask = np.zeros((120, 120), bool)
+    mask[20:100, 20:100] = True
+    result = trace(mask, corner_params={"scale": 4}, keep_snapshots=False)
+    assert len(result.corners[0]) == 4
+    entry = result.stats["per_boundary"][0]
+    assert entry["corner_scale"] == 4.0 and entry["tolerance"] == pytest.approx(4 * 0.8)
+    assert len(trace(mask, keep_snapshots=False).corners[0]) == 4       # the pixel corners at the pixel scale
+
+
+def test_stroke_ends_of_a_noisy_bitmap_are_not_pixel_corners():
+    """A 2 x 14 dash beside a noisy disc: at that noise its square ends (two pixel corners each, on a clean bitmap)
+    are a speck's, so the dash keeps no corner one or two points from another; alone on a clean bitmap it has its
+    four."""
+    gray = _noisy_disc(2)
+    gray[20:22, 20:34] = 0.0
+    gray[17:25, 17:37][gray[17:25, 17:37] > 0.0] = 1.0      # clean paper round the dash
+    result = trace(gray, keep_snapshots=False)
+    assert result.stats["boundary_noise"] > 0.4
+    (k,) = [k for k, points in enumerate(result.points) if np.all((np.asarray(points) >= 17) & (np.asarray(points) <= 37))]
+    corners = np.sort(result.corners[k])
+    gaps = np.diff(np.append(corners, corners[:1] + len(result.points[k])))
+    assert corners.size < 2 or gaps.min() > 2, corners
+    clean = np.zeros((40, 40), bool)
+    clean[20:22, 20:34] = True
+    assert len(trace(clean, keep_snapshots=False).corners[0]) == 4

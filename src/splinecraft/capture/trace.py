@@ -177,7 +177,11 @@ def trace(
         corners of tangent-jump are detected again at the scale of each boundary's noise
         (:func:`~splinecraft.capture.corners.detection_scale`; ``stats["per_boundary"][k]["corner_scale"]``;
         ``corner_params={"scale": 1}`` keeps the pixel scale); a boundary seen at scale ``k > 1`` is fitted
-        with the tolerance ``max(tolerance, k * epsilon)`` (``stats["per_boundary"][k]["tolerance"]``).
+        with the tolerance ``max(tolerance, k * min(epsilon, DEFAULT_EPSILON))``
+        (``stats["per_boundary"][k]["tolerance"]``: the clean staircase it is at that scale, not a multiple of an
+        epsilon the caller raised), and the square ends of strokes 1-2 px wide are not pixel corners (at that
+        noise they are a speck's). ``corner_params={"scale": k}`` sets the scale of every boundary (no pixel
+        corners above 1; the same tolerance rule).
     time_budget : float > 0 or None
         Seconds for corner detection and fitting of all boundaries together (not the noise estimate, unless
         corner detection used up its half; docs/capture.md §12, "Time budget"; default
@@ -280,8 +284,17 @@ def trace(
     (noise, coarse, _), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
                                             keep=lambda found: not undetected.any() and found[2])
     corner_scale = np.ones(len(points_list))
+    chosen_scale = float(settings["corner_params"].get("scale", 1.0)) \
+        if settings["corner_method"] == "tangent-jump" else 1.0
+    if chosen_scale != 1.0:     # the caller's scale: every boundary whose corners were detected
+        lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
+        corner_scale[lengths >= min(_small_limit(settings), CORNERLESS_CONTOUR)] = chosen_scale  # as _contours
+        corner_scale[undetected] = 1.0
     for k, (scale, found) in coarse.items():
         corner_scale[k], corner_list[k] = scale, found
+    if noise > CLEAN_NOISE:     # at this noise the square end of a 1-2 px stroke is a speck's: not a pixel corner
+        _drop_stroke_end_corners(corner_list, pixel_list, corner_scale,
+                                 np.fromiter(map(len, points_list), np.int64, len(points_list)))
     if coarse:
         scales = corner_scale[list(coarse)]
         notes.append(f"boundary noise {noise:.2f} px: the corners of {len(coarse)} boundar"
@@ -291,8 +304,9 @@ def trace(
     if not undetected.any():  # the budget covers corners and fits, not the noise estimate, unless it is spent
         deadline.extend(time.perf_counter() - detected)  # already (noise images: the cap is what matters)
     settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
-    # a boundary seen at the coarser scale k is fitted as the clean staircase it is there: epsilon in units of k
-    tolerances = np.maximum(settings["tolerance"], corner_scale * settings["epsilon"])
+    # a boundary seen at the coarser scale k is fitted as the clean staircase it is there: the default epsilon
+    # (or the caller's smaller one) in units of k, not a multiple of a raised epsilon
+    tolerances = np.maximum(settings["tolerance"], corner_scale * min(settings["epsilon"], DEFAULT_EPSILON))
     if settings["tolerance"] > settings["epsilon"]:
         notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
                      f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
@@ -413,7 +427,8 @@ def _contours(boundaries, settings, deadline):
     corner_params = settings["corner_params"]
     # tangent-jump's step 9, the pixel corners, for all boundaries at once (vectorized, in chunks), also for those
     # without corner detection; the detector itself runs without it, and the fit's corner tips take them from here
-    pixel = settings["corner_method"] == "tangent-jump" and corner_params.get("pixel_corners", True)
+    pixel = settings["corner_method"] == "tangent-jump" and corner_params.get("pixel_corners", True) \
+        and float(corner_params.get("scale", 1.0)) == 1.0  # a pixel is below a coarser scale
     if pixel:
         corner_params = dict(corner_params, pixel_corners=False)
         pixel_list = pixel_corners_of_outlines(points_list)
@@ -440,6 +455,22 @@ def _contours(boundaries, settings, deadline):
             + (f"; {skipped} of them (fewer than {CORNERLESS_CONTOUR} points) without corner detection, as one "
                "closed periodic curve unless they have pixel corners" if skipped else ""))
     return points_list, corner_list, pixel_list, small, times, undetected, notes
+
+
+def _drop_stroke_end_corners(corner_list, pixel_list, corner_scale, lengths):
+    """On a noisy bitmap: drop the pixel corners of the square ends of strokes 1-2 px wide (two pixel corners one
+    or two points apart: other pixel corners are at least ``MIN_RUN`` apart, docs/capture.md §11 step 9) from the
+    corners and pixel corners of the boundaries seen at the pixel scale (in place; ``lengths``: the points of
+    each boundary). At that noise such an end is a speck's or a spike's: on the noisiest scans of
+    ``bench_noisy_corners.py`` they were 124 false corners of 453 (``BENCHMARKS.md``, "Session 19")."""
+    for k, found in enumerate(pixel_list):
+        if found is None or found.index.size < 2 or corner_scale[k] != 1.0:
+            continue
+        near = np.diff(np.append(found.index, found.index[0] + lengths[k])) <= 2   # to the next pixel corner
+        end = near | np.roll(near, 1)
+        if end.any():
+            corner_list[k] = corner_list[k][~np.isin(corner_list[k], found.index[end])]
+            pixel_list[k] = type(found)(found.index[~end], found.vertex[~end])
 
 
 def _coarse_corners(points_list, noise, undetected, settings, deadline):

@@ -226,27 +226,34 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
     stroke: it becomes two corners, where the outline leaves each side's line. Returns the input indices."""
     m = len(samples)
     centres_before, before, centres_after, after = arms
-    arm_before = 2.0 * np.hypot(*(samples - centres_before).T)
-    arm_after = 2.0 * np.hypot(*(samples - centres_after).T)
-    out = []
-    reach = range(1, STROKE_END_REACH + 1)
-    for k, i in enumerate(chosen):
-        out.append(nearest[k])
-        if not closed and (i - STROKE_END_REACH < 0 or i + STROKE_END_REACH >= m):
-            continue
-        g1 = next((g for g in reach if arm_before[(i - g) % m] >= STROKE_END_ARM), None)
-        g2 = next((g for g in reach if arm_after[(i + g) % m] >= STROKE_END_ARM), None)
-        if g1 is None or g2 is None:
-            continue
+    out = [[corner] for corner in nearest.tolist()]
+    # the sides: the first long arm ending g1 samples before each corner and starting g2 after it, and their
+    # turn (all corners at once; the few that turn back are examined one by one below)
+    reach = np.arange(1, STROKE_END_REACH + 1)
+    behind, ahead = chosen[:, None] - reach, chosen[:, None] + reach
+    if closed:
+        behind, ahead = behind % m, ahead % m
+    inside = (behind >= 0).all(axis=1) & (ahead < m).all(axis=1)
+    behind, ahead = np.clip(behind, 0, m - 1), np.clip(ahead, 0, m - 1)
+    long_before = 2.0 * np.hypot(*(samples[behind] - centres_before[behind]).transpose(2, 0, 1)) >= STROKE_END_ARM
+    long_after = 2.0 * np.hypot(*(samples[ahead] - centres_after[ahead]).transpose(2, 0, 1)) >= STROKE_END_ARM
+    found = inside & long_before.any(axis=1) & long_after.any(axis=1)
+    first_before, first_after = reach[long_before.argmax(axis=1)], reach[long_after.argmax(axis=1)]
+    rows = np.arange(chosen.size)
+    d1s = before[behind[rows, first_before - 1]]
+    d2s = after[ahead[rows, first_after - 1]]
+    with np.errstate(invalid="ignore"):
+        side_turn = np.degrees(np.abs(np.arctan2(d1s[:, 0] * d2s[:, 1] - d1s[:, 1] * d2s[:, 0],
+                                                 np.sum(d1s * d2s, axis=1))))
+        found &= side_turn >= STROKE_END_TURN
+    for k in np.flatnonzero(found).tolist():
+        i, g1, g2 = int(chosen[k]), int(first_before[k]), int(first_after[k])
         others = (chosen - i) % m if closed else chosen - i
         others = np.where(others > m // 2, others - m, others) if closed else others
         if np.any((others != 0) & (others >= -g1 - 2) & (others <= g2 + 2)):
             continue                        # the end has its own second corner
         c1, d1 = centres_before[(i - g1) % m], before[(i - g1) % m]
         c2, d2 = centres_after[(i + g2) % m], after[(i + g2) % m]
-        side_turn = np.degrees(np.arctan2(d1[0] * d2[1] - d1[1] * d2[0], d1 @ d2))
-        if not abs(side_turn) >= STROKE_END_TURN:
-            continue
         n1 = np.array([-d1[1], d1[0]]) / np.hypot(*d1)
         n2 = np.array([-d2[1], d2[0]]) / np.hypot(*d2)
         k1 = i - g1
@@ -279,8 +286,8 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
                 break
             picks.append(int(candidates[np.argmin(np.hypot(*(P[candidates] - target).T))]))
         if len(picks) == 2 and picks[0] != picks[1]:
-            out[-1:] = picks
-    return np.asarray(out, dtype=np.intp)
+            out[k] = picks
+    return np.asarray([corner for pair in out for corner in pair], dtype=np.intp)
 
 
 def _line_intersection(c1, a, c2, b):

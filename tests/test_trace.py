@@ -15,6 +15,7 @@ from splinecraft.capture.image import InkPolarityWarning
 from splinecraft.capture.contour import chain_to_pixels
 from splinecraft.capture.fitting import KNOT_METHODS
 from splinecraft.capture.svg import format_number, parse_path_data, path_data, read_svg_paths, svg_document
+from splinecraft.capture.fitting import DEFAULT_EPSILON
 from splinecraft.capture.trace import TraceResult, TraceSnapshot, trace
 from splinecraft.spline import Spline
 
@@ -484,13 +485,13 @@ def test_any_bitmap_converges_within_epsilon(seed, size, ink, epsilon, blur):
     assert result.stats["hausdorff"] <= epsilon + tip_allowance(result) + 1e-9
     assert len(result.splines) == result.stats["boundaries"]
     # with the noise rule (the default) the same holds for the tolerance it chose (epsilon or more), per boundary
-    # (a boundary seen at a coarser scale k is fitted with k * epsilon where that is more)
+    # (a boundary seen at a coarser scale k is fitted with k * min(epsilon, DEFAULT_EPSILON) where that is more)
     adaptive = trace(mask, epsilon=epsilon, keep_snapshots=False)
     tolerance = adaptive.stats["tolerance"]
     assert tolerance >= epsilon and adaptive.stats["converged"]
     allowance = tip_allowance(adaptive)
     for entry in adaptive.stats["per_boundary"]:
-        assert entry["tolerance"] == max(tolerance, entry["corner_scale"] * epsilon)
+        assert entry["tolerance"] == max(tolerance, entry["corner_scale"] * min(epsilon, DEFAULT_EPSILON))
         assert entry["hausdorff"] <= entry["tolerance"] + allowance + 1e-9
 
 

@@ -298,7 +298,8 @@ def test_detection_scale_leaves_the_detector_room(side, seed):
     scale = cm.detection_scale(noisy)
     length = np.hypot(*np.diff(np.vstack([noisy, noisy[:1]]), axis=0).T).sum()
     # the outline is resampled at 1 px: round(length) samples, so half a sample of rounding
-    assert scale == 1.0 or length / scale >= importlib.import_module("splinecraft.capture.corners._jump").SAMPLES_AT_SCALE - 0.5
+    samples_at_scale = importlib.import_module("splinecraft.capture.corners._jump").SAMPLES_AT_SCALE
+    assert scale == 1.0 or length / scale >= samples_at_scale - 0.5
 
 
 @pytest.mark.parametrize("bad, error", [(0.5, ValueError), (65.0, ValueError), (float("nan"), ValueError),

@@ -308,7 +308,8 @@ def test_noisier_scans_keep_the_true_corners(sigma, noise, seed):
 def test_a_disc_scanned_with_heavy_pixel_noise_keeps_few_segments(noise, seed):
     """Per-pixel noise on a blurred disc (heavier than the 4x-averaged scans above): the bumps stray 2-4 px
     from the circle, beyond the image-wide tolerance; the boundary, seen at its coarser scale k, is fitted
-    with k * epsilon and keeps a handful of segments, no corner, and an rms below the staircase's."""
+    with k * epsilon (the default epsilon) and keeps a handful of segments, no corner, and an rms below the
+    staircase's."""
     centre, radius = (100.3, 99.7), 60.0
     y, x = np.mgrid[0:200, 0:200] + 0.5
     paper = (np.hypot(x - centre[0], y - centre[1]) > radius).astype(float)
@@ -345,7 +346,8 @@ def test_a_small_noisy_square_is_not_smoothed_away(seed):
     assert length / entry["corner_scale"] >= 63.5
     curve, _, _ = sample_bezier(result.splines[k].bezier(), 0.1)
     truth = np.array([(8, 8), (32, 8), (32, 32), (8, 32)], float)
-    edges = [a + np.linspace(0, 1, 240, endpoint=False)[:, None] * (b - a) for a, b in zip(truth, np.roll(truth, -1, 0))]
+    edges = [a + np.linspace(0, 1, 240, endpoint=False)[:, None] * (b - a)
+             for a, b in zip(truth, np.roll(truth, -1, 0))]
     truth_dense = np.concatenate(edges)
     from scipy.spatial import cKDTree
 
@@ -398,7 +400,8 @@ def test_stroke_ends_of_a_noisy_bitmap_are_not_pixel_corners():
     gray[17:25, 17:37][gray[17:25, 17:37] > 0.0] = 1.0      # clean paper round the dash
     result = trace(gray, keep_snapshots=False)
     assert result.stats["boundary_noise"] > 0.4
-    (k,) = [k for k, points in enumerate(result.points) if np.all((np.asarray(points) >= 17) & (np.asarray(points) <= 37))]
+    (k,) = [k for k, points in enumerate(result.points)
+            if np.all((np.asarray(points) >= 17) & (np.asarray(points) <= 37))]
     corners = np.sort(result.corners[k])
     gaps = np.diff(np.append(corners, corners[:1] + len(result.points[k])))
     assert corners.size < 2 or gaps.min() > 2, corners

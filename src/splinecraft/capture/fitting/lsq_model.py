@@ -243,9 +243,9 @@ class OutlineRegression:
     def _pins(self):
         """Virtual data points (weight ``corner_pin``), or None: at the straight-line corner estimates, and at a
         third and two thirds of every piece of fewer than ``min_gap`` contour steps between two estimated corners
-        (the end of a stroke one or two pixels wide between its two pixel corners, which :func:`~.lsq_setup.thin_corners`
-        keeps), on the chord between the estimates: that piece's one or two contour points leave its cubic
-        underdetermined, and its cracks lie on the chord."""
+        (the end of a stroke one or two pixels wide between its two pixel corners, which
+        :func:`~.lsq_setup.thin_corners` keeps), on the chord between the estimates: that piece's one or two contour
+        points leave its cubic underdetermined, and its cracks lie on the chord."""
         tips, contour = self.tips, self.contour
         if not contour.corner_count or self.corner_pin <= 0:
             return None

@@ -685,6 +685,21 @@ def test_explorer_refuses_a_view_it_cannot_draw(explorer_factory):
     assert explorer.view == good and explorer.result is result and explorer.status_level == "error"
 
 
+def test_explorer_time_budget_is_seconds_above_zero_or_none(explorer_factory):
+    import traitlets
+
+    explorer = explorer_factory()
+    for bad in (math.nan, -1.0, 0.0, math.inf, True, "60"):
+        with pytest.raises(traitlets.TraitError, match="time_budget_s"):
+            explorer.time_budget_s = bad
+        assert explorer.time_budget_s == 60.0
+    explorer.time_budget_s = None  # no limit
+    explorer.epsilon = 1.5
+    assert explorer.result.params["epsilon"] == 1.5 and explorer.status_level == "info"
+    explorer.time_budget_s = 5
+    assert explorer.time_budget_s == 5.0
+
+
 def test_explorer_retraces_on_settings_and_upload(explorer_factory, tmp_path):
     from PIL import Image
 

@@ -75,6 +75,40 @@ export function ints(value) {
 }
 
 /**
+ * The kernel refuses a view whose width or height is below VIEW_PRECISION x max(1, |coordinate|) (widgets/_base.py
+ * view_problem): the grid and the points could no longer be told apart (x + step == x). Zooming in stops
+ * ZOOM_MARGIN times above that, zooming out at MAX_SPAN data units (beyond it the spans overflow to infinity).
+ */
+export const VIEW_PRECISION = 1e-9;
+export const ZOOM_MARGIN = 10;
+export const MAX_SPAN = 1e12;
+
+/** The smallest width or height the kernel takes for a view with these coordinates. */
+export function smallestSpan(...coordinates) {
+  return VIEW_PRECISION * Math.max(1, ...coordinates.map(Math.abs));
+}
+
+/**
+ * `view` as a rectangle the page can draw: [0, 0, 1, 1] unless it is four finite numbers; about its centre, an
+ * empty or inverted side becomes max(1, smallestSpan()) wide, a narrower side smallestSpan(), and a side whose
+ * span overflows MAX_SPAN.
+ */
+export function drawableView(view) {
+  if (!(Array.isArray(view) && view.length === 4 && view.every(Number.isFinite))) return [0, 0, 1, 1];
+  const least = smallestSpan(...view), out = view.slice();
+  for (const [lo, hi] of [[0, 2], [1, 3]]) {
+    const span = out[hi] - out[lo];
+    if (span >= least && Number.isFinite(span)) continue;
+    // empty or inverted: one unit (as many as the numbers need); too narrow: the least span; overflowing: MAX_SPAN
+    const half = (span > 0 ? (Number.isFinite(span) ? least : MAX_SPAN) : Math.max(1, least)) / 2;
+    const centre = out[lo] / 2 + out[hi] / 2;
+    out[lo] = centre - half;
+    out[hi] = centre + half;
+  }
+  return out;
+}
+
+/**
  * Uniform data -> screen map that keeps the aspect ratio (like SVG "xMidYMid meet").
  * view = [xmin, ymin, xmax, ymax] in data units; the data frame is y-down (the SVG/pixel frame).
  */
@@ -86,9 +120,7 @@ export class Viewport {
   }
 
   setView(view) {
-    let [x0, y0, x1, y1] = view && view.length === 4 ? view : [0, 0, 1, 1];
-    if (!(x1 > x0)) x1 = x0 + 1;
-    if (!(y1 > y0)) y1 = y0 + 1;
+    const [x0, y0, x1, y1] = drawableView(view);
     this.view = [x0, y0, x1, y1];
     this.k = Math.min(this.width / (x1 - x0), this.height / (y1 - y0));
     this.ox = (this.width - this.k * (x1 - x0)) / 2 - this.k * x0;
@@ -107,9 +139,17 @@ export class Viewport {
     return [this.dx(0), this.dy(0), this.dx(this.width), this.dy(this.height)];
   }
 
-  /** Zoom by `factor` (>1 zooms in) keeping the data point under screen (px, py) fixed. */
+  /**
+   * Zoom by `factor` (>1 zooms in) keeping the data point under screen (px, py) fixed. The factor is limited:
+   * the visible width and height stay at least ZOOM_MARGIN x smallestSpan() and at most MAX_SPAN (a view
+   * already beyond a limit does not go further that way).
+   */
   zoomed(factor, px, py) {
     const [x0, y0, x1, y1] = this.visible();
+    const small = Math.min(x1 - x0, y1 - y0), large = Math.max(x1 - x0, y1 - y0);
+    if (!(factor > 0)) factor = 1;
+    if (factor > 1) factor = Math.min(factor, Math.max(1, small / (ZOOM_MARGIN * smallestSpan(x0, y0, x1, y1))));
+    else if (factor < 1) factor = Math.max(factor, Math.min(1, large / MAX_SPAN));
     const cx = this.dx(px), cy = this.dy(py);
     return [cx + (x0 - cx) / factor, cy + (y0 - cy) / factor, cx + (x1 - cx) / factor, cy + (y1 - cy) / factor];
   }

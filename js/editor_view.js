@@ -68,6 +68,21 @@ export function gridStep(span) {
   return [1, 2, 5, 10].map((m) => m * magnitude).find((m) => m >= raw) ?? 10 * magnitude;
 }
 
+/** Most grid lines per direction (about 12 to 30 are drawn; more means a broken step). */
+export const MAX_GRID_LINES = 400;
+
+/**
+ * The grid's coordinates in [lo, hi], every `step`: none when they would be more than `max` (a step the
+ * numbers cannot tell apart, x + step == x) or when lo, hi or step is not a finite number.
+ */
+export function gridLines(lo, hi, step, max = MAX_GRID_LINES) {
+  const first = Math.ceil(lo / step), last = Math.floor(hi / step);
+  if (!(step > 0) || !Number.isFinite(first) || !Number.isFinite(last) || last - first >= max) return [];
+  const out = [];
+  for (let i = 0; i <= last - first; i++) out.push((first + i) * step);
+  return out;
+}
+
 /** The editor's SVG canvas with its layers (bottom to top) and the draw calls for them. */
 export function createCanvas(width, height) {
   const svg = s("svg", { class: "sc-canvas", width, height, "data-testid": "canvas" });
@@ -75,7 +90,7 @@ export function createCanvas(width, height) {
   const bg = s("rect", { x: 0, y: 0, width, height, fill: "#fcfcfd", class: "sc-bg" });
   svg.append(bg);
   const L = {
-    grid: layer({ stroke: "#eef1f4", "stroke-width": 1 }),
+    grid: layer({ stroke: "#eef1f4", "stroke-width": 1, "data-testid": "grid" }),
     highlightCurve: layer({ stroke: COLORS.highlight, "stroke-width": 9, "stroke-linecap": "round", opacity: 0.75, "data-testid": "highlight" }),
     highlightLeg: layer({ stroke: COLORS.highlight, "stroke-width": 7, "stroke-linecap": "round", opacity: 0.75 }),
     polygon: layer({ stroke: COLORS.polygon, "stroke-width": 1.2, "stroke-dasharray": "5 4", "data-testid": "control-polygon" }),
@@ -118,8 +133,8 @@ export function createCanvas(width, height) {
     const [x0, y0, x1, y1] = vp.visible();
     const step = gridStep(Math.max(x1 - x0, y1 - y0));
     const parts = [];
-    for (let x = Math.ceil(x0 / step) * step; x <= x1; x += step) parts.push(`M${vp.sx(x).toFixed(1)},0V${vp.height}`);
-    for (let y = Math.ceil(y0 / step) * step; y <= y1; y += step) parts.push(`M0,${vp.sy(y).toFixed(1)}H${vp.width}`);
+    for (const x of gridLines(x0, x1, step)) parts.push(`M${vp.sx(x).toFixed(1)},0V${vp.height}`);
+    for (const y of gridLines(y0, y1, step)) parts.push(`M0,${vp.sy(y).toFixed(1)}H${vp.width}`);
     L.grid.setAttribute("d", parts.join(""));
     live.invalidate();
   }

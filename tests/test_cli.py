@@ -54,6 +54,27 @@ def test_version():
     assert result.stdout.strip() == f"splinecraft {__version__}"
 
 
+def test_python_m_splinecraft_runs_the_console_script(tmp_path):
+    import importlib
+    import tomllib
+
+    pyproject = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
+    module, _, name = pyproject["project"]["scripts"]["splinecraft"].partition(":")
+    assert importlib.import_module("splinecraft.__main__").main is getattr(importlib.import_module(module), name)
+    version = subprocess.run([sys.executable, "-m", "splinecraft", "--version"], capture_output=True, text=True,
+                             timeout=300)
+    assert version.returncode == 0 and version.stdout.strip() == f"splinecraft {__version__}"
+    source = tmp_path / "disc.png"
+    write_shape(source, "disc")
+    traced = subprocess.run([sys.executable, "-m", "splinecraft", "trace", str(source), "-o", str(tmp_path / "d.svg")],
+                            capture_output=True, text=True, timeout=300)
+    assert traced.returncode == 0, traced.stderr
+    assert subpath_count((tmp_path / "d.svg").read_text())[0] == 1
+    wrong = subprocess.run([sys.executable, "-m", "splinecraft", "frobnicate"], capture_output=True, text=True,
+                           timeout=300)
+    assert wrong.returncode == 2 and "usage: splinecraft" in wrong.stderr
+
+
 def test_single_file_svg_and_json(tmp_path):
     source = tmp_path / "ring.png"
     write_shape(source, "ring")

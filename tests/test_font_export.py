@@ -196,3 +196,42 @@ def test_a_truetype_plus_of_overlapping_contours_keeps_its_centre(tmp_path):
         assert abs(winding(getattr(files, kind), (100, 60))) == 2
         assert abs(winding(getattr(files, kind), (100, 20))) == 1 and winding(getattr(files, kind), (20, 20)) == 0
     assert outline.nesting_depths().tolist() == [0, 0]
+
+
+@pytest.mark.parametrize("options, error, words", [
+    ({"style": None}, TypeError, "style must be a non-empty string"),
+    ({"style": "  "}, ValueError, "style must be a non-empty string"),
+    ({"family": None}, TypeError, "family must be a non-empty string"),
+    ({"units_per_em": 5}, ValueError, "units_per_em must be >= 16.*16 to 16384"),
+    ({"units_per_em": 100_000}, ValueError, "units_per_em must be <= 16384"),
+    ({"units_per_em": math.nan}, TypeError, "units_per_em must be an integer"),
+    ({"ascender": math.nan}, ValueError, "ascender must be a finite number"),
+    ({"ascender": 10**6}, ValueError, "ascender must be > 0 and <= 32767"),
+    ({"descender": math.nan}, ValueError, "descender must be a finite number"),
+    ({"descender": -10**6}, ValueError, "descender must be >= -32768"),
+    ({"sidebearing": math.nan}, ValueError, "sidebearing must be a finite number"),
+    ({"glyphs": {"\ud800": from_svg(SQUARE)}}, ValueError, "U\\+D800, not a Unicode character"),
+])
+def test_build_names_a_bad_argument_and_its_range_before_writing(tmp_path, options, error, words):
+    options = {"glyphs": {"a": from_svg(SQUARE)}, **options}
+    with pytest.raises(error, match=words):
+        font.build(output_dir=tmp_path / "out", **options)
+    assert not (tmp_path / "out").exists()
+
+
+def test_to_glyph_refuses_a_surrogate_code_point_and_a_nan_sidebearing():
+    with pytest.raises(ValueError, match="U\\+DFFF"):
+        font.to_glyph(from_svg(SQUARE), "a", unicode=0xDFFF)
+    with pytest.raises(ValueError, match="sidebearing"):
+        font.to_glyph(from_svg(SQUARE), "a", sidebearing=math.nan)
+
+
+def test_a_scale_that_rounds_a_glyph_flat_warns(tmp_path):
+    with pytest.warns(UserWarning, match=r"glyphs\['a'\] is 1e-10 x 1e-10 font units at scale=1e-12"):
+        files = font.build({"a": from_svg(SQUARE)}, output_dir=tmp_path, scale=1e-12)
+    assert files.otf.exists()
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        font.build({"a": from_svg(SQUARE)}, output_dir=tmp_path, scale=0.02)  # 2 units: small, not flat

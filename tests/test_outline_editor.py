@@ -360,3 +360,38 @@ def test_bad_handles_from_code_keep_the_last_good_outline(editor, entry, words):
         editor.handles_out = rows
     assert editor.outline is before and f"handles_out[{i}]" in editor.status_message
     assert editor.handles_out[k][i] != entry  # the lists are put back
+
+
+def test_display_settings_are_checked_like_the_other_widgets(editor):
+    import traitlets
+
+    good = list(editor.view)
+    for view in ([0, 0, math.nan, 1], [1e17, 0, 1e17 + 32, 1], [-1e308, -1e308, 1e308, 1e308], [0, 0, 1]):
+        with pytest.warns(OutlineEditorWarning, match="view"):
+            editor.view = view
+        assert editor.view == good and editor.status_level == "error"
+    editor.set_state({"view": [0, 0, 1e-12, 1]})  # from the page: refused, an error status and no warning
+    assert editor.view == good and "view is too small" in editor.status_message
+    editor.view = [0.0, 0.0, 50.0, 40.0]
+    assert editor.view == [0.0, 0.0, 50.0, 40.0]
+    for name, bad in (("width", -5), ("height", 10**9), ("width", True), ("show_fill", 1)):
+        before = getattr(editor, name)
+        with pytest.raises(traitlets.TraitError):
+            setattr(editor, name, bad)
+        assert getattr(editor, name) == before
+    editor.set_state({"width": -5, "height": 300})  # a page update: the good key applies, the bad one is answered
+    assert editor.width == 640 and editor.height == 300 and "width" in editor.status_message
+
+
+@pytest.mark.parametrize("name", ["corners", "point_tension", "interval_weights", "handles_in", "handles_out"])
+def test_a_table_must_list_every_contour_like_contours(editor, name):
+    before = editor.outline
+    rows = [list(row) for row in getattr(editor, name)]
+    assert len(rows) >= 2
+    with pytest.warns(OutlineEditorWarning, match=f"{name} must list {len(rows)} contours"):
+        setattr(editor, name, rows[:1])  # one row for several contours
+    assert editor.outline is before and getattr(editor, name) == [list(row) for row in rows]
+    short = [row[:-1] if k == 1 else row for k, row in enumerate(rows)]
+    with pytest.warns(OutlineEditorWarning, match=rf"{name}\[1\] must be a list of {len(rows[1])} entries"):
+        setattr(editor, name, short)  # contour 1 one entry short
+    assert editor.outline is before

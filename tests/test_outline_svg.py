@@ -285,3 +285,19 @@ def test_svg_document_refuses_text_xml_cannot_hold_and_xml_safe_replaces_it():
         svg_document("M0 0 L1 1 Z", 2, 2, title="caf\udce9")
     assert xml_safe("caf\udce9\x01\tok\n") == "caf\ufffd\ufffd\tok\n"
     ET.fromstring(svg_document("M0 0 L1 1 Z", 2, 2, title=xml_safe("caf\udce9 & \x07")))
+
+
+@pytest.mark.parametrize("options, words", [
+    ({"fill": None}, "fill must be a string"), ({"fill": 5}, "fill must be a string"),
+    ({"title": 5}, "title must be a string or None"), ({"title": b"bytes"}, "title must be a string or None"),
+])
+def test_to_svg_names_an_argument_of_the_wrong_type(options, words):
+    import splinecraft as sc
+
+    mask = np.zeros((30, 30), bool)
+    mask[5:25, 5:25] = True
+    result = sc.trace(mask)
+    for source in (result, as_outline(result)):  # TraceResult.to_svg and Outline.to_svg
+        with pytest.raises(TypeError, match=words):
+            source.to_svg(**options)
+    assert "<title>" not in result.to_svg(title=None) and 'fill="none"' in result.to_svg(fill="none")

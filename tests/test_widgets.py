@@ -429,6 +429,17 @@ def test_basis_figure_is_the_engine_basis_and_stays_in_sync():
     assert panel.children == (editor, figure)
 
 
+@pytest.mark.parametrize("view", [[1e17, 0.0, 1e17 + 32, 1.0], [-1e308, -1e308, 1e308, 1e308], [0.0, 0.0, 1e-12, 1.0]])
+def test_a_view_the_page_cannot_draw_keeps_the_last_view(view):
+    editor = SplineEditor(POINTS)
+    good, curve = list(editor.view), editor.spline
+    with pytest.warns(SplineEditorWarning, match="view is too"):
+        editor.view = view
+    assert editor.view == good and editor.spline is curve and editor.status_level == "error"
+    editor.set_state({"view": view})  # from the page: an error status, no warning
+    assert editor.view == good and "view is too" in editor.status_message
+
+
 @pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
 def test_js_geometry_helpers_in_node(tmp_path):
     """The page's pure helpers: the data -> screen map keeps the aspect ratio, paths are exact Béziers."""
@@ -484,6 +495,57 @@ console.log("ok");
 """, encoding="utf-8")
     run = subprocess.run(["node", str(script)], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0 and run.stdout.strip() == "ok", run.stderr
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
+def test_zoom_stops_above_the_kernels_precision_and_the_grid_is_bounded_in_node(tmp_path):
+    """Ctrl+wheel zoom in a loop (a long trackpad pinch) used to reach views a few ulps wide, where the grid loop
+    ``x += step`` never ended; every view the page reaches now passes the kernel's view_problem."""
+    base = static_dir().as_uri()
+    script = tmp_path / "check.mjs"
+    script.write_text(f"""
+import assert from "node:assert/strict";
+import {{ Viewport, drawableView, smallestSpan, MAX_SPAN, ZOOM_MARGIN }} from "{base}/common.js";
+import {{ gridStep, gridLines, MAX_GRID_LINES }} from "{base}/editor_view.js";
+const views = [];
+for (const start of [[0, 0, 620, 440], [1e17, 0, 1e17 + 1e10, 1e10], [-3e5, 7e5, -2e5, 8e5]]) {{
+  const vp = new Viewport(620, 440, start);
+  for (let notch = 0; notch < 600; notch++) {{                // in: far beyond where the page used to hang
+    vp.setView(vp.zoomed(Math.exp(100 * 0.002), 311.3, 207.9));
+    const [x0, y0, x1, y1] = vp.visible();
+    assert.ok(Math.min(x1 - x0, y1 - y0) >= 0.99 * ZOOM_MARGIN * smallestSpan(x0, y0, x1, y1), `${{vp.visible()}}`);
+    const step = gridStep(Math.max(x1 - x0, y1 - y0));
+    assert.ok(gridLines(x0, x1, step).length >= 2 && gridLines(y0, y1, step).length >= 2);
+  }}
+  views.push(vp.visible());
+  for (let notch = 0; notch < 3000; notch++) vp.setView(vp.zoomed(Math.exp(-100 * 0.002), 10, 10));  // out
+  const [x0, y0, x1, y1] = vp.visible();
+  assert.ok(Math.max(x1 - x0, y1 - y0) <= 1.01 * MAX_SPAN && Number.isFinite(vp.k) && vp.k > 0);
+  views.push(vp.visible());
+}}
+// the kernel's precision and overflow limits, as drawableView widens or narrows what it cannot draw
+assert.deepEqual(drawableView([1, 2, NaN, 4]), [0, 0, 1, 1]);
+assert.deepEqual(drawableView([0, 0, 0, 0]), [-0.5, -0.5, 0.5, 0.5]);
+const far = drawableView([1e17, 0, 1e17 + 32, 1]);
+assert.ok(far[2] - far[0] >= 1e8 && far[3] - far[1] >= 1e8);
+const huge = drawableView([-1e308, -1e308, 1e308, 1e308]);
+assert.ok(huge[2] - huge[0] === MAX_SPAN && huge[3] - huge[1] === MAX_SPAN);
+// the grid never has more than MAX_GRID_LINES lines, whatever it is given
+assert.deepEqual(gridLines(0, 10, 2.5), [0, 2.5, 5, 7.5, 10]);
+assert.deepEqual(gridLines(1e17, 1e17 + 32, 1e-3), []);          // x + step == x: the old loop never ended
+assert.deepEqual(gridLines(0, 1, 0), []); assert.deepEqual(gridLines(0, Infinity, 1), []);
+assert.deepEqual(gridLines(NaN, 1, 1), []);
+assert.equal(gridLines(0, MAX_GRID_LINES - 1, 1).length, MAX_GRID_LINES);
+console.log(JSON.stringify(views));
+""", encoding="utf-8")
+    run = subprocess.run(["node", str(script)], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    import json
+
+    from splinecraft.widgets._base import view_problem
+
+    for view in json.loads(run.stdout):  # every view the page reached, zoomed in and out: the kernel takes it
+        assert view_problem(view) is None, view
 
 
 def test_module_linker_orders_dependencies_and_refuses_cycles(tmp_path):
@@ -609,6 +671,33 @@ def test_explorer_bad_values_keep_the_last_result(explorer_factory):
     assert explorer.snapshot_index == explorer.n_snapshots - 1
     page_message(explorer, {"type": "upload", "name": "junk.png"}, [b"not an image at all"])
     assert explorer.result is result and "not an image file" in explorer.status_message
+
+
+def test_explorer_refuses_a_view_it_cannot_draw(explorer_factory):
+    from splinecraft.widgets import TraceExplorerWarning
+
+    explorer = explorer_factory()
+    good, result = list(explorer.view), explorer.result
+    with pytest.warns(TraceExplorerWarning, match="view is too large"):
+        explorer.view = [-1e308, -1e308, 1e308, 1e308]
+    with pytest.warns(TraceExplorerWarning, match="view is too small"):
+        explorer.view = [1e17, 0.0, 1e17 + 32, 1.0]
+    assert explorer.view == good and explorer.result is result and explorer.status_level == "error"
+
+
+def test_explorer_time_budget_is_seconds_above_zero_or_none(explorer_factory):
+    import traitlets
+
+    explorer = explorer_factory()
+    for bad in (math.nan, -1.0, 0.0, math.inf, True, "60"):
+        with pytest.raises(traitlets.TraitError, match="time_budget_s"):
+            explorer.time_budget_s = bad
+        assert explorer.time_budget_s == 60.0
+    explorer.time_budget_s = None  # no limit
+    explorer.epsilon = 1.5
+    assert explorer.result.params["epsilon"] == 1.5 and explorer.status_level == "info"
+    explorer.time_budget_s = 5
+    assert explorer.time_budget_s == 5.0
 
 
 def test_explorer_retraces_on_settings_and_upload(explorer_factory, tmp_path):

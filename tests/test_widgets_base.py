@@ -6,9 +6,10 @@ import threading
 
 import pytest
 import traitlets as t
+from hypothesis import given, settings, strategies as st
 
 from splinecraft.widgets._base import (
-    BadMessage, WidgetBase, read_bool, read_int, read_number, read_str, run_with_budget,
+    VIEW_PRECISION, BadMessage, WidgetBase, read_bool, read_int, read_number, read_str, run_with_budget, view_problem,
 )
 
 
@@ -131,3 +132,27 @@ def test_busy_is_cleared_whatever_happens():
             assert probe.busy
             raise RuntimeError("boom")
     assert probe.busy is False
+
+
+# ---------------------------------------------------------------------------------------------- views
+@pytest.mark.parametrize("view, words", [
+    ([1e17, 0, 1e17 + 32, 1], "too small for its coordinates"),       # x + step == x on the page: it hung
+    ([0, 0, 1e-10, 1], "too small for its coordinates"),
+    ([1e9, 0, 1e9 + 1e-6, 1e-6], "too small for its coordinates"),
+    ([-1e308, -1e308, 1e308, 1e308], "too large"),                    # the width overflows to inf
+    ([0, -1e308, 1, 1e308], "too large"),
+    ([0, 0, math.nan, 1], "finite numbers"),
+    ([0, 0, 10**400, 1], "finite numbers"),                            # an int beyond float
+    ([0, 0, 1, 1, 1], "finite numbers"), ([True, 0, 1, 1], "finite numbers"), ([1, 0, 0, 1], "xmax > xmin"),
+])
+def test_view_problem_refuses_views_the_page_cannot_draw(view, words):
+    assert words in view_problem(view)
+
+
+@given(st.floats(-1e300, 1e300), st.floats(-1e300, 1e300), st.floats(3e-9, 1.0), st.floats(3e-9, 1.0))
+@settings(max_examples=200, deadline=None)
+def test_view_problem_takes_sides_above_the_precision_and_refuses_those_below(x, y, w, h):
+    scale = max(1.0, abs(x), abs(y))  # the sides are relative to the largest coordinate
+    assert view_problem([x, y, x + w * scale, y + h * scale]) is None
+    assert "too small" in view_problem([x, y, x + 0.5 * VIEW_PRECISION * scale, y + h * scale])
+    assert "too small" in view_problem([x, y, x + w * scale, y + 0.5 * VIEW_PRECISION * scale])

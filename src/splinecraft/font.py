@@ -32,12 +32,13 @@ import os
 import re
 import shutil
 import subprocess
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ._validation import check_positive_number
+from ._validation import check_int, check_number, check_positive_number
 from .outline import Outline, as_outline
 from .outline.contour import bezier_signed_area
 from .outline.model import nesting_depths
@@ -77,9 +78,12 @@ def font_contours(source, *, scale=1.0, baseline=None, sidebearing=0.0):
     move the glyph."""
     outline = as_outline(source)
     scale = check_positive_number(scale, "scale")
+    sidebearing = check_number(sidebearing, "sidebearing")
     low, high = outline.curve_bounds()
     if baseline is None:
         baseline = outline.baseline if outline.baseline is not None else float(high[1])
+    else:
+        baseline = check_number(baseline, "baseline")
     curves = []
     for bezier in outline.bezier():
         mapped = np.empty_like(bezier)
@@ -133,12 +137,20 @@ def _glyph_name(key):
     from fontTools.agl import UV2AGL, toUnicode
 
     if isinstance(key, str) and len(key) == 1:
-        code = ord(key)
+        code = _code_point(ord(key), f"glyph key {key!r}")
         return UV2AGL.get(code, f"uni{code:04X}" if code <= 0xFFFF else f"u{code:05X}"), code
     if isinstance(key, str) and re.fullmatch(r"[A-Za-z_.][A-Za-z0-9_.\-]*", key):
         text = toUnicode(key) if "." not in key else ""
-        return key, ord(text) if len(text) == 1 else None
+        return key, _code_point(ord(text), f"glyph name {key!r}") if len(text) == 1 else None
     raise ValueError(f"glyph key {key!r} must be a single character or a glyph name")
+
+
+def _code_point(code, what):
+    """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)."""
+    if not 0 <= code <= 0x10FFFF or 0xD800 <= code <= 0xDFFF:
+        raise ValueError(f"{what} is U+{code:04X}, not a Unicode character a font can map (0 .. U+10FFFF, "
+                         "without the surrogates U+D800 .. U+DFFF)")
+    return code
 
 
 def _glyph(source, name, unicode, scale, baseline, sidebearing):
@@ -148,8 +160,8 @@ def _glyph(source, name, unicode, scale, baseline, sidebearing):
     outline = as_outline(source)
     glyph_name, code = _glyph_name(name if name is not None else (outline.name or "glyph"))
     if unicode is not None:
-        code = int(unicode)
-    curves, advance = font_contours(outline, scale=scale, baseline=baseline, sidebearing=float(sidebearing))
+        code = _code_point(check_int(unicode, "unicode"), f"unicode={unicode!r}")
+    curves, advance = font_contours(outline, scale=scale, baseline=baseline, sidebearing=sidebearing)
     glyph = Glyph(glyph_name)
     glyph.unicodes = [] if code is None else [code]
     glyph.width = round(advance)
@@ -191,6 +203,18 @@ def _check_range(name, curves, advance):
                          f"coordinates ({_INT16[0]} .. {_INT16[1]}, advance <= 65535); use a smaller scale")
 
 
+def _warn_if_flat(key, curves, scale):
+    """Warn when rounding to integer font units flattens a glyph: its curves are under one unit wide or tall."""
+    if not curves:
+        return
+    points = np.concatenate([c.reshape(-1, 2) for c in curves])
+    size = np.ptp(points, axis=0)
+    if size.min() < 1.0:
+        warnings.warn(f"glyphs[{key!r}] is {size[0]:.3g} x {size[1]:.3g} font units at scale={scale:g}: rounding "
+                      "to integer font units flattens it; use a larger scale (the default makes the tallest "
+                      "glyph ascender units high)", UserWarning, stacklevel=3)
+
+
 def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", units_per_em=1000, ascender=800,
           descender=-200, scale=None, sidebearing=50, ttf_max_error=TTF_MAX_ERROR) -> FontFiles:
     """Write ``<family>-<style>.ufo``, ``.otf`` (CFF) and ``.ttf`` (quadratic) into ``output_dir``.
@@ -200,10 +224,14 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     glyphs : dict
         Character (or glyph name) -> outline source (Outline, TraceResult, OutlineEditor, SVG, knot lists).
         A ``space`` (a quarter em) and ``.notdef`` are added when missing.
+    family, style : str
+        Non-empty names.
     units_per_em, ascender, descender : int
-        Vertical metrics (``descender`` <= 0).
+        Vertical metrics: ``units_per_em`` 16 to 16384 (OpenType), ``0 < ascender <= 32767``,
+        ``-32768 <= descender <= 0``.
     scale : float, optional
-        Font units per frame unit for every glyph (default: the tallest glyph spans ``ascender``).
+        Font units per frame unit for every glyph (default: the tallest glyph spans ``ascender``). A glyph
+        less than one font unit wide or tall at this scale (rounding flattens it) is a ``UserWarning``.
     sidebearing : float
         Left and right side bearing, font units.
     ttf_max_error : float
@@ -218,12 +246,20 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
 
     if not isinstance(glyphs, dict) or not glyphs:
         raise ValueError("glyphs must be a non-empty dict of character -> outline")
-    if not isinstance(family, str) or not family.strip():
-        raise ValueError(f"family must be a non-empty string, got {family!r}")
-    units_per_em = int(check_positive_number(units_per_em, "units_per_em"))
-    ascender, descender = int(ascender), int(descender)
+    for name, text in (("family", family), ("style", style)):
+        if not isinstance(text, str):
+            raise TypeError(f"{name} must be a non-empty string, got {type(text).__name__}")
+        if not text.strip():
+            raise ValueError(f"{name} must be a non-empty string, got {text!r}")
+    try:
+        units_per_em = check_int(units_per_em, "units_per_em", minimum=16, maximum=16384, integral_floats=True)
+    except (TypeError, ValueError) as exc:
+        raise type(exc)(f"{exc} (OpenType allows 16 to 16384 units per em)") from None
+    ascender = int(check_number(ascender, "ascender", minimum=0, maximum=_INT16[1], inclusive=(False, True)))
+    descender = int(check_number(descender, "descender", minimum=_INT16[0], maximum=0))
     if not (ascender > 0 >= descender):
         raise ValueError(f"need ascender > 0 >= descender, got {ascender} and {descender}")
+    sidebearing = check_number(sidebearing, "sidebearing")
     ttf_max_error = check_positive_number(ttf_max_error, "ttf_max_error")
     outlines = {}
     for key, source in glyphs.items():
@@ -249,6 +285,7 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
                 raise ValueError(f"glyphs[{codes[code]!r}] and glyphs[{key!r}] both map U+{code:04X}")
             codes[code] = key
         _check_range(glyph.name, glyph_curves, advance)
+        _warn_if_flat(key, glyph_curves, scale)
         keys[glyph.name], curves[glyph.name] = key, glyph_curves
         font.addGlyph(glyph)
     if "space" not in font and 0x20 not in codes:

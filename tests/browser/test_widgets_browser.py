@@ -160,6 +160,32 @@ def test_bad_value_from_page_keeps_last_good_curve(lab):
         "() => document.querySelector('[data-testid=interval_weights-number]').value === '1'", timeout=20_000)
 
 
+def test_deep_ctrl_wheel_zoom_stops_and_the_page_keeps_responding(lab):
+    """A long pinch (Ctrl+wheel) used to zoom to a view a few ulps wide, where drawing the grid never ended.
+    The zoom now stops at 1e-8 x max(1, |coordinate|); the grid is drawn and the kernel takes the view."""
+    page, root = open_editor(lab)
+    x, y = (round(v) for v in root.evaluate("el => el.__splinecraft.screenOf(300.3, 80.7)"))
+    target = root.evaluate("(el, xy) => el.__splinecraft.dataOf(xy[0], xy[1])", [x, y])  # stays under the pointer
+    page.evaluate("""([x, y]) => setTimeout(() => {
+        const svg = document.querySelector('[data-testid=spline-editor] [data-testid=canvas]');
+        for (let i = 0; i < 600; i++) svg.dispatchEvent(new WheelEvent('wheel',
+          { deltaY: -100, ctrlKey: true, clientX: x, clientY: y, bubbles: true, cancelable: true }));
+        window.__zoomed = true;
+      }, 0)""", [x, y])
+    page.wait_for_function("() => window.__zoomed === true", timeout=30_000)
+    corners = root.evaluate("""el => { const r = el.querySelector('[data-testid=canvas]').getBoundingClientRect();
+        return [el.__splinecraft.dataOf(r.left, r.top), el.__splinecraft.dataOf(r.right, r.bottom)]; }""")
+    (x0, y0), (x1, y1) = corners
+    least = 1e-8 * max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
+    assert least * 0.99 <= min(x1 - x0, y1 - y0) < 1e-5  # zoomed in about 1e7 times, and no further
+    assert root.evaluate("el => el.querySelector('[data-testid=grid]').getAttribute('d').length") > 0
+    view = wait_python(lab, "editor.view", lambda v: v[2] - v[0] < 1e-5)  # the page sent it after the last notch
+    assert view[0] <= target[0] <= view[2] and view[1] <= target[1] <= view[3]
+    assert lab.python_json("editor.status_level") != "error"
+    root.query_selector("[data-testid=fit]").click()  # the page still answers: Fit brings the whole curve back
+    wait_python(lab, "editor.view", lambda v: v[2] - v[0] > 400)
+
+
 def test_touch_drag_moves_a_point(lab):
     """Touch input: Chromium turns CDP touch events into pointer events (pointerType "touch")."""
     page, root = open_editor(lab)

@@ -146,11 +146,15 @@ def svg_document(d: str, width, height, *, fill: str = "black", title: str | Non
     H"``, even-odd fill, no stroke. ``view_box=(x, y, w, h)`` sets another frame (e.g. a curve's
     bounding box), ``fill="none"`` with a ``stroke`` colour and ``stroke_width`` draws a line.
     ``decimals`` rounds the view box and sizes that are not integers. A ``title``, ``fill`` or ``stroke``
-    with a character XML cannot hold (a control character, a lone surrogate) is a ``ValueError``.
+    with a character XML cannot hold (a control character, a lone surrogate) is a ``ValueError``; one that is
+    not a string (``fill``: not ``None`` either) a ``TypeError``.
     """
     if not isinstance(d, str):
         raise TypeError(f"d must be SVG path data (str), got {type(d).__name__}")
-    for label, text in (("title", title), ("fill", fill), ("stroke", stroke)):
+    for label, text, optional in (("title", title, True), ("fill", fill, False), ("stroke", stroke, True)):
+        if not (isinstance(text, str) or (optional and text is None)):
+            what = "a string or None" if optional else 'a string (an SVG paint: "black", "#1565c0", "none")'
+            raise TypeError(f"{label} must be {what}, got {type(text).__name__}")
         _check_xml_text(text, label)
     fmt = _formatter(_check_decimals(decimals))
     width_text = _size_text(width, "width", fmt)

@@ -35,6 +35,7 @@ from __future__ import annotations
 import concurrent.futures
 import contextlib
 import logging
+import math
 import numbers
 import os
 import sys
@@ -49,7 +50,7 @@ from .._validation import check_bool, check_choice, check_int, check_number
 
 __all__ = ["WidgetBase", "BadMessage", "Bool", "Int", "Float", "NumberList", "PointList", "points_to_json",
            "points_from_json", "read_int", "read_number", "read_bool", "read_str",
-           "f32", "run_with_budget", "short_reason", "view_problem", "DEBUG_ENV"]
+           "f32", "run_with_budget", "short_reason", "view_problem", "VIEW_PRECISION", "DEBUG_ENV"]
 
 #: Environment variable that switches the benchmark hooks on for every widget of a kernel.
 DEBUG_ENV = "SPLINECRAFT_WIDGET_DEBUG"
@@ -227,12 +228,36 @@ def run_with_budget(function, seconds: float, what: str = "the computation"):
         raise TimeoutError(f"{what} took longer than its time budget of {seconds:g} s") from None
 
 
+#: A view narrower (or lower) than this fraction of its largest coordinate (at least 1) is refused: the page
+#: could not tell its grid lines and points apart (``x + step == x``). The page's zoom stops 10 times above it.
+VIEW_PRECISION = 1e-9
+
+
 def view_problem(view) -> str | None:
-    """Why ``view`` is not a visible rectangle ``[xmin, ymin, xmax, ymax]`` of finite numbers (None if it is)."""
-    ok = (isinstance(view, (list, tuple)) and len(view) == 4
-          and all(isinstance(v, numbers.Real) and not isinstance(v, bool) and np.isfinite(v) for v in view)
-          and view[2] > view[0] and view[3] > view[1])
-    return None if ok else "view must be [xmin, ymin, xmax, ymax] of finite numbers with xmax > xmin, ymax > ymin"
+    """Why ``view`` is not a visible rectangle ``[xmin, ymin, xmax, ymax]`` the page can draw (None if it is).
+
+    Four finite numbers with ``xmax > xmin`` and ``ymax > ymin``; the width and height must be finite (not
+    an overflow) and at least :data:`VIEW_PRECISION` times ``max(1, |coordinate|)``.
+    """
+    shape = "view must be [xmin, ymin, xmax, ymax] of finite numbers with xmax > xmin, ymax > ymin"
+    if not (isinstance(view, (list, tuple)) and len(view) == 4
+            and all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_)) for v in view)):
+        return shape
+    try:
+        x0, y0, x1, y1 = (float(v) for v in view)
+    except (OverflowError, TypeError, ValueError):
+        return shape
+    if not (all(math.isfinite(v) for v in (x0, y0, x1, y1)) and x1 > x0 and y1 > y0):
+        return shape
+    width, height = x1 - x0, y1 - y0
+    if not (math.isfinite(width) and math.isfinite(height)):
+        return (f"view is too large: its width (xmax - xmin = {width:g}) and height (ymax - ymin = {height:g}) "
+                "must be finite numbers, not overflow")
+    smallest = VIEW_PRECISION * max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
+    if min(width, height) < smallest:
+        return (f"view is too small for its coordinates: width {width:.3g} and height {height:.3g} must be at "
+                f"least {VIEW_PRECISION:g} x max(1, |coordinate|) = {smallest:.3g}")
+    return None
 
 
 def _caller_stacklevel() -> int:

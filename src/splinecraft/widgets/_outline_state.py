@@ -74,20 +74,31 @@ def _or(values, n, default):
 
 
 def outline_from_lists(outline: Outline, contours, corners, point_tension, interval_weights, handles_in=None,
-                       handles_out=None) -> Outline:
+                       handles_out=None, *, changed: str | None = None) -> Outline:
     """``outline`` with the knots, corner flags, tensions, weights and (when given) corner handles of the
     editor's lists.
 
     Knots that moved keep their handles and rescale the steps of the changed intervals
     (:meth:`Contour.moved`); a contour whose knot count changed is rebuilt from its knots (chord steps).
-    Raises ``TypeError``/``ValueError`` naming the contour for anything the outline refuses.
+    Every list must have one row per contour of ``outline``; the rows of the list named ``changed`` (the one
+    just set; not ``contours``) one entry per knot. Raises ``TypeError``/``ValueError`` naming the list or
+    the contour for anything the outline refuses.
     """
-    rows = (contours, corners, point_tension, interval_weights)
-    if not all(isinstance(r, list) for r in rows + tuple(h for h in (handles_in, handles_out) if h is not None)):
+    tables = {"contours": contours, "corners": corners, "point_tension": point_tension,
+              "interval_weights": interval_weights, "handles_in": handles_in, "handles_out": handles_out}
+    tables = {name: rows for name, rows in tables.items() if rows is not None or name not in _HANDLES}
+    if not all(isinstance(r, list) for r in tables.values()):
         raise TypeError("contours, corners, point_tension, interval_weights and the handles must be lists")
-    if len(contours) != len(outline):
-        raise ValueError(f"contours must list {len(outline)} contours (add or remove contours with the outline's "
-                         f"methods), got {len(contours)}")
+    for name, rows in tables.items():
+        if len(rows) != len(outline):
+            raise ValueError(f"{name} must list {len(outline)} contours (add or remove contours with the outline's "
+                             f"methods), got {len(rows)}")
+    if changed in tables and changed != "contours":
+        for k, row in enumerate(tables[changed]):
+            n = len(contours[k]) if isinstance(contours[k], list) else len(outline.contours[k])
+            if not isinstance(row, list) or len(row) != n:
+                raise ValueError(f"{changed}[{k}] must be a list of {n} entries (one per knot of contour {k}), "
+                                 f"got {_length(row)}")
     built = []
     for k, contour in enumerate(outline.contours):
         n = len(contours[k]) if isinstance(contours[k], list) else -1
@@ -100,6 +111,10 @@ def outline_from_lists(outline: Outline, contours, corners, point_tension, inter
         except (TypeError, ValueError) as exc:
             raise type(exc)(f"contour {k}: {exc}") from None
     return outline.with_contours(built)
+
+
+def _length(row) -> str:
+    return f"{len(row)} entries" if isinstance(row, list) else f"{type(row).__name__}"
 
 
 def synced_tables(outline: Outline, current: dict, changed=None) -> dict:

@@ -23,7 +23,7 @@ import traitlets as t
 from ..outline import Outline, as_outline
 from ..outline.transforms import reflection, rotation, scaling, shearing, translation
 from ._assets import load_css, load_esm
-from ._base import WidgetBase, f32, read_number, read_str
+from ._base import Bool, Int, WidgetBase, f32, read_number, read_str, view_problem
 from ._outline_gestures import HISTORY, OutlineGestures
 from ._outline_state import (OUTLINE_TRAITS, DeviationCache, clean_selection, fitted_view, grouped_by_contour,
                              outline_from_lists, png_of_mask, synced_tables)
@@ -46,7 +46,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
     source : TraceResult, Outline, SVG (file, document or path data), list of contours, font glyph outline
         Anything :func:`splinecraft.outline.as_outline` accepts; ``iteration=`` picks an iteration of a trace.
     **params
-        ``width``, ``height`` (canvas px), ``show_image``, ``show_deviation``, ``show_fill``, ``export_path``,
+        ``width``, ``height`` (canvas px, 120 to 4000), ``show_image``, ``show_deviation``, ``show_fill``, ``export_path``,
         ``debug``.
 
     Page
@@ -93,11 +93,11 @@ class OutlineEditor(OutlineGestures, WidgetBase):
     image = t.Bytes(b"").tag(sync=True)
     frame = t.List([1.0, 1.0]).tag(sync=True)
     view = t.List([]).tag(sync=True)
-    width = t.Int(640).tag(sync=True)
-    height = t.Int(480).tag(sync=True)
-    show_image = t.Bool(True).tag(sync=True)
-    show_deviation = t.Bool(False).tag(sync=True)
-    show_fill = t.Bool(True).tag(sync=True)
+    width = Int(640, min=120, max=4000).tag(sync=True)
+    height = Int(480, min=120, max=4000).tag(sync=True)
+    show_image = Bool(True).tag(sync=True)
+    show_deviation = Bool(False).tag(sync=True)
+    show_fill = Bool(True).tag(sync=True)
     max_deviation = t.Float(None, allow_none=True).tag(sync=True)
     can_undo = t.Bool(False).tag(sync=True)
     can_redo = t.Bool(False).tag(sync=True)
@@ -327,7 +327,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         if self._applying:
             return
         try:
-            new = self._outline_from_traits()
+            new = self._outline_from_traits(change["name"])
         except (TypeError, ValueError, IndexError) as exc:
             with self._quiet(), self.hold_sync():
                 self._sync_traits()
@@ -335,9 +335,9 @@ class OutlineEditor(OutlineGestures, WidgetBase):
             return
         self._commit(new, f"{change['name']} set")
 
-    def _outline_from_traits(self) -> Outline:
+    def _outline_from_traits(self, changed=None) -> Outline:
         return outline_from_lists(self._outline, self.contours, self.corners, self.point_tension,
-                                  self.interval_weights, self.handles_in, self.handles_out)
+                                  self.interval_weights, self.handles_in, self.handles_out, changed=changed)
 
     @t.validate("selection")
     def _valid_selection(self, proposal):
@@ -347,6 +347,14 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         except ValueError as exc:
             self._reject(exc, resync=("selection",))
             return self.selection
+
+    @t.observe("view")
+    def _on_view(self, change):
+        problem = None if self._applying else view_problem(change["new"])
+        if problem:
+            with self._quiet():
+                self.view = change["old"]
+            self._reject(problem, resync=("view",))
 
     @t.observe("show_deviation")
     def _on_show_deviation(self, change):

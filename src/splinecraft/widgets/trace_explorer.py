@@ -153,8 +153,9 @@ class TraceExplorer(WidgetBase):
     ----------
     result : TraceResult -- the last good trace
     convergence_figure : bqplot Figure -- knots and max error per iteration (see :meth:`panel`)
-    time_budget_s : float -- longest a re-trace may take (default 60 s); after that the explorer keeps
-        the last good result (the abandoned work finishes in the background)
+    time_budget_s : float or None -- longest a re-trace may take, seconds > 0 (default 60; None: no limit);
+        after that the explorer keeps the last good result (the abandoned work finishes in the background).
+        A value that is not a finite number > 0 or None raises ``TraitError`` and keeps the last one.
     """
 
     _esm = load_esm("trace_explorer.js")
@@ -166,7 +167,7 @@ class TraceExplorer(WidgetBase):
     messages = {**WidgetBase.messages, "upload": "_on_upload", "edit": "_on_edit"}
     page_traits = frozenset(_TRACE_SETTINGS + _IMAGE_SETTINGS + _DISPLAY + ("snapshot_index",))
 
-    time_budget_s = TIME_BUDGET_S
+    time_budget_s = Float(TIME_BUDGET_S, allow_none=True)
 
     image_png = t.Bytes(b"").tag(sync=True)
     image_size = t.List([1, 1]).tag(sync=True)
@@ -500,6 +501,16 @@ class TraceExplorer(WidgetBase):
             if self._from_page:
                 for name in _IMAGE_SETTINGS:
                     self.send_state(name)
+
+    @t.validate("time_budget_s")
+    def _valid_budget(self, proposal):
+        value = proposal["value"]
+        if value is None:
+            return None
+        try:
+            return check_number(value, "time_budget_s", minimum=0.0, inclusive=False)
+        except (TypeError, ValueError) as exc:
+            raise t.TraitError(f"{exc} (seconds of a re-trace; None: no limit)") from None
 
     @t.observe("view")
     def _on_view(self, change):

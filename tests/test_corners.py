@@ -253,6 +253,20 @@ def test_tangent_jump_scale_is_the_outline_divided_by_it(scale, n, rotation):
         sorted(map(tuple, turned[found].tolist()))
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 3000), st.sampled_from([0.25, 0.1, 0.5, 0.75, 0.9, 1 / 3, 0.0, 1.0]),
+       st.booleans())
+def test_roughness_median_and_quantile_are_numpys(seed, n, q, ties):
+    """The median and quantile of :func:`outline_roughness` are ``np.median`` and ``np.quantile`` (method
+    "linear") bit for bit, on any count (odd, even, 1), with and without ties."""
+    from splinecraft.capture.corners._jump import _median, _quantile
+
+    rng = np.random.default_rng(seed)
+    values = rng.integers(0, 5, n).astype(float) if ties else rng.normal(0.0, 1.0, n) * 10.0 ** rng.integers(-3, 3)
+    assert _median(values.copy()) == np.median(values)
+    assert _quantile(values.copy(), q) == np.quantile(values, q)
+
+
 def test_detection_scale_is_one_on_clean_outlines_and_grows_with_the_noise():
     rng = np.random.default_rng(5)
     clean, _ = polygon_outline(star(5, 70, 35, 0.3))

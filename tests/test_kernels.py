@@ -363,7 +363,7 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     from splinecraft.capture.fitting import _iso_kernels
 
     expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
-                _iso_kernels: {"_smooth_into", "_nearest_into"}, _jump_kernels: {"_window_fit", "_arm_lines_into"}}
+                _iso_kernels: {"_smoothed", "_nearest_into"}, _jump_kernels: {"_window_fit", "_arm_lines_into"}}
     for module, names in expected.items():
         loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}
         assert names <= set(loops), (module.__name__, sorted(loops))
@@ -395,10 +395,11 @@ def _random_mask(seed, shape):
 
 
 @settings(max_examples=25, deadline=None)
-@given(st.integers(0, 10_000), st.integers(1, 30), st.integers(1, 30))
-def test_smoothed_values_are_those_of_gaussian_filter(seed, rows, cols):
+@given(st.integers(0, 10_000), st.integers(1, 30), st.integers(1, 30), st.sampled_from([16, 64]))
+def test_smoothed_values_are_those_of_gaussian_filter(seed, rows, cols, side):
     """Each lazily smoothed value is ``gaussian_filter(np.pad(mask, 4), 1.0)`` at that pixel, bit for bit
-    (scipy's summation order; the reflection at the border reads the pad's zeros)."""
+    (scipy's summation order; the reflection at the border reads the pad's zeros), read in a random order twice
+    over, from caches small enough (side 16) that values displace each other and are computed again."""
     from scipy.ndimage import gaussian_filter
 
     from splinecraft.capture.fitting import _iso_kernels
@@ -406,11 +407,18 @@ def test_smoothed_values_are_those_of_gaussian_filter(seed, rows, cols):
     mask = _random_mask(seed, (rows, cols))
     expected = gaussian_filter(np.pad(mask.astype(float), 4), 1.0)
     weights = _iso_kernels.gaussian_weights(1.0)
-    smooth, row_memo = np.empty(expected.shape), np.empty(expected.shape)
-    known, row_known = np.zeros(expected.shape, np.uint8), np.zeros(expected.shape, np.uint8)
-    for r, c in np.ndindex(*expected.shape):
-        _iso_kernels._smooth_into(mask, 4, weights, r, c, smooth, known, row_memo, row_known)
-    np.testing.assert_array_equal(smooth, expected)
+    smooth, row_memo = np.empty((side, side)), np.empty((side, side))
+    smooth_tag, row_tag = np.full((side, side), -1, np.int64), np.full((side, side), -1, np.int64)
+    ink = np.zeros((expected.shape[0] + 8, expected.shape[1]), np.uint8)  # 4 more rows of 0 above and below
+    ink[8:8 + rows, 4:4 + cols] = mask
+    cells = list(np.ndindex(*expected.shape)) * 2
+    got = np.full(expected.shape, np.nan)
+    for k in np.random.default_rng(seed).permutation(len(cells)):
+        r, c = cells[k]
+        value = _iso_kernels._smoothed(ink, weights, r, c, expected.shape[1], smooth, smooth_tag, row_memo, row_tag)
+        assert np.isnan(got[r, c]) or value == got[r, c]
+        got[r, c] = value
+    np.testing.assert_array_equal(got, expected)
 
 
 def _segment_distances(points, segments):
@@ -424,11 +432,12 @@ def _segment_distances(points, segments):
 
 
 @settings(max_examples=30, deadline=None)
-@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40))
-def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols):
+@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40), st.sampled_from([16, 64]))
+def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols, side):
     """The distance to the nearest segment of ``skimage.measure.find_contours`` on the smoothed, padded
     bitmap (its polylines cut into edges, in the pixel frame ``x = column - 4 + 0.5``), bit for bit, for points
-    on and far off the boundaries; ``None`` exactly when find_contours finds nothing."""
+    on and far off the boundaries, whatever the side of the kernel's caches (16: smaller than the padded image);
+    ``None`` exactly when find_contours finds nothing."""
     from scipy.ndimage import gaussian_filter
     from skimage.measure import find_contours
 
@@ -437,7 +446,7 @@ def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols
     mask = _random_mask(seed, (rows, cols))
     rng = np.random.default_rng(seed + 1)
     points = rng.uniform(-6, max(rows, cols) + 6, size=(60, 2))
-    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4)
+    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4, cache_side=side)
     lines = find_contours(gaussian_filter(np.pad(mask.astype(float), 4), 1.0), 0.5)
     if not lines:
         assert got is None
@@ -461,6 +470,9 @@ def test_iso_line_distance_of_a_hairline_is_none_and_of_a_square_its_closed_form
     np.testing.assert_allclose(got, [0.0, 5.0], atol=1e-9)
     with pytest.raises(ValueError, match="pad"):
         _iso_kernels.iso_line_distance(np.array([[20.0, 10.0]]), square, 1.0, 3)
+    for side in (8, 48):  # not above the 9 weights, not a power of two
+        with pytest.raises(ValueError, match="cache_side"):
+            _iso_kernels.iso_line_distance(np.array([[20.0, 10.0]]), square, 1.0, 4, cache_side=side)
 
 
 # ------------------------------------------------------------------------------ tangent-jump's arm search

@@ -69,25 +69,26 @@ def _arc_lengths(P, closed):
     return ring, arc
 
 
-def _sample_step(P, closed):
-    """1 px, or coarser on outlines whose points are far apart: at most ``SAMPLES_PER_POINT`` samples per
-    input point, so memory and time grow with the number of points, not with the coordinates' scale."""
-    _, arc = _arc_lengths(P, closed)
-    return max(1.0, float(arc[-1]) / (SAMPLES_PER_POINT * len(P)))
+def _sample_step(total, count):
+    """1 px, or coarser on outlines whose ``count`` points are far apart (``total`` px long): at most
+    ``SAMPLES_PER_POINT`` samples per input point, so memory and time grow with the number of points, not with
+    the coordinates' scale."""
+    return max(1.0, float(total) / (SAMPLES_PER_POINT * count))
 
 
-def _resample(P, closed, step=1.0):
-    """Resample the polyline at uniform arc length ``step``; returns the samples, their arc positions, the
-    arc positions of the input points and the total length."""
+def _resample(P, closed):
+    """Resample the polyline at uniform arc length, the step of :func:`_sample_step`; returns the samples, their
+    arc positions, the arc positions of the input points, the total length and the step."""
     ring, arc = _arc_lengths(P, closed)
     total = arc[-1]
+    step = _sample_step(total, len(P))
     count = int(round(total / step))
     if closed:
         where = np.arange(count) * (total / max(count, 1))
     else:
         where = np.linspace(0.0, total, count + 1)
     samples = np.column_stack([np.interp(where, arc, ring[:, 0]), np.interp(where, arc, ring[:, 1])])
-    return samples, where, arc[:len(P)], total
+    return samples, where, arc[:len(P)], total, step
 
 
 def _smooth(samples, sigma, closed):
@@ -127,8 +128,7 @@ def _roughness_samples(points, closed, checked=False):
     if len(P) < 3:
         return None, 1.0
     P = P - P[0]
-    step = _sample_step(P, closed)
-    samples = _resample(P, closed, step)[0]
+    samples, step = _resample(P, closed)[::4]
     return (samples if len(samples) >= 8 else None), step
 
 
@@ -144,8 +144,35 @@ def _roughness(samples, step, sigma, closed):
         (smooth[1] - smooth[0], smooth[-1] - smooth[-2])
     residual = (offset[:, 1] * tangent[:, 0] - offset[:, 0] * tangent[:, 1]) / \
         np.maximum(np.hypot(tangent[:, 0], tangent[:, 1]), 1e-12)
-    deviation = np.abs(residual - np.median(residual))
-    return float(np.quantile(deviation, ROUGHNESS_QUANTILE) / ROUGHNESS_QUANTILE_NORMAL)
+    deviation = np.abs(residual - _median(residual))
+    return float(_quantile(deviation, ROUGHNESS_QUANTILE) / ROUGHNESS_QUANTILE_NORMAL)
+
+
+def _median(values):
+    """``np.median`` of a 1-D float array without NaN, as numpy computes it (the middle value, or the mean
+    ``(a + b) / 2`` of the two middle ones), from one partition: without ``np.median``'s overhead."""
+    n = values.shape[0]
+    half = n // 2
+    if n % 2:
+        return np.partition(values, half)[half]
+    part = np.partition(values, (half - 1, half))
+    return (part[half - 1] + part[half]) / 2
+
+
+def _quantile(values, q):
+    """``np.quantile(values, q)`` (method "linear") of a 1-D float array without NaN, as numpy computes it: the
+    virtual index ``(n - 1) q``, the values at its floor and the next index from one partition, and numpy's
+    interpolation between them (``a + (b - a) g``, or ``b - (b - a) (1 - g)`` from ``g = 0.5`` on), without
+    ``np.quantile``'s overhead."""
+    n = values.shape[0]
+    virtual = (n - 1) * float(q)
+    below = int(np.floor(virtual))
+    above = min(below + 1, n - 1)
+    part = np.partition(values, (below, above))
+    a, b = part[below], part[above]
+    gamma = virtual - below
+    difference = b - a
+    return b - difference * (1 - gamma) if gamma >= 0.5 else a + difference * gamma
 
 
 def detection_scale(points, closed=True):
@@ -497,8 +524,7 @@ def _detect(P, closed, settings):
     P = P - P[0]
     if settings["scale"] != 1.0:  # step 0 (a division commutes with the frame's quarter turns and reflections)
         P = P / settings["scale"]
-    step = _sample_step(P, closed)
-    samples, where, arc, perimeter = _resample(P, closed, step)
+    samples, where, arc, perimeter, step = _resample(P, closed)
     if len(samples) < 8:
         return None
     samples = _smooth(samples, settings["smoothing"] / step, closed)

@@ -9,7 +9,9 @@ rings of grid cells outwards from the point's cell until no closer segment can r
 segments come from the smoothed values at its four corners, each computed when first needed and kept.
 A smoothed value is scipy's separable correlation (``correlate1d`` along rows, then along columns, with its
 symmetric-kernel summation order), so it is bit for bit ``gaussian_filter``'s, and the work is that of the
-cells the search visits (a band a few pixels wide around the boundaries) instead of the whole image.
+cells the search visits (a band a few pixels wide around the boundaries) instead of the whole image, kept in
+small direct-mapped caches (:data:`CACHE_SIDE`) instead of arrays of the image's size, whose memory (written
+once, a fresh allocation each call) cost more than the values.
 numba, compiled on first use and cached on disk (``cache=True``); the compiled loops write into arrays their
 wrappers allocate.
 """
@@ -51,45 +53,54 @@ def gaussian_weights(sigma):
 
 
 @njit(**_JIT)
-def _smooth_into(mask, pad, weights, r, c, smooth, known, row_memo, row_known):
-    """``smooth[r, c] = gaussian_filter(np.pad(mask, pad), sigma)[r, c]`` in scipy's arithmetic: the
-    correlation along columns (axis 1) of the correlation along rows (axis 0, kept in ``row_memo``), each
-    ``correlate1d``'s symmetric sum, the centre term first, then the pairs from the farthest in
-    (``(x[-j] + x[j]) w[-j]``). The padded bitmap is 1.0 on ink, 0.0 elsewhere and in the ``pad`` border;
-    outside the padded image the row pass is 0 (``pad >= radius``: scipy's reflection reads the border)."""
-    radius, rows, cols = weights.shape[0] // 2, mask.shape[0], mask.shape[1]
-    for cc in range(max(c - radius, 0), min(c + radius + 1, smooth.shape[1])):
-        if row_known[r, cc]:
+def _smoothed(ink, weights, r, c, cols, smooth, smooth_tag, row_memo, row_tag):
+    """``gaussian_filter(np.pad(mask, pad), sigma)[r, c]`` (a grid of ``cols`` columns) in scipy's arithmetic:
+    the correlation along columns (axis 1) of the correlation along rows (axis 0), each ``correlate1d``'s
+    symmetric sum, the centre term first, then the pairs from the farthest in (``(x[-j] + x[j]) w[-j]``).
+    ``ink`` is the padded bitmap (1 on ink, 0 elsewhere and in the ``pad`` border) with ``radius`` more rows of 0
+    above and below; outside the padded image the row pass is 0 (``pad >= radius``: scipy's reflection reads the
+    border).
+
+    Both passes are kept in direct-mapped caches: the value of grid point ``(r, c)`` in slot
+    ``(r mod side, c mod side)`` of ``smooth`` (the row pass: ``row_memo``), tagged ``r * cols + c`` in
+    ``smooth_tag`` (``row_tag``; -1 empty). A value another grid point displaced is computed again, the same.
+    ``side`` (the caches' shape, a power of two) exceeds ``2 radius + 1``: the row-pass values one smoothed value
+    reads share no slot."""
+    radius, side = weights.shape[0] // 2, smooth.shape[0]
+    low = side - 1
+    slot_r = r & low
+    tag = r * cols + c
+    if smooth_tag[slot_r, c & low] == tag:
+        return smooth[slot_r, c & low]
+    for cc in range(max(c - radius, 0), min(c + radius + 1, cols)):
+        if row_tag[slot_r, cc & low] == r * cols + cc:
             continue
-        column = cc - pad
-        inside = 0 <= column < cols
-        total = (1.0 if inside and 0 <= r - pad < rows and mask[r - pad, column] else 0.0) * weights[radius]
+        total = ink[r + radius, cc] * weights[radius]
         for j in range(-radius, 0):
-            up, down = r - pad + j, r - pad - j
-            above = 1.0 if inside and 0 <= up < rows and mask[up, column] else 0.0
-            below = 1.0 if inside and 0 <= down < rows and mask[down, column] else 0.0
-            total += (above + below) * weights[radius + j]
-        row_memo[r, cc], row_known[r, cc] = total, 1
-    total = row_memo[r, c] * weights[radius]
+            total += (ink[r + radius + j, cc] + ink[r + radius - j, cc]) * weights[radius + j]
+        row_memo[slot_r, cc & low], row_tag[slot_r, cc & low] = total, r * cols + cc
+    total = row_memo[slot_r, c & low] * weights[radius]
     for j in range(-radius, 0):
-        left = row_memo[r, c + j] if c + j >= 0 else 0.0
-        right = row_memo[r, c - j] if c - j < smooth.shape[1] else 0.0
+        left = row_memo[slot_r, (c + j) & low] if c + j >= 0 else 0.0
+        right = row_memo[slot_r, (c - j) & low] if c - j < cols else 0.0
         total += (left + right) * weights[radius + j]
-    smooth[r, c], known[r, c] = total, 1
+    smooth[slot_r, c & low], smooth_tag[slot_r, c & low] = total, tag
+    return total
 
 
 @njit(**_JIT)
-def _nearest_into(points, mask, pad, weights, level, table, smooth, known, row_memo, row_known, ends, out):
-    """Ring search per point (see :func:`iso_line_distance`), computing the smoothed values of each visited
-    cell's corners when first needed; stops after a point that finds no segment in the whole grid (then no
-    point can: returns False).
+def _nearest_into(points, ink, pad, weights, level, table, smooth, smooth_tag, row_memo, row_tag, ends, out):
+    """Ring search per point (see :func:`iso_line_distance`), reading the smoothed values of each visited cell's
+    corners from :func:`_smoothed`'s caches (computed when missing); stops after a point that finds no segment in
+    the whole grid (then no point can: returns False).
 
     The 0-2 marching-squares segments of a cell end on its sides (0 top, 1 bottom, 2 left, 3 right), where
     the level crosses between the side's two corners, ``from + (level - v_from) / (v_to - v_from)`` (0 when
     they are equal), as ``find_contours`` interpolates; their ends go to ``ends`` in the output frame
     (``x = column - pad + 0.5``), and the distance to a segment is exact (foot point clipped to it)."""
-    grid_rows, grid_cols = smooth.shape[0] - 1, smooth.shape[1] - 1
-    reach = max(grid_rows, grid_cols)
+    cols = ink.shape[1]
+    grid_rows, grid_cols = ink.shape[0] - weights.shape[0], cols - 1
+    reach, low = max(grid_rows, grid_cols), smooth.shape[0] - 1
     for j in range(points.shape[0]):
         px, py = points[j, 0], points[j, 1]
         row = min(max(int(np.floor(py - 0.5 + pad)), 0), grid_rows - 1)
@@ -101,12 +112,12 @@ def _nearest_into(points, mask, pad, weights, level, table, smooth, known, row_m
                 for c0 in range(col - ring, col + ring + 1, step):
                     if c0 < 0 or c0 >= grid_cols:
                         continue
-                    for rr in (r0, r0 + 1):
+                    for rr in (r0, r0 + 1):  # the corners' values (cached in four distinct slots)
                         for cc in (c0, c0 + 1):
-                            if not known[rr, cc]:
-                                _smooth_into(mask, pad, weights, rr, cc, smooth, known, row_memo, row_known)
-                    upper_left, upper_right = smooth[r0, c0], smooth[r0, c0 + 1]
-                    lower_left, lower_right = smooth[r0 + 1, c0], smooth[r0 + 1, c0 + 1]
+                            if smooth_tag[rr & low, cc & low] != rr * cols + cc:
+                                _smoothed(ink, weights, rr, cc, cols, smooth, smooth_tag, row_memo, row_tag)
+                    upper_left, upper_right = smooth[r0 & low, c0 & low], smooth[r0 & low, (c0 + 1) & low]
+                    lower_left, lower_right = smooth[(r0 + 1) & low, c0 & low], smooth[(r0 + 1) & low, (c0 + 1) & low]
                     code = ((upper_left > level) * 1 + (upper_right > level) * 2 + (lower_left > level) * 4
                             + (lower_right > level) * 8)
                     for q in (0, 2):
@@ -142,26 +153,39 @@ def _nearest_into(points, mask, pad, weights, level, table, smooth, known, row_m
     return True
 
 
-def iso_line_distance(points, mask, sigma, pad, level=0.5):
+#: Side (cells, a power of two) of the direct-mapped caches of smoothed and row-pass values (:func:`_smoothed`):
+#: 64 x 64 of each, 128 kB in all whatever the image's size. The ring searches of points that follow each other
+#: along a boundary read nearby grid points, so few are displaced before they are read again.
+CACHE_SIDE = 64
+
+
+def iso_line_distance(points, mask, sigma, pad, level=0.5, cache_side=CACHE_SIDE):
     """Distance from every point (output frame: ``x = column + 0.5``, ``y = row + 0.5`` of ``mask``) to the
     nearest segment of the ``level`` iso-line of ``gaussian_filter(np.pad(mask, pad), sigma)`` (values
     ``> level`` are high; at a saddle the low values connect); ``None`` when that iso-line is empty.
     Segments lie in their unit cell, so after the cells within Chebyshev ring ``R`` of the point's cell every
-    unvisited segment is at least ``R`` away."""
+    unvisited segment is at least ``R`` away. ``cache_side``: of the caches of smoothed values (the results
+    do not depend on it)."""
     mask = np.ascontiguousarray(mask, dtype=np.bool_)
     weights = gaussian_weights(sigma)
     pad = int(pad)
     if pad < weights.shape[0] // 2:
         raise ValueError(f"pad: must be at least the Gaussian's radius {weights.shape[0] // 2}, got {pad}")
+    side = int(cache_side)
+    if side & (side - 1) or side <= weights.shape[0]:
+        raise ValueError(f"cache_side: must be a power of two above {weights.shape[0]}, got {cache_side}")
     points = np.ascontiguousarray(points, dtype=np.float64)
     out = np.full(points.shape[0], np.inf)
     rows, cols = mask.shape[0] + 2 * pad, mask.shape[1] + 2 * pad
     if not points.shape[0] or rows < 2 or cols < 2:
         return out
-    smooth, row_memo = np.empty((rows, cols)), np.empty((rows, cols))
-    known, row_known = np.zeros((rows, cols), np.uint8), np.zeros((rows, cols), np.uint8)
-    if not _nearest_into(points, mask, pad, weights, float(level), _CASE_ENDS, smooth, known, row_memo, row_known,
-                         np.empty(4), out):
+    radius = weights.shape[0] // 2
+    ink = np.zeros((rows + 2 * radius, cols), np.uint8)   # the padded bitmap, ``radius`` more rows of 0 above, below
+    ink[pad + radius: pad + radius + mask.shape[0], pad: pad + mask.shape[1]] = mask
+    smooth, row_memo = np.empty((side, side)), np.empty((side, side))
+    smooth_tag, row_tag = np.full((side, side), -1, np.int64), np.full((side, side), -1, np.int64)
+    if not _nearest_into(points, ink, pad, weights, float(level), _CASE_ENDS, smooth, smooth_tag, row_memo,
+                         row_tag, np.empty(4), out):
         return None
     return out
 

@@ -356,6 +356,14 @@ class WidgetBase(anywidget.AnyWidget):
             warnings.warn(f"{type(self).__name__}: {reason}; kept the last good {self.kept}", self.warning_class,
                           stacklevel=_caller_stacklevel())
 
+    def _keep_good_view(self, change) -> None:
+        """The ``view`` observer's rule: a view :func:`view_problem` refuses goes back to the last good one."""
+        problem = None if self._applying else view_problem(change["new"])
+        if problem:
+            with self._quiet():
+                self.view = change["old"]
+            self._reject(problem, resync=("view",))
+
     # ------------------------------------------------------------------ page -> kernel
     @contextlib.contextmanager
     def _page(self):

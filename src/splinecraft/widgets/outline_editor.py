@@ -23,7 +23,7 @@ import traitlets as t
 from ..outline import Outline, as_outline
 from ..outline.transforms import reflection, rotation, scaling, shearing, translation
 from ._assets import load_css, load_esm
-from ._base import Bool, Int, WidgetBase, f32, read_number, read_str, view_problem
+from ._base import Bool, Int, WidgetBase, f32, read_number, read_str
 from ._outline_gestures import HISTORY, OutlineGestures
 from ._outline_state import (OUTLINE_TRAITS, DeviationCache, clean_selection, fitted_view, grouped_by_contour,
                              outline_from_lists, png_of_mask, synced_tables)
@@ -350,11 +350,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
 
     @t.observe("view")
     def _on_view(self, change):
-        problem = None if self._applying else view_problem(change["new"])
-        if problem:
-            with self._quiet():
-                self.view = change["old"]
-            self._reject(problem, resync=("view",))
+        self._keep_good_view(change)
 
     @t.observe("show_deviation")
     def _on_show_deviation(self, change):

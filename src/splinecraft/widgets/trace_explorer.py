@@ -28,7 +28,7 @@ from ..capture.image import InkPolarityWarning
 from ..capture.trace_stages import TraceStages
 from . import _explorer_drawing as drawing
 from ._assets import load_css, load_esm
-from ._base import Bool, Float, Int, WidgetBase, read_str, run_with_budget, short_reason, view_problem
+from ._base import Bool, Float, Int, WidgetBase, read_str, run_with_budget, short_reason
 from ._png import curves_png
 
 __all__ = ["TraceExplorer", "TraceExplorerWarning", "demo_bitmap", "corner_param_specs"]
@@ -514,11 +514,7 @@ class TraceExplorer(WidgetBase):
 
     @t.observe("view")
     def _on_view(self, change):
-        problem = None if self._applying else view_problem(change["new"])
-        if problem:
-            with self._quiet():
-                self.view = change["old"]
-            self._reject(problem, resync=("view",))
+        self._keep_good_view(change)
 
     @t.observe("snapshot_index")
     def _on_index(self, change):

@@ -284,17 +284,16 @@ def trace(
     (noise, coarse, _), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
                                             keep=lambda found: not undetected.any() and found[2])
     corner_scale = np.ones(len(points_list))
+    lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
     chosen_scale = float(settings["corner_params"].get("scale", 1.0)) \
         if settings["corner_method"] == "tangent-jump" else 1.0
     if chosen_scale != 1.0:     # the caller's scale: every boundary whose corners were detected
-        lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
         corner_scale[lengths >= min(_small_limit(settings), CORNERLESS_CONTOUR)] = chosen_scale  # as _contours
         corner_scale[undetected] = 1.0
     for k, (scale, found) in coarse.items():
         corner_scale[k], corner_list[k] = scale, found
     if noise > CLEAN_NOISE:     # at this noise the square end of a 1-2 px stroke is a speck's: not a pixel corner
-        _drop_stroke_end_corners(corner_list, pixel_list, corner_scale,
-                                 np.fromiter(map(len, points_list), np.int64, len(points_list)))
+        _drop_stroke_end_corners(corner_list, pixel_list, corner_scale, lengths)
     if coarse:
         scales = corner_scale[list(coarse)]
         notes.append(f"boundary noise {noise:.2f} px: the corners of {len(coarse)} boundar"

@@ -226,17 +226,22 @@ print(json.dumps(out))
 
 
 _TRACE_CHILD = """
-import json, sys, time, splinecraft as sc
+import json, resource, sys, time, splinecraft as sc
 import scipy.ndimage, scipy.spatial, skimage.measure  # imports are not the kernels' cost
 from splinecraft.datasets import thesis_object
 image = thesis_object("ali")
-w, c = time.perf_counter(), time.process_time()
+def cpu():  # this process and the helpers that compiled kernels for it (_jit.warm_up)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + children.ru_utime + children.ru_stime
+w, c = time.perf_counter(), cpu()
 sc.trace(image, **json.loads(sys.argv[1]))
-print(json.dumps({"total": (time.perf_counter() - w, time.process_time() - c)}))
+print(json.dumps({"total": (time.perf_counter() - w, cpu() - c)}))
 """
 
-#: The first ``sc.trace`` calls timed by the ``jit`` mode: at defaults and with segment merging on.
-_TRACE_CALLS = {"sc.trace (defaults)": {}, "sc.trace (merge_tolerance 0.5)": {"fit_params": {"merge_tolerance": 0.5}}}
+#: The first ``sc.trace`` calls timed by the ``jit`` mode: label -> (keyword arguments, environment): at
+#: defaults (cold kernels compiled in parallel processes, ``capture._jit.warm_up``) and in one process.
+_TRACE_CALLS = {"sc.trace (defaults)": ({}, {}),
+                "sc.trace (defaults, SPLINECRAFT_JIT_WORKERS=1)": ({}, {"SPLINECRAFT_JIT_WORKERS": "1"})}
 
 
 def measure_jit(src):
@@ -250,9 +255,9 @@ def measure_jit(src):
             done = subprocess.run([sys.executable, "-c", _JIT_CHILD], capture_output=True, text=True, env=env,
                                   check=True)
             out[name] = json.loads(done.stdout.strip().splitlines()[-1])
-    for label, kwargs in _TRACE_CALLS.items():  # the first sc.trace of a process, each on its own empty cache
+    for label, (kwargs, extra) in _TRACE_CALLS.items():  # the first sc.trace of a process, on an empty cache
         with tempfile.TemporaryDirectory() as cache:
-            env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=src)
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=src, **extra)
             for name in ("cold", "warm"):
                 done = subprocess.run([sys.executable, "-c", _TRACE_CHILD, json.dumps(kwargs)], capture_output=True,
                                       text=True, env=env, check=True)
@@ -275,7 +280,7 @@ def compare_jit(args):
 
 
 def print_jit(figures):
-    print("| first call in a fresh process | cold (empty cache) wall / CPU s | warm (cached) wall / CPU s |\n|---|---|---|")
+    print("| first call in a fresh process | cold (empty cache) wall / CPU s (helpers included) | warm (cached) wall / CPU s |\n|---|---|---|")
     for label, runs in figures.get("first trace", {}).items():
         print(f"| {label} | {runs['cold'][0]:.2f} / {runs['cold'][1]:.2f} | {runs['warm'][0]:.2f} / {runs['warm'][1]:.2f} |")
     print()

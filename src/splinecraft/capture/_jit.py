@@ -8,15 +8,26 @@ numba compiles each kernel on its first call and keeps the machine code on disk 
 without a home folder) numba refuses ``cache=True`` when the module is imported ("no locator available").
 :func:`ensure_cache_dir` then points numba's cache at a per-user folder of the temporary directory, so the
 kernels still compile once per machine boot instead of failing.
+
+A cold cache costs seconds of compiling on the first trace of a process (docs/capture.md, "Compiled kernels").
+:func:`warm_up` spreads that over the machine's CPUs: the cold warm-up tasks (:data:`WARM_UP_TASKS`) are split
+longest first between this process and helper processes that only compile them into the shared cache, and this
+process then loads the helpers' kernels from it. A warm cache starts no helper; a helper that fails or cannot
+start costs nothing but the time: this process compiles what it left.
 """
 from __future__ import annotations
 
+import importlib
 import os
+import subprocess
+import sys
 import tempfile
+import threading
 
 import numba
 
-__all__ = ["JIT_OPTIONS", "ensure_cache_dir", "warm_up_all", "KERNEL_MODULES"]
+__all__ = ["JIT_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "KERNEL_MODULES", "WARM_UP_TASKS",
+           "TRACE_TASKS", "LAST_WARM_UP"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
@@ -57,11 +68,135 @@ ensure_cache_dir()
 KERNEL_MODULES = ("fitting._kernels", "fitting._iso_kernels", "corners._jump_kernels", "_cracks", "fitting.budget",
                   "fitting._merge_kernels")
 
+#: The warm-up tasks: name -> (module relative to :mod:`splinecraft.capture`, its function that compiles (empty
+#: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
+#: cold compile in seconds). The seconds were measured one task per fresh process and empty cache on a quiet
+#: machine (BENCHMARKS.md, "Session 20"); only their ratios matter, they balance the processes of :func:`warm_up`.
+WARM_UP_TASKS = {
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.8),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.7),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 1.7),
+    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 1.2),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.8),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.5),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.4),
+}
+#: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
+#: polygons of a spent time budget compile where they are used).
+TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
+#: Seconds a helper process spends before it compiles (Python, numpy, numba and the kernel modules imported,
+#: numba's first compile of a process set up), which the split of :func:`warm_up` charges to every helper.
+HELPER_START = 0.7
+#: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.
+HELPER_TIMEOUT = 600.0
+#: What the last :func:`warm_up` of this process did: the tasks found cold, the tasks of each helper, and the
+#: helpers that failed (their tasks compiled here).
+LAST_WARM_UP = {"cold": [], "helpers": [], "failed": []}
+
+_DONE = set()
+_LOCK = threading.Lock()
+
+
+def workers() -> int:
+    """Processes a cold warm-up may use: ``SPLINECRAFT_JIT_WORKERS`` when set to a whole number >= 1, else
+    the CPUs this process may run on."""
+    setting = os.environ.get("SPLINECRAFT_JIT_WORKERS", "").strip()
+    if setting.isdigit() and int(setting) >= 1:
+        return int(setting)
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def is_cached(dispatcher) -> bool:
+    """Whether numba's on-disk cache holds an entry of ``dispatcher`` for this machine that numba would load
+    (the index of its source file's current version; numba's own check)."""
+    try:
+        magic = dispatcher.targetctx.codegen().magic_tuple()
+        return any(key[1] == magic for key in dispatcher._cache._cache_file._load_index())
+    except Exception:  # no cache, or numba's internals moved: counted as cold (costs at most a helper)
+        return False
+
+
+def plan(cold, processes):
+    """Split the ``cold`` task names between this process (first list) and ``processes - 1`` helpers,
+    longest first, each to the process that would finish it earliest (a helper starts :data:`HELPER_START`
+    seconds late)."""
+    loads = [0.0] + [HELPER_START] * (max(1, processes) - 1)
+    shares = [[] for _ in loads]
+    for name in sorted(cold, key=lambda task: -WARM_UP_TASKS[task][3]):
+        at = min(range(len(loads)), key=lambda index: (loads[index], index))
+        loads[at] += WARM_UP_TASKS[name][3]
+        shares[at].append(name)
+    return shares
+
+
+def _function(name):
+    module, function, _, _ = WARM_UP_TASKS[name]
+    return getattr(importlib.import_module("splinecraft.capture." + module), function)
+
+
+def _sentinel(name):
+    module, _, kernel, _ = WARM_UP_TASKS[name]
+    return getattr(importlib.import_module("splinecraft.capture." + module), kernel)
+
+
+def _start_helper(names):
+    """A helper process that runs the warm-up tasks ``names`` (helpers start no helpers of their own)."""
+    here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # the folder of this package
+    env = dict(os.environ, SPLINECRAFT_JIT_WORKERS="1")
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [here, os.environ.get("PYTHONPATH", "")]))
+    if numba.config.CACHE_DIR:
+        env["NUMBA_CACHE_DIR"] = numba.config.CACHE_DIR
+    code = "import sys; from splinecraft.capture._jit import warm_up; warm_up(sys.argv[1:])"
+    try:
+        return subprocess.Popen([sys.executable, "-c", code, *names], env=env, stdin=subprocess.DEVNULL,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except OSError:
+        return None
+
+
+def _finished(helper) -> bool:
+    try:
+        return helper.wait(timeout=HELPER_TIMEOUT) == 0
+    except subprocess.TimeoutExpired:
+        helper.kill()
+        helper.wait()
+        return False
+
+
+def warm_up(tasks=TRACE_TASKS):
+    """Compile (empty cache) or load the kernels of the warm-up ``tasks`` (names of :data:`WARM_UP_TASKS`),
+    each once per process. When two or more of them are cold and :func:`workers` allows, helper processes
+    compile part of them at the same time (:func:`plan`); this process waits for them and loads their kernels
+    from the cache. :data:`LAST_WARM_UP` tells what happened."""
+    with _LOCK:
+        todo = [name for name in dict.fromkeys(tasks) if name not in _DONE]
+        unknown = [name for name in todo if name not in WARM_UP_TASKS]
+        if unknown:
+            raise ValueError(f"unknown warm-up tasks {unknown}; known: {sorted(WARM_UP_TASKS)}")
+        if not todo:
+            return
+        processes = min(workers(), len(todo))
+        cold = [name for name in todo if not is_cached(_sentinel(name))] if processes > 1 else []
+        shares = plan(cold, processes) if len(cold) > 1 else [cold]
+        helpers = [(share, _start_helper(share)) for share in shares[1:] if share]
+        LAST_WARM_UP.update(cold=cold, helpers=[share for share, _ in helpers], failed=[])
+        theirs = {name for share, _ in helpers for name in share}
+        for name in todo:
+            if name not in theirs:
+                _function(name)()
+                _DONE.add(name)
+        for share, helper in helpers:
+            if helper is None or not _finished(helper):
+                LAST_WARM_UP["failed"].append(share)
+            for name in share:  # loaded from the cache the helper filled, or compiled here if it failed
+                _function(name)()
+                _DONE.add(name)
+
 
 def warm_up_all():
-    """Compile (empty cache) or load every kernel; ``scripts/bootstrap.sh`` runs this after an install so
-    that the first trace of a session finds the cache filled."""
-    import importlib
-
-    for name in KERNEL_MODULES:
-        importlib.import_module("splinecraft.capture." + name).warm_up()
+    """Compile (empty cache) or load every kernel (:func:`warm_up` of every task); ``scripts/bootstrap.sh``
+    runs this after an install so that the first trace of a session finds the cache filled."""
+    warm_up(tuple(WARM_UP_TASKS))

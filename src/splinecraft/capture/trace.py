@@ -62,6 +62,7 @@ import time
 import numpy as np
 
 from .. import _validation
+from . import _jit
 from .contour import Boundaries, trace_boundaries
 from .trace_stats import trace_stats
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
@@ -72,10 +73,6 @@ from .corners._jump import checked_detection_scale
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
     check_points, check_small_outline, check_tau, extrapolates_tips, make_rng
-from .corners._jump_kernels import warm_up as warm_corner_kernels
-from .fitting._iso_kernels import warm_up as warm_noise_kernels
-from .fitting._kernels import warm_up as warm_fit_kernels
-from .fitting._merge_kernels import warm_up as warm_merge_kernels
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
 from .fitting.results import BoundaryList
 from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
@@ -250,17 +247,20 @@ def trace(
     mask = load_bitmap(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
                        connectivity=connectivity)
     loaded = time.perf_counter()
+    # the kernels compiled or loaded before the tracer and the budget start (the first call of a
+    # process; cold ones in parallel processes, _jit.warm_up); not counted in any stage of time_breakdown
+    tasks = _jit.TRACE_TASKS
+    if settings["method"] == "lsq" and settings["fit_params"].get("merge_tolerance",
+                                                                     LSQ_DEFAULTS["merge_tolerance"]) > 0:
+        tasks += ("merge",)  # where segment merging runs (the default of lsq; merge_tolerance=0 turns it off)
+    if settings["corner_method"] == "tangent-jump":
+        tasks += ("corners",)
+    _jit.warm_up(tasks)
+    warmed = time.perf_counter()
     key = (stages.mask_key(mask), connectivity, min_speck_area is None)
     (mask, boundaries, notes), _ = stages.remember(
         "boundaries", key, lambda: _boundaries(mask, connectivity, min_speck_area, invert))
     traced = time.perf_counter()
-    warm_fit_kernels()  # compiled or loaded before the budget starts (the first call of a process)
-    warm_noise_kernels()
-    if settings["method"] == "lsq" and settings["fit_params"].get("merge_tolerance",
-                                                                     LSQ_DEFAULTS["merge_tolerance"]) > 0:
-        warm_merge_kernels()  # where segment merging runs (the default of lsq; merge_tolerance=0 turns it off)
-    if settings["corner_method"] == "tangent-jump":
-        warm_corner_kernels()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
     key = (key, contour, _small_limit(settings), settings["corner_method"], settings["corner_params"], time_budget)
     corner_deadline = Deadline(None if time_budget is None else time_budget / 2)
@@ -333,7 +333,7 @@ def trace(
     stats["tolerance"] = settings["tolerance"]
     stats["time_s"] = finished - started
     stats["time_breakdown"] = {
-        "load_s": loaded - started, "boundaries_s": traced - loaded,
+        "load_s": loaded - started, "boundaries_s": traced - warmed,
         "corners_s": detected - traced, "noise_s": cornered - detected, "fit_s": finished - cornered,
     }
     params = {

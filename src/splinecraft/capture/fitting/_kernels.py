@@ -21,7 +21,8 @@ from numba import njit
 from .._jit import JIT_OPTIONS
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up"]
+           "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up",
+           "warm_up_solves", "warm_up_checks"]
 
 _JIT = JIT_OPTIONS
 
@@ -466,21 +467,40 @@ _WARM = []
 def warm_up():
     """Compile (empty cache) or load (``cache=True``) every kernel that a fit uses, once per process, on
     tiny inputs: :func:`~splinecraft.capture.trace.trace` calls this before its time budget starts, so the
-    first-call cost never eats into the budget (docs/capture.md §12, "Time budget")."""
+    first-call cost never eats into the budget (docs/capture.md §12, "Time budget"). Two halves of about equal
+    compile time, :func:`warm_up_solves` and :func:`warm_up_checks`, which :func:`.._jit.warm_up` may run in
+    two processes at once."""
     if _WARM:
         return
+    warm_up_solves()
+    warm_up_checks()
+    _WARM.append(True)
+
+
+def _tiny_fit():
+    """The tiny inputs of the warm-ups: knots, parameters, two Bézier segments, their intervals, an index."""
     knots = np.arange(7.0)
     full = np.concatenate([knots[-3:] - 7.0, knots, knots[:4] + 7.0])
-    u = np.linspace(0.0, 6.5, 8)
-    bez = np.cumsum(np.ones((2, 4, 2)), axis=1)
-    starts, ends = np.array([0.0, 1.0]), np.array([1.0, 2.0])
-    index = np.zeros(2, np.int64)
+    return (full, np.linspace(0.0, 6.5, 8), np.cumsum(np.ones((2, 4, 2)), axis=1), np.array([0.0, 1.0]),
+            np.array([1.0, 2.0]), np.zeros(2, np.int64))
+
+
+def warm_up_solves():
+    """The first half of :func:`warm_up`: the normal equations, their solve, the spline's values, the
+    parameter correction and Bézier evaluation."""
+    full, u, bez, starts, ends, index = _tiny_fit()
     band, _ = normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
     penalized_normal(band, 1e-8, True)
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
-    edges = (np.ones(3),) * 5  # windowed_distance and search_sorted: no longer in a trace, compiled when used
     eval_bezier(bez, index, np.array([0.1, 0.2]))
+
+
+def warm_up_checks():
+    """The second half of :func:`warm_up`: curve points, the dense deviation check and its per-group maxima
+    (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used)."""
+    _, _, bez, starts, ends, index = _tiny_fit()
+    edges = (np.ones(3),) * 5
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     group_max(index, np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
@@ -488,7 +508,6 @@ def warm_up():
                        np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
                        np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2), 2.0,
                        1.0, 0.0, 2)
-    _WARM.append(True)
 
 
 

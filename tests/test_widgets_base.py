@@ -156,3 +156,33 @@ def test_view_problem_takes_sides_above_the_precision_and_refuses_those_below(x,
     assert view_problem([x, y, x + w * scale, y + h * scale]) is None
     assert "too small" in view_problem([x, y, x + 0.5 * VIEW_PRECISION * scale, y + h * scale])
     assert "too small" in view_problem([x, y, x + w * scale, y + 0.5 * VIEW_PRECISION * scale])
+
+
+def _widgets_with(view):
+    """Each widget built with ``view=`` (the outline editor on a traced square, the explorer on its demo)."""
+    import numpy as np
+
+    import splinecraft as sc
+    from splinecraft.widgets import OutlineEditor, SplineEditor, TraceExplorer
+
+    mask = np.zeros((30, 30), bool)
+    mask[5:25, 5:25] = True
+    yield lambda: OutlineEditor(sc.trace(mask), view=view)
+    yield lambda: SplineEditor(view=view)
+    yield lambda: TraceExplorer(view=view)
+
+
+@pytest.mark.parametrize("index", range(3))
+def test_constructors_show_the_view_they_are_given(index):
+    """A ``view=`` given to a constructor is the view shown (not replaced by the fitted one)."""
+    build = list(_widgets_with((2, -3.5, 102, 77.25)))[index]
+    assert build().view == [2.0, -3.5, 102.0, 77.25]
+
+
+@pytest.mark.parametrize("index", range(3))
+@pytest.mark.parametrize("view, words", [([0, 0, math.nan, 1], "finite numbers"), ([0, 0, 1], "finite numbers"),
+                                         ([5, 0, 1, 1], "xmax > xmin"), ([0, 0, 1e-12, 1], "too small")])
+def test_constructors_refuse_a_bad_view_naming_the_problem(index, view, words):
+    build = list(_widgets_with(view))[index]
+    with pytest.raises(ValueError, match=words):
+        build()

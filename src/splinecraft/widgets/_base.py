@@ -356,6 +356,19 @@ class WidgetBase(anywidget.AnyWidget):
             warnings.warn(f"{type(self).__name__}: {reason}; kept the last good {self.kept}", self.warning_class,
                           stacklevel=_caller_stacklevel())
 
+    @staticmethod
+    def _given_view(params) -> list | None:
+        """The ``view`` a constructor was given (taken out of ``params``): None when it was not given, else
+        the four floats; a view :func:`view_problem` refuses raises ValueError naming the problem. The
+        constructor shows it instead of fitting the view to its contents."""
+        view = params.pop("view", None)
+        if view is None:
+            return None
+        problem = view_problem(view)
+        if problem:
+            raise ValueError(problem)
+        return [float(value) for value in view]
+
     def _keep_good_view(self, change) -> None:
         """The ``view`` observer's rule: a view :func:`view_problem` refuses goes back to the last good one."""
         problem = None if self._applying else view_problem(change["new"])

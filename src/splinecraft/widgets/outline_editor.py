@@ -106,6 +106,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
     def __init__(self, source, *, iteration=None, **params):
         options = {} if iteration is None else {"iteration": iteration}
         outline = as_outline(source, **options)
+        view = self._given_view(params)
         super().__init__(**params)
         self._outline = outline
         self._undo, self._redo = [], []
@@ -116,7 +117,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         with self._quiet(), self.hold_sync():
             self.frame = [outline.width, outline.height]
             self.image = png_of_mask(outline.bitmap)
-            self.view = fitted_view(outline)
+            self.view = fitted_view(outline) if view is None else view
             self._sync_traits()
         self._publish(changed=range(len(outline)))
         self._set_status(f"{len(outline)} contours, {sum(len(c) for c in outline.contours)} knots.")

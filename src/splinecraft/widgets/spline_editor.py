@@ -164,6 +164,7 @@ class SplineEditor(WidgetBase):
         self._moving = False  # an update of a drag in progress: send only what changed (get_state)
         self._points_unsent = False
         display = {k: engine_params.pop(k) for k in list(engine_params) if k in _DISPLAY_TRAITS + ("debug",)}
+        view = self._given_view(display)
         super().__init__(max_points=max_points, **display)
         state = model.initial_state(points, engine_params, max_points=max_points)
         try:
@@ -178,7 +179,10 @@ class SplineEditor(WidgetBase):
         self._spline = spline
         with self._quiet():
             self.t = drawing.clamp_parameter(spline, self.t)
-        self.fit_view()
+        if view is None:
+            self.fit_view()
+        else:
+            self.view = view
         self._publish()
         if state["form"] == "segment":
             self._set_status("Drag F₀, V, W, F₁; move α and β to reshape the segment.", "info")

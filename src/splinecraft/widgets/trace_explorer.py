@@ -206,6 +206,7 @@ class TraceExplorer(WidgetBase):
         if unknown:
             raise TypeError(f"TraceExplorer got unexpected argument(s): {', '.join(sorted(unknown))}")
         display = {k: trace_params.pop(k) for k in list(trace_params) if k in _DISPLAY + ("debug",)}
+        view = self._given_view(display)
         self._result = None
         self._stages = TraceStages()  # boundaries, corners and noise of the last bitmaps (a slider re-fits only)
         super().__init__(**display)
@@ -238,6 +239,9 @@ class TraceExplorer(WidgetBase):
                 setattr(self, name, value)
             self.options = self._options()
         self._set_image(mask)
+        if view is not None:  # shown instead of the whole bitmap
+            with self._quiet():
+                self.view = view
         self._accept(result)
         self._show_summary("", self._load_notes)
 

@@ -204,3 +204,18 @@ def test_wheel_zoom_and_resize_change_the_view(lab):
     lab.execute("editor.width = 400")
     page.wait_for_function("() => document.querySelector('[data-testid=outline-editor] [data-testid=canvas]')"
                            ".getAttribute('width') === '400'", timeout=20_000)
+
+
+def test_a_view_given_to_the_constructor_is_the_view_drawn(lab):
+    """``result.edit(view=...)``: the page draws that rectangle (centred, the limiting axis filling the canvas),
+    not the view fitted to the outline."""
+    cell = CELL.replace("result.edit(width=600, height=520)", "result.edit(width=600, height=520, view=[10, 20, 110, 120])")
+    page, root = open_outline_editor(lab, cell)
+    assert lab.python_json("editor.view") == [10.0, 20.0, 110.0, 120.0]
+    top, centre, bottom = root.evaluate(
+        """el => { const r = el.querySelector('[data-testid=canvas]').getBoundingClientRect();
+                   const s = el.__splinecraft;
+                   return [s.dataOf(r.left + r.width / 2, r.top), s.dataOf(r.left + r.width / 2, r.top + r.height / 2),
+                           s.dataOf(r.left + r.width / 2, r.top + r.height)]; }""")
+    assert centre == pytest.approx([60.0, 70.0], abs=0.3)
+    assert top[1] == pytest.approx(20.0, abs=0.3) and bottom[1] == pytest.approx(120.0, abs=0.3)  # 520 < 600: height limits

@@ -43,17 +43,22 @@ def test_plan_balances_the_trace_tasks_between_two_processes():
     assert sum(weight[name] for name in theirs) + _jit.HELPER_START < 0.6 * total
 
 
-@pytest.mark.parametrize("setting, expected", [("1", 1), ("3", 3), (" 2 ", 2)])
-def test_workers_follows_the_environment(monkeypatch, setting, expected):
+@pytest.mark.parametrize("setting, expected", [("1", 1), ("3", 3), (" 2 ", 2), ("9", 4), ("", 4)])
+def test_workers_follows_the_environment_up_to_the_cpus(monkeypatch, recwarn, setting, expected):
     monkeypatch.setenv("SPLINECRAFT_JIT_WORKERS", setting)
+    monkeypatch.setattr(_jit, "_cpus", lambda: 4)
     assert _jit.workers() == expected
+    assert not recwarn.list
 
 
-@pytest.mark.parametrize("setting", ["0", "-2", "two", "1.5", ""])
-def test_workers_ignores_settings_that_are_not_a_positive_count(monkeypatch, setting):
+@pytest.mark.parametrize("setting", ["0", "-2", "two", "1.5", "+2", "\u00b2", "\u0663"])
+def test_workers_ignores_other_settings_with_a_warning(monkeypatch, setting):
+    """Not a whole number from 1 (zero, signs, decimals, non-ASCII digits that ``int`` refuses or reads):
+    a warning names the value, and the CPUs are used."""
     monkeypatch.setenv("SPLINECRAFT_JIT_WORKERS", setting)
-    monkeypatch.setattr(_jit.os, "sched_getaffinity", lambda pid: {0, 1, 2}, raising=False)
-    assert _jit.workers() == 3
+    monkeypatch.setattr(_jit, "_cpus", lambda: 3)
+    with pytest.warns(RuntimeWarning, match="SPLINECRAFT_JIT_WORKERS"):
+        assert _jit.workers() == 3
 
 
 def test_unknown_task_is_refused():
@@ -95,14 +100,90 @@ def test_a_failing_helper_costs_only_time(monkeypatch):
     assert len(started) == 1
 
 
-def test_a_helper_that_cannot_start_costs_only_time(monkeypatch):
+@pytest.mark.parametrize("executable", ["/nonexistent/python", None, ""])
+def test_a_helper_that_cannot_start_costs_only_time(monkeypatch, executable):
+    """No interpreter to start (a bad path, or an embedded Python whose ``sys.executable`` is None or empty)."""
     monkeypatch.setattr(_jit, "_DONE", set())
     monkeypatch.setattr(_jit, "is_cached", lambda dispatcher: False)
     monkeypatch.setattr(_jit, "workers", lambda: 3)
-    monkeypatch.setattr(_jit.sys, "executable", "/nonexistent/python")
+    monkeypatch.setattr(_jit.sys, "executable", executable)
     _jit.warm_up(("noise", "corners", "merge"))
     assert _jit.LAST_WARM_UP["helpers"] and _jit.LAST_WARM_UP["failed"] == _jit.LAST_WARM_UP["helpers"]
     assert _jit._DONE == {"noise", "corners", "merge"}
+
+
+def test_an_interrupted_warm_up_stops_its_helpers(monkeypatch):
+    """KeyboardInterrupt (Jupyter's "interrupt kernel") while this process compiles: the helper is stopped, not
+    left compiling for nobody."""
+    monkeypatch.setattr(_jit, "_DONE", set())
+    monkeypatch.setattr(_jit, "is_cached", lambda dispatcher: False)
+    monkeypatch.setattr(_jit, "workers", lambda: 2)
+    started = []
+
+    def slow_helper(names):
+        started.append(subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"]))
+        return started[-1]
+
+    def interrupted(name):
+        def run():
+            raise KeyboardInterrupt
+        return run
+
+    monkeypatch.setattr(_jit, "_start_helper", slow_helper)
+    monkeypatch.setattr(_jit, "_function", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        _jit.warm_up(("noise", "corners", "merge"))
+    assert started and started[0].poll() is not None
+
+
+def test_the_helper_uses_this_process_s_package_whatever_the_working_folder(monkeypatch, tmp_path):
+    """``python -c`` puts the working folder first on the import path: a folder holding another splinecraft
+    must not be the one the helper compiles."""
+    shadow = tmp_path / "splinecraft"
+    shadow.mkdir()
+    (shadow / "__init__.py").write_text("raise ImportError('the shadow copy was imported')\n")
+    monkeypatch.chdir(tmp_path)
+    helper = _jit._start_helper(["noise"])  # a warm cache here: it only loads
+    assert helper is not None and helper.wait(timeout=120) == 0
+
+
+_ORPHAN = """
+import sys, time
+from splinecraft.capture import _jit
+helper = _jit._start_helper(list(_jit.WARM_UP_TASKS))  # about 7 s of compiling
+print(helper.pid, flush=True)
+time.sleep(600)
+"""
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/status") as status:
+            return not any(line.startswith("State:") and "Z" in line.split()[1] for line in status)
+    except FileNotFoundError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_a_helper_exits_when_its_parent_is_killed(tmp_path):
+    """A helper compiling on an empty cache whose parent dies (killed, or the kernel restarted) stops within
+    a second instead of compiling for nobody."""
+    import time
+
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path),
+               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
+    parent = subprocess.Popen([sys.executable, "-c", _ORPHAN], env=env, stdout=subprocess.PIPE, text=True)
+    try:
+        pid = int(parent.stdout.readline())
+        time.sleep(0.5)
+        assert _alive(pid)
+    finally:
+        parent.kill()
+        parent.wait()
+    deadline = time.monotonic() + 2.0  # far less than its compile: it stopped, not finished
+    while _alive(pid) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not _alive(pid)
 
 
 _COLD_TRACE = """

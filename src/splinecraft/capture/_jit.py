@@ -97,16 +97,28 @@ _DONE = set()
 _LOCK = threading.Lock()
 
 
-def workers() -> int:
-    """Processes a cold warm-up may use: ``SPLINECRAFT_JIT_WORKERS`` when set to a whole number >= 1, else
-    the CPUs this process may run on."""
-    setting = os.environ.get("SPLINECRAFT_JIT_WORKERS", "").strip()
-    if setting.isdigit() and int(setting) >= 1:
-        return int(setting)
+def _cpus() -> int:
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
         return os.cpu_count() or 1
+
+
+def workers() -> int:
+    """Processes a cold warm-up may use: the CPUs this process may run on, or fewer when
+    ``SPLINECRAFT_JIT_WORKERS`` is set to a whole number from 1 (``1``: no helper processes). Any other value
+    is ignored with a warning."""
+    setting = os.environ.get("SPLINECRAFT_JIT_WORKERS", "").strip()
+    cpus = _cpus()
+    if not setting:
+        return cpus
+    if setting.isascii() and setting.isdigit() and int(setting) >= 1:
+        return min(int(setting), cpus)
+    import warnings
+
+    warnings.warn(f"SPLINECRAFT_JIT_WORKERS={setting!r} is not a whole number from 1 (1: no helper processes); "
+                  f"ignored: up to {cpus} processes compile the kernels", RuntimeWarning, stacklevel=2)
+    return cpus
 
 
 def is_cached(dispatcher) -> bool:
@@ -142,18 +154,35 @@ def _sentinel(name):
     return getattr(importlib.import_module("splinecraft.capture." + module), kernel)
 
 
+#: The helper's program: it exits when this process is gone (a watcher thread compares its parent's pid, so an
+#: interrupted or killed trace leaves no compiler behind), then runs its tasks.
+_HELPER_CODE = """
+import os, sys, threading, time
+parent = int(sys.argv[1])
+def watch():
+    while os.getppid() == parent:
+        time.sleep(0.2)
+    os._exit(3)
+threading.Thread(target=watch, daemon=True).start()
+from splinecraft.capture._jit import warm_up
+warm_up(sys.argv[2:])
+"""
+
+
 def _start_helper(names):
-    """A helper process that runs the warm-up tasks ``names`` (helpers start no helpers of their own)."""
+    """A helper process that runs the warm-up tasks ``names`` with this process's package (helpers start no
+    helpers of their own); None when it cannot start."""
     here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # the folder of this package
     env = dict(os.environ, SPLINECRAFT_JIT_WORKERS="1")
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [here, os.environ.get("PYTHONPATH", "")]))
     if numba.config.CACHE_DIR:
         env["NUMBA_CACHE_DIR"] = numba.config.CACHE_DIR
-    code = "import sys; from splinecraft.capture._jit import warm_up; warm_up(sys.argv[1:])"
+    # run from the package's folder: ``-c`` puts the working folder first on the import path, which must not
+    # hold another splinecraft (or numpy, numba ...) than this process's
     try:
-        return subprocess.Popen([sys.executable, "-c", code, *names], env=env, stdin=subprocess.DEVNULL,
-                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    except OSError:
+        return subprocess.Popen([sys.executable, "-c", _HELPER_CODE, str(os.getpid()), *names], cwd=here, env=env,
+                                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    except (OSError, TypeError, ValueError):  # no interpreter to start (an embedded Python), a bad path
         return None
 
 
@@ -161,9 +190,14 @@ def _finished(helper) -> bool:
     try:
         return helper.wait(timeout=HELPER_TIMEOUT) == 0
     except subprocess.TimeoutExpired:
+        _stop(helper)
+        return False
+
+
+def _stop(helper):
+    if helper is not None and helper.poll() is None:
         helper.kill()
         helper.wait()
-        return False
 
 
 def warm_up(tasks=TRACE_TASKS):
@@ -178,22 +212,26 @@ def warm_up(tasks=TRACE_TASKS):
             raise ValueError(f"unknown warm-up tasks {unknown}; known: {sorted(WARM_UP_TASKS)}")
         if not todo:
             return
-        processes = min(workers(), len(todo))
-        cold = [name for name in todo if not is_cached(_sentinel(name))] if processes > 1 else []
-        shares = plan(cold, processes) if len(cold) > 1 else [cold]
+        cold = [name for name in todo if not is_cached(_sentinel(name))]
+        processes = 1 if numba.config.DISABLE_JIT else min(workers(), len(cold))
+        shares = plan(cold, processes) if processes > 1 else [cold]
         helpers = [(share, _start_helper(share)) for share in shares[1:] if share]
         LAST_WARM_UP.update(cold=cold, helpers=[share for share, _ in helpers], failed=[])
         theirs = {name for share, _ in helpers for name in share}
-        for name in todo:
-            if name not in theirs:
-                _function(name)()
-                _DONE.add(name)
-        for share, helper in helpers:
-            if helper is None or not _finished(helper):
-                LAST_WARM_UP["failed"].append(share)
-            for name in share:  # loaded from the cache the helper filled, or compiled here if it failed
-                _function(name)()
-                _DONE.add(name)
+        try:
+            for name in todo:
+                if name not in theirs:
+                    _function(name)()
+                    _DONE.add(name)
+            for share, helper in helpers:
+                if helper is None or not _finished(helper):
+                    LAST_WARM_UP["failed"].append(share)
+                for name in share:  # loaded from the cache the helper filled, or compiled here if it failed
+                    _function(name)()
+                    _DONE.add(name)
+        finally:  # interrupted (KeyboardInterrupt, an error): no helper keeps compiling for nobody
+            for _, helper in helpers:
+                _stop(helper)
 
 
 def warm_up_all():

@@ -106,3 +106,28 @@ def test_stroke_ends_is_a_checked_option():
         check_params("tangent-jump", {"stroke_ends": "yes"})
     with pytest.raises(TypeError, match="stroke_ends"):
         tangent_jump(np.zeros((10, 2)), stroke_ends=1.5)
+
+
+def taper(base, end, length, degrees, centre):
+    """A stroke ``length`` px long narrowing from ``base`` to ``end`` px, cut square at its narrow end: its
+    vertices, the two corners of the cut end second and third."""
+    half = length / 2.0
+    return turned([(-half, -base / 2.0), (half, -end / 2.0), (half, end / 2.0), (-half, base / 2.0)], degrees, centre)
+
+
+def test_a_tapered_stroke_keeps_the_two_corners_of_its_cut_end():
+    """The cut end of a stroke that narrows towards it (a brush stroke, a serif's arm): its sides cross 25-40 px
+    beyond the end, far more than a pixel-truncated tip of that opening can lie (about 5 px), so the end is two
+    corners. 21 strokes 8 px wide narrowing to 2.5-4 px at seven angles: both corners of the end within 1 px of a
+    join on at least 17 (7 when the sides had to cross 50 end widths away), and at least 8 more than without the
+    stroke-end step."""
+    found = {True: 0, False: 0}
+    for end in (2.5, 3.0, 4.0):
+        for degrees in (20.0, 33.0, 45.0, 61.0, 75.0, 110.0, 160.0):
+            vertices = taper(8.0, end, 40.0, degrees, (50.3, 50.1))
+            mask = render(vertices, 100)
+            for stroke_ends in found:
+                result = sc.trace(mask, corner_params={"stroke_ends": stroke_ends})
+                joins = np.vstack([spline.bezier()[:, 0] for spline in result.splines])
+                found[stroke_ends] += max(np.hypot(*(joins - v).T).min() for v in vertices[1:3]) <= 1.0
+    assert found[True] >= 17 and found[True] >= found[False] + 8, found

@@ -235,22 +235,31 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
 
 #: Step 6b (:func:`_split_stroke_ends`): the least turn (degrees) between the two sides of a stroke's end, the
 #: shortest arm (samples) that gives a side's line, how far (samples) from the corner that arm may end, how close
-#: (px) to its side's line the outline counts as on it, the least distance (px) between the two departures, and the
-#: least ratio of the sides' crossing distance (from the end) to the end's width.
+#: (px) to its side's line the outline counts as on it, the least and largest distance (px) between the two
+#: departures (the end's width), and the least ratio of the sides' crossing distance (from the end) to the end's
+#: width.
 STROKE_END_TURN = 150.0
 STROKE_END_ARM = 7.0
 STROKE_END_REACH = 6
 STROKE_END_ON_SIDE = 0.5
 STROKE_END_WIDTH = (1.0, 5.0)
-STROKE_END_PARALLEL = 50.0
+STROKE_END_PARALLEL = 5.0
+#: A rendering cuts a sharp tip of opening ``theta`` where it narrows below a pixel: its sides cross at most
+#: ``TIP_TRUNCATION / sin(theta / 2)`` px beyond the crack outline (half a pixel diagonal, where the sides moved
+#: inwards by it meet; :data:`..fitting.tips.SHARP_TRUNCATION`). Sides crossing farther beyond an end than that
+#: (plus ``STROKE_END_SLACK`` px, how well the end's departures are found) belong to a cut end, not a tip.
+TIP_TRUNCATION = np.sqrt(0.5)
+STROKE_END_SLACK = 1.0
 #: How far (px of arc) beyond a departure the corner that replaces it may lie.
 SIDE_REACH = 3.0
 
 
 def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest, closed):
     """Step 6b: a corner between two straight sides that turn back (by ``STROKE_END_TURN`` or more) and do not meet
-    near it (parallel, or crossing farther than ``STROKE_END_PARALLEL`` times the end's width away) is the end of a
-    stroke: it becomes two corners, where the outline leaves each side's line. Returns the input indices."""
+    near it (parallel, or crossing farther beyond the end than a pixel-truncated tip of their opening can lie,
+    ``TIP_TRUNCATION / sin(opening / 2) + STROKE_END_SLACK``, and than ``STROKE_END_PARALLEL`` end widths) is the
+    end of a stroke, square or tapered: it becomes two corners, where the outline leaves each side's line.
+    Returns the input indices."""
     m = len(samples)
     centres_before, before, centres_after, after = arms
     out = [[corner] for corner in nearest.tolist()]
@@ -294,7 +303,12 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
             continue
         crossing = _line_intersection(c1[None], d1[None], c2[None], d2[None])[0]
         middle = 0.5 * (samples[k1 % m] + samples[k2 % m])
-        if np.isfinite(crossing).all() and np.hypot(*(crossing - middle)) < STROKE_END_PARALLEL * width:
+        # a pixel-truncated tip: the sides cross at most TIP_TRUNCATION / sin(opening / 2) beyond the end (where
+        # the tip narrows below a pixel), the end found within STROKE_END_SLACK; and at most STROKE_END_PARALLEL
+        # end widths away (a guard for sharp wedges whose measured sides are a few degrees off)
+        opening = np.radians(max(180.0 - float(side_turn[k]), 1e-3))
+        limit = max(TIP_TRUNCATION / np.sin(0.5 * opening) + STROKE_END_SLACK, STROKE_END_PARALLEL * width)
+        if np.isfinite(crossing).all() and np.hypot(*(crossing - middle)) < limit:
             continue
         # each corner: the input point nearest to where its side's line crosses the end's line (the principal
         # line of the samples from one departure to the other), among the points of its half of the end
@@ -377,11 +391,15 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
        the middle of the end, which the fit then rounds (a 3-px bar turned by 45 degrees came back 1.4 px off its
        rectangle). A corner is taken for such an end when the sides beside it (the first arms of at least
        ``STROKE_END_ARM`` samples within ``STROKE_END_REACH`` samples either side) turn back by
-       ``STROKE_END_TURN`` (150 deg) or more and do not meet near it (their lines cross more than
-       ``STROKE_END_PARALLEL`` (50) end widths away, or never), no other corner lies between those arms, and the
-       outline leaves the two side lines (by more than ``STROKE_END_ON_SIDE`` = 0.5 px) 1-5 px apart, on either
-       side of the corner. Then the corner becomes two, at the input points nearest those departures. An acute
-       wedge's tip stays one corner: its sides meet just beyond it.
+       ``STROKE_END_TURN`` (150 deg) or more and do not meet near it, no other corner lies between those arms,
+       and the outline leaves the two side lines (by more than ``STROKE_END_ON_SIDE`` = 0.5 px) 1-5 px apart, on
+       either side of the corner. "Near" is where the tip of a wedge of the sides' opening ``theta`` can lie
+       beyond its rendering: a render cuts a tip where it narrows below a pixel, at most ``TIP_TRUNCATION /
+       sin(theta / 2)`` px (``sqrt(1/2)``, half a pixel diagonal) before it, plus ``STROKE_END_SLACK`` (1 px) for
+       where the departures are found; and at least ``STROKE_END_PARALLEL`` (5) end widths, a guard for sharp
+       wedges whose measured sides are a few degrees off. Lines crossing farther away, or never (parallel
+       sides), belong to a cut end, square or tapered. Then the corner becomes two, at the input points nearest
+       those departures. An acute wedge's tip stays one corner: its sides meet just beyond it.
 
     0. **Scale.** Steps 1-6 run on the outline divided by ``scale`` (default 1), so every length above
        (smoothing, tolerance, flanks, arms, separation, the 3 px of step 6) counts in units of ``scale`` px:

@@ -9,7 +9,9 @@ Shapes, generated here from a fixed seed and rasterized by pixel centres (pixel 
 * ``upright bars``: rectangles 1-2.5 px wide and 15-60 px long along an axis (their ends are runs of 1-2 cracks);
 * ``turned bars``: rectangles 1.5-4 px wide, 15-60 px long, at any angle;
 * ``rounded bars``: stadiums (a rectangle with semicircular ends) 2-6 px wide, at any angle (no corners);
-* ``wedges``: triangles with an acute tip of 8-45 degrees, 25-60 px long, at any angle.
+* ``wedges``: triangles with an acute tip of 8-45 degrees, 25-60 px long, at any angle;
+* ``tapered ends``: strokes narrowing from 6-10 px to 2-4.5 px over 25-60 px, cut square at both ends, at any
+  angle (session 20; drawn after the other groups, which stay as they were).
 
 Each is traced by ``sc.trace(mask, corner_params=...)`` per variant, interleaved shape by shape, and scored
 against its exact outline: the two-sided distance (dense samples of both; the share within 1 px and the median),
@@ -57,6 +59,13 @@ def wedge(opening, length, degrees, centre):
     return turned([(-length / 2.0, 0.0), (length / 2.0, -half), (length / 2.0, half)], degrees, centre)
 
 
+def taper(base, end, length, degrees, centre):
+    """A stroke narrowing from ``base`` to ``end`` px wide, cut square at both ends (the narrow end is the
+    second and third vertex)."""
+    half = length / 2.0
+    return turned([(-half, -base / 2.0), (half, -end / 2.0), (half, end / 2.0), (-half, base / 2.0)], degrees, centre)
+
+
 def shapes(seed=19, count=60):
     """``(group, vertices, corners)`` of every shape (``corners``: the true corners, none for rounded bars)."""
     rng = np.random.default_rng(seed)
@@ -77,6 +86,10 @@ def shapes(seed=19, count=60):
         centre = (SIZE / 2 + rng.uniform(0, 1), SIZE / 2 + rng.uniform(0, 1))
         vertices = wedge(rng.uniform(8, 45), rng.uniform(25, 60), rng.uniform(0, 360), centre)
         out.append(("wedges", vertices, vertices[:1]))
+    for _ in range(count):  # drawn after the others: their shapes stay as they were
+        centre = (SIZE / 2 + rng.uniform(0, 1), SIZE / 2 + rng.uniform(0, 1))
+        vertices = taper(rng.uniform(6.0, 10.0), rng.uniform(2.0, 4.5), rng.uniform(25, 60), rng.uniform(0, 360), centre)
+        out.append(("tapered ends", vertices, vertices))
     return out
 
 

@@ -577,3 +577,26 @@ def test_a_files_warnings_are_printed_with_its_name_even_when_quiet(tmp_path):
                for line in (tmp_path / "out" / "splinecraft-manifest.jsonl").read_text().splitlines()}
     assert entries["negative.png"]["warnings"] == [lines[0].split("warning: ", 1)[1]]
     assert entries["positive.png"]["warnings"] == []
+
+
+@pytest.mark.parametrize("option", [("--epsilon", "1e-300"), ("--corner-param", "nonsense=3"), ("--decimals", "100")])
+def test_bad_options_with_stdout_output_are_one_line_usage_errors(tmp_path, option):
+    """``-o -`` answers a bad option as a file output does: one line, exit 2, no traceback (it printed a
+    traceback and exited 1)."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", "-", *option)
+    assert result.returncode == 2 and "Traceback" not in result.stderr and result.stdout == ""
+    assert "error" in result.stderr
+
+
+def test_decimals_beyond_the_limit_are_refused_before_any_trace(tmp_path):
+    """``--decimals 100`` / ``trace_many(decimals=100)`` were accepted and every file failed after its trace."""
+    from splinecraft.batch import trace_many
+
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", tmp_path / "x.svg", "--decimals", "65")
+    assert result.returncode == 2 and "must be <= 64" in result.stderr and not (tmp_path / "x.svg").exists()
+    with pytest.raises(ValueError, match="decimals must be <= 64"):
+        trace_many([str(source)], decimals=100)

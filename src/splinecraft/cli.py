@@ -69,6 +69,15 @@ def _non_negative_int(text):
     return value
 
 
+def _decimals(text):
+    from .spline.svg import MAX_DECIMALS
+
+    value = _non_negative_int(text)
+    if value > MAX_DECIMALS:
+        raise argparse.ArgumentTypeError(f"must be <= {MAX_DECIMALS}, got {text}")
+    return value
+
+
 def _positive_int(text):
     value = _non_negative_int(text)
     if value < 1:
@@ -215,7 +224,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="seconds for corner detection and fitting per file; boundaries not started in time "
                              "get the polygon of their contour, and a note says so (a page of text needs more "
                              f"than the default: none = no budget; default {defaults['time_budget']:g})")
-    tracer.add_argument("--decimals", type=_non_negative_int, default=4,
+    tracer.add_argument("--decimals", type=_decimals, default=4,
                         help="decimal places of SVG coordinates (default 4)")
     tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,
                         help="files traced in parallel by local worker processes (0 = one per CPU; default 1; "
@@ -361,7 +370,11 @@ def _run_trace(args) -> int:
         "noise_factor": args.noise_factor, "time_budget": args.time_budget,
     }
     if pairs[0][1] == "-":
-        return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals)
+        try:
+            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals)
+        except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
+            print(f"{PROG}: error: {exc}", file=sys.stderr)
+            return 2
     plan = [PlannedFile(index=k, source=source, label=source, output=os.path.abspath(destination),
                         title=os.path.basename(source)) for k, (source, destination) in enumerate(pairs)]
     manifest = args.manifest

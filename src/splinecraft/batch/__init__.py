@@ -22,6 +22,7 @@ import uuid
 from dataclasses import asdict, dataclass, field
 
 from .._validation import check_bool, check_choice, check_int
+from ..spline.svg import MAX_DECIMALS
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
                     expand_inputs, is_finished, params_sha256, plan_directory, prepare_directories,
@@ -131,7 +132,7 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         Output format (see the module text for the exact bytes).
     manifest : path, optional
         The manifest file; default ``output_dir/splinecraft-manifest.jsonl``.
-    decimals : int >= 0 or None
+    decimals : int in [0, 64] (``spline.svg.MAX_DECIMALS``) or None
         Decimal places of SVG coordinates (``TraceResult.to_svg``).
     progress : bool, optional
         Show a progress bar (tqdm; a widget in Jupyter). ``None``: when stderr is a terminal or in Jupyter.
@@ -243,7 +244,7 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     the body of :func:`trace_many`, also used by the command line for explicit output file names."""
     check_choice(format, "format", FORMATS)
     batch_size = check_batch_size(batch_size)
-    decimals = None if decimals is None else check_int(decimals, "decimals", minimum=0)
+    decimals = None if decimals is None else check_int(decimals, "decimals", minimum=0, maximum=MAX_DECIMALS)
     resume = check_bool(resume, "resume")
     progress = None if progress is None else check_bool(progress, "progress")
     if on_record is not None and not callable(on_record):

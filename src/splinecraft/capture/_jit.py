@@ -26,7 +26,7 @@ import threading
 
 import numba
 
-__all__ = ["JIT_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "KERNEL_MODULES", "WARM_UP_TASKS",
+__all__ = ["JIT_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
            "TRACE_TASKS", "LAST_WARM_UP"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
@@ -63,10 +63,6 @@ def ensure_cache_dir() -> str | None:
 
 
 ensure_cache_dir()
-
-#: The modules with compiled kernels, each with a ``warm_up()`` (relative to :mod:`splinecraft.capture`).
-KERNEL_MODULES = ("fitting._kernels", "fitting._iso_kernels", "corners._jump_kernels", "_cracks", "fitting.budget",
-                  "fitting._merge_kernels")
 
 #: The warm-up tasks: name -> (module relative to :mod:`splinecraft.capture`, its function that compiles (empty
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's

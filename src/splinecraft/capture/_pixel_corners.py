@@ -16,7 +16,9 @@ their crossing is the turn's vertex, the pixel corner. :func:`pixel_corners` fin
   alone does not give;
 * or the vertex is one of the two of a run of one or two cracks between two such runs that go the opposite
   ways (a U-turn): the square end of a stroke 1-2 px wide, whose sides are the two long runs and whose end is
-  the short one (docs/capture.md §11, "Stroke ends"). A staircase never turns back.
+  the short one (docs/capture.md §11, "Stroke ends"). A staircase never turns back;
+* or the outline has four runs: a block of pixels, whose four vertices are corners at every size (a 1 x 1,
+  1 x 2 or 2 x 2 block has runs too short for the rules above; a dot rendered that small is its block).
 
 A smooth curve never makes such a turn: two adjacent runs of three cracks or more at right angles need the
 curve to turn by more than 50 degrees within about 3 px, and a fillet of more than 1.7 px radius leaves the
@@ -122,6 +124,9 @@ def pixel_corners(points, lengths):
     end &= k >= 4
     corner |= end
     corner[run(1)[end]] = True
+    # a block (four runs: the crack outline is a rectangle) of any size: its four vertices. Below 3 x 3 pixels
+    # the runs are too short for the rules above, yet no other shape renders as a rectangle that small
+    corner |= k == 4
     corner &= k >= 4
     index = first[corner]
     at[index] = True

@@ -2,6 +2,7 @@
 places a glyph, straight edges stay lines in every format, and ``build`` refuses what it cannot write before
 writing anything, with the naming and style fields of a linked family."""
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -235,3 +236,14 @@ def test_a_scale_that_rounds_a_glyph_flat_warns(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         font.build({"a": from_svg(SQUARE)}, output_dir=tmp_path, scale=0.02)  # 2 units: small, not flat
+
+
+@pytest.mark.parametrize("key", ["\x00", "\t", "\x7f", "\x85", "uni0009"])
+def test_a_control_character_key_is_refused_and_named(tmp_path, key):
+    """A glyph key that is (or whose AGL name maps to) a C0 / C1 control character gets no glyph and no cmap
+    entry: ``build`` names the key, before writing anything."""
+    with pytest.raises(ValueError, match=re.escape(repr(key)) + ".* control character U\\+00"):
+        font.build({"a": from_svg(SQUARE), key: from_svg(SQUARE)}, output_dir=tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(ValueError, match="control character U\\+001F"):
+        font.to_glyph(from_svg(SQUARE), "a", unicode=0x1F)

@@ -146,10 +146,14 @@ def _glyph_name(key):
 
 
 def _code_point(code, what):
-    """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)."""
+    """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)
+    that is not a C0 or C1 control character (U+0000 .. U+001F, U+007F .. U+009F: no glyph draws them)."""
     if not 0 <= code <= 0x10FFFF or 0xD800 <= code <= 0xDFFF:
         raise ValueError(f"{what} is U+{code:04X}, not a Unicode character a font can map (0 .. U+10FFFF, "
                          "without the surrogates U+D800 .. U+DFFF)")
+    if code < 0x20 or 0x7F <= code <= 0x9F:
+        raise ValueError(f"{what} is the control character U+{code:04X}, which a font does not map to a glyph "
+                         "(C0 and C1 controls U+0000 .. U+001F, U+007F .. U+009F)")
     return code
 
 

@@ -247,3 +247,27 @@ def test_a_control_character_key_is_refused_and_named(tmp_path, key):
     assert not (tmp_path / "out").exists()
     with pytest.raises(ValueError, match="control character U\\+001F"):
         font.to_glyph(from_svg(SQUARE), "a", unicode=0x1F)
+
+
+@pytest.mark.parametrize("units_per_em, ascender, descender, warns", [
+    (16, 800, -200, True),
+    (1000, 800, -2001, True),
+    (1000, 2001, -200, True),
+    (1000, 2000, -2000, False),
+    (2048, 1901, -483, False),
+])
+def test_metrics_far_outside_the_em_warn_with_the_numbers(tmp_path, units_per_em, ascender, descender, warns):
+    """OpenType does not bound the ascender by the em, so metrics beyond twice units_per_em (glyphs several em
+    tall: metrics meant for another em) build, with a warning naming the numbers."""
+    import warnings
+
+    options = dict(output_dir=tmp_path, units_per_em=units_per_em, ascender=ascender, descender=descender)
+    if warns:
+        words = f"ascender={ascender} / descender={descender} .*units_per_em={units_per_em}"
+        with pytest.warns(UserWarning, match=words):
+            files = font.build({"a": from_svg(SQUARE)}, **options)
+    else:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            files = font.build({"a": from_svg(SQUARE)}, **options)
+    assert TTFont(files.otf)["head"].unitsPerEm == units_per_em

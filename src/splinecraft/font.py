@@ -232,7 +232,8 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
         Non-empty names.
     units_per_em, ascender, descender : int
         Vertical metrics: ``units_per_em`` 16 to 16384 (OpenType), ``0 < ascender <= 32767``,
-        ``-32768 <= descender <= 0``.
+        ``-32768 <= descender <= 0``. An ascender or descender beyond twice ``units_per_em`` (legal, but
+        glyphs several em tall) is a ``UserWarning``.
     scale : float, optional
         Font units per frame unit for every glyph (default: the tallest glyph spans ``ascender``). A glyph
         less than one font unit wide or tall at this scale (rounding flattens it) is a ``UserWarning``.
@@ -263,6 +264,10 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     descender = int(check_number(descender, "descender", minimum=_INT16[0], maximum=0))
     if not (ascender > 0 >= descender):
         raise ValueError(f"need ascender > 0 >= descender, got {ascender} and {descender}")
+    if max(ascender, -descender) > 2 * units_per_em:
+        warnings.warn(f"ascender={ascender} / descender={descender} reach beyond twice units_per_em={units_per_em}: "
+                      "the glyphs (the tallest spans the ascender) would be several em tall; OpenType allows it, "
+                      "but the metrics are likely meant for another units_per_em", UserWarning, stacklevel=2)
     sidebearing = check_number(sidebearing, "sidebearing")
     ttf_max_error = check_positive_number(ttf_max_error, "ttf_max_error")
     outlines = {}

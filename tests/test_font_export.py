@@ -212,6 +212,12 @@ def test_a_truetype_plus_of_overlapping_contours_keeps_its_centre(tmp_path):
     ({"descender": -10**6}, ValueError, "descender must be >= -32768"),
     ({"sidebearing": math.nan}, ValueError, "sidebearing must be a finite number"),
     ({"glyphs": {"\ud800": from_svg(SQUARE)}}, ValueError, "U\\+D800, not a Unicode character"),
+    ({"family": "Bad\x00Name"}, ValueError, r"family 'Bad\\x00Name' holds U\+0000 at index 3"),
+    ({"style": "Bold\tItalic"}, ValueError, r"style 'Bold\\tItalic' holds U\+0009 at index 4"),
+    ({"family": "Two\u2028Lines"}, ValueError, r"family .* holds U\+2028"),
+    ({"family": "Sans\x85"}, ValueError, r"family .* holds U\+0085"),
+    ({"family": "Sans\ud800"}, ValueError, r"family .* holds U\+D800"),
+    ({"style": "Regular\uffff"}, ValueError, r"style .* holds U\+FFFF"),
 ])
 def test_build_names_a_bad_argument_and_its_range_before_writing(tmp_path, options, error, words):
     options = {"glyphs": {"a": from_svg(SQUARE)}, **options}
@@ -271,3 +277,38 @@ def test_metrics_far_outside_the_em_warn_with_the_numbers(tmp_path, units_per_em
             warnings.simplefilter("error")
             files = font.build({"a": from_svg(SQUARE)}, **options)
     assert TTFont(files.otf)["head"].unitsPerEm == units_per_em
+
+
+@pytest.mark.parametrize("family, style", [("Łódź Sans", "Regular"), ("日本語", "Light"), ("Test Sans", "標準"),
+                                           ("Ünïcödé Sans " * 8, "Extra Bold Italic")])
+def test_unicode_names_go_into_the_name_table_and_the_postscript_name_is_ascii(tmp_path, family, style):
+    """Names outside Latin-1 build: the name table holds them whole (IDs 1/2 or 16/17, and 4), while the
+    PostScript name (ID 6, the CFF FontName) and the CFF's own name strings are printable ASCII."""
+    import ufoLib2
+
+    files = font.build({"a": from_svg(SQUARE)}, family=family, style=style, output_dir=tmp_path)
+    postscript = set()
+    for kind in ("otf", "ttf"):
+        names = TTFont(getattr(files, kind))["name"]
+        assert names.getDebugName(4) == f"{family} {style}"
+        assert (names.getDebugName(16) or names.getDebugName(1)) == family
+        assert (names.getDebugName(17) or names.getDebugName(2)) == style
+        assert re.fullmatch(r"[A-Za-z0-9-]{1,63}", names.getDebugName(6))
+        postscript.add(names.getDebugName(6))
+    assert len(postscript) == 1
+    cff = TTFont(files.otf)["CFF "].cff
+    top = cff.topDictIndex[0]
+    assert cff.fontNames == list(postscript)
+    assert all(text.isascii() and text.isprintable() for text in (top.FullName, top.FamilyName, top.Weight))
+    info = ufoLib2.Font.open(files.ufo).info
+    assert (info.familyName, info.styleName, info.postscriptFontName) == (family, style, postscript.pop())
+
+
+def test_the_postscript_name_spells_latin_letters_in_ascii_and_hashes_other_scripts():
+    """NFKD drops the accents (and "Ł" is spelled "L"); a name with no ASCII letter gets a stable hash of the
+    whole name, different for different names."""
+    assert font._postscript_name("Łódź Sans", "Regular") == "LodzSans-Regular"
+    assert font._postscript_name("Café Noir", "Bold") == "CafeNoir-Bold"
+    japanese, chinese = font._postscript_name("日本語", "Regular"), font._postscript_name("中文", "Regular")
+    assert japanese.startswith("Splinecraft") and chinese.startswith("Splinecraft") and japanese != chinese
+    assert japanese == font._postscript_name("日本語", "Regular")

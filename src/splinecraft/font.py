@@ -27,11 +27,13 @@ units and the TTF within ``ttf_max_error + 0.71`` units of the outline.
 """
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import re
 import shutil
 import subprocess
+import unicodedata
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -185,6 +187,55 @@ def to_glyph(source, name=None, *, unicode=None, scale=1.0, baseline=None, sideb
     return _glyph(source, name, unicode, scale, baseline, sidebearing)[0]
 
 
+# ---------------------------------------------------------------------------------------------- names
+def _check_name(text, what):
+    """``text`` if it can be a font's family or style name: a non-blank string without control characters
+    (C0, C1), line or paragraph separators, surrogates or noncharacters (U+FDD0 .. U+FDEF, U+xxFFFE,
+    U+xxFFFF), which neither the UFO's XML nor a font's name table can hold as text."""
+    if not isinstance(text, str):
+        raise TypeError(f"{what} must be a non-empty string, got {type(text).__name__}")
+    if not text.strip():
+        raise ValueError(f"{what} must be a non-empty string, got {text!r}")
+    for index, char in enumerate(text):
+        code = ord(char)
+        if (unicodedata.category(char) in ("Cc", "Cs", "Zl", "Zp") or 0xFDD0 <= code <= 0xFDEF
+                or code & 0xFFFE == 0xFFFE):
+            raise ValueError(f"{what} {text!r} holds U+{code:04X} at index {index}: a font name may not hold "
+                             "control characters, line breaks, surrogates or noncharacters")
+    return text
+
+
+#: Latin letters that Unicode does not decompose into an ASCII letter and a mark (NFKD leaves them whole).
+_LATIN_TO_ASCII = str.maketrans({"Ł": "L", "ł": "l", "Ø": "O", "ø": "o", "Đ": "D", "đ": "d", "Ð": "D", "ð": "d",
+                                 "Ħ": "H", "ħ": "h", "Ŧ": "T", "ŧ": "t", "ı": "i", "ß": "ss", "Æ": "AE", "æ": "ae",
+                                 "Œ": "OE", "œ": "oe", "Þ": "Th", "þ": "th"})
+
+
+def _ascii(text, keep="A-Za-z0-9-"):
+    """The characters of ``text`` in the class ``keep`` after NFKD decomposition (accents split off) and a
+    few Latin letters spelled in ASCII (``"Łódź"`` -> ``"Lodz"``); everything else is dropped."""
+    decomposed = unicodedata.normalize("NFKD", text.translate(_LATIN_TO_ASCII))
+    return re.sub(f"[^{keep}]", "", decomposed)
+
+
+def _short_hash(*texts):
+    """Eight hex digits of the SHA-1 of ``texts`` (UTF-8, NUL-separated): the same in every run and on every
+    machine, unlike ``hash()``."""
+    return hashlib.sha1("\0".join(texts).encode("utf-8")).hexdigest()[:8]
+
+
+def _postscript_parts(family, style):
+    """``(family, style)`` in the PostScript characters ``[A-Za-z0-9-]`` (:func:`_ascii`); a name with no such
+    character becomes ``Splinecraft<hash>`` (family) or ``<hash>`` (style), a short hash of the Unicode name."""
+    return _ascii(family) or f"Splinecraft{_short_hash(family)}", _ascii(style) or _short_hash(style)
+
+
+def _postscript_name(family, style):
+    """The PostScript name (name ID 6, the CFF ``FontName``): ``Family-Style`` of :func:`_postscript_parts`,
+    at most 63 characters (OpenType). The name table keeps the full Unicode names (IDs 1, 2, 4, 16, 17)."""
+    return "-".join(_postscript_parts(family, style))[:63]
+
+
 def _default_scale(outlines, ascender):
     """Font units per frame unit making the tallest glyph's curve bounding box ``ascender`` high."""
     tallest = max(float(np.ptp([bound[1] for bound in outline.curve_bounds()])) for outline in outlines)
@@ -251,11 +302,7 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
 
     if not isinstance(glyphs, dict) or not glyphs:
         raise ValueError("glyphs must be a non-empty dict of character -> outline")
-    for name, text in (("family", family), ("style", style)):
-        if not isinstance(text, str):
-            raise TypeError(f"{name} must be a non-empty string, got {type(text).__name__}")
-        if not text.strip():
-            raise ValueError(f"{name} must be a non-empty string, got {text!r}")
+    family, style = _check_name(family, "family"), _check_name(style, "style")
     try:
         units_per_em = check_int(units_per_em, "units_per_em", minimum=16, maximum=16384, integral_floats=True)
     except (TypeError, ValueError) as exc:
@@ -281,6 +328,7 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     font = ufoLib2.Font()
     info = font.info
     info.familyName, info.styleName = family, style
+    info.postscriptFontName = _postscript_name(family, style)
     info.unitsPerEm, info.ascender, info.descender = units_per_em, ascender, descender
     info.capHeight, info.xHeight = ascender, round(ascender * 0.66)
     _set_style(info)
@@ -409,11 +457,15 @@ def _compile(font, curves, *, cff, max_error):
         bounds = intRect(bounds) if bounds else (0, 0, 0, 0)
         y_min, y_max = min(y_min, bounds[1]), max(y_max, bounds[3])
         metrics[name] = (int(glyph.width), int(bounds[0]))
-    postscript = re.sub(r"[^A-Za-z0-9-]", "", f"{info.familyName}-{info.styleName}")[:63]
+    postscript = info.postscriptFontName
     names, fs_selection, mac_style, weight = _naming(info, postscript)
     if cff:
-        builder.setupCFF(postscript, {"FullName": names["fullName"], "FamilyName": info.familyName,
-                                      "Weight": info.styleName}, outlines, {})
+        # CFF strings are 8-bit: the Unicode names live in the name table, the CFF gets printable ASCII ones
+        family_ps, style_ps = _postscript_parts(info.familyName, info.styleName)
+        family_cff = " ".join(_ascii(info.familyName, " -~").split()) or family_ps
+        style_cff = " ".join(_ascii(info.styleName, " -~").split()) or style_ps
+        builder.setupCFF(postscript, {"FullName": f"{family_cff} {style_cff}", "FamilyName": family_cff,
+                                      "Weight": style_cff}, outlines, {})
     else:
         builder.setupGlyf(outlines)
     builder.setupHorizontalMetrics(metrics)

@@ -312,3 +312,86 @@ def test_the_postscript_name_spells_latin_letters_in_ascii_and_hashes_other_scri
     japanese, chinese = font._postscript_name("日本語", "Regular"), font._postscript_name("中文", "Regular")
     assert japanese.startswith("Splinecraft") and chinese.startswith("Splinecraft") and japanese != chinese
     assert japanese == font._postscript_name("日本語", "Regular")
+
+
+def _snapshot(folder):
+    """Every path under ``folder`` (hidden ones too) with its bytes (files) and modification time."""
+    return {path.relative_to(folder).as_posix(): (path.read_bytes() if path.is_file() else None,
+                                                  path.stat().st_mtime_ns)
+            for path in sorted(folder.rglob("*"))}
+
+
+def _fail_on(suffix, folder=None):
+    """A stand-in for a writer or mover (``(self_or_source, destination_or_data)``) that raises ``OSError`` the
+    first time its destination ends with ``suffix`` (and, with ``folder``, lies directly in it), and else calls
+    the real one."""
+    failed = []
+
+    def wrap(real):
+        def writer(first, second=None, *args, **kwargs):
+            destination = Path(second if isinstance(second, (str, Path)) else first)
+            if destination.name.endswith(suffix) and (folder is None or destination.parent == folder) and not failed:
+                failed.append(destination)
+                raise OSError(f"simulated failure writing {destination.name}")
+            return real(first, second, *args, **kwargs) if second is not None else real(first, *args, **kwargs)
+        return writer
+    return wrap
+
+
+@pytest.mark.parametrize("failure", ["ufo save", "otf write", "ttf write", "ufo swap", "ttf replace"])
+def test_a_failing_write_leaves_the_previous_outputs_as_they_were(tmp_path, monkeypatch, failure):
+    """Outputs are written all or nothing: a save, write or move failing at any step leaves the previous UFO,
+    OTF and TTF with their bytes and times, and no temporary file; without the failure the same build
+    replaces them."""
+    import ufoLib2
+
+    square = from_svg(SQUARE)
+    first = font.build({"a": square}, family="Test Sans", output_dir=tmp_path)
+    before = _snapshot(tmp_path)
+    with monkeypatch.context() as patch:
+        if failure == "ufo save":
+            def save(self, *args, **kwargs):
+                raise OSError("simulated failure saving the UFO")
+            patch.setattr(ufoLib2.Font, "save", save)
+        elif failure.endswith("write"):
+            patch.setattr(Path, "write_bytes", _fail_on("." + failure.split()[0])(Path.write_bytes))
+        elif failure == "ufo swap":
+            patch.setattr(font.os, "rename", _fail_on(".ufo", tmp_path)(font.os.rename))
+        else:
+            patch.setattr(font.os, "replace", _fail_on(".ttf", tmp_path)(font.os.replace))
+        with pytest.raises(OSError, match="simulated failure"):
+            font.build({"a": square, "b": square}, family="Test Sans", output_dir=tmp_path)
+    assert _snapshot(tmp_path) == before
+    second = font.build({"a": square, "b": square}, family="Test Sans", output_dir=tmp_path)
+    assert second.paths == first.paths and "b" in ufoLib2.Font.open(second.ufo)
+    assert sorted(path.name for path in tmp_path.iterdir()) == sorted(path.name for path in first.paths.values())
+
+
+def test_a_failing_write_into_a_new_folder_leaves_no_folder(tmp_path, monkeypatch):
+    monkeypatch.setattr(Path, "write_bytes", _fail_on(".ttf")(Path.write_bytes))
+    with pytest.raises(OSError, match="simulated failure"):
+        font.build({"a": from_svg(SQUARE)}, output_dir=tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+def test_when_restoring_fails_too_the_rest_is_restored_and_the_kept_files_are_named(tmp_path, monkeypatch):
+    """A move that keeps failing (the new TTF cannot replace the old one, nor the old one be put back): the UFO
+    and OTF are restored all the same, and the error names the staging folder that keeps the rest."""
+    square = from_svg(SQUARE)
+    files = font.build({"a": square}, output_dir=tmp_path)
+    before = _snapshot(tmp_path)
+    real_replace = font.os.replace
+
+    def replace(source, destination):
+        if Path(destination) == files.ttf:
+            raise OSError("simulated lasting failure")
+        return real_replace(source, destination)
+
+    monkeypatch.setattr(font.os, "replace", replace)
+    with pytest.raises(OSError, match="restoring the previous ones failed too") as raised:
+        font.build({"a": square, "b": square}, output_dir=tmp_path)
+    kept = Path(re.search(r"is in '(.+)'$", str(raised.value)).group(1))
+    assert kept.parent == tmp_path and kept.is_dir()
+    after = _snapshot(tmp_path)
+    assert {name: after[name] for name in before} == before
+    assert {name for name in after if name not in before} == {name for name in after if name.startswith(kept.name)}

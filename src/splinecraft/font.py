@@ -4,7 +4,8 @@
   TrueType font (quadratics from fontTools' ``cu2qu``, within ``ttf_max_error`` font units of the cubics), and
   returns the paths. :func:`to_glyph` makes one UFO glyph. Everything is checked and compiled in memory
   before any file is written (16-bit coordinates, duplicate glyphs or code points, ``cu2qu`` failures are
-  a ``ValueError``); the style name sets the linked-family fields (name IDs 1-6, ``fsSelection``,
+  a ``ValueError``), and the three are written all or nothing (:func:`_write_all`: a failure leaves the
+  previous files as they were); the style name sets the linked-family fields (name IDs 1-6, ``fsSelection``,
   ``macStyle``, ``usWeightClass``; :func:`_set_style`).
 * :func:`glyph_outline` reads a glyph of any font file (or installed family, found with ``fc-match``) into an
   :class:`~splinecraft.outline.Outline` (quadratic TrueType pieces raised to cubics exactly, components
@@ -33,6 +34,7 @@ import os
 import re
 import shutil
 import subprocess
+import tempfile
 import unicodedata
 import warnings
 from dataclasses import dataclass
@@ -274,6 +276,9 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
           descender=-200, scale=None, sidebearing=50, ttf_max_error=TTF_MAX_ERROR) -> FontFiles:
     """Write ``<family>-<style>.ufo``, ``.otf`` (CFF) and ``.ttf`` (quadratic) into ``output_dir``.
 
+    Arguments are checked and the fonts compiled before anything is written; the three outputs then replace
+    any previous ones together, or (an ``OSError`` while writing) not at all.
+
     Parameters
     ----------
     glyphs : dict
@@ -354,15 +359,79 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     otf = _compile(font, curves, cff=True, max_error=ttf_max_error)
     ttf = _compile(font, curves, cff=False, max_error=ttf_max_error)
     output = Path(os.fspath(output_dir))
+    created = not output.exists()
     output.mkdir(parents=True, exist_ok=True)
     stem = f"{re.sub(r'[^A-Za-z0-9]+', '', family) or 'Font'}-{re.sub(r'[^A-Za-z0-9]+', '', style) or 'Regular'}"
     paths = FontFiles(output / f"{stem}.ufo", output / f"{stem}.otf", output / f"{stem}.ttf", scale, ttf_max_error)
-    if paths.ufo.exists():
-        shutil.rmtree(paths.ufo)
-    font.save(paths.ufo)
-    paths.otf.write_bytes(otf)
-    paths.ttf.write_bytes(ttf)
+    try:
+        _write_all(font, {"otf": otf, "ttf": ttf}, paths)
+    except BaseException:
+        if created:
+            try:
+                output.rmdir()  # the folder this call made, if it is still empty
+            except OSError:
+                pass
+        raise
     return paths
+
+
+def _write_all(font, compiled, paths):
+    """Write the UFO ``font`` and the ``compiled`` font bytes (``{"otf": ..., "ttf": ...}``) to ``paths``, all
+    or nothing.
+
+    Everything is first written into a hidden staging folder inside the output folder (the same file system,
+    so that moving is renaming). Then each output takes its place: an existing UFO folder is renamed aside
+    into the staging folder and the new one renamed in; an existing font file is kept aside (a hard link, or
+    a copy with its times) and replaced with ``os.replace``. If any step fails, the moves are undone in
+    reverse (the previous outputs are back, bytes and times) and the staging folder is removed; after
+    success it is removed with the replaced outputs. Should undoing a move fail too, the other moves are
+    still undone and the staging folder, holding what was not restored, is kept and named in the error.
+    """
+    staging = Path(tempfile.mkdtemp(prefix=".splinecraft-", suffix=".tmp", dir=paths.ufo.parent))
+    undo = []  # (action, arguments) restoring the previous state, in the order done
+    try:
+        font.save(staging / "new.ufo")
+        for kind, data in compiled.items():
+            (staging / f"new.{kind}").write_bytes(data)
+        for kind in ("ufo", *compiled):
+            target, new, old = getattr(paths, kind), staging / f"new.{kind}", staging / f"old.{kind}"
+            if kind == "ufo":
+                if os.path.lexists(target):
+                    os.rename(target, old)
+                    undo.append((os.rename, old, target))
+                os.rename(new, target)
+                undo.append((os.rename, target, new))
+            else:
+                existed = os.path.lexists(target)
+                if existed:
+                    _keep_aside(target, old)
+                    undo.append((os.replace, old, target))
+                os.replace(new, target)
+                if not existed:
+                    undo.append((os.remove, target))
+    except BaseException as exc:
+        failures = []
+        for action, *arguments in reversed(undo):
+            try:
+                action(*arguments)
+            except OSError as failure:
+                failures.append(str(failure))
+        if failures:
+            raise OSError(f"writing the font files failed ({type(exc).__name__}: {exc}) and restoring the previous "
+                          f"ones failed too ({'; '.join(failures)}); what was not restored is in "
+                          f"{str(staging)!r}") from exc
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    shutil.rmtree(staging, ignore_errors=True)
+
+
+def _keep_aside(path, aside):
+    """Keep the file ``path`` as ``aside`` too (a hard link, else a copy with its times), so that replacing
+    ``path`` can be undone with ``os.replace(aside, path)``."""
+    try:
+        os.link(path, aside, follow_symlinks=False)
+    except OSError:
+        shutil.copy2(path, aside, follow_symlinks=False)
 
 
 #: usWeightClass of the weight words of a style name (the OpenType OS/2 spec's names).

@@ -395,3 +395,60 @@ def test_when_restoring_fails_too_the_rest_is_restored_and_the_kept_files_are_na
     after = _snapshot(tmp_path)
     assert {name: after[name] for name in before} == before
     assert {name for name in after if name not in before} == {name for name in after if name.startswith(kept.name)}
+
+
+def _family_of_outputs(files):
+    """The family name each output of ``files`` holds (UFO info, name IDs 16 or 1 of the fonts)."""
+    import ufoLib2
+
+    names = {"ufo": ufoLib2.Font.open(files.ufo).info.familyName}
+    for kind in ("otf", "ttf"):
+        table = TTFont(getattr(files, kind))["name"]
+        names[kind] = table.getDebugName(16) or table.getDebugName(1)
+    return names
+
+
+def test_families_in_other_scripts_get_files_of_their_own(tmp_path):
+    """The file stem keeps letters of every script: "日本語" and "中文" do not both become "Font-Regular", and
+    the second build leaves the first one's files alone."""
+    square = from_svg(SQUARE)
+    japanese = font.build({"a": square}, family="日本語", output_dir=tmp_path)
+    kept = {name: value for name, value in _snapshot(tmp_path).items()}
+    chinese = font.build({"b": square}, family="中文", output_dir=tmp_path)
+    assert set(japanese.paths.values()).isdisjoint(chinese.paths.values())
+    after = _snapshot(tmp_path)
+    assert {name: after[name] for name in kept} == kept
+    for files, family in ((japanese, "日本語"), (chinese, "中文")):
+        assert all(path.name.startswith(family) for path in files.paths.values())
+        assert set(_family_of_outputs(files).values()) == {family}
+    assert len(list(tmp_path.iterdir())) == 6
+
+
+@pytest.mark.parametrize("first, second", [("A/B Sans", "A_B Sans"), ("Test Sans", "TestSans"), ("Font", "..."),
+                                           ("x" * 300, "x" * 301)])
+def test_names_with_the_same_file_stem_do_not_overwrite_each_other(tmp_path, first, second):
+    """Names whose file stems would be equal (a path separator made "_", white space dropped, nothing left, cut
+    to a length a file system takes) get a hash of the name appended, the same in every build."""
+    square = from_svg(SQUARE)
+    built = {family: font.build({"a": square}, family=family, output_dir=tmp_path) for family in (first, second)}
+    assert set(built[first].paths.values()).isdisjoint(built[second].paths.values())
+    for family, files in built.items():
+        assert all(path.parent == tmp_path and len(path.name.encode()) < 255 for path in files.paths.values())
+        assert set(_family_of_outputs(files).values()) == {family}
+        assert font.build({"a": square}, family=family, output_dir=tmp_path).paths == files.paths
+    assert len(list(tmp_path.iterdir())) == 6
+
+
+def test_a_file_name_holds_no_path_separator_or_character_windows_refuses(tmp_path):
+    files = font.build({"a": from_svg(SQUARE)}, family='../a<b>:c"d\\e|f?g*h', style="Bold/Italic",
+                       output_dir=tmp_path)
+    for path in files.paths.values():
+        assert path.parent == tmp_path and not set('<>:"/\\|?*') & set(path.name) and not path.name.startswith(".")
+    assert set(_family_of_outputs(files).values()) == {'../a<b>:c"d\\e|f?g*h'}
+
+
+def test_a_file_that_is_not_a_font_of_that_name_is_not_replaced(tmp_path):
+    stranger = tmp_path / "TestSans-Regular.otf"
+    stranger.write_bytes(b"not a font")
+    files = font.build({"a": from_svg(SQUARE)}, family="Test Sans", output_dir=tmp_path)
+    assert stranger.read_bytes() == b"not a font" and files.otf != stranger and files.otf.is_file()

@@ -238,6 +238,68 @@ def _postscript_name(family, style):
     return "-".join(_postscript_parts(family, style))[:63]
 
 
+#: Characters no file name may hold on Windows (``/`` and ``\\`` separate paths everywhere).
+_UNSAFE_IN_FILE_NAMES = frozenset('<>:"/\\|?*')
+
+#: Longest file stem, in UTF-8 bytes: with ``.ufo`` and a hash it stays far below the usual 255-byte limit.
+_MAX_STEM_BYTES = 200
+
+
+def _stem_part(text):
+    """``text`` as part of a file name: NFC, white space dropped (``"Test Sans"`` -> ``"TestSans"``), letters,
+    digits and signs of every script kept; path separators, control and format characters and those Windows
+    refuses (``<>:"/\\|?*``) become ``_``; no dots at either end (no hidden file, no ``..``)."""
+    kept = []
+    for char in unicodedata.normalize("NFC", text):
+        if char.isspace():
+            continue
+        unsafe = (char in _UNSAFE_IN_FILE_NAMES or char in (os.sep, os.altsep)
+                  or unicodedata.category(char) in ("Cc", "Cf"))
+        kept.append("_" if unsafe else char)
+    return "".join(kept).strip(".")
+
+
+def _built_for(path):
+    """``"Family Style"`` of the existing output ``path`` (a UFO's family and style names, a font's full name,
+    name ID 4), or ``None`` when it is not a readable UFO or font."""
+    import plistlib
+
+    from fontTools.ttLib import TTFont
+
+    try:
+        if path.suffix == ".ufo":
+            with open(path / "fontinfo.plist", "rb") as stream:
+                info = plistlib.load(stream)
+            return f"{info['familyName']} {info['styleName']}"
+        with open(path, "rb") as stream, TTFont(stream, lazy=True) as ttfont:
+            return ttfont["name"].getDebugName(4)
+    except Exception:  # not a UFO or font file (or a damaged one): not ours to replace
+        return None
+
+
+def _file_stem(family, style, folder):
+    """The file stem of the outputs of ``family`` / ``style`` in ``folder``: ``Family-Style`` of
+    :func:`_stem_part`, which keeps letters of every script (``日本語-Regular``). A short stable hash of the
+    two names is appended (``Family-Style-1a2b3c4d``) when a part would be empty, the stem longer than
+    ``_MAX_STEM_BYTES`` (then cut), or when an output of that stem in ``folder`` was built for another name
+    (``"A/B"`` and ``"A_B"``, ``"Test Sans"`` and ``"TestSans"``) or is not a font: different names never
+    overwrite each other's files."""
+    family_part, style_part = _stem_part(family), _stem_part(style)
+    stem = f"{family_part or 'Font'}-{style_part or 'Regular'}"
+    suffix = f"-{_short_hash(family, style)}"
+    if len(stem.encode("utf-8")) > _MAX_STEM_BYTES:
+        room = _MAX_STEM_BYTES - len(suffix)
+        return stem.encode("utf-8")[:room].decode("utf-8", "ignore").rstrip(".") + suffix
+    if not family_part or not style_part:
+        return stem + suffix
+    full_name = f"{family} {style}"
+    for kind in ("ufo", "otf", "ttf"):
+        path = folder / f"{stem}.{kind}"
+        if os.path.lexists(path) and _built_for(path) != full_name:
+            return stem + suffix
+    return stem
+
+
 def _default_scale(outlines, ascender):
     """Font units per frame unit making the tallest glyph's curve bounding box ``ascender`` high."""
     tallest = max(float(np.ptp([bound[1] for bound in outline.curve_bounds()])) for outline in outlines)
@@ -275,6 +337,10 @@ def _warn_if_flat(key, curves, scale):
 def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", units_per_em=1000, ascender=800,
           descender=-200, scale=None, sidebearing=50, ttf_max_error=TTF_MAX_ERROR) -> FontFiles:
     """Write ``<family>-<style>.ufo``, ``.otf`` (CFF) and ``.ttf`` (quadratic) into ``output_dir``.
+
+    The file stem keeps the names' letters of every script, without white space and with ``_`` for
+    characters a file name cannot hold; a short hash of the names is appended where that stem is empty, too
+    long, or taken by the files of another name (:func:`_file_stem`).
 
     Arguments are checked and the fonts compiled before anything is written; the three outputs then replace
     any previous ones together, or (an ``OSError`` while writing) not at all.
@@ -361,7 +427,7 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     output = Path(os.fspath(output_dir))
     created = not output.exists()
     output.mkdir(parents=True, exist_ok=True)
-    stem = f"{re.sub(r'[^A-Za-z0-9]+', '', family) or 'Font'}-{re.sub(r'[^A-Za-z0-9]+', '', style) or 'Regular'}"
+    stem = _file_stem(family, style, output)
     paths = FontFiles(output / f"{stem}.ufo", output / f"{stem}.otf", output / f"{stem}.ttf", scale, ttf_max_error)
     try:
         _write_all(font, {"otf": otf, "ttf": ttf}, paths)

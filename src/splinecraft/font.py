@@ -4,7 +4,8 @@
   TrueType font (quadratics from fontTools' ``cu2qu``, within ``ttf_max_error`` font units of the cubics), and
   returns the paths. :func:`to_glyph` makes one UFO glyph. Everything is checked and compiled in memory
   before any file is written (16-bit coordinates, duplicate glyphs or code points, ``cu2qu`` failures are
-  a ``ValueError``); the style name sets the linked-family fields (name IDs 1-6, ``fsSelection``,
+  a ``ValueError``), and the three are written all or nothing (:func:`_write_all`: a failure leaves the
+  previous files as they were); the style name sets the linked-family fields (name IDs 1-6, ``fsSelection``,
   ``macStyle``, ``usWeightClass``; :func:`_set_style`).
 * :func:`glyph_outline` reads a glyph of any font file (or installed family, found with ``fc-match``) into an
   :class:`~splinecraft.outline.Outline` (quadratic TrueType pieces raised to cubics exactly, components
@@ -27,11 +28,14 @@ units and the TTF within ``ttf_max_error + 0.71`` units of the outline.
 """
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import re
 import shutil
 import subprocess
+import tempfile
+import unicodedata
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -146,10 +150,14 @@ def _glyph_name(key):
 
 
 def _code_point(code, what):
-    """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)."""
+    """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)
+    that is not a C0 or C1 control character (U+0000 .. U+001F, U+007F .. U+009F: no glyph draws them)."""
     if not 0 <= code <= 0x10FFFF or 0xD800 <= code <= 0xDFFF:
         raise ValueError(f"{what} is U+{code:04X}, not a Unicode character a font can map (0 .. U+10FFFF, "
                          "without the surrogates U+D800 .. U+DFFF)")
+    if code < 0x20 or 0x7F <= code <= 0x9F:
+        raise ValueError(f"{what} is the control character U+{code:04X}, which a font does not map to a glyph "
+                         "(C0 and C1 controls U+0000 .. U+001F, U+007F .. U+009F)")
     return code
 
 
@@ -179,6 +187,117 @@ def to_glyph(source, name=None, *, unicode=None, scale=1.0, baseline=None, sideb
     two ``sidebearing``.
     """
     return _glyph(source, name, unicode, scale, baseline, sidebearing)[0]
+
+
+# ---------------------------------------------------------------------------------------------- names
+def _check_name(text, what):
+    """``text`` if it can be a font's family or style name: a non-blank string without control characters
+    (C0, C1), line or paragraph separators, surrogates or noncharacters (U+FDD0 .. U+FDEF, U+xxFFFE,
+    U+xxFFFF), which neither the UFO's XML nor a font's name table can hold as text."""
+    if not isinstance(text, str):
+        raise TypeError(f"{what} must be a non-empty string, got {type(text).__name__}")
+    if not text.strip():
+        raise ValueError(f"{what} must be a non-empty string, got {text!r}")
+    for index, char in enumerate(text):
+        code = ord(char)
+        if (unicodedata.category(char) in ("Cc", "Cs", "Zl", "Zp") or 0xFDD0 <= code <= 0xFDEF
+                or code & 0xFFFE == 0xFFFE):
+            raise ValueError(f"{what} {text!r} holds U+{code:04X} at index {index}: a font name may not hold "
+                             "control characters, line breaks, surrogates or noncharacters")
+    return text
+
+
+#: Latin letters that Unicode does not decompose into an ASCII letter and a mark (NFKD leaves them whole).
+_LATIN_TO_ASCII = str.maketrans({"Ł": "L", "ł": "l", "Ø": "O", "ø": "o", "Đ": "D", "đ": "d", "Ð": "D", "ð": "d",
+                                 "Ħ": "H", "ħ": "h", "Ŧ": "T", "ŧ": "t", "ı": "i", "ß": "ss", "Æ": "AE", "æ": "ae",
+                                 "Œ": "OE", "œ": "oe", "Þ": "Th", "þ": "th"})
+
+
+def _ascii(text, keep="A-Za-z0-9-"):
+    """The characters of ``text`` in the class ``keep`` after NFKD decomposition (accents split off) and a
+    few Latin letters spelled in ASCII (``"Łódź"`` -> ``"Lodz"``); everything else is dropped."""
+    decomposed = unicodedata.normalize("NFKD", text.translate(_LATIN_TO_ASCII))
+    return re.sub(f"[^{keep}]", "", decomposed)
+
+
+def _short_hash(*texts):
+    """Eight hex digits of the SHA-1 of ``texts`` (UTF-8, NUL-separated): the same in every run and on every
+    machine, unlike ``hash()``."""
+    return hashlib.sha1("\0".join(texts).encode("utf-8")).hexdigest()[:8]
+
+
+def _postscript_parts(family, style):
+    """``(family, style)`` in the PostScript characters ``[A-Za-z0-9-]`` (:func:`_ascii`); a name with no such
+    character becomes ``Splinecraft<hash>`` (family) or ``<hash>`` (style), a short hash of the Unicode name."""
+    return _ascii(family) or f"Splinecraft{_short_hash(family)}", _ascii(style) or _short_hash(style)
+
+
+def _postscript_name(family, style):
+    """The PostScript name (name ID 6, the CFF ``FontName``): ``Family-Style`` of :func:`_postscript_parts`,
+    at most 63 characters (OpenType). The name table keeps the full Unicode names (IDs 1, 2, 4, 16, 17)."""
+    return "-".join(_postscript_parts(family, style))[:63]
+
+
+#: Characters no file name may hold on Windows (``/`` and ``\\`` separate paths everywhere).
+_UNSAFE_IN_FILE_NAMES = frozenset('<>:"/\\|?*')
+
+#: Longest file stem, in UTF-8 bytes: with ``.ufo`` and a hash it stays far below the usual 255-byte limit.
+_MAX_STEM_BYTES = 200
+
+
+def _stem_part(text):
+    """``text`` as part of a file name: NFC, white space dropped (``"Test Sans"`` -> ``"TestSans"``), letters,
+    digits and signs of every script kept; path separators, control and format characters and those Windows
+    refuses (``<>:"/\\|?*``) become ``_``; no dots at either end (no hidden file, no ``..``)."""
+    kept = []
+    for char in unicodedata.normalize("NFC", text):
+        if char.isspace():
+            continue
+        unsafe = (char in _UNSAFE_IN_FILE_NAMES or char in (os.sep, os.altsep)
+                  or unicodedata.category(char) in ("Cc", "Cf"))
+        kept.append("_" if unsafe else char)
+    return "".join(kept).strip(".")
+
+
+def _built_for(path):
+    """``"Family Style"`` of the existing output ``path`` (a UFO's family and style names, a font's full name,
+    name ID 4), or ``None`` when it is not a readable UFO or font."""
+    import plistlib
+
+    from fontTools.ttLib import TTFont
+
+    try:
+        if path.suffix == ".ufo":
+            with open(path / "fontinfo.plist", "rb") as stream:
+                info = plistlib.load(stream)
+            return f"{info['familyName']} {info['styleName']}"
+        with open(path, "rb") as stream, TTFont(stream, lazy=True) as ttfont:
+            return ttfont["name"].getDebugName(4)
+    except Exception:  # not a UFO or font file (or a damaged one): not ours to replace
+        return None
+
+
+def _file_stem(family, style, folder):
+    """The file stem of the outputs of ``family`` / ``style`` in ``folder``: ``Family-Style`` of
+    :func:`_stem_part`, which keeps letters of every script (``日本語-Regular``). A short stable hash of the
+    two names is appended (``Family-Style-1a2b3c4d``) when a part would be empty, the stem longer than
+    ``_MAX_STEM_BYTES`` (then cut), or when an output of that stem in ``folder`` was built for another name
+    (``"A/B"`` and ``"A_B"``, ``"Test Sans"`` and ``"TestSans"``) or is not a font: different names never
+    overwrite each other's files."""
+    family_part, style_part = _stem_part(family), _stem_part(style)
+    stem = f"{family_part or 'Font'}-{style_part or 'Regular'}"
+    suffix = f"-{_short_hash(family, style)}"
+    if len(stem.encode("utf-8")) > _MAX_STEM_BYTES:
+        room = _MAX_STEM_BYTES - len(suffix)
+        return stem.encode("utf-8")[:room].decode("utf-8", "ignore").rstrip(".") + suffix
+    if not family_part or not style_part:
+        return stem + suffix
+    full_name = f"{family} {style}"
+    for kind in ("ufo", "otf", "ttf"):
+        path = folder / f"{stem}.{kind}"
+        if os.path.lexists(path) and _built_for(path) != full_name:
+            return stem + suffix
+    return stem
 
 
 def _default_scale(outlines, ascender):
@@ -219,6 +338,13 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
           descender=-200, scale=None, sidebearing=50, ttf_max_error=TTF_MAX_ERROR) -> FontFiles:
     """Write ``<family>-<style>.ufo``, ``.otf`` (CFF) and ``.ttf`` (quadratic) into ``output_dir``.
 
+    The file stem keeps the names' letters of every script, without white space and with ``_`` for
+    characters a file name cannot hold; a short hash of the names is appended where that stem is empty, too
+    long, or taken by the files of another name (:func:`_file_stem`).
+
+    Arguments are checked and the fonts compiled before anything is written; the three outputs then replace
+    any previous ones together, or (an ``OSError`` while writing) not at all.
+
     Parameters
     ----------
     glyphs : dict
@@ -228,7 +354,8 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
         Non-empty names.
     units_per_em, ascender, descender : int
         Vertical metrics: ``units_per_em`` 16 to 16384 (OpenType), ``0 < ascender <= 32767``,
-        ``-32768 <= descender <= 0``.
+        ``-32768 <= descender <= 0``. An ascender or descender beyond twice ``units_per_em`` (legal, but
+        glyphs several em tall) is a ``UserWarning``.
     scale : float, optional
         Font units per frame unit for every glyph (default: the tallest glyph spans ``ascender``). A glyph
         less than one font unit wide or tall at this scale (rounding flattens it) is a ``UserWarning``.
@@ -246,11 +373,7 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
 
     if not isinstance(glyphs, dict) or not glyphs:
         raise ValueError("glyphs must be a non-empty dict of character -> outline")
-    for name, text in (("family", family), ("style", style)):
-        if not isinstance(text, str):
-            raise TypeError(f"{name} must be a non-empty string, got {type(text).__name__}")
-        if not text.strip():
-            raise ValueError(f"{name} must be a non-empty string, got {text!r}")
+    family, style = _check_name(family, "family"), _check_name(style, "style")
     try:
         units_per_em = check_int(units_per_em, "units_per_em", minimum=16, maximum=16384, integral_floats=True)
     except (TypeError, ValueError) as exc:
@@ -259,6 +382,10 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     descender = int(check_number(descender, "descender", minimum=_INT16[0], maximum=0))
     if not (ascender > 0 >= descender):
         raise ValueError(f"need ascender > 0 >= descender, got {ascender} and {descender}")
+    if max(ascender, -descender) > 2 * units_per_em:
+        warnings.warn(f"ascender={ascender} / descender={descender} reach beyond twice units_per_em={units_per_em}: "
+                      "the glyphs (the tallest spans the ascender) would be several em tall; OpenType allows it, "
+                      "but the metrics are likely meant for another units_per_em", UserWarning, stacklevel=2)
     sidebearing = check_number(sidebearing, "sidebearing")
     ttf_max_error = check_positive_number(ttf_max_error, "ttf_max_error")
     outlines = {}
@@ -272,6 +399,7 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     font = ufoLib2.Font()
     info = font.info
     info.familyName, info.styleName = family, style
+    info.postscriptFontName = _postscript_name(family, style)
     info.unitsPerEm, info.ascender, info.descender = units_per_em, ascender, descender
     info.capHeight, info.xHeight = ascender, round(ascender * 0.66)
     _set_style(info)
@@ -297,15 +425,79 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     otf = _compile(font, curves, cff=True, max_error=ttf_max_error)
     ttf = _compile(font, curves, cff=False, max_error=ttf_max_error)
     output = Path(os.fspath(output_dir))
+    created = not output.exists()
     output.mkdir(parents=True, exist_ok=True)
-    stem = f"{re.sub(r'[^A-Za-z0-9]+', '', family) or 'Font'}-{re.sub(r'[^A-Za-z0-9]+', '', style) or 'Regular'}"
+    stem = _file_stem(family, style, output)
     paths = FontFiles(output / f"{stem}.ufo", output / f"{stem}.otf", output / f"{stem}.ttf", scale, ttf_max_error)
-    if paths.ufo.exists():
-        shutil.rmtree(paths.ufo)
-    font.save(paths.ufo)
-    paths.otf.write_bytes(otf)
-    paths.ttf.write_bytes(ttf)
+    try:
+        _write_all(font, {"otf": otf, "ttf": ttf}, paths)
+    except BaseException:
+        if created:
+            try:
+                output.rmdir()  # the folder this call made, if it is still empty
+            except OSError:
+                pass
+        raise
     return paths
+
+
+def _write_all(font, compiled, paths):
+    """Write the UFO ``font`` and the ``compiled`` font bytes (``{"otf": ..., "ttf": ...}``) to ``paths``, all
+    or nothing.
+
+    Everything is first written into a hidden staging folder inside the output folder (the same file system,
+    so that moving is renaming). Then each output takes its place: an existing UFO folder is renamed aside
+    into the staging folder and the new one renamed in; an existing font file is kept aside (a hard link, or
+    a copy with its times) and replaced with ``os.replace``. If any step fails, the moves are undone in
+    reverse (the previous outputs are back, bytes and times) and the staging folder is removed; after
+    success it is removed with the replaced outputs. Should undoing a move fail too, the other moves are
+    still undone and the staging folder, holding what was not restored, is kept and named in the error.
+    """
+    staging = Path(tempfile.mkdtemp(prefix=".splinecraft-", suffix=".tmp", dir=paths.ufo.parent))
+    undo = []  # (action, arguments) restoring the previous state, in the order done
+    try:
+        font.save(staging / "new.ufo")
+        for kind, data in compiled.items():
+            (staging / f"new.{kind}").write_bytes(data)
+        for kind in ("ufo", *compiled):
+            target, new, old = getattr(paths, kind), staging / f"new.{kind}", staging / f"old.{kind}"
+            if kind == "ufo":
+                if os.path.lexists(target):
+                    os.rename(target, old)
+                    undo.append((os.rename, old, target))
+                os.rename(new, target)
+                undo.append((os.rename, target, new))
+            else:
+                existed = os.path.lexists(target)
+                if existed:
+                    _keep_aside(target, old)
+                    undo.append((os.replace, old, target))
+                os.replace(new, target)
+                if not existed:
+                    undo.append((os.remove, target))
+    except BaseException as exc:
+        failures = []
+        for action, *arguments in reversed(undo):
+            try:
+                action(*arguments)
+            except OSError as failure:
+                failures.append(str(failure))
+        if failures:
+            raise OSError(f"writing the font files failed ({type(exc).__name__}: {exc}) and restoring the previous "
+                          f"ones failed too ({'; '.join(failures)}); what was not restored is in "
+                          f"{str(staging)!r}") from exc
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    shutil.rmtree(staging, ignore_errors=True)
+
+
+def _keep_aside(path, aside):
+    """Keep the file ``path`` as ``aside`` too (a hard link, else a copy with its times), so that replacing
+    ``path`` can be undone with ``os.replace(aside, path)``."""
+    try:
+        os.link(path, aside, follow_symlinks=False)
+    except OSError:
+        shutil.copy2(path, aside, follow_symlinks=False)
 
 
 #: usWeightClass of the weight words of a style name (the OpenType OS/2 spec's names).
@@ -400,11 +592,15 @@ def _compile(font, curves, *, cff, max_error):
         bounds = intRect(bounds) if bounds else (0, 0, 0, 0)
         y_min, y_max = min(y_min, bounds[1]), max(y_max, bounds[3])
         metrics[name] = (int(glyph.width), int(bounds[0]))
-    postscript = re.sub(r"[^A-Za-z0-9-]", "", f"{info.familyName}-{info.styleName}")[:63]
+    postscript = info.postscriptFontName
     names, fs_selection, mac_style, weight = _naming(info, postscript)
     if cff:
-        builder.setupCFF(postscript, {"FullName": names["fullName"], "FamilyName": info.familyName,
-                                      "Weight": info.styleName}, outlines, {})
+        # CFF strings are 8-bit: the Unicode names live in the name table, the CFF gets printable ASCII ones
+        family_ps, style_ps = _postscript_parts(info.familyName, info.styleName)
+        family_cff = " ".join(_ascii(info.familyName, " -~").split()) or family_ps
+        style_cff = " ".join(_ascii(info.styleName, " -~").split()) or style_ps
+        builder.setupCFF(postscript, {"FullName": f"{family_cff} {style_cff}", "FamilyName": family_cff,
+                                      "Weight": style_cff}, outlines, {})
     else:
         builder.setupGlyf(outlines)
     builder.setupHorizontalMetrics(metrics)

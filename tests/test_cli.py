@@ -600,3 +600,31 @@ def test_decimals_beyond_the_limit_are_refused_before_any_trace(tmp_path):
     assert result.returncode == 2 and "must be <= 64" in result.stderr and not (tmp_path / "x.svg").exists()
     with pytest.raises(ValueError, match="decimals must be <= 64"):
         trace_many([str(source)], decimals=100)
+
+
+def test_an_empty_output_is_refused_before_any_trace(tmp_path):
+    """``-o ''`` was accepted and failed only after the trace (the output path was the current directory)."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", "", cwd=tmp_path)
+    lines = result.stderr.splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("splinecraft: error: ") and "-o" in lines[0] and "empty" in lines[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]  # nothing written, no manifest
+
+
+@pytest.mark.parametrize("name", ["out.svg", "OUT.JSON"])
+def test_a_file_output_for_several_inputs_is_refused(tmp_path, name):
+    """``-o out.svg`` with two inputs created a directory named out.svg; a name with an output suffix is
+    refused (exit 2, one line) unless it is an existing directory or ends with a separator."""
+    for stem, kind in [("a", "disc"), ("b", "square")]:
+        write_shape(tmp_path / f"{stem}.png", kind)
+    inputs = [tmp_path / "a.png", tmp_path / "b.png"]
+    result = run_cli("trace", *inputs, "-o", tmp_path / name)
+    lines = result.stderr.splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("splinecraft: error: ") and name in lines[0] and "2 inputs" in lines[0]
+    assert not (tmp_path / name).exists()
+    assert run_cli("trace", *inputs, "-o", f"{tmp_path / name}{os.sep}", "-q").returncode == 0  # asked for a directory
+    assert sorted(p.name for p in (tmp_path / name).iterdir()) == ["a.svg", "b.svg", "splinecraft-manifest.jsonl"]
+    assert run_cli("trace", *inputs, "-o", tmp_path / name, "-q", "--no-resume").returncode == 0  # it exists now

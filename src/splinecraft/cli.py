@@ -12,7 +12,9 @@ Examples
 
 ``OUT`` is a file for one input (``-`` = stdout) and a directory for several (created if needed; each
 input ``NAME.ext`` becomes ``OUT/NAME.svg`` or ``.json``). The format follows ``--format``, else the
-suffix of a single output file, else SVG. An output that is also an input is refused. Files are traced by
+suffix of a single output file, else SVG. An output that is also an input is refused, and so, before
+anything is traced, an empty ``OUT`` and an ``OUT`` named like a file (``.svg``, ``.json``) for several
+inputs, unless it is an existing directory (``OUT/`` asks for the directory). Files are traced by
 :func:`splinecraft.batch.run_batch`, the body of ``splinecraft.trace_many``: outputs appear atomically (no
 partial file, even when a write fails), and a directory gets a manifest
 (``OUT/splinecraft-manifest.jsonl``, or ``--manifest``) so that a second run skips finished files
@@ -25,8 +27,8 @@ stderr while the others still finish.
 at once: nothing new starts, the workers are killed with the files in flight (their partial files
 removed), what finished is kept in the manifest, and the exit code is 130 (SIGINT) or 143 (SIGTERM).
 Workers also die when this process is killed outright. Exit codes: 0 all traced (or skipped), 1 some
-file failed, 2 usage errors (bad option, output = input, unwritable output directory, unreachable
-scheduler).
+file failed, 2 usage errors (bad option, output = input, empty output or a file name for several inputs,
+unwritable output directory, unreachable scheduler).
 """
 from __future__ import annotations
 
@@ -289,9 +291,20 @@ def _signals_raise():
             signal.signal(number, old)
 
 
+#: Suffixes of an output file: ``-o NAME.svg`` with several inputs is a mistake, not a directory name.
+OUTPUT_SUFFIXES = (".svg", ".json")
+
+
 def _plan_outputs(inputs, output, fmt):
-    """Pair every input with its output path; returns (pairs, format) or raises ValueError."""
-    single = len(inputs) == 1 and not os.path.isdir(output) and not output.endswith(("/", os.sep))
+    """Pair every input with its output path; returns (pairs, format) or raises ValueError.
+
+    Refused before anything is traced: an empty ``output``, ``-`` with several inputs, and an output named
+    like a file (:data:`OUTPUT_SUFFIXES`) for several inputs unless it is an existing directory or ends
+    with a separator (it would become a directory called ``out.svg``)."""
+    if not output:
+        raise ValueError("-o/--output is empty: give an output file, a directory, or - for stdout")
+    is_directory = os.path.isdir(output) or output.endswith(("/", os.sep))
+    single = len(inputs) == 1 and not is_directory
     if output == "-":
         if len(inputs) != 1:
             raise ValueError("-o - (stdout) takes exactly one input")
@@ -301,6 +314,9 @@ def _plan_outputs(inputs, output, fmt):
             fmt = "json" if output.lower().endswith(".json") else "svg"
         return [(inputs[0], output)], fmt
     fmt = fmt or "svg"
+    if not is_directory and output.lower().endswith(OUTPUT_SUFFIXES):
+        raise ValueError(f"-o {output} names a file, but {len(inputs)} inputs need an output directory "
+                         f"(give a directory, or {output}{os.sep} to create one with that name)")
     if os.path.exists(output) and not os.path.isdir(output):
         raise ValueError(f"{output} exists and is not a directory (several inputs need an output directory)")
     pairs, seen = [], {}

@@ -243,7 +243,7 @@ def test_bad_arguments_fail_before_any_file(glyphs, tmp_path):
         (dict(decimals=-1), ValueError, "decimals"),
         (dict(resume="yes"), TypeError, "resume"),
         (dict(on_record=3), TypeError, "on_record"),
-        (dict(jobs=0), ValueError, "jobs"),
+        (dict(jobs=-1), ValueError, "jobs"),  # (jobs=0 is one worker per CPU, as --jobs 0)
         (dict(scheduler="cluster"), ValueError, "scheduler"),
         (dict(scheduler=3), TypeError, "scheduler"),
         (dict(scheduler="tcp://127.0.0.1:1", jobs=2), ValueError, "jobs"),
@@ -329,6 +329,28 @@ def test_jobs_are_capped_at_the_cpu_count(glyphs, tmp_path):
     with pytest.warns(RuntimeWarning, match="CPUs"):
         result = trace_many(glyphs[:3], tmp_path, jobs=1000, epsilon=EPSILON, progress=False)
     assert result.counts == {"ok": 3}
+
+
+def test_jobs_zero_means_one_worker_per_cpu_as_on_the_command_line(glyphs, tmp_path, monkeypatch):
+    """``trace_many(jobs=0)`` raised while ``--jobs 0`` meant one worker per CPU; both mean that now."""
+    from splinecraft import batch
+    from splinecraft.batch import _schedulers
+    from splinecraft.cli import _job_count
+
+    for module in (batch, _schedulers):  # a machine of 3 CPUs, for the library and for the command line
+        monkeypatch.setattr(module, "cpu_count", lambda: 3)
+    runner = _schedulers.make_runner(None, 0, files=10)
+    try:
+        assert runner.workers == 3 == _job_count(0, None)
+    finally:
+        runner.close()
+    assert _schedulers.make_runner(None, 0, files=2).workers == 2  # never more workers than files
+    monkeypatch.undo()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # one per CPU is no cap: no warning
+        result = trace_many(glyphs[:3], tmp_path, jobs=0, epsilon=EPSILON, progress=False)
+    assert result.counts == {"ok": 3}
+    assert_outputs_whole(tmp_path, glyphs[:3])
 
 
 def test_without_dask_the_error_says_how_to_install_it(glyphs, tmp_path, monkeypatch):

@@ -121,8 +121,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         schedulers (``jobs`` workers, default one per CPU). A ``dask.distributed.Client`` or a scheduler
         address such as ``"tcp://host:8786"``: that cluster (its workers must see the same paths). Dask is
         the optional extra ``pip install 'splinecraft[dask]'``. BENCHMARKS.md compares them.
-    jobs : int, optional
-        Local workers; capped at the CPU count with a ``RuntimeWarning``.
+    jobs : int >= 0, optional
+        Local workers; ``0`` is one per CPU (as ``--jobs 0`` on the command line); more than the CPU count is
+        capped at it with a ``RuntimeWarning``.
     batch_size : "auto" or int
         Files per task ("auto": each task runs about ``TARGET_TASK_S`` = 0.1 s).
     resume : bool

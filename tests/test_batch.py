@@ -1,5 +1,6 @@
 """Tests of splinecraft.trace_many (splinecraft.batch): same bytes on every scheduler, resume, manifest,
 faults and bad input. Dask clusters run on loopback only (127.0.0.1)."""
+import hashlib
 import json
 import logging
 import os
@@ -147,6 +148,27 @@ def test_arrays_to_a_directory(tmp_path):
     images[1] = images[1].copy()
     images[1][:4, :4] = 0  # a changed array is traced again
     assert trace_many(images, tmp_path, progress=False, epsilon=EPSILON).counts == {"skipped": 1, "ok": 1}
+
+
+def test_encoded_image_bytes_are_traced_as_trace_reads_them(glyphs, tmp_path):
+    """``trace(bytes)`` reads the bytes as an encoded image file, but ``trace_many`` refused them (``TypeError``
+    "must be a path, a glob pattern or an image array"). Bytes, bytearray and memoryview are traced as ``trace``
+    reads them, written as ``image-NNNNN`` like arrays, hashed as the file they are (so a rerun skips them);
+    bytes that are no image fail alone, named by their position."""
+    data = [path.read_bytes() for path in glyphs[:3]]
+    inputs = [data[0], bytearray(data[1]), memoryview(data[2]), b"not an image", glyphs[3]]
+    result = trace_many(inputs, tmp_path, progress=False, epsilon=EPSILON, jobs=2, batch_size=1)
+    assert [record.status for record in result] == ["ok"] * 3 + ["failed", "ok"]
+    assert [os.path.basename(record.output) for record in result] == [
+        "image-00000.svg", "image-00001.svg", "image-00002.svg", "image-00003.svg", "glyph003.svg"]
+    for record, encoded, path in zip(result, data, glyphs):
+        expected = sc.trace(encoded, epsilon=EPSILON).to_svg().encode()
+        assert (tmp_path / os.path.basename(record.output)).read_bytes() == expected
+        assert record.input_sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
+    assert "bytes 3" in result[3].input and "not an image" in result[3].error
+    assert trace_many(inputs[:3], tmp_path, progress=False, epsilon=EPSILON).counts == {"skipped": 3}
+    (single,) = trace_many(data[0], progress=False, epsilon=EPSILON)  # one image's bytes, not 3000 inputs
+    assert single.status == "ok" and single.result.to_svg() == sc.trace(data[0], epsilon=EPSILON).to_svg()
 
 
 # ---------------------------------------------------------------------------------------------------

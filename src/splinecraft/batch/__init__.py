@@ -109,9 +109,11 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
 
     Parameters
     ----------
-    inputs : path, glob pattern, image array, or a list of them
+    inputs : path, glob pattern, image array, encoded image bytes, or a list of them
         Globs (``"scans/**/*.png"``) expand to the sorted matching files; arrays and PIL images are traced
-        as given (outputs ``image-00000.svg``, ...).
+        as given, and ``bytes`` (``bytearray``, ``memoryview``) as the encoded image file they hold, as
+        :func:`splinecraft.trace` reads them (never as a file name); both are named by their position
+        (outputs ``image-00000.svg``, ..., records ``<image 0>`` / ``<bytes 0>``).
     output_dir : path, optional
         Where ``NAME.svg`` (``.json``) goes for input ``NAME.png``; created if needed. ``None``: nothing is
         written, each record carries its ``TraceResult`` (no manifest, no resume).

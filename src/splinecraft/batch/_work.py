@@ -49,9 +49,12 @@ def file_sha256(path) -> str:
 
 
 def input_sha256(source) -> str:
-    """SHA-256 of an input: a file's bytes, or an array's dtype, shape and pixels."""
+    """SHA-256 of an input: a file's bytes, encoded image bytes (the hash of that file), or an array's dtype,
+    shape and pixels."""
     if isinstance(source, (str, os.PathLike)):
         return file_sha256(source)
+    if isinstance(source, bytes):
+        return hashlib.sha256(source).hexdigest()
     pixels = np.ascontiguousarray(np.asarray(source))
     digest = hashlib.sha256(f"{pixels.dtype.str}{pixels.shape}".encode())
     digest.update(pixels.tobytes())

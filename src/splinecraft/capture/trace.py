@@ -10,7 +10,9 @@ thesis sections 4.2-4.3). The :class:`TraceResult` keeps every intermediate resu
 
 Documented outcomes for degenerate input
 ----------------------------------------
-* all-white image (no ink after thresholding): ``ValueError("no shape found ...")``;
+* all-white image (no ink after thresholding): ``ValueError("no shape found ...")``; when the ink there was
+  all went to speck removal (``min_speck_area`` above every ink component), the message says so: how many
+  pixels, the largest component's size, and the ``min_speck_area`` that keeps it;
 * all-black image (every pixel ink): the ink is the whole frame, the result is the frame rectangle (4 corners)
   and a note in :attr:`TraceResult.notes` says so;
 * small outlines (fewer than ``fitting.SMALL_OUTLINE`` = 64 contour points: single pixels, dominos, specks,
@@ -79,7 +81,7 @@ from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tole
 from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 from ._pixel_corners import merge_pixel_corners, pixel_corners_of_outlines
-from .image import load_bitmap
+from .image import load_bitmap_reporting_specks
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 from .trace_stages import TraceStages
 
@@ -244,8 +246,10 @@ def trace(
     if stages is not None and not isinstance(stages, TraceStages):
         raise TypeError(f"stages must be a TraceStages or None, got {type(stages).__name__}")
     stages = TraceStages(0) if stages is None else stages
-    mask = load_bitmap(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
-                       connectivity=connectivity)
+    mask, specks_removed_all = load_bitmap_reporting_specks(image, threshold=threshold, invert=invert,
+                                                            min_speck_area=min_speck_area, connectivity=connectivity)
+    if specks_removed_all is not None:  # rather than "no ink after thresholding": there was ink
+        raise ValueError(specks_removed_all.message())
     loaded = time.perf_counter()
     # the kernels compiled or loaded before the tracer and the budget start (the first call of a
     # process; cold ones in parallel processes, _jit.warm_up); not counted in any stage of time_breakdown

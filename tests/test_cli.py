@@ -572,7 +572,7 @@ def test_a_files_warnings_are_printed_with_its_name_even_when_quiet(tmp_path):
     lines = [line for line in result.stderr.splitlines() if line.strip()]
     assert len(lines) == 1, result.stderr
     assert lines[0].startswith(f"splinecraft: {negative}: warning: InkPolarityWarning: ")
-    assert "invert=True" in lines[0] and ".py:" not in result.stderr
+    assert "--invert" in lines[0] and "invert=True" not in lines[0] and ".py:" not in result.stderr
     entries = {os.path.basename(json.loads(line)["input"]): json.loads(line)
                for line in (tmp_path / "out" / "splinecraft-manifest.jsonl").read_text().splitlines()}
     assert entries["negative.png"]["warnings"] == [lines[0].split("warning: ", 1)[1]]
@@ -628,3 +628,66 @@ def test_a_file_output_for_several_inputs_is_refused(tmp_path, name):
     assert run_cli("trace", *inputs, "-o", f"{tmp_path / name}{os.sep}", "-q").returncode == 0  # asked for a directory
     assert sorted(p.name for p in (tmp_path / name).iterdir()) == ["a.svg", "b.svg", "splinecraft-manifest.jsonl"]
     assert run_cli("trace", *inputs, "-o", tmp_path / name, "-q", "--no-resume").returncode == 0  # it exists now
+
+
+def test_the_polarity_warning_names_the_option_of_its_interface(tmp_path):
+    """The dark-background warning said ``pass invert=True`` on the command line too: there it names
+    ``--invert`` (also with ``-o -``), while ``sc.trace`` keeps the Python spelling."""
+    import splinecraft as sc
+    from splinecraft.capture.image import InkPolarityWarning
+
+    negative = tmp_path / "negative.png"
+    mask = write_shape(tmp_path / "positive.png", "disc")
+    Image.fromarray(np.where(mask, 230, 20).astype(np.uint8)).save(negative)
+    with pytest.warns(InkPolarityWarning, match=r"pass invert=True"):
+        sc.trace(negative)
+    for output in (tmp_path / "n.svg", "-"):
+        result = run_cli("trace", negative, "-o", output, "-q")
+        (line,) = result.stderr.splitlines()
+        assert result.returncode == 0 and "InkPolarityWarning" in line
+        assert line.endswith("pass --invert") and "invert=True" not in line
+
+
+def write_two_squares(path, big=10, small=6):
+    """Two ink squares of big**2 and small**2 pixels on white; returns their pixel counts."""
+    image = np.full((40, 40), 255, np.uint8)
+    image[5:5 + big, 5:5 + big] = 0
+    image[25:25 + small, 25:25 + small] = 0
+    Image.fromarray(image).save(path)
+    return big * big, small * small
+
+
+def test_speck_removal_that_removes_all_ink_says_so(tmp_path):
+    """``--min-speck-area`` above every ink component said "no ink pixels after thresholding"; the error says
+    that speck removal removed all N ink pixels, how large the largest component was and what keeps it, in
+    the library's spelling for ``sc.trace`` and ``trace_many`` and the option's on the command line."""
+    import splinecraft as sc
+
+    source = tmp_path / "squares.png"
+    big, small = write_two_squares(source)
+    with pytest.raises(ValueError) as caught:
+        sc.trace(source, min_speck_area=big + 1)
+    message = str(caught.value)
+    assert f"speck removal removed all {big + small} ink pixels" in message
+    assert f"min_speck_area={big + 1}" in message and f"largest ink component has {big} pixels" in message
+    assert f"lower min_speck_area to {big} or less" in message and "after thresholding" not in message
+    assert sc.trace(source, min_speck_area=big).stats["boundaries"] == 1  # the advice keeps it
+    (record,) = sc.trace_many([str(source)], progress=False, min_speck_area=big + 1)
+    assert record.status == "failed" and f"removed all {big + small} ink pixels" in record.error
+
+    result = run_cli("trace", source, "-o", tmp_path / "out.svg", "--min-speck-area", big + 1)
+    (line,) = result.stderr.splitlines()
+    assert result.returncode == 1 and line.startswith(f"splinecraft: {source}: ")
+    assert f"removed all {big + small} ink pixels" in line and f"--min-speck-area {big + 1}" in line
+    assert f"lower --min-speck-area to {big} or less" in line and "min_speck_area" not in line
+
+
+def test_blank_pages_still_have_no_ink_after_thresholding(tmp_path):
+    """Without ink to remove, the message stays the thresholding one (nothing was removed)."""
+    import splinecraft as sc
+
+    source = tmp_path / "blank.png"
+    write_shape(source, "blank")
+    for area in (None, 0, 50):
+        with pytest.raises(ValueError, match="no ink pixels after thresholding"):
+            sc.trace(source, min_speck_area=area)

@@ -345,6 +345,17 @@ def _job_count(jobs, scheduler):
     return jobs
 
 
+#: The library's argument spellings in messages -> this command's options (``run_batch``'s ``spelling``,
+#: applied in order to each file's warning and error lines): the polarity warning's ``invert=True``, speck
+#: removal's ``min_speck_area``, the "no shape found" advice's ``threshold='alpha'``.
+OPTION_SPELLING = (
+    ("invert=True", "--invert"),
+    ("min_speck_area=", "--min-speck-area "),
+    ("min_speck_area", "--min-speck-area"),
+    ("threshold='alpha'", "--threshold alpha"),
+)
+
+
 def _summary_line(stats, seconds):
     return (
         f"{stats['boundaries']} boundaries ({stats['holes']} holes), {stats['contour_points']} contour points, "
@@ -358,7 +369,8 @@ def _trace_to_stdout(source, fmt, options, decimals) -> int:
     from .batch._plan import PlannedFile
 
     planned = PlannedFile(index=0, source=source, label=source, output=None, title=os.path.basename(source))
-    (record,) = run_batch([planned], trace_params=options, progress=False, format=fmt, decimals=decimals)
+    (record,) = run_batch([planned], trace_params=options, progress=False, format=fmt, decimals=decimals,
+                          spelling=OPTION_SPELLING)
     for line in record.warnings:
         print(f"{PROG}: {source}: warning: {line}", file=sys.stderr)
     if record.status != "ok":
@@ -418,7 +430,7 @@ def _run_trace(args) -> int:
             result = run_batch(plan, manifest=manifest, scheduler=args.scheduler,
                                jobs=_job_count(args.jobs, args.scheduler), batch_size=args.batch_size,
                                resume=args.resume, format=fmt, decimals=args.decimals, progress=show,
-                               on_record=report, trace_params=options)
+                               on_record=report, trace_params=options, spelling=OPTION_SPELLING)
             stop_if_signalled()
     except Interrupted as stop:
         finished = counts["ok"] + counts["skipped"]

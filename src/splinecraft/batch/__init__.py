@@ -242,9 +242,13 @@ def _in_jupyter() -> bool:
 
 
 def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="auto", resume=True,
-              format="svg", decimals=4, progress=None, on_record=None, trace_params=None):
+              format="svg", decimals=4, progress=None, on_record=None, trace_params=None, spelling=()):
     """Trace planned files (:class:`~splinecraft.batch._plan.PlannedFile`, each with its own output path):
-    the body of :func:`trace_many`, also used by the command line for explicit output file names."""
+    the body of :func:`trace_many`, also used by the command line for explicit output file names.
+
+    ``spelling``: ``(python, other)`` text pairs replaced, in order, in each file's warning and error lines
+    (records and manifest), so that the command line's messages name its options (``--invert`` where
+    :func:`splinecraft.trace` says ``invert=True``); :func:`trace_many` keeps the library's words."""
     check_choice(format, "format", FORMATS)
     batch_size = check_batch_size(batch_size)
     decimals = None if decimals is None else check_int(decimals, "decimals", minimum=0, maximum=MAX_DECIMALS)
@@ -276,7 +280,9 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
 
     bar = _progress_bar(len(plan), 0, progress)
     run = _Run(plan, ledger, params_hash, bar, on_record)
-    settings = {"trace": arguments, "format": format, "decimals": decimals, "run": uuid.uuid4().hex}
+    spelling = tuple((str(python), str(other)) for python, other in spelling)
+    settings = {"trace": arguments, "format": format, "decimals": decimals, "run": uuid.uuid4().hex,
+                "spelling": spelling}
     completed = False
     try:
         for job, entry in skipped:

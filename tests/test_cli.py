@@ -691,3 +691,35 @@ def test_blank_pages_still_have_no_ink_after_thresholding(tmp_path):
     for area in (None, 0, 50):
         with pytest.raises(ValueError, match="no ink pixels after thresholding"):
             sc.trace(source, min_speck_area=area)
+
+
+def test_a_spent_time_budget_is_reported_per_file(tmp_path):
+    """Boundaries the time budget left as polygons were reported nowhere on the command line, and ``-v`` gave
+    them a deviation of 0 px like fits. Now: one warning line per file (not with ``-q``), a ``-v`` line that
+    counts them apart from the fitted boundaries, and ``stats["polygons"]`` plus a note in Python."""
+    import splinecraft as sc
+
+    source = tmp_path / "ring.png"
+    write_shape(source, "ring")
+    budget = "1e-9"  # spent before the first boundary: every boundary gets its polygon
+    library = sc.trace(source, time_budget=float(budget))
+    total = library.stats["boundaries"]
+    polygons = sum(entry["budget"] == "polygon" for entry in library.stats["per_boundary"])
+    assert total > 1 and library.stats["polygons"] == polygons == total
+    assert any(f"{polygons} of {total} boundaries got the polygon" in note for note in library.notes)
+    assert sc.trace(source).stats["polygons"] == 0
+
+    expected = (f"splinecraft: {source}: time budget {float(budget):g} s reached: {polygons} of {total} boundaries "
+                "kept as polygons (use --time-budget none or a larger value)")
+    for output in (tmp_path / "ring.svg", "-"):
+        result = run_cli("trace", source, "-o", output, "--time-budget", budget)
+        assert result.returncode == 0 and result.stderr.splitlines() == [expected], result.stderr
+    quiet = run_cli("trace", source, "-o", tmp_path / "ring.svg", "--time-budget", budget, "-q")
+    assert quiet.returncode == 0 and quiet.stderr == ""
+    verbose = run_cli("trace", source, "-o", tmp_path / "ring.svg", "--time-budget", budget, "-v")
+    (summary,) = [line for line in verbose.stderr.splitlines() if not line.startswith("splinecraft:")]
+    assert f"{total} boundaries" in summary and f"0 fitted, {polygons} kept as polygons" in summary
+    assert "max deviation" not in summary and "converged" not in summary
+    fitted = run_cli("trace", source, "-o", tmp_path / "ring.svg", "-v")
+    (summary,) = fitted.stderr.splitlines()
+    assert "polygons" not in summary and "max deviation" in summary and "converged" in summary

@@ -20,7 +20,9 @@ partial file, even when a write fails), and a directory gets a manifest
 (``OUT/splinecraft-manifest.jsonl``, or ``--manifest``) so that a second run skips finished files
 (``--no-resume`` traces them again). Over several files a tqdm progress bar is drawn on stderr when it is
 a terminal (never with ``--quiet``). A file that fails gets one line ``splinecraft: FILE: reason`` on
-stderr while the others still finish.
+stderr while the others still finish. A file whose ``--time-budget`` ran out gets one line saying how many
+of its boundaries were kept as the polygons of their contours (not with ``--quiet``); ``-v`` counts them
+apart from the fitted ones.
 
 ``--jobs N`` traces in N local worker processes (at most one per CPU; more is capped with a warning);
 ``--scheduler`` uses dask instead. Ctrl-C (SIGINT, to the process or its whole group) or SIGTERM stops
@@ -357,14 +359,31 @@ OPTION_SPELLING = (
 
 
 def _summary_line(stats, seconds):
-    return (
-        f"{stats['boundaries']} boundaries ({stats['holes']} holes), {stats['contour_points']} contour points, "
-        f"{stats['corners']} corners, {stats['knots_inserted']} knots inserted, {stats['segments']} segments, "
-        f"{stats['iterations']} iterations, max deviation {stats['hausdorff']:.3g} px, {seconds * 1e3:.0f} ms"
-    )
+    """The ``-v`` line of one file. Boundaries a spent time budget left as polygons are counted apart: their
+    deviation (0, they are their contour) and "convergence" are not those of a fit, so the iterations, the
+    deviation and convergence are said of the fitted boundaries only, and not at all when none was fitted."""
+    head = (f"{stats['boundaries']} boundaries ({stats['holes']} holes), {stats['contour_points']} contour points, "
+            f"{stats['corners']} corners, {stats['knots_inserted']} knots inserted, {stats['segments']} segments")
+    fit = (f"{stats['iterations']} iterations, max deviation {stats['hausdorff']:.3g} px, "
+           f"{'converged' if stats['converged'] else 'not converged'}")
+    polygons = stats.get("polygons") or 0  # absent from the manifests of earlier versions
+    if not polygons:
+        return f"{head}, {fit}, {seconds * 1e3:.0f} ms"
+    fitted = stats["boundaries"] - polygons
+    return (f"{head}, {fitted} fitted{f' ({fit})' if fitted else ''}, {polygons} kept as polygons "
+            f"(time budget), {seconds * 1e3:.0f} ms")
 
 
-def _trace_to_stdout(source, fmt, options, decimals) -> int:
+def _budget_warning(source, stats, time_budget):
+    """The line saying that the time budget left boundaries of ``source`` as polygons, or ``None``."""
+    polygons = (stats or {}).get("polygons") or 0
+    if not polygons:
+        return None
+    return (f"{PROG}: {source}: time budget {time_budget:g} s reached: {polygons} of {stats['boundaries']} "
+            "boundaries kept as polygons (use --time-budget none or a larger value)")
+
+
+def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
     from .batch import render, run_batch
     from .batch._plan import PlannedFile
 
@@ -376,6 +395,9 @@ def _trace_to_stdout(source, fmt, options, decimals) -> int:
     if record.status != "ok":
         print(f"{PROG}: {source}: {record.error}", file=sys.stderr)
         return 1
+    budget = None if quiet else _budget_warning(source, record.stats, options["time_budget"])
+    if budget:
+        print(budget, file=sys.stderr)
     sys.stdout.buffer.write(render(record.result, fmt, decimals, planned.title))
     sys.stdout.flush()
     return 0
@@ -399,7 +421,7 @@ def _run_trace(args) -> int:
     }
     if pairs[0][1] == "-":
         try:
-            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals)
+            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals, quiet=args.quiet)
         except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
             print(f"{PROG}: error: {exc}", file=sys.stderr)
             return 2
@@ -421,8 +443,12 @@ def _run_trace(args) -> int:
             tqdm.write(f"{PROG}: {record.input}: warning: {line}", file=sys.stderr)
         if record.status == "failed":
             tqdm.write(f"{PROG}: {record.input}: {record.error}", file=sys.stderr)
-        elif record.status == "ok" and args.verbose:
-            tqdm.write(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
+        elif record.status == "ok":
+            budget = None if args.quiet else _budget_warning(record.input, record.stats, args.time_budget)
+            if budget:
+                tqdm.write(budget, file=sys.stderr)
+            if args.verbose:
+                tqdm.write(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
 
     show = len(pairs) > 1 and not args.quiet and sys.stderr.isatty()
     try:

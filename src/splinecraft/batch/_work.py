@@ -26,7 +26,7 @@ from ..spline.svg import xml_safe
 PART_SUFFIX = ".splinecraft-part"
 #: Stats of each file kept in its record and in the manifest.
 RECORD_STATS = ("boundaries", "holes", "contour_points", "corners", "knots_inserted", "segments",
-                "iterations", "hausdorff", "converged")
+                "iterations", "hausdorff", "converged", "polygons")
 #: Wall-clock fields of ``TraceResult.stats`` left out of JSON outputs, so that outputs are reproducible.
 TIMING_STATS = ("time_s", "time_breakdown", "time_per_boundary_s")
 

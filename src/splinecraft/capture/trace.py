@@ -219,8 +219,10 @@ def trace(
           thesis Table 4.61 (it reproduces the table from Tables 4.31-4.60, e.g. 1 - 652/1644 = 60.34 %
           for Alg 4.1, 'Ali', threshold 1);
         * ``max_error`` (thesis error, spline point vs its contour point) and ``hausdorff`` (true
-          two-sided geometric deviation, px): maxima over boundaries; ``converged``: all boundaries met
-          ``epsilon``; counts of ``boundaries``, ``outer`` and ``holes``; ``per_boundary`` details
+          two-sided geometric deviation, px): maxima over boundaries (a polygon of a spent ``time_budget``
+          counts 0: it is its contour); ``converged``: all fitted boundaries met ``epsilon``;
+          ``polygons``: the boundaries that got the polygon of their contour instead of a fit (a spent
+          ``time_budget``; 0 otherwise; a note says so too); counts of ``boundaries``, ``outer`` and ``holes``; ``per_boundary`` details
           (with ``small_outline``: fitted by the small-outline path, ``reason``: why the boundary did
           not converge, ``None`` when it did, ``corner_scale`` and ``tolerance``: the scale of its corners
           and the tolerance of its fit, see ``noise_factor``);
@@ -601,8 +603,8 @@ class _Polygon:
 def _budget_notes(state, time_budget, notes):
     polygons, stopped = state.count("polygon"), state.count("stopped")
     if polygons:
-        notes.append(f"time budget of {time_budget:g} s spent: {polygons} boundar{'y' if polygons == 1 else 'ies'} "
-                     "got the polygon of their contour (straight pieces between turning points, no corner "
+        notes.append(f"time budget of {time_budget:g} s spent: {polygons} of {len(state)} "
+                     f"boundar{'y' if len(state) == 1 else 'ies'} got the polygon of their contour (straight pieces between turning points, no corner "
                      "detection; stats['per_boundary'][k]['budget'] == 'polygon'; trace(time_budget=None) fits "
                      "them all)")
     if stopped:

@@ -723,3 +723,36 @@ def test_a_spent_time_budget_is_reported_per_file(tmp_path):
     fitted = run_cli("trace", source, "-o", tmp_path / "ring.svg", "-v")
     (summary,) = fitted.stderr.splitlines()
     assert "polygons" not in summary and "max deviation" in summary and "converged" in summary
+
+
+def test_max_pixels_caps_the_decoded_image_size(tmp_path, capsys):
+    """``load_bitmap(max_pixels=)`` (the decompression-bomb cap) had no option: ``--max-pixels N`` and
+    ``sc.trace(max_pixels=N)`` pass it on; it is checked up front, named in ``--help``, and changes no output
+    (a rerun with another cap skips the finished file)."""
+    import splinecraft as sc
+    from splinecraft.capture.image import MAX_PIXELS
+
+    source = tmp_path / "disc.png"
+    write_shape(source, "disc")
+    pixels = Image.open(source).width * Image.open(source).height
+    with pytest.raises(ValueError, match=f"more than max_pixels={pixels - 1}"):
+        sc.trace(source, max_pixels=pixels - 1)
+    assert sc.trace(source, max_pixels=pixels).to_svg() == sc.trace(source).to_svg()
+    with pytest.raises(ValueError, match="max_pixels"):
+        sc.trace_many([str(source)], progress=False, max_pixels=0)
+
+    (tmp_path / "out").mkdir()  # a directory: a manifest, so that a rerun can skip
+    refused = run_cli("trace", source, "-o", tmp_path / "out", "--max-pixels", pixels - 1)
+    (line,) = refused.stderr.splitlines()
+    reason = line.removeprefix(f"splinecraft: {source}: ")  # (the test's directory is named max_pixels too)
+    assert refused.returncode == 1 and f"more than --max-pixels {pixels - 1}" in reason and "max_pixels" not in reason
+    assert run_cli("trace", source, "-o", tmp_path / "out", "--max-pixels", pixels, "-q").returncode == 0
+    again = run_cli("trace", source, "-o", tmp_path / "out", "--max-pixels", 10 * pixels)
+    assert again.returncode == 0 and "1 of 1 files already traced" in again.stderr
+    for bad in ("0", "-5", "many"):
+        result = run_cli("trace", source, "-o", tmp_path / "x.svg", "--max-pixels", bad)
+        assert result.returncode == 2 and "--max-pixels" in result.stderr
+    with pytest.raises(SystemExit):
+        main(["trace", "--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert "--max-pixels N" in help_text and f"default {MAX_PIXELS}" in help_text

@@ -19,7 +19,10 @@ inputs, unless it is an existing directory (``OUT/`` asks for the directory). Fi
 partial file, even when a write fails), and a directory gets a manifest
 (``OUT/splinecraft-manifest.jsonl``, or ``--manifest``) so that a second run skips finished files
 (``--no-resume`` traces them again). Over several files a tqdm progress bar is drawn on stderr when it is
-a terminal (never with ``--quiet``). A file that fails gets one line ``splinecraft: FILE: reason`` on
+a terminal (never with ``--quiet``). ``--max-pixels N`` refuses (that file fails) an image of more than N
+pixels, read from its header before anything is decoded (default ``capture.image.MAX_PIXELS`` = 10^8: a
+decompression bomb costs nothing); it changes no output, so a rerun with another N still skips finished
+files. A file that fails gets one line ``splinecraft: FILE: reason`` on
 stderr while the others still finish. A file whose ``--time-budget`` ran out gets one line saying how many
 of its boundaries were kept as the polygons of their contours (not with ``--quiet``); ``-v`` counts them
 apart from the fitted ones.
@@ -228,6 +231,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="seconds for corner detection and fitting per file; boundaries not started in time "
                              "get the polygon of their contour, and a note says so (a page of text needs more "
                              f"than the default: none = no budget; default {defaults['time_budget']:g})")
+    tracer.add_argument("--max-pixels", type=_positive_int, default=defaults["max_pixels"], metavar="N",
+                        help="refuse images of more than N pixels, read from the file's header before decoding "
+                             f"(a decompression bomb costs nothing; default {defaults['max_pixels']})")
     tracer.add_argument("--decimals", type=_decimals, default=4,
                         help="decimal places of SVG coordinates (default 4)")
     tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,
@@ -349,12 +355,15 @@ def _job_count(jobs, scheduler):
 
 #: The library's argument spellings in messages -> this command's options (``run_batch``'s ``spelling``,
 #: applied in order to each file's warning and error lines): the polarity warning's ``invert=True``, speck
-#: removal's ``min_speck_area``, the "no shape found" advice's ``threshold='alpha'``.
+#: removal's ``min_speck_area``, the "no shape found" advice's ``threshold='alpha'``, the size cap's
+#: ``max_pixels``.
 OPTION_SPELLING = (
     ("invert=True", "--invert"),
     ("min_speck_area=", "--min-speck-area "),
     ("min_speck_area", "--min-speck-area"),
     ("threshold='alpha'", "--threshold alpha"),
+    ("max_pixels=", "--max-pixels "),
+    ("max_pixels", "--max-pixels"),
 )
 
 
@@ -417,7 +426,7 @@ def _run_trace(args) -> int:
         "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
         "max_iterations": args.max_iterations, "threshold": args.threshold, "invert": args.invert,
         "min_speck_area": args.min_speck_area, "connectivity": args.connectivity, "contour": args.contour,
-        "noise_factor": args.noise_factor, "time_budget": args.time_budget,
+        "noise_factor": args.noise_factor, "time_budget": args.time_budget, "max_pixels": args.max_pixels,
     }
     if pairs[0][1] == "-":
         try:

@@ -20,6 +20,8 @@ from ._work import PART_SUFFIX, file_sha256, input_sha256
 
 FORMATS = ("svg", "json")
 _GLOB_CHARACTERS = frozenset("*?[")
+#: Arguments of ``trace`` that change no output, left out of the settings hash (a change does not re-trace).
+UNHASHED_ARGUMENTS = ("keep_snapshots", "max_pixels")
 #: Each task should run at least this long (dask's per-task overhead is ~0.2-1 ms; BENCHMARKS.md).
 TARGET_TASK_S = 0.1
 
@@ -163,7 +165,8 @@ def trace_settings(trace_params) -> tuple:
     """``(keyword arguments for trace, their hash)``; unknown names raise ``TypeError``.
 
     The hash covers every argument of :func:`~splinecraft.capture.trace.trace` with its default filled in
-    (so spelling out a default does not re-trace), except ``keep_snapshots``, which changes no output.
+    (so spelling out a default does not re-trace), except those that change no output: ``keep_snapshots``,
+    and ``max_pixels`` (an image it refuses fails, and is not skipped by a later run).
     """
     from .. import __version__
     from ..capture import trace
@@ -179,7 +182,7 @@ def trace_settings(trace_params) -> tuple:
     arguments.pop(next(iter(signature.parameters)))  # the image
     if "keep_snapshots" not in trace_params:
         arguments["keep_snapshots"] = False  # a batch writes outputs: snapshots are not needed
-    hashed = {name: value for name, value in arguments.items() if name != "keep_snapshots"}
+    hashed = {name: value for name, value in arguments.items() if name not in UNHASHED_ARGUMENTS}
     text = json.dumps({"trace": hashed, "splinecraft": __version__}, sort_keys=True, default=repr)
     return arguments, hashlib.sha256(text.encode()).hexdigest()
 

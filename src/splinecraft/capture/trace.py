@@ -81,7 +81,7 @@ from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tole
 from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 from ._pixel_corners import merge_pixel_corners, pixel_corners_of_outlines
-from .image import load_bitmap_reporting_specks
+from .image import MAX_PIXELS, load_bitmap_reporting_specks
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 from .trace_stages import TraceStages
 
@@ -119,6 +119,7 @@ def trace(
     noise_factor=NOISE_FACTOR,
     time_budget=DEFAULT_TIME_BUDGET,
     stages=None,
+    max_pixels=MAX_PIXELS,
 ) -> TraceResult:
     """Trace the outline of a bitmap into smooth closed splines (thesis chapter 4; docs/capture.md).
 
@@ -195,6 +196,11 @@ def trace(
         :func:`trace` itself are not accepted here). ``small_outline`` (default
         ``fitting.SMALL_OUTLINE`` = 64; 0 = off) sets the contour length below which ``"lsq"`` boundaries are
         fitted together by ``fitting.fit_small_outlines``.
+    max_pixels : int >= 1
+        Largest image decoded from a file, bytes or PIL image (default ``image.MAX_PIXELS`` = 10^8), checked
+        on its header before any pixel is decoded (a decompression bomb costs nothing): a larger one is a
+        ``ValueError``. See :func:`~splinecraft.capture.image.load_bitmap`; it changes no result, so it is not
+        in :attr:`TraceResult.params`.
     stages : :class:`~splinecraft.capture.trace_stages.TraceStages`, optional
         Keeps the boundaries, corners and boundary noise of this call for the next one with the same bitmap
         and the same settings of those stages (a re-trace after a change of ``epsilon``, ``method``, ``seed``
@@ -245,11 +251,13 @@ def trace(
     noise_factor = _validation.check_number(noise_factor, "noise_factor", minimum=0.0)
     if time_budget is not None:
         time_budget = _validation.check_number(time_budget, "time_budget", minimum=0.0, inclusive=False)
+    max_pixels = _validation.check_int(max_pixels, "max_pixels", minimum=1)
     if stages is not None and not isinstance(stages, TraceStages):
         raise TypeError(f"stages must be a TraceStages or None, got {type(stages).__name__}")
     stages = TraceStages(0) if stages is None else stages
     mask, specks_removed_all = load_bitmap_reporting_specks(image, threshold=threshold, invert=invert,
-                                                            min_speck_area=min_speck_area, connectivity=connectivity)
+                                                            min_speck_area=min_speck_area, connectivity=connectivity,
+                                                            max_pixels=max_pixels)
     if specks_removed_all is not None:  # rather than "no ink after thresholding": there was ink
         raise ValueError(specks_removed_all.message())
     loaded = time.perf_counter()

@@ -1,5 +1,6 @@
 """Tests of splinecraft.trace_many (splinecraft.batch): same bytes on every scheduler, resume, manifest,
 faults and bad input. Dask clusters run on loopback only (127.0.0.1)."""
+import hashlib
 import json
 import logging
 import os
@@ -149,6 +150,27 @@ def test_arrays_to_a_directory(tmp_path):
     assert trace_many(images, tmp_path, progress=False, epsilon=EPSILON).counts == {"skipped": 1, "ok": 1}
 
 
+def test_encoded_image_bytes_are_traced_as_trace_reads_them(glyphs, tmp_path):
+    """``trace(bytes)`` reads the bytes as an encoded image file, but ``trace_many`` refused them (``TypeError``
+    "must be a path, a glob pattern or an image array"). Bytes, bytearray and memoryview are traced as ``trace``
+    reads them, written as ``image-NNNNN`` like arrays, hashed as the file they are (so a rerun skips them);
+    bytes that are no image fail alone, named by their position."""
+    data = [path.read_bytes() for path in glyphs[:3]]
+    inputs = [data[0], bytearray(data[1]), memoryview(data[2]), b"not an image", glyphs[3]]
+    result = trace_many(inputs, tmp_path, progress=False, epsilon=EPSILON, jobs=2, batch_size=1)
+    assert [record.status for record in result] == ["ok"] * 3 + ["failed", "ok"]
+    assert [os.path.basename(record.output) for record in result] == [
+        "image-00000.svg", "image-00001.svg", "image-00002.svg", "image-00003.svg", "glyph003.svg"]
+    for record, encoded, path in zip(result, data, glyphs):
+        expected = sc.trace(encoded, epsilon=EPSILON).to_svg().encode()
+        assert (tmp_path / os.path.basename(record.output)).read_bytes() == expected
+        assert record.input_sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
+    assert "bytes 3" in result[3].input and "not an image" in result[3].error
+    assert trace_many(inputs[:3], tmp_path, progress=False, epsilon=EPSILON).counts == {"skipped": 3}
+    (single,) = trace_many(data[0], progress=False, epsilon=EPSILON)  # one image's bytes, not 3000 inputs
+    assert single.status == "ok" and single.result.to_svg() == sc.trace(data[0], epsilon=EPSILON).to_svg()
+
+
 # ---------------------------------------------------------------------------------------------------
 # resume and manifest
 # ---------------------------------------------------------------------------------------------------
@@ -243,7 +265,7 @@ def test_bad_arguments_fail_before_any_file(glyphs, tmp_path):
         (dict(decimals=-1), ValueError, "decimals"),
         (dict(resume="yes"), TypeError, "resume"),
         (dict(on_record=3), TypeError, "on_record"),
-        (dict(jobs=0), ValueError, "jobs"),
+        (dict(jobs=-1), ValueError, "jobs"),  # (jobs=0 is one worker per CPU, as --jobs 0)
         (dict(scheduler="cluster"), ValueError, "scheduler"),
         (dict(scheduler=3), TypeError, "scheduler"),
         (dict(scheduler="tcp://127.0.0.1:1", jobs=2), ValueError, "jobs"),
@@ -329,6 +351,28 @@ def test_jobs_are_capped_at_the_cpu_count(glyphs, tmp_path):
     with pytest.warns(RuntimeWarning, match="CPUs"):
         result = trace_many(glyphs[:3], tmp_path, jobs=1000, epsilon=EPSILON, progress=False)
     assert result.counts == {"ok": 3}
+
+
+def test_jobs_zero_means_one_worker_per_cpu_as_on_the_command_line(glyphs, tmp_path, monkeypatch):
+    """``trace_many(jobs=0)`` raised while ``--jobs 0`` meant one worker per CPU; both mean that now."""
+    from splinecraft import batch
+    from splinecraft.batch import _schedulers
+    from splinecraft.cli import _job_count
+
+    for module in (batch, _schedulers):  # a machine of 3 CPUs, for the library and for the command line
+        monkeypatch.setattr(module, "cpu_count", lambda: 3)
+    runner = _schedulers.make_runner(None, 0, files=10)
+    try:
+        assert runner.workers == 3 == _job_count(0, None)
+    finally:
+        runner.close()
+    assert _schedulers.make_runner(None, 0, files=2).workers == 2  # never more workers than files
+    monkeypatch.undo()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # one per CPU is no cap: no warning
+        result = trace_many(glyphs[:3], tmp_path, jobs=0, epsilon=EPSILON, progress=False)
+    assert result.counts == {"ok": 3}
+    assert_outputs_whole(tmp_path, glyphs[:3])
 
 
 def test_without_dask_the_error_says_how_to_install_it(glyphs, tmp_path, monkeypatch):

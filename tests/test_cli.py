@@ -572,7 +572,7 @@ def test_a_files_warnings_are_printed_with_its_name_even_when_quiet(tmp_path):
     lines = [line for line in result.stderr.splitlines() if line.strip()]
     assert len(lines) == 1, result.stderr
     assert lines[0].startswith(f"splinecraft: {negative}: warning: InkPolarityWarning: ")
-    assert "invert=True" in lines[0] and ".py:" not in result.stderr
+    assert "--invert" in lines[0] and "invert=True" not in lines[0] and ".py:" not in result.stderr
     entries = {os.path.basename(json.loads(line)["input"]): json.loads(line)
                for line in (tmp_path / "out" / "splinecraft-manifest.jsonl").read_text().splitlines()}
     assert entries["negative.png"]["warnings"] == [lines[0].split("warning: ", 1)[1]]
@@ -600,3 +600,159 @@ def test_decimals_beyond_the_limit_are_refused_before_any_trace(tmp_path):
     assert result.returncode == 2 and "must be <= 64" in result.stderr and not (tmp_path / "x.svg").exists()
     with pytest.raises(ValueError, match="decimals must be <= 64"):
         trace_many([str(source)], decimals=100)
+
+
+def test_an_empty_output_is_refused_before_any_trace(tmp_path):
+    """``-o ''`` was accepted and failed only after the trace (the output path was the current directory)."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", "", cwd=tmp_path)
+    lines = result.stderr.splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("splinecraft: error: ") and "-o" in lines[0] and "empty" in lines[0]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]  # nothing written, no manifest
+
+
+@pytest.mark.parametrize("name", ["out.svg", "OUT.JSON"])
+def test_a_file_output_for_several_inputs_is_refused(tmp_path, name):
+    """``-o out.svg`` with two inputs created a directory named out.svg; a name with an output suffix is
+    refused (exit 2, one line) unless it is an existing directory or ends with a separator."""
+    for stem, kind in [("a", "disc"), ("b", "square")]:
+        write_shape(tmp_path / f"{stem}.png", kind)
+    inputs = [tmp_path / "a.png", tmp_path / "b.png"]
+    result = run_cli("trace", *inputs, "-o", tmp_path / name)
+    lines = result.stderr.splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0].startswith("splinecraft: error: ") and name in lines[0] and "2 inputs" in lines[0]
+    assert not (tmp_path / name).exists()
+    assert run_cli("trace", *inputs, "-o", f"{tmp_path / name}{os.sep}", "-q").returncode == 0  # asked for a directory
+    assert sorted(p.name for p in (tmp_path / name).iterdir()) == ["a.svg", "b.svg", "splinecraft-manifest.jsonl"]
+    assert run_cli("trace", *inputs, "-o", tmp_path / name, "-q", "--no-resume").returncode == 0  # it exists now
+
+
+def test_the_polarity_warning_names_the_option_of_its_interface(tmp_path):
+    """The dark-background warning said ``pass invert=True`` on the command line too: there it names
+    ``--invert`` (also with ``-o -``), while ``sc.trace`` keeps the Python spelling."""
+    import splinecraft as sc
+    from splinecraft.capture.image import InkPolarityWarning
+
+    negative = tmp_path / "negative.png"
+    mask = write_shape(tmp_path / "positive.png", "disc")
+    Image.fromarray(np.where(mask, 230, 20).astype(np.uint8)).save(negative)
+    with pytest.warns(InkPolarityWarning, match=r"pass invert=True"):
+        sc.trace(negative)
+    for output in (tmp_path / "n.svg", "-"):
+        result = run_cli("trace", negative, "-o", output, "-q")
+        (line,) = result.stderr.splitlines()
+        assert result.returncode == 0 and "InkPolarityWarning" in line
+        assert line.endswith("pass --invert") and "invert=True" not in line
+
+
+def write_two_squares(path, big=10, small=6):
+    """Two ink squares of big**2 and small**2 pixels on white; returns their pixel counts."""
+    image = np.full((40, 40), 255, np.uint8)
+    image[5:5 + big, 5:5 + big] = 0
+    image[25:25 + small, 25:25 + small] = 0
+    Image.fromarray(image).save(path)
+    return big * big, small * small
+
+
+def test_speck_removal_that_removes_all_ink_says_so(tmp_path):
+    """``--min-speck-area`` above every ink component said "no ink pixels after thresholding"; the error says
+    that speck removal removed all N ink pixels, how large the largest component was and what keeps it, in
+    the library's spelling for ``sc.trace`` and ``trace_many`` and the option's on the command line."""
+    import splinecraft as sc
+
+    source = tmp_path / "squares.png"
+    big, small = write_two_squares(source)
+    with pytest.raises(ValueError) as caught:
+        sc.trace(source, min_speck_area=big + 1)
+    message = str(caught.value)
+    assert f"speck removal removed all {big + small} ink pixels" in message
+    assert f"min_speck_area={big + 1}" in message and f"largest ink component has {big} pixels" in message
+    assert f"lower min_speck_area to {big} or less" in message and "after thresholding" not in message
+    assert sc.trace(source, min_speck_area=big).stats["boundaries"] == 1  # the advice keeps it
+    (record,) = sc.trace_many([str(source)], progress=False, min_speck_area=big + 1)
+    assert record.status == "failed" and f"removed all {big + small} ink pixels" in record.error
+
+    result = run_cli("trace", source, "-o", tmp_path / "out.svg", "--min-speck-area", big + 1)
+    (line,) = result.stderr.splitlines()
+    assert result.returncode == 1 and line.startswith(f"splinecraft: {source}: ")
+    assert f"removed all {big + small} ink pixels" in line and f"--min-speck-area {big + 1}" in line
+    assert f"lower --min-speck-area to {big} or less" in line and "min_speck_area" not in line
+
+
+def test_blank_pages_still_have_no_ink_after_thresholding(tmp_path):
+    """Without ink to remove, the message stays the thresholding one (nothing was removed)."""
+    import splinecraft as sc
+
+    source = tmp_path / "blank.png"
+    write_shape(source, "blank")
+    for area in (None, 0, 50):
+        with pytest.raises(ValueError, match="no ink pixels after thresholding"):
+            sc.trace(source, min_speck_area=area)
+
+
+def test_a_spent_time_budget_is_reported_per_file(tmp_path):
+    """Boundaries the time budget left as polygons were reported nowhere on the command line, and ``-v`` gave
+    them a deviation of 0 px like fits. Now: one warning line per file (not with ``-q``), a ``-v`` line that
+    counts them apart from the fitted boundaries, and ``stats["polygons"]`` plus a note in Python."""
+    import splinecraft as sc
+
+    source = tmp_path / "ring.png"
+    write_shape(source, "ring")
+    budget = "1e-9"  # spent before the first boundary: every boundary gets its polygon
+    library = sc.trace(source, time_budget=float(budget))
+    total = library.stats["boundaries"]
+    polygons = sum(entry["budget"] == "polygon" for entry in library.stats["per_boundary"])
+    assert total > 1 and library.stats["polygons"] == polygons == total
+    assert any(f"{polygons} of {total} boundaries got the polygon" in note for note in library.notes)
+    assert sc.trace(source).stats["polygons"] == 0
+
+    expected = (f"splinecraft: {source}: time budget {float(budget):g} s reached: {polygons} of {total} boundaries "
+                "kept as polygons (use --time-budget none or a larger value)")
+    for output in (tmp_path / "ring.svg", "-"):
+        result = run_cli("trace", source, "-o", output, "--time-budget", budget)
+        assert result.returncode == 0 and result.stderr.splitlines() == [expected], result.stderr
+    quiet = run_cli("trace", source, "-o", tmp_path / "ring.svg", "--time-budget", budget, "-q")
+    assert quiet.returncode == 0 and quiet.stderr == ""
+    verbose = run_cli("trace", source, "-o", tmp_path / "ring.svg", "--time-budget", budget, "-v")
+    (summary,) = [line for line in verbose.stderr.splitlines() if not line.startswith("splinecraft:")]
+    assert f"{total} boundaries" in summary and f"0 fitted, {polygons} kept as polygons" in summary
+    assert "max deviation" not in summary and "converged" not in summary
+    fitted = run_cli("trace", source, "-o", tmp_path / "ring.svg", "-v")
+    (summary,) = fitted.stderr.splitlines()
+    assert "polygons" not in summary and "max deviation" in summary and "converged" in summary
+
+
+def test_max_pixels_caps_the_decoded_image_size(tmp_path, capsys):
+    """``load_bitmap(max_pixels=)`` (the decompression-bomb cap) had no option: ``--max-pixels N`` and
+    ``sc.trace(max_pixels=N)`` pass it on; it is checked up front, named in ``--help``, and changes no output
+    (a rerun with another cap skips the finished file)."""
+    import splinecraft as sc
+    from splinecraft.capture.image import MAX_PIXELS
+
+    source = tmp_path / "disc.png"
+    write_shape(source, "disc")
+    pixels = Image.open(source).width * Image.open(source).height
+    with pytest.raises(ValueError, match=f"more than max_pixels={pixels - 1}"):
+        sc.trace(source, max_pixels=pixels - 1)
+    assert sc.trace(source, max_pixels=pixels).to_svg() == sc.trace(source).to_svg()
+    with pytest.raises(ValueError, match="max_pixels"):
+        sc.trace_many([str(source)], progress=False, max_pixels=0)
+
+    (tmp_path / "out").mkdir()  # a directory: a manifest, so that a rerun can skip
+    refused = run_cli("trace", source, "-o", tmp_path / "out", "--max-pixels", pixels - 1)
+    (line,) = refused.stderr.splitlines()
+    reason = line.removeprefix(f"splinecraft: {source}: ")  # (the test's directory is named max_pixels too)
+    assert refused.returncode == 1 and f"more than --max-pixels {pixels - 1}" in reason and "max_pixels" not in reason
+    assert run_cli("trace", source, "-o", tmp_path / "out", "--max-pixels", pixels, "-q").returncode == 0
+    again = run_cli("trace", source, "-o", tmp_path / "out", "--max-pixels", 10 * pixels)
+    assert again.returncode == 0 and "1 of 1 files already traced" in again.stderr
+    for bad in ("0", "-5", "many"):
+        result = run_cli("trace", source, "-o", tmp_path / "x.svg", "--max-pixels", bad)
+        assert result.returncode == 2 and "--max-pixels" in result.stderr
+    with pytest.raises(SystemExit):
+        main(["trace", "--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert "--max-pixels N" in help_text and f"default {MAX_PIXELS}" in help_text

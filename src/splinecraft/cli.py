@@ -12,21 +12,28 @@ Examples
 
 ``OUT`` is a file for one input (``-`` = stdout) and a directory for several (created if needed; each
 input ``NAME.ext`` becomes ``OUT/NAME.svg`` or ``.json``). The format follows ``--format``, else the
-suffix of a single output file, else SVG. An output that is also an input is refused. Files are traced by
+suffix of a single output file, else SVG. An output that is also an input is refused, and so, before
+anything is traced, an empty ``OUT`` and an ``OUT`` named like a file (``.svg``, ``.json``) for several
+inputs, unless it is an existing directory (``OUT/`` asks for the directory). Files are traced by
 :func:`splinecraft.batch.run_batch`, the body of ``splinecraft.trace_many``: outputs appear atomically (no
 partial file, even when a write fails), and a directory gets a manifest
 (``OUT/splinecraft-manifest.jsonl``, or ``--manifest``) so that a second run skips finished files
 (``--no-resume`` traces them again). Over several files a tqdm progress bar is drawn on stderr when it is
-a terminal (never with ``--quiet``). A file that fails gets one line ``splinecraft: FILE: reason`` on
-stderr while the others still finish.
+a terminal (never with ``--quiet``). ``--max-pixels N`` refuses (that file fails) an image of more than N
+pixels, read from its header before anything is decoded (default ``capture.image.MAX_PIXELS`` = 10^8: a
+decompression bomb costs nothing); it changes no output, so a rerun with another N still skips finished
+files. A file that fails gets one line ``splinecraft: FILE: reason`` on
+stderr while the others still finish. A file whose ``--time-budget`` ran out gets one line saying how many
+of its boundaries were kept as the polygons of their contours (not with ``--quiet``); ``-v`` counts them
+apart from the fitted ones.
 
 ``--jobs N`` traces in N local worker processes (at most one per CPU; more is capped with a warning);
 ``--scheduler`` uses dask instead. Ctrl-C (SIGINT, to the process or its whole group) or SIGTERM stops
 at once: nothing new starts, the workers are killed with the files in flight (their partial files
 removed), what finished is kept in the manifest, and the exit code is 130 (SIGINT) or 143 (SIGTERM).
 Workers also die when this process is killed outright. Exit codes: 0 all traced (or skipped), 1 some
-file failed, 2 usage errors (bad option, output = input, unwritable output directory, unreachable
-scheduler).
+file failed, 2 usage errors (bad option, output = input, empty output or a file name for several inputs,
+unwritable output directory, unreachable scheduler).
 """
 from __future__ import annotations
 
@@ -224,6 +231,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="seconds for corner detection and fitting per file; boundaries not started in time "
                              "get the polygon of their contour, and a note says so (a page of text needs more "
                              f"than the default: none = no budget; default {defaults['time_budget']:g})")
+    tracer.add_argument("--max-pixels", type=_positive_int, default=defaults["max_pixels"], metavar="N",
+                        help="refuse images of more than N pixels, read from the file's header before decoding "
+                             f"(a decompression bomb costs nothing; default {defaults['max_pixels']})")
     tracer.add_argument("--decimals", type=_decimals, default=4,
                         help="decimal places of SVG coordinates (default 4)")
     tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,
@@ -289,9 +299,20 @@ def _signals_raise():
             signal.signal(number, old)
 
 
+#: Suffixes of an output file: ``-o NAME.svg`` with several inputs is a mistake, not a directory name.
+OUTPUT_SUFFIXES = (".svg", ".json")
+
+
 def _plan_outputs(inputs, output, fmt):
-    """Pair every input with its output path; returns (pairs, format) or raises ValueError."""
-    single = len(inputs) == 1 and not os.path.isdir(output) and not output.endswith(("/", os.sep))
+    """Pair every input with its output path; returns (pairs, format) or raises ValueError.
+
+    Refused before anything is traced: an empty ``output``, ``-`` with several inputs, and an output named
+    like a file (:data:`OUTPUT_SUFFIXES`) for several inputs unless it is an existing directory or ends
+    with a separator (it would become a directory called ``out.svg``)."""
+    if not output:
+        raise ValueError("-o/--output is empty: give an output file, a directory, or - for stdout")
+    is_directory = os.path.isdir(output) or output.endswith(("/", os.sep))
+    single = len(inputs) == 1 and not is_directory
     if output == "-":
         if len(inputs) != 1:
             raise ValueError("-o - (stdout) takes exactly one input")
@@ -301,6 +322,9 @@ def _plan_outputs(inputs, output, fmt):
             fmt = "json" if output.lower().endswith(".json") else "svg"
         return [(inputs[0], output)], fmt
     fmt = fmt or "svg"
+    if not is_directory and output.lower().endswith(OUTPUT_SUFFIXES):
+        raise ValueError(f"-o {output} names a file, but {len(inputs)} inputs need an output directory "
+                         f"(give a directory, or {output}{os.sep} to create one with that name)")
     if os.path.exists(output) and not os.path.isdir(output):
         raise ValueError(f"{output} exists and is not a directory (several inputs need an output directory)")
     pairs, seen = [], {}
@@ -329,25 +353,60 @@ def _job_count(jobs, scheduler):
     return jobs
 
 
+#: The library's argument spellings in messages -> this command's options (``run_batch``'s ``spelling``,
+#: applied in order to each file's warning and error lines): the polarity warning's ``invert=True``, speck
+#: removal's ``min_speck_area``, the "no shape found" advice's ``threshold='alpha'``, the size cap's
+#: ``max_pixels``.
+OPTION_SPELLING = (
+    ("invert=True", "--invert"),
+    ("min_speck_area=", "--min-speck-area "),
+    ("min_speck_area", "--min-speck-area"),
+    ("threshold='alpha'", "--threshold alpha"),
+    ("max_pixels=", "--max-pixels "),
+    ("max_pixels", "--max-pixels"),
+)
+
+
 def _summary_line(stats, seconds):
-    return (
-        f"{stats['boundaries']} boundaries ({stats['holes']} holes), {stats['contour_points']} contour points, "
-        f"{stats['corners']} corners, {stats['knots_inserted']} knots inserted, {stats['segments']} segments, "
-        f"{stats['iterations']} iterations, max deviation {stats['hausdorff']:.3g} px, {seconds * 1e3:.0f} ms"
-    )
+    """The ``-v`` line of one file. Boundaries a spent time budget left as polygons are counted apart: their
+    deviation (0, they are their contour) and "convergence" are not those of a fit, so the iterations, the
+    deviation and convergence are said of the fitted boundaries only, and not at all when none was fitted."""
+    head = (f"{stats['boundaries']} boundaries ({stats['holes']} holes), {stats['contour_points']} contour points, "
+            f"{stats['corners']} corners, {stats['knots_inserted']} knots inserted, {stats['segments']} segments")
+    fit = (f"{stats['iterations']} iterations, max deviation {stats['hausdorff']:.3g} px, "
+           f"{'converged' if stats['converged'] else 'not converged'}")
+    polygons = stats.get("polygons") or 0  # absent from the manifests of earlier versions
+    if not polygons:
+        return f"{head}, {fit}, {seconds * 1e3:.0f} ms"
+    fitted = stats["boundaries"] - polygons
+    return (f"{head}, {fitted} fitted{f' ({fit})' if fitted else ''}, {polygons} kept as polygons "
+            f"(time budget), {seconds * 1e3:.0f} ms")
 
 
-def _trace_to_stdout(source, fmt, options, decimals) -> int:
+def _budget_warning(source, stats, time_budget):
+    """The line saying that the time budget left boundaries of ``source`` as polygons, or ``None``."""
+    polygons = (stats or {}).get("polygons") or 0
+    if not polygons:
+        return None
+    return (f"{PROG}: {source}: time budget {time_budget:g} s reached: {polygons} of {stats['boundaries']} "
+            "boundaries kept as polygons (use --time-budget none or a larger value)")
+
+
+def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
     from .batch import render, run_batch
     from .batch._plan import PlannedFile
 
     planned = PlannedFile(index=0, source=source, label=source, output=None, title=os.path.basename(source))
-    (record,) = run_batch([planned], trace_params=options, progress=False, format=fmt, decimals=decimals)
+    (record,) = run_batch([planned], trace_params=options, progress=False, format=fmt, decimals=decimals,
+                          spelling=OPTION_SPELLING)
     for line in record.warnings:
         print(f"{PROG}: {source}: warning: {line}", file=sys.stderr)
     if record.status != "ok":
         print(f"{PROG}: {source}: {record.error}", file=sys.stderr)
         return 1
+    budget = None if quiet else _budget_warning(source, record.stats, options["time_budget"])
+    if budget:
+        print(budget, file=sys.stderr)
     sys.stdout.buffer.write(render(record.result, fmt, decimals, planned.title))
     sys.stdout.flush()
     return 0
@@ -367,11 +426,11 @@ def _run_trace(args) -> int:
         "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
         "max_iterations": args.max_iterations, "threshold": args.threshold, "invert": args.invert,
         "min_speck_area": args.min_speck_area, "connectivity": args.connectivity, "contour": args.contour,
-        "noise_factor": args.noise_factor, "time_budget": args.time_budget,
+        "noise_factor": args.noise_factor, "time_budget": args.time_budget, "max_pixels": args.max_pixels,
     }
     if pairs[0][1] == "-":
         try:
-            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals)
+            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals, quiet=args.quiet)
         except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
             print(f"{PROG}: error: {exc}", file=sys.stderr)
             return 2
@@ -393,8 +452,12 @@ def _run_trace(args) -> int:
             tqdm.write(f"{PROG}: {record.input}: warning: {line}", file=sys.stderr)
         if record.status == "failed":
             tqdm.write(f"{PROG}: {record.input}: {record.error}", file=sys.stderr)
-        elif record.status == "ok" and args.verbose:
-            tqdm.write(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
+        elif record.status == "ok":
+            budget = None if args.quiet else _budget_warning(record.input, record.stats, args.time_budget)
+            if budget:
+                tqdm.write(budget, file=sys.stderr)
+            if args.verbose:
+                tqdm.write(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
 
     show = len(pairs) > 1 and not args.quiet and sys.stderr.isatty()
     try:
@@ -402,7 +465,7 @@ def _run_trace(args) -> int:
             result = run_batch(plan, manifest=manifest, scheduler=args.scheduler,
                                jobs=_job_count(args.jobs, args.scheduler), batch_size=args.batch_size,
                                resume=args.resume, format=fmt, decimals=args.decimals, progress=show,
-                               on_record=report, trace_params=options)
+                               on_record=report, trace_params=options, spelling=OPTION_SPELLING)
             stop_if_signalled()
     except Interrupted as stop:
         finished = counts["ok"] + counts["skipped"]

@@ -109,9 +109,11 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
 
     Parameters
     ----------
-    inputs : path, glob pattern, image array, or a list of them
+    inputs : path, glob pattern, image array, encoded image bytes, or a list of them
         Globs (``"scans/**/*.png"``) expand to the sorted matching files; arrays and PIL images are traced
-        as given (outputs ``image-00000.svg``, ...).
+        as given, and ``bytes`` (``bytearray``, ``memoryview``) as the encoded image file they hold, as
+        :func:`splinecraft.trace` reads them (never as a file name); both are named by their position
+        (outputs ``image-00000.svg``, ..., records ``<image 0>`` / ``<bytes 0>``).
     output_dir : path, optional
         Where ``NAME.svg`` (``.json``) goes for input ``NAME.png``; created if needed. ``None``: nothing is
         written, each record carries its ``TraceResult`` (no manifest, no resume).
@@ -121,8 +123,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         schedulers (``jobs`` workers, default one per CPU). A ``dask.distributed.Client`` or a scheduler
         address such as ``"tcp://host:8786"``: that cluster (its workers must see the same paths). Dask is
         the optional extra ``pip install 'splinecraft[dask]'``. BENCHMARKS.md compares them.
-    jobs : int, optional
-        Local workers; capped at the CPU count with a ``RuntimeWarning``.
+    jobs : int >= 0, optional
+        Local workers; ``0`` is one per CPU (as ``--jobs 0`` on the command line); more than the CPU count is
+        capped at it with a ``RuntimeWarning``.
     batch_size : "auto" or int
         Files per task ("auto": each task runs about ``TARGET_TASK_S`` = 0.1 s).
     resume : bool
@@ -239,9 +242,13 @@ def _in_jupyter() -> bool:
 
 
 def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="auto", resume=True,
-              format="svg", decimals=4, progress=None, on_record=None, trace_params=None):
+              format="svg", decimals=4, progress=None, on_record=None, trace_params=None, spelling=()):
     """Trace planned files (:class:`~splinecraft.batch._plan.PlannedFile`, each with its own output path):
-    the body of :func:`trace_many`, also used by the command line for explicit output file names."""
+    the body of :func:`trace_many`, also used by the command line for explicit output file names.
+
+    ``spelling``: ``(python, other)`` text pairs replaced, in order, in each file's warning and error lines
+    (records and manifest), so that the command line's messages name its options (``--invert`` where
+    :func:`splinecraft.trace` says ``invert=True``); :func:`trace_many` keeps the library's words."""
     check_choice(format, "format", FORMATS)
     batch_size = check_batch_size(batch_size)
     decimals = None if decimals is None else check_int(decimals, "decimals", minimum=0, maximum=MAX_DECIMALS)
@@ -273,7 +280,9 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
 
     bar = _progress_bar(len(plan), 0, progress)
     run = _Run(plan, ledger, params_hash, bar, on_record)
-    settings = {"trace": arguments, "format": format, "decimals": decimals, "run": uuid.uuid4().hex}
+    spelling = tuple((str(python), str(other)) for python, other in spelling)
+    settings = {"trace": arguments, "format": format, "decimals": decimals, "run": uuid.uuid4().hex,
+                "spelling": spelling}
     completed = False
     try:
         for job, entry in skipped:

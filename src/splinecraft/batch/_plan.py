@@ -20,6 +20,8 @@ from ._work import PART_SUFFIX, file_sha256, input_sha256
 
 FORMATS = ("svg", "json")
 _GLOB_CHARACTERS = frozenset("*?[")
+#: Arguments of ``trace`` that change no output, left out of the settings hash (a change does not re-trace).
+UNHASHED_ARGUMENTS = ("keep_snapshots", "max_pixels")
 #: Each task should run at least this long (dask's per-task overhead is ~0.2-1 ms; BENCHMARKS.md).
 TARGET_TASK_S = 0.1
 
@@ -42,23 +44,30 @@ class PlannedFile:
 # ---------------------------------------------------------------------------------------------------
 # inputs and outputs
 # ---------------------------------------------------------------------------------------------------
+#: Types read as one encoded image file (PNG, JPEG, ...), as :func:`~splinecraft.capture.trace.trace` reads them.
+ENCODED_IMAGE_TYPES = (bytes, bytearray, memoryview)
+
+
 def _is_image_object(value) -> bool:
     return isinstance(value, np.ndarray) or type(value).__module__.startswith("PIL.")
 
 
 def expand_inputs(inputs) -> list:
-    """Paths, glob patterns and image arrays -> a flat list (globs expanded, sorted; order kept)."""
-    if isinstance(inputs, (str, os.PathLike)) or _is_image_object(inputs):
+    """Paths, glob patterns, image arrays and encoded image bytes -> a flat list (globs expanded, sorted; order
+    kept; bytearray and memoryview copied to ``bytes``, which every worker can be sent)."""
+    if isinstance(inputs, (str, os.PathLike, *ENCODED_IMAGE_TYPES)) or _is_image_object(inputs):
         inputs = [inputs]
     try:
         items = list(inputs)
     except TypeError:
-        raise TypeError(f"inputs must be paths, glob patterns or image arrays (or a list of them), "
-                        f"got {type(inputs).__name__}") from None
+        raise TypeError(f"inputs must be paths, glob patterns, image arrays or encoded image bytes (or a list of "
+                        f"them), got {type(inputs).__name__}") from None
     sources = []
     for position, item in enumerate(items):
         if _is_image_object(item):
             sources.append(item)
+        elif isinstance(item, ENCODED_IMAGE_TYPES):
+            sources.append(bytes(item))
         elif isinstance(item, (str, os.PathLike)):
             text = os.fspath(item)
             if not isinstance(text, str):
@@ -71,22 +80,24 @@ def expand_inputs(inputs) -> list:
             else:
                 sources.append(text)
         else:
-            raise TypeError(f"inputs[{position}] must be a path, a glob pattern or an image array, "
-                            f"got {type(item).__name__}")
+            raise TypeError(f"inputs[{position}] must be a path, a glob pattern, an image array or encoded image "
+                            f"bytes, got {type(item).__name__}")
     if not sources:
-        raise ValueError("inputs is empty: give at least one path, glob pattern or image array")
+        raise ValueError("inputs is empty: give at least one path, glob pattern, image array or encoded image")
     return sources
 
 
 def plan_directory(sources, output_dir, fmt) -> list:
-    """One job per source; outputs ``output_dir/NAME.fmt`` (``image-00003`` for arrays), or none."""
+    """One job per source; outputs ``output_dir/NAME.fmt`` (``image-00003`` for arrays and bytes: the input's
+    position), or none."""
     width = max(5, len(str(len(sources) - 1)))
     jobs, seen = [], {}
     for index, source in enumerate(sources):
         if isinstance(source, str):
             stem, label, title = os.path.splitext(os.path.basename(source))[0], source, os.path.basename(source)
         else:
-            stem, label, title = f"image-{index:0{width}d}", f"<image {index}>", None
+            kind = "bytes" if isinstance(source, bytes) else "image"
+            stem, label, title = f"image-{index:0{width}d}", f"<{kind} {index}>", None
         output = None
         if output_dir is not None:
             name = f"{stem}.{fmt}"
@@ -154,7 +165,8 @@ def trace_settings(trace_params) -> tuple:
     """``(keyword arguments for trace, their hash)``; unknown names raise ``TypeError``.
 
     The hash covers every argument of :func:`~splinecraft.capture.trace.trace` with its default filled in
-    (so spelling out a default does not re-trace), except ``keep_snapshots``, which changes no output.
+    (so spelling out a default does not re-trace), except those that change no output: ``keep_snapshots``,
+    and ``max_pixels`` (an image it refuses fails, and is not skipped by a later run).
     """
     from .. import __version__
     from ..capture import trace
@@ -170,7 +182,7 @@ def trace_settings(trace_params) -> tuple:
     arguments.pop(next(iter(signature.parameters)))  # the image
     if "keep_snapshots" not in trace_params:
         arguments["keep_snapshots"] = False  # a batch writes outputs: snapshots are not needed
-    hashed = {name: value for name, value in arguments.items() if name != "keep_snapshots"}
+    hashed = {name: value for name, value in arguments.items() if name not in UNHASHED_ARGUMENTS}
     text = json.dumps({"trace": hashed, "splinecraft": __version__}, sort_keys=True, default=repr)
     return arguments, hashlib.sha256(text.encode()).hexdigest()
 

@@ -19,7 +19,7 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor, as_compl
 from concurrent.futures.process import BrokenProcessPool
 from functools import partial
 
-from .._validation import check_positive_int
+from .._validation import check_int
 from ._work import STOP_EVENTS, init_worker_process, trace_batch
 
 LOCAL_SCHEDULERS = ("threads", "processes", "synchronous")
@@ -320,11 +320,14 @@ class DistributedRunner:
 # choosing a runner
 # ---------------------------------------------------------------------------------------------------
 def check_jobs(jobs):
-    """``None`` or an int >= 1, capped at the CPU count (with a ``RuntimeWarning``)."""
+    """``None`` or an int >= 0: 0 is one worker per CPU (as ``--jobs 0``), more than the CPU count is capped
+    (with a ``RuntimeWarning``)."""
     if jobs is None:
         return None
-    jobs = check_positive_int(jobs, "jobs")
+    jobs = check_int(jobs, "jobs", minimum=0)
     cpus = cpu_count()
+    if jobs == 0:
+        return cpus
     if jobs > cpus:
         warnings.warn(f"jobs={jobs} is more than the {cpus} CPUs of this machine; using {cpus}",
                       RuntimeWarning, stacklevel=5)

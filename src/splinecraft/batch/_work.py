@@ -26,7 +26,7 @@ from ..spline.svg import xml_safe
 PART_SUFFIX = ".splinecraft-part"
 #: Stats of each file kept in its record and in the manifest.
 RECORD_STATS = ("boundaries", "holes", "contour_points", "corners", "knots_inserted", "segments",
-                "iterations", "hausdorff", "converged")
+                "iterations", "hausdorff", "converged", "polygons")
 #: Wall-clock fields of ``TraceResult.stats`` left out of JSON outputs, so that outputs are reproducible.
 TIMING_STATS = ("time_s", "time_breakdown", "time_per_boundary_s")
 
@@ -49,9 +49,12 @@ def file_sha256(path) -> str:
 
 
 def input_sha256(source) -> str:
-    """SHA-256 of an input: a file's bytes, or an array's dtype, shape and pixels."""
+    """SHA-256 of an input: a file's bytes, encoded image bytes (the hash of that file), or an array's dtype,
+    shape and pixels."""
     if isinstance(source, (str, os.PathLike)):
         return file_sha256(source)
+    if isinstance(source, bytes):
+        return hashlib.sha256(source).hexdigest()
     pixels = np.ascontiguousarray(np.asarray(source))
     digest = hashlib.sha256(f"{pixels.dtype.str}{pixels.shape}".encode())
     digest.update(pixels.tobytes())
@@ -160,6 +163,14 @@ def _warning_lines(caught) -> list:
     return lines
 
 
+def respell(line, spelling) -> str:
+    """``line`` with each ``(python, other)`` pair of ``spelling`` replaced in order (``run_batch``'s
+    ``spelling``: the command line's option names for the library's argument names)."""
+    for python, other in spelling:
+        line = line.replace(python, other)
+    return line
+
+
 def _summary(stats) -> dict:
     return {name: stats[name] for name in RECORD_STATS if name in stats}
 
@@ -176,7 +187,7 @@ def trace_one(item, settings) -> dict:
         with warnings.catch_warnings(record=True) as caught:  # kept with the file they are about
             warnings.simplefilter("always")
             result = trace(source, **settings["trace"])  # first: the loader's messages name the file
-        record["warnings"] = _warning_lines(caught)
+        record["warnings"] = [respell(line, settings.get("spelling", ())) for line in _warning_lines(caught)]
         record["input_sha256"] = input_sha256(source)
         if output is None:
             record["result"] = result
@@ -191,7 +202,7 @@ def trace_one(item, settings) -> dict:
         record["status"] = "ok"
     except Exception as exc:  # noqa: BLE001 - one failed file never stops the batch
         name = os.fspath(source) if isinstance(source, (str, os.PathLike)) else None
-        record["error"] = failure_reason(exc, name)
+        record["error"] = respell(failure_reason(exc, name), settings.get("spelling", ()))
     record["time_s"] = time.perf_counter() - started
     return record
 

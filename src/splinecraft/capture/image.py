@@ -74,6 +74,7 @@ import os
 import sys
 import threading
 import warnings
+from typing import NamedTuple
 
 import numpy as np
 
@@ -143,6 +144,15 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
     TypeError
         Unsupported input type or dtype, a numpy masked array, or a non-bool ``invert``.
     """
+    return load_bitmap_reporting_specks(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
+                                        connectivity=connectivity, max_pixels=max_pixels)[0]
+
+
+def load_bitmap_reporting_specks(image, *, threshold=None, invert=False, min_speck_area=None, connectivity=8,
+                                 max_pixels=MAX_PIXELS):
+    """:func:`load_bitmap`, and a :class:`SpecksRemovedAllInk` when speck removal left no ink pixel of an
+    image that had some (else ``None``): ``(mask, removed)``. :func:`~splinecraft.capture.trace.trace` says so
+    instead of "no ink after thresholding"."""
     threshold = _binarize.check_threshold(threshold)
     if not isinstance(invert, (bool, np.bool_)):
         raise TypeError(f"invert must be a bool, got {type(invert).__name__}")
@@ -178,9 +188,46 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
         del gray, level
     if invert:
         np.logical_not(mask, out=mask)
+    removed = None
     if speck > 1:
+        ink = mask
         mask = _binarize.remove_specks(mask, speck, 4 if connectivity == 4 else 8)
-    return mask
+        if not mask.any() and ink.any():
+            removed = SpecksRemovedAllInk.measure(ink, speck, 4 if connectivity == 4 else 8,
+                                                  estimated=min_speck_area is None)
+    return mask, removed
+
+
+class SpecksRemovedAllInk(NamedTuple):
+    """Speck removal took every ink pixel of an image: ``ink`` pixels in all, ``largest`` of them in its
+    largest ink component, all below ``min_area``, which the caller gave (``estimated=False``) or the noise
+    estimate set (``min_speck_area=None``)."""
+
+    min_area: int
+    ink: int
+    largest: int
+    estimated: bool
+
+    @classmethod
+    def measure(cls, ink, min_area, connectivity, estimated):
+        from scipy import ndimage
+
+        labels, count = ndimage.label(ink, structure=ndimage.generate_binary_structure(2, 2 if connectivity == 8
+                                                                                          else 1))
+        largest = int(np.bincount(labels.reshape(-1), minlength=count + 1)[1:].max())
+        return cls(int(min_area), int(ink.sum()), largest, bool(estimated))
+
+    def message(self) -> str:
+        """One line: what was removed, why, and the ``min_speck_area`` that keeps the largest component."""
+        if self.estimated:
+            why = (f"specks of fewer than {self.min_area} pixels, a size estimated from the image's noise since "
+                   "min_speck_area is not given")
+            advice = f"pass min_speck_area={self.largest} or less to keep it, or 0 to keep every pixel"
+        else:
+            why = f"min_speck_area={self.min_area} removes ink components of fewer than {self.min_area} pixels"
+            advice = f"lower min_speck_area to {self.largest} or less to keep it"
+        return (f"no shape found: speck removal removed all {self.ink} ink pixels ({why}; the largest ink component "
+                f"has {self.largest} pixels): {advice}")
 
 
 class InkPolarityWarning(UserWarning):

@@ -10,7 +10,9 @@ thesis sections 4.2-4.3). The :class:`TraceResult` keeps every intermediate resu
 
 Documented outcomes for degenerate input
 ----------------------------------------
-* all-white image (no ink after thresholding): ``ValueError("no shape found ...")``;
+* all-white image (no ink after thresholding): ``ValueError("no shape found ...")``; when the ink there was
+  all went to speck removal (``min_speck_area`` above every ink component), the message says so: how many
+  pixels, the largest component's size, and the ``min_speck_area`` that keeps it;
 * all-black image (every pixel ink): the ink is the whole frame, the result is the frame rectangle (4 corners)
   and a note in :attr:`TraceResult.notes` says so;
 * small outlines (fewer than ``fitting.SMALL_OUTLINE`` = 64 contour points: single pixels, dominos, specks,
@@ -79,7 +81,7 @@ from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tole
 from .fitting.small import fit_small_trusted, keeps_area
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 from ._pixel_corners import merge_pixel_corners, pixel_corners_of_outlines
-from .image import load_bitmap
+from .image import MAX_PIXELS, load_bitmap_reporting_specks
 from .trace_result import TraceResult, TraceSnapshot, jsonable, merge_snapshots
 from .trace_stages import TraceStages
 
@@ -117,6 +119,7 @@ def trace(
     noise_factor=NOISE_FACTOR,
     time_budget=DEFAULT_TIME_BUDGET,
     stages=None,
+    max_pixels=MAX_PIXELS,
 ) -> TraceResult:
     """Trace the outline of a bitmap into smooth closed splines (thesis chapter 4; docs/capture.md).
 
@@ -193,6 +196,11 @@ def trace(
         :func:`trace` itself are not accepted here). ``small_outline`` (default
         ``fitting.SMALL_OUTLINE`` = 64; 0 = off) sets the contour length below which ``"lsq"`` boundaries are
         fitted together by ``fitting.fit_small_outlines``.
+    max_pixels : int >= 1
+        Largest image decoded from a file, bytes or PIL image (default ``image.MAX_PIXELS`` = 10^8), checked
+        on its header before any pixel is decoded (a decompression bomb costs nothing): a larger one is a
+        ``ValueError``. See :func:`~splinecraft.capture.image.load_bitmap`; it changes no result, so it is not
+        in :attr:`TraceResult.params`.
     stages : :class:`~splinecraft.capture.trace_stages.TraceStages`, optional
         Keeps the boundaries, corners and boundary noise of this call for the next one with the same bitmap
         and the same settings of those stages (a re-trace after a change of ``epsilon``, ``method``, ``seed``
@@ -217,8 +225,10 @@ def trace(
           thesis Table 4.61 (it reproduces the table from Tables 4.31-4.60, e.g. 1 - 652/1644 = 60.34 %
           for Alg 4.1, 'Ali', threshold 1);
         * ``max_error`` (thesis error, spline point vs its contour point) and ``hausdorff`` (true
-          two-sided geometric deviation, px): maxima over boundaries; ``converged``: all boundaries met
-          ``epsilon``; counts of ``boundaries``, ``outer`` and ``holes``; ``per_boundary`` details
+          two-sided geometric deviation, px): maxima over boundaries (a polygon of a spent ``time_budget``
+          counts 0: it is its contour); ``converged``: all fitted boundaries met ``epsilon``;
+          ``polygons``: the boundaries that got the polygon of their contour instead of a fit (a spent
+          ``time_budget``; 0 otherwise; a note says so too); counts of ``boundaries``, ``outer`` and ``holes``; ``per_boundary`` details
           (with ``small_outline``: fitted by the small-outline path, ``reason``: why the boundary did
           not converge, ``None`` when it did, ``corner_scale`` and ``tolerance``: the scale of its corners
           and the tolerance of its fit, see ``noise_factor``);
@@ -241,11 +251,15 @@ def trace(
     noise_factor = _validation.check_number(noise_factor, "noise_factor", minimum=0.0)
     if time_budget is not None:
         time_budget = _validation.check_number(time_budget, "time_budget", minimum=0.0, inclusive=False)
+    max_pixels = _validation.check_int(max_pixels, "max_pixels", minimum=1)
     if stages is not None and not isinstance(stages, TraceStages):
         raise TypeError(f"stages must be a TraceStages or None, got {type(stages).__name__}")
     stages = TraceStages(0) if stages is None else stages
-    mask = load_bitmap(image, threshold=threshold, invert=invert, min_speck_area=min_speck_area,
-                       connectivity=connectivity)
+    mask, specks_removed_all = load_bitmap_reporting_specks(image, threshold=threshold, invert=invert,
+                                                            min_speck_area=min_speck_area, connectivity=connectivity,
+                                                            max_pixels=max_pixels)
+    if specks_removed_all is not None:  # rather than "no ink after thresholding": there was ink
+        raise ValueError(specks_removed_all.message())
     loaded = time.perf_counter()
     # the kernels compiled or loaded before the tracer and the budget start (the first call of a
     # process; cold ones in parallel processes, _jit.warm_up); not counted in any stage of time_breakdown
@@ -597,8 +611,8 @@ class _Polygon:
 def _budget_notes(state, time_budget, notes):
     polygons, stopped = state.count("polygon"), state.count("stopped")
     if polygons:
-        notes.append(f"time budget of {time_budget:g} s spent: {polygons} boundar{'y' if polygons == 1 else 'ies'} "
-                     "got the polygon of their contour (straight pieces between turning points, no corner "
+        notes.append(f"time budget of {time_budget:g} s spent: {polygons} of {len(state)} "
+                     f"boundar{'y' if len(state) == 1 else 'ies'} got the polygon of their contour (straight pieces between turning points, no corner "
                      "detection; stats['per_boundary'][k]['budget'] == 'polygon'; trace(time_budget=None) fits "
                      "them all)")
     if stopped:

@@ -1,7 +1,8 @@
 """The statistics of :func:`~splinecraft.capture.trace.trace` (the columns of thesis tables 4.1-4.61 and the
 per-boundary details, see its docstring), written column by column: the polygons a spent time budget leaves
 (docs/capture.md §12, "Time budget") enter with their known values (no iterations, no knots inserted,
-deviation 0, converged) and the segment counts of their batch, without making their objects.
+deviation 0, converged) and the segment counts of their batch, without making their objects; the totals
+``converged`` is over the fitted boundaries only, and ``polygons`` counts the others.
 """
 from __future__ import annotations
 
@@ -72,5 +73,6 @@ def trace_stats(boundaries, points_list, corner_list, fits, polygons, budget_sta
         "max_error": float(max(some_polygon + [max_error[k] for k in fitted])),
         "hausdorff": float(max(some_polygon + [hausdorff[k] for k in fitted])),
         "converged": bool(all(converged[k] for k in fitted)),
+        "polygons": int(len(polygons["left"])),
         "per_boundary": per_boundary,
     }

@@ -179,3 +179,19 @@ def test_to_glyph_gives_a_ufo_glyph_with_the_advance(traced):
     low, high = traced["o"].bounds()
     assert glyph.unicodes == [ord("o")] and glyph.width == round((high[0] - low[0]) * 2 + 20)
     assert len(glyph.contours) == 2
+
+
+def test_reading_a_glyph_closes_its_font_file():
+    """``glyph_outline`` opens the font lazily (tables are read on demand) and closes it before it returns,
+    after a glyph as after an error: no ResourceWarning of an unclosed file once the objects are collected."""
+    import gc
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ResourceWarning)
+        outline = font.glyph_outline(DEJAVU, "o")
+        with pytest.raises(ValueError, match="no glyph named"):
+            font.glyph_outline(DEJAVU, "no-such-glyph")
+        gc.collect()
+    assert outline.contours
+    assert not [w for w in caught if issubclass(w.category, ResourceWarning)], [str(w.message) for w in caught]

@@ -727,31 +727,32 @@ def glyph_outline(font, char, *, font_number=0) -> Outline:
         without contours.
     """
     ttfont, path = _open_font(font, font_number)
-    if isinstance(char, bool) or not isinstance(char, (str, int)):
-        raise TypeError(f"char must be a character, a glyph name or a code point, got {type(char).__name__}")
-    if isinstance(char, int) or len(char) == 1:
-        code = char if isinstance(char, int) else ord(char)
-        name = ttfont.getBestCmap().get(code)
-        if name is None:
-            raise ValueError(f"{str(path)!r} has no glyph for {chr(code)!r} (U+{code:04X})")
-    else:
-        name = char
-        if name not in ttfont.getGlyphOrder():
-            raise ValueError(f"{str(path)!r} has no glyph named {name!r}")
-    glyph_set = ttfont.getGlyphSet()
-    collector = _BezierPen(glyph_set)
-    glyph_set[name].draw(collector.pen)
-    if not collector.contours:
-        raise ValueError(f"glyph {name!r} of {str(path)!r} has no closed contours (a space or a mark?)")
-    ascender, descender = ttfont["hhea"].ascent, ttfont["hhea"].descent
-    curves = []
-    for bezier in collector.contours:
-        flipped = bezier.copy()
-        flipped[..., 1] = ascender - bezier[..., 1]
-        curves.append(flipped)
+    with ttfont:  # closes the file (lazy=True reads tables from it on demand)
+        if isinstance(char, bool) or not isinstance(char, (str, int)):
+            raise TypeError(f"char must be a character, a glyph name or a code point, got {type(char).__name__}")
+        if isinstance(char, int) or len(char) == 1:
+            code = char if isinstance(char, int) else ord(char)
+            name = ttfont.getBestCmap().get(code)
+            if name is None:
+                raise ValueError(f"{str(path)!r} has no glyph for {chr(code)!r} (U+{code:04X})")
+        else:
+            name = char
+            if name not in ttfont.getGlyphOrder():
+                raise ValueError(f"{str(path)!r} has no glyph named {name!r}")
+        glyph_set = ttfont.getGlyphSet()
+        collector = _BezierPen(glyph_set)
+        glyph_set[name].draw(collector.pen)
+        if not collector.contours:
+            raise ValueError(f"glyph {name!r} of {str(path)!r} has no closed contours (a space or a mark?)")
+        ascender, descender = ttfont["hhea"].ascent, ttfont["hhea"].descent
+        curves = []
+        for bezier in collector.contours:
+            flipped = bezier.copy()
+            flipped[..., 1] = ascender - bezier[..., 1]
+            curves.append(flipped)
+        advance = ttfont["hmtx"][name][0]
     from .outline import from_bezier
 
-    advance = ttfont["hmtx"][name][0]
     right = max(float(c[..., 0].max()) for c in curves)
     return from_bezier(curves, width=max(advance, right, 1), height=ascender - descender, baseline=ascender,
                        name=name)

@@ -181,9 +181,10 @@ def test_to_glyph_gives_a_ufo_glyph_with_the_advance(traced):
     assert len(glyph.contours) == 2
 
 
-def test_reading_a_glyph_closes_its_font_file():
+def test_reading_a_glyph_closes_its_font_file(tmp_path):
     """``glyph_outline`` opens the font lazily (tables are read on demand) and closes it before it returns,
-    after a glyph as after an error: no ResourceWarning of an unclosed file once the objects are collected."""
+    after a glyph as after an error, also when fontTools fails half way through a damaged file: no
+    ResourceWarning of an unclosed file once the objects are collected."""
     import gc
     import warnings
 
@@ -192,6 +193,10 @@ def test_reading_a_glyph_closes_its_font_file():
         outline = font.glyph_outline(DEJAVU, "o")
         with pytest.raises(ValueError, match="no glyph named"):
             font.glyph_outline(DEJAVU, "no-such-glyph")
+        broken = tmp_path / "broken.ttf"
+        broken.write_bytes(b"\x00\x01\x00\x00" + b"\xff" * 60)
+        with pytest.raises(ValueError, match="cannot read the font file"):
+            font.glyph_outline(broken, "o")
         gc.collect()
     assert outline.contours
     assert not [w for w in caught if issubclass(w.category, ResourceWarning)], [str(w.message) for w in caught]

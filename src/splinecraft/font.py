@@ -643,9 +643,11 @@ def _open_font(font, font_number):
     from fontTools.ttLib import TTFont
 
     path = _resolve_font(font)
+    stream = open(path, "rb")  # ours to close when fontTools fails half way (TTFont.close closes it otherwise)
     try:
-        return TTFont(os.fspath(path), fontNumber=font_number, lazy=True), path
+        return TTFont(stream, fontNumber=font_number, lazy=True), path
     except Exception as exc:  # fontTools raises many kinds for a damaged or foreign file
+        stream.close()
         raise ValueError(f"cannot read the font file {str(path)!r}: {type(exc).__name__}: {exc}") from None
 
 

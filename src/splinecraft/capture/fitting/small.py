@@ -49,6 +49,11 @@ _SMALL_BUCKETS = (1, 2, 4, 8, 16, 32, 64)
 _SMALL_SECTION = 64
 #: Knot-removal rounds after convergence (each tries every other inner knot of a piece).
 _REMOVAL_ROUNDS = 4
+#: Fewest knots knot removal leaves on a loop (an outline without corners). The C² interpolant through three
+#: points is a rounded triangle whichever three they are: on a round dot of 5-20 px it was lopsided (its
+#: centroid a median 0.22-0.24 px off, twice the ink pixels' own error), while four knots, as the loop starts
+#: with, follow the dot on both axes (``benchmarks/bench_dots.py``, BENCHMARKS "Session 21").
+MIN_LOOP_KNOTS = 4
 #: Pre-test of the corners whose tip is extrapolated (:func:`_tip_candidates`): both sides at least
 #: ``_TIP_TEST_SIDE`` px of arc, the contour's angle (chords of up to 6 steps) below ``_TIP_TEST_ANGLE``, both side
 #: windows of :func:`~.tips.tip_estimates` (from its window start to 0.8 of the side) at least
@@ -551,7 +556,7 @@ class _SmallBatch:
 
     def _removal_candidates(self, removing, round_number):
         """Knot entries to try removing this round: every other inner knot of a chain (alternating parity),
-        a loop keeping at least three distinct knots."""
+        a loop keeping at least :data:`MIN_LOOP_KNOTS` distinct knots."""
         knot_chain = self.knot_chain
         total = knot_chain.shape[0]
         entry = np.arange(total)
@@ -562,9 +567,9 @@ class _SmallBatch:
         position = entry - first_of
         entry_outline = self.chain_outline[knot_chain]
         candidate = removing[entry_outline] & ~first & ~last & (position % 2 == 1 - round_number % 2)
-        # a loop keeps at least three distinct knots (its entries are the knots plus the seam again)
+        # a loop keeps at least MIN_LOOP_KNOTS distinct knots (its entries are the knots plus the seam again)
         rank = np.cumsum(candidate) - np.cumsum(candidate)[first_of] + candidate[first_of]
-        allowed = np.where(self.chain_loop[knot_chain], last_of - first_of - 3, total)
+        allowed = np.where(self.chain_loop[knot_chain], last_of - first_of - MIN_LOOP_KNOTS, total)
         return candidate & (rank <= allowed), entry_outline
 
     def _removal_kept(self, candidate, entry_outline, part):

@@ -395,3 +395,25 @@ def test_a_table_must_list_every_contour_like_contours(editor, name):
     with pytest.warns(OutlineEditorWarning, match=rf"{name}\[1\] must be a list of {len(rows[1])} entries"):
         setattr(editor, name, short)  # contour 1 one entry short
     assert editor.outline is before
+
+
+def test_knots_beyond_reach_are_refused_by_name_and_keep_the_outline(editor):
+    """A drag, a move or a transform to coordinates beyond ±1e9 (the page draws in float32): the status says
+    so -- not that two untouched knots coincide, nor an IndexError of the deviation measure."""
+    before = editor.outline
+    page(editor, type="drag", contour=0, knot=1, x=1e39, y=0.0, seq=1, gesture=1, final=True)
+    assert editor.outline is before and editor.status_level == "error"
+    assert "x must be" in editor.status_message and "1e+09" in editor.status_message
+    page(editor, type="transform", matrix=[1, 0, 0, 1, 1e300, 0], seq=2, gesture=2, final=True)
+    assert editor.outline is before and "beyond ±1e+09" in editor.status_message
+    with pytest.warns(OutlineEditorWarning, match=r"position \(1e\+39, 0\) is beyond"):
+        editor.move_knot(0, 1, (1e39, 0.0))
+    with pytest.warns(OutlineEditorWarning, match="beyond"):
+        editor.translate(0.0, -1e12)
+    far = [list(map(list, c)) for c in editor.contours]
+    far[0][1] = [1e39, 0.0]
+    with pytest.warns(OutlineEditorWarning, match=r"contour 0: knot 1 at \(1e\+39, 0\) is beyond"):
+        editor.contours = far
+    assert editor.outline is before and editor.contours[0][1] == before.contours[0].points[1].tolist()
+    editor.move_knot(0, 1, (1e5, 0.0))  # far, within reach: done (and measured quickly)
+    assert editor.outline.contours[0].points[1].tolist() == [1e5, 0.0] and editor.max_deviation > 9e4

@@ -417,3 +417,20 @@ def test_knots_beyond_reach_are_refused_by_name_and_keep_the_outline(editor):
     assert editor.outline is before and editor.contours[0][1] == before.contours[0].points[1].tolist()
     editor.move_knot(0, 1, (1e5, 0.0))  # far, within reach: done (and measured quickly)
     assert editor.outline.contours[0].points[1].tolist() == [1e5, 0.0] and editor.max_deviation > 9e4
+
+
+def test_a_bad_selection_from_the_page_keeps_the_last_good_one(editor):
+    """The page's updates arrive with held trait notifications, where the trait holds the new value by the time
+    the selection is checked: a pair naming no knot must not stay selected behind an error status."""
+    sent = []
+    editor.comm.send = lambda data=None, buffers=None, **_kwargs: sent.append(data)
+    editor.set_state({"selection": [[1, 4], [0, 1]]})
+    assert editor.selection == [[1, 4], [0, 1]] and editor.status_level == "info"
+    sent.clear()
+    editor.set_state({"selection": [[0, 1], [1, 99]]})
+    assert editor.selection == [[1, 4], [0, 1]]
+    assert editor.status_level == "error" and editor.status_message.endswith("selection: no knot 99 in contour 1")
+    resynced = [m["state"]["selection"] for m in sent if m.get("method") == "update" and "selection" in m["state"]]
+    assert resynced[-1] == [[1, 4], [0, 1]]
+    editor.set_state({"selection": [[0, "1"]]})
+    assert editor.selection == [[1, 4], [0, 1]] and "pairs of integers" in editor.status_message

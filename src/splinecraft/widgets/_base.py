@@ -398,7 +398,8 @@ class WidgetBase(anywidget.AnyWidget):
                     super().set_state({name: value})
                 except Exception as exc:  # noqa: BLE001 - any failure: status + resync, never a lost traceback
                     _log.debug("page update of %s refused", name, exc_info=True)
-                    self._reject(f"{name}: {short_reason(exc)}", resync=(name,))
+                    reason = short_reason(exc)
+                    self._reject(reason if reason.startswith(name) else f"{name}: {reason}", resync=(name,))
 
     def _handle_message(self, _widget, content, buffers):
         """Dispatch a custom message; any failure restores the saved state, sets a status and resyncs the page."""

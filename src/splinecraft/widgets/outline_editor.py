@@ -357,10 +357,15 @@ class OutlineEditor(OutlineGestures, WidgetBase):
 
     @t.validate("selection")
     def _valid_selection(self, proposal):
+        """A bad selection keeps the last good one. Inside held notifications (every update from the page) the
+        trait already holds the bad value here: a ``TraitError`` makes traitlets roll it back (and ``set_state``
+        says why and resyncs the page); from code, a warning."""
         sizes = [len(c) for c in self._outline.contours] if hasattr(self, "_outline") else []
         try:
             return clean_selection(proposal["value"], sizes)
         except ValueError as exc:
+            if self._cross_validation_lock:
+                raise t.TraitError(str(exc)) from None
             self._reject(exc, resync=("selection",))
             return self.selection
 

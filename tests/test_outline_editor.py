@@ -434,3 +434,15 @@ def test_a_bad_selection_from_the_page_keeps_the_last_good_one(editor):
     assert resynced[-1] == [[1, 4], [0, 1]]
     editor.set_state({"selection": [[0, "1"]]})
     assert editor.selection == [[1, 4], [0, 1]] and "pairs of integers" in editor.status_message
+
+
+def test_a_refused_action_from_the_page_says_why_without_calling_the_message_bad(editor):
+    """Delete, C or a double-click with nothing to act on are refusals of a well-formed message: the status says
+    why ("select a knot first"), not "bad message", which is kept for malformed ones."""
+    editor.selection = []
+    page(editor, type="delete")
+    assert editor.status_level == "error" and editor.status_message == "Kept the last good outline: select a knot first"
+    page(editor, type="insert", x=-500.0, y=-500.0, tol=5.0)
+    assert editor.status_message.startswith("Kept the last good outline: no curve within 5 of (-500.0, -500.0)")
+    page(editor, type="insert", x=-500.0, y=-500.0)
+    assert editor.status_message == "Kept the last good outline: bad message: the message has no field 'tol'"

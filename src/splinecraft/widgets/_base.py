@@ -423,7 +423,8 @@ class WidgetBase(anywidget.AnyWidget):
                     self._restore_good(saved)
                 except Exception:  # noqa: BLE001 - the restore failed too (same cause): still answer the page
                     _log.warning("%s: restoring the last good state failed", type(self).__name__, exc_info=True)
-                self._reject(f"bad message: {short_reason(exc)}")
+                # "bad message" only for a malformed one: a refused action ("select a knot first") says just why
+                self._reject(f"bad message: {short_reason(exc)}" if isinstance(exc, BadMessage) else exc)
                 refused = True
             if refused:
                 self._resync_after(content)

@@ -582,3 +582,22 @@ def test_a_hole_grazing_its_outer_curve_stays_a_hole():
     assert grazing.nesting_depths().tolist() == [0, 1]
     overlapping = from_knots([(np.array(c, float), [True] * 4) for c in (outer, bar)])
     assert overlapping.nesting_depths().tolist() == [0, 0]
+
+
+def test_deviation_of_a_knot_dragged_far_away_has_bounded_samples():
+    """A knot dragged 100000 px away: the deviation samples the long pieces more coarsely (at most about
+    ``MAX_DEVIATION_SAMPLES`` points) instead of one every 0.25 px, which took minutes and gigabytes for a
+    drag a million pixels away; a contour of the usual size keeps the fine spacing."""
+    from splinecraft.outline.model import DEVIATION_SPACING, MAX_DEVIATION_SAMPLES, _sample_pieces
+
+    traced = sc.trace(datasets.thesis_object("D"))
+    outline = as_outline(traced)
+    contour = outline.contours[0]
+    samples, _ = _sample_pieces(contour.bezier(), DEVIATION_SPACING)
+    lengths = np.hypot(*np.diff(contour.bezier(), axis=1).transpose(2, 0, 1)).sum()
+    assert len(samples) >= lengths / DEVIATION_SPACING  # the usual spacing where it fits
+    far = outline.move_knot(0, 1, (1e5, 0.0)).contours[0]
+    samples, piece = _sample_pieces(far.bezier(), DEVIATION_SPACING)
+    assert len(samples) <= MAX_DEVIATION_SAMPLES + 3 * len(far)
+    deviation = sc.outline.contour_deviation(far, outline.sources[0])
+    assert np.isfinite(deviation).all() and deviation.max() > 9e4

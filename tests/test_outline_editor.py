@@ -395,3 +395,54 @@ def test_a_table_must_list_every_contour_like_contours(editor, name):
     with pytest.warns(OutlineEditorWarning, match=rf"{name}\[1\] must be a list of {len(rows[1])} entries"):
         setattr(editor, name, short)  # contour 1 one entry short
     assert editor.outline is before
+
+
+def test_knots_beyond_reach_are_refused_by_name_and_keep_the_outline(editor):
+    """A drag, a move or a transform to coordinates beyond ±1e9 (the page draws in float32): the status says
+    so -- not that two untouched knots coincide, nor an IndexError of the deviation measure."""
+    before = editor.outline
+    page(editor, type="drag", contour=0, knot=1, x=1e39, y=0.0, seq=1, gesture=1, final=True)
+    assert editor.outline is before and editor.status_level == "error"
+    assert "x must be" in editor.status_message and "1e+09" in editor.status_message
+    page(editor, type="transform", matrix=[1, 0, 0, 1, 1e300, 0], seq=2, gesture=2, final=True)
+    assert editor.outline is before and "beyond ±1e+09" in editor.status_message
+    with pytest.warns(OutlineEditorWarning, match=r"position \(1e\+39, 0\) is beyond"):
+        editor.move_knot(0, 1, (1e39, 0.0))
+    with pytest.warns(OutlineEditorWarning, match="beyond"):
+        editor.translate(0.0, -1e12)
+    far = [list(map(list, c)) for c in editor.contours]
+    far[0][1] = [1e39, 0.0]
+    with pytest.warns(OutlineEditorWarning, match=r"contour 0: knot 1 at \(1e\+39, 0\) is beyond"):
+        editor.contours = far
+    assert editor.outline is before and editor.contours[0][1] == before.contours[0].points[1].tolist()
+    editor.move_knot(0, 1, (1e5, 0.0))  # far, within reach: done (and measured quickly)
+    assert editor.outline.contours[0].points[1].tolist() == [1e5, 0.0] and editor.max_deviation > 9e4
+
+
+def test_a_bad_selection_from_the_page_keeps_the_last_good_one(editor):
+    """The page's updates arrive with held trait notifications, where the trait holds the new value by the time
+    the selection is checked: a pair naming no knot must not stay selected behind an error status."""
+    sent = []
+    editor.comm.send = lambda data=None, buffers=None, **_kwargs: sent.append(data)
+    editor.set_state({"selection": [[1, 4], [0, 1]]})
+    assert editor.selection == [[1, 4], [0, 1]] and editor.status_level == "info"
+    sent.clear()
+    editor.set_state({"selection": [[0, 1], [1, 99]]})
+    assert editor.selection == [[1, 4], [0, 1]]
+    assert editor.status_level == "error" and editor.status_message.endswith("selection: no knot 99 in contour 1")
+    resynced = [m["state"]["selection"] for m in sent if m.get("method") == "update" and "selection" in m["state"]]
+    assert resynced[-1] == [[1, 4], [0, 1]]
+    editor.set_state({"selection": [[0, "1"]]})
+    assert editor.selection == [[1, 4], [0, 1]] and "pairs of integers" in editor.status_message
+
+
+def test_a_refused_action_from_the_page_says_why_without_calling_the_message_bad(editor):
+    """Delete, C or a double-click with nothing to act on are refusals of a well-formed message: the status says
+    why ("select a knot first"), not "bad message", which is kept for malformed ones."""
+    editor.selection = []
+    page(editor, type="delete")
+    assert editor.status_level == "error" and editor.status_message == "Kept the last good outline: select a knot first"
+    page(editor, type="insert", x=-500.0, y=-500.0, tol=5.0)
+    assert editor.status_message.startswith("Kept the last good outline: no curve within 5 of (-500.0, -500.0)")
+    page(editor, type="insert", x=-500.0, y=-500.0)
+    assert editor.status_message == "Kept the last good outline: bad message: the message has no field 'tol'"

@@ -41,12 +41,19 @@ NESTING_SAMPLES = 16
 _RAY_BLOCK = 1 << 22
 #: Curve sampling step (px) of the deviation measure.
 DEVIATION_SPACING = 0.25
+#: Most curve samples of one contour's deviation measure: a longer contour (a knot dragged a million pixels
+#: away) is sampled more coarsely instead of filling the memory (65536 px of curve at the usual spacing).
+MAX_DEVIATION_SAMPLES = 1 << 18
 _FORMAT = "splinecraft.Outline"
 
 
-def _sample_pieces(bezier, spacing):
-    """Points about ``spacing`` apart on every piece (ends included) and the piece of each point."""
+def _sample_pieces(bezier, spacing, max_samples=MAX_DEVIATION_SAMPLES):
+    """Points about ``spacing`` apart on every piece (ends included) and the piece of each point.
+
+    At most about ``max_samples`` points in all (3 per piece at least): longer curves get a wider spacing.
+    """
     lengths = np.hypot(*np.diff(bezier, axis=1).transpose(2, 0, 1)).sum(axis=1)
+    spacing = max(spacing, float(lengths.sum()) / max_samples)
     counts = np.maximum(2, np.ceil(lengths / spacing).astype(np.int64)) + 1
     piece = np.repeat(np.arange(bezier.shape[0]), counts)
     first = np.concatenate([[0], np.cumsum(counts)[:-1]])

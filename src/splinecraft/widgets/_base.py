@@ -398,7 +398,8 @@ class WidgetBase(anywidget.AnyWidget):
                     super().set_state({name: value})
                 except Exception as exc:  # noqa: BLE001 - any failure: status + resync, never a lost traceback
                     _log.debug("page update of %s refused", name, exc_info=True)
-                    self._reject(f"{name}: {short_reason(exc)}", resync=(name,))
+                    reason = short_reason(exc)
+                    self._reject(reason if reason.startswith(name) else f"{name}: {reason}", resync=(name,))
 
     def _handle_message(self, _widget, content, buffers):
         """Dispatch a custom message; any failure restores the saved state, sets a status and resyncs the page."""
@@ -422,7 +423,8 @@ class WidgetBase(anywidget.AnyWidget):
                     self._restore_good(saved)
                 except Exception:  # noqa: BLE001 - the restore failed too (same cause): still answer the page
                     _log.warning("%s: restoring the last good state failed", type(self).__name__, exc_info=True)
-                self._reject(f"bad message: {short_reason(exc)}")
+                # "bad message" only for a malformed one: a refused action ("select a knot first") says just why
+                self._reject(f"bad message: {short_reason(exc)}" if isinstance(exc, BadMessage) else exc)
                 refused = True
             if refused:
                 self._resync_after(content)

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..outline.transforms import affine_parts
 from ._base import read_bool, read_int, read_number, read_str
-from ._outline_state import page_matrix
+from ._outline_state import MAX_COORDINATE, check_outline_reach, page_matrix
 
 #: Undo steps kept.
 HISTORY = 200
@@ -63,10 +63,11 @@ class OutlineGestures:
         try:
             contour = read_int(content, "contour", low=0, high=len(self._outline) - 1)
             knot = read_int(content, "knot", low=0, high=len(self._outline.contours[contour]) - 1)
-            x, y = read_number(content, "x"), read_number(content, "y")
+            x = read_number(content, "x", low=-MAX_COORDINATE, high=MAX_COORDINATE)
+            y = read_number(content, "y", low=-MAX_COORDINATE, high=MAX_COORDINATE)
             final = read_bool(content, "final")
             start = self._gesture_start(kind, read_int(content, "gesture", low=0, high=2**53))
-            new = edit(start, contour, knot, (x, y))
+            new = check_outline_reach(edit(start, contour, knot, (x, y)))
         except (TypeError, ValueError) as exc:
             self._refuse_gesture(exc, seq, content.get("final") is True)
             return
@@ -98,7 +99,7 @@ class OutlineGestures:
             final = read_bool(content, "final")
             start = self._gesture_start("transform", read_int(content, "gesture", low=0, high=2**53))
             affine_parts(matrix)
-            new = start.transform(matrix, knots=knots)
+            new = check_outline_reach(start.transform(matrix, knots=knots))
         except (TypeError, ValueError) as exc:
             self._refuse_gesture(exc, seq, content.get("final") is True)
             return

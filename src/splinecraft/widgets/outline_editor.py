@@ -25,13 +25,25 @@ from ..outline.transforms import reflection, rotation, scaling, shearing, transl
 from ._assets import load_css, load_esm
 from ._base import Bool, Int, WidgetBase, f32, read_number, read_str
 from ._outline_gestures import HISTORY, OutlineGestures
-from ._outline_state import (OUTLINE_TRAITS, DeviationCache, clean_selection, fitted_view, grouped_by_contour,
-                             outline_from_lists, png_of_mask, synced_tables)
+from ._outline_state import (OUTLINE_TRAITS, MAX_COORDINATE, DeviationCache, check_outline_reach, clean_selection,
+                             fitted_view, grouped_by_contour, outline_from_lists, png_of_mask, synced_tables)
 
 __all__ = ["OutlineEditor", "OutlineEditorWarning"]
 
 _OUTLINE_TRAITS = tuple(OUTLINE_TRAITS)
 _DISPLAY = ("width", "height", "view", "show_image", "show_deviation", "show_fill", "export_path")
+
+
+def _within_reach(position):
+    """``position`` (x, y) when it lies within ±:data:`MAX_COORDINATE`, so that a far one is named as such (farther out the
+    outline would only see coinciding knots); anything else goes to the outline, which names it."""
+    try:
+        point = np.asarray(position, dtype=float)
+    except (TypeError, ValueError):
+        return position
+    if point.shape == (2,) and np.isfinite(point).all() and (np.abs(point) > MAX_COORDINATE).any():
+        raise ValueError(f"position ({point[0]:g}, {point[1]:g}) is beyond ±{MAX_COORDINATE:g}")
+    return position
 
 
 class OutlineEditorWarning(UserWarning):
@@ -167,12 +179,13 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         return self.transform(reflection(axis, center), contours=contours, knots=knots)
 
     def move_knot(self, contour, knot, position) -> Outline:
-        return self._apply(lambda o: o.move_knot(contour, knot, position), f"Knot {knot} of contour {contour} moved")
+        return self._apply(lambda o: o.move_knot(contour, knot, _within_reach(position)),
+                           f"Knot {knot} of contour {contour} moved")
 
     def move_handle(self, contour, knot, side, position) -> Outline:
         """The ``side`` handle ("in" or "out") of corner ``knot`` ends at ``position``: the curve's control point
         next to the knot goes there (:meth:`~splinecraft.outline.Contour.with_handle`)."""
-        return self._apply(lambda o: o.move_handle(contour, knot, side, position),
+        return self._apply(lambda o: o.move_handle(contour, knot, side, _within_reach(position)),
                            f"Handle {side} of corner {knot} (contour {contour}) moved")
 
     def set_corner(self, contour, knot, corner=True) -> Outline:
@@ -228,9 +241,10 @@ class OutlineEditor(OutlineGestures, WidgetBase):
 
     # ------------------------------------------------------------------ state
     def _apply(self, edit, message, *, history=True) -> Outline:
-        """Run ``edit(outline)``; a refusal keeps the last good outline and says why."""
+        """Run ``edit(outline)``; a refusal (or a result beyond the editor's reach, :func:`check_outline_reach`)
+        keeps the last good outline and says why."""
         try:
-            new = edit(self._outline)
+            new = check_outline_reach(edit(self._outline))
         except (TypeError, ValueError) as exc:
             self._reject(exc)
             return self._outline
@@ -337,15 +351,21 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         self._commit(new, f"{change['name']} set")
 
     def _outline_from_traits(self, changed=None) -> Outline:
-        return outline_from_lists(self._outline, self.contours, self.corners, self.point_tension,
-                                  self.interval_weights, self.handles_in, self.handles_out, changed=changed)
+        return check_outline_reach(outline_from_lists(self._outline, self.contours, self.corners, self.point_tension,
+                                                      self.interval_weights, self.handles_in, self.handles_out,
+                                                      changed=changed))
 
     @t.validate("selection")
     def _valid_selection(self, proposal):
+        """A bad selection keeps the last good one. Inside held notifications (every update from the page) the
+        trait already holds the bad value here: a ``TraitError`` makes traitlets roll it back (and ``set_state``
+        says why and resyncs the page); from code, a warning."""
         sizes = [len(c) for c in self._outline.contours] if hasattr(self, "_outline") else []
         try:
             return clean_selection(proposal["value"], sizes)
         except ValueError as exc:
+            if self._cross_validation_lock:
+                raise t.TraitError(str(exc)) from None
             self._reject(exc, resync=("selection",))
             return self.selection
 

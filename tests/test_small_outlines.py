@@ -270,3 +270,49 @@ def test_keeps_area_tells_a_collapsed_or_twisted_fit_from_a_faithful_one():
     shrunk = (faithful - 1.0) * np.sqrt(MIN_AREA_SHARE * 3.5 / 4.0) * 0.99 + 1.0    # just under the share
     assert not keeps_area(square, shrunk)
     assert keeps_area(square, (faithful - 1.0) * np.sqrt(MIN_AREA_SHARE * 3.5 / 4.0) * 1.01 + 1.0)
+
+
+def _area_centroid(bezier, samples=200):
+    t = np.linspace(0.0, 1.0, samples, endpoint=False)[:, None, None]
+    b = np.asarray(bezier, float)[None]
+    points = ((1 - t) ** 3 * b[:, :, 0] + 3 * (1 - t) ** 2 * t * b[:, :, 1] + 3 * (1 - t) * t ** 2 * b[:, :, 2]
+              + t ** 3 * b[:, :, 3]).transpose(1, 0, 2).reshape(-1, 2)
+    x, y = points[:, 0], points[:, 1]
+    x1, y1 = np.roll(x, -1), np.roll(y, -1)
+    cross = x * y1 - x1 * y
+    area = cross.sum() / 2.0
+    return area, np.array([((x + x1) * cross).sum(), ((y + y1) * cross).sum()]) / (6.0 * area)
+
+
+@pytest.mark.parametrize("radius", [1.1, 1.6, 2.1, 2.3])
+def test_a_symmetric_round_dot_traces_centred_on_its_pixels(radius):
+    """A dot rendered centred on a pixel (a plus of 5 pixels, 3 x 3 with or without its corners, 21 pixels) is
+    symmetric about both axes through that pixel's centre, so its trace must be too: the centroid of the traced
+    area on that centre. With three knots (knot removal used to leave that few on a loop) the 5-px dot came out
+    a rounded triangle, its centroid 0.22 px off."""
+    rows, cols = np.mgrid[:15, :15]
+    mask = (cols - 7) ** 2 + (rows - 7) ** 2 <= radius * radius  # centred on pixel (7, 7): centre (7.5, 7.5)
+    result = trace(mask, min_speck_area=0)
+    (spline,) = result.splines
+    area, centroid = _area_centroid(spline.bezier())
+    np.testing.assert_allclose(centroid, [7.5, 7.5], atol=0.02)
+    assert abs(area) == pytest.approx(mask.sum(), rel=0.5)
+
+
+def test_knot_removal_leaves_every_loop_at_least_four_knots():
+    """Every cornerless small outline of a speckled bitmap (4-60 points) keeps at least four knots
+    (``small.MIN_LOOP_KNOTS``), and still converges within epsilon."""
+    from splinecraft.capture.contour import trace_boundaries
+    from splinecraft.capture.fitting import fit_small_outlines
+
+    mask = np.random.default_rng(3).random((40, 40)) < 0.35
+    outlines = [np.asarray(b.outline, float) for b in trace_boundaries(mask)]
+    outlines = [o for o in outlines if 4 <= len(o) < 60]
+    assert len(outlines) > 30
+    fits = fit_small_outlines(outlines, [[] for _ in outlines], epsilon=0.8)
+    for outline, fit in zip(outlines, fits):
+        if not fit.info.get("small_outline"):
+            continue
+        (knots,) = fit.knot_indices
+        assert len(np.unique(np.asarray(knots) % len(outline))) >= min(4, len(outline))
+        assert fit.converged

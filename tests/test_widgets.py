@@ -596,10 +596,12 @@ def test_nodelay_server_extension_sets_tcp_nodelay_on_open():
 
 # ---------------------------------------------------------------------------------------------- TraceExplorer
 def small_bitmap(size=48):
-    """An L-shaped block with a round hole: sharp corners, a curved hole, two boundaries."""
+    """An L-shaped block with an oval hole: sharp corners, a curved hole, two boundaries. The hole (4 x 6.4 px
+    half-axes) needs knots inserted, so that there are iterations to step through: a round one of radius 4 is
+    within tolerance with the four knots its loop starts with."""
     yy, xx = np.mgrid[0:size, 0:size] + 0.5
     block = ((xx > 6) & (xx < 42) & (yy > 6) & (yy < 24)) | ((xx > 6) & (xx < 22) & (yy > 6) & (yy < 42))
-    hole = (xx - 14.0) ** 2 + (yy - 15.0) ** 2 < 16.0
+    hole = (xx - 14.0) ** 2 + ((yy - 15.0) / 1.6) ** 2 < 16.0
     return block & ~hole
 
 

@@ -167,6 +167,17 @@ def test_explorer_image_controls_threshold_invert_despeckle():
     result = explorer.result
     explorer.set_state({"threshold": "bogus"})
     assert explorer.threshold == "local" and explorer.result is result and explorer.status_level == "error"
+    # "fixed" is the level given to the constructor; this explorer got none (the page does not offer it)
+    explorer.set_state({"threshold": "fixed"})
+    assert explorer.threshold == "local" and explorer.result is result and explorer.status_level == "error"
+    assert "needs a level" in explorer.status_message
+    fixed = TraceExplorer(gray, epsilon=2.0, min_speck_area=0, threshold=0.4)
+    assert fixed.threshold == "fixed" and "fixed" in dict(map(tuple, fixed.options["thresholds"]))
+    np.testing.assert_array_equal(fixed.mask, load_bitmap(gray, threshold=0.4, min_speck_area=0))
+    fixed.set_state({"threshold": "otsu"})
+    fixed.set_state({"threshold": "fixed"})
+    assert fixed.status_level == "info"
+    np.testing.assert_array_equal(fixed.mask, load_bitmap(gray, threshold=0.4, min_speck_area=0))
     assert explorer.options["image_is_mask"] is False
     assert TraceExplorer().options["image_is_mask"] is True  # the demo is a bool mask: no threshold control
     explorer.set_state({"invert": False})

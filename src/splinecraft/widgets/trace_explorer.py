@@ -498,6 +498,11 @@ class TraceExplorer(WidgetBase):
             self._reject(f"threshold must be one of {', '.join(dict(THRESHOLDS))}, got {change['new']!r:.40}",
                          resync=_IMAGE_SETTINGS)
             return
+        if change["name"] == "threshold" and change["new"] == "fixed" and "threshold" not in self._extra:
+            self._restore_settings()  # "fixed" is the level given to the constructor; without one it is not offered
+            self._reject("threshold 'fixed' needs a level: give TraceExplorer(..., threshold=<number>)",
+                         resync=_IMAGE_SETTINGS)
+            return
         if self.load(self._source):
             self._show_summary(f"Bitmap made again ({change['name']}); ", self._load_notes)
         else:

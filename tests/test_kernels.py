@@ -269,6 +269,42 @@ def test_windowed_distance_matches_the_vectorized_formulation(count, window, see
     np.testing.assert_array_equal(got, _numpy_windowed(points, centre, lo, hi, edges, window, count))
 
 
+def _numpy_segment_grid(px, py, ax, ay, dx, dy):
+    """Distances (I, P, E) from points (I, P) to segments ``a -> a + d`` (I, E) as one dense grid (the
+    small-outline fit's formulation the kernel replaced)."""
+    den = dx * dx + dy * dy
+    inverse = 1.0 / np.where(den > 0, den, 1.0)
+    rx = px[..., :, None] - ax[..., None, :]
+    ry = py[..., :, None] - ay[..., None, :]
+    t = np.clip((rx * dx[..., None, :] + ry * dy[..., None, :]) * inverse[..., None, :], 0.0, 1.0)
+    rx -= t * dx[..., None, :]
+    ry -= t * dy[..., None, :]
+    return np.sqrt(rx * rx + ry * ry)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 7), st.integers(1, 40), st.integers(1, 20), st.integers(0, 10_000))
+def test_nearest_segment_distance_matches_the_dense_grid(rows, points, edges, seed):
+    """Bit for bit the minimum over the dense (row, point, edge) grid, zero-length segments included, on views
+    that are not contiguous (as the small-outline fit passes them); and the exact distance where it is known: a
+    point on a segment is 0 from it, a point beyond a segment's end is its distance to that end."""
+    rng = np.random.default_rng(seed)
+    vertices = np.cumsum(rng.normal(size=(rows, edges + 1, 2)), axis=1)
+    vertices[:, edges // 2 + 1] = vertices[:, edges // 2]  # a zero-length segment per row (when edges >= 2)
+    vx, vy = vertices[..., 0], vertices[..., 1]
+    px, py = (rng.normal(size=(rows, points)) * 2 for _ in range(2))
+    ex, ey = np.diff(vx, axis=1), np.diff(vy, axis=1)
+    got = _kernels.nearest_segment_distance(px, py, vx[:, :-1], vy[:, :-1], ex, ey)
+    np.testing.assert_array_equal(got, _numpy_segment_grid(px, py, vx[:, :-1], vy[:, :-1], ex, ey).min(axis=2))
+    on = vertices[:, :1] + 0.25 * (vertices[:, 1:2] - vertices[:, :1])  # a quarter along each row's first edge
+    assert np.all(_kernels.nearest_segment_distance(on[..., 0], on[..., 1], vx[:, :1], vy[:, :1], ex[:, :1],
+                                                    ey[:, :1]) <= 1e-12)
+    beyond = vertices[:, :1] - (vertices[:, 1:2] - vertices[:, :1])  # as far before the first edge's start
+    np.testing.assert_allclose(
+        _kernels.nearest_segment_distance(beyond[..., 0], beyond[..., 1], vx[:, :1], vy[:, :1], ex[:, :1], ey[:, :1]),
+        np.hypot(ex[:, :1], ey[:, :1]), rtol=1e-12)
+
+
 def _numpy_eval_bezier(bezier, piece, theta):
     """Cubic Bernstein weights contracted with einsum (the formulation the kernel replaced)."""
     s = 1.0 - theta

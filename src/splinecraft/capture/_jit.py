@@ -70,7 +70,7 @@ ensure_cache_dir()
 #: machine (BENCHMARKS.md, "Session 20"); only their ratios matter, they balance the processes of :func:`warm_up`.
 WARM_UP_TASKS = {
     "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.8),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.7),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.85),
     "tracer": ("_cracks", "warm_up", "_follow_into", 1.7),
     "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 1.2),
     "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.8),

@@ -324,6 +324,38 @@ def windowed_distance(points, centre, lo, hi, edges, window, wrap):
 
 
 @njit(**_JIT)
+def _nearest_segments_into(px, py, ax, ay, dx, dy, inverse, out):
+    for i in range(px.shape[0]):
+        for p in range(px.shape[1]):
+            best = np.inf
+            for e in range(ax.shape[1]):
+                rx = px[i, p] - ax[i, e]
+                ry = py[i, p] - ay[i, e]
+                t = (rx * dx[i, e] + ry * dy[i, e]) * inverse[i, e]
+                t = min(max(t, 0.0), 1.0)
+                rx -= t * dx[i, e]
+                ry -= t * dy[i, e]
+                squared = rx * rx + ry * ry
+                if squared < best:
+                    best = squared
+            out[i, p] = np.sqrt(best)
+
+
+def nearest_segment_distance(px, py, ax, ay, dx, dy):
+    """Per row ``i`` and point ``p``: the distance from ``(px, py)[i, p]`` (``(I, P)``) to the nearest of the
+    segments ``a -> a + d`` of its row (``(I, E)``, ``E >= 1``), exact point-to-segment distances (a segment of
+    zero length is its point). The small-outline fit's two-sided deviation (:mod:`.small`) in one pass instead
+    of an ``(I, P, E)`` grid; bit for bit ``sqrt(rx² + ry²).min(axis=2)`` of the grid (the square root is
+    correctly rounded and monotonic, so the minimum commutes with it)."""
+    px, py, ax, ay, dx, dy = (_floats(values) for values in (px, py, ax, ay, dx, dy))
+    den = dx * dx + dy * dy
+    inverse = 1.0 / np.where(den > 0, den, 1.0)
+    out = np.empty(px.shape)
+    _nearest_segments_into(px, py, ax, ay, dx, dy, inverse, out)
+    return out
+
+
+@njit(**_JIT)
 def _bezier_point(bez, k, theta, out, row):
     """``out[row]`` = the cubic Bézier piece ``bez[k]`` at ``theta`` (Bernstein weights, summed in order)."""
     s = 1.0 - theta
@@ -497,13 +529,14 @@ def warm_up_solves():
 
 
 def warm_up_checks():
-    """The second half of :func:`warm_up`: curve points, the dense deviation check and its per-group maxima
-    (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used)."""
+    """The second half of :func:`warm_up`: curve points, the dense deviation check and its per-group maxima, the
+    small-outline fit's nearest segments (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used)."""
     _, _, bez, starts, ends, index = _tiny_fit()
     edges = (np.ones(3),) * 5
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     group_max(index, np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
+    nearest_segment_distance(*(np.ones((1, 2)),) * 6)
     deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
                        np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
                        np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2), 2.0,

@@ -4,8 +4,8 @@ outlines").
 Noisy or speckled bitmaps have thousands of tiny components (single pixels, dominos, small blobs, thin
 diagonal chains: 4-60 crack points each). The regression machinery (:mod:`.lsq`) costs a few milliseconds of
 fixed Python-level work per outline whatever its size, so all small outlines of a call are fitted *together*
-here: every round is a few stacked dense solves (one per block size) and one batch of distance grids for all
-outlines still refining.
+here: every round is a few stacked dense solves (one per block size) and one batch of nearest-segment
+distances for all outlines still refining.
 
 Model: the thesis's interpolant (§2, thesis section 4.2.1, eqs 4.1-4.9) with ``v = 0``, ``omega = 1``
 (erratum E2: the plain C² cubic) through knot points that are contour points, parameterized by the contour's
@@ -31,6 +31,7 @@ import numpy as np
 from ...spline import Spline
 from .._pixel_corners import corner_vertices
 from ...spline.segment import bezier_signed_area
+from ._kernels import nearest_segment_distance
 from ._threads import one_blas_thread
 from .budget import BUDGET_REASON
 from .lsq_setup import CornerTips, RotatedContour
@@ -45,7 +46,7 @@ _SMALL_SPACING = 0.25
 #: Section-length caps (contour steps) of the vectorized deviation buckets.
 _SMALL_BUCKETS = (1, 2, 4, 8, 16, 32, 64)
 #: Longest initial knot interval (contour steps); only the fallback of larger outlines has longer chains. It
-#: bounds the (interval, sample, edge) distance grids of the deviation check.
+#: bounds the sections (contour edges per interval) of the deviation check.
 _SMALL_SECTION = 64
 #: Knot-removal rounds after convergence (each tries every other inner knot of a piece).
 _REMOVAL_ROUNDS = 4
@@ -187,18 +188,6 @@ def _bernstein(bezier, theta):
             + w2[..., None] * bezier[:, None, 2] + w3[..., None] * bezier[:, None, 3])
 
 
-def _segment_distance_grid(px, py, ax, ay, dx, dy):
-    """Distances (..., P, E) from points ``(px, py)`` (..., P) to segments ``a -> a + d`` (..., E)."""
-    den = dx * dx + dy * dy
-    inverse = 1.0 / np.where(den > 0, den, 1.0)
-    rx = px[..., :, None] - ax[..., None, :]
-    ry = py[..., :, None] - ay[..., None, :]
-    t = np.clip((rx * dx[..., None, :] + ry * dy[..., None, :]) * inverse[..., None, :], 0.0, 1.0)
-    rx -= t * dx[..., None, :]
-    ry -= t * dy[..., None, :]
-    return np.sqrt(rx * rx + ry * ry)
-
-
 def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h, zones=None):
     """Per knot interval: the two-sided deviation between its Bézier and its contour section (contour
     points ``a .. a + steps``), the thesis error (contour point vs the curve point at its chord-length
@@ -212,9 +201,9 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h, 
 
     Intervals are grouped by section length (caps ``_SMALL_BUCKETS``; shorter sections repeat their last
     point, which changes no minimum) and by sample count (powers of two), and done bucket by bucket with
-    dense (interval, sample, edge) distance grids: curve samples ``<= _SMALL_SPACING`` px apart (by the
-    control-polygon length) to the section's edges, and the section's points and edge midpoints to the
-    chords between the samples.
+    one compiled pass of nearest-segment distances (``_kernels.nearest_segment_distance``): curve samples
+    ``<= _SMALL_SPACING`` px apart (by the control-polygon length) to the section's edges, and the section's
+    points and edge midpoints to the chords between the samples.
     """
     count = a.shape[0]
     deviation = np.zeros(count)
@@ -246,14 +235,13 @@ def _small_interval_errors(bezier, a, steps, contour_point, contour_arc, u0, h, 
         samples = _bernstein(bezier[rows], theta)
         vx, vy = vertices[..., 0], vertices[..., 1]
         ex, ey = np.diff(vx, axis=1), np.diff(vy, axis=1)
-        to_contour = _segment_distance_grid(samples[..., 0], samples[..., 1], vx[:, :-1], vy[:, :-1], ex, ey)
-        curve_near = to_contour.min(axis=2)
+        curve_near = nearest_segment_distance(samples[..., 0], samples[..., 1], vx[:, :-1], vy[:, :-1], ex, ey)
         curve_side = curve_near.max(axis=1)
         probes_x = np.concatenate([vx, 0.5 * (vx[:, :-1] + vx[:, 1:])], axis=1)
         probes_y = np.concatenate([vy, 0.5 * (vy[:, :-1] + vy[:, 1:])], axis=1)
         sx, sy = samples[..., 0], samples[..., 1]
-        to_curve = _segment_distance_grid(probes_x, probes_y, sx[:, :-1], sy[:, :-1], np.diff(sx, axis=1),
-                                          np.diff(sy, axis=1)).min(axis=2)
+        to_curve = nearest_segment_distance(probes_x, probes_y, sx[:, :-1], sy[:, :-1], np.diff(sx, axis=1),
+                                            np.diff(sy, axis=1))
         deviation[rows] = np.maximum(curve_side, to_curve.max(axis=1))
         index_arc = contour_arc(rows, index)
         if zones is not None:

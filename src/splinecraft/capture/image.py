@@ -600,7 +600,7 @@ def _normalise_dtype(arr):
     if not finite.all():
         bad = np.unravel_index(int(np.flatnonzero(~finite.reshape(-1))[0]), arr.shape)
         raise ValueError(
-            f"float image has a non-finite value {arr[bad]!r} at index {tuple(int(i) for i in bad)}; "
+            f"float image has a non-finite value {float(arr[bad])!r} at index {tuple(int(i) for i in bad)}; "
             "all values must be finite (NaN is not a gray level)"
         )
     del finite

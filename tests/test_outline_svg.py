@@ -1,5 +1,7 @@
 """Outlines from SVG: the project's own files, potrace's form (groups with transforms, relative commands),
 and refusals naming the subpath."""
+import re
+
 import numpy as np
 import pytest
 
@@ -301,3 +303,19 @@ def test_to_svg_names_an_argument_of_the_wrong_type(options, words):
         with pytest.raises(TypeError, match=words):
             source.to_svg(**options)
     assert "<title>" not in result.to_svg(title=None) and 'fill="none"' in result.to_svg(fill="none")
+
+
+def test_transform_arguments_follow_the_svg_number_grammar():
+    """``translate(10-5)`` is two numbers (minified SVG writes them so), as in path data."""
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40">'
+                '<path transform="translate(10-5)scale(.5.5)" d="M10 20 H30 V40 H10 Z"/></svg>')
+    low, high = from_svg(document).curve_bounds()
+    np.testing.assert_allclose([low, high], [[15, 5], [25, 15]])
+
+
+@pytest.mark.parametrize("transform", ["translateX(5)", "rotate(30 5)", "scale()", "translate(4px)", "skew(3)"])
+def test_a_transform_that_cannot_be_read_is_refused_naming_it(transform):
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40">'
+                f'<g transform="{transform}"><path d="M0 0 H10 V10 H0 Z"/></g></svg>')
+    with pytest.raises(ValueError, match=r"SVG transform .*" + re.escape(transform.split("(")[0])):
+        from_svg(document)

@@ -5,7 +5,8 @@
   as corners), its contour polyline as the source for the deviation, and the bitmap.
 * :func:`from_svg`: a file, a document or bare path data of closed cubic / line subpaths, such as the
   project's own exports and potrace's (``transform`` attributes of the path and its groups are applied;
-  numbers follow the SVG grammar, exponents included; the written precision is taken as rounding, so
+  numbers follow the SVG grammar, exponents included, in path data and transforms; an unknown or malformed
+  transform is refused; the written precision is taken as rounding, so
   smooth knots of a rounded export stay smooth).
   Arcs, quadratic and smooth commands are refused naming the subpath; so are unclosed subpaths unless
   ``close_open=True`` (a straight closing segment is added).
@@ -130,13 +131,34 @@ def from_knots(contours, **frame) -> Outline:
 
 
 # ---------------------------------------------------------------------------------------------- SVG
+#: One transform function of an SVG ``transform`` list and the argument counts SVG 1.1 section 7.6 allows.
+_TRANSFORM = re.compile(r"\s*,?\s*([A-Za-z]+)\s*\(([^)]*)\)\s*,?")
+_TRANSFORM_ARGUMENTS = {"matrix": (6,), "translate": (1, 2), "scale": (1, 2), "rotate": (1, 3), "skewX": (1,),
+                        "skewY": (1,)}
+
+
 def _transform_matrix(text):
-    """3x3 matrix of an SVG ``transform`` attribute (matrix, translate, scale, rotate, skewX, skewY)."""
+    """3x3 matrix of an SVG ``transform`` attribute (matrix, translate, scale, rotate, skewX, skewY).
+
+    Arguments follow the SVG number grammar (``translate(10-5)`` is two numbers, as in path data); an unknown
+    function (CSS's ``translateX``), a wrong count of arguments or text that is not a transform list is a
+    ``ValueError`` naming it, since skipping it would place the curves wrongly."""
     matrix = np.eye(3)
-    for name, arguments in re.findall(r"(matrix|translate|scale|rotate|skewX|skewY)\s*\(([^)]*)\)", text or ""):
-        values = [float(v) for v in re.split(r"[\s,]+", arguments.strip()) if v]
+    text = text or ""
+    position = 0
+    while position < len(text.rstrip()):
+        found = _TRANSFORM.match(text, position)
+        if found is None:
+            raise ValueError(f"cannot read the SVG transform {text!r} at {text[position:position + 20]!r}")
+        position = found.end()
+        name, arguments = found.groups()
+        values = [float(match.group(0)) for match in _NUMBER.finditer(arguments)]
+        if name not in _TRANSFORM_ARGUMENTS or len(values) not in _TRANSFORM_ARGUMENTS[name] or (
+                _NUMBER.sub(" ", arguments).replace(",", " ").strip()):
+            raise ValueError(f"cannot read the SVG transform {name}({arguments}): SVG allows matrix(a b c d e f), "
+                             "translate(x [y]), scale(x [y]), rotate(a [cx cy]), skewX(a), skewY(a)")
         step = np.eye(3)
-        if name == "matrix" and len(values) == 6:
+        if name == "matrix":
             step[:2] = np.array(values).reshape(3, 2).T
         elif name == "translate":
             step[:2, 2] = [values[0], values[1] if len(values) > 1 else 0.0]
@@ -150,10 +172,8 @@ def _transform_matrix(text):
             step[:2, 2] = np.array([cx, cy]) - rot @ [cx, cy]
         elif name == "skewX":
             step[0, 1] = np.tan(np.radians(values[0]))
-        elif name == "skewY":
-            step[1, 0] = np.tan(np.radians(values[0]))
         else:
-            raise ValueError(f"cannot read the SVG transform {name}({arguments})")
+            step[1, 0] = np.tan(np.radians(values[0]))
         matrix = matrix @ step
     return matrix
 

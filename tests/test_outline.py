@@ -10,6 +10,7 @@ import splinecraft as sc
 from splinecraft import datasets
 from splinecraft.outline import Contour, Outline, as_outline, from_bezier, from_knots
 from splinecraft.outline.bezier import contour_from_bezier
+from splinecraft.outline.contour import bezier_signed_area
 from splinecraft.outline.transforms import affine_parts, reflection, rotation, scaling, shearing, translation
 
 
@@ -76,6 +77,16 @@ def test_signed_area_matches_the_closed_form_of_a_polygon():
     x, y = points.T
     shoelace = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
     assert polygon.signed_area() == pytest.approx(shoelace, rel=1e-12)
+
+
+@pytest.mark.parametrize("offset", [1e9, 1e12, 1e15])
+def test_the_area_and_orientation_of_a_shape_far_from_the_origin_are_kept(offset):
+    """A 2 x 2 square with a 1 x 1 hole, far away: the areas are exact (the cancellation of ``x dy - y dx``
+    at ``x ~ 1e15`` gave areas of 1e14 and random signs)."""
+    outline = from_knots([([[0, 0], [2, 0], [2, 2], [0, 2]], [True] * 4),
+                          ([[0.5, 0.5], [1.5, 0.5], [1.5, 1.5], [0.5, 1.5]], [True] * 4)]).translate(offset, offset)
+    assert [contour.signed_area() for contour in outline.contours] == pytest.approx([4.0, 1.0], rel=1e-9)
+    assert [bezier_signed_area(b) for b in outline.oriented_bezier()] == pytest.approx([4.0, -1.0], rel=1e-9)
 
 
 # ---------------------------------------------------------------------------------------------- exact import

@@ -319,3 +319,25 @@ def test_a_transform_that_cannot_be_read_is_refused_naming_it(transform):
                 f'<g transform="{transform}"><path d="M0 0 H10 V10 H0 Z"/></g></svg>')
     with pytest.raises(ValueError, match=r"SVG transform .*" + re.escape(transform.split("(")[0])):
         from_svg(document)
+
+
+def test_a_piece_that_loops_back_to_its_start_is_read_exactly():
+    """A cubic that ends where it starts (a teardrop tip before a square's sides) is split in exact halves so
+    the contour's consecutive knots are distinct (it was an AssertionError 'unreachable')."""
+    from splinecraft.capture.svg import parse_path_data
+    from splinecraft.outline.contour import bezier_signed_area
+
+    d = "M0 0 C 5 5 -5 5 0 0 L10 0 L10 10 L0 10 Z"
+    (pieces, _), = parse_path_data(d)
+    contour, = from_svg(d).contours
+    bezier = contour.bezier()
+    assert len(contour) == 6 and not contour.corners[1]  # the loop's middle is a smooth knot
+    np.testing.assert_allclose(bezier[2:], pieces[1:], atol=1e-12)
+    theta = np.linspace(0, 1, 9)[:, None]
+    loop = pieces[0]
+
+    def point(p, t):
+        return (1 - t) ** 3 * p[0] + 3 * (1 - t) ** 2 * t * p[1] + 3 * (1 - t) * t * t * p[2] + t ** 3 * p[3]
+    np.testing.assert_allclose(np.vstack([point(bezier[0], theta), point(bezier[1], theta)]),
+                               point(loop, np.vstack([theta / 2, 0.5 + theta / 2])), atol=1e-12)
+    assert contour.signed_area() == pytest.approx(bezier_signed_area(pieces), rel=1e-12)

@@ -1,4 +1,5 @@
 """Editable outlines: the spline form of a contour, exact import of Bézier curves, edits, affine transforms."""
+import json
 import math
 
 import numpy as np
@@ -593,3 +594,22 @@ def test_a_hole_grazing_its_outer_curve_stays_a_hole():
     assert grazing.nesting_depths().tolist() == [0, 1]
     overlapping = from_knots([(np.array(c, float), [True] * 4) for c in (outer, bar)])
     assert overlapping.nesting_depths().tolist() == [0, 0]
+
+
+@pytest.mark.parametrize("change, error, words", [
+    ({"baseline": math.nan}, ValueError, "baseline must be a finite number"),
+    ({"baseline": "12"}, TypeError, "baseline must be a real number"),
+    ({"width": "abc"}, TypeError, "width must be a real number"),
+    ({"width": True}, TypeError, "width must be a real number"),
+    ({"name": 5}, TypeError, "name must be a string or None"),
+    ({"sources": [[1.0, 2.0, 3.0]]}, ValueError, r"sources\[0\] must have shape \(M, 2\)"),
+    ({"sources": [[[0.0, "a"]]]}, TypeError, r"sources\[0\] must be an \(M, 2\) array"),
+    ({"version": 2}, ValueError, "version 2 is not read"),
+])
+def test_a_bad_outline_field_is_refused_when_read_not_at_export(change, error, words):
+    """A NaN baseline in a JSON file reached font.build ("cannot convert float NaN to integer"), a name that is
+    not a string to_svg, a source of the wrong shape the deviation."""
+    data = json.loads(Outline([Contour(_loop(5, 1))]).to_json())
+    data.update(change)
+    with pytest.raises(error, match=words):
+        Outline.from_json(json.dumps(data))

@@ -341,3 +341,22 @@ def test_a_piece_that_loops_back_to_its_start_is_read_exactly():
     np.testing.assert_allclose(np.vstack([point(bezier[0], theta), point(bezier[1], theta)]),
                                point(loop, np.vstack([theta / 2, 0.5 + theta / 2])), atol=1e-12)
     assert contour.signed_area() == pytest.approx(bezier_signed_area(pieces), rel=1e-12)
+
+
+@pytest.mark.parametrize("frame", ['<rect x="1" y="1" width="98" height="98" style="fill:none;stroke:#000"/>',
+                                   '<g fill="none" stroke="red"><path d="M1 1 H99 V99 H1 Z"/></g>',
+                                   '<circle cx="50" cy="50" r="49" fill="none" stroke="black"/>'])
+def test_a_stroked_frame_without_fill_is_not_read_as_ink(frame):
+    """Only the fill is an outline: a frame drawn with fill="none" around the picture made it a hole."""
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                f'{frame}<g fill="none"><path fill="#000" d="M20 20 H80 V80 H20 Z"/></g></svg>')
+    outline = from_svg(document)
+    assert len(outline) == 1 and outline.nesting_depths().tolist() == [0]
+    np.testing.assert_allclose(outline.curve_bounds(), [[20, 20], [80, 80]])
+
+
+def test_a_drawing_of_strokes_only_says_why_nothing_was_read():
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                '<path fill="none" stroke="black" d="M20 20 H80 V80 H20 Z"/></svg>')
+    with pytest.raises(ValueError, match='no path with a closed subpath .*fill="none"'):
+        from_svg(document)

@@ -13,7 +13,9 @@
   Only what a viewer draws is read (SVG 1.1/2 rendering rules): the content of ``<defs>``, ``<symbol>``,
   ``<mask>``, ``<clipPath>``, ``<marker>``, ``<pattern>`` (drawn only through references, which are not
   followed: ``<use>`` is ignored), elements of other XML namespaces and ``display="none"`` /
-  ``style="display:none"`` subtrees are skipped (CSS ``<style>`` sheets are not read). Drawn basic shapes:
+  ``style="display:none"`` subtrees are skipped (CSS ``<style>`` sheets are not read), and so are shapes
+  with ``fill="none"`` (or ``transparent``; attribute or ``style``, inherited from their groups): a stroke
+  encloses no ink, and a stroked frame read as a fill would turn the picture inside it into holes. Drawn basic shapes:
   ``<rect>`` (square corners) and ``<polygon>`` are read exactly as closed line subpaths, ``<polyline>`` as an
   open one; ``<circle>``, ``<ellipse>``, rounded ``<rect>`` (arcs, like ``A`` in path data) and ``<line>``
   (no area) are refused naming the element.
@@ -260,7 +262,21 @@ def _fill_rule(element, inherited):
     return value if value in ("nonzero", "evenodd") else inherited
 
 
-def _paths(element, matrix, found, viewport=None, rule="nonzero"):
+_FILL = re.compile(r"(?:^|;)\s*fill\s*:\s*([^;]*)")
+
+
+def _fills(element, inherited):
+    """Whether ``element`` paints its interior: its ``fill`` (``style`` declaration, else attribute, else
+    ``inherited``; SVG 1.1 section 11.2, default black) is not ``none`` or ``transparent``. A stroked frame
+    drawn with ``fill="none"`` around a picture encloses no ink."""
+    found = _FILL.search(element.get("style") or "")
+    value = (found.group(1) if found else element.get("fill") or "").replace("!important", "").strip().lower()
+    if not value or value == "inherit":
+        return inherited
+    return value not in ("none", "transparent")
+
+
+def _paths(element, matrix, found, viewport=None, rule="nonzero", fills=True, unfilled=None):
     """Collect ``(label, path data, matrix, written numbers, fill rule)`` of what ``element`` draws: its own and its
     groups' ``transform`` (and, for the document, ``viewport``: the viewBox mapping) applied, the ``fill-rule``
     inherited; elements that are
@@ -276,6 +292,11 @@ def _paths(element, matrix, found, viewport=None, rule="nonzero"):
     if viewport is not None:
         matrix = matrix @ viewport
     rule = _fill_rule(element, rule)
+    fills = _fills(element, fills)
+    if not fills and tag != "g" and tag != "svg":
+        if unfilled is not None:
+            unfilled.append(tag)
+        return  # an unfilled shape (a stroke only) draws no area; a group's children may fill again
     if tag == "path":
         found.append((f"path {len(found)}", element.get("d", ""), matrix, element.get("d", ""), rule))
     elif tag in ("rect", "circle", "ellipse", "polygon", "polyline", "line"):
@@ -283,7 +304,7 @@ def _paths(element, matrix, found, viewport=None, rule="nonzero"):
         if shape is not None:
             found.append((f"<{tag}> (shape {len(found)})", shape[0], matrix, shape[1], rule))
     for child in element:
-        _paths(child, matrix, found, rule=rule)
+        _paths(child, matrix, found, rule=rule, fills=fills, unfilled=unfilled)
 
 
 def _nonzero_covered(curves):
@@ -375,10 +396,11 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
         except ET.ParseError as exc:
             raise ValueError(f"not a readable SVG document: {exc}") from None
         width, height, viewport = _frame(root)
-        found = []
-        _paths(root, np.eye(3), found, viewport)
+        found, unfilled = [], []
+        _paths(root, np.eye(3), found, viewport, unfilled=unfilled)
     else:
-        found = [("path 0", text, np.eye(3), text, "evenodd")]  # no document, no fill rule: taken as it is
+        # no document, no fill rule: taken as it is
+        found, unfilled = [("path 0", text, np.eye(3), text, "evenodd")], []
     curves, rounding = [], 0.0
     for label, d, matrix, written, rule in found:
         path_curves = []
@@ -399,7 +421,9 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
             path_curves = [c for k, c in enumerate(path_curves) if k not in covered]
         curves.extend(path_curves)
     if not curves:
-        raise ValueError("the SVG has no path with a closed subpath")
+        skipped = (f" ({len(unfilled)} shape(s) with fill=\"none\" draw only a stroke and were skipped)"
+                   if unfilled else "")
+        raise ValueError(f"the SVG has no path with a closed subpath{skipped}")
     return from_bezier(curves, rounding=rounding, width=width, height=height, name=name)
 
 

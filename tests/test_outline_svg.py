@@ -360,3 +360,9 @@ def test_a_drawing_of_strokes_only_says_why_nothing_was_read():
                 '<path fill="none" stroke="black" d="M20 20 H80 V80 H20 Z"/></svg>')
     with pytest.raises(ValueError, match='no path with a closed subpath .*fill="none"'):
         from_svg(document)
+
+
+@pytest.mark.parametrize("source", ["", "  \n"])
+def test_an_empty_source_is_named_empty_not_a_missing_file(source):
+    with pytest.raises(ValueError, match="source is empty"):
+        from_svg(source)

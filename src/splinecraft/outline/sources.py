@@ -382,6 +382,8 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
     from ..capture.svg import parse_path_data
 
     text = source
+    if isinstance(source, str) and not source.strip():  # Path("") is ".", which reads as "no SVG file '.'"
+        raise ValueError("the SVG source is empty: pass a file name, an SVG document or path data")
     if isinstance(source, os.PathLike) or (isinstance(source, str) and not _is_inline(source)):
         path = Path(os.fspath(source))
         if not _is_file(path):

@@ -1,4 +1,5 @@
 """Editable outlines: the spline form of a contour, exact import of Bézier curves, edits, affine transforms."""
+import json
 import math
 
 import numpy as np
@@ -10,6 +11,7 @@ import splinecraft as sc
 from splinecraft import datasets
 from splinecraft.outline import Contour, Outline, as_outline, from_bezier, from_knots
 from splinecraft.outline.bezier import contour_from_bezier
+from splinecraft.outline.contour import bezier_signed_area
 from splinecraft.outline.transforms import affine_parts, reflection, rotation, scaling, shearing, translation
 
 
@@ -76,6 +78,16 @@ def test_signed_area_matches_the_closed_form_of_a_polygon():
     x, y = points.T
     shoelace = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
     assert polygon.signed_area() == pytest.approx(shoelace, rel=1e-12)
+
+
+@pytest.mark.parametrize("offset", [1e9, 1e12, 1e15])
+def test_the_area_and_orientation_of_a_shape_far_from_the_origin_are_kept(offset):
+    """A 2 x 2 square with a 1 x 1 hole, far away: the areas are exact (the cancellation of ``x dy - y dx``
+    at ``x ~ 1e15`` gave areas of 1e14 and random signs)."""
+    outline = from_knots([([[0, 0], [2, 0], [2, 2], [0, 2]], [True] * 4),
+                          ([[0.5, 0.5], [1.5, 0.5], [1.5, 1.5], [0.5, 1.5]], [True] * 4)]).translate(offset, offset)
+    assert [contour.signed_area() for contour in outline.contours] == pytest.approx([4.0, 1.0], rel=1e-9)
+    assert [bezier_signed_area(b) for b in outline.oriented_bezier()] == pytest.approx([4.0, -1.0], rel=1e-9)
 
 
 # ---------------------------------------------------------------------------------------------- exact import
@@ -601,3 +613,22 @@ def test_deviation_of_a_knot_dragged_far_away_has_bounded_samples():
     assert len(samples) <= MAX_DEVIATION_SAMPLES + 3 * len(far)
     deviation = sc.outline.contour_deviation(far, outline.sources[0])
     assert np.isfinite(deviation).all() and deviation.max() > 9e4
+
+
+@pytest.mark.parametrize("change, error, words", [
+    ({"baseline": math.nan}, ValueError, "baseline must be a finite number"),
+    ({"baseline": "12"}, TypeError, "baseline must be a real number"),
+    ({"width": "abc"}, TypeError, "width must be a real number"),
+    ({"width": True}, TypeError, "width must be a real number"),
+    ({"name": 5}, TypeError, "name must be a string or None"),
+    ({"sources": [[1.0, 2.0, 3.0]]}, ValueError, r"sources\[0\] must have shape \(M, 2\)"),
+    ({"sources": [[[0.0, "a"]]]}, TypeError, r"sources\[0\] must be an \(M, 2\) array"),
+    ({"version": 2}, ValueError, "version 2 is not read"),
+])
+def test_a_bad_outline_field_is_refused_when_read_not_at_export(change, error, words):
+    """A NaN baseline in a JSON file reached font.build ("cannot convert float NaN to integer"), a name that is
+    not a string to_svg, a source of the wrong shape the deviation."""
+    data = json.loads(Outline([Contour(_loop(5, 1))]).to_json())
+    data.update(change)
+    with pytest.raises(error, match=words):
+        Outline.from_json(json.dumps(data))

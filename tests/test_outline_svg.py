@@ -1,5 +1,7 @@
 """Outlines from SVG: the project's own files, potrace's form (groups with transforms, relative commands),
 and refusals naming the subpath."""
+import re
+
 import numpy as np
 import pytest
 
@@ -301,3 +303,66 @@ def test_to_svg_names_an_argument_of_the_wrong_type(options, words):
         with pytest.raises(TypeError, match=words):
             source.to_svg(**options)
     assert "<title>" not in result.to_svg(title=None) and 'fill="none"' in result.to_svg(fill="none")
+
+
+def test_transform_arguments_follow_the_svg_number_grammar():
+    """``translate(10-5)`` is two numbers (minified SVG writes them so), as in path data."""
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40">'
+                '<path transform="translate(10-5)scale(.5.5)" d="M10 20 H30 V40 H10 Z"/></svg>')
+    low, high = from_svg(document).curve_bounds()
+    np.testing.assert_allclose([low, high], [[15, 5], [25, 15]])
+
+
+@pytest.mark.parametrize("transform", ["translateX(5)", "rotate(30 5)", "scale()", "translate(4px)", "skew(3)"])
+def test_a_transform_that_cannot_be_read_is_refused_naming_it(transform):
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40">'
+                f'<g transform="{transform}"><path d="M0 0 H10 V10 H0 Z"/></g></svg>')
+    with pytest.raises(ValueError, match=r"SVG transform .*" + re.escape(transform.split("(")[0])):
+        from_svg(document)
+
+
+def test_a_piece_that_loops_back_to_its_start_is_read_exactly():
+    """A cubic that ends where it starts (a teardrop tip before a square's sides) is split in exact halves so
+    the contour's consecutive knots are distinct (it was an AssertionError 'unreachable')."""
+    from splinecraft.capture.svg import parse_path_data
+    from splinecraft.outline.contour import bezier_signed_area
+
+    d = "M0 0 C 5 5 -5 5 0 0 L10 0 L10 10 L0 10 Z"
+    (pieces, _), = parse_path_data(d)
+    contour, = from_svg(d).contours
+    bezier = contour.bezier()
+    assert len(contour) == 6 and not contour.corners[1]  # the loop's middle is a smooth knot
+    np.testing.assert_allclose(bezier[2:], pieces[1:], atol=1e-12)
+    theta = np.linspace(0, 1, 9)[:, None]
+    loop = pieces[0]
+
+    def point(p, t):
+        return (1 - t) ** 3 * p[0] + 3 * (1 - t) ** 2 * t * p[1] + 3 * (1 - t) * t * t * p[2] + t ** 3 * p[3]
+    np.testing.assert_allclose(np.vstack([point(bezier[0], theta), point(bezier[1], theta)]),
+                               point(loop, np.vstack([theta / 2, 0.5 + theta / 2])), atol=1e-12)
+    assert contour.signed_area() == pytest.approx(bezier_signed_area(pieces), rel=1e-12)
+
+
+@pytest.mark.parametrize("frame", ['<rect x="1" y="1" width="98" height="98" style="fill:none;stroke:#000"/>',
+                                   '<g fill="none" stroke="red"><path d="M1 1 H99 V99 H1 Z"/></g>',
+                                   '<circle cx="50" cy="50" r="49" fill="none" stroke="black"/>'])
+def test_a_stroked_frame_without_fill_is_not_read_as_ink(frame):
+    """Only the fill is an outline: a frame drawn with fill="none" around the picture made it a hole."""
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                f'{frame}<g fill="none"><path fill="#000" d="M20 20 H80 V80 H20 Z"/></g></svg>')
+    outline = from_svg(document)
+    assert len(outline) == 1 and outline.nesting_depths().tolist() == [0]
+    np.testing.assert_allclose(outline.curve_bounds(), [[20, 20], [80, 80]])
+
+
+def test_a_drawing_of_strokes_only_says_why_nothing_was_read():
+    document = ('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                '<path fill="none" stroke="black" d="M20 20 H80 V80 H20 Z"/></svg>')
+    with pytest.raises(ValueError, match='no path with a closed subpath .*fill="none"'):
+        from_svg(document)
+
+
+@pytest.mark.parametrize("source", ["", "  \n"])
+def test_an_empty_source_is_named_empty_not_a_missing_file(source):
+    with pytest.raises(ValueError, match="source is empty"):
+        from_svg(source)

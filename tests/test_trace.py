@@ -550,3 +550,9 @@ def test_bad_settings_name_their_argument(kwargs, error, name):
 
     with pytest.raises(error, match=re.escape(name)):
         trace(render_disc(20, 10, 10, 6), **kwargs)
+
+
+@pytest.mark.parametrize("d", ["M0 0 L10 0 L10 10 Z 5 5", "M0 0 h10 v10 z 1", "M0 0 L1 0 L1 1 ZZ 2 2"])
+def test_numbers_after_a_closepath_are_refused_not_looped_on(d):
+    with pytest.raises(ValueError, match="takes no numbers"):
+        parse_path_data(d)

@@ -70,6 +70,9 @@ def parse_path_data(d: str) -> list:
             raise ValueError(f"unsupported path command {command!r}")
         relative = command.islower()
         upper = command.upper()
+        if upper == "Z" and not token.isalpha():  # SVG 1.1 section 8.3.3: closepath takes no numbers
+            raise ValueError(f"path data has {token!r} after {command!r}, which takes no numbers; start the next "
+                             "subpath with M or a drawing command")
         if upper == "Z":
             if segments and not np.allclose(position, start, rtol=0, atol=1e-12):
                 segments.append(line(position, start))

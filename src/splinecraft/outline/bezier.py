@@ -200,6 +200,7 @@ def contour_from_bezier(bezier, corners=None, *, rounding=0.0) -> Contour:
     bezier = np.asarray(bezier, float)
     if bezier.ndim != 3 or bezier.shape[1:] != (4, 2):
         raise ValueError(f"bezier must have shape (N, 4, 2), got {bezier.shape}")
+    bezier, corners = _split_loops(bezier, corners)
     n = bezier.shape[0]
     if n < 3:  # split pieces so that the contour has 3 knots (exact de Casteljau halves)
         bezier = _split_to_three(bezier)
@@ -245,13 +246,32 @@ def _snap(values, target):
     return values
 
 
+def _halves(p):
+    """The two exact de Casteljau halves of the cubic piece ``p`` (4, 2)."""
+    a = (p[:-1] + p[1:]) / 2
+    b = (a[:-1] + a[1:]) / 2
+    c = (b[0] + b[1]) / 2
+    return [np.array([p[0], a[0], b[0], c]), np.array([c, b[1], a[2], p[3]])]
+
+
 def _split_to_three(bezier):
     pieces = list(bezier)
     while len(pieces) < 3:
         widest = int(np.argmax([np.ptp(p, axis=0).max() for p in pieces]))
-        p = pieces.pop(widest)
-        a, b = (p[:-1] + p[1:]) / 2, None
-        b = (a[:-1] + a[1:]) / 2
-        c = (b[0] + b[1]) / 2
-        pieces[widest:widest] = [np.array([p[0], a[0], b[0], c]), np.array([c, b[1], a[2], p[3]])]
+        pieces[widest:widest + 1] = _halves(pieces[widest])
     return np.array(pieces)
+
+
+def _split_loops(bezier, corners):
+    """Pieces that end where they start (a loop of one cubic, e.g. a teardrop's tip between two lines) split
+    into their exact de Casteljau halves, so that consecutive knots are distinct (a contour's knots must be);
+    the new knot in the middle of such a piece is not forced to be a corner."""
+    loops = (bezier[:, 3] == bezier[:, 0]).all(axis=1)
+    if not loops.any() or bezier.shape[0] == 1:  # a single piece is split by _split_to_three
+        return bezier, corners
+    pieces, forced = [], []
+    flags = np.zeros(bezier.shape[0], bool) if corners is None else np.asarray(corners, bool)
+    for piece, loop, flag in zip(bezier, loops, flags):
+        pieces.extend(_halves(piece) if loop else [piece])
+        forced.extend([flag, False] if loop else [flag])
+    return np.array(pieces), None if corners is None else np.array(forced)

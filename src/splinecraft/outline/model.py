@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._validation import check_number
 from .bezier import curve_bounds
 from .contour import Contour, _indices
 from .transforms import affine_parts, reflection, rotation, scaling, shearing, translation
@@ -136,6 +137,19 @@ def contour_deviation(contour, source, spacing=DEVIATION_SPACING) -> np.ndarray:
     return result
 
 
+def _source(value, name) -> np.ndarray:
+    """A source contour: a finite ``(M, 2)`` float array (a closed polyline, :func:`contour_deviation`)."""
+    try:
+        array = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be an (M, 2) array of numbers (a closed polyline) or None") from None
+    if array.ndim != 2 or array.shape[1] != 2 or array.shape[0] < 2:
+        raise ValueError(f"{name} must have shape (M, 2) with M >= 2 (a closed polyline), got {array.shape}")
+    if not np.isfinite(array).all():
+        raise ValueError(f"{name} has non-finite coordinates")
+    return array
+
+
 class Outline:
     """Closed contours in one frame, with the source contours and bitmap they were captured from.
 
@@ -162,19 +176,23 @@ class Outline:
                 raise TypeError(f"contours[{k}] must be a Contour, got {type(contour).__name__}")
         if sources is None:
             sources = (None,) * len(contours)
-        sources = tuple(None if s is None else np.asarray(s, float) for s in sources)
+        sources = tuple(sources)
         if len(sources) != len(contours):
             raise ValueError(f"sources must have one entry per contour ({len(contours)}), got {len(sources)}")
+        sources = tuple(None if s is None else _source(s, f"sources[{k}]") for k, s in enumerate(sources))
         self.contours = contours
         self.sources = sources
         self.bitmap = None if bitmap is None else np.asarray(bitmap, bool)
         low, high = self.bounds()
-        self.width = float(width) if width is not None else float(math.ceil(high[0]) + 1)
-        self.height = float(height) if height is not None else float(math.ceil(high[1]) + 1)
-        for label, value in (("width", self.width), ("height", self.height)):
-            if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"{label} must be a finite number > 0, got {value!r}")
-        self.baseline = None if baseline is None else float(baseline)
+        width = width if width is not None else float(math.ceil(high[0]) + 1)
+        height = height if height is not None else float(math.ceil(high[1]) + 1)
+        # checked here, not at export: a NaN baseline from a JSON file failed in font.build as "cannot convert
+        # float NaN to integer", a name of another type in to_svg
+        self.width = check_number(width, "width", minimum=0.0, inclusive=False)
+        self.height = check_number(height, "height", minimum=0.0, inclusive=False)
+        self.baseline = None if baseline is None else check_number(baseline, "baseline")
+        if not (name is None or isinstance(name, str)):
+            raise TypeError(f"name must be a string or None, got {type(name).__name__}")
         self.name = name
 
     def _with(self, contours, sources=None, **changes) -> "Outline":
@@ -425,6 +443,8 @@ class Outline:
             raise TypeError(f"from_dict expects a dict, got {type(data).__name__}")
         if data.get("type") != _FORMAT:
             raise ValueError(f"not a {_FORMAT} dict: type={data.get('type')!r}")
+        if data.get("version", 1) != 1:
+            raise ValueError(f"{_FORMAT} version {data.get('version')!r} is not read (this splinecraft reads version 1)")
         if "contours" not in data or not isinstance(data["contours"], list):
             raise ValueError("an outline dict needs a list 'contours'")
         contours = []

@@ -5,14 +5,17 @@
   as corners), its contour polyline as the source for the deviation, and the bitmap.
 * :func:`from_svg`: a file, a document or bare path data of closed cubic / line subpaths, such as the
   project's own exports and potrace's (``transform`` attributes of the path and its groups are applied;
-  numbers follow the SVG grammar, exponents included; the written precision is taken as rounding, so
+  numbers follow the SVG grammar, exponents included, in path data and transforms; an unknown or malformed
+  transform is refused; the written precision is taken as rounding, so
   smooth knots of a rounded export stay smooth).
   Arcs, quadratic and smooth commands are refused naming the subpath; so are unclosed subpaths unless
   ``close_open=True`` (a straight closing segment is added).
   Only what a viewer draws is read (SVG 1.1/2 rendering rules): the content of ``<defs>``, ``<symbol>``,
   ``<mask>``, ``<clipPath>``, ``<marker>``, ``<pattern>`` (drawn only through references, which are not
   followed: ``<use>`` is ignored), elements of other XML namespaces and ``display="none"`` /
-  ``style="display:none"`` subtrees are skipped (CSS ``<style>`` sheets are not read). Drawn basic shapes:
+  ``style="display:none"`` subtrees are skipped (CSS ``<style>`` sheets are not read), and so are shapes
+  with ``fill="none"`` (or ``transparent``; attribute or ``style``, inherited from their groups): a stroke
+  encloses no ink, and a stroked frame read as a fill would turn the picture inside it into holes. Drawn basic shapes:
   ``<rect>`` (square corners) and ``<polygon>`` are read exactly as closed line subpaths, ``<polyline>`` as an
   open one; ``<circle>``, ``<ellipse>``, rounded ``<rect>`` (arcs, like ``A`` in path data) and ``<line>``
   (no area) are refused naming the element.
@@ -130,13 +133,34 @@ def from_knots(contours, **frame) -> Outline:
 
 
 # ---------------------------------------------------------------------------------------------- SVG
+#: One transform function of an SVG ``transform`` list and the argument counts SVG 1.1 section 7.6 allows.
+_TRANSFORM = re.compile(r"\s*,?\s*([A-Za-z]+)\s*\(([^)]*)\)\s*,?")
+_TRANSFORM_ARGUMENTS = {"matrix": (6,), "translate": (1, 2), "scale": (1, 2), "rotate": (1, 3), "skewX": (1,),
+                        "skewY": (1,)}
+
+
 def _transform_matrix(text):
-    """3x3 matrix of an SVG ``transform`` attribute (matrix, translate, scale, rotate, skewX, skewY)."""
+    """3x3 matrix of an SVG ``transform`` attribute (matrix, translate, scale, rotate, skewX, skewY).
+
+    Arguments follow the SVG number grammar (``translate(10-5)`` is two numbers, as in path data); an unknown
+    function (CSS's ``translateX``), a wrong count of arguments or text that is not a transform list is a
+    ``ValueError`` naming it, since skipping it would place the curves wrongly."""
     matrix = np.eye(3)
-    for name, arguments in re.findall(r"(matrix|translate|scale|rotate|skewX|skewY)\s*\(([^)]*)\)", text or ""):
-        values = [float(v) for v in re.split(r"[\s,]+", arguments.strip()) if v]
+    text = text or ""
+    position = 0
+    while position < len(text.rstrip()):
+        found = _TRANSFORM.match(text, position)
+        if found is None:
+            raise ValueError(f"cannot read the SVG transform {text!r} at {text[position:position + 20]!r}")
+        position = found.end()
+        name, arguments = found.groups()
+        values = [float(match.group(0)) for match in _NUMBER.finditer(arguments)]
+        if name not in _TRANSFORM_ARGUMENTS or len(values) not in _TRANSFORM_ARGUMENTS[name] or (
+                _NUMBER.sub(" ", arguments).replace(",", " ").strip()):
+            raise ValueError(f"cannot read the SVG transform {name}({arguments}): SVG allows matrix(a b c d e f), "
+                             "translate(x [y]), scale(x [y]), rotate(a [cx cy]), skewX(a), skewY(a)")
         step = np.eye(3)
-        if name == "matrix" and len(values) == 6:
+        if name == "matrix":
             step[:2] = np.array(values).reshape(3, 2).T
         elif name == "translate":
             step[:2, 2] = [values[0], values[1] if len(values) > 1 else 0.0]
@@ -150,10 +174,8 @@ def _transform_matrix(text):
             step[:2, 2] = np.array([cx, cy]) - rot @ [cx, cy]
         elif name == "skewX":
             step[0, 1] = np.tan(np.radians(values[0]))
-        elif name == "skewY":
-            step[1, 0] = np.tan(np.radians(values[0]))
         else:
-            raise ValueError(f"cannot read the SVG transform {name}({arguments})")
+            step[1, 0] = np.tan(np.radians(values[0]))
         matrix = matrix @ step
     return matrix
 
@@ -240,7 +262,21 @@ def _fill_rule(element, inherited):
     return value if value in ("nonzero", "evenodd") else inherited
 
 
-def _paths(element, matrix, found, viewport=None, rule="nonzero"):
+_FILL = re.compile(r"(?:^|;)\s*fill\s*:\s*([^;]*)")
+
+
+def _fills(element, inherited):
+    """Whether ``element`` paints its interior: its ``fill`` (``style`` declaration, else attribute, else
+    ``inherited``; SVG 1.1 section 11.2, default black) is not ``none`` or ``transparent``. A stroked frame
+    drawn with ``fill="none"`` around a picture encloses no ink."""
+    found = _FILL.search(element.get("style") or "")
+    value = (found.group(1) if found else element.get("fill") or "").replace("!important", "").strip().lower()
+    if not value or value == "inherit":
+        return inherited
+    return value not in ("none", "transparent")
+
+
+def _paths(element, matrix, found, viewport=None, rule="nonzero", fills=True, unfilled=None):
     """Collect ``(label, path data, matrix, written numbers, fill rule)`` of what ``element`` draws: its own and its
     groups' ``transform`` (and, for the document, ``viewport``: the viewBox mapping) applied, the ``fill-rule``
     inherited; elements that are
@@ -256,6 +292,11 @@ def _paths(element, matrix, found, viewport=None, rule="nonzero"):
     if viewport is not None:
         matrix = matrix @ viewport
     rule = _fill_rule(element, rule)
+    fills = _fills(element, fills)
+    if not fills and tag != "g" and tag != "svg":
+        if unfilled is not None:
+            unfilled.append(tag)
+        return  # an unfilled shape (a stroke only) draws no area; a group's children may fill again
     if tag == "path":
         found.append((f"path {len(found)}", element.get("d", ""), matrix, element.get("d", ""), rule))
     elif tag in ("rect", "circle", "ellipse", "polygon", "polyline", "line"):
@@ -263,7 +304,7 @@ def _paths(element, matrix, found, viewport=None, rule="nonzero"):
         if shape is not None:
             found.append((f"<{tag}> (shape {len(found)})", shape[0], matrix, shape[1], rule))
     for child in element:
-        _paths(child, matrix, found, rule=rule)
+        _paths(child, matrix, found, rule=rule, fills=fills, unfilled=unfilled)
 
 
 def _nonzero_covered(curves):
@@ -341,6 +382,8 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
     from ..capture.svg import parse_path_data
 
     text = source
+    if isinstance(source, str) and not source.strip():  # Path("") is ".", which reads as "no SVG file '.'"
+        raise ValueError("the SVG source is empty: pass a file name, an SVG document or path data")
     if isinstance(source, os.PathLike) or (isinstance(source, str) and not _is_inline(source)):
         path = Path(os.fspath(source))
         if not _is_file(path):
@@ -355,10 +398,11 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
         except ET.ParseError as exc:
             raise ValueError(f"not a readable SVG document: {exc}") from None
         width, height, viewport = _frame(root)
-        found = []
-        _paths(root, np.eye(3), found, viewport)
+        found, unfilled = [], []
+        _paths(root, np.eye(3), found, viewport, unfilled=unfilled)
     else:
-        found = [("path 0", text, np.eye(3), text, "evenodd")]  # no document, no fill rule: taken as it is
+        # no document, no fill rule: taken as it is
+        found, unfilled = [("path 0", text, np.eye(3), text, "evenodd")], []
     curves, rounding = [], 0.0
     for label, d, matrix, written, rule in found:
         path_curves = []
@@ -379,7 +423,9 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
             path_curves = [c for k, c in enumerate(path_curves) if k not in covered]
         curves.extend(path_curves)
     if not curves:
-        raise ValueError("the SVG has no path with a closed subpath")
+        skipped = (f" ({len(unfilled)} shape(s) with fill=\"none\" draw only a stroke and were skipped)"
+                   if unfilled else "")
+        raise ValueError(f"the SVG has no path with a closed subpath{skipped}")
     return from_bezier(curves, rounding=rounding, width=width, height=height, name=name)
 
 

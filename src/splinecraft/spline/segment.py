@@ -233,8 +233,12 @@ _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(3)
 
 def bezier_signed_area(bezier) -> float:
     """Signed area of closed cubic Bézier pieces ``(m, 4, 2)``: ``1/2 \\oint (x dy - y dx)``, exact (the
-    integrand is a polynomial of degree 5, integrated by 3-point Gauss-Legendre)."""
+    integrand is a polynomial of degree 5, integrated by 3-point Gauss-Legendre). The area of a closed curve
+    does not depend on the origin, so it is integrated about the first point: far from the origin (a shape at
+    ``x = 1e9``) the products ``x dy`` would otherwise cancel away the area and its sign."""
     bezier = np.asarray(bezier, float)
+    if bezier.size:
+        bezier = bezier - bezier.reshape(-1, 2)[0]
     t = 0.5 * (_GAUSS_NODES + 1.0)
     one = 1.0 - t
     basis = np.stack([one ** 3, 3 * one * one * t, 3 * one * t * t, t ** 3])  # (4, q)

@@ -9,12 +9,14 @@ Layout (each module imports only those above it in this list):
 
 * :mod:`.options` -- defaults (:data:`DEFAULT_EPSILON`, :data:`KNOT_METHODS`, ...), option tables, checks;
 * :mod:`.results` -- :class:`FitResult`, :class:`Snapshot`;
+* :mod:`.budget` -- time budgets, and the polygons of the boundaries they leave unfitted;
 * :mod:`.geometry` -- deviation geometry (:func:`piece_deviation`, :func:`polyline_distance`);
 * :mod:`.thesis` -- the thesis's Algorithms 4.1-4.6;
-* :mod:`.bspline`, :mod:`.tips`, :mod:`.lsq_setup`, :mod:`.lsq_model`, :mod:`.lsq` -- the default ``"lsq"``
-  (:mod:`.tips`: corner tips extrapolated from the two sides that meet there);
+* :mod:`.bspline`, :mod:`.tips`, :mod:`.lsq_setup`, :mod:`.jumps`, :mod:`.merge`, :mod:`.lsq_model`,
+  :mod:`.lsq` -- the default ``"lsq"`` (:mod:`.tips`: corner tips extrapolated from the two sides that meet
+  there; :mod:`.jumps`: curvature jumps; :mod:`.merge`: segment merging after the fit, ``merge_tolerance``, on
+  by default);
 * :mod:`.small` -- the small-outline path of ``"lsq"``;
-* :mod:`.merge` -- segment merging after ``"lsq"`` (``merge_tolerance``, on by default);
 * this module -- the public entries :func:`fit_outline` and :func:`fit_small_outlines`, and the one place
   that routes a contour to a family.
 """

@@ -183,8 +183,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Trace the outline of each bitmap (outer contours and holes) into closed cubic splines: "
                     "chain-code boundary, corners, spline fit with knot insertion until the error is "
                     "below EPSILON pixels. The first trace after an install compiles the kernels (numba, "
-                    "about 10 s CPU on a quiet machine) and caches them on disk; every later process "
-                    "loads them in well under a second (BENCHMARKS.md, 'First-call cost').",
+                    "about 7 s CPU, shared between one process per CPU) and caches them on disk; every "
+                    "later process loads them in well under a second (BENCHMARKS.md, 'First-call cost').",
     )
     tracer.add_argument("inputs", nargs="+", metavar="IN", help="image files (PNG, JPEG, BMP, GIF, TIFF)")
     tracer.add_argument("-o", "--output", required=True, metavar="OUT",

@@ -326,6 +326,42 @@ def test_bad_matrices_are_refused_with_a_message(matrix, message):
         outline.transform(matrix)
 
 
+@pytest.mark.parametrize("scale", [1e-100, 1e-30, 1e30, 1e100])
+def test_extreme_scales_about_the_origin_keep_the_shape(scale):
+    """A scale within float range is not singular (the test is made on A / |A|_max, not on a determinant that
+    overflows or underflows): a square with a hole scaled about the origin keeps its nesting, its orientation
+    and its area times scale²."""
+    from splinecraft.outline import from_svg
+
+    outline = from_svg("M0 0 H10 V10 H0 Z M2 2 V8 H8 V2 Z")
+    scaled = outline.scale(scale, center=(0.0, 0.0))
+    assert scaled.nesting_depths().tolist() == [0, 1]
+    for before, after in zip(outline.contours, scaled.contours):
+        np.testing.assert_allclose(after.bezier(), before.bezier() * scale, rtol=1e-12)
+        assert bezier_signed_area(after.bezier()) == pytest.approx(bezier_signed_area(before.bezier()) * scale ** 2,
+                                                                   rel=1e-9)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda o: o.scale(1e200), r"coordinate of 5e\+200, beyond ±1e\+150"),
+    (lambda o: o.translate(1e308, 0.0), r"coordinate of 1e\+308, beyond ±1e\+150"),
+    (lambda o: o.scale(1e-200), r"extent of 0, below 1e-150"),  # about (5, 5): every point rounds to 5
+    (lambda o: o.scale(1e-200, center=(0.0, 0.0)), r"extent of 1e-199, below 1e-150"),  # areas underflow to 0
+    (lambda o: o.translate(10.0, 0.0, knots=[(0, 0)]), r"leaves contour 0 invalid: knots 0 and 1 coincide"),
+])
+def test_transforms_beyond_float_range_are_refused_for_what_they_do(change, message):
+    """A scale of 1e200 was refused as singular ("determinant inf"), a translation by 1e308 as "knots 0 and 1
+    coincide", and a scale of 1e-200 about the origin made areas of 0 (orientation and nesting lost) or was
+    "singular"; now each names what happens, and the outline stays as it was."""
+    from splinecraft.outline import from_svg
+
+    outline = from_svg("M0 0 H10 V10 H0 Z M2 2 V8 H8 V2 Z")
+    before = [c.bezier().copy() for c in outline.contours]
+    with pytest.raises(ValueError, match=message):
+        change(outline)
+    assert all(np.array_equal(c.bezier(), b) for c, b in zip(outline.contours, before))
+
+
 def test_a_matrix_of_strings_is_a_type_error():
     with pytest.raises(TypeError, match="matrix"):
         Outline([Contour(_loop(5, 1))]).transform("rotate(30)")

@@ -32,7 +32,7 @@ import numpy as np
 from .._validation import check_number
 from .bezier import curve_bounds
 from .contour import Contour, _indices
-from .transforms import affine_parts, reflection, rotation, scaling, shearing, translation
+from .transforms import affine_parts, check_reach, reflection, rotation, scaling, shearing, translation
 
 __all__ = ["Outline", "contour_deviation", "nesting_depths", "DEVIATION_SPACING"]
 
@@ -368,11 +368,17 @@ class Outline:
         default). The selected knots land exactly where the map sends them and keep their class (smooth or
         corner); whole contours, and runs between two corners whose knots are all selected, map exactly (the
         new curve is the affine image of the old one; :meth:`Contour.transformed`). Singular or non-finite
-        matrices raise ``ValueError``."""
+        matrices, and maps that take a coordinate beyond ±``transforms.MAX_COORDINATE``, raise ``ValueError``."""
         linear, offset = affine_parts(matrix)
         selected = self._selection(contours, knots)
-        return self._replace({k: self.contours[k].transformed(linear, offset, None if index is None else sorted(index))
-                              for k, index in selected.items()})
+        changes = {}
+        for k, index in selected.items():
+            check_reach(self.contours[k].bezier() @ linear.T + offset)  # (the image of every control point)
+            try:
+                changes[k] = self.contours[k].transformed(linear, offset, None if index is None else sorted(index))
+            except ValueError as exc:  # e.g. a scale so small that knots merge in float64
+                raise ValueError(f"the transform leaves contour {k} invalid: {exc}") from None
+        return self._replace(changes)
 
     def _pivot(self, center, contours, knots):
         return self.selection_center(contours, knots) if center is None else np.asarray(center, float).reshape(2)

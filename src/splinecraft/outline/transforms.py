@@ -12,10 +12,19 @@ import numpy as np
 
 from .._validation import check_number
 
-__all__ = ["affine_parts", "translation", "rotation", "scaling", "shearing", "reflection", "SINGULAR_RTOL"]
+__all__ = ["affine_parts", "translation", "rotation", "scaling", "shearing", "reflection", "SINGULAR_RTOL",
+           "MAX_COORDINATE", "MIN_EXTENT", "check_reach"]
 
 #: A linear part with ``|det A| <= SINGULAR_RTOL * |A|_max^2`` is refused as singular (it would flatten the shape).
+#: The test is made on ``A / |A|_max``, so that it does not depend on the scale (a scale of 1e200 squares to
+#: infinity, one of 1e-200 to zero).
 SINGULAR_RTOL = 1e-12
+#: Largest coordinate a transform may produce: beyond it an outline's areas and lengths (squares of coordinate
+#: differences) overflow float64 (about 1.8e308), and orientation and nesting are lost.
+MAX_COORDINATE = 1e150
+#: Smallest extent (largest coordinate range) of a contour a transform may produce: below it the contour's
+#: area underflows towards float64's subnormals and zero (about 2.2e-308), and orientation and nesting are lost.
+MIN_EXTENT = 1e-150
 
 
 def affine_parts(matrix, name="matrix"):
@@ -34,12 +43,28 @@ def affine_parts(matrix, name="matrix"):
         raise ValueError(f"{name}'s last row must be [0, 0, 1] (an affine map, not a projective one), got "
                          f"{array[2].tolist()}")
     linear, offset = array[:2, :2], array[:2, 2]
-    determinant = float(np.linalg.det(linear))
     size = float(np.abs(linear).max())
-    if not abs(determinant) > SINGULAR_RTOL * max(size * size, np.finfo(float).tiny):
-        raise ValueError(f"{name} is singular (determinant {determinant:.3g}): it would collapse the shape onto a "
-                         "line or a point")
+    relative = float(np.linalg.det(linear / size)) if size > 0 else 0.0  # det(A) / |A|_max^2, scale-free
+    if not abs(relative) > SINGULAR_RTOL:
+        raise ValueError(f"{name} is singular (determinant {relative:.3g} x {size:.3g}^2): it would collapse the "
+                         "shape onto a line or a point")
     return linear, offset
+
+
+def check_reach(points, name="the transformed outline"):
+    """``ValueError`` when a coordinate of the points of one contour ``points`` (``(..., 2)``) is beyond
+    ±:data:`MAX_COORDINATE` (or not finite), or their extent is below :data:`MIN_EXTENT`."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    if not points.size:
+        return
+    if not (np.abs(points) <= MAX_COORDINATE).all():
+        worst = float(np.nanmax(np.where(np.isfinite(points), np.abs(points), np.inf)))
+        raise ValueError(f"{name} would reach a coordinate of {worst:.3g}, beyond ±{MAX_COORDINATE:g} where its "
+                         "areas and lengths overflow: use a smaller scale or offset")
+    extent = float((points.max(axis=0) - points.min(axis=0)).max())
+    if not extent >= MIN_EXTENT:
+        raise ValueError(f"{name} would shrink a contour to an extent of {extent:.3g}, below {MIN_EXTENT:g} where its "
+                         "area vanishes in floating point: use a larger scale")
 
 
 def _about(linear, center):

@@ -496,6 +496,49 @@ def group_max(groups, values, count):
 _WARM = []
 
 
+@njit(**_JIT)
+def _separating_slope_into(t_ink, y_ink, t_paper, y_paper, slopes, step, rounds, grid, out):
+    for _ in range(rounds):
+        best, best_gap = 0, -np.inf
+        for i in range(slopes.shape[0]):
+            above = np.inf
+            for j in range(t_ink.shape[0]):
+                value = y_ink[j] - slopes[i] * t_ink[j]
+                if value < above:
+                    above = value
+            below = -np.inf
+            for j in range(t_paper.shape[0]):
+                value = y_paper[j] - slopes[i] * t_paper[j]
+                if value > below:
+                    below = value
+            gap = above - below
+            if gap > best_gap:  # the first of equal gaps, as numpy.argmax
+                best, best_gap = i, gap
+        slope = slopes[best]
+        # the next grid: numpy.linspace(slope - step, slope + step, n) in its arithmetic (tips._slope_grid)
+        start, stop = slope - step, slope + step
+        n = grid.shape[0]
+        delta = (stop - start) / (n - 1)
+        for k in range(n):
+            grid[k] = (k * delta if delta != 0 else k / (n - 1) * (stop - start)) + start
+        grid[n - 1] = stop
+        slopes = grid
+        step = step / 8
+        out[0] = slope
+
+
+def separating_slope(t_ink, y_ink, t_paper, y_paper, first_slopes, step, rounds):
+    """The slope ``c1`` of :func:`~.tips._separating_line`'s search: per round, of the grid ``slopes`` the one
+    with the largest gap between the lowest ink offset ``y - c1 t`` and the highest paper offset (the first
+    of equal ones), then a grid of as many slopes from ``c1 - step`` to ``c1 + step`` and ``step / 8``;
+    ``rounds`` rounds. Bit for bit the numpy formulation it replaced (``tests/test_kernels.py``)."""
+    out = np.empty(1)
+    grid = np.empty(first_slopes.shape[0])
+    _separating_slope_into(_floats(t_ink), _floats(y_ink), _floats(t_paper), _floats(y_paper),
+                           _floats(first_slopes), float(step), int(rounds), grid, out)
+    return float(out[0])
+
+
 def warm_up():
     """Compile (empty cache) or load (``cache=True``) every kernel that a fit uses, once per process, on
     tiny inputs: :func:`~splinecraft.capture.trace.trace` calls this before its time budget starts, so the
@@ -519,13 +562,14 @@ def _tiny_fit():
 
 def warm_up_solves():
     """The first half of :func:`warm_up`: the normal equations, their solve, the spline's values, the
-    parameter correction and Bézier evaluation."""
+    parameter correction, Bézier evaluation and the separating line's slope search of extrapolated tips."""
     full, u, bez, starts, ends, index = _tiny_fit()
     band, _ = normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
     penalized_normal(band, 1e-8, True)
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
     eval_bezier(bez, index, np.array([0.1, 0.2]))
+    separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
 
 
 def warm_up_checks():

@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._pixel_corners import corner_vertices
+from ._kernels import separating_slope
 from .geometry import polyline_distance
 
 __all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "pixel_pairs",
@@ -168,19 +169,6 @@ def _arc_window(contour, corner_arc, sign, start, stop):
     return indices
 
 
-_STEPS = np.arange(17.0)
-
-
-def _slope_grid(start, stop):
-    """``numpy.linspace(start, stop, 17)`` in its arithmetic (``arange(17) * step + start``, the last value
-    ``stop``), without its set-up."""
-    step = (stop - start) / 16
-    grid = _STEPS * step if step != 0 else _STEPS / 16 * (stop - start)
-    grid += start
-    grid[-1] = stop
-    return grid
-
-
 _FIRST_SLOPES = np.linspace(-SLOPE_SEARCH, SLOPE_SEARCH, 17)
 
 
@@ -200,15 +188,8 @@ def _separating_line(fit, ink, paper):
     sign = 1.0 if y_ink.sum() / y_ink.shape[0] >= y_paper.sum() / y_paper.shape[0] else -1.0
     y_ink, y_paper = sign * y_ink, sign * y_paper  # ink above the line: y_ink - line >= margin
 
-    ink_count = t_ink.shape[0]
-    t_all, y_all = np.concatenate([t_ink, t_paper]), np.concatenate([y_ink, y_paper])
-    slopes, step = _FIRST_SLOPES, SLOPE_SEARCH / 8
-    for _ in range(5):  # grids of 17 slopes, each zoomed to two steps of the last around its best
-        offsets = y_all[None, :] - slopes[:, None] * t_all[None, :]
-        above, below = offsets[:, :ink_count].min(axis=1), offsets[:, ink_count:].max(axis=1)
-        best = int(np.argmax(above - below))
-        slope = slopes[best]
-        slopes, step = _slope_grid(slope - step, slope + step), step / 8
+    # 5 grids of 17 slopes, each zoomed to two steps of the last around its best (one compiled pass)
+    slope = separating_slope(t_ink, y_ink, t_paper, y_paper, _FIRST_SLOPES, SLOPE_SEARCH / 8, 5)
     above, below = (y_ink - slope * t_ink).min(), (y_paper - slope * t_paper).max()
     margin = 0.5 * (above - below)
     if margin <= 0.0:

@@ -69,7 +69,7 @@ ensure_cache_dir()
 #: cold compile in seconds). The seconds were measured one task per fresh process and empty cache on a quiet
 #: machine (BENCHMARKS.md, "Session 20"); only their ratios matter, they balance the processes of :func:`warm_up`.
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.8),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.9),
     "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.85),
     "tracer": ("_cracks", "warm_up", "_follow_into", 1.7),
     "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 1.2),

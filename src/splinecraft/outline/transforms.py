@@ -44,7 +44,8 @@ def affine_parts(matrix, name="matrix"):
                          f"{array[2].tolist()}")
     linear, offset = array[:2, :2], array[:2, 2]
     size = float(np.abs(linear).max())
-    relative = float(np.linalg.det(linear / size)) if size > 0 else 0.0  # det(A) / |A|_max^2, scale-free
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # LAPACK's LU of an exactly singular A
+        relative = float(np.linalg.det(linear / size)) if size > 0 else 0.0  # det(A) / |A|_max^2, scale-free
     if not abs(relative) > SINGULAR_RTOL:
         raise ValueError(f"{name} is singular (determinant {relative:.3g} x {size:.3g}^2): it would collapse the "
                          "shape onto a line or a point")

@@ -239,6 +239,34 @@ def test_affine_invariance(problem, seed):
 
 
 @SETTINGS
+@given(basis_problems(), st.integers(-1000, 1000))
+def test_weights_and_tensions_scaled_together_leave_the_curve_unchanged(problem, power):
+    """The joint condition of §2.2 is homogeneous in (omega, v) (v has the units of omega / h, §2.5 Units):
+    multiplying every weight and every absolute tension by one 2^k, at any k float64 holds, gives the same
+    curve. Before the fix a constant weight beyond about 1e155 (or below 1e-155) failed, as an overflow or as
+    a 'degenerate' D_i blamed on point tensions that were zero."""
+    points, kwargs = problem
+    legs = points.shape[0] if kwargs["closed"] else points.shape[0] - 1
+    weights = np.broadcast_to(kwargs.get("interval_weights", 1.0), (legs,))
+    tension = np.broadcast_to(kwargs.get("point_tension", 0.0), (points.shape[0],))
+    reference = basis_spline(points, **kwargs)
+    scaled = basis_spline(points, **dict(kwargs, interval_weights=np.ldexp(weights, power),
+                                         point_tension=np.ldexp(tension, power)))
+    np.testing.assert_allclose(scaled.bezier(), reference.bezier(), rtol=0,
+                               atol=1e-12 * np.abs(reference.bezier()).max())
+    np.testing.assert_allclose(scaled.auxiliary["tangents"], reference.auxiliary["tangents"], rtol=0,
+                               atol=1e-12 * np.abs(reference.auxiliary["tangents"]).max())
+
+
+def test_constant_extreme_weight_gives_the_weight_one_curve():
+    points = np.array([[0, 0], [1, 2], [3, 1], [4, 3], [6, 0], [7, 2.0]])
+    reference = basis_spline(points, knots="chord")
+    for weight in (1e160, 1e200, 1e300, 1e-160, 1e-300):
+        curve = basis_spline(points, knots="chord", interval_weights=weight)
+        np.testing.assert_allclose(curve.bezier(), reference.bezier(), rtol=0, atol=1e-13)
+
+
+@SETTINGS
 @given(basis_problems(knots="uniform"))
 def test_reversal_symmetry(problem):
     points, kwargs = problem

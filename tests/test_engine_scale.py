@@ -52,6 +52,17 @@ def test_sample_and_curvature_at_extreme_scales(name, build, scale):
         np.testing.assert_allclose(tips / scale, ref_tips, rtol=1e-7, atol=1e-7)
 
 
+@pytest.mark.parametrize("scale, tolerance", [(1e-300, 1e10), (1e-200, 1e200), (1e-40, 1e280), (1e-310, 1.0)])
+@pytest.mark.parametrize("method", ["wang", "subdivide"])
+def test_sample_with_a_tolerance_far_above_the_curve(scale, tolerance, method):
+    """A tolerance larger than the whole curve is met by the knot points alone (one sample per piece); the
+    power-of-two rescaling of a tiny curve used to overflow it (``OverflowError: math range error``)."""
+    curve = sc.interpolate(WAVE * scale)
+    params, samples = curve.sample(tolerance=tolerance, method=method)
+    np.testing.assert_array_equal(params, curve.knots)
+    np.testing.assert_array_equal(samples, curve.knot_points)
+
+
 
 
 @pytest.mark.parametrize("radius, offset", [(1.0, 1e13), (1e-3, 1e7), (1e-3, 1e9), (1e5, -1e15)])

@@ -453,6 +453,17 @@ def test_ill_conditioned_system_is_rejected():
         interpolate(points, knots="uniform", point_tension=[0.0, v, 0.0, 0.0])
 
 
+@pytest.mark.parametrize("scale", [1.0, 1e300])
+def test_weights_too_far_apart_are_reported_in_the_callers_units(scale):
+    """Weights 1e300 and 1e-300 in one curve cannot share a tangent system (the power-of-two rescaling of
+    §2.5 Units flushes the small one to 0). The message names the weight and h_i the caller passed, not
+    the rescaled 'interval_weights[2] = 0.0'."""
+    points = np.array([[0.0, 0.0], [1.0, 2.0], [3.0, 1.0], [4.0, 3.0], [6.0, 0.0]]) * scale
+    with pytest.raises(ValueError, match=r"interval_weights\[2\] = 1e-300") as caught:
+        interpolate(points, interval_weights=[1.0, 1e300, 1e-300, 1.0])
+    assert f"h_2 = {np.hypot(1.0, 2.0) * scale:.3g}" in str(caught.value)
+
+
 def test_one_dimensional_and_three_dimensional_data():
     rng = np.random.default_rng(5)
     t = np.cumsum(rng.uniform(0.5, 2, 10))

@@ -98,8 +98,11 @@ def test_open_domain_raises_and_extrapolates():
     spline = Spline(b, [0.0, 1.0, 3.0])
     with pytest.raises(ValueError, match=r"t\[1\].*outside"):
         spline([0.5, 3.5])
-    with pytest.raises(ValueError, match="outside"):
+    with pytest.raises(ValueError, match="outside") as caught:
         spline(-0.1)
+    assert r"domain [0.0, 3.0];" in str(caught.value)  # plain numbers, not np.float64(0.0) (numpy 2 reprs)
+    with pytest.raises(TypeError, match="t must be numeric, got None"):  # not 't[0] is nan'
+        spline(None)
     reference = BPoly(np.transpose(b, (1, 0, 2)), [0.0, 1.0, 3.0], extrapolate=True)
     t = np.array([-0.5, 3.5])
     np.testing.assert_allclose(spline(t, extrapolate=True), reference(t), atol=1e-12)

@@ -109,3 +109,24 @@ def test_generic_segment_bad_input():
         generic_segment([0, 0], [1, 1], [2, 2], [3, 3], alpha=[1.0, 2.0])
     with pytest.raises(TypeError, match="alpha"):
         generic_segment([0, 0], [1, 1], [2, 2], [3, 3], alpha="ball")
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-300, 1e300, 1e308])
+def test_generic_segment_near_the_float64_limit(scale):
+    """b1 = F0 + alpha/3 (V - F0) is representable whenever the points are (for alpha in [0, 3] it lies between
+    F0 and V), but V - F0 of points near the float64 limit used to overflow: 'bezier[0, 1, 0] is -inf'."""
+    F0, V, W, F1 = (np.array(p) * scale for p in ([1.0, 0.0], [-1.0, 0.5], [0.0, -1.0], [1e-9, 0.25]))
+    for alpha, beta in CLASS_PRESETS.values():
+        b = generic_segment(F0, V, W, F1, alpha, beta).bezier()[0]
+        np.testing.assert_array_equal(b[0], F0)
+        np.testing.assert_array_equal(b[3], F1)
+        expected = segment_reference(F0 / scale, V / scale, W / scale, F1 / scale, alpha, beta)
+        np.testing.assert_allclose(b / scale, expected, rtol=1e-15, atol=1e-15)
+    np.testing.assert_array_equal(generic_segment(F0, V, W, F1).bezier()[0, 1:3], [V, W])  # Bézier: b1 = V
+    if scale >= 1e300:  # b1 truly beyond 1.8e308: refused by name, not as an internal 'bezier[0, 1, 0] is -inf'
+        with pytest.raises(ValueError, match=r"b1 = F0 \+ alpha/3 \(V - F0\).*alpha = 3000000000000.0"):
+            generic_segment(F0, V, W, F1, alpha=3e12)
+
+
+def segment_reference(F0, V, W, F1, alpha, beta):
+    return np.array([F0, F0 + alpha / 3 * (V - F0), F1 + beta / 3 * (W - F1), F1])

@@ -148,6 +148,9 @@ def test_check_options():
     ([(0, 0), (1, "2")], TypeError, "points must be numeric, got a list containing strings"),
     (np.array([[1j, 0]]), TypeError, "points must be real"),
     ([[0, 0], [np.nan, 1]], ValueError, r"points\[1, 0\] is nan"),
+    (None, TypeError, "points must be numeric, got None"),  # numpy would read None as NaN
+    ([[0, 0], [None, 1]], TypeError, "points must be numeric, got a list containing None"),
+    (np.array([[0, 0], [None, 1]], dtype=object), TypeError, "points must be numeric, got an object array containing None"),
     ([[0, 0], [1, np.inf]], ValueError, r"points\[1, 1\] is inf"),
     ([0, 1, 2], ValueError, r"points must be an \(n, d\) array"),
     (np.zeros((0, 2)), ValueError, "points needs at least 2 points, got 0"),

@@ -218,17 +218,21 @@ def check_options(options, name: str, *, allowed=None, reserved=(), reserved_rea
 def as_float_array(value, name: str, *, ndim: int | None = None, copy: bool = False) -> np.ndarray:
     """``value`` as a finite float64 array.
 
-    Raises ``TypeError`` for non-numeric input (strings, bytes, complex, objects, ragged nested lists)
-    and ``ValueError`` for the wrong number of dimensions or a NaN/inf entry (naming its index). Boolean
-    arrays are read as 0/1.
+    Raises ``TypeError`` for non-numeric input (strings, bytes, complex, objects, ``None`` anywhere, ragged
+    nested lists) and ``ValueError`` for the wrong number of dimensions or a NaN/inf entry (naming its
+    index). Boolean arrays are read as 0/1.
     """
     if isinstance(value, (str, bytes)):
         raise TypeError(f"{name} must be numeric, got {_kind(value)}")
+    if value is None:  # numpy reads None as NaN: a missing value is not a number, and not a NaN either
+        raise TypeError(f"{name} must be numeric, got None")
     if isinstance(value, np.ndarray) and value.dtype.kind not in "biuf":
         if value.dtype.kind == "c":
             raise TypeError(f"{name} must be real, got complex values")
         if value.dtype.kind != "O":
             raise TypeError(f"{name} must be a numeric array, got dtype {value.dtype}")
+        if any(item is None for item in value.reshape(-1)):
+            raise TypeError(f"{name} must be numeric, got an object array containing None")
     if not isinstance(value, np.ndarray) and isinstance(value, (list, tuple)):
         try:  # numpy would parse numeric strings inside lists ([["0", "1"]]); refuse them like a str array
             kind = np.asarray(value).dtype.kind
@@ -236,6 +240,8 @@ def as_float_array(value, name: str, *, ndim: int | None = None, copy: bool = Fa
             kind = None  # ragged or odd: the conversion below says why
         if kind in ("U", "S"):
             raise TypeError(f"{name} must be numeric, got a list containing strings")
+        if kind == "O" and any(item is None for item in np.asarray(value, dtype=object).reshape(-1)):
+            raise TypeError(f"{name} must be numeric, got a list containing None")
     try:
         array = np.array(value, dtype=float, copy=True) if copy else np.asarray(value, dtype=float)
     except (TypeError, ValueError, OverflowError) as exc:

@@ -200,17 +200,24 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
         i = int(np.flatnonzero(~(weights > 0))[0])
         raise ValueError(f"interval_weights[{i}] = {float(weights[i])!r} must be > 0")
     tension = per_item(point_tension, n_control, "point_tension", what=f"one per control point, {n_control}")
+    given_weights = weights[1:-1] if not closed and ends == "clamped" else weights  # the ones that act (§4.4)
+    # The closed forms of §4.2 are homogeneous in omega when v has the units of omega / h (§2.5 Units): run
+    # them on weights divided by an exact power of two 2^w near their size, and v likewise, so that a
+    # constant weight of 1e200 (a and a^2 in D_i under- or overflow) gives the curve of weight 1, as in
+    # the interpolant. Only the weights that act set w (clamped ends ignore the end legs' weights).
+    weight_scale = even_exponent(given_weights)
+    if weight_scale:
+        weights = np.ldexp(weights, -weight_scale)
     with np.errstate(over="ignore", under="ignore", divide="ignore"):
         ratio = steps / (weights if closed or ends == "floating" else weights[1:-1])
-    check_interval_ratio(ratio, weights[1:-1] if not closed and ends == "clamped" else weights, "h_i / omega_i",
-                         steps, "control_points")
+    check_interval_ratio(ratio, given_weights, "h_i / omega_i", steps, "control_points")
     if not closed and ends == "clamped":
         if not (steps > 0).all():  # explicit knots already checked; chord/centripetal checked by check_distinct
             raise ValueError("knots must be strictly increasing")
     if tension_scale == "relative":
         tension = _absolute_tension(tension, steps, weights, closed, ends)
-    elif knot_scale:
-        tension = np.ldexp(tension, knot_scale)  # v has the units of omega / h (§2.5 Units)
+    elif knot_scale - weight_scale:
+        tension = np.ldexp(tension, knot_scale - weight_scale)  # v has the units of omega / h (§2.5 Units)
     return closed, ends, scaled, values, steps, weights, tension, (exponent, knot_scale)
 
 

@@ -246,6 +246,7 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     betas = _class_parameter(beta, m, "beta", interval_what)
     relative = point_tension_scale == "relative"
     # the system is homogeneous in omega (with v in the units of omega / h): divide both by 2^w, too
+    given = (weights, steps if not knot_scale else np.ldexp(steps, knot_scale))  # as the caller knows them
     weight_scale = even_exponent(np.asarray(weights))
     if weight_scale:
         weights = np.ldexp(weights, -weight_scale)
@@ -254,7 +255,8 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     ends = None
     if end_condition == "clamped":
         ends = _end_tangents(end_tangents, points, planar_points.T, steps, d, exponent - knot_scale)
-    system = _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends)
+    system = _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends,
+                             given)
     tangents = solve_tangents(*system[:4], closed=closed, off=system[4], describe_row=system[5])
     if not np.isfinite(tangents).all():
         raise ValueError("the tangent system produced non-finite tangents (§2.5): point_tension and "
@@ -297,12 +299,26 @@ def _check_options(closed, end_condition, point_tension_scale, end_tangents):
     return closed, end_condition, point_tension_scale
 
 
-def _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends):
-    """``(lower, diag, upper, rhs, off, describe_row)`` of the tangent system (§2.3, §2.4, eq 3.1, E3-E6)."""
+def _tangent_system(planar_points, legs, steps, weights, tension, relative, end_condition, closed, ends, given=None):
+    """``(lower, diag, upper, rhs, off, describe_row)`` of the tangent system (§2.3, §2.4, eq 3.1, E3-E6).
+
+    ``weights`` and ``steps`` are those of the rescaled problem; ``given`` (optional) is the pair
+    ``(interval_weights, h)`` in the caller's units, for the messages.
+    """
     d, n = planar_points.shape
     with np.errstate(over="ignore", under="ignore"):
         c = weights / steps  # c_i = omega_i / h_i
-    check_interval_ratio(c, weights, "omega_i / h_i", steps)
+    if given is None:
+        check_interval_ratio(c, weights, "omega_i / h_i", steps)
+    elif not (np.isfinite(c) & (c > 0)).all():
+        i = int(np.flatnonzero(~(np.isfinite(c) & (c > 0)))[0])
+        given_weights, given_steps = np.broadcast_to(given[0], c.shape), np.broadcast_to(given[1], c.shape)
+        raise ValueError(
+            f"interval {i} has h_{i} = {float(given_steps[i]):.3g} (knot interval of points) and "
+            f"interval_weights[{i}] = {float(given_weights[i])!r}: its omega_i / h_i, measured against the largest "
+            f"interval weight, is beyond the float64 range (§2.2); neighbouring points this close compared with "
+            f"their coordinates, or weights this far apart, cannot be represented in one tangent system"
+        )
     slopes = legs
     slopes /= steps  # Delta_i (legs is no longer needed)
     weighted = c * slopes  # c_i Delta_i, planar (d, m)

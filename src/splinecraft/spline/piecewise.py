@@ -193,7 +193,7 @@ class Spline:
                 bad = int(np.flatnonzero(outside.reshape(-1))[0])
                 raise ValueError(
                     f"t{format_index(bad, t.shape)} = {float(t.reshape(-1)[bad])!r} is outside the curve's "
-                    f"domain [{t0!r}, {tm!r}]; pass extrapolate=True to extend the end pieces"
+                    f"domain [{float(t0)!r}, {float(tm)!r}]; pass extrapolate=True to extend the end pieces"
                 )
             t = np.clip(t, t0, tm)
         index = np.searchsorted(knots, t, side=side) - 1

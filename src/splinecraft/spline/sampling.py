@@ -49,8 +49,13 @@ def normalised(planar, tolerance):
     if -SAFE_EXPONENT <= exponent <= SAFE_EXPONENT:
         return planar, tolerance, 1.0
     factor = math.ldexp(1.0, exponent)
-    # a tolerance far below the curve's size may underflow: the smallest normal float is as good
-    scaled_tolerance = max(math.ldexp(tolerance, -exponent), np.finfo(float).tiny)
+    # a tolerance far below the curve's size may underflow: the smallest normal float is as good; one far
+    # above it (a tiny curve, or subnormal coordinates) may overflow: the largest float is as good
+    info = np.finfo(float)
+    try:
+        scaled_tolerance = min(max(math.ldexp(tolerance, -exponent), float(info.tiny)), float(info.max))
+    except OverflowError:
+        scaled_tolerance = float(info.max)
     return np.ldexp(planar, -exponent), scaled_tolerance, factor
 
 

@@ -20,6 +20,7 @@ import numpy as np
 
 from .._validation import as_float_array, check_strictly_increasing
 from .piecewise import Spline
+from .scaling import even_exponent
 
 __all__ = [
     "bezier_signed_area",
@@ -123,7 +124,22 @@ def generic_segment(F0, V, W, F1, alpha=3.0, beta=3.0, *, knots=(0.0, 1.0)) -> S
         raise ValueError(f"knots must be (t_i, t_i+1), got {interval.shape[0]} values")
     check_strictly_increasing(interval, "knots")
     F0, V, W, F1 = arrays
-    bezier = segment_bezier(F0, V, W, F1, alpha_value, beta_value)[None]
+    # b1 = F0 + alpha/3 (V - F0) on points scaled by an exact power of two (scaling.py): V - F0 of points
+    # near the float64 limit would overflow although b1 (= V for the Bézier class) is representable
+    exponent = even_exponent(np.stack(arrays))
+    scaled = [np.ldexp(x, -exponent) for x in arrays] if exponent else arrays
+    bezier = segment_bezier(*scaled, alpha_value, beta_value)[None]
+    if exponent:
+        with np.errstate(over="ignore"):
+            bezier = np.ldexp(bezier, exponent)
+        bezier[0, 0], bezier[0, 3] = F0, F1  # the end points bit for bit (a tiny coordinate next to a huge one)
+    if not np.isfinite(bezier).all():
+        which = "b1 = F0 + alpha/3 (V - F0)" if not np.isfinite(bezier[0, 1]).all() else "b2 = F1 + beta/3 (W - F1)"
+        raise ValueError(
+            f"the Bézier point {which} (§1) lies beyond the float64 range with alpha = {alpha_value!r}, "
+            f"beta = {beta_value!r}: a class parameter this large, or points this close to the float64 limit, "
+            f"put it there"
+        )
     return Spline(
         bezier,
         interval,

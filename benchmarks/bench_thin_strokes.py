@@ -11,7 +11,10 @@ Shapes, generated here from a fixed seed and rasterized by pixel centres (pixel 
 * ``rounded bars``: stadiums (a rectangle with semicircular ends) 2-6 px wide, at any angle (no corners);
 * ``wedges``: triangles with an acute tip of 8-45 degrees, 25-60 px long, at any angle;
 * ``tapered ends``: strokes narrowing from 6-10 px to 2-4.5 px over 25-60 px, cut square at both ends, at any
-  angle (session 20; drawn after the other groups, which stay as they were).
+  angle (session 20; drawn after the other groups, which stay as they were);
+* ``blunt tapers`` (180): strokes whose sides converge at 12-30 degrees, cut square where they are 1.0-2.2 px
+  wide, 18-30 px long, at any angle: the crossing of the converging sides lies 2-5 px beyond the blunt end
+  (session 22; drawn last). The cell adds the share traced beyond 2 px of the outline.
 
 Each is traced by ``sc.trace(mask, corner_params=...)`` per variant, interleaved shape by shape, and scored
 against its exact outline: the two-sided distance (dense samples of both; the share within 1 px and the median),
@@ -90,6 +93,11 @@ def shapes(seed=19, count=60):
         centre = (SIZE / 2 + rng.uniform(0, 1), SIZE / 2 + rng.uniform(0, 1))
         vertices = taper(rng.uniform(6.0, 10.0), rng.uniform(2.0, 4.5), rng.uniform(25, 60), rng.uniform(0, 360), centre)
         out.append(("tapered ends", vertices, vertices))
+    for _ in range(3 * count):  # session 22, drawn after the others
+        centre = (SIZE / 2 + rng.uniform(0, 1), SIZE / 2 + rng.uniform(0, 1))
+        opening, end, length = np.radians(rng.uniform(12, 30)), rng.uniform(1.0, 2.2), rng.uniform(18, 30)
+        vertices = taper(end + 2 * length * np.tan(opening / 2), end, length, rng.uniform(0, 360), centre)
+        out.append(("blunt tapers", vertices, vertices))
     return out
 
 
@@ -163,8 +171,9 @@ def main(argv=None):
             segments = np.array([r[k][1] for r in mine])
             hits = np.array([r[k][2] for r in mine])
             corner_cell = "-" if group == "rounded bars" else f"{hits.mean():.0%}"
+            beyond = f" / beyond 2 px {(distance > 2.0).mean():.0%}" if group == "blunt tapers" else ""
             cells.append(f"{(distance <= 1.0).mean():.0%} / {np.median(distance):.2f} / {np.median(segments):.0f} / "
-                         f"{corner_cell}")
+                         f"{corner_cell}{beyond}")
         print(f"| {group} | {len(mine)} | " + " | ".join(cells) + " |")
 
 

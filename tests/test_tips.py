@@ -182,3 +182,84 @@ def test_separating_line_lies_in_the_preimage_of_a_digitized_line(seed):
     assert np.all(truth.inkward(ink) > 0) and np.all(truth.inkward(paper) < 0)  # the truth is in the preimage
     assert abs((line.centre - centre) @ normal) < 0.5
     assert abs(line.direction @ normal) < 0.05
+
+
+def blunt_taper(rng, size=64):
+    """A stroke whose sides converge at 12-30 degrees, cut square where it is 1.0-2.2 px wide (a serif foot or a
+    brush stroke's end at a small size), 18-30 px long, turned: the sides' crossing lies 2-5 px beyond the
+    blunt end, where the pixels show paper."""
+    opening, end, length = math.radians(rng.uniform(12, 30)), rng.uniform(1.0, 2.2), rng.uniform(18, 30)
+    turn = rng.uniform(0, 2 * math.pi)
+    along = np.array([math.cos(turn), math.sin(turn)])
+    across = np.array([-along[1], along[0]])
+    start = end + 2 * length * math.tan(opening / 2)
+    centre = np.full(2, size / 2) + rng.uniform(-0.5, 0.5, 2) - 0.5 * length * along
+    return np.array([centre - 0.5 * start * across, centre + length * along - 0.5 * end * across,
+                     centre + length * along + 0.5 * end * across, centre + 0.5 * start * across])
+
+
+def crack_outline(mask):
+    """The crack outline of the one component of ``mask`` (tracer order: ink on the left)."""
+    from splinecraft.capture.contour import trace_boundaries
+
+    (boundary,) = trace_boundaries(mask)
+    return np.asarray(boundary.outline, float)
+
+
+def wedge_sides(tip, ends):
+    """Two straight :class:`~splinecraft.capture.fitting.tips.SideFit` from ``tip`` through the points ``ends``
+    (each centred there), ink towards the other side."""
+    from splinecraft.capture.fitting import tips
+
+    sides = [tips.SideFit(end, (end - tip) / np.hypot(*(end - tip)), np.zeros(3), 1.0) for end in ends]
+    for side, other in zip(sides, ends[::-1]):
+        side.ink = 1.0 if side.normal @ (other - side.centre) > 0 else -1.0
+    return sides
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_wedge_test_finds_paper_inside_a_spike_and_none_inside_a_true_wedge(seed):
+    """``tips.wedge_contradiction`` (docs/capture.md §12, "Corners of lsq"): a rendering makes every pixel
+    centre inside the true wedge ink. A true acute wedge, with its exact sides, has no paper centre inside it
+    anywhere between its tip and the contour; a bar cut square, with two sides that converge on a point 4 px
+    beyond its end (a spike), has paper centres deep inside that wedge, between the spike and the contour."""
+    from splinecraft.capture.fitting import tips
+
+    rng = np.random.default_rng(seed)
+    rotation = rng.uniform(0.0, 2 * math.pi)
+    offset = rng.uniform(-0.5, 0.5, 2)
+    vertices, tip, size, directions = wedge(30.0, rotation, offset, concave=False)
+    points = crack_outline(render(vertices, size))
+    pairs = tips.pixel_pairs(points)
+    ends = tip + 6.0 * np.array([[math.cos(a), math.sin(a)] for a in directions])
+    sides = wedge_sides(tip, ends)
+    assert tips.wedge_contradiction(points, pairs, tip, ends, sides) <= 0.0
+
+    # a bar 3 px wide cut square, and the lines from a point 4 px beyond its end to its two end corners' sides
+    axis = np.array([math.cos(rotation), math.sin(rotation)])
+    normal = np.array([-axis[1], axis[0]])
+    end_centre = np.full(2, 40.0) + offset
+    bar = np.array([end_centre - 30 * axis - 1.5 * normal, end_centre - 1.5 * normal,
+                    end_centre + 1.5 * normal, end_centre - 30 * axis + 1.5 * normal])
+    points = crack_outline(render(bar, 80))
+    pairs = tips.pixel_pairs(points)
+    spike = end_centre + 4.0 * axis
+    ends = np.array([end_centre - 3.0 * axis - 1.5 * normal, end_centre - 3.0 * axis + 1.5 * normal])
+    sides = wedge_sides(spike, ends)
+    assert tips.wedge_contradiction(points, pairs, spike, ends, sides) > tips.CONTRADICTION
+
+
+@pytest.mark.parametrize("index", [9, 73, 125])
+def test_a_blunt_tapered_stroke_keeps_its_blunt_end(index):
+    """Three of the blunt tapered strokes whose traces reached 3.7-4.2 px beyond the outline (a spike from the
+    crossing of the converging sides, over paper pixel centres past the blunt end) before
+    ``tips.wedge_contradiction``; now each trace stays within 1.25 px of the stroke's outline."""
+    from scipy.spatial import cKDTree
+
+    from test_small_outlines import dense_beziers, dense_polygon
+
+    rng = np.random.default_rng(6)
+    for _ in range(index + 1):
+        vertices = blunt_taper(rng)
+    curve = dense_beziers(trace(render(vertices, 64)))
+    assert cKDTree(dense_polygon(vertices)).query(curve)[0].max() <= 1.25

@@ -26,7 +26,8 @@ from .._pixel_corners import corner_vertices
 from ._kernels import separating_slope
 from .geometry import polyline_distance
 
-__all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "pixel_pairs",
+__all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction",
+           "pixel_pairs",
            "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
@@ -304,6 +305,51 @@ def tip_contradiction(contour, corner_arc, zone, sides, pairs):
     return float(max((-ink_depth).max(), paper_depth.max()))
 
 
+def wedge_contradiction(points, pairs, tip, ends, sides):
+    """How far (px) the wedge of two :class:`SideFit` crossing at ``tip`` contradicts the pixel centres between
+    the tip and the contour: every centre inside the triangle of ``tip`` and the contour points ``ends`` at the
+    side windows' start, not only those beside the contour (:func:`tip_contradiction`): the deepest paper centre
+    inside the ink wedge of a convex corner, or ink centre inside the paper wedge of a notch (<= 0 or
+    ``-inf``: none), with each side moved inwards by its margin (:class:`SideFit`: every line within it
+    separates the side's window as well, so only a centre deeper than that contradicts the side as measured). A
+    rendering makes every pixel centre inside the true wedge ink (outside it paper), so an extrapolated tip whose
+    wedge holds paper centres beyond the contour (a spike past a stroke end, say) is not the tip.
+
+    Whether a centre is ink follows from the crack outline ``points`` alone: a vertical ray from the centre
+    crosses the outline at its horizontal cracks (points with integer y on the centre's column), and the
+    parity of the crossings above it is that of a centre known to be ink (``pairs[0][0]``, beside the first
+    crack) exactly when it is ink."""
+    corners = np.vstack([tip[None], ends])
+    low, high = np.floor(corners.min(axis=0)), np.ceil(corners.max(axis=0))
+    xs, ys = np.arange(low[0], high[0]) + 0.5, np.arange(low[1], high[1]) + 0.5
+    centres = np.column_stack([np.repeat(xs, ys.shape[0]), np.tile(ys, xs.shape[0])])
+    # inside the triangle: on the same side of each edge as the opposite vertex
+    inside = np.ones(centres.shape[0], bool)
+    for k in range(3):
+        first, second, opposite = corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]
+        edge = second - first
+        side = edge[0] * (opposite[1] - first[1]) - edge[1] * (opposite[0] - first[0])
+        inside &= (edge[0] * (centres[:, 1] - first[1]) - edge[1] * (centres[:, 0] - first[0])) * side > 0.0
+    if not inside.any():
+        return -np.inf
+    centres = centres[inside]
+    convex = sides[0].inkward(sides[1].centre[None])[0] > 0
+    # depth inside the wedge of the corner's own class (ink for a convex corner, paper for a notch), each side
+    # moved inwards by its margin: any line within the margin separates the side's pixels as well
+    sign = 1.0 if convex else -1.0
+    wedge_depth = np.minimum(sign * sides[0].inkward(centres) - sides[0].margin,
+                             sign * sides[1].inkward(centres) - sides[1].margin)
+    horizontal = points[np.abs(points[:, 1] - np.round(points[:, 1])) < 1e-9]
+
+    def crossings(queries):
+        above = (horizontal[None, :, 0] == queries[:, None, 0]) & (horizontal[None, :, 1] < queries[:, None, 1])
+        return above.sum(axis=1) % 2
+
+    ink = crossings(centres) == crossings(pairs[0][:1])[0]
+    wrong = (~ink if convex else ink) & (wedge_depth > 0.0)
+    return float(wedge_depth[wrong].max()) if wrong.any() else -np.inf
+
+
 def tip_estimates(contour, angle, radius, measured=None):
     """Per corner of ``contour`` (a :class:`~.lsq_setup.RotatedContour` with corners), the extrapolated tip:
     both sides fitted by :func:`side_fit` from ``max(radius, min(6, 1 / tan(angle / 2)))`` px of arc (where
@@ -414,7 +460,8 @@ def tip_estimates(contour, angle, radius, measured=None):
         if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
             continue
         if pairs is not None and sides[0].ink and sides[1].ink and \
-                tip_contradiction(contour, corner_arc, start[c] + TIP_ZONE, sides, pairs) > CONTRADICTION:
+                (tip_contradiction(contour, corner_arc, start[c] + TIP_ZONE, sides, pairs) > CONTRADICTION or
+                 wedge_contradiction(contour.points, pairs, point, ends, sides) > CONTRADICTION):
             continue
         estimate[c], anchors[c] = point, ends
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of

@@ -339,13 +339,17 @@ def wedge_contradiction(points, pairs, tip, ends, sides):
     sign = 1.0 if convex else -1.0
     wedge_depth = np.minimum(sign * sides[0].inkward(centres) - sides[0].margin,
                              sign * sides[1].inkward(centres) - sides[1].margin)
-    horizontal = points[np.abs(points[:, 1] - np.round(points[:, 1])) < 1e-9]
+    reference = pairs[0][:1]
+    columns = np.append(centres[:, 0], reference[0, 0])
+    # the horizontal cracks on the columns of the centres (a ray only meets cracks of its own column)
+    horizontal = points[(np.abs(points[:, 1] - np.round(points[:, 1])) < 1e-9) &
+                        (points[:, 0] >= columns.min()) & (points[:, 0] <= columns.max())]
 
     def crossings(queries):
         above = (horizontal[None, :, 0] == queries[:, None, 0]) & (horizontal[None, :, 1] < queries[:, None, 1])
         return above.sum(axis=1) % 2
 
-    ink = crossings(centres) == crossings(pairs[0][:1])[0]
+    ink = crossings(centres) == crossings(reference)[0]
     wrong = (~ink if convex else ink) & (wedge_depth > 0.0)
     return float(wedge_depth[wrong].max()) if wrong.any() else -np.inf
 

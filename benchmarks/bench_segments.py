@@ -38,7 +38,8 @@ SMALL_GROUPS = ("small-glyph", "small-polygon", "small-blob")
 TIP_ANGLES = {name: getattr(tips, name) for name in ("MAX_EXTRAPOLATED_ANGLE", "MAX_OBTUSE_ANGLE")}
 #: The other constants a variant may set (``"tip_constants"``), restored to these defaults before every variant.
 TIP_CONSTANTS = {name: getattr(tips, name) for name in ("CONTRADICTION", "TIP_ZONE", "MAX_TIP_REACH", "REACH_PER_SIDE",
-                                                        "BEHIND", "SHARP_TRUNCATION", "MIN_CROSSING")}
+                                                        "BEHIND", "SHARP_TRUNCATION", "MIN_CROSSING",
+                                                        "RETRY_SHRINK", "RETRY_UNCERTAINTY")}
 
 
 def shapes(groups):

@@ -16,7 +16,8 @@ within a few degrees of an axis are resolved only to half a pixel by any method.
 intersects the sides, bounds the crossing (reach and how far outside the pixels a sharp tip can lie, from the
 opening of the fitted sides at the crossing) and drops a crossing whose wedge the pixels contradict: an ink
 centre near the tip outside it or a paper centre inside it by more than ``CONTRADICTION`` px
-(:func:`tip_contradiction`).
+(:func:`tip_contradiction`), or a centre of the other kind anywhere between the crossing and the contour
+(:func:`wedge_contradiction`); such a crossing is sought again on shorter straight windows.
 """
 from __future__ import annotations
 
@@ -67,6 +68,12 @@ BEHIND = 1.0
 #: (:func:`tip_contradiction`).
 TIP_ZONE = 1.0
 CONTRADICTION = 0.1
+#: Where a corner's crossing fails the bounds or the consistency tests, its sides are fitted again on windows
+#: shrunk to this fraction (from the window start), as long as both are separating lines, until one passes or
+#: a window is shorter than :data:`SHORTEST_SIDE`; 0: no retry. A retried crossing is kept only where the
+#: sides' margins pin it down to :data:`RETRY_UNCERTAINTY` px along the bisector.
+RETRY_SHRINK = 0.5
+RETRY_UNCERTAINTY = 0.5
 #: Range of slopes (in the frame of the least-squares line) searched for the separating line of a side.
 SLOPE_SEARCH = 0.25
 #: Sides that meet at less than this angle (radians, between their directions) give no reliable intersection.
@@ -361,7 +368,10 @@ def tip_estimates(contour, angle, radius, measured=None):
     further), intersected by :func:`_crossing`. Kept when the intersection lies within :func:`tip_reach` of
     the contour corner (and within :data:`REACH_PER_SIDE` of the shorter window), no farther outside the
     contour than a sharp tip can be (:data:`SHARP_TRUNCATION`) and not more than :data:`BEHIND` behind it
-    (along the bisector of the sides). Only corners sharper than :data:`MAX_EXTRAPOLATED_ANGLE` (or than
+    (along the bisector of the sides), and neither :func:`tip_contradiction` nor :func:`wedge_contradiction`
+    finds pixels that contradict its wedge. A crossing that fails is sought again on windows shrunk by
+    :data:`RETRY_SHRINK` while both sides are separating lines, and kept only where their margins pin it down
+    to :data:`RETRY_UNCERTAINTY`. Only corners sharper than :data:`MAX_EXTRAPOLATED_ANGLE` (or than
     :data:`MAX_OBTUSE_ANGLE` between two straight sides) are measured (the others get no estimate, and their
     sides are not fitted).
 
@@ -444,30 +454,25 @@ def tip_estimates(contour, angle, radius, measured=None):
                 break
         if not measured:
             continue
-        # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
-        # other side's window bounds the reach
-        windows = [side.length for side, is_short in zip(sides, short[c]) if not (is_short and one_short[c])]
+        is_shared = [bool(short[c, k] and one_short[c]) for k in (0, 1)]
+        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs)
+        reach = stops[c].copy()
+        while found is None and RETRY_SHRINK and not any(is_shared):
+            reach = start[c] + RETRY_SHRINK * (reach - start[c])
+            if (reach - start[c]).min() < SHORTEST_SIDE:
+                break
+            sides = [side_fit(contour, corner_arc, 2 * k - 1, start[c], reach[k], pairs) for k in (0, 1)]
+            if any(side is None or not side.margin > 0 for side in sides):
+                break
+            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs)
+            if found is not None and \
+                    (sides[0].margin + sides[1].margin) / (2.0 * np.sin(0.5 * found[1])) > RETRY_UNCERTAINTY:
+                found = None
+                break
+        if found is None:
+            continue
+        estimate[c], opening[c], anchors[c] = found
         straight[c] = sides[0].margin > 0 and sides[1].margin > 0
-        point = _crossing(*sides)
-        corner_point = contour.points[contour.corner_bounds[c] % contour.size]
-        ends = contour.point_at_arc((corner_arc + np.array([-start[c], start[c]])) % perimeter)
-        if point is None or not np.isfinite(point).all():
-            continue
-        # the opening of the fitted sides (the contour's angle, measured on chords from the truncated tip, is
-        # blunter than a narrow wedge's)
-        away = [side.tangent(side.local(point)) for side in sides]  # the sides' tangents at the crossing
-        away = [a * np.sign((side.centre - point) @ a) / np.hypot(*a) for a, side in zip(away, sides)]
-        opening[c] = np.arccos(np.clip(away[0] @ away[1], -1.0, 1.0))
-        if np.hypot(*(point - corner_point)) > min(tip_reach(opening[c]), REACH_PER_SIDE * min(windows)):
-            continue
-        outward = corner_point - 0.5 * (ends[0] + ends[1])  # along the bisector, away from the pieces
-        if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
-            continue
-        if pairs is not None and sides[0].ink and sides[1].ink and \
-                (tip_contradiction(contour, corner_arc, start[c] + TIP_ZONE, sides, pairs) > CONTRADICTION or
-                 wedge_contradiction(contour.points, pairs, point, ends, sides) > CONTRADICTION):
-            continue
-        estimate[c], anchors[c] = point, ends
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of
     # the sides of a rounded (or flattened) corner, which the pixels follow better than the crossing does
     # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides); where one side is short, the
@@ -481,6 +486,35 @@ def tip_estimates(contour, angle, radius, measured=None):
         rounded = found[outside * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
         estimate[rounded], anchors[rounded], distance[rounded] = np.nan, np.nan, np.nan
     return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance)
+
+
+def _tip(contour, c, sides, is_shared, corner_arc, start, pairs):
+    """The crossing of the two :class:`SideFit` ``sides`` of corner ``c`` as its tip (:func:`tip_estimates`'
+    bounds and consistency tests), with the opening of the fitted sides at the crossing and the contour points
+    at the window starts; None where it fails them."""
+    # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
+    # other side's window bounds the reach
+    windows = [side.length for side, shared in zip(sides, is_shared) if not shared]
+    point = _crossing(*sides)
+    if point is None or not np.isfinite(point).all():
+        return None
+    corner_point = contour.points[contour.corner_bounds[c] % contour.size]
+    ends = contour.point_at_arc((corner_arc + np.array([-start, start])) % contour.perimeter)
+    # the opening of the fitted sides (the contour's angle, measured on chords from the truncated tip, is
+    # blunter than a narrow wedge's)
+    away = [side.tangent(side.local(point)) for side in sides]  # the sides' tangents at the crossing
+    away = [a * np.sign((side.centre - point) @ a) / np.hypot(*a) for a, side in zip(away, sides)]
+    opening = np.arccos(np.clip(away[0] @ away[1], -1.0, 1.0))
+    if np.hypot(*(point - corner_point)) > min(tip_reach(opening), REACH_PER_SIDE * min(windows)):
+        return None
+    outward = corner_point - 0.5 * (ends[0] + ends[1])  # along the bisector, away from the pieces
+    if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
+        return None
+    if pairs is not None and sides[0].ink and sides[1].ink and \
+            (tip_contradiction(contour, corner_arc, start + TIP_ZONE, sides, pairs) > CONTRADICTION or
+             wedge_contradiction(contour.points, pairs, point, ends, sides) > CONTRADICTION):
+        return None
+    return point, opening, ends
 
 
 def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance):

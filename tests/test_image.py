@@ -126,6 +126,38 @@ def test_transparent_png_is_composited_on_white(tmp_path):
     np.testing.assert_array_equal(load_bitmap(palette), mask)
 
 
+@pytest.mark.parametrize("mode", ["L", "RGB", "I;16", "1"])
+def test_transparent_colour_of_a_png_is_paper(tmp_path, mode):
+    """A gray, 16-bit or RGB PNG may name one colour transparent (its tRNS chunk) instead of carrying an alpha
+    channel; a viewer shows those pixels as the page, so they are paper, as an alpha channel's transparent
+    pixels are (they were read as their colour: a transparent dark bar was ink). threshold="alpha" traces
+    the opaque pixels of such a file, 16-bit included."""
+    disc = shape_mask()
+    disc[:, 38:] = False                                         # the disc alone ...
+    bar = shape_mask() & ~disc                                   # ... and the bar, drawn in the transparent colour
+    if mode == "1":                                              # two levels: black is the transparent colour
+        gray, key = gray_image(bar), 0
+        expected_default, expected_alpha = np.zeros_like(bar), ~bar
+    else:
+        gray, key = np.where(disc, 0, np.where(bar, 50, 255)).astype(np.uint8), 50
+        expected_default, expected_alpha = disc, ~bar
+    if mode == "I;16":
+        img, key = Image.fromarray(gray.astype(np.uint16) * 257), key * 257
+    elif mode == "RGB":
+        img, key = Image.fromarray(np.stack([gray] * 3, axis=-1), "RGB"), (key,) * 3
+    else:
+        img = Image.fromarray(gray).convert(mode)
+    path = tmp_path / "keyed.png"
+    img.save(path, transparency=key)
+    with Image.open(path) as opened:
+        assert opened.mode == mode and opened.info["transparency"] == (255 if mode == "1" and key else key)
+    for source in (path, path.read_bytes()):
+        np.testing.assert_array_equal(load_bitmap(source, threshold=0.5), expected_default)
+        np.testing.assert_array_equal(load_bitmap(source, threshold="alpha"), expected_alpha)
+    if mode != "1":
+        np.testing.assert_array_equal(load_bitmap(path), expected_default)
+
+
 def test_multiframe_gif_uses_first_frame(tmp_path):
     first, second = shape_mask(), ~shape_mask()
     frames = [Image.fromarray(gray_image(m)).convert("P") for m in (first, second)]

@@ -10,7 +10,8 @@ Conventions
   8-bit values are divided by 255, 16-bit values by 65535, float images must already lie in
   ``[0, 1]``. Colour uses the ITU-R 601 luma ``0.299 R + 0.587 G + 0.114 B`` (the weights of
   PIL's ``convert("L")``, rounded the same way for 8-bit data). Transparency is composited on
-  **white** paper, so a black shape on a transparent background is ink.
+  **white** paper, so a black shape on a transparent background is ink; that includes the transparent colour
+  of a gray, 16-bit or RGB PNG (its ``tRNS`` chunk): pixels of that colour are paper, as a viewer shows them.
 * **Ink is dark** by default: ``ink = gray <= threshold``; ``invert=True`` makes light pixels ink.
   ``threshold="alpha"`` reads the opacity instead: a pixel at least half opaque is ink, whatever its colour
   (a white logo on a transparent background, which compositing on white would erase).
@@ -506,9 +507,35 @@ def _no_alpha(what):
                       "transparency (RGBA, LA, a palette or gray with a transparent colour); use another threshold")
 
 
-def _pil_to_gray(img, name, alpha=False):
+def _keyed_transparent(img):
+    """The transparent pixels of a gray, 16-bit or RGB image with a transparent colour (PNG's ``tRNS`` chunk:
+    ``img.info["transparency"]``, one gray level or one RGB triple), as a bool array, or ``None`` when the
+    image has no such colour (palette and alpha modes carry their transparency in their data)."""
+    key = img.info.get("transparency")
+    if key is None or isinstance(key, bytes) or img.mode not in _GRAY_MODES | {"1", "RGB"}:
+        return None
+    arr = np.asarray(img)
+    if img.mode == "1":  # PIL reads a 1-bit key as 0 or 255
+        return arr == bool(key)
+    if arr.ndim == 3:
+        key = np.asarray(key).reshape(-1)
+        if key.size != arr.shape[2]:
+            return None
+        return np.all(arr == key.astype(arr.dtype), axis=2)
+    if np.ndim(key) != 0:
+        return None
+    return arr == key
+
+
+def _pil_to_gray(img, name, alpha=False, keyed=True):
     mode = img.mode
     _check_not_empty((img.height, img.width))
+    transparent = _keyed_transparent(img) if keyed else None
+    if transparent is not None:  # a transparent colour: composited on white as an alpha channel is
+        if alpha:
+            return np.where(transparent, np.uint8(255), np.uint8(0)), 255
+        gray, white = _pil_to_gray(img, name, keyed=False)  # these modes convert nothing: the key is not seen
+        return np.where(transparent, np.asarray(white, dtype=gray.dtype), gray), white
     if alpha:
         if not img.has_transparency_data:
             raise _no_alpha(name)

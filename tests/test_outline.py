@@ -668,3 +668,28 @@ def test_a_bad_outline_field_is_refused_when_read_not_at_export(change, error, w
     data.update(change)
     with pytest.raises(error, match=words):
         Outline.from_json(json.dumps(data))
+
+
+def test_from_trace_names_a_bad_iteration():
+    """``from_trace(result, iteration=...)`` (also ``result.edit(iteration=...)``) indexed the snapshots
+    unchecked: an iteration past the last was a bare ``IndexError: list index out of range``, a float a
+    ``TypeError`` about list indices, and any iteration of a trace without snapshots an IndexError that did
+    not say why. They are errors naming ``iteration``, the range and the way out."""
+    yy, xx = np.mgrid[:40, :40] + 0.5
+    mask = ((yy - 20) ** 2 / 300 + (xx - 20) ** 2 / 150 < 1) & ((yy - 20) ** 2 + (xx - 20) ** 2 > 30)
+    result = sc.trace(mask, method="euclidean", seed=3)
+    count = len(result.snapshots)
+    assert count > 1
+    first = as_outline(result, iteration=0)
+    assert len(first) == len(result.splines)
+    assert np.allclose(as_outline(result, iteration=-1).bezier()[0], as_outline(result, iteration=count - 1).bezier()[0])
+    for bad in (count, -count - 1, 10**6):
+        with pytest.raises(ValueError, match=rf"iteration={bad} is out of range: the trace has {count} snapshots"):
+            as_outline(result, iteration=bad)
+    for bad in (1.5, "2", True):
+        with pytest.raises(TypeError, match="iteration must be an integer"):
+            as_outline(result, iteration=bad)
+    bare = sc.trace(mask, keep_snapshots=False)
+    assert len(as_outline(bare)) == len(bare.splines)
+    with pytest.raises(ValueError, match="kept no snapshots.*keep_snapshots=True"):
+        as_outline(bare, iteration=0)

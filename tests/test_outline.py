@@ -437,6 +437,25 @@ def test_contour_input_errors_name_the_argument():
         Contour(_loop(4, 1)).moved(9, (0, 0))
 
 
+def test_a_knot_moved_to_a_malformed_position_names_positions():
+    """``move_knot``/``Contour.moved`` reshaped the position with numpy: a 3-number point was "cannot reshape
+    array of size 3 into shape (2)", and a 6-number one silently became three points. The shape is checked and
+    the message names ``positions``; a non-finite coordinate is named as a plain number (not np.float64)."""
+    outline = from_knots([_loop(4, 1)])
+    for bad in ((1.0, 2.0, 3.0), [[1.0], [2.0]], [[[1.0, 2.0]]], 5.0):
+        with pytest.raises(ValueError, match=r"positions must be a point \(x, y\) or one per knot"):
+            outline.move_knot(0, 0, bad)
+    with pytest.raises(ValueError, match=r"positions must be a point"):
+        outline.move_knot(0, [0, 1, 2], [1.0, 2.0, 3.0, 4.0, 5.0, 6.0])  # not three points
+    with pytest.raises(TypeError, match="positions"):
+        outline.move_knot(0, 0, None)
+    with pytest.raises(ValueError, match=r"points\[0, 0\] is nan; it must be finite"):
+        outline.move_knot(0, 0, (np.nan, 1.0))
+    moved = outline.move_knot(0, [0, 1], [[0.1, 0.2], [0.9, 0.1]])
+    np.testing.assert_array_equal(moved.contours[0].points[:2], [[0.1, 0.2], [0.9, 0.1]])
+    np.testing.assert_array_equal(outline.move_knot(0, 0, [(0.1, 0.2)]).contours[0].points[0], [0.1, 0.2])
+
+
 def test_reversed_contour_is_the_same_curve_backwards():
     contour = Contour(_loop(6, 8), [True, False, True, False, False, False], interval_weights=[1, 2, 1, 3, 1, 1])
     backwards = contour.reversed()

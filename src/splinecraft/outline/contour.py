@@ -55,7 +55,8 @@ def _finite(array, name):
     bad = ~np.isfinite(array)
     if bad.any():
         index = np.unravel_index(int(np.flatnonzero(bad)[0]), array.shape)
-        raise ValueError(f"{name}[{', '.join(str(int(i)) for i in index)}] is {array[index]!r}; it must be finite")
+        raise ValueError(f"{name}[{', '.join(str(int(i)) for i in index)}] is {float(array[index])!r}; it must be "
+                         "finite")
 
 
 def _chords(points):
@@ -213,7 +214,13 @@ class Contour:
     def moved(self, knots, positions) -> "Contour":
         """Knots ``knots`` moved to ``positions`` (their handles move with them)."""
         index = _indices(knots, len(self))
-        positions = np.asarray(positions, float).reshape(-1, 2)
+        if positions is None:
+            raise TypeError("positions must be a point (x, y) or one per knot, got None")
+        positions = _array(positions, "positions", np.shape(positions))
+        if positions.ndim == 0 or positions.shape[-1] != 2 or positions.ndim > 2:
+            raise ValueError(f"positions must be a point (x, y) or one per knot, shape (n, 2); got shape "
+                             f"{positions.shape}")
+        positions = positions.reshape(-1, 2)
         if positions.shape[0] not in (1, index.size):
             raise ValueError(f"positions must give one point per knot ({index.size}), got {positions.shape[0]}")
         points = np.array(self.points)

@@ -456,6 +456,39 @@ def test_a_knot_moved_to_a_malformed_position_names_positions():
     np.testing.assert_array_equal(outline.move_knot(0, 0, [(0.1, 0.2)]).contours[0].points[0], [0.1, 0.2])
 
 
+def test_selections_are_single_indices_checked_against_the_outline():
+    """A contour or knot index that was a list took its first item (``contours=[[0, 1]]`` moved contour 0 only;
+    ``knots=[(0, [1, 2])]`` moved knot 1 only; ``move_knot([0, 1], ...)`` edited contour 0), a knot of a contour
+    chosen whole was never checked (``knots=[(0, 99)]``), a bare index in ``knots`` or a dict was "object of type
+    'int' has no len()", and a contour out of range was reported as "a contour of 2 knots". Each is an error
+    naming the argument and what it indexes."""
+    outline = from_knots([_loop(4, 1), _loop(3, 2, radius=20.0) + 200])
+    cases = [
+        (dict(contours=[[0, 1]]), TypeError, r"contours\[0\] must be one integer index, got \[0, 1\]"),
+        (dict(knots=[(0, [1, 2])]), TypeError, r"knots\[0\]\[1\] \(a knot\) must be one integer index"),
+        (dict(contours=[0], knots=[(0, 99)]), ValueError, r"knots\[0\]\[1\] \(a knot\) = 99 is out of range for "
+                                                         r"contour 0 of 4 knots"),
+        (dict(knots=[5]), ValueError, r"\(contour, knot\) pairs, got knots\[0\] = 5"),
+        (dict(knots={0: [1]}), TypeError, "knots must be a list of"),
+        (dict(contours=[7]), ValueError, r"contours\[0\] = 7 is out of range for an outline of 2 contours"),
+        (dict(contours=1.0), TypeError, "one integer index"),
+    ]
+    for selection, error, pattern in cases:
+        with pytest.raises(error, match=pattern):
+            outline.translate(1.0, 1.0, **selection)
+    with pytest.raises(TypeError, match=r"contour must be one integer index, got \[0, 1\]"):
+        outline.move_knot([0, 1], 0, (3.0, 3.0))
+    with pytest.raises(ValueError, match="contour = 2 is out of range for an outline of 2 contours"):
+        outline.set_corner(2, 0)
+    both = outline.translate(1.0, 2.0, contours=np.array([0, 1]))
+    for before, after in zip(outline.contours, both.contours):
+        np.testing.assert_allclose(after.points, before.points + [1.0, 2.0])
+    last = outline.translate(1.0, 2.0, knots=[(np.int64(-1), np.int32(-1))])
+    np.testing.assert_allclose(last.contours[1].points[2], outline.contours[1].points[2] + [1.0, 2.0])
+    np.testing.assert_array_equal(last.contours[1].points[:2], outline.contours[1].points[:2])
+    np.testing.assert_array_equal(last.contours[0].points, outline.contours[0].points)
+
+
 def test_reversed_contour_is_the_same_curve_backwards():
     contour = Contour(_loop(6, 8), [True, False, True, False, False, False], interval_weights=[1, 2, 1, 3, 1, 1])
     backwards = contour.reversed()

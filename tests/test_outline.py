@@ -489,6 +489,29 @@ def test_selections_are_single_indices_checked_against_the_outline():
     np.testing.assert_array_equal(last.contours[0].points, outline.contours[0].points)
 
 
+def test_single_knot_edits_refuse_lists_and_non_bool_flags():
+    """delete_knot, set_corner, insert_knot and move_handle took the first of a list of indices silently
+    (``delete_knot(0, [0, 1])`` deleted knot 0 only), ``corner="no"`` made a corner (``bool("no")``) and
+    ``theta="0.5"`` was read as a number; each is now a TypeError naming the argument."""
+    outline = from_knots([_loop(5, 3)])
+    cases = [
+        (lambda: outline.delete_knot(0, [0, 1]), r"knot must be one integer index, got \[0, 1\]"),
+        (lambda: outline.set_corner(0, [1, 2]), r"knot must be one integer index"),
+        (lambda: outline.insert_knot(0, [0, 1]), r"piece must be one integer index"),
+        (lambda: outline.set_corner(0, 1).move_handle(0, [1, 2], "in", (1.0, 1.0)), r"knot must be one integer"),
+        (lambda: outline.set_corner(0, 1, corner="no"), r"corner must be a bool"),
+        (lambda: outline.set_corner(0, 1, corner=0), r"corner must be a bool"),
+        (lambda: outline.set_corner(0, 1, keep_shape="yes"), r"keep_shape must be a bool"),
+        (lambda: outline.insert_knot(0, 0, "0.5"), r"theta must be a real number"),
+    ]
+    for edit, pattern in cases:
+        with pytest.raises(TypeError, match=pattern):
+            edit()
+    assert len(outline.delete_knot(0, np.int64(1)).contours[0]) == 4
+    assert outline.set_corner(0, 1, np.True_).contours[0].corners.tolist() == [False, True, False, False, False]
+    assert len(outline.insert_knot(0, -1, np.float32(0.25)).contours[0]) == 6
+
+
 def test_reversed_contour_is_the_same_curve_backwards():
     contour = Contour(_loop(6, 8), [True, False, True, False, False, False], interval_weights=[1, 2, 1, 3, 1, 1])
     backwards = contour.reversed()

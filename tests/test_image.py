@@ -350,6 +350,28 @@ def test_speck_removal():
     np.testing.assert_array_equal(cleaned, expected)
 
 
+@pytest.mark.parametrize("pattern", ["checkerboard", "single pixel"])
+def test_two_level_images_get_no_automatic_speck_area(pattern):
+    """A 1-bit image, or a mask saved as 0/255, carries no gray level: like a bool mask it gets no automatic
+    speck area (docs/capture.md §10). The noise estimate (the median diagonal Haar detail) read such a pattern as
+    noise whenever most 2 x 2 windows straddle an edge: a 32 x 32 checkerboard filled 450 of its 512 holes (and
+    traced as one square), and a 3 x 3 image with one black pixel lost it ("no shape found")."""
+    import splinecraft as sc
+
+    if pattern == "checkerboard":
+        mask = np.add.outer(np.arange(32), np.arange(32)) % 2 == 0
+    else:
+        mask = np.zeros((3, 3), bool)
+        mask[1, 1] = True
+    gray = gray_image(mask)
+    for image in (gray, gray_image(mask, ink=40, paper=200), Image.fromarray(gray).convert("1"),
+                  gray.astype(np.float64) / 255):
+        np.testing.assert_array_equal(load_bitmap(image), mask)
+        np.testing.assert_array_equal(load_bitmap(image, threshold=0.5), mask)
+    result = sc.trace(gray, connectivity=4, min_speck_area=None)
+    assert len(result.splines) == int(mask.sum())
+
+
 def test_speck_connectivity():
     mask = np.zeros((6, 6), bool)
     mask[1, 1] = mask[2, 2] = True  # diagonal pair: one 8-component of 2, two 4-components of 1

@@ -40,8 +40,9 @@ Conventions
 * **Specks.** ``min_speck_area=k`` removes ink components *and* holes (background components not touching
   the image border) with fewer than ``k`` pixels; ink components use the tracer's ``connectivity``, holes
   the complementary one. ``None`` (default) sets ``k`` from the image's noise estimate (the rule is in
-  :mod:`~splinecraft.capture._binarize`): 0 for clean images and for bool masks, so a single-pixel shape
-  survives; ``0`` removes nothing.
+  :mod:`~splinecraft.capture._binarize`): 0 for clean images, for bool masks and for images of two gray
+  levels (1-bit files, masks saved as 0/255: they carry no gray noise, and a fine pattern such as a
+  checkerboard would read as noise), so a single-pixel shape survives; ``0`` removes nothing.
 * **Size cap.** Image files, encoded bytes and PIL images are measured from their header before any pixel
   is decoded: more than ``max_pixels`` pixels (default ``MAX_PIXELS`` = 10^8, e.g. 10 000 x 10 000) is a
   ``ValueError``, so a small file that decodes to a huge image (a decompression bomb) costs nothing.
@@ -184,8 +185,10 @@ def load_bitmap_reporting_specks(image, *, threshold=None, invert=False, min_spe
         if not invert and threshold != "alpha":
             _warn_if_light_on_dark(gray, white)
         speck = min_speck_area
-        if speck is None:
+        if speck is None and not _two_levels(gray):  # a 1-bit image carries no gray level: 0, as for a mask
             speck = _binarize.auto_speck_area(gray, white, level, mask, _binarize.estimate_noise(gray, white))
+        elif speck is None:
+            speck = 0
         del gray, level
     if invert:
         np.logical_not(mask, out=mask)
@@ -299,6 +302,18 @@ def _is_zero_one_mask(image):
         return False
     lo, hi = image.min(), image.max()
     return lo == 0 and hi == 1
+
+
+def _two_levels(gray):
+    """The gray image holds at most two distinct values (a 1-bit image, or a mask saved as 0/255). Its noise
+    estimate then measures the pattern, not noise: on a checkerboard or a halftone every 2 x 2 window straddles
+    an edge. Read in row blocks, stopping at the first block with a third value."""
+    lo, hi = gray.min(), gray.max()
+    for start in range(0, gray.shape[0], _BLOCK_ROWS):
+        block = gray[start:start + _BLOCK_ROWS]
+        if not ((block == lo) | (block == hi)).all():
+            return False
+    return True
 
 
 def _warn_if_flat(gray, white, threshold, mask):

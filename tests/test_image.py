@@ -158,6 +158,24 @@ def test_transparent_colour_of_a_png_is_paper(tmp_path, mode):
         np.testing.assert_array_equal(load_bitmap(path), expected_default)
 
 
+def test_float_tiff_on_pils_8_bit_scale(tmp_path):
+    """PIL's 32-bit float mode "F" (a float TIFF, ``convert("F")``) holds gray on PIL's 0..255 scale; such a file
+    was refused ("float image values must lie in [0, 1]") though load_bitmap reads any file PIL reads. 0..255 is
+    divided by 255, 0..1 read as for an array, and a range that is neither is an error naming the file."""
+    mask = shape_mask()
+    path = tmp_path / "float.tif"
+    Image.fromarray(gray_image(mask)).convert("F").save(path)
+    with Image.open(path) as img:
+        assert img.mode == "F" and img.getextrema() == (0.0, 255.0)
+    for source in (path, path.read_bytes(), Image.open(path)):
+        np.testing.assert_array_equal(load_bitmap(source), mask)
+    unit = Image.fromarray(gray_image(mask).astype(np.float32) / 255, "F")
+    np.testing.assert_array_equal(load_bitmap(unit), mask)
+    wide = Image.fromarray(gray_image(mask).astype(np.float32) * 4, "F")
+    with pytest.raises(ValueError, match=r"PIL image: 32-bit float image values lie in \[0, 1020\]"):
+        load_bitmap(wide)
+
+
 def test_multiframe_gif_uses_first_frame(tmp_path):
     first, second = shape_mask(), ~shape_mask()
     frames = [Image.fromarray(gray_image(m)).convert("P") for m in (first, second)]

@@ -7,8 +7,9 @@ docs/capture.md: row ``r``, column ``c`` covers ``[c, c+1] x [r, r+1]`` (x right
 Conventions
 -----------
 * **Gray scale.** Every input is reduced to one gray channel on the scale ``0 = black .. 1 = white``:
-  8-bit values are divided by 255, 16-bit values by 65535, float images must already lie in
-  ``[0, 1]``. Colour uses the ITU-R 601 luma ``0.299 R + 0.587 G + 0.114 B`` (the weights of
+  8-bit values are divided by 255, 16-bit values by 65535, float arrays must already lie in
+  ``[0, 1]``. A 32-bit float PIL image (mode ``"F"``, e.g. a float TIFF) may be on PIL's 8-bit scale: values
+  in ``[0, 1]`` are read as for an array, others in ``[0, 255]`` are divided by 255. Colour uses the ITU-R 601 luma ``0.299 R + 0.587 G + 0.114 B`` (the weights of
   PIL's ``convert("L")``, rounded the same way for 8-bit data). Transparency is composited on
   **white** paper, so a black shape on a transparent background is ink; that includes the transparent colour
   of a gray, 16-bit or RGB PNG (its ``tRNS`` chunk): pixels of that colour are paper, as a viewer shows them.
@@ -582,6 +583,16 @@ def _pil_to_gray(img, name, alpha=False, keyed=True):
         if arr.max() > 65535:
             raise ValueError(f"{name}: 32-bit integer image values exceed 65535; cannot tell where white is")
         return arr.astype(np.uint8 if white == 255 else np.uint16), white
+    if mode == "F":  # 32-bit float gray: PIL's scale is 0..255 (convert("F") of an 8-bit image); 0..1 as arrays
+        finite = np.isfinite(arr)
+        if not finite.all():
+            return _array_to_gray(arr)  # names the first non-finite value
+        lo, hi = float(arr.min()), float(arr.max())
+        if lo >= 0.0 and 1.0 < hi <= 255.0:
+            return (arr / np.float32(255)).astype(np.float32), 1.0
+        if lo < 0.0 or hi > 255.0:
+            raise ValueError(f"{name}: 32-bit float image values lie in [{lo:g}, {hi:g}]; gray must lie in [0, 1] or, "
+                             "on PIL's 8-bit scale, in [0, 255]: cannot tell where white is")
     return _array_to_gray(arr)
 
 

@@ -760,6 +760,31 @@ def test_image_files_are_closed(tmp_path, name, kwargs):
         assert not handle.closed
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes")
+def test_a_pipe_is_read_and_closed(tmp_path):
+    """A path that is a pipe (the shell's ``<(...)``, ``/dev/stdin``: ``splinecraft trace <(curl ...)``) was read
+    by PIL, which leaves the file it opened unclosed; the command line printed "warning: ResourceWarning:
+    unclosed file <_io.BufferedReader name='/dev/fd/63'>" with every such trace."""
+    import threading
+
+    mask = shape_mask()
+    png = io.BytesIO()
+    Image.fromarray(gray_image(mask)).save(png, "PNG")
+    path = tmp_path / "pipe"
+
+    def load():
+        os.mkfifo(path)
+        writer = threading.Thread(target=path.write_bytes, args=(png.getvalue(),))
+        writer.start()
+        try:
+            np.testing.assert_array_equal(load_bitmap(path), mask)
+        finally:
+            writer.join(timeout=10)
+            path.unlink()
+
+    assert _unclosed(path, load) == []
+
+
 def test_a_path_given_as_bytes_says_to_pass_str(tmp_path):
     """Bytes are the encoded file, never a file name (they may come from an upload); a path given as bytes used
     to get just "image bytes (27 bytes): not an image file"."""

@@ -61,8 +61,9 @@ Conventions
   and which one it stands for is the caller's choice. Fill the masked pixels first, usually as
   paper: ``image.filled(255)`` for 8-bit data, ``image.filled(1.0)`` for float (``0`` with ``invert=True``),
   ``mask.filled(False)`` for a bool mask.
-* **Files** are closed when loading returns or fails (files PIL opened from a path; a file object passed in
-  stays open, it belongs to the caller).
+* **Files** are closed when loading returns or fails (files PIL opened from a path, and a path that is a pipe,
+  such as the shell's ``<(...)``, read whole first; a file object passed in stays open, it belongs to the
+  caller).
 * **Multi-frame files** (animated GIF, multi-page TIFF): the first frame is used.
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
@@ -74,6 +75,7 @@ import contextlib
 import io
 import numbers
 import os
+import stat
 import sys
 import threading
 import warnings
@@ -447,6 +449,11 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             raise FileNotFoundError(f"image file not found: {name}")
         if os.path.isdir(name):
             raise ValueError(f"{name}: is a directory, not an image file")
+        if stat.S_ISFIFO(os.stat(name).st_mode):
+            # a pipe (the shell's <(...), /dev/stdin): PIL reads it into memory itself but leaves the file it
+            # opened unclosed (ResourceWarning), so it is read here, once, and closed
+            with open(name, "rb") as stream:
+                source = io.BytesIO(stream.read())
     try:
         with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
             # PIL's soft size warning: the cap below decides (module docstring)

@@ -411,6 +411,16 @@ def test_basis_functions_bad_input():
         basis_functions([0.0], 6)  # the floating curve runs over [t_1, t_n] = [1, 4]
 
 
+def test_basis_functions_outside_the_domain_advises_no_missing_argument():
+    """The message named ``extrapolate=True``, an argument of ``Spline.__call__`` that basis_functions does not
+    take (passing it is a TypeError): it names ``t`` and the domain only."""
+    with pytest.raises(ValueError, match=r"t\[1\] = 9\.0 is outside the curve's domain \[1\.0, 4\.0\]") as info:
+        basis_functions([2.0, 9.0], 6)
+    assert "extrapolate" not in str(info.value)
+    with pytest.raises(TypeError):
+        basis_functions([2.0, 9.0], 6, extrapolate=True)
+
+
 def test_clamped_end_tensions_have_no_effect():
     """§4.4: with clamped ends only v_2..v_{n-1} act; v_0, v_1, v_n, v_{n+1} have no effect."""
     rng = np.random.default_rng(12)

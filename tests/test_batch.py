@@ -445,3 +445,41 @@ def test_a_killed_worker_does_not_lose_files(glyphs, tmp_path):
     assert_outputs_whole(out, glyphs)
     lines = manifest_lines(out)
     assert sorted(line["output"] for line in lines) == sorted(f"{p.stem}.svg" for p in glyphs)
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes")
+def test_a_pipe_input_is_read_once_and_resumes_by_its_content(tmp_path):
+    """An input path that is a pipe (``splinecraft trace <(curl ...) -o out/``) can be read once. The resume
+    check hashed it before the trace, so the trace read an empty pipe ("not an image file") whenever the manifest
+    had a line for its output, and the first run recorded the hash of nothing. The pipe is read once, in the
+    calling process: the file is traced, the manifest holds the hash of what came through it, and a run with the
+    same content skips while one with other content traces it."""
+    import threading
+
+    images = {}
+    for seed in (0, 1):
+        path = tmp_path / f"glyph{seed}.png"
+        glyph_image(seed).save(path)
+        images[seed] = path
+    pipe, out = tmp_path / "scan", tmp_path / "out"
+
+    def run(seed):
+        os.mkfifo(pipe)
+        writer = threading.Thread(target=pipe.write_bytes, args=(images[seed].read_bytes(),))
+        writer.start()
+        try:
+            (record,) = trace_many([str(pipe)], out, epsilon=EPSILON)
+        finally:
+            writer.join(timeout=10)
+            pipe.unlink()
+        return record
+
+    first = run(0)
+    assert first.status == "ok", first.error
+    assert first.input_sha256 == hashlib.sha256(images[0].read_bytes()).hexdigest()
+    assert (out / "scan.svg").read_bytes() == sc.trace(images[0], epsilon=EPSILON).to_svg(title="scan").encode()
+    again = run(0)
+    assert again.status == "skipped"
+    other = run(1)
+    assert other.status == "ok", other.error
+    assert (out / "scan.svg").read_bytes() == sc.trace(images[1], epsilon=EPSILON).to_svg(title="scan").encode()

@@ -126,6 +126,56 @@ def test_transparent_png_is_composited_on_white(tmp_path):
     np.testing.assert_array_equal(load_bitmap(palette), mask)
 
 
+@pytest.mark.parametrize("mode", ["L", "RGB", "I;16", "1"])
+def test_transparent_colour_of_a_png_is_paper(tmp_path, mode):
+    """A gray, 16-bit or RGB PNG may name one colour transparent (its tRNS chunk) instead of carrying an alpha
+    channel; a viewer shows those pixels as the page, so they are paper, as an alpha channel's transparent
+    pixels are (they were read as their colour: a transparent dark bar was ink). threshold="alpha" traces
+    the opaque pixels of such a file, 16-bit included."""
+    disc = shape_mask()
+    disc[:, 38:] = False                                         # the disc alone ...
+    bar = shape_mask() & ~disc                                   # ... and the bar, drawn in the transparent colour
+    if mode == "1":                                              # two levels: black is the transparent colour
+        gray, key = gray_image(bar), 0
+        expected_default, expected_alpha = np.zeros_like(bar), ~bar
+    else:
+        gray, key = np.where(disc, 0, np.where(bar, 50, 255)).astype(np.uint8), 50
+        expected_default, expected_alpha = disc, ~bar
+    if mode == "I;16":
+        img, key = Image.fromarray(gray.astype(np.uint16) * 257), key * 257
+    elif mode == "RGB":
+        img, key = Image.fromarray(np.stack([gray] * 3, axis=-1), "RGB"), (key,) * 3
+    else:
+        img = Image.fromarray(gray).convert(mode)
+    path = tmp_path / "keyed.png"
+    img.save(path, transparency=key)
+    with Image.open(path) as opened:
+        assert opened.mode == mode and opened.info["transparency"] == (255 if mode == "1" and key else key)
+    for source in (path, path.read_bytes()):
+        np.testing.assert_array_equal(load_bitmap(source, threshold=0.5), expected_default)
+        np.testing.assert_array_equal(load_bitmap(source, threshold="alpha"), expected_alpha)
+    if mode != "1":
+        np.testing.assert_array_equal(load_bitmap(path), expected_default)
+
+
+def test_float_tiff_on_pils_8_bit_scale(tmp_path):
+    """PIL's 32-bit float mode "F" (a float TIFF, ``convert("F")``) holds gray on PIL's 0..255 scale; such a file
+    was refused ("float image values must lie in [0, 1]") though load_bitmap reads any file PIL reads. 0..255 is
+    divided by 255, 0..1 read as for an array, and a range that is neither is an error naming the file."""
+    mask = shape_mask()
+    path = tmp_path / "float.tif"
+    Image.fromarray(gray_image(mask)).convert("F").save(path)
+    with Image.open(path) as img:
+        assert img.mode == "F" and img.getextrema() == (0.0, 255.0)
+    for source in (path, path.read_bytes(), Image.open(path)):
+        np.testing.assert_array_equal(load_bitmap(source), mask)
+    unit = Image.fromarray(gray_image(mask).astype(np.float32) / 255, "F")
+    np.testing.assert_array_equal(load_bitmap(unit), mask)
+    wide = Image.fromarray(gray_image(mask).astype(np.float32) * 4, "F")
+    with pytest.raises(ValueError, match=r"PIL image: 32-bit float image values lie in \[0, 1020\]"):
+        load_bitmap(wide)
+
+
 def test_multiframe_gif_uses_first_frame(tmp_path):
     first, second = shape_mask(), ~shape_mask()
     frames = [Image.fromarray(gray_image(m)).convert("P") for m in (first, second)]
@@ -316,6 +366,28 @@ def test_speck_removal():
     expected[20:22, 20:22] = True
     expected[34:36, 2:4] = False
     np.testing.assert_array_equal(cleaned, expected)
+
+
+@pytest.mark.parametrize("pattern", ["checkerboard", "single pixel"])
+def test_two_level_images_get_no_automatic_speck_area(pattern):
+    """A 1-bit image, or a mask saved as 0/255, carries no gray level: like a bool mask it gets no automatic
+    speck area (docs/capture.md §10). The noise estimate (the median diagonal Haar detail) read such a pattern as
+    noise whenever most 2 x 2 windows straddle an edge: a 32 x 32 checkerboard filled 450 of its 512 holes (and
+    traced as one square), and a 3 x 3 image with one black pixel lost it ("no shape found")."""
+    import splinecraft as sc
+
+    if pattern == "checkerboard":
+        mask = np.add.outer(np.arange(32), np.arange(32)) % 2 == 0
+    else:
+        mask = np.zeros((3, 3), bool)
+        mask[1, 1] = True
+    gray = gray_image(mask)
+    for image in (gray, gray_image(mask, ink=40, paper=200), Image.fromarray(gray).convert("1"),
+                  gray.astype(np.float64) / 255):
+        np.testing.assert_array_equal(load_bitmap(image), mask)
+        np.testing.assert_array_equal(load_bitmap(image, threshold=0.5), mask)
+    result = sc.trace(gray, connectivity=4, min_speck_area=None)
+    assert len(result.splines) == int(mask.sum())
 
 
 def test_speck_connectivity():
@@ -686,6 +758,31 @@ def test_image_files_are_closed(tmp_path, name, kwargs):
         except ValueError:
             pass
         assert not handle.closed
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes")
+def test_a_pipe_is_read_and_closed(tmp_path):
+    """A path that is a pipe (the shell's ``<(...)``, ``/dev/stdin``: ``splinecraft trace <(curl ...)``) was read
+    by PIL, which leaves the file it opened unclosed; the command line printed "warning: ResourceWarning:
+    unclosed file <_io.BufferedReader name='/dev/fd/63'>" with every such trace."""
+    import threading
+
+    mask = shape_mask()
+    png = io.BytesIO()
+    Image.fromarray(gray_image(mask)).save(png, "PNG")
+    path = tmp_path / "pipe"
+
+    def load():
+        os.mkfifo(path)
+        writer = threading.Thread(target=path.write_bytes, args=(png.getvalue(),))
+        writer.start()
+        try:
+            np.testing.assert_array_equal(load_bitmap(path), mask)
+        finally:
+            writer.join(timeout=10)
+            path.unlink()
+
+    assert _unclosed(path, load) == []
 
 
 def test_a_path_given_as_bytes_says_to_pass_str(tmp_path):

@@ -437,6 +437,81 @@ def test_contour_input_errors_name_the_argument():
         Contour(_loop(4, 1)).moved(9, (0, 0))
 
 
+def test_a_knot_moved_to_a_malformed_position_names_positions():
+    """``move_knot``/``Contour.moved`` reshaped the position with numpy: a 3-number point was "cannot reshape
+    array of size 3 into shape (2)", and a 6-number one silently became three points. The shape is checked and
+    the message names ``positions``; a non-finite coordinate is named as a plain number (not np.float64)."""
+    outline = from_knots([_loop(4, 1)])
+    for bad in ((1.0, 2.0, 3.0), [[1.0], [2.0]], [[[1.0, 2.0]]], 5.0):
+        with pytest.raises(ValueError, match=r"positions must be a point \(x, y\) or one per knot"):
+            outline.move_knot(0, 0, bad)
+    with pytest.raises(ValueError, match=r"positions must be a point"):
+        outline.move_knot(0, [0, 1, 2], [1.0, 2.0, 3.0, 4.0, 5.0, 6.0])  # not three points
+    with pytest.raises(TypeError, match="positions"):
+        outline.move_knot(0, 0, None)
+    with pytest.raises(ValueError, match=r"points\[0, 0\] is nan; it must be finite"):
+        outline.move_knot(0, 0, (np.nan, 1.0))
+    moved = outline.move_knot(0, [0, 1], [[0.1, 0.2], [0.9, 0.1]])
+    np.testing.assert_array_equal(moved.contours[0].points[:2], [[0.1, 0.2], [0.9, 0.1]])
+    np.testing.assert_array_equal(outline.move_knot(0, 0, [(0.1, 0.2)]).contours[0].points[0], [0.1, 0.2])
+
+
+def test_selections_are_single_indices_checked_against_the_outline():
+    """A contour or knot index that was a list took its first item (``contours=[[0, 1]]`` moved contour 0 only;
+    ``knots=[(0, [1, 2])]`` moved knot 1 only; ``move_knot([0, 1], ...)`` edited contour 0), a knot of a contour
+    chosen whole was never checked (``knots=[(0, 99)]``), a bare index in ``knots`` or a dict was "object of type
+    'int' has no len()", and a contour out of range was reported as "a contour of 2 knots". Each is an error
+    naming the argument and what it indexes."""
+    outline = from_knots([_loop(4, 1), _loop(3, 2, radius=20.0) + 200])
+    cases = [
+        (dict(contours=[[0, 1]]), TypeError, r"contours\[0\] must be one integer index, got \[0, 1\]"),
+        (dict(knots=[(0, [1, 2])]), TypeError, r"knots\[0\]\[1\] \(a knot\) must be one integer index"),
+        (dict(contours=[0], knots=[(0, 99)]), ValueError, r"knots\[0\]\[1\] \(a knot\) = 99 is out of range for "
+                                                         r"contour 0 of 4 knots"),
+        (dict(knots=[5]), ValueError, r"\(contour, knot\) pairs, got knots\[0\] = 5"),
+        (dict(knots={0: [1]}), TypeError, "knots must be a list of"),
+        (dict(contours=[7]), ValueError, r"contours\[0\] = 7 is out of range for an outline of 2 contours"),
+        (dict(contours=1.0), TypeError, "one integer index"),
+    ]
+    for selection, error, pattern in cases:
+        with pytest.raises(error, match=pattern):
+            outline.translate(1.0, 1.0, **selection)
+    with pytest.raises(TypeError, match=r"contour must be one integer index, got \[0, 1\]"):
+        outline.move_knot([0, 1], 0, (3.0, 3.0))
+    with pytest.raises(ValueError, match="contour = 2 is out of range for an outline of 2 contours"):
+        outline.set_corner(2, 0)
+    both = outline.translate(1.0, 2.0, contours=np.array([0, 1]))
+    for before, after in zip(outline.contours, both.contours):
+        np.testing.assert_allclose(after.points, before.points + [1.0, 2.0])
+    last = outline.translate(1.0, 2.0, knots=[(np.int64(-1), np.int32(-1))])
+    np.testing.assert_allclose(last.contours[1].points[2], outline.contours[1].points[2] + [1.0, 2.0])
+    np.testing.assert_array_equal(last.contours[1].points[:2], outline.contours[1].points[:2])
+    np.testing.assert_array_equal(last.contours[0].points, outline.contours[0].points)
+
+
+def test_single_knot_edits_refuse_lists_and_non_bool_flags():
+    """delete_knot, set_corner, insert_knot and move_handle took the first of a list of indices silently
+    (``delete_knot(0, [0, 1])`` deleted knot 0 only), ``corner="no"`` made a corner (``bool("no")``) and
+    ``theta="0.5"`` was read as a number; each is now a TypeError naming the argument."""
+    outline = from_knots([_loop(5, 3)])
+    cases = [
+        (lambda: outline.delete_knot(0, [0, 1]), r"knot must be one integer index, got \[0, 1\]"),
+        (lambda: outline.set_corner(0, [1, 2]), r"knot must be one integer index"),
+        (lambda: outline.insert_knot(0, [0, 1]), r"piece must be one integer index"),
+        (lambda: outline.set_corner(0, 1).move_handle(0, [1, 2], "in", (1.0, 1.0)), r"knot must be one integer"),
+        (lambda: outline.set_corner(0, 1, corner="no"), r"corner must be a bool"),
+        (lambda: outline.set_corner(0, 1, corner=0), r"corner must be a bool"),
+        (lambda: outline.set_corner(0, 1, keep_shape="yes"), r"keep_shape must be a bool"),
+        (lambda: outline.insert_knot(0, 0, "0.5"), r"theta must be a real number"),
+    ]
+    for edit, pattern in cases:
+        with pytest.raises(TypeError, match=pattern):
+            edit()
+    assert len(outline.delete_knot(0, np.int64(1)).contours[0]) == 4
+    assert outline.set_corner(0, 1, np.True_).contours[0].corners.tolist() == [False, True, False, False, False]
+    assert len(outline.insert_knot(0, -1, np.float32(0.25)).contours[0]) == 6
+
+
 def test_reversed_contour_is_the_same_curve_backwards():
     contour = Contour(_loop(6, 8), [True, False, True, False, False, False], interval_weights=[1, 2, 1, 3, 1, 1])
     backwards = contour.reversed()
@@ -668,3 +743,28 @@ def test_a_bad_outline_field_is_refused_when_read_not_at_export(change, error, w
     data.update(change)
     with pytest.raises(error, match=words):
         Outline.from_json(json.dumps(data))
+
+
+def test_from_trace_names_a_bad_iteration():
+    """``from_trace(result, iteration=...)`` (also ``result.edit(iteration=...)``) indexed the snapshots
+    unchecked: an iteration past the last was a bare ``IndexError: list index out of range``, a float a
+    ``TypeError`` about list indices, and any iteration of a trace without snapshots an IndexError that did
+    not say why. They are errors naming ``iteration``, the range and the way out."""
+    yy, xx = np.mgrid[:40, :40] + 0.5
+    mask = ((yy - 20) ** 2 / 300 + (xx - 20) ** 2 / 150 < 1) & ((yy - 20) ** 2 + (xx - 20) ** 2 > 30)
+    result = sc.trace(mask, method="euclidean", seed=3)
+    count = len(result.snapshots)
+    assert count > 1
+    first = as_outline(result, iteration=0)
+    assert len(first) == len(result.splines)
+    assert np.allclose(as_outline(result, iteration=-1).bezier()[0], as_outline(result, iteration=count - 1).bezier()[0])
+    for bad in (count, -count - 1, 10**6):
+        with pytest.raises(ValueError, match=rf"iteration={bad} is out of range: the trace has {count} snapshots"):
+            as_outline(result, iteration=bad)
+    for bad in (1.5, "2", True):
+        with pytest.raises(TypeError, match="iteration must be an integer"):
+            as_outline(result, iteration=bad)
+    bare = sc.trace(mask, keep_snapshots=False)
+    assert len(as_outline(bare)) == len(bare.splines)
+    with pytest.raises(ValueError, match="kept no snapshots.*keep_snapshots=True"):
+        as_outline(bare, iteration=0)

@@ -26,7 +26,7 @@ from ..spline.svg import MAX_DECIMALS
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
                     expand_inputs, is_finished, params_sha256, plan_directory, prepare_directories,
-                    refuse_overwriting_inputs, trace_settings)
+                    read_pipes, refuse_overwriting_inputs, trace_settings)
 from ._schedulers import LOCAL_SCHEDULERS, cpu_count, make_runner
 from ._work import remove_partials, render
 
@@ -268,6 +268,7 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
         runner.close()
         raise
     params_hash = params_sha256(settings_hash, format, decimals)
+    plan = read_pipes(plan)  # read once: hashed for resume and traced from the same bytes
 
     ledger = Manifest(manifest_path) if manifest_path is not None else None
     entries = ledger.load() if ledger is not None else {}

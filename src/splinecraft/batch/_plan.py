@@ -5,12 +5,14 @@ so a bad call fails before the first file is traced.
 """
 from __future__ import annotations
 
+import dataclasses
 import glob
 import hashlib
 import inspect
 import json
 import math
 import os
+import stat
 from dataclasses import dataclass
 
 import numpy as np
@@ -107,6 +109,24 @@ def plan_directory(sources, output_dir, fmt) -> list:
             output = os.path.abspath(os.path.join(output_dir, name))
         jobs.append(PlannedFile(index=index, source=source, label=label, output=output, title=title))
     return jobs
+
+
+def read_pipes(plan) -> list:
+    """The plan with every input path that is a pipe (the shell's ``<(...)``, ``/dev/stdin``) replaced by its
+    bytes, read once here: a pipe can be read only once, and the resume check hashes the input before it is
+    traced (the trace then read an empty pipe: "not an image file"). Label, output and title stay the path's.
+    A pipe that cannot be read stays a path and fails as its file."""
+    planned = []
+    for job in plan:
+        if isinstance(job.source, str):
+            try:
+                if stat.S_ISFIFO(os.stat(job.source).st_mode):
+                    with open(job.source, "rb") as stream:
+                        job = dataclasses.replace(job, source=stream.read())
+            except OSError:
+                pass
+        planned.append(job)
+    return planned
 
 
 def _identity(path):

@@ -61,7 +61,9 @@ margin of the paper pixels; ink pixels likewise, which opens holes). Independent
 ``8^k`` shapes around a given pixel), so in an image of ``N`` pixels specks of ``k`` or more pixels are
 expected less than once when ``N (8 p)^k < 1``. The speck area is the smallest such ``k`` (0 when ``8 p``
 is negligible, i.e. a clean image keeps every pixel; at most ``MAX_AUTO_SPECK``). Bool masks carry no gray
-level: their default speck area is 0.
+level: their default speck area is 0, and so is that of an image of two gray levels (a 1-bit file, a mask
+saved as 0/255; ``capture.image``), whose Haar details are its pattern's edges, not noise (on a checkerboard
+every window straddles one).
 
 :func:`remove_specks` removes ink components and fills holes with fewer than ``area`` pixels; a background
 component touching the image border is never a hole (a speck area larger than the background does not

@@ -7,10 +7,12 @@ docs/capture.md: row ``r``, column ``c`` covers ``[c, c+1] x [r, r+1]`` (x right
 Conventions
 -----------
 * **Gray scale.** Every input is reduced to one gray channel on the scale ``0 = black .. 1 = white``:
-  8-bit values are divided by 255, 16-bit values by 65535, float images must already lie in
-  ``[0, 1]``. Colour uses the ITU-R 601 luma ``0.299 R + 0.587 G + 0.114 B`` (the weights of
+  8-bit values are divided by 255, 16-bit values by 65535, float arrays must already lie in
+  ``[0, 1]``. A 32-bit float PIL image (mode ``"F"``, e.g. a float TIFF) may be on PIL's 8-bit scale: values
+  in ``[0, 1]`` are read as for an array, others in ``[0, 255]`` are divided by 255. Colour uses the ITU-R 601 luma ``0.299 R + 0.587 G + 0.114 B`` (the weights of
   PIL's ``convert("L")``, rounded the same way for 8-bit data). Transparency is composited on
-  **white** paper, so a black shape on a transparent background is ink.
+  **white** paper, so a black shape on a transparent background is ink; that includes the transparent colour
+  of a gray, 16-bit or RGB PNG (its ``tRNS`` chunk): pixels of that colour are paper, as a viewer shows them.
 * **Ink is dark** by default: ``ink = gray <= threshold``; ``invert=True`` makes light pixels ink.
   ``threshold="alpha"`` reads the opacity instead: a pixel at least half opaque is ink, whatever its colour
   (a white logo on a transparent background, which compositing on white would erase).
@@ -39,8 +41,9 @@ Conventions
 * **Specks.** ``min_speck_area=k`` removes ink components *and* holes (background components not touching
   the image border) with fewer than ``k`` pixels; ink components use the tracer's ``connectivity``, holes
   the complementary one. ``None`` (default) sets ``k`` from the image's noise estimate (the rule is in
-  :mod:`~splinecraft.capture._binarize`): 0 for clean images and for bool masks, so a single-pixel shape
-  survives; ``0`` removes nothing.
+  :mod:`~splinecraft.capture._binarize`): 0 for clean images, for bool masks and for images of two gray
+  levels (1-bit files, masks saved as 0/255: they carry no gray noise, and a fine pattern such as a
+  checkerboard would read as noise), so a single-pixel shape survives; ``0`` removes nothing.
 * **Size cap.** Image files, encoded bytes and PIL images are measured from their header before any pixel
   is decoded: more than ``max_pixels`` pixels (default ``MAX_PIXELS`` = 10^8, e.g. 10 000 x 10 000) is a
   ``ValueError``, so a small file that decodes to a huge image (a decompression bomb) costs nothing.
@@ -58,8 +61,9 @@ Conventions
   and which one it stands for is the caller's choice. Fill the masked pixels first, usually as
   paper: ``image.filled(255)`` for 8-bit data, ``image.filled(1.0)`` for float (``0`` with ``invert=True``),
   ``mask.filled(False)`` for a bool mask.
-* **Files** are closed when loading returns or fails (files PIL opened from a path; a file object passed in
-  stays open, it belongs to the caller).
+* **Files** are closed when loading returns or fails (files PIL opened from a path, and a path that is a pipe,
+  such as the shell's ``<(...)``, read whole first; a file object passed in stays open, it belongs to the
+  caller).
 * **Multi-frame files** (animated GIF, multi-page TIFF): the first frame is used.
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
@@ -71,6 +75,7 @@ import contextlib
 import io
 import numbers
 import os
+import stat
 import sys
 import threading
 import warnings
@@ -183,8 +188,10 @@ def load_bitmap_reporting_specks(image, *, threshold=None, invert=False, min_spe
         if not invert and threshold != "alpha":
             _warn_if_light_on_dark(gray, white)
         speck = min_speck_area
-        if speck is None:
+        if speck is None and not _two_levels(gray):  # a 1-bit image carries no gray level: 0, as for a mask
             speck = _binarize.auto_speck_area(gray, white, level, mask, _binarize.estimate_noise(gray, white))
+        elif speck is None:
+            speck = 0
         del gray, level
     if invert:
         np.logical_not(mask, out=mask)
@@ -298,6 +305,18 @@ def _is_zero_one_mask(image):
         return False
     lo, hi = image.min(), image.max()
     return lo == 0 and hi == 1
+
+
+def _two_levels(gray):
+    """The gray image holds at most two distinct values (a 1-bit image, or a mask saved as 0/255). Its noise
+    estimate then measures the pattern, not noise: on a checkerboard or a halftone every 2 x 2 window straddles
+    an edge. Read in row blocks, stopping at the first block with a third value."""
+    lo, hi = gray.min(), gray.max()
+    for start in range(0, gray.shape[0], _BLOCK_ROWS):
+        block = gray[start:start + _BLOCK_ROWS]
+        if not ((block == lo) | (block == hi)).all():
+            return False
+    return True
 
 
 def _warn_if_flat(gray, white, threshold, mask):
@@ -430,6 +449,11 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             raise FileNotFoundError(f"image file not found: {name}")
         if os.path.isdir(name):
             raise ValueError(f"{name}: is a directory, not an image file")
+        if stat.S_ISFIFO(os.stat(name).st_mode):
+            # a pipe (the shell's <(...), /dev/stdin): PIL reads it into memory itself but leaves the file it
+            # opened unclosed (ResourceWarning), so it is read here, once, and closed
+            with open(name, "rb") as stream:
+                source = io.BytesIO(stream.read())
     try:
         with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
             # PIL's soft size warning: the cap below decides (module docstring)
@@ -506,9 +530,35 @@ def _no_alpha(what):
                       "transparency (RGBA, LA, a palette or gray with a transparent colour); use another threshold")
 
 
-def _pil_to_gray(img, name, alpha=False):
+def _keyed_transparent(img):
+    """The transparent pixels of a gray, 16-bit or RGB image with a transparent colour (PNG's ``tRNS`` chunk:
+    ``img.info["transparency"]``, one gray level or one RGB triple), as a bool array, or ``None`` when the
+    image has no such colour (palette and alpha modes carry their transparency in their data)."""
+    key = img.info.get("transparency")
+    if key is None or isinstance(key, bytes) or img.mode not in _GRAY_MODES | {"1", "RGB"}:
+        return None
+    arr = np.asarray(img)
+    if img.mode == "1":  # PIL reads a 1-bit key as 0 or 255
+        return arr == bool(key)
+    if arr.ndim == 3:
+        key = np.asarray(key).reshape(-1)
+        if key.size != arr.shape[2]:
+            return None
+        return np.all(arr == key.astype(arr.dtype), axis=2)
+    if np.ndim(key) != 0:
+        return None
+    return arr == key
+
+
+def _pil_to_gray(img, name, alpha=False, keyed=True):
     mode = img.mode
     _check_not_empty((img.height, img.width))
+    transparent = _keyed_transparent(img) if keyed else None
+    if transparent is not None:  # a transparent colour: composited on white as an alpha channel is
+        if alpha:
+            return np.where(transparent, np.uint8(255), np.uint8(0)), 255
+        gray, white = _pil_to_gray(img, name, keyed=False)  # these modes convert nothing: the key is not seen
+        return np.where(transparent, np.asarray(white, dtype=gray.dtype), gray), white
     if alpha:
         if not img.has_transparency_data:
             raise _no_alpha(name)
@@ -540,6 +590,16 @@ def _pil_to_gray(img, name, alpha=False):
         if arr.max() > 65535:
             raise ValueError(f"{name}: 32-bit integer image values exceed 65535; cannot tell where white is")
         return arr.astype(np.uint8 if white == 255 else np.uint16), white
+    if mode == "F":  # 32-bit float gray: PIL's scale is 0..255 (convert("F") of an 8-bit image); 0..1 as arrays
+        finite = np.isfinite(arr)
+        if not finite.all():
+            return _array_to_gray(arr)  # names the first non-finite value
+        lo, hi = float(arr.min()), float(arr.max())
+        if lo >= 0.0 and 1.0 < hi <= 255.0:
+            return (arr / np.float32(255)).astype(np.float32), 1.0
+        if lo < 0.0 or hi > 255.0:
+            raise ValueError(f"{name}: 32-bit float image values lie in [{lo:g}, {hi:g}]; gray must lie in [0, 1] or, "
+                             "on PIL's 8-bit scale, in [0, 255]: cannot tell where white is")
     return _array_to_gray(arr)
 
 

@@ -25,6 +25,7 @@ import numbers
 
 import numpy as np
 
+from .._validation import check_bool, check_number
 from ..spline import Spline, interpolate
 from ..spline.segment import bezier_signed_area
 
@@ -55,7 +56,8 @@ def _finite(array, name):
     bad = ~np.isfinite(array)
     if bad.any():
         index = np.unravel_index(int(np.flatnonzero(bad)[0]), array.shape)
-        raise ValueError(f"{name}[{', '.join(str(int(i)) for i in index)}] is {array[index]!r}; it must be finite")
+        raise ValueError(f"{name}[{', '.join(str(int(i)) for i in index)}] is {float(array[index])!r}; it must be "
+                         "finite")
 
 
 def _chords(points):
@@ -213,7 +215,13 @@ class Contour:
     def moved(self, knots, positions) -> "Contour":
         """Knots ``knots`` moved to ``positions`` (their handles move with them)."""
         index = _indices(knots, len(self))
-        positions = np.asarray(positions, float).reshape(-1, 2)
+        if positions is None:
+            raise TypeError("positions must be a point (x, y) or one per knot, got None")
+        positions = _array(positions, "positions", np.shape(positions))
+        if positions.ndim == 0 or positions.shape[-1] != 2 or positions.ndim > 2:
+            raise ValueError(f"positions must be a point (x, y) or one per knot, shape (n, 2); got shape "
+                             f"{positions.shape}")
+        positions = positions.reshape(-1, 2)
         if positions.shape[0] not in (1, index.size):
             raise ValueError(f"positions must give one point per knot ({index.size}), got {positions.shape[0]}")
         points = np.array(self.points)
@@ -228,9 +236,11 @@ class Contour:
         kinks there; with ``keep_shape=True`` it gets the current curve's handles instead and the shape is
         unchanged (the two tangents are then fixed until the handles are edited).
         """
-        i = _indices(knot, len(self))[0]
+        i = _one_index(knot, len(self), "knot")
+        corner = check_bool(corner, "corner")
+        keep_shape = check_bool(keep_shape, "keep_shape")
         data = self.fields()
-        data["corners"][i] = bool(corner)
+        data["corners"][i] = corner
         if corner and keep_shape and not self.corners[i]:
             b = self.bezier()
             data["handles_out"][i] = b[i, 1] - b[i, 0]
@@ -242,7 +252,7 @@ class Contour:
         ``position``: the Bézier control point next to the knot (``b1`` of the piece leaving it, ``b2`` of the
         piece arriving) moves exactly there, since the run's clamped end tangent is ``3 (b1 - b0) / h`` (§2.4
         Type 1). Smooth knots have no handles (``ValueError``: make the knot a corner first)."""
-        i = _indices(knot, len(self))[0]
+        i = _one_index(knot, len(self), "knot")
         if not isinstance(side, str) or side not in ("in", "out"):
             raise ValueError(f"side must be 'in' or 'out', got {side!r:.20}")
         if not self.corners[i]:
@@ -261,8 +271,8 @@ class Contour:
         are shortened as by de Casteljau subdivision, so the curve stays close to the old one.
         """
         n = len(self)
-        i = _indices(piece, n)[0]
-        theta = float(theta)
+        i = _one_index(piece, n, "piece")
+        theta = check_number(theta, "theta")
         if not 0.0 < theta < 1.0:
             raise ValueError(f"theta must lie strictly between 0 and 1, got {theta!r}")
         b = self.bezier()[i]
@@ -287,7 +297,7 @@ class Contour:
     def removed(self, knot) -> "Contour":
         """Knot ``knot`` deleted (refused when fewer than 3 knots would remain); its two intervals merge."""
         n = len(self)
-        i = _indices(knot, n)[0]
+        i = _one_index(knot, n, "knot")
         if n - 1 < MIN_KNOTS:
             raise ValueError(f"cannot delete knot {i}: a contour needs at least {MIN_KNOTS} knots and this one has {n}")
         data = self.fields()
@@ -360,6 +370,14 @@ def _indices(values, n) -> np.ndarray:
         bad = int(array[(array < -n) | (array >= n)][0])
         raise ValueError(f"index {bad} is out of range for a contour of {n} knots")
     return array % n
+
+
+def _one_index(value, n, name) -> int:
+    """One knot or piece index (negative ones count from the end): a list of them is an error, not its first."""
+    index = _indices(value, n)
+    if np.ndim(value) != 0:
+        raise TypeError(f"{name} must be one integer index, got {np.asarray(value).tolist()!r:.40}")
+    return int(index[0])
 
 
 def _knot_mask(knots, n) -> np.ndarray:

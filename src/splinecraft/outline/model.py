@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 import os
 from pathlib import Path
 
@@ -150,6 +151,18 @@ def _source(value, name) -> np.ndarray:
     return array
 
 
+def _single_index(value, n, name, of) -> int:
+    """One index into ``n`` items (negative ones count from the end): an integer, not a bool, a float or a
+    list; ``of`` says what is indexed (``{n}`` is filled in)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        shown = value.tolist() if isinstance(value, np.ndarray) else value
+        raise TypeError(f"{name} must be one integer index, got {shown!r:.40}")
+    index = int(value)
+    if not -n <= index < n:
+        raise ValueError(f"{name} = {index} is out of range for {of.format(n=n)}")
+    return index % n
+
+
 class Outline:
     """Closed contours in one frame, with the source contours and bitmap they were captured from.
 
@@ -274,8 +287,10 @@ class Outline:
         return best
 
     # ------------------------------------------------------------------ edits
-    def _contour_index(self, contour):
-        return int(_indices(contour, len(self.contours))[0])
+    def _contour_index(self, contour, name="contour"):
+        """One contour index (negative ones count from the end); a list, a float or one out of range is an
+        error naming ``name``, never its first item or another contour."""
+        return _single_index(contour, len(self.contours), name, "an outline of {n} contours")
 
     def _replace(self, changes: dict) -> "Outline":
         contours = list(self.contours)
@@ -341,16 +356,22 @@ class Outline:
         if contours is None and knots is None:
             return {k: None for k in range(len(self.contours))}
         chosen = {}
-        for c in ([] if contours is None else np.atleast_1d(contours).tolist()):
-            chosen[self._contour_index(c)] = None
-        for pair in ([] if knots is None else knots):
-            if len(pair) != 2:
-                raise ValueError(f"knots must be (contour, knot) pairs, got {pair!r}")
-            k = self._contour_index(pair[0])
-            if k in chosen and chosen[k] is None:
-                continue
-            index = int(_indices(pair[1], len(self.contours[k]))[0])
-            chosen.setdefault(k, set()).add(index)
+        if isinstance(contours, (str, bytes, dict)):
+            raise TypeError(f"contours must be a contour index or a list of them, got {type(contours).__name__}")
+        for position, c in enumerate([] if contours is None else np.atleast_1d(np.asarray(contours, dtype=object))):
+            chosen[self._contour_index(c, f"contours[{position}]")] = None
+        if isinstance(knots, (str, bytes, dict)):
+            raise TypeError(f"knots must be a list of (contour, knot) pairs, got {type(knots).__name__}")
+        pairs = []
+        for position, pair in enumerate([] if knots is None else knots):
+            if isinstance(pair, (str, bytes)) or not hasattr(pair, "__len__") or len(pair) != 2:
+                raise ValueError(f"knots must be (contour, knot) pairs, got knots[{position}] = {pair!r:.40}")
+            k = self._contour_index(pair[0], f"knots[{position}][0] (a contour)")
+            pairs.append((k, _single_index(pair[1], len(self.contours[k]), f"knots[{position}][1] (a knot)",
+                                           f"contour {k} of {{n}} knots")))
+        for k, index in pairs:
+            if not (k in chosen and chosen[k] is None):
+                chosen.setdefault(k, set()).add(index)
         for k, value in chosen.items():
             if value is not None and len(value) == len(self.contours[k]):
                 chosen[k] = None

@@ -44,6 +44,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._validation import check_int
 from .bezier import contour_from_bezier, drop_degenerate_pieces
 from .contour import Contour
 from .model import Outline
@@ -95,6 +96,18 @@ def _trace_corners(corners_used, knot_indices, pieces):
     return mask
 
 
+def _snapshot_index(iteration, count) -> int:
+    """``iteration`` checked against the ``count`` snapshots of a trace (negative ones count from the end)."""
+    iteration = check_int(iteration, "iteration")
+    if count == 0:
+        raise ValueError(f"iteration={iteration}: the trace kept no snapshots (traced with keep_snapshots=False); "
+                         "pass iteration=None for its final outline, or trace with keep_snapshots=True")
+    if not -count <= iteration < count:
+        raise ValueError(f"iteration={iteration} is out of range: the trace has {count} snapshots, iterations "
+                         f"0..{count - 1} (negative values count from the last)")
+    return iteration
+
+
 def from_trace(result, iteration=None, *, name=None) -> Outline:
     """The outline of a :class:`~splinecraft.capture.trace.TraceResult` (its final curves, or those of
     ``result.snapshots[iteration]``), with the contour polylines as sources and the bitmap."""
@@ -102,7 +115,7 @@ def from_trace(result, iteration=None, *, name=None) -> Outline:
         curves = [spline.bezier() for spline in result.splines]
         knot_lists = [fit.knot_indices for fit in result.fits]
     else:
-        snapshot = result.snapshots[iteration]
+        snapshot = result.snapshots[_snapshot_index(iteration, len(result.snapshots))]
         curves = [np.asarray(s.bezier, float) for s in snapshot.snapshots]
         knot_lists = [s.knot_indices for s in snapshot.snapshots]
     corners = [_trace_corners(fit.corners_used, knot_indices, len(curve))

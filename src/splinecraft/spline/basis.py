@@ -443,7 +443,11 @@ def basis_functions(t, knots_or_n, *, point_tension=0.0, interval_weights=1.0, c
                           point_tension_scale=point_tension_scale)
     parameters = spline._check_parameters(t)
     flat = parameters.reshape(-1)
-    piece, theta, _h = spline._locate(flat)
+    try:
+        piece, theta, _h = spline._locate(flat)
+    except ValueError as exc:  # the curve's advice names its own extrapolate=, which this function does not take
+        raise ValueError(str(exc).replace("; pass extrapolate=True to extend the end pieces",
+                                          " (the basis functions are defined on the domain only)")) from None
     values = spline._evaluate(piece, theta, None, 0)  # (8, k): the value of colour c at each t
     first = piece - 1 if closed else piece  # piece k uses the control points first .. first + 3
     columns = (first[:, None] + np.arange(4)) % n_control  # (k, 4)

@@ -54,19 +54,18 @@ def _prepare(points, closed):
         raise TypeError(f"points must be an (n, 2) array of numbers: {exc}") from None
     if array.ndim != 2 or array.shape[1] != 2:
         raise ValueError(f"points must have shape (n, 2), got shape {array.shape}")
-    finite = np.isfinite(array).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
-        raise ValueError(f"points[{bad}] is not finite: {array[bad].tolist()}")
-    large = np.abs(array).max(axis=1) > MAX_COORDINATE if len(array) else np.zeros(0, bool)
-    if large.any():
-        bad = int(np.flatnonzero(large)[0])
-        raise ValueError(f"points[{bad}] = {array[bad].tolist()} is beyond {MAX_COORDINATE:g} px: corner detection "
-                         f"works in pixel units (scale the outline down)")
     if len(array) == 0:
         return array, _EMPTY
+    if not (np.isfinite(array).all() and np.abs(array).max() <= MAX_COORDINATE):  # the whole array at once; the
+        finite = np.isfinite(array).all(axis=1)                                    # first bad point named
+        if not finite.all():
+            bad = int(np.flatnonzero(~finite)[0])
+            raise ValueError(f"points[{bad}] is not finite: {array[bad].tolist()}")
+        bad = int(np.flatnonzero(np.abs(array).max(axis=1) > MAX_COORDINATE)[0])
+        raise ValueError(f"points[{bad}] = {array[bad].tolist()} is beyond {MAX_COORDINATE:g} px: corner detection "
+                         f"works in pixel units (scale the outline down)")
     keep = np.ones(len(array), dtype=bool)
-    keep[1:] = np.any(array[1:] != array[:-1], axis=1)
+    keep[1:] = (array[1:, 0] != array[:-1, 0]) | (array[1:, 1] != array[:-1, 1])
     index = np.flatnonzero(keep)
     if closed and len(index) > 1 and np.array_equal(array[index[-1]], array[0]):
         index = index[:-1]

@@ -198,12 +198,13 @@ def _smoothed_curvature(contour):
     n, points, arc, perimeter = contour.size, contour.points, contour.arc, contour.perimeter
     a = 4
     idx = np.arange(n)
-    chord = points[(idx + a) % n] - points[(idx - a) % n]
+    ahead_idx, behind_idx = np.roll(idx, -a), np.roll(idx, a)  # (idx + a) % n, (idx - a) % n
+    chord = points[ahead_idx] - points[behind_idx]
     phi = np.arctan2(chord[:, 1], chord[:, 0])
-    turn = phi[(idx + a) % n] - phi[(idx - a) % n]
+    turn = phi[ahead_idx] - phi[behind_idx]
     turn = (turn + np.pi) % (2.0 * np.pi) - np.pi
-    ahead = np.where(idx + a < n, arc[np.minimum(idx + a, n)], perimeter + arc[(idx + a) % n])
-    behind = np.where(idx - a >= 0, arc[np.maximum(idx - a, 0)], arc[(idx - a) % n] - perimeter)
+    ahead = np.where(idx + a < n, arc[np.minimum(idx + a, n)], perimeter + arc[ahead_idx])
+    behind = np.where(idx - a >= 0, arc[np.maximum(idx - a, 0)], arc[behind_idx] - perimeter)
     kappa = turn / np.maximum(ahead - behind, 1e-9)
     width = 8
     padded = np.concatenate([kappa[-width:], kappa, kappa[:width]])
@@ -228,9 +229,14 @@ def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     n = contour.size
     if density <= 0 or n < 16:
         return None
-    lam = (density * _smoothed_curvature(contour) ** 3 / epsilon) ** 0.25
+    kappa = _smoothed_curvature(contour)
+    # the density where it is not 0 (about half the points: straight runs and the corners' ends; the powers are
+    # the costly part)
+    bent = kappa != 0.0
     if contour.corner_count:
-        lam[contour.corner_distance[:n] < 6.0] = 0.0
+        bent &= ~(contour.corner_distance[:n] < 6.0)
+    lam = np.zeros(n)
+    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
     cum = np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])  # integral up to point j (n + 1 values)
     new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]  # no corners: seam knot 0
     bounds = contour.corner_bounds

@@ -112,6 +112,10 @@ def _qualify(fit, tolerance, margin):
             & (fit["handles"] > 1e-3 * chord[:, None]).all(axis=1) & (fit["count"] >= 4))
 
 
+_HANKEL = np.add.outer(np.arange(3), np.arange(3))  # the power of x in each entry of a parabola's normal matrix
+_DIAGONAL = np.arange(3)
+
+
 def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDOW, head=None):
     """Tangent direction at every join ``j`` (the start of segment ``j``) where ``interior[j]``: a parabola
     ``y = a + b x + c x^2`` fitted by least squares to the contour points within ``window`` times the longer
@@ -132,26 +136,29 @@ def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDO
     hi = np.searchsorted(u, np.minimum(starts[j] + reach, bounds[1][j]), side="right")
     count = np.maximum(hi - lo, 0)
     grp = np.repeat(np.arange(j.shape[0]), count)
-    offsets = np.concatenate([[0], np.cumsum(count)[:-1]])
-    idx = lo[grp] + np.arange(grp.shape[0]) - offsets[grp]
+    ends_at = np.cumsum(count)
+    idx = np.repeat(lo - (ends_at - count), count) + np.arange(grp.shape[0])  # lo, lo + 1, ... per join
     p, tx = bez[j, 0], head[j]
     rel = points[idx] - p[grp]
-    x = (rel * tx[grp]).sum(1)
-    y = rel[:, 1] * tx[grp, 0] - rel[:, 0] * tx[grp, 1]
-    scale = np.maximum(reach, 1.0)[grp]
-    x = x / scale
+    along = tx[grp]
+    x = (rel[:, 0] * along[:, 0] + rel[:, 1] * along[:, 1]) / np.maximum(reach, 1.0)[grp]
+    y = rel[:, 1] * along[:, 0] - rel[:, 0] * along[:, 1]
     r = j.shape[0]
-    sums = [np.bincount(grp, x**e, r) for e in range(5)]
-    rhs = [np.bincount(grp, y * x**e, r) for e in range(3)]
-    m = np.empty((r, 3, 3))
-    for a_ in range(3):
-        for b_ in range(3):
-            m[:, a_, b_] = sums[a_ + b_]
-    m += 1e-9 * np.eye(3)
+    # the sums of x^e (e = 0..4) and y x^e (e = 0..2) per join; x^0 = 1: the count and the sum of y
+    x2 = x * x
+    sums = np.empty((r, 5))
+    sums[:, 0] = count
+    sums[:, 1], sums[:, 2] = np.bincount(grp, x, r), np.bincount(grp, x2, r)
+    sums[:, 3], sums[:, 4] = np.bincount(grp, x**3, r), np.bincount(grp, x**4, r)
+    rhs = np.empty((r, 3, 1))
+    rhs[:, 0, 0], rhs[:, 1, 0], rhs[:, 2, 0] = np.bincount(grp, y, r), np.bincount(grp, y * x, r), \
+        np.bincount(grp, y * x2, r)
+    m = sums[:, _HANKEL]  # m[:, a, b] = sums of x^(a + b)
+    m[:, _DIAGONAL, _DIAGONAL] += 1e-9
     good = count >= 6
     coef = np.zeros((r, 3))
     if good.any():
-        coef[good] = np.linalg.solve(m[good], np.stack(rhs, axis=1)[good][..., None])[..., 0]
+        coef[good] = np.linalg.solve(m[good], rhs[good])[..., 0]
     slope = coef[:, 1] / np.maximum(reach, 1.0)
     normal = np.column_stack([-tx[:, 1], tx[:, 0]])
     d = _unit(tx + slope[:, None] * normal)[0]

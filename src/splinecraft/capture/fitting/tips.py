@@ -423,7 +423,8 @@ def tip_estimates(contour, angle, radius, measured=None):
     wanted = (acute | one_short) if measured is None else (acute | one_short) & measured
     wanted &= ~pixel
     if not wanted.any():
-        return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan))
+        return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan),
+                                   _outside(contour, vertex[pixel]))
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False
@@ -479,13 +480,22 @@ def tip_estimates(contour, angle, radius, measured=None):
     # angle is the opening of the fitted sides
     gate = np.where(one_short, opening, angle)
     estimate[(gate >= MAX_EXTRAPOLATED_ANGLE) & ~(straight & (gate < MAX_OBTUSE_ANGLE))] = np.nan
-    found = np.flatnonzero(np.isfinite(estimate[:, 0]))
+    found = np.flatnonzero(np.isfinite(estimate[:, 0]))  # none of them a pixel corner (not measured)
+    outside = _outside(contour, np.concatenate([estimate[found], vertex[pixel]]))
     distance = np.full(count, np.nan)
     if found.size:
-        outside = distance[found] = polyline_distance(estimate[found], contour.points, closed=True)
-        rounded = found[outside * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
+        distance[found] = outside[:found.size]
+        rounded = found[outside[:found.size] * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
         estimate[rounded], anchors[rounded], distance[rounded] = np.nan, np.nan, np.nan
-    return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance)
+    return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance, outside[found.size:])
+
+
+def _outside(contour, points):
+    """Distance (px) of ``points`` (tips) from the closed contour polyline (:func:`~.geometry.polyline_distance`:
+    one search tree for all of them)."""
+    if not points.shape[0]:
+        return np.zeros(0)
+    return polyline_distance(points, contour.points, closed=True)
 
 
 def _tip(contour, c, sides, is_shared, corner_arc, start, pairs):
@@ -517,10 +527,10 @@ def _tip(contour, c, sides, is_shared, corner_arc, start, pairs):
     return point, opening, ends
 
 
-def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance):
+def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance, vertex_distance):
     """:func:`tip_estimates`' results with the pixel corners ``pixel`` (boolean per corner) at their vertex
-    (``vertex``, per corner): the estimate, the contour points at the window starts and the distance from the
-    contour."""
+    (``vertex``, per corner; ``vertex_distance``: the distance of each of those vertices from the contour, in
+    corner order): the estimate, the contour points at the window starts and the distance from the contour."""
     if not pixel.any():
         return estimate, start, anchors, distance
     found = np.flatnonzero(pixel)
@@ -529,5 +539,5 @@ def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distan
     before = contour.point_at_arc((corner_arc - start[found]) % contour.perimeter)
     after = contour.point_at_arc((corner_arc + start[found]) % contour.perimeter)
     anchors[found] = np.stack([before, after], axis=1)
-    distance[found] = polyline_distance(vertex[found], contour.points, closed=True)
+    distance[found] = vertex_distance
     return estimate, start, anchors, distance

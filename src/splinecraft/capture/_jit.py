@@ -26,15 +26,22 @@ import threading
 
 import numba
 
-__all__ = ["JIT_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
            "TRACE_TASKS", "LAST_WARM_UP"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
 #: no reference counting (``_nrt=False``): the kernels only read and write arrays their wrappers allocate, so
 #: numba's runtime has nothing to count; without it less code is compiled (about 5-10 % of the cold compile)
-#: and an allocation inside a kernel fails to compile instead of costing compile time.
-JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False)
+#: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
+#: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
+#: wrapper was compiled and optimized for nothing (about 8 ms a kernel).
+JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True)
+#: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink`` ...): also no Python
+#: wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for each
+#: helper but never run); their code is linked into the calling kernels, whose cache entries hold it. A helper
+#: that a test calls from Python (``_smoothed``, ``_window_fit``) keeps :data:`JIT_OPTIONS`.
+HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True)
 
 
 def _writable(folder) -> bool:

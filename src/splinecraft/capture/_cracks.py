@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import JIT_OPTIONS
+from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS
 
 __all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "crack_points", "MINORITY", "warm_up"]
 
@@ -40,7 +40,7 @@ _CODE_OF_STEP = np.full(9, -1, dtype=np.int8)
 _CODE_OF_STEP[3 * (FREEMAN_STEPS[:, 1] + 1) + (FREEMAN_STEPS[:, 0] + 1)] = np.arange(8)
 
 
-@njit(**JIT_OPTIONS)
+@njit(**_HELPER)
 def _ink(padded, row, col):
     """1 for an ink pixel, 0 for paper and for pixels outside the array."""
     if row < 0 or col < 0 or row >= padded.shape[0] or col >= padded.shape[1]:
@@ -61,7 +61,7 @@ def _count_cracks(padded):
     return count
 
 
-@njit(**JIT_OPTIONS)
+@njit(**_HELPER)
 def _starts_at(padded, vertex_x, vertex_y):
     """Bit ``d`` set when a crack of direction ``d`` has its tail at the vertex (ink on its right)."""
     up_left = _ink(padded, vertex_y - 1, vertex_x - 1)
@@ -208,7 +208,7 @@ def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, buffer_col
     return kept
 
 
-@njit(**JIT_OPTIONS)
+@njit(**_HELPER)
 def _root(parent, node):
     while parent[node] != node:
         parent[node] = parent[parent[node]]

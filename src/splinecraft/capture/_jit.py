@@ -17,6 +17,7 @@ start costs nothing but the time: this process compiles what it left.
 """
 from __future__ import annotations
 
+import gc
 import importlib
 import os
 import subprocess
@@ -26,15 +27,22 @@ import threading
 
 import numba
 
-__all__ = ["JIT_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
            "TRACE_TASKS", "LAST_WARM_UP"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
 #: no reference counting (``_nrt=False``): the kernels only read and write arrays their wrappers allocate, so
 #: numba's runtime has nothing to count; without it less code is compiled (about 5-10 % of the cold compile)
-#: and an allocation inside a kernel fails to compile instead of costing compile time.
-JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False)
+#: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
+#: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
+#: wrapper was compiled and optimized for nothing (about 8 ms a kernel).
+JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True)
+#: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink`` ...): also no Python
+#: wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for each
+#: helper but never run); their code is linked into the calling kernels, whose cache entries hold it. A helper
+#: that a test calls from Python (``_smoothed``, ``_window_fit``) keeps :data:`JIT_OPTIONS`.
+HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True)
 
 
 def _writable(folder) -> bool:
@@ -151,9 +159,11 @@ def _sentinel(name):
 
 
 #: The helper's program: it exits when this process is gone (a watcher thread compares its parent's pid, so an
-#: interrupted or killed trace leaves no compiler behind), then runs its tasks.
+#: interrupted or killed trace leaves no compiler behind), then runs its tasks, without Python's cyclic garbage
+#: collector (:func:`warm_up`) and without the interpreter's teardown.
 _HELPER_CODE = """
-import os, sys, threading, time
+import gc, os, sys, threading, time
+gc.disable()  # the helper imports, compiles and exits: its garbage is never worth collecting
 parent = int(sys.argv[1])
 def watch():
     while os.getppid() == parent:
@@ -162,6 +172,7 @@ def watch():
 threading.Thread(target=watch, daemon=True).start()
 from splinecraft.capture._jit import warm_up
 warm_up(sys.argv[2:])
+os._exit(0)  # the kernels are in the cache: no interpreter teardown (0.15-0.25 s) before this process goes on
 """
 
 
@@ -200,7 +211,13 @@ def warm_up(tasks=TRACE_TASKS):
     """Compile (empty cache) or load the kernels of the warm-up ``tasks`` (names of :data:`WARM_UP_TASKS`),
     each once per process. When two or more of them are cold and :func:`workers` allows, helper processes
     compile part of them at the same time (:func:`plan`); this process waits for them and loads their kernels
-    from the cache. :data:`LAST_WARM_UP` tells what happened."""
+    from the cache. :data:`LAST_WARM_UP` tells what happened.
+
+    Python's cyclic garbage collector is off meanwhile (and on again after, if it was on): numba's compiler
+    makes some 10^5 short-lived cyclic objects per task, and the collections they trigger (full ones among
+    them, which walk every object of the process) cost about 10 % of a cold compile. Their garbage is
+    collected while this process waits for a helper that is still compiling, else by the next automatic
+    collection."""
     with _LOCK:
         todo = [name for name in dict.fromkeys(tasks) if name not in _DONE]
         unknown = [name for name in todo if name not in WARM_UP_TASKS]
@@ -214,11 +231,15 @@ def warm_up(tasks=TRACE_TASKS):
         helpers = [(share, _start_helper(share)) for share in shares[1:] if share]
         LAST_WARM_UP.update(cold=cold, helpers=[share for share, _ in helpers], failed=[])
         theirs = {name for share, _ in helpers for name in share}
+        collecting = gc.isenabled()
+        gc.disable()
         try:
             for name in todo:
                 if name not in theirs:
                     _function(name)()
                     _DONE.add(name)
+            if collecting and any(helper is not None and helper.poll() is None for _, helper in helpers):
+                gc.collect()  # the garbage of this process's compiles, while it waits for the helpers anyway
             for share, helper in helpers:
                 if helper is None or not _finished(helper):
                     LAST_WARM_UP["failed"].append(share)
@@ -226,6 +247,8 @@ def warm_up(tasks=TRACE_TASKS):
                     _function(name)()
                     _DONE.add(name)
         finally:  # interrupted (KeyboardInterrupt, an error): no helper keeps compiling for nobody
+            if collecting:
+                gc.enable()
             for _, helper in helpers:
                 _stop(helper)
 

@@ -18,13 +18,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
-_JIT = JIT_OPTIONS
+_JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
 
 
 def _floats(values):
@@ -39,7 +39,7 @@ def _ints(values):
 _NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty((0, 2))
 
 
-@njit(**_JIT)
+@njit(**_HELPER)
 def _right_of(values, x):
     """The number of ``values`` (sorted) that are ``<= x``: ``numpy.searchsorted(values, x, side="right")``."""
     lo, hi = 0, values.shape[0]
@@ -52,14 +52,14 @@ def _right_of(values, x):
     return lo
 
 
-@njit(**_JIT)
+@njit(**_HELPER)
 def _interval(full, u):
     """``i`` with ``full[i] <= u < full[i + 1]`` (searchsorted right, minus one), clipped to the period
     ``[3, len(full) - 5]``: :func:`~.bspline.interval_index`."""
     return min(max(_right_of(full, u) - 1, 3), full.shape[0] - 5)
 
 
-@njit(**_JIT)
+@njit(**_HELPER)
 def _basis(full, i, u):
     """The four non-zero cubic B-splines ``N_{i-3} .. N_i`` at ``u``: the Cox-de Boor recurrence
     ``new_r = saved + right_{r+1} temp``, ``saved = left_{j-r} temp``, ``temp = old_r / (right_{r+1} +
@@ -355,7 +355,7 @@ def nearest_segment_distance(px, py, ax, ay, dx, dy):
     return out
 
 
-@njit(**_JIT)
+@njit(**_HELPER)
 def _bezier_point(bez, k, theta, out, row):
     """``out[row]`` = the cubic Bézier piece ``bez[k]`` at ``theta`` (Bernstein weights, summed in order)."""
     s = 1.0 - theta
@@ -588,7 +588,7 @@ def warm_up_checks():
 
 
 
-@njit(**_JIT)
+@njit(**_HELPER)
 def _walk_right(values, x, position):
     """``numpy.searchsorted(values, x, "right")`` for ``values`` sorted without NaN, walked from the answer
     ``position`` of a nearby key (linear total work for sorted keys, exact from any start). Two functions, not
@@ -603,7 +603,7 @@ def _walk_right(values, x, position):
     return position
 
 
-@njit(**_JIT)
+@njit(**_HELPER)
 def _walk_left(values, x, position):
     """``numpy.searchsorted(values, x, "left")``, walked as :func:`_walk_right`."""
     n = values.shape[0]
@@ -616,7 +616,7 @@ def _walk_left(values, x, position):
     return position
 
 
-@njit(**_JIT)
+@njit(**_HELPER)
 def _larger(a, b):
     """``numpy.maximum(a, b)`` of two floats: ``a`` where it is NaN or larger, else ``b``."""
     if a != a or a > b:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import JIT_OPTIONS
+from .._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS
 
 __all__ = ["fit_runs", "warm_up", "TANGENTIAL"]
 
@@ -25,7 +25,7 @@ TANGENTIAL = 0.0
 DAMPING = 1e-3
 
 
-@njit(**JIT_OPTIONS)
+@njit(**_HELPER)
 def _coefficients(c):
     """The control points of the cubic ``c`` (x then y) and the differences of its derivatives, the values
     :func:`_point` and :func:`_newton` take (computed once per cubic instead of once per point)."""
@@ -35,7 +35,7 @@ def _coefficients(c):
             e1x - e0x, e2x - e1x, e1y - e0y, e2y - e1y)
 
 
-@njit(**JIT_OPTIONS)
+@njit(**_HELPER)
 def _point(k, t):
     """The point at ``t`` of the cubic of coefficients ``k`` (:func:`_coefficients`)."""
     s = 1.0 - t
@@ -43,7 +43,7 @@ def _point(k, t):
     return b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3], b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
 
 
-@njit(**JIT_OPTIONS)
+@njit(**_HELPER)
 def _newton(k, qx, qy, t):
     """One foot-point Newton step of ``(B(t) - q) . B'(t) = 0`` on the cubic of coefficients ``k``
     (:func:`_coefficients`), clipped to [0, 1]."""

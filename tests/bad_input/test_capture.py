@@ -318,3 +318,17 @@ def test_corners_of_an_outline_beyond_pixel_scale_say_so(method):
         warnings.simplefilter("error", RuntimeWarning)
         found = corners(ring * 1e12, method)
     assert found.dtype == np.intp
+
+
+@pytest.mark.parametrize("smoothing", [5e-324, 1e-310])
+def test_a_subnormal_smoothing_is_no_smoothing_without_a_warning(smoothing):
+    """A Gaussian of a subnormal width: the offsets of its kernel overflow to inf and their weights to 0 (no
+    smoothing), without numpy's 'overflow encountered in divide' (the fuzz test above found it)."""
+    import warnings
+
+    angles = np.linspace(0, 2 * np.pi, 120, endpoint=False)
+    outline = np.column_stack([np.cos(angles), np.sin(angles)]) * 30 * np.where(np.arange(120) % 30 < 15, 1, 0.7)[:, None]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        found = corners(outline, "tangent-jump", smoothing=smoothing)
+    np.testing.assert_array_equal(found, corners(outline, "tangent-jump", smoothing=0.0))

@@ -96,7 +96,8 @@ def _smooth(samples, sigma, closed):
     if sigma <= 0:
         return samples
     half = int(np.ceil(3 * sigma))
-    kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
+    with np.errstate(over="ignore"):  # a subnormal sigma: the offsets overflow to inf, their weights to 0
+        kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
     kernel /= kernel.sum()
     m = len(samples)
     if closed:

@@ -9,6 +9,7 @@ import socket
 import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -447,13 +448,14 @@ def test_a_killed_worker_does_not_lose_files(glyphs, tmp_path):
     assert sorted(line["output"] for line in lines) == sorted(f"{p.stem}.svg" for p in glyphs)
 
 
-@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes")
+@pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="pipes as paths (/proc/self/fd)")
 def test_a_pipe_input_is_read_once_and_resumes_by_its_content(tmp_path):
-    """An input path that is a pipe (``splinecraft trace <(curl ...) -o out/``) can be read once. The resume
-    check hashed it before the trace, so the trace read an empty pipe ("not an image file") whenever the manifest
-    had a line for its output, and the first run recorded the hash of nothing. The pipe is read once, in the
-    calling process: the file is traced, the manifest holds the hash of what came through it, and a run with the
-    same content skips while one with other content traces it."""
+    """An input path that is a pipe (``splinecraft trace <(curl ...) -o out/``, which the shell passes as
+    ``/dev/fd/N``) can be read once. The resume check hashed it before the trace, so the trace read an empty
+    pipe ("not an image file") whenever the manifest had a line for its output, and the first run recorded the
+    hash of nothing. The pipe is read once, in the calling process: the file is traced, the manifest holds the
+    hash of what came through it, and a run with the same content skips while one with other content traces
+    it. (An anonymous pipe, as the shell's: read past its end, it gives nothing instead of waiting.)"""
     import threading
 
     images = {}
@@ -461,25 +463,32 @@ def test_a_pipe_input_is_read_once_and_resumes_by_its_content(tmp_path):
         path = tmp_path / f"glyph{seed}.png"
         glyph_image(seed).save(path)
         images[seed] = path
-    pipe, out = tmp_path / "scan", tmp_path / "out"
+    out = tmp_path / "out"
 
     def run(seed):
-        os.mkfifo(pipe)
-        writer = threading.Thread(target=pipe.write_bytes, args=(images[seed].read_bytes(),))
+        read_end, write_end = os.pipe()
+
+        def write():
+            with os.fdopen(write_end, "wb") as stream:
+                stream.write(images[seed].read_bytes())
+
+        writer = threading.Thread(target=write)
         writer.start()
         try:
-            (record,) = trace_many([str(pipe)], out, epsilon=EPSILON)
+            (record,) = trace_many([f"/proc/self/fd/{read_end}"], out, epsilon=EPSILON)
         finally:
             writer.join(timeout=10)
-            pipe.unlink()
+            os.close(read_end)
         return record
 
     first = run(0)
     assert first.status == "ok", first.error
     assert first.input_sha256 == hashlib.sha256(images[0].read_bytes()).hexdigest()
-    assert (out / "scan.svg").read_bytes() == sc.trace(images[0], epsilon=EPSILON).to_svg(title="scan").encode()
+    name = Path(first.output).name
+    expected = sc.trace(images[0], epsilon=EPSILON).to_svg(title=Path(name).stem).encode()
+    assert (out / name).read_bytes() == expected
     again = run(0)
     assert again.status == "skipped"
     other = run(1)
     assert other.status == "ok", other.error
-    assert (out / "scan.svg").read_bytes() == sc.trace(images[1], epsilon=EPSILON).to_svg(title="scan").encode()
+    assert (out / name).read_bytes() == sc.trace(images[1], epsilon=EPSILON).to_svg(title=Path(name).stem).encode()

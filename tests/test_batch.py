@@ -492,3 +492,15 @@ def test_a_pipe_input_is_read_once_and_resumes_by_its_content(tmp_path):
     other = run(1)
     assert other.status == "ok", other.error
     assert (out / name).read_bytes() == sc.trace(images[1], epsilon=EPSILON).to_svg(title=Path(name).stem).encode()
+
+
+def test_a_manifest_that_is_a_directory_is_refused_by_name(tmp_path):
+    """``manifest=`` (the command line's ``--manifest``) naming a directory was a bare "[Errno 21] Is a
+    directory" from deep in the run; it is refused up front, naming the manifest, and nothing is traced."""
+    path = tmp_path / "glyph.png"
+    glyph_image(0).save(path)
+    out = tmp_path / "out"
+    out.mkdir()
+    with pytest.raises(ValueError, match="manifest .* is a directory"):
+        trace_many([path], out, manifest=out, epsilon=EPSILON)
+    assert list(out.iterdir()) == []

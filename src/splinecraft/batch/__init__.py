@@ -260,6 +260,9 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     check_trace_arguments(arguments)
     writes = any(planned.output is not None for planned in plan)
     manifest_path = os.path.abspath(os.fspath(manifest)) if manifest is not None and writes else None
+    if manifest_path is not None and os.path.isdir(manifest_path):
+        raise ValueError(f"manifest {manifest_path!r} is a directory: give the manifest's file name, e.g. "
+                         f"{os.path.join(manifest_path, MANIFEST_NAME)!r}")
     refuse_overwriting_inputs(plan, manifest_path)
     runner = make_runner(scheduler, jobs, len(plan))
     try:

@@ -12,7 +12,6 @@ import inspect
 import json
 import math
 import os
-import stat
 from dataclasses import dataclass
 
 import numpy as np
@@ -116,15 +115,17 @@ def read_pipes(plan) -> list:
     bytes, read once here: a pipe can be read only once, and the resume check hashes the input before it is
     traced (the trace then read an empty pipe: "not an image file"). Label, output and title stay the path's.
     A pipe that cannot be read stays a path and fails as its file."""
+    from ..capture.image import read_pipe
+
     planned = []
     for job in plan:
         if isinstance(job.source, str):
             try:
-                if stat.S_ISFIFO(os.stat(job.source).st_mode):
-                    with open(job.source, "rb") as stream:
-                        job = dataclasses.replace(job, source=stream.read())
-            except OSError:
-                pass
+                piped = read_pipe(job.source)
+            except OSError:  # a pipe that cannot be read stays a path and fails as its file
+                piped = None
+            if piped is not None:
+                job = dataclasses.replace(job, source=piped)
         planned.append(job)
     return planned
 

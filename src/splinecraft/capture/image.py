@@ -307,6 +307,18 @@ def _is_zero_one_mask(image):
     return lo == 0 and hi == 1
 
 
+def read_pipe(path):
+    """The bytes of ``path`` when it names a pipe (the shell's ``<(...)``, ``/dev/stdin``), read whole and
+    closed: a pipe can be read only once. ``None`` for anything else (a file, a missing path)."""
+    try:
+        if not stat.S_ISFIFO(os.stat(path).st_mode):
+            return None
+    except (OSError, ValueError):
+        return None
+    with open(path, "rb") as stream:
+        return stream.read()
+
+
 def _two_levels(gray):
     """The gray image holds at most two distinct values (a 1-bit image, or a mask saved as 0/255). Its noise
     estimate then measures the pattern, not noise: on a checkerboard or a halftone every 2 x 2 window straddles
@@ -449,11 +461,11 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             raise FileNotFoundError(f"image file not found: {name}")
         if os.path.isdir(name):
             raise ValueError(f"{name}: is a directory, not an image file")
-        if stat.S_ISFIFO(os.stat(name).st_mode):
-            # a pipe (the shell's <(...), /dev/stdin): PIL reads it into memory itself but leaves the file it
-            # opened unclosed (ResourceWarning), so it is read here, once, and closed
-            with open(name, "rb") as stream:
-                source = io.BytesIO(stream.read())
+        # a pipe (the shell's <(...), /dev/stdin): PIL reads it into memory itself but leaves the file it opened
+        # unclosed (ResourceWarning), so it is read here, once, and closed
+        piped = read_pipe(name)
+        if piped is not None:
+            source = io.BytesIO(piped)
     try:
         with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
             # PIL's soft size warning: the cap below decides (module docstring)

@@ -236,7 +236,7 @@ class Contour:
         kinks there; with ``keep_shape=True`` it gets the current curve's handles instead and the shape is
         unchanged (the two tangents are then fixed until the handles are edited).
         """
-        i = _one_index(knot, len(self), "knot")
+        i = _single_index(knot, len(self), "knot")
         corner = check_bool(corner, "corner")
         keep_shape = check_bool(keep_shape, "keep_shape")
         data = self.fields()
@@ -252,7 +252,7 @@ class Contour:
         ``position``: the Bézier control point next to the knot (``b1`` of the piece leaving it, ``b2`` of the
         piece arriving) moves exactly there, since the run's clamped end tangent is ``3 (b1 - b0) / h`` (§2.4
         Type 1). Smooth knots have no handles (``ValueError``: make the knot a corner first)."""
-        i = _one_index(knot, len(self), "knot")
+        i = _single_index(knot, len(self), "knot")
         if not isinstance(side, str) or side not in ("in", "out"):
             raise ValueError(f"side must be 'in' or 'out', got {side!r:.20}")
         if not self.corners[i]:
@@ -271,7 +271,7 @@ class Contour:
         are shortened as by de Casteljau subdivision, so the curve stays close to the old one.
         """
         n = len(self)
-        i = _one_index(piece, n, "piece")
+        i = _single_index(piece, n, "piece")
         theta = check_number(theta, "theta")
         if not 0.0 < theta < 1.0:
             raise ValueError(f"theta must lie strictly between 0 and 1, got {theta!r}")
@@ -297,7 +297,7 @@ class Contour:
     def removed(self, knot) -> "Contour":
         """Knot ``knot`` deleted (refused when fewer than 3 knots would remain); its two intervals merge."""
         n = len(self)
-        i = _one_index(knot, n, "knot")
+        i = _single_index(knot, n, "knot")
         if n - 1 < MIN_KNOTS:
             raise ValueError(f"cannot delete knot {i}: a contour needs at least {MIN_KNOTS} knots and this one has {n}")
         data = self.fields()
@@ -372,12 +372,16 @@ def _indices(values, n) -> np.ndarray:
     return array % n
 
 
-def _one_index(value, n, name) -> int:
-    """One knot or piece index (negative ones count from the end): a list of them is an error, not its first."""
-    index = _indices(value, n)
-    if np.ndim(value) != 0:
-        raise TypeError(f"{name} must be one integer index, got {np.asarray(value).tolist()!r:.40}")
-    return int(index[0])
+def _single_index(value, n, name, of="a contour of {n} knots") -> int:
+    """One index into ``n`` items (negative ones count from the end): an integer, not a bool, a float or a
+    list (never its first item); ``of`` says what is indexed (``{n}`` is filled in)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        shown = value.tolist() if isinstance(value, np.ndarray) else value
+        raise TypeError(f"{name} must be one integer index, got {shown!r:.40}")
+    index = int(value)
+    if not -n <= index < n:
+        raise ValueError(f"{name} = {index} is out of range for {of.format(n=n)}")
+    return index % n
 
 
 def _knot_mask(knots, n) -> np.ndarray:

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import json
 import math
-import numbers
 import os
 from pathlib import Path
 
@@ -32,7 +31,7 @@ import numpy as np
 
 from .._validation import check_number
 from .bezier import curve_bounds
-from .contour import Contour, _indices
+from .contour import Contour, _indices, _single_index
 from .transforms import affine_parts, check_reach, reflection, rotation, scaling, shearing, translation
 
 __all__ = ["Outline", "contour_deviation", "nesting_depths", "DEVIATION_SPACING"]
@@ -149,18 +148,6 @@ def _source(value, name) -> np.ndarray:
     if not np.isfinite(array).all():
         raise ValueError(f"{name} has non-finite coordinates")
     return array
-
-
-def _single_index(value, n, name, of) -> int:
-    """One index into ``n`` items (negative ones count from the end): an integer, not a bool, a float or a
-    list; ``of`` says what is indexed (``{n}`` is filled in)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        shown = value.tolist() if isinstance(value, np.ndarray) else value
-        raise TypeError(f"{name} must be one integer index, got {shown!r:.40}")
-    index = int(value)
-    if not -n <= index < n:
-        raise ValueError(f"{name} = {index} is out of range for {of.format(n=n)}")
-    return index % n
 
 
 class Outline:

@@ -414,6 +414,6 @@ def test_minority_cycles_are_consistent(mask):
 
 
 def test_connectivity_is_checked():
-    for bad in (6, "eight", True, None, [8]):
+    for bad in (6, "eight", True, None, [8], 4.0, np.float64(8.0), "4"):  # 4.0 was accepted (4.0 in (4, 8))
         with pytest.raises(ValueError, match="connectivity"):
             trace_boundaries(np.ones((2, 2), bool), connectivity=bad)

@@ -489,6 +489,23 @@ def test_selections_are_single_indices_checked_against_the_outline():
     np.testing.assert_array_equal(last.contours[0].points, outline.contours[0].points)
 
 
+def test_an_empty_selection_is_refused_not_ignored():
+    """``contours=[]`` or ``knots=[]`` selected nothing, so a transform silently returned the outline unchanged
+    (and ``selection_center`` failed inside numpy); an explicit empty selection is now a ValueError, while
+    neither argument still means the whole shape."""
+    outline = from_knots([_loop(4, 1), _loop(3, 2, radius=20.0) + 200])
+    for selection in (dict(contours=[]), dict(knots=[]), dict(contours=[], knots=[]), dict(contours=np.array([], int))):
+        with pytest.raises(ValueError, match="the selection is empty"):
+            outline.translate(1.0, 2.0, **selection)
+        with pytest.raises(ValueError, match="the selection is empty"):
+            outline.selection_center(**selection)
+    whole = outline.translate(1.0, 2.0)
+    for before, after in zip(outline.contours, whole.contours):
+        np.testing.assert_allclose(after.points, before.points + [1.0, 2.0])
+    some = outline.translate(1.0, 2.0, contours=[], knots=[(1, 0)])
+    np.testing.assert_allclose(some.contours[1].points[0], outline.contours[1].points[0] + [1.0, 2.0])
+
+
 def test_single_knot_edits_refuse_lists_and_non_bool_flags():
     """delete_knot, set_corner, insert_knot and move_handle took the first of a list of indices silently
     (``delete_knot(0, [0, 1])`` deleted knot 0 only), ``corner="no"`` made a corner (``bool("no")``) and

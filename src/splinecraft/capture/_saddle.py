@@ -2,6 +2,8 @@
 diagonal pixel contacts is compiled with the crack follower, :mod:`splinecraft.capture._cracks`)."""
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 
 __all__ = ["CONNECTIVITIES", "check_connectivity"]
@@ -15,6 +17,7 @@ def check_connectivity(connectivity):
     if isinstance(connectivity, str):
         if connectivity == "minority":
             return connectivity
-    elif not isinstance(connectivity, (bool, np.bool_)) and connectivity in CONNECTIVITIES[1:]:
+    elif (isinstance(connectivity, numbers.Integral) and not isinstance(connectivity, (bool, np.bool_))
+          and connectivity in CONNECTIVITIES[1:]):
         return int(connectivity)
     raise ValueError(f"connectivity must be 4, 8 or 'minority', got {connectivity!r}")

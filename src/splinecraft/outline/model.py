@@ -339,7 +339,8 @@ class Outline:
 
     # ------------------------------------------------------------------ transforms (thesis section 3.3)
     def _selection(self, contours, knots):
-        """contour index -> knot indices (``None`` = the whole contour)."""
+        """contour index -> knot indices (``None`` = the whole contour). Neither ``contours`` nor ``knots`` given
+        selects the whole shape; given but empty (``[]``) selects nothing, which is refused (ValueError)."""
         if contours is None and knots is None:
             return {k: None for k in range(len(self.contours))}
         chosen = {}
@@ -359,6 +360,9 @@ class Outline:
         for k, index in pairs:
             if not (k in chosen and chosen[k] is None):
                 chosen.setdefault(k, set()).add(index)
+        if not chosen:
+            raise ValueError("the selection is empty (contours=" + repr(contours) + ", knots=" + repr(knots)
+                             + "): give contour indices or (contour, knot) pairs, or neither for the whole shape")
         for k, value in chosen.items():
             if value is not None and len(value) == len(self.contours[k]):
                 chosen[k] = None

@@ -13,7 +13,9 @@ A cold cache costs seconds of compiling on the first trace of a process (docs/ca
 :func:`warm_up` spreads that over the machine's CPUs: the cold warm-up tasks (:data:`WARM_UP_TASKS`) are split
 longest first between this process and helper processes that only compile them into the shared cache, and this
 process then loads the helpers' kernels from it. A warm cache starts no helper; a helper that fails or cannot
-start costs nothing but the time: this process compiles what it left.
+start costs nothing but the time: this process compiles what it left. A helper imports only the kernel modules of its tasks (:data:`_HELPER_CODE`),
+and the split (:func:`plan`) weighs each task by its measured compile and the helper by its late start
+(:data:`HELPER_START`): docs/capture.md, "Cold kernels compile in parallel".
 """
 from __future__ import annotations
 

@@ -31,6 +31,53 @@ def test_plan_gives_every_cold_task_to_one_process(cold, processes):
         assert max(finish) - min(finish) <= max(weight[name] for name in cold) + _jit.HELPER_START + 1e-9
 
 
+def _finishes(shares):
+    return [sum(_jit.WARM_UP_TASKS[name][3] for name in share) + (index > 0) * _jit.HELPER_START
+            for index, share in enumerate(shares)]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.sampled_from(sorted(_jit.WARM_UP_TASKS)), unique=True), st.integers(1, 3))
+def test_plan_finishes_as_early_as_any_split(cold, processes):
+    """Where every split is tried (up to 7 tasks on 3 processes), no split of the tasks finishes earlier."""
+    import itertools
+
+    best = min(max(_finishes([[name for name, at in zip(cold, places) if at == index] for index in range(processes)]))
+               for places in itertools.product(range(processes), repeat=len(cold)))
+    assert max(_finishes(_jit.plan(cold, processes))) == pytest.approx(best)
+
+
+def test_plan_of_the_trace_tasks_beats_longest_first():
+    """The default trace's six tasks on two processes: the planned split finishes no later than longest first
+    (each task to the process that would finish it earliest), and within the smallest task of each other."""
+    tasks = _jit.TRACE_TASKS + ("merge", "corners")
+    loads, greedy = [0.0, _jit.HELPER_START], [[], []]
+    for name in sorted(tasks, key=lambda task: -_jit.WARM_UP_TASKS[task][3]):
+        at = 0 if loads[0] <= loads[1] else 1
+        loads[at] += _jit.WARM_UP_TASKS[name][3]
+        greedy[at].append(name)
+    finishes = _finishes(_jit.plan(tasks, 2))
+    assert max(finishes) <= max(_finishes(greedy)) + 1e-9
+    assert max(finishes) - min(finishes) <= min(_jit.WARM_UP_TASKS[name][3] for name in tasks) + 1e-9
+
+
+def test_the_helper_imports_only_its_kernel_modules(tmp_path):
+    """The helper's program registers bare parent packages: compiling the corner kernels imports neither the
+    trace, the fit nor the corner detectors, nor scipy's image modules."""
+    code = _jit._HELPER_CODE.replace(
+        "os._exit(0)", "import json; print(json.dumps(sorted(m for m in sys.modules if m.startswith(('splinecraft', "
+        "'scipy.ndimage', 'scipy.spatial'))))); sys.stdout.flush(); os._exit(0)")
+    assert code != _jit._HELPER_CODE
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="1",
+               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
+    done = subprocess.run([sys.executable, "-c", code, str(os.getpid()), "corners"], cwd=SRC, env=env,
+                          capture_output=True, text=True, timeout=300, check=True)
+    modules = json.loads(done.stdout.strip().splitlines()[-1])
+    assert "splinecraft.capture.corners._jump_kernels" in modules
+    assert not {"splinecraft.capture.trace", "splinecraft.capture.fitting.lsq", "splinecraft.capture.corners._jump",
+                "splinecraft.spline", "scipy.ndimage", "scipy.spatial"} & set(modules)
+
+
 def test_plan_balances_the_trace_tasks_between_two_processes():
     """The default trace's six tasks on two processes: each gets about half of the compile (the helper's
     start included), far less than all of it."""

@@ -13,12 +13,15 @@ A cold cache costs seconds of compiling on the first trace of a process (docs/ca
 :func:`warm_up` spreads that over the machine's CPUs: the cold warm-up tasks (:data:`WARM_UP_TASKS`) are split
 longest first between this process and helper processes that only compile them into the shared cache, and this
 process then loads the helpers' kernels from it. A warm cache starts no helper; a helper that fails or cannot
-start costs nothing but the time: this process compiles what it left.
+start costs nothing but the time: this process compiles what it left. A helper imports only the kernel modules of its tasks (:data:`_HELPER_CODE`),
+and the split (:func:`plan`) weighs each task by its measured compile and the helper by its late start
+(:data:`HELPER_START`): docs/capture.md, "Cold kernels compile in parallel".
 """
 from __future__ import annotations
 
 import gc
 import importlib
+import itertools
 import os
 import subprocess
 import sys
@@ -74,23 +77,29 @@ ensure_cache_dir()
 
 #: The warm-up tasks: name -> (module relative to :mod:`splinecraft.capture`, its function that compiles (empty
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
-#: cold compile in seconds). The seconds were measured one task per fresh process and empty cache on a quiet
-#: machine (BENCHMARKS.md, "Session 20"); only their ratios matter, they balance the processes of :func:`warm_up`.
+#: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
+#: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of two runs
+#: (BENCHMARKS.md, "Session 23"); only their ratios matter, they balance the processes of :func:`warm_up`.
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.9),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.85),
-    "tracer": ("_cracks", "warm_up", "_follow_into", 1.7),
-    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 1.2),
-    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.8),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.5),
-    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.4),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.4),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.35),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 1.25),
+    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.85),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.6),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.35),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.3),
 }
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
 #: polygons of a spent time budget compile where they are used).
 TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
-#: Seconds a helper process spends before it compiles (Python, numpy, numba and the kernel modules imported,
-#: numba's first compile of a process set up), which the split of :func:`warm_up` charges to every helper.
-HELPER_START = 0.7
+#: Seconds by which a helper process starts its compiles later than this process, in the units of
+#: :data:`WARM_UP_TASKS`: its start (Python, numpy, numba and its kernel modules imported, 0.3 s), numba's set-up
+#: of its first compile (0.35 s with the scipy numba imports then; 0.1 s here, where scipy is loaded), less
+#: what this process does before it compiles (the capture package imported, about 0.15 s) and after (the
+#: helper's kernels loaded and the trace run, about 0.1 s) (BENCHMARKS.md, "Session 23").
+HELPER_START = 0.45
+#: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
+EXACT_PLAN_SPLITS = 4096
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.
 HELPER_TIMEOUT = 600.0
 #: What the last :func:`warm_up` of this process did: the tasks found cold, the tasks of each helper, and the
@@ -136,12 +145,30 @@ def is_cached(dispatcher) -> bool:
 
 
 def plan(cold, processes):
-    """Split the ``cold`` task names between this process (first list) and ``processes - 1`` helpers,
-    longest first, each to the process that would finish it earliest (a helper starts :data:`HELPER_START`
-    seconds late)."""
-    loads = [0.0] + [HELPER_START] * (max(1, processes) - 1)
-    shares = [[] for _ in loads]
-    for name in sorted(cold, key=lambda task: -WARM_UP_TASKS[task][3]):
+    """Split the ``cold`` task names between this process (first list) and ``processes - 1`` helpers (each of
+    which starts :data:`HELPER_START` seconds late): the split whose finish times, largest first, are the least
+    (so the earliest last finish, and no process idle while another has a task it could have taken). Every
+    split is tried when there are at most :data:`EXACT_PLAN_SPLITS` (a trace's six tasks on two processes: 64);
+    beyond, longest first, each to the process that would finish it earliest. Longest first alone splits the
+    trace's tasks 3.25 : 3.0 s on two processes where 3.1 : 3.15 exists."""
+    processes = max(1, processes)
+    names = sorted(cold, key=lambda task: (-WARM_UP_TASKS[task][3], task))
+    start = [0.0] + [HELPER_START] * (processes - 1)
+    if processes ** len(names) <= EXACT_PLAN_SPLITS:
+        best = None
+        for places in itertools.product(range(processes), repeat=len(names)):
+            loads = list(start)
+            for name, at in zip(names, places):
+                loads[at] += WARM_UP_TASKS[name][3]
+            key = sorted(loads, reverse=True)
+            if best is None or key < best[0]:
+                best = (key, places)
+        shares = [[] for _ in start]
+        for name, at in zip(names, best[1]):
+            shares[at].append(name)
+        return shares
+    loads, shares = list(start), [[] for _ in start]
+    for name in names:
         at = min(range(len(loads)), key=lambda index: (loads[index], index))
         loads[at] += WARM_UP_TASKS[name][3]
         shares[at].append(name)
@@ -160,7 +187,11 @@ def _sentinel(name):
 
 #: The helper's program: it exits when this process is gone (a watcher thread compares its parent's pid, so an
 #: interrupted or killed trace leaves no compiler behind), then runs its tasks, without Python's cyclic garbage
-#: collector (:func:`warm_up`) and without the interpreter's teardown.
+#: collector (:func:`warm_up`) and without the interpreter's teardown. It imports the kernel modules of its
+#: tasks and what they import, not the packages around them: ``splinecraft``, ``capture``, ``fitting`` and
+#: ``corners`` are registered as bare packages (their folder, no ``__init__``), which halves the helper's start
+#: (0.6 -> 0.3 s: no spline, image, contour, corner-detector or fit modules, no scipy of theirs). The kernels'
+#: module names, source files and so their cache entries are those of this process.
 _HELPER_CODE = """
 import gc, os, sys, threading, time
 gc.disable()  # the helper imports, compiles and exits: its garbage is never worth collecting
@@ -170,6 +201,11 @@ def watch():
         time.sleep(0.2)
     os._exit(3)
 threading.Thread(target=watch, daemon=True).start()
+import types
+for package in ("splinecraft", "splinecraft.capture", "splinecraft.capture.fitting", "splinecraft.capture.corners"):
+    bare = types.ModuleType(package)  # the package without its __init__: the kernel modules' imports only
+    bare.__path__ = [os.path.join(os.getcwd(), *package.split("."))]
+    sys.modules[package] = bare
 from splinecraft.capture._jit import warm_up
 warm_up(sys.argv[2:])
 os._exit(0)  # the kernels are in the cache: no interpreter teardown (0.15-0.25 s) before this process goes on

@@ -149,7 +149,7 @@ def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDO
     sums = np.empty((r, 5))
     sums[:, 0] = count
     sums[:, 1], sums[:, 2] = np.bincount(grp, x, r), np.bincount(grp, x2, r)
-    sums[:, 3], sums[:, 4] = np.bincount(grp, x**3, r), np.bincount(grp, x**4, r)
+    sums[:, 3], sums[:, 4] = np.bincount(grp, x2 * x, r), np.bincount(grp, x2 * x2, r)
     rhs = np.empty((r, 3, 1))
     rhs[:, 0, 0], rhs[:, 1, 0], rhs[:, 2, 0] = np.bincount(grp, y, r), np.bincount(grp, y * x, r), \
         np.bincount(grp, y * x2, r)

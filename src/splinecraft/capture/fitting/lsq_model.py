@@ -86,9 +86,9 @@ class OutlineRegression:
         self.fixed[contour.corner_bounds if contour.corner_count else 0] = True
         #: points whose parameter went back to its base value for good (:meth:`reset_parameters`)
         self.held = np.zeros(n + 1, bool)
+        geometric = extrapolates_tips(options["geometric_corners"])
         self.tips = CornerTips.measure(contour, float(options["corner_radius"]), float(options["tip_gap"]),
-                                       extrapolates_tips(options["geometric_corners"]),
-                                       self.corner_allowance)
+                                       geometric, self.corner_allowance)
         self.base_parameter = self._base_parameter()
         self.period = float(self.base_parameter[-1])
         bounds, piece = contour.corner_bounds, contour.piece_of_point
@@ -100,7 +100,9 @@ class OutlineRegression:
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
-        self._cracks = None  # (the crack normals of the contour, or None,) of zone_hooks
+        # (the crack normals of the contour, or None,) of zone_hooks; None until needed, and (None,) where tips are
+        # not extrapolated (a noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
+        self._cracks = None if geometric else (None,)
         self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
         # the pixel check (docs/capture.md §12, "Pixel consistency"): crack normals of a crack outline, or None
         # (C2 joints only: the freer C1 fit, joint_continuity=1, keeps a disc's four pieces 0.1-0.2 px beside them)
@@ -425,7 +427,9 @@ class OutlineRegression:
         the segment between them, at a truncated tip as anywhere else: pieces that pass beside it there bend
         away from the pixels where the corner's weights let them (a hook), not towards a tip the pixels allow.
         Judged only where the pieces beside the corner fit: on the coarse first fits a piece that misses its
-        pixels everywhere misses them near its corners too. Only crack outlines are checked (else none)."""
+        pixels everywhere misses them near its corners too. Only crack outlines are checked (else none), and
+        only where tips are extrapolated (option ``geometric_corners``: not on a noisy boundary, whose pixels are
+        no render of an outline)."""
         contour, tips = self.contour, self.tips
         none = np.zeros(0, dtype=np.int64)
         if not contour.corner_count:

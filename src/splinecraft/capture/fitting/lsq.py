@@ -20,6 +20,8 @@ from .results import FitResult, Snapshot
 __all__ = ["fit_lsq", "LsqKnotInsertion"]
 
 _HOOK_REASON = "the fitted corner moved farther than a truncated pixel tip can be"
+_ZONE_REASON = ("the pieces beside the corner fit, but near it the curve passes beside the two pixel centres of a "
+                "crack")
 #: Knot-removal rounds after convergence (each tries the cheapest half of the simple knots); with C1 joints
 #: (``joint_continuity=1``) failed rounds are retried with fewer picks, and count too.
 REMOVAL_ROUNDS = 4
@@ -146,18 +148,24 @@ class LsqKnotInsertion:
     # ---------------------------------------------------------------- rounds
     def settle(self, hoschek_steps):
         """Fit, then release the corners whose fitted point hooks away
-        (:meth:`OutlineRegression.hooked_corners`) and refit until none does (each release halves a corner's
-        extrapolation radius, so this ends). Returns the release records."""
+        (:meth:`OutlineRegression.hooked_corners`) or whose pieces pass beside the pixels within the corner's
+        weighting radius while the pieces beside it fit (:meth:`OutlineRegression.zone_hooks`), and refit until
+        none does (each release halves a corner's extrapolation radius, so this ends). Returns the release
+        records."""
         model = self.model
         model.fit(hoschek_steps=hoschek_steps)
         released = []
         for _ in range(64):
             hooked = model.hooked_corners()
-            if not hooked.size:
+            zone = model.zone_hooks(exclude=hooked)
+            if not hooked.size and not zone.size:
                 break
             for c in hooked:
                 model.tips.release(int(c))
                 released.append(self.corner_candidate(int(c), _HOOK_REASON))
+            for c in zone:
+                model.tips.release(int(c))
+                released.append(self.corner_candidate(int(c), _ZONE_REASON))
             model.fit(hoschek_steps=1)
         return released
 
@@ -173,7 +181,7 @@ class LsqKnotInsertion:
                 if not removal_done:
                     removal_done = True
                     dev = self.remove_knots(dev)
-                    if model.hooked_corners().size and self.iteration < self.max_iterations:
+                    if model.hooks(dev).size and self.iteration < self.max_iterations:
                         self.iteration += 1
                         candidates = self.settle(1)
                         dev = model.deviations()

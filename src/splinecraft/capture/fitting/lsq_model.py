@@ -40,6 +40,9 @@ def _unique(values):
 #: Smallest curvature (1/px) of the fitted curve at which the pixel check applies (:meth:`pixel_excess`):
 #: bends of radius up to 50 px, where a cut-short fillet or rounded corner lies.
 PIXEL_MIN_CURVATURE = 1.0 / 50.0
+#: Largest spacing (px of parameter) of the curve samples of :meth:`OutlineRegression.zone_hooks`: a curve that
+#: crosses a crack's segment has a sample within half of it, below ``pixel_slack`` (0.1 px).
+ZONE_SPACING = 0.1
 
 
 class OutlineRegression:
@@ -83,9 +86,9 @@ class OutlineRegression:
         self.fixed[contour.corner_bounds if contour.corner_count else 0] = True
         #: points whose parameter went back to its base value for good (:meth:`reset_parameters`)
         self.held = np.zeros(n + 1, bool)
+        geometric = extrapolates_tips(options["geometric_corners"])
         self.tips = CornerTips.measure(contour, float(options["corner_radius"]), float(options["tip_gap"]),
-                                       extrapolates_tips(options["geometric_corners"]),
-                                       self.corner_allowance)
+                                       geometric, self.corner_allowance)
         self.base_parameter = self._base_parameter()
         self.period = float(self.base_parameter[-1])
         bounds, piece = contour.corner_bounds, contour.piece_of_point
@@ -97,6 +100,9 @@ class OutlineRegression:
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
+        # (the crack normals of the contour, or None,) of zone_hooks; None until needed, and (None,) where tips are
+        # not extrapolated (a noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
+        self._cracks = None if geometric else (None,)
         self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
         # the pixel check (docs/capture.md §12, "Pixel consistency"): crack normals of a crack outline, or None
         # (C2 joints only: the freer C1 fit, joint_continuity=1, keeps a disc's four pieces 0.1-0.2 px beside them)
@@ -404,6 +410,71 @@ class OutlineRegression:
         _, at, points, limit = self._hook_limit
         disp = np.hypot(*(self.curve_at(at) - points).T)
         return np.flatnonzero((disp > limit) & (tips.radius > 0))
+
+    def hooks(self, dev=None):
+        """The corners to release after a fit: :meth:`hooked_corners` and :meth:`zone_hooks` (``dev``: the
+        current fit's :meth:`deviations`, if at hand)."""
+        hooked = self.hooked_corners()
+        zone = self.zone_hooks(dev, exclude=hooked)
+        return np.union1d(hooked, zone).astype(np.int64) if zone.size else hooked
+
+    def zone_hooks(self, dev=None, exclude=()):
+        """Corners (still extrapolated, not in ``exclude``) whose fitted curve leaves the two pixel centres of a
+        crack on one side by more than ``pixel_slack`` within the corner's weighting radius (at least 1 px of
+        arc from the corner point), where both pieces beside the corner fit (their deviation within the
+        tolerance; ``dev``: the current fit's :meth:`deviations`, computed here when needed). On a crack
+        outline every crack separates an ink and a paper pixel centre 1 px apart, and the true outline crosses
+        the segment between them, at a truncated tip as anywhere else: pieces that pass beside it there bend
+        away from the pixels where the corner's weights let them (a hook), not towards a tip the pixels allow.
+        Judged only where the pieces beside the corner fit: on the coarse first fits a piece that misses its
+        pixels everywhere misses them near its corners too. Only crack outlines are checked (else none), and
+        only where tips are extrapolated (option ``geometric_corners``: not on a noisy boundary, whose pixels are
+        no render of an outline)."""
+        contour, tips = self.contour, self.tips
+        none = np.zeros(0, dtype=np.int64)
+        if not contour.corner_count:
+            return none
+        if self._cracks is None:
+            self._cracks = (crack_normals(contour.points),)
+        cracks = self._cracks[0]
+        if cracks is None:
+            return none
+        active = tips.radius > 0
+        active[np.asarray(exclude, dtype=np.int64)] = False
+        if not active.any():
+            return none
+        n = contour.size
+        reach = np.maximum(tips.radius, 1.0)
+        nearest = contour.nearest_corner[:n]
+        points = np.flatnonzero(active[nearest] & (contour.corner_distance[:n] < reach[nearest]))
+        if not points.size:
+            return none
+        corners = np.unique(nearest[points])
+        row = np.full(contour.corner_count, -1)
+        row[corners] = np.arange(corners.shape[0])
+        # per corner, curve samples at most ZONE_SPACING apart over the corner's parameter window (its reach and
+        # gaps on both sides, and 2 px more): a curve that crosses a segment has a sample within half a spacing
+        at = self.base_parameter[contour.corner_bounds[corners]]
+        half = reach[corners] + np.maximum(tips.gap_before[corners], tips.gap_after[corners]) + 2.0
+        count = int(np.ceil(2.0 * half.max() / ZONE_SPACING)) + 1
+        steps = np.linspace(-1.0, 1.0, count)
+        u = np.mod(at[:, None] + half[:, None] * steps[None, :], self.period)
+        samples = self.curve_at(u.ravel()).reshape(corners.shape[0], count, 2)
+        normal = cracks[points]
+        start = contour.points[points] - 0.5 * normal  # one pixel centre; the other lies 1 px along the normal
+        d = samples[row[nearest[points]]] - start[:, None, :]
+        t = np.clip(np.einsum("pkd,pd->pk", d, normal), 0.0, 1.0)
+        gap = np.hypot(*(d - t[:, :, None] * normal[:, None, :]).transpose(2, 0, 1)).min(axis=1)
+        worst = np.full(contour.corner_count, -np.inf)
+        np.maximum.at(worst, nearest[points], gap)
+        found = np.flatnonzero(worst > self.pixel_slack)
+        if not found.size:
+            return none
+        if dev is None:
+            dev = self.deviations()
+        fits = dev["piece_excess"] <= 0
+        pieces = contour.piece_count
+        return found[fits[(found - 1) % pieces] & fits[found % pieces]]
 
     # ---------------------------------------------------------------- pixel consistency
     def _pixel_exempt(self):

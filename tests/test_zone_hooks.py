@@ -1,0 +1,97 @@
+"""Hooks of lsq's corners inside their weighting radius (docs/capture.md §12, "Corners of lsq").
+
+On a crack outline every crack separates an ink and a paper pixel centre 1 px apart, and the true outline
+crosses the segment between them, near a truncated corner tip as anywhere else. A corner that is still
+extrapolated after the fit (weighting radius > 0) must therefore have pieces that cross the segment of every
+crack within that radius (to ``pixel_slack``, 0.1 px): pieces that pass beside it bend away from the pixels
+where the corner's weights let them, a hook (``OutlineRegression.zone_hooks``). Shapes: thick ring sectors
+whose ends are cut obliquely (obtuse corners between a straight cut and a curved side, as the terminals of an
+S or a C), rendered by pixel centres at random sizes, positions and rotations, traced without segment merging
+(merging moves the curve by up to ``merge_tolerance`` after the fit).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from splinecraft.capture.trace import trace
+
+SIZE = 120
+PIXEL_SLACK = 0.1
+
+
+def render(vertices, size):
+    """Pixels whose centres lie inside the polygon (even-odd rule), as a bool image ``size x size``."""
+    yy, xx = np.mgrid[:size, :size] + 0.5
+    inside = np.zeros((size, size), bool)
+    for (x0, y0), (x1, y1) in zip(vertices, np.roll(vertices, -1, axis=0)):
+        if y0 == y1:
+            continue
+        crosses = (y0 > yy) != (y1 > yy)
+        inside ^= crosses & (xx < x0 + (yy - y0) * (x1 - x0) / (y1 - y0))
+    return inside
+
+
+def cut_ring_sector(rng):
+    """A ring sector (mid radius 30-45 px, 10-18 px wide, spanning 1.5-2.5 rad) whose two ends are cut
+    obliquely (each end's one side moved along the ring by 0.3-0.6 of the width)."""
+    radius, width = rng.uniform(30, 45), rng.uniform(10, 18)
+    centre = np.full(2, SIZE / 2) + rng.uniform(-0.5, 0.5, 2)
+    start, span = rng.uniform(0, 2 * math.pi), rng.uniform(1.5, 2.5)
+    t = np.linspace(start, start + span, 80)
+    ring = np.column_stack([np.cos(t), np.sin(t)])
+    outer, inner = centre + (radius + width / 2) * ring, centre + (radius - width / 2) * ring
+    skew = rng.uniform(0.3, 0.6) * width
+    outer[0] -= skew * np.array([-math.sin(start), math.cos(start)])
+    inner[-1] += skew * np.array([-math.sin(start + span), math.cos(start + span)])
+    return np.vstack([outer, inner[::-1]])
+
+
+def _shapes(count=12, seed=1):
+    rng = np.random.default_rng(seed)
+    return [cut_ring_sector(rng) for _ in range(count)]
+
+
+SHAPES = _shapes()
+
+
+def zone_gaps(result):
+    """Per extrapolated corner of every converged fit: the largest distance from the fitted curve to the
+    ink-paper segment of a crack within the corner's weighting radius (at least 1 px of arc)."""
+    gaps = []
+    for fit, boundary in zip(result.fits, result.boundaries):
+        if not fit.converged or not len(fit.corners_used):
+            continue
+        points = np.asarray(boundary.outline, float)
+        n = points.shape[0]
+        arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(np.vstack([points, points[:1]]), axis=0).T))])
+        bezier = np.asarray(fit.spline.bezier())
+        u = np.linspace(0.0, 1.0, 600)[:, None, None]
+        curve = ((1 - u) ** 3 * bezier[:, 0] + 3 * (1 - u) ** 2 * u * bezier[:, 1]
+                 + 3 * (1 - u) * u ** 2 * bezier[:, 2] + u ** 3 * bezier[:, 3]).reshape(-1, 2)
+        for corner, radius in zip(fit.corners_used, fit.info["corner_radii"]):
+            if radius <= 0:
+                continue
+            distance = np.abs(arc[:n] - arc[corner])
+            distance = np.minimum(distance, arc[-1] - distance)
+            worst = 0.0
+            for j in np.flatnonzero(distance < max(radius, 1.0)):
+                point = points[j]
+                vertical = abs(point[0] - round(point[0])) < 1e-9  # a vertical crack: integer x
+                normal = np.array([1.0, 0.0]) if vertical else np.array([0.0, 1.0])
+                d = curve - (point - 0.5 * normal)
+                t = np.clip(d @ normal, 0.0, 1.0)
+                worst = max(worst, float(np.hypot(*(d - t[:, None] * normal).T).min()))
+            gaps.append(worst)
+    return gaps
+
+
+@pytest.mark.parametrize("index", range(len(SHAPES)))
+def test_an_extrapolated_corner_crosses_every_crack_within_its_radius(index):
+    mask = render(SHAPES[index], SIZE)
+    result = trace(mask, fit_params={"merge_tolerance": 0.0})
+    gaps = zone_gaps(result)
+    # the pieces beside these corners fit (converged), so a corner whose pieces pass beside a crack was released
+    assert max(gaps, default=0.0) <= PIXEL_SLACK + 1e-6, gaps

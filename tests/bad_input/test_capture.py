@@ -332,3 +332,14 @@ def test_a_subnormal_smoothing_is_no_smoothing_without_a_warning(smoothing):
         warnings.simplefilter("error")
         found = corners(outline, "tangent-jump", smoothing=smoothing)
     np.testing.assert_array_equal(found, corners(outline, "tangent-jump", smoothing=0.0))
+
+
+# ---------------------------------------------------------------------------------------------- trace options (session 23)
+@pytest.mark.parametrize("spacing", [1e-12, 1e-300, 1e-3])
+def test_a_tiny_sample_spacing_is_refused_not_a_memory_error(spacing):
+    """fit_params={'sample_spacing': 1e-12} was accepted ((0, 2]) and asked numpy for 1.4 PiB (MemoryError),
+    1e-300 was 'OverflowError: int too big to convert', 1e-6 px exhausted the machine's memory: the curve
+    samples of the deviation check grow as 1 / spacing."""
+    with pytest.raises(ValueError, match=r"sample_spacing \(px\) must be >= 0\.01"):
+        sc.trace(small_mask(), fit_params={"sample_spacing": spacing})
+    assert sc.trace(small_mask(), fit_params={"sample_spacing": 0.01}).stats["converged"]

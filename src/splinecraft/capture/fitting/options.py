@@ -58,6 +58,10 @@ LSQ_OPTIONS = tuple(LSQ_DEFAULTS)
 _LSQ_REALS = ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin",
               "initial_density", "merge_tolerance", "pixel_slack")
 _LSQ_BOOLS = ("remove_knots", "fallback", "pixel_check")
+#: Smallest ``sample_spacing`` (px) of the deviation check: 25 samples per pixel beside the final check's 4. The
+#: samples (and the chords searched around each) grow as 1 / spacing: 1e-5 px took 20 s on a 160-px disc,
+#: 1e-6 px exhausted the memory and 1e-12 px asked numpy for 1.4 PiB.
+MIN_SAMPLE_SPACING = 0.01
 
 
 def check_points(points):
@@ -165,8 +169,8 @@ def _check_lsq_options(options):
         out[key] = _validation.check_number(out[key], key, minimum=0.0)
     out["initial_density"] = _validation.check_number(out["initial_density"], "initial_density", minimum=0.0,
                                                       maximum=1e6)
-    out["sample_spacing"] = _validation.check_number(out["sample_spacing"], "sample_spacing (px)", minimum=0.0,
-                                                     maximum=2.0, inclusive=(False, True))
+    out["sample_spacing"] = _validation.check_number(out["sample_spacing"], "sample_spacing (px)",
+                                                     minimum=MIN_SAMPLE_SPACING, maximum=2.0)
     out["min_gap"] = _validation.check_int(out["min_gap"], "min_gap", minimum=1)
     out["joint_continuity"] = _validation.check_int(out["joint_continuity"], "joint_continuity (1 = C1, 2 = C2)",
                                                     minimum=1, maximum=2)

@@ -343,3 +343,29 @@ def test_a_tiny_sample_spacing_is_refused_not_a_memory_error(spacing):
     with pytest.raises(ValueError, match=r"sample_spacing \(px\) must be >= 0\.01"):
         sc.trace(small_mask(), fit_params={"sample_spacing": spacing})
     assert sc.trace(small_mask(), fit_params={"sample_spacing": 0.01}).stats["converged"]
+
+
+def disc_mask(size=40, radius=15):
+    yy, xx = np.mgrid[:size, :size]
+    return (yy - size // 2) ** 2 + (xx - size // 2) ** 2 < radius ** 2
+
+
+@pytest.mark.parametrize("options, error, message", [
+    ({"interval_weights": [1, 2, 3]}, TypeError, r"interval_weights must be one number"),
+    ({"point_tension": [0.0, 0.0, 0.0]}, TypeError, r"point_tension must be one number"),
+    ({"alpha": np.array(2.0)}, TypeError, r"alpha must be one number"),
+    ({"interval_weights": 0}, ValueError, r"interval_weights must be > 0"),
+    ({"beta": 0}, ValueError, r"beta must be non-zero"),
+    ({"point_tension": float("nan")}, ValueError, r"point_tension must be a finite number"),
+])
+def test_thesis_engine_options_are_one_number_checked_before_the_image(options, error, message):
+    """fit_params={'interval_weights': [1, 2, 3]} with a thesis method was handed to the interpolant of every
+    piece: on a disc at epsilon=5 it matched the 3 seed knots and was applied to arbitrary intervals without a
+    word; at epsilon=0.8 it failed after the fit had started, as '4 values are needed (4 for 4 closed points)'
+    for a boundary of 116 points. The knots change with every insertion, so only one number can apply."""
+    with pytest.raises(error, match=message):
+        sc.trace("/nonexistent/shape.png", method="random", epsilon=5, fit_params=options)
+    with pytest.raises(error, match=message):
+        sc.trace(disc_mask(), method="random", epsilon=5, fit_params=options)
+    result = sc.trace(disc_mask(), method="random", epsilon=5, fit_params={"interval_weights": np.int64(2)})
+    assert result.params["fit_params"] == {"interval_weights": 2}

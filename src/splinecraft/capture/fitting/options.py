@@ -200,8 +200,36 @@ def extrapolates_tips(geometric_corners, noisy=False):
     return bool(geometric_corners)
 
 
-def _check_thesis_options(options):
+def _check_engine_options(options):
+    """The interpolant's options of the thesis methods (:data:`ENGINE_OPTIONS`), checked before any fit. Each piece
+    is interpolated through its current knot points, whose count changes with every insertion, so an option is
+    one number for all of them: an array (per point or per interval in
+    :func:`~splinecraft.spline.interpolant.interpolate`) was taken where its length happened to match the
+    first knots (silently, on an outline that converged at once) and refused on the next with a count of
+    knots the caller never saw. ``point_tension``'s sign rule depends on the chords: the interpolant checks it."""
     out = dict(options)
+    if "point_tension_scale" in out:
+        out["point_tension_scale"] = _validation.check_choice(out["point_tension_scale"], "point_tension_scale",
+                                                              ("absolute", "relative"))
+    for key in ("point_tension", "interval_weights", "alpha", "beta"):
+        if key not in out:
+            continue
+        value = out[key]
+        if not isinstance(value, (numbers.Real, np.bool_)):  # bools: check_number names them
+            raise TypeError(f"{key} must be one number for every piece of a thesis method's fit (its knots change "
+                            f"with every insertion), got {_validation._describe(value)} ({type(value).__name__})")
+        number = _validation.check_number(value, key)
+        if key == "interval_weights" and not number > 0:
+            raise ValueError(f"interval_weights must be > 0, got {number!r}")
+        if key in ("alpha", "beta") and number == 0:
+            raise ValueError(f"{key} must be non-zero (the class polygon divides by it), got 0.0")
+        out[key] = number
+    return out
+
+
+def _check_thesis_options(options):
+    out = _check_engine_options({key: value for key, value in options.items() if key in ENGINE_OPTIONS})
+    out.update({key: value for key, value in options.items() if key not in ENGINE_OPTIONS})
     stride = _validation.check_int(out.pop("tangent_stride", 3), "tangent_stride", minimum=1)
     weights = out.pop("fuzzy_weights", (0.7, 0.3))
     if isinstance(weights, (str, bytes)) or not hasattr(weights, "__len__") or len(weights) != 2:

@@ -369,3 +369,13 @@ def test_thesis_engine_options_are_one_number_checked_before_the_image(options, 
         sc.trace(disc_mask(), method="random", epsilon=5, fit_params=options)
     result = sc.trace(disc_mask(), method="random", epsilon=5, fit_params={"interval_weights": np.int64(2)})
     assert result.params["fit_params"] == {"interval_weights": 2}
+
+
+@pytest.mark.parametrize("method", ["random", "euclidean", "positional", "random3", "equal3"])
+def test_fuzzy_weights_of_another_method_are_refused(method):
+    """fit_params={'fuzzy_weights': (0.9, 0.1)} with a method other than 'fuzzy' was checked and then ignored:
+    the same curve as without it, no word (tau is refused the same way for the methods without a nearness
+    rule)."""
+    with pytest.raises(ValueError, match=r"fuzzy_weights is used by the method 'fuzzy'.*only"):
+        sc.trace(small_mask(), method=method, fit_params={"fuzzy_weights": (0.9, 0.1)})
+    assert sc.trace(small_mask(), method="fuzzy", fit_params={"fuzzy_weights": (0.9, 0.1)}).stats["segments"] > 0

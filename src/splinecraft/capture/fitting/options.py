@@ -159,6 +159,8 @@ def check_options(method, options):
                     "v = 0, omega = 1 family of the interpolant (its least-squares problem is linear there)")
             raise TypeError(f"fit_outline() got an unexpected option {key!r} for method {method!r}; "
                             f"allowed: {sorted(allowed)}")
+    if "fuzzy_weights" in options and method != "fuzzy":  # as tau for the methods without a nearness rule
+        raise ValueError(f"fuzzy_weights is used by the method 'fuzzy' (Alg 4.6) only, not {method!r}")
     return _check_lsq_options(options) if method == "lsq" else _check_thesis_options(options)
 
 

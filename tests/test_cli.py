@@ -756,3 +756,20 @@ def test_max_pixels_caps_the_decoded_image_size(tmp_path, capsys):
         main(["trace", "--help"])
     help_text = " ".join(capsys.readouterr().out.split())
     assert "--max-pixels N" in help_text and f"default {MAX_PIXELS}" in help_text
+
+
+def test_an_all_black_image_says_so_on_the_command_line(tmp_path, capsys):
+    """An all-black file traced to its frame rectangle (the documented outline of an all-ink image) with exit
+    code 0 and not a word: the library says so in TraceResult.notes only, which an SVG output drops. Now a
+    warning line names the file, as the polarity warning of a dark background does, also with -q and for
+    stdout; a file with ink and paper gets none."""
+    black = tmp_path / "black.png"
+    Image.fromarray(np.zeros((20, 30), np.uint8)).save(black)
+    write_shape(tmp_path / "disc.png", "disc")
+    for output in (tmp_path / "black.svg", "-"):
+        assert main(["trace", str(black), "-o", str(output), "-q"]) == 0
+        err = capsys.readouterr().err
+        assert f"splinecraft: {black}: warning: InkPolarityWarning: every pixel is ink" in err
+        assert "see --threshold/--invert" in err
+    assert main(["trace", str(tmp_path / "disc.png"), "-o", str(tmp_path / "disc.svg"), "-q"]) == 0
+    assert capsys.readouterr().err == ""

@@ -364,6 +364,7 @@ OPTION_SPELLING = (
     ("threshold='alpha'", "--threshold alpha"),
     ("max_pixels=", "--max-pixels "),
     ("max_pixels", "--max-pixels"),
+    ("see threshold/invert", "see --threshold/--invert"),
 )
 
 

@@ -773,3 +773,21 @@ def test_an_all_black_image_says_so_on_the_command_line(tmp_path, capsys):
         assert "see --threshold/--invert" in err
     assert main(["trace", str(tmp_path / "disc.png"), "-o", str(tmp_path / "disc.svg"), "-q"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_a_corner_param_pair_can_be_given(tmp_path, capsys):
+    """tangent-jump's flank is a pair (near, far): --corner-param flank=4,10 was the text '4,10' and refused as
+    'must be a pair of integers (near, far)', which no value of the option could meet. A value with commas is
+    a tuple now; the output is the library's with corner_params={'flank': (4, 10)}."""
+    import splinecraft as sc
+    from splinecraft.cli import _key_value
+
+    assert _key_value("flank=4,10") == ("flank", (4, 10))
+    assert _key_value("ta=150") == ("ta", 150) and _key_value("wedge=true") == ("wedge", True)
+    mask = write_shape(tmp_path / "square.png", "square")
+    out = tmp_path / "out.svg"
+    assert main(["trace", str(tmp_path / "square.png"), "-o", str(out), "-q", "--corner-param", "flank=3,12"]) == 0
+    expected = sc.trace(mask, corner_params={"flank": (3, 12)}).to_svg(title="square.png")
+    assert out.read_text() == expected
+    assert main(["trace", str(tmp_path / "square.png"), "-o", str(out), "-q", "--corner-param", "flank=4,10,2"]) == 2
+    assert "corner_params['flank'] must be a pair of integers" in capsys.readouterr().err

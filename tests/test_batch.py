@@ -504,3 +504,14 @@ def test_a_manifest_that_is_a_directory_is_refused_by_name(tmp_path):
     with pytest.raises(ValueError, match="manifest .* is a directory"):
         trace_many([path], out, manifest=out, epsilon=EPSILON)
     assert list(out.iterdir()) == []
+
+
+def test_an_all_ink_input_has_a_warning_in_its_record():
+    """trace_many kept the 'every pixel is ink' note of an all-black input nowhere but in the TraceResult (none
+    with an output directory, and no warning): its record now carries it among the file's warnings."""
+    records = sc.trace_many([np.zeros((12, 12), np.uint8), np.ones((12, 12), bool), np.eye(12, dtype=bool)])
+    assert [record.status for record in records] == ["ok"] * 3
+    for record in records[:2]:
+        assert len(record.warnings) == 1 and record.warnings[0].startswith("InkPolarityWarning: every pixel is ink")
+        assert "see threshold/invert" in record.warnings[0]
+    assert records[2].warnings == []

@@ -756,3 +756,38 @@ def test_max_pixels_caps_the_decoded_image_size(tmp_path, capsys):
         main(["trace", "--help"])
     help_text = " ".join(capsys.readouterr().out.split())
     assert "--max-pixels N" in help_text and f"default {MAX_PIXELS}" in help_text
+
+
+def test_an_all_black_image_says_so_on_the_command_line(tmp_path, capsys):
+    """An all-black file traced to its frame rectangle (the documented outline of an all-ink image) with exit
+    code 0 and not a word: the library says so in TraceResult.notes only, which an SVG output drops. Now a
+    warning line names the file, as the polarity warning of a dark background does, also with -q and for
+    stdout; a file with ink and paper gets none."""
+    black = tmp_path / "black.png"
+    Image.fromarray(np.zeros((20, 30), np.uint8)).save(black)
+    write_shape(tmp_path / "disc.png", "disc")
+    for output in (tmp_path / "black.svg", "-"):
+        assert main(["trace", str(black), "-o", str(output), "-q"]) == 0
+        err = capsys.readouterr().err
+        assert f"splinecraft: {black}: warning: InkPolarityWarning: every pixel is ink" in err
+        assert "see --threshold/--invert" in err
+    assert main(["trace", str(tmp_path / "disc.png"), "-o", str(tmp_path / "disc.svg"), "-q"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_a_corner_param_pair_can_be_given(tmp_path, capsys):
+    """tangent-jump's flank is a pair (near, far): --corner-param flank=4,10 was the text '4,10' and refused as
+    'must be a pair of integers (near, far)', which no value of the option could meet. A value with commas is
+    a tuple now; the output is the library's with corner_params={'flank': (4, 10)}."""
+    import splinecraft as sc
+    from splinecraft.cli import _key_value
+
+    assert _key_value("flank=4,10") == ("flank", (4, 10))
+    assert _key_value("ta=150") == ("ta", 150) and _key_value("wedge=true") == ("wedge", True)
+    mask = write_shape(tmp_path / "square.png", "square")
+    out = tmp_path / "out.svg"
+    assert main(["trace", str(tmp_path / "square.png"), "-o", str(out), "-q", "--corner-param", "flank=3,12"]) == 0
+    expected = sc.trace(mask, corner_params={"flank": (3, 12)}).to_svg(title="square.png")
+    assert out.read_text() == expected
+    assert main(["trace", str(tmp_path / "square.png"), "-o", str(out), "-q", "--corner-param", "flank=4,10,2"]) == 2
+    assert "corner_params['flank'] must be a pair of integers" in capsys.readouterr().err

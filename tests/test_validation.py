@@ -240,3 +240,22 @@ def test_one_rule_in_the_engine():
             interpolate(points)
         kept, index = remove_coincident(points)
         np.testing.assert_array_equal(index, [0, 1, 3])
+
+
+def test_an_integral_float_out_of_range_is_named_as_given():
+    """corner_params={'m': 1e300} (an integral float, accepted where floats with an integer value are) was
+    refused as 'must be <= 200, got 10000000000000000525047602552044202487044685811081591549158541072300...'
+    (all 301 digits of int(1e300)); a huge int is shortened like any long value."""
+    import re
+
+    from splinecraft._validation import check_int
+
+    with pytest.raises(ValueError, match=r"^m must be <= 200, got 1e\+300$"):
+        check_int(1e300, "m", maximum=200, integral_floats=True)
+    with pytest.raises(ValueError, match=r"^m must be >= 1, got -5\.0$"):
+        check_int(-5.0, "m", minimum=1, integral_floats=True)
+    with pytest.raises(ValueError, match=r"^m must be >= 1, got -5$"):
+        check_int(-5, "m", minimum=1)
+    with pytest.raises(ValueError) as caught:
+        check_int(10 ** 400, "m", maximum=200)
+    assert len(str(caught.value)) < 120 and re.search(r"got 1000+\.\.\.$", str(caught.value))

@@ -137,16 +137,17 @@ def check_int(value, name: str, *, minimum: int | None = None, maximum: int | No
 
     ``integral_floats=True`` also accepts a finite float with an integer value (``3.0``).
     """
+    shown = None  # an integral float is named as given (1e+300, not its 301 digits)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         if integral_floats and _is_real(value) and np.isfinite(float(value)) and float(value).is_integer():
-            value = int(value)
+            shown, value = repr(float(value)), int(value)
         else:
             raise TypeError(f"{name} must be an integer, got {_describe(value)} ({_kind(value)})")
     number = int(value)
     if minimum is not None and number < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {number}")
+        raise ValueError(f"{name} must be >= {minimum}, got {shown or number}")
     if maximum is not None and number > maximum:
-        raise ValueError(f"{name} must be <= {maximum}, got {number}")
+        raise ValueError(f"{name} must be <= {maximum}, got {shown or _describe(number)}")
     return number
 
 

@@ -145,19 +145,28 @@ def _trace_defaults():
             if parameter.default is not inspect.Parameter.empty}
 
 
-def _key_value(text):
-    key, sep, value = text.partition("=")
-    if not sep or not key.isidentifier():
-        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+def _scalar(value):
+    """One ``--corner-param`` value: an int, a float, true/false, else the text."""
     for convert in (int, float):
         try:
-            return key, convert(value)
+            return convert(value)
         except ValueError:
             pass
     lowered = value.lower()
     if lowered in ("true", "false"):
-        return key, lowered == "true"
-    return key, value
+        return lowered == "true"
+    return value
+
+
+def _key_value(text):
+    """``--corner-param NAME=VALUE``; ``VALUE`` with commas is a tuple (tangent-jump's ``flank=4,10``: a pair the
+    option could not give before, so the detector's 'must be a pair of integers' could not be met)."""
+    key, sep, value = text.partition("=")
+    if not sep or not key.isidentifier():
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    if "," in value:
+        return key, tuple(_scalar(part.strip()) for part in value.split(","))
+    return key, _scalar(value)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -199,7 +208,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="corner detector (default: the library default)")
     tracer.add_argument("--corner-param", type=_key_value, action="append", default=[], metavar="NAME=VALUE",
                         help="corner detector parameter, repeatable (e.g. --corner-param min_turn=30 for the default "
-                             "tangent-jump, --corner-method srm05 --corner-param ta=150 for the thesis's)")
+                             "tangent-jump, --corner-method srm05 --corner-param ta=150 for the thesis's); a value "
+                             "with commas is a tuple (flank=4,10)")
     tracer.add_argument("--seed", type=_non_negative_int, default=defaults["seed"],
                         help="seed of the random algorithms")
     tracer.add_argument("--tau", type=float, default=defaults["tau"], help="distance constraint of Algs 4.2/4.3")
@@ -364,6 +374,7 @@ OPTION_SPELLING = (
     ("threshold='alpha'", "--threshold alpha"),
     ("max_pixels=", "--max-pixels "),
     ("max_pixels", "--max-pixels"),
+    ("see threshold/invert", "see --threshold/--invert"),
 )
 
 

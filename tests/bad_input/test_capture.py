@@ -332,3 +332,50 @@ def test_a_subnormal_smoothing_is_no_smoothing_without_a_warning(smoothing):
         warnings.simplefilter("error")
         found = corners(outline, "tangent-jump", smoothing=smoothing)
     np.testing.assert_array_equal(found, corners(outline, "tangent-jump", smoothing=0.0))
+
+
+# ---------------------------------------------------------------------------------------------- trace options (session 23)
+@pytest.mark.parametrize("spacing", [1e-12, 1e-300, 1e-3])
+def test_a_tiny_sample_spacing_is_refused_not_a_memory_error(spacing):
+    """fit_params={'sample_spacing': 1e-12} was accepted ((0, 2]) and asked numpy for 1.4 PiB (MemoryError),
+    1e-300 was 'OverflowError: int too big to convert', 1e-6 px exhausted the machine's memory: the curve
+    samples of the deviation check grow as 1 / spacing."""
+    with pytest.raises(ValueError, match=r"sample_spacing \(px\) must be >= 0\.01"):
+        sc.trace(small_mask(), fit_params={"sample_spacing": spacing})
+    assert sc.trace(small_mask(), fit_params={"sample_spacing": 0.01}).stats["converged"]
+
+
+def disc_mask(size=40, radius=15):
+    yy, xx = np.mgrid[:size, :size]
+    return (yy - size // 2) ** 2 + (xx - size // 2) ** 2 < radius ** 2
+
+
+@pytest.mark.parametrize("options, error, message", [
+    ({"interval_weights": [1, 2, 3]}, TypeError, r"interval_weights must be one number"),
+    ({"point_tension": [0.0, 0.0, 0.0]}, TypeError, r"point_tension must be one number"),
+    ({"alpha": np.array(2.0)}, TypeError, r"alpha must be one number"),
+    ({"interval_weights": 0}, ValueError, r"interval_weights must be > 0"),
+    ({"beta": 0}, ValueError, r"beta must be non-zero"),
+    ({"point_tension": float("nan")}, ValueError, r"point_tension must be a finite number"),
+])
+def test_thesis_engine_options_are_one_number_checked_before_the_image(options, error, message):
+    """fit_params={'interval_weights': [1, 2, 3]} with a thesis method was handed to the interpolant of every
+    piece: on a disc at epsilon=5 it matched the 3 seed knots and was applied to arbitrary intervals without a
+    word; at epsilon=0.8 it failed after the fit had started, as '4 values are needed (4 for 4 closed points)'
+    for a boundary of 116 points. The knots change with every insertion, so only one number can apply."""
+    with pytest.raises(error, match=message):
+        sc.trace("/nonexistent/shape.png", method="random", epsilon=5, fit_params=options)
+    with pytest.raises(error, match=message):
+        sc.trace(disc_mask(), method="random", epsilon=5, fit_params=options)
+    result = sc.trace(disc_mask(), method="random", epsilon=5, fit_params={"interval_weights": np.int64(2)})
+    assert result.params["fit_params"] == {"interval_weights": 2}
+
+
+@pytest.mark.parametrize("method", ["random", "euclidean", "positional", "random3", "equal3"])
+def test_fuzzy_weights_of_another_method_are_refused(method):
+    """fit_params={'fuzzy_weights': (0.9, 0.1)} with a method other than 'fuzzy' was checked and then ignored:
+    the same curve as without it, no word (tau is refused the same way for the methods without a nearness
+    rule)."""
+    with pytest.raises(ValueError, match=r"fuzzy_weights is used by the method 'fuzzy'.*only"):
+        sc.trace(small_mask(), method=method, fit_params={"fuzzy_weights": (0.9, 0.1)})
+    assert sc.trace(small_mask(), method="fuzzy", fit_params={"fuzzy_weights": (0.9, 0.1)}).stats["segments"] > 0

@@ -178,6 +178,7 @@ def _summary(stats) -> dict:
 def trace_one(item, settings) -> dict:
     """Trace one planned file (``item``: index, source, output, title) and return its record."""
     from ..capture import trace
+    from ..capture.trace import ALL_INK_NOTE
 
     started = time.perf_counter()
     source, output = item["source"], item["output"]
@@ -187,7 +188,11 @@ def trace_one(item, settings) -> dict:
         with warnings.catch_warnings(record=True) as caught:  # kept with the file they are about
             warnings.simplefilter("always")
             result = trace(source, **settings["trace"])  # first: the loader's messages name the file
-        record["warnings"] = [respell(line, settings.get("spelling", ())) for line in _warning_lines(caught)]
+        # an all-ink image gives no warning, only a note (the frame is its documented outline), which an SVG
+        # output and the command line would drop: passed on with the file's warnings
+        lines = _warning_lines(caught) + [f"InkPolarityWarning: {note}" for note in result.notes
+                                          if note.startswith(ALL_INK_NOTE)]
+        record["warnings"] = [respell(line, settings.get("spelling", ())) for line in lines]
         record["input_sha256"] = input_sha256(source)
         if output is None:
             record["result"] = result

@@ -97,6 +97,9 @@ SHORT_CONTOUR = 64
 #: have pixel corners (tangent-jump's step 9, found for every boundary at once; docs/capture.md §12, "Small
 #: outlines": a block of at least 3 x 3 pixels is its rectangle).
 CORNERLESS_CONTOUR = 20
+#: How the note of an image whose every pixel is ink begins (its outline is the frame: an all-black image, or a
+#: mask whose True marks the background). ``trace_many`` and the command line pass it on as a warning line.
+ALL_INK_NOTE = "every pixel is ink"
 
 
 def trace(
@@ -405,7 +408,7 @@ def _boundaries(mask, connectivity, min_speck_area, invert):
         )
     notes = []
     if len(boundaries) == 1 and mask.all():
-        notes.append("every pixel is ink: the outline is the image's frame (an all-black image, or a mask whose "
+        notes.append(f"{ALL_INK_NOTE}: the outline is the image's frame (an all-black image, or a mask whose "
                      f"True marks the background? ink is {'light' if invert else 'dark'}; see threshold/invert)")
     if min_speck_area is None:
         mask, boundaries, pinholes, specks = _without_pinholes(mask, boundaries, connectivity)

@@ -112,9 +112,9 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
         pass a pre-test get the tips of the ``"lsq"`` defaults, docs/capture.md §12, "Small outlines"). ``0``
         fits every contour with the regression spline.
     **options
-        Thesis methods: ``point_tension``, ``interval_weights``, ``alpha``, ``beta``, ``point_tension_scale``
-        (passed to :func:`~splinecraft.spline.interpolate`, per piece), ``tangent_stride`` (default 3),
-        ``fuzzy_weights=(w, v)`` (default (0.7, 0.3), ``w > v``). ``"lsq"``: the keys of
+        Thesis methods: ``point_tension``, ``interval_weights``, ``alpha``, ``beta`` (one number each),
+        ``point_tension_scale`` (passed to :func:`~splinecraft.spline.interpolate`, per piece), ``tangent_stride``
+        (default 3), and for ``"fuzzy"`` only ``fuzzy_weights=(w, v)`` (default (0.7, 0.3), ``w > v``). ``"lsq"``: the keys of
         :data:`~.options.LSQ_DEFAULTS`, explained in docs/capture.md §12, "Options of lsq". A regression
         spline that gets stuck above ``epsilon`` runs once more with the parameters around its stuck knot
         intervals reset to arc length (``info["retry_from"]`` records the first run when the second is kept,

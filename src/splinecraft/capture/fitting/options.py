@@ -58,6 +58,10 @@ LSQ_OPTIONS = tuple(LSQ_DEFAULTS)
 _LSQ_REALS = ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin",
               "initial_density", "merge_tolerance", "pixel_slack")
 _LSQ_BOOLS = ("remove_knots", "fallback", "pixel_check")
+#: Smallest ``sample_spacing`` (px) of the deviation check: 25 samples per pixel beside the final check's 4. The
+#: samples (and the chords searched around each) grow as 1 / spacing: 1e-5 px took 20 s on a 160-px disc,
+#: 1e-6 px exhausted the memory and 1e-12 px asked numpy for 1.4 PiB.
+MIN_SAMPLE_SPACING = 0.01
 
 
 def check_points(points):
@@ -155,6 +159,8 @@ def check_options(method, options):
                     "v = 0, omega = 1 family of the interpolant (its least-squares problem is linear there)")
             raise TypeError(f"fit_outline() got an unexpected option {key!r} for method {method!r}; "
                             f"allowed: {sorted(allowed)}")
+    if "fuzzy_weights" in options and method != "fuzzy":  # as tau for the methods without a nearness rule
+        raise ValueError(f"fuzzy_weights is used by the method 'fuzzy' (Alg 4.6) only, not {method!r}")
     return _check_lsq_options(options) if method == "lsq" else _check_thesis_options(options)
 
 
@@ -165,8 +171,8 @@ def _check_lsq_options(options):
         out[key] = _validation.check_number(out[key], key, minimum=0.0)
     out["initial_density"] = _validation.check_number(out["initial_density"], "initial_density", minimum=0.0,
                                                       maximum=1e6)
-    out["sample_spacing"] = _validation.check_number(out["sample_spacing"], "sample_spacing (px)", minimum=0.0,
-                                                     maximum=2.0, inclusive=(False, True))
+    out["sample_spacing"] = _validation.check_number(out["sample_spacing"], "sample_spacing (px)",
+                                                     minimum=MIN_SAMPLE_SPACING, maximum=2.0)
     out["min_gap"] = _validation.check_int(out["min_gap"], "min_gap", minimum=1)
     out["joint_continuity"] = _validation.check_int(out["joint_continuity"], "joint_continuity (1 = C1, 2 = C2)",
                                                     minimum=1, maximum=2)
@@ -196,8 +202,36 @@ def extrapolates_tips(geometric_corners, noisy=False):
     return bool(geometric_corners)
 
 
-def _check_thesis_options(options):
+def _check_engine_options(options):
+    """The interpolant's options of the thesis methods (:data:`ENGINE_OPTIONS`), checked before any fit. Each piece
+    is interpolated through its current knot points, whose count changes with every insertion, so an option is
+    one number for all of them: an array (per point or per interval in
+    :func:`~splinecraft.spline.interpolant.interpolate`) was taken where its length happened to match the
+    first knots (silently, on an outline that converged at once) and refused on the next with a count of
+    knots the caller never saw. ``point_tension``'s sign rule depends on the chords: the interpolant checks it."""
     out = dict(options)
+    if "point_tension_scale" in out:
+        out["point_tension_scale"] = _validation.check_choice(out["point_tension_scale"], "point_tension_scale",
+                                                              ("absolute", "relative"))
+    for key in ("point_tension", "interval_weights", "alpha", "beta"):
+        if key not in out:
+            continue
+        value = out[key]
+        if not isinstance(value, (numbers.Real, np.bool_)):  # bools: check_number names them
+            raise TypeError(f"{key} must be one number for every piece of a thesis method's fit (its knots change "
+                            f"with every insertion), got {_validation._describe(value)} ({type(value).__name__})")
+        number = _validation.check_number(value, key)
+        if key == "interval_weights" and not number > 0:
+            raise ValueError(f"interval_weights must be > 0, got {number!r}")
+        if key in ("alpha", "beta") and number == 0:
+            raise ValueError(f"{key} must be non-zero (the class polygon divides by it), got 0.0")
+        out[key] = number
+    return out
+
+
+def _check_thesis_options(options):
+    out = _check_engine_options({key: value for key, value in options.items() if key in ENGINE_OPTIONS})
+    out.update({key: value for key, value in options.items() if key not in ENGINE_OPTIONS})
     stride = _validation.check_int(out.pop("tangent_stride", 3), "tangent_stride", minimum=1)
     weights = out.pop("fuzzy_weights", (0.7, 0.3))
     if isinstance(weights, (str, bytes)) or not hasattr(weights, "__len__") or len(weights) != 2:

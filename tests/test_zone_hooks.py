@@ -17,21 +17,10 @@ import numpy as np
 import pytest
 
 from splinecraft.capture.trace import trace
+from test_tips import render  # pixel-centre rendering of a polygon, the tips' tests' own
 
 SIZE = 120
 PIXEL_SLACK = 0.1
-
-
-def render(vertices, size):
-    """Pixels whose centres lie inside the polygon (even-odd rule), as a bool image ``size x size``."""
-    yy, xx = np.mgrid[:size, :size] + 0.5
-    inside = np.zeros((size, size), bool)
-    for (x0, y0), (x1, y1) in zip(vertices, np.roll(vertices, -1, axis=0)):
-        if y0 == y1:
-            continue
-        crosses = (y0 > yy) != (y1 > yy)
-        inside ^= crosses & (xx < x0 + (yy - y0) * (x1 - x0) / (y1 - y0))
-    return inside
 
 
 def cut_ring_sector(rng):

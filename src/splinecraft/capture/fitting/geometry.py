@@ -20,14 +20,19 @@ def member_sorted(values, sorted_set):
     return sorted_set[at] == values
 
 
+def segment_squared_distances(points, a, b):
+    """Exact squared distances from ``points`` to the segments ``a -> b`` (arrays of matching shape (..., 2))."""
+    ab = b - a
+    ap = points - a
+    denom = np.einsum("...d,...d->...", ab, ab)
+    t = np.clip(np.einsum("...d,...d->...", ap, ab) / np.where(denom > 0, denom, 1.0), 0.0, 1.0)
+    diff = ap - t[..., None] * ab
+    return np.einsum("...d,...d->...", diff, diff)
+
+
 def _segment_distances(points, a, b):
     """Exact distances from points (n, 2) to the segments a[k] -> b[k] (n, k, 2): minimum over k."""
-    ab = b - a
-    ap = points[:, None, :] - a
-    denom = np.einsum("nkd,nkd->nk", ab, ab)
-    t = np.clip(np.einsum("nkd,nkd->nk", ap, ab) / np.where(denom > 0, denom, 1.0), 0.0, 1.0)
-    diff = ap - t[..., None] * ab
-    return np.sqrt(np.einsum("nkd,nkd->nk", diff, diff).min(axis=1))
+    return np.sqrt(segment_squared_distances(points[:, None, :], a, b).min(axis=1))
 
 
 def polyline_distance(points, line, *, closed=False, neighbours=6):

@@ -25,6 +25,7 @@ import numpy as np
 
 from .._pixel_corners import corner_vertices
 from ._kernels import separating_slope
+from .geometry import segment_squared_distances
 
 __all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction",
            "pixel_pairs",
@@ -492,7 +493,7 @@ def tip_estimates(contour, angle, radius, measured=None):
 def _outside(contour, points):
     """Distance (px) of ``points`` (a few tips) from the closed contour polyline, exact: the least over the edges
     with an end within the nearest vertex's distance plus half the longest edge (no other edge comes nearer),
-    each by the point-to-segment arithmetic of :func:`~.geometry.polyline_distance` (whose search tree of the
+    each by :func:`~.geometry.segment_squared_distances` (:func:`~.geometry.polyline_distance`'s search tree of the
     whole contour cost more than these few points)."""
     if not points.shape[0]:
         return np.zeros(0)
@@ -502,13 +503,8 @@ def _outside(contour, points):
     reach = np.sqrt(squared.min(axis=1)) + 0.5 * np.diff(contour.arc).max() + 1e-6
     rows, near = np.nonzero(squared <= (reach * reach)[:, None])
     rows, edges = np.concatenate([rows, rows]), np.concatenate([near, (near - 1) % m])
-    a, b = line[edges], line[(edges + 1) % m]
-    ab, ap = b - a, points[rows] - a
-    denom = np.einsum("kd,kd->k", ab, ab)
-    t = np.clip(np.einsum("kd,kd->k", ap, ab) / np.where(denom > 0, denom, 1.0), 0.0, 1.0)
-    diff = ap - t[:, None] * ab
     least = np.full(points.shape[0], np.inf)
-    np.minimum.at(least, rows, np.einsum("kd,kd->k", diff, diff))
+    np.minimum.at(least, rows, segment_squared_distances(points[rows], line[edges], line[(edges + 1) % m]))
     return np.sqrt(least)
 
 

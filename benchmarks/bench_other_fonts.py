@@ -49,7 +49,7 @@ def glyphs(seed):
     for label, file_name in FONTS.items():
         path = H.find_font(file_name)
         if path is None:
-            print(f"# {file_name} is not installed: skipped (scripts/system-deps.sh installs the fonts)",
+            print(f"# {file_name} is not installed: skipped (`scripts/system-deps.sh fonts` installs them)",
                   file=sys.stderr)
             continue
         for char in rng.choice(list(CHARACTERS.get(label, LATIN)), size=6, replace=False):

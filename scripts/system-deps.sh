@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
-# Install Debian packages the project needs for a purpose: browser (chromium), potrace (benchmark peer).
-# Usage: scripts/system-deps.sh chromium potrace
+# Install Debian packages the project needs for a purpose: browser (chromium), potrace (benchmark peer), the
+# fonts of the held-out benchmark sets (fonts: benchmarks/heldout_shapes.py, bench_other_fonts.py).
+# Usage: scripts/system-deps.sh chromium potrace fonts
 set -euo pipefail
 need=()
 for pkg in "$@"; do
   case "$pkg" in
     chromium) [ -x /usr/bin/chromium ] || need+=(chromium fonts-dejavu-core) ;;
     potrace) command -v potrace >/dev/null || need+=(potrace) ;;
+    fonts) for font in fonts-freefont-ttf fonts-liberation fonts-ebgaramond fonts-ebgaramond-extra fonts-hosny-amiri \
+                       fonts-ipafont-mincho; do
+             dpkg -s "$font" >/dev/null 2>&1 || need+=("$font")
+           done ;;
     *) need+=("$pkg") ;;
   esac
 done

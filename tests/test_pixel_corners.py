@@ -234,6 +234,28 @@ def test_a_disc_has_no_pixel_corners(radius, dx, dy):
         assert outline_pixel_corners(points)[0].size == 0
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.0, 0.999), st.floats(0.0, 0.999), st.floats(24.0, 60.0), st.integers(12, 30))
+def test_a_flat_side_that_bends_away_keeps_its_pixel_corner(dx, dy, radius, flat):
+    """A "D": a vertical side, and at its two ends flat sides ``flat`` px long that run on into a half circle.
+    Beyond each flat run the outline steps down by one crack and goes on the same way, as a staircase's tread
+    would; yet the flat run is longer by more than one crack than the whole treads beyond it, which no digital
+    straight segment allows, so it is a side of its own and the two turns of the vertical side are pixel corners,
+    within half a pixel (per axis) of the true corners. (Before, any run that went on as a tread was taken for
+    an off-axis side: freemono's q at 1200 px lost its corner and was traced 1.16 px off.)"""
+    left, top = 8.0 + dx, 8.0 + dy
+    rows, cols = np.mgrid[: int(2 * radius) + 20, : int(flat + radius) + 20]
+    x, y = cols + 0.5, rows + 0.5
+    inside = (x >= left) & (y >= top) & (y <= top + 2 * radius)
+    mask = inside & ((x <= left + flat) | ((x - left - flat) ** 2 + (y - top - radius) ** 2 <= radius ** 2))
+    (points,) = outline_of(mask)
+    _, vertices = outline_pixel_corners(points)
+    true_corners = np.array([[left, top], [left, top + 2 * radius]])
+    assert len(vertices) == 2, vertices
+    gap = np.abs(vertices[:, None, :] - true_corners[None, :, :]).max(axis=2).min(axis=1)
+    assert (gap <= 0.5 + 1e-9).all(), (vertices, true_corners)
+
+
 def test_only_crack_outlines_have_pixel_corners():
     """Pixel chains, shifted or scaled outlines are not crack outlines: no pixel corners."""
     mask = block(6, 8)

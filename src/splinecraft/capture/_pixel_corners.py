@@ -13,7 +13,9 @@ their crossing is the turn's vertex, the pixel corner. :func:`pixel_corners` fin
   two cracks is a step of a staircase, a rounded corner or a nub, not two straight sides);
 * neither run continues beyond its far end as the tread of a staircase (a step of one crack, then a run
   parallel to it the same way): that is a side a little off the axis, whose line (and corner) the run
-  alone does not give;
+  alone does not give. A run longer by more than one crack than a whole tread beyond it of :data:`MIN_RUN`
+  cracks or more is no such tread (a digital straight segment's runs differ by at most one, its end runs can
+  only be shorter): it is a flat side of its own that bends away gently into a curve;
 * or the vertex is one of the two of a run of one or two cracks between two such runs that go the opposite
   ways (a U-turn): the square end of a stroke 1-2 px wide, whose sides are the two long runs and whose end is
   the short one (docs/capture.md §11, "Stroke ends"). A staircase never turns back;
@@ -111,16 +113,26 @@ def pixel_corners(points, lengths):
     def run(m):  # the run m places after each run (negative: before), within its outline
         return run_offset[run_outline] + (j + m) % k
 
+    def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
+        step, beyond = run(m + way), run(m + 2 * way)
+        continues = (length[step] == 1) & (direction[beyond] == direction[run(m)])
+        # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond``, with a
+        # step at both ends) of MIN_RUN cracks or more: the runs of a digital straight segment differ by at most
+        # one and its end runs can only be shorter, so the run is then no tread of an off-axis side but a straight
+        # side of its own, from which the outline bends away gently (a flat side running into a curve; a round
+        # end of a few pixels turns through treads of one or two cracks)
+        whole = (length[run(m + 3 * way)] == 1) & (direction[run(m + 4 * way)] == direction[run(m)])
+        flat = whole & (length[beyond] >= MIN_RUN) & (length[run(m)] > length[beyond] + 1)
+        return continues & ~flat
+
     # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
     corner = (length[run(-1)] >= MIN_RUN) & (length >= MIN_RUN)
-    corner &= ~((length[run(-2)] == 1) & (direction[run(-3)] == direction[run(-1)]))
-    corner &= ~((length[run(1)] == 1) & (direction[run(2)] == direction))
+    corner &= ~tread(-1, -1) & ~tread(0, 1)
     # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the opposite
     # ways round (a U-turn), each of them not a staircase's tread at its far end; both of its vertices
     end = (length < MIN_RUN) & (length[run(-1)] >= MIN_RUN) & (length[run(1)] >= MIN_RUN)
     end &= direction[run(-1)] == (direction[run(1)] + 2) % 4
-    end &= ~((length[run(-2)] == 1) & (direction[run(-3)] == direction[run(-1)]))
-    end &= ~((length[run(2)] == 1) & (direction[run(3)] == direction[run(1)]))
+    end &= ~tread(-1, -1) & ~tread(1, 1)
     end &= k >= 4
     corner |= end
     corner[run(1)[end]] = True

@@ -391,11 +391,13 @@ class OutlineRegression:
         """The rotated index of the first contour point whose parameter is not below ``value``."""
         return int(np.clip(np.searchsorted(self.parameter, value), 0, self.contour.size - 1))
 
-    def hooked_corners(self):
+    def hooked_corners(self, dev=None):
         """Corners (still extrapolated) whose fitted point lies farther from the contour corner point than
         the tip of a pixel shape can be truncated: ``0.5 / sin(theta / 2)`` for the interior angle ``theta``,
         at least 0.75 px, at most ``epsilon + corner_allowance``. Such a corner is a misfit of the pieces'
-        extensions (a hook), not a truncated tip."""
+        extensions (a hook), not a truncated tip. A corner with a kept tip estimate counts only where both
+        pieces beside it fit (``dev``: the current fit's :meth:`deviations`, computed here when needed): on a
+        coarse fit a piece that misses its pixels by several pixels moves its corner point as far."""
         contour, tips = self.contour, self.tips
         if not contour.corner_count:
             return np.zeros(0, dtype=np.int64)
@@ -409,12 +411,20 @@ class OutlineRegression:
                                 np.where(np.isfinite(reach), np.maximum(limit, reach + 0.25), limit))
         _, at, points, limit = self._hook_limit
         disp = np.hypot(*(self.curve_at(at) - points).T)
-        return np.flatnonzero((disp > limit) & (tips.radius > 0))
+        found = np.flatnonzero((disp > limit) & (tips.radius > 0))
+        tipped = np.isfinite(tips.estimate[found, 0])
+        if not tipped.any():
+            return found
+        if dev is None:
+            dev = self.deviations()
+        fits = dev["piece_excess"] <= 0
+        pieces = contour.piece_count
+        return found[~tipped | (fits[(found - 1) % pieces] & fits[found % pieces])]
 
     def hooks(self, dev=None):
         """The corners to release after a fit: :meth:`hooked_corners` and :meth:`zone_hooks` (``dev``: the
         current fit's :meth:`deviations`, if at hand)."""
-        hooked = self.hooked_corners()
+        hooked = self.hooked_corners(dev)
         zone = self.zone_hooks(dev, exclude=hooked)
         return np.union1d(hooked, zone).astype(np.int64) if zone.size else hooked
 

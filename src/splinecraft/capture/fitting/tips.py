@@ -370,8 +370,9 @@ def tip_estimates(contour, angle, radius, measured=None):
     contour than a sharp tip can be (:data:`SHARP_TRUNCATION`) and not more than :data:`BEHIND` behind it
     (along the bisector of the sides), and neither :func:`tip_contradiction` nor :func:`wedge_contradiction`
     finds pixels that contradict its wedge. A crossing that fails is sought again on windows shrunk by
-    :data:`RETRY_SHRINK` while both sides are separating lines, and kept only where their margins pin it down
-    to :data:`RETRY_UNCERTAINTY`. Only corners sharper than :data:`MAX_EXTRAPOLATED_ANGLE` (or than
+    :data:`RETRY_SHRINK` (a side that is no separating line there gets its parabola, as on the long window), and
+    where both shrunk sides are separating lines it is kept only where their margins pin it down to
+    :data:`RETRY_UNCERTAINTY`. Only corners sharper than :data:`MAX_EXTRAPOLATED_ANGLE` (or than
     :data:`MAX_OBTUSE_ANGLE` between two straight sides) are measured (the others get no estimate, and their
     sides are not fitted).
 
@@ -463,10 +464,10 @@ def tip_estimates(contour, angle, radius, measured=None):
             if (reach - start[c]).min() < SHORTEST_SIDE:
                 break
             sides = [side_fit(contour, corner_arc, 2 * k - 1, start[c], reach[k], pairs) for k in (0, 1)]
-            if any(side is None or not side.margin > 0 for side in sides):
+            if any(side is None for side in sides):
                 break
             found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs)
-            if found is not None and \
+            if found is not None and sides[0].margin > 0 and sides[1].margin > 0 and \
                     (sides[0].margin + sides[1].margin) / (2.0 * np.sin(0.5 * found[1])) > RETRY_UNCERTAINTY:
                 found = None
                 break

@@ -515,3 +515,27 @@ def test_an_all_ink_input_has_a_warning_in_its_record():
         assert len(record.warnings) == 1 and record.warnings[0].startswith("InkPolarityWarning: every pixel is ink")
         assert "see threshold/invert" in record.warnings[0]
     assert records[2].warnings == []
+
+
+def test_the_notes_that_qualify_an_output_are_warnings_of_its_record():
+    """trace_many kept a file's Python warnings and its all-ink note, but not its other notes that say the output
+    is not what was asked for: boundaries that did not converge, a spent time budget. Now they are warning
+    lines of its record (and manifest line), in the library's spelling; a converged file has none."""
+    ring = np.full((64, 64), 255, np.uint8)
+    yy, xx = np.mgrid[:64, :64] + 0.5
+    r2 = (xx - 32) ** 2 + (yy - 32) ** 2
+    ring[(r2 <= 25 ** 2) & (r2 > 10 ** 2)] = 0
+    (short,) = trace_many([ring], method="random", max_iterations=1, progress=False)
+    library = sc.trace(ring, method="random", max_iterations=1)
+    reasons = [entry["reason"] for entry in library.stats["per_boundary"]]
+    assert short.status == "ok" and all(reasons)
+    (line,) = short.warnings
+    assert line == (f"NotConverged: 2 of 2 boundaries did not converge: boundary 0 "
+                    f"({library.stats['per_boundary'][0]['contour_points']} points): {reasons[0]}; "
+                    "stats['per_boundary'][k]['reason'] says why for each")
+    (spent,) = trace_many([ring], time_budget=1e-9, progress=False)
+    assert spent.warnings == [f"TimeBudget: {note}" for note in sc.trace(ring, time_budget=1e-9).notes
+                              if note.startswith("time budget of")]
+    assert len(spent.warnings) == 1 and "time_budget=None" in spent.warnings[0]
+    (fitted,) = trace_many([ring], progress=False)
+    assert fitted.warnings == []

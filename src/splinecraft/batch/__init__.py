@@ -41,9 +41,13 @@ class FileRecord:
     ``status`` is ``"ok"`` (traced and written), ``"skipped"`` (finished by an earlier run: the manifest's
     hashes of input, settings and output still match), ``"failed"`` (``error`` says why, in one line) or
     ``"cancelled"`` (the run was stopped before this file). ``stats`` holds the main columns of
-    ``TraceResult.stats``; ``result`` is the :class:`~splinecraft.capture.trace.TraceResult` itself when
+    ``TraceResult.stats`` (and ``budget_stopped``: the boundaries whose knot rounds a spent time budget
+    stopped); ``result`` is the :class:`~splinecraft.capture.trace.TraceResult` itself when
     ``output_dir`` is ``None``. ``warnings``: the warnings its trace gave (``"Category: message"``, e.g. an
-    ink polarity that looks inverted), kept with the file instead of printed by the worker.
+    ink polarity that looks inverted), kept with the file instead of printed by the worker, and the notes of
+    its trace that say the output is not all that was asked for (``batch._work.note_lines``):
+    ``"InkPolarityWarning: every pixel is ink ..."``, ``"TimeBudget: time budget of ..."`` (boundaries left as
+    polygons, knot rounds stopped), ``"NotConverged: N of M boundaries did not converge: ..."``.
     """
 
     input: str

@@ -100,6 +100,9 @@ CORNERLESS_CONTOUR = 20
 #: How the note of an image whose every pixel is ink begins (its outline is the frame: an all-black image, or a
 #: mask whose True marks the background). ``trace_many`` and the command line pass it on as a warning line.
 ALL_INK_NOTE = "every pixel is ink"
+#: How the notes of a spent ``time_budget`` begin (boundaries left as polygons, knot rounds stopped). ``trace_many`` and
+#: the command line pass them on as warning lines.
+BUDGET_NOTE = "time budget of"
 
 
 def trace(
@@ -614,12 +617,12 @@ class _Polygon:
 def _budget_notes(state, time_budget, notes):
     polygons, stopped = state.count("polygon"), state.count("stopped")
     if polygons:
-        notes.append(f"time budget of {time_budget:g} s spent: {polygons} of {len(state)} "
+        notes.append(f"{BUDGET_NOTE} {time_budget:g} s spent: {polygons} of {len(state)} "
                      f"boundar{'y' if len(state) == 1 else 'ies'} got the polygon of their contour (straight pieces between turning points, no corner "
                      "detection; stats['per_boundary'][k]['budget'] == 'polygon'; trace(time_budget=None) fits "
                      "them all)")
     if stopped:
-        notes.append(f"time budget of {time_budget:g} s: the knot rounds of {stopped} boundar"
+        notes.append(f"{BUDGET_NOTE} {time_budget:g} s: the knot rounds of {stopped} boundar"
                      f"{'y' if stopped == 1 else 'ies'} stopped before convergence")
 
 

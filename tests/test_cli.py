@@ -846,3 +846,23 @@ def test_knot_rounds_stopped_by_the_time_budget_get_their_line():
         "splinecraft: page.png: time budget 5 s reached: the knot rounds of 2 of 5 boundaries stopped before "
         "convergence (use --time-budget none or a larger value)"]
     assert _file_messages(record, True, 5.0) == ["splinecraft: page.png: warning: " + record.warnings[1]]
+
+
+@pytest.mark.parametrize("options, named", [
+    (["--manifest", "m.jsonl"], "--manifest"), (["--jobs", "2"], "--jobs"), (["-j", "1"], "--jobs"),
+    (["--scheduler", "threads"], "--scheduler"), (["--batch-size", "3"], "--batch-size"),
+    (["--manifest", "m.jsonl", "--jobs", "2"], "--manifest, --jobs"),
+])
+def test_stdout_output_refuses_the_options_of_file_outputs(tmp_path, options, named):
+    """``-o -`` ignored ``--manifest``, ``--jobs``, ``--scheduler`` and ``--batch-size`` without a word (no manifest
+    was written, nothing ran in parallel). They are refused before anything is traced: a usage error naming them,
+    exit code 2, nothing on stdout and no manifest."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", "-", *options, cwd=tmp_path)
+    assert result.returncode == 2 and result.stdout == "", result.stderr
+    last = result.stderr.splitlines()[-1]
+    assert last.startswith("splinecraft trace: error: ") and f"-o - (stdout) does not take {named}" in last
+    assert result.stderr.startswith("usage: splinecraft trace")
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["sq.png"]
+    assert run_cli("trace", source, "-o", "-", "--batch-size", "auto", "-q").returncode == 0  # the default, spelt out

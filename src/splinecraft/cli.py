@@ -14,7 +14,9 @@ Examples
 input ``NAME.ext`` becomes ``OUT/NAME.svg`` or ``.json``). The format follows ``--format``, else the
 suffix of a single output file, else SVG. An output that is also an input is refused, and so, before
 anything is traced, an empty ``OUT`` and an ``OUT`` named like a file (``.svg``, ``.json``) for several
-inputs, unless it is an existing directory (``OUT/`` asks for the directory). Files are traced by
+inputs, unless it is an existing directory (``OUT/`` asks for the directory), and ``-o -`` with an option of
+file outputs (``--manifest``, ``--jobs``, ``--scheduler``, ``--batch-size``: stdout gets one input traced in
+this process, with no manifest). Files are traced by
 :func:`splinecraft.batch.run_batch`, the body of ``splinecraft.trace_many``: outputs appear atomically (no
 partial file, even when a write fails), and a directory gets a manifest
 (``OUT/splinecraft-manifest.jsonl``, or ``--manifest``) so that a second run skips finished files
@@ -265,7 +267,26 @@ def build_parser() -> argparse.ArgumentParser:
                         help="files per task for parallel runs (default auto: tasks of about 0.1 s)")
     tracer.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
     tracer.add_argument("-v", "--verbose", action="store_true", help="print the stats of each file on stderr")
+    tracer.set_defaults(command_parser=tracer)
     return parser
+
+
+def _stdout_conflicts(args) -> str | None:
+    """Why the options of ``args`` cannot go together, or ``None``: ``-o -`` traces its one input in this process
+    and writes no file, so the options of file outputs (``--manifest``, ``--jobs``, ``--scheduler``, a
+    ``--batch-size`` other than ``auto``) would be ignored; they are refused instead."""
+    if args.output != "-":
+        return None
+    given = [option for option, value in (("--manifest", args.manifest), ("--jobs", args.jobs),
+                                          ("--scheduler", args.scheduler))
+             if value is not None]
+    if args.batch_size != "auto":
+        given.append("--batch-size")
+    if not given:
+        return None
+    return (f"-o - (stdout) does not take {', '.join(given)}: it traces its one input in this process and writes "
+            "no file (no manifest, nothing to run in parallel); give an output file or directory to use "
+            f"{'it' if len(given) == 1 else 'them'}")
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -526,6 +547,9 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command == "trace":
+        conflict = _stdout_conflicts(args)
+        if conflict:
+            args.command_parser.error(conflict)  # a usage error: exit code 2
         return _run_trace(args)
     parser.error(f"unknown command {args.command!r}")  # pragma: no cover - argparse checks choices
     return 2

@@ -539,3 +539,42 @@ def test_the_notes_that_qualify_an_output_are_warnings_of_its_record():
     assert len(spent.warnings) == 1 and "time_budget=None" in spent.warnings[0]
     (fitted,) = trace_many([ring], progress=False)
     assert fitted.warnings == []
+
+
+def test_a_mapping_of_inputs_names_them_by_its_keys(tmp_path):
+    """``trace_many(dict)`` iterated the dict's keys and traced the names as paths ("image file not found").
+    A mapping ``{name: image}`` is now a set of named inputs: each value one image (a path, taken literally, an
+    array, a PIL image, encoded bytes), each key its name: the record's input, the output ``NAME.svg`` and the
+    SVG's title, in the mapping's order; resume works by name as by path."""
+    path = tmp_path / "scan.png"
+    glyph_image(0).save(path)
+    encoded = tmp_path / "other.png"
+    glyph_image(1).save(encoded)
+    array = np.asarray(glyph_image(2))
+    named = {"zeta": array, "alpha": path, "raw": encoded.read_bytes(), "pil": glyph_image(3)}
+    out = tmp_path / "out"
+    records = trace_many(named, out, epsilon=EPSILON, progress=False)
+    assert [record.input for record in records] == list(named) and records.counts == {"ok": 4}
+    assert sorted(p.name for p in out.iterdir()) == sorted([f"{name}.svg" for name in named] + [MANIFEST_NAME])
+    for name, image in named.items():
+        expected = sc.trace(image, epsilon=EPSILON, keep_snapshots=False).to_svg(title=name)
+        assert (out / f"{name}.svg").read_text() == expected, name
+    assert trace_many(named, out, epsilon=EPSILON, progress=False).counts == {"skipped": 4}
+    (kept,) = trace_many({"only": array}, epsilon=EPSILON, progress=False)
+    assert kept.input == "only" and kept.result.to_svg() == sc.trace(array, epsilon=EPSILON).to_svg()
+
+
+@pytest.mark.parametrize("inputs, error, words", [
+    ({}, ValueError, "inputs is empty"),
+    ({3: np.zeros((4, 4))}, TypeError, "inputs keys must be names (str), got 3 (int)"),
+    ({"": np.zeros((4, 4))}, ValueError, "inputs key '' is not a name"),
+    ({"a/b": np.zeros((4, 4))}, ValueError, "inputs key 'a/b' is not a name"),
+    ({"..": np.zeros((4, 4))}, ValueError, "inputs key '..' is not a name"),
+    ({"a": 5}, TypeError, "inputs['a'] must be a path, an image array, a PIL image or encoded image bytes, got int"),
+    ({"a": [np.zeros((4, 4))]}, TypeError, "inputs['a'] must be a path"),
+])
+def test_a_bad_mapping_of_inputs_is_refused_by_name(tmp_path, inputs, error, words):
+    with pytest.raises(error) as caught:
+        trace_many(inputs, tmp_path / "out", progress=False)
+    assert words in str(caught.value)
+    assert not (tmp_path / "out").exists()

@@ -515,3 +515,66 @@ def test_an_all_ink_input_has_a_warning_in_its_record():
         assert len(record.warnings) == 1 and record.warnings[0].startswith("InkPolarityWarning: every pixel is ink")
         assert "see threshold/invert" in record.warnings[0]
     assert records[2].warnings == []
+
+
+def test_the_notes_that_qualify_an_output_are_warnings_of_its_record():
+    """trace_many kept a file's Python warnings and its all-ink note, but not its other notes that say the output
+    is not what was asked for: boundaries that did not converge, a spent time budget. Now they are warning
+    lines of its record (and manifest line), in the library's spelling; a converged file has none."""
+    ring = np.full((64, 64), 255, np.uint8)
+    yy, xx = np.mgrid[:64, :64] + 0.5
+    r2 = (xx - 32) ** 2 + (yy - 32) ** 2
+    ring[(r2 <= 25 ** 2) & (r2 > 10 ** 2)] = 0
+    (short,) = trace_many([ring], method="random", max_iterations=1, progress=False)
+    library = sc.trace(ring, method="random", max_iterations=1)
+    reasons = [entry["reason"] for entry in library.stats["per_boundary"]]
+    assert short.status == "ok" and all(reasons)
+    (line,) = short.warnings
+    assert line == (f"NotConverged: 2 of 2 boundaries did not converge: boundary 0 "
+                    f"({library.stats['per_boundary'][0]['contour_points']} points): {reasons[0]}; "
+                    "stats['per_boundary'][k]['reason'] says why for each")
+    (spent,) = trace_many([ring], time_budget=1e-9, progress=False)
+    assert spent.warnings == [f"TimeBudget: {note}" for note in sc.trace(ring, time_budget=1e-9).notes
+                              if note.startswith("time budget of")]
+    assert len(spent.warnings) == 1 and "time_budget=None" in spent.warnings[0]
+    (fitted,) = trace_many([ring], progress=False)
+    assert fitted.warnings == []
+
+
+def test_a_mapping_of_inputs_names_them_by_its_keys(tmp_path):
+    """``trace_many(dict)`` iterated the dict's keys and traced the names as paths ("image file not found").
+    A mapping ``{name: image}`` is now a set of named inputs: each value one image (a path, taken literally, an
+    array, a PIL image, encoded bytes), each key its name: the record's input, the output ``NAME.svg`` and the
+    SVG's title, in the mapping's order; resume works by name as by path."""
+    path = tmp_path / "scan.png"
+    glyph_image(0).save(path)
+    encoded = tmp_path / "other.png"
+    glyph_image(1).save(encoded)
+    array = np.asarray(glyph_image(2))
+    named = {"zeta": array, "alpha": path, "raw": encoded.read_bytes(), "pil": glyph_image(3)}
+    out = tmp_path / "out"
+    records = trace_many(named, out, epsilon=EPSILON, progress=False)
+    assert [record.input for record in records] == list(named) and records.counts == {"ok": 4}
+    assert sorted(p.name for p in out.iterdir()) == sorted([f"{name}.svg" for name in named] + [MANIFEST_NAME])
+    for name, image in named.items():
+        expected = sc.trace(image, epsilon=EPSILON, keep_snapshots=False).to_svg(title=name)
+        assert (out / f"{name}.svg").read_text() == expected, name
+    assert trace_many(named, out, epsilon=EPSILON, progress=False).counts == {"skipped": 4}
+    (kept,) = trace_many({"only": array}, epsilon=EPSILON, progress=False)
+    assert kept.input == "only" and kept.result.to_svg() == sc.trace(array, epsilon=EPSILON).to_svg()
+
+
+@pytest.mark.parametrize("inputs, error, words", [
+    ({}, ValueError, "inputs is empty"),
+    ({3: np.zeros((4, 4))}, TypeError, "inputs keys must be names (str), got 3 (int)"),
+    ({"": np.zeros((4, 4))}, ValueError, "inputs key '' is not a name"),
+    ({"a/b": np.zeros((4, 4))}, ValueError, "inputs key 'a/b' is not a name"),
+    ({"..": np.zeros((4, 4))}, ValueError, "inputs key '..' is not a name"),
+    ({"a": 5}, TypeError, "inputs['a'] must be a path, an image array, a PIL image or encoded image bytes, got int"),
+    ({"a": [np.zeros((4, 4))]}, TypeError, "inputs['a'] must be a path"),
+])
+def test_a_bad_mapping_of_inputs_is_refused_by_name(tmp_path, inputs, error, words):
+    with pytest.raises(error) as caught:
+        trace_many(inputs, tmp_path / "out", progress=False)
+    assert words in str(caught.value)
+    assert not (tmp_path / "out").exists()

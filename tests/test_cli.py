@@ -791,3 +791,78 @@ def test_a_corner_param_pair_can_be_given(tmp_path, capsys):
     assert out.read_text() == expected
     assert main(["trace", str(tmp_path / "square.png"), "-o", str(out), "-q", "--corner-param", "flank=4,10,2"]) == 2
     assert "corner_params['flank'] must be a pair of integers" in capsys.readouterr().err
+
+
+def test_every_warning_of_a_trace_reaches_stderr_and_the_manifest(tmp_path):
+    """The command line printed a file's Python warnings and its all-ink note but dropped its other notes that say
+    the output is not what was asked for: boundaries that did not converge (``--max-iterations`` too low) were
+    reported only by ``-v``, and a spent time budget was in no manifest line. Now each is a warning line of its file
+    (``Category: message``, in the command's spelling) in its record and manifest line, and on stderr: the budget
+    in the command's own line, not with ``-q`` (as before); the others with its name, also with ``-q``."""
+    from splinecraft.batch import MANIFEST_NAME
+
+    ring = tmp_path / "ring.png"
+    write_shape(ring, "ring")
+    anim = tmp_path / "anim.gif"
+    frames = [Image.fromarray(np.where(m, 0, 255).astype(np.uint8)) for m in (write_shape(tmp_path / "d.png", "disc"),
+                                                                             write_shape(tmp_path / "s.png", "square"))]
+    frames[0].save(anim, save_all=True, append_images=frames[1:])
+    out = tmp_path / "out"
+    result = run_cli("trace", ring, anim, "-o", out, "--method", "random", "--max-iterations", 1, "-q")
+    assert result.returncode == 0, result.stderr
+    lines = result.stderr.splitlines()
+    entries = {os.path.basename(json.loads(line)["input"]): json.loads(line)["warnings"]
+               for line in (out / MANIFEST_NAME).read_text().splitlines()}
+    for source in (ring, anim):
+        mine = [line.split(": warning: ", 1)[1] for line in lines if line.startswith(f"splinecraft: {source}: warning: ")]
+        assert mine == entries[source.name], (mine, entries)
+    (converge,) = [line for line in entries["ring.png"] if line.startswith("NotConverged: ")]
+    assert converge.startswith("NotConverged: 2 of 2 boundaries did not converge") and "--max-iterations 1 reached" in converge
+    assert "max_iterations" not in converge
+    assert any(line.startswith("MultiFrameWarning: ") and "2 frames" in line for line in entries["anim.gif"])
+    assert len(lines) == sum(map(len, entries.values()))
+
+    budget = run_cli("trace", ring, "-o", f"{tmp_path / 'budget'}{os.sep}", "--time-budget", "1e-9", "-q")
+    assert budget.returncode == 0 and budget.stderr == ""
+    (entry,) = [json.loads(line) for line in (tmp_path / "budget" / MANIFEST_NAME).read_text().splitlines()]
+    (line,) = entry["warnings"]
+    assert line.startswith("TimeBudget: time budget of 1e-09 s spent: 2 of 2 boundaries got the polygon")
+    assert "--time-budget none fits them all" in line and "time_budget=None" not in line
+
+
+def test_knot_rounds_stopped_by_the_time_budget_get_their_line():
+    """Knot rounds that a spent time budget stopped (a note in Python) said nothing on the command line; they get
+    a line of the budget's kind, not with -q, and the record's TimeBudget warning line is not printed twice."""
+    from splinecraft.batch import FileRecord
+    from splinecraft.cli import _file_messages
+
+    record = FileRecord(input="page.png", output="page.svg", status="ok",
+                        stats={"boundaries": 5, "polygons": 0, "budget_stopped": 2},
+                        warnings=["TimeBudget: time budget of 5 s: the knot rounds of 2 boundaries stopped before "
+                                  "convergence", "NotConverged: 1 of 5 boundaries did not converge: boundary 3 (90 "
+                                  "points): --max-iterations 4 reached with a deviation of 1.2 px"])
+    assert _file_messages(record, False, 5.0) == [
+        "splinecraft: page.png: warning: " + record.warnings[1],
+        "splinecraft: page.png: time budget 5 s reached: the knot rounds of 2 of 5 boundaries stopped before "
+        "convergence (use --time-budget none or a larger value)"]
+    assert _file_messages(record, True, 5.0) == ["splinecraft: page.png: warning: " + record.warnings[1]]
+
+
+@pytest.mark.parametrize("options, named", [
+    (["--manifest", "m.jsonl"], "--manifest"), (["--jobs", "2"], "--jobs"), (["-j", "1"], "--jobs"),
+    (["--scheduler", "threads"], "--scheduler"), (["--batch-size", "3"], "--batch-size"),
+    (["--manifest", "m.jsonl", "--jobs", "2"], "--manifest, --jobs"),
+])
+def test_stdout_output_refuses_the_options_of_file_outputs(tmp_path, options, named):
+    """``-o -`` ignored ``--manifest``, ``--jobs``, ``--scheduler`` and ``--batch-size`` without a word (no manifest
+    was written, nothing ran in parallel). They are refused before anything is traced: a usage error naming them,
+    exit code 2, nothing on stdout and no manifest."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", "-", *options, cwd=tmp_path)
+    assert result.returncode == 2 and result.stdout == "", result.stderr
+    last = result.stderr.splitlines()[-1]
+    assert last.startswith("splinecraft trace: error: ") and f"-o - (stdout) does not take {named}" in last
+    assert result.stderr.startswith("usage: splinecraft trace")
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["sq.png"]
+    assert run_cli("trace", source, "-o", "-", "--batch-size", "auto", "-q").returncode == 0  # the default, spelt out

@@ -414,6 +414,32 @@ def test_minority_cycles_are_consistent(mask):
 
 
 def test_connectivity_is_checked():
-    for bad in (6, "eight", True, None, [8], 4.0, np.float64(8.0), "4"):  # 4.0 was accepted (4.0 in (4, 8))
+    for bad in (6, np.int64(6), "eight", "4"):  # an int or a name, but not one of the choices
         with pytest.raises(ValueError, match="connectivity"):
             trace_boundaries(np.ones((2, 2), bool), connectivity=bad)
+    for bad in (True, None, [8], 4.0, np.float64(8.0)):  # 4.0 was accepted (4.0 in (4, 8)); now of the wrong type
+        with pytest.raises(TypeError, match="connectivity"):
+            trace_boundaries(np.ones((2, 2), bool), connectivity=bad)
+
+
+@pytest.mark.parametrize("bad", [None, True, 8.0, np.float64(4.0), [8], (4,), b"minority"])
+def test_a_connectivity_of_the_wrong_type_is_a_type_error_everywhere(bad):
+    """``connectivity=None`` was a ValueError ("must be one of [4, 8, 'minority'], got None") where its neighbours
+    of the same kind, ``contour=None`` say, are a TypeError, and ``sc.trace(connectivity=8.0)`` passed trace's
+    check and failed in the loader. One rule now, ``check_connectivity``, for ``trace``, ``load_bitmap`` and
+    ``trace_boundaries``: a value of the wrong type (None, a bool, a float, a sequence) is a TypeError naming the
+    argument, the value and its type, an int or a name that is not a choice a ValueError; None is no default
+    here (the defaults differ: "minority" for ``trace``, 8 for the lower layers)."""
+    import splinecraft as sc
+
+    mask = np.zeros((12, 12), bool)
+    mask[3:9, 3:9] = True
+    for call in (lambda: sc.trace(mask, connectivity=bad), lambda: sc.load_bitmap(mask, connectivity=bad),
+                 lambda: trace_boundaries(mask, connectivity=bad)):
+        with pytest.raises(TypeError, match=r"^connectivity must be 4, 8 or 'minority', got .* \(\w+\)$"):
+            call()
+    with pytest.raises(TypeError, match=r"contour must be one of \['outline', 'pixels'\], got None \(NoneType\)"):
+        sc.trace(mask, contour=None)  # the neighbour it now agrees with
+    with pytest.raises(ValueError, match=r"^connectivity must be 4, 8 or 'minority', got 6$"):
+        sc.trace(mask, connectivity=6)
+    assert sc.trace(mask, connectivity=np.int64(4)).params["connectivity"] == 4

@@ -962,3 +962,33 @@ def test_spread_turns_keep_the_corners_of_a_rounded_off_polygon(angle):
         mask[rows, cols] = True
         (boundary,) = trace_boundaries(mask)
         assert len(corners(boundary.outline, "tangent-jump")) == count
+
+
+@pytest.mark.parametrize("params, error, message", [
+    ({"zct": 201}, ValueError, r"zct must be <= 200, got 201"),
+    ({"zct": 10**30}, ValueError, r"zct must be <= 200, got 1000000000000000000000000000000"),
+    ({"zct": 1e300}, ValueError, r"zct must be <= 200, got 1e\+300"),
+    ({"zct": float("inf")}, TypeError, r"zct must be an integer, got inf \(float\)"),
+    ({"zct": float("nan")}, TypeError, r"zct must be an integer, got nan \(float\)"),
+    ({"zct": -1}, ValueError, r"zct must be >= 0, got -1"),
+    ({"dt": 200.5}, ValueError, r"dt must be >= 0 and <= 200, got 200\.5"),
+    ({"dt": 1e300}, ValueError, r"dt must be >= 0 and <= 200, got 1e\+300"),
+    ({"dt": float("inf")}, ValueError, r"dt must be a finite number >= 0 and <= 200, got inf"),
+    ({"dt": float("nan")}, ValueError, r"dt must be a finite number >= 0 and <= 200, got nan"),
+    ({"dt": -0.5}, ValueError, r"dt must be >= 0 and <= 200, got -0\.5"),
+])
+def test_srm05_bounds_zct_and_dt(params, error, message):
+    """SRM05 took any ZCT or DT above 0 (``zct=10**30``, ``dt=1e300`` ran and returned a result nobody asked for),
+    while every other detector bounds its lengths. ZCT (points) and DT (px) are now bounded like the classic
+    detectors' windows and distances, ``MAX_ZCT`` = 200 and ``MAX_DT`` = 200: the detector, ``check_params`` and
+    ``sc.trace`` refuse a value beyond, naming the option and its range; the bounds themselves are accepted."""
+    from splinecraft.capture.corners._thesis import MAX_DT, MAX_ZCT
+
+    outline, _ = polygon_outline([(0, 0), (40, 0), (40, 40), (0, 40)])
+    with pytest.raises(error, match=rf"^{message}$"):
+        corners(outline, "srm05", **params)
+    (name,) = params
+    with pytest.raises(error, match=rf"^corner_params\['{name}'\] must .* \(the 'srm05' corner detector\)$"):
+        cm.check_params("srm05", params, "corner_params")
+    assert (MAX_ZCT, MAX_DT) == (200, 200.0)
+    assert corners(outline, "srm05", zct=MAX_ZCT, dt=MAX_DT).dtype == np.intp

@@ -177,13 +177,51 @@ def test_float_tiff_on_pils_8_bit_scale(tmp_path):
 
 
 def test_multiframe_gif_uses_first_frame(tmp_path):
+    from splinecraft.capture.image import MultiFrameWarning
+
     first, second = shape_mask(), ~shape_mask()
     frames = [Image.fromarray(gray_image(m)).convert("P") for m in (first, second)]
     path = tmp_path / "anim.gif"
     frames[0].save(path, save_all=True, append_images=frames[1:])
     with Image.open(path) as img:
         assert img.n_frames == 2
-    np.testing.assert_array_equal(load_bitmap(path), first)
+    with pytest.warns(MultiFrameWarning, match="2 frames"):
+        np.testing.assert_array_equal(load_bitmap(path), first)
+
+
+@pytest.mark.parametrize("suffix", ["gif", "tif"])
+def test_a_multi_frame_file_says_which_frame_it_traced(tmp_path, suffix):
+    """An animated GIF or a multi-page TIFF was traced from its first frame without a word. Now a
+    MultiFrameWarning names the file, its frame count, the frame traced and how to trace another (pick the
+    frame with PIL and pass the image), for a path, the file's bytes and a file object, pointing at the
+    caller's line; the first frame is still what is traced. A one-frame file and a PIL image (traced at the
+    frame it is at, which its owner chose) give no warning."""
+    import splinecraft as sc
+    from splinecraft.capture.image import MultiFrameWarning
+
+    masks = [shape_mask(), np.roll(shape_mask(), 5, axis=1), shape_mask()[::-1]]
+    frames = [Image.fromarray(gray_image(m)) for m in masks]
+    path = tmp_path / f"pages.{suffix}"
+    frames[0].save(path, save_all=True, append_images=frames[1:])
+    with path.open("rb") as handle:
+        for source, name in ((path, str(path)), (path.read_bytes(), "image bytes"), (handle, str(path))):
+            with pytest.warns(MultiFrameWarning) as caught:
+                mask = load_bitmap(source)
+            np.testing.assert_array_equal(mask, masks[0])
+            (warning,) = caught
+            message = str(warning.message)
+            assert message.startswith(name) and "3 frames" in message and "traced frame 0 (the first)" in message
+            assert "seek(k)" in message and warning.filename == __file__
+            assert (warning.message.frames, warning.message.frame) == (3, 0)
+    with pytest.warns(MultiFrameWarning, match="3 frames"):
+        sc.trace(path)
+    single = tmp_path / f"one.{suffix}"
+    frames[0].save(single)
+    with Image.open(path) as img, warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_array_equal(load_bitmap(single), masks[0])
+        img.seek(1)
+        np.testing.assert_array_equal(load_bitmap(img), masks[1])
 
 
 def test_file_object_and_pil_image():
@@ -732,6 +770,7 @@ def _unclosed(path, load):
     return [str(w.message) for w in caught if issubclass(w.category, ResourceWarning) and str(path) in str(w.message)]
 
 
+@pytest.mark.filterwarnings("ignore::splinecraft.capture.image.MultiFrameWarning")  # tested on its own
 @pytest.mark.parametrize("name, kwargs", [
     ("shape.gif", {}), ("shape.ico", {}), ("anim.gif", {}), ("pages.tif", {}), ("truncated.png", {}),
     ("truncated.gif", {}), ("shape.png", {"max_pixels": 10}), ("anim.gif", {"max_pixels": 10}),

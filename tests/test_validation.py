@@ -259,3 +259,68 @@ def test_an_integral_float_out_of_range_is_named_as_given():
     with pytest.raises(ValueError) as caught:
         check_int(10 ** 400, "m", maximum=200)
     assert len(str(caught.value)) < 120 and re.search(r"got 1000+\.\.\.$", str(caught.value))
+
+
+# ---------------------------------------------------------------------------------------------- numpy scalars in messages
+def _numpy_scalar_cases():
+    import splinecraft as sc
+    from splinecraft.font import to_glyph
+    from splinecraft.outline.contour import Contour
+    from splinecraft.plot._figure import _check_size
+    from splinecraft.spline.tangents import end_derivatives
+    from splinecraft.widgets._outline_state import _handles_of_row
+
+    mask = np.zeros((20, 20), bool)
+    mask[5:15, 5:15] = True
+    points = np.array([[0, 0], [1, 2], [3, 3], [4, 1], [6, 2]], float)
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    f, i = np.float64, np.int64
+    return [
+        (lambda: v.check_number(np.str_("x"), "a"), TypeError, "got 'x' (str_)"),
+        (lambda: v.check_int(f(2.5), "n"), TypeError, "got 2.5 (float64)"),
+        (lambda: v.check_bool(i(1), "flag"), TypeError, "got 1 (int64)"),
+        (lambda: v.check_choice(i(6), "c", (4, 8, "minority")), ValueError, "got 6"),
+        (lambda: v.check_choice(np.str_("x"), "c", ("a", "b")), ValueError, "got 'x'"),
+        (lambda: v.check_options({np.str_("zct"): 1}, "params", allowed=("ta",)), TypeError, "unknown key 'zct'"),
+        (lambda: sc.trace(mask, max_iterations=f(2.5)), TypeError, "max_iterations must be an integer, got 2.5"),
+        (lambda: sc.trace(mask, connectivity=f(4.0)), TypeError, "got 4.0 (float64)"),
+        (lambda: sc.trace(mask, corner_method="srm05", corner_params={"zct": f(2.5)}), TypeError, "got 2.5"),
+        (lambda: sc.trace(mask, fit_params={"geometric_corners": i(3)}), ValueError, "got 3"),
+        (lambda: sc.trace(mask, method="fuzzy", fit_params={"fuzzy_weights": (f(0.1), f(0.5))}), ValueError,
+         "got (0.1, 0.5)"),
+        (lambda: sc.load_bitmap(np.zeros((4, 4), np.uint8), threshold=f(1.5)), ValueError, "got 1.5 "),
+        (lambda: sc.interpolate(points, end_condition=i(3)), TypeError, "got 3 (int64)"),
+        (lambda: sc.trace_many([mask], jobs=f(1.5)), TypeError, "jobs must be an integer, got 1.5"),
+        (lambda: end_derivatives(points, [0, np.nan, 2, 3, 4]), ValueError, "knots[1] is not finite: nan"),
+        (lambda: end_derivatives(points, [0, 2, 1, 3, 4]), ValueError, "knots[1]=2.0 >= knots[2]=1.0"),
+        (lambda: Contour(square, steps=[1, -1, 1, 1]), ValueError, "steps[1] = -1.0 must be > 0"),
+        (lambda: sc.timmer_gc1(points, alpha=[1, -1, 1, 1]), ValueError, "alpha[1] must be > 0, got -1.0"),
+        (lambda: sc.datasets.true_outline("star", spacing=f(5.0)), ValueError, "got 5.0"),
+        (lambda: _check_size(i(50), 300), ValueError, "width must be a number of pixels between 80 and 4000, got 50"),
+        (lambda: _handles_of_row([[f(np.nan), 1.0]], "handles_in"), ValueError, "handles_in[0] = [nan, 1.0]"),
+        (lambda: to_glyph(sc.trace(mask, keep_snapshots=False), unicode=i(0x110000)), ValueError,
+         "unicode=1114112 is U+110000"),
+    ]
+
+
+def test_messages_show_numpy_scalars_as_plain_numbers():
+    """In numpy 2 the repr of a numpy scalar is ``np.float64(0.5)``: messages that put a value in with ``repr`` (or
+    ``!r``) said "n must be an integer, got np.float64(2.5) (float64)", "knots[1] is not finite: np.float64(nan)",
+    "steps[1] = np.float64(-1.0) must be > 0" (the last two for plain list input: the value came from the array). They
+    show the plain number now (``_validation.plain``: numpy scalars, also in a tuple or list, as the Python values they
+    hold); the type name, where a message gives it, still says it was numpy's."""
+    for call, error, words in _numpy_scalar_cases():
+        with pytest.raises(error) as caught:
+            call()
+        message = str(caught.value)
+        assert words in message and "np." not in message, message
+
+
+def test_plain_turns_numpy_scalars_into_python_values():
+    assert v.plain(np.float64(0.5)) == 0.5 and type(v.plain(np.float64(0.5))) is float
+    assert type(v.plain(np.int64(3))) is int and type(v.plain(np.bool_(True))) is bool
+    assert type(v.plain(np.str_("a"))) is str
+    assert v.plain((np.float64(1.5), [np.int64(2), "x"])) == (1.5, [2, "x"])
+    assert repr(v.plain((np.float64(1.5), [np.int64(2)]))) == "(1.5, [2])"
+    array = np.arange(3)
+    assert v.plain(array) is array and v.plain("text") == "text" and v.plain(None) is None

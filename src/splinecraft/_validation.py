@@ -34,6 +34,7 @@ import numpy as np
 
 __all__ = [
     "COINCIDENT_RTOL",
+    "plain",
     "format_index",
     "check_number",
     "check_positive_number",
@@ -60,9 +61,22 @@ def _kind(value) -> str:
     return type(value).__name__
 
 
+def plain(value):
+    """``value`` for a message: a numpy scalar as the Python value it holds (``np.float64(0.5)`` -> ``0.5``, whose
+    repr numpy 2 writes ``np.float64(0.5)``), also the items of a tuple or list (one level deep, and their own);
+    anything else unchanged."""
+    if isinstance(value, np.generic):
+        item = value.item()
+        return value if isinstance(item, np.generic) else item  # np.longdouble keeps its own type
+    if type(value) in (tuple, list):
+        return type(value)(plain(item) for item in value)
+    return value
+
+
 def _describe(value) -> str:
-    """``repr`` of a value for a message, shortened for long input."""
-    text = repr(value)
+    """``repr`` of a value for a message (numpy scalars as plain numbers, :func:`plain`), shortened for long
+    input."""
+    text = repr(plain(value))
     return text if len(text) <= 80 else text[:77] + "..."
 
 
@@ -206,6 +220,7 @@ def check_options(options, name: str, *, allowed=None, reserved=(), reserved_rea
     for key, item in options.items():
         if not isinstance(key, str):
             raise TypeError(f"{name} keys must be strings, got {_describe(key)} ({_kind(key)})")
+        key = str(key)  # np.str_ too: its repr is np.str_('key')
         if key in reserved:
             why = f": {reserved_reason}" if reserved_reason else ""
             raise TypeError(f"{name}[{key!r}] cannot be set here{why}")

@@ -14,7 +14,9 @@ Examples
 input ``NAME.ext`` becomes ``OUT/NAME.svg`` or ``.json``). The format follows ``--format``, else the
 suffix of a single output file, else SVG. An output that is also an input is refused, and so, before
 anything is traced, an empty ``OUT`` and an ``OUT`` named like a file (``.svg``, ``.json``) for several
-inputs, unless it is an existing directory (``OUT/`` asks for the directory). Files are traced by
+inputs, unless it is an existing directory (``OUT/`` asks for the directory), and ``-o -`` with an option of
+file outputs (``--manifest``, ``--jobs``, ``--scheduler``, ``--batch-size``: stdout gets one input traced in
+this process, with no manifest). Files are traced by
 :func:`splinecraft.batch.run_batch`, the body of ``splinecraft.trace_many``: outputs appear atomically (no
 partial file, even when a write fails), and a directory gets a manifest
 (``OUT/splinecraft-manifest.jsonl``, or ``--manifest``) so that a second run skips finished files
@@ -23,9 +25,13 @@ a terminal (never with ``--quiet``). ``--max-pixels N`` refuses (that file fails
 pixels, read from its header before anything is decoded (default ``capture.image.MAX_PIXELS`` = 10^8: a
 decompression bomb costs nothing); it changes no output, so a rerun with another N still skips finished
 files. A file that fails gets one line ``splinecraft: FILE: reason`` on
-stderr while the others still finish. A file whose ``--time-budget`` ran out gets one line saying how many
-of its boundaries were kept as the polygons of their contours (not with ``--quiet``); ``-v`` counts them
-apart from the fitted ones.
+stderr while the others still finish. Every warning of a file's trace gets a line
+``splinecraft: FILE: warning: Category: message``, also with ``--quiet``, and is kept in its manifest line: the
+Python warnings it gave (an ink polarity that looks inverted, a multi-frame file of which the first frame was
+traced) and the notes that say its output is not all that was asked for (``batch._work.note_lines``: every
+pixel ink, boundaries that did not converge). A file whose ``--time-budget`` ran out gets a line saying how many
+of its boundaries were kept as the polygons of their contours, and one for knot rounds the budget stopped (not
+with ``--quiet``; the manifest keeps the note); ``-v`` counts the polygons apart from the fitted boundaries.
 
 ``--jobs N`` traces in N local worker processes (at most one per CPU; more is capped with a warning);
 ``--scheduler`` uses dask instead. Ctrl-C (SIGINT, to the process or its whole group) or SIGTERM stops
@@ -261,7 +267,26 @@ def build_parser() -> argparse.ArgumentParser:
                         help="files per task for parallel runs (default auto: tasks of about 0.1 s)")
     tracer.add_argument("-q", "--quiet", action="store_true", help="no progress bar or summary")
     tracer.add_argument("-v", "--verbose", action="store_true", help="print the stats of each file on stderr")
+    tracer.set_defaults(command_parser=tracer)
     return parser
+
+
+def _stdout_conflicts(args) -> str | None:
+    """Why the options of ``args`` cannot go together, or ``None``: ``-o -`` traces its one input in this process
+    and writes no file, so the options of file outputs (``--manifest``, ``--jobs``, ``--scheduler``, a
+    ``--batch-size`` other than ``auto``) would be ignored; they are refused instead."""
+    if args.output != "-":
+        return None
+    given = [option for option, value in (("--manifest", args.manifest), ("--jobs", args.jobs),
+                                          ("--scheduler", args.scheduler))
+             if value is not None]
+    if args.batch_size != "auto":
+        given.append("--batch-size")
+    if not given:
+        return None
+    return (f"-o - (stdout) does not take {', '.join(given)}: it traces its one input in this process and writes "
+            "no file (no manifest, nothing to run in parallel); give an output file or directory to use "
+            f"{'it' if len(given) == 1 else 'them'}")
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -364,10 +389,12 @@ def _job_count(jobs, scheduler):
 
 
 #: The library's argument spellings in messages -> this command's options (``run_batch``'s ``spelling``,
-#: applied in order to each file's warning and error lines): the polarity warning's ``invert=True``, speck
-#: removal's ``min_speck_area``, the "no shape found" advice's ``threshold='alpha'``, the size cap's
-#: ``max_pixels``.
+#: applied in order to each file's warning and error lines): the time budget note's advice, the unconverged
+#: boundaries' ``max_iterations=N reached``, the polarity warning's ``invert=True``, speck removal's
+#: ``min_speck_area``, the "no shape found" advice's ``threshold='alpha'``, the size cap's ``max_pixels``.
 OPTION_SPELLING = (
+    ("trace(time_budget=None)", "--time-budget none"),
+    ("max_iterations=", "--max-iterations "),
     ("invert=True", "--invert"),
     ("min_speck_area=", "--min-speck-area "),
     ("min_speck_area", "--min-speck-area"),
@@ -394,13 +421,38 @@ def _summary_line(stats, seconds):
             f"(time budget), {seconds * 1e3:.0f} ms")
 
 
-def _budget_warning(source, stats, time_budget):
-    """The line saying that the time budget left boundaries of ``source`` as polygons, or ``None``."""
-    polygons = (stats or {}).get("polygons") or 0
-    if not polygons:
-        return None
-    return (f"{PROG}: {source}: time budget {time_budget:g} s reached: {polygons} of {stats['boundaries']} "
-            "boundaries kept as polygons (use --time-budget none or a larger value)")
+#: How the warning lines of a spent time budget begin (``batch._work.note_lines``): the command says it in lines
+#: of its own (:func:`_budget_warnings`), not with ``-q``.
+BUDGET_CATEGORY = "TimeBudget: "
+
+
+def _budget_warnings(source, stats, time_budget):
+    """The lines saying that the time budget left boundaries of ``source`` as polygons, or stopped the knot
+    rounds of some (the record's ``budget_stopped``)."""
+    stats = stats or {}
+    polygons, stopped = stats.get("polygons") or 0, stats.get("budget_stopped") or 0  # absent from earlier manifests
+    lines = []
+    if polygons:
+        lines.append(f"{PROG}: {source}: time budget {time_budget:g} s reached: {polygons} of {stats['boundaries']} "
+                     "boundaries kept as polygons (use --time-budget none or a larger value)")
+    if stopped:
+        lines.append(f"{PROG}: {source}: time budget {time_budget:g} s reached: the knot rounds of {stopped} of "
+                     f"{stats['boundaries']} boundaries stopped before convergence (use --time-budget none or a "
+                     "larger value)")
+    return lines
+
+
+def _file_messages(record, quiet, time_budget):
+    """The stderr lines of one traced file: every warning of its record (also with ``-q``: they say the output may
+    not be what was meant), but those of a spent time budget, which :func:`_budget_warnings` words (not with
+    ``-q``); then its error, if it failed."""
+    lines = [f"{PROG}: {record.input}: warning: {line}" for line in record.warnings
+             if not line.startswith(BUDGET_CATEGORY)]
+    if record.status == "failed":
+        lines.append(f"{PROG}: {record.input}: {record.error}")
+    elif record.status == "ok" and not quiet:
+        lines += _budget_warnings(record.input, record.stats, time_budget)
+    return lines
 
 
 def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
@@ -410,14 +462,10 @@ def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
     planned = PlannedFile(index=0, source=source, label=source, output=None, title=os.path.basename(source))
     (record,) = run_batch([planned], trace_params=options, progress=False, format=fmt, decimals=decimals,
                           spelling=OPTION_SPELLING)
-    for line in record.warnings:
-        print(f"{PROG}: {source}: warning: {line}", file=sys.stderr)
+    for line in _file_messages(record, quiet, options["time_budget"]):
+        print(line, file=sys.stderr)
     if record.status != "ok":
-        print(f"{PROG}: {source}: {record.error}", file=sys.stderr)
         return 1
-    budget = None if quiet else _budget_warning(source, record.stats, options["time_budget"])
-    if budget:
-        print(budget, file=sys.stderr)
     sys.stdout.buffer.write(render(record.result, fmt, decimals, planned.title))
     sys.stdout.flush()
     return 0
@@ -459,16 +507,10 @@ def _run_trace(args) -> int:
 
         stop_if_signalled()
         counts[record.status] = counts.get(record.status, 0) + 1
-        for line in record.warnings:  # even with -q: they say the output may not be what was meant
-            tqdm.write(f"{PROG}: {record.input}: warning: {line}", file=sys.stderr)
-        if record.status == "failed":
-            tqdm.write(f"{PROG}: {record.input}: {record.error}", file=sys.stderr)
-        elif record.status == "ok":
-            budget = None if args.quiet else _budget_warning(record.input, record.stats, args.time_budget)
-            if budget:
-                tqdm.write(budget, file=sys.stderr)
-            if args.verbose:
-                tqdm.write(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
+        for line in _file_messages(record, args.quiet, args.time_budget):
+            tqdm.write(line, file=sys.stderr)
+        if record.status == "ok" and args.verbose:
+            tqdm.write(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
 
     show = len(pairs) > 1 and not args.quiet and sys.stderr.isatty()
     try:
@@ -505,6 +547,9 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command == "trace":
+        conflict = _stdout_conflicts(args)
+        if conflict:
+            args.command_parser.error(conflict)  # a usage error: exit code 2
         return _run_trace(args)
     parser.error(f"unknown command {args.command!r}")  # pragma: no cover - argparse checks choices
     return 2

@@ -34,6 +34,7 @@ import numbers
 
 import numpy as np
 
+from . import _validation
 from ._implicit import (difference, disc, ellipse, half_plane, intersection, polygon, project, refine_closed,
                         smooth_union, stroke, union, vesica)
 
@@ -344,7 +345,7 @@ def true_outline(name, size=None, *, spacing=0.1):
         _lookup(name, {**_THESIS_BUILDERS, **_SHAPE_BUILDERS}, "shape")
         raise AssertionError  # unreachable
     if isinstance(spacing, bool) or not isinstance(spacing, numbers.Real) or not 0.01 <= spacing <= 1.0:
-        raise ValueError(f"spacing must be a number between 0.01 and 1 px, got {spacing!r}")
+        raise ValueError(f"spacing must be a number between 0.01 and 1 px, got {_validation.plain(spacing)!r}")
     return [outline.copy() for outline in _outline(kind, name, size, float(spacing))]
 
 

@@ -168,7 +168,8 @@ def _glyph(source, name, unicode, scale, baseline, sidebearing):
     outline = as_outline(source)
     glyph_name, code = _glyph_name(name if name is not None else (outline.name or "glyph"))
     if unicode is not None:
-        code = _code_point(check_int(unicode, "unicode"), f"unicode={unicode!r}")
+        code = check_int(unicode, "unicode")
+        code = _code_point(code, f"unicode={code}")
     curves, advance = font_contours(outline, scale=scale, baseline=baseline, sidebearing=sidebearing)
     glyph = Glyph(glyph_name)
     glyph.unicodes = [] if code is None else [code]

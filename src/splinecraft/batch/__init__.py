@@ -19,13 +19,14 @@ import statistics
 import sys
 import time
 import uuid
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 
 from .._validation import check_bool, check_choice, check_int
 from ..spline.svg import MAX_DECIMALS
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
-                    expand_inputs, is_finished, params_sha256, plan_directory, prepare_directories,
+                    expand_inputs, is_finished, named_inputs, params_sha256, plan_directory, prepare_directories,
                     read_pipes, refuse_overwriting_inputs, trace_settings)
 from ._schedulers import LOCAL_SCHEDULERS, cpu_count, make_runner
 from ._work import remove_partials, render
@@ -41,9 +42,13 @@ class FileRecord:
     ``status`` is ``"ok"`` (traced and written), ``"skipped"`` (finished by an earlier run: the manifest's
     hashes of input, settings and output still match), ``"failed"`` (``error`` says why, in one line) or
     ``"cancelled"`` (the run was stopped before this file). ``stats`` holds the main columns of
-    ``TraceResult.stats``; ``result`` is the :class:`~splinecraft.capture.trace.TraceResult` itself when
+    ``TraceResult.stats`` (and ``budget_stopped``: the boundaries whose knot rounds a spent time budget
+    stopped); ``result`` is the :class:`~splinecraft.capture.trace.TraceResult` itself when
     ``output_dir`` is ``None``. ``warnings``: the warnings its trace gave (``"Category: message"``, e.g. an
-    ink polarity that looks inverted), kept with the file instead of printed by the worker.
+    ink polarity that looks inverted), kept with the file instead of printed by the worker, and the notes of
+    its trace that say the output is not all that was asked for (``batch._work.note_lines``):
+    ``"InkPolarityWarning: every pixel is ink ..."``, ``"TimeBudget: time budget of ..."`` (boundaries left as
+    polygons, knot rounds stopped), ``"NotConverged: N of M boundaries did not converge: ..."``.
     """
 
     input: str
@@ -109,11 +114,15 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
 
     Parameters
     ----------
-    inputs : path, glob pattern, image array, encoded image bytes, or a list of them
+    inputs : path, glob pattern, image array, encoded image bytes, a list of them, or a mapping {name: image}
         Globs (``"scans/**/*.png"``) expand to the sorted matching files; arrays and PIL images are traced
         as given, and ``bytes`` (``bytearray``, ``memoryview``) as the encoded image file they hold, as
         :func:`splinecraft.trace` reads them (never as a file name); both are named by their position
-        (outputs ``image-00000.svg``, ..., records ``<image 0>`` / ``<bytes 0>``).
+        (outputs ``image-00000.svg``, ..., records ``<image 0>`` / ``<bytes 0>``). A mapping (a ``dict``)
+        names its inputs by its keys, in its order: ``{"logo": array, "page-1": "scans/p1.png"}`` gives the
+        outputs ``logo.svg`` and ``page-1.svg`` (titled and recorded as ``logo``, ``page-1``); each value is one
+        image (a path is taken literally, never as a glob pattern), each key a name that can name a file (a
+        non-empty ``str`` without a directory separator).
     output_dir : path, optional
         Where ``NAME.svg`` (``.json``) goes for input ``NAME.png``; created if needed. ``None``: nothing is
         written, each record carries its ``TraceResult`` (no manifest, no resume).
@@ -162,10 +171,13 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         A dask scheduler without dask installed (the message says how to install it).
     """
     check_choice(format, "format", FORMATS)
-    sources = expand_inputs(inputs)
+    if isinstance(inputs, Mapping):
+        names, sources = named_inputs(inputs)
+    else:
+        names, sources = None, expand_inputs(inputs)
     if output_dir is not None:
         output_dir = os.fspath(output_dir)
-    plan = plan_directory(sources, output_dir, format)
+    plan = plan_directory(sources, output_dir, format, names)
     if manifest is None and output_dir is not None:
         manifest = os.path.join(output_dir, MANIFEST_NAME)
     return run_batch(plan, manifest=manifest, scheduler=scheduler, jobs=jobs, batch_size=batch_size,

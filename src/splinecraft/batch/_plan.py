@@ -61,8 +61,8 @@ def expand_inputs(inputs) -> list:
     try:
         items = list(inputs)
     except TypeError:
-        raise TypeError(f"inputs must be paths, glob patterns, image arrays or encoded image bytes (or a list of "
-                        f"them), got {type(inputs).__name__}") from None
+        raise TypeError(f"inputs must be paths, glob patterns, image arrays or encoded image bytes (a list of "
+                        f"them, or a dict {{name: image}}), got {type(inputs).__name__}") from None
     sources = []
     for position, item in enumerate(items):
         if _is_image_object(item):
@@ -88,13 +88,44 @@ def expand_inputs(inputs) -> list:
     return sources
 
 
-def plan_directory(sources, output_dir, fmt) -> list:
+def named_inputs(inputs) -> tuple:
+    """A mapping ``{name: image}`` -> ``(names, sources)`` in the mapping's order. Each key is a name (a non-empty
+    ``str`` that can name a file: no directory separator, NUL, ``.`` or ``..``); each value one image: a path (taken
+    literally, never as a glob pattern), an image array, a PIL image or encoded image bytes (``bytearray`` and
+    ``memoryview`` copied to ``bytes``)."""
+    names, sources = [], []
+    for name, item in inputs.items():
+        if not isinstance(name, str):
+            raise TypeError(f"inputs keys must be names (str), got {name!r} ({type(name).__name__}): a mapping "
+                            "of inputs is {name: image}")
+        separators = {"/", os.sep, os.altsep, "\x00"} - {None}
+        if name in ("", ".", "..") or any(separator in name for separator in separators):
+            raise ValueError(f"inputs key {name!r} is not a name: a key names its output NAME.svg, so it must be "
+                             "non-empty, not '.' or '..', without a directory separator or NUL")
+        if _is_image_object(item):
+            sources.append(item)
+        elif isinstance(item, ENCODED_IMAGE_TYPES):
+            sources.append(bytes(item))
+        elif isinstance(item, (str, os.PathLike)) and isinstance(os.fspath(item), str):
+            sources.append(os.fspath(item))
+        else:
+            raise TypeError(f"inputs[{name!r}] must be a path, an image array, a PIL image or encoded image bytes, "
+                            f"got {type(item).__name__} (one image per name)")
+        names.append(name)
+    if not sources:
+        raise ValueError("inputs is empty: give at least one path, glob pattern, image array or encoded image")
+    return names, sources
+
+
+def plan_directory(sources, output_dir, fmt, names=None) -> list:
     """One job per source; outputs ``output_dir/NAME.fmt`` (``image-00003`` for arrays and bytes: the input's
-    position), or none."""
+    position; with ``names``, one per source, that name: also the label and the SVG title), or none."""
     width = max(5, len(str(len(sources) - 1)))
     jobs, seen = [], {}
     for index, source in enumerate(sources):
-        if isinstance(source, str):
+        if names is not None:
+            stem = label = title = names[index]
+        elif isinstance(source, str):
             stem, label, title = os.path.splitext(os.path.basename(source))[0], source, os.path.basename(source)
         else:
             kind = "bytes" if isinstance(source, bytes) else "image"

@@ -163,6 +163,27 @@ def _warning_lines(caught) -> list:
     return lines
 
 
+def note_lines(result) -> list:
+    """The notes of a trace that say its output is not all that was asked for, as warning lines (an SVG output
+    and the command line would drop them; the other notes are fallbacks that keep the result within its
+    tolerance): an all-ink image (``InkPolarityWarning``: the outline is the frame), a spent time budget
+    (``TimeBudget``: boundaries left as polygons, knot rounds stopped) and the boundaries that did not converge
+    otherwise (``NotConverged``: one line, how many and the first one's reason)."""
+    from ..capture.trace import ALL_INK_NOTE, BUDGET_NOTE
+
+    lines = [f"InkPolarityWarning: {note}" for note in result.notes if note.startswith(ALL_INK_NOTE)]
+    lines += [f"TimeBudget: {note}" for note in result.notes if note.startswith(BUDGET_NOTE)]
+    boundaries = result.stats["per_boundary"]
+    unconverged = [k for k, entry in enumerate(boundaries) if entry["reason"] is not None and entry["budget"] is None]
+    if unconverged:
+        first = boundaries[unconverged[0]]
+        lines.append(f"NotConverged: {len(unconverged)} of {len(boundaries)} boundar"
+                     f"{'y' if len(boundaries) == 1 else 'ies'} did not converge: boundary {unconverged[0]} "
+                     f"({first['contour_points']} points): {first['reason']}"
+                     + ("; stats['per_boundary'][k]['reason'] says why for each" if len(unconverged) > 1 else ""))
+    return lines
+
+
 def respell(line, spelling) -> str:
     """``line`` with each ``(python, other)`` pair of ``spelling`` replaced in order (``run_batch``'s
     ``spelling``: the command line's option names for the library's argument names)."""
@@ -172,13 +193,16 @@ def respell(line, spelling) -> str:
 
 
 def _summary(stats) -> dict:
-    return {name: stats[name] for name in RECORD_STATS if name in stats}
+    """The record's stats: :data:`RECORD_STATS`, and ``budget_stopped``, the boundaries whose knot rounds a spent
+    time budget stopped (``stats["per_boundary"][k]["budget"] == "stopped"``)."""
+    summary = {name: stats[name] for name in RECORD_STATS if name in stats}
+    summary["budget_stopped"] = sum(entry.get("budget") == "stopped" for entry in stats.get("per_boundary", ()))
+    return summary
 
 
 def trace_one(item, settings) -> dict:
     """Trace one planned file (``item``: index, source, output, title) and return its record."""
     from ..capture import trace
-    from ..capture.trace import ALL_INK_NOTE
 
     started = time.perf_counter()
     source, output = item["source"], item["output"]
@@ -188,10 +212,9 @@ def trace_one(item, settings) -> dict:
         with warnings.catch_warnings(record=True) as caught:  # kept with the file they are about
             warnings.simplefilter("always")
             result = trace(source, **settings["trace"])  # first: the loader's messages name the file
-        # an all-ink image gives no warning, only a note (the frame is its documented outline), which an SVG
-        # output and the command line would drop: passed on with the file's warnings
-        lines = _warning_lines(caught) + [f"InkPolarityWarning: {note}" for note in result.notes
-                                          if note.startswith(ALL_INK_NOTE)]
+        # the notes that qualify the output (an all-ink frame, a spent budget, unconverged boundaries), which an
+        # SVG output and the command line would drop: passed on with the file's warnings
+        lines = _warning_lines(caught) + note_lines(result)
         record["warnings"] = [respell(line, settings.get("spelling", ())) for line in lines]
         record["input_sha256"] = input_sha256(source)
         if output is None:

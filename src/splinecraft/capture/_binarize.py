@@ -91,6 +91,7 @@ import numbers
 
 import numpy as np
 
+from .. import _validation
 from .._validation import check_choice
 
 __all__ = ["THRESHOLD_METHODS", "DEFAULT_THRESHOLD", "BACKGROUND_MARGIN", "BACKGROUND_ROUNDS", "MIN_CONTRAST", "FALLBACK_THRESHOLD", "MAX_AUTO_SPECK",
@@ -139,7 +140,7 @@ def check_threshold(threshold):
                         f"got {type(threshold).__name__}")
     value = float(threshold)
     if not math.isfinite(value) or not 0.0 <= value <= 1.0:
-        raise ValueError(f"threshold must be a fraction of white in [0, 1], got {threshold!r} "
+        raise ValueError(f"threshold must be a fraction of white in [0, 1], got {_validation.plain(threshold)!r} "
                          f"(for an 8-bit gray level g pass g / 255)")
     return value
 

@@ -64,7 +64,10 @@ Conventions
 * **Files** are closed when loading returns or fails (files PIL opened from a path, and a path that is a pipe,
   such as the shell's ``<(...)``, read whole first; a file object passed in stays open, it belongs to the
   caller).
-* **Multi-frame files** (animated GIF, multi-page TIFF): the first frame is used.
+* **Multi-frame files** (animated GIF, PNG or WebP, multi-page TIFF) given as a path, bytes or a file object: the
+  first frame is used, and a :class:`MultiFrameWarning` says so, with the file's frame count and how to trace
+  another frame (open the file with PIL, ``img.seek(k)``, and pass ``img``). A PIL image is used at the frame it
+  is at (its owner chose it with ``seek``), without a warning.
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
 row blocks), so an 8000 x 8000 8-bit image needs about 64 MB for the gray channel and 64 MB for the mask.
@@ -111,7 +114,9 @@ def load_bitmap(image, *, threshold=None, invert=False, min_speck_area=None, con
     ----------
     image : str | os.PathLike | bytes | file object | numpy.ndarray | PIL.Image.Image
         A path or binary file object of a PNG, JPEG, BMP, GIF or TIFF file (anything PIL reads), or the
-        encoded file itself as ``bytes`` (turned by its EXIF orientation tag, as a viewer shows it); an array of shape ``(H, W)`` (bool mask, or gray), ``(H, W, 1)``,
+        encoded file itself as ``bytes`` (turned by its EXIF orientation tag, as a viewer shows it; of a file
+        with several frames, an animated GIF or a multi-page TIFF, the first frame, with a
+        :class:`MultiFrameWarning`: for another frame ``k`` pass the PIL image after ``img.seek(k)``); an array of shape ``(H, W)`` (bool mask, or gray), ``(H, W, 1)``,
         ``(H, W, 2)`` (gray + alpha), ``(H, W, 3)`` (RGB) or ``(H, W, 4)`` (RGBA) with dtype bool (2-D only),
         uint8, uint16, another integer type with values in ``[0, 255]``, or float in ``[0, 1]``; or a PIL
         image of any mode. Bytes are always the encoded file, never a file name (pass a path as ``str`` or
@@ -256,6 +261,28 @@ def _warn_if_inverted(mask):
             f"the mask's True pixels cover {100 * share:.0f}% of its border and touch every side: "
             "True is ink here, so the background may be the traced shape; if True marks the background, "
             "pass invert=True (or ~mask)", share))
+
+
+class MultiFrameWarning(UserWarning):
+    """An image file (path, bytes or file object) with several frames, an animated GIF, PNG or WebP or a
+    multi-page TIFF: only one frame is traced. ``frames`` is the file's frame count, ``frame`` the index of the
+    frame traced (0, the first). To trace frame ``k``: ``img = PIL.Image.open(file); img.seek(k)`` and pass
+    ``img`` (a PIL image is traced at the frame it is at)."""
+
+    def __init__(self, message, frames, frame=0):
+        super().__init__(message)
+        self.frames = int(frames)
+        self.frame = int(frame)
+
+
+def _warn_if_several_frames(name, frames):
+    """Say that only the first of the ``frames`` frames of image file ``name`` is traced (module docstring,
+    "Multi-frame files")."""
+    if frames > 1:
+        _warn(MultiFrameWarning(
+            f"{name}: the file has {frames} frames (an animated or multi-page image); traced frame 0 (the first) "
+            "only. To trace frame k, pick it with PIL and pass the image: img = PIL.Image.open(file); "
+            "img.seek(k); trace(img)", frames, 0))
 
 
 def _warn(warning):
@@ -488,13 +515,15 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
                 # our own cap has been applied; PIL's checks (seeking a frame runs one) are moot
                 warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-                if getattr(img, "n_frames", 1) > 1:
+                frames = getattr(img, "n_frames", 1)
+                if frames > 1:
                     img.seek(0)
                 img.load()
         except MemoryError:
             raise
         except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
             raise ValueError(f"{name}: truncated or corrupt image file ({type(exc).__name__}: {exc})") from None
+        _warn_if_several_frames(name, frames)
         return _upright(img)
 
 

@@ -65,7 +65,7 @@ import numpy as np
 
 from .. import _validation
 from . import _jit
-from .contour import Boundaries, trace_boundaries
+from .contour import Boundaries, check_connectivity, trace_boundaries
 from .trace_stats import trace_stats
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
 from .corners import CORNER_METHODS
@@ -100,6 +100,9 @@ CORNERLESS_CONTOUR = 20
 #: How the note of an image whose every pixel is ink begins (its outline is the frame: an all-black image, or a
 #: mask whose True marks the background). ``trace_many`` and the command line pass it on as a warning line.
 ALL_INK_NOTE = "every pixel is ink"
+#: How the notes of a spent ``time_budget`` begin (boundaries left as polygons, knot rounds stopped). ``trace_many`` and
+#: the command line pass them on as warning lines.
+BUDGET_NOTE = "time budget of"
 
 
 def trace(
@@ -158,6 +161,7 @@ def trace(
         Ink connectivity of the tracer (and of speck removal): ``"minority"`` (default) joins, at each
         diagonal contact of pixels, the locally rarer colour, so hairlines stay whole and strokes touching
         at a corner leave no pinhole (:mod:`~splinecraft.capture.contour`); 8 or 4 fix it for the image.
+        Another int or name is a ``ValueError``, a value of another type (``None``, ``8.0``) a ``TypeError``.
     threshold, invert, min_speck_area
         Binarization, see :func:`~splinecraft.capture.image.load_bitmap`. With ``min_speck_area=None``
         (default) the holes the tracer finds of fewer than ``PINHOLE_AREA`` (3) pixels are filled too, and its
@@ -251,6 +255,7 @@ def trace(
                                 corner_params=corner_params, seed=seed, max_iterations=max_iterations,
                                 keep_snapshots=keep_snapshots, connectivity=connectivity, tau=tau, contour=contour,
                                 fit_params=fit_params)
+    connectivity = settings["connectivity"]  # as checked: 4, 8 or "minority"
     noise_factor = _validation.check_number(noise_factor, "noise_factor", minimum=0.0)
     if time_budget is not None:
         time_budget = _validation.check_number(time_budget, "time_budget", minimum=0.0, inclusive=False)
@@ -375,7 +380,7 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     epsilon = check_epsilon(epsilon)
     max_iterations = check_count(max_iterations, "max_iterations", 1)
     keep_snapshots = check_flag(keep_snapshots, "keep_snapshots")
-    _validation.check_choice(connectivity, "connectivity", (4, 8, "minority"))
+    connectivity = check_connectivity(connectivity)
     _validation.check_choice(contour, "contour", ("outline", "pixels"))
     if seed is not None:
         seed = check_count(seed, "seed", 0)
@@ -393,7 +398,7 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     return {"epsilon": epsilon, "max_iterations": max_iterations, "keep_snapshots": keep_snapshots, "seed": seed,
             "method": method_name, "tau": check_tau(tau, method_name), "corner_method": corner_method,
             "corner_params": corner_params, "fit_params": fit_params, "options": check_options(method_name, options),
-            "small_outline": small_limit, "contour": contour}
+            "small_outline": small_limit, "contour": contour, "connectivity": connectivity}
 
 
 def _boundaries(mask, connectivity, min_speck_area, invert):
@@ -614,12 +619,12 @@ class _Polygon:
 def _budget_notes(state, time_budget, notes):
     polygons, stopped = state.count("polygon"), state.count("stopped")
     if polygons:
-        notes.append(f"time budget of {time_budget:g} s spent: {polygons} of {len(state)} "
+        notes.append(f"{BUDGET_NOTE} {time_budget:g} s spent: {polygons} of {len(state)} "
                      f"boundar{'y' if len(state) == 1 else 'ies'} got the polygon of their contour (straight pieces between turning points, no corner "
                      "detection; stats['per_boundary'][k]['budget'] == 'polygon'; trace(time_budget=None) fits "
                      "them all)")
     if stopped:
-        notes.append(f"time budget of {time_budget:g} s: the knot rounds of {stopped} boundar"
+        notes.append(f"{BUDGET_NOTE} {time_budget:g} s: the knot rounds of {stopped} boundar"
                      f"{'y' if stopped == 1 else 'ies'} stopped before convergence")
 
 

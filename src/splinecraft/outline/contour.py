@@ -127,7 +127,7 @@ class Contour:
         _finite(steps, "steps")
         if not (steps > 0).all():
             i = int(np.flatnonzero(~(steps > 0))[0])
-            raise ValueError(f"steps[{i}] = {steps[i]!r} must be > 0")
+            raise ValueError(f"steps[{i}] = {float(steps[i])!r} must be > 0")
         point_tension = _array(point_tension, "point_tension", (n,))
         _finite(point_tension, "point_tension")
         interval_weights = _array(interval_weights, "interval_weights", (n,))

@@ -14,6 +14,7 @@ from typing import Optional
 
 import numpy as np
 
+from .._validation import plain
 from ._ticks import log_ticks, nice_limits, nice_ticks, tick_format
 
 __all__ = ["Layer", "PALETTE", "figure", "chart", "grid", "table", "legend_marks"]
@@ -157,7 +158,7 @@ def assemble(marks, axes, *, title, width, height, margin):
 def _check_size(width, height):
     for name, value in (("width", width), ("height", height)):
         if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or not 80 <= value <= 4000:
-            raise ValueError(f"{name} must be a number of pixels between 80 and 4000, got {value!r}")
+            raise ValueError(f"{name} must be a number of pixels between 80 and 4000, got {plain(value)!r}")
 
 
 def figure(*layers, title: str = "", width: int = 330, height: int = 290, bounds=None, y_down: bool = True,
@@ -239,7 +240,7 @@ def grid(*figures, columns: int = 3):
     import ipywidgets as ipw
 
     if isinstance(columns, bool) or not isinstance(columns, (int, np.integer)) or columns < 1:
-        raise ValueError(f"columns must be a positive integer, got {columns!r}")
+        raise ValueError(f"columns must be a positive integer, got {plain(columns)!r}")
     items = list(figures)
     return ipw.VBox([ipw.HBox(items[i:i + columns]) for i in range(0, len(items), columns)])
 

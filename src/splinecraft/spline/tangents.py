@@ -222,13 +222,13 @@ def end_derivatives(points, knots) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError(f"knots must have shape ({pts.shape[0]},) to match points, got {knot_values.shape}")
     bad = np.flatnonzero(~np.isfinite(knot_values))
     if bad.size:
-        raise ValueError(f"knots[{bad[0]}] is not finite: {knot_values[bad[0]]!r}")
+        raise ValueError(f"knots[{bad[0]}] is not finite: {float(knot_values[bad[0]])!r}")
     steps = np.diff(knot_values)
     not_increasing = np.flatnonzero(steps <= 0.0)
     if not_increasing.size:
         k = int(not_increasing[0])
-        raise ValueError(f"knots must be strictly increasing: knots[{k}]={knot_values[k]!r} >= "
-                         f"knots[{k + 1}]={knot_values[k + 1]!r}")
+        raise ValueError(f"knots must be strictly increasing: knots[{k}]={float(knot_values[k])!r} >= "
+                         f"knots[{k + 1}]={float(knot_values[k + 1])!r}")
     return end_derivative_estimates(pts, steps)
 
 

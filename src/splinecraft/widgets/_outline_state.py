@@ -6,6 +6,7 @@ import io
 
 import numpy as np
 
+from .._validation import plain
 from ..outline import Contour, Outline
 
 __all__ = ["OUTLINE_TRAITS", "MAX_COORDINATE", "DeviationCache", "check_outline_reach", "check_reach", "clean_selection", "fitted_view",
@@ -59,9 +60,9 @@ def _handles_of_row(row, name) -> np.ndarray:
             continue
         if (not isinstance(entry, (list, tuple)) or len(entry) != 2
                 or any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in entry)):
-            raise TypeError(f"{name}[{i}] must be None or [dx, dy] (two numbers), got {entry!r:.40}")
+            raise TypeError(f"{name}[{i}] must be None or [dx, dy] (two numbers), got {plain(entry)!r:.40}")
         if not all(np.isfinite(entry)):
-            raise ValueError(f"{name}[{i}] = {list(entry)!r} must be finite")
+            raise ValueError(f"{name}[{i}] = {plain(list(entry))!r} must be finite")
         handles[i] = entry
     return handles
 

@@ -7,6 +7,10 @@ import numpy as np
 
 from ._common import _EMPTY, _check_int, _check_real, _plain, _prepare, _result
 
+#: Largest ZCT (points of a zero-slope run) and DT (px) of :func:`srm05`: the bounds of the classic detectors'
+#: windows and distances (``_classic.MAX_SCALE``, ``_classic.MAX_DISTANCE``), 40 and 28 times the thesis's values.
+MAX_ZCT = 200
+MAX_DT = 200.0
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -245,10 +249,10 @@ def srm05(points, *, closed=True, zct=7, dt=5.0, ta=152.0):
     closed : bool
         Closed outline (default) or open polyline.
     zct : int, default 7
-        Zero Count Threshold: zero-slope runs shorter than this are jaggies. Integer >= 0 (0 and 1 keep
-        every run).
+        Zero Count Threshold: zero-slope runs shorter than this are jaggies. Integer in ``[0, MAX_ZCT]``
+        = [0, 200] (0 and 1 keep every run).
     dt : float, default 5
-        Distance Threshold (px) of phase 2, >= 0 (0 keeps every candidate).
+        Distance Threshold (px) of phase 2, in ``[0, MAX_DT]`` = [0, 200] (0 keeps every candidate).
     ta : float, default 152
         Tolerance Angle (degrees) of phase 3, in the open interval (0, 180).
 
@@ -270,7 +274,7 @@ def check_srm05_params(*, zct, dt, ta, label=_plain):
     """SRM05's parameters checked against their documented domains (the one rule, used by :func:`srm05` and by
     :func:`~splinecraft.capture.corners.check_params`); ``label(key)`` names a parameter in messages."""
     return {
-        "zct": _check_int(zct, label("zct"), low=0),
-        "dt": _check_real(dt, label("dt"), low=0.0),
+        "zct": _check_int(zct, label("zct"), low=0, high=MAX_ZCT),
+        "dt": _check_real(dt, label("dt"), low=0.0, high=MAX_DT),
         "ta": _check_real(ta, label("ta"), low=0.0, high=180.0, low_open=True, high_open=True),
     }

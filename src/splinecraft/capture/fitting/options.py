@@ -235,9 +235,9 @@ def _check_thesis_options(options):
     stride = _validation.check_int(out.pop("tangent_stride", 3), "tangent_stride", minimum=1)
     weights = out.pop("fuzzy_weights", (0.7, 0.3))
     if isinstance(weights, (str, bytes)) or not hasattr(weights, "__len__") or len(weights) != 2:
-        raise TypeError(f"fuzzy_weights must be a pair (w, v) of numbers, got {weights!r}")
+        raise TypeError(f"fuzzy_weights must be a pair (w, v) of numbers, got {_validation._describe(weights)}")
     w = _validation.check_number(weights[0], "fuzzy_weights[0] (w)")
     v = _validation.check_number(weights[1], "fuzzy_weights[1] (v)", minimum=0.0)
     if not w > v:
-        raise ValueError(f"fuzzy_weights (w, v) need w > v >= 0 (thesis eq 4.21), got {weights!r}")
+        raise ValueError(f"fuzzy_weights (w, v) need w > v >= 0 (thesis eq 4.21), got {_validation._describe(weights)}")
     return {"engine": out, "tangent_stride": stride, "fuzzy_weights": (w, v)}

@@ -72,7 +72,7 @@ def _segment_values(value, count: int, name: str) -> np.ndarray:
     bad = np.flatnonzero(~(array > 0.0))
     if bad.size:
         where = "" if np.ndim(value) == 0 else f"[{bad[0]}]"
-        raise ValueError(f"{name}{where} must be > 0, got {array[bad[0]]!r}")
+        raise ValueError(f"{name}{where} must be > 0, got {float(array[bad[0]])!r}")
     return array
 
 

@@ -427,16 +427,18 @@ def test_a_bad_selection_from_the_page_keeps_the_last_good_one(editor):
     the selection is checked: a pair naming no knot must not stay selected behind an error status."""
     sent = []
     editor.comm.send = lambda data=None, buffers=None, **_kwargs: sent.append(data)
-    editor.set_state({"selection": [[1, 4], [0, 1]]})
-    assert editor.selection == [[1, 4], [0, 1]] and editor.status_level == "info"
+    last = len(editor.contours[1]) - 1  # the last knot of contour 1, whatever the trace gave it
+    good = [[1, last], [0, 1]]
+    editor.set_state({"selection": good})
+    assert editor.selection == good and editor.status_level == "info"
     sent.clear()
     editor.set_state({"selection": [[0, 1], [1, 99]]})
-    assert editor.selection == [[1, 4], [0, 1]]
+    assert editor.selection == good
     assert editor.status_level == "error" and editor.status_message.endswith("selection: no knot 99 in contour 1")
     resynced = [m["state"]["selection"] for m in sent if m.get("method") == "update" and "selection" in m["state"]]
-    assert resynced[-1] == [[1, 4], [0, 1]]
+    assert resynced[-1] == good
     editor.set_state({"selection": [[0, "1"]]})
-    assert editor.selection == [[1, 4], [0, 1]] and "pairs of integers" in editor.status_message
+    assert editor.selection == good and "pairs of integers" in editor.status_message
 
 
 def test_a_refused_action_from_the_page_says_why_without_calling_the_message_bad(editor):

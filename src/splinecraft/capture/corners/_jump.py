@@ -272,13 +272,17 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
         behind, ahead = behind % m, ahead % m
     inside = (behind >= 0).all(axis=1) & (ahead < m).all(axis=1)
     behind, ahead = np.clip(behind, 0, m - 1), np.clip(ahead, 0, m - 1)
-    long_before = 2.0 * np.hypot(*(samples[behind] - centres_before[behind]).transpose(2, 0, 1)) >= STROKE_END_ARM
-    long_after = 2.0 * np.hypot(*(samples[ahead] - centres_after[ahead]).transpose(2, 0, 1)) >= STROKE_END_ARM
+    length_before = 2.0 * np.hypot(*(samples[behind] - centres_before[behind]).transpose(2, 0, 1))
+    length_after = 2.0 * np.hypot(*(samples[ahead] - centres_after[ahead]).transpose(2, 0, 1))
+    long_before, long_after = length_before >= STROKE_END_ARM, length_after >= STROKE_END_ARM
     found = inside & long_before.any(axis=1) & long_after.any(axis=1)
     first_before, first_after = reach[long_before.argmax(axis=1)], reach[long_after.argmax(axis=1)]
     rows = np.arange(chosen.size)
-    d1s = before[behind[rows, first_before - 1]]
-    d2s = after[ahead[rows, first_after - 1]]
+    # the sides' directions from the longest arm within reach (an arm of 7 samples beside a thin tip turns by a
+    # few degrees with the pixels of a side near an axis, and a wedge of 11 degrees then measured 3)
+    longest_before, longest_after = reach[length_before.argmax(axis=1)], reach[length_after.argmax(axis=1)]
+    d1s = before[behind[rows, longest_before - 1]]
+    d2s = after[ahead[rows, longest_after - 1]]
     with np.errstate(invalid="ignore"):
         side_turn = np.degrees(np.abs(np.arctan2(d1s[:, 0] * d2s[:, 1] - d1s[:, 1] * d2s[:, 0],
                                                  np.sum(d1s * d2s, axis=1))))
@@ -293,6 +297,9 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
         c2, d2 = centres_after[(i + g2) % m], after[(i + g2) % m]
         n1 = np.array([-d1[1], d1[0]]) / np.hypot(*d1)
         n2 = np.array([-d2[1], d2[0]]) / np.hypot(*d2)
+        l1, l2 = int(longest_before[k]), int(longest_after[k])
+        side1 = centres_before[(i - l1) % m], before[(i - l1) % m]
+        side2 = centres_after[(i + l2) % m], after[(i + l2) % m]
         k1 = i - g1
         while k1 < i + g2 and abs((samples[(k1 + 1) % m] - c1) @ n1) <= STROKE_END_ON_SIDE:
             k1 += 1
@@ -302,7 +309,7 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
         width = float(np.hypot(*(samples[k2 % m] - samples[k1 % m])))
         if not (k1 <= i <= k2 and STROKE_END_WIDTH[0] <= width <= STROKE_END_WIDTH[1]):
             continue
-        crossing = _line_intersection(c1[None], d1[None], c2[None], d2[None])[0]
+        crossing = _line_intersection(side1[0][None], side1[1][None], side2[0][None], side2[1][None])[0]
         middle = 0.5 * (samples[k1 % m] + samples[k2 % m])
         # a pixel-truncated tip: the sides cross at most TIP_TRUNCATION / sin(opening / 2) beyond the end (where
         # the tip narrows below a pixel), the end found within STROKE_END_SLACK; and at most STROKE_END_PARALLEL

@@ -578,3 +578,19 @@ def test_a_bad_mapping_of_inputs_is_refused_by_name(tmp_path, inputs, error, wor
         trace_many(inputs, tmp_path / "out", progress=False)
     assert words in str(caught.value)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_manifest_that_is_also_an_output_is_refused(glyphs, tmp_path):
+    """``manifest=`` naming one of the outputs: the SVG was written, then the manifest's JSON line appended to it
+    (an SVG with a line of JSON after ``</svg>``), and the next run read that file as the manifest. Refused up
+    front, as an output that is an input is, naming both."""
+    out = tmp_path / "out"
+    target = out / f"{glyphs[0].stem}.svg"
+    for manifest in (target, out / "sub" / ".." / target.name):
+        with pytest.raises(ValueError) as caught:
+            trace_many(glyphs[:2], out, manifest=manifest, epsilon=EPSILON, progress=False)
+        assert f"manifest {target} is also the output of {glyphs[0]}" in str(caught.value)
+    assert not out.exists()  # nothing was created
+    with pytest.raises(ValueError, match=r"manifest .*a\.json is also the output of a;"):
+        trace_many({"a": np.asarray(glyph_image(0))}, out, manifest=out / "a.json", format="json", progress=False)
+    assert not out.exists()

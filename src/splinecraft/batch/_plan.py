@@ -191,6 +191,19 @@ def refuse_overwriting_inputs(jobs, manifest_path) -> None:
                              "choose another output")
 
 
+def refuse_manifest_as_output(jobs, manifest_path) -> None:
+    """``ValueError`` when the manifest is also an output (same path after symlinks, or the same file through a
+    hard link): the output would be written and the manifest's lines appended to it."""
+    if manifest_path is None:
+        return
+    real, identity = os.path.realpath(manifest_path), _identity(manifest_path)
+    for job in jobs:
+        if job.output is not None and (os.path.realpath(job.output) == real
+                                       or (identity is not None and _identity(job.output) == identity)):
+            raise ValueError(f"manifest {manifest_path} is also the output of {job.label}; the manifest's lines "
+                             "would be appended to that output: choose another manifest")
+
+
 def prepare_directories(jobs, manifest_path) -> None:
     """Create the output directories and check that a file can be created in each (before any tracing)."""
     directories = {os.path.dirname(job.output) for job in jobs if job.output is not None}

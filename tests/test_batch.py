@@ -594,3 +594,28 @@ def test_a_manifest_that_is_also_an_output_is_refused(glyphs, tmp_path):
     with pytest.raises(ValueError, match=r"manifest .*a\.json is also the output of a;"):
         trace_many({"a": np.asarray(glyph_image(0))}, out, manifest=out / "a.json", format="json", progress=False)
     assert not out.exists()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are a POSIX matter")
+def test_an_output_or_manifest_that_is_a_special_file_is_refused(glyphs, tmp_path):
+    """An output that exists and is a named pipe or a device (``-o /dev/null``, ``-o /dev/stdout``) was replaced:
+    outputs are written to a temporary file renamed over theirs, so the pipe (or, run as root, the device node)
+    became a regular file holding the SVG, exit code 0. A manifest that is one hung: the resume check opened it
+    for reading. Both are refused up front, saying what the file is."""
+    out = tmp_path / "out"
+    out.mkdir()
+    pipe = out / f"{glyphs[0].stem}.svg"
+    os.mkfifo(pipe)
+    with pytest.raises(ValueError) as caught:
+        trace_many(glyphs[:2], out, epsilon=EPSILON, progress=False)
+    assert f"output {pipe} is a named pipe (FIFO), not a regular file" in str(caught.value)
+    assert pipe.is_fifo() and sorted(p.name for p in out.iterdir()) == [pipe.name]
+    code = ("import sys; from splinecraft import trace_many\n"
+            "try:\n"
+            f"    trace_many([{str(glyphs[1])!r}], {str(tmp_path / 'other')!r}, manifest={str(pipe)!r}, progress=False)\n"
+            "except ValueError as exc:\n"
+            "    print(exc)\n")
+    import subprocess
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert f"manifest {pipe} is a named pipe (FIFO), not a regular file" in done.stdout, done.stderr
+    assert pipe.is_fifo() and not (tmp_path / "other").exists()

@@ -38,7 +38,8 @@ with ``--quiet``; the manifest keeps the note); ``-v`` counts the polygons apart
 at once: nothing new starts, the workers are killed with the files in flight (their partial files
 removed), what finished is kept in the manifest, and the exit code is 130 (SIGINT) or 143 (SIGTERM).
 Workers also die when this process is killed outright. Exit codes: 0 all traced (or skipped), 1 some
-file failed, 2 usage errors (bad option, output = input, manifest = output, empty output or a file name for several inputs,
+file failed, 2 usage errors (bad option, output = input, manifest = output, an output or manifest that is a
+pipe or a device (``-o /dev/null``; ``-o -`` is stdout), empty output or a file name for several inputs,
 unwritable output directory, unreachable scheduler).
 """
 from __future__ import annotations

@@ -27,7 +27,8 @@ from ..spline.svg import MAX_DECIMALS
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
                     expand_inputs, is_finished, named_inputs, params_sha256, plan_directory, prepare_directories,
-                    read_pipes, refuse_manifest_as_output, refuse_overwriting_inputs, trace_settings)
+                    read_pipes, refuse_manifest_as_output, refuse_overwriting_inputs, refuse_special_files,
+                    trace_settings)
 from ._schedulers import LOCAL_SCHEDULERS, cpu_count, make_runner
 from ._work import remove_partials, render
 
@@ -163,8 +164,8 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     Raises
     ------
     TypeError, ValueError
-        Bad arguments (named), an output that is also an input, a manifest that is also an output, two inputs
-        with the same output name.
+        Bad arguments (named), an output that is also an input, a manifest that is also an output, an output or
+        manifest that is a named pipe or a device (``/dev/null``), two inputs with the same output name.
     OSError
         An output directory that cannot be created or written. ``ConnectionError``: no dask scheduler
         answers at the address (within 5 s).
@@ -278,6 +279,7 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
                          f"{os.path.join(manifest_path, MANIFEST_NAME)!r}")
     refuse_overwriting_inputs(plan, manifest_path)
     refuse_manifest_as_output(plan, manifest_path)
+    refuse_special_files(plan, manifest_path)
     runner = make_runner(scheduler, jobs, len(plan))
     try:
         prepare_directories(plan, manifest_path)

@@ -12,6 +12,7 @@ import inspect
 import json
 import math
 import os
+import stat
 from dataclasses import dataclass
 
 import numpy as np
@@ -202,6 +203,32 @@ def refuse_manifest_as_output(jobs, manifest_path) -> None:
                                        or (identity is not None and _identity(job.output) == identity)):
             raise ValueError(f"manifest {manifest_path} is also the output of {job.label}; the manifest's lines "
                              "would be appended to that output: choose another manifest")
+
+
+#: Kinds of file that an output or the manifest must not be (they are written through a temporary file renamed
+#: over them, which would replace the pipe or the device node with a regular file), by ``stat`` test.
+_SPECIAL_FILES = ((stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a character device"),
+                  (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def refuse_special_files(jobs, manifest_path) -> None:
+    """``ValueError`` when an output or the manifest exists and is a named pipe, a device or a socket (after
+    symlinks: ``/dev/stdout``): outputs and the manifest are written through a temporary file renamed over them,
+    which would replace it by a regular file, and the resume check would read it (a pipe without a writer
+    blocks)."""
+    targets = [(job.output, "output") for job in jobs if job.output is not None]
+    if manifest_path is not None:
+        targets.append((manifest_path, "manifest"))
+    for target, what in targets:
+        try:
+            mode = os.stat(target).st_mode
+        except OSError:
+            continue
+        for test, kind in _SPECIAL_FILES:
+            if test(mode):
+                raise ValueError(f"{what} {target} is {kind}, not a regular file: it would be replaced by a "
+                                 "regular file (outputs are written to a temporary file renamed over theirs); "
+                                 "give a file path (on the command line, -o - writes to stdout)")
 
 
 def prepare_directories(jobs, manifest_path) -> None:

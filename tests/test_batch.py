@@ -619,3 +619,15 @@ def test_an_output_or_manifest_that_is_a_special_file_is_refused(glyphs, tmp_pat
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert f"manifest {pipe} is a named pipe (FIFO), not a regular file" in done.stdout, done.stderr
     assert pipe.is_fifo() and not (tmp_path / "other").exists()
+
+
+def test_an_empty_output_dir_or_manifest_is_refused(glyphs, tmp_path, monkeypatch):
+    """``output_dir=""`` wrote every output and the manifest into the current directory (``os.path.join("", name)``),
+    and ``manifest=""`` was refused as "manifest '<current directory>' is a directory": an empty name (an unset
+    variable, say) is now refused as empty, as ``-o ''`` is on the command line, before anything is written."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match="output_dir is empty: give a directory"):
+        trace_many(glyphs[:1], "", epsilon=EPSILON, progress=False)
+    with pytest.raises(ValueError, match="manifest is empty: give a file name"):
+        trace_many(glyphs[:1], tmp_path / "out", manifest="", epsilon=EPSILON, progress=False)
+    assert list(tmp_path.iterdir()) == []

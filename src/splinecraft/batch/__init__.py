@@ -125,8 +125,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         image (a path is taken literally, never as a glob pattern), each key a name that can name a file (a
         non-empty ``str`` without a directory separator).
     output_dir : path, optional
-        Where ``NAME.svg`` (``.json``) goes for input ``NAME.png``; created if needed. ``None``: nothing is
-        written, each record carries its ``TraceResult`` (no manifest, no resume).
+        Where ``NAME.svg`` (``.json``) goes for input ``NAME.png``; created if needed (not empty: ``"."`` is the
+        current directory). ``None``: nothing is written, each record carries its ``TraceResult`` (no manifest,
+        no resume).
     scheduler : None, str or distributed.Client
         ``None``: in this process, one file after the other (``jobs > 1``: that many local worker
         processes, no dask needed). ``"threads"``, ``"processes"``, ``"synchronous"``: dask's local
@@ -179,6 +180,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         names, sources = None, expand_inputs(inputs)
     if output_dir is not None:
         output_dir = os.fspath(output_dir)
+        if not output_dir:
+            raise ValueError("output_dir is empty: give a directory ('.' for the current one), or None to keep the "
+                             "results in memory")
     plan = plan_directory(sources, output_dir, format, names)
     if manifest is None and output_dir is not None:
         manifest = os.path.join(output_dir, MANIFEST_NAME)
@@ -273,6 +277,9 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     arguments, settings_hash = trace_settings(trace_params or {})
     check_trace_arguments(arguments)
     writes = any(planned.output is not None for planned in plan)
+    if manifest is not None and not os.fspath(manifest):
+        raise ValueError("manifest is empty: give a file name, or None for the default (output_dir/"
+                         f"{MANIFEST_NAME})")
     manifest_path = os.path.abspath(os.fspath(manifest)) if manifest is not None and writes else None
     if manifest_path is not None and os.path.isdir(manifest_path):
         raise ValueError(f"manifest {manifest_path!r} is a directory: give the manifest's file name, e.g. "

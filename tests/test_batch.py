@@ -631,3 +631,13 @@ def test_an_empty_output_dir_or_manifest_is_refused(glyphs, tmp_path, monkeypatc
     with pytest.raises(ValueError, match="manifest is empty: give a file name"):
         trace_many(glyphs[:1], tmp_path / "out", manifest="", epsilon=EPSILON, progress=False)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_manifest_without_outputs_is_refused(glyphs, tmp_path):
+    """``output_dir=None`` writes nothing (the records keep the results), so a ``manifest=`` given with it was
+    ignored without a word: no file, and a second run traced everything again. Refused, as ``-o -`` refuses
+    ``--manifest`` on the command line."""
+    manifest = tmp_path / "runs.jsonl"
+    with pytest.raises(ValueError, match=r"manifest .*runs\.jsonl is given, but output_dir is None"):
+        trace_many(glyphs[:1], None, manifest=manifest, epsilon=EPSILON, progress=False)
+    assert not manifest.exists()

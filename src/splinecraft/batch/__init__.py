@@ -145,7 +145,7 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     format : {"svg", "json"}
         Output format (see the module text for the exact bytes).
     manifest : path, optional
-        The manifest file; default ``output_dir/splinecraft-manifest.jsonl``.
+        The manifest file; default ``output_dir/splinecraft-manifest.jsonl``. Only with an ``output_dir``.
     decimals : int in [0, 64] (``spline.svg.MAX_DECIMALS``) or None
         Decimal places of SVG coordinates (``TraceResult.to_svg``).
     progress : bool, optional
@@ -280,6 +280,9 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     if manifest is not None and not os.fspath(manifest):
         raise ValueError("manifest is empty: give a file name, or None for the default (output_dir/"
                          f"{MANIFEST_NAME})")
+    if manifest is not None and not writes:
+        raise ValueError(f"manifest {os.fspath(manifest)} is given, but output_dir is None: nothing is written, so "
+                         "there is nothing to record or resume; give an output_dir, or leave manifest out")
     manifest_path = os.path.abspath(os.fspath(manifest)) if manifest is not None and writes else None
     if manifest_path is not None and os.path.isdir(manifest_path):
         raise ValueError(f"manifest {manifest_path!r} is a directory: give the manifest's file name, e.g. "

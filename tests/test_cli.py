@@ -866,3 +866,16 @@ def test_stdout_output_refuses_the_options_of_file_outputs(tmp_path, options, na
     assert result.stderr.startswith("usage: splinecraft trace")
     assert sorted(path.name for path in tmp_path.iterdir()) == ["sq.png"]
     assert run_cli("trace", source, "-o", "-", "--batch-size", "auto", "-q").returncode == 0  # the default, spelt out
+
+
+def test_verbose_stats_reach_stderr_with_stdout_output(tmp_path):
+    """``-v`` prints each file's stats on stderr; with ``-o -`` it printed nothing (the stdout path never looked at
+    it). The SVG goes to stdout, the stats line to stderr, as with a file output."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    to_file = run_cli("trace", source, "-o", tmp_path / "sq.svg", "-v")
+    to_stdout = run_cli("trace", source, "-o", "-", "-v")
+    assert to_stdout.returncode == 0 and subpath_count(to_stdout.stdout)[0] == 1
+    (line,) = to_stdout.stderr.splitlines()
+    assert line.startswith(f"{source}: 1 boundaries (0 holes), ") and " iterations, max deviation " in line
+    assert line.rsplit(", ", 1)[0] == to_file.stderr.strip().rsplit(", ", 1)[0]  # the same line but its time

@@ -456,7 +456,7 @@ def _file_messages(record, quiet, time_budget):
     return lines
 
 
-def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
+def _trace_to_stdout(source, fmt, options, decimals, quiet=False, verbose=False) -> int:
     from .batch import render, run_batch
     from .batch._plan import PlannedFile
 
@@ -467,6 +467,8 @@ def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
         print(line, file=sys.stderr)
     if record.status != "ok":
         return 1
+    if verbose:
+        print(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
     sys.stdout.buffer.write(render(record.result, fmt, decimals, planned.title))
     sys.stdout.flush()
     return 0
@@ -490,7 +492,7 @@ def _run_trace(args) -> int:
     }
     if pairs[0][1] == "-":
         try:
-            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals, quiet=args.quiet)
+            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals, quiet=args.quiet, verbose=args.verbose)
         except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
             print(f"{PROG}: error: {exc}", file=sys.stderr)
             return 2

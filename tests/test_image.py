@@ -224,6 +224,44 @@ def test_a_multi_frame_file_says_which_frame_it_traced(tmp_path, suffix):
         np.testing.assert_array_equal(load_bitmap(img), masks[1])
 
 
+def layered_psd(composite, layers):
+    """The bytes of a minimal 8-bit grayscale Photoshop file: ``composite`` (the flattened picture a viewer shows)
+    and its ``layers`` (2-D uint8 arrays of its size), raw, without compression."""
+    import struct
+
+    height, width = composite.shape
+    header = b"8BPS" + struct.pack(">H6xHIIHH", 1, 1, height, width, 8, 1) + struct.pack(">II", 0, 0)
+    info = bytearray(struct.pack(">h", len(layers)))
+    for _ in layers:  # bounds, one channel (id 0, gray) of 2 + pixels bytes, normal blending, no extra data
+        info += struct.pack(">iiiiHHI", 0, 0, height, width, 1, 0, 2 + height * width)
+        info += b"8BIMnorm" + bytes([255, 0, 0, 0]) + struct.pack(">I", 0)
+    for layer in layers:
+        info += struct.pack(">H", 0) + np.ascontiguousarray(layer, np.uint8).tobytes()
+    info += b"\0" * (len(info) % 2)
+    section = struct.pack(">I", len(info)) + bytes(info)
+    return (header + struct.pack(">I", len(section)) + section + struct.pack(">H", 0)
+            + np.ascontiguousarray(composite, np.uint8).tobytes())
+
+
+def test_a_layered_photoshop_file_is_its_composite_picture(tmp_path):
+    """PIL counts a Photoshop file's layers as its frames (``n_frames``), numbered from 1, and opens the
+    composite picture. The loader's ``seek(0)`` before reading a multi-frame file asked a layered PSD for a frame
+    it does not have: "truncated or corrupt image file (EOFError: attempt to seek outside sequence)". The
+    composite is the picture (what a viewer shows; no frame of an animation), traced without a
+    MultiFrameWarning."""
+    mask = shape_mask()
+    layers = [gray_image(mask), gray_image(~mask), np.full(mask.shape, 255, np.uint8)]
+    data = layered_psd(gray_image(mask), layers)
+    path = tmp_path / "layers.psd"
+    path.write_bytes(data)
+    with Image.open(path) as img:
+        assert (img.format, img.n_frames) == ("PSD", 3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for source in (path, data, io.BytesIO(data)):
+            np.testing.assert_array_equal(load_bitmap(source), mask)
+
+
 def test_file_object_and_pil_image():
     mask = shape_mask()
     buffer = io.BytesIO()

@@ -67,7 +67,8 @@ Conventions
 * **Multi-frame files** (animated GIF, PNG or WebP, multi-page TIFF) given as a path, bytes or a file object: the
   first frame is used, and a :class:`MultiFrameWarning` says so, with the file's frame count and how to trace
   another frame (open the file with PIL, ``img.seek(k)``, and pass ``img``). A PIL image is used at the frame it
-  is at (its owner chose it with ``seek``), without a warning.
+  is at (its owner chose it with ``seek``), without a warning. A Photoshop file's layers are not frames: its
+  composite picture is traced (:data:`LAYERED_FORMATS`).
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
 row blocks), so an 8000 x 8000 8-bit image needs about 64 MB for the gray channel and 64 MB for the mask.
@@ -261,6 +262,12 @@ def _warn_if_inverted(mask):
             f"the mask's True pixels cover {100 * share:.0f}% of its border and touch every side: "
             "True is ink here, so the background may be the traced shape; if True marks the background, "
             "pass invert=True (or ~mask)", share))
+
+
+#: Formats whose PIL "frames" (``n_frames``) are the layers of one picture, numbered from 1, not pictures of their
+#: own: such a file opens at its composite picture (what a viewer shows), which is traced, without a
+#: :class:`MultiFrameWarning` (``seek(0)`` asked a layered Photoshop file for a frame it does not have).
+LAYERED_FORMATS = ("PSD",)
 
 
 class MultiFrameWarning(UserWarning):
@@ -515,7 +522,7 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
                 # our own cap has been applied; PIL's checks (seeking a frame runs one) are moot
                 warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-                frames = getattr(img, "n_frames", 1)
+                frames = 1 if img.format in LAYERED_FORMATS else getattr(img, "n_frames", 1)
                 if frames > 1:
                     img.seek(0)
                 img.load()

@@ -641,3 +641,38 @@ def test_a_manifest_without_outputs_is_refused(glyphs, tmp_path):
     with pytest.raises(ValueError, match=r"manifest .*runs\.jsonl is given, but output_dir is None"):
         trace_many(glyphs[:1], None, manifest=manifest, epsilon=EPSILON, progress=False)
     assert not manifest.exists()
+
+
+def test_one_multi_frame_pil_image_for_several_inputs_is_refused(tmp_path):
+    """A PIL image is traced at the frame it is at (the way to trace frame k of a GIF is ``img.seek(k)`` and pass
+    ``img``), but only when its turn comes: the frames of one image object seeked in a loop,
+    ``{f"frame{k}": img}``, were all traced at the last frame, three identical outputs and no word. One
+    multi-frame image object given for several inputs is refused, naming them and the way out (``img.copy()``);
+    copies trace each frame."""
+    masks = [np.asarray(glyph_image(seed)) for seed in range(3)]
+    path = tmp_path / "anim.gif"
+    frames = [Image.fromarray(mask) for mask in masks]
+    frames[0].save(path, save_all=True, append_images=frames[1:])
+    out = tmp_path / "out"
+    with Image.open(path) as img:
+        shared, copies = {}, {}
+        for k in range(3):
+            img.seek(k)
+            shared[f"frame{k}"], copies[f"frame{k}"] = img, img.copy()
+        with pytest.raises(ValueError) as caught:
+            trace_many(shared, out, epsilon=EPSILON, progress=False)
+        assert ("inputs frame0 and frame1 are the same PIL image object, a file of 3 frames now at frame 2"
+                in str(caught.value)) and "img.copy()" in str(caught.value)
+        with pytest.raises(ValueError, match="inputs <image 0> and <image 1> are the same PIL image object"):
+            trace_many(list(shared.values()), out, epsilon=EPSILON, progress=False)
+        assert not out.exists()
+        records = trace_many(copies, out, epsilon=EPSILON, progress=False)
+    assert records.counts == {"ok": 3}
+    drawings = set()
+    for name, image in copies.items():
+        result = sc.trace(image, epsilon=EPSILON, keep_snapshots=False)
+        assert (out / f"{name}.svg").read_text() == result.to_svg(title=name)
+        drawings.add(result.to_svg())
+    assert len(drawings) == 3  # three frames, three different outlines
+    single = np.asarray(glyph_image(5))
+    assert trace_many({"a": Image.fromarray(single), "b": Image.fromarray(single)}, progress=False).counts == {"ok": 2}

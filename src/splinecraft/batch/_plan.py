@@ -120,9 +120,10 @@ def named_inputs(inputs) -> tuple:
 
 def plan_directory(sources, output_dir, fmt, names=None) -> list:
     """One job per source; outputs ``output_dir/NAME.fmt`` (``image-00003`` for arrays and bytes: the input's
-    position; with ``names``, one per source, that name: also the label and the SVG title), or none."""
+    position; with ``names``, one per source, that name: also the label and the SVG title), or none. One PIL image
+    of several frames given for two inputs is refused (:func:`_refuse_shared_frames`)."""
     width = max(5, len(str(len(sources) - 1)))
-    jobs, seen = [], {}
+    jobs, seen, images = [], {}, {}
     for index, source in enumerate(sources):
         if names is not None:
             stem = label = title = names[index]
@@ -131,6 +132,8 @@ def plan_directory(sources, output_dir, fmt, names=None) -> list:
         else:
             kind = "bytes" if isinstance(source, bytes) else "image"
             stem, label, title = f"image-{index:0{width}d}", f"<{kind} {index}>", None
+        if type(source).__module__.startswith("PIL."):
+            _refuse_shared_frames(images.setdefault(id(source), (source, label)), source, label)
         output = None
         if output_dir is not None:
             name = f"{stem}.{fmt}"
@@ -140,6 +143,19 @@ def plan_directory(sources, output_dir, fmt, names=None) -> list:
             output = os.path.abspath(os.path.join(output_dir, name))
         jobs.append(PlannedFile(index=index, source=source, label=label, output=output, title=title))
     return jobs
+
+
+def _refuse_shared_frames(first, source, label) -> None:
+    """``ValueError`` when ``source``, a PIL image of several frames, was given before (``first``: that input's
+    image and label): a PIL image is traced at the frame it is at when its turn comes, so the frames of one image
+    seeked in a loop would all be traced at its last frame."""
+    image, first_label = first
+    if image is not source or first_label == label or getattr(source, "n_frames", 1) <= 1:
+        return
+    raise ValueError(f"inputs {first_label} and {label} are the same PIL image object, a file of {source.n_frames} "
+                     f"frames now at frame {source.tell()}: a PIL image is traced at the frame it is at when it is "
+                     "traced, so both would be that frame; give each frame its own image (img.seek(k), then "
+                     "img.copy())")
 
 
 def read_pipes(plan) -> list:

@@ -54,6 +54,8 @@ import threading
 __all__ = ["main", "build_parser"]
 
 PROG = "splinecraft"
+#: Decimal places of SVG coordinates without ``--decimals`` (``trace_many``'s default).
+DEFAULT_DECIMALS = 4
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -251,8 +253,9 @@ def build_parser() -> argparse.ArgumentParser:
     tracer.add_argument("--max-pixels", type=_positive_int, default=defaults["max_pixels"], metavar="N",
                         help="refuse images of more than N pixels, read from the file's header before decoding "
                              f"(a decompression bomb costs nothing; default {defaults['max_pixels']})")
-    tracer.add_argument("--decimals", type=_decimals, default=4,
-                        help="decimal places of SVG coordinates (default 4)")
+    tracer.add_argument("--decimals", type=_decimals, default=None,
+                        help=f"decimal places of SVG coordinates (default {DEFAULT_DECIMALS}; not with JSON output, "
+                             "which keeps full precision)")
     tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,
                         help="files traced in parallel by local worker processes (0 = one per CPU; default 1; "
                              "capped at the CPU count); with --scheduler: its number of workers")
@@ -483,6 +486,11 @@ def _run_trace(args) -> int:
     except ValueError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
+    if args.decimals is not None and fmt == "json":
+        print(f"{PROG}: error: --decimals applies to SVG output only; JSON output (--format json, OUT.json) keeps "
+              "full precision: leave --decimals out, or write SVG", file=sys.stderr)
+        return 2
+    decimals = DEFAULT_DECIMALS if args.decimals is None else args.decimals
     options = {
         "epsilon": args.epsilon, "method": args.method, "corner_method": args.corner_method,
         "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
@@ -492,7 +500,7 @@ def _run_trace(args) -> int:
     }
     if pairs[0][1] == "-":
         try:
-            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals, quiet=args.quiet, verbose=args.verbose)
+            return _trace_to_stdout(pairs[0][0], fmt, options, decimals, quiet=args.quiet, verbose=args.verbose)
         except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
             print(f"{PROG}: error: {exc}", file=sys.stderr)
             return 2
@@ -520,7 +528,7 @@ def _run_trace(args) -> int:
         with _signals_raise() as stop_if_signalled:
             result = run_batch(plan, manifest=manifest, scheduler=args.scheduler,
                                jobs=_job_count(args.jobs, args.scheduler), batch_size=args.batch_size,
-                               resume=args.resume, format=fmt, decimals=args.decimals, progress=show,
+                               resume=args.resume, format=fmt, decimals=decimals, progress=show,
                                on_record=report, trace_params=options, spelling=OPTION_SPELLING)
             stop_if_signalled()
     except Interrupted as stop:

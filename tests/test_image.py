@@ -262,6 +262,33 @@ def test_a_layered_photoshop_file_is_its_composite_picture(tmp_path):
             np.testing.assert_array_equal(load_bitmap(source), mask)
 
 
+def test_a_pil_image_whose_pixels_cannot_be_read_says_why():
+    """A PIL image opened in a ``with Image.open(path) as img:`` block and traced after it was a bare
+    ``AssertionError`` (PIL loads the pixels lazily and its file was closed; a batch record said only
+    'AssertionError'); a PIL image of a truncated file was a bare ``OSError``, and a closed image PIL's
+    'Operation on closed image'. Each is a ValueError naming the PIL image and why, as a file's are."""
+    mask = shape_mask()
+    buffer = io.BytesIO()
+    Image.fromarray(gray_image(mask)).save(buffer, format="PNG")
+    data = buffer.getvalue()
+    with Image.open(io.BytesIO(data)) as lazy:
+        pass
+    with pytest.raises(ValueError) as caught:
+        load_bitmap(lazy)
+    message = str(caught.value)
+    assert message.startswith("PIL image: its pixels were never loaded and its file is closed")
+    assert "img.load()" in message
+    with pytest.raises(ValueError, match=r"^PIL image: truncated or corrupt image \(OSError: image file is truncated"):
+        load_bitmap(Image.open(io.BytesIO(data[:-30])))
+    closed = Image.fromarray(gray_image(mask))
+    closed.close()
+    with pytest.raises(ValueError, match=r"^PIL image: cannot read its pixels \(ValueError: Operation on closed image"):
+        load_bitmap(closed)
+    with Image.open(io.BytesIO(data)) as loaded:
+        loaded.load()
+    np.testing.assert_array_equal(load_bitmap(loaded), mask)  # loaded in the block: its pixels stay
+
+
 def test_file_object_and_pil_image():
     mask = shape_mask()
     buffer = io.BytesIO()

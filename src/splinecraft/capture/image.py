@@ -63,7 +63,9 @@ Conventions
   ``mask.filled(False)`` for a bool mask.
 * **Files** are closed when loading returns or fails (files PIL opened from a path, and a path that is a pipe,
   such as the shell's ``<(...)``, read whole first; a file object passed in stays open, it belongs to the
-  caller).
+  caller). A **PIL image** reads its pixels from its file when first asked (PIL loads lazily): one opened in a
+  ``with Image.open(...)`` block and passed after it has lost them, a ``ValueError`` that says so (load it in
+  the block, ``img.load()``, or pass the path), as for a truncated file.
 * **Multi-frame files** (animated GIF, PNG or WebP, multi-page TIFF) given as a path, bytes or a file object: the
   first frame is used, and a :class:`MultiFrameWarning` says so, with the file's frame count and how to trace
   another frame (open the file with PIL, ``img.seek(k)``, and pass ``img``). A PIL image is used at the frame it
@@ -425,6 +427,7 @@ def _to_gray(image, max_pixels=MAX_PIXELS, alpha=False):
 
     if isinstance(image, Image.Image):
         _check_size(image, "PIL image", max_pixels)
+        _load_pil_pixels(image, "PIL image")
         return _pil_to_gray(image, name="PIL image", alpha=alpha)
     if isinstance(image, (bytes, bytearray, memoryview)):
         data = bytes(image)
@@ -445,6 +448,24 @@ def _to_gray(image, max_pixels=MAX_PIXELS, alpha=False):
         "image must be a path, a binary file object, a numpy array or a PIL image, "
         f"got {type(image).__name__}"
     )
+
+
+def _load_pil_pixels(img, name):
+    """Decode the pixels of a PIL image passed in (PIL loads them lazily, from its file); its failures become a
+    ValueError naming the image: a file closed before the pixels were loaded (PIL's bare ``AssertionError``: an
+    image opened in a ``with Image.open(...)`` block and used after it), truncated data, a closed image."""
+    try:
+        img.load()
+    except MemoryError:
+        raise
+    except Exception as exc:
+        if isinstance(exc, (AssertionError, AttributeError)) and getattr(img, "fp", False) is None:
+            raise ValueError(f"{name}: its pixels were never loaded and its file is closed (PIL reads them lazily: "
+                             "an image opened in a `with Image.open(...)` block must be loaded in it, img.load(), "
+                             "or pass the file's path)") from None
+        if isinstance(exc, (OSError, SyntaxError, EOFError)):
+            raise ValueError(f"{name}: truncated or corrupt image ({type(exc).__name__}: {exc})") from None
+        raise ValueError(f"{name}: cannot read its pixels ({type(exc).__name__}: {exc})") from None
 
 
 def _check_size(img, name, max_pixels):

@@ -676,3 +676,33 @@ def test_one_multi_frame_pil_image_for_several_inputs_is_refused(tmp_path):
     assert len(drawings) == 3  # three frames, three different outlines
     single = np.asarray(glyph_image(5))
     assert trace_many({"a": Image.fromarray(single), "b": Image.fromarray(single)}, progress=False).counts == {"ok": 2}
+
+
+@pytest.mark.parametrize("options", [{"jobs": 2, "batch_size": 3}, {"scheduler": "processes", "jobs": 2, "batch_size": 3}])
+def test_a_pil_image_whose_pixels_cannot_be_read_fails_alone_in_worker_processes(tmp_path, options):
+    """A PIL image opened in a ``with Image.open(path)`` block reads its pixels from a file that is closed. Sent
+    to a worker process it cannot be pickled (PIL loads it to pickle it): with ``jobs=2`` its task failed whole,
+    the good images beside it too, each with the record 'AssertionError: ', and with dask's processes the run
+    ended in a bare AssertionError. PIL images are decoded in the calling process (as pipes are read there),
+    and one that cannot be fails alone, saying why, as in one process."""
+    path = tmp_path / "glyph.png"
+    glyph_image(4).save(path)
+    with Image.open(path) as lazy:
+        pass
+    good = np.asarray(glyph_image(1))
+    inputs = {"a": good, "b": good, "c": good, "d": good, "lazy": lazy, "e": Image.fromarray(good), "f": good}
+    result = trace_many(inputs, tmp_path / "out", epsilon=EPSILON, progress=False, **options)
+    assert [record.status for record in result] == ["ok"] * 4 + ["failed"] + ["ok"] * 2, [r.error for r in result]
+    assert result[4].error.startswith("PIL image: its pixels were never loaded and its file is closed")
+
+
+def test_a_pil_image_over_max_pixels_is_not_decoded_by_the_batch(tmp_path):
+    """PIL images are decoded in the calling process before the run (previous test), but not one over
+    ``max_pixels``: the cap is read from its header, before any pixel is decoded (a decompression bomb costs
+    nothing), and its file fails on its size."""
+    path = tmp_path / "big.png"
+    Image.fromarray(np.asarray(glyph_image(2, size=64))).save(path)
+    with Image.open(path) as lazy:
+        (record,) = trace_many({"big": lazy}, max_pixels=100, progress=False)
+        assert record.status == "failed" and "is more than max_pixels=100" in record.error
+        assert lazy.tile  # PIL empties its tile list once the pixels are decoded

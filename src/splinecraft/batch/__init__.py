@@ -26,9 +26,9 @@ from .._validation import check_bool, check_choice, check_int
 from ..spline.svg import MAX_DECIMALS
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
-                    expand_inputs, is_finished, named_inputs, params_sha256, plan_directory, prepare_directories,
-                    read_pipes, refuse_manifest_as_output, refuse_overwriting_inputs, refuse_special_files,
-                    trace_settings)
+                    expand_inputs, is_finished, load_images, named_inputs, params_sha256, plan_directory,
+                    prepare_directories, read_pipes, refuse_manifest_as_output, refuse_overwriting_inputs,
+                    refuse_special_files, trace_settings)
 from ._schedulers import LOCAL_SCHEDULERS, cpu_count, make_runner
 from ._work import remove_partials, render
 
@@ -117,7 +117,8 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     ----------
     inputs : path, glob pattern, image array, encoded image bytes, a list of them, or a mapping {name: image}
         Globs (``"scans/**/*.png"``) expand to the sorted matching files; arrays and PIL images are traced
-        as given, and ``bytes`` (``bytearray``, ``memoryview``) as the encoded image file they hold, as
+        as given (a PIL image's pixels are decoded in the calling process before the run; one that cannot be read
+        fails alone), and ``bytes`` (``bytearray``, ``memoryview``) as the encoded image file they hold, as
         :func:`splinecraft.trace` reads them (never as a file name); both are named by their position
         (outputs ``image-00000.svg``, ..., records ``<image 0>`` / ``<bytes 0>``). A mapping (a ``dict``)
         names its inputs by its keys, in its order: ``{"logo": array, "page-1": "scans/p1.png"}`` gives the
@@ -300,6 +301,7 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
         raise
     params_hash = params_sha256(settings_hash, format, decimals)
     plan = read_pipes(plan)  # read once: hashed for resume and traced from the same bytes
+    plan = load_images(plan, arguments["max_pixels"])  # PIL images decoded here: one that cannot be fails alone
 
     ledger = Manifest(manifest_path) if manifest_path is not None else None
     entries = ledger.load() if ledger is not None else {}

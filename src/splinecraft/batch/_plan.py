@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_choice, check_positive_int
-from ._work import PART_SUFFIX, file_sha256, input_sha256
+from ._work import PART_SUFFIX, UnreadableImage, file_sha256, input_sha256
 
 FORMATS = ("svg", "json")
 _GLOB_CHARACTERS = frozenset("*?[")
@@ -174,6 +174,27 @@ def read_pipes(plan) -> list:
                 piped = None
             if piped is not None:
                 job = dataclasses.replace(job, source=piped)
+        planned.append(job)
+    return planned
+
+
+def load_images(plan, max_pixels) -> list:
+    """The plan with the pixels of every PIL image input decoded here, in the calling process: PIL reads them from
+    the image's file when first asked, and an image sent to a worker process is pickled, which reads them there;
+    one that cannot be read (its file closed before they were loaded, truncated data) failed the whole task it
+    was sent in, the good images beside it too, or a dask run. Such an input becomes an
+    :class:`~splinecraft.batch._work.UnreadableImage` that fails alone, with the loader's reason. An image of
+    more than ``max_pixels`` pixels (trace's cap) is left undecoded: its trace refuses it from its size."""
+    from ..capture.image import load_pil_pixels
+
+    planned = []
+    for job in plan:
+        source = job.source
+        if type(source).__module__.startswith("PIL.") and int(source.width) * int(source.height) <= max_pixels:
+            try:
+                load_pil_pixels(job.source, "PIL image")
+            except ValueError as exc:
+                job = dataclasses.replace(job, source=UnreadableImage(str(exc)))
         planned.append(job)
     return planned
 
@@ -341,6 +362,8 @@ def auto_batch_size(seconds_per_file, remaining, workers) -> int:
 def is_finished(job, entry, params_hash) -> bool:
     """The manifest's line says this job's output is done, and input, settings and output still match."""
     if not entry or entry.get("status") != "ok" or entry.get("params_sha256") != params_hash:
+        return False
+    if isinstance(job.source, UnreadableImage):
         return False
     if job.title is not None and os.path.basename(str(entry.get("input", ""))) != job.title:
         return False  # the SVG title is the input's file name

@@ -427,7 +427,7 @@ def _to_gray(image, max_pixels=MAX_PIXELS, alpha=False):
 
     if isinstance(image, Image.Image):
         _check_size(image, "PIL image", max_pixels)
-        _load_pil_pixels(image, "PIL image")
+        load_pil_pixels(image, "PIL image")
         return _pil_to_gray(image, name="PIL image", alpha=alpha)
     if isinstance(image, (bytes, bytearray, memoryview)):
         data = bytes(image)
@@ -450,7 +450,7 @@ def _to_gray(image, max_pixels=MAX_PIXELS, alpha=False):
     )
 
 
-def _load_pil_pixels(img, name):
+def load_pil_pixels(img, name):
     """Decode the pixels of a PIL image passed in (PIL loads them lazily, from its file); its failures become a
     ValueError naming the image: a file closed before the pixels were loaded (PIL's bare ``AssertionError``: an
     image opened in a ``with Image.open(...)`` block and used after it), truncated data, a closed image."""

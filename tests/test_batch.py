@@ -706,3 +706,14 @@ def test_a_pil_image_over_max_pixels_is_not_decoded_by_the_batch(tmp_path):
         (record,) = trace_many({"big": lazy}, max_pixels=100, progress=False)
         assert record.status == "failed" and "is more than max_pixels=100" in record.error
         assert lazy.tile  # PIL empties its tile list once the pixels are decoded
+
+
+def test_numpy_string_keys_name_inputs_as_plain_text(tmp_path):
+    """A mapping's keys taken from numpy (``dict(zip(np.array(["a", "b"]), images))``) are ``np.str_``: the record
+    kept them, ``FileRecord(input=np.str_('a'), ...)`` and the same in the data frame. Names are plain ``str``."""
+    image = np.asarray(glyph_image(0))
+    records = trace_many(dict(zip(np.array(["a", "b"]), [image, image])), tmp_path, epsilon=EPSILON, progress=False)
+    assert [type(record.input) for record in records] == [str, str]
+    assert repr(records[0]).startswith("FileRecord(input='a', ")
+    with pytest.raises(ValueError, match=r"^inputs key 'a/b' is not a name"):
+        trace_many({np.str_("a/b"): image}, tmp_path, progress=False)

@@ -99,6 +99,7 @@ def named_inputs(inputs) -> tuple:
         if not isinstance(name, str):
             raise TypeError(f"inputs keys must be names (str), got {name!r} ({type(name).__name__}): a mapping "
                             "of inputs is {name: image}")
+        name = str(name)  # plain text: np.str_ keys (from a numpy array of names) showed as np.str_('a')
         separators = {"/", os.sep, os.altsep, "\x00"} - {None}
         if name in ("", ".", "..") or any(separator in name for separator in separators):
             raise ValueError(f"inputs key {name!r} is not a name: a key names its output NAME.svg, so it must be "

@@ -717,3 +717,33 @@ def test_numpy_string_keys_name_inputs_as_plain_text(tmp_path):
     assert repr(records[0]).startswith("FileRecord(input='a', ")
     with pytest.raises(ValueError, match=r"^inputs key 'a/b' is not a name"):
         trace_many({np.str_("a/b"): image}, tmp_path, progress=False)
+
+
+def _tells_case_apart(directory):
+    probe = directory / "Case-Probe"
+    probe.write_text("")
+    try:
+        return not (directory / "cASE-pROBE").exists()
+    finally:
+        probe.unlink()
+
+
+def test_outputs_that_differ_only_in_case_are_refused_where_the_directory_ignores_case(tmp_path, monkeypatch):
+    """Inputs named ``A`` and ``a`` (or ``scans/A.png`` and ``old/a.png``) are written to ``A.svg`` and ``a.svg``:
+    two files on Linux, one on the usual file systems of macOS and Windows, which ignore case; the second
+    output replaced the first, both records said "ok", and every rerun traced both again (the first output's
+    hash never matched). An output directory that ignores case (found by the write check every output
+    directory gets) refuses such names up front, naming both inputs; one that tells case apart keeps both."""
+    from splinecraft.batch import _plan
+
+    image = np.asarray(glyph_image(0))
+    inputs = {"Logo": image, "page": image, "logo": image}
+    monkeypatch.setattr(_plan, "directory_ignores_case", lambda directory, name: True)
+    with pytest.raises(ValueError) as caught:
+        trace_many(inputs, tmp_path / "out", epsilon=EPSILON, progress=False)
+    assert ("inputs Logo and logo would both be written to Logo.svg and logo.svg, one file in output directory "
+            f"{tmp_path / 'out'}, which ignores case") in str(caught.value)
+    assert list((tmp_path / "out").iterdir()) == []
+    monkeypatch.undo()
+    if _tells_case_apart(tmp_path):
+        assert trace_many(inputs, tmp_path / "out", epsilon=EPSILON, progress=False).counts == {"ok": 3}

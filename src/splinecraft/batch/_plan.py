@@ -269,8 +269,15 @@ def refuse_special_files(jobs, manifest_path) -> None:
                                  "give a file path (on the command line, -o - writes to stdout)")
 
 
+def directory_ignores_case(directory, name) -> bool:
+    """Whether the file system of ``directory`` finds its file ``name`` (just created) also under that name with
+    the case of its letters swapped (the usual file systems of macOS and Windows)."""
+    return os.path.exists(os.path.join(directory, name.swapcase()))
+
+
 def prepare_directories(jobs, manifest_path) -> None:
-    """Create the output directories and check that a file can be created in each (before any tracing)."""
+    """Create the output directories and check that a file can be created in each (before any tracing); in a
+    directory that ignores case, two outputs whose names differ only in case are refused (one file there)."""
     directories = {os.path.dirname(job.output) for job in jobs if job.output is not None}
     if manifest_path is not None:
         directories.add(os.path.dirname(manifest_path))
@@ -279,13 +286,31 @@ def prepare_directories(jobs, manifest_path) -> None:
             raise ValueError(f"output directory {directory} exists and is not a directory")
         try:
             os.makedirs(directory, exist_ok=True)
-            probe = os.path.join(directory, f".write-check.{os.getpid()}{PART_SUFFIX}")
+            name = f".write-check.{os.getpid()}{PART_SUFFIX}"
+            probe = os.path.join(directory, name)
             with open(probe, "wb"):
                 pass
-            os.unlink(probe)
+            try:
+                ignores_case = directory_ignores_case(directory, name)
+            finally:
+                os.unlink(probe)
         except OSError as exc:
             raise OSError(exc.errno, f"output directory {directory} is not writable: "
                                      f"{exc.strerror or exc}") from exc
+        if ignores_case:
+            _refuse_case_collisions([job for job in jobs if job.output is not None
+                                     and os.path.dirname(job.output) == directory], directory)
+
+
+def _refuse_case_collisions(jobs, directory) -> None:
+    seen = {}
+    for job in jobs:
+        name = os.path.basename(job.output)
+        first = seen.setdefault(name.casefold(), job)
+        if first is not job:
+            raise ValueError(f"inputs {first.label} and {job.label} would both be written to "
+                             f"{os.path.basename(first.output)} and {name}, one file in output directory "
+                             f"{directory}, which ignores case: rename one")
 
 
 # ---------------------------------------------------------------------------------------------------

@@ -167,9 +167,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     ------
     TypeError, ValueError
         Bad arguments (named), an output that is also an input, a manifest that is also an output, an output or
-        manifest that is a named pipe or a device (``/dev/null``), two inputs with the same output name (or names that
-        differ only in case, in an output directory that ignores case: macOS, Windows), one PIL image
-        of several frames given for several inputs (each is traced at the frame it is at when traced: pass
+        manifest that is a named pipe or a device (``/dev/null``), two inputs with the same output name (or names
+        that differ only in case, in an output directory that ignores case: macOS, Windows), one PIL image of
+        several frames given for several inputs (each is traced at the frame it is at when traced: pass
         ``img.copy()`` after each ``img.seek(k)``).
     OSError
         An output directory that cannot be created or written. ``ConnectionError``: no dask scheduler

@@ -612,7 +612,8 @@ def test_an_output_or_manifest_that_is_a_special_file_is_refused(glyphs, tmp_pat
     assert pipe.is_fifo() and sorted(p.name for p in out.iterdir()) == [pipe.name]
     code = ("import sys; from splinecraft import trace_many\n"
             "try:\n"
-            f"    trace_many([{str(glyphs[1])!r}], {str(tmp_path / 'other')!r}, manifest={str(pipe)!r}, progress=False)\n"
+            f"    trace_many([{str(glyphs[1])!r}], {str(tmp_path / 'other')!r}, manifest={str(pipe)!r},\n"
+            "               progress=False)\n"
             "except ValueError as exc:\n"
             "    print(exc)\n")
     import subprocess
@@ -678,7 +679,8 @@ def test_one_multi_frame_pil_image_for_several_inputs_is_refused(tmp_path):
     assert trace_many({"a": Image.fromarray(single), "b": Image.fromarray(single)}, progress=False).counts == {"ok": 2}
 
 
-@pytest.mark.parametrize("options", [{"jobs": 2, "batch_size": 3}, {"scheduler": "processes", "jobs": 2, "batch_size": 3}])
+@pytest.mark.parametrize("options", [{"jobs": 2, "batch_size": 3},
+                                     {"scheduler": "processes", "jobs": 2, "batch_size": 3}])
 def test_a_pil_image_whose_pixels_cannot_be_read_fails_alone_in_worker_processes(tmp_path, options):
     """A PIL image opened in a ``with Image.open(path)`` block reads its pixels from a file that is closed. Sent
     to a worker process it cannot be pickled (PIL loads it to pickle it): with ``jobs=2`` its task failed whole,

@@ -881,7 +881,8 @@ def test_verbose_stats_reach_stderr_with_stdout_output(tmp_path):
     assert line.rsplit(", ", 1)[0] == to_file.stderr.strip().rsplit(", ", 1)[0]  # the same line but its time
 
 
-@pytest.mark.parametrize("output, options", [("x.json", []), ("-", ["--format", "json"]), ("dir/", ["--format", "json"])])
+@pytest.mark.parametrize("output, options", [("x.json", []), ("-", ["--format", "json"]),
+                                             ("dir/", ["--format", "json"])])
 def test_decimals_with_json_output_is_refused(tmp_path, output, options):
     """``--decimals`` sets the decimal places of SVG coordinates; a JSON output keeps full precision, so with
     ``--format json`` (or ``-o x.json``) it was ignored without a word. A usage error naming both, before anything

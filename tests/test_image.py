@@ -224,6 +224,41 @@ def test_a_multi_frame_file_says_which_frame_it_traced(tmp_path, suffix):
         np.testing.assert_array_equal(load_bitmap(img), masks[1])
 
 
+@pytest.mark.filterwarnings("ignore:Corrupt EXIF data:UserWarning")  # PIL's, reading the cut TIFF's headers
+@pytest.mark.parametrize("suffix", ["gif", "tif"])
+def test_a_multi_frame_file_damaged_after_its_first_frame_traces_that_frame(suffix):
+    """The frame count (``n_frames``: PIL reads every frame's header) of an animated GIF or multi-page TIFF cut
+    short after its first frame raised ('unpack_from requires a buffer ...', 'Missing dimensions'), and the whole
+    file was refused as "truncated or corrupt", though the one frame traced was whole. That frame is traced, with
+    a MultiFrameWarning saying the frames could not be counted (``frames`` is ``None``) and why."""
+    from splinecraft.capture.image import MultiFrameWarning
+
+    masks = [shape_mask(), np.roll(shape_mask(), 5, axis=1), shape_mask()[::-1]]
+    buffer = io.BytesIO()
+    frames = [Image.fromarray(gray_image(m)) for m in masks]
+    frames[0].save(buffer, format="GIF" if suffix == "gif" else "TIFF", save_all=True, append_images=frames[1:])
+    data = buffer.getvalue()
+
+    def uncountable(cut):
+        try:
+            Image.open(io.BytesIO(data[:cut])).n_frames
+        except EOFError:
+            return False
+        except Exception:  # noqa: BLE001 - the plugin's own errors, which the loader reported
+            return True
+        return False
+
+    cut = next(cut for cut in range(len(data) // 3, len(data)) if uncountable(cut))
+    for source in (data[:cut], io.BytesIO(data[:cut])):
+        with pytest.warns(MultiFrameWarning) as caught:
+            mask = load_bitmap(source)
+        np.testing.assert_array_equal(mask, masks[0])
+        (warning,) = [item for item in caught if item.category is MultiFrameWarning]  # (PIL warns of the EXIF too)
+        message = str(warning.message)
+        assert "its frames could not be counted (the file is truncated or corrupt after its first frame" in message
+        assert "traced frame 0 (the first)" in message and warning.message.frames is None
+
+
 def layered_psd(composite, layers):
     """The bytes of a minimal 8-bit grayscale Photoshop file: ``composite`` (the flattened picture a viewer shows)
     and its ``layers`` (2-D uint8 arrays of its size), raw, without compression."""

@@ -69,8 +69,10 @@ Conventions
 * **Multi-frame files** (animated GIF, PNG or WebP, multi-page TIFF) given as a path, bytes or a file object: the
   first frame is used, and a :class:`MultiFrameWarning` says so, with the file's frame count and how to trace
   another frame (open the file with PIL, ``img.seek(k)``, and pass ``img``). A PIL image is used at the frame it
-  is at (its owner chose it with ``seek``), without a warning. A Photoshop file's layers are not frames: its
-  composite picture is traced (:data:`LAYERED_FORMATS`).
+  is at (its owner chose it with ``seek``), without a warning. A file whose frames cannot be counted (cut short
+  or damaged after its first frame: PIL reads every frame's header to count them) is traced from its first frame
+  when that one is whole, with a :class:`MultiFrameWarning` that says so (``frames`` is ``None``). A Photoshop
+  file's layers are not frames: its composite picture is traced (:data:`LAYERED_FORMATS`).
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
 row blocks), so an 8000 x 8000 8-bit image needs about 64 MB for the gray channel and 64 MB for the mask.
@@ -274,20 +276,26 @@ LAYERED_FORMATS = ("PSD",)
 
 class MultiFrameWarning(UserWarning):
     """An image file (path, bytes or file object) with several frames, an animated GIF, PNG or WebP or a
-    multi-page TIFF: only one frame is traced. ``frames`` is the file's frame count, ``frame`` the index of the
+    multi-page TIFF: only one frame is traced. ``frames`` is the file's frame count (``None``: they could not be
+    counted, the file is truncated or corrupt after its first frame, which was traced), ``frame`` the index of the
     frame traced (0, the first). To trace frame ``k``: ``img = PIL.Image.open(file); img.seek(k)`` and pass
     ``img`` (a PIL image is traced at the frame it is at)."""
 
     def __init__(self, message, frames, frame=0):
         super().__init__(message)
-        self.frames = int(frames)
+        self.frames = None if frames is None else int(frames)
         self.frame = int(frame)
 
 
-def _warn_if_several_frames(name, frames):
+def _warn_if_several_frames(name, frames, uncounted=None):
     """Say that only the first of the ``frames`` frames of image file ``name`` is traced (module docstring,
-    "Multi-frame files")."""
-    if frames > 1:
+    "Multi-frame files"); ``frames`` is ``None`` when counting them failed with ``uncounted``."""
+    if frames is None:
+        _warn(MultiFrameWarning(
+            f"{name}: its frames could not be counted (the file is truncated or corrupt after its first frame: "
+            f"{type(uncounted).__name__}: {_short(str(uncounted), 80)}); traced frame 0 (the first), which is whole",
+            None, 0))
+    elif frames > 1:
         _warn(MultiFrameWarning(
             f"{name}: the file has {frames} frames (an animated or multi-page image); traced frame 0 (the first) "
             "only. To trace frame k, pick it with PIL and pass the image: img = PIL.Image.open(file); "
@@ -543,16 +551,30 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
                 # our own cap has been applied; PIL's checks (seeking a frame runs one) are moot
                 warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-                frames = 1 if img.format in LAYERED_FORMATS else getattr(img, "n_frames", 1)
-                if frames > 1:
+                frames, uncounted = _frame_count(img)
+                if frames is None or frames > 1:
                     img.seek(0)
                 img.load()
         except MemoryError:
             raise
         except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
             raise ValueError(f"{name}: truncated or corrupt image file ({type(exc).__name__}: {exc})") from None
-        _warn_if_several_frames(name, frames)
+        _warn_if_several_frames(name, frames, uncounted)
         return _upright(img)
+
+
+def _frame_count(img):
+    """``(frames, None)``: the number of frames of an opened image file (1 for a layered one, :data:`LAYERED_FORMATS`),
+    or ``(None, error)`` when counting them failed: PIL reads the header of every frame, and a file cut short or
+    damaged after its first frame fails there while the first frame, the one traced, is whole."""
+    if img.format in LAYERED_FORMATS:
+        return 1, None
+    try:
+        return getattr(img, "n_frames", 1), None
+    except MemoryError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - a format plugin's own errors (struct.error, IndexError, TypeError ...)
+        return None, exc
 
 
 _PIL_LIMIT_LOCK = threading.Lock()

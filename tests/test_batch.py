@@ -749,3 +749,23 @@ def test_outputs_that_differ_only_in_case_are_refused_where_the_directory_ignore
     monkeypatch.undo()
     if _tells_case_apart(tmp_path):
         assert trace_many(inputs, tmp_path / "out", epsilon=EPSILON, progress=False).counts == {"ok": 3}
+
+
+@pytest.mark.parametrize("text", ["my notes\nsecond line\n", "<svg xmlns='http://www.w3.org/2000/svg'/>\n",
+                                  '{"name": "settings", "epsilon": 1}\n', "[1, 2]\n"])
+def test_a_manifest_file_that_is_no_manifest_is_refused_not_overwritten(glyphs, tmp_path, text):
+    """``manifest=`` (``--manifest``) naming an existing file that is no manifest (a typo for another file, notes,
+    an SVG, another program's JSON lines): its lines were ignored as torn ones and, at the end of the run, the file
+    was rewritten with the manifest's lines, its content lost. It is refused before anything is traced, naming
+    the first line that is no manifest line; a torn last line of a real manifest is still ignored (the test
+    above)."""
+    notes = tmp_path / "notes.txt"
+    notes.write_text(text)
+    with pytest.raises(ValueError) as caught:
+        trace_many(glyphs[:1], tmp_path / "out", manifest=notes, epsilon=EPSILON, progress=False)
+    assert str(caught.value).startswith(f"manifest {notes} is not a splinecraft manifest (line 1: ")
+    assert notes.read_text() == text and not (tmp_path / "out").exists()
+    torn = tmp_path / "torn.jsonl"
+    torn.write_text('{"error": null, "finished": "2026-')  # a first run killed while writing its first line
+    assert trace_many(glyphs[:1], tmp_path / "out", manifest=torn, epsilon=EPSILON,
+                      progress=False).counts == {"ok": 1}

@@ -294,6 +294,8 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     refuse_overwriting_inputs(plan, manifest_path)
     refuse_manifest_as_output(plan, manifest_path)
     refuse_special_files(plan, manifest_path)
+    ledger = Manifest(manifest_path) if manifest_path is not None else None
+    entries = ledger.load() if ledger is not None else {}  # before anything is created: it may be refused
     runner = make_runner(scheduler, jobs, len(plan))
     try:
         prepare_directories(plan, manifest_path)
@@ -304,8 +306,6 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     plan = read_pipes(plan)  # read once: hashed for resume and traced from the same bytes
     plan = load_images(plan, arguments["max_pixels"])  # PIL images decoded here: one that cannot be fails alone
 
-    ledger = Manifest(manifest_path) if manifest_path is not None else None
-    entries = ledger.load() if ledger is not None else {}
     skipped, pending = [], []
     for job in plan:
         entry = entries.get(ledger.key(job.output)) if ledger is not None and job.output is not None else None

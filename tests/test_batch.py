@@ -769,3 +769,16 @@ def test_a_manifest_file_that_is_no_manifest_is_refused_not_overwritten(glyphs, 
     torn.write_text('{"error": null, "finished": "2026-')  # a first run killed while writing its first line
     assert trace_many(glyphs[:1], tmp_path / "out", manifest=torn, epsilon=EPSILON,
                       progress=False).counts == {"ok": 1}
+
+
+@pytest.mark.parametrize("dtype", [str, object])
+def test_a_numpy_array_of_paths_is_refused_with_the_way_out(glyphs, dtype):
+    """An array of file names (``np.array(paths)``, ``frame["file"].to_numpy()``) was taken for one image array:
+    one record ``<image 0>`` failed with "image array must have a bool, integer or float dtype, got <U..", and the
+    batch returned. A string or object array is no image: refused up front, saying to pass a list."""
+    names = np.array([str(path) for path in glyphs[:2]], dtype=dtype)
+    with pytest.raises(TypeError) as caught:
+        trace_many(names, progress=False)
+    message = str(caught.value)
+    assert message.startswith(f"inputs is a numpy array of dtype {names.dtype}") and ".tolist()" in message
+    assert trace_many(names.tolist(), epsilon=EPSILON, progress=False).counts == {"ok": 2}

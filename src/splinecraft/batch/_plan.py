@@ -57,6 +57,9 @@ def _is_image_object(value) -> bool:
 def expand_inputs(inputs) -> list:
     """Paths, glob patterns, image arrays and encoded image bytes -> a flat list (globs expanded, sorted; order
     kept; bytearray and memoryview copied to ``bytes``, which every worker can be sent)."""
+    if isinstance(inputs, np.ndarray) and inputs.dtype.kind in "USO":
+        raise TypeError(f"inputs is a numpy array of dtype {inputs.dtype}, which is no image (an image array holds "
+                        "numbers); for a list of paths pass inputs.tolist()")
     if isinstance(inputs, (str, os.PathLike, *ENCODED_IMAGE_TYPES)) or _is_image_object(inputs):
         inputs = [inputs]
     try:

@@ -578,3 +578,207 @@ def test_a_bad_mapping_of_inputs_is_refused_by_name(tmp_path, inputs, error, wor
         trace_many(inputs, tmp_path / "out", progress=False)
     assert words in str(caught.value)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_manifest_that_is_also_an_output_is_refused(glyphs, tmp_path):
+    """``manifest=`` naming one of the outputs: the SVG was written, then the manifest's JSON line appended to it
+    (an SVG with a line of JSON after ``</svg>``), and the next run read that file as the manifest. Refused up
+    front, as an output that is an input is, naming both."""
+    out = tmp_path / "out"
+    target = out / f"{glyphs[0].stem}.svg"
+    for manifest in (target, out / "sub" / ".." / target.name):
+        with pytest.raises(ValueError) as caught:
+            trace_many(glyphs[:2], out, manifest=manifest, epsilon=EPSILON, progress=False)
+        assert f"manifest {target} is also the output of {glyphs[0]}" in str(caught.value)
+    assert not out.exists()  # nothing was created
+    with pytest.raises(ValueError, match=r"manifest .*a\.json is also the output of a;"):
+        trace_many({"a": np.asarray(glyph_image(0))}, out, manifest=out / "a.json", format="json", progress=False)
+    assert not out.exists()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are a POSIX matter")
+def test_an_output_or_manifest_that_is_a_special_file_is_refused(glyphs, tmp_path):
+    """An output that exists and is a named pipe or a device (``-o /dev/null``, ``-o /dev/stdout``) was replaced:
+    outputs are written to a temporary file renamed over theirs, so the pipe (or, run as root, the device node)
+    became a regular file holding the SVG, exit code 0. A manifest that is one hung: the resume check opened it
+    for reading. Both are refused up front, saying what the file is."""
+    out = tmp_path / "out"
+    out.mkdir()
+    pipe = out / f"{glyphs[0].stem}.svg"
+    os.mkfifo(pipe)
+    with pytest.raises(ValueError) as caught:
+        trace_many(glyphs[:2], out, epsilon=EPSILON, progress=False)
+    assert f"output {pipe} is a named pipe (FIFO), not a regular file" in str(caught.value)
+    assert pipe.is_fifo() and sorted(p.name for p in out.iterdir()) == [pipe.name]
+    code = ("import sys; from splinecraft import trace_many\n"
+            "try:\n"
+            f"    trace_many([{str(glyphs[1])!r}], {str(tmp_path / 'other')!r}, manifest={str(pipe)!r},\n"
+            "               progress=False)\n"
+            "except ValueError as exc:\n"
+            "    print(exc)\n")
+    import subprocess
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert f"manifest {pipe} is a named pipe (FIFO), not a regular file" in done.stdout, done.stderr
+    assert pipe.is_fifo() and not (tmp_path / "other").exists()
+
+
+def test_an_empty_output_dir_or_manifest_is_refused(glyphs, tmp_path, monkeypatch):
+    """``output_dir=""`` wrote every output and the manifest into the current directory (``os.path.join("", name)``),
+    and ``manifest=""`` was refused as "manifest '<current directory>' is a directory": an empty name (an unset
+    variable, say) is now refused as empty, as ``-o ''`` is on the command line, before anything is written."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match="output_dir is empty: give a directory"):
+        trace_many(glyphs[:1], "", epsilon=EPSILON, progress=False)
+    with pytest.raises(ValueError, match="manifest is empty: give a file name"):
+        trace_many(glyphs[:1], tmp_path / "out", manifest="", epsilon=EPSILON, progress=False)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_manifest_without_outputs_is_refused(glyphs, tmp_path):
+    """``output_dir=None`` writes nothing (the records keep the results), so a ``manifest=`` given with it was
+    ignored without a word: no file, and a second run traced everything again. Refused, as ``-o -`` refuses
+    ``--manifest`` on the command line."""
+    manifest = tmp_path / "runs.jsonl"
+    with pytest.raises(ValueError, match=r"manifest .*runs\.jsonl is given, but output_dir is None"):
+        trace_many(glyphs[:1], None, manifest=manifest, epsilon=EPSILON, progress=False)
+    assert not manifest.exists()
+
+
+def test_one_multi_frame_pil_image_for_several_inputs_is_refused(tmp_path):
+    """A PIL image is traced at the frame it is at (the way to trace frame k of a GIF is ``img.seek(k)`` and pass
+    ``img``), but only when its turn comes: the frames of one image object seeked in a loop,
+    ``{f"frame{k}": img}``, were all traced at the last frame, three identical outputs and no word. One
+    multi-frame image object given for several inputs is refused, naming them and the way out (``img.copy()``);
+    copies trace each frame."""
+    masks = [np.asarray(glyph_image(seed)) for seed in range(3)]
+    path = tmp_path / "anim.gif"
+    frames = [Image.fromarray(mask) for mask in masks]
+    frames[0].save(path, save_all=True, append_images=frames[1:])
+    out = tmp_path / "out"
+    with Image.open(path) as img:
+        shared, copies = {}, {}
+        for k in range(3):
+            img.seek(k)
+            shared[f"frame{k}"], copies[f"frame{k}"] = img, img.copy()
+        with pytest.raises(ValueError) as caught:
+            trace_many(shared, out, epsilon=EPSILON, progress=False)
+        assert ("inputs frame0 and frame1 are the same PIL image object, a file of 3 frames now at frame 2"
+                in str(caught.value)) and "img.copy()" in str(caught.value)
+        with pytest.raises(ValueError, match="inputs <image 0> and <image 1> are the same PIL image object"):
+            trace_many(list(shared.values()), out, epsilon=EPSILON, progress=False)
+        assert not out.exists()
+        records = trace_many(copies, out, epsilon=EPSILON, progress=False)
+    assert records.counts == {"ok": 3}
+    drawings = set()
+    for name, image in copies.items():
+        result = sc.trace(image, epsilon=EPSILON, keep_snapshots=False)
+        assert (out / f"{name}.svg").read_text() == result.to_svg(title=name)
+        drawings.add(result.to_svg())
+    assert len(drawings) == 3  # three frames, three different outlines
+    single = np.asarray(glyph_image(5))
+    assert trace_many({"a": Image.fromarray(single), "b": Image.fromarray(single)}, progress=False).counts == {"ok": 2}
+
+
+@pytest.mark.parametrize("options", [{"jobs": 2, "batch_size": 3},
+                                     {"scheduler": "processes", "jobs": 2, "batch_size": 3}])
+def test_a_pil_image_whose_pixels_cannot_be_read_fails_alone_in_worker_processes(tmp_path, options):
+    """A PIL image opened in a ``with Image.open(path)`` block reads its pixels from a file that is closed. Sent
+    to a worker process it cannot be pickled (PIL loads it to pickle it): with ``jobs=2`` its task failed whole,
+    the good images beside it too, each with the record 'AssertionError: ', and with dask's processes the run
+    ended in a bare AssertionError. PIL images are decoded in the calling process (as pipes are read there),
+    and one that cannot be fails alone, saying why, as in one process."""
+    path = tmp_path / "glyph.png"
+    glyph_image(4).save(path)
+    with Image.open(path) as lazy:
+        pass
+    good = np.asarray(glyph_image(1))
+    inputs = {"a": good, "b": good, "c": good, "d": good, "lazy": lazy, "e": Image.fromarray(good), "f": good}
+    result = trace_many(inputs, tmp_path / "out", epsilon=EPSILON, progress=False, **options)
+    assert [record.status for record in result] == ["ok"] * 4 + ["failed"] + ["ok"] * 2, [r.error for r in result]
+    assert result[4].error.startswith("PIL image: its pixels were never loaded and its file is closed")
+
+
+def test_a_pil_image_over_max_pixels_is_not_decoded_by_the_batch(tmp_path):
+    """PIL images are decoded in the calling process before the run (previous test), but not one over
+    ``max_pixels``: the cap is read from its header, before any pixel is decoded (a decompression bomb costs
+    nothing), and its file fails on its size."""
+    path = tmp_path / "big.png"
+    Image.fromarray(np.asarray(glyph_image(2, size=64))).save(path)
+    with Image.open(path) as lazy:
+        (record,) = trace_many({"big": lazy}, max_pixels=100, progress=False)
+        assert record.status == "failed" and "is more than max_pixels=100" in record.error
+        assert lazy.tile  # PIL empties its tile list once the pixels are decoded
+
+
+def test_numpy_string_keys_name_inputs_as_plain_text(tmp_path):
+    """A mapping's keys taken from numpy (``dict(zip(np.array(["a", "b"]), images))``) are ``np.str_``: the record
+    kept them, ``FileRecord(input=np.str_('a'), ...)`` and the same in the data frame. Names are plain ``str``."""
+    image = np.asarray(glyph_image(0))
+    records = trace_many(dict(zip(np.array(["a", "b"]), [image, image])), tmp_path, epsilon=EPSILON, progress=False)
+    assert [type(record.input) for record in records] == [str, str]
+    assert repr(records[0]).startswith("FileRecord(input='a', ")
+    with pytest.raises(ValueError, match=r"^inputs key 'a/b' is not a name"):
+        trace_many({np.str_("a/b"): image}, tmp_path, progress=False)
+
+
+def _tells_case_apart(directory):
+    probe = directory / "Case-Probe"
+    probe.write_text("")
+    try:
+        return not (directory / "cASE-pROBE").exists()
+    finally:
+        probe.unlink()
+
+
+def test_outputs_that_differ_only_in_case_are_refused_where_the_directory_ignores_case(tmp_path, monkeypatch):
+    """Inputs named ``A`` and ``a`` (or ``scans/A.png`` and ``old/a.png``) are written to ``A.svg`` and ``a.svg``:
+    two files on Linux, one on the usual file systems of macOS and Windows, which ignore case; the second
+    output replaced the first, both records said "ok", and every rerun traced both again (the first output's
+    hash never matched). An output directory that ignores case (found by the write check every output
+    directory gets) refuses such names up front, naming both inputs; one that tells case apart keeps both."""
+    from splinecraft.batch import _plan
+
+    image = np.asarray(glyph_image(0))
+    inputs = {"Logo": image, "page": image, "logo": image}
+    monkeypatch.setattr(_plan, "directory_ignores_case", lambda directory, name: True)
+    with pytest.raises(ValueError) as caught:
+        trace_many(inputs, tmp_path / "out", epsilon=EPSILON, progress=False)
+    assert ("inputs Logo and logo would both be written to Logo.svg and logo.svg, one file in output directory "
+            f"{tmp_path / 'out'}, which ignores case") in str(caught.value)
+    assert list((tmp_path / "out").iterdir()) == []
+    monkeypatch.undo()
+    if _tells_case_apart(tmp_path):
+        assert trace_many(inputs, tmp_path / "out", epsilon=EPSILON, progress=False).counts == {"ok": 3}
+
+
+@pytest.mark.parametrize("text", ["my notes\nsecond line\n", "<svg xmlns='http://www.w3.org/2000/svg'/>\n",
+                                  '{"name": "settings", "epsilon": 1}\n', "[1, 2]\n"])
+def test_a_manifest_file_that_is_no_manifest_is_refused_not_overwritten(glyphs, tmp_path, text):
+    """``manifest=`` (``--manifest``) naming an existing file that is no manifest (a typo for another file, notes,
+    an SVG, another program's JSON lines): its lines were ignored as torn ones and, at the end of the run, the file
+    was rewritten with the manifest's lines, its content lost. It is refused before anything is traced, naming
+    the first line that is no manifest line; a torn last line of a real manifest is still ignored (the test
+    above)."""
+    notes = tmp_path / "notes.txt"
+    notes.write_text(text)
+    with pytest.raises(ValueError) as caught:
+        trace_many(glyphs[:1], tmp_path / "out", manifest=notes, epsilon=EPSILON, progress=False)
+    assert str(caught.value).startswith(f"manifest {notes} is not a splinecraft manifest (line 1: ")
+    assert notes.read_text() == text and not (tmp_path / "out").exists()
+    torn = tmp_path / "torn.jsonl"
+    torn.write_text('{"error": null, "finished": "2026-')  # a first run killed while writing its first line
+    assert trace_many(glyphs[:1], tmp_path / "out", manifest=torn, epsilon=EPSILON,
+                      progress=False).counts == {"ok": 1}
+
+
+@pytest.mark.parametrize("dtype", [str, object])
+def test_a_numpy_array_of_paths_is_refused_with_the_way_out(glyphs, dtype):
+    """An array of file names (``np.array(paths)``, ``frame["file"].to_numpy()``) was taken for one image array:
+    one record ``<image 0>`` failed with "image array must have a bool, integer or float dtype, got <U..", and the
+    batch returned. A string or object array is no image: refused up front, saying to pass a list."""
+    names = np.array([str(path) for path in glyphs[:2]], dtype=dtype)
+    with pytest.raises(TypeError) as caught:
+        trace_many(names, progress=False)
+    message = str(caught.value)
+    assert message.startswith(f"inputs is a numpy array of dtype {names.dtype}") and ".tolist()" in message
+    assert trace_many(names.tolist(), epsilon=EPSILON, progress=False).counts == {"ok": 2}

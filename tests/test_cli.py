@@ -866,3 +866,32 @@ def test_stdout_output_refuses_the_options_of_file_outputs(tmp_path, options, na
     assert result.stderr.startswith("usage: splinecraft trace")
     assert sorted(path.name for path in tmp_path.iterdir()) == ["sq.png"]
     assert run_cli("trace", source, "-o", "-", "--batch-size", "auto", "-q").returncode == 0  # the default, spelt out
+
+
+def test_verbose_stats_reach_stderr_with_stdout_output(tmp_path):
+    """``-v`` prints each file's stats on stderr; with ``-o -`` it printed nothing (the stdout path never looked at
+    it). The SVG goes to stdout, the stats line to stderr, as with a file output."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    to_file = run_cli("trace", source, "-o", tmp_path / "sq.svg", "-v")
+    to_stdout = run_cli("trace", source, "-o", "-", "-v")
+    assert to_stdout.returncode == 0 and subpath_count(to_stdout.stdout)[0] == 1
+    (line,) = to_stdout.stderr.splitlines()
+    assert line.startswith(f"{source}: 1 boundaries (0 holes), ") and " iterations, max deviation " in line
+    assert line.rsplit(", ", 1)[0] == to_file.stderr.strip().rsplit(", ", 1)[0]  # the same line but its time
+
+
+@pytest.mark.parametrize("output, options", [("x.json", []), ("-", ["--format", "json"]),
+                                             ("dir/", ["--format", "json"])])
+def test_decimals_with_json_output_is_refused(tmp_path, output, options):
+    """``--decimals`` sets the decimal places of SVG coordinates; a JSON output keeps full precision, so with
+    ``--format json`` (or ``-o x.json``) it was ignored without a word. A usage error naming both, before anything
+    is traced; with SVG it still applies."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", output, "--decimals", "2", *options, cwd=tmp_path)
+    assert result.returncode == 2 and result.stdout == "", result.stderr
+    assert "--decimals applies to SVG output only" in result.stderr.splitlines()[-1]
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["sq.png"]
+    svg = run_cli("trace", source, "-o", "-", "--decimals", "2")
+    assert svg.returncode == 0 and subpath_count(svg.stdout)[0] == 1

@@ -224,6 +224,106 @@ def test_a_multi_frame_file_says_which_frame_it_traced(tmp_path, suffix):
         np.testing.assert_array_equal(load_bitmap(img), masks[1])
 
 
+@pytest.mark.filterwarnings("ignore:Corrupt EXIF data:UserWarning")  # PIL's, reading the cut TIFF's headers
+@pytest.mark.parametrize("suffix", ["gif", "tif"])
+def test_a_multi_frame_file_damaged_after_its_first_frame_traces_that_frame(suffix):
+    """The frame count (``n_frames``: PIL reads every frame's header) of an animated GIF or multi-page TIFF cut
+    short after its first frame raised ('unpack_from requires a buffer ...', 'Missing dimensions'), and the whole
+    file was refused as "truncated or corrupt", though the one frame traced was whole. That frame is traced, with
+    a MultiFrameWarning saying the frames could not be counted (``frames`` is ``None``) and why."""
+    from splinecraft.capture.image import MultiFrameWarning
+
+    masks = [shape_mask(), np.roll(shape_mask(), 5, axis=1), shape_mask()[::-1]]
+    buffer = io.BytesIO()
+    frames = [Image.fromarray(gray_image(m)) for m in masks]
+    frames[0].save(buffer, format="GIF" if suffix == "gif" else "TIFF", save_all=True, append_images=frames[1:])
+    data = buffer.getvalue()
+
+    def uncountable(cut):
+        try:
+            Image.open(io.BytesIO(data[:cut])).n_frames
+        except EOFError:
+            return False
+        except Exception:  # noqa: BLE001 - the plugin's own errors, which the loader reported
+            return True
+        return False
+
+    cut = next(cut for cut in range(len(data) // 3, len(data)) if uncountable(cut))
+    for source in (data[:cut], io.BytesIO(data[:cut])):
+        with pytest.warns(MultiFrameWarning) as caught:
+            mask = load_bitmap(source)
+        np.testing.assert_array_equal(mask, masks[0])
+        (warning,) = [item for item in caught if item.category is MultiFrameWarning]  # (PIL warns of the EXIF too)
+        message = str(warning.message)
+        assert "its frames could not be counted (the file is truncated or corrupt after its first frame" in message
+        assert "traced frame 0 (the first)" in message and warning.message.frames is None
+
+
+def layered_psd(composite, layers):
+    """The bytes of a minimal 8-bit grayscale Photoshop file: ``composite`` (the flattened picture a viewer shows)
+    and its ``layers`` (2-D uint8 arrays of its size), raw, without compression."""
+    import struct
+
+    height, width = composite.shape
+    header = b"8BPS" + struct.pack(">H6xHIIHH", 1, 1, height, width, 8, 1) + struct.pack(">II", 0, 0)
+    info = bytearray(struct.pack(">h", len(layers)))
+    for _ in layers:  # bounds, one channel (id 0, gray) of 2 + pixels bytes, normal blending, no extra data
+        info += struct.pack(">iiiiHHI", 0, 0, height, width, 1, 0, 2 + height * width)
+        info += b"8BIMnorm" + bytes([255, 0, 0, 0]) + struct.pack(">I", 0)
+    for layer in layers:
+        info += struct.pack(">H", 0) + np.ascontiguousarray(layer, np.uint8).tobytes()
+    info += b"\0" * (len(info) % 2)
+    section = struct.pack(">I", len(info)) + bytes(info)
+    return (header + struct.pack(">I", len(section)) + section + struct.pack(">H", 0)
+            + np.ascontiguousarray(composite, np.uint8).tobytes())
+
+
+def test_a_layered_photoshop_file_is_its_composite_picture(tmp_path):
+    """PIL counts a Photoshop file's layers as its frames (``n_frames``), numbered from 1, and opens the
+    composite picture. The loader's ``seek(0)`` before reading a multi-frame file asked a layered PSD for a frame
+    it does not have: "truncated or corrupt image file (EOFError: attempt to seek outside sequence)". The
+    composite is the picture (what a viewer shows; no frame of an animation), traced without a
+    MultiFrameWarning."""
+    mask = shape_mask()
+    layers = [gray_image(mask), gray_image(~mask), np.full(mask.shape, 255, np.uint8)]
+    data = layered_psd(gray_image(mask), layers)
+    path = tmp_path / "layers.psd"
+    path.write_bytes(data)
+    with Image.open(path) as img:
+        assert (img.format, img.n_frames) == ("PSD", 3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for source in (path, data, io.BytesIO(data)):
+            np.testing.assert_array_equal(load_bitmap(source), mask)
+
+
+def test_a_pil_image_whose_pixels_cannot_be_read_says_why():
+    """A PIL image opened in a ``with Image.open(path) as img:`` block and traced after it was a bare
+    ``AssertionError`` (PIL loads the pixels lazily and its file was closed; a batch record said only
+    'AssertionError'); a PIL image of a truncated file was a bare ``OSError``, and a closed image PIL's
+    'Operation on closed image'. Each is a ValueError naming the PIL image and why, as a file's are."""
+    mask = shape_mask()
+    buffer = io.BytesIO()
+    Image.fromarray(gray_image(mask)).save(buffer, format="PNG")
+    data = buffer.getvalue()
+    with Image.open(io.BytesIO(data)) as lazy:
+        pass
+    with pytest.raises(ValueError) as caught:
+        load_bitmap(lazy)
+    message = str(caught.value)
+    assert message.startswith("PIL image: its pixels were never loaded and its file is closed")
+    assert "img.load()" in message
+    with pytest.raises(ValueError, match=r"^PIL image: truncated or corrupt image \(OSError: image file is truncated"):
+        load_bitmap(Image.open(io.BytesIO(data[:-30])))
+    closed = Image.fromarray(gray_image(mask))
+    closed.close()
+    with pytest.raises(ValueError, match=r"^PIL image: cannot read its pixels \(ValueError: Operation on closed image"):
+        load_bitmap(closed)
+    with Image.open(io.BytesIO(data)) as loaded:
+        loaded.load()
+    np.testing.assert_array_equal(load_bitmap(loaded), mask)  # loaded in the block: its pixels stay
+
+
 def test_file_object_and_pil_image():
     mask = shape_mask()
     buffer = io.BytesIO()

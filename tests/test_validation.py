@@ -324,3 +324,27 @@ def test_plain_turns_numpy_scalars_into_python_values():
     assert repr(v.plain((np.float64(1.5), [np.int64(2)]))) == "(1.5, [2])"
     array = np.arange(3)
     assert v.plain(array) is array and v.plain("text") == "text" and v.plain(None) is None
+
+
+def test_float32_scalars_show_the_number_they_were_given_as():
+    """A float32 (a value read off a float32 image or array) was shown as the double it converts to:
+    ``sc.trace(mask, epsilon=np.float32(1e-4))`` said "got 9.999999747378752e-05", ``np.float32(1.2)`` as a threshold
+    "got 1.2000000476837158". Messages show the shortest decimal that reads back as that float32 (numpy's own
+    ``str``), ``1e-04`` and ``1.2``, in the shared checks and in ``plain``."""
+    import splinecraft as sc
+
+    mask = np.zeros((8, 8), bool)
+    mask[2:6, 2:6] = True
+    cases = [
+        (dict(epsilon=np.float32(1e-4)), "epsilon (px) must be >= 0.001, got 0.0001"),
+        (dict(threshold=np.float32(1.2)), "threshold must be a fraction of white in [0, 1], got 1.2 "),
+        (dict(noise_factor=np.float32(-0.3)), "noise_factor must be >= 0, got -0.3"),
+        (dict(time_budget=np.float16(-0.1)), "time_budget must be > 0, got -0.1"),
+        (dict(method="positional", tau=np.float32(60.1)), "must be >= 0 and < 50, got 60.1"),
+    ]
+    for options, words in cases:
+        with pytest.raises(ValueError) as caught:
+            sc.trace(mask, **options)
+        assert words in str(caught.value), str(caught.value)
+    assert v.plain(np.float32(0.1)) == 0.1 and type(v.plain(np.float32(0.1))) is float
+    assert repr(v.plain([np.float32(0.7), np.float16(2.2)])) == "[0.7, 2.2]"

@@ -64,7 +64,10 @@ def _kind(value) -> str:
 def plain(value):
     """``value`` for a message: a numpy scalar as the Python value it holds (``np.float64(0.5)`` -> ``0.5``, whose
     repr numpy 2 writes ``np.float64(0.5)``), also the items of a tuple or list (one level deep, and their own);
-    anything else unchanged."""
+    anything else unchanged. A float of less precision than a double (float32, float16) is the shortest decimal that
+    reads back as it (numpy's ``str``: ``np.float32(0.1)`` -> ``0.1``, not the ``0.10000000149011612`` it converts to)."""
+    if isinstance(value, np.floating) and np.finfo(value.dtype).bits < 64:
+        return float(str(value))
     if isinstance(value, np.generic):
         item = value.item()
         return value if isinstance(item, np.generic) else item  # np.longdouble keeps its own type
@@ -128,15 +131,16 @@ def check_number(value, name: str, *, minimum=None, maximum=None, inclusive=True
     if not _is_real(value):
         raise TypeError(f"{name} must be a real number, got {_describe(value)} ({_kind(value)})")
     number = _as_float(value, name)
+    shown = plain(value) if isinstance(value, np.floating) else number  # a float32 as given, not its double
     low_closed, high_closed = _inclusive_pair(inclusive)
     if number != number or (finite and not np.isfinite(number)):
         bounds = _bounds_text(minimum, maximum, (low_closed, high_closed))
         what = f"a finite number {bounds}" if bounds else "a finite number"
-        raise ValueError(f"{name} must be {what}, got {number!r}")
+        raise ValueError(f"{name} must be {what}, got {shown!r}")
     too_low = minimum is not None and (number < minimum or (not low_closed and number == minimum))
     too_high = maximum is not None and (number > maximum or (not high_closed and number == maximum))
     if too_low or too_high:
-        raise ValueError(f"{name} must be {_bounds_text(minimum, maximum, (low_closed, high_closed))}, got {number!r}")
+        raise ValueError(f"{name} must be {_bounds_text(minimum, maximum, (low_closed, high_closed))}, got {shown!r}")
     return number
 
 

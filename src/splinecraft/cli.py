@@ -38,7 +38,8 @@ with ``--quiet``; the manifest keeps the note); ``-v`` counts the polygons apart
 at once: nothing new starts, the workers are killed with the files in flight (their partial files
 removed), what finished is kept in the manifest, and the exit code is 130 (SIGINT) or 143 (SIGTERM).
 Workers also die when this process is killed outright. Exit codes: 0 all traced (or skipped), 1 some
-file failed, 2 usage errors (bad option, output = input, empty output or a file name for several inputs,
+file failed, 2 usage errors (bad option, output = input, manifest = output, an output or manifest that is a
+pipe or a device (``-o /dev/null``; ``-o -`` is stdout), empty output or a file name for several inputs,
 unwritable output directory, unreachable scheduler).
 """
 from __future__ import annotations
@@ -53,6 +54,8 @@ import threading
 __all__ = ["main", "build_parser"]
 
 PROG = "splinecraft"
+#: Decimal places of SVG coordinates without ``--decimals`` (``trace_many``'s default).
+DEFAULT_DECIMALS = 4
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -250,8 +253,9 @@ def build_parser() -> argparse.ArgumentParser:
     tracer.add_argument("--max-pixels", type=_positive_int, default=defaults["max_pixels"], metavar="N",
                         help="refuse images of more than N pixels, read from the file's header before decoding "
                              f"(a decompression bomb costs nothing; default {defaults['max_pixels']})")
-    tracer.add_argument("--decimals", type=_decimals, default=4,
-                        help="decimal places of SVG coordinates (default 4)")
+    tracer.add_argument("--decimals", type=_decimals, default=None,
+                        help=f"decimal places of SVG coordinates (default {DEFAULT_DECIMALS}; not with JSON output, "
+                             "which keeps full precision)")
     tracer.add_argument("-j", "--jobs", type=_non_negative_int, default=None,
                         help="files traced in parallel by local worker processes (0 = one per CPU; default 1; "
                              "capped at the CPU count); with --scheduler: its number of workers")
@@ -455,7 +459,7 @@ def _file_messages(record, quiet, time_budget):
     return lines
 
 
-def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
+def _trace_to_stdout(source, fmt, options, decimals, quiet=False, verbose=False) -> int:
     from .batch import render, run_batch
     from .batch._plan import PlannedFile
 
@@ -466,6 +470,8 @@ def _trace_to_stdout(source, fmt, options, decimals, quiet=False) -> int:
         print(line, file=sys.stderr)
     if record.status != "ok":
         return 1
+    if verbose:
+        print(f"{record.input}: {_summary_line(record.stats, record.time_s)}", file=sys.stderr)
     sys.stdout.buffer.write(render(record.result, fmt, decimals, planned.title))
     sys.stdout.flush()
     return 0
@@ -480,6 +486,11 @@ def _run_trace(args) -> int:
     except ValueError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
+    if args.decimals is not None and fmt == "json":
+        print(f"{PROG}: error: --decimals applies to SVG output only; JSON output (--format json, OUT.json) keeps "
+              "full precision: leave --decimals out, or write SVG", file=sys.stderr)
+        return 2
+    decimals = DEFAULT_DECIMALS if args.decimals is None else args.decimals
     options = {
         "epsilon": args.epsilon, "method": args.method, "corner_method": args.corner_method,
         "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
@@ -489,7 +500,7 @@ def _run_trace(args) -> int:
     }
     if pairs[0][1] == "-":
         try:
-            return _trace_to_stdout(pairs[0][0], fmt, options, args.decimals, quiet=args.quiet)
+            return _trace_to_stdout(pairs[0][0], fmt, options, decimals, quiet=args.quiet, verbose=args.verbose)
         except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
             print(f"{PROG}: error: {exc}", file=sys.stderr)
             return 2
@@ -517,7 +528,7 @@ def _run_trace(args) -> int:
         with _signals_raise() as stop_if_signalled:
             result = run_batch(plan, manifest=manifest, scheduler=args.scheduler,
                                jobs=_job_count(args.jobs, args.scheduler), batch_size=args.batch_size,
-                               resume=args.resume, format=fmt, decimals=args.decimals, progress=show,
+                               resume=args.resume, format=fmt, decimals=decimals, progress=show,
                                on_record=report, trace_params=options, spelling=OPTION_SPELLING)
             stop_if_signalled()
     except Interrupted as stop:

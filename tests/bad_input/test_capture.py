@@ -379,3 +379,20 @@ def test_fuzzy_weights_of_another_method_are_refused(method):
     with pytest.raises(ValueError, match=r"fuzzy_weights is used by the method 'fuzzy'.*only"):
         sc.trace(small_mask(), method=method, fit_params={"fuzzy_weights": (0.9, 0.1)})
     assert sc.trace(small_mask(), method="fuzzy", fit_params={"fuzzy_weights": (0.9, 0.1)}).stats["segments"] > 0
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("sample_spacing", -1.0, "sample_spacing (px) must be >= 0.01 and <= 2, got -1.0"),
+    ("sample_spacing", float("nan"), "sample_spacing (px) must be a finite number >= 0.01 and <= 2, got nan"),
+    ("sample_spacing", np.float64(-0.5), "sample_spacing (px) must be >= 0.01 and <= 2, got -0.5"),
+    ("initial_density", -1.0, "initial_density must be >= 0 and <= 1e+06, got -1.0"),
+    ("initial_density", float("inf"), "initial_density must be a finite number >= 0 and <= 1e+06, got inf"),
+])
+def test_bounded_lsq_options_give_their_whole_range_for_any_bad_value(key, value, message):
+    """sample_spacing and initial_density were checked twice: first as every real option of lsq (a finite
+    number >= 0), then against their own range. A negative or NaN value got the first message, 'sample_spacing
+    must be a finite number >= 0', a range that 0 (then refused as 'must be >= 0.01 and <= 2') does not meet;
+    every bad value now gets the option's own range."""
+    with pytest.raises(ValueError) as caught:
+        sc.trace(small_mask(), fit_params={key: value})
+    assert str(caught.value) == message

@@ -26,8 +26,9 @@ from .._validation import check_bool, check_choice, check_int
 from ..spline.svg import MAX_DECIMALS
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
-                    expand_inputs, is_finished, named_inputs, params_sha256, plan_directory, prepare_directories,
-                    read_pipes, refuse_overwriting_inputs, trace_settings)
+                    expand_inputs, is_finished, load_images, named_inputs, params_sha256, plan_directory,
+                    prepare_directories, read_pipes, refuse_manifest_as_output, refuse_overwriting_inputs,
+                    refuse_special_files, trace_settings)
 from ._schedulers import LOCAL_SCHEDULERS, cpu_count, make_runner
 from ._work import remove_partials, render
 
@@ -116,7 +117,8 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     ----------
     inputs : path, glob pattern, image array, encoded image bytes, a list of them, or a mapping {name: image}
         Globs (``"scans/**/*.png"``) expand to the sorted matching files; arrays and PIL images are traced
-        as given, and ``bytes`` (``bytearray``, ``memoryview``) as the encoded image file they hold, as
+        as given (a PIL image's pixels are decoded in the calling process before the run; one that cannot be read
+        fails alone), and ``bytes`` (``bytearray``, ``memoryview``) as the encoded image file they hold, as
         :func:`splinecraft.trace` reads them (never as a file name); both are named by their position
         (outputs ``image-00000.svg``, ..., records ``<image 0>`` / ``<bytes 0>``). A mapping (a ``dict``)
         names its inputs by its keys, in its order: ``{"logo": array, "page-1": "scans/p1.png"}`` gives the
@@ -124,8 +126,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         image (a path is taken literally, never as a glob pattern), each key a name that can name a file (a
         non-empty ``str`` without a directory separator).
     output_dir : path, optional
-        Where ``NAME.svg`` (``.json``) goes for input ``NAME.png``; created if needed. ``None``: nothing is
-        written, each record carries its ``TraceResult`` (no manifest, no resume).
+        Where ``NAME.svg`` (``.json``) goes for input ``NAME.png``; created if needed (not empty: ``"."`` is the
+        current directory). ``None``: nothing is written, each record carries its ``TraceResult`` (no manifest,
+        no resume).
     scheduler : None, str or distributed.Client
         ``None``: in this process, one file after the other (``jobs > 1``: that many local worker
         processes, no dask needed). ``"threads"``, ``"processes"``, ``"synchronous"``: dask's local
@@ -143,7 +146,7 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     format : {"svg", "json"}
         Output format (see the module text for the exact bytes).
     manifest : path, optional
-        The manifest file; default ``output_dir/splinecraft-manifest.jsonl``.
+        The manifest file; default ``output_dir/splinecraft-manifest.jsonl``. Only with an ``output_dir``.
     decimals : int in [0, 64] (``spline.svg.MAX_DECIMALS``) or None
         Decimal places of SVG coordinates (``TraceResult.to_svg``).
     progress : bool, optional
@@ -163,7 +166,11 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
     Raises
     ------
     TypeError, ValueError
-        Bad arguments (named), an output that is also an input, two inputs with the same output name.
+        Bad arguments (named), an output that is also an input, a manifest that is also an output, an output or
+        manifest that is a named pipe or a device (``/dev/null``), two inputs with the same output name (or names
+        that differ only in case, in an output directory that ignores case: macOS, Windows), one PIL image of
+        several frames given for several inputs (each is traced at the frame it is at when traced: pass
+        ``img.copy()`` after each ``img.seek(k)``).
     OSError
         An output directory that cannot be created or written. ``ConnectionError``: no dask scheduler
         answers at the address (within 5 s).
@@ -177,6 +184,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         names, sources = None, expand_inputs(inputs)
     if output_dir is not None:
         output_dir = os.fspath(output_dir)
+        if not output_dir:
+            raise ValueError("output_dir is empty: give a directory ('.' for the current one), or None to keep the "
+                             "results in memory")
     plan = plan_directory(sources, output_dir, format, names)
     if manifest is None and output_dir is not None:
         manifest = os.path.join(output_dir, MANIFEST_NAME)
@@ -271,11 +281,21 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     arguments, settings_hash = trace_settings(trace_params or {})
     check_trace_arguments(arguments)
     writes = any(planned.output is not None for planned in plan)
+    if manifest is not None and not os.fspath(manifest):
+        raise ValueError("manifest is empty: give a file name, or None for the default (output_dir/"
+                         f"{MANIFEST_NAME})")
+    if manifest is not None and not writes:
+        raise ValueError(f"manifest {os.fspath(manifest)} is given, but output_dir is None: nothing is written, so "
+                         "there is nothing to record or resume; give an output_dir, or leave manifest out")
     manifest_path = os.path.abspath(os.fspath(manifest)) if manifest is not None and writes else None
     if manifest_path is not None and os.path.isdir(manifest_path):
         raise ValueError(f"manifest {manifest_path!r} is a directory: give the manifest's file name, e.g. "
                          f"{os.path.join(manifest_path, MANIFEST_NAME)!r}")
     refuse_overwriting_inputs(plan, manifest_path)
+    refuse_manifest_as_output(plan, manifest_path)
+    refuse_special_files(plan, manifest_path)
+    ledger = Manifest(manifest_path) if manifest_path is not None else None
+    entries = ledger.load() if ledger is not None else {}  # before anything is created: it may be refused
     runner = make_runner(scheduler, jobs, len(plan))
     try:
         prepare_directories(plan, manifest_path)
@@ -284,9 +304,8 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
         raise
     params_hash = params_sha256(settings_hash, format, decimals)
     plan = read_pipes(plan)  # read once: hashed for resume and traced from the same bytes
+    plan = load_images(plan, arguments["max_pixels"])  # PIL images decoded here: one that cannot be fails alone
 
-    ledger = Manifest(manifest_path) if manifest_path is not None else None
-    entries = ledger.load() if ledger is not None else {}
     skipped, pending = [], []
     for job in plan:
         entry = entries.get(ledger.key(job.output)) if ledger is not None and job.output is not None else None

@@ -8,8 +8,9 @@ Each line records one traced file (README, "Many bitmaps")::
 
 ``output`` is relative to the manifest's directory, so a traced folder can be moved with its manifest.
 Lines are appended (and flushed) as files finish, so a killed run keeps what it had finished; at the end of a
-run the file is rewritten atomically with the newest line per output (one line per file). A line that is
-not valid JSON (a run killed while appending) is ignored.
+run the file is rewritten atomically with the newest line per output (one line per file). A line torn by a
+run killed while appending (the start of a JSON object) is ignored; a file with any other line that is not a
+manifest line (notes, an SVG, another program's JSON) is refused, not rewritten.
 """
 from __future__ import annotations
 
@@ -37,26 +38,32 @@ class Manifest:
         return os.path.relpath(os.path.abspath(os.fspath(output)), self.directory)
 
     def load(self) -> dict:
-        """Read every line; the newest line of each output wins. A missing file is an empty manifest."""
+        """Read every line; the newest line of each output wins. A missing file is an empty manifest. A line torn by
+        a run killed while appending (the start of a JSON object) is ignored; a file with any other line is not a
+        manifest, a ``ValueError`` (the run would rewrite it with its own lines: its content would be lost)."""
         self.entries, self.ignored_lines = {}, 0
         try:
             with open(self.path, encoding="utf-8") as handle:
                 lines = handle.read().splitlines()
-        except FileNotFoundError:
+        except (FileNotFoundError, NotADirectoryError):  # (a folder on its path that is a file: said when it is made)
             return self.entries
         except UnicodeDecodeError as exc:
             raise ValueError(f"manifest {self.path} is not a splinecraft manifest (not UTF-8 text)") from exc
-        for line in lines:
+        for number, line in enumerate(lines, 1):
             if not line.strip():
                 continue
             try:
                 entry = json.loads(line)
             except ValueError:
-                self.ignored_lines += 1
-                continue
+                entry = None
+                if line.lstrip().startswith("{"):  # torn: a run killed while appending it
+                    self.ignored_lines += 1
+                    continue
             if not isinstance(entry, dict) or not isinstance(entry.get("output"), str):
-                self.ignored_lines += 1
-                continue
+                shown = line if len(line) <= 60 else line[:57] + "..."
+                raise ValueError(f"manifest {self.path} is not a splinecraft manifest (line {number}: {shown!r} is "
+                                 "no manifest line); it would be rewritten with this run's lines: give a new file "
+                                 f"name, or leave the manifest out (output_dir/{MANIFEST_NAME})")
             self.entries[entry["output"]] = entry
         return self.entries
 

@@ -12,12 +12,13 @@ import inspect
 import json
 import math
 import os
+import stat
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._validation import check_choice, check_positive_int
-from ._work import PART_SUFFIX, file_sha256, input_sha256
+from ._work import PART_SUFFIX, UnreadableImage, file_sha256, input_sha256
 
 FORMATS = ("svg", "json")
 _GLOB_CHARACTERS = frozenset("*?[")
@@ -56,6 +57,9 @@ def _is_image_object(value) -> bool:
 def expand_inputs(inputs) -> list:
     """Paths, glob patterns, image arrays and encoded image bytes -> a flat list (globs expanded, sorted; order
     kept; bytearray and memoryview copied to ``bytes``, which every worker can be sent)."""
+    if isinstance(inputs, np.ndarray) and inputs.dtype.kind in "USO":
+        raise TypeError(f"inputs is a numpy array of dtype {inputs.dtype}, which is no image (an image array holds "
+                        "numbers); for a list of paths pass inputs.tolist()")
     if isinstance(inputs, (str, os.PathLike, *ENCODED_IMAGE_TYPES)) or _is_image_object(inputs):
         inputs = [inputs]
     try:
@@ -98,6 +102,7 @@ def named_inputs(inputs) -> tuple:
         if not isinstance(name, str):
             raise TypeError(f"inputs keys must be names (str), got {name!r} ({type(name).__name__}): a mapping "
                             "of inputs is {name: image}")
+        name = str(name)  # plain text: np.str_ keys (from a numpy array of names) showed as np.str_('a')
         separators = {"/", os.sep, os.altsep, "\x00"} - {None}
         if name in ("", ".", "..") or any(separator in name for separator in separators):
             raise ValueError(f"inputs key {name!r} is not a name: a key names its output NAME.svg, so it must be "
@@ -119,9 +124,10 @@ def named_inputs(inputs) -> tuple:
 
 def plan_directory(sources, output_dir, fmt, names=None) -> list:
     """One job per source; outputs ``output_dir/NAME.fmt`` (``image-00003`` for arrays and bytes: the input's
-    position; with ``names``, one per source, that name: also the label and the SVG title), or none."""
+    position; with ``names``, one per source, that name: also the label and the SVG title), or none. One PIL image
+    of several frames given for two inputs is refused (:func:`_refuse_shared_frames`)."""
     width = max(5, len(str(len(sources) - 1)))
-    jobs, seen = [], {}
+    jobs, seen, images = [], {}, {}
     for index, source in enumerate(sources):
         if names is not None:
             stem = label = title = names[index]
@@ -130,6 +136,8 @@ def plan_directory(sources, output_dir, fmt, names=None) -> list:
         else:
             kind = "bytes" if isinstance(source, bytes) else "image"
             stem, label, title = f"image-{index:0{width}d}", f"<{kind} {index}>", None
+        if type(source).__module__.startswith("PIL."):
+            _refuse_shared_frames(images.setdefault(id(source), (source, label)), source, label)
         output = None
         if output_dir is not None:
             name = f"{stem}.{fmt}"
@@ -139,6 +147,19 @@ def plan_directory(sources, output_dir, fmt, names=None) -> list:
             output = os.path.abspath(os.path.join(output_dir, name))
         jobs.append(PlannedFile(index=index, source=source, label=label, output=output, title=title))
     return jobs
+
+
+def _refuse_shared_frames(first, source, label) -> None:
+    """``ValueError`` when ``source``, a PIL image of several frames, was given before (``first``: that input's
+    image and label): a PIL image is traced at the frame it is at when its turn comes, so the frames of one image
+    seeked in a loop would all be traced at its last frame."""
+    image, first_label = first
+    if image is not source or first_label == label or getattr(source, "n_frames", 1) <= 1:
+        return
+    raise ValueError(f"inputs {first_label} and {label} are the same PIL image object, a file of {source.n_frames} "
+                     f"frames now at frame {source.tell()}: a PIL image is traced at the frame it is at when it is "
+                     "traced, so both would be that frame; give each frame its own image (img.seek(k), then "
+                     "img.copy())")
 
 
 def read_pipes(plan) -> list:
@@ -157,6 +178,27 @@ def read_pipes(plan) -> list:
                 piped = None
             if piped is not None:
                 job = dataclasses.replace(job, source=piped)
+        planned.append(job)
+    return planned
+
+
+def load_images(plan, max_pixels) -> list:
+    """The plan with the pixels of every PIL image input decoded here, in the calling process: PIL reads them from
+    the image's file when first asked, and an image sent to a worker process is pickled, which reads them there;
+    one that cannot be read (its file closed before they were loaded, truncated data) failed the whole task it
+    was sent in, the good images beside it too, or a dask run. Such an input becomes an
+    :class:`~splinecraft.batch._work.UnreadableImage` that fails alone, with the loader's reason. An image of
+    more than ``max_pixels`` pixels (trace's cap) is left undecoded: its trace refuses it from its size."""
+    from ..capture.image import load_pil_pixels
+
+    planned = []
+    for job in plan:
+        source = job.source
+        if type(source).__module__.startswith("PIL.") and int(source.width) * int(source.height) <= max_pixels:
+            try:
+                load_pil_pixels(job.source, "PIL image")
+            except ValueError as exc:
+                job = dataclasses.replace(job, source=UnreadableImage(str(exc)))
         planned.append(job)
     return planned
 
@@ -191,8 +233,54 @@ def refuse_overwriting_inputs(jobs, manifest_path) -> None:
                              "choose another output")
 
 
+def refuse_manifest_as_output(jobs, manifest_path) -> None:
+    """``ValueError`` when the manifest is also an output (same path after symlinks, or the same file through a
+    hard link): the output would be written and the manifest's lines appended to it."""
+    if manifest_path is None:
+        return
+    real, identity = os.path.realpath(manifest_path), _identity(manifest_path)
+    for job in jobs:
+        if job.output is not None and (os.path.realpath(job.output) == real
+                                       or (identity is not None and _identity(job.output) == identity)):
+            raise ValueError(f"manifest {manifest_path} is also the output of {job.label}; the manifest's lines "
+                             "would be appended to that output: choose another manifest")
+
+
+#: Kinds of file that an output or the manifest must not be (they are written through a temporary file renamed
+#: over them, which would replace the pipe or the device node with a regular file), by ``stat`` test.
+_SPECIAL_FILES = ((stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a character device"),
+                  (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def refuse_special_files(jobs, manifest_path) -> None:
+    """``ValueError`` when an output or the manifest exists and is a named pipe, a device or a socket (after
+    symlinks: ``/dev/stdout``): outputs and the manifest are written through a temporary file renamed over them,
+    which would replace it by a regular file, and the resume check would read it (a pipe without a writer
+    blocks)."""
+    targets = [(job.output, "output") for job in jobs if job.output is not None]
+    if manifest_path is not None:
+        targets.append((manifest_path, "manifest"))
+    for target, what in targets:
+        try:
+            mode = os.stat(target).st_mode
+        except OSError:
+            continue
+        for test, kind in _SPECIAL_FILES:
+            if test(mode):
+                raise ValueError(f"{what} {target} is {kind}, not a regular file: it would be replaced by a "
+                                 "regular file (outputs are written to a temporary file renamed over theirs); "
+                                 "give a file path (on the command line, -o - writes to stdout)")
+
+
+def directory_ignores_case(directory, name) -> bool:
+    """Whether the file system of ``directory`` finds its file ``name`` (just created) also under that name with
+    the case of its letters swapped (the usual file systems of macOS and Windows)."""
+    return os.path.exists(os.path.join(directory, name.swapcase()))
+
+
 def prepare_directories(jobs, manifest_path) -> None:
-    """Create the output directories and check that a file can be created in each (before any tracing)."""
+    """Create the output directories and check that a file can be created in each (before any tracing); in a
+    directory that ignores case, two outputs whose names differ only in case are refused (one file there)."""
     directories = {os.path.dirname(job.output) for job in jobs if job.output is not None}
     if manifest_path is not None:
         directories.add(os.path.dirname(manifest_path))
@@ -201,13 +289,31 @@ def prepare_directories(jobs, manifest_path) -> None:
             raise ValueError(f"output directory {directory} exists and is not a directory")
         try:
             os.makedirs(directory, exist_ok=True)
-            probe = os.path.join(directory, f".write-check.{os.getpid()}{PART_SUFFIX}")
+            name = f".write-check.{os.getpid()}{PART_SUFFIX}"
+            probe = os.path.join(directory, name)
             with open(probe, "wb"):
                 pass
-            os.unlink(probe)
+            try:
+                ignores_case = directory_ignores_case(directory, name)
+            finally:
+                os.unlink(probe)
         except OSError as exc:
             raise OSError(exc.errno, f"output directory {directory} is not writable: "
                                      f"{exc.strerror or exc}") from exc
+        if ignores_case:
+            _refuse_case_collisions([job for job in jobs if job.output is not None
+                                     and os.path.dirname(job.output) == directory], directory)
+
+
+def _refuse_case_collisions(jobs, directory) -> None:
+    seen = {}
+    for job in jobs:
+        name = os.path.basename(job.output)
+        first = seen.setdefault(name.casefold(), job)
+        if first is not job:
+            raise ValueError(f"inputs {first.label} and {job.label} would both be written to "
+                             f"{os.path.basename(first.output)} and {name}, one file in output directory "
+                             f"{directory}, which ignores case: rename one")
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -285,6 +391,8 @@ def auto_batch_size(seconds_per_file, remaining, workers) -> int:
 def is_finished(job, entry, params_hash) -> bool:
     """The manifest's line says this job's output is done, and input, settings and output still match."""
     if not entry or entry.get("status") != "ok" or entry.get("params_sha256") != params_hash:
+        return False
+    if isinstance(job.source, UnreadableImage):
         return False
     if job.title is not None and os.path.basename(str(entry.get("input", ""))) != job.title:
         return False  # the SVG title is the input's file name

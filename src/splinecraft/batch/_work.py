@@ -141,6 +141,14 @@ def remove_partials(outputs) -> list:
 # ---------------------------------------------------------------------------------------------------
 # one file, one batch
 # ---------------------------------------------------------------------------------------------------
+class UnreadableImage:
+    """What a worker gets for an input the calling process could not decode (a PIL image whose pixels cannot be
+    read, ``batch._plan.load_images``): its file fails with ``reason``, alone."""
+
+    def __init__(self, reason):
+        self.reason = reason
+
+
 def failure_reason(exc, source_name=None) -> str:
     """One line saying why a file failed (the loader's own message without a repeated file name)."""
     text = str(exc).strip()
@@ -209,6 +217,8 @@ def trace_one(item, settings) -> dict:
     record = {"index": item["index"], "status": "failed", "error": None, "input_sha256": None,
               "output_sha256": None, "stats": None, "result": None, "warnings": []}
     try:
+        if isinstance(source, UnreadableImage):
+            raise ValueError(source.reason)
         with warnings.catch_warnings(record=True) as caught:  # kept with the file they are about
             warnings.simplefilter("always")
             result = trace(source, **settings["trace"])  # first: the loader's messages name the file

@@ -63,11 +63,16 @@ Conventions
   ``mask.filled(False)`` for a bool mask.
 * **Files** are closed when loading returns or fails (files PIL opened from a path, and a path that is a pipe,
   such as the shell's ``<(...)``, read whole first; a file object passed in stays open, it belongs to the
-  caller).
+  caller). A **PIL image** reads its pixels from its file when first asked (PIL loads lazily): one opened in a
+  ``with Image.open(...)`` block and passed after it has lost them, a ``ValueError`` that says so (load it in
+  the block, ``img.load()``, or pass the path), as for a truncated file.
 * **Multi-frame files** (animated GIF, PNG or WebP, multi-page TIFF) given as a path, bytes or a file object: the
   first frame is used, and a :class:`MultiFrameWarning` says so, with the file's frame count and how to trace
   another frame (open the file with PIL, ``img.seek(k)``, and pass ``img``). A PIL image is used at the frame it
-  is at (its owner chose it with ``seek``), without a warning.
+  is at (its owner chose it with ``seek``), without a warning. A file whose frames cannot be counted (cut short
+  or damaged after its first frame: PIL reads every frame's header to count them) is traced from its first frame
+  when that one is whole, with a :class:`MultiFrameWarning` that says so (``frames`` is ``None``). A Photoshop
+  file's layers are not frames: its composite picture is traced (:data:`LAYERED_FORMATS`).
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
 row blocks), so an 8000 x 8000 8-bit image needs about 64 MB for the gray channel and 64 MB for the mask.
@@ -263,22 +268,34 @@ def _warn_if_inverted(mask):
             "pass invert=True (or ~mask)", share))
 
 
+#: Formats whose PIL "frames" (``n_frames``) are the layers of one picture, numbered from 1, not pictures of their
+#: own: such a file opens at its composite picture (what a viewer shows), which is traced, without a
+#: :class:`MultiFrameWarning` (``seek(0)`` asked a layered Photoshop file for a frame it does not have).
+LAYERED_FORMATS = ("PSD",)
+
+
 class MultiFrameWarning(UserWarning):
     """An image file (path, bytes or file object) with several frames, an animated GIF, PNG or WebP or a
-    multi-page TIFF: only one frame is traced. ``frames`` is the file's frame count, ``frame`` the index of the
+    multi-page TIFF: only one frame is traced. ``frames`` is the file's frame count (``None``: they could not be
+    counted, the file is truncated or corrupt after its first frame, which was traced), ``frame`` the index of the
     frame traced (0, the first). To trace frame ``k``: ``img = PIL.Image.open(file); img.seek(k)`` and pass
     ``img`` (a PIL image is traced at the frame it is at)."""
 
     def __init__(self, message, frames, frame=0):
         super().__init__(message)
-        self.frames = int(frames)
+        self.frames = None if frames is None else int(frames)
         self.frame = int(frame)
 
 
-def _warn_if_several_frames(name, frames):
+def _warn_if_several_frames(name, frames, uncounted=None):
     """Say that only the first of the ``frames`` frames of image file ``name`` is traced (module docstring,
-    "Multi-frame files")."""
-    if frames > 1:
+    "Multi-frame files"); ``frames`` is ``None`` when counting them failed with ``uncounted``."""
+    if frames is None:
+        _warn(MultiFrameWarning(
+            f"{name}: its frames could not be counted (the file is truncated or corrupt after its first frame: "
+            f"{type(uncounted).__name__}: {_short(str(uncounted), 80)}); traced frame 0 (the first), which is whole",
+            None, 0))
+    elif frames > 1:
         _warn(MultiFrameWarning(
             f"{name}: the file has {frames} frames (an animated or multi-page image); traced frame 0 (the first) "
             "only. To trace frame k, pick it with PIL and pass the image: img = PIL.Image.open(file); "
@@ -418,6 +435,7 @@ def _to_gray(image, max_pixels=MAX_PIXELS, alpha=False):
 
     if isinstance(image, Image.Image):
         _check_size(image, "PIL image", max_pixels)
+        load_pil_pixels(image, "PIL image")
         return _pil_to_gray(image, name="PIL image", alpha=alpha)
     if isinstance(image, (bytes, bytearray, memoryview)):
         data = bytes(image)
@@ -438,6 +456,24 @@ def _to_gray(image, max_pixels=MAX_PIXELS, alpha=False):
         "image must be a path, a binary file object, a numpy array or a PIL image, "
         f"got {type(image).__name__}"
     )
+
+
+def load_pil_pixels(img, name):
+    """Decode the pixels of a PIL image passed in (PIL loads them lazily, from its file); its failures become a
+    ValueError naming the image: a file closed before the pixels were loaded (PIL's bare ``AssertionError``: an
+    image opened in a ``with Image.open(...)`` block and used after it), truncated data, a closed image."""
+    try:
+        img.load()
+    except MemoryError:
+        raise
+    except Exception as exc:
+        if isinstance(exc, (AssertionError, AttributeError)) and getattr(img, "fp", False) is None:
+            raise ValueError(f"{name}: its pixels were never loaded and its file is closed (PIL reads them lazily: "
+                             "an image opened in a `with Image.open(...)` block must be loaded in it, img.load(), "
+                             "or pass the file's path)") from None
+        if isinstance(exc, (OSError, SyntaxError, EOFError)):
+            raise ValueError(f"{name}: truncated or corrupt image ({type(exc).__name__}: {exc})") from None
+        raise ValueError(f"{name}: cannot read its pixels ({type(exc).__name__}: {exc})") from None
 
 
 def _check_size(img, name, max_pixels):
@@ -515,16 +551,30 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             with warnings.catch_warnings(), _pil_limit_at_least(max_pixels):
                 # our own cap has been applied; PIL's checks (seeking a frame runs one) are moot
                 warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-                frames = getattr(img, "n_frames", 1)
-                if frames > 1:
+                frames, uncounted = _frame_count(img)
+                if frames is None or frames > 1:
                     img.seek(0)
                 img.load()
         except MemoryError:
             raise
         except Exception as exc:  # truncated data: OSError("image file is truncated ..."), SyntaxError, ...
             raise ValueError(f"{name}: truncated or corrupt image file ({type(exc).__name__}: {exc})") from None
-        _warn_if_several_frames(name, frames)
+        _warn_if_several_frames(name, frames, uncounted)
         return _upright(img)
+
+
+def _frame_count(img):
+    """``(frames, None)``: the number of frames of an opened image file (1 for a layered one, :data:`LAYERED_FORMATS`),
+    or ``(None, error)`` when counting them failed: PIL reads the header of every frame, and a file cut short or
+    damaged after its first frame fails there while the first frame, the one traced, is whole."""
+    if img.format in LAYERED_FORMATS:
+        return 1, None
+    try:
+        return getattr(img, "n_frames", 1), None
+    except MemoryError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - a format plugin's own errors (struct.error, IndexError, TypeError ...)
+        return None, exc
 
 
 _PIL_LIMIT_LOCK = threading.Lock()

@@ -55,8 +55,10 @@ LSQ_DEFAULTS = {"corner_radius": 2.0, "corner_allowance": 0.5, "tip_gap": 0.5, "
                 "initial_density": 0.01, "fallback": True, "joint_continuity": 2, "merge_tolerance": 0.5,
                 "pixel_check": False, "pixel_slack": 0.1, "curvature_jumps": "smooth"}
 LSQ_OPTIONS = tuple(LSQ_DEFAULTS)
-_LSQ_REALS = ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "sample_spacing", "corner_pin",
-              "initial_density", "merge_tolerance", "pixel_slack")
+#: Real options of lsq checked as finite numbers >= 0 (``sample_spacing`` and ``initial_density`` are checked
+#: against their own ranges, so that every bad value gets that range in its message).
+_LSQ_REALS = ("corner_radius", "corner_allowance", "tip_gap", "hoschek_gate", "corner_pin", "merge_tolerance",
+              "pixel_slack")
 _LSQ_BOOLS = ("remove_knots", "fallback", "pixel_check")
 #: Smallest ``sample_spacing`` (px) of the deviation check: 25 samples per pixel beside the final check's 4. The
 #: samples (and the chords searched around each) grow as 1 / spacing: 1e-5 px took 20 s on a 160-px disc,

@@ -116,13 +116,17 @@ def pixel_corners(points, lengths):
     def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
         step, beyond = run(m + way), run(m + 2 * way)
         continues = (length[step] == 1) & (direction[beyond] == direction[run(m)])
-        # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond``, with a
-        # step at both ends) of MIN_RUN cracks or more: the runs of a digital straight segment differ by at most
+        # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond`` or the
+        # one after it, with a step at both ends) of MIN_RUN cracks or more: the runs of a digital straight segment differ by at most
         # one and its end runs can only be shorter, so the run is then no tread of an off-axis side but a straight
         # side of its own, from which the outline bends away gently (a flat side running into a curve; a round
         # end of a few pixels turns through treads of one or two cracks)
         whole = (length[run(m + 3 * way)] == 1) & (direction[run(m + 4 * way)] == direction[run(m)])
-        flat = whole & (length[beyond] >= MIN_RUN) & (length[run(m)] > length[beyond] + 1)
+        # the longer of the first two whole treads (the first can be a crack or two short with the phase of
+        # the pixels: 2, 3 beside a bowl of radius 24)
+        second = whole & (length[run(m + 5 * way)] == 1) & (direction[run(m + 6 * way)] == direction[run(m)])
+        tread_length = np.maximum(length[beyond], np.where(second, length[run(m + 4 * way)], 0))
+        flat = whole & (tread_length >= MIN_RUN) & (length[run(m)] > tread_length + 1)
         return continues & ~flat
 
     # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread

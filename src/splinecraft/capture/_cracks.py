@@ -50,7 +50,7 @@ def _ink(padded, row, col):
 
 @njit(**JIT_OPTIONS)
 def _count_cracks(padded):
-    count = 0
+    count = np.int64(0)
     for row in range(padded.shape[0]):
         for col in range(padded.shape[1]):
             here = padded[row, col]
@@ -76,8 +76,8 @@ def _starts_at(padded, vertex_x, vertex_y):
 def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_turn, offsets):
     """Fill the per-crack arrays in cycle order (``visited``: zeros, one byte per vertex); returns the number of
     cycles, or -1 when a crack has no successor (the tracer's invariant broken)."""
-    written = 0
-    cycles = 0
+    written = np.int64(0)
+    cycles = np.int64(0)
     height, width = padded.shape
     for vertex_y in range(height + 1):
         for vertex_x in range(width + 1):
@@ -111,7 +111,7 @@ def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_
                         # last one on either axis.
                         left = True
                         for radius in range(2, 5):
-                            balance = 0
+                            balance = np.int64(0)
                             for row_offset in range(-radius, radius):
                                 edge_row = row_offset == -radius or row_offset == radius - 1
                                 step = 1 if edge_row else 2 * radius - 1
@@ -161,7 +161,7 @@ def _shoelace_into(tail_x, tail_y, offsets, area2):
     """Twice the signed shoelace area of every cycle of crack tails (integers: exact)."""
     for cycle in range(offsets.shape[0] - 1):
         lo, hi = offsets[cycle], offsets[cycle + 1]
-        total = 0
+        total = np.int64(0)
         for i in range(lo, hi):
             j = i + 1 if i + 1 < hi else lo
             total += np.int64(tail_x[i]) * tail_y[j] - np.int64(tail_x[j]) * tail_y[i]
@@ -176,10 +176,10 @@ def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, buffer_col
     (one pixel where all are equal), and the Freeman code of each step to the next kept pixel. Returns the
     number of chain pixels, or -1 when a step is longer than one pixel (``buffer_*``: room for the longest
     cycle's pixels)."""
-    kept = 0
+    kept = np.int64(0)
     kept_offsets[0] = 0
     for cycle in range(offsets.shape[0] - 1):
-        emitted = 0
+        emitted = np.int64(0)
         for i in range(offsets[cycle], offsets[cycle + 1]):
             d = direction[i]
             buffer_col[emitted] = tail_x[i] + _AHEAD_RIGHT_X[d]  # the pixel right of the tail
@@ -247,7 +247,7 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fil
     for row in range(height + 1):
         if row_start[row] == row_start[row + 1]:
             continue
-        first_x, last_x = width, 0
+        first_x, last_x = width, np.int64(0)
         for f in range(row_start[row], row_start[row + 1]):  # mark the row's cracks, then walk its columns
             x = tail_x[filed[f]]
             run_cycle[x], run_kind[x] = cycle_of[filed[f]], direction[filed[f]]
@@ -271,7 +271,7 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fil
             run_kind[x] = 0
         if opened >= 0:
             return -1
-    count = 0
+    count = np.int64(0)
     for cycle in range(n_cycles):
         number_of_root[cycle] = -1
     for cycle in range(n_cycles):

@@ -68,7 +68,7 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, alive, s
         length = ladder[rung]
         for start in range(state.shape[0]):
             state[start] = 0
-        any_alive = False
+        any_alive = np.bool_(False)
         for side in range(2):
             for i in range(m):
                 if not alive[side, i]:

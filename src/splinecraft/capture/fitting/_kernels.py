@@ -42,7 +42,7 @@ _NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty(
 @njit(**_HELPER)
 def _right_of(values, x):
     """The number of ``values`` (sorted) that are ``<= x``: ``numpy.searchsorted(values, x, side="right")``."""
-    lo, hi = 0, values.shape[0]
+    lo, hi = np.int64(0), values.shape[0]
     while lo < hi:
         mid = (lo + hi) // 2
         if x < values[mid]:
@@ -128,7 +128,7 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         partial[7, k2] += w2 * n2
         partial[8, k2] += w2 * n3
         partial[9, k3] += w3 * n3
-    pair = 0
+    pair = np.int64(0)
     for r in range(4):  # pair (r, s) in the order r, then s: band row s - r
         for s in range(r, 4):
             for a in range(m):
@@ -402,7 +402,7 @@ def _samples_into(bez, spacing, starts, ends, counts, count_only, points, params
     returns their sum. Else the samples of the pieces by those counts into ``points``, ``params`` and
     ``interval``."""
     if count_only:
-        total = 0
+        total = np.int64(0)
         for k in range(bez.shape[0]):
             length = np.hypot(bez[k, 1, 0] - bez[k, 0, 0], bez[k, 1, 1] - bez[k, 0, 1])
             length += np.hypot(bez[k, 2, 0] - bez[k, 1, 0], bez[k, 2, 1] - bez[k, 1, 1])
@@ -499,7 +499,7 @@ _WARM = []
 @njit(**_JIT)
 def _separating_slope_into(t_ink, y_ink, t_paper, y_paper, slopes, step, rounds, grid, out):
     for _ in range(rounds):
-        best, best_gap = 0, -np.inf
+        best, best_gap = np.int64(0), -np.inf
         for i in range(slopes.shape[0]):
             above = np.inf
             for j in range(t_ink.shape[0]):

@@ -72,8 +72,8 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
     for r in range(p0.shape[0]):
         n = count[r]
         stride = max(1, n // fit_points)
-        m = 0  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
-        j = 0
+        m = np.int64(0)  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
+        j = np.int64(0)
         while j < n:
             scratch[m, 0] = j
             scratch[m, 1] = min(max((u[lo[r] + j] - start[r]) / span[r], 0.0), 1.0)
@@ -154,7 +154,7 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
         # every covered point: parameter interpolated between the fitted ones, one Newton step, distance (until
         # the run can no longer qualify: its excess or drift above ``limits``)
         worst, far, total = -np.inf, 0.0, 0.0
-        i = 0
+        i = np.int64(0)
         for j in range(n):
             if worst > limits[0] or far > limits[1]:
                 break

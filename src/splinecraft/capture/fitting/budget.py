@@ -79,11 +79,11 @@ def _turning_into(points, offsets, turning, bounds):
     """Flag the turning points of every closed polyline ``points[offsets[b]:offsets[b + 1]]`` (the step direction
     changes there: ``|cross| + (1 - dot) > 1e-9`` of the unit steps before and after; all points of a polyline
     with fewer than 3), the vertex offsets of each polyline into ``bounds``; returns the number of vertices."""
-    total = 0
+    total = np.int64(0)
     bounds[0] = 0
     for outline in range(offsets.shape[0] - 1):
         lo, hi = offsets[outline], offsets[outline + 1]
-        count = 0
+        count = np.int64(0)
         for i in range(lo, hi):
             after = i + 1 if i + 1 < hi else lo
             before = i - 1 if i > lo else hi - 1

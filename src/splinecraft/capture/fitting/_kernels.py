@@ -37,6 +37,10 @@ def _ints(values):
 
 # Empty arguments of the kernels' unused outputs (one compiled signature for both uses of a kernel).
 _NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty((0, 2))
+# The band row ``s - r`` of each pair ``(r, s)`` of basis functions, ``r <= s``, in the order r, then s
+# (:func:`_normal_into`; a loop over the 10 rows of ``partial``, not over r and s: LLVM unrolled those loops into 10
+# vectorized copies of the inner loop, about 15 % of the compiled code of the fit's solves).
+_BAND_ROW = np.array([0, 1, 2, 3, 0, 1, 2, 0, 1, 0], dtype=np.int64)
 
 
 @njit(**_HELPER)
@@ -128,12 +132,10 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         partial[7, k2] += w2 * n2
         partial[8, k2] += w2 * n3
         partial[9, k3] += w3 * n3
-    pair = np.int64(0)
-    for r in range(4):  # pair (r, s) in the order r, then s: band row s - r
-        for s in range(r, 4):
-            for a in range(m):
-                band[s - r, a] += partial[pair, a]
-            pair += 1
+    for pair in range(partial.shape[0]):  # the pairs (r, s) in the order r, then s: band row s - r
+        row = _BAND_ROW[pair]
+        for a in range(m):
+            band[row, a] += partial[pair, a]
 
 
 def normal_equations(full, u, weights, targets, m):
@@ -245,9 +247,7 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         step = -(r0 * p0 + r1 * p1) / max(den, 1e-300)
         du[j] = min(max(step, -2.0), 2.0)
         res[j] = np.hypot(r0, r1)
-    for g in range(worst.shape[0]):
-        worst[g] = -np.inf
-    for j in range(u.shape[0]):
+    for j in range(u.shape[0]):  # worst: -inf from the wrapper
         worst[piece_of[j]] = max(worst[piece_of[j]], res[j])
     for j in range(u.shape[0]):
         if worst[piece_of[j]] > gate:
@@ -277,7 +277,7 @@ def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bo
     fixed, base)`` instead the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
     high)`` with ``base`` where ``fixed``."""
     u = _floats(u)
-    du, res, worst = np.empty(u.shape[0]), np.empty(u.shape[0]), np.empty(int(piece_count))
+    du, res, worst = np.empty(u.shape[0]), np.empty(u.shape[0]), np.full(int(piece_count), -np.inf)
     if bounds is None:
         low = high = base = moved = np.empty(0)
         fixed = np.empty(0, np.bool_)
@@ -437,9 +437,6 @@ def interval_samples(bez, starts, ends, spacing):
 
 @njit(**_JIT)
 def _group_max_into(groups, values, best, at):
-    for g in range(best.shape[0]):
-        best[g] = -np.inf
-        at[g] = -1
     for j in range(groups.shape[0]):
         g, v = groups[j], values[j]
         if at[g] < 0 or v > best[g] or (np.isnan(v) and not np.isnan(best[g])):
@@ -488,7 +485,7 @@ def search_sorted(values, keys, side="left"):
 def group_max(groups, values, count):
     """Per group ``g < count`` (``groups`` non-decreasing): the maximum of ``values`` (``-inf`` if empty; NaN
     wins, as in ``numpy.maximum``) and the first index where it occurs (0 for empty groups and NaN maxima)."""
-    best, at = np.empty(int(count)), np.empty(int(count), np.int64)
+    best, at = np.full(int(count), -np.inf), np.full(int(count), -1, np.int64)  # the empty groups' answers
     _group_max_into(_ints(groups), _floats(values), best, at)
     return best, at
 
@@ -625,23 +622,23 @@ def _larger(a, b):
 
 
 @njit(**_JIT)
-def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corner_par, bounds, cornered, parameter, base, ex, ey,
-                    edx, edy, einv, probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above, reach, d_curve, tol_curve, curve_zone, d_data, tol_data, data_iv, excess,
-                    piece_dev, piece_err, piece_excess):
+def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base, edges,
+                    probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above, reach,
+                    curve_out, curve_zone, data_out, data_iv, excess, piece_out):
+    """:func:`deviation_measures` into ``curve_out`` (rows d_curve, tol_curve), ``data_out`` (rows d_data,
+    tol_data), ``excess`` and ``piece_out`` (rows piece_dev, piece_err, piece_excess; these two filled with -inf
+    by the wrapper): outputs of one length share an array, and so do the edge table's five columns (every array
+    argument costs its unboxing in the compiled Python wrapper)."""
     n = parameter.shape[0] - 1
-    pieces = piece_dev.shape[0]
+    pieces = piece_out.shape[1]
     k = starts.shape[0]
     total = samples.shape[0]
     last = k - 1
-    for g in range(k):
-        excess[g] = -np.inf
-    for g in range(pieces):
-        piece_dev[g] = piece_err[g] = piece_excess[g] = -np.inf
     # curve -> contour: each sample to the contour edges around its corresponding contour position
     # the searches' answers for the previous key (not the literal 0: that would compile the walks twice)
     at_corner = at_parameter = at_base = at_base_right = np.int64(0)
     for s in range(total):
-        u = params[s]
+        u = closed_params[s]
         at_corner = _walk_right(corner_par, u, at_corner)
         at_parameter = _walk_left(parameter, u, at_parameter)
         piece = min(max(at_corner - 1, 0), pieces - 1)
@@ -652,17 +649,17 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
             if cornered:  # the piece's own edges, and 3 more across each corner
                 e = min(max(e, bounds[piece] - 3), bounds[piece + 1] + 2)
             e %= n
-            px = samples[s, 0] - ex[e]
-            py = samples[s, 1] - ey[e]
-            t = (px * edx[e] + py * edy[e]) * einv[e]
+            px = samples[s, 0] - edges[0, e]
+            py = samples[s, 1] - edges[1, e]
+            t = (px * edges[2, e] + py * edges[3, e]) * edges[4, e]
             t = min(max(t, 0.0), 1.0)
-            px -= t * edx[e]
-            py -= t * edy[e]
+            px -= t * edges[2, e]
+            py -= t * edges[3, e]
             squared = px * px + py * py
             if squared < best:
                 best = squared
         d = np.sqrt(best)
-        d_curve[s] = d
+        curve_out[0, s] = d
         # numpy.interp(u, base, zone) > 0 in numpy's arithmetic: the interval base[j] <= u < base[j + 1], the
         # end values outside it, zone[j] at u == base[j], else slope * (u - base[j]) + zone[j] (and its retries)
         if u != u:
@@ -693,11 +690,11 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
             nearest = min(max(at_base, 0), n)
             a, b = allowance[nearest], allowance[max(nearest - 1, 0)]
             extra = _larger(a, b)
-        tol_curve[s] = epsilon + extra
-        ex_curve = d - tol_curve[s]
+        curve_out[1, s] = epsilon + extra
+        ex_curve = d - curve_out[1, s]
         excess[iv[s]] = _larger(excess[iv[s]], ex_curve)
-        piece_dev[piece] = _larger(piece_dev[piece], d)
-        piece_excess[piece] = _larger(piece_excess[piece], ex_curve)
+        piece_out[0, piece] = _larger(piece_out[0, piece], d)
+        piece_out[2, piece] = _larger(piece_out[2, piece], ex_curve)
     # contour -> curve: each probe to its corresponding curve point, refined where loose by the nearest chord
     # of the curve samples (closed by the last piece's end point) within ``reach`` samples
     at_start = at_end = at_lo = at_hi = at_centre = np.int64(0)
@@ -746,21 +743,21 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
             near = np.sqrt(best)
             if near < d or near != near:
                 d = near
-        d_data[p] = d
-        tol_data[p] = epsilon + probe_allowance[p]
+        data_out[0, p] = d
+        data_out[1, p] = epsilon + probe_allowance[p]
         at_end = _walk_left(ends, u, at_end)
         interval = min(max(at_end, 0), last)
         data_iv[p] = interval
-        ex_data = d - tol_data[p]
+        ex_data = d - data_out[1, p]
         excess[interval] = _larger(excess[interval], ex_data)
         piece = probe_piece[p]
-        piece_dev[piece] = _larger(piece_dev[piece], d)
-        piece_excess[piece] = _larger(piece_excess[piece], ex_data)
+        piece_out[0, piece] = _larger(piece_out[0, piece], d)
+        piece_out[2, piece] = _larger(piece_out[2, piece], ex_data)
         if is_point[p]:
-            piece_err[piece] = _larger(piece_err[piece], d)
+            piece_out[1, piece] = _larger(piece_out[1, piece], d)
     for g in range(pieces):
-        piece_dev[g] = _larger(piece_dev[g], 0.0)
-        piece_err[g] = _larger(piece_err[g], 0.0)
+        piece_out[0, g] = _larger(piece_out[0, g], 0.0)
+        piece_out[1, g] = _larger(piece_out[1, g], 0.0)
 
 
 def deviation_measures(bez, starts, ends, samples, params, iv, corner_par, bounds, cornered, parameter, base, edges,
@@ -776,18 +773,15 @@ def deviation_measures(bez, starts, ends, samples, params, iv, corner_par, bound
     per-interval worst excess and the per-piece maxima (``-inf`` for empty groups, NaN wins, as
     :func:`group_max` and ``numpy.maximum``). Returns the dict entries of ``deviations``."""
     total, count, pieces = samples.shape[0], probe_u.shape[0], corner_par.shape[0] - 1
-    d_curve, tol_curve, curve_zone = np.empty(total), np.empty(total), np.empty(total, np.bool_)
-    d_data, tol_data, data_iv = np.empty(count), np.empty(count), np.empty(count, np.int64)
-    excess, piece_dev, piece_err, piece_excess = np.empty(starts.shape[0]), np.empty(pieces), np.empty(pieces), \
-        np.empty(pieces)
-    params = _floats(params)
-    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), params, np.append(params, period),
+    curve_out, curve_zone = np.empty((2, total)), np.empty(total, np.bool_)
+    data_out, data_iv = np.empty((2, count)), np.empty(count, np.int64)
+    excess, piece_out = np.full(starts.shape[0], -np.inf), np.full((3, pieces), -np.inf)
+    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), np.append(_floats(params), period),
                     _ints(iv), _floats(corner_par), _ints(bounds), bool(cornered), _floats(parameter), _floats(base),
-                    *(_floats(column) for column in edges), _floats(probes), _floats(probe_u), _ints(probe_piece),
+                    _floats(edges), _floats(probes), _floats(probe_u), _ints(probe_piece),
                     np.ascontiguousarray(is_point, dtype=np.bool_), _floats(zone), _floats(allowance),
                     _floats(probe_allowance), float(epsilon), float(loose_above), int(reach),
-                    d_curve, tol_curve, curve_zone, d_data, tol_data, data_iv, excess, piece_dev, piece_err,
-                    piece_excess)
-    return {"excess": excess, "piece_dev": piece_dev, "piece_err": piece_err, "piece_excess": piece_excess,
-            "d_data": d_data, "tol_data": tol_data, "data_iv": data_iv, "d_curve": d_curve, "tol_curve": tol_curve,
-            "curve_zone": curve_zone}
+                    curve_out, curve_zone, data_out, data_iv, excess, piece_out)
+    return {"excess": excess, "piece_dev": piece_out[0], "piece_err": piece_out[1], "piece_excess": piece_out[2],
+            "d_data": data_out[0], "tol_data": data_out[1], "data_iv": data_iv, "d_curve": curve_out[0],
+            "tol_curve": curve_out[1], "curve_zone": curve_zone}

@@ -41,11 +41,12 @@ __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "ensure_cache_dir", "warm_up", "warm
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
 #: wrapper was compiled and optimized for nothing (about 8 ms a kernel).
 JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True)
-#: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink`` ...): also no Python
-#: wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for each
-#: helper but never run); their code is linked into the calling kernels, whose cache entries hold it. A helper
-#: that a test calls from Python (``_smoothed``, ``_window_fit``) keeps :data:`JIT_OPTIONS`.
-HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True)
+#: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also
+#: no Python wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for
+#: each helper but never run) and no cache entry of their own (``cache=False``): their code is linked into the
+#: calling kernels, whose cache entries hold it, so a warm process never loads a helper, and writing its entry
+#: cost 3-4 ms a helper. (Tests call ``_smoothed`` and ``_window_fit`` through a kernel of their own.)
+HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True, cache=False)
 
 
 def _writable(folder) -> bool:

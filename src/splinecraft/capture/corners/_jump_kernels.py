@@ -17,12 +17,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS
 
 __all__ = ["arm_lines", "warm_up"]
 
 
-@njit(**JIT_OPTIONS)
+@njit(**HELPER_OPTIONS)
 def _window_fit(padded, start, length, centred, weights, tolerance, line):
     """Mean point and slope of the window of ``length`` samples from row ``start`` into ``line[0:4]``, and,
     for a ``tolerance`` > 0, whether every sample lies within it of that line (``max hypot <= tolerance``;

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS
 
 __all__ = ["gaussian_weights", "iso_line_distance", "warm_up"]
 
@@ -52,7 +52,7 @@ def gaussian_weights(sigma):
     return _WEIGHTS[sigma]
 
 
-@njit(**_JIT)
+@njit(**HELPER_OPTIONS)
 def _smoothed(ink, weights, r, c, cols, smooth, smooth_tag, row_memo, row_tag):
     """``gaussian_filter(np.pad(mask, pad), sigma)[r, c]`` (a grid of ``cols`` columns) in scipy's arithmetic:
     the correlation along columns (axis 1) of the correlation along rows (axis 0), each ``correlate1d``'s

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS
+from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact
 
 __all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "crack_points", "MINORITY", "warm_up"]
 
@@ -50,6 +50,7 @@ def _ink(padded, row, col):
 
 @njit(**JIT_OPTIONS)
 def _count_cracks(padded):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     count = np.int64(0)
     for row in range(padded.shape[0]):
         for col in range(padded.shape[1]):
@@ -76,6 +77,7 @@ def _starts_at(padded, vertex_x, vertex_y):
 def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_turn, offsets):
     """Fill the per-crack arrays in cycle order (``visited``: zeros, one byte per vertex); returns the number of
     cycles, or -1 when a crack has no successor (the tracer's invariant broken)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     written = np.int64(0)
     cycles = np.int64(0)
     height, width = padded.shape
@@ -159,6 +161,7 @@ def follow_cracks(padded, connectivity):
 @njit(**JIT_OPTIONS)
 def _shoelace_into(tail_x, tail_y, offsets, area2):
     """Twice the signed shoelace area of every cycle of crack tails (integers: exact)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for cycle in range(offsets.shape[0] - 1):
         lo, hi = offsets[cycle], offsets[cycle + 1]
         total = np.int64(0)
@@ -176,6 +179,7 @@ def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, buffer_col
     (one pixel where all are equal), and the Freeman code of each step to the next kept pixel. Returns the
     number of chain pixels, or -1 when a step is longer than one pixel (``buffer_*``: room for the longest
     cycle's pixels)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     kept = np.int64(0)
     kept_offsets[0] = 0
     for cycle in range(offsets.shape[0] - 1):
@@ -225,6 +229,7 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fil
     cycle (the tracer's invariant broken), else the number of components. ``row_start`` .. ``number_of_root``
     are the scratch arrays of :func:`_component_work` (separate arguments: a tuple of arrays costs compile
     time)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     n_cycles = offsets.shape[0] - 1
     height, width = row_start.shape[0] - 2, run_cycle.shape[0] - 1
     # Vertical cracks filed by pixel row (counting sort): N tails sit on the row's lower edge, S on its upper.
@@ -327,6 +332,7 @@ def boundary_arrays(cracks, width, height, four):
 
 @njit(**JIT_OPTIONS)
 def _points_into(tail_x, tail_y, direction, chain_col, chain_row, offset_x, offset_y, midpoints, centres):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for i in range(tail_x.shape[0]):
         midpoints[i, 0] = float(tail_x[i] + offset_x) + 0.5 * _STEP_X[direction[i]]
         midpoints[i, 1] = float(tail_y[i] + offset_y) + 0.5 * _STEP_Y[direction[i]]

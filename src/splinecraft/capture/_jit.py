@@ -29,8 +29,10 @@ import tempfile
 import threading
 
 import numba
+from numba.core import types
+from numba.extending import intrinsic
 
-__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
            "TRACE_TASKS", "LAST_WARM_UP"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
@@ -47,6 +49,24 @@ JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy
 #: calling kernels, whose cache entries hold it, so a warm process never loads a helper, and writing its entry
 #: cost 3-4 ms a helper. (Tests call ``_smoothed`` and ``_window_fit`` through a kernel of their own.)
 HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True, cache=False)
+
+
+@intrinsic
+def compact(typingctx):
+    """``compact()`` as the first statement of a kernel: LLVM optimizes the kernel's machine code for size (the
+    ``optsize`` attribute of its function; the helpers it calls are inlined under the same rule). The
+    optimizations are those of ``-O3`` but for the ones that grow the code for speed: no loops unrolled,
+    vectorized with run-time overlap checks or duplicated per value of a flag (unswitched), and smaller functions
+    inlined. Results are bit for bit the same (no optimization of either kind reorders floating-point
+    operations); the compiled code is a third to a tenth of its ``-O3`` size, which LLVM optimizes and emits in
+    that much less time (the cold compile of a trace's kernels: BENCHMARKS.md, "Session 24"). Only in kernels
+    whose run time in a trace is negligible or no slower so (the fit's hot loops -- ``_deviation_into``,
+    ``_fit_runs_into``, ``_normal_into``, ``_hoschek_into``, the noise estimate's ``_nearest_into`` -- ran 5-15 %
+    slower and keep ``-O3``)."""
+    def codegen(context, builder, signature, args):
+        builder.function.attributes.add("optsize")
+        return context.get_dummy_value()
+    return types.none(), codegen
 
 
 def _writable(folder) -> bool:

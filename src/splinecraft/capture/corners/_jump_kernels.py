@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact
 
 __all__ = ["arm_lines", "warm_up"]
 
@@ -63,6 +63,7 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, alive, s
     """For both sides (0 backward, 1 forward) and every sample the mean point and slope of its last straight
     arm into ``lines[side, i, 0:4]``; ``alive`` (per side and sample), ``state`` (per window start: 0 not
     fitted, 1 straight, 2 not) and ``memo`` (window lines by start) are work arrays."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
     for rung in range(ladder.shape[0]):
         length = ladder[rung]

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up",
@@ -151,6 +151,7 @@ def normal_equations(full, u, weights, targets, m):
 
 @njit(**_JIT)
 def _penalized_into(band, regularization, dense, normal):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     scale = band[0, 0]
     for a in range(band.shape[1]):
         if not band[0, a] <= scale:  # NaN sticks, as in numpy's max
@@ -187,6 +188,7 @@ def penalized_normal(band, regularization, dense):
 
 @njit(**_JIT)
 def _values_into(coef, full, m, starts, ends, theta, out, mix, mixed):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for k in range(starts.shape[0]):
         width = ends[k] - starts[k]
         i = _interval(full, starts[k] + 0.5 * width)
@@ -291,6 +293,7 @@ def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bo
 
 @njit(**_JIT)
 def _windowed_into(points, centre, lo, hi, ax, ay, dx, dy, inverse, window, wrap, clip, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for j in range(points.shape[0]):
         best = np.inf
         for offset in range(-window, window + 1):
@@ -325,6 +328,7 @@ def windowed_distance(points, centre, lo, hi, edges, window, wrap):
 
 @njit(**_JIT)
 def _nearest_segments_into(px, py, ax, ay, dx, dy, inverse, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for i in range(px.shape[0]):
         for p in range(px.shape[1]):
             best = np.inf
@@ -377,6 +381,7 @@ def eval_bezier(bez, piece, theta):
 def _curve_into(bez, starts, ends, u, piece, given, out):
     """``out[j]`` = the piece ``piece[j]`` at the fraction ``u[j]`` when ``given``, else the piece of ``u[j]``
     (searchsorted right in ``starts``, clipped to the pieces) at its fraction of ``[starts, ends]``."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     last = starts.shape[0] - 1
     for j in range(u.shape[0]):
         if given:
@@ -401,6 +406,7 @@ def _samples_into(bez, spacing, starts, ends, counts, count_only, points, params
     """With ``count_only``: per piece ``max(3, ceil(length of its control polygon / spacing))`` into ``counts``;
     returns their sum. Else the samples of the pieces by those counts into ``points``, ``params`` and
     ``interval``."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     if count_only:
         total = np.int64(0)
         for k in range(bez.shape[0]):
@@ -437,6 +443,7 @@ def interval_samples(bez, starts, ends, spacing):
 
 @njit(**_JIT)
 def _group_max_into(groups, values, best, at):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for j in range(groups.shape[0]):
         g, v = groups[j], values[j]
         if at[g] < 0 or v > best[g] or (np.isnan(v) and not np.isnan(best[g])):
@@ -451,6 +458,7 @@ def _search_into(values, keys, right, out):
     """Per key the count of ``values`` (sorted, no NaN) below it (``right``: not above it), from the
     previous key's answer: a galloping search forwards, a binary search backwards (linear total work for
     sorted keys, any order allowed)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     n = values.shape[0]
     position = 0
     for j in range(keys.shape[0]):
@@ -495,6 +503,7 @@ _WARM = []
 
 @njit(**_JIT)
 def _separating_slope_into(t_ink, y_ink, t_paper, y_paper, slopes, step, rounds, grid, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for _ in range(rounds):
         best, best_gap = np.int64(0), -np.inf
         for i in range(slopes.shape[0]):

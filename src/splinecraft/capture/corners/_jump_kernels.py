@@ -35,7 +35,10 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
         sy += y
         kx += weights[t] * x
         ky += weights[t] * y
-    line[0], line[1], line[2], line[3] = sx / length, sy / length, kx, ky
+    line[0] = sx / length  # one assignment a line: four targets at once build and unpack a tuple (compile time)
+    line[1] = sy / length
+    line[2] = kx
+    line[3] = ky
     if tolerance <= 0:
         return True
     limit = tolerance * tolerance

@@ -114,8 +114,14 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         i = min(max(at - 1, 3), last)  # _interval
         n0, n1, n2, n3 = _basis(full, i, u[j])
         w = weights[j]
-        w0, w1, w2, w3 = n0 * w, n1 * w, n2 * w, n3 * w
-        k0, k1, k2, k3 = (i - 6) % m, (i - 5) % m, (i - 4) % m, (i - 3) % m
+        w0 = n0 * w  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
+        w1 = n1 * w
+        w2 = n2 * w
+        w3 = n3 * w
+        k0 = (i - 6) % m
+        k1 = (i - 5) % m
+        k2 = (i - 4) % m
+        k3 = (i - 3) % m
         for d in range(targets.shape[1]):
             t = targets[j, d]
             rhs[k0, d] += w0 * t
@@ -231,7 +237,10 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         theta = (u[j] - starts[seg]) / h
         r0 = r1 = p0 = p1 = q0 = q1 = 0.0
         for d in range(2):
-            b0, b1, b2, b3 = bez[seg, 0, d], bez[seg, 1, d], bez[seg, 2, d], bez[seg, 3, d]
+            b0 = bez[seg, 0, d]
+            b1 = bez[seg, 1, d]
+            b2 = bez[seg, 2, d]
+            b3 = bez[seg, 3, d]
             c1 = 3.0 * (b1 - b0)
             c2 = 3.0 * (b0 - 2.0 * b1 + b2)
             c3 = b3 - b0 + 3.0 * (b1 - b2)
@@ -364,7 +373,10 @@ def _bezier_point(bez, k, theta, out, row):
     """``out[row]`` = the cubic Bézier piece ``bez[k]`` at ``theta`` (Bernstein weights, summed in order)."""
     s = 1.0 - theta
     t2, s2 = theta * theta, s * s
-    w0, w1, w2, w3 = s2 * s, 3.0 * theta * s2, 3.0 * t2 * s, t2 * theta
+    w0 = s2 * s
+    w1 = 3.0 * theta * s2
+    w2 = 3.0 * t2 * s
+    w3 = t2 * theta
     for d in range(bez.shape[2]):
         out[row, d] = w0 * bez[k, 0, d] + w1 * bez[k, 1, d] + w2 * bez[k, 2, d] + w3 * bez[k, 3, d]
 
@@ -714,7 +726,10 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         theta = (u - starts[seg]) / (ends[seg] - starts[seg])
         s1 = 1.0 - theta
         t2, s2 = theta * theta, s1 * s1
-        w0, w1, w2, w3 = s2 * s1, 3.0 * theta * s2, 3.0 * t2 * s1, t2 * theta
+        w0 = s2 * s1
+        w1 = 3.0 * theta * s2
+        w2 = 3.0 * t2 * s1
+        w3 = t2 * theta
         cx = w0 * bez[seg, 0, 0] + w1 * bez[seg, 1, 0] + w2 * bez[seg, 2, 0] + w3 * bez[seg, 3, 0]
         cy = w0 * bez[seg, 0, 1] + w1 * bez[seg, 1, 1] + w2 * bez[seg, 2, 1] + w3 * bez[seg, 3, 1]
         d = np.hypot(cx - probes[p, 0], cy - probes[p, 1])

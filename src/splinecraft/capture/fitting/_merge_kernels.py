@@ -39,7 +39,10 @@ def _coefficients(c):
 def _point(k, t):
     """The point at ``t`` of the cubic of coefficients ``k`` (:func:`_coefficients`)."""
     s = 1.0 - t
-    b0, b1, b2, b3 = s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t
+    b0 = s * s * s  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
+    b1 = 3.0 * s * s * t
+    b2 = 3.0 * s * t * t
+    b3 = t * t * t
     return b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3], b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
 
 
@@ -99,7 +102,10 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 t = scratch[i, 1]
                 q = lo[r] + int(scratch[i, 0])
                 s = 1.0 - t
-                b0, b1, b2, b3 = s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t
+                b0 = s * s * s
+                b1 = 3.0 * s * s * t
+                b2 = 3.0 * s * t * t
+                b3 = t * t * t
                 restx = points[q, 0] - p0[r, 0] * (b0 + b1) - p3[r, 0] * (b2 + b3)
                 resty = points[q, 1] - p0[r, 1] * (b0 + b1) - p3[r, 1] * (b2 + b3)
                 a1x, a1y = d0[r, 0] * b1, d0[r, 1] * b1
@@ -111,7 +117,12 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                     r1 += a1x * restx + a1y * resty
                     r2 += a2x * restx + a2y * resty
                 else:
-                    e0x, e1x, e2x, e0y, e1y, e2y = k[8], k[9], k[10], k[11], k[12], k[13]
+                    e0x = k[8]
+                    e1x = k[9]
+                    e2x = k[10]
+                    e0y = k[11]
+                    e1y = k[12]
+                    e2y = k[13]
                     tx = s * s * e0x + 2.0 * s * t * e1x + t * t * e2x
                     ty = s * s * e0y + 2.0 * s * t * e1y + t * t * e2y
                     norm = np.hypot(tx, ty)

@@ -580,13 +580,14 @@ def _tiny_fit():
 
 def warm_up_solves():
     """The first half of :func:`warm_up`: the normal equations, their solve, the spline's values, the
-    parameter correction, Bézier evaluation and the separating line's slope search of extrapolated tips."""
+    parameter correction and the separating line's slope search of extrapolated tips. (Bézier evaluation,
+    :func:`eval_bezier`, is the kernel of :func:`curve_points`: :func:`warm_up_checks` compiles it once, where
+    both halves compiled it when they ran in separate processes.)"""
     full, u, bez, starts, ends, index = _tiny_fit()
     band, _ = normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
     penalized_normal(band, 1e-8, True)
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
-    eval_bezier(bez, index, np.array([0.1, 0.2]))
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
 
 

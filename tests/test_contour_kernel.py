@@ -370,7 +370,7 @@ def test_tracer_kernels_are_cached_and_warm_up_runs():
 
     from splinecraft.capture.fitting import budget
 
-    for module, names in ((_cracks, {"_follow_into", "_chains_into", "_components_into", "_points_into"}),
+    for module, names in ((_cracks, {"_follow_into", "_boundaries_into"}),
                           (budget, {"_turning_into", "_polygons_into"})):
         loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}
         assert names <= set(loops), sorted(loops)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact
+from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact, pymax, pymin
 
 __all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "MINORITY", "warm_up"]
 
@@ -269,7 +269,7 @@ def _boundaries_into(tail_x, tail_y, direction, left_turn, offsets, four, offset
                     return -2
                 a, b = _root(parent, opened), _root(parent, run_cycle[x])
                 if a != b:
-                    parent[max(a, b)] = min(a, b)
+                    parent[pymax(a, b)] = pymin(a, b)
                 opened = -1
             run_kind[x] = 0
         if opened >= 0:

@@ -22,6 +22,7 @@ from __future__ import annotations
 import gc
 import importlib
 import itertools
+import operator
 import os
 import subprocess
 import sys
@@ -29,11 +30,11 @@ import tempfile
 import threading
 
 import numba
-from numba.core import types
+from numba.core import types, typing
 from numba.extending import intrinsic
 
-__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
-           "TRACE_TASKS", "LAST_WARM_UP"]
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
+           "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
@@ -67,6 +68,69 @@ def compact(typingctx):
         builder.function.attributes.add("optsize")
         return context.get_dummy_value()
     return types.none(), codegen
+
+
+# The builtins min and max of two numbers, and min(max(x, lo), hi), for kernels: the instructions numba's builtins
+# emit (numba.cpython.builtins.do_minmax: both cast to their unified type, then the second where it compares
+# strictly smaller (min) or larger (max), else the first -- a NaN first stays, a NaN second is passed over), so
+# results are bit for bit those of min and max. numba implements the builtins as overloads: each signature of
+# each is a function of its own, compiled (with the literal-argument variants, 6-7 of them, 12-15 ms each, in
+# every process and warm-up task that uses them) and typed again at each call; these intrinsics are written
+# into the calling kernel at each call.
+def _pick(context, builder, first_type, first, second_type, second, compare):
+    unified = context.typing_context.unify_types(first_type, second_type)
+    first = context.cast(builder, first, first_type, unified)
+    second = context.cast(builder, second, second_type, unified)
+    takes_second = context.get_function(compare, typing.signature(types.boolean, unified, unified))
+    return unified, builder.select(takes_second(builder, (second, first)), second, first)
+
+
+def _unified(typingctx, *values):
+    values = [types.unliteral(value) for value in values]
+    if not all(isinstance(value, types.Number) for value in values):
+        return None, values
+    unified = values[0]
+    for value in values[1:]:
+        unified = typingctx.unify_types(unified, value)
+    return unified, values
+
+
+@intrinsic
+def pymin(typingctx, a, b):
+    """``min(a, b)`` of two numbers in a kernel: ``b`` where ``b < a``, else ``a`` (see above)."""
+    unified, args = _unified(typingctx, a, b)
+    if unified is None:
+        return None
+
+    def codegen(context, builder, signature, values):
+        return _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1], operator.lt)[1]
+    return unified(*args), codegen
+
+
+@intrinsic
+def pymax(typingctx, a, b):
+    """``max(a, b)`` of two numbers in a kernel: ``b`` where ``b > a``, else ``a`` (see above)."""
+    unified, args = _unified(typingctx, a, b)
+    if unified is None:
+        return None
+
+    def codegen(context, builder, signature, values):
+        return _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1], operator.gt)[1]
+    return unified(*args), codegen
+
+
+@intrinsic
+def pyclip(typingctx, x, lo, hi):
+    """``min(max(x, lo), hi)`` of three numbers in a kernel, one call (see above)."""
+    unified, args = _unified(typingctx, x, lo, hi)
+    if unified is None:
+        return None
+
+    def codegen(context, builder, signature, values):
+        low_type, low = _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1],
+                              operator.gt)
+        return _pick(context, builder, low_type, low, signature.args[2], values[2], operator.lt)[1]
+    return unified(*args), codegen
 
 
 def _writable(folder) -> bool:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pymax
 
 __all__ = ["arm_lines", "warm_up"]
 
@@ -50,14 +50,14 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
         squared = dx * dx + dy * dy
         if not squared <= high:  # certainly too far, or NaN
             return False
-        worst = max(worst, squared)
+        worst = pymax(worst, squared)
     if worst < low:
         return True
     farthest = 0.0
     for t in range(length):
         dx = (padded[start + t, 0] - line[0]) - centred[t] * line[2]
         dy = (padded[start + t, 1] - line[1]) - centred[t] * line[3]
-        farthest = max(farthest, np.hypot(dx, dy))
+        farthest = pymax(farthest, np.hypot(dx, dy))
     return farthest <= tolerance
 
 

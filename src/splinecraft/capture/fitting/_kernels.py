@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up",
@@ -60,7 +60,7 @@ def _right_of(values, x):
 def _interval(full, u):
     """``i`` with ``full[i] <= u < full[i + 1]`` (searchsorted right, minus one), clipped to the period
     ``[3, len(full) - 5]``: :func:`~.bspline.interval_index`."""
-    return min(max(_right_of(full, u) - 1, 3), full.shape[0] - 5)
+    return pyclip(_right_of(full, u) - 1, 3, full.shape[0] - 5)
 
 
 @njit(**_HELPER)
@@ -111,7 +111,7 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
     last = full.shape[0] - 5
     for j in range(u.shape[0]):
         at = _walk_right(full, u[j], at)
-        i = min(max(at - 1, 3), last)  # _interval
+        i = pyclip(at - 1, 3, last)  # _interval
         n0, n1, n2, n3 = _basis(full, i, u[j])
         w = weights[j]
         w0 = n0 * w  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
@@ -232,7 +232,7 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
     at = np.int64(0)  # the previous point's search answer (the parameters are sorted)
     for j in range(u.shape[0]):
         at = _walk_right(starts, u[j], at)
-        seg = min(max(at - 1, 0), last)
+        seg = pyclip(at - 1, 0, last)
         h = ends[seg] - starts[seg]
         theta = (u[j] - starts[seg]) / h
         r0 = r1 = p0 = p1 = q0 = q1 = 0.0
@@ -255,11 +255,11 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         den = speed2 + r0 * q0 + r1 * q1
         if not den > 0.1 * speed2:
             den = speed2
-        step = -(r0 * p0 + r1 * p1) / max(den, 1e-300)
-        du[j] = min(max(step, -2.0), 2.0)
+        step = -(r0 * p0 + r1 * p1) / pymax(den, 1e-300)
+        du[j] = pyclip(step, -2.0, 2.0)
         res[j] = np.hypot(r0, r1)
     for j in range(u.shape[0]):  # worst: -inf from the wrapper
-        worst[piece_of[j]] = max(worst[piece_of[j]], res[j])
+        worst[piece_of[j]] = pymax(worst[piece_of[j]], res[j])
     for j in range(u.shape[0]):
         if worst[piece_of[j]] > gate:
             du[j] = 0.0
@@ -308,13 +308,13 @@ def _windowed_into(points, centre, lo, hi, ax, ay, dx, dy, inverse, window, wrap
         for offset in range(-window, window + 1):
             e = centre[j] + offset
             if clip:
-                e = min(max(e, lo[j]), hi[j])
+                e = pyclip(e, lo[j], hi[j])
             if wrap:
                 e %= wrap
             px = points[j, 0] - ax[e]
             py = points[j, 1] - ay[e]
             t = (px * dx[e] + py * dy[e]) * inverse[e]
-            t = min(max(t, 0.0), 1.0)
+            t = pyclip(t, 0.0, 1.0)
             px -= t * dx[e]
             py -= t * dy[e]
             squared = px * px + py * py
@@ -345,7 +345,7 @@ def _nearest_segments_into(px, py, ax, ay, dx, dy, inverse, out):
                 rx = px[i, p] - ax[i, e]
                 ry = py[i, p] - ay[i, e]
                 t = (rx * dx[i, e] + ry * dy[i, e]) * inverse[i, e]
-                t = min(max(t, 0.0), 1.0)
+                t = pyclip(t, 0.0, 1.0)
                 rx -= t * dx[i, e]
                 ry -= t * dy[i, e]
                 squared = rx * rx + ry * ry
@@ -399,7 +399,7 @@ def _curve_into(bez, starts, ends, u, piece, given, out):
         if given:
             _bezier_point(bez, piece[j], u[j], out, j)
         else:
-            seg = min(max(_right_of(starts, u[j]) - 1, 0), last)
+            seg = pyclip(_right_of(starts, u[j]) - 1, 0, last)
             _bezier_point(bez, seg, (u[j] - starts[seg]) / (ends[seg] - starts[seg]), out, j)
 
 
@@ -425,7 +425,7 @@ def _samples_into(bez, spacing, starts, ends, counts, count_only, points, params
             length = np.hypot(bez[k, 1, 0] - bez[k, 0, 0], bez[k, 1, 1] - bez[k, 0, 1])
             length += np.hypot(bez[k, 2, 0] - bez[k, 1, 0], bez[k, 2, 1] - bez[k, 1, 1])
             length += np.hypot(bez[k, 3, 0] - bez[k, 2, 0], bez[k, 3, 1] - bez[k, 2, 1])
-            counts[k] = max(3, np.int64(np.ceil(length / spacing)))
+            counts[k] = pymax(3, np.int64(np.ceil(length / spacing)))
             total += counts[k]
         return total
     row = np.int64(0)  # not the literal 0: that would compile _bezier_point a second time
@@ -483,7 +483,7 @@ def _search_into(values, keys, right, out):
         else:
             lo, hi, step = position, position, 1
             while hi < n and (values[hi] <= x if right else values[hi] < x):
-                lo, hi, step = hi + 1, min(hi + step, n), 2 * step
+                lo, hi, step = hi + 1, pymin(hi + step, n), 2 * step
         while lo < hi:
             mid = (lo + hi) // 2
             if values[mid] <= x if right else values[mid] < x:
@@ -663,18 +663,18 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         u = closed_params[s]
         at_corner = _walk_right(corner_par, u, at_corner)
         at_parameter = _walk_left(parameter, u, at_parameter)
-        piece = min(max(at_corner - 1, 0), pieces - 1)
-        centre = min(max(at_parameter - 1, 0), n - 1)
+        piece = pyclip(at_corner - 1, 0, pieces - 1)
+        centre = pyclip(at_parameter - 1, 0, n - 1)
         best = np.inf
         for offset in range(-1, 2):
             e = centre + offset
             if cornered:  # the piece's own edges, and 3 more across each corner
-                e = min(max(e, bounds[piece] - 3), bounds[piece + 1] + 2)
+                e = pyclip(e, bounds[piece] - 3, bounds[piece + 1] + 2)
             e %= n
             px = samples[s, 0] - edges[0, e]
             py = samples[s, 1] - edges[1, e]
             t = (px * edges[2, e] + py * edges[3, e]) * edges[4, e]
-            t = min(max(t, 0.0), 1.0)
+            t = pyclip(t, 0.0, 1.0)
             px -= t * edges[2, e]
             py -= t * edges[3, e]
             squared = px * px + py * py
@@ -694,7 +694,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             at_base_right = _walk_right(base, u, at_base_right)
             j = at_base_right - 1
             if j >= n or base[j] == u:
-                value = zone[min(j, n)]
+                value = zone[pymin(j, n)]
             elif zone[j] == zone[j + 1]:  # slope 0 (base increases): 0 * (u - base[j]) + zone[j] for finite u
                 value = zone[j]
             else:
@@ -709,8 +709,8 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         extra = 0.0
         if inside:
             at_base = _walk_left(base, u, at_base)
-            nearest = min(max(at_base, 0), n)
-            a, b = allowance[nearest], allowance[max(nearest - 1, 0)]
+            nearest = pyclip(at_base, 0, n)
+            a, b = allowance[nearest], allowance[pymax(nearest - 1, 0)]
             extra = _larger(a, b)
         curve_out[1, s] = epsilon + extra
         ex_curve = d - curve_out[1, s]
@@ -723,7 +723,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
     for p in range(probe_u.shape[0]):
         u = probe_u[p]
         at_start = _walk_right(starts, u, at_start)
-        seg = min(max(at_start - 1, 0), last)
+        seg = pyclip(at_start - 1, 0, last)
         theta = (u - starts[seg]) / (ends[seg] - starts[seg])
         s1 = 1.0 - theta
         t2, s2 = theta * theta, s1 * s1
@@ -740,13 +740,13 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             at_hi = _walk_right(closed_params, corner_par[piece + 1], at_hi)
             at_centre = _walk_left(closed_params, u, at_centre)
             lo = at_lo
-            hi = max(at_hi - 2, lo)
-            centre = min(max(at_centre, lo), hi)
+            hi = pymax(at_hi - 2, lo)
+            centre = pyclip(at_centre, lo, hi)
             best = np.inf
             for offset in range(-reach, reach + 1):
                 e = centre + offset
                 if cornered:  # the piece's own chords and a window across its corners
-                    e = min(max(e, lo - reach), hi + reach)
+                    e = pyclip(e, lo - reach, hi + reach)
                 e %= total
                 ax, ay = samples[e, 0], samples[e, 1]
                 if e + 1 < total:
@@ -759,7 +759,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
                 px = probes[p, 0] - ax
                 py = probes[p, 1] - ay
                 t = (px * dx + py * dy) * inverse
-                t = min(max(t, 0.0), 1.0)
+                t = pyclip(t, 0.0, 1.0)
                 px -= t * dx
                 py -= t * dy
                 squared = px * px + py * py
@@ -771,7 +771,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         data_out[0, p] = d
         data_out[1, p] = epsilon + probe_allowance[p]
         at_end = _walk_left(ends, u, at_end)
-        interval = min(max(at_end, 0), last)
+        interval = pyclip(at_end, 0, last)
         data_iv[p] = interval
         ex_data = d - data_out[1, p]
         excess[interval] = _larger(excess[interval], ex_data)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS
+from .._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, pyclip, pymax
 
 __all__ = ["fit_runs", "warm_up", "TANGENTIAL"]
 
@@ -65,8 +65,8 @@ def _newton(k, qx, qy, t):
     if not den > 1e-300:
         return t
     step = -(rx * fx + ry * fy) / den
-    step = min(max(step, -0.25), 0.25)
-    return min(max(t + step, 0.0), 1.0)
+    step = pyclip(step, -0.25, 0.25)
+    return pyclip(t + step, 0.0, 1.0)
 
 
 @njit(**JIT_OPTIONS)
@@ -74,17 +74,17 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                    limits, scratch, cubic, handles, t_out, excess, drift, spread):
     for r in range(p0.shape[0]):
         n = count[r]
-        stride = max(1, n // fit_points)
+        stride = pymax(1, n // fit_points)
         m = np.int64(0)  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
         j = np.int64(0)
         while j < n:
             scratch[m, 0] = j
-            scratch[m, 1] = min(max((u[lo[r] + j] - start[r]) / span[r], 0.0), 1.0)
+            scratch[m, 1] = pyclip((u[lo[r] + j] - start[r]) / span[r], 0.0, 1.0)
             m += 1
             j += stride
         if n > 0 and scratch[m - 1, 0] != n - 1:
             scratch[m, 0] = n - 1
-            scratch[m, 1] = min(max((u[lo[r] + n - 1] - start[r]) / span[r], 0.0), 1.0)
+            scratch[m, 1] = pyclip((u[lo[r] + n - 1] - start[r]) / span[r], 0.0, 1.0)
             m += 1
         chord = np.hypot(p3[r, 0] - p0[r, 0], p3[r, 1] - p0[r, 1])
         bound = 4.0 * chord + 1.0
@@ -100,7 +100,7 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             m11 = m12 = m22 = r1 = r2 = 0.0
             for i in range(m):
                 t = scratch[i, 1]
-                q = lo[r] + int(scratch[i, 0])
+                q = lo[r] + np.int64(scratch[i, 0])
                 s = 1.0 - t
                 b0 = s * s * s
                 b1 = 3.0 * s * s * t
@@ -149,8 +149,8 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 r1 += mu * handles[r, 0]
                 r2 += mu * handles[r, 1]
             det = m11 * m22 - m12 * m12
-            a = min(max((m22 * r1 - m12 * r2) / det, -bound), bound)
-            b = min(max((m11 * r2 - m12 * r1) / det, -bound), bound)
+            a = pyclip((m22 * r1 - m12 * r2) / det, -bound, bound)
+            b = pyclip((m11 * r2 - m12 * r1) / det, -bound, bound)
             handles[r, 0], handles[r, 1] = a, b
             for d in range(2):
                 c[1, d] = p0[r, d] + a * d0[r, d]
@@ -159,7 +159,7 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             if step == steps:
                 break
             for i in range(m):
-                q = lo[r] + int(scratch[i, 0])
+                q = lo[r] + np.int64(scratch[i, 0])
                 t = _newton(k, points[q, 0], points[q, 1], scratch[i, 1])
                 scratch[i, 1] = _newton(k, points[q, 0], points[q, 1], t)
         # every covered point: parameter interpolated between the fitted ones, one Newton step, distance (until
@@ -173,7 +173,7 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 i += 1
             if i + 1 < m and scratch[i + 1, 0] > scratch[i, 0]:
                 w = (j - scratch[i, 0]) / (scratch[i + 1, 0] - scratch[i, 0])
-                t = scratch[i, 1] + min(max(w, 0.0), 1.0) * (scratch[i + 1, 1] - scratch[i, 1])
+                t = scratch[i, 1] + pyclip(w, 0.0, 1.0) * (scratch[i + 1, 1] - scratch[i, 1])
             else:
                 t = scratch[i, 1]
             q = lo[r] + j
@@ -188,9 +188,9 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 dist = abs(gx * dy - gy * dx) / length if length > 0 else np.hypot(gx, gy)
             else:
                 dist = np.hypot(gx, gy)
-            worst = max(worst, dist - tol[q])
+            worst = pymax(worst, dist - tol[q])
             off = np.hypot(px - fitted[q, 0], py - fitted[q, 1])
-            far = max(far, off)
+            far = pymax(far, off)
             total += off * off
         excess[r], drift[r], spread[r] = worst, far, total
 

@@ -163,16 +163,16 @@ ensure_cache_dir()
 #: The warm-up tasks: name -> (module relative to :mod:`splinecraft.capture`, its function that compiles (empty
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
-#: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of two runs
-#: (BENCHMARKS.md, "Session 23"); only their ratios matter, they balance the processes of :func:`warm_up`.
+#: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
+#: (BENCHMARKS.md, "Session 24"); only their ratios matter, they balance the processes of :func:`warm_up`.
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.4),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.35),
-    "tracer": ("_cracks", "warm_up", "_follow_into", 1.25),
-    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.85),
-    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.6),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.35),
-    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.3),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.0),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.17),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 0.97),
+    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.77),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.53),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.29),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.27),
 }
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
 #: polygons of a spent time budget compile where they are used).

@@ -57,13 +57,6 @@ def _right_of(values, x):
 
 
 @njit(**_HELPER)
-def _interval(full, u):
-    """``i`` with ``full[i] <= u < full[i + 1]`` (searchsorted right, minus one), clipped to the period
-    ``[3, len(full) - 5]``: :func:`~.bspline.interval_index`."""
-    return pyclip(_right_of(full, u) - 1, 3, full.shape[0] - 5)
-
-
-@njit(**_HELPER)
 def _basis(full, i, u):
     """The four non-zero cubic B-splines ``N_{i-3} .. N_i`` at ``u``: the Cox-de Boor recurrence
     ``new_r = saved + right_{r+1} temp``, ``saved = left_{j-r} temp``, ``temp = old_r / (right_{r+1} +
@@ -111,7 +104,7 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
     last = full.shape[0] - 5
     for j in range(u.shape[0]):
         at = _walk_right(full, u[j], at)
-        i = pyclip(at - 1, 3, last)  # _interval
+        i = pyclip(at - 1, 3, last)  # bspline.interval_index
         n0, n1, n2, n3 = _basis(full, i, u[j])
         w = weights[j]
         w0 = n0 * w  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
@@ -197,7 +190,7 @@ def _values_into(coef, full, m, starts, ends, theta, out, mix, mixed):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for k in range(starts.shape[0]):
         width = ends[k] - starts[k]
-        i = _interval(full, starts[k] + 0.5 * width)
+        i = pyclip(_right_of(full, starts[k] + 0.5 * width) - 1, 3, full.shape[0] - 5)  # bspline.interval_index
         for t in range(theta.shape[0]):
             n0, n1, n2, n3 = _basis(full, i, starts[k] + width * theta[t])
             for d in range(coef.shape[1]):
@@ -604,7 +597,6 @@ def warm_up_checks():
                        np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
                        np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2), 2.0,
                        1.0, 0.0, 2)
-
 
 
 @njit(**_HELPER)

@@ -28,22 +28,12 @@ DAMPING = 1e-3
 @njit(**_HELPER)
 def _coefficients(c):
     """The control points of the cubic ``c`` (x then y) and the differences of its derivatives, the values
-    :func:`_point` and :func:`_newton` take (computed once per cubic instead of once per point)."""
+    the point of :func:`_fit_runs_into` and :func:`_newton` take (computed once per cubic instead of once per
+    point)."""
     e0x, e1x, e2x = c[1, 0] - c[0, 0], c[2, 0] - c[1, 0], c[3, 0] - c[2, 0]
     e0y, e1y, e2y = c[1, 1] - c[0, 1], c[2, 1] - c[1, 1], c[3, 1] - c[2, 1]
     return (c[0, 0], c[1, 0], c[2, 0], c[3, 0], c[0, 1], c[1, 1], c[2, 1], c[3, 1], e0x, e1x, e2x, e0y, e1y, e2y,
             e1x - e0x, e2x - e1x, e1y - e0y, e2y - e1y)
-
-
-@njit(**_HELPER)
-def _point(k, t):
-    """The point at ``t`` of the cubic of coefficients ``k`` (:func:`_coefficients`)."""
-    s = 1.0 - t
-    b0 = s * s * s  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
-    b1 = 3.0 * s * s * t
-    b2 = 3.0 * s * t * t
-    b3 = t * t * t
-    return b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3], b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
 
 
 @njit(**_HELPER)
@@ -179,7 +169,13 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             q = lo[r] + j
             t = _newton(k, points[q, 0], points[q, 1], t)
             t_out[offsets[r] + j] = t
-            px, py = _point(k, t)
+            s = 1.0 - t  # the point at t: Bernstein weights of the control points in k
+            b0 = s * s * s
+            b1 = 3.0 * s * s * t
+            b2 = 3.0 * s * t * t
+            b3 = t * t * t
+            px = b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3]
+            py = b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
             gx, gy = px - points[q, 0], py - points[q, 1]
             if t <= 0.0 or t >= 1.0:
                 k0, k1 = (0, 1) if t <= 0.0 else (2, 3)

@@ -390,10 +390,11 @@ def _curve_into(bez, starts, ends, u, piece, given, out):
     last = starts.shape[0] - 1
     for j in range(u.shape[0]):
         if given:
-            _bezier_point(bez, piece[j], u[j], out, j)
+            seg, theta = piece[j], u[j]
         else:
             seg = pyclip(_right_of(starts, u[j]) - 1, 0, last)
-            _bezier_point(bez, seg, (u[j] - starts[seg]) / (ends[seg] - starts[seg]), out, j)
+            theta = (u[j] - starts[seg]) / (ends[seg] - starts[seg])
+        _bezier_point(bez, seg, theta, out, j)  # one call: each call is a copy of the (inlined) helper
 
 
 def curve_points(bez, starts, ends, u):

@@ -12,6 +12,7 @@ import inspect
 import sys
 from pathlib import Path
 
+import numba
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
@@ -401,15 +402,15 @@ def test_arm_fit_straightness_is_exact_at_the_tolerance(length):
     starts = np.arange(0, 200 - length, 7)
     centred, weights = jump._arm_operators(length, 1)[1:]
     line = np.empty(4)
+    window_fit = numba.njit(lambda *args: _jump_kernels._window_fit(*args))  # a helper: no Python wrapper
     for start in starts[:12]:
-        _jump_kernels._window_fit(padded, start, length, centred, weights, 0.0, line)
+        window_fit(padded, start, length, centred, weights, 0.0, line)
         residual = padded[start:start + length] - line[:2] - centred[:, None] * line[2:]
         largest = np.hypot(*residual.T).max()
-        assert _jump_kernels._window_fit(padded, start, length, centred, weights, largest, line)
-        assert not _jump_kernels._window_fit(padded, start, length, centred, weights, np.nextafter(largest, 0.0),
-                                             line)
+        assert window_fit(padded, start, length, centred, weights, largest, line)
+        assert not window_fit(padded, start, length, centred, weights, np.nextafter(largest, 0.0), line)
     padded[starts[3] + 1] = np.nan                                  # a NaN sample is never straight
-    assert not _jump_kernels._window_fit(padded, starts[3], length, centred, weights, 1e9, line)
+    assert not window_fit(padded, starts[3], length, centred, weights, 1e9, line)
 
 
 # ------------------------------------------------------------------------------------------------ SRM05

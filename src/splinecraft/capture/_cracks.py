@@ -14,9 +14,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS
+from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact, pymax, pymin
 
-__all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "crack_points", "MINORITY", "warm_up"]
+__all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "MINORITY", "warm_up"]
 
 #: ``connectivity`` code of the minority rule in :func:`follow_cracks` (4 and 8 stand for themselves).
 MINORITY = 0
@@ -40,25 +40,17 @@ _CODE_OF_STEP = np.full(9, -1, dtype=np.int8)
 _CODE_OF_STEP[3 * (FREEMAN_STEPS[:, 1] + 1) + (FREEMAN_STEPS[:, 0] + 1)] = np.arange(8)
 
 
+# Empty arguments of the per-crack outputs: :func:`_follow_into` counting the cracks only.
+_NO_VISITED, _NO_INT32, _NO_INT8 = np.empty((0, 0), np.uint8), np.empty(0, np.int32), np.empty(0, np.int8)
+_NO_BOOLS, _NO_INT64 = np.empty(0, np.bool_), np.empty(0, np.int64)
+
+
 @njit(**_HELPER)
 def _ink(padded, row, col):
     """1 for an ink pixel, 0 for paper and for pixels outside the array."""
     if row < 0 or col < 0 or row >= padded.shape[0] or col >= padded.shape[1]:
         return 0
     return 1 if padded[row, col] else 0
-
-
-@njit(**JIT_OPTIONS)
-def _count_cracks(padded):
-    count = 0
-    for row in range(padded.shape[0]):
-        for col in range(padded.shape[1]):
-            here = padded[row, col]
-            if row + 1 < padded.shape[0] and padded[row + 1, col] != here:
-                count += 1
-            if col + 1 < padded.shape[1] and padded[row, col + 1] != here:
-                count += 1
-    return count
 
 
 @njit(**_HELPER)
@@ -75,9 +67,22 @@ def _starts_at(padded, vertex_x, vertex_y):
 @njit(**JIT_OPTIONS)
 def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_turn, offsets):
     """Fill the per-crack arrays in cycle order (``visited``: zeros, one byte per vertex); returns the number of
-    cycles, or -1 when a crack has no successor (the tracer's invariant broken)."""
-    written = 0
-    cycles = 0
+    cycles, or -1 when a crack has no successor (the tracer's invariant broken). With an empty ``offsets``
+    (no room for even one cycle offset) only the number of cracks of ``padded``, the length of the per-crack
+    arrays (one kernel for both calls: each kernel costs its own compile and Python wrapper)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    if offsets.shape[0] == 0:
+        count = np.int64(0)
+        for row in range(padded.shape[0]):
+            for col in range(padded.shape[1]):
+                here = padded[row, col]
+                if row + 1 < padded.shape[0] and padded[row + 1, col] != here:
+                    count += 1
+                if col + 1 < padded.shape[1] and padded[row, col + 1] != here:
+                    count += 1
+        return count
+    written = np.int64(0)
+    cycles = np.int64(0)
     height, width = padded.shape
     for vertex_y in range(height + 1):
         for vertex_x in range(width + 1):
@@ -111,7 +116,7 @@ def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_
                         # last one on either axis.
                         left = True
                         for radius in range(2, 5):
-                            balance = 0
+                            balance = np.int64(0)
                             for row_offset in range(-radius, radius):
                                 edge_row = row_offset == -radius or row_offset == radius - 1
                                 step = 1 if edge_row else 2 * radius - 1
@@ -143,7 +148,7 @@ def follow_cracks(padded, connectivity):
     cycle ``offsets`` (int64, length cycles + 1).
     """
     padded = np.ascontiguousarray(padded, dtype=np.bool_)
-    count = _count_cracks(padded)
+    count = _follow_into(padded, 0, _NO_VISITED, _NO_INT32, _NO_INT32, _NO_INT8, _NO_BOOLS, _NO_INT64)
     tail_x = np.empty(count, dtype=np.int32)
     tail_y = np.empty(count, dtype=np.int32)
     direction = np.empty(count, dtype=np.int8)
@@ -156,30 +161,48 @@ def follow_cracks(padded, connectivity):
     return {"x": tail_x, "y": tail_y, "d": direction, "left_turn": left_turn, "offsets": offsets[:cycles + 1].copy()}
 
 
+@njit(**_HELPER)
+def _root(parent, node):
+    while parent[node] != node:
+        parent[node] = parent[parent[node]]
+        node = parent[node]
+    return node
+
+
 @njit(**JIT_OPTIONS)
-def _shoelace_into(tail_x, tail_y, offsets, area2):
-    """Twice the signed shoelace area of every cycle of crack tails (integers: exact)."""
-    for cycle in range(offsets.shape[0] - 1):
+def _boundaries_into(tail_x, tail_y, direction, left_turn, offsets, four, offset_x, offset_y, area2, is_hole,
+                     buffer_col, buffer_row, chain_col, chain_row, codes, kept_offsets, row_start, fill, filed, cycle_of,
+                     parent, run_cycle, run_kind, number_of_root, component, midpoints, centres):
+    """Steps 4-5 of the contour module for every cycle of :func:`follow_cracks`, in one kernel (each kernel
+    costs its own compile and Python wrapper): twice its signed shoelace area and whether it is a hole; its pixel
+    chain; its component; the crack midpoints and the chain's pixel centres. Returns the number of chain
+    pixels, -1 when a chain step is longer than one pixel, -2 when the ink runs do not alternate or a group has
+    no outer cycle (the tracer's invariants broken).
+
+    The chain (step 4): the ink pixel on the right of each crack (and, for 4-connectivity, the corner pixel
+    ahead-right at each left turn), the last of each run of repeats kept (one pixel where all are equal), and
+    the Freeman code of each step to the next kept pixel (``buffer_*``: room for the longest cycle's pixels).
+    The component (step 5): in every pixel row an N crack starts an ink run and the next S crack to its right
+    ends it; the cycles of both are joined (union-find); components are numbered in the order of their outer
+    cycles. ``row_start`` .. ``number_of_root`` are the scratch arrays of :func:`_component_work` (separate
+    arguments: a tuple of arrays costs compile time). Midpoints: tail + half a step; centres: pixel + 1/2; both
+    in the image frame (``offset_*`` = the padded frame's origin there)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    n_cycles = offsets.shape[0] - 1
+    # twice the signed shoelace area of every cycle of crack tails (integers: exact)
+    for cycle in range(n_cycles):
         lo, hi = offsets[cycle], offsets[cycle + 1]
-        total = 0
+        total = np.int64(0)
         for i in range(lo, hi):
             j = i + 1 if i + 1 < hi else lo
             total += np.int64(tail_x[i]) * tail_y[j] - np.int64(tail_x[j]) * tail_y[i]
         area2[cycle] = total
-
-
-@njit(**JIT_OPTIONS)
-def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, buffer_col, buffer_row, chain_col, chain_row,
-                 codes, kept_offsets):
-    """The pixel chain of every cycle (contour module, step 4): the ink pixel on the right of each crack (and,
-    for 4-connectivity, the corner pixel ahead-right at each left turn), the last of each run of repeats kept
-    (one pixel where all are equal), and the Freeman code of each step to the next kept pixel. Returns the
-    number of chain pixels, or -1 when a step is longer than one pixel (``buffer_*``: room for the longest
-    cycle's pixels)."""
-    kept = 0
+        is_hole[cycle] = total < 0
+    # the pixel chains
+    kept = np.int64(0)
     kept_offsets[0] = 0
-    for cycle in range(offsets.shape[0] - 1):
-        emitted = 0
+    for cycle in range(n_cycles):
+        emitted = np.int64(0)
         for i in range(offsets[cycle], offsets[cycle + 1]):
             d = direction[i]
             buffer_col[emitted] = tail_x[i] + _AHEAD_RIGHT_X[d]  # the pixel right of the tail
@@ -205,27 +228,7 @@ def _chains_into(tail_x, tail_y, direction, left_turn, offsets, four, buffer_col
                 return -1
             codes[j] = _CODE_OF_STEP[3 * (step_y + 1) + (step_x + 1)]
         kept_offsets[cycle + 1] = kept
-    return kept
-
-
-@njit(**_HELPER)
-def _root(parent, node):
-    while parent[node] != node:
-        parent[node] = parent[parent[node]]
-        node = parent[node]
-    return node
-
-
-@njit(**JIT_OPTIONS)
-def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fill, filed, cycle_of, parent, run_cycle,
-                     run_kind, number_of_root, component):
-    """Component of every cycle (contour module, step 5): in every pixel row an N crack starts an ink run and
-    the next S crack to its right ends it; the cycles of both are joined (union-find). Components are numbered
-    in the order of their outer cycles. Returns -1 when the runs do not alternate or a group has no outer
-    cycle (the tracer's invariant broken), else the number of components. ``row_start`` .. ``number_of_root``
-    are the scratch arrays of :func:`_component_work` (separate arguments: a tuple of arrays costs compile
-    time)."""
-    n_cycles = offsets.shape[0] - 1
+    # the components
     height, width = row_start.shape[0] - 2, run_cycle.shape[0] - 1
     # Vertical cracks filed by pixel row (counting sort): N tails sit on the row's lower edge, S on its upper.
     for i in range(offsets[n_cycles]):
@@ -247,7 +250,7 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fil
     for row in range(height + 1):
         if row_start[row] == row_start[row + 1]:
             continue
-        first_x, last_x = width, 0
+        first_x, last_x = width, np.int64(0)
         for f in range(row_start[row], row_start[row + 1]):  # mark the row's cracks, then walk its columns
             x = tail_x[filed[f]]
             run_cycle[x], run_kind[x] = cycle_of[filed[f]], direction[filed[f]]
@@ -259,19 +262,19 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fil
         for x in range(first_x, last_x + 1):
             if run_kind[x] == 1:
                 if opened >= 0:
-                    return -1
+                    return -2
                 opened = run_cycle[x]
             elif run_kind[x] == 3:
                 if opened < 0:
-                    return -1
+                    return -2
                 a, b = _root(parent, opened), _root(parent, run_cycle[x])
                 if a != b:
-                    parent[max(a, b)] = min(a, b)
+                    parent[pymax(a, b)] = pymin(a, b)
                 opened = -1
             run_kind[x] = 0
         if opened >= 0:
-            return -1
-    count = 0
+            return -2
+    count = np.int64(0)
     for cycle in range(n_cycles):
         number_of_root[cycle] = -1
     for cycle in range(n_cycles):
@@ -281,15 +284,22 @@ def _components_into(tail_x, tail_y, direction, offsets, is_hole, row_start, fil
     for cycle in range(n_cycles):
         component[cycle] = number_of_root[_root(parent, cycle)]
         if component[cycle] < 0:
-            return -1
-    return count
+            return -2
+    # the crack midpoints and the chains' pixel centres
+    for i in range(tail_x.shape[0]):
+        midpoints[i, 0] = float(tail_x[i] + offset_x) + 0.5 * _STEP_X[direction[i]]
+        midpoints[i, 1] = float(tail_y[i] + offset_y) + 0.5 * _STEP_Y[direction[i]]
+    for i in range(kept):
+        centres[i, 0] = float(chain_col[i] + offset_x) + 0.5
+        centres[i, 1] = float(chain_row[i] + offset_y) + 0.5
+    return kept
 
 
 def _component_work(direction, offsets, width, height):
-    """Scratch arrays of :func:`_components_into` (allocated here: allocation in compiled code costs compile
-    time): the rows' first filed cracks and fill positions, the filed vertical cracks, each crack's cycle, the
-    union-find parents, the row's cycle and kind per vertex column (the cycle of its crack; kind 0 none, 1 N, 3 S),
-    each root's component."""
+    """Scratch arrays of the components in :func:`_boundaries_into` (allocated here: allocation in compiled code
+    costs compile time): the rows' first filed cracks and fill positions, the filed vertical cracks, each crack's
+    cycle, the union-find parents, the row's cycle and kind per vertex column (the cycle of its crack; kind 0 none,
+    1 N, 3 S), each root's component."""
     n_cycles, count = offsets.shape[0] - 1, int(offsets[-1])
     vertical = int(np.count_nonzero(direction & 1))
     return (np.zeros(height + 2, dtype=np.int64), np.empty(height + 2, dtype=np.int64), np.empty(vertical, np.int64),
@@ -297,14 +307,14 @@ def _component_work(direction, offsets, width, height):
             np.zeros(width + 1, dtype=np.int8), np.empty(n_cycles, dtype=np.int64))
 
 
-def boundary_arrays(cracks, width, height, four):
-    """Per cycle of :func:`follow_cracks`: twice its signed area, its pixel chain (columns, rows, Freeman codes,
-    ``kept_offsets``) and its component (contour module, steps 4-5); ``width``, ``height`` are the padded
-    mask's."""
+def boundary_arrays(cracks, width, height, four, offset=(0, 0)):
+    """Per cycle of :func:`follow_cracks`: twice its signed area, whether it is a hole, its pixel chain
+    (columns, rows, Freeman codes, ``kept_offsets``) and its component (contour module, steps 4-5), and the crack
+    ``midpoints`` (tail + half a step) and the chains' pixel ``centres``, ``(n, 2)`` floats in the image frame
+    (``offset`` = the padded frame's origin there); ``width``, ``height`` are the padded mask's."""
     tail_x, tail_y, direction, left_turn, offsets = (cracks[k] for k in ("x", "y", "d", "left_turn", "offsets"))
     n_cycles = offsets.shape[0] - 1
-    area2 = np.empty(n_cycles, dtype=np.int64)
-    _shoelace_into(tail_x, tail_y, offsets, area2)
+    area2, is_hole = np.empty(n_cycles, dtype=np.int64), np.empty(n_cycles, dtype=np.bool_)
     capacity = tail_x.shape[0] * (2 if four else 1)
     chain_col = np.empty(capacity, dtype=np.int64)
     chain_row = np.empty(capacity, dtype=np.int64)
@@ -312,36 +322,18 @@ def boundary_arrays(cracks, width, height, four):
     kept_offsets = np.empty(n_cycles + 1, dtype=np.int64)
     longest = int(np.diff(offsets).max(initial=0))
     buffer_col, buffer_row = np.empty(2 * longest + 2, dtype=np.int64), np.empty(2 * longest + 2, dtype=np.int64)
-    kept = _chains_into(tail_x, tail_y, direction, left_turn, offsets, bool(four), buffer_col, buffer_row, chain_col,
-                        chain_row, codes, kept_offsets)
-    if kept < 0:
-        raise RuntimeError("internal error: pixel chain has a step longer than one pixel")
-    is_hole = area2 < 0
     component = np.empty(n_cycles, dtype=np.int64)
-    if _components_into(tail_x, tail_y, direction, offsets, is_hole, *_component_work(direction, offsets, width, height),
-                        component) < 0:
+    midpoints, centres = np.empty((tail_x.shape[0], 2), dtype=float), np.empty((capacity, 2), dtype=float)
+    kept = _boundaries_into(tail_x, tail_y, direction, left_turn, offsets, bool(four), int(offset[0]), int(offset[1]),
+                            area2, is_hole, buffer_col, buffer_row, chain_col, chain_row, codes, kept_offsets,
+                            *_component_work(direction, offsets, width, height), component, midpoints, centres)
+    if kept == -1:
+        raise RuntimeError("internal error: pixel chain has a step longer than one pixel")
+    if kept < 0:
         raise RuntimeError("internal error: ink runs do not alternate N/S cracks, or a hole has no outer boundary")
     return {"area2": area2, "chain_col": chain_col[:kept].copy(), "chain_row": chain_row[:kept].copy(),
-            "codes": codes[:kept].copy(), "kept_offsets": kept_offsets, "is_hole": is_hole, "component": component}
-
-
-@njit(**JIT_OPTIONS)
-def _points_into(tail_x, tail_y, direction, chain_col, chain_row, offset_x, offset_y, midpoints, centres):
-    for i in range(tail_x.shape[0]):
-        midpoints[i, 0] = float(tail_x[i] + offset_x) + 0.5 * _STEP_X[direction[i]]
-        midpoints[i, 1] = float(tail_y[i] + offset_y) + 0.5 * _STEP_Y[direction[i]]
-    for i in range(chain_col.shape[0]):
-        centres[i, 0] = float(chain_col[i] + offset_x) + 0.5
-        centres[i, 1] = float(chain_row[i] + offset_y) + 0.5
-
-
-def crack_points(tail_x, tail_y, direction, chain_col, chain_row, offset):
-    """The crack midpoints (tail + half a step) and the pixel centres of the chains, ``(n, 2)`` floats in the
-    image frame (``offset`` = the padded frame's origin there)."""
-    midpoints = np.empty((tail_x.shape[0], 2), dtype=float)
-    centres = np.empty((chain_col.shape[0], 2), dtype=float)
-    _points_into(tail_x, tail_y, direction, chain_col, chain_row, int(offset[0]), int(offset[1]), midpoints, centres)
-    return midpoints, centres
+            "codes": codes[:kept].copy(), "kept_offsets": kept_offsets, "is_hole": is_hole, "component": component,
+            "midpoints": midpoints, "centres": centres[:kept].copy()}
 
 
 def warm_up():
@@ -352,6 +344,4 @@ def warm_up():
     padded[2, 2] = False
     padded[4, 4] = True
     for connectivity in (MINORITY, 4):
-        cracks = follow_cracks(padded, connectivity)
-        arrays = boundary_arrays(cracks, 6, 6, connectivity == 4)
-        crack_points(cracks["x"], cracks["y"], cracks["d"], arrays["chain_col"], arrays["chain_row"], (0, 0))
+        boundary_arrays(follow_cracks(padded, connectivity), 6, 6, connectivity == 4)

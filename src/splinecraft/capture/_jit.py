@@ -22,6 +22,7 @@ from __future__ import annotations
 import gc
 import importlib
 import itertools
+import operator
 import os
 import subprocess
 import sys
@@ -29,9 +30,11 @@ import tempfile
 import threading
 
 import numba
+from numba.core import types, typing
+from numba.extending import intrinsic
 
-__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "ensure_cache_dir", "warm_up", "warm_up_all", "WARM_UP_TASKS",
-           "TRACE_TASKS", "LAST_WARM_UP"]
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
+           "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
@@ -41,11 +44,95 @@ __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "ensure_cache_dir", "warm_up", "warm
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
 #: wrapper was compiled and optimized for nothing (about 8 ms a kernel).
 JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True)
-#: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink`` ...): also no Python
-#: wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for each
-#: helper but never run); their code is linked into the calling kernels, whose cache entries hold it. A helper
-#: that a test calls from Python (``_smoothed``, ``_window_fit``) keeps :data:`JIT_OPTIONS`.
-HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True)
+#: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also
+#: no Python wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for
+#: each helper but never run) and no cache entry of their own (``cache=False``): their code is linked into the
+#: calling kernels, whose cache entries hold it, so a warm process never loads a helper, and writing its entry
+#: cost 3-4 ms a helper. Always inlined (``forceinline``): in a kernel optimized for size (:func:`compact`) LLVM
+#: kept calls to the Bezier point and ran ``_samples_into`` 2x slower; the one large helper, ``_smoothed``, opts
+#: out. (Tests call ``_smoothed`` and ``_window_fit`` through a kernel of their own.)
+HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True, cache=False, forceinline=True)
+
+
+@intrinsic
+def compact(typingctx):
+    """``compact()`` as the first statement of a kernel: LLVM optimizes the kernel's machine code for size (the
+    ``optsize`` attribute of its function; the helpers it calls are inlined under the same rule). The
+    optimizations are those of ``-O3`` but for the ones that grow the code for speed: no loops unrolled,
+    vectorized with run-time overlap checks or duplicated per value of a flag (unswitched), and smaller functions
+    inlined. Results are bit for bit the same (no optimization of either kind reorders floating-point
+    operations); the compiled code is a third to a tenth of its ``-O3`` size, which LLVM optimizes and emits in
+    that much less time (the cold compile of a trace's kernels: BENCHMARKS.md, "Session 24"). Only in kernels
+    whose run time in a trace is negligible or no slower so (the fit's hot loops -- ``_deviation_into``,
+    ``_fit_runs_into``, ``_normal_into``, ``_hoschek_into``, the noise estimate's ``_nearest_into`` -- ran 5-15 %
+    slower and keep ``-O3``)."""
+    def codegen(context, builder, signature, args):
+        builder.function.attributes.add("optsize")
+        return context.get_dummy_value()
+    return types.none(), codegen
+
+
+# The builtins min and max of two numbers, and min(max(x, lo), hi), for kernels: the instructions numba's builtins
+# emit (numba.cpython.builtins.do_minmax: both cast to their unified type, then the second where it compares
+# strictly smaller (min) or larger (max), else the first -- a NaN first stays, a NaN second is passed over), so
+# results are bit for bit those of min and max. numba implements the builtins as overloads: each signature of
+# each is a function of its own, compiled (with the literal-argument variants, 6-7 of them, 12-15 ms each, in
+# every process and warm-up task that uses them) and typed again at each call; these intrinsics are written
+# into the calling kernel at each call.
+def _pick(context, builder, first_type, first, second_type, second, compare):
+    unified = context.typing_context.unify_types(first_type, second_type)
+    first = context.cast(builder, first, first_type, unified)
+    second = context.cast(builder, second, second_type, unified)
+    takes_second = context.get_function(compare, typing.signature(types.boolean, unified, unified))
+    return unified, builder.select(takes_second(builder, (second, first)), second, first)
+
+
+def _unified(typingctx, *values):
+    values = [types.unliteral(value) for value in values]
+    if not all(isinstance(value, types.Number) for value in values):
+        return None, values
+    unified = values[0]
+    for value in values[1:]:
+        unified = typingctx.unify_types(unified, value)
+    return unified, values
+
+
+@intrinsic
+def pymin(typingctx, a, b):
+    """``min(a, b)`` of two numbers in a kernel: ``b`` where ``b < a``, else ``a`` (see above)."""
+    unified, args = _unified(typingctx, a, b)
+    if unified is None:
+        return None
+
+    def codegen(context, builder, signature, values):
+        return _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1], operator.lt)[1]
+    return unified(*args), codegen
+
+
+@intrinsic
+def pymax(typingctx, a, b):
+    """``max(a, b)`` of two numbers in a kernel: ``b`` where ``b > a``, else ``a`` (see above)."""
+    unified, args = _unified(typingctx, a, b)
+    if unified is None:
+        return None
+
+    def codegen(context, builder, signature, values):
+        return _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1], operator.gt)[1]
+    return unified(*args), codegen
+
+
+@intrinsic
+def pyclip(typingctx, x, lo, hi):
+    """``min(max(x, lo), hi)`` of three numbers in a kernel, one call (see above)."""
+    unified, args = _unified(typingctx, x, lo, hi)
+    if unified is None:
+        return None
+
+    def codegen(context, builder, signature, values):
+        low_type, low = _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1],
+                              operator.gt)
+        return _pick(context, builder, low_type, low, signature.args[2], values[2], operator.lt)[1]
+    return unified(*args), codegen
 
 
 def _writable(folder) -> bool:
@@ -78,16 +165,16 @@ ensure_cache_dir()
 #: The warm-up tasks: name -> (module relative to :mod:`splinecraft.capture`, its function that compiles (empty
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
-#: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of two runs
-#: (BENCHMARKS.md, "Session 23"); only their ratios matter, they balance the processes of :func:`warm_up`.
+#: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
+#: (BENCHMARKS.md, "Session 24"); only their ratios matter, they balance the processes of :func:`warm_up`.
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.4),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.35),
-    "tracer": ("_cracks", "warm_up", "_follow_into", 1.25),
-    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.85),
-    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.6),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.35),
-    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.3),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.0),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.17),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 0.97),
+    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.77),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.53),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.29),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.27),
 }
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
 #: polygons of a spent time budget compile where they are used).

@@ -63,7 +63,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._cracks import FREEMAN_STEPS, MINORITY, boundary_arrays, crack_points, follow_cracks
+from ._cracks import FREEMAN_STEPS, MINORITY, boundary_arrays, follow_cracks
 from ._lazy import LazyList
 from ._saddle import CONNECTIVITIES, check_connectivity
 
@@ -266,13 +266,13 @@ def trace_boundaries(mask, *, connectivity=8) -> list:
 def _build_boundaries(cracks, connectivity, offset, shape):
     """The :class:`Boundary` list of the cracks of a padded mask of ``shape`` (steps 4-5, compiled in
     :func:`~splinecraft.capture._cracks.boundary_arrays`): grouped by component, outer boundary first."""
-    arrays = boundary_arrays(cracks, shape[1], shape[0], connectivity == 4)
+    arrays = boundary_arrays(cracks, shape[1], shape[0], connectivity == 4, offset)
     area2, is_hole, component = arrays["area2"], arrays["is_hole"], arrays["component"]
     n_cycles = area2.shape[0]
     # Order: by component, outer boundary first, then holes; cycles are already in raster order.
     order = np.lexsort((np.arange(n_cycles), is_hole, component))
-    store = _BoundaryStore(cracks["x"], cracks["y"], cracks["d"], cracks["offsets"], arrays["chain_col"],
-                           arrays["chain_row"], arrays["codes"], arrays["kept_offsets"], offset)
+    store = _BoundaryStore(cracks["x"], cracks["y"], cracks["offsets"], arrays["midpoints"], arrays["centres"],
+                           arrays["codes"], arrays["kept_offsets"], offset)
     # The parent of a hole: the position in ``order`` of its component's outer boundary (the first of its group).
     position = np.empty(n_cycles, dtype=np.int64)
     position[order] = np.arange(n_cycles)
@@ -352,10 +352,10 @@ class _BoundaryStore:
 
     __slots__ = ("x", "y", "offsets", "offsets_array", "midpoints", "centres", "codes", "kept_offsets", "offset")
 
-    def __init__(self, x, y, d, offsets, chain_col, chain_row, codes, kept_offsets, offset):
+    def __init__(self, x, y, offsets, midpoints, centres, codes, kept_offsets, offset):
         self.x, self.y, self.offsets_array, self.offset = x, y, offsets, offset
         self.offsets = offsets.tolist()
-        self.midpoints, self.centres = crack_points(x, y, d, chain_col, chain_row, offset)
+        self.midpoints, self.centres = midpoints, centres
         self.codes = codes.astype(np.int8, copy=False)
         self.kept_offsets = kept_offsets.tolist()
 

@@ -17,12 +17,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pymax
 
 __all__ = ["arm_lines", "warm_up"]
 
 
-@njit(**JIT_OPTIONS)
+@njit(**HELPER_OPTIONS)
 def _window_fit(padded, start, length, centred, weights, tolerance, line):
     """Mean point and slope of the window of ``length`` samples from row ``start`` into ``line[0:4]``, and,
     for a ``tolerance`` > 0, whether every sample lies within it of that line (``max hypot <= tolerance``;
@@ -35,7 +35,10 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
         sy += y
         kx += weights[t] * x
         ky += weights[t] * y
-    line[0], line[1], line[2], line[3] = sx / length, sy / length, kx, ky
+    line[0] = sx / length  # one assignment a line: four targets at once build and unpack a tuple (compile time)
+    line[1] = sy / length
+    line[2] = kx
+    line[3] = ky
     if tolerance <= 0:
         return True
     limit = tolerance * tolerance
@@ -47,14 +50,14 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
         squared = dx * dx + dy * dy
         if not squared <= high:  # certainly too far, or NaN
             return False
-        worst = max(worst, squared)
+        worst = pymax(worst, squared)
     if worst < low:
         return True
     farthest = 0.0
     for t in range(length):
         dx = (padded[start + t, 0] - line[0]) - centred[t] * line[2]
         dy = (padded[start + t, 1] - line[1]) - centred[t] * line[3]
-        farthest = max(farthest, np.hypot(dx, dy))
+        farthest = pymax(farthest, np.hypot(dx, dy))
     return farthest <= tolerance
 
 
@@ -63,12 +66,13 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, alive, s
     """For both sides (0 backward, 1 forward) and every sample the mean point and slope of its last straight
     arm into ``lines[side, i, 0:4]``; ``alive`` (per side and sample), ``state`` (per window start: 0 not
     fitted, 1 straight, 2 not) and ``memo`` (window lines by start) are work arrays."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
     for rung in range(ladder.shape[0]):
         length = ladder[rung]
         for start in range(state.shape[0]):
             state[start] = 0
-        any_alive = False
+        any_alive = np.bool_(False)
         for side in range(2):
             for i in range(m):
                 if not alive[side, i]:

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, pyclip, pymax, pymin
 
 __all__ = ["gaussian_weights", "iso_line_distance", "warm_up"]
 
@@ -52,7 +52,7 @@ def gaussian_weights(sigma):
     return _WEIGHTS[sigma]
 
 
-@njit(**_JIT)
+@njit(**dict(HELPER_OPTIONS, forceinline=False))  # inlined where LLVM sees fit (forced: 2.5x the code)
 def _smoothed(ink, weights, r, c, cols, smooth, smooth_tag, row_memo, row_tag):
     """``gaussian_filter(np.pad(mask, pad), sigma)[r, c]`` (a grid of ``cols`` columns) in scipy's arithmetic:
     the correlation along columns (axis 1) of the correlation along rows (axis 0), each ``correlate1d``'s
@@ -72,7 +72,7 @@ def _smoothed(ink, weights, r, c, cols, smooth, smooth_tag, row_memo, row_tag):
     tag = r * cols + c
     if smooth_tag[slot_r, c & low] == tag:
         return smooth[slot_r, c & low]
-    for cc in range(max(c - radius, 0), min(c + radius + 1, cols)):
+    for cc in range(pymax(c - radius, 0), pymin(c + radius + 1, cols)):
         if row_tag[slot_r, cc & low] == r * cols + cc:
             continue
         total = ink[r + radius, cc] * weights[radius]
@@ -100,14 +100,14 @@ def _nearest_into(points, ink, pad, weights, level, table, smooth, smooth_tag, r
     (``x = column - pad + 0.5``), and the distance to a segment is exact (foot point clipped to it)."""
     cols = ink.shape[1]
     grid_rows, grid_cols = ink.shape[0] - weights.shape[0], cols - 1
-    reach, low = max(grid_rows, grid_cols), smooth.shape[0] - 1
+    reach, low = pymax(grid_rows, grid_cols), smooth.shape[0] - 1
     for j in range(points.shape[0]):
         px, py = points[j, 0], points[j, 1]
-        row = min(max(int(np.floor(py - 0.5 + pad)), 0), grid_rows - 1)
-        col = min(max(int(np.floor(px - 0.5 + pad)), 0), grid_cols - 1)
+        row = pyclip(np.int64(np.floor(py - 0.5 + pad)), 0, grid_rows - 1)
+        col = pyclip(np.int64(np.floor(px - 0.5 + pad)), 0, grid_cols - 1)
         best = np.inf
         for ring in range(reach + 1):
-            for r0 in range(max(row - ring, 0), min(row + ring, grid_rows - 1) + 1):
+            for r0 in range(pymax(row - ring, 0), pymin(row + ring, grid_rows - 1) + 1):
                 step = 1 if abs(r0 - row) == ring else 2 * ring
                 for c0 in range(col - ring, col + ring + 1, step):
                     if c0 < 0 or c0 >= grid_cols:
@@ -142,9 +142,9 @@ def _nearest_into(points, ink, pad, weights, level, table, smooth, smooth_tag, r
                         abx, aby = ends[2] - ends[0], ends[3] - ends[1]
                         apx, apy = px - ends[0], py - ends[1]
                         denom = abx * abx + aby * aby
-                        t = min(max((apx * abx + apy * aby) / (denom if denom > 0 else 1.0), 0.0), 1.0)
+                        t = pyclip((apx * abx + apy * aby) / (denom if denom > 0 else 1.0), 0.0, 1.0)
                         dx, dy = apx - t * abx, apy - t * aby
-                        best = min(best, np.sqrt(dx * dx + dy * dy))
+                        best = pymin(best, np.sqrt(dx * dx + dy * dy))
             if best <= ring:
                 break
         out[j] = best

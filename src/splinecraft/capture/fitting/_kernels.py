@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up",
@@ -37,12 +37,16 @@ def _ints(values):
 
 # Empty arguments of the kernels' unused outputs (one compiled signature for both uses of a kernel).
 _NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty((0, 2))
+# The band row ``s - r`` of each pair ``(r, s)`` of basis functions, ``r <= s``, in the order r, then s
+# (:func:`_normal_into`; a loop over the 10 rows of ``partial``, not over r and s: LLVM unrolled those loops into 10
+# vectorized copies of the inner loop, about 15 % of the compiled code of the fit's solves).
+_BAND_ROW = np.array([0, 1, 2, 3, 0, 1, 2, 0, 1, 0], dtype=np.int64)
 
 
 @njit(**_HELPER)
 def _right_of(values, x):
     """The number of ``values`` (sorted) that are ``<= x``: ``numpy.searchsorted(values, x, side="right")``."""
-    lo, hi = 0, values.shape[0]
+    lo, hi = np.int64(0), values.shape[0]
     while lo < hi:
         mid = (lo + hi) // 2
         if x < values[mid]:
@@ -50,13 +54,6 @@ def _right_of(values, x):
         else:
             lo = mid + 1
     return lo
-
-
-@njit(**_HELPER)
-def _interval(full, u):
-    """``i`` with ``full[i] <= u < full[i + 1]`` (searchsorted right, minus one), clipped to the period
-    ``[3, len(full) - 5]``: :func:`~.bspline.interval_index`."""
-    return min(max(_right_of(full, u) - 1, 3), full.shape[0] - 5)
 
 
 @njit(**_HELPER)
@@ -107,11 +104,17 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
     last = full.shape[0] - 5
     for j in range(u.shape[0]):
         at = _walk_right(full, u[j], at)
-        i = min(max(at - 1, 3), last)  # _interval
+        i = pyclip(at - 1, 3, last)  # bspline.interval_index
         n0, n1, n2, n3 = _basis(full, i, u[j])
         w = weights[j]
-        w0, w1, w2, w3 = n0 * w, n1 * w, n2 * w, n3 * w
-        k0, k1, k2, k3 = (i - 6) % m, (i - 5) % m, (i - 4) % m, (i - 3) % m
+        w0 = n0 * w  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
+        w1 = n1 * w
+        w2 = n2 * w
+        w3 = n3 * w
+        k0 = (i - 6) % m
+        k1 = (i - 5) % m
+        k2 = (i - 4) % m
+        k3 = (i - 3) % m
         for d in range(targets.shape[1]):
             t = targets[j, d]
             rhs[k0, d] += w0 * t
@@ -128,12 +131,10 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         partial[7, k2] += w2 * n2
         partial[8, k2] += w2 * n3
         partial[9, k3] += w3 * n3
-    pair = 0
-    for r in range(4):  # pair (r, s) in the order r, then s: band row s - r
-        for s in range(r, 4):
-            for a in range(m):
-                band[s - r, a] += partial[pair, a]
-            pair += 1
+    for pair in range(partial.shape[0]):  # the pairs (r, s) in the order r, then s: band row s - r
+        row = _BAND_ROW[pair]
+        for a in range(m):
+            band[row, a] += partial[pair, a]
 
 
 def normal_equations(full, u, weights, targets, m):
@@ -149,6 +150,7 @@ def normal_equations(full, u, weights, targets, m):
 
 @njit(**_JIT)
 def _penalized_into(band, regularization, dense, normal):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     scale = band[0, 0]
     for a in range(band.shape[1]):
         if not band[0, a] <= scale:  # NaN sticks, as in numpy's max
@@ -185,9 +187,10 @@ def penalized_normal(band, regularization, dense):
 
 @njit(**_JIT)
 def _values_into(coef, full, m, starts, ends, theta, out, mix, mixed):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for k in range(starts.shape[0]):
         width = ends[k] - starts[k]
-        i = _interval(full, starts[k] + 0.5 * width)
+        i = pyclip(_right_of(full, starts[k] + 0.5 * width) - 1, 3, full.shape[0] - 5)  # bspline.interval_index
         for t in range(theta.shape[0]):
             n0, n1, n2, n3 = _basis(full, i, starts[k] + width * theta[t])
             for d in range(coef.shape[1]):
@@ -222,12 +225,15 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
     at = np.int64(0)  # the previous point's search answer (the parameters are sorted)
     for j in range(u.shape[0]):
         at = _walk_right(starts, u[j], at)
-        seg = min(max(at - 1, 0), last)
+        seg = pyclip(at - 1, 0, last)
         h = ends[seg] - starts[seg]
         theta = (u[j] - starts[seg]) / h
         r0 = r1 = p0 = p1 = q0 = q1 = 0.0
         for d in range(2):
-            b0, b1, b2, b3 = bez[seg, 0, d], bez[seg, 1, d], bez[seg, 2, d], bez[seg, 3, d]
+            b0 = bez[seg, 0, d]
+            b1 = bez[seg, 1, d]
+            b2 = bez[seg, 2, d]
+            b3 = bez[seg, 3, d]
             c1 = 3.0 * (b1 - b0)
             c2 = 3.0 * (b0 - 2.0 * b1 + b2)
             c3 = b3 - b0 + 3.0 * (b1 - b2)
@@ -242,13 +248,11 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         den = speed2 + r0 * q0 + r1 * q1
         if not den > 0.1 * speed2:
             den = speed2
-        step = -(r0 * p0 + r1 * p1) / max(den, 1e-300)
-        du[j] = min(max(step, -2.0), 2.0)
+        step = -(r0 * p0 + r1 * p1) / pymax(den, 1e-300)
+        du[j] = pyclip(step, -2.0, 2.0)
         res[j] = np.hypot(r0, r1)
-    for g in range(worst.shape[0]):
-        worst[g] = -np.inf
-    for j in range(u.shape[0]):
-        worst[piece_of[j]] = max(worst[piece_of[j]], res[j])
+    for j in range(u.shape[0]):  # worst: -inf from the wrapper
+        worst[piece_of[j]] = pymax(worst[piece_of[j]], res[j])
     for j in range(u.shape[0]):
         if worst[piece_of[j]] > gate:
             du[j] = 0.0
@@ -277,7 +281,7 @@ def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bo
     fixed, base)`` instead the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
     high)`` with ``base`` where ``fixed``."""
     u = _floats(u)
-    du, res, worst = np.empty(u.shape[0]), np.empty(u.shape[0]), np.empty(int(piece_count))
+    du, res, worst = np.empty(u.shape[0]), np.empty(u.shape[0]), np.full(int(piece_count), -np.inf)
     if bounds is None:
         low = high = base = moved = np.empty(0)
         fixed = np.empty(0, np.bool_)
@@ -291,18 +295,19 @@ def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bo
 
 @njit(**_JIT)
 def _windowed_into(points, centre, lo, hi, ax, ay, dx, dy, inverse, window, wrap, clip, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for j in range(points.shape[0]):
         best = np.inf
         for offset in range(-window, window + 1):
             e = centre[j] + offset
             if clip:
-                e = min(max(e, lo[j]), hi[j])
+                e = pyclip(e, lo[j], hi[j])
             if wrap:
                 e %= wrap
             px = points[j, 0] - ax[e]
             py = points[j, 1] - ay[e]
             t = (px * dx[e] + py * dy[e]) * inverse[e]
-            t = min(max(t, 0.0), 1.0)
+            t = pyclip(t, 0.0, 1.0)
             px -= t * dx[e]
             py -= t * dy[e]
             squared = px * px + py * py
@@ -325,6 +330,7 @@ def windowed_distance(points, centre, lo, hi, edges, window, wrap):
 
 @njit(**_JIT)
 def _nearest_segments_into(px, py, ax, ay, dx, dy, inverse, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for i in range(px.shape[0]):
         for p in range(px.shape[1]):
             best = np.inf
@@ -332,7 +338,7 @@ def _nearest_segments_into(px, py, ax, ay, dx, dy, inverse, out):
                 rx = px[i, p] - ax[i, e]
                 ry = py[i, p] - ay[i, e]
                 t = (rx * dx[i, e] + ry * dy[i, e]) * inverse[i, e]
-                t = min(max(t, 0.0), 1.0)
+                t = pyclip(t, 0.0, 1.0)
                 rx -= t * dx[i, e]
                 ry -= t * dy[i, e]
                 squared = rx * rx + ry * ry
@@ -360,7 +366,10 @@ def _bezier_point(bez, k, theta, out, row):
     """``out[row]`` = the cubic Bézier piece ``bez[k]`` at ``theta`` (Bernstein weights, summed in order)."""
     s = 1.0 - theta
     t2, s2 = theta * theta, s * s
-    w0, w1, w2, w3 = s2 * s, 3.0 * theta * s2, 3.0 * t2 * s, t2 * theta
+    w0 = s2 * s
+    w1 = 3.0 * theta * s2
+    w2 = 3.0 * t2 * s
+    w3 = t2 * theta
     for d in range(bez.shape[2]):
         out[row, d] = w0 * bez[k, 0, d] + w1 * bez[k, 1, d] + w2 * bez[k, 2, d] + w3 * bez[k, 3, d]
 
@@ -377,13 +386,15 @@ def eval_bezier(bez, piece, theta):
 def _curve_into(bez, starts, ends, u, piece, given, out):
     """``out[j]`` = the piece ``piece[j]`` at the fraction ``u[j]`` when ``given``, else the piece of ``u[j]``
     (searchsorted right in ``starts``, clipped to the pieces) at its fraction of ``[starts, ends]``."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     last = starts.shape[0] - 1
     for j in range(u.shape[0]):
         if given:
-            _bezier_point(bez, piece[j], u[j], out, j)
+            seg, theta = piece[j], u[j]
         else:
-            seg = min(max(_right_of(starts, u[j]) - 1, 0), last)
-            _bezier_point(bez, seg, (u[j] - starts[seg]) / (ends[seg] - starts[seg]), out, j)
+            seg = pyclip(_right_of(starts, u[j]) - 1, 0, last)
+            theta = (u[j] - starts[seg]) / (ends[seg] - starts[seg])
+        _bezier_point(bez, seg, theta, out, j)  # one call: each call is a copy of the (inlined) helper
 
 
 def curve_points(bez, starts, ends, u):
@@ -401,13 +412,14 @@ def _samples_into(bez, spacing, starts, ends, counts, count_only, points, params
     """With ``count_only``: per piece ``max(3, ceil(length of its control polygon / spacing))`` into ``counts``;
     returns their sum. Else the samples of the pieces by those counts into ``points``, ``params`` and
     ``interval``."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     if count_only:
-        total = 0
+        total = np.int64(0)
         for k in range(bez.shape[0]):
             length = np.hypot(bez[k, 1, 0] - bez[k, 0, 0], bez[k, 1, 1] - bez[k, 0, 1])
             length += np.hypot(bez[k, 2, 0] - bez[k, 1, 0], bez[k, 2, 1] - bez[k, 1, 1])
             length += np.hypot(bez[k, 3, 0] - bez[k, 2, 0], bez[k, 3, 1] - bez[k, 2, 1])
-            counts[k] = max(3, np.int64(np.ceil(length / spacing)))
+            counts[k] = pymax(3, np.int64(np.ceil(length / spacing)))
             total += counts[k]
         return total
     row = np.int64(0)  # not the literal 0: that would compile _bezier_point a second time
@@ -437,9 +449,7 @@ def interval_samples(bez, starts, ends, spacing):
 
 @njit(**_JIT)
 def _group_max_into(groups, values, best, at):
-    for g in range(best.shape[0]):
-        best[g] = -np.inf
-        at[g] = -1
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for j in range(groups.shape[0]):
         g, v = groups[j], values[j]
         if at[g] < 0 or v > best[g] or (np.isnan(v) and not np.isnan(best[g])):
@@ -454,6 +464,7 @@ def _search_into(values, keys, right, out):
     """Per key the count of ``values`` (sorted, no NaN) below it (``right``: not above it), from the
     previous key's answer: a galloping search forwards, a binary search backwards (linear total work for
     sorted keys, any order allowed)."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     n = values.shape[0]
     position = 0
     for j in range(keys.shape[0]):
@@ -466,7 +477,7 @@ def _search_into(values, keys, right, out):
         else:
             lo, hi, step = position, position, 1
             while hi < n and (values[hi] <= x if right else values[hi] < x):
-                lo, hi, step = hi + 1, min(hi + step, n), 2 * step
+                lo, hi, step = hi + 1, pymin(hi + step, n), 2 * step
         while lo < hi:
             mid = (lo + hi) // 2
             if values[mid] <= x if right else values[mid] < x:
@@ -488,7 +499,7 @@ def search_sorted(values, keys, side="left"):
 def group_max(groups, values, count):
     """Per group ``g < count`` (``groups`` non-decreasing): the maximum of ``values`` (``-inf`` if empty; NaN
     wins, as in ``numpy.maximum``) and the first index where it occurs (0 for empty groups and NaN maxima)."""
-    best, at = np.empty(int(count)), np.empty(int(count), np.int64)
+    best, at = np.full(int(count), -np.inf), np.full(int(count), -1, np.int64)  # the empty groups' answers
     _group_max_into(_ints(groups), _floats(values), best, at)
     return best, at
 
@@ -498,8 +509,9 @@ _WARM = []
 
 @njit(**_JIT)
 def _separating_slope_into(t_ink, y_ink, t_paper, y_paper, slopes, step, rounds, grid, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for _ in range(rounds):
-        best, best_gap = 0, -np.inf
+        best, best_gap = np.int64(0), -np.inf
         for i in range(slopes.shape[0]):
             above = np.inf
             for j in range(t_ink.shape[0]):
@@ -562,13 +574,14 @@ def _tiny_fit():
 
 def warm_up_solves():
     """The first half of :func:`warm_up`: the normal equations, their solve, the spline's values, the
-    parameter correction, Bézier evaluation and the separating line's slope search of extrapolated tips."""
+    parameter correction and the separating line's slope search of extrapolated tips. (Bézier evaluation,
+    :func:`eval_bezier`, is the kernel of :func:`curve_points`: :func:`warm_up_checks` compiles it once, where
+    both halves compiled it when they ran in separate processes.)"""
     full, u, bez, starts, ends, index = _tiny_fit()
     band, _ = normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
     penalized_normal(band, 1e-8, True)
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
-    eval_bezier(bez, index, np.array([0.1, 0.2]))
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
 
 
@@ -585,7 +598,6 @@ def warm_up_checks():
                        np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
                        np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2), 2.0,
                        1.0, 0.0, 2)
-
 
 
 @njit(**_HELPER)
@@ -625,44 +637,44 @@ def _larger(a, b):
 
 
 @njit(**_JIT)
-def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corner_par, bounds, cornered, parameter, base, ex, ey,
-                    edx, edy, einv, probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above, reach, d_curve, tol_curve, curve_zone, d_data, tol_data, data_iv, excess,
-                    piece_dev, piece_err, piece_excess):
+def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base, edges,
+                    probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above, reach,
+                    curve_out, curve_zone, data_out, data_iv, excess, piece_out):
+    """:func:`deviation_measures` into ``curve_out`` (rows d_curve, tol_curve), ``data_out`` (rows d_data,
+    tol_data), ``excess`` and ``piece_out`` (rows piece_dev, piece_err, piece_excess; these two filled with -inf
+    by the wrapper): outputs of one length share an array, and so do the edge table's five columns (every array
+    argument costs its unboxing in the compiled Python wrapper)."""
     n = parameter.shape[0] - 1
-    pieces = piece_dev.shape[0]
+    pieces = piece_out.shape[1]
     k = starts.shape[0]
     total = samples.shape[0]
     last = k - 1
-    for g in range(k):
-        excess[g] = -np.inf
-    for g in range(pieces):
-        piece_dev[g] = piece_err[g] = piece_excess[g] = -np.inf
     # curve -> contour: each sample to the contour edges around its corresponding contour position
     # the searches' answers for the previous key (not the literal 0: that would compile the walks twice)
     at_corner = at_parameter = at_base = at_base_right = np.int64(0)
     for s in range(total):
-        u = params[s]
+        u = closed_params[s]
         at_corner = _walk_right(corner_par, u, at_corner)
         at_parameter = _walk_left(parameter, u, at_parameter)
-        piece = min(max(at_corner - 1, 0), pieces - 1)
-        centre = min(max(at_parameter - 1, 0), n - 1)
+        piece = pyclip(at_corner - 1, 0, pieces - 1)
+        centre = pyclip(at_parameter - 1, 0, n - 1)
         best = np.inf
         for offset in range(-1, 2):
             e = centre + offset
             if cornered:  # the piece's own edges, and 3 more across each corner
-                e = min(max(e, bounds[piece] - 3), bounds[piece + 1] + 2)
+                e = pyclip(e, bounds[piece] - 3, bounds[piece + 1] + 2)
             e %= n
-            px = samples[s, 0] - ex[e]
-            py = samples[s, 1] - ey[e]
-            t = (px * edx[e] + py * edy[e]) * einv[e]
-            t = min(max(t, 0.0), 1.0)
-            px -= t * edx[e]
-            py -= t * edy[e]
+            px = samples[s, 0] - edges[0, e]
+            py = samples[s, 1] - edges[1, e]
+            t = (px * edges[2, e] + py * edges[3, e]) * edges[4, e]
+            t = pyclip(t, 0.0, 1.0)
+            px -= t * edges[2, e]
+            py -= t * edges[3, e]
             squared = px * px + py * py
             if squared < best:
                 best = squared
         d = np.sqrt(best)
-        d_curve[s] = d
+        curve_out[0, s] = d
         # numpy.interp(u, base, zone) > 0 in numpy's arithmetic: the interval base[j] <= u < base[j + 1], the
         # end values outside it, zone[j] at u == base[j], else slope * (u - base[j]) + zone[j] (and its retries)
         if u != u:
@@ -675,7 +687,7 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
             at_base_right = _walk_right(base, u, at_base_right)
             j = at_base_right - 1
             if j >= n or base[j] == u:
-                value = zone[min(j, n)]
+                value = zone[pymin(j, n)]
             elif zone[j] == zone[j + 1]:  # slope 0 (base increases): 0 * (u - base[j]) + zone[j] for finite u
                 value = zone[j]
             else:
@@ -690,25 +702,28 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
         extra = 0.0
         if inside:
             at_base = _walk_left(base, u, at_base)
-            nearest = min(max(at_base, 0), n)
-            a, b = allowance[nearest], allowance[max(nearest - 1, 0)]
+            nearest = pyclip(at_base, 0, n)
+            a, b = allowance[nearest], allowance[pymax(nearest - 1, 0)]
             extra = _larger(a, b)
-        tol_curve[s] = epsilon + extra
-        ex_curve = d - tol_curve[s]
+        curve_out[1, s] = epsilon + extra
+        ex_curve = d - curve_out[1, s]
         excess[iv[s]] = _larger(excess[iv[s]], ex_curve)
-        piece_dev[piece] = _larger(piece_dev[piece], d)
-        piece_excess[piece] = _larger(piece_excess[piece], ex_curve)
+        piece_out[0, piece] = _larger(piece_out[0, piece], d)
+        piece_out[2, piece] = _larger(piece_out[2, piece], ex_curve)
     # contour -> curve: each probe to its corresponding curve point, refined where loose by the nearest chord
     # of the curve samples (closed by the last piece's end point) within ``reach`` samples
     at_start = at_end = at_lo = at_hi = at_centre = np.int64(0)
     for p in range(probe_u.shape[0]):
         u = probe_u[p]
         at_start = _walk_right(starts, u, at_start)
-        seg = min(max(at_start - 1, 0), last)
+        seg = pyclip(at_start - 1, 0, last)
         theta = (u - starts[seg]) / (ends[seg] - starts[seg])
         s1 = 1.0 - theta
         t2, s2 = theta * theta, s1 * s1
-        w0, w1, w2, w3 = s2 * s1, 3.0 * theta * s2, 3.0 * t2 * s1, t2 * theta
+        w0 = s2 * s1
+        w1 = 3.0 * theta * s2
+        w2 = 3.0 * t2 * s1
+        w3 = t2 * theta
         cx = w0 * bez[seg, 0, 0] + w1 * bez[seg, 1, 0] + w2 * bez[seg, 2, 0] + w3 * bez[seg, 3, 0]
         cy = w0 * bez[seg, 0, 1] + w1 * bez[seg, 1, 1] + w2 * bez[seg, 2, 1] + w3 * bez[seg, 3, 1]
         d = np.hypot(cx - probes[p, 0], cy - probes[p, 1])
@@ -718,13 +733,13 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
             at_hi = _walk_right(closed_params, corner_par[piece + 1], at_hi)
             at_centre = _walk_left(closed_params, u, at_centre)
             lo = at_lo
-            hi = max(at_hi - 2, lo)
-            centre = min(max(at_centre, lo), hi)
+            hi = pymax(at_hi - 2, lo)
+            centre = pyclip(at_centre, lo, hi)
             best = np.inf
             for offset in range(-reach, reach + 1):
                 e = centre + offset
                 if cornered:  # the piece's own chords and a window across its corners
-                    e = min(max(e, lo - reach), hi + reach)
+                    e = pyclip(e, lo - reach, hi + reach)
                 e %= total
                 ax, ay = samples[e, 0], samples[e, 1]
                 if e + 1 < total:
@@ -737,7 +752,7 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
                 px = probes[p, 0] - ax
                 py = probes[p, 1] - ay
                 t = (px * dx + py * dy) * inverse
-                t = min(max(t, 0.0), 1.0)
+                t = pyclip(t, 0.0, 1.0)
                 px -= t * dx
                 py -= t * dy
                 squared = px * px + py * py
@@ -746,21 +761,21 @@ def _deviation_into(bez, starts, ends, samples, params, closed_params, iv, corne
             near = np.sqrt(best)
             if near < d or near != near:
                 d = near
-        d_data[p] = d
-        tol_data[p] = epsilon + probe_allowance[p]
+        data_out[0, p] = d
+        data_out[1, p] = epsilon + probe_allowance[p]
         at_end = _walk_left(ends, u, at_end)
-        interval = min(max(at_end, 0), last)
+        interval = pyclip(at_end, 0, last)
         data_iv[p] = interval
-        ex_data = d - tol_data[p]
+        ex_data = d - data_out[1, p]
         excess[interval] = _larger(excess[interval], ex_data)
         piece = probe_piece[p]
-        piece_dev[piece] = _larger(piece_dev[piece], d)
-        piece_excess[piece] = _larger(piece_excess[piece], ex_data)
+        piece_out[0, piece] = _larger(piece_out[0, piece], d)
+        piece_out[2, piece] = _larger(piece_out[2, piece], ex_data)
         if is_point[p]:
-            piece_err[piece] = _larger(piece_err[piece], d)
+            piece_out[1, piece] = _larger(piece_out[1, piece], d)
     for g in range(pieces):
-        piece_dev[g] = _larger(piece_dev[g], 0.0)
-        piece_err[g] = _larger(piece_err[g], 0.0)
+        piece_out[0, g] = _larger(piece_out[0, g], 0.0)
+        piece_out[1, g] = _larger(piece_out[1, g], 0.0)
 
 
 def deviation_measures(bez, starts, ends, samples, params, iv, corner_par, bounds, cornered, parameter, base, edges,
@@ -776,18 +791,15 @@ def deviation_measures(bez, starts, ends, samples, params, iv, corner_par, bound
     per-interval worst excess and the per-piece maxima (``-inf`` for empty groups, NaN wins, as
     :func:`group_max` and ``numpy.maximum``). Returns the dict entries of ``deviations``."""
     total, count, pieces = samples.shape[0], probe_u.shape[0], corner_par.shape[0] - 1
-    d_curve, tol_curve, curve_zone = np.empty(total), np.empty(total), np.empty(total, np.bool_)
-    d_data, tol_data, data_iv = np.empty(count), np.empty(count), np.empty(count, np.int64)
-    excess, piece_dev, piece_err, piece_excess = np.empty(starts.shape[0]), np.empty(pieces), np.empty(pieces), \
-        np.empty(pieces)
-    params = _floats(params)
-    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), params, np.append(params, period),
+    curve_out, curve_zone = np.empty((2, total)), np.empty(total, np.bool_)
+    data_out, data_iv = np.empty((2, count)), np.empty(count, np.int64)
+    excess, piece_out = np.full(starts.shape[0], -np.inf), np.full((3, pieces), -np.inf)
+    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), np.append(_floats(params), period),
                     _ints(iv), _floats(corner_par), _ints(bounds), bool(cornered), _floats(parameter), _floats(base),
-                    *(_floats(column) for column in edges), _floats(probes), _floats(probe_u), _ints(probe_piece),
+                    _floats(edges), _floats(probes), _floats(probe_u), _ints(probe_piece),
                     np.ascontiguousarray(is_point, dtype=np.bool_), _floats(zone), _floats(allowance),
                     _floats(probe_allowance), float(epsilon), float(loose_above), int(reach),
-                    d_curve, tol_curve, curve_zone, d_data, tol_data, data_iv, excess, piece_dev, piece_err,
-                    piece_excess)
-    return {"excess": excess, "piece_dev": piece_dev, "piece_err": piece_err, "piece_excess": piece_excess,
-            "d_data": d_data, "tol_data": tol_data, "data_iv": data_iv, "d_curve": d_curve, "tol_curve": tol_curve,
-            "curve_zone": curve_zone}
+                    curve_out, curve_zone, data_out, data_iv, excess, piece_out)
+    return {"excess": excess, "piece_dev": piece_out[0], "piece_err": piece_out[1], "piece_excess": piece_out[2],
+            "d_data": data_out[0], "tol_data": data_out[1], "data_iv": data_iv, "d_curve": curve_out[0],
+            "tol_curve": curve_out[1], "curve_zone": curve_zone}

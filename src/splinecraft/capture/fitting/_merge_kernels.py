@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS
+from .._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, pyclip, pymax
 
 __all__ = ["fit_runs", "warm_up", "TANGENTIAL"]
 
@@ -28,19 +28,12 @@ DAMPING = 1e-3
 @njit(**_HELPER)
 def _coefficients(c):
     """The control points of the cubic ``c`` (x then y) and the differences of its derivatives, the values
-    :func:`_point` and :func:`_newton` take (computed once per cubic instead of once per point)."""
+    the point of :func:`_fit_runs_into` and :func:`_newton` take (computed once per cubic instead of once per
+    point)."""
     e0x, e1x, e2x = c[1, 0] - c[0, 0], c[2, 0] - c[1, 0], c[3, 0] - c[2, 0]
     e0y, e1y, e2y = c[1, 1] - c[0, 1], c[2, 1] - c[1, 1], c[3, 1] - c[2, 1]
     return (c[0, 0], c[1, 0], c[2, 0], c[3, 0], c[0, 1], c[1, 1], c[2, 1], c[3, 1], e0x, e1x, e2x, e0y, e1y, e2y,
             e1x - e0x, e2x - e1x, e1y - e0y, e2y - e1y)
-
-
-@njit(**_HELPER)
-def _point(k, t):
-    """The point at ``t`` of the cubic of coefficients ``k`` (:func:`_coefficients`)."""
-    s = 1.0 - t
-    b0, b1, b2, b3 = s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t
-    return b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3], b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
 
 
 @njit(**_HELPER)
@@ -62,8 +55,8 @@ def _newton(k, qx, qy, t):
     if not den > 1e-300:
         return t
     step = -(rx * fx + ry * fy) / den
-    step = min(max(step, -0.25), 0.25)
-    return min(max(t + step, 0.0), 1.0)
+    step = pyclip(step, -0.25, 0.25)
+    return pyclip(t + step, 0.0, 1.0)
 
 
 @njit(**JIT_OPTIONS)
@@ -71,17 +64,17 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                    limits, scratch, cubic, handles, t_out, excess, drift, spread):
     for r in range(p0.shape[0]):
         n = count[r]
-        stride = max(1, n // fit_points)
-        m = 0  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
-        j = 0
+        stride = pymax(1, n // fit_points)
+        m = np.int64(0)  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
+        j = np.int64(0)
         while j < n:
             scratch[m, 0] = j
-            scratch[m, 1] = min(max((u[lo[r] + j] - start[r]) / span[r], 0.0), 1.0)
+            scratch[m, 1] = pyclip((u[lo[r] + j] - start[r]) / span[r], 0.0, 1.0)
             m += 1
             j += stride
         if n > 0 and scratch[m - 1, 0] != n - 1:
             scratch[m, 0] = n - 1
-            scratch[m, 1] = min(max((u[lo[r] + n - 1] - start[r]) / span[r], 0.0), 1.0)
+            scratch[m, 1] = pyclip((u[lo[r] + n - 1] - start[r]) / span[r], 0.0, 1.0)
             m += 1
         chord = np.hypot(p3[r, 0] - p0[r, 0], p3[r, 1] - p0[r, 1])
         bound = 4.0 * chord + 1.0
@@ -97,9 +90,12 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             m11 = m12 = m22 = r1 = r2 = 0.0
             for i in range(m):
                 t = scratch[i, 1]
-                q = lo[r] + int(scratch[i, 0])
+                q = lo[r] + np.int64(scratch[i, 0])
                 s = 1.0 - t
-                b0, b1, b2, b3 = s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t
+                b0 = s * s * s
+                b1 = 3.0 * s * s * t
+                b2 = 3.0 * s * t * t
+                b3 = t * t * t
                 restx = points[q, 0] - p0[r, 0] * (b0 + b1) - p3[r, 0] * (b2 + b3)
                 resty = points[q, 1] - p0[r, 1] * (b0 + b1) - p3[r, 1] * (b2 + b3)
                 a1x, a1y = d0[r, 0] * b1, d0[r, 1] * b1
@@ -111,7 +107,12 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                     r1 += a1x * restx + a1y * resty
                     r2 += a2x * restx + a2y * resty
                 else:
-                    e0x, e1x, e2x, e0y, e1y, e2y = k[8], k[9], k[10], k[11], k[12], k[13]
+                    e0x = k[8]
+                    e1x = k[9]
+                    e2x = k[10]
+                    e0y = k[11]
+                    e1y = k[12]
+                    e2y = k[13]
                     tx = s * s * e0x + 2.0 * s * t * e1x + t * t * e2x
                     ty = s * s * e0y + 2.0 * s * t * e1y + t * t * e2y
                     norm = np.hypot(tx, ty)
@@ -138,8 +139,8 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 r1 += mu * handles[r, 0]
                 r2 += mu * handles[r, 1]
             det = m11 * m22 - m12 * m12
-            a = min(max((m22 * r1 - m12 * r2) / det, -bound), bound)
-            b = min(max((m11 * r2 - m12 * r1) / det, -bound), bound)
+            a = pyclip((m22 * r1 - m12 * r2) / det, -bound, bound)
+            b = pyclip((m11 * r2 - m12 * r1) / det, -bound, bound)
             handles[r, 0], handles[r, 1] = a, b
             for d in range(2):
                 c[1, d] = p0[r, d] + a * d0[r, d]
@@ -148,13 +149,13 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
             if step == steps:
                 break
             for i in range(m):
-                q = lo[r] + int(scratch[i, 0])
+                q = lo[r] + np.int64(scratch[i, 0])
                 t = _newton(k, points[q, 0], points[q, 1], scratch[i, 1])
                 scratch[i, 1] = _newton(k, points[q, 0], points[q, 1], t)
         # every covered point: parameter interpolated between the fitted ones, one Newton step, distance (until
         # the run can no longer qualify: its excess or drift above ``limits``)
         worst, far, total = -np.inf, 0.0, 0.0
-        i = 0
+        i = np.int64(0)
         for j in range(n):
             if worst > limits[0] or far > limits[1]:
                 break
@@ -162,13 +163,19 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 i += 1
             if i + 1 < m and scratch[i + 1, 0] > scratch[i, 0]:
                 w = (j - scratch[i, 0]) / (scratch[i + 1, 0] - scratch[i, 0])
-                t = scratch[i, 1] + min(max(w, 0.0), 1.0) * (scratch[i + 1, 1] - scratch[i, 1])
+                t = scratch[i, 1] + pyclip(w, 0.0, 1.0) * (scratch[i + 1, 1] - scratch[i, 1])
             else:
                 t = scratch[i, 1]
             q = lo[r] + j
             t = _newton(k, points[q, 0], points[q, 1], t)
             t_out[offsets[r] + j] = t
-            px, py = _point(k, t)
+            s = 1.0 - t  # the point at t: Bernstein weights of the control points in k
+            b0 = s * s * s
+            b1 = 3.0 * s * s * t
+            b2 = 3.0 * s * t * t
+            b3 = t * t * t
+            px = b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3]
+            py = b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
             gx, gy = px - points[q, 0], py - points[q, 1]
             if t <= 0.0 or t >= 1.0:
                 k0, k1 = (0, 1) if t <= 0.0 else (2, 3)
@@ -177,9 +184,9 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 dist = abs(gx * dy - gy * dx) / length if length > 0 else np.hypot(gx, gy)
             else:
                 dist = np.hypot(gx, gy)
-            worst = max(worst, dist - tol[q])
+            worst = pymax(worst, dist - tol[q])
             off = np.hypot(px - fitted[q, 0], py - fitted[q, 1])
-            far = max(far, off)
+            far = pymax(far, off)
             total += off * off
         excess[r], drift[r], spread[r] = worst, far, total
 

@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from ...spline import Spline
-from .._jit import JIT_OPTIONS
+from .._jit import JIT_OPTIONS, compact
 from .results import FitResult, Snapshot
 
 __all__ = ["DEFAULT_TIME_BUDGET", "SMALL_CHUNK", "Deadline", "polygon_fits", "PolygonFits", "BUDGET_REASON",
@@ -79,11 +79,12 @@ def _turning_into(points, offsets, turning, bounds):
     """Flag the turning points of every closed polyline ``points[offsets[b]:offsets[b + 1]]`` (the step direction
     changes there: ``|cross| + (1 - dot) > 1e-9`` of the unit steps before and after; all points of a polyline
     with fewer than 3), the vertex offsets of each polyline into ``bounds``; returns the number of vertices."""
-    total = 0
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    total = np.int64(0)
     bounds[0] = 0
     for outline in range(offsets.shape[0] - 1):
         lo, hi = offsets[outline], offsets[outline + 1]
-        count = 0
+        count = np.int64(0)
         for i in range(lo, hi):
             after = i + 1 if i + 1 < hi else lo
             before = i - 1 if i > lo else hi - 1
@@ -110,6 +111,7 @@ def _polygons_into(points, offsets, turning, bounds, planar, knots, pairs):
     ``planar`` (4, 2, vertices); the chord-length knots of outline ``b``, from 0, into
     ``knots[bounds[b] + b: bounds[b + 1] + b + 1]`` (differences of one running sum over all outlines); the
     contour indices of each piece's ends into ``pairs``."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     running = 0.0
     for outline in range(offsets.shape[0] - 1):
         lo, hi = offsets[outline], offsets[outline + 1]

@@ -97,28 +97,23 @@ def _unified(typingctx, *values):
     return unified, values
 
 
-@intrinsic
-def pymin(typingctx, a, b):
-    """``min(a, b)`` of two numbers in a kernel: ``b`` where ``b < a``, else ``a`` (see above)."""
-    unified, args = _unified(typingctx, a, b)
-    if unified is None:
-        return None
+def _min_or_max(name, compare, doc):
+    """The intrinsic ``name(a, b)`` of two numbers: ``b`` where ``compare(b, a)``, else ``a`` (see above)."""
+    def typer(typingctx, a, b):
+        unified, args = _unified(typingctx, a, b)
+        if unified is None:
+            return None
 
-    def codegen(context, builder, signature, values):
-        return _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1], operator.lt)[1]
-    return unified(*args), codegen
+        def codegen(context, builder, signature, values):
+            return _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1], compare)[1]
+        return unified(*args), codegen
+    typer.__name__ = typer.__qualname__ = name
+    typer.__doc__ = doc
+    return intrinsic(typer)
 
 
-@intrinsic
-def pymax(typingctx, a, b):
-    """``max(a, b)`` of two numbers in a kernel: ``b`` where ``b > a``, else ``a`` (see above)."""
-    unified, args = _unified(typingctx, a, b)
-    if unified is None:
-        return None
-
-    def codegen(context, builder, signature, values):
-        return _pick(context, builder, signature.args[0], values[0], signature.args[1], values[1], operator.gt)[1]
-    return unified(*args), codegen
+pymin = _min_or_max("pymin", operator.lt, "``min(a, b)`` of two numbers in a kernel: ``b`` where ``b < a``, else ``a``")
+pymax = _min_or_max("pymax", operator.gt, "``max(a, b)`` of two numbers in a kernel: ``b`` where ``b > a``, else ``a``")
 
 
 @intrinsic

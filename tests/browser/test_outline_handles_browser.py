@@ -110,12 +110,18 @@ def test_drag_a_corner_handle_then_undo_redo_and_refuse_bad_handles(lab):
                            .format(k, i)) == before
 
 
+# the run between two corners of contour 0 whose knots span the plane best (the largest least singular value of
+# its centred knots, among runs of three knots or more): the check below fits the affine map to the run's knots,
+# and on nearly collinear knots (a flat side) that fit is ill-conditioned, its residual rounding, not the map
 RUN = """
 import numpy as _np
 _c = editor.outline.contours[0]
 _corners = _np.flatnonzero(_c.corners)
 _lengths = (_np.roll(_corners, -1) - _corners) % len(_c)
-_run = [int(k) for k in (_corners[_np.argmax(_lengths)] + _np.arange(int(_lengths.max()) + 1)) % len(_c)]
+_runs = [[int(k) for k in (start + _np.arange(int(length) + 1)) % len(_c)]
+         for start, length in zip(_corners, _lengths) if length >= 2]
+_spread = [_np.linalg.svd(_c.points[r] - _c.points[r].mean(axis=0), compute_uv=False)[-1] for r in _runs]
+_run = _runs[int(_np.argmax(_spread))]
 _before = editor.outline
 editor.selection = [[0, k] for k in _run]
 """

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 import splinecraft as sc
 from splinecraft.capture._pixel_corners import (MIN_RUN, corner_vertices, merge_pixel_corners, outline_pixel_corners,
@@ -236,6 +236,8 @@ def test_a_disc_has_no_pixel_corners(radius, dx, dy):
 
 @settings(max_examples=40, deadline=None)
 @given(st.floats(0.0, 0.999), st.floats(0.0, 0.999), st.floats(24.0, 60.0), st.integers(12, 30))
+@example(0.3125, 0.3125, 24.0, 12)  # the treads beside the bottom flat: 2, 3 (the first a crack short)
+@example(0.0, 0.40625, 24.0, 12)  # ... 2, 2, 2
 def test_a_flat_side_that_bends_away_keeps_its_pixel_corner(dx, dy, radius, flat):
     """A "D": a vertical side, and at its two ends flat sides ``flat`` px long that run on into a half circle.
     Beyond each flat run the outline steps down by one crack and goes on the same way, as a staircase's tread

@@ -13,7 +13,7 @@ their crossing is the turn's vertex, the pixel corner. :func:`pixel_corners` fin
   two cracks is a step of a staircase, a rounded corner or a nub, not two straight sides);
 * neither run continues beyond its far end as the tread of a staircase (a step of one crack, then a run
   parallel to it the same way): that is a side a little off the axis, whose line (and corner) the run
-  alone does not give. A run longer by more than one crack than a whole tread beyond it of :data:`MIN_RUN`
+  alone does not give. A run longer by more than one crack than a whole tread beyond it of :data:`MIN_TREAD`
   cracks or more is no such tread (a digital straight segment's runs differ by at most one, its end runs can
   only be shorter): it is a flat side of its own that bends away gently into a curve;
 * or the vertex is one of the two of a run of one or two cracks between two such runs that go the opposite
@@ -33,11 +33,17 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["MIN_RUN", "PixelCorners", "pixel_corners", "outline_pixel_corners", "corner_vertices",
+__all__ = ["MIN_RUN", "MIN_TREAD", "PixelCorners", "pixel_corners", "outline_pixel_corners", "corner_vertices",
            "with_pixel_corners", "merge_pixel_corners", "pixel_corners_of_outlines"]
 
 #: Fewest cracks of each of the two straight runs that meet at a pixel corner.
 MIN_RUN = 3
+
+#: Fewest cracks of the treads beyond a flat run for the run to count as a flat side of its own (not a staircase's
+#: tread) where it is longer by more than one crack than them: a bend whose treads are single cracks turns
+#: sharply (a round end of a few pixels), one of two-crack treads gently (a bowl of radius 24 px beside its flat
+#: side can give treads of 2, 2, 2).
+MIN_TREAD = 2
 
 #: Points per call of :func:`pixel_corners` in :func:`pixel_corners_of_outlines` (its temporaries are some 30 arrays of
 #: the points' length: a bounded chunk keeps a noise image of millions of contour points within its memory).
@@ -117,16 +123,16 @@ def pixel_corners(points, lengths):
         step, beyond = run(m + way), run(m + 2 * way)
         continues = (length[step] == 1) & (direction[beyond] == direction[run(m)])
         # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond`` or the
-        # one after it, with a step at both ends) of MIN_RUN cracks or more: the runs of a digital straight segment differ by at most
-        # one and its end runs can only be shorter, so the run is then no tread of an off-axis side but a straight
-        # side of its own, from which the outline bends away gently (a flat side running into a curve; a round
-        # end of a few pixels turns through treads of one or two cracks)
+        # one after it, with a step at both ends) of MIN_TREAD cracks or more: the runs of a digital straight
+        # segment differ by at most one and its end runs can only be shorter, so the run is then no tread of an
+        # off-axis side but a straight side of its own, from which the outline bends away gently (a flat side
+        # running into a curve; a round end of a few pixels turns through treads of single cracks)
         whole = (length[run(m + 3 * way)] == 1) & (direction[run(m + 4 * way)] == direction[run(m)])
         # the longer of the first two whole treads (the first can be a crack or two short with the phase of
         # the pixels: 2, 3 beside a bowl of radius 24)
         second = whole & (length[run(m + 5 * way)] == 1) & (direction[run(m + 6 * way)] == direction[run(m)])
         tread_length = np.maximum(length[beyond], np.where(second, length[run(m + 4 * way)], 0))
-        flat = whole & (tread_length >= MIN_RUN) & (length[run(m)] > tread_length + 1)
+        flat = whole & (tread_length >= MIN_TREAD) & (length[run(m)] > tread_length + 1)
         return continues & ~flat
 
     # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread

@@ -152,6 +152,25 @@ def test_in_process_main_and_one_file_into_a_directory(tmp_path, capsys):
     assert err.count("\n") == 1 and "nothing.png" in err and "not found" in err
 
 
+def test_a_quoted_glob_pattern_traces_every_match(tmp_path, capsys):
+    """A pattern the shell did not expand (quoted, or too many files for a command line) is expanded as
+    trace_many expands it; one that matches nothing is a usage error naming it. Before, it was 'image file not
+    found: scans/*.png'."""
+    (tmp_path / "scans" / "more").mkdir(parents=True)
+    for name in ("scans/a.png", "scans/b.png", "scans/more/c.png"):
+        write_shape(tmp_path / name, "disc")
+    out = tmp_path / "out"
+    assert main(["trace", str(tmp_path / "scans" / "*.png"), "-o", str(out) + os.sep, "-q"]) == 0
+    assert sorted(p.name for p in out.glob("*.svg")) == ["a.svg", "b.svg"]
+    deep = tmp_path / "deep"
+    assert main(["trace", str(tmp_path / "scans" / "**" / "*.png"), "-o", str(deep) + os.sep, "-q"]) == 0
+    assert sorted(p.name for p in deep.glob("*.svg")) == ["a.svg", "b.svg", "c.svg"]
+    capsys.readouterr()
+    assert main(["trace", str(tmp_path / "scans" / "*.jpg"), "-o", str(tmp_path / "x.svg")]) == 2
+    err = capsys.readouterr().err
+    assert "*.jpg" in err and "matches no file" in err and not (tmp_path / "x.svg").exists()
+
+
 def test_plan_outputs():
     assert _plan_outputs(["a.png"], "x.json", None) == ([("a.png", "x.json")], "json")
     assert _plan_outputs(["a.png"], "x.out", None) == ([("a.png", "x.out")], "svg")

@@ -7,6 +7,7 @@ Examples
     splinecraft trace glyph.png -o glyph.svg
     splinecraft trace scans/*.png -o traced/ --epsilon 1 --method fuzzy --jobs 4
     splinecraft trace scans/*.png -o traced/ --scheduler tcp://10.0.0.5:8786   # a dask cluster
+    splinecraft trace 'scans/**/*.png' -o traced/     # a quoted pattern: expanded here, as trace_many does
     splinecraft trace logo.png -o - --format json          # JSON to stdout
     splinecraft --version
 
@@ -204,7 +205,8 @@ def build_parser() -> argparse.ArgumentParser:
                     "about 7 s CPU, shared between one process per CPU) and caches them on disk; every "
                     "later process loads them in well under a second (BENCHMARKS.md, 'First-call cost').",
     )
-    tracer.add_argument("inputs", nargs="+", metavar="IN", help="image files (PNG, JPEG, BMP, GIF, TIFF)")
+    tracer.add_argument("inputs", nargs="+", metavar="IN",
+                        help="image files (PNG, JPEG, BMP, GIF, TIFF) or quoted glob patterns ('scans/**/*.png')")
     tracer.add_argument("-o", "--output", required=True, metavar="OUT",
                         help="output file for one input ('-' = stdout), directory for several")
     tracer.add_argument("--format", choices=("svg", "json"), default=None,
@@ -477,12 +479,27 @@ def _trace_to_stdout(source, fmt, options, decimals, quiet=False, verbose=False)
     return 0
 
 
+def _expand_patterns(inputs) -> list:
+    """The inputs with every quoted glob pattern (``'scans/*.png'``, ``'**/*.png'``: a pattern that is no existing
+    file) expanded as ``trace_many`` expands it (sorted matching files, ``**`` recursive), so that a folder of
+    more files than a shell can pass works too; ``ValueError`` naming a pattern that matches no file."""
+    from .batch._plan import expand_inputs
+
+    expanded = []
+    for text in inputs:
+        try:
+            expanded.extend(expand_inputs([text]))
+        except ValueError:
+            raise ValueError(f"the pattern {text!r} matches no file") from None
+    return expanded
+
+
 def _run_trace(args) -> int:
     from .batch import MANIFEST_NAME, run_batch
     from .batch._plan import PlannedFile
 
     try:
-        pairs, fmt = _plan_outputs(args.inputs, args.output, args.format)
+        pairs, fmt = _plan_outputs(_expand_patterns(args.inputs), args.output, args.format)
     except ValueError as exc:
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2

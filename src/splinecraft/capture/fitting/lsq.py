@@ -156,8 +156,7 @@ class LsqKnotInsertion:
         model.fit(hoschek_steps=hoschek_steps)
         released = []
         for _ in range(64):
-            hooked = model.hooked_corners()
-            zone = model.zone_hooks(exclude=hooked)
+            hooked, zone = model.hook_releases()
             if not hooked.size and not zone.size:
                 break
             for c in hooked:

@@ -45,6 +45,19 @@ PIXEL_MIN_CURVATURE = 1.0 / 50.0
 ZONE_SPACING = 0.1
 
 
+class _Deviations:
+    """The deviations of a model's current fit (:meth:`OutlineRegression.deviations`), computed on the first
+    look-up: tests that need them only now and then share one computation."""
+
+    def __init__(self, model):
+        self._model, self._values = model, None
+
+    def __getitem__(self, key):
+        if self._values is None:
+            self._values = self._model.deviations()
+        return self._values[key]
+
+
 class OutlineRegression:
     """Least-squares fit state of one closed outline; the knot insertion that drives it is
     :class:`~splinecraft.capture.fitting.lsq.LsqKnotInsertion`.
@@ -415,17 +428,12 @@ class OutlineRegression:
         tipped = np.isfinite(tips.estimate[found, 0])
         if not tipped.any():
             return found
-        if dev is None:
-            dev = self.deviations()
-        fits = dev["piece_excess"] <= 0
-        pieces = contour.piece_count
-        return found[~tipped | (fits[(found - 1) % pieces] & fits[found % pieces])]
+        return found[~tipped | self._pieces_fit(found, dev)]
 
     def hooks(self, dev=None):
         """The corners to release after a fit: :meth:`hooked_corners` and :meth:`zone_hooks` (``dev``: the
         current fit's :meth:`deviations`, if at hand)."""
-        hooked = self.hooked_corners(dev)
-        zone = self.zone_hooks(dev, exclude=hooked)
+        hooked, zone = self.hook_releases(dev)
         return np.union1d(hooked, zone).astype(np.int64) if zone.size else hooked
 
     def zone_hooks(self, dev=None, exclude=()):
@@ -480,11 +488,24 @@ class OutlineRegression:
         found = np.flatnonzero(worst > self.pixel_slack)
         if not found.size:
             return none
+        return found[self._pieces_fit(found, dev)]
+
+    def _pieces_fit(self, corners, dev=None):
+        """Per corner of ``corners``: whether both pieces beside it fit, their deviation within the tolerance
+        (``dev``: the current fit's :meth:`deviations`, computed here when ``None``)."""
         if dev is None:
             dev = self.deviations()
         fits = dev["piece_excess"] <= 0
-        pieces = contour.piece_count
-        return found[fits[(found - 1) % pieces] & fits[found % pieces]]
+        pieces = self.contour.piece_count
+        return fits[(corners - 1) % pieces] & fits[corners % pieces]
+
+    def hook_releases(self, dev=None):
+        """The corners to release after a fit, by reason: ``(hooked, zone)``, :meth:`hooked_corners` and
+        :meth:`zone_hooks`; the fit's :meth:`deviations` (``dev``, if at hand) are computed at most once, and only
+        where either test needs them."""
+        deviations = _Deviations(self) if dev is None else dev
+        hooked = self.hooked_corners(deviations)
+        return hooked, self.zone_hooks(deviations, exclude=hooked)
 
     # ---------------------------------------------------------------- pixel consistency
     def _pixel_exempt(self):

@@ -308,3 +308,42 @@ def test_a_notch_whose_sides_bend_away_is_extrapolated_from_its_straight_part():
     misses = np.array(misses)
     assert np.median(misses) <= 0.3, np.round(misses, 2)
     assert np.mean(misses <= TIP_TOLERANCE) >= 0.65, np.round(misses, 2)
+
+
+def obtuse_corner(opening, rotation, offset, concave, size=150):
+    """The tip of the convex wedge of :func:`wedge` (60 px sides) as a corner of the given obtuse opening, or
+    (``concave``) the same wedge cut out of a 60 px square around its tip (a notch that turns the other way):
+    the mask and the true corner."""
+    vertices, tip, _, _ = wedge(opening, rotation, offset, False)
+    mask = render(vertices, size)
+    if concave:
+        axis = np.array([math.cos(rotation), math.sin(rotation)])
+        normal = np.array([-axis[1], axis[0]])
+        centre = tip + 10.0 * axis
+        square = np.array([centre + 30.0 * (a * axis + b * normal) for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+        mask = render(square, size) & ~mask
+    return mask, tip
+
+
+def test_obtuse_corners_between_straight_sides_are_extrapolated():
+    """Corners of 95-115 degrees between straight sides of 30 px or more (`tips.MAX_OBTUSE_ANGLE`,
+    `tips.OBTUSE_SIDE`): the corner goes to the crossing of the sides' separating lines, not to where the
+    pixels cut it (up to ``sqrt(1/2) / sin(theta / 2)`` = 0.9 px short) or where the pieces meet by themselves
+    (median 0.14-0.16 px from the true corner, a quarter of the corners beyond 0.25 px, before)."""
+    rng = np.random.default_rng(3)
+    distances = []
+    for concave in (False, True):
+        for opening in (95.0, 105.0, 115.0):
+            drawn = 0
+            while drawn < 10:
+                rotation, offset = rng.uniform(0.0, 2 * math.pi), tuple(rng.uniform(-0.5, 0.5, 2))
+                if axis_clearance(wedge(opening, rotation, offset, False)[3]) < AXIS_CLEARANCE:
+                    continue
+                mask, tip = obtuse_corner(opening, rotation, offset, concave)
+                joins = traced_joins(trace(mask))
+                distances.append(np.hypot(*(joins - tip).T).min())
+                drawn += 1
+    distances = np.array(distances)
+    assert np.median(distances) <= 0.1, np.median(distances)
+    assert np.mean(distances <= 0.25) >= 0.85, np.sort(distances)
+    assert distances.max() <= 1.0

@@ -49,11 +49,20 @@ SHARP_TRUNCATION = np.sqrt(0.5)
 #: is least certain.
 MAX_EXTRAPOLATED_ANGLE = np.radians(90.0)
 #: Corners from :data:`MAX_EXTRAPOLATED_ANGLE` up to this interior angle (radians, measured on the contour) are
-#: extrapolated too where both sides are straight runs that the pixels pin down (a separating line on each
-#: side, :func:`_separating_line`), with the same bounds and consistency test. Equal to
-#: :data:`MAX_EXTRAPOLATED_ANGLE` (off): on the small synthetic shapes (``synthetic_shapes.small_set``) 100,
-#: 110, 125 and 150 degrees each lose shapes within 1 px (BENCHMARKS.md, "Small outlines: obtuse tips").
-MAX_OBTUSE_ANGLE = MAX_EXTRAPOLATED_ANGLE
+#: extrapolated too where both sides are straight runs that the pixels pin down: a separating line on each side
+#: (:func:`_separating_line`) over a window of at least :data:`OBTUSE_SIDE` px, with the same bounds and
+#: consistency tests. Such a corner's crossing is as certain as its lines (``1 / sin(theta / 2) <= 1.41``
+#: times their offsets), while the pixels cut the tip of a sharp obtuse corner by up to 1 px and the pieces
+#: without it round the corner off by as much (Liberation Serif Bold P at 1200 px, turned: 0.92 px, 0.38 with
+#: it; BENCHMARKS.md, "Session 25: obtuse corners").
+MAX_OBTUSE_ANGLE = np.radians(120.0)
+#: Shortest window (px of arc) of each side of an obtuse corner that is extrapolated (:data:`MAX_OBTUSE_ANGLE`).
+#: The rendering of a curve of radius ``R`` is a digital straight segment over 12 px only where its sagitta
+#: ``12^2 / (8 R)`` stays below a pixel, ``R`` above about 18 px; on smaller curves (a small blob) two short
+#: straight stretches of the staircase meet at a false corner whose sharp tip lies beyond the curve
+#: (``BENCHMARKS.md``, "Small outlines: obtuse tips": without this bound every limit of 100-150 degrees lost
+#: shapes).
+OBTUSE_SIDE = 12.0
 #: Farthest an extrapolated tip may lie from its contour corner (px): the bound that keeps nearly parallel
 #: sides (or misread ones) from shooting the corner off.
 MAX_TIP_REACH = 5.0
@@ -372,9 +381,9 @@ def tip_estimates(contour, angle, radius, measured=None):
     finds pixels that contradict its wedge. A crossing that fails is sought again on windows shrunk by
     :data:`RETRY_SHRINK` (a side that is no separating line there gets its parabola, as on the long window), and
     where both shrunk sides are separating lines it is kept only where their margins pin it down to
-    :data:`RETRY_UNCERTAINTY`. Only corners sharper than :data:`MAX_EXTRAPOLATED_ANGLE` (or than
-    :data:`MAX_OBTUSE_ANGLE` between two straight sides) are measured (the others get no estimate, and their
-    sides are not fitted).
+    :data:`RETRY_UNCERTAINTY`. Only corners sharper than :data:`MAX_OBTUSE_ANGLE` are measured (the others get
+    no estimate, and their sides are not fitted), and those from :data:`MAX_EXTRAPOLATED_ANGLE` on keep their
+    estimate only between two separating lines of :data:`OBTUSE_SIDE` px or more.
 
     A side whose window would be shorter than :data:`SHORTEST_SIDE` is a short side: the whole side between
     its two corners is one line shared by both (:func:`short_side`, its neighbours the sides beyond its
@@ -405,7 +414,7 @@ def tip_estimates(contour, angle, radius, measured=None):
     estimate = np.full((count, 2), np.nan)
     anchors = np.full((count, 2, 2), np.nan)
     opening = np.array(angle, float)
-    straight = np.zeros(count, bool)  # both sides separating lines (digital straight segments)
+    straight = np.zeros(count, bool)  # both sides separating lines (digital straight segments) of OBTUSE_SIDE px
     # the side windows (before, after): a side shorter than SHORTEST_SIDE from the window start to 0.8 of the
     # side is a short side, the whole side one line shared by its two corners (short_side)
     stops = np.minimum(start[:, None] + LONGEST_SIDE, 0.8 * np.column_stack([before_len, after_len]))
@@ -474,7 +483,8 @@ def tip_estimates(contour, angle, radius, measured=None):
         if found is None:
             continue
         estimate[c], opening[c], anchors[c] = found
-        straight[c] = sides[0].margin > 0 and sides[1].margin > 0
+        straight[c] = sides[0].margin > 0 and sides[1].margin > 0 and \
+            min(sides[0].length, sides[1].length) >= OBTUSE_SIDE
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of
     # the sides of a rounded (or flattened) corner, which the pixels follow better than the crossing does
     # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides); where one side is short, the

@@ -25,8 +25,9 @@ gives ``G^1`` segment counts, in the manner of potrace's curve optimisation (``o
    the programme runs once more (at most four times, else the fit stays as it was): the guarantee of §12 holds
    unchanged.
 
-All candidate runs of a length are fitted and checked in one compiled pass; the dynamic programme is a loop
-over the segments.
+The candidate runs of :data:`PHASE` (4) lengths are fitted and checked in one compiled pass, the growth rule of
+step 3 applied afterwards (it is known exactly for a pass's first length; longer runs it stops are fitted and
+left out); the dynamic programme is a loop over the segments.
 """
 from __future__ import annotations
 

@@ -156,3 +156,78 @@ def test_merge_snapshot_records_the_joins_removed():
     assert last.phase == "remove"
     np.testing.assert_allclose(last.bezier, fit.spline.bezier(), rtol=0, atol=1e-9 * np.abs(last.bezier).max())
     assert {c["index"] for c in last.candidates if c["action"] == "remove"} == gone
+
+
+def _merge_candidates(monkeypatch, outline, corners, phase):
+    """The candidate runs of every merge of the fit of ``outline`` with ``merge.PHASE = phase``, and how many runs
+    were fitted."""
+    from splinecraft.capture.fitting import merge
+
+    found, fitted = [], [0]
+    candidates, fit_runs = merge._candidates, merge.fit_runs
+
+    def recording_candidates(*args):
+        found.append(candidates(*args))
+        return found[-1]
+
+    def counting_fit_runs(*args, **kwargs):
+        fit = fit_runs(*args, **kwargs)
+        fitted[0] += fit["count"].shape[0]
+        return fit
+
+    monkeypatch.setattr(merge, "PHASE", phase)
+    monkeypatch.setattr(merge, "_candidates", recording_candidates)
+    monkeypatch.setattr(merge, "fit_runs", counting_fit_runs)
+    fit_outline(outline, corners, merge_tolerance=MERGE, keep_snapshots=False)
+    monkeypatch.undo()
+    return found, fitted[0]
+
+
+def test_merge_candidates_do_not_depend_on_how_many_lengths_one_pass_fits(monkeypatch):
+    """``_candidates`` fits ``PHASE`` run lengths per compiled pass and applies the growth rule (a start stops
+    after ``MISSES + 1`` lengths in a row without a qualifying run) afterwards: the candidates, in their order
+    (ties of the dynamic programme go to the first), are those of one length per pass, the rule applied as the
+    runs grow -- with several passes and with all lengths in one (which fits runs the rule stops)."""
+    stopped = 0
+    for seed in range(3):
+        rng = np.random.default_rng(seed)
+        outline, _ = render_blob(rng.uniform(60, 90), [(rng.uniform(-0.12, 0.12), rng.uniform(0, 2 * np.pi))
+                                                      for _ in range(3)])
+        count = 5
+        angles = 2 * np.pi * (np.arange(count) + rng.uniform(-0.2, 0.2, count)) / count
+        vertices = np.column_stack([60 + 50 * np.cos(angles), 60 + 50 * np.sin(angles)])
+        polygon, corners, _ = polygon_shape(vertices, 120)
+        for points, at in ((outline, np.zeros(0, int)), (polygon, corners)):
+            one, one_fitted = _merge_candidates(monkeypatch, points, at, 1)
+            assert one
+            for phase in (4, 12):
+                runs, fitted = _merge_candidates(monkeypatch, points, at, phase)
+                assert len(runs) == len(one)
+                for got, expected in zip(runs, one):
+                    assert got.keys() == expected.keys()
+                    for key in expected:
+                        np.testing.assert_array_equal(got[key], expected[key])
+                stopped += fitted - one_fitted
+    assert stopped > 0  # some start was stopped by the rule: its runs were fitted in one pass and left out
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.integers(1, 12), st.integers(1, 9), st.integers(0, 2**32 - 1))
+def test_grown_runs_follow_the_growth_rule_length_by_length(lengths, starts, seed):
+    """``merge._grown`` against the rule as the runs grow: a start reaches a length while it stays within its
+    piece and turn and has not failed ``MISSES + 1`` lengths in a row before it (length 1 always passes)."""
+    from splinecraft.capture.fitting.merge import MISSES, _grown
+
+    rng = np.random.default_rng(seed)
+    within = np.logical_and.accumulate(rng.random((lengths, starts)) < 0.9, axis=0)
+    passed = rng.random((lengths, starts)) < rng.uniform(0.0, 1.0)
+    passed[0] = True
+    expected = np.zeros((lengths, starts), bool)
+    for start in range(starts):
+        misses = 0
+        for length in range(lengths):
+            if not within[length, start] or misses > MISSES:
+                break
+            expected[length, start] = True
+            misses = 0 if passed[length, start] else misses + 1
+    np.testing.assert_array_equal(_grown(passed, within), expected)

@@ -16,6 +16,11 @@ import math
 import numpy as np
 import pytest
 
+from splinecraft.capture.contour import trace_boundaries
+from splinecraft.capture.corners import tangent_jump
+from splinecraft.capture.fitting.lsq_model import ZONE_SPACING, OutlineRegression
+from splinecraft.capture.fitting.lsq_setup import crack_normals
+from splinecraft.capture.fitting.options import LSQ_DEFAULTS
 from splinecraft.capture.trace import trace
 from test_tips import render  # pixel-centre rendering of a polygon, the tips' tests' own
 
@@ -84,3 +89,63 @@ def test_an_extrapolated_corner_crosses_every_crack_within_its_radius(index):
     gaps = zone_gaps(result)
     # the pieces beside these corners fit (converged), so a corner whose pieces pass beside a crack was released
     assert max(gaps, default=0.0) <= PIXEL_SLACK + 1e-6, gaps
+
+
+def reference_corner_gaps(model, exclude=()):
+    """Per corner, the largest over the contour points within its reach (``max(r, 1)`` px of arc, corners still
+    extrapolated and not in ``exclude``) of the least distance from the curve samples of its window to the
+    segment between the point's two pixel centres, by the general projection onto the crack normal
+    (``-inf`` where no point is tested): the formulation ``zone_hooks`` computes without the normal's zero
+    products."""
+    contour, tips = model.contour, model.tips
+    worst = np.full(contour.corner_count, -np.inf)
+    cracks = crack_normals(contour.points)
+    active = tips.radius > 0
+    active[np.asarray(exclude, dtype=np.int64)] = False
+    n = contour.size
+    reach = np.maximum(tips.radius, 1.0)
+    nearest = contour.nearest_corner[:n]
+    points = np.flatnonzero(active[nearest] & (contour.corner_distance[:n] < reach[nearest]))
+    if not points.size:
+        return worst
+    corners = np.unique(nearest[points])
+    row = np.full(contour.corner_count, -1)
+    row[corners] = np.arange(corners.shape[0])
+    at = model.base_parameter[contour.corner_bounds[corners]]
+    half = reach[corners] + np.maximum(tips.gap_before[corners], tips.gap_after[corners]) + 2.0
+    count = int(np.ceil(2.0 * half.max() / ZONE_SPACING)) + 1
+    u = np.mod(at[:, None] + half[:, None] * np.linspace(-1.0, 1.0, count)[None, :], model.period)
+    samples = model.curve_at(u.ravel()).reshape(corners.shape[0], count, 2)
+    normal = cracks[points]
+    d = samples[row[nearest[points]]] - (contour.points[points] - 0.5 * normal)[:, None, :]
+    t = np.clip(np.einsum("pkd,pd->pk", d, normal), 0.0, 1.0)
+    gap = np.hypot(*(d - t[:, :, None] * normal[:, None, :]).transpose(2, 0, 1)).min(axis=1)
+    np.maximum.at(worst, nearest[points], gap)
+    return worst
+
+
+@pytest.mark.parametrize("index", range(4))
+def test_zone_hooks_measure_the_gaps_of_the_general_projection_bit_for_bit(index):
+    """``zone_hooks`` projects onto the axis of each crack normal directly ((1, 0) or (0, 1): no zero products):
+    a corner is found exactly where the general projection's largest gap exceeds ``pixel_slack`` -- at a slack
+    equal to that gap it is not, one ulp below it it is -- on fitted curves moved off their pixels in several
+    directions (both pieces beside every corner taken to fit), with and without excluded corners."""
+    mask = render(SHAPES[index], SIZE)
+    boundary = max(trace_boundaries(mask), key=lambda b: len(b.outline))
+    points = np.asarray(boundary.outline, float)
+    model = OutlineRegression(points, np.asarray(tangent_jump(points), np.int64), 0.8, dict(LSQ_DEFAULTS))
+    model.seed_knots(LSQ_DEFAULTS["initial_density"])
+    model.fit()
+    fitting = {"piece_excess": -np.ones(model.contour.piece_count)}
+    fitted, checked = model._bezier.copy(), 0
+    for shift in ([0.0, 0.0], [0.3, -0.2], [-0.45, 0.15], [0.05, 0.6]):
+        model._bezier = fitted + np.array(shift)
+        for exclude in ((), np.array([0])):
+            worst = reference_corner_gaps(model, exclude)
+            for corner in np.flatnonzero(np.isfinite(worst)):
+                model.pixel_slack = worst[corner]
+                assert corner not in model.zone_hooks(fitting, exclude)
+                model.pixel_slack = np.nextafter(worst[corner], -np.inf)
+                assert corner in model.zone_hooks(fitting, exclude)
+                checked += 1
+    assert checked >= 8

@@ -116,33 +116,48 @@ def pixel_corners(points, lengths):
     length = np.where(length == 0, lengths[run_outline], length)
     direction = code[first]
 
-    def run(m):  # the run m places after each run (negative: before), within its outline
-        return run_offset[run_outline] + (j + m) % k
+    run_base = run_offset[run_outline]
+    runs, lengths_at, directions_at = {}, {}, {}
+
+    def run(m):  # the run m places after each run (negative: before), within its outline (each m computed once)
+        if m not in runs:
+            runs[m] = run_base + (j + m) % k
+        return runs[m]
+
+    def length_of(m):
+        if m not in lengths_at:
+            lengths_at[m] = length[run(m)]
+        return lengths_at[m]
+
+    def direction_of(m):
+        if m not in directions_at:
+            directions_at[m] = direction[run(m)]
+        return directions_at[m]
 
     def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
-        step, beyond = run(m + way), run(m + 2 * way)
-        continues = (length[step] == 1) & (direction[beyond] == direction[run(m)])
+        continues = (length_of(m + way) == 1) & (direction_of(m + 2 * way) == direction_of(m))
         # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond`` or the
         # one after it, with a step at both ends) of MIN_TREAD cracks or more: the runs of a digital straight
         # segment differ by at most one and its end runs can only be shorter, so the run is then no tread of an
         # off-axis side but a straight side of its own, from which the outline bends away gently (a flat side
         # running into a curve; a round end of a few pixels turns through treads of single cracks)
-        whole = (length[run(m + 3 * way)] == 1) & (direction[run(m + 4 * way)] == direction[run(m)])
+        whole = (length_of(m + 3 * way) == 1) & (direction_of(m + 4 * way) == direction_of(m))
         # the longer of the first two whole treads (the first can be a crack or two short with the phase of
         # the pixels: 2, 3 beside a bowl of radius 24)
-        second = whole & (length[run(m + 5 * way)] == 1) & (direction[run(m + 6 * way)] == direction[run(m)])
-        tread_length = np.maximum(length[beyond], np.where(second, length[run(m + 4 * way)], 0))
-        flat = whole & (tread_length >= MIN_TREAD) & (length[run(m)] > tread_length + 1)
+        second = whole & (length_of(m + 5 * way) == 1) & (direction_of(m + 6 * way) == direction_of(m))
+        tread_length = np.maximum(length_of(m + 2 * way), np.where(second, length_of(m + 4 * way), 0))
+        flat = whole & (tread_length >= MIN_TREAD) & (length_of(m) > tread_length + 1)
         return continues & ~flat
 
     # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
-    corner = (length[run(-1)] >= MIN_RUN) & (length >= MIN_RUN)
-    corner &= ~tread(-1, -1) & ~tread(0, 1)
+    before_tread = tread(-1, -1)  # (used twice)
+    corner = (length_of(-1) >= MIN_RUN) & (length >= MIN_RUN)
+    corner &= ~before_tread & ~tread(0, 1)
     # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the opposite
     # ways round (a U-turn), each of them not a staircase's tread at its far end; both of its vertices
-    end = (length < MIN_RUN) & (length[run(-1)] >= MIN_RUN) & (length[run(1)] >= MIN_RUN)
-    end &= direction[run(-1)] == (direction[run(1)] + 2) % 4
-    end &= ~tread(-1, -1) & ~tread(1, 1)
+    end = (length < MIN_RUN) & (length_of(-1) >= MIN_RUN) & (length_of(1) >= MIN_RUN)
+    end &= direction_of(-1) == (direction_of(1) + 2) % 4
+    end &= ~before_tread & ~tread(1, 1)
     end &= k >= 4
     corner |= end
     corner[run(1)[end]] = True

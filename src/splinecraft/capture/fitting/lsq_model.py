@@ -113,6 +113,7 @@ class OutlineRegression:
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
+        self._zone_window_cache = None  # (radii and exclusions, set-up) of zone_hooks (_zone_window)
         # (the crack normals of the contour, or None,) of zone_hooks; None until needed, and (None,) where tips are
         # not extrapolated (a noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
         self._cracks = None if geometric else (None,)
@@ -448,47 +449,72 @@ class OutlineRegression:
         pixels everywhere misses them near its corners too. Only crack outlines are checked (else none), and
         only where tips are extrapolated (option ``geometric_corners``: not on a noisy boundary, whose pixels are
         no render of an outline)."""
-        contour, tips = self.contour, self.tips
         none = np.zeros(0, dtype=np.int64)
-        if not contour.corner_count:
+        window = self._zone_window(exclude)
+        if window is None:
             return none
-        if self._cracks is None:
-            self._cracks = (crack_normals(contour.points),)
-        cracks = self._cracks[0]
-        if cracks is None:
-            return none
-        active = tips.radius > 0
-        active[np.asarray(exclude, dtype=np.int64)] = False
-        if not active.any():
-            return none
-        n = contour.size
-        reach = np.maximum(tips.radius, 1.0)
-        nearest = contour.nearest_corner[:n]
-        points = np.flatnonzero(active[nearest] & (contour.corner_distance[:n] < reach[nearest]))
-        if not points.size:
-            return none
-        corners = np.unique(nearest[points])
-        row = np.full(contour.corner_count, -1)
-        row[corners] = np.arange(corners.shape[0])
-        # per corner, curve samples at most ZONE_SPACING apart over the corner's parameter window (its reach and
-        # gaps on both sides, and 2 px more): a curve that crosses a segment has a sample within half a spacing
-        at = self.base_parameter[contour.corner_bounds[corners]]
-        half = reach[corners] + np.maximum(tips.gap_before[corners], tips.gap_after[corners]) + 2.0
-        count = int(np.ceil(2.0 * half.max() / ZONE_SPACING)) + 1
-        steps = np.linspace(-1.0, 1.0, count)
-        u = np.mod(at[:, None] + half[:, None] * steps[None, :], self.period)
-        samples = self.curve_at(u.ravel()).reshape(corners.shape[0], count, 2)
-        normal = cracks[points]
-        start = contour.points[points] - 0.5 * normal  # one pixel centre; the other lies 1 px along the normal
-        d = samples[row[nearest[points]]] - start[:, None, :]
-        t = np.clip(np.einsum("pkd,pd->pk", d, normal), 0.0, 1.0)
-        gap = np.hypot(*(d - t[:, :, None] * normal[:, None, :]).transpose(2, 0, 1)).min(axis=1)
-        worst = np.full(contour.corner_count, -np.inf)
-        np.maximum.at(worst, nearest[points], gap)
+        u, along_index, across_index, along_start, across_start, owner = window
+        samples = self.curve_at(u).ravel()
+        # the crack normal is (1, 0) or (0, 1): the pixel centres' segment runs from ``along_start`` over [0, 1]
+        # along the normal's axis, so the distance of a sample from it is that of (along - clip(along, 0, 1),
+        # across) -- the operations of the projection onto a unit axis vector, without its zero products
+        along = samples[along_index] - along_start
+        gap = np.hypot(along - np.clip(along, 0.0, 1.0), samples[across_index] - across_start).min(axis=1)
+        worst = np.full(self.contour.corner_count, -np.inf)
+        np.maximum.at(worst, owner, gap)
         found = np.flatnonzero(worst > self.pixel_slack)
         if not found.size:
             return none
         return found[self._pieces_fit(found, dev)]
+
+    def _zone_window(self, exclude=()):
+        """The set-up of :meth:`zone_hooks` (kept while the corners' radii and ``exclude`` are unchanged), or None
+        where there is nothing to test: the parameters of the tested corners' curve samples (per corner,
+        at most ``ZONE_SPACING`` apart over the corner's parameter window: its reach and gaps on both sides, and
+        2 px more; a curve that crosses a segment has a sample within half a spacing), and per contour point
+        within a corner's reach (``max(r, 1)`` px of arc) the indices of its corner's samples' coordinates along
+        and across its crack normal in the flattened samples, the coordinates of the pixel centre at the
+        segment's start (along; the other centre lies 1 px further) and of the crack (across), and its corner."""
+        contour, tips = self.contour, self.tips
+        if not contour.corner_count:
+            return None
+        if self._cracks is None:
+            self._cracks = (crack_normals(contour.points),)
+        cracks = self._cracks[0]
+        if cracks is None:
+            return None
+        exclude = np.asarray(exclude, dtype=np.int64)
+        key = tips.radius.tobytes() + exclude.tobytes()
+        if self._zone_window_cache is not None and self._zone_window_cache[0] == key:
+            return self._zone_window_cache[1]
+        window = None
+        active = tips.radius > 0
+        active[exclude] = False
+        if active.any():
+            n = contour.size
+            reach = np.maximum(tips.radius, 1.0)
+            nearest = contour.nearest_corner[:n]
+            points = np.flatnonzero(active[nearest] & (contour.corner_distance[:n] < reach[nearest]))
+            if points.size:
+                owner = nearest[points]
+                tested = np.zeros(contour.corner_count, bool)
+                tested[owner] = True
+                corners = np.flatnonzero(tested)  # sorted, unique
+                row = np.full(contour.corner_count, -1)
+                row[corners] = np.arange(corners.shape[0])
+                at = self.base_parameter[contour.corner_bounds[corners]]
+                half = reach[corners] + np.maximum(tips.gap_before[corners], tips.gap_after[corners]) + 2.0
+                count = int(np.ceil(2.0 * half.max() / ZONE_SPACING)) + 1
+                steps = np.linspace(-1.0, 1.0, count)
+                u = np.mod(at[:, None] + half[:, None] * steps[None, :], self.period).ravel()
+                axis = (cracks[points, 1] == 1.0).astype(np.int64)  # 0: normal (1, 0), 1: normal (0, 1)
+                first = 2 * count * row[owner][:, None] + 2 * np.arange(count)[None, :]
+                own = contour.points[points]
+                pick = np.arange(points.shape[0])
+                window = (u, first + axis[:, None], first + (1 - axis)[:, None],
+                          (own[pick, axis] - 0.5)[:, None], own[pick, 1 - axis][:, None], owner)
+        self._zone_window_cache = (key, window)
+        return window
 
     def _pieces_fit(self, corners, dev=None):
         """Per corner of ``corners``: whether both pieces beside it fit, their deviation within the tolerance

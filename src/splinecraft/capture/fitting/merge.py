@@ -25,8 +25,9 @@ gives ``G^1`` segment counts, in the manner of potrace's curve optimisation (``o
    the programme runs once more (at most four times, else the fit stays as it was): the guarantee of §12 holds
    unchanged.
 
-All candidate runs of a length are fitted and checked in one compiled pass; the dynamic programme is a loop
-over the segments.
+The candidate runs of :data:`PHASE` (4) lengths are fitted and checked in one compiled pass, the growth rule of
+step 3 applied afterwards (it is known exactly for a pass's first length; longer runs it stops are fitted and
+left out); the dynamic programme is a loop over the segments.
 """
 from __future__ import annotations
 
@@ -60,6 +61,9 @@ NEWTON_STEPS = 4
 #: measures edge midpoints and curve samples; a merged segment that fails it is not chosen again). A disc's
 #: staircase is up to 0.7 px from the circle, so at epsilon = 0.8 a margin leaves no room.
 MARGIN = 0.0
+#: Run lengths fitted in one compiled pass by :func:`_candidates` (the growth rule is known exactly for the first
+#: length of a pass; longer runs it may stop are fitted and left out).
+PHASE = 4
 
 
 def _unit(v):
@@ -339,7 +343,12 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     """Every qualifying run with the direction states of its two end joins (0: the fitted curve's direction,
     1: :func:`join_directions`, only at interior joins), grown one segment at a time from every start while one
     of its states qualifies or it has failed at most :data:`MISSES` lengths in a row (potrace's opticurve stops
-    at the first failure). Candidates ``0 .. k - 1`` are the segments as they were (states 0, 0; cost 0)."""
+    at the first failure). Candidates ``0 .. k - 1`` are the segments as they were (states 0, 0; cost 0); the
+    others follow by run length, then end states, then start (:func:`choose_runs` breaks ties by this order).
+
+    The runs are fitted :data:`PHASE` lengths at a time in one compiled pass (:func:`fit_runs`): the runs of a
+    phase's first length are those the growth rule reaches, the later ones those it may reach (a start that
+    fails the lengths before them may stop growing: its runs are fitted and left out, :func:`_grown`)."""
     k = bez.shape[0]
     turn = np.concatenate([[0.0], np.cumsum(_turns(bez))])
     # the fitted segments as they were: their pieces between extrema, and each whole (states 0, 0; cost 0)
@@ -350,62 +359,81 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
            "s0": [np.zeros(kept, np.int64)], "s1": [np.zeros(kept, np.int64)],
            "spread": [np.zeros(kept)], "cubic": [bez, fit_bez[origin[heads[whole > 1]]]],
            "refit": [np.zeros(kept, bool)], "t": [np.zeros(0)], "t_count": [np.zeros(kept, np.int64)]}
-    active = np.arange(k)
-    misses = np.zeros(k, np.int64)
     # a run's start direction in state a is head_dir[a, first], its end direction in state b tail_dir[b, last] (the
     # new direction of the join after its last segment); a run's states are (a, b) = divmod(state, 2)
     head_dir = np.stack([o_head, direction])
     tail_dir = np.stack([o_tail, np.concatenate([direction[1:], direction[:1]])])
-    state_a, state_b = np.array([0, 0, 1, 1]), np.array([0, 1, 0, 1])
-    for length in range(1, min(MAX_RUN, k) + 1):
-        active = active[: np.searchsorted(active, k - length, side="right")]  # active + length <= k (sorted)
-        misses = misses[: active.shape[0]]
-        last = active + (length - 1)
-        keep = (seg_piece[active] == seg_piece[last]) & (turn[last + 1] - turn[active] <= MAX_TURN)
-        active, misses, last = active[keep], misses[keep], last[keep]
-        if not active.size:
+    longest = min(MAX_RUN, k)
+    # per run length (rows) and start (columns): the run's last segment, and whether it stays in one piece and
+    # turns by at most MAX_TURN at this length and every shorter one (a start that fails stops growing)
+    first = np.arange(k)
+    last = first[None, :] + np.arange(longest)[:, None]
+    inside = last < k
+    last = np.minimum(last, k - 1)
+    within = inside & (seg_piece[last] == seg_piece[None, :]) & (turn[last + 1] - turn[None, :k] <= MAX_TURN)
+    within = np.logical_and.accumulate(within, axis=0)
+    # the end states (a, b) in the order (0, 0), (0, 1), (1, 0), (1, 1): an end at a join takes the new direction
+    # if asked (a == 1), and a longer run takes it wherever it may: its end keeps the old one only where the join
+    # has no new direction (a kept segment beside it is refitted as a run of one instead); a single segment in
+    # states (0, 0) is the segment as it was
+    head_join, tail_join = np.broadcast_to(interior[:k], last.shape), interior[last + 1]
+    valid = np.empty((longest, 4, k), bool)
+    valid[:, 0], valid[:, 1] = ~head_join & ~tail_join, ~head_join & tail_join
+    valid[:, 2], valid[:, 3] = head_join & ~tail_join, head_join & tail_join
+    valid[0, 0], valid[0, 1], valid[0, 2] = False, tail_join[0], head_join[0]
+    valid &= within[:, None, :]
+    passed = np.zeros((longest, k), bool)  # per length and start: one of the run's states qualifies
+    passed[0] = True  # every segment starts runs
+    fits = []
+    for low in range(0, longest, PHASE):
+        high = min(low + PHASE, longest)
+        grown = _grown(passed[:low], within[:low + 1])[-1]  # the starts that reach length low + 1
+        lengths, states, rows = np.nonzero(valid[low:high] & grown[None, None, :])
+        if not rows.size:
             break
-        # the end states (a, b) in the order (0, 0), (0, 1), (1, 0), (1, 1), the runs of each in start order: an
-        # end at a join takes the new direction if asked (a == 1), and a longer run takes it wherever it may: its
-        # end keeps the old one only where the join has no new direction (a kept segment beside it is refitted
-        # as a run of one instead); a single segment in states (0, 0) is the segment as it was
-        head_join, tail_join = interior[active], interior[last + 1]
-        valid = np.empty((4, active.shape[0]), bool)
-        if length > 1:
-            head_old, tail_old = ~head_join, ~tail_join
-            valid[0], valid[1], valid[2] = head_old & tail_old, head_old & tail_join, head_join & tail_old
-        else:
-            valid[0], valid[1], valid[2] = False, tail_join, head_join
-        valid[3] = head_join & tail_join
-        states, rows = np.nonzero(valid)
-        sa, sb = state_a[states], state_b[states]
-        any_ok = np.zeros(active.shape[0], bool)
-        if rows.size:
-            f, end = active[rows], last[rows]
-            fit = fit_runs(bez, starts, ends, points, u, f, length, (head_dir[sa, f], tail_dir[sb, end]), tol, fitted,
-                           (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
-            ok = _qualify(fit, tolerance, MARGIN)
-            chosen = np.flatnonzero(ok)
-            out["first"].append(f[chosen])
-            out["length"].append(np.full(chosen.shape[0], length))
-            out["s0"].append(sa[chosen])
-            out["s1"].append(sb[chosen])
-            out["spread"].append(fit["spread"][chosen])
-            out["cubic"].append(fit["cubic"][chosen])
-            out["refit"].append(np.ones(chosen.shape[0], bool))
-            # the parameters of the covered points on each qualifying cubic (a chosen run takes them)
-            out["t"].append(fit["t"][np.repeat(ok, fit["count"])])
-            out["t_count"].append(fit["count"][chosen])
-            any_ok[rows[chosen]] = True
-        if length == 1:
-            any_ok[:] = True  # every segment starts runs
-        misses = np.where(any_ok, 0, misses + 1)
-        keep = misses <= MISSES
-        active, misses = active[keep], misses[keep]
+        lengths += low + 1
+        sa, sb = states >> 1, states & 1
+        end = rows + (lengths - 1)
+        fit = fit_runs(bez, starts, ends, points, u, rows, lengths, (head_dir[sa, rows], tail_dir[sb, end]), tol,
+                       fitted, (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
+        ok = _qualify(fit, tolerance, MARGIN)
+        passed[lengths[ok] - 1, rows[ok]] = True
+        passed[0] = True
+        fits.append((lengths, sa, sb, rows, fit, ok))
+    grown = _grown(passed, within)
+    for lengths, sa, sb, rows, fit, ok in fits:
+        taken = ok & grown[lengths - 1, rows]
+        chosen = np.flatnonzero(taken)
+        out["first"].append(rows[chosen])
+        out["length"].append(lengths[chosen])
+        out["s0"].append(sa[chosen])
+        out["s1"].append(sb[chosen])
+        out["spread"].append(fit["spread"][chosen])
+        out["cubic"].append(fit["cubic"][chosen])
+        out["refit"].append(np.ones(chosen.shape[0], bool))
+        # the parameters of the covered points on each taken cubic (a chosen run takes them)
+        out["t"].append(fit["t"][np.repeat(taken, fit["count"])])
+        out["t_count"].append(fit["count"][chosen])
     cand = {key: np.concatenate(value) for key, value in out.items()}
     cand["t_start"] = np.cumsum(cand["t_count"]) - cand["t_count"]
     cand["direction"], cand["o_head"], cand["o_tail"] = direction, o_head, o_tail
     return cand
+
+
+def _grown(passed, within):
+    """Per run length (rows, from 1) and start (columns): whether the growth rule of :func:`_candidates` reaches
+    the run: the start stays ``within`` a piece and the turn at every length so far, and it has not failed
+    ``MISSES + 1`` lengths in a row before (``passed``: one of the run's states qualifies, per length before;
+    length 1 always does)."""
+    grown = within.copy()
+    failed = ~passed
+    streak = failed[MISSES:]
+    for back in range(1, MISSES + 1):
+        streak = streak & failed[MISSES - back: failed.shape[0] - back]
+    # a start stops after the last length of a streak: from the length after it on
+    stopped = np.logical_or.accumulate(streak, axis=0)
+    grown[MISSES + 1: MISSES + 1 + stopped.shape[0]] &= ~stopped[: max(grown.shape[0] - MISSES - 1, 0)]
+    return grown
 
 
 def _put_state(model, saved, starts, ends, points, cand, chosen):

@@ -914,3 +914,31 @@ def test_decimals_with_json_output_is_refused(tmp_path, output, options):
     assert sorted(path.name for path in tmp_path.iterdir()) == ["sq.png"]
     svg = run_cli("trace", source, "-o", "-", "--decimals", "2")
     assert svg.returncode == 0 and subpath_count(svg.stdout)[0] == 1
+
+
+@pytest.mark.parametrize("method", [None, "lsq"])
+def test_a_seed_for_a_method_without_random_numbers_is_refused(tmp_path, capsys, method):
+    """``--seed`` with ``lsq`` (deterministic) would be ignored: refused naming the method, as the library refuses
+    ``tau`` and ``fuzzy_weights`` for the methods that do not use them."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    with pytest.raises(SystemExit) as stop:
+        main(["trace", str(source), "-o", str(tmp_path / "x.svg"), "--seed", "5"]
+             + (["--method", method] if method else []))
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert "--seed" in err and "'lsq'" not in err and "--method lsq" in err and "random" in err
+    assert not (tmp_path / "x.svg").exists()
+
+
+def test_a_seed_reaches_a_random_method(tmp_path):
+    source = tmp_path / "disc.png"
+    write_shape(source, "disc")
+    outputs = {}
+    for seed in ("1", "2", None):
+        output = tmp_path / f"{seed}.json"
+        assert main(["trace", str(source), "-o", str(output), "--method", "random", "-q"]
+                    + (["--seed", seed] if seed else [])) == 0
+        outputs[seed] = json.loads(output.read_text())
+    assert outputs["1"]["params"]["seed"] == 1 and outputs["2"]["params"]["seed"] == 2
+    assert outputs[None]["params"]["seed"] == 0  # the library's default

@@ -183,7 +183,7 @@ def build_parser() -> argparse.ArgumentParser:
     from . import __version__
     from .capture.contour import CONNECTIVITIES
     from .capture.corners import CORNER_METHODS
-    from .capture.fitting import KNOT_METHODS
+    from .capture.fitting import KNOT_METHODS, THESIS_METHODS
     from .capture.image import DEFAULT_THRESHOLD, THRESHOLD_METHODS
 
     defaults = _trace_defaults()
@@ -221,8 +221,10 @@ def build_parser() -> argparse.ArgumentParser:
                         help="corner detector parameter, repeatable (e.g. --corner-param min_turn=30 for the default "
                              "tangent-jump, --corner-method srm05 --corner-param ta=150 for the thesis's); a value "
                              "with commas is a tuple (flank=4,10)")
-    tracer.add_argument("--seed", type=_non_negative_int, default=defaults["seed"],
-                        help="seed of the random algorithms")
+    tracer.add_argument("--seed", type=_non_negative_int, default=None,
+                        help="seed of the random knot-insertion methods (--method "
+                             + ", ".join(THESIS_METHODS) + f"; default {defaults['seed']}); refused with lsq, "
+                             "which draws no random numbers")
     tracer.add_argument("--tau", type=float, default=defaults["tau"], help="distance constraint of Algs 4.2/4.3")
     tracer.add_argument("--max-iterations", type=_positive_int, default=defaults["max_iterations"],
                         help="bound on knot-insertion iterations per boundary "
@@ -293,6 +295,20 @@ def _stdout_conflicts(args) -> str | None:
     return (f"-o - (stdout) does not take {', '.join(given)}: it traces its one input in this process and writes "
             "no file (no manifest, nothing to run in parallel); give an output file or directory to use "
             f"{'it' if len(given) == 1 else 'them'}")
+
+
+def _unused_options(args) -> str | None:
+    """Why an option of ``args`` would have no effect, or ``None``: ``--seed`` with a knot-insertion method that draws
+    no random numbers (``lsq``, the default) is refused, as the library refuses ``tau`` and ``fuzzy_weights`` for the
+    methods that do not use them (:func:`splinecraft.capture.fitting.options.check_tau`, ``check_options``)."""
+    from .capture.fitting import DEFAULT_METHOD, THESIS_METHODS
+
+    method = args.method or DEFAULT_METHOD
+    if args.seed is not None and method not in THESIS_METHODS:
+        which = f"--method {method}" if args.method else f"the default --method {method}"
+        return (f"--seed is used by the random knot-insertion methods ({', '.join(THESIS_METHODS)}) only, not "
+                f"{which}, which draws no random numbers: leave --seed out, or give one of those methods")
+    return None
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -510,7 +526,8 @@ def _run_trace(args) -> int:
     decimals = DEFAULT_DECIMALS if args.decimals is None else args.decimals
     options = {
         "epsilon": args.epsilon, "method": args.method, "corner_method": args.corner_method,
-        "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
+        "corner_params": dict(args.corner_param) or None,
+        "seed": _trace_defaults()["seed"] if args.seed is None else args.seed, "tau": args.tau,
         "max_iterations": args.max_iterations, "threshold": args.threshold, "invert": args.invert,
         "min_speck_area": args.min_speck_area, "connectivity": args.connectivity, "contour": args.contour,
         "noise_factor": args.noise_factor, "time_budget": args.time_budget, "max_pixels": args.max_pixels,
@@ -575,7 +592,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command == "trace":
-        conflict = _stdout_conflicts(args)
+        conflict = _stdout_conflicts(args) or _unused_options(args)
         if conflict:
             args.command_parser.error(conflict)  # a usage error: exit code 2
         return _run_trace(args)

@@ -632,6 +632,18 @@ def test_an_empty_output_is_refused_before_any_trace(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]  # nothing written, no manifest
 
 
+def test_a_blank_output_is_refused_before_any_trace(tmp_path):
+    """``-o ' '`` (an unset variable in quotes beside a space) wrote a file called space."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", " ", cwd=tmp_path)
+    lines = result.stderr.splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0] == "splinecraft: error: -o/--output is blank (' ': only white space): give an output file, a " \
+                       "directory, or - for stdout"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]
+
+
 @pytest.mark.parametrize("name", ["out.svg", "OUT.JSON"])
 def test_a_file_output_for_several_inputs_is_refused(tmp_path, name):
     """``-o out.svg`` with two inputs created a directory named out.svg; a name with an output suffix is

@@ -366,8 +366,10 @@ def _plan_outputs(inputs, output, fmt):
     Refused before anything is traced: an empty ``output``, ``-`` with several inputs, and an output named
     like a file (:data:`OUTPUT_SUFFIXES`) for several inputs unless it is an existing directory or ends
     with a separator (it would become a directory called ``out.svg``)."""
-    if not output:
-        raise ValueError("-o/--output is empty: give an output file, a directory, or - for stdout")
+    from ._validation import blank_text
+
+    if blank_text(output):
+        raise ValueError(f"-o/--output is {blank_text(output)}: give an output file, a directory, or - for stdout")
     is_directory = os.path.isdir(output) or output.endswith(("/", os.sep))
     single = len(inputs) == 1 and not is_directory
     if output == "-":

@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._validation import check_int, check_number, check_positive_number
+from ._validation import blank_text, check_int, check_number, check_positive_number
 from .outline import Outline, as_outline
 from .outline.contour import bezier_signed_area
 from .outline.model import nesting_depths
@@ -375,6 +375,10 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     if not isinstance(glyphs, dict) or not glyphs:
         raise ValueError("glyphs must be a non-empty dict of character -> outline")
     family, style = _check_name(family, "family"), _check_name(style, "style")
+    if not isinstance(output_dir, (str, os.PathLike)) or not isinstance(os.fspath(output_dir), str):
+        raise TypeError(f"output_dir must be a path (str or os.PathLike), got {type(output_dir).__name__}")
+    if blank_text(os.fspath(output_dir)):  # Path('') is '.', Path(' ') a folder called space: never meant
+        raise ValueError(f"output_dir is {blank_text(os.fspath(output_dir))}: give a folder ('.' for the current one)")
     try:
         units_per_em = check_int(units_per_em, "units_per_em", minimum=16, maximum=16384, integral_floats=True)
     except (TypeError, ValueError) as exc:

@@ -821,7 +821,7 @@ def test_a_corner_param_pair_can_be_given(tmp_path, capsys):
     expected = sc.trace(mask, corner_params={"flank": (3, 12)}).to_svg(title="square.png")
     assert out.read_text() == expected
     assert main(["trace", str(tmp_path / "square.png"), "-o", str(out), "-q", "--corner-param", "flank=4,10,2"]) == 2
-    assert "corner_params['flank'] must be a pair of integers" in capsys.readouterr().err
+    assert "--corner-param flank must be a pair of integers" in capsys.readouterr().err
 
 
 def test_every_warning_of_a_trace_reaches_stderr_and_the_manifest(tmp_path):
@@ -954,3 +954,41 @@ def test_a_seed_reaches_a_random_method(tmp_path):
         outputs[seed] = json.loads(output.read_text())
     assert outputs["1"]["params"]["seed"] == 1 and outputs["2"]["params"]["seed"] == 2
     assert outputs[None]["params"]["seed"] == 0  # the library's default
+
+
+def test_fit_params_can_be_given_and_trace_like_the_library(tmp_path):
+    """--fit-param NAME=VALUE is the library's fit_params (there was no way to reach them from the command line:
+    the thesis's C2 fit, merge_tolerance=0, for one)."""
+    import splinecraft as sc
+
+    source = tmp_path / "ring.png"
+    write_shape(source, "ring")
+    output = tmp_path / "ring.svg"
+    assert main(["trace", str(source), "-o", str(output), "-q", "--fit-param", "merge_tolerance=0",
+                 "--fit-param", "remove_knots=false"]) == 0
+    expected = sc.trace(str(source), fit_params={"merge_tolerance": 0, "remove_knots": False})
+    assert output.read_text() == expected.to_svg(title="ring.png", decimals=4)
+    assert output.read_text() != sc.trace(str(source)).to_svg(title="ring.png", decimals=4)
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--fit-param", "merge_tolerance=-1"], "--fit-param merge_tolerance must be >= 0, got -1.0"),
+    (["--fit-param", "merge_tolerance=nan"], "--fit-param merge_tolerance must be a finite number >= 0, got nan"),
+    (["--fit-param", "no_such=1"], "--fit-param has an unknown name 'no_such' for method 'lsq'; allowed: ["),
+    (["--fit-param", "fuzzy_weights=0.1,0.2", "--method", "fuzzy"],
+     "--fit-param fuzzy_weights (w, v) need w > v >= 0 (thesis eq 4.21), got (0.1, 0.2)"),
+    (["--corner-param", "min_turn=-1"], "--corner-param min_turn must be >= 0 and < 180, got -1.0"),
+    (["--corner-param", "no_such=1"], "--corner-param has an unexpected name 'no_such' for the 'tangent-jump'"),
+])
+@pytest.mark.parametrize("output", ["x.svg", "-"])
+def test_a_bad_fit_or_corner_param_is_named_as_its_option(tmp_path, capsys, options, message, output):
+    """The library names a bad value by the key of its mapping (fit_params['merge_tolerance']); the command line
+    says which option it came from (--fit-param merge_tolerance), before anything is traced."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    destination = output if output == "-" else str(tmp_path / output)
+    assert main(["trace", str(source), "-o", destination, *options]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"splinecraft: error: {message}"), err
+    assert len(err.splitlines()) == 1 and "fit_params" not in err and "corner_params" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]

@@ -9,6 +9,7 @@ Examples
     splinecraft trace scans/*.png -o traced/ --scheduler tcp://10.0.0.5:8786   # a dask cluster
     splinecraft trace 'scans/**/*.png' -o traced/     # a quoted pattern: expanded here, as trace_many does
     splinecraft trace logo.png -o - --format json          # JSON to stdout
+    splinecraft trace glyph.png -o glyph.svg --fit-param merge_tolerance=0   # fit_params: the thesis's C2 fit
     splinecraft --version
 
 ``OUT`` is a file for one input (``-`` = stdout) and a directory for several (created if needed; each
@@ -41,7 +42,9 @@ removed), what finished is kept in the manifest, and the exit code is 130 (SIGIN
 Workers also die when this process is killed outright. Exit codes: 0 all traced (or skipped), 1 some
 file failed, 2 usage errors (bad option, output = input, manifest = output, an output or manifest that is a
 pipe or a device (``-o /dev/null``; ``-o -`` is stdout), empty output or a file name for several inputs,
-unwritable output directory, unreachable scheduler).
+unwritable output directory, unreachable scheduler). ``--fit-param`` and ``--corner-param`` are the library's
+``fit_params`` and ``corner_params``; a bad one is named as its option (``--fit-param merge_tolerance must be >= 0``),
+not as the library's key (``fit_params['merge_tolerance']``).
 """
 from __future__ import annotations
 
@@ -221,6 +224,10 @@ def build_parser() -> argparse.ArgumentParser:
                         help="corner detector parameter, repeatable (e.g. --corner-param min_turn=30 for the default "
                              "tangent-jump, --corner-method srm05 --corner-param ta=150 for the thesis's); a value "
                              "with commas is a tuple (flank=4,10)")
+    tracer.add_argument("--fit-param", type=_key_value, action="append", default=[], metavar="NAME=VALUE",
+                        help="option of the spline fit, repeatable (the library's fit_params: --fit-param "
+                             "merge_tolerance=0 for the thesis's C2 fit, --fit-param geometric_corners=true; "
+                             "docs/capture.md §12)")
     tracer.add_argument("--seed", type=_non_negative_int, default=None,
                         help="seed of the random knot-insertion methods (--method "
                              + ", ".join(THESIS_METHODS) + f"; default {defaults['seed']}); refused with lsq, "
@@ -429,6 +436,24 @@ OPTION_SPELLING = (
 )
 
 
+#: The library's names of the command's mapping options in messages -> their options (:func:`_spelled`):
+#: ``fit_params['merge_tolerance'] must be >= 0`` is ``--fit-param merge_tolerance must be >= 0`` here.
+MAPPING_OPTIONS = (("fit_params", "--fit-param"), ("corner_params", "--corner-param"))
+
+
+def _spelled(message) -> str:
+    """A message of the library about a bad option as this command spells the option (:data:`MAPPING_OPTIONS`):
+    ``fit_params['NAME']`` -> ``--fit-param NAME``, ``fit_params has an unknown key`` -> ``--fit-param has an
+    unknown name``."""
+    import re
+
+    text = str(message)
+    for name, option in MAPPING_OPTIONS:
+        text = re.sub(rf"\b{name}\['([A-Za-z_][A-Za-z0-9_]*)'\]", rf"{option} \1", text)
+        text = re.sub(rf"\b{name} (has an unknown|has an unexpected) (?:keyword|key)\b", rf"{option} \1 name", text)
+    return text
+
+
 def _summary_line(stats, seconds):
     """The ``-v`` line of one file. Boundaries a spent time budget left as polygons are counted apart: their
     deviation (0, they are their contour) and "convergence" are not those of a fit, so the iterations, the
@@ -529,6 +554,7 @@ def _run_trace(args) -> int:
     options = {
         "epsilon": args.epsilon, "method": args.method, "corner_method": args.corner_method,
         "corner_params": dict(args.corner_param) or None,
+        "fit_params": dict(args.fit_param) or None,
         "seed": _trace_defaults()["seed"] if args.seed is None else args.seed, "tau": args.tau,
         "max_iterations": args.max_iterations, "threshold": args.threshold, "invert": args.invert,
         "min_speck_area": args.min_speck_area, "connectivity": args.connectivity, "contour": args.contour,
@@ -538,7 +564,7 @@ def _run_trace(args) -> int:
         try:
             return _trace_to_stdout(pairs[0][0], fmt, options, decimals, quiet=args.quiet, verbose=args.verbose)
         except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
-            print(f"{PROG}: error: {exc}", file=sys.stderr)
+            print(f"{PROG}: error: {_spelled(exc)}", file=sys.stderr)
             return 2
     plan = [PlannedFile(index=k, source=source, label=source, output=os.path.abspath(destination),
                         title=os.path.basename(source)) for k, (source, destination) in enumerate(pairs)]
@@ -576,7 +602,7 @@ def _run_trace(args) -> int:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
     except (ValueError, TypeError, OSError, ImportError) as exc:
-        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        print(f"{PROG}: error: {_spelled(exc)}", file=sys.stderr)
         return 2
     failures = counts["failed"]
     if result.manifest_error:

@@ -397,7 +397,8 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     small_limit = check_small_outline(options.pop("small_outline", None), "fit_params['small_outline']")
     return {"epsilon": epsilon, "max_iterations": max_iterations, "keep_snapshots": keep_snapshots, "seed": seed,
             "method": method_name, "tau": check_tau(tau, method_name), "corner_method": corner_method,
-            "corner_params": corner_params, "fit_params": fit_params, "options": check_options(method_name, options),
+            "corner_params": corner_params, "fit_params": fit_params,
+            "options": check_options(method_name, options, "fit_params"),
             "small_outline": small_limit, "contour": contour, "connectivity": connectivity}
 
 

@@ -86,7 +86,7 @@ def test_single_file_svg_and_json(tmp_path):
     assert (root.get("width"), root.get("height"), root.get("viewBox")) == ("64", "64", "0 0 64 64")
     assert root.find(f"{SVG}path").get("fill-rule") == "evenodd"
 
-    result = run_cli("trace", source, "-o", tmp_path / "out" / "ring.json", "--seed", "3", "-v")
+    result = run_cli("trace", source, "-o", tmp_path / "out" / "ring.json", "--method", "random", "--seed", "3", "-v")
     assert result.returncode == 0, result.stderr
     data = json.loads((tmp_path / "out" / "ring.json").read_text())
     assert data["width"] == 64 and data["stats"]["holes"] == 1 and data["params"]["seed"] == 3

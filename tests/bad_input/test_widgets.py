@@ -326,3 +326,21 @@ def test_explorer_survives_any_message(explorer, message):
     explorer._handle_message(explorer, message, [b"\x89PNG not really"])
     assert explorer.result is result and explorer.busy is False
     assert explorer.status_level == "error" and page.got_error_status()
+
+
+@pytest.mark.parametrize("tau", [float("inf"), float("nan"), -2.0])
+def test_explorer_refuses_a_tau_no_method_takes_while_its_method_takes_none(explorer, tau):
+    """With method 'lsq' (no tau), the page's tau=inf, NaN or -2 was accepted as the good state ('Traced ...'),
+    and the next switch to 'euclidean' was refused for a tau the user had set long before. Such a tau fits no
+    method: refused when it is set, naming tau; the last good tau is kept and the switch works."""
+    page = Page(explorer)
+    assert explorer.method == "lsq" and explorer.tau is None
+    good, result = settings_of(explorer), explorer.result
+    explorer.set_state({"tau": tau})
+    assert settings_of(explorer) == good and explorer.result is result
+    assert page.got_error_status() and "tau (nearness of the methods euclidean, positional)" in explorer.status_message
+    assert "tau" in page.updated()
+    explorer.set_state({"method": "euclidean"})
+    assert explorer.method == "euclidean" and explorer.status_level == "info"
+    assert explorer.result.params["method"] == "euclidean"
+    explorer.set_state({"method": "lsq"})

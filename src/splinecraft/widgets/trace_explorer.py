@@ -385,6 +385,10 @@ class TraceExplorer(WidgetBase):
         for name, value in settings["corner_params"].items():
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise TypeError(f"corner parameter {name} must be a number, got {value!r:.40}")
+        if settings["tau"] is not None and method not in TAU_METHODS:
+            # kept for a later switch to euclidean or positional: a tau no method takes (NaN, inf, < 0) is refused now,
+            # not taken as the good state of which a later switch of the method would fail with it
+            check_number(settings["tau"], f"tau (nearness of the methods {', '.join(TAU_METHODS)})", minimum=0.0)
         tau = settings["tau"] if method in TAU_METHODS else None
         params = {k: v for k, v in self._extra.items() if k != "threshold"}  # the mask is already binary
         # despeckle None: trace's default cleaning of the bitmap (pinholes and specks of 1-2 px); a number: the

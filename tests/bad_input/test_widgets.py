@@ -168,6 +168,24 @@ def test_editor_names_the_bad_field_and_keeps_the_state(message, field):
                 "ok": False} in page.custom()
 
 
+@pytest.mark.parametrize("message, words", [
+    ({"type": "drag", "index": 1, "x": 1e308, "y": 2.0, "seq": 1, "final": True},
+     "point 1 at (1e+308, 2) is beyond ±1e+09"),
+    ({"type": "drag", "index": 3, "x": 5.0, "y": -2e9, "seq": 2, "final": True},
+     "point 3 at (5, -2e+09) is beyond ±1e+09"),
+    ({"type": "add", "x": 1e300, "y": 1.0}, "at (1e+300, 1) is beyond ±1e+09"),
+])
+def test_editor_names_the_point_dragged_too_far(message, words):
+    """A drag or an add far off the canvas was refused as 'a coordinate is beyond ±1e+09': which point, and where,
+    went unsaid (the outline editor names both). Now the point and its position are named."""
+    editor = SplineEditor(POINTS)
+    page = Page(editor)
+    before = editor._state()
+    editor._handle_message(editor, message, [])
+    assert editor._state() == before and editor.status_level == "error"
+    assert words in editor.status_message and page.got_error_status() and "points" in page.updated()
+
+
 def test_editor_batched_update_keeps_the_good_values():
     editor = SplineEditor(POINTS)
     page = Page(editor)

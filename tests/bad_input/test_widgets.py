@@ -356,8 +356,9 @@ def test_explorer_refuses_a_tau_no_method_takes_while_its_method_takes_none(expl
     good, result = settings_of(explorer), explorer.result
     explorer.set_state({"tau": tau})
     assert settings_of(explorer) == good and explorer.result is result
-    assert page.got_error_status() and "tau (nearness of the methods euclidean, positional)" in explorer.status_message
-    assert "tau" in page.updated()
+    assert explorer.status_level == "error" and "status_message" in page.updated()
+    assert "tau (nearness of the methods euclidean, positional)" in explorer.status_message
+    assert "tau" in page.updated()  # the page is resynced to the kept tau
     explorer.set_state({"method": "euclidean"})
     assert explorer.method == "euclidean" and explorer.status_level == "info"
     assert explorer.result.params["method"] == "euclidean"

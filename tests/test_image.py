@@ -1195,3 +1195,20 @@ def test_a_camera_jpeg_with_a_preview_is_one_picture(tmp_path):
     three = _mpo_bytes([photo, photo, preview], (disparity, disparity, vga_preview))
     with pytest.warns(MultiFrameWarning, match="2 frames"):
         load_bitmap(three)
+
+
+def test_an_empty_file_says_it_is_empty(tmp_path):
+    """A 0-byte file (a failed download or copy) was 'not an image file (PIL cannot identify its format)', as if
+    it held another format; empty bytes already said 'image bytes are empty'. The file says so too, on every
+    path to it (trace, trace_many's failed record)."""
+    import splinecraft as sc
+
+    path = tmp_path / "scan 1.png"
+    path.write_bytes(b"")
+    with pytest.raises(ValueError) as caught:
+        load_bitmap(path)
+    assert str(caught.value) == f"{path}: the file is empty (0 bytes), not an image"
+    with pytest.raises(ValueError, match=r"the file is empty \(0 bytes\)"):
+        sc.trace(str(path))
+    (record,) = sc.trace_many([str(path)], progress=False)
+    assert record.status == "failed" and "the file is empty (0 bytes)" in record.error

@@ -531,6 +531,8 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             raise FileNotFoundError(f"image file not found: {name}")
         if os.path.isdir(name):
             raise ValueError(f"{name}: is a directory, not an image file")
+        if os.path.isfile(name) and os.path.getsize(name) == 0:  # a failed download or copy, a placeholder
+            raise ValueError(f"{name}: the file is empty (0 bytes), not an image")
         # a pipe (the shell's <(...), /dev/stdin): PIL reads it into memory itself but leaves the file it opened
         # unclosed (ResourceWarning), so it is read here, once, and closed
         piped = read_pipe(name)

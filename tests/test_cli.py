@@ -992,3 +992,18 @@ def test_a_bad_fit_or_corner_param_is_named_as_its_option(tmp_path, capsys, opti
     assert err.startswith(f"splinecraft: error: {message}"), err
     assert len(err.splitlines()) == 1 and "fit_params" not in err and "corner_params" not in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--tau", "3"], "--tau is used by the methods 'euclidean' and 'positional' only, not 'lsq'"),
+    (["--tau", "nan", "--method", "euclidean"], "--tau (Euclidean nearness, px) must be a finite number >= 0, got nan"),
+    (["--tau", "50", "--method", "positional"], "--tau (positional nearness, % of the piece's points) must be >= 0"),
+])
+def test_a_bad_tau_is_named_as_its_option(tmp_path, capsys, options, message):
+    """--tau is passed to the library as given; its message named the library's 'tau'."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    assert main(["trace", str(source), "-o", str(tmp_path / "x.svg"), *options]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"splinecraft: error: {message}"), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]

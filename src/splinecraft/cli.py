@@ -444,10 +444,11 @@ MAPPING_OPTIONS = (("fit_params", "--fit-param"), ("corner_params", "--corner-pa
 def _spelled(message) -> str:
     """A message of the library about a bad option as this command spells the option (:data:`MAPPING_OPTIONS`):
     ``fit_params['NAME']`` -> ``--fit-param NAME``, ``fit_params has an unknown key`` -> ``--fit-param has an
-    unknown name``."""
+    unknown name``; a message that begins with ``tau`` begins with ``--tau``."""
     import re
 
     text = str(message)
+    text = re.sub(r"^tau\b", "--tau", text)  # tau is the one scalar option passed to the library unchecked
     for name, option in MAPPING_OPTIONS:
         text = re.sub(rf"\b{name}\['([A-Za-z_][A-Za-z0-9_]*)'\]", rf"{option} \1", text)
         text = re.sub(rf"\b{name} (has an unknown|has an unexpected) (?:keyword|key)\b", rf"{option} \1 name", text)

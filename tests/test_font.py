@@ -204,3 +204,17 @@ def test_reading_a_glyph_closes_its_font_file(tmp_path):
         gc.collect()
     assert outline.contours
     assert not [w for w in caught if issubclass(w.category, ResourceWarning)], [str(w.message) for w in caught]
+
+
+@pytest.mark.parametrize("code", [-1, 0x110000, 10**30])
+def test_a_code_point_out_of_range_is_named(code):
+    """glyph_outline(font, -1) said "chr() arg not in range(0x110000)" (10**30: an OverflowError about C ints);
+    to_glyph(..., unicode=-1) said 'is U+-001'. Both name the value and the range now."""
+    with pytest.raises(ValueError) as caught:
+        font.glyph_outline(DEJAVU, code)
+    assert str(caught.value) == f"char = {code} is not a code point (0 .. 0x10FFFF)"
+    square = from_knots([(np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float), [True] * 4)])
+    with pytest.raises(ValueError) as caught:
+        font.to_glyph(square, "a", unicode=code)
+    shown = "negative" if code < 0 else f"U+{code:04X}"
+    assert str(caught.value).startswith(f"unicode={code} is {shown}, not a Unicode character a font can map")

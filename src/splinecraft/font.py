@@ -153,7 +153,8 @@ def _code_point(code, what):
     """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)
     that is not a C0 or C1 control character (U+0000 .. U+001F, U+007F .. U+009F: no glyph draws them)."""
     if not 0 <= code <= 0x10FFFF or 0xD800 <= code <= 0xDFFF:
-        raise ValueError(f"{what} is U+{code:04X}, not a Unicode character a font can map (0 .. U+10FFFF, "
+        shown = f"U+{code:04X}" if code >= 0 else "negative"  # not U+-001
+        raise ValueError(f"{what} is {shown}, not a Unicode character a font can map (0 .. U+10FFFF, "
                          "without the surrogates U+D800 .. U+DFFF)")
     if code < 0x20 or 0x7F <= code <= 0x9F:
         raise ValueError(f"{what} is the control character U+{code:04X}, which a font does not map to a glyph "
@@ -737,6 +738,8 @@ def glyph_outline(font, char, *, font_number=0) -> Outline:
     with ttfont:  # closes the file (lazy=True reads tables from it on demand)
         if isinstance(char, bool) or not isinstance(char, (str, int)):
             raise TypeError(f"char must be a character, a glyph name or a code point, got {type(char).__name__}")
+        if isinstance(char, int) and not 0 <= char <= 0x10FFFF:  # chr() said 'arg not in range(0x110000)'
+            raise ValueError(f"char = {char} is not a code point (0 .. 0x10FFFF)")
         if isinstance(char, int) or len(char) == 1:
             code = char if isinstance(char, int) else ord(char)
             name = ttfont.getBestCmap().get(code)

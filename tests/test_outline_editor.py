@@ -486,3 +486,16 @@ def test_a_failed_export_says_why_and_keeps_the_outline(editor, tmp_path, caplog
         assert editor.status_message == f"Not saved to {str(target)!r}: {why}"
         assert editor.outline is before and not caplog.records
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_zero_interval_weight_from_the_page_is_a_bad_message(editor, caplog):
+    """The page's weight 0 passed the message check (>= 0) and failed in the engine: a logged traceback, as if the
+    handler had a bug, and a message about 'knots 1..2 (between two corners; ...)'. Refused as a bad value now."""
+    before = editor.outline
+    editor.set_state({"selection": [[0, 1]]})
+    with caplog.at_level("WARNING"):
+        page(editor, type="weight", value=0.0)
+    assert editor.outline is before and editor.status_level == "error"
+    assert "value must be > 0, got 0.0" in editor.status_message and not caplog.records
+    page(editor, type="weight", value=2.0)
+    assert editor.outline is not before and editor.status_level == "info"

@@ -441,7 +441,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         self._commit(outline, f"Point tension {value:g} at the selected knots")
 
     def _on_weight(self, content, _buffers):
-        value = read_number(content, "value", low=0.0)
+        value = read_number(content, "value", low=0.0, inclusive=(False, True))  # omega > 0 (thesis §2.2)
         outline = self._outline
         for contour, knots in self._grouped_selection().items():
             outline = outline.set_interval_weight(contour, knots, value)

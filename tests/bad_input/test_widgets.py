@@ -351,8 +351,9 @@ def test_explorer_refuses_a_tau_no_method_takes_while_its_method_takes_none(expl
     """With method 'lsq' (no tau), the page's tau=inf, NaN or -2 was accepted as the good state ('Traced ...'),
     and the next switch to 'euclidean' was refused for a tau the user had set long before. Such a tau fits no
     method: refused when it is set, naming tau; the last good tau is kept and the switch works."""
+    explorer.set_state({"method": "lsq"})  # the shared explorer: the fuzz tests may have left another method
     page = Page(explorer)
-    assert explorer.method == "lsq" and explorer.tau is None
+    assert explorer.method == "lsq"
     good, result = settings_of(explorer), explorer.result
     explorer.set_state({"tau": tau})
     assert settings_of(explorer) == good and explorer.result is result
@@ -363,3 +364,42 @@ def test_explorer_refuses_a_tau_no_method_takes_while_its_method_takes_none(expl
     assert explorer.method == "euclidean" and explorer.status_level == "info"
     assert explorer.result.params["method"] == "euclidean"
     explorer.set_state({"method": "lsq"})
+
+
+def _png(pixels) -> bytes:
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.fromarray(pixels).save(buffer, format="PNG")
+    return buffer.getvalue()
+
+
+@pytest.mark.parametrize("name, data, words", [
+    ("text.png", b"hello world", "text.png: not an image file (PIL cannot identify its format)"),
+    ("empty.png", b"", "empty.png: the file is empty (0 bytes), not an image"),
+    ("cut.png", _png(np.zeros((30, 30), np.uint8))[:50], "cut.png: truncated or corrupt image file"),
+])
+def test_explorer_names_the_uploaded_file_it_cannot_read(explorer, name, data, words):
+    """An upload that is no image was refused as 'image bytes (11 bytes): not an image file', the page's file name
+    unsaid (and an empty one as 'image bytes are empty; pass the bytes of an encoded image file')."""
+    result = explorer.result
+    page = Page(explorer)
+    explorer._handle_message(explorer, {"type": "upload", "name": name}, [data])
+    assert explorer.result is result and explorer.status_level == "error" and "status_message" in page.updated()
+    assert f"Kept the last good result: {words}" in explorer.status_message
+
+
+def test_explorer_warns_of_an_upload_whose_every_pixel_is_ink(explorer):
+    """An all-black upload was traced with an 'info' status ('Traced 1 boundary: 4 pieces'): its outline is the
+    image's frame, which the command line and trace_many warn of (the note of trace). The status warns too now,
+    and an image with a shape after it is back to 'info'."""
+    explorer._handle_message(explorer, {"type": "upload", "name": "black.png"},
+                             [_png(np.zeros((30, 40), np.uint8))])
+    assert explorer.result.stats["boundaries"] == 1 and explorer.status_level == "warning"
+    assert explorer.status_message.startswith("black.png: Traced 1 boundary")
+    assert "Warning: every pixel is ink: the outline is the image's frame" in explorer.status_message
+    shape = np.full((30, 40), 255, np.uint8)
+    shape[8:20, 10:30] = 0
+    explorer._handle_message(explorer, {"type": "upload", "name": "shape.png"}, [_png(shape)])
+    assert explorer.status_level == "info" and explorer.status_message.startswith("shape.png: Traced")
+    explorer.load(small_bitmap())  # the shared explorer's bitmap back

@@ -1007,3 +1007,28 @@ def test_a_bad_tau_is_named_as_its_option(tmp_path, capsys, options, message):
     err = capsys.readouterr().err
     assert err.startswith(f"splinecraft: error: {message}"), err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]
+
+
+@pytest.mark.parametrize("output, options, message", [
+    ("out.png", [], "-o out.png names an image file, but the output is SVG text: name it out.svg"),
+    ("OUT.JPG", ["--format", "json"], "-o OUT.JPG names an image file, but the output is JSON text: name it OUT.json"),
+    ("t.svg", ["--format", "json"], "-o t.svg names an SVG file, but --format json asks for JSON: leave --format out, "
+                                    "or name the output t.json"),
+    ("t.json", ["--format", "svg"], "-o t.json names a JSON file, but --format svg asks for SVG"),
+])
+def test_an_output_named_for_another_format_is_refused(tmp_path, output, options, message):
+    """-o out.png wrote SVG text into out.png (and -o other.png overwrote another image with it); -o t.svg with
+    --format json wrote JSON into t.svg. Usage errors before anything is traced; an existing image is kept."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    other = tmp_path / "other.png"
+    write_shape(other, "disc")
+    kept = other.read_bytes()
+    for target in (output, "other.png"):
+        result = run_cli("trace", source, "-o", target, *options, cwd=tmp_path)
+        assert result.returncode == 2, result.stderr
+        assert len(result.stderr.splitlines()) == 1
+        if target == output:
+            assert result.stderr.startswith(f"splinecraft: error: {message}"), result.stderr
+    assert other.read_bytes() == kept
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["other.png", "sq.png"]

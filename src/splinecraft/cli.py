@@ -365,14 +365,19 @@ def _signals_raise():
 
 #: Suffixes of an output file: ``-o NAME.svg`` with several inputs is a mistake, not a directory name.
 OUTPUT_SUFFIXES = (".svg", ".json")
+#: Suffixes of image files: an output so named would hold SVG or JSON text (and ``-o other.png`` would overwrite
+#: another image with it), refused.
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".gif", ".bmp", ".tif", ".tiff", ".webp", ".pbm", ".pgm", ".ppm", ".pnm",
+                  ".mpo", ".psd", ".ico")
 
 
 def _plan_outputs(inputs, output, fmt):
     """Pair every input with its output path; returns (pairs, format) or raises ValueError.
 
-    Refused before anything is traced: an empty ``output``, ``-`` with several inputs, and an output named
+    Refused before anything is traced: an empty ``output``, ``-`` with several inputs, an output named
     like a file (:data:`OUTPUT_SUFFIXES`) for several inputs unless it is an existing directory or ends
-    with a separator (it would become a directory called ``out.svg``)."""
+    with a separator (it would become a directory called ``out.svg``), one output file named like an image
+    (:data:`IMAGE_SUFFIXES`) or like the other format than ``--format`` asks for."""
     from ._validation import blank_text
 
     if blank_text(output):
@@ -384,8 +389,16 @@ def _plan_outputs(inputs, output, fmt):
             raise ValueError("-o - (stdout) takes exactly one input")
         return [(inputs[0], "-")], fmt or "svg"
     if single:
+        suffix = os.path.splitext(output)[1].lower()
+        if suffix in IMAGE_SUFFIXES:
+            raise ValueError(f"-o {output} names an image file, but the output is {(fmt or 'svg').upper()} text: name "
+                             f"it {os.path.splitext(output)[0]}.{fmt or 'svg'}")
+        if fmt is not None and suffix in OUTPUT_SUFFIXES and suffix != f".{fmt}":
+            raise ValueError(f"-o {output} names {'an' if suffix == '.svg' else 'a'} {suffix[1:].upper()} file, but "
+                             f"--format {fmt} asks for "
+                             f"{fmt.upper()}: leave --format out, or name the output {os.path.splitext(output)[0]}.{fmt}")
         if fmt is None:
-            fmt = "json" if output.lower().endswith(".json") else "svg"
+            fmt = "json" if suffix == ".json" else "svg"
         return [(inputs[0], output)], fmt
     fmt = fmt or "svg"
     if not is_directory and output.lower().endswith(OUTPUT_SUFFIXES):

@@ -14,7 +14,8 @@ Examples
 
 ``OUT`` is a file for one input (``-`` = stdout) and a directory for several (created if needed; each
 input ``NAME.ext`` becomes ``OUT/NAME.svg`` or ``.json``). The format follows ``--format``, else the
-suffix of a single output file, else SVG. An output that is also an input is refused, and so, before
+suffix of a single output file, else SVG (a single output named like an image, ``-o out.png``, or like the
+other format than ``--format`` asks for, is refused). An output that is also an input is refused, and so, before
 anything is traced, an empty ``OUT`` and an ``OUT`` named like a file (``.svg``, ``.json``) for several
 inputs, unless it is an existing directory (``OUT/`` asks for the directory), and ``-o -`` with an option of
 file outputs (``--manifest``, ``--jobs``, ``--scheduler``, ``--batch-size``: stdout gets one input traced in

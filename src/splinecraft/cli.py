@@ -372,6 +372,13 @@ IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".gif", ".bmp", ".tif", ".tiff", ".we
                   ".mpo", ".psd", ".ico")
 
 
+def _is_an_input(output, inputs) -> bool:
+    """Whether the file ``output`` is one of ``inputs`` (``run_batch`` refuses it then, saying so)."""
+    if not os.path.exists(output):
+        return False
+    return any(os.path.exists(source) and os.path.samefile(output, source) for source in inputs)
+
+
 def _plan_outputs(inputs, output, fmt):
     """Pair every input with its output path; returns (pairs, format) or raises ValueError.
 
@@ -391,7 +398,7 @@ def _plan_outputs(inputs, output, fmt):
         return [(inputs[0], "-")], fmt or "svg"
     if single:
         suffix = os.path.splitext(output)[1].lower()
-        if suffix in IMAGE_SUFFIXES:
+        if suffix in IMAGE_SUFFIXES and not _is_an_input(output, inputs):  # that one: "also an input", below
             raise ValueError(f"-o {output} names an image file, but the output is {(fmt or 'svg').upper()} text: name "
                              f"it {os.path.splitext(output)[0]}.{fmt or 'svg'}")
         if fmt is not None and suffix in OUTPUT_SUFFIXES and suffix != f".{fmt}":

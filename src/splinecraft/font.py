@@ -167,7 +167,14 @@ def _glyph(source, name, unicode, scale, baseline, sidebearing):
     from ufoLib2.objects import Glyph
 
     outline = as_outline(source)
-    glyph_name, code = _glyph_name(name if name is not None else (outline.name or "glyph"))
+    if name is None and outline.name:  # the outline's own name: say whose it is when it cannot name a glyph
+        try:
+            glyph_name, code = _glyph_name(outline.name)
+        except ValueError:
+            raise ValueError(f"the outline's name {outline.name!r} is not a single character or a glyph name: "
+                             "pass name= (a character such as 'a', or a glyph name such as 'a.alt')") from None
+    else:
+        glyph_name, code = _glyph_name(name if name is not None else "glyph")
     if unicode is not None:
         code = check_int(unicode, "unicode")
         code = _code_point(code, f"unicode={code}")

@@ -193,6 +193,8 @@ class Outline:
         self.baseline = None if baseline is None else check_number(baseline, "baseline")
         if not (name is None or isinstance(name, str)):
             raise TypeError(f"name must be a string or None, got {type(name).__name__}")
+        if name and blank_text(name):  # '' stays "no name"; ' ' became an SVG title of spaces and a glyph key error
+            raise ValueError(f"name is {blank_text(name)}: give a name, or None for none")
         self.name = name
 
     def _with(self, contours, sources=None, **changes) -> "Outline":

@@ -53,6 +53,7 @@ __all__ = [
     "check_distinct_neighbours",
     "blank_text",
     "control_character",
+    "file_path",
 ]
 
 #: Neighbouring points closer than this times the extent of the point set coincide (see the module text).
@@ -244,6 +245,18 @@ def blank_text(text: str) -> str | None:
     if text.strip():
         return None
     return "empty" if not text else f"blank ({text!r}: only white space)"
+
+
+def file_path(path, example: str):
+    """``path`` (str or os.PathLike) as a ``pathlib.Path`` to write a file to; a blank one is a ``ValueError`` naming
+    ``example`` ('' is the current folder to ``pathlib``, ' ' a file called space)."""
+    import os
+    from pathlib import Path
+
+    text = os.fspath(path)
+    if isinstance(text, str) and blank_text(text):
+        raise ValueError(f"path is {blank_text(text)}: give a file name such as {example}")
+    return Path(text)
 
 
 def control_character(text: str) -> tuple | None:

@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validation import blank_text, check_number
+from .._validation import blank_text, check_number, file_path
 from .bezier import curve_bounds
 from .contour import Contour, _indices, _single_index
 from .transforms import affine_parts, check_reach, reflection, rotation, scaling, shearing, translation
@@ -441,9 +441,7 @@ class Outline:
     def save_svg(self, path, **options) -> Path:
         """Write :meth:`to_svg` to ``path``; returns the path. A blank ``path`` ('' is the current folder to
         ``pathlib``, ' ' a file called space) is a ``ValueError``."""
-        if isinstance(path, str) and blank_text(path):
-            raise ValueError(f"path is {blank_text(path)}: give a file name such as outline.svg")
-        path = Path(os.fspath(path))
+        path = file_path(path, "outline.svg")
         path.write_text(self.to_svg(**options), encoding="utf-8")
         return path
 

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import traitlets as t
 
-from .._validation import check_number
+from .._validation import check_number, file_path
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
 from ..capture.fitting.options import DEFAULT_TAU
 from ..capture.trace import ALL_INK_NOTE, BUDGET_NOTE
@@ -318,8 +318,10 @@ class TraceExplorer(WidgetBase):
         return self._result.to_svg()
 
     def save_svg(self, path) -> Path:
-        """Write :meth:`to_svg` to ``path``; returns the path."""
-        path = Path(path)
+        """Write :meth:`to_svg` to ``path``; returns the path. A blank ``path`` is a ``ValueError`` (as
+        :meth:`splinecraft.outline.Outline.save_svg`: '' is the current folder to ``pathlib``, ' ' a file called
+        space)."""
+        path = file_path(path, "trace.svg")
         path.write_text(self.to_svg(), encoding="utf-8")
         return path
 

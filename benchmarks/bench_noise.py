@@ -4,7 +4,7 @@ noise image in <= 10 s and <= 1 GB).
     .venv/bin/python benchmarks/bench_noise.py --size 2000
     .venv/bin/python benchmarks/bench_noise.py --size 2000 --compare OTHER/src --rounds 2
 
-The image is ``np.random.default_rng(seed).random((size, size)) < 0.3`` (30 % ink), traced with
+The image is ``np.random.default_rng(seed).random((size, size)) < ink`` (``--ink``, default 0.3: 30 % ink), traced with
 ``sc.trace(image, keep_snapshots=False)`` at the other defaults (``time_budget=5`` s, docs/capture.md §12,
 "Time budget"). Each run is a fresh process under ``/usr/bin/time -f "rss_kb=%M elapsed=%e"`` (wall time of the
 whole process, imports included, and its peak resident memory); the process also reports the in-process time
@@ -30,8 +30,8 @@ _CHILD = """
 import json, sys, time
 import numpy as np
 import splinecraft as sc
-size, seed = int(sys.argv[1]), int(sys.argv[2])
-image = np.random.default_rng(seed).random((size, size)) < 0.3
+size, seed, ink = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
+image = np.random.default_rng(seed).random((size, size)) < ink
 wall, cpu = time.perf_counter(), time.process_time()
 result = sc.trace(image, keep_snapshots=False)
 wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
@@ -45,8 +45,8 @@ _TRACER_CHILD = """
 import json, sys, time
 import numpy as np
 from splinecraft.capture.contour import trace_boundaries
-size, seed = int(sys.argv[1]), int(sys.argv[2])
-image = np.random.default_rng(seed).random((size, size)) < 0.3
+size, seed, ink = int(sys.argv[1]), int(sys.argv[2]), float(sys.argv[3])
+image = np.random.default_rng(seed).random((size, size)) < ink
 trace_boundaries(image[:8, :8] | np.eye(8, dtype=bool))
 wall = time.perf_counter()
 boundaries = trace_boundaries(image, connectivity="minority")
@@ -54,17 +54,17 @@ print(json.dumps({"tracer_s": time.perf_counter() - wall, "tracer_boundaries": l
 """
 
 
-def run_once(src, size, seed):
+def run_once(src, size, seed, ink=0.3):
     """One fresh process on the tree whose package is under ``src``: its report plus wall time and peak RSS."""
     env = dict(os.environ, PYTHONPATH=src)
     done = subprocess.run(["/usr/bin/time", "-f", "rss_kb=%M elapsed=%e", sys.executable, "-c", _CHILD, str(size),
-                           str(seed)], capture_output=True, text=True, env=env, check=True)
+                           str(seed), str(ink)], capture_output=True, text=True, env=env, check=True)
     report = json.loads(done.stdout.strip().splitlines()[-1])
     timing = re.search(r"rss_kb=(\d+) elapsed=([\d.]+)", done.stderr)
     report["rss_mb"] = int(timing.group(1)) / 1024.0
     report["wall_s"] = float(timing.group(2))
-    tracer = subprocess.run([sys.executable, "-c", _TRACER_CHILD, str(size), str(seed)], capture_output=True, text=True,
-                            env=env, check=True)
+    tracer = subprocess.run([sys.executable, "-c", _TRACER_CHILD, str(size), str(seed), str(ink)], capture_output=True,
+                            text=True, env=env, check=True)
     report.update(json.loads(tracer.stdout.strip().splitlines()[-1]))
     return report
 
@@ -78,6 +78,8 @@ def main(argv=None):
     parser.add_argument("--size", type=int, default=2000)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--rounds", type=int, default=1)
+    parser.add_argument("--ink", type=float, default=0.3, help="fraction of ink pixels (0.5: one boundary percolates "
+                        "through the image, 262 000 points at --size 1000)")
     parser.add_argument("--compare", help="the src folder of another checkout (run alternately with this tree)")
     args = parser.parse_args(argv)
     trees = {"this tree": os.path.join(ROOT, "src")}
@@ -87,10 +89,11 @@ def main(argv=None):
     runs = {name: [] for name in trees}
     for _ in range(args.rounds):
         for name, src in trees.items():
-            runs[name].append(run_once(src, args.size, args.seed))
+            runs[name].append(run_once(src, args.size, args.seed, args.ink))
             print(f"  {name}: {json.dumps(runs[name][-1])}", flush=True)
     print(f"load average (1/5/15 min) after: {_load()}")
-    print(f"\n{args.size} x {args.size} noise (30 % ink, seed {args.seed}), median of {args.rounds} fresh process(es)\n")
+    print(f"\n{args.size} x {args.size} noise ({100 * args.ink:g} % ink, seed {args.seed}), median of {args.rounds} "
+          "fresh process(es)\n")
     print("| tree | wall (process) | sc.trace | CPU of sc.trace | peak RSS | trace_boundaries alone | boundaries "
           "(polygons) |")
     print("|---|---|---|---|---|---|---|")

@@ -570,6 +570,9 @@ def test_a_mapping_of_inputs_names_them_by_its_keys(tmp_path):
     ({"": np.zeros((4, 4))}, ValueError, "inputs key '' is not a name"),
     ({"a/b": np.zeros((4, 4))}, ValueError, "inputs key 'a/b' is not a name"),
     ({"..": np.zeros((4, 4))}, ValueError, "inputs key '..' is not a name"),
+    ({"  ": np.zeros((4, 4))}, ValueError, "inputs key '  ' is not a name"),  # only white space: output '  .svg'
+    ({"\t": np.zeros((4, 4))}, ValueError, "inputs key '\\t' is not a name (U+0009 at index 0)"),
+    ({"a\nb": np.zeros((4, 4))}, ValueError, "inputs key 'a\\nb' is not a name (U+000A at index 1)"),
     ({"a": 5}, TypeError, "inputs['a'] must be a path, an image array, a PIL image or encoded image bytes, got int"),
     ({"a": [np.zeros((4, 4))]}, TypeError, "inputs['a'] must be a path"),
 ])
@@ -631,6 +634,20 @@ def test_an_empty_output_dir_or_manifest_is_refused(glyphs, tmp_path, monkeypatc
         trace_many(glyphs[:1], "", epsilon=EPSILON, progress=False)
     with pytest.raises(ValueError, match="manifest is empty: give a file name"):
         trace_many(glyphs[:1], tmp_path / "out", manifest="", epsilon=EPSILON, progress=False)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_blank_output_dir_or_manifest_is_refused(glyphs, tmp_path, monkeypatch):
+    """``output_dir=" "`` wrote the outputs into a folder called space (and ``manifest=" "`` failed as a directory
+    or wrote a file called space): a name of only white space is never meant, refused as an empty one is."""
+    monkeypatch.chdir(tmp_path)
+    for blank in (" ", "\t", " \n "):
+        with pytest.raises(ValueError) as caught:
+            trace_many(glyphs[:1], blank, epsilon=EPSILON, progress=False)
+        assert str(caught.value).startswith(f"output_dir is blank ({blank!r}: only white space): give a directory")
+        with pytest.raises(ValueError) as caught:
+            trace_many(glyphs[:1], tmp_path / "out", manifest=blank, epsilon=EPSILON, progress=False)
+        assert str(caught.value).startswith(f"manifest is blank ({blank!r}: only white space): give a file name")
     assert list(tmp_path.iterdir()) == []
 
 

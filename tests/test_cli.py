@@ -86,7 +86,7 @@ def test_single_file_svg_and_json(tmp_path):
     assert (root.get("width"), root.get("height"), root.get("viewBox")) == ("64", "64", "0 0 64 64")
     assert root.find(f"{SVG}path").get("fill-rule") == "evenodd"
 
-    result = run_cli("trace", source, "-o", tmp_path / "out" / "ring.json", "--seed", "3", "-v")
+    result = run_cli("trace", source, "-o", tmp_path / "out" / "ring.json", "--method", "random", "--seed", "3", "-v")
     assert result.returncode == 0, result.stderr
     data = json.loads((tmp_path / "out" / "ring.json").read_text())
     assert data["width"] == 64 and data["stats"]["holes"] == 1 and data["params"]["seed"] == 3
@@ -632,6 +632,18 @@ def test_an_empty_output_is_refused_before_any_trace(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]  # nothing written, no manifest
 
 
+def test_a_blank_output_is_refused_before_any_trace(tmp_path):
+    """``-o ' '`` (an unset variable in quotes beside a space) wrote a file called space."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    result = run_cli("trace", source, "-o", " ", cwd=tmp_path)
+    lines = result.stderr.splitlines()
+    assert result.returncode == 2 and len(lines) == 1, result.stderr
+    assert lines[0] == "splinecraft: error: -o/--output is blank (' ': only white space): give an output file, a " \
+                       "directory, or - for stdout"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]
+
+
 @pytest.mark.parametrize("name", ["out.svg", "OUT.JSON"])
 def test_a_file_output_for_several_inputs_is_refused(tmp_path, name):
     """``-o out.svg`` with two inputs created a directory named out.svg; a name with an output suffix is
@@ -809,7 +821,7 @@ def test_a_corner_param_pair_can_be_given(tmp_path, capsys):
     expected = sc.trace(mask, corner_params={"flank": (3, 12)}).to_svg(title="square.png")
     assert out.read_text() == expected
     assert main(["trace", str(tmp_path / "square.png"), "-o", str(out), "-q", "--corner-param", "flank=4,10,2"]) == 2
-    assert "corner_params['flank'] must be a pair of integers" in capsys.readouterr().err
+    assert "--corner-param flank must be a pair of integers" in capsys.readouterr().err
 
 
 def test_every_warning_of_a_trace_reaches_stderr_and_the_manifest(tmp_path):
@@ -914,3 +926,109 @@ def test_decimals_with_json_output_is_refused(tmp_path, output, options):
     assert sorted(path.name for path in tmp_path.iterdir()) == ["sq.png"]
     svg = run_cli("trace", source, "-o", "-", "--decimals", "2")
     assert svg.returncode == 0 and subpath_count(svg.stdout)[0] == 1
+
+
+@pytest.mark.parametrize("method", [None, "lsq"])
+def test_a_seed_for_a_method_without_random_numbers_is_refused(tmp_path, capsys, method):
+    """``--seed`` with ``lsq`` (deterministic) would be ignored: refused naming the method, as the library refuses
+    ``tau`` and ``fuzzy_weights`` for the methods that do not use them."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    with pytest.raises(SystemExit) as stop:
+        main(["trace", str(source), "-o", str(tmp_path / "x.svg"), "--seed", "5"]
+             + (["--method", method] if method else []))
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert "--seed" in err and "'lsq'" not in err and "--method lsq" in err and "random" in err
+    assert not (tmp_path / "x.svg").exists()
+
+
+def test_a_seed_reaches_a_random_method(tmp_path):
+    source = tmp_path / "disc.png"
+    write_shape(source, "disc")
+    outputs = {}
+    for seed in ("1", "2", None):
+        output = tmp_path / f"{seed}.json"
+        assert main(["trace", str(source), "-o", str(output), "--method", "random", "-q"]
+                    + (["--seed", seed] if seed else [])) == 0
+        outputs[seed] = json.loads(output.read_text())
+    assert outputs["1"]["params"]["seed"] == 1 and outputs["2"]["params"]["seed"] == 2
+    assert outputs[None]["params"]["seed"] == 0  # the library's default
+
+
+def test_fit_params_can_be_given_and_trace_like_the_library(tmp_path):
+    """--fit-param NAME=VALUE is the library's fit_params (there was no way to reach them from the command line:
+    the thesis's C2 fit, merge_tolerance=0, for one)."""
+    import splinecraft as sc
+
+    source = tmp_path / "ring.png"
+    write_shape(source, "ring")
+    output = tmp_path / "ring.svg"
+    assert main(["trace", str(source), "-o", str(output), "-q", "--fit-param", "merge_tolerance=0",
+                 "--fit-param", "remove_knots=false"]) == 0
+    expected = sc.trace(str(source), fit_params={"merge_tolerance": 0, "remove_knots": False})
+    assert output.read_text() == expected.to_svg(title="ring.png", decimals=4)
+    assert output.read_text() != sc.trace(str(source)).to_svg(title="ring.png", decimals=4)
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--fit-param", "merge_tolerance=-1"], "--fit-param merge_tolerance must be >= 0, got -1.0"),
+    (["--fit-param", "merge_tolerance=nan"], "--fit-param merge_tolerance must be a finite number >= 0, got nan"),
+    (["--fit-param", "no_such=1"], "--fit-param has an unknown name 'no_such' for method 'lsq'; allowed: ["),
+    (["--fit-param", "fuzzy_weights=0.1,0.2", "--method", "fuzzy"],
+     "--fit-param fuzzy_weights (w, v) need w > v >= 0 (thesis eq 4.21), got (0.1, 0.2)"),
+    (["--corner-param", "min_turn=-1"], "--corner-param min_turn must be >= 0 and < 180, got -1.0"),
+    (["--corner-param", "no_such=1"], "--corner-param has an unexpected name 'no_such' for the 'tangent-jump'"),
+])
+@pytest.mark.parametrize("output", ["x.svg", "-"])
+def test_a_bad_fit_or_corner_param_is_named_as_its_option(tmp_path, capsys, options, message, output):
+    """The library names a bad value by the key of its mapping (fit_params['merge_tolerance']); the command line
+    says which option it came from (--fit-param merge_tolerance), before anything is traced."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    destination = output if output == "-" else str(tmp_path / output)
+    assert main(["trace", str(source), "-o", destination, *options]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"splinecraft: error: {message}"), err
+    assert len(err.splitlines()) == 1 and "fit_params" not in err and "corner_params" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]
+
+
+@pytest.mark.parametrize("options, message", [
+    (["--tau", "3"], "--tau is used by the methods 'euclidean' and 'positional' only, not 'lsq'"),
+    (["--tau", "nan", "--method", "euclidean"], "--tau (Euclidean nearness, px) must be a finite number >= 0, got nan"),
+    (["--tau", "50", "--method", "positional"], "--tau (positional nearness, % of the piece's points) must be >= 0"),
+])
+def test_a_bad_tau_is_named_as_its_option(tmp_path, capsys, options, message):
+    """--tau is passed to the library as given; its message named the library's 'tau'."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    assert main(["trace", str(source), "-o", str(tmp_path / "x.svg"), *options]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"splinecraft: error: {message}"), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]
+
+
+@pytest.mark.parametrize("output, options, message", [
+    ("out.png", [], "-o out.png names an image file, but the output is SVG text: name it out.svg"),
+    ("OUT.JPG", ["--format", "json"], "-o OUT.JPG names an image file, but the output is JSON text: name it OUT.json"),
+    ("t.svg", ["--format", "json"], "-o t.svg names an SVG file, but --format json asks for JSON: leave --format out, "
+                                    "or name the output t.json"),
+    ("t.json", ["--format", "svg"], "-o t.json names a JSON file, but --format svg asks for SVG"),
+])
+def test_an_output_named_for_another_format_is_refused(tmp_path, output, options, message):
+    """-o out.png wrote SVG text into out.png (and -o other.png overwrote another image with it); -o t.svg with
+    --format json wrote JSON into t.svg. Usage errors before anything is traced; an existing image is kept."""
+    source = tmp_path / "sq.png"
+    write_shape(source, "square")
+    other = tmp_path / "other.png"
+    write_shape(other, "disc")
+    kept = other.read_bytes()
+    for target in (output, "other.png"):
+        result = run_cli("trace", source, "-o", target, *options, cwd=tmp_path)
+        assert result.returncode == 2, result.stderr
+        assert len(result.stderr.splitlines()) == 1
+        if target == output:
+            assert result.stderr.startswith(f"splinecraft: error: {message}"), result.stderr
+    assert other.read_bytes() == kept
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["other.png", "sq.png"]

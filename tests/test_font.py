@@ -204,3 +204,35 @@ def test_reading_a_glyph_closes_its_font_file(tmp_path):
         gc.collect()
     assert outline.contours
     assert not [w for w in caught if issubclass(w.category, ResourceWarning)], [str(w.message) for w in caught]
+
+
+@pytest.mark.parametrize("code", [-1, 0x110000, 10**30])
+def test_a_code_point_out_of_range_is_named(code):
+    """glyph_outline(font, -1) said "chr() arg not in range(0x110000)" (10**30: an OverflowError about C ints);
+    to_glyph(..., unicode=-1) said 'is U+-001'. Both name the value and the range now."""
+    with pytest.raises(ValueError) as caught:
+        font.glyph_outline(DEJAVU, code)
+    assert str(caught.value) == f"char = {code} is not a code point (0 .. 0x10FFFF)"
+    square = from_knots([(np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float), [True] * 4)])
+    with pytest.raises(ValueError) as caught:
+        font.to_glyph(square, "a", unicode=code)
+    shown = "negative" if code < 0 else f"U+{code:04X}"
+    assert str(caught.value).startswith(f"unicode={code} is {shown}, not a Unicode character a font can map")
+
+
+def test_a_glyph_named_by_its_outline_says_whose_name_it_is():
+    """to_glyph(outline) of an outline named 'my shape' said "glyph key 'my shape' must be a single character or a
+    glyph name", a key the caller never gave; an outline name of only white space was taken at all."""
+    from splinecraft.outline import Outline
+
+    square = from_knots([(np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float), [True] * 4)])
+    named = Outline(square.contours, name="my shape")
+    with pytest.raises(ValueError) as caught:
+        font.to_glyph(named)
+    assert str(caught.value).startswith("the outline's name 'my shape' is not a single character or a glyph name: "
+                                        "pass name=")
+    assert font.to_glyph(named, "a").name == "a"
+    assert font.to_glyph(Outline(square.contours, name="A")).unicodes == [ord("A")]
+    assert font.to_glyph(Outline(square.contours, name="")).name == "glyph"
+    with pytest.raises(ValueError, match=r"^name is blank \(' ': only white space\): give a name, or None"):
+        Outline(square.contours, name=" ")

@@ -452,3 +452,16 @@ def test_a_file_that_is_not_a_font_of_that_name_is_not_replaced(tmp_path):
     stranger.write_bytes(b"not a font")
     files = font.build({"a": from_svg(SQUARE)}, family="Test Sans", output_dir=tmp_path)
     assert stranger.read_bytes() == b"not a font" and files.otf != stranger and files.otf.is_file()
+
+
+@pytest.mark.parametrize("output_dir, error, words", [
+    ("", ValueError, "output_dir is empty: give a folder ('.' for the current one)"),  # Path('') is '.'
+    (" ", ValueError, "output_dir is blank (' ': only white space): give a folder ('.' for the current one)"),
+    (3, TypeError, "output_dir must be a path (str or os.PathLike), got int"),
+])
+def test_build_refuses_a_blank_output_folder_before_writing(tmp_path, monkeypatch, output_dir, error, words):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(error) as caught:
+        font.build({"a": from_svg(SQUARE)}, output_dir=output_dir)
+    assert str(caught.value) == words
+    assert list(tmp_path.iterdir()) == []

@@ -1140,3 +1140,75 @@ def test_max_pixels_above_pils_own_limit_loads(tmp_path, monkeypatch):
         with pytest.raises(ValueError, match=r"more than max_pixels=.*pass a larger max_pixels"):
             load_bitmap(source, max_pixels=mask.size // 3)
         assert Image.MAX_IMAGE_PIXELS == mask.size // 4
+
+
+def _mpo_bytes(pictures, mp_types):
+    """An MPO file (CIPA DC-007: a camera JPEG with further pictures) of ``pictures`` whose MP entries have the MP
+    types ``mp_types`` (PIL writes 'Baseline MP Primary Image' and 'Undefined'; the entries are patched)."""
+    import struct
+
+    buffer = io.BytesIO()
+    pictures[0].save(buffer, "MPO", save_all=True, append_images=pictures[1:], quality=95)
+    data = buffer.getvalue()
+    with Image.open(io.BytesIO(data)) as img:
+        assert img.format == "MPO"
+        entries = img.mpinfo[0xB002]
+    for index, (entry, mp_type) in enumerate(zip(entries, mp_types)):
+        written = 0x030000 if index == 0 else 0
+        old = struct.pack("<LLLHH", written, entry["Size"], entry["DataOffset"], 0, 0)
+        assert data.count(old) == 1
+        data = data.replace(old, struct.pack("<LLLHH", mp_type, entry["Size"], entry["DataOffset"], 0, 0))
+    return data
+
+
+def test_a_camera_jpeg_with_a_preview_is_one_picture(tmp_path):
+    """A camera's JPEG holds its photo and a "large thumbnail" for its own screen (an MPO file, the Multi-Picture
+    Format): PIL counts 2 frames, and a MultiFrameWarning said 'the file has 2 frames (an animated or multi-page
+    image)' of one photo. The preview is not a frame of the picture: the primary picture is traced without a
+    warning. A stereo pair (disparity) has two pictures: it still warns."""
+    import splinecraft as sc
+    from splinecraft.capture.image import MultiFrameWarning
+
+    mask = shape_mask(80, 100)
+    photo = Image.fromarray(gray_image(mask))
+    preview = photo.resize((50, 40))
+    primary, vga_preview, hd_preview, disparity = 0x030000, 0x010001, 0x010002, 0x020002
+    for types in ((primary, vga_preview), (primary, hd_preview)):
+        data = _mpo_bytes([photo, preview], types)
+        with Image.open(io.BytesIO(data)) as img:
+            assert img.n_frames == 2
+        path = tmp_path / "camera.jpg"
+        path.write_bytes(data)
+        for source in (path, data):
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")
+                traced = load_bitmap(source)
+            assert traced.shape == mask.shape
+            assert not ((traced != mask) & ~edge_band(mask)).any()  # the photo, not the preview (JPEG: edges differ)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            assert sc.trace(path).stats["boundaries"] == 3
+    stereo = _mpo_bytes([photo, Image.fromarray(gray_image(np.roll(mask, 3, axis=1)))], (disparity, disparity))
+    with pytest.warns(MultiFrameWarning, match="2 frames") as caught:
+        load_bitmap(stereo)
+    assert caught[0].message.frames == 2
+    three = _mpo_bytes([photo, photo, preview], (disparity, disparity, vga_preview))
+    with pytest.warns(MultiFrameWarning, match="2 frames"):
+        load_bitmap(three)
+
+
+def test_an_empty_file_says_it_is_empty(tmp_path):
+    """A 0-byte file (a failed download or copy) was 'not an image file (PIL cannot identify its format)', as if
+    it held another format; empty bytes already said 'image bytes are empty'. The file says so too, on every
+    path to it (trace, trace_many's failed record)."""
+    import splinecraft as sc
+
+    path = tmp_path / "scan 1.png"
+    path.write_bytes(b"")
+    with pytest.raises(ValueError) as caught:
+        load_bitmap(path)
+    assert str(caught.value) == f"{path}: the file is empty (0 bytes), not an image"
+    with pytest.raises(ValueError, match=r"the file is empty \(0 bytes\)"):
+        sc.trace(str(path))
+    (record,) = sc.trace_many([str(path)], progress=False)
+    assert record.status == "failed" and "the file is empty (0 bytes)" in record.error

@@ -785,3 +785,32 @@ def test_from_trace_names_a_bad_iteration():
     assert len(as_outline(bare)) == len(bare.splines)
     with pytest.raises(ValueError, match="kept no snapshots.*keep_snapshots=True"):
         as_outline(bare, iteration=0)
+
+
+@pytest.mark.parametrize("value, error, words", [
+    ("a", TypeError, "point_tension (v) must be a real number, got 'a' (str)"),
+    (None, TypeError, "point_tension (v) must be a real number, got None (NoneType)"),  # was 'is nan'
+    (True, TypeError, "point_tension (v) must be a real number, got True (bool)"),      # was taken as 1.0
+    ([1, 2], TypeError, "point_tension (v) must be a real number, got [1, 2] (list)"),
+    (float("inf"), ValueError, "point_tension (v) must be a finite number, got inf"),
+])
+def test_a_point_tension_edit_is_one_real_number(value, error, words):
+    contour = Contour(_loop(6, 6))
+    with pytest.raises(error) as caught:
+        contour.with_point_tension(1, value)
+    assert str(caught.value) == words
+
+
+@pytest.mark.parametrize("value, error, words", [
+    (0.0, ValueError, "interval_weights (omega) must be > 0, got 0.0"),
+    (-1.0, ValueError, "interval_weights (omega) must be > 0, got -1.0"),
+    (True, TypeError, "interval_weights (omega) must be a real number, got True (bool)"),
+    (float("nan"), ValueError, "interval_weights (omega) must be a finite number > 0, got nan"),
+])
+def test_an_interval_weight_edit_is_refused_when_it_is_made(value, error, words):
+    """A weight of 0 was taken, then refused by the interpolant of the knots between two corners, as 'knots 1..2
+    (between two corners; indices below count from knot 1): interval_weights[0] = 0.0 must be > 0'."""
+    contour = Contour(_loop(6, 6))
+    with pytest.raises(error) as caught:
+        contour.with_interval_weight(1, value)
+    assert str(caught.value) == words

@@ -451,3 +451,51 @@ def test_a_refused_action_from_the_page_says_why_without_calling_the_message_bad
     assert editor.status_message.startswith("Kept the last good outline: no curve within 5 of (-500.0, -500.0)")
     page(editor, type="insert", x=-500.0, y=-500.0)
     assert editor.status_message == "Kept the last good outline: bad message: the message has no field 'tol'"
+
+
+def test_a_blank_export_path_keeps_the_last_good_one(editor, tmp_path, monkeypatch):
+    """The page could set export_path to '' (an export then failed as "IsADirectoryError: '.'", logged as a
+    handler bug) or ' ' (an export wrote a file called space). A blank one is refused: from the page with an error
+    status and a resync, from code with a warning; the last good path is kept and exports there."""
+    monkeypatch.chdir(tmp_path)
+    editor.export_path = "good.svg"
+    for blank in ("", " ", "\t\n"):
+        editor.set_state({"export_path": blank})
+        assert editor.export_path == "good.svg" and editor.status_level == "error"
+        assert f"export_path is {'empty' if not blank else 'blank'}" in editor.status_message
+        with pytest.warns(OutlineEditorWarning, match="export_path is"):
+            editor.export_path = blank
+        assert editor.export_path == "good.svg"
+    page(editor, type="export")
+    assert editor.status_message == "Saved good.svg." and sorted(p.name for p in tmp_path.iterdir()) == ["good.svg"]
+    with pytest.raises(ValueError, match="path is blank"):
+        editor.outline.save_svg(" ")
+
+
+def test_a_failed_export_says_why_and_keeps_the_outline(editor, tmp_path, caplog):
+    """An export to a folder that does not exist or to a folder's own path failed with a logged traceback, as if
+    the handler had a bug, and 'Kept the last good outline' (nothing about the outline was wrong). Now: an error
+    status naming the path and the system's reason, the outline unchanged, no traceback."""
+    before = editor.outline
+    for target, why in ((tmp_path / "missing" / "x.svg", "No such file or directory"),
+                        (tmp_path, "Is a directory")):
+        editor.export_path = str(target)
+        with caplog.at_level("WARNING"):
+            page(editor, type="export")
+        assert editor.status_level == "error"
+        assert editor.status_message == f"Not saved to {str(target)!r}: {why}"
+        assert editor.outline is before and not caplog.records
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_zero_interval_weight_from_the_page_is_a_bad_message(editor, caplog):
+    """The page's weight 0 passed the message check (>= 0) and failed in the engine: a logged traceback, as if the
+    handler had a bug, and a message about 'knots 1..2 (between two corners; ...)'. Refused as a bad value now."""
+    before = editor.outline
+    editor.set_state({"selection": [[0, 1]]})
+    with caplog.at_level("WARNING"):
+        page(editor, type="weight", value=0.0)
+    assert editor.outline is before and editor.status_level == "error"
+    assert "value must be > 0, got 0.0" in editor.status_message and not caplog.records
+    page(editor, type="weight", value=2.0)
+    assert editor.outline is not before and editor.status_level == "info"

@@ -190,3 +190,51 @@ def test_noise_estimate_is_not_charged_to_the_budget(monkeypatch):
     (entry,) = result.stats["per_boundary"]
     assert entry["budget"] is None and result.stats["converged"]
     assert result.stats["time_breakdown"]["noise_s"] >= 1.5
+
+
+def test_a_fit_the_budget_stopped_far_from_its_contour_gets_the_polygon(monkeypatch):
+    """The first knot rounds of the regression spline on a long noisy boundary can be far off it (here 100+ px
+    on a 100-px image): without a budget the fallback fit replaces such a fit, but a budget that ran out during
+    them kept it, and the traced outline spiked across the picture (2500 px on a 300-px image of noise). A fit
+    stopped more than STOPPED_FIT_LIMIT times its tolerance from its contour now gets the contour's polygon."""
+    from splinecraft.capture.fitting import fit_trusted, lsq
+    from splinecraft.capture.fitting.budget import STOPPED_FIT_LIMIT
+
+    mask = np.random.default_rng(0).random((100, 100)) < 0.5
+    spent = []  # the budget runs out once a boundary of 1000+ points has had one knot round
+    insert_round = lsq.LsqKnotInsertion.insert_round
+
+    def round_then_spent(self, dev):
+        out = insert_round(self, dev)
+        if self.model.contour.size >= 1000:
+            spent.append(self.model.contour.size)
+        return out
+
+    class SpentAfterTheRound(Deadline):
+        def passed(self) -> bool:
+            return self.end is not None and bool(spent)
+
+    monkeypatch.setattr(lsq.LsqKnotInsertion, "insert_round", round_then_spent)
+    monkeypatch.setattr(sys.modules["splinecraft.capture.trace"], "Deadline", SpentAfterTheRound)
+    result = trace(mask, min_speck_area=0)  # the raw boundaries: no pinhole or speck removal
+    (k,) = [k for k, points in enumerate(result.points) if len(points) == spent[0]]
+    entry = result.stats["per_boundary"][k]
+    assert entry["budget"] == "polygon"
+    curve = bezier_samples(result.splines[k].bezier(), per_piece=3)
+    assert distance_to_closed_polyline(curve, result.points[k]).max() < 1e-9  # the contour itself
+    assert any(f"the knot rounds of boundary {k} stopped more than {STOPPED_FIT_LIMIT:g} times the tolerance" in note
+               for note in result.notes)
+    for fit, points, entry in zip(result.fits, result.points, result.stats["per_boundary"]):
+        if entry["budget"] == "stopped":
+            assert fit.hausdorff <= STOPPED_FIT_LIMIT * entry["tolerance"]
+    # what was replaced: that boundary's fit, stopped after one round, is far off it
+    spent.clear()
+    monkeypatch.undo()
+    options = dict(check_options("lsq", {}), geometric_corners=False)
+    outline = np.asarray(result.points[k], float)
+    corners = np.asarray(result.corners[k], np.int64)
+    tolerance = result.stats["per_boundary"][k]["tolerance"]
+    stopped = fit_trusted(outline, np.unique(corners), tolerance, "lsq", None, None, 200, False, 0, options,
+                          _DeadlinePassingAfter(1))
+    assert stopped.info["reason"] == BUDGET_REASON.format(budget=1.0)
+    assert stopped.hausdorff > STOPPED_FIT_LIMIT * tolerance

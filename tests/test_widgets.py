@@ -828,3 +828,23 @@ def test_alpha_beta_reset_when_their_meaning_changes():
     editor.preset = "bezier"
     editor.form = "basis"  # same meaning (class parameters): kept
     assert (editor.preset, editor.alpha) == ("bezier", 3.0)
+
+
+@pytest.mark.parametrize("path", ["", " ", "\t"])
+def test_explorer_save_svg_refuses_a_blank_path(explorer_factory, tmp_path, monkeypatch, path):
+    """save_svg('') wrote nowhere ('IsADirectoryError: .'), save_svg(' ') a file called space."""
+    monkeypatch.chdir(tmp_path)
+    explorer = explorer_factory()
+    with pytest.raises(ValueError, match=r"^path is (empty|blank \(.*: only white space\)): give a file name"):
+        explorer.save_svg(path)
+    assert list(tmp_path.iterdir()) == []
+    assert explorer.save_svg("trace.svg").read_text().startswith("<?xml")
+
+
+@pytest.mark.parametrize("path", ["", " "])
+def test_editor_save_svg_refuses_a_blank_path(tmp_path, monkeypatch, path):
+    monkeypatch.chdir(tmp_path)
+    editor = SplineEditor(POINTS)
+    with pytest.raises(ValueError, match=r"^path is (empty|blank \(' ': only white space\)): give a file name"):
+        editor.save_svg(path)
+    assert list(tmp_path.iterdir()) == []

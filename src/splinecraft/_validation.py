@@ -51,6 +51,9 @@ __all__ = [
     "point_extent",
     "relative_gaps",
     "check_distinct_neighbours",
+    "blank_text",
+    "control_character",
+    "file_path",
 ]
 
 #: Neighbouring points closer than this times the extent of the point set coincide (see the module text).
@@ -232,6 +235,40 @@ def check_options(options, name: str, *, allowed=None, reserved=(), reserved_rea
             raise TypeError(f"{name} has an unknown key {key!r}; accepted keys: {sorted(allowed)}")
         result[key] = item
     return result
+
+
+# ---------------------------------------------------------------------------------------------- names
+def blank_text(text: str) -> str | None:
+    """How ``text`` (a name, a path) is blank, for a message (``"empty"``, ``"blank (' ')"``), or ``None`` when it
+    holds a character other than white space. A blank path still names a file (``' '`` is a folder called
+    space), which a caller never meant: a variable that was not set, a stray quote."""
+    if text.strip():
+        return None
+    return "empty" if not text else f"blank ({text!r}: only white space)"
+
+
+def file_path(path, example: str):
+    """``path`` (str or os.PathLike) as a ``pathlib.Path`` to write a file to; a blank one is a ``ValueError`` naming
+    ``example`` ('' is the current folder to ``pathlib``, ' ' a file called space)."""
+    import os
+    from pathlib import Path
+
+    text = os.fspath(path)
+    if isinstance(text, str) and blank_text(text):
+        raise ValueError(f"path is {blank_text(text)}: give a file name such as {example}")
+    return Path(text)
+
+
+def control_character(text: str) -> tuple | None:
+    """``(index, code point)`` of the first control character (Unicode category Cc: C0, DEL, C1; NUL, tab and
+    newline among them) in ``text``, or ``None``. A name holding one breaks the lines that show it (a manifest,
+    the command line's messages) and most file browsers."""
+    import unicodedata
+
+    for index, char in enumerate(text):
+        if unicodedata.category(char) == "Cc":
+            return index, ord(char)
+    return None
 
 
 # ---------------------------------------------------------------------------------------------- arrays

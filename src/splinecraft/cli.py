@@ -9,11 +9,13 @@ Examples
     splinecraft trace scans/*.png -o traced/ --scheduler tcp://10.0.0.5:8786   # a dask cluster
     splinecraft trace 'scans/**/*.png' -o traced/     # a quoted pattern: expanded here, as trace_many does
     splinecraft trace logo.png -o - --format json          # JSON to stdout
+    splinecraft trace glyph.png -o glyph.svg --fit-param merge_tolerance=0   # fit_params: the thesis's C2 fit
     splinecraft --version
 
 ``OUT`` is a file for one input (``-`` = stdout) and a directory for several (created if needed; each
 input ``NAME.ext`` becomes ``OUT/NAME.svg`` or ``.json``). The format follows ``--format``, else the
-suffix of a single output file, else SVG. An output that is also an input is refused, and so, before
+suffix of a single output file, else SVG (a single output named like an image, ``-o out.png``, or like the
+other format than ``--format`` asks for, is refused). An output that is also an input is refused, and so, before
 anything is traced, an empty ``OUT`` and an ``OUT`` named like a file (``.svg``, ``.json``) for several
 inputs, unless it is an existing directory (``OUT/`` asks for the directory), and ``-o -`` with an option of
 file outputs (``--manifest``, ``--jobs``, ``--scheduler``, ``--batch-size``: stdout gets one input traced in
@@ -41,7 +43,9 @@ removed), what finished is kept in the manifest, and the exit code is 130 (SIGIN
 Workers also die when this process is killed outright. Exit codes: 0 all traced (or skipped), 1 some
 file failed, 2 usage errors (bad option, output = input, manifest = output, an output or manifest that is a
 pipe or a device (``-o /dev/null``; ``-o -`` is stdout), empty output or a file name for several inputs,
-unwritable output directory, unreachable scheduler).
+unwritable output directory, unreachable scheduler). ``--fit-param`` and ``--corner-param`` are the library's
+``fit_params`` and ``corner_params``; a bad one is named as its option (``--fit-param merge_tolerance must be >= 0``),
+not as the library's key (``fit_params['merge_tolerance']``).
 """
 from __future__ import annotations
 
@@ -183,7 +187,7 @@ def build_parser() -> argparse.ArgumentParser:
     from . import __version__
     from .capture.contour import CONNECTIVITIES
     from .capture.corners import CORNER_METHODS
-    from .capture.fitting import KNOT_METHODS
+    from .capture.fitting import KNOT_METHODS, THESIS_METHODS
     from .capture.image import DEFAULT_THRESHOLD, THRESHOLD_METHODS
 
     defaults = _trace_defaults()
@@ -221,8 +225,14 @@ def build_parser() -> argparse.ArgumentParser:
                         help="corner detector parameter, repeatable (e.g. --corner-param min_turn=30 for the default "
                              "tangent-jump, --corner-method srm05 --corner-param ta=150 for the thesis's); a value "
                              "with commas is a tuple (flank=4,10)")
-    tracer.add_argument("--seed", type=_non_negative_int, default=defaults["seed"],
-                        help="seed of the random algorithms")
+    tracer.add_argument("--fit-param", type=_key_value, action="append", default=[], metavar="NAME=VALUE",
+                        help="option of the spline fit, repeatable (the library's fit_params: --fit-param "
+                             "merge_tolerance=0 for the thesis's C2 fit, --fit-param geometric_corners=true; "
+                             "docs/capture.md §12)")
+    tracer.add_argument("--seed", type=_non_negative_int, default=None,
+                        help="seed of the random knot-insertion methods (--method "
+                             + ", ".join(THESIS_METHODS) + f"; default {defaults['seed']}); refused with lsq, "
+                             "which draws no random numbers")
     tracer.add_argument("--tau", type=float, default=defaults["tau"], help="distance constraint of Algs 4.2/4.3")
     tracer.add_argument("--max-iterations", type=_positive_int, default=defaults["max_iterations"],
                         help="bound on knot-insertion iterations per boundary "
@@ -295,6 +305,20 @@ def _stdout_conflicts(args) -> str | None:
             f"{'it' if len(given) == 1 else 'them'}")
 
 
+def _unused_options(args) -> str | None:
+    """Why an option of ``args`` would have no effect, or ``None``: ``--seed`` with a knot-insertion method that draws
+    no random numbers (``lsq``, the default) is refused, as the library refuses ``tau`` and ``fuzzy_weights`` for the
+    methods that do not use them (:func:`splinecraft.capture.fitting.options.check_tau`, ``check_options``)."""
+    from .capture.fitting import DEFAULT_METHOD, THESIS_METHODS
+
+    method = args.method or DEFAULT_METHOD
+    if args.seed is not None and method not in THESIS_METHODS:
+        which = f"--method {method}" if args.method else f"the default --method {method}"
+        return (f"--seed is used by the random knot-insertion methods ({', '.join(THESIS_METHODS)}) only, not "
+                f"{which}, which draws no random numbers: leave --seed out, or give one of those methods")
+    return None
+
+
 # ---------------------------------------------------------------------------------------------------
 # work
 # ---------------------------------------------------------------------------------------------------
@@ -342,16 +366,30 @@ def _signals_raise():
 
 #: Suffixes of an output file: ``-o NAME.svg`` with several inputs is a mistake, not a directory name.
 OUTPUT_SUFFIXES = (".svg", ".json")
+#: Suffixes of image files: an output so named would hold SVG or JSON text (and ``-o other.png`` would overwrite
+#: another image with it), refused.
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".gif", ".bmp", ".tif", ".tiff", ".webp", ".pbm", ".pgm", ".ppm", ".pnm",
+                  ".mpo", ".psd", ".ico")
+
+
+def _is_an_input(output, inputs) -> bool:
+    """Whether the file ``output`` is one of ``inputs`` (``run_batch`` refuses it then, saying so)."""
+    if not os.path.exists(output):
+        return False
+    return any(os.path.exists(source) and os.path.samefile(output, source) for source in inputs)
 
 
 def _plan_outputs(inputs, output, fmt):
     """Pair every input with its output path; returns (pairs, format) or raises ValueError.
 
-    Refused before anything is traced: an empty ``output``, ``-`` with several inputs, and an output named
+    Refused before anything is traced: an empty ``output``, ``-`` with several inputs, an output named
     like a file (:data:`OUTPUT_SUFFIXES`) for several inputs unless it is an existing directory or ends
-    with a separator (it would become a directory called ``out.svg``)."""
-    if not output:
-        raise ValueError("-o/--output is empty: give an output file, a directory, or - for stdout")
+    with a separator (it would become a directory called ``out.svg``), one output file named like an image
+    (:data:`IMAGE_SUFFIXES`) or like the other format than ``--format`` asks for."""
+    from ._validation import blank_text
+
+    if blank_text(output):
+        raise ValueError(f"-o/--output is {blank_text(output)}: give an output file, a directory, or - for stdout")
     is_directory = os.path.isdir(output) or output.endswith(("/", os.sep))
     single = len(inputs) == 1 and not is_directory
     if output == "-":
@@ -359,8 +397,16 @@ def _plan_outputs(inputs, output, fmt):
             raise ValueError("-o - (stdout) takes exactly one input")
         return [(inputs[0], "-")], fmt or "svg"
     if single:
+        suffix = os.path.splitext(output)[1].lower()
+        if suffix in IMAGE_SUFFIXES and not _is_an_input(output, inputs):  # that one: "also an input", below
+            raise ValueError(f"-o {output} names an image file, but the output is {(fmt or 'svg').upper()} text: name "
+                             f"it {os.path.splitext(output)[0]}.{fmt or 'svg'}")
+        if fmt is not None and suffix in OUTPUT_SUFFIXES and suffix != f".{fmt}":
+            raise ValueError(f"-o {output} names {'an' if suffix == '.svg' else 'a'} {suffix[1:].upper()} file, but "
+                             f"--format {fmt} asks for "
+                             f"{fmt.upper()}: leave --format out, or name the output {os.path.splitext(output)[0]}.{fmt}")
         if fmt is None:
-            fmt = "json" if output.lower().endswith(".json") else "svg"
+            fmt = "json" if suffix == ".json" else "svg"
         return [(inputs[0], output)], fmt
     fmt = fmt or "svg"
     if not is_directory and output.lower().endswith(OUTPUT_SUFFIXES):
@@ -409,6 +455,25 @@ OPTION_SPELLING = (
     ("max_pixels", "--max-pixels"),
     ("see threshold/invert", "see --threshold/--invert"),
 )
+
+
+#: The library's names of the command's mapping options in messages -> their options (:func:`_spelled`):
+#: ``fit_params['merge_tolerance'] must be >= 0`` is ``--fit-param merge_tolerance must be >= 0`` here.
+MAPPING_OPTIONS = (("fit_params", "--fit-param"), ("corner_params", "--corner-param"))
+
+
+def _spelled(message) -> str:
+    """A message of the library about a bad option as this command spells the option (:data:`MAPPING_OPTIONS`):
+    ``fit_params['NAME']`` -> ``--fit-param NAME``, ``fit_params has an unknown key`` -> ``--fit-param has an
+    unknown name``; a message that begins with ``tau`` begins with ``--tau``."""
+    import re
+
+    text = str(message)
+    text = re.sub(r"^tau\b", "--tau", text)  # tau is the one scalar option passed to the library unchecked
+    for name, option in MAPPING_OPTIONS:
+        text = re.sub(rf"\b{name}\['([A-Za-z_][A-Za-z0-9_]*)'\]", rf"{option} \1", text)
+        text = re.sub(rf"\b{name} (has an unknown|has an unexpected) (?:keyword|key)\b", rf"{option} \1 name", text)
+    return text
 
 
 def _summary_line(stats, seconds):
@@ -510,7 +575,9 @@ def _run_trace(args) -> int:
     decimals = DEFAULT_DECIMALS if args.decimals is None else args.decimals
     options = {
         "epsilon": args.epsilon, "method": args.method, "corner_method": args.corner_method,
-        "corner_params": dict(args.corner_param) or None, "seed": args.seed, "tau": args.tau,
+        "corner_params": dict(args.corner_param) or None,
+        "fit_params": dict(args.fit_param) or None,
+        "seed": _trace_defaults()["seed"] if args.seed is None else args.seed, "tau": args.tau,
         "max_iterations": args.max_iterations, "threshold": args.threshold, "invert": args.invert,
         "min_speck_area": args.min_speck_area, "connectivity": args.connectivity, "contour": args.contour,
         "noise_factor": args.noise_factor, "time_budget": args.time_budget, "max_pixels": args.max_pixels,
@@ -519,7 +586,7 @@ def _run_trace(args) -> int:
         try:
             return _trace_to_stdout(pairs[0][0], fmt, options, decimals, quiet=args.quiet, verbose=args.verbose)
         except (ValueError, TypeError, ImportError) as exc:  # a bad option: one line, as with a file output
-            print(f"{PROG}: error: {exc}", file=sys.stderr)
+            print(f"{PROG}: error: {_spelled(exc)}", file=sys.stderr)
             return 2
     plan = [PlannedFile(index=k, source=source, label=source, output=os.path.abspath(destination),
                         title=os.path.basename(source)) for k, (source, destination) in enumerate(pairs)]
@@ -557,7 +624,7 @@ def _run_trace(args) -> int:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
     except (ValueError, TypeError, OSError, ImportError) as exc:
-        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        print(f"{PROG}: error: {_spelled(exc)}", file=sys.stderr)
         return 2
     failures = counts["failed"]
     if result.manifest_error:
@@ -575,7 +642,7 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command == "trace":
-        conflict = _stdout_conflicts(args)
+        conflict = _stdout_conflicts(args) or _unused_options(args)
         if conflict:
             args.command_parser.error(conflict)  # a usage error: exit code 2
         return _run_trace(args)

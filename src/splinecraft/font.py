@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._validation import check_int, check_number, check_positive_number
+from ._validation import blank_text, check_int, check_number, check_positive_number
 from .outline import Outline, as_outline
 from .outline.contour import bezier_signed_area
 from .outline.model import nesting_depths
@@ -153,7 +153,8 @@ def _code_point(code, what):
     """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)
     that is not a C0 or C1 control character (U+0000 .. U+001F, U+007F .. U+009F: no glyph draws them)."""
     if not 0 <= code <= 0x10FFFF or 0xD800 <= code <= 0xDFFF:
-        raise ValueError(f"{what} is U+{code:04X}, not a Unicode character a font can map (0 .. U+10FFFF, "
+        shown = f"U+{code:04X}" if code >= 0 else "negative"  # not U+-001
+        raise ValueError(f"{what} is {shown}, not a Unicode character a font can map (0 .. U+10FFFF, "
                          "without the surrogates U+D800 .. U+DFFF)")
     if code < 0x20 or 0x7F <= code <= 0x9F:
         raise ValueError(f"{what} is the control character U+{code:04X}, which a font does not map to a glyph "
@@ -166,7 +167,14 @@ def _glyph(source, name, unicode, scale, baseline, sidebearing):
     from ufoLib2.objects import Glyph
 
     outline = as_outline(source)
-    glyph_name, code = _glyph_name(name if name is not None else (outline.name or "glyph"))
+    if name is None and outline.name:  # the outline's own name: say whose it is when it cannot name a glyph
+        try:
+            glyph_name, code = _glyph_name(outline.name)
+        except ValueError:
+            raise ValueError(f"the outline's name {outline.name!r} is not a single character or a glyph name: "
+                             "pass name= (a character such as 'a', or a glyph name such as 'a.alt')") from None
+    else:
+        glyph_name, code = _glyph_name(name if name is not None else "glyph")
     if unicode is not None:
         code = check_int(unicode, "unicode")
         code = _code_point(code, f"unicode={code}")
@@ -375,6 +383,10 @@ def build(glyphs, *, family="Splinecraft", style="Regular", output_dir=".", unit
     if not isinstance(glyphs, dict) or not glyphs:
         raise ValueError("glyphs must be a non-empty dict of character -> outline")
     family, style = _check_name(family, "family"), _check_name(style, "style")
+    if not isinstance(output_dir, (str, os.PathLike)) or not isinstance(os.fspath(output_dir), str):
+        raise TypeError(f"output_dir must be a path (str or os.PathLike), got {type(output_dir).__name__}")
+    if blank_text(os.fspath(output_dir)):  # Path('') is '.', Path(' ') a folder called space: never meant
+        raise ValueError(f"output_dir is {blank_text(os.fspath(output_dir))}: give a folder ('.' for the current one)")
     try:
         units_per_em = check_int(units_per_em, "units_per_em", minimum=16, maximum=16384, integral_floats=True)
     except (TypeError, ValueError) as exc:
@@ -733,6 +745,8 @@ def glyph_outline(font, char, *, font_number=0) -> Outline:
     with ttfont:  # closes the file (lazy=True reads tables from it on demand)
         if isinstance(char, bool) or not isinstance(char, (str, int)):
             raise TypeError(f"char must be a character, a glyph name or a code point, got {type(char).__name__}")
+        if isinstance(char, int) and not 0 <= char <= 0x10FFFF:  # chr() said 'arg not in range(0x110000)'
+            raise ValueError(f"char = {char} is not a code point (0 .. 0x10FFFF)")
         if isinstance(char, int) or len(char) == 1:
             code = char if isinstance(char, int) else ord(char)
             name = ttfont.getBestCmap().get(code)

@@ -340,7 +340,7 @@ def test_a_tiny_sample_spacing_is_refused_not_a_memory_error(spacing):
     """fit_params={'sample_spacing': 1e-12} was accepted ((0, 2]) and asked numpy for 1.4 PiB (MemoryError),
     1e-300 was 'OverflowError: int too big to convert', 1e-6 px exhausted the machine's memory: the curve
     samples of the deviation check grow as 1 / spacing."""
-    with pytest.raises(ValueError, match=r"sample_spacing \(px\) must be >= 0\.01"):
+    with pytest.raises(ValueError, match=r"^fit_params\['sample_spacing'\] \(px\) must be >= 0\.01"):
         sc.trace(small_mask(), fit_params={"sample_spacing": spacing})
     assert sc.trace(small_mask(), fit_params={"sample_spacing": 0.01}).stats["converged"]
 
@@ -351,12 +351,12 @@ def disc_mask(size=40, radius=15):
 
 
 @pytest.mark.parametrize("options, error, message", [
-    ({"interval_weights": [1, 2, 3]}, TypeError, r"interval_weights must be one number"),
-    ({"point_tension": [0.0, 0.0, 0.0]}, TypeError, r"point_tension must be one number"),
-    ({"alpha": np.array(2.0)}, TypeError, r"alpha must be one number"),
-    ({"interval_weights": 0}, ValueError, r"interval_weights must be > 0"),
-    ({"beta": 0}, ValueError, r"beta must be non-zero"),
-    ({"point_tension": float("nan")}, ValueError, r"point_tension must be a finite number"),
+    ({"interval_weights": [1, 2, 3]}, TypeError, r"^fit_params\['interval_weights'\] must be one number"),
+    ({"point_tension": [0.0, 0.0, 0.0]}, TypeError, r"^fit_params\['point_tension'\] must be one number"),
+    ({"alpha": np.array(2.0)}, TypeError, r"^fit_params\['alpha'\] must be one number"),
+    ({"interval_weights": 0}, ValueError, r"^fit_params\['interval_weights'\] must be > 0"),
+    ({"beta": 0}, ValueError, r"^fit_params\['beta'\] must be non-zero"),
+    ({"point_tension": float("nan")}, ValueError, r"^fit_params\['point_tension'\] must be a finite number"),
 ])
 def test_thesis_engine_options_are_one_number_checked_before_the_image(options, error, message):
     """fit_params={'interval_weights': [1, 2, 3]} with a thesis method was handed to the interpolant of every
@@ -376,17 +376,19 @@ def test_fuzzy_weights_of_another_method_are_refused(method):
     """fit_params={'fuzzy_weights': (0.9, 0.1)} with a method other than 'fuzzy' was checked and then ignored:
     the same curve as without it, no word (tau is refused the same way for the methods without a nearness
     rule)."""
-    with pytest.raises(ValueError, match=r"fuzzy_weights is used by the method 'fuzzy'.*only"):
+    with pytest.raises(ValueError, match=r"^fit_params\['fuzzy_weights'\] is used by the method 'fuzzy'.*only"):
         sc.trace(small_mask(), method=method, fit_params={"fuzzy_weights": (0.9, 0.1)})
     assert sc.trace(small_mask(), method="fuzzy", fit_params={"fuzzy_weights": (0.9, 0.1)}).stats["segments"] > 0
 
 
 @pytest.mark.parametrize("key, value, message", [
-    ("sample_spacing", -1.0, "sample_spacing (px) must be >= 0.01 and <= 2, got -1.0"),
-    ("sample_spacing", float("nan"), "sample_spacing (px) must be a finite number >= 0.01 and <= 2, got nan"),
-    ("sample_spacing", np.float64(-0.5), "sample_spacing (px) must be >= 0.01 and <= 2, got -0.5"),
-    ("initial_density", -1.0, "initial_density must be >= 0 and <= 1e+06, got -1.0"),
-    ("initial_density", float("inf"), "initial_density must be a finite number >= 0 and <= 1e+06, got inf"),
+    ("sample_spacing", -1.0, "fit_params['sample_spacing'] (px) must be >= 0.01 and <= 2, got -1.0"),
+    ("sample_spacing", float("nan"),
+     "fit_params['sample_spacing'] (px) must be a finite number >= 0.01 and <= 2, got nan"),
+    ("sample_spacing", np.float64(-0.5), "fit_params['sample_spacing'] (px) must be >= 0.01 and <= 2, got -0.5"),
+    ("initial_density", -1.0, "fit_params['initial_density'] must be >= 0 and <= 1e+06, got -1.0"),
+    ("initial_density", float("inf"),
+     "fit_params['initial_density'] must be a finite number >= 0 and <= 1e+06, got inf"),
 ])
 def test_bounded_lsq_options_give_their_whole_range_for_any_bad_value(key, value, message):
     """sample_spacing and initial_density were checked twice: first as every real option of lsq (a finite
@@ -396,3 +398,35 @@ def test_bounded_lsq_options_give_their_whole_range_for_any_bad_value(key, value
     with pytest.raises(ValueError) as caught:
         sc.trace(small_mask(), fit_params={key: value})
     assert str(caught.value) == message
+
+
+@pytest.mark.parametrize("method, options, error, bare", [
+    ("lsq", {"merge_tolerance": -1}, ValueError, "merge_tolerance must be >= 0, got -1.0"),
+    ("lsq", {"min_gap": 0}, ValueError, "min_gap must be >= 1, got 0"),
+    ("lsq", {"fallback": "yes"}, TypeError, "fallback must be a bool (True or False), got 'yes' (str)"),
+    ("lsq", {"joint_continuity": 3}, ValueError, "joint_continuity (1 = C1, 2 = C2) must be <= 2, got 3"),
+    ("lsq", {"geometric_corners": "x"}, ValueError, "geometric_corners must be one of [False, True, 'clean'], got 'x'"),
+    ("lsq", {"tangent_stride": 2}, ValueError, "'tangent_stride' applies to the thesis methods"),
+    ("random", {"tangent_stride": 0}, ValueError, "tangent_stride must be >= 1, got 0"),
+    ("random", {"alpha": float("inf")}, ValueError, "alpha must be a finite number, got inf"),
+    ("random", {"point_tension_scale": "x"}, ValueError, "point_tension_scale must be one of"),
+    ("random", {"fuzzy_weights": (0.9, 0.1)}, ValueError, "fuzzy_weights is used by the method 'fuzzy'"),
+    ("fuzzy", {"fuzzy_weights": (0.1, "v")}, TypeError, "fuzzy_weights[1] (v) must be a real number"),
+    ("fuzzy", {"fuzzy_weights": (0.1, 0.2)}, ValueError, "fuzzy_weights (w, v) need w > v >= 0"),
+])
+def test_a_bad_fit_param_is_named_as_the_caller_wrote_it(method, options, error, bare):
+    """``trace(fit_params={"merge_tolerance": -1})`` said 'merge_tolerance must be >= 0', the name of a keyword of
+    ``fit_outline`` that the caller never wrote; it says ``fit_params['merge_tolerance']`` now, also from
+    ``trace_many``. ``fit_outline(merge_tolerance=-1)`` keeps the bare name."""
+    (key,) = options
+    contour = np.array([[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]])
+    with pytest.raises(error) as caught:
+        sc.fit_outline(contour, None, method=method, **options)
+    assert str(caught.value).startswith(bare), str(caught.value)
+    named = f"fit_params[{key!r}]" + bare.removeprefix(repr(key)).removeprefix(key)
+    with pytest.raises(error) as caught:
+        sc.trace(small_mask(), method=method, fit_params=options)
+    assert str(caught.value).startswith(named), str(caught.value)
+    with pytest.raises(error) as caught:
+        sc.trace_many([small_mask()], method=method, fit_params=options, progress=False)
+    assert str(caught.value).startswith(named), str(caught.value)

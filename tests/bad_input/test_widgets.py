@@ -168,6 +168,24 @@ def test_editor_names_the_bad_field_and_keeps_the_state(message, field):
                 "ok": False} in page.custom()
 
 
+@pytest.mark.parametrize("message, words", [
+    ({"type": "drag", "index": 1, "x": 1e308, "y": 2.0, "seq": 1, "final": True},
+     "point 1 at (1e+308, 2) is beyond ±1e+09"),
+    ({"type": "drag", "index": 3, "x": 5.0, "y": -2e9, "seq": 2, "final": True},
+     "point 3 at (5, -2e+09) is beyond ±1e+09"),
+    ({"type": "add", "x": 1e300, "y": 1.0}, "at (1e+300, 1) is beyond ±1e+09"),
+])
+def test_editor_names_the_point_dragged_too_far(message, words):
+    """A drag or an add far off the canvas was refused as 'a coordinate is beyond ±1e+09': which point, and where,
+    went unsaid (the outline editor names both). Now the point and its position are named."""
+    editor = SplineEditor(POINTS)
+    page = Page(editor)
+    before = editor._state()
+    editor._handle_message(editor, message, [])
+    assert editor._state() == before and editor.status_level == "error"
+    assert words in editor.status_message and page.got_error_status() and "points" in page.updated()
+
+
 def test_editor_batched_update_keeps_the_good_values():
     editor = SplineEditor(POINTS)
     page = Page(editor)
@@ -326,3 +344,62 @@ def test_explorer_survives_any_message(explorer, message):
     explorer._handle_message(explorer, message, [b"\x89PNG not really"])
     assert explorer.result is result and explorer.busy is False
     assert explorer.status_level == "error" and page.got_error_status()
+
+
+@pytest.mark.parametrize("tau", [float("inf"), float("nan"), -2.0])
+def test_explorer_refuses_a_tau_no_method_takes_while_its_method_takes_none(explorer, tau):
+    """With method 'lsq' (no tau), the page's tau=inf, NaN or -2 was accepted as the good state ('Traced ...'),
+    and the next switch to 'euclidean' was refused for a tau the user had set long before. Such a tau fits no
+    method: refused when it is set, naming tau; the last good tau is kept and the switch works."""
+    explorer.set_state({"method": "lsq"})  # the shared explorer: the fuzz tests may have left another method
+    page = Page(explorer)
+    assert explorer.method == "lsq"
+    good, result = settings_of(explorer), explorer.result
+    explorer.set_state({"tau": tau})
+    assert settings_of(explorer) == good and explorer.result is result
+    assert explorer.status_level == "error" and "status_message" in page.updated()
+    assert "tau (nearness of the methods euclidean, positional)" in explorer.status_message
+    assert "tau" in page.updated()  # the page is resynced to the kept tau
+    explorer.set_state({"method": "euclidean"})
+    assert explorer.method == "euclidean" and explorer.status_level == "info"
+    assert explorer.result.params["method"] == "euclidean"
+    explorer.set_state({"method": "lsq"})
+
+
+def _png(pixels) -> bytes:
+    from PIL import Image
+
+    buffer = io.BytesIO()
+    Image.fromarray(pixels).save(buffer, format="PNG")
+    return buffer.getvalue()
+
+
+@pytest.mark.parametrize("name, data, words", [
+    ("text.png", b"hello world", "text.png: not an image file (PIL cannot identify its format)"),
+    ("empty.png", b"", "empty.png: the file is empty (0 bytes), not an image"),
+    ("cut.png", _png(np.zeros((30, 30), np.uint8))[:50], "cut.png: truncated or corrupt image file"),
+])
+def test_explorer_names_the_uploaded_file_it_cannot_read(explorer, name, data, words):
+    """An upload that is no image was refused as 'image bytes (11 bytes): not an image file', the page's file name
+    unsaid (and an empty one as 'image bytes are empty; pass the bytes of an encoded image file')."""
+    result = explorer.result
+    page = Page(explorer)
+    explorer._handle_message(explorer, {"type": "upload", "name": name}, [data])
+    assert explorer.result is result and explorer.status_level == "error" and "status_message" in page.updated()
+    assert f"Kept the last good result: {words}" in explorer.status_message
+
+
+def test_explorer_warns_of_an_upload_whose_every_pixel_is_ink(explorer):
+    """An all-black upload was traced with an 'info' status ('Traced 1 boundary: 4 pieces'): its outline is the
+    image's frame, which the command line and trace_many warn of (the note of trace). The status warns too now,
+    and an image with a shape after it is back to 'info'."""
+    explorer._handle_message(explorer, {"type": "upload", "name": "black.png"},
+                             [_png(np.zeros((30, 40), np.uint8))])
+    assert explorer.result.stats["boundaries"] == 1 and explorer.status_level == "warning"
+    assert explorer.status_message.startswith("black.png: Traced 1 boundary")
+    assert "Warning: every pixel is ink: the outline is the image's frame" in explorer.status_message
+    shape = np.full((30, 40), 255, np.uint8)
+    shape[8:20, 10:30] = 0
+    explorer._handle_message(explorer, {"type": "upload", "name": "shape.png"}, [_png(shape)])
+    assert explorer.status_level == "info" and explorer.status_message.startswith("shape.png: Traced")
+    explorer.load(small_bitmap())  # the shared explorer's bitmap back

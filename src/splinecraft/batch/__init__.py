@@ -22,7 +22,7 @@ import uuid
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 
-from .._validation import check_bool, check_choice, check_int
+from .._validation import blank_text, check_bool, check_choice, check_int
 from ..spline.svg import MAX_DECIMALS
 from ._manifest import MANIFEST_NAME, Manifest
 from ._plan import (FORMATS, TARGET_TASK_S, auto_batch_size, check_batch_size, check_trace_arguments,
@@ -184,9 +184,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         names, sources = None, expand_inputs(inputs)
     if output_dir is not None:
         output_dir = os.fspath(output_dir)
-        if not output_dir:
-            raise ValueError("output_dir is empty: give a directory ('.' for the current one), or None to keep the "
-                             "results in memory")
+        if blank_text(output_dir):
+            raise ValueError(f"output_dir is {blank_text(output_dir)}: give a directory ('.' for the current one), or "
+                             "None to keep the results in memory")
     plan = plan_directory(sources, output_dir, format, names)
     if manifest is None and output_dir is not None:
         manifest = os.path.join(output_dir, MANIFEST_NAME)
@@ -281,9 +281,9 @@ def run_batch(plan, *, manifest=None, scheduler=None, jobs=None, batch_size="aut
     arguments, settings_hash = trace_settings(trace_params or {})
     check_trace_arguments(arguments)
     writes = any(planned.output is not None for planned in plan)
-    if manifest is not None and not os.fspath(manifest):
-        raise ValueError("manifest is empty: give a file name, or None for the default (output_dir/"
-                         f"{MANIFEST_NAME})")
+    if manifest is not None and blank_text(os.fspath(manifest)):
+        raise ValueError(f"manifest is {blank_text(os.fspath(manifest))}: give a file name, or None for the default "
+                         f"(output_dir/{MANIFEST_NAME})")
     if manifest is not None and not writes:
         raise ValueError(f"manifest {os.fspath(manifest)} is given, but output_dir is None: nothing is written, so "
                          "there is nothing to record or resume; give an output_dir, or leave manifest out")

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_choice, check_positive_int
+from .._validation import blank_text, check_choice, check_positive_int, control_character
 from ._work import PART_SUFFIX, UnreadableImage, file_sha256, input_sha256
 
 FORMATS = ("svg", "json")
@@ -93,8 +93,8 @@ def expand_inputs(inputs) -> list:
 
 
 def named_inputs(inputs) -> tuple:
-    """A mapping ``{name: image}`` -> ``(names, sources)`` in the mapping's order. Each key is a name (a non-empty
-    ``str`` that can name a file: no directory separator, NUL, ``.`` or ``..``); each value one image: a path (taken
+    """A mapping ``{name: image}`` -> ``(names, sources)`` in the mapping's order. Each key is a name (a ``str`` that
+    can name a file: not blank, no directory separator or control character, not ``.`` or ``..``); each value one image: a path (taken
     literally, never as a glob pattern), an image array, a PIL image or encoded image bytes (``bytearray`` and
     ``memoryview`` copied to ``bytes``)."""
     names, sources = [], []
@@ -103,10 +103,14 @@ def named_inputs(inputs) -> tuple:
             raise TypeError(f"inputs keys must be names (str), got {name!r} ({type(name).__name__}): a mapping "
                             "of inputs is {name: image}")
         name = str(name)  # plain text: np.str_ keys (from a numpy array of names) showed as np.str_('a')
-        separators = {"/", os.sep, os.altsep, "\x00"} - {None}
-        if name in ("", ".", "..") or any(separator in name for separator in separators):
-            raise ValueError(f"inputs key {name!r} is not a name: a key names its output NAME.svg, so it must be "
-                             "non-empty, not '.' or '..', without a directory separator or NUL")
+        separators = {"/", os.sep, os.altsep} - {None}
+        control = control_character(name)
+        if (blank_text(name) or name in (".", "..") or any(separator in name for separator in separators)
+                or control):
+            why = f" (U+{control[1]:04X} at index {control[0]})" if control else ""
+            raise ValueError(f"inputs key {name!r} is not a name{why}: a key names its output NAME.svg, so it must "
+                             "hold more than white space, not be '.' or '..', and hold no directory separator or "
+                             "control character (NUL, tab, newline)")
         if _is_image_object(item):
             sources.append(item)
         elif isinstance(item, ENCODED_IMAGE_TYPES):

@@ -232,8 +232,10 @@ def merge_pixel_corners(found, index, n):
     found = np.asarray(found, dtype=np.intp).reshape(-1)
     if not len(index):
         return found
-    gap = np.abs(found[:, None] - index[None, :]) % n
-    near = (np.minimum(gap, n - gap) <= 1).any(axis=1)
+    # within one point around the closed outline: a pixel corner at f - 1, f or f + 1 (mod n); looked up, not
+    # measured pairwise (found x index took gigabytes on the 262 000-point boundary of a 1000 x 1000 image of noise)
+    beside = np.mod(found[:, None] + np.array([-1, 0, 1]), n)
+    near = np.isin(beside, np.mod(np.asarray(index, dtype=np.intp), n)).any(axis=1)
     return np.unique(np.concatenate([found[~near], index])).astype(np.intp)
 
 

@@ -72,7 +72,9 @@ Conventions
   is at (its owner chose it with ``seek``), without a warning. A file whose frames cannot be counted (cut short
   or damaged after its first frame: PIL reads every frame's header to count them) is traced from its first frame
   when that one is whole, with a :class:`MultiFrameWarning` that says so (``frames`` is ``None``). A Photoshop
-  file's layers are not frames: its composite picture is traced (:data:`LAYERED_FORMATS`).
+  file's layers are not frames: its composite picture is traced (:data:`LAYERED_FORMATS`). Nor is the preview a camera
+  embeds in its JPEG (an MPO file: the primary picture and a "large thumbnail", :data:`MPO_PREVIEW_TYPES`): the
+  primary picture is traced without a warning; an MPO's other pictures (a stereo pair) are frames.
 
 Memory: 8-bit and 16-bit data stay in their integer type (colour conversion and compositing are done in
 row blocks), so an 8000 x 8000 8-bit image needs about 64 MB for the gray channel and 64 MB for the mask.
@@ -272,6 +274,11 @@ def _warn_if_inverted(mask):
 #: own: such a file opens at its composite picture (what a viewer shows), which is traced, without a
 #: :class:`MultiFrameWarning` (``seek(0)`` asked a layered Photoshop file for a frame it does not have).
 LAYERED_FORMATS = ("PSD",)
+#: MP types (CIPA DC-007, the Multi-Picture Format of camera JPEGs, PIL's format ``"MPO"``) of the pictures that are
+#: a preview of the primary picture, not pictures of their own: a camera writes its photo with one "large
+#: thumbnail" for its own screen. A file whose other pictures are all previews is one picture, traced without a
+#: :class:`MultiFrameWarning`; a stereo pair (disparity), a panorama's or multi-angle set's pictures are frames.
+MPO_PREVIEW_TYPES = ("Large Thumbnail (VGA Equivalent)", "Large Thumbnail (Full HD Equivalent)")
 
 
 class MultiFrameWarning(UserWarning):
@@ -524,6 +531,8 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
             raise FileNotFoundError(f"image file not found: {name}")
         if os.path.isdir(name):
             raise ValueError(f"{name}: is a directory, not an image file")
+        if os.path.isfile(name) and os.path.getsize(name) == 0:  # a failed download or copy, a placeholder
+            raise ValueError(f"{name}: the file is empty (0 bytes), not an image")
         # a pipe (the shell's <(...), /dev/stdin): PIL reads it into memory itself but leaves the file it opened
         # unclosed (ResourceWarning), so it is read here, once, and closed
         piped = read_pipe(name)
@@ -564,12 +573,16 @@ def _open_image_file(source, name=None, max_pixels=MAX_PIXELS, hint=""):
 
 
 def _frame_count(img):
-    """``(frames, None)``: the number of frames of an opened image file (1 for a layered one, :data:`LAYERED_FORMATS`),
+    """``(frames, None)``: the number of frames of an opened image file (1 for a layered one, :data:`LAYERED_FORMATS`;
+    the pictures but the previews of a camera's MPO JPEG, :data:`MPO_PREVIEW_TYPES`),
     or ``(None, error)`` when counting them failed: PIL reads the header of every frame, and a file cut short or
     damaged after its first frame fails there while the first frame, the one traced, is whole."""
     if img.format in LAYERED_FORMATS:
         return 1, None
     try:
+        if img.format == "MPO":  # previews of the primary picture are not frames (MPO_PREVIEW_TYPES)
+            entries = img.mpinfo[0xB002]
+            return sum(entry["Attribute"]["MPType"] not in MPO_PREVIEW_TYPES for entry in entries), None
         return getattr(img, "n_frames", 1), None
     except MemoryError:
         raise

@@ -75,7 +75,7 @@ from .corners._jump import checked_detection_scale
 from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
 from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
     check_points, check_small_outline, check_tau, extrapolates_tips, make_rng
-from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, Deadline, polygon_fits
+from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, STOPPED_FIT_LIMIT, Deadline, polygon_fits
 from .fitting.results import BoundaryList
 from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted, keeps_area
@@ -336,9 +336,9 @@ def trace(
         notes.append(f"boundary noise {noise:.2f} px: corner tips follow the pixels (geometric_corners='clean' "
                      f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
     cornered = time.perf_counter()
-    (fits, splines, polygons), budget_state = _fit_boundaries(points_list, corner_list, pixel_list, small, settings,
-                                                              deadline, times, undetected, tolerances)
-    _budget_notes(budget_state, time_budget, notes)
+    (fits, splines, polygons), budget_state, far = _fit_boundaries(points_list, corner_list, pixel_list, small,
+                                                                   settings, deadline, times, undetected, tolerances)
+    _budget_notes(budget_state, time_budget, notes, far)
     finished = time.perf_counter()
 
     merged = merge_snapshots(fits) if settings["keep_snapshots"] else []
@@ -397,7 +397,8 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     small_limit = check_small_outline(options.pop("small_outline", None), "fit_params['small_outline']")
     return {"epsilon": epsilon, "max_iterations": max_iterations, "keep_snapshots": keep_snapshots, "seed": seed,
             "method": method_name, "tau": check_tau(tau, method_name), "corner_method": corner_method,
-            "corner_params": corner_params, "fit_params": fit_params, "options": check_options(method_name, options),
+            "corner_params": corner_params, "fit_params": fit_params,
+            "options": check_options(method_name, options, "fit_params"),
             "small_outline": small_limit, "contour": contour, "connectivity": connectivity}
 
 
@@ -549,9 +550,10 @@ def _resolve_tips(settings, noise):
 def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadline, times, undetected, tolerances):
     """The fit of every boundary: the small ones together (in batches of ``SMALL_CHUNK``), the others one by
     one (trusted arguments, with their pixel corners ``pixel_list`` where the corner stage found them), each
-    started only while ``deadline`` has not passed and with its corners detected (else its polygon). Returns
-    the fits and the budget state of each boundary (``None``, ``"stopped"`` or ``"polygon"``); adds the fit
-    seconds to ``times``."""
+    started only while ``deadline`` has not passed and with its corners detected (else its polygon); a fit whose
+    knot rounds the deadline stopped more than ``STOPPED_FIT_LIMIT`` times its tolerance from its contour gets the
+    polygon too. Returns the fits, the budget state of each boundary (``None``, ``"stopped"`` or ``"polygon"``)
+    and the indices of those stopped fits; adds the fit seconds to ``times``."""
     epsilon, max_iterations, keep = settings["tolerance"], settings["max_iterations"], settings["keep_snapshots"]
     fits, state = [None] * len(points_list), [None] * len(points_list)
     small = [k for k in small if not undetected[k]]
@@ -569,6 +571,8 @@ def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadl
             fits[k] = fit
             if fit.info.get("reason") and deadline.passed():
                 state[k] = "stopped"
+                if fit.hausdorff > STOPPED_FIT_LIMIT * epsilon:  # far off its contour: its polygon instead
+                    fits[k], state[k] = None, "far"
         times[chunk] += (time.perf_counter() - started) / len(chunk)
     method = settings["method"]
     for k, (points, corner_idx) in enumerate(zip(points_list, corner_list)):
@@ -587,11 +591,14 @@ def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadl
         times[k] += time.perf_counter() - started
         if fits[k].info.get("reason") and deadline.passed():
             state[k] = "stopped"
+            if fits[k].hausdorff > STOPPED_FIT_LIMIT * tolerances[k]:  # far off its contour: its polygon instead
+                fits[k], state[k] = None, "far"
     left = [k for k, fit in enumerate(fits) if fit is None]
     polygons = polygon_fits([points_list[k] for k in left], epsilon, keep)
+    far = [k for k in left if state[k] == "far"]
     for k in left:
         state[k] = "polygon"
-    return _lazy_fits(fits, left, polygons), state
+    return _lazy_fits(fits, left, polygons), state, far
 
 
 def _lazy_fits(fits, left, polygons):
@@ -616,7 +623,7 @@ class _Polygon:
         return self.polygons[index] if self.kind == "fit" else self.polygons.spline(index)
 
 
-def _budget_notes(state, time_budget, notes):
+def _budget_notes(state, time_budget, notes, far=()):
     polygons, stopped = state.count("polygon"), state.count("stopped")
     if polygons:
         notes.append(f"{BUDGET_NOTE} {time_budget:g} s spent: {polygons} of {len(state)} "
@@ -626,6 +633,11 @@ def _budget_notes(state, time_budget, notes):
     if stopped:
         notes.append(f"{BUDGET_NOTE} {time_budget:g} s: the knot rounds of {stopped} boundar"
                      f"{'y' if stopped == 1 else 'ies'} stopped before convergence")
+    if far:
+        notes.append(f"{BUDGET_NOTE} {time_budget:g} s: the knot rounds of boundar{'y' if len(far) == 1 else 'ies'} "
+                     f"{', '.join(map(str, far))} stopped more than {STOPPED_FIT_LIMIT:g} times the tolerance from "
+                     "the contour, which no fallback fit had time to mend: the polygon of the contour instead "
+                     "(fitting.budget.STOPPED_FIT_LIMIT)")
 
 
 def _without_pinholes(mask, boundaries, connectivity):

@@ -308,14 +308,18 @@ class Contour:
         return self.replace(**data)
 
     def with_point_tension(self, knots, value) -> "Contour":
-        """Point tension ``v`` of ``knots`` set to ``value`` (validated by the engine, §2.5)."""
+        """Point tension ``v`` of ``knots`` set to ``value``: one finite real number (``None`` read as NaN, ``True`` as 1,
+        text as a numpy conversion error before), whose sign rule the engine checks (§2.5)."""
+        value = check_number(value, "point_tension (v)")
         tension = np.array(self.point_tension)
         index = _indices(knots, len(self))
         tension[index] = value
         return self.replace(point_tension=tension, changed_knots=index)
 
     def with_interval_weight(self, pieces, value) -> "Contour":
-        """Interval weight ``omega`` of ``pieces`` set to ``value`` (> 0)."""
+        """Interval weight ``omega`` of ``pieces`` set to ``value`` (a finite number > 0, thesis §2.2: refused here, not
+        later by the interpolant of the knots between two corners, whose message counted from their first knot)."""
+        value = check_number(value, "interval_weights (omega)", minimum=0.0, inclusive=False)
         weights = np.array(self.interval_weights)
         index = _indices(pieces, len(self))
         weights[index] = value

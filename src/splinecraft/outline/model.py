@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._validation import check_number
+from .._validation import blank_text, check_number, file_path
 from .bezier import curve_bounds
 from .contour import Contour, _indices, _single_index
 from .transforms import affine_parts, check_reach, reflection, rotation, scaling, shearing, translation
@@ -193,6 +193,8 @@ class Outline:
         self.baseline = None if baseline is None else check_number(baseline, "baseline")
         if not (name is None or isinstance(name, str)):
             raise TypeError(f"name must be a string or None, got {type(name).__name__}")
+        if name and blank_text(name):  # '' stays "no name"; ' ' became an SVG title of spaces and a glyph key error
+            raise ValueError(f"name is {blank_text(name)}: give a name, or None for none")
         self.name = name
 
     def _with(self, contours, sources=None, **changes) -> "Outline":
@@ -437,8 +439,9 @@ class Outline:
                             fill_rule="nonzero")
 
     def save_svg(self, path, **options) -> Path:
-        """Write :meth:`to_svg` to ``path``; returns the path."""
-        path = Path(os.fspath(path))
+        """Write :meth:`to_svg` to ``path``; returns the path. A blank ``path`` ('' is the current folder to
+        ``pathlib``, ' ' a file called space) is a ``ValueError``."""
+        path = file_path(path, "outline.svg")
         path.write_text(self.to_svg(**options), encoding="utf-8")
         return path
 

@@ -183,12 +183,13 @@ def read_int(content: dict, name: str, *, low: int, high: int, default=_REQUIRED
 
 
 def read_number(content: dict, name: str, *, low: float | None = None, high: float | None = None,
-                default=_REQUIRED) -> float:
-    """Field ``name`` as a finite float in ``[low, high]`` (a bool, None or NaN is refused)."""
+                default=_REQUIRED, inclusive=True) -> float:
+    """Field ``name`` as a finite float in ``[low, high]`` (a bool, None or NaN is refused); ``inclusive`` as in
+    :func:`~splinecraft._validation.check_number` (``(False, True)``: ``(low, high]``)."""
     value = _field(content, name, default)
     if value is default and default is not _REQUIRED:
         return value
-    return _checked(check_number, value, name, minimum=low, maximum=high)
+    return _checked(check_number, value, name, minimum=low, maximum=high, inclusive=inclusive)
 
 
 def read_bool(content: dict, name: str, *, default=_REQUIRED) -> bool:

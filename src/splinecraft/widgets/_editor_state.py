@@ -117,8 +117,10 @@ def _check_numbers(state, max_points) -> None:
     finite = np.isfinite(points).all(axis=1)
     if not finite.all():
         raise Rejected(f"point {int(np.flatnonzero(~finite)[0])} is not a finite number")
-    if (np.abs(points) > MAX_COORDINATE).any():
-        raise Rejected(f"a coordinate is beyond ±{MAX_COORDINATE:g}")
+    beyond = (np.abs(points) > MAX_COORDINATE).any(axis=1)
+    if beyond.any():  # named as the outline editor names its points (_outline_state.check_outline_reach)
+        i = int(np.flatnonzero(beyond)[0])
+        raise Rejected(f"point {i} at ({points[i, 0]:g}, {points[i, 1]:g}) is beyond ±{MAX_COORDINATE:g}")
     closed = state["closed"] and FORMS[form]["closed"]
     need = FORMS[form]["min_points"][1 if closed else 0]
     if len(points) < need or (form == "segment" and len(points) != 4):

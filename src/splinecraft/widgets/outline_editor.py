@@ -20,10 +20,11 @@ from pathlib import Path
 import numpy as np
 import traitlets as t
 
+from .._validation import blank_text
 from ..outline import Outline, as_outline
 from ..outline.transforms import reflection, rotation, scaling, shearing, translation
 from ._assets import load_css, load_esm
-from ._base import Bool, Int, WidgetBase, f32, read_number, read_str
+from ._base import Bool, Int, WidgetBase, f32, read_number, read_str, short_reason
 from ._outline_gestures import HISTORY, OutlineGestures
 from ._outline_state import (OUTLINE_TRAITS, MAX_COORDINATE, DeviationCache, check_outline_reach, clean_selection,
                              fitted_view, grouped_by_contour, outline_from_lists, png_of_mask, synced_tables)
@@ -355,6 +356,20 @@ class OutlineEditor(OutlineGestures, WidgetBase):
                                                       self.interval_weights, self.handles_in, self.handles_out,
                                                       changed=changed))
 
+    @t.validate("export_path")
+    def _valid_export_path(self, proposal):
+        """An ``export_path`` that is blank ('', only white space: ``Path('')`` is the current folder, ``' '`` a file
+        called space) keeps the last good one (from the page: a status and a resync; from code: a warning)."""
+        path = proposal["value"]
+        blank = blank_text(path)
+        if not blank:
+            return path
+        reason = f"export_path is {blank}: give a file name such as outline.svg"
+        if self._cross_validation_lock:
+            raise t.TraitError(reason)
+        self._reject(reason, resync=("export_path",))
+        return self.export_path
+
     @t.validate("selection")
     def _valid_selection(self, proposal):
         """A bad selection keeps the last good one. Inside held notifications (every update from the page) the
@@ -426,7 +441,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         self._commit(outline, f"Point tension {value:g} at the selected knots")
 
     def _on_weight(self, content, _buffers):
-        value = read_number(content, "value", low=0.0)
+        value = read_number(content, "value", low=0.0, inclusive=(False, True))  # omega > 0 (thesis §2.2)
         outline = self._outline
         for contour, knots in self._grouped_selection().items():
             outline = outline.set_interval_weight(contour, knots, value)
@@ -445,7 +460,13 @@ class OutlineEditor(OutlineGestures, WidgetBase):
             self._set_status("Nothing to redo.")
 
     def _on_export(self, _content, _buffers):
-        path = self.save_svg()
+        """Save to ``export_path``. A write that fails (a folder that is missing or not writable, a path that is a
+        folder) is not a bad input to the outline, which is kept as it is: an error status says what failed."""
+        try:
+            path = self.save_svg()
+        except OSError as exc:
+            self._set_status(f"Not saved to {self.export_path!r}: {exc.strerror or short_reason(exc)}", "error")
+            return
         self._set_status(f"Saved {os.fspath(path)}.")
 
     def _on_fit(self, _content, _buffers):

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import traitlets as tl
 
-from .._validation import check_int, check_number
+from .._validation import check_int, check_number, file_path
 from ..spline.svg import svg_document
 from . import _editor_drawing as drawing
 from . import _editor_state as model
@@ -207,8 +207,8 @@ class SplineEditor(WidgetBase):
                             fill="none", stroke=stroke, stroke_width=stroke_width, decimals=precision)
 
     def save_svg(self, path) -> Path:
-        """Write :meth:`to_svg` to ``path``; returns the path."""
-        path = Path(path)
+        """Write :meth:`to_svg` to ``path``; returns the path (a blank ``path`` is a ``ValueError``)."""
+        path = file_path(path, "curve.svg")
         path.write_text(self.to_svg(), encoding="utf-8")
         return path
 

@@ -21,9 +21,10 @@ from pathlib import Path
 import numpy as np
 import traitlets as t
 
-from .._validation import check_number
+from .._validation import check_number, file_path
 from ..capture import CORNER_METHODS, KNOT_METHODS, load_bitmap, trace
 from ..capture.fitting.options import DEFAULT_TAU
+from ..capture.trace import ALL_INK_NOTE, BUDGET_NOTE
 from ..capture.image import InkPolarityWarning
 from ..capture.trace_stages import TraceStages
 from . import _explorer_drawing as drawing
@@ -67,6 +68,16 @@ MAX_PIXELS = 4_000_000
 TIME_BUDGET_S = 60.0
 #: Knot-insertion methods that take the distance constraint tau (thesis Algorithms 4.2, 4.3).
 TAU_METHODS = tuple(DEFAULT_TAU)
+
+
+class _Upload(bytes):
+    """The bytes of a file the page uploaded, with its ``name`` (the messages of reading it name the file, not "image
+    bytes (N bytes)")."""
+
+    def __new__(cls, data, name):
+        upload = super().__new__(cls, bytes(data))
+        upload.name = name
+        return upload
 
 
 def _for_the_page(warning: Warning) -> str:
@@ -268,7 +279,7 @@ class TraceExplorer(WidgetBase):
 
     def load(self, image) -> bool:
         """Trace a new image (path, array, PIL image or encoded bytes); False (with a message) if it fails."""
-        if isinstance(image, (bytes, bytearray, memoryview)):
+        if isinstance(image, (bytes, bytearray, memoryview)) and not isinstance(image, _Upload):
             image = bytes(image)
         settings = self._settings()
         try:
@@ -307,8 +318,10 @@ class TraceExplorer(WidgetBase):
         return self._result.to_svg()
 
     def save_svg(self, path) -> Path:
-        """Write :meth:`to_svg` to ``path``; returns the path."""
-        path = Path(path)
+        """Write :meth:`to_svg` to ``path``; returns the path. A blank ``path`` is a ``ValueError`` (as
+        :meth:`splinecraft.outline.Outline.save_svg`: '' is the current folder to ``pathlib``, ' ' a file called
+        space)."""
+        path = file_path(path, "trace.svg")
         path.write_text(self.to_svg(), encoding="utf-8")
         return path
 
@@ -332,9 +345,13 @@ class TraceExplorer(WidgetBase):
                 ("corner_method", "corner_params", "method", "epsilon", "tau", "seed", "max_iterations")}
 
     def _load(self, image) -> np.ndarray:
-        """The bitmap of ``image`` with the image settings (``load_bitmap`` reads a file's header before decoding)."""
+        """The bitmap of ``image`` with the image settings (``load_bitmap`` reads a file's header before decoding).
+        An upload is read as a file object named as the page's file, so that a message names it."""
         if isinstance(image, (bytes, bytearray, memoryview)) and memoryview(image).nbytes > _MAX_UPLOAD_BYTES:
             raise ValueError(f"the image is too large ({memoryview(image).nbytes} bytes; limit {_MAX_UPLOAD_BYTES})")
+        if isinstance(image, _Upload):
+            image, name = io.BytesIO(image), image.name
+            image.name = name
         options = {"invert": self.invert, "min_speck_area": self.despeckle, "max_pixels": MAX_PIXELS}
         if "connectivity" in self._extra:
             options["connectivity"] = self._extra["connectivity"]
@@ -368,8 +385,12 @@ class TraceExplorer(WidgetBase):
         return value, list(dict.fromkeys(notes))
 
     def _show_summary(self, prefix: str, notes) -> None:
-        """The summary status, or a warning status that adds the trace's warnings to it."""
+        """The summary status, or a warning status that adds the trace's warnings to it, and the notes of the trace
+        that say its result is not all that was asked for (an image whose every pixel is ink: its outline is the
+        frame; a spent time budget), as the command line warns of them (``batch._work.note_lines``)."""
         message = f"{prefix}{self._summary_message()}"
+        notes = list(dict.fromkeys([*notes, *(short_reason(note) for note in self._result.notes
+                                              if note.startswith((ALL_INK_NOTE, BUDGET_NOTE)))]))
         if notes:
             self._set_status(f"{message} Warning: {' '.join(notes)}", "warning")
         else:
@@ -385,6 +406,10 @@ class TraceExplorer(WidgetBase):
         for name, value in settings["corner_params"].items():
             if isinstance(value, bool) or not isinstance(value, numbers.Real):
                 raise TypeError(f"corner parameter {name} must be a number, got {value!r:.40}")
+        if settings["tau"] is not None and method not in TAU_METHODS:
+            # kept for a later switch to euclidean or positional: a tau no method takes (NaN, inf, < 0) is refused now,
+            # not taken as the good state of which a later switch of the method would fail with it
+            check_number(settings["tau"], f"tau (nearness of the methods {', '.join(TAU_METHODS)})", minimum=0.0)
         tau = settings["tau"] if method in TAU_METHODS else None
         params = {k: v for k, v in self._extra.items() if k != "threshold"}  # the mask is already binary
         # despeckle None: trace's default cleaning of the bitmap (pinholes and specks of 1-2 px); a number: the
@@ -541,11 +566,14 @@ class TraceExplorer(WidgetBase):
             self._plots["convergence"].mark(self)
 
     def _on_upload(self, content, buffers):
-        name = read_str(content, "name", default="upload")
+        name = read_str(content, "name", default="upload").strip() or "upload"
         if not buffers:
             self._reject("the upload arrived without data")
             return
-        if self.load(bytes(buffers[0])):
+        if not memoryview(buffers[0]).nbytes:
+            self._reject(f"{name}: the file is empty (0 bytes), not an image")
+            return
+        if self.load(_Upload(buffers[0], name)):
             self._show_summary(f"{name}: ", self._load_notes)
 
     def _save_good(self):

@@ -774,18 +774,28 @@ def _release_spread(chosen, turn, arms, closed, spread):
         before, after = np.clip(before, 0, m - 1), np.clip(after, 0, m - 1)
     a, b = arms[1][before], arms[3][after]
     wide = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
-    if chosen.size > 1:
-        gap = np.abs(chosen[:, None] - chosen[None, :])
-        if closed:
-            gap = np.minimum(gap, m - gap)
-        np.fill_diagonal(gap, m)
-        alone = gap.min(axis=1) > 2 * reach
-    else:
-        alone = np.ones(1, dtype=bool)
+    alone = _nearest_other_gap(chosen, m, closed) > 2 * reach
     j = turn[chosen]
     with np.errstate(invalid="ignore"):
         spread_out = valid & alone & (j * wide > 0) & (np.abs(j) < spread * np.abs(wide))
     return chosen[~spread_out]
+
+
+def _nearest_other_gap(chosen, m, closed):
+    """Samples from each of the sorted sample indices ``chosen`` (into ``m`` samples) to the nearest other one, around
+    the outline when ``closed`` (``m`` for a lone one). The nearest is a neighbour in sorted order (on a closed
+    outline, around the wrap), so this is the minimum of the pairwise gaps of step 5b in linear time: the pairwise
+    matrix took 64 s and gigabytes on the 262 000-point boundary of a 1000 x 1000 image of noise (30 000 corners)."""
+    if chosen.size < 2:
+        return np.full(chosen.size, m, dtype=np.int64)
+    step = np.diff(chosen).astype(np.int64)       # the gap from each to the next
+    if closed:
+        step = np.append(step, chosen[0] + m - chosen[-1])      # the last to the first, across the wrap
+        step = np.minimum(step, m - step)                       # around the shorter way
+        return np.minimum(step, np.roll(step, 1))               # to the next, from the previous
+    ahead = np.append(step, m)
+    behind = np.insert(step, 0, m)
+    return np.minimum(ahead, behind)
 
 
 def _locate(P, arc, perimeter, pos, at, arms, size, closed):

@@ -149,43 +149,53 @@ def check_small_outline(small_outline, name="small_outline"):
     return _validation.check_int(small_outline, name, minimum=0)
 
 
-def check_options(method, options):
+def check_options(method, options, source=None):
     """The ``**options`` of :func:`~splinecraft.capture.fitting.fit_outline` for ``method``: the full lsq
-    table (defaults filled in), or ``{"engine", "tangent_stride", "fuzzy_weights"}`` for the thesis methods."""
+    table (defaults filled in), or ``{"engine", "tangent_stride", "fuzzy_weights"}`` for the thesis methods.
+
+    ``source`` names the mapping the options came from in messages: ``None`` (keyword arguments of
+    ``fit_outline``) names an option bare (``merge_tolerance must be >= 0``); ``"fit_params"`` (of
+    :func:`~splinecraft.capture.trace.trace`, ``trace_many``, the trace explorer) names it as the key the caller
+    wrote (``fit_params['merge_tolerance'] must be >= 0``)."""
+    def label(key):
+        return key if source is None else f"{source}[{key!r}]"
+
     allowed = LSQ_OPTIONS if method == "lsq" else THESIS_OPTIONS
     for key in options:
         if key not in allowed:
             if method == "lsq" and key in THESIS_OPTIONS:
                 raise ValueError(
-                    f"{key!r} applies to the thesis methods {THESIS_METHODS}; method 'lsq' fits in the "
-                    "v = 0, omega = 1 family of the interpolant (its least-squares problem is linear there)")
-            raise TypeError(f"fit_outline() got an unexpected option {key!r} for method {method!r}; "
-                            f"allowed: {sorted(allowed)}")
+                    f"{label(key) if source else repr(key)} applies to the thesis methods {THESIS_METHODS}; method "
+                    "'lsq' fits in the v = 0, omega = 1 family of the interpolant (its least-squares problem is "
+                    "linear there)")
+            where = "fit_outline() got an unexpected option" if source is None else f"{source} has an unknown key"
+            raise TypeError(f"{where} {key!r} for method {method!r}; allowed: {sorted(allowed)}")
     if "fuzzy_weights" in options and method != "fuzzy":  # as tau for the methods without a nearness rule
-        raise ValueError(f"fuzzy_weights is used by the method 'fuzzy' (Alg 4.6) only, not {method!r}")
-    return _check_lsq_options(options) if method == "lsq" else _check_thesis_options(options)
+        raise ValueError(f"{label('fuzzy_weights')} is used by the method 'fuzzy' (Alg 4.6) only, not {method!r}")
+    return _check_lsq_options(options, label) if method == "lsq" else _check_thesis_options(options, label)
 
 
-def _check_lsq_options(options):
+def _check_lsq_options(options, label):
     out = dict(LSQ_DEFAULTS)
     out.update(options)
     for key in _LSQ_REALS:
-        out[key] = _validation.check_number(out[key], key, minimum=0.0)
-    out["initial_density"] = _validation.check_number(out["initial_density"], "initial_density", minimum=0.0,
+        out[key] = _validation.check_number(out[key], label(key), minimum=0.0)
+    out["initial_density"] = _validation.check_number(out["initial_density"], label("initial_density"), minimum=0.0,
                                                       maximum=1e6)
-    out["sample_spacing"] = _validation.check_number(out["sample_spacing"], "sample_spacing (px)",
+    out["sample_spacing"] = _validation.check_number(out["sample_spacing"], f"{label('sample_spacing')} (px)",
                                                      minimum=MIN_SAMPLE_SPACING, maximum=2.0)
-    out["min_gap"] = _validation.check_int(out["min_gap"], "min_gap", minimum=1)
-    out["joint_continuity"] = _validation.check_int(out["joint_continuity"], "joint_continuity (1 = C1, 2 = C2)",
-                                                    minimum=1, maximum=2)
+    out["min_gap"] = _validation.check_int(out["min_gap"], label("min_gap"), minimum=1)
+    out["joint_continuity"] = _validation.check_int(out["joint_continuity"],
+                                                    f"{label('joint_continuity')} (1 = C1, 2 = C2)", minimum=1,
+                                                    maximum=2)
     for key in _LSQ_BOOLS:
-        out[key] = _validation.check_bool(out[key], key)
+        out[key] = _validation.check_bool(out[key], label(key))
     # "clean": extrapolated unless trace() measured a noisy boundary; True: always; False: never (docs/capture.md
     # §12, "Corners of lsq"); resolved by :func:`extrapolates_tips`
-    out["geometric_corners"] = _validation.check_choice(out["geometric_corners"], "geometric_corners",
+    out["geometric_corners"] = _validation.check_choice(out["geometric_corners"], label("geometric_corners"),
                                                         (False, True, "clean"))
     # "smooth": outlines without corners; True: every outline; False: none (docs/capture.md §12, "Curvature jumps")
-    out["curvature_jumps"] = _validation.check_choice(out["curvature_jumps"], "curvature_jumps",
+    out["curvature_jumps"] = _validation.check_choice(out["curvature_jumps"], label("curvature_jumps"),
                                                       (False, True, "smooth"))
     return out
 
@@ -204,7 +214,7 @@ def extrapolates_tips(geometric_corners, noisy=False):
     return bool(geometric_corners)
 
 
-def _check_engine_options(options):
+def _check_engine_options(options, label=str):
     """The interpolant's options of the thesis methods (:data:`ENGINE_OPTIONS`), checked before any fit. Each piece
     is interpolated through its current knot points, whose count changes with every insertion, so an option is
     one number for all of them: an array (per point or per interval in
@@ -213,33 +223,36 @@ def _check_engine_options(options):
     knots the caller never saw. ``point_tension``'s sign rule depends on the chords: the interpolant checks it."""
     out = dict(options)
     if "point_tension_scale" in out:
-        out["point_tension_scale"] = _validation.check_choice(out["point_tension_scale"], "point_tension_scale",
-                                                              ("absolute", "relative"))
+        out["point_tension_scale"] = _validation.check_choice(out["point_tension_scale"],
+                                                              label("point_tension_scale"), ("absolute", "relative"))
     for key in ("point_tension", "interval_weights", "alpha", "beta"):
         if key not in out:
             continue
         value = out[key]
         if not isinstance(value, (numbers.Real, np.bool_)):  # bools: check_number names them
-            raise TypeError(f"{key} must be one number for every piece of a thesis method's fit (its knots change "
-                            f"with every insertion), got {_validation._describe(value)} ({type(value).__name__})")
-        number = _validation.check_number(value, key)
+            raise TypeError(f"{label(key)} must be one number for every piece of a thesis method's fit (its knots "
+                            f"change with every insertion), got {_validation._describe(value)} "
+                            f"({type(value).__name__})")
+        number = _validation.check_number(value, label(key))
         if key == "interval_weights" and not number > 0:
-            raise ValueError(f"interval_weights must be > 0, got {number!r}")
+            raise ValueError(f"{label(key)} must be > 0, got {number!r}")
         if key in ("alpha", "beta") and number == 0:
-            raise ValueError(f"{key} must be non-zero (the class polygon divides by it), got 0.0")
+            raise ValueError(f"{label(key)} must be non-zero (the class polygon divides by it), got 0.0")
         out[key] = number
     return out
 
 
-def _check_thesis_options(options):
-    out = _check_engine_options({key: value for key, value in options.items() if key in ENGINE_OPTIONS})
+def _check_thesis_options(options, label):
+    out = _check_engine_options({key: value for key, value in options.items() if key in ENGINE_OPTIONS}, label)
     out.update({key: value for key, value in options.items() if key not in ENGINE_OPTIONS})
-    stride = _validation.check_int(out.pop("tangent_stride", 3), "tangent_stride", minimum=1)
+    stride = _validation.check_int(out.pop("tangent_stride", 3), label("tangent_stride"), minimum=1)
     weights = out.pop("fuzzy_weights", (0.7, 0.3))
     if isinstance(weights, (str, bytes)) or not hasattr(weights, "__len__") or len(weights) != 2:
-        raise TypeError(f"fuzzy_weights must be a pair (w, v) of numbers, got {_validation._describe(weights)}")
-    w = _validation.check_number(weights[0], "fuzzy_weights[0] (w)")
-    v = _validation.check_number(weights[1], "fuzzy_weights[1] (v)", minimum=0.0)
+        raise TypeError(f"{label('fuzzy_weights')} must be a pair (w, v) of numbers, got "
+                        f"{_validation._describe(weights)}")
+    w = _validation.check_number(weights[0], f"{label('fuzzy_weights')}[0] (w)")
+    v = _validation.check_number(weights[1], f"{label('fuzzy_weights')}[1] (v)", minimum=0.0)
     if not w > v:
-        raise ValueError(f"fuzzy_weights (w, v) need w > v >= 0 (thesis eq 4.21), got {_validation._describe(weights)}")
+        raise ValueError(f"{label('fuzzy_weights')} (w, v) need w > v >= 0 (thesis eq 4.21), got "
+                         f"{_validation._describe(weights)}")
     return {"engine": out, "tangent_stride": stride, "fuzzy_weights": (w, v)}

@@ -238,3 +238,33 @@ def test_a_fit_the_budget_stopped_far_from_its_contour_gets_the_polygon(monkeypa
                           _DeadlinePassingAfter(1))
     assert stopped.info["reason"] == BUDGET_REASON.format(budget=1.0)
     assert stopped.hausdorff > STOPPED_FIT_LIMIT * tolerance
+
+
+def test_a_passed_deadline_stops_the_corner_releases_and_skips_tightening(monkeypatch):
+    """On a long noisy boundary one fit of the whole outline costs as much as a round: once the budget has passed,
+    ``settle`` releases no more hooked corners (each release is another fit) and the stopped fit keeps its windowed
+    deviation bound (an upper one) instead of tightening it piece by piece (docs/capture.md §12, "Time budget")."""
+    from splinecraft.capture.fitting import lsq, lsq_model
+
+    calls = {"fit": 0, "tighten": 0}
+    fit, tighten = lsq_model.OutlineRegression.fit, lsq_model.OutlineRegression.tighten
+
+    def counted_fit(self, *args, **kwargs):
+        calls["fit"] += 1
+        return fit(self, *args, **kwargs)
+
+    def counted_tighten(self, *args, **kwargs):
+        calls["tighten"] += 1
+        return tighten(self, *args, **kwargs)
+
+    monkeypatch.setattr(lsq_model.OutlineRegression, "fit", counted_fit)
+    monkeypatch.setattr(lsq_model.OutlineRegression, "tighten", counted_tighten)
+    outline, corners = _stuck_speckle_outline()
+    options = dict(check_options("lsq", {}), fallback=False)
+    free = lsq.fit_lsq(outline, corners, 0.8, 200, False, options, None)
+    assert not free.converged and calls["fit"] > 2 and calls["tighten"] > 0  # releases and tightening, in time
+    calls.update(fit=0, tighten=0)
+    stopped = lsq.fit_lsq(outline, corners, 0.8, 200, False, options, Deadline(1e-9))
+    assert not stopped.converged and stopped.info["reason"] == BUDGET_REASON.format(budget=1e-9)
+    assert calls == {"fit": 1, "tighten": 0}
+    assert np.isfinite(stopped.hausdorff) and stopped.hausdorff > 0.8  # the bound is reported, above the tolerance

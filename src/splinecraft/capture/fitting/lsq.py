@@ -150,12 +150,15 @@ class LsqKnotInsertion:
         """Fit, then release the corners whose fitted point hooks away
         (:meth:`OutlineRegression.hooked_corners`) or whose pieces pass beside the pixels within the corner's
         weighting radius while the pieces beside it fit (:meth:`OutlineRegression.zone_hooks`), and refit until
-        none does (each release halves a corner's extrapolation radius, so this ends). Returns the release
-        records."""
+        none does (each release halves a corner's extrapolation radius, so this ends), or until the time budget
+        has passed (a long noisy boundary can go through dozens of releases, each a fit of the whole outline).
+        Returns the release records."""
         model = self.model
         model.fit(hoschek_steps=hoschek_steps)
         released = []
         for _ in range(64):
+            if self.deadline is not None and self.deadline.passed():  # the rounds stop too (run)
+                break
             hooked, zone = model.hook_releases()
             if not hooked.size and not zone.size:
                 break
@@ -214,7 +217,10 @@ class LsqKnotInsertion:
             self.jumps = curvature_jumps(dev["bezier"], dev["starts"], dev["ends"], corner_values, self.epsilon)
         if converged and self.options["merge_tolerance"] > 0:
             dev = self.merge(dev)
-        if not converged:  # the deviation reported: the windowed bound can be loose on a fit that went wrong
+        if not converged and not self.out_of_time:
+            # the deviation reported: the windowed bound can be loose on a fit that went wrong (a fit the time
+            # budget stopped keeps that bound, an upper one: tightening costs as much as a round on a long noisy
+            # boundary, and a stopped fit that far off gets its polygon, trace's STOPPED_FIT_LIMIT)
             dev = model.tighten(dev)
         return self.result(dev, converged)
 

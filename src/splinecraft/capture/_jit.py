@@ -288,6 +288,21 @@ for package in ("splinecraft", "splinecraft.capture", "splinecraft.capture.fitti
     bare = types.ModuleType(package)  # the package without its __init__: the kernel modules' imports only
     bare.__path__ = [os.path.join(os.getcwd(), *package.split("."))]
     sys.modules[package] = bare
+import numba
+# numba's set-up (numba.np.arraymath, imported at the first compile) checks for BLAS by importing
+# scipy.linalg.cython_blas and scipy.__config__: scipy.linalg costs the helper 0.15-0.2 s. A stand-in module
+# passes the check (BLAS counted as present, as in the tracing process, so np.dot would compile as there), the
+# ABI check reads no scipy.__config__ (numba then assumes the LP64 scipy of its default build), and both are
+# removed at once: a kernel that did call BLAS would import the real module when it is compiled. Where the check
+# refuses (a numba built for ILP64 BLAS), the module is left to the first compile, which checks with scipy.
+sys.modules["scipy.linalg.cython_blas"] = types.ModuleType("scipy.linalg.cython_blas")
+sys.modules["scipy.__config__"] = None
+try:
+    import numba.np.arraymath
+except Exception:
+    pass
+finally:
+    del sys.modules["scipy.linalg.cython_blas"], sys.modules["scipy.__config__"]
 from splinecraft.capture._jit import warm_up
 warm_up(sys.argv[2:])
 os._exit(0)  # the kernels are in the cache: no interpreter teardown (0.15-0.25 s) before this process goes on

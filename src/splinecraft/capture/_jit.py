@@ -174,12 +174,14 @@ WARM_UP_TASKS = {
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
 #: polygons of a spent time budget compile where they are used).
 TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
-#: Seconds by which a helper process starts its compiles later than this process, in the units of
-#: :data:`WARM_UP_TASKS`: its start (Python, numpy, numba and its kernel modules imported, 0.3 s), numba's set-up
-#: of its first compile (0.35 s with the scipy numba imports then; 0.1 s here, where scipy is loaded), less
-#: what this process does before it compiles (the capture package imported, about 0.15 s) and after (the
-#: helper's kernels loaded and the trace run, about 0.1 s) (BENCHMARKS.md, "Session 23").
-HELPER_START = 0.45
+#: Seconds by which a helper process finishes later than this process with the same share, in the units of
+#: :data:`WARM_UP_TASKS`: the helper's start to the end of numba's set-up of its first compile (Python, numpy,
+#: numba and its kernel modules imported, 0.37 s CPU since session 25: no scipy.linalg for numba's BLAS check,
+#: no scipy.ndimage for the noise estimate's warm-up), less this process's own set-up of its first compile
+#: (0.15-0.2 s), the collection of its compiles' garbage after them (0.15-0.2 s: some 290 000 objects Python's
+#: collector walks, whether this process collects them while it waits or the trace's first automatic collection
+#: does) and the loading of the helper's kernels (0.03 s) (BENCHMARKS.md, "Session 25: cold first call").
+HELPER_START = 0.1
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
 EXACT_PLAN_SPLITS = 4096
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.

@@ -171,7 +171,8 @@ def iso_line_distance(points, mask, sigma, pad, level=0.5, cache_side=CACHE_SIDE
 
 def _distances(points, mask, weights, pad, level, cache_side):
     """:func:`iso_line_distance` with the Gaussian's ``weights`` given (:func:`warm_up` compiles the kernel with
-    weights of its own: :func:`gaussian_weights` imports scipy.ndimage, 0.17 s of a helper process's start)."""
+    weights of its own: :func:`gaussian_weights` imports scipy.ndimage, 0.17 s of a helper process's start;
+    docs/capture.md, "Cold kernels compile in parallel")."""
     mask = np.ascontiguousarray(mask, dtype=np.bool_)
     pad = int(pad)
     if pad < weights.shape[0] // 2:

@@ -61,21 +61,45 @@ def test_plan_of_the_trace_tasks_beats_longest_first():
     assert max(finishes) - min(finishes) <= min(_jit.WARM_UP_TASKS[name][3] for name in tasks) + 1e-9
 
 
-def test_the_helper_imports_only_its_kernel_modules(tmp_path):
+@pytest.mark.parametrize("task, kernels", [("corners", "splinecraft.capture.corners._jump_kernels"),
+                                           ("noise", "splinecraft.capture.fitting._iso_kernels")])
+def test_the_helper_imports_only_its_kernel_modules(tmp_path, task, kernels):
     """The helper's program registers bare parent packages: compiling the corner kernels imports neither the
-    trace, the fit nor the corner detectors, nor scipy's image modules."""
+    trace, the fit nor the corner detectors, nor scipy's image modules (the noise estimate's warm-up compiles
+    its kernel with weights of its own, not scipy.ndimage's Gaussian)."""
     code = _jit._HELPER_CODE.replace(
         "os._exit(0)", "import json; print(json.dumps(sorted(m for m in sys.modules if m.startswith(('splinecraft', "
         "'scipy.ndimage', 'scipy.spatial'))))); sys.stdout.flush(); os._exit(0)")
     assert code != _jit._HELPER_CODE
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="1",
                PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
-    done = subprocess.run([sys.executable, "-c", code, str(os.getpid()), "corners"], cwd=SRC, env=env,
+    done = subprocess.run([sys.executable, "-c", code, str(os.getpid()), task], cwd=SRC, env=env,
                           capture_output=True, text=True, timeout=300, check=True)
     modules = json.loads(done.stdout.strip().splitlines()[-1])
-    assert "splinecraft.capture.corners._jump_kernels" in modules
+    assert kernels in modules
     assert not {"splinecraft.capture.trace", "splinecraft.capture.fitting.lsq", "splinecraft.capture.corners._jump",
                 "splinecraft.spline", "scipy.ndimage", "scipy.spatial"} & set(modules)
+
+
+def test_the_helper_passes_numba_s_blas_check_without_scipy_linalg(tmp_path):
+    """numba's set-up checks for BLAS by importing scipy.linalg (0.15-0.2 s): the helper passes the check with
+    a stand-in, so BLAS counts as present as in this process (np.dot would compile the same code in both), and
+    the stand-ins are gone once the check is done."""
+    import numba.np.arraymath
+
+    code = _jit._HELPER_CODE.replace(
+        "os._exit(0)", "import json, numba.np.arraymath as arraymath; print(json.dumps({'blas': arraymath._HAVE_BLAS, "
+        "'linalg': sorted(m for m in sys.modules if m.startswith('scipy.linalg')), 'left': [sys.modules.get(m) is "
+        "not None for m in ('scipy.linalg.cython_blas', 'scipy.__config__')]})); sys.stdout.flush(); os._exit(0)")
+    assert code != _jit._HELPER_CODE
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="1",
+               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
+    done = subprocess.run([sys.executable, "-c", code, str(os.getpid()), "corners"], cwd=SRC, env=env,
+                          capture_output=True, text=True, timeout=300, check=True)
+    helper = json.loads(done.stdout.strip().splitlines()[-1])
+    assert helper["blas"] == numba.np.arraymath._HAVE_BLAS
+    assert helper["linalg"] == []
+    assert helper["left"] == [False, False]
 
 
 def test_plan_balances_the_trace_tasks_between_two_processes():

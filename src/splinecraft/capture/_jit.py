@@ -174,12 +174,14 @@ WARM_UP_TASKS = {
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
 #: polygons of a spent time budget compile where they are used).
 TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
-#: Seconds by which a helper process starts its compiles later than this process, in the units of
-#: :data:`WARM_UP_TASKS`: its start (Python, numpy, numba and its kernel modules imported, 0.3 s), numba's set-up
-#: of its first compile (0.35 s with the scipy numba imports then; 0.1 s here, where scipy is loaded), less
-#: what this process does before it compiles (the capture package imported, about 0.15 s) and after (the
-#: helper's kernels loaded and the trace run, about 0.1 s) (BENCHMARKS.md, "Session 23").
-HELPER_START = 0.45
+#: Seconds by which a helper process finishes later than this process with the same share, in the units of
+#: :data:`WARM_UP_TASKS`: the helper's start to the end of numba's set-up of its first compile (Python, numpy,
+#: numba and its kernel modules imported, 0.37 s CPU since session 25: no scipy.linalg for numba's BLAS check,
+#: no scipy.ndimage for the noise estimate's warm-up), less this process's own set-up of its first compile
+#: (0.15-0.2 s), the collection of its compiles' garbage after them (0.15-0.2 s: some 290 000 objects Python's
+#: collector walks, whether this process collects them while it waits for a helper or the first automatic
+#: collection does, which fires inside :func:`warm_up` as soon as the collector is back on) and the loading of the helper's kernels (0.03 s) (BENCHMARKS.md, "Session 25: cold first call").
+HELPER_START = 0.1
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
 EXACT_PLAN_SPLITS = 4096
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.
@@ -288,6 +290,21 @@ for package in ("splinecraft", "splinecraft.capture", "splinecraft.capture.fitti
     bare = types.ModuleType(package)  # the package without its __init__: the kernel modules' imports only
     bare.__path__ = [os.path.join(os.getcwd(), *package.split("."))]
     sys.modules[package] = bare
+import numba
+# numba's set-up (numba.np.arraymath, imported at the first compile) checks for BLAS by importing
+# scipy.linalg.cython_blas and scipy.__config__: scipy.linalg cost the helper 0.1 s CPU of its 0.48. A stand-in module
+# passes the check (BLAS counted as present, as in the tracing process, so np.dot would compile as there), the
+# ABI check reads no scipy.__config__ (numba then assumes the LP64 scipy of its default build), and both are
+# removed at once: a kernel that did call BLAS would import the real module when it is compiled. Where the check
+# refuses (a numba built for ILP64 BLAS), the module is left to the first compile, which checks with scipy.
+sys.modules["scipy.linalg.cython_blas"] = types.ModuleType("scipy.linalg.cython_blas")
+sys.modules["scipy.__config__"] = None
+try:
+    import numba.np.arraymath
+except Exception:
+    pass
+finally:
+    del sys.modules["scipy.linalg.cython_blas"], sys.modules["scipy.__config__"]
 from splinecraft.capture._jit import warm_up
 warm_up(sys.argv[2:])
 os._exit(0)  # the kernels are in the cache: no interpreter teardown (0.15-0.25 s) before this process goes on

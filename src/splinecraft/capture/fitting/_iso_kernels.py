@@ -166,8 +166,14 @@ def iso_line_distance(points, mask, sigma, pad, level=0.5, cache_side=CACHE_SIDE
     Segments lie in their unit cell, so after the cells within Chebyshev ring ``R`` of the point's cell every
     unvisited segment is at least ``R`` away. ``cache_side``: of the caches of smoothed values (the results
     do not depend on it)."""
+    return _distances(points, mask, gaussian_weights(sigma), pad, level, cache_side)
+
+
+def _distances(points, mask, weights, pad, level, cache_side):
+    """:func:`iso_line_distance` with the Gaussian's ``weights`` given (:func:`warm_up` compiles the kernel with
+    weights of its own: :func:`gaussian_weights` imports scipy.ndimage, 0.17 s of a helper process's start;
+    docs/capture.md, "Cold kernels compile in parallel")."""
     mask = np.ascontiguousarray(mask, dtype=np.bool_)
-    weights = gaussian_weights(sigma)
     pad = int(pad)
     if pad < weights.shape[0] // 2:
         raise ValueError(f"pad: must be at least the Gaussian's radius {weights.shape[0] // 2}, got {pad}")
@@ -199,5 +205,5 @@ def warm_up():
         return
     mask = np.zeros((3, 3), bool)
     mask[1, 1:] = True
-    iso_line_distance(np.ones((1, 2)), mask, 1.0, 4)
+    _distances(np.ones((1, 2)), mask, np.array([0.25, 0.5, 0.25]), 4, 0.5, CACHE_SIDE)
     _WARM.append(True)

@@ -621,27 +621,17 @@ def test_decimals_beyond_the_limit_are_refused_before_any_trace(tmp_path):
         trace_many([str(source)], decimals=100)
 
 
-def test_an_empty_output_is_refused_before_any_trace(tmp_path):
-    """``-o ''`` was accepted and failed only after the trace (the output path was the current directory)."""
+@pytest.mark.parametrize("output,how", [("", "empty"), (" ", "blank (' ': only white space)")])
+def test_an_empty_or_blank_output_is_refused_before_any_trace(tmp_path, output, how):
+    """``-o ''`` was accepted and failed only after the trace (the output path was the current directory); ``-o ' '``
+    (an unset variable in quotes beside a space) wrote a file called space."""
     source = tmp_path / "sq.png"
     write_shape(source, "square")
-    result = run_cli("trace", source, "-o", "", cwd=tmp_path)
+    result = run_cli("trace", source, "-o", output, cwd=tmp_path)
     lines = result.stderr.splitlines()
     assert result.returncode == 2 and len(lines) == 1, result.stderr
-    assert lines[0].startswith("splinecraft: error: ") and "-o" in lines[0] and "empty" in lines[0]
+    assert lines[0] == f"splinecraft: error: -o/--output is {how}: give an output file, a directory, or - for stdout"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]  # nothing written, no manifest
-
-
-def test_a_blank_output_is_refused_before_any_trace(tmp_path):
-    """``-o ' '`` (an unset variable in quotes beside a space) wrote a file called space."""
-    source = tmp_path / "sq.png"
-    write_shape(source, "square")
-    result = run_cli("trace", source, "-o", " ", cwd=tmp_path)
-    lines = result.stderr.splitlines()
-    assert result.returncode == 2 and len(lines) == 1, result.stderr
-    assert lines[0] == "splinecraft: error: -o/--output is blank (' ': only white space): give an output file, a " \
-                       "directory, or - for stdout"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["sq.png"]
 
 
 @pytest.mark.parametrize("name", ["out.svg", "OUT.JSON"])

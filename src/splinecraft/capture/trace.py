@@ -76,6 +76,7 @@ from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted
 from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
     check_points, check_small_outline, check_tau, extrapolates_tips, make_rng
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, STOPPED_FIT_LIMIT, Deadline, polygon_fits
+from .fitting.tips import MAX_TIP_REACH
 from .fitting.results import BoundaryList
 from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted, keeps_area
@@ -280,7 +281,7 @@ def trace(
     _jit.warm_up(tasks)
     warmed = time.perf_counter()
     key = (stages.mask_key(mask), connectivity, min_speck_area is None)
-    (mask, boundaries, notes), _ = stages.remember(
+    (mask, boundaries, notes, pinholes), _ = stages.remember(
         "boundaries", key, lambda: _boundaries(mask, connectivity, min_speck_area, invert))
     traced = time.perf_counter()
     deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
@@ -337,7 +338,8 @@ def trace(
                      f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
     cornered = time.perf_counter()
     (fits, splines, polygons), budget_state, far = _fit_boundaries(points_list, corner_list, pixel_list, small,
-                                                                   settings, deadline, times, undetected, tolerances)
+                                                                   settings, deadline, times, undetected, tolerances,
+                                                                   pinholes)
     _budget_notes(budget_state, time_budget, notes, far)
     finished = time.perf_counter()
 
@@ -404,7 +406,8 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
 
 def _boundaries(mask, connectivity, min_speck_area, invert):
     """The boundaries of ``mask``, the mask with its pinholes filled and its specks dropped (when
-    ``min_speck_area`` is ``None``) and the notes of both."""
+    ``min_speck_area`` is ``None``), the notes of both and the centres ``(m, 2)`` of the filled pixels, sorted by x
+    (empty: none filled; the notch tips of the fit, :func:`~.fitting.tips.tip_estimates`)."""
     boundaries = trace_boundaries(mask, connectivity=connectivity)
     if not boundaries:
         raise ValueError(
@@ -416,14 +419,20 @@ def _boundaries(mask, connectivity, min_speck_area, invert):
     if len(boundaries) == 1 and mask.all():
         notes.append(f"{ALL_INK_NOTE}: the outline is the image's frame (an all-black image, or a mask whose "
                      f"True marks the background? ink is {'light' if invert else 'dark'}; see threshold/invert)")
+    filled_centres = np.zeros((0, 2))
     if min_speck_area is None:
+        unfilled = mask
         mask, boundaries, pinholes, specks = _without_pinholes(mask, boundaries, connectivity)
+        if pinholes:
+            rows, columns = np.nonzero(mask & ~unfilled)  # row-major: sorted by y, then x
+            order = np.argsort(columns, kind="stable")
+            filled_centres = np.column_stack([columns[order] + 0.5, rows[order] + 0.5])
         done = ([f"filled {pinholes} pinhole{'' if pinholes == 1 else 's'}"] if pinholes else []) + \
             ([f"dropped {specks} speck{'' if specks == 1 else 's'}"] if specks else [])
         if done:
             notes.append(f"{' and '.join(done)} of fewer than {PINHOLE_AREA} pixels (docs/capture.md §10, "
                          "'Pinholes'; min_speck_area=0 keeps them)")
-    return mask, boundaries, notes
+    return mask, boundaries, notes, filled_centres
 
 
 def _small_limit(settings):
@@ -547,13 +556,15 @@ def _resolve_tips(settings, noise):
     return tips
 
 
-def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadline, times, undetected, tolerances):
+def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadline, times, undetected, tolerances,
+                    pinholes=None):
     """The fit of every boundary: the small ones together (in batches of ``SMALL_CHUNK``), the others one by
     one (trusted arguments, with their pixel corners ``pixel_list`` where the corner stage found them), each
     started only while ``deadline`` has not passed and with its corners detected (else its polygon); a fit whose
     knot rounds the deadline stopped more than ``STOPPED_FIT_LIMIT`` times its tolerance from its contour gets the
-    polygon too. Returns the fits, the budget state of each boundary (``None``, ``"stopped"`` or ``"polygon"``)
-    and the indices of those stopped fits; adds the fit seconds to ``times``."""
+    polygon too. ``pinholes``: the centres of the filled pinholes, sorted by x; each boundary fitted one by one
+    gets those near it (:func:`_pinholes_near`). Returns the fits, the budget state of each boundary (``None``,
+    ``"stopped"`` or ``"polygon"``) and the indices of those stopped fits; adds the fit seconds to ``times``."""
     epsilon, max_iterations, keep = settings["tolerance"], settings["max_iterations"], settings["keep_snapshots"]
     fits, state = [None] * len(points_list), [None] * len(points_list)
     small = [k for k in small if not undetected[k]]
@@ -585,7 +596,7 @@ def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadl
         try:
             fits[k] = fit_trusted(points, np.unique(np.asarray(corner_idx, dtype=np.int64)), float(tolerances[k]),
                                   method, settings["tau"], rng, max_iterations, keep, 0, settings["fit_options"],
-                                  deadline, pixel_list[k])
+                                  deadline, pixel_list[k], _pinholes_near(pinholes, points))
         except ValueError as exc:
             raise ValueError(f"boundary {k} ({len(points)} points, {len(corner_idx)} corners): {exc}") from exc
         times[k] += time.perf_counter() - started
@@ -599,6 +610,18 @@ def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadl
     for k in left:
         state[k] = "polygon"
     return _lazy_fits(fits, left, polygons), state, far
+
+
+def _pinholes_near(pinholes, points):
+    """The centres of ``pinholes`` (sorted by x) within :data:`~.fitting.tips.MAX_TIP_REACH` px of the bounding
+    box of ``points`` (where a notch tip of that outline can reach), or ``None``."""
+    if pinholes is None or not pinholes.shape[0]:
+        return None
+    low, high = points.min(axis=0) - MAX_TIP_REACH, points.max(axis=0) + MAX_TIP_REACH
+    near = pinholes[np.searchsorted(pinholes[:, 0], low[0], side="left"):
+                    np.searchsorted(pinholes[:, 0], high[0], side="right")]
+    near = near[(near[:, 1] >= low[1]) & (near[:, 1] <= high[1])]
+    return near if near.shape[0] else None
 
 
 def _lazy_fits(fits, left, polygons):

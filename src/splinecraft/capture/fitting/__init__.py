@@ -157,19 +157,20 @@ def routes_to_small(method, point_count, small_outline):
 
 
 def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
-                deadline=None, pixel_corners=None):
+                deadline=None, pixel_corners=None, pinholes=None):
     """:func:`fit_outline` on checked arguments: route the contour to its family (``deadline``, a
     :class:`~.budget.Deadline`, stops the knot rounds of ``"lsq"``); BLAS on one thread (:mod:`._threads`).
     ``pixel_corners``: the contour's :class:`~splinecraft.capture._pixel_corners.PixelCorners` where the caller
     has found them (trace's corner stage), for the corner tips of ``"lsq"`` and the small-outline path; ``None``:
-    found where needed."""
+    found where needed. ``pinholes``: the centres of the pinholes trace filled near the contour, for the notch
+    tips of ``"lsq"`` (:func:`~.tips.tip_estimates`)."""
     with one_blas_thread():
         return _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline,
-                           opts, deadline, pixel_corners)
+                           opts, deadline, pixel_corners, pinholes)
 
 
 def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
-                deadline, pixel_corners):
+                deadline, pixel_corners, pinholes=None):
     pixel_list = None if pixel_corners is None else [pixel_corners]
     if routes_to_small(method, points.shape[0], small_outline):
         result = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots,
@@ -179,11 +180,12 @@ def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep
         # collapsed on a thin stroke (small.keeps_area): the regression spline of "lsq" below follows the cracks
     if method != "lsq":
         return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
-    result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline, pixel_corners)
+    result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline, pixel_corners,
+                     pinholes)
     if not result.converged and not result.info["reason"] and opts["joint_continuity"] == 1:
         # C1 knots got stuck (docs/capture.md §12, "Joints of lsq"): the C2 fit next, then the fallback below
         result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, dict(opts, joint_continuity=2),
-                         deadline, pixel_corners)
+                         deadline, pixel_corners, pinholes)
     if (result.converged or result.info["reason"] or not opts["fallback"]
             or _longest_piece(points.shape[0], corners) > FALLBACK_PIECE):
         return result

@@ -28,11 +28,13 @@ REMOVAL_ROUNDS = 4
 REMOVAL_ROUNDS_C1 = 8
 
 
-def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None, pixel_corners=None):
+def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None, pixel_corners=None,
+            pinholes=None):
     """``"lsq"`` on a checked contour (corners sorted and unique; ``options`` from ``check_options``); the
     knot rounds stop once ``deadline`` (a :class:`~.budget.Deadline`) has passed. ``pixel_corners``: the
     contour's :class:`~splinecraft.capture._pixel_corners.PixelCorners` where the caller has found them (else
-    the corner tips find them, :class:`~.lsq_setup.RotatedContour`).
+    the corner tips find them, :class:`~.lsq_setup.RotatedContour`); ``pinholes``: the centres of the pinholes
+    trace filled near the contour (notch tips, :func:`~.tips.tip_estimates`).
 
     A fit that gets stuck above the tolerance (not stopped by the deadline) is run once more with
     ``reset_stuck``: where knot intervals fail and cannot be split, the parameters around them go back to arc
@@ -48,11 +50,12 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
     converges with fewer segments, or as many and a smaller Hausdorff deviation (``info["curvature_jumps"]``
     records both; docs/capture.md §12, "Curvature jumps")."""
     insertion = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline,
-                                 pixel_corners=pixel_corners)
+                                 pixel_corners=pixel_corners, pinholes=pinholes)
     result = insertion.run()
     if not result.converged and not result.info["reason"] and not (deadline is not None and deadline.passed()):
         retry_insertion = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options,
-                                           deadline, reset_stuck=True, pixel_corners=pixel_corners)
+                                           deadline, reset_stuck=True, pixel_corners=pixel_corners,
+                                           pinholes=pinholes)
         retry = retry_insertion.run()
         if retry.converged or retry.hausdorff < result.hausdorff:
             retry.info["retry_from"] = {"hausdorff": result.hausdorff, "iterations": result.iterations,
@@ -64,7 +67,7 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
         return result
     segments = _segment_count(result)
     refit = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline,
-                             jumps=(values, scales), pixel_corners=pixel_corners).run()
+                             jumps=(values, scales), pixel_corners=pixel_corners, pinholes=pinholes).run()
     refit_segments = _segment_count(refit)
     record = {"jumps": int(values.size), "segments": refit_segments, "segments_without": segments,
               "hausdorff": refit.hausdorff, "hausdorff_without": result.hausdorff}
@@ -101,9 +104,9 @@ class LsqKnotInsertion:
     """
 
     def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None,
-                 reset_stuck=False, jumps=None, pixel_corners=None):
+                 reset_stuck=False, jumps=None, pixel_corners=None, pinholes=None):
         self.model = OutlineRegression(points, thin_corners(points, corners, options["min_gap"], pixel_corners),
-                                       epsilon, options, pixel_corners)
+                                       epsilon, options, pixel_corners, pinholes)
         self.model.seed_knots(options["initial_density"])
         if jumps is not None:  # C1 knots at the curvature jumps of a first fit (fit_lsq)
             self.model.seed_jumps(*jumps)

@@ -70,6 +70,8 @@ class OutlineRegression:
     options : the ``"lsq"`` options (:data:`~splinecraft.capture.fitting.options.LSQ_DEFAULTS`, checked).
     pixel_corners : the contour's :class:`~splinecraft.capture._pixel_corners.PixelCorners`, or ``None``: found
         where the corner tips need them (:class:`~.lsq_setup.RotatedContour`).
+    pinholes : centres ``(m, 2)`` of the pinholes trace filled near the contour, or ``None`` (the corner tips of
+        notches that reach them, :func:`~.tips.tip_estimates`).
 
     Main attributes: ``contour`` (:class:`~.lsq_setup.RotatedContour`), ``tips``
     (:class:`~.lsq_setup.CornerTips`), ``simple_knots`` (rotated contour indices of the simple knots),
@@ -77,8 +79,8 @@ class OutlineRegression:
     parameter of every contour point), ``period``.
     """
 
-    def __init__(self, points, corners, epsilon, options, pixel_corners=None):
-        contour = self.contour = RotatedContour(np.asarray(points, float), corners, pixel_corners)
+    def __init__(self, points, corners, epsilon, options, pixel_corners=None, pinholes=None):
+        contour = self.contour = RotatedContour(np.asarray(points, float), corners, pixel_corners, pinholes)
         n = contour.size
         self.epsilon = float(epsilon)
         self.corner_allowance = float(options["corner_allowance"])
@@ -448,9 +450,12 @@ class OutlineRegression:
         Judged only where the pieces beside the corner fit: on the coarse first fits a piece that misses its
         pixels everywhere misses them near its corners too. Only crack outlines are checked (else none), and
         only where tips are extrapolated (option ``geometric_corners``: not on a noisy boundary, whose pixels are
-        no render of an outline)."""
+        no render of an outline). Nor a notch tip that a pinhole placed (``contour.pinhole_tips``,
+        :func:`~.tips.tip_estimates`): its notch narrows below a pixel before the tip, so the pieces that reach
+        the pinhole pass the ink centres between it and the rendered notch within less than the fit's own error."""
         none = np.zeros(0, dtype=np.int64)
-        window = self._zone_window(exclude)
+        pinhole_tips = self.contour.pinhole_tips
+        window = self._zone_window(np.union1d(exclude, pinhole_tips) if pinhole_tips.size else exclude)
         if window is None:
             return none
         u, along_index, across_index, along_start, across_start, owner = window

@@ -26,15 +26,21 @@ class RotatedContour:
     piece ``0 .. size``), ``piece_of_point`` (n + 1), ``corner_distance`` (arc length to the nearest corner,
     n + 1), ``nearest_corner`` and ``pixel_corners``: the contour's
     :class:`~splinecraft.capture._pixel_corners.PixelCorners` (rotated), when the caller has found them
-    (``pixel_corners``, of the contour as given), else ``None`` (:func:`~.tips.tip_estimates` finds them then).
+    (``pixel_corners``, of the contour as given), else ``None`` (:func:`~.tips.tip_estimates` finds them then);
+    ``pinholes``: the centres ``(m, 2)`` of the pinholes filled near the contour (trace's), or ``None``
+    (:func:`~.tips.tip_estimates`: a notch reaches a pinhole beyond its contour corner; ``pinhole_tips``, the
+    corners whose tip it took from one).
     """
 
-    def __init__(self, points, corners, pixel_corners=None):
+    def __init__(self, points, corners, pixel_corners=None, pinholes=None):
         n = points.shape[0]
         self.size = n
         self.corner_count = count = corners.shape[0]
         self.rotation = int(corners[0]) if count else 0
         self.pixel_corners = None if pixel_corners is None else pixel_corners.rotated(self.rotation, n)
+        self.pinholes = pinholes
+        #: the corners whose tip :func:`~.tips.tip_estimates` took from a pinhole (set there)
+        self.pinhole_tips = np.zeros(0, dtype=np.int64)
         # numpy.roll(points, -rotation, axis=0), and the first point again at the end
         self.closed_points = np.concatenate([points[self.rotation:], points[: self.rotation + 1]])
         self.points = self.closed_points[:-1]

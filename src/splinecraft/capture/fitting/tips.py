@@ -63,6 +63,11 @@ MAX_OBTUSE_ANGLE = np.radians(120.0)
 #: (``BENCHMARKS.md``, "Small outlines: obtuse tips": without this bound every limit of 100-150 degrees lost
 #: shapes).
 OBTUSE_SIDE = 12.0
+#: A pinhole (a paper pixel centre enclosed by ink, which trace fills) beyond a notch's contour corner, within this
+#: distance (px) of the bisector of its sides, marks where the notch still is (:func:`_with_pinholes`); its tip goes
+#: :data:`PINHOLE_BEYOND` px beyond that centre: half a pixel, to the far edge of the pixel the centre stands for.
+PINHOLE_LATERAL = 1.0
+PINHOLE_BEYOND = 0.5
 #: Farthest an extrapolated tip may lie from its contour corner (px): the bound that keeps nearly parallel
 #: sides (or misread ones) from shooting the corner off.
 MAX_TIP_REACH = 5.0
@@ -433,8 +438,8 @@ def tip_estimates(contour, angle, radius, measured=None):
     wanted = (acute | one_short) if measured is None else (acute | one_short) & measured
     wanted &= ~pixel
     if not wanted.any():
-        return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan),
-                                   _outside(contour, vertex[pixel]))
+        return _with_pinholes(contour, angle, pixel, *_with_pixel_corners(
+            contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan), _outside(contour, vertex[pixel])))
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False
@@ -498,7 +503,8 @@ def tip_estimates(contour, angle, radius, measured=None):
         distance[found] = outside[:found.size]
         rounded = found[outside[:found.size] * np.sin(0.5 * opening[found]) > SHARP_TRUNCATION]
         estimate[rounded], anchors[rounded], distance[rounded] = np.nan, np.nan, np.nan
-    return _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance, outside[found.size:])
+    return _with_pinholes(contour, angle, pixel, *_with_pixel_corners(contour, pixel, vertex, start, estimate,
+                                                                      anchors, distance, outside[found.size:]))
 
 
 def _outside(contour, points):
@@ -546,6 +552,51 @@ def _tip(contour, c, sides, is_shared, corner_arc, start, pairs):
              wedge_contradiction(contour.points, pairs, point, ends, sides) > CONTRADICTION):
         return None
     return point, opening, ends
+
+
+def _with_pinholes(contour, angle, pixel, estimate, start, anchors, distance):
+    """:func:`tip_estimates`' results with the notches that a pinhole shows reaching farther: a paper pixel centre
+    enclosed by ink (``contour.pinholes``, the centres of the pinholes trace filled) beyond the contour corner, at
+    most :data:`MAX_TIP_REACH` px along the outward bisector of the window starts and within
+    :data:`PINHOLE_LATERAL` px of it, lies inside the true notch: the notch narrows below a pixel before its tip,
+    its rendering breaks off, and the pixel centre that still falls inside the sliver is all that is left of it.
+    The tip goes :data:`PINHOLE_BEYOND` px beyond the farthest such centre, unless the estimate already lies
+    farther out, and no farther from the contour than the tip of a sharp wedge of the corner's angle (``angle``,
+    measured on the contour) can lie beyond its rendering (:func:`tip_reach`), at corners sharper than
+    :data:`MAX_EXTRAPOLATED_ANGLE` (a blunter notch is no sliver). A convex corner has paper beyond it, never a
+    pinhole; pixel corners keep their vertex. The corners
+    so placed are ``contour.pinhole_tips`` (:meth:`~.lsq_model.OutlineRegression.zone_hooks` leaves them be)."""
+    pinholes = contour.pinholes
+    if pinholes is None or not pinholes.shape[0] or not contour.corner_count:
+        return estimate, start, anchors, distance
+    placed = []
+    corners = contour.points[contour.corner_bounds[:-1] % contour.size]
+    near = (np.abs(corners[:, None, 0] - pinholes[None, :, 0]) <= MAX_TIP_REACH) & \
+        (np.abs(corners[:, None, 1] - pinholes[None, :, 1]) <= MAX_TIP_REACH)
+    near[pixel | ~(np.asarray(angle) < MAX_EXTRAPOLATED_ANGLE)] = False
+    for c in np.flatnonzero(near.any(axis=1)):
+        corner_arc = contour.arc[contour.corner_bounds[c]]
+        ends = contour.point_at_arc((corner_arc + np.array([-start[c], start[c]])) % contour.perimeter)
+        outward = corners[c] - 0.5 * (ends[0] + ends[1])
+        length = np.hypot(*outward)
+        if length == 0.0:
+            continue
+        outward /= length
+        offset = pinholes[near[c]] - corners[c]
+        along, across = offset @ outward, offset @ np.array([-outward[1], outward[0]])
+        inside = (along > 0.0) & (along <= MAX_TIP_REACH) & (np.abs(across) <= PINHOLE_LATERAL)
+        if not inside.any():
+            continue
+        tip = pinholes[near[c]][inside][np.argmax(along[inside])] + PINHOLE_BEYOND * outward
+        if np.isfinite(estimate[c, 0]) and (estimate[c] - corners[c]) @ outward >= (tip - corners[c]) @ outward:
+            continue
+        outside = _outside(contour, tip[None])[0]
+        if outside > tip_reach(angle[c]):
+            continue
+        estimate[c], anchors[c], distance[c] = tip, ends, outside
+        placed.append(c)
+    contour.pinhole_tips = np.array(placed, dtype=np.int64)
+    return estimate, start, anchors, distance
 
 
 def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distance, vertex_distance):

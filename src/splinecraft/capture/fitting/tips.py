@@ -564,17 +564,23 @@ def _with_pinholes(contour, angle, pixel, estimate, start, anchors, distance):
     farther out, and no farther from the contour than the tip of a sharp wedge of the corner's angle (``angle``,
     measured on the contour) can lie beyond its rendering (:func:`tip_reach`), at corners sharper than
     :data:`MAX_EXTRAPOLATED_ANGLE` (a blunter notch is no sliver). A convex corner has paper beyond it, never a
-    pinhole; pixel corners keep their vertex. The corners
-    so placed are ``contour.pinhole_tips`` (:meth:`~.lsq_model.OutlineRegression.zone_hooks` leaves them be)."""
+    pinhole; pixel corners keep their vertex. The corners so placed are ``contour.pinhole_tips``
+    (:meth:`~.lsq_model.OutlineRegression.zone_hooks` leaves them be). Memory is linear in the corners and the
+    pinholes (a long noisy boundary can have tens of thousands of both)."""
     pinholes = contour.pinholes
     if pinholes is None or not pinholes.shape[0] or not contour.corner_count:
         return estimate, start, anchors, distance
+    pinholes = pinholes[np.argsort(pinholes[:, 0], kind="stable")]
     placed = []
     corners = contour.points[contour.corner_bounds[:-1] % contour.size]
-    near = (np.abs(corners[:, None, 0] - pinholes[None, :, 0]) <= MAX_TIP_REACH) & \
-        (np.abs(corners[:, None, 1] - pinholes[None, :, 1]) <= MAX_TIP_REACH)
-    near[pixel | ~(np.asarray(angle) < MAX_EXTRAPOLATED_ANGLE)] = False
-    for c in np.flatnonzero(near.any(axis=1)):
+    # the pinholes within MAX_TIP_REACH in x of each corner: a run of the x-sorted centres
+    low = np.searchsorted(pinholes[:, 0], corners[:, 0] - MAX_TIP_REACH, side="left")
+    high = np.searchsorted(pinholes[:, 0], corners[:, 0] + MAX_TIP_REACH, side="right")
+    for c in np.flatnonzero((high > low) & ~pixel & (np.asarray(angle) < MAX_EXTRAPOLATED_ANGLE)):
+        candidates = pinholes[low[c]:high[c]]
+        candidates = candidates[np.abs(candidates[:, 1] - corners[c, 1]) <= MAX_TIP_REACH]
+        if not candidates.shape[0]:
+            continue
         corner_arc = contour.arc[contour.corner_bounds[c]]
         ends = contour.point_at_arc((corner_arc + np.array([-start[c], start[c]])) % contour.perimeter)
         outward = corners[c] - 0.5 * (ends[0] + ends[1])
@@ -582,12 +588,12 @@ def _with_pinholes(contour, angle, pixel, estimate, start, anchors, distance):
         if length == 0.0:
             continue
         outward /= length
-        offset = pinholes[near[c]] - corners[c]
+        offset = candidates - corners[c]
         along, across = offset @ outward, offset @ np.array([-outward[1], outward[0]])
         inside = (along > 0.0) & (along <= MAX_TIP_REACH) & (np.abs(across) <= PINHOLE_LATERAL)
         if not inside.any():
             continue
-        tip = pinholes[near[c]][inside][np.argmax(along[inside])] + PINHOLE_BEYOND * outward
+        tip = candidates[inside][np.argmax(along[inside])] + PINHOLE_BEYOND * outward
         if np.isfinite(estimate[c, 0]) and (estimate[c] - corners[c]) @ outward >= (tip - corners[c]) @ outward:
             continue
         outside = _outside(contour, tip[None])[0]

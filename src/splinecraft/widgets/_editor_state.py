@@ -16,7 +16,7 @@ import numpy as np
 from .._validation import as_points, check_bool, check_choice, check_distinct_neighbours, check_number, per_item
 from ._forms import ALPHA_MEANING, FORMS, KNOT_CHOICES, PRESETS, build_spline, default_end_condition, end_choices
 
-__all__ = ["MODEL_TRAITS", "MAX_POINTS", "Rejected", "copy_state", "interval_count", "initial_state",
+__all__ = ["MODEL_TRAITS", "MAX_POINTS", "MAX_COORDINATE", "check_reach", "Rejected", "copy_state", "interval_count", "initial_state",
            "check_state", "derive", "moved", "inserted", "deleted", "insertion_place", "segment_points",
            "describe_change"]
 
@@ -26,10 +26,22 @@ MODEL_TRAITS = ("points", "point_tension", "interval_weights", "alpha", "beta", 
 #: Default cap on the number of points (``SplineEditor(max_points=...)`` changes it): every edit rebuilds
 #: the whole curve, about 1 ms per 1000 points, so 5000 points keep a drag interactive.
 MAX_POINTS = 5000
-#: Coordinates beyond this are refused (the page draws in float32).
+#: Coordinates beyond this are refused, by the SplineEditor and the OutlineEditor alike: the page draws in float32,
+#: and farther out an outline's own checks only see coinciding knots (every other knot is that near, relatively).
 MAX_COORDINATE = 1e9
 #: Interval weights above this are refused.
 MAX_WEIGHT = 1e6
+
+
+def check_reach(points, what: str = "knot") -> None:
+    """``ValueError`` naming the first of ``points`` (n, 2) with a coordinate beyond ±:data:`MAX_COORDINATE`
+    (NaN and inf too): ``what`` names them ("point", "knot", "control point ..."); both editors' messages."""
+    points = np.asarray(points, dtype=float).reshape(-1, 2)
+    with np.errstate(invalid="ignore"):
+        beyond = ~(np.abs(points) <= MAX_COORDINATE).all(axis=1)
+    if beyond.any():
+        i = int(np.flatnonzero(beyond)[0])
+        raise ValueError(f"{what} {i} at ({points[i, 0]:g}, {points[i, 1]:g}) is beyond ±{MAX_COORDINATE:g}")
 #: Class parameters above this are refused.
 MAX_CLASS_PARAMETER = 100.0
 TENSION_SCALES = ("relative", "absolute")
@@ -117,10 +129,10 @@ def _check_numbers(state, max_points) -> None:
     finite = np.isfinite(points).all(axis=1)
     if not finite.all():
         raise Rejected(f"point {int(np.flatnonzero(~finite)[0])} is not a finite number")
-    beyond = (np.abs(points) > MAX_COORDINATE).any(axis=1)
-    if beyond.any():  # named as the outline editor names its points (_outline_state.check_outline_reach)
-        i = int(np.flatnonzero(beyond)[0])
-        raise Rejected(f"point {i} at ({points[i, 0]:g}, {points[i, 1]:g}) is beyond ±{MAX_COORDINATE:g}")
+    try:
+        check_reach(points, "point")
+    except ValueError as exc:
+        raise Rejected(str(exc)) from None
     closed = state["closed"] and FORMS[form]["closed"]
     need = FORMS[form]["min_points"][1 if closed else 0]
     if len(points) < need or (form == "segment" and len(points) != 4):

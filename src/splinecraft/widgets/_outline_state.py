@@ -8,6 +8,7 @@ import numpy as np
 
 from .._validation import plain
 from ..outline import Contour, Outline
+from ._editor_state import MAX_COORDINATE, check_reach
 
 __all__ = ["OUTLINE_TRAITS", "MAX_COORDINATE", "DeviationCache", "check_outline_reach", "check_reach", "clean_selection", "fitted_view",
            "grouped_by_contour", "outline_from_lists", "page_matrix", "png_of_mask", "synced_tables"]
@@ -17,22 +18,6 @@ __all__ = ["OUTLINE_TRAITS", "MAX_COORDINATE", "DeviationCache", "check_outline_
 OUTLINE_TRAITS = {"contours": "points", "corners": "corners", "point_tension": "point_tension",
                   "interval_weights": "interval_weights", "handles_in": "handles_in", "handles_out": "handles_out"}
 _HANDLES = ("handles_in", "handles_out")
-#: Knots and control points beyond this are refused, as in the SplineEditor: the page draws in float32, and
-#: farther out the outline's own checks only see coinciding knots (every other knot is that near, relatively).
-MAX_COORDINATE = 1e9
-
-
-def check_reach(points, what: str = "knot") -> None:
-    """``ValueError`` naming the first of ``points`` (n, 2) with a coordinate beyond ±:data:`MAX_COORDINATE`
-    (NaN and inf too): ``what`` names them ("knot", "control point of piece ...")."""
-    points = np.asarray(points, dtype=float).reshape(-1, 2)
-    with np.errstate(invalid="ignore"):
-        beyond = ~(np.abs(points) <= MAX_COORDINATE).all(axis=1)
-    if beyond.any():
-        i = int(np.flatnonzero(beyond)[0])
-        raise ValueError(f"{what} {i} at ({points[i, 0]:g}, {points[i, 1]:g}) is beyond ±{MAX_COORDINATE:g}")
-
-
 def check_outline_reach(outline: Outline) -> Outline:
     """``outline`` when every control point of its pieces lies within ±:data:`MAX_COORDINATE`, else a
     ``ValueError`` naming the contour and the point (as :func:`check_reach`)."""

@@ -94,9 +94,9 @@ def expand_inputs(inputs) -> list:
 
 def named_inputs(inputs) -> tuple:
     """A mapping ``{name: image}`` -> ``(names, sources)`` in the mapping's order. Each key is a name (a ``str`` that
-    can name a file: not blank, no directory separator or control character, not ``.`` or ``..``); each value one image: a path (taken
-    literally, never as a glob pattern), an image array, a PIL image or encoded image bytes (``bytearray`` and
-    ``memoryview`` copied to ``bytes``)."""
+    can name a file: not blank, no directory separator or control character, not ``.`` or ``..``); each value one
+    image: a path (taken literally, never as a glob pattern), an image array, a PIL image or encoded image bytes
+    (``bytearray`` and ``memoryview`` copied to ``bytes``)."""
     names, sources = [], []
     for name, item in inputs.items():
         if not isinstance(name, str):

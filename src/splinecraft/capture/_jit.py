@@ -180,7 +180,8 @@ TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
 #: no scipy.ndimage for the noise estimate's warm-up), less this process's own set-up of its first compile
 #: (0.15-0.2 s), the collection of its compiles' garbage after them (0.15-0.2 s: some 290 000 objects Python's
 #: collector walks, whether this process collects them while it waits for a helper or the first automatic
-#: collection does, which fires inside :func:`warm_up` as soon as the collector is back on) and the loading of the helper's kernels (0.03 s) (BENCHMARKS.md, "Session 25: cold first call").
+#: collection does, which fires inside :func:`warm_up` as soon as the collector is back on) and the loading of
+#: the helper's kernels (0.03 s) (BENCHMARKS.md, "Session 25: cold first call").
 HELPER_START = 0.1
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
 EXACT_PLAN_SPLITS = 4096

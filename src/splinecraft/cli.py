@@ -206,8 +206,9 @@ def build_parser() -> argparse.ArgumentParser:
         description="Trace the outline of each bitmap (outer contours and holes) into closed cubic splines: "
                     "chain-code boundary, corners, spline fit with knot insertion until the error is "
                     "below EPSILON pixels. The first trace after an install compiles the kernels (numba, "
-                    "about 7 s CPU, shared between one process per CPU) and caches them on disk; every "
-                    "later process loads them in well under a second (BENCHMARKS.md, 'First-call cost').",
+                    "about 5 s CPU, shared between one process per CPU) and caches them on disk; every "
+                    "later process loads them in well under a second (BENCHMARKS.md, 'Session 27: cold "
+                    "first call').",
     )
     tracer.add_argument("inputs", nargs="+", metavar="IN",
                         help="image files (PNG, JPEG, BMP, GIF, TIFF) or quoted glob patterns ('scans/**/*.png')")

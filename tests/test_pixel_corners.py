@@ -11,8 +11,8 @@ import pytest
 from hypothesis import example, given, settings, strategies as st
 
 import splinecraft as sc
-from splinecraft.capture._pixel_corners import (MIN_RUN, corner_vertices, merge_pixel_corners, outline_pixel_corners,
-                                                pixel_corners, pixel_corners_of_outlines)
+from splinecraft.capture._pixel_corners import (MIN_RUN, MIN_TREAD, corner_vertices, merge_pixel_corners,
+                                                outline_pixel_corners, pixel_corners, pixel_corners_of_outlines)
 from splinecraft.capture.contour import trace_boundaries
 from splinecraft.capture.corners import check_params, tangent_jump
 from splinecraft.spline.segment import bezier_signed_area
@@ -448,3 +448,126 @@ def test_trace_finds_the_pixel_corners_once_and_the_fit_uses_them(monkeypatch):
     points, corners = result.points[0], result.corners[0]
     fit_outline(points, corners, small_outline=0)
     assert lookups and not any(handed for handed, _ in lookups) and len(found_calls) >= 1
+
+
+_UNIT_STEPS = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
+
+
+def _numpy_pixel_corners(points, lengths):
+    """The vectorized numpy formulation the kernel replaced (session 27), kept as its reference."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
+    total = points.shape[0]
+    at = np.zeros(total, bool)
+    vertex = np.full((total, 2), np.nan)
+    if total == 0:
+        return at, vertex
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    outline = np.repeat(np.arange(lengths.shape[0]), lengths)
+    local = np.arange(total) - offsets[outline]
+    n = lengths[outline]
+    prev = offsets[outline] + (local - 1) % n
+    nxt = offsets[outline] + (local + 1) % n
+    # a crack midpoint has one integer and one half-integer coordinate; its direction of travel points from
+    # the point before it towards the point after it along its own axis
+    frac = np.abs(points - np.floor(points))
+    horizontal = (frac[:, 1] == 0.0) & (frac[:, 0] == 0.5)
+    vertical = (frac[:, 0] == 0.0) & (frac[:, 1] == 0.5)
+    travel = points[nxt] - points[prev]
+    code = np.where(horizontal, np.where(travel[:, 0] > 0, 0, 2), np.where(travel[:, 1] > 0, 1, 3))
+    unit = _UNIT_STEPS[code]
+    # a closed chain of unit cracks: each crack starts where the one before it ends
+    chained = (horizontal | vertical) & np.all(points[prev] + 0.5 * unit[prev] == points - 0.5 * unit, axis=1)
+    good = np.bincount(outline, weights=~chained, minlength=lengths.shape[0]) == 0
+    good &= lengths >= 4
+    if not good.any():
+        return at, vertex
+    # runs of cracks of one direction: run starts, and per outline its runs in order (cyclically)
+    start = good[outline] & (code != code[prev])
+    first = np.flatnonzero(start)  # global index of every run's first crack, sorted (by outline, then index)
+    run_outline = outline[first]
+    count = np.bincount(run_outline, minlength=lengths.shape[0])
+    run_offset = np.concatenate([[0], np.cumsum(count)[:-1]])
+    j = np.arange(first.shape[0]) - run_offset[run_outline]  # a run's rank in its outline
+    k = count[run_outline]
+    following = first[run_offset[run_outline] + (j + 1) % k]
+    length = (following - first) % lengths[run_outline]
+    length = np.where(length == 0, lengths[run_outline], length)
+    direction = code[first]
+
+    run_base = run_offset[run_outline]
+    runs, lengths_at, directions_at = {}, {}, {}
+
+    def run(m):  # the run m places after each run (negative: before), within its outline (each m computed once)
+        if m not in runs:
+            runs[m] = run_base + (j + m) % k
+        return runs[m]
+
+    def length_of(m):
+        if m not in lengths_at:
+            lengths_at[m] = length[run(m)]
+        return lengths_at[m]
+
+    def direction_of(m):
+        if m not in directions_at:
+            directions_at[m] = direction[run(m)]
+        return directions_at[m]
+
+    def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
+        continues = (length_of(m + way) == 1) & (direction_of(m + 2 * way) == direction_of(m))
+        # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond`` or the
+        # one after it, with a step at both ends) of MIN_TREAD cracks or more: the runs of a digital straight
+        # segment differ by at most one and its end runs can only be shorter, so the run is then no tread of an
+        # off-axis side but a straight side of its own, from which the outline bends away gently (a flat side
+        # running into a curve; a round end of a few pixels turns through treads of single cracks)
+        whole = (length_of(m + 3 * way) == 1) & (direction_of(m + 4 * way) == direction_of(m))
+        # the longer of the first two whole treads (the first can be a crack or two short with the phase of
+        # the pixels: 2, 3 beside a bowl of radius 24)
+        second = whole & (length_of(m + 5 * way) == 1) & (direction_of(m + 6 * way) == direction_of(m))
+        tread_length = np.maximum(length_of(m + 2 * way), np.where(second, length_of(m + 4 * way), 0))
+        flat = whole & (tread_length >= MIN_TREAD) & (length_of(m) > tread_length + 1)
+        return continues & ~flat
+
+    # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
+    before_tread = tread(-1, -1)  # (used twice)
+    corner = (length_of(-1) >= MIN_RUN) & (length >= MIN_RUN)
+    corner &= ~before_tread & ~tread(0, 1)
+    # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the opposite
+    # ways round (a U-turn), each of them not a staircase's tread at its far end; both of its vertices
+    end = (length < MIN_RUN) & (length_of(-1) >= MIN_RUN) & (length_of(1) >= MIN_RUN)
+    end &= direction_of(-1) == (direction_of(1) + 2) % 4
+    end &= ~before_tread & ~tread(1, 1)
+    end &= k >= 4
+    corner |= end
+    corner[run(1)[end]] = True
+    # a block (four runs: the crack outline is a rectangle) of any size: its four vertices. Below 3 x 3 pixels
+    # the runs are too short for the rules above, yet no other shape renders as a rectangle that small
+    corner |= k == 4
+    corner &= k >= 4
+    index = first[corner]
+    at[index] = True
+    vertex[index] = points[index] - 0.5 * unit[index]
+    return at, vertex
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), size=st.integers(3, 60), density=st.floats(0.05, 0.95),
+       connectivity=st.sampled_from([4, 8]))
+def test_the_compiled_pixel_corners_are_the_numpy_rules(seed, size, density, connectivity):
+    """``_pixel_corners.pixel_corners`` (compiled, outline by outline) gives exactly the corners and vertices of
+    the vectorized rules it replaced, on the stacked crack outlines of a random mask (blocks, strokes, staircases,
+    holes) and on polylines that are no crack outlines (the same outlines shifted by a quarter pixel, pixel chains
+    read backwards, an outline missing a point)."""
+    rng = np.random.default_rng(seed)
+    mask = rng.random((size, size)) < density
+    if not mask.any():
+        mask[size // 2, size // 2] = True
+    outlines = [np.asarray(b.outline, float) for b in trace_boundaries(mask, connectivity=connectivity)]
+    others = [outline + 0.25 for outline in outlines[:3]] + [outline[::-1] for outline in outlines[:3]] + \
+        [outline[:-1] for outline in outlines[:3]]
+    for batch in (outlines, outlines + others, others):
+        points, lengths = np.concatenate(batch), [len(outline) for outline in batch]
+        at, vertex = pixel_corners(points, lengths)
+        expected_at, expected_vertex = _numpy_pixel_corners(points, lengths)
+        assert np.array_equal(at, expected_at)
+        assert np.array_equal(vertex, expected_vertex, equal_nan=True)

@@ -274,7 +274,9 @@ def merge_pixel_corners(found, index, n):
     # within one point around the closed outline: a pixel corner at f - 1, f or f + 1 (mod n); looked up, not
     # measured pairwise (found x index took gigabytes on the 262 000-point boundary of a 1000 x 1000 image of noise)
     beside = np.mod(found[:, None] + np.array([-1, 0, 1]), n)
-    near = np.isin(beside, np.mod(np.asarray(index, dtype=np.intp), n)).any(axis=1)
+    marked = np.zeros(n, bool)  # the pixel corners' points, looked up by index
+    marked[np.mod(np.asarray(index, dtype=np.intp), n)] = True
+    near = marked[beside].any(axis=1)
     return np.unique(np.concatenate([found[~near], index])).astype(np.intp)
 
 
@@ -290,8 +292,9 @@ def pixel_corners_of_outlines(points_list):
         at, vertex = pixel_corners(np.concatenate(points_list[first:last]), lengths[first:last])
         hits = np.flatnonzero(at)  # in the chunk, outline by outline
         offsets = np.cumsum(lengths[first:last]) - lengths[first:last]
-        cuts = np.searchsorted(hits, offsets[1:])
-        for offset, index, corner in zip(offsets.tolist(), np.split(hits, cuts), np.split(vertex[hits], cuts)):
-            found.append(PixelCorners(index - offset, corner))
+        cuts = np.searchsorted(hits, offsets).tolist() + [hits.shape[0]]  # each outline's hits: a slice
+        corners = vertex[hits]
+        for b, offset in enumerate(offsets.tolist()):
+            found.append(PixelCorners(hits[cuts[b]:cuts[b + 1]] - offset, corners[cuts[b]:cuts[b + 1]]))
         first = last
     return found

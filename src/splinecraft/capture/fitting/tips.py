@@ -120,8 +120,12 @@ class SideFit:
         self.ink, self.margin = ink, margin
 
     def inkward(self, points):
-        """Signed offset (px, across the frame) of ``points`` from the side, positive on its ink side."""
+        """Signed offset (px, across the frame) of ``points`` from the side, positive on its ink side. (On a
+        straight side the parabola of zeros is +0 at every finite ``t`` and ``y - 0.0`` is ``y``, signed zeros
+        included: the offset is ``ink * y``.)"""
         local = points - self.centre
+        if not self.coefficients.any():
+            return self.ink * (local @ self.normal)
         t, y = local @ self.direction, local @ self.normal
         c0, c1, c2 = self.coefficients
         return self.ink * (y - (c0 + t * (c1 + t * c2)))

@@ -616,47 +616,6 @@ def test_arm_lines_match_the_vectorized_formulation(seed, m, closed, tolerance):
     np.testing.assert_array_equal(got, _numpy_arm_lines(padded, reach, ladder, operators, tolerance))
 
 
-def _numpy_closed_peaks(turn, near, far, separation, min_turn, min_excess):
-    """Steps 4-5 of tangent-jump on a closed outline, vectorized (the formulation the kernel replaced, session 27):
-    the flanks as columns of windows of one wrapped copy, their median by a sort, the maximum filter of shifted
-    views."""
-    from numpy.lib.stride_tricks import sliding_window_view
-
-    from splinecraft.capture.corners._common import _circular_max_filter
-
-    m = turn.shape[0]
-    offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
-    flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
-    ordered = np.sort(flanks, axis=1)
-    half = flanks.shape[1] // 2
-    baseline = (ordered[:, half - 1] + ordered[:, half]) / 2
-    size = np.abs(turn)
-    return (size >= _circular_max_filter(size, separation, True)) & (size >= min_turn) \
-        & (np.abs(turn - baseline) >= min_excess)
-
-
-@settings(max_examples=60, deadline=None)
-@given(st.integers(0, 10_000), st.integers(8, 300), st.integers(1, 6), st.integers(0, 30),
-       st.sampled_from([1, 2, 3, 12, 400]), st.sampled_from(["normal", "steps", "zeros"]))
-def test_closed_peaks_match_the_vectorized_formulation(seed, m, near, wider, separation, kind):
-    """The peaks of steps 4-5 (``_jump_kernels.closed_peaks``: a sliding sorted window of the flanks) are those of
-    the numpy formulation on closed turn sequences with many ties and zeros of both signs, flanks and
-    separations wider than the outline included."""
-    from splinecraft.capture.corners import _jump_kernels
-
-    rng = np.random.default_rng(seed)
-    if kind == "normal":
-        turn = rng.normal(0.0, 30.0, m)
-    elif kind == "steps":
-        turn = rng.integers(-3, 4, m) * 20.0
-    else:
-        turn = np.where(rng.uniform(size=m) < 0.5, -0.0, 0.0) + np.where(rng.uniform(size=m) < 0.2, 40.0, 0.0)
-    for min_turn, min_excess in ((25.0, 25.0), (0.0, 0.0)):
-        np.testing.assert_array_equal(
-            _jump_kernels.closed_peaks(turn, near, near + wider, separation, min_turn, min_excess),
-            _numpy_closed_peaks(turn, near, near + wider, separation, min_turn, min_excess))
-
-
 def test_arm_lines_of_a_corner_are_its_two_sides():
     """An exact right angle (closed form): away from the corner the arms have grown to the longest length
     and point along the sides; at the corner the backward arm runs along +x and the forward arm along +y."""

@@ -338,11 +338,7 @@ def boundary_arrays(cracks, width, height, four, offset=(0, 0)):
 
 def warm_up():
     """Compile (empty cache) or load (``cache=True``) every kernel of the tracer, on a tiny mask (a hole, a
-    diagonal contact), and that of the pixel corners of its outlines (:mod:`._pixel_corners`, which every trace
-    finds): the first-call cost that ``benchmarks/bench_speed.py jit`` measures."""
-    from . import _pixel_corners
-
-    _pixel_corners.warm_up()
+    diagonal contact): the first-call cost that ``benchmarks/bench_speed.py jit`` measures."""
     padded = np.zeros((6, 6), dtype=np.bool_)
     padded[1:4, 1:4] = True
     padded[2, 2] = False

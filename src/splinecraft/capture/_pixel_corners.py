@@ -32,9 +32,6 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
-
-from ._jit import HELPER_OPTIONS, JIT_OPTIONS, compact
 
 __all__ = ["MIN_RUN", "MIN_TREAD", "PixelCorners", "pixel_corners", "outline_pixel_corners", "corner_vertices",
            "with_pixel_corners", "merge_pixel_corners", "pixel_corners_of_outlines"]
@@ -48,12 +45,13 @@ MIN_RUN = 3
 #: side can give treads of 2, 2, 2).
 MIN_TREAD = 2
 
-#: Points per call of :func:`pixel_corners` in :func:`pixel_corners_of_outlines` (its work arrays are five of the
-#: points' length, besides the result: a bounded chunk keeps a noise image of millions of contour points within its
-#: memory).
+#: Points per call of :func:`pixel_corners` in :func:`pixel_corners_of_outlines` (its temporaries are some 30 arrays of
+#: the points' length: a bounded chunk keeps a noise image of millions of contour points within its memory).
 CHUNK_POINTS = 1 << 18
 
 _UNIT = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
+# The rules look at most this many runs either way from a run (a tread rule at run -1 or 1 reaches 6 more).
+_REACH = 7
 
 
 class PixelCorners(NamedTuple):
@@ -71,107 +69,6 @@ class PixelCorners(NamedTuple):
         return PixelCorners(index[order], self.vertex[order])
 
 
-@njit(**HELPER_OPTIONS)
-def _run(base, rank, step, k):
-    """Index of the run ``step`` places after run ``rank`` (negative: before), cyclically among the ``k`` runs of
-    an outline stored from ``base``."""
-    return base + ((rank + step) % k + k) % k
-
-
-@njit(**HELPER_OPTIONS)
-def _tread(length, direction, base, rank, k, m, way):
-    """Whether run ``m`` places from run ``rank`` continues at its far end (``way`` +1: after it, -1: before) as
-    a staircase's tread (:func:`pixel_corners`): a step of one crack, then a run the same way, unless the run is
-    longer by more than one crack than a whole tread of at least :data:`MIN_TREAD` cracks beyond it (the longer
-    of the first two whole treads: the first can be a crack or two short with the phase of the pixels, 2, 3
-    beside a bowl of radius 24)."""
-    own = direction[_run(base, rank, m, k)]
-    continues = length[_run(base, rank, m + way, k)] == 1 and direction[_run(base, rank, m + 2 * way, k)] == own
-    whole = length[_run(base, rank, m + 3 * way, k)] == 1 and direction[_run(base, rank, m + 4 * way, k)] == own
-    second = whole and length[_run(base, rank, m + 5 * way, k)] == 1 \
-        and direction[_run(base, rank, m + 6 * way, k)] == own
-    tread_length = length[_run(base, rank, m + 2 * way, k)]
-    if second and length[_run(base, rank, m + 4 * way, k)] > tread_length:
-        tread_length = length[_run(base, rank, m + 4 * way, k)]
-    flat = whole and tread_length >= MIN_TREAD and length[_run(base, rank, m, k)] > tread_length + 1
-    return continues and not flat
-
-
-@njit(**HELPER_OPTIONS)
-def _runs(points, o, n, code, first, length, direction):
-    """The runs of cracks of one direction of the outline of ``n`` points from row ``o``: per point its crack's
-    direction code (``code``), per run (in order from the outline's first point, stored from ``o``) its first
-    point, its cracks and its direction. Returns the number of runs, or -1 when the points are not the
-    midpoints of a closed chain of unit cracks."""
-    for i in range(n):
-        # a crack midpoint has one integer and one half-integer coordinate; its direction of travel points from
-        # the point before it towards the point after it along its own axis
-        x, y = points[o + i, 0], points[o + i, 1]
-        fx, fy = abs(x - np.floor(x)), abs(y - np.floor(y))
-        horizontal = fy == 0.0 and fx == 0.5
-        if not (horizontal or (fx == 0.0 and fy == 0.5)):
-            return -1
-        before, after = o + (i + n - 1) % n, o + (i + 1) % n
-        if horizontal:
-            code[o + i] = 0 if points[after, 0] - points[before, 0] > 0 else 2
-        else:
-            code[o + i] = 1 if points[after, 1] - points[before, 1] > 0 else 3
-    k = 0
-    for i in range(n):
-        before = o + (i + n - 1) % n
-        # a closed chain of unit cracks: each crack starts where the one before it ends
-        for axis in range(2):
-            if not points[before, axis] + 0.5 * _UNIT[code[before], axis] == \
-                    points[o + i, axis] - 0.5 * _UNIT[code[o + i], axis]:
-                return -1
-        if code[o + i] != code[before]:
-            first[o + k] = i
-            k += 1
-    for r in range(k):
-        following = first[o + (r + 1) % k]
-        length[o + r] = (following - first[o + r] + n) % n
-        if length[o + r] == 0:
-            length[o + r] = n
-        direction[o + r] = code[o + first[o + r]]
-    return k
-
-
-@njit(**JIT_OPTIONS)
-def _pixel_corners_into(points, lengths, code, first, length, direction, corner, at, vertex):
-    """:func:`pixel_corners` into ``at`` (all False) and ``vertex`` (all NaN), outline by outline; ``code``,
-    ``first``, ``length``, ``direction`` (:func:`_runs`) and ``corner`` (per run: the vertex before it is a pixel
-    corner) are work arrays of the points' length."""
-    compact()  # run time negligible: code optimized for size (_jit.compact)
-    o = 0
-    for b in range(lengths.shape[0]):
-        n = lengths[b]
-        k = _runs(points, o, n, code, first, length, direction) if n >= 4 else -1
-        for j in range(k):
-            corner[o + j] = False
-        for j in range(k if k >= 4 else 0):
-            previous, following = _run(o, j, -1, k), _run(o, j, 1, k)
-            # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
-            before_tread = _tread(length, direction, o, j, k, -1, -1)
-            if length[previous] >= MIN_RUN and length[o + j] >= MIN_RUN and not before_tread \
-                    and not _tread(length, direction, o, j, k, 0, 1):
-                corner[o + j] = True
-            # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the
-            # opposite ways round (a U-turn), each of them not a staircase's tread at its far end; both vertices
-            if length[o + j] < MIN_RUN and length[previous] >= MIN_RUN and length[following] >= MIN_RUN \
-                    and direction[previous] == (direction[following] + 2) % 4 and not before_tread \
-                    and not _tread(length, direction, o, j, k, 1, 1):
-                corner[o + j] = True
-                corner[following] = True
-        for j in range(k if k >= 4 else 0):
-            # a block (four runs: the crack outline is a rectangle) of any size: its four vertices
-            if corner[o + j] or k == 4:
-                i = o + first[o + j]
-                at[i] = True
-                for axis in range(2):
-                    vertex[i, axis] = points[i, axis] - 0.5 * _UNIT[code[i], axis]
-        o += n
-
-
 def pixel_corners(points, lengths):
     """Pixel corners of closed crack outlines stacked one after the other (``points`` ``(N, 2)``, outline
     ``b`` has ``lengths[b]`` points, first point not repeated).
@@ -179,35 +76,93 @@ def pixel_corners(points, lengths):
     Returns ``(at, vertex)``: ``at[i]`` (bool, ``N``) says that the outline turns at a pixel corner between
     its point before ``i`` (cyclically) and point ``i``, and ``vertex[i]`` (``(N, 2)``, NaN elsewhere) is that
     corner, the vertex shared by the two cracks. An outline whose points are not the midpoints of a closed
-    chain of unit cracks gets none. Compiled (:func:`_pixel_corners_into`, outline by outline); an outline's
-    result does not depend on the others.
-
-    The rules (module docstring), on the runs of cracks of one direction of each outline: the vertex before a
-    run is a pixel corner when that run and the one before it have at least :data:`MIN_RUN` cracks and neither
-    is a staircase's tread at its far end (:func:`_tread`); both vertices of a run shorter than that between two
-    such runs the opposite ways round (a U-turn: a stroke end); all four vertices of an outline of four runs (a
-    block); none on an outline of fewer runs."""
-    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
-    lengths = np.ascontiguousarray(lengths, dtype=np.int64).reshape(-1)
+    chain of unit cracks gets none. Vectorized over all outlines; an outline's result does not depend on the
+    others."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
     total = points.shape[0]
     at = np.zeros(total, bool)
     vertex = np.full((total, 2), np.nan)
     if total == 0:
         return at, vertex
-    work = np.empty((4, total), np.int64)
-    _pixel_corners_into(points, lengths, work[0], work[1], work[2], work[3], np.empty(total, np.bool_), at, vertex)
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    outline = np.repeat(np.arange(lengths.shape[0]), lengths)
+    local = np.arange(total) - offsets[outline]
+    n = lengths[outline]
+    prev = offsets[outline] + (local - 1) % n
+    nxt = offsets[outline] + (local + 1) % n
+    # a crack midpoint has one integer and one half-integer coordinate; its direction of travel points from
+    # the point before it towards the point after it along its own axis
+    frac = np.abs(points - np.floor(points))
+    horizontal = (frac[:, 1] == 0.0) & (frac[:, 0] == 0.5)
+    vertical = (frac[:, 0] == 0.0) & (frac[:, 1] == 0.5)
+    travel = points[nxt] - points[prev]
+    code = np.where(horizontal, np.where(travel[:, 0] > 0, 0, 2), np.where(travel[:, 1] > 0, 1, 3))
+    unit = _UNIT[code]
+    # a closed chain of unit cracks: each crack starts where the one before it ends
+    chained = (horizontal | vertical) & np.all((points + 0.5 * unit)[prev] == points - 0.5 * unit, axis=1)
+    good = np.bincount(outline[~chained], minlength=lengths.shape[0]) == 0
+    good &= lengths >= 4
+    if not good.any():
+        return at, vertex
+    # runs of cracks of one direction: run starts, and per outline its runs in order (cyclically)
+    start = good[outline] & (code != code[prev])
+    first = np.flatnonzero(start)  # global index of every run's first crack, sorted (by outline, then index)
+    run_outline = outline[first]
+    count = np.bincount(run_outline, minlength=lengths.shape[0])
+    run_offset = np.concatenate([[0], np.cumsum(count)[:-1]])
+    j = np.arange(first.shape[0]) - run_offset[run_outline]  # a run's rank in its outline
+    k = count[run_outline]
+    # the runs REACH places before each run to REACH places after it, within its outline (column REACH + m: the
+    # run m places after, negative m before), and their lengths and directions
+    around = run_offset[run_outline][:, None] + (j[:, None] + np.arange(-_REACH, _REACH + 1)[None, :]) % k[:, None]
+    following = first[around[:, _REACH + 1]]
+    length = (following - first) % lengths[run_outline]
+    length = np.where(length == 0, lengths[run_outline], length)
+    direction = code[first]
+    lengths_at, directions_at = length[around], direction[around]
+
+    def length_of(m):
+        return lengths_at[:, _REACH + m]
+
+    def direction_of(m):
+        return directions_at[:, _REACH + m]
+
+    def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
+        continues = (length_of(m + way) == 1) & (direction_of(m + 2 * way) == direction_of(m))
+        # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond`` or the
+        # one after it, with a step at both ends) of MIN_TREAD cracks or more: the runs of a digital straight
+        # segment differ by at most one and its end runs can only be shorter, so the run is then no tread of an
+        # off-axis side but a straight side of its own, from which the outline bends away gently (a flat side
+        # running into a curve; a round end of a few pixels turns through treads of single cracks)
+        whole = (length_of(m + 3 * way) == 1) & (direction_of(m + 4 * way) == direction_of(m))
+        # the longer of the first two whole treads (the first can be a crack or two short with the phase of
+        # the pixels: 2, 3 beside a bowl of radius 24)
+        second = whole & (length_of(m + 5 * way) == 1) & (direction_of(m + 6 * way) == direction_of(m))
+        tread_length = np.maximum(length_of(m + 2 * way), np.where(second, length_of(m + 4 * way), 0))
+        flat = whole & (tread_length >= MIN_TREAD) & (length_of(m) > tread_length + 1)
+        return continues & ~flat
+
+    # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
+    before_tread = tread(-1, -1)  # (used twice)
+    corner = (length_of(-1) >= MIN_RUN) & (length >= MIN_RUN)
+    corner &= ~before_tread & ~tread(0, 1)
+    # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the opposite
+    # ways round (a U-turn), each of them not a staircase's tread at its far end; both of its vertices
+    end = (length < MIN_RUN) & (length_of(-1) >= MIN_RUN) & (length_of(1) >= MIN_RUN)
+    end &= direction_of(-1) == (direction_of(1) + 2) % 4
+    end &= ~before_tread & ~tread(1, 1)
+    end &= k >= 4
+    corner |= end
+    corner[around[:, _REACH + 1][end]] = True
+    # a block (four runs: the crack outline is a rectangle) of any size: its four vertices. Below 3 x 3 pixels
+    # the runs are too short for the rules above, yet no other shape renders as a rectangle that small
+    corner |= k == 4
+    corner &= k >= 4
+    index = first[corner]
+    at[index] = True
+    vertex[index] = points[index] - 0.5 * unit[index]
     return at, vertex
-
-
-def warm_up():
-    """Compile (empty cache) or load the kernel once per process; part of the tracer's warm-up task
-    (:func:`._cracks.warm_up`: every trace finds the pixel corners of its outlines)."""
-    if not _WARM:
-        pixel_corners(np.array([[0.5, 0.0], [1.0, 0.5], [0.5, 1.0], [0.0, 0.5]]), [4])
-        _WARM.append(True)
-
-
-_WARM = []
 
 
 def outline_pixel_corners(points):

@@ -8,7 +8,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _plain, _prepare, _result
 from ._fillet import release_fillets, release_wedge_fillets
-from ._jump_kernels import arm_lines, closed_peaks
+from ._jump_kernels import arm_lines
 from .._pixel_corners import with_pixel_corners
 
 
@@ -714,30 +714,29 @@ def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, fla
 def _jump_peaks(turn, closed, settings):
     """Steps 4-5: the samples whose turn ``|J|`` is a local maximum, at least ``min_turn`` and exceeds the
     flanks' median by ``min_excess``; a plateau of equal maxima keeps its first sample. Returns the chosen
-    samples and ``|J|`` at every sample. On a closed outline without NaN turns one compiled pass
-    (:func:`._jump_kernels.closed_peaks`: the median of the flanks' even count as numpy's, the mean of the two
-    middle values); the flanks of an open outline run off its ends, their median is that of the flank samples
-    that exist."""
+    samples and ``|J|`` at every sample."""
     m = len(turn)
     near, far, separation = settings["near"], settings["far"], settings["separation"]
-    size = np.abs(turn)
-    if closed and not np.isnan(turn).any():
-        peak = closed_peaks(turn, near, far, separation, settings["min_turn"], settings["min_excess"])
-    else:                                   # open ends (or NaN turns): NaN flanks left out of the median
-        offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
-        if closed:  # turn[(i + offsets) % m]: columns of the windows of one wrapped copy
-            flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
-        else:
-            idx = np.arange(m)[:, None] + offsets[None, :]
-            flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
+    offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
+    if closed:  # turn[(i + offsets) % m]: columns of the windows of one wrapped copy
+        flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
+    else:
+        idx = np.arange(m)[:, None] + offsets[None, :]
+        flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
+    if np.isnan(flanks).any():              # open ends
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)      # all-NaN flanks at open ends
             baseline = np.nanmedian(flanks, axis=1)
-        with np.errstate(invalid="ignore"):
-            excess = np.abs(turn - baseline)
-            strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
-            peak = (strength >= _circular_max_filter(strength, separation, closed)) \
-                & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
+    else:                                   # the median of an even count, as np.median computes it, 5x faster
+        ordered = np.sort(flanks, axis=1)
+        half = flanks.shape[1] // 2         # 2 (far - near + 1) flank samples
+        baseline = (ordered[:, half - 1] + ordered[:, half]) / 2
+    with np.errstate(invalid="ignore"):
+        excess = np.abs(turn - baseline)
+        size = np.abs(turn)
+        strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
+        peak = (strength >= _circular_max_filter(strength, separation, closed)) \
+            & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
     chosen = np.flatnonzero(peak)
     if chosen.size > 1:                     # a plateau of equal maxima keeps its first sample
         first = np.ones(chosen.size, dtype=bool)

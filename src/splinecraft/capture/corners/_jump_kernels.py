@@ -1,5 +1,4 @@
-"""Compiled arm search of tangent-jump (:func:`._jump.tangent_jump`, step 2: straight arms), and its peaks of a
-closed outline (steps 4-5, :func:`closed_peaks`).
+"""Compiled arm search of tangent-jump (:func:`._jump.tangent_jump`, step 2: straight arms).
 
 At every sample of the smoothed outline two arms grow, backwards and forwards, through the lengths of the
 arm ladder while every sample of the arm stays within the tolerance of the arm's least-squares line. The
@@ -20,7 +19,7 @@ from numba import njit
 
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pymax
 
-__all__ = ["arm_lines", "closed_peaks", "warm_up"]
+__all__ = ["arm_lines", "warm_up"]
 
 
 @njit(**HELPER_OPTIONS)
@@ -93,62 +92,6 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, alive, s
             return
 
 
-@njit(**JIT_OPTIONS)
-def _closed_peaks_into(padded, pad, near, far, separation, min_turn, min_excess, flank, peak):
-    """Steps 4-5 of tangent-jump on a closed outline whose turns hold no NaN (``padded``: the ``m`` turns with
-    ``pad`` wrapped ones before and after, at least ``far`` and ``separation``): per sample whether its ``|J|`` is the largest within ``separation``
-    samples, at least ``min_turn``, and exceeds the median of its flanks (the turns ``near .. far`` samples
-    before and after it) by ``min_excess``, into ``peak``. The median is the mean of the two middle flank values
-    in sorted order, as numpy's median of an even count computes it; ``flank`` (``2 (far - near + 1)`` values)
-    holds them sorted, from one sample to the next the two that leave replaced by the two that enter. (Where
-    two zeros of opposite signs tie, the one removed may be the other: the middle values' sum then differs at
-    most in the sign of a zero, which ``|J - median|`` does not see.)"""
-    compact()  # run time negligible: code optimized for size (_jit.compact)
-    m = peak.shape[0]
-    count, half = 2 * (far - near + 1), far - near + 1
-    for k in range(count):  # the flanks of sample 0, sorted by insertion
-        value = padded[pad - near - k // 2] if k % 2 == 0 else padded[pad + near + k // 2]
-        j = k
-        while j > 0 and flank[j - 1] > value:
-            flank[j] = flank[j - 1]
-            j -= 1
-        flank[j] = value
-    for i in range(m):
-        if i > 0:  # before: turn i - 1 - far leaves, i - near enters; after: i - 1 + near leaves, i + far enters
-            for side in range(2):
-                gone = padded[i - 1 + pad - far] if side == 0 else padded[i - 1 + pad + near]
-                new = padded[i + pad - near] if side == 0 else padded[i + pad + far]
-                j = 0
-                while j < count - 1 and flank[j] != gone:
-                    j += 1
-                while j + 1 < count and flank[j + 1] < new:  # the gap moves up to where ``new`` belongs ...
-                    flank[j] = flank[j + 1]
-                    j += 1
-                while j > 0 and flank[j - 1] > new:  # ... or down
-                    flank[j] = flank[j - 1]
-                    j -= 1
-                flank[j] = new
-        baseline = (flank[half - 1] + flank[half]) / 2
-        turn = padded[i + pad]
-        size = abs(turn)
-        largest = size
-        for offset in range(1, separation + 1):
-            largest = pymax(largest, abs(padded[i + pad - offset]))
-            largest = pymax(largest, abs(padded[i + pad + offset]))
-        peak[i] = size >= largest and size >= min_turn and abs(turn - baseline) >= min_excess
-
-
-def closed_peaks(turn, near, far, separation, min_turn, min_excess):
-    """:func:`_closed_peaks_into` (steps 4-5 of :func:`._jump.tangent_jump` on a closed outline without NaN
-    turns): a boolean per sample."""
-    m, pad = turn.shape[0], max(int(far), int(separation))
-    padded = np.ascontiguousarray(turn[np.arange(-pad, m + pad) % m], dtype=np.float64)
-    peak = np.empty(m, np.bool_)
-    _closed_peaks_into(padded, pad, int(near), int(far), int(separation), float(min_turn), float(min_excess),
-                       np.empty(2 * (int(far) - int(near) + 1)), peak)
-    return peak
-
-
 def arm_lines(padded, reach, ladder, operators, tolerance):
     """Mean points and slopes (along travel) of the straight arms before (side 0) and after (side 1) every
     sample: an array (2, m, 4) of ``mean_x, mean_y, slope_x, slope_y``, for the ``m = len(padded) - 2 reach``
@@ -179,5 +122,4 @@ def warm_up():
         return centred, centred / np.sum(centred ** 2)
     samples = np.column_stack([np.arange(12.0), np.zeros(12)])
     arm_lines(samples, 3, [3, 4], operators, 0.3)
-    closed_peaks(np.arange(12.0), 4, 10, 2, 25.0, 25.0)
     _WARM.append(True)

@@ -301,17 +301,18 @@ class OutlineRegression:
         for step in range(hoschek_steps + 1):
             uu = u if pins is None else np.concatenate([u, pins[0]])
             coefficients = fit_coefficients(knot_vector, uu, all_weights, targets, count)
+            bezier = None
             if step == hoschek_steps:
                 break
-            stepped = self._hoschek_step(u, bezier_of_intervals(coefficients, knot_vector, count, starts, ends),
-                                         starts, ends)
+            bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
+            stepped = self._hoschek_step(u, bezier, starts, ends)
             if stepped.tobytes() == u.tobytes():  # the same parameters, bit for bit (signed zeros included)
                 break
             u = stepped
         self.parameter[:n] = u
         self.coefficients, self.knot_vector, self.coefficient_count = coefficients, knot_vector, count
         self._starts, self._ends = starts, ends
-        self._bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
+        self._bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends) if bezier is None else bezier
         return coefficients
 
     def _knot_setup(self):

@@ -50,6 +50,8 @@ MIN_TREAD = 2
 CHUNK_POINTS = 1 << 18
 
 _UNIT = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
+# The rules look at most this many runs either way from a run (a tread rule at run -1 or 1 reaches 6 more).
+_REACH = 7
 
 
 class PixelCorners(NamedTuple):
@@ -98,8 +100,8 @@ def pixel_corners(points, lengths):
     code = np.where(horizontal, np.where(travel[:, 0] > 0, 0, 2), np.where(travel[:, 1] > 0, 1, 3))
     unit = _UNIT[code]
     # a closed chain of unit cracks: each crack starts where the one before it ends
-    chained = (horizontal | vertical) & np.all(points[prev] + 0.5 * unit[prev] == points - 0.5 * unit, axis=1)
-    good = np.bincount(outline, weights=~chained, minlength=lengths.shape[0]) == 0
+    chained = (horizontal | vertical) & np.all((points + 0.5 * unit)[prev] == points - 0.5 * unit, axis=1)
+    good = np.bincount(outline[~chained], minlength=lengths.shape[0]) == 0
     good &= lengths >= 4
     if not good.any():
         return at, vertex
@@ -111,28 +113,20 @@ def pixel_corners(points, lengths):
     run_offset = np.concatenate([[0], np.cumsum(count)[:-1]])
     j = np.arange(first.shape[0]) - run_offset[run_outline]  # a run's rank in its outline
     k = count[run_outline]
-    following = first[run_offset[run_outline] + (j + 1) % k]
+    # the runs REACH places before each run to REACH places after it, within its outline (column REACH + m: the
+    # run m places after, negative m before), and their lengths and directions
+    around = run_offset[run_outline][:, None] + (j[:, None] + np.arange(-_REACH, _REACH + 1)[None, :]) % k[:, None]
+    following = first[around[:, _REACH + 1]]
     length = (following - first) % lengths[run_outline]
     length = np.where(length == 0, lengths[run_outline], length)
     direction = code[first]
-
-    run_base = run_offset[run_outline]
-    runs, lengths_at, directions_at = {}, {}, {}
-
-    def run(m):  # the run m places after each run (negative: before), within its outline (each m computed once)
-        if m not in runs:
-            runs[m] = run_base + (j + m) % k
-        return runs[m]
+    lengths_at, directions_at = length[around], direction[around]
 
     def length_of(m):
-        if m not in lengths_at:
-            lengths_at[m] = length[run(m)]
-        return lengths_at[m]
+        return lengths_at[:, _REACH + m]
 
     def direction_of(m):
-        if m not in directions_at:
-            directions_at[m] = direction[run(m)]
-        return directions_at[m]
+        return directions_at[:, _REACH + m]
 
     def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
         continues = (length_of(m + way) == 1) & (direction_of(m + 2 * way) == direction_of(m))
@@ -160,7 +154,7 @@ def pixel_corners(points, lengths):
     end &= ~before_tread & ~tread(1, 1)
     end &= k >= 4
     corner |= end
-    corner[run(1)[end]] = True
+    corner[around[:, _REACH + 1][end]] = True
     # a block (four runs: the crack outline is a rectangle) of any size: its four vertices. Below 3 x 3 pixels
     # the runs are too short for the rules above, yet no other shape renders as a rectangle that small
     corner |= k == 4
@@ -235,7 +229,9 @@ def merge_pixel_corners(found, index, n):
     # within one point around the closed outline: a pixel corner at f - 1, f or f + 1 (mod n); looked up, not
     # measured pairwise (found x index took gigabytes on the 262 000-point boundary of a 1000 x 1000 image of noise)
     beside = np.mod(found[:, None] + np.array([-1, 0, 1]), n)
-    near = np.isin(beside, np.mod(np.asarray(index, dtype=np.intp), n)).any(axis=1)
+    marked = np.zeros(n, bool)  # the pixel corners' points, looked up by index
+    marked[np.mod(np.asarray(index, dtype=np.intp), n)] = True
+    near = marked[beside].any(axis=1)
     return np.unique(np.concatenate([found[~near], index])).astype(np.intp)
 
 
@@ -251,8 +247,9 @@ def pixel_corners_of_outlines(points_list):
         at, vertex = pixel_corners(np.concatenate(points_list[first:last]), lengths[first:last])
         hits = np.flatnonzero(at)  # in the chunk, outline by outline
         offsets = np.cumsum(lengths[first:last]) - lengths[first:last]
-        cuts = np.searchsorted(hits, offsets[1:])
-        for offset, index, corner in zip(offsets.tolist(), np.split(hits, cuts), np.split(vertex[hits], cuts)):
-            found.append(PixelCorners(index - offset, corner))
+        cuts = np.searchsorted(hits, offsets).tolist() + [hits.shape[0]]  # each outline's hits: a slice
+        corners = vertex[hits]
+        for b, offset in enumerate(offsets.tolist()):
+            found.append(PixelCorners(hits[cuts[b]:cuts[b + 1]] - offset, corners[cuts[b]:cuts[b + 1]]))
         first = last
     return found

@@ -718,12 +718,14 @@ def _jump_peaks(turn, closed, settings):
     m = len(turn)
     near, far, separation = settings["near"], settings["far"], settings["separation"]
     offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
-    if closed:  # turn[(i + offsets) % m]: columns of the windows of one wrapped copy
+    if closed:  # turn[(i + offsets) % m]: columns of the windows of one wrapped copy (every turn in some row)
         flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
-    else:
+        ends = np.isnan(turn).any()
+    else:       # NaN beyond the ends (the first and last rows reach there)
         idx = np.arange(m)[:, None] + offsets[None, :]
         flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
-    if np.isnan(flanks).any():              # open ends
+        ends = True
+    if ends:                                # open ends
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)      # all-NaN flanks at open ends
             baseline = np.nanmedian(flanks, axis=1)

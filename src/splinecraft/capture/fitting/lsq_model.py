@@ -291,7 +291,9 @@ class OutlineRegression:
     # ---------------------------------------------------------------- fitting
     def fit(self, hoschek_steps=1):
         """Solve the weighted least-squares problem, then ``hoschek_steps`` times correct the parameters
-        (one Newton step of the foot-point equation) and solve again."""
+        (one Newton step of the foot-point equation) and solve again. A correction that moves no parameter (every
+        piece above the gate, :meth:`_hoschek_step`) ends the steps: each solve and step after it would repeat
+        the last bit for bit."""
         count, knot_vector, starts, ends = self._knot_setup()
         pins, targets, all_weights = self._weight_setup()
         n = self.contour.size
@@ -299,14 +301,18 @@ class OutlineRegression:
         for step in range(hoschek_steps + 1):
             uu = u if pins is None else np.concatenate([u, pins[0]])
             coefficients = fit_coefficients(knot_vector, uu, all_weights, targets, count)
+            bezier = None
             if step == hoschek_steps:
                 break
-            u = self._hoschek_step(u, bezier_of_intervals(coefficients, knot_vector, count, starts, ends), starts,
-                                   ends)
+            bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
+            stepped = self._hoschek_step(u, bezier, starts, ends)
+            if stepped.tobytes() == u.tobytes():  # the same parameters, bit for bit (signed zeros included)
+                break
+            u = stepped
         self.parameter[:n] = u
         self.coefficients, self.knot_vector, self.coefficient_count = coefficients, knot_vector, count
         self._starts, self._ends = starts, ends
-        self._bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
+        self._bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends) if bezier is None else bezier
         return coefficients
 
     def _knot_setup(self):

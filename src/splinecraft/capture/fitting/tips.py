@@ -28,7 +28,7 @@ from ._kernels import separating_slope
 from .geometry import segment_squared_distances
 
 __all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction",
-           "pixel_pairs",
+           "horizontal_cracks", "pixel_pairs",
            "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
@@ -120,8 +120,12 @@ class SideFit:
         self.ink, self.margin = ink, margin
 
     def inkward(self, points):
-        """Signed offset (px, across the frame) of ``points`` from the side, positive on its ink side."""
+        """Signed offset (px, across the frame) of ``points`` from the side, positive on its ink side. (On a
+        straight side the parabola of zeros is +0 at every finite ``t`` and ``y - 0.0`` is ``y``, signed zeros
+        included: the offset is ``ink * y``.)"""
         local = points - self.centre
+        if not self.coefficients.any():
+            return self.ink * (local @ self.normal)
         t, y = local @ self.direction, local @ self.normal
         c0, c1, c2 = self.coefficients
         return self.ink * (y - (c0 + t * (c1 + t * c2)))
@@ -326,7 +330,14 @@ def tip_contradiction(contour, corner_arc, zone, sides, pairs):
     return float(max((-ink_depth).max(), paper_depth.max()))
 
 
-def wedge_contradiction(points, pairs, tip, ends, sides):
+def horizontal_cracks(points):
+    """The horizontal cracks of a crack outline ``points`` (the points with an integer y), sorted by x (stable):
+    what :func:`wedge_contradiction` counts its rays' crossings on, found once per outline."""
+    cracks = points[np.abs(points[:, 1] - np.round(points[:, 1])) < 1e-9]
+    return cracks[np.argsort(cracks[:, 0], kind="stable")]
+
+
+def wedge_contradiction(cracks, pairs, tip, ends, sides):
     """How far (px) the wedge of two :class:`SideFit` crossing at ``tip`` contradicts the pixel centres between
     the tip and the contour: every centre inside the triangle of ``tip`` and the contour points ``ends`` at the
     side windows' start, not only those beside the contour (:func:`tip_contradiction`): the deepest paper centre
@@ -336,14 +347,17 @@ def wedge_contradiction(points, pairs, tip, ends, sides):
     rendering makes every pixel centre inside the true wedge ink (outside it paper), so an extrapolated tip whose
     wedge holds paper centres beyond the contour (a spike past a stroke end, say) is not the tip.
 
-    Whether a centre is ink follows from the crack outline ``points`` alone: a vertical ray from the centre
-    crosses the outline at its horizontal cracks (points with integer y on the centre's column), and the
-    parity of the crossings above it is that of a centre known to be ink (``pairs[0][0]``, beside the first
-    crack) exactly when it is ink."""
-    corners = np.vstack([tip[None], ends])
+    Whether a centre is ink follows from the crack outline alone: a vertical ray from the centre crosses the
+    outline at its horizontal cracks (``cracks``, :func:`horizontal_cracks` of the outline: points with integer y;
+    those on the centre's column), and the parity of the crossings above it is that of a centre known to be ink
+    (``pairs[0][0]``, beside the first crack) exactly when it is ink."""
+    corners = np.empty((3, 2))
+    corners[0], corners[1:] = tip, ends
     low, high = np.floor(corners.min(axis=0)), np.ceil(corners.max(axis=0))
     xs, ys = np.arange(low[0], high[0]) + 0.5, np.arange(low[1], high[1]) + 0.5
-    centres = np.column_stack([np.repeat(xs, ys.shape[0]), np.tile(ys, xs.shape[0])])
+    grid = np.empty((xs.shape[0], ys.shape[0], 2))  # every (x, y), x-major
+    grid[:, :, 0], grid[:, :, 1] = xs[:, None], ys[None, :]
+    centres = grid.reshape(-1, 2)
     # inside the triangle: on the same side of each edge as the opposite vertex
     inside = np.ones(centres.shape[0], bool)
     for k in range(3):
@@ -360,17 +374,16 @@ def wedge_contradiction(points, pairs, tip, ends, sides):
     sign = 1.0 if convex else -1.0
     wedge_depth = np.minimum(sign * sides[0].inkward(centres) - sides[0].margin,
                              sign * sides[1].inkward(centres) - sides[1].margin)
-    reference = pairs[0][:1]
-    columns = np.append(centres[:, 0], reference[0, 0])
-    # the horizontal cracks on the columns of the centres (a ray only meets cracks of its own column)
-    horizontal = points[(np.abs(points[:, 1] - np.round(points[:, 1])) < 1e-9) &
-                        (points[:, 0] >= columns.min()) & (points[:, 0] <= columns.max())]
 
     def crossings(queries):
-        above = (horizontal[None, :, 0] == queries[:, None, 0]) & (horizontal[None, :, 1] < queries[:, None, 1])
+        # the horizontal cracks on the columns of the queries (a ray only meets cracks of its own column): a run
+        # of the x-sorted cracks
+        run = cracks[np.searchsorted(cracks[:, 0], queries[:, 0].min(), side="left"):
+                     np.searchsorted(cracks[:, 0], queries[:, 0].max(), side="right")]
+        above = (run[None, :, 0] == queries[:, None, 0]) & (run[None, :, 1] < queries[:, None, 1])
         return above.sum(axis=1) % 2
 
-    ink = crossings(centres) == crossings(reference)[0]
+    ink = crossings(centres) == crossings(pairs[0][:1])[0]
     wrong = (~ink if convex else ink) & (wedge_depth > 0.0)
     return float(wedge_depth[wrong].max()) if wrong.any() else -np.inf
 
@@ -443,6 +456,7 @@ def tip_estimates(contour, angle, radius, measured=None):
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False
+    cracks = None if pairs is None else horizontal_cracks(contour.points)
     candidates = np.flatnonzero(wanted)
     regular, shared = {}, {}
 
@@ -471,7 +485,7 @@ def tip_estimates(contour, angle, radius, measured=None):
         if not measured:
             continue
         is_shared = [bool(short[c, k] and one_short[c]) for k in (0, 1)]
-        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs)
+        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
         reach = stops[c].copy()
         while found is None and RETRY_SHRINK and not any(is_shared):
             reach = start[c] + RETRY_SHRINK * (reach - start[c])
@@ -480,7 +494,7 @@ def tip_estimates(contour, angle, radius, measured=None):
             sides = [side_fit(contour, corner_arc, 2 * k - 1, start[c], reach[k], pairs) for k in (0, 1)]
             if any(side is None for side in sides):
                 break
-            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs)
+            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
             if found is not None and sides[0].margin > 0 and sides[1].margin > 0 and \
                     (sides[0].margin + sides[1].margin) / (2.0 * np.sin(0.5 * found[1])) > RETRY_UNCERTAINTY:
                 found = None
@@ -525,10 +539,11 @@ def _outside(contour, points):
     return np.sqrt(least)
 
 
-def _tip(contour, c, sides, is_shared, corner_arc, start, pairs):
+def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks):
     """The crossing of the two :class:`SideFit` ``sides`` of corner ``c`` as its tip (:func:`tip_estimates`'
     bounds and consistency tests), with the opening of the fitted sides at the crossing and the contour points
-    at the window starts; None where it fails them."""
+    at the window starts; None where it fails them. ``cracks``: :func:`horizontal_cracks` of the contour (with
+    ``pairs``)."""
     # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
     # other side's window bounds the reach
     windows = [side.length for side, shared in zip(sides, is_shared) if not shared]
@@ -549,7 +564,7 @@ def _tip(contour, c, sides, is_shared, corner_arc, start, pairs):
         return None
     if pairs is not None and sides[0].ink and sides[1].ink and \
             (tip_contradiction(contour, corner_arc, start + TIP_ZONE, sides, pairs) > CONTRADICTION or
-             wedge_contradiction(contour.points, pairs, point, ends, sides) > CONTRADICTION):
+             wedge_contradiction(cracks, pairs, point, ends, sides) > CONTRADICTION):
         return None
     return point, opening, ends
 

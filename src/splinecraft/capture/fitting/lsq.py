@@ -180,7 +180,7 @@ class LsqKnotInsertion:
         dev = model.deviations(dense=True)  # many outlines already pass here: then this is the final check too
         self.snapshot(dev, candidates, "initial")
         removal_done = not self.options["remove_knots"]
-        converged = False
+        converged = merge_done = False
         while True:
             if not (dev["excess"] > 0).any():
                 if not removal_done:
@@ -192,11 +192,18 @@ class LsqKnotInsertion:
                         dev = model.deviations()
                         self.snapshot(dev, candidates, "insert")
                     continue
+                merge_done = False
                 if not dev["dense"]:  # verify with the dense check before stopping (the guarantee)
+                    merged = self.merge_unverified(dev)
+                    if merged is not None and merged is not dev:  # the merged outline passed its own dense check
+                        dev, converged, merge_done = merged, True, True
+                        break
+                    merge_done = merged is dev  # nothing merged: the same fit is not merged again
                     dev = model.deviations(dense=True)
                 if not (dev["excess"] > 0).any():
                     converged = True
                     break
+                merge_done, self.jumps = False, (np.zeros(0), np.zeros(0, np.int64))  # a fit that failed
             if self.iteration >= self.max_iterations:
                 break
             if self.deadline is not None and self.deadline.passed():
@@ -212,20 +219,37 @@ class LsqKnotInsertion:
         if not converged and dev["pixel"] is not None and not self.out_of_time:
             # the pixel check only asks for knots: within the tolerance is converged
             converged = not (dev["tol_excess"] > 0).any()
-        jumps = self.options["curvature_jumps"]
-        if converged and jumps and (jumps is True or not model.contour.corner_count) \
-                and self.options["merge_tolerance"] > 0 and not model.jump_knots.size:
-            # the merged outline is G1; unmerged, the thesis's C2 fit stays ("smooth": outlines without corners)
-            corner_values = model.base_parameter[model.contour.corner_bounds] if model.contour.corner_count else ()
-            self.jumps = curvature_jumps(dev["bezier"], dev["starts"], dev["ends"], corner_values, self.epsilon)
-        if converged and self.options["merge_tolerance"] > 0:
-            dev = self.merge(dev)
+        if converged and not merge_done:
+            self.measure_jumps(dev)
+            if self.options["merge_tolerance"] > 0:
+                dev = self.merge(dev)
         if not converged and not self.out_of_time:
             # the deviation reported: the windowed bound can be loose on a fit that went wrong (a fit the time
             # budget stopped keeps that bound, an upper one: tightening costs as much as a round on a long noisy
             # boundary, and a stopped fit that far off gets its polygon, trace's STOPPED_FIT_LIMIT)
             dev = model.tighten(dev)
         return self.result(dev, converged)
+
+    def measure_jumps(self, dev):
+        """The curvature jumps of the converged ``C^2`` fit (``self.jumps``, :func:`~.jumps.curvature_jumps`) where
+        the option ``curvature_jumps`` asks for them and merging is on."""
+        model, jumps = self.model, self.options["curvature_jumps"]
+        if jumps and (jumps is True or not model.contour.corner_count) and self.options["merge_tolerance"] > 0 \
+                and not model.jump_knots.size:
+            # the merged outline is G1; unmerged, the thesis's C2 fit stays ("smooth": outlines without corners)
+            corner_values = model.base_parameter[model.contour.corner_bounds] if model.contour.corner_count else ()
+            self.jumps = curvature_jumps(dev["bezier"], dev["starts"], dev["ends"], corner_values, self.epsilon)
+
+    def merge_unverified(self, dev):
+        """Merging (:meth:`merge`) on a fit that passed the sparse check only: where something merges, the merged
+        outline has passed the dense check (:func:`~.merge.merge_segments`), the guarantee of the result, and the
+        unmerged fit's own dense check is not needed. Returns the deviations of the merged outline, ``dev`` itself
+        where nothing merged (the model as it was: the unmerged fit is verified as before), None where merging is
+        off. The curvature jumps (:meth:`measure_jumps`) are those of this fit."""
+        if self.options["merge_tolerance"] <= 0:
+            return None
+        self.measure_jumps(dev)
+        return self.merge(dev)
 
     def merge(self, dev):
         """Segment merging (:mod:`.merge`, docs/capture.md §12, "Merged segments") on the converged fit; a

@@ -100,7 +100,8 @@ class LsqKnotInsertion:
     Each round: measure the deviation (:meth:`OutlineRegression.deviations`), insert a knot into every failing
     interval (or release the tip extrapolation of a corner whose zone fails), refit and settle the corners
     (:meth:`settle`). Once everything is within the tolerance, knot removal (:meth:`remove_knots`), then the
-    dense check of the guarantee before stopping.
+    dense check of the guarantee before stopping (with merging on, that of the merged outline where something
+    merges: :meth:`merge_unverified`).
     """
 
     def __init__(self, points, corners, epsilon, max_iterations, keep_snapshots, options, deadline=None,

@@ -385,31 +385,23 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     valid &= within[:, None, :]
     passed = np.zeros((longest, k), bool)  # per length and start: one of the run's states qualifies
     passed[0] = True  # every segment starts runs
-    single = valid[0].copy()  # the single segments refitted: only where a run beside them needs it (_singles)
-    valid[0] = False
     fits = []
-
-    def fit(lengths, states, rows):
-        sa, sb = states >> 1, states & 1
-        end = rows + (lengths - 1)
-        fit = fit_runs(bez, starts, ends, points, u, rows, lengths, (head_dir[sa, rows], tail_dir[sb, end]), tol,
-                       fitted, (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
-        return lengths, sa, sb, rows, fit, _qualify(fit, tolerance, MARGIN)
-
     for low in range(0, longest, PHASE):
         high = min(low + PHASE, longest)
         grown = _grown(passed[:low], within[:low + 1])[-1]  # the starts that reach length low + 1
         lengths, states, rows = np.nonzero(valid[low:high] & grown[None, None, :])
         if not rows.size:
-            if low == 0:  # one length per pass: the first holds only the single segments
-                continue
             break
-        fits.append(fit(lengths + (low + 1), states, rows))
-        lengths, ok, rows = fits[-1][0], fits[-1][5], fits[-1][3]
+        lengths += low + 1
+        sa, sb = states >> 1, states & 1
+        end = rows + (lengths - 1)
+        fit = fit_runs(bez, starts, ends, points, u, rows, lengths, (head_dir[sa, rows], tail_dir[sb, end]), tol,
+                       fitted, (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
+        ok = _qualify(fit, tolerance, MARGIN)
         passed[lengths[ok] - 1, rows[ok]] = True
         passed[0] = True
+        fits.append((lengths, sa, sb, rows, fit, ok))
     grown = _grown(passed, within)
-    fits = _singles(fits, grown, single, fit, k) + fits
     for lengths, sa, sb, rows, fit, ok in fits:
         taken = ok & grown[lengths - 1, rows]
         chosen = np.flatnonzero(taken)
@@ -427,50 +419,6 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     cand["t_start"] = np.cumsum(cand["t_count"]) - cand["t_count"]
     cand["direction"], cand["o_head"], cand["o_tail"] = direction, o_head, o_tail
     return cand
-
-
-def _singles(fits, grown, single, fit, k):
-    """The single segments refitted with a new direction at a join (``single``: per state and segment, the
-    states (a, b) of :func:`_candidates`) where a chain of fewest segments can use them: beside a qualifying run
-    of two or more segments that takes the new direction at their shared join, or beside such a refitted
-    segment in turn (``fit(lengths, states, rows)`` fits runs as :func:`_candidates` does). Elsewhere a refit
-    only replaces the segment as it was (cost 0) by one that costs more, in a chain of as many segments, and
-    :func:`choose_runs` never picks it: leaving it out changes no choice. Returns the fits in the order
-    :func:`_candidates` makes them (state, then segment), as one list entry."""
-    head, tail = np.zeros(k, bool), np.zeros(k, bool)  # a new direction is asked for at a segment's start, end
-    for lengths, sa, sb, rows, result, ok in fits:
-        taken = ok & grown[lengths - 1, rows]
-        head[(rows[taken & (sb == 1)] + lengths[taken & (sb == 1)]) % k] = True
-        tail[(rows[taken & (sa == 1)] - 1) % k] = True
-    done = np.zeros_like(single)
-    parts = []
-    while True:
-        wanted = single & ~done
-        wanted[2:] &= head  # states (1, 0) and (1, 1): a new direction at the start
-        wanted[1] &= tail  # state (0, 1)
-        wanted[3] |= single[3] & ~done[3] & tail
-        states, rows = np.nonzero(wanted)
-        if not rows.size:
-            break
-        done |= wanted
-        parts.append(fit(np.ones(rows.shape[0], np.int64), states, rows))
-        _, sa, sb, rows, _, ok = parts[-1]
-        head[(rows[ok & (sb == 1)] + 1) % k] = True
-        tail[(rows[ok & (sa == 1)] - 1) % k] = True
-    if not parts:
-        return []
-    merged = [np.concatenate([part[i] for part in parts]) for i in (0, 1, 2, 3, 5)]
-    order = np.lexsort((merged[3], 2 * merged[1] + merged[2]))  # by state, then segment
-    results = [part[4] for part in parts]
-    counts = np.concatenate([r["count"] for r in results])
-    t_start = np.cumsum(counts) - counts
-    result = {key: np.concatenate([r[key] for r in results])[order] for key in
-              ("cubic", "handles", "lo", "count", "excess", "drift", "spread")}
-    result["t"] = np.concatenate([r["t"] for r in results])[
-        np.repeat(t_start[order], counts[order]) + np.arange(counts.sum()) - np.repeat(
-            np.cumsum(counts[order]) - counts[order], counts[order])]
-    lengths, sa, sb, rows, ok = (a[order] for a in merged)
-    return [(lengths, sa, sb, rows, result, ok)]
 
 
 def _grown(passed, within):

@@ -15,8 +15,7 @@ gives ``G^1`` segment counts, in the manner of potrace's curve optimisation (``o
    fitted by one cubic with the run's end points and a direction at each end, its two handle lengths fitted to
    the contour points the run covers (:mod:`._merge_kernels`: least squares, then normal distances at the
    points' feet). A run qualifies when the cubic stays within the fit's tolerance of those points (``epsilon``,
-   plus the allowance near an extrapolated corner) and within ``merge_tolerance`` of the fitted curve there (a
-   single segment is refitted with a new direction at a join only where a chain can use it, :func:`_singles`);
+   plus the allowance near an extrapolated corner) and within ``merge_tolerance`` of the fitted curve there;
 4. dynamic programming over the chain (each join in one of its two direction states, so that both sides of
    every join share one tangent direction) picks the fewest segments, ties to the smallest squared distance
    from the fitted curve; the fitted segments as they were are always among the choices, so merging never

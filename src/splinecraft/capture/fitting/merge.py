@@ -50,9 +50,8 @@ MISSES = 2
 #: Half-width of the window of the parabola that gives a join's tangent direction, in units of the longer
 #: neighbouring segment's parameter length (clipped to the piece).
 WINDOW = 0.5
-#: Contour points a candidate cubic is fitted to (evenly spread over the run; all of them are checked). 32 gave
-#: the same quality on every benchmark set for a quarter more of the compiled work, 16 more segments (session 27).
-FIT_POINTS = 24
+#: Contour points a candidate cubic is fitted to (evenly spread over the run; all of them are checked).
+FIT_POINTS = 32
 #: Fewest parameter units (about px of arc) between a cut at an extremum and either end of its segment.
 MIN_SPLIT = 2.0
 #: Solves of a candidate cubic's handle lengths after the first, each after two foot-point corrections of

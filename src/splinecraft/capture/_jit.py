@@ -42,8 +42,14 @@ __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip
 #: numba's runtime has nothing to count; without it less code is compiled (about 5-10 % of the cold compile)
 #: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
-#: wrapper was compiled and optimized for nothing (about 8 ms a kernel).
-JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True)
+#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). No rewrites of numba's IR
+#: (``no_rewrites``): the passes that prune branches on constant conditions, turn constant raises, indices and
+#: operands into static ones and fuse array expressions into loops serve code that raises, allocates or
+#: branches on constants, which the kernels do not, and ran for every kernel and helper (the
+#: cold compile 0.96-0.97x; some kernels' blocks are laid out otherwise, the results are bit for bit the same:
+#: BENCHMARKS.md, "Session 27: cold first call").
+JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True,
+                   no_rewrites=True)
 #: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also
 #: no Python wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for
 #: each helper but never run) and no cache entry of their own (``cache=False``): their code is linked into the

@@ -31,10 +31,29 @@ import threading
 
 import numba
 from numba.core import types, typing
+from numba.core.compiler import CompilerBase, DefaultPassBuilder
+from numba.core.typed_passes import NopythonRewrites
 from numba.extending import intrinsic
 
 __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
            "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
+
+
+class _KernelCompiler(CompilerBase):
+    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without its rewrites of the typed IR
+    (``NopythonRewrites``: array expressions fused into loops, static indices of string literals), which
+    kernels that allocate nothing and index no strings never use, and which walked every statement of every
+    kernel and helper: the cold compile of a trace's kernels 0.95x. The rewrites before type inference stay:
+    without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``) is typed as a
+    call of ``getitem``, which numba compiles per tuple type and index, and the compile took 1.05x
+    (BENCHMARKS.md, "Session 27: cold first call")."""
+
+    def define_pipelines(self):
+        pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
+        pipeline.passes = [(step, name) for step, name in pipeline.passes if step is not NopythonRewrites]
+        pipeline.finalize()
+        return [pipeline]
+
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
@@ -42,14 +61,10 @@ __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip
 #: numba's runtime has nothing to count; without it less code is compiled (about 5-10 % of the cold compile)
 #: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
-#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). No rewrites of numba's IR
-#: (``no_rewrites``): the passes that prune branches on constant conditions, turn constant raises, indices and
-#: operands into static ones and fuse array expressions into loops serve code that raises, allocates or
-#: branches on constants, which the kernels do not, and ran for every kernel and helper (the
-#: cold compile 0.96-0.97x; some kernels' blocks are laid out otherwise, the results are bit for bit the same:
-#: BENCHMARKS.md, "Session 27: cold first call").
+#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). numba's pipeline without its
+#: rewrites of the typed IR (:class:`_KernelCompiler`: the cold compile 0.95x).
 JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True,
-                   no_rewrites=True)
+                   pipeline_class=_KernelCompiler)
 #: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also
 #: no Python wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for
 #: each helper but never run) and no cache entry of their own (``cache=False``): their code is linked into the

@@ -186,6 +186,7 @@ def test_a_helper_that_cannot_start_costs_only_time(monkeypatch, executable):
     assert _jit._DONE == {"noise", "corners", "merge"}
     if sys.platform.startswith("linux"):
         monkeypatch.delenv("SPLINECRAFT_JIT_FORK")
+        monkeypatch.setattr(_jit, "_can_fork", lambda: True)  # whatever threads earlier tests left running
         monkeypatch.setattr(_jit, "_DONE", set())
         _jit.warm_up(("noise", "corners", "merge"))
         assert _jit.LAST_WARM_UP["helpers"] and not _jit.LAST_WARM_UP["failed"]
@@ -228,31 +229,40 @@ def test_the_helper_uses_this_process_s_package_whatever_the_working_folder(monk
     assert helper is not None and helper.wait(timeout=120) == 0
 
 
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks only on Linux")
-def test_a_helper_is_forked_only_where_no_other_python_thread_runs(monkeypatch):
-    """A fork copies only the forking thread: a lock another thread holds (Jupyter's kernel threads, a worker
-    thread tracing) would stay held in the child. With one thread this process forks; with two, or from a thread
-    other than the main one, or with ``SPLINECRAFT_JIT_FORK=0``, it starts a fresh interpreter."""
-    import threading
+_CAN_FORK = """
+import json, os, threading
+from splinecraft.capture import _jit
+seen = {"alone": _jit._can_fork()}
+release = threading.Event()
+other = threading.Thread(target=release.wait)
+other.start()
+seen["another thread"] = _jit._can_fork()
+release.set()
+other.join()
+seen["alone again"] = _jit._can_fork()
+worker = threading.Thread(target=lambda: seen.__setitem__("from a worker thread", _jit._can_fork()))
+worker.start()
+worker.join()
+os.environ["SPLINECRAFT_JIT_FORK"] = "0"
+seen["SPLINECRAFT_JIT_FORK=0"] = _jit._can_fork()
+print(json.dumps(seen))
+"""
 
-    monkeypatch.delenv("SPLINECRAFT_JIT_FORK", raising=False)
-    assert threading.active_count() == 1 and _jit._can_fork()
-    release = threading.Event()
-    other = threading.Thread(target=release.wait)
-    other.start()
-    try:
-        assert not _jit._can_fork()
-    finally:
-        release.set()
-        other.join()
-    assert _jit._can_fork()
-    seen = []
-    worker = threading.Thread(target=lambda: seen.append(_jit._can_fork()))
-    worker.start()
-    worker.join()
-    assert seen == [False]
-    monkeypatch.setenv("SPLINECRAFT_JIT_FORK", "0")
-    assert not _jit._can_fork()
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks only on Linux")
+def test_a_helper_is_forked_only_where_no_other_python_thread_runs(tmp_path):
+    """A fork copies only the forking thread: a lock another thread holds (Jupyter's kernel threads, a worker
+    thread tracing) would stay held in the child. In a fresh process with one thread the helper is forked; with
+    two, or from a thread other than the main one, or with ``SPLINECRAFT_JIT_FORK=0``, it is a fresh
+    interpreter."""
+    env = {key: value for key, value in os.environ.items() if key != "SPLINECRAFT_JIT_FORK"}
+    env.update(NUMBA_CACHE_DIR=str(tmp_path),
+               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
+    done = subprocess.run([sys.executable, "-c", _CAN_FORK], env=env, capture_output=True, text=True, timeout=300,
+                          check=True)
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == {
+        "alone": True, "another thread": False, "alone again": True, "from a worker thread": False,
+        "SPLINECRAFT_JIT_FORK=0": False}
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks only on Linux")
@@ -273,6 +283,7 @@ def test_a_stuck_forked_helper_costs_only_time(monkeypatch):
     monkeypatch.setattr(_jit, "is_cached", lambda dispatcher: False)
     monkeypatch.setattr(_jit, "workers", lambda: 2)
     monkeypatch.setattr(_jit, "FORK_STALL", 0.5)
+    monkeypatch.setattr(_jit, "_can_fork", lambda: True)  # whatever threads earlier tests left running
     here, real = os.getpid(), _jit._function
 
     def stuck_in_the_child(name):

@@ -40,6 +40,7 @@ import numba
 from numba.core import types, typing
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
 from numba.core.typed_passes import NopythonRewrites
+from numba.core.untyped_passes import InlineClosureLikes
 from numba.extending import intrinsic
 
 __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
@@ -47,17 +48,21 @@ __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip
 
 
 class _KernelCompiler(CompilerBase):
-    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without its rewrites of the typed IR
-    (``NopythonRewrites``: array expressions fused into loops, static indices of string literals), which
-    kernels that allocate nothing and index no strings never use, and which walked every statement of every
-    kernel and helper: the cold compile of a trace's kernels 0.95x. The rewrites before type inference stay:
-    without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``) is typed as a
-    call of ``getitem``, which numba compiles per tuple type and index, and the compile took 1.05x
+    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without two passes that find nothing to do in
+    the kernels and walked every statement of every kernel and helper: the rewrites of the typed IR
+    (``NopythonRewrites``: array expressions fused into loops, static indices of string literals; the kernels
+    allocate nothing and index no strings) and the inlining of closures (``InlineClosureLikes``: functions
+    defined inside a kernel, comprehensions; the kernels have none: one that gained some would need the pass back). The
+    machine code of every kernel is the same as with numba's own pipeline; the cold compile of a trace's kernels
+    took 0.955x without the rewrites and 0.97x of that again without the inlining. The rewrites before type
+    inference stay: without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``)
+    is typed as a call of ``getitem``, which numba compiles per tuple type and index, and the compile took 1.05x
     (BENCHMARKS.md, "Session 27: cold first call")."""
 
     def define_pipelines(self):
         pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
-        pipeline.passes = [(step, name) for step, name in pipeline.passes if step is not NopythonRewrites]
+        pipeline.passes = [(step, name) for step, name in pipeline.passes
+                           if step not in (NopythonRewrites, InlineClosureLikes)]
         pipeline.finalize()
         return [pipeline]
 
@@ -69,7 +74,7 @@ class _KernelCompiler(CompilerBase):
 #: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
 #: wrapper was compiled and optimized for nothing (about 8 ms a kernel). numba's pipeline without its
-#: rewrites of the typed IR (:class:`_KernelCompiler`: the cold compile 0.95x).
+#: rewrites of the typed IR and its inlining of closures (:class:`_KernelCompiler`: the cold compile 0.93x).
 JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True,
                    pipeline_class=_KernelCompiler)
 #: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also

@@ -268,8 +268,9 @@ def is_cached(dispatcher) -> bool:
 
 def plan(cold, processes, late=None):
     """Split the ``cold`` task names between this process (first list) and ``processes - 1`` helpers (each of
-    which starts ``late`` seconds late, by default :data:`HELPER_START`): the split whose finish times, largest first, are the least
-    (so the earliest last finish, and no process idle while another has a task it could have taken). Every
+    which starts ``late`` seconds late, by default :data:`HELPER_START`): the split whose finish times, largest
+    first, are the least (so the earliest last finish, and no process idle while another has a task it could
+    have taken). Every
     split is tried when there are at most :data:`EXACT_PLAN_SPLITS` (a trace's six tasks on two processes: 64);
     beyond, longest first, each to the process that would finish it earliest. Longest first alone splits the
     trace's tasks 3.25 : 3.0 s on two processes where 3.1 : 3.15 exists."""

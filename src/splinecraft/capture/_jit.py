@@ -213,9 +213,11 @@ TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
 #: no scipy.ndimage for the noise estimate's warm-up), less this process's own set-up of its first compile
 #: (0.15-0.2 s), the collection of its compiles' garbage after them (0.15-0.2 s: some 290 000 objects Python's
 #: collector walks, whether this process collects them while it waits for a helper or the first automatic
-#: collection does, which fires inside :func:`warm_up` as soon as the collector is back on) and the loading of
-#: the helper's kernels (0.03 s) (BENCHMARKS.md, "Session 25: cold first call").
-HELPER_START = 0.1
+#: collection does, which fires inside :func:`warm_up` as soon as the collector is back on), the loading of
+#: the helper's kernels (0.02-0.03 s) and the first trace's own run (0.06 s) (BENCHMARKS.md, "Session 25: cold
+#: first call"). 0.1 until session 27, where this process still finished 0.3-0.4 s CPU after the helper; at
+#: -0.05 the two shares swap and both finish together ("Session 27: cold first call").
+HELPER_START = -0.05
 #: :data:`HELPER_START` of a forked helper (:func:`_fork_helper`): it starts at once and sets numba up as this
 #: process does, so it finishes earlier than this process with the same share by what only this process does:
 #: the collection of its compiles' garbage (0.15-0.2 s CPU), the loading of the helper's kernels (0.02 s) and

@@ -26,9 +26,10 @@ def test_plan_gives_every_cold_task_to_one_process(cold, processes):
     weight = {name: task[3] for name, task in _jit.WARM_UP_TASKS.items()}
     finish = [sum(weight[name] for name in share) + (index > 0) * _jit.HELPER_START
               for index, share in enumerate(shares)]
-    # longest first to the earliest finisher: no process ends later than the best one by more than one task
+    # longest first to the earliest finisher: no process ends later than the best one by more than one task and
+    # the processes' difference in start (a helper may start earlier than this process: a negative HELPER_START)
     if cold:
-        assert max(finish) - min(finish) <= max(weight[name] for name in cold) + _jit.HELPER_START + 1e-9
+        assert max(finish) - min(finish) <= max(weight[name] for name in cold) + abs(_jit.HELPER_START) + 1e-9
 
 
 def _finishes(shares):
@@ -173,14 +174,25 @@ def test_a_failing_helper_costs_only_time(monkeypatch):
 
 @pytest.mark.parametrize("executable", ["/nonexistent/python", None, ""])
 def test_a_helper_that_cannot_start_costs_only_time(monkeypatch, executable):
-    """No interpreter to start (a bad path, or an embedded Python whose ``sys.executable`` is None or empty)."""
+    """No interpreter to start (a bad path, or an embedded Python whose ``sys.executable`` is None or empty) and
+    no fork (``SPLINECRAFT_JIT_FORK=0``; elsewhere than Linux, or other threads running); where this process may
+    fork, its helpers need no interpreter and do not fail."""
     monkeypatch.setattr(_jit, "_DONE", set())
     monkeypatch.setattr(_jit, "is_cached", lambda dispatcher: False)
     monkeypatch.setattr(_jit, "workers", lambda: 3)
     monkeypatch.setattr(_jit.sys, "executable", executable)
+    monkeypatch.setenv("SPLINECRAFT_JIT_FORK", "0")
     _jit.warm_up(("noise", "corners", "merge"))
     assert _jit.LAST_WARM_UP["helpers"] and _jit.LAST_WARM_UP["failed"] == _jit.LAST_WARM_UP["helpers"]
     assert _jit._DONE == {"noise", "corners", "merge"}
+    if sys.platform.startswith("linux"):
+        monkeypatch.delenv("SPLINECRAFT_JIT_FORK")
+        monkeypatch.setattr(_jit, "_can_fork", lambda: True)  # whatever threads earlier tests left running
+        monkeypatch.setattr(_jit, "_DONE", set())
+        _jit.warm_up(("noise", "corners", "merge"))
+        assert _jit.LAST_WARM_UP["helpers"] and not _jit.LAST_WARM_UP["failed"]
+        assert all(_jit.LAST_WARM_UP["forked"])
+        assert _jit._DONE == {"noise", "corners", "merge"}
 
 
 def test_an_interrupted_warm_up_stops_its_helpers(monkeypatch):
@@ -214,14 +226,85 @@ def test_the_helper_uses_this_process_s_package_whatever_the_working_folder(monk
     shadow.mkdir()
     (shadow / "__init__.py").write_text("raise ImportError('the shadow copy was imported')\n")
     monkeypatch.chdir(tmp_path)
-    helper = _jit._start_helper(["noise"])  # a warm cache here: it only loads
+    helper = _jit._spawn_helper(["noise"])  # a warm cache here: it only loads
     assert helper is not None and helper.wait(timeout=120) == 0
+
+
+_CAN_FORK = """
+import json, os, threading
+from splinecraft.capture import _jit
+seen = {"alone": _jit._can_fork()}
+release = threading.Event()
+other = threading.Thread(target=release.wait)
+other.start()
+seen["another thread"] = _jit._can_fork()
+release.set()
+other.join()
+seen["alone again"] = _jit._can_fork()
+worker = threading.Thread(target=lambda: seen.__setitem__("from a worker thread", _jit._can_fork()))
+worker.start()
+worker.join()
+os.environ["SPLINECRAFT_JIT_FORK"] = "0"
+seen["SPLINECRAFT_JIT_FORK=0"] = _jit._can_fork()
+print(json.dumps(seen))
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks only on Linux")
+def test_a_helper_is_forked_only_where_no_other_python_thread_runs(tmp_path):
+    """A fork copies only the forking thread: a lock another thread holds (Jupyter's kernel threads, a worker
+    thread tracing) would stay held in the child. In a fresh process with one thread the helper is forked; with
+    two, or from a thread other than the main one, or with ``SPLINECRAFT_JIT_FORK=0``, it is a fresh
+    interpreter."""
+    env = {key: value for key, value in os.environ.items() if key != "SPLINECRAFT_JIT_FORK"}
+    env.update(NUMBA_CACHE_DIR=str(tmp_path),
+               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
+    done = subprocess.run([sys.executable, "-c", _CAN_FORK], env=env, capture_output=True, text=True, timeout=300,
+                          check=True)
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == {
+        "alone": True, "another thread": False, "alone again": True, "from a worker thread": False,
+        "SPLINECRAFT_JIT_FORK=0": False}
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks only on Linux")
+def test_a_forked_helper_is_waited_for_like_a_process():
+    """Its exit status (0: its tasks are in the cache; a warm cache here: it only loads)."""
+    helper = _jit._fork_helper(["noise"])
+    assert isinstance(helper, _jit._Forked)
+    assert helper.wait(timeout=120) == 0 and helper.poll() == 0 and helper.returncode == 0
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="forks only on Linux")
+def test_a_stuck_forked_helper_costs_only_time(monkeypatch):
+    """A forked helper that uses no CPU (blocked for good on a lock some thread held at the fork) is stopped
+    after ``FORK_STALL`` seconds, and this process compiles its tasks, instead of waiting ``HELPER_TIMEOUT``."""
+    import time
+
+    monkeypatch.setattr(_jit, "_DONE", set())
+    monkeypatch.setattr(_jit, "is_cached", lambda dispatcher: False)
+    monkeypatch.setattr(_jit, "workers", lambda: 2)
+    monkeypatch.setattr(_jit, "FORK_STALL", 0.5)
+    monkeypatch.setattr(_jit, "_can_fork", lambda: True)  # whatever threads earlier tests left running
+    here, real = os.getpid(), _jit._function
+
+    def stuck_in_the_child(name):
+        if os.getpid() != here:
+            time.sleep(120)  # no CPU, as on a lock
+        return real(name)
+
+    monkeypatch.setattr(_jit, "_function", stuck_in_the_child)
+    start = time.monotonic()
+    _jit.warm_up(("noise", "corners", "merge"))
+    assert time.monotonic() - start < 60
+    assert _jit.LAST_WARM_UP["forked"] == [True]
+    assert _jit.LAST_WARM_UP["failed"] == _jit.LAST_WARM_UP["helpers"] and _jit.LAST_WARM_UP["helpers"][0]
+    assert _jit._DONE == {"noise", "corners", "merge"}
 
 
 _ORPHAN = """
 import sys, time
 from splinecraft.capture import _jit
-helper = _jit._start_helper(list(_jit.WARM_UP_TASKS))  # about 7 s of compiling
+helper = getattr(_jit, sys.argv[1])(list(_jit.WARM_UP_TASKS))  # about 7 s of compiling
 print(helper.pid, flush=True)
 time.sleep(600)
 """
@@ -236,14 +319,15 @@ def _alive(pid):
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
-def test_a_helper_exits_when_its_parent_is_killed(tmp_path):
-    """A helper compiling on an empty cache whose parent dies (killed, or the kernel restarted) stops within
-    a second instead of compiling for nobody."""
+@pytest.mark.parametrize("start", ["_spawn_helper", "_fork_helper"])
+def test_a_helper_exits_when_its_parent_is_killed(tmp_path, start):
+    """A helper (a fresh interpreter or a fork) compiling on an empty cache whose parent dies (killed, or the
+    kernel restarted) stops within a second instead of compiling for nobody."""
     import time
 
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path),
                PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
-    parent = subprocess.Popen([sys.executable, "-c", _ORPHAN], env=env, stdout=subprocess.PIPE, text=True)
+    parent = subprocess.Popen([sys.executable, "-c", _ORPHAN, start], env=env, stdout=subprocess.PIPE, text=True)
     try:
         pid = int(parent.stdout.readline())
         time.sleep(0.5)
@@ -271,10 +355,12 @@ print(json.dumps({"svg": svg, "last": _jit.LAST_WARM_UP, "cached": {name: _jit.i
 """
 
 
-def test_cold_first_trace_compiles_in_two_processes_with_the_same_result(tmp_path):
-    """A fresh process on an empty cache: a helper compiles part of the cold kernels, the trace is the one this
-    (warm) process makes, and the cache then holds every kernel the trace needed."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="2",
+@pytest.mark.parametrize("fork", ["1", "0"])
+def test_cold_first_trace_compiles_in_two_processes_with_the_same_result(tmp_path, fork):
+    """A fresh process on an empty cache: a helper (forked, or with ``SPLINECRAFT_JIT_FORK=0`` a fresh
+    interpreter) compiles part of the cold kernels, the trace is the one this (warm) process makes, and the
+    cache then holds every kernel the trace needed."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="2", SPLINECRAFT_JIT_FORK=fork,
                PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
     done = subprocess.run([sys.executable, "-c", _COLD_TRACE], capture_output=True, text=True, env=env,
                           timeout=600, check=True)
@@ -287,5 +373,6 @@ def test_cold_first_trace_compiles_in_two_processes_with_the_same_result(tmp_pat
     assert set(child["last"]["cold"]) == needed
     assert len(child["last"]["helpers"]) == 1 and child["last"]["helpers"][0]
     assert not child["last"]["failed"]
+    assert child["last"]["forked"] == [fork == "1" and sys.platform.startswith("linux")]
     assert all(child["cached"][name] for name in needed)
     assert not child["cached"]["polygons"]  # compiled only where a spent budget needs it

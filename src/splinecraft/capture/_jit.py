@@ -13,9 +13,12 @@ A cold cache costs seconds of compiling on the first trace of a process (docs/ca
 :func:`warm_up` spreads that over the machine's CPUs: the cold warm-up tasks (:data:`WARM_UP_TASKS`) are split
 longest first between this process and helper processes that only compile them into the shared cache, and this
 process then loads the helpers' kernels from it. A warm cache starts no helper; a helper that fails or cannot
-start costs nothing but the time: this process compiles what it left. A helper imports only the kernel modules of its tasks (:data:`_HELPER_CODE`),
-and the split (:func:`plan`) weighs each task by its measured compile and the helper by its late start
-(:data:`HELPER_START`): docs/capture.md, "Cold kernels compile in parallel".
+start costs nothing but the time: this process compiles what it left. A helper is a fork of this process where
+that is safe (:func:`_can_fork`: on Linux, no other Python thread; a forked helper that stops using CPU is
+stopped, :class:`_Forked`), else a fresh interpreter that imports only the kernel modules of its tasks
+(:data:`_HELPER_CODE`), and the split (:func:`plan`) weighs each task by its measured compile and the helper by
+its late start (:data:`FORKED_HELPER_START`, :data:`HELPER_START`): docs/capture.md, "Cold kernels compile in
+parallel".
 """
 from __future__ import annotations
 
@@ -24,17 +27,45 @@ import importlib
 import itertools
 import operator
 import os
+import select
+import signal
 import subprocess
 import sys
 import tempfile
 import threading
+import time
+import warnings
 
 import numba
 from numba.core import types, typing
+from numba.core.compiler import CompilerBase, DefaultPassBuilder
+from numba.core.typed_passes import NopythonRewrites
+from numba.core.untyped_passes import InlineClosureLikes
 from numba.extending import intrinsic
 
 __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
            "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
+
+
+class _KernelCompiler(CompilerBase):
+    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without two passes that find nothing to do in
+    the kernels and walked every statement of every kernel and helper: the rewrites of the typed IR
+    (``NopythonRewrites``: array expressions fused into loops, static indices of string literals; the kernels
+    allocate nothing and index no strings) and the inlining of closures (``InlineClosureLikes``: functions
+    defined inside a kernel, comprehensions; the kernels have none: one that gained some would need the pass back). The
+    machine code of every kernel is the same as with numba's own pipeline; the cold compile of a trace's kernels
+    took 0.955x without the rewrites and 0.97x of that again without the inlining. The rewrites before type
+    inference stay: without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``)
+    is typed as a call of ``getitem``, which numba compiles per tuple type and index, and the compile took 1.05x
+    (BENCHMARKS.md, "Session 27: cold first call")."""
+
+    def define_pipelines(self):
+        pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
+        pipeline.passes = [(step, name) for step, name in pipeline.passes
+                           if step not in (NopythonRewrites, InlineClosureLikes)]
+        pipeline.finalize()
+        return [pipeline]
+
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
 #: floating-point error model (no ``fastmath``: results are bit for bit those of the numpy expressions), and
@@ -42,8 +73,10 @@ __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip
 #: numba's runtime has nothing to count; without it less code is compiled (about 5-10 % of the cold compile)
 #: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
-#: wrapper was compiled and optimized for nothing (about 8 ms a kernel).
-JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True)
+#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). numba's pipeline without its
+#: rewrites of the typed IR and its inlining of closures (:class:`_KernelCompiler`: the cold compile 0.93x).
+JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True,
+                   pipeline_class=_KernelCompiler)
 #: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also
 #: no Python wrapper (``no_cpython_wrapper``: the argument unboxing and boxing of a call from Python, compiled for
 #: each helper but never run) and no cache entry of their own (``cache=False``): their code is linked into the
@@ -180,16 +213,24 @@ TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
 #: no scipy.ndimage for the noise estimate's warm-up), less this process's own set-up of its first compile
 #: (0.15-0.2 s), the collection of its compiles' garbage after them (0.15-0.2 s: some 290 000 objects Python's
 #: collector walks, whether this process collects them while it waits for a helper or the first automatic
-#: collection does, which fires inside :func:`warm_up` as soon as the collector is back on) and the loading of
-#: the helper's kernels (0.03 s) (BENCHMARKS.md, "Session 25: cold first call").
-HELPER_START = 0.1
+#: collection does, which fires inside :func:`warm_up` as soon as the collector is back on), the loading of
+#: the helper's kernels (0.02-0.03 s) and the first trace's own run (0.06 s) (BENCHMARKS.md, "Session 25: cold
+#: first call"). 0.1 until session 27, where this process still finished 0.3-0.4 s CPU after the helper; at
+#: -0.05 the two shares swap and both finish together ("Session 27: cold first call").
+HELPER_START = -0.05
+#: :data:`HELPER_START` of a forked helper (:func:`_fork_helper`): it starts at once and sets numba up as this
+#: process does, so it finishes earlier than this process with the same share by what only this process does:
+#: the collection of its compiles' garbage (0.15-0.2 s CPU), the loading of the helper's kernels (0.02 s) and
+#: the first trace's own run (0.06 s) (CPU timelines of the first trace: BENCHMARKS.md, "Session 27: cold first
+#: call").
+FORKED_HELPER_START = -0.25
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
 EXACT_PLAN_SPLITS = 4096
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.
 HELPER_TIMEOUT = 600.0
-#: What the last :func:`warm_up` of this process did: the tasks found cold, the tasks of each helper, and the
-#: helpers that failed (their tasks compiled here).
-LAST_WARM_UP = {"cold": [], "helpers": [], "failed": []}
+#: What the last :func:`warm_up` of this process did: the tasks found cold, the tasks of each helper, the
+#: helpers that failed (their tasks compiled here), and which helpers were forked (:func:`_fork_helper`).
+LAST_WARM_UP = {"cold": [], "helpers": [], "failed": [], "forked": []}
 
 _DONE = set()
 _LOCK = threading.Lock()
@@ -212,8 +253,6 @@ def workers() -> int:
         return cpus
     if setting.isascii() and setting.isdigit() and int(setting) >= 1:
         return min(int(setting), cpus)
-    import warnings
-
     warnings.warn(f"SPLINECRAFT_JIT_WORKERS={setting!r} is not a whole number from 1 (1: no helper processes); "
                   f"ignored: up to {cpus} processes compile the kernels", RuntimeWarning, stacklevel=2)
     return cpus
@@ -229,16 +268,17 @@ def is_cached(dispatcher) -> bool:
         return False
 
 
-def plan(cold, processes):
+def plan(cold, processes, late=None):
     """Split the ``cold`` task names between this process (first list) and ``processes - 1`` helpers (each of
-    which starts :data:`HELPER_START` seconds late): the split whose finish times, largest first, are the least
-    (so the earliest last finish, and no process idle while another has a task it could have taken). Every
+    which starts ``late`` seconds late, by default :data:`HELPER_START`): the split whose finish times, largest
+    first, are the least (so the earliest last finish, and no process idle while another has a task it could
+    have taken). Every
     split is tried when there are at most :data:`EXACT_PLAN_SPLITS` (a trace's six tasks on two processes: 64);
     beyond, longest first, each to the process that would finish it earliest. Longest first alone splits the
     trace's tasks 3.25 : 3.0 s on two processes where 3.1 : 3.15 exists."""
     processes = max(1, processes)
     names = sorted(cold, key=lambda task: (-WARM_UP_TASKS[task][3], task))
-    start = [0.0] + [HELPER_START] * (processes - 1)
+    start = [0.0] + [HELPER_START if late is None else late] * (processes - 1)
     if processes ** len(names) <= EXACT_PLAN_SPLITS:
         best = None
         for places in itertools.product(range(processes), repeat=len(names)):
@@ -314,7 +354,15 @@ os._exit(0)  # the kernels are in the cache: no interpreter teardown (0.15-0.25 
 
 def _start_helper(names):
     """A helper process that runs the warm-up tasks ``names`` with this process's package (helpers start no
-    helpers of their own); None when it cannot start."""
+    helpers of their own): forked from this process where that is safe (:func:`_can_fork`), else a fresh
+    interpreter; None when neither can start."""
+    helper = _fork_helper(names) if _can_fork() else None
+    return helper if helper is not None else _spawn_helper(names)
+
+
+def _spawn_helper(names):
+    """A fresh interpreter that runs the warm-up tasks ``names`` (:data:`_HELPER_CODE`); None when it cannot
+    start."""
     here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # the folder of this package
     env = dict(os.environ, SPLINECRAFT_JIT_WORKERS="1")
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [here, os.environ.get("PYTHONPATH", "")]))
@@ -327,6 +375,122 @@ def _start_helper(names):
                                 stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except (OSError, TypeError, ValueError):  # no interpreter to start (an embedded Python), a bad path
         return None
+
+
+#: Seconds a forked helper may go without using any CPU before this process counts it as stuck (:class:`_Forked`).
+FORK_STALL = 3.0
+
+
+def _can_fork() -> bool:
+    """Whether a helper may be forked from this process: on Linux (its ``/proc`` tells a stuck helper), from the
+    main thread of a process that runs no other Python thread. A child of ``fork`` has only the forking thread:
+    a lock another thread held at that moment (Jupyter's kernel threads, a worker thread tracing, a thread
+    compiling with numba) stays held in the child forever. Threads outside Python (the BLAS libraries' pools,
+    which shut down around a fork) are not seen here: what they might hold is the stall watch's business
+    (:class:`_Forked`). ``SPLINECRAFT_JIT_FORK=0`` turns forking off."""
+    return (sys.platform.startswith("linux") and hasattr(os, "fork") and os.environ.get("SPLINECRAFT_JIT_FORK") != "0"
+            and threading.current_thread() is threading.main_thread() and threading.active_count() == 1)
+
+
+def _watch_parent(parent):
+    while os.getppid() == parent:
+        time.sleep(0.2)
+    os._exit(3)
+
+
+def _fork_helper(names):
+    """A copy of this process (``os.fork``) that runs the warm-up tasks ``names`` and exits: no interpreter to
+    start, nothing to import, numba already set up (the fresh interpreter's 0.37 s CPU); None when the fork
+    fails. It exits when this process is gone, like :data:`_HELPER_CODE`, its output goes nowhere, and it
+    leaves without Python's teardown (``os._exit``), so nothing this process registered (``atexit``, buffered
+    output) runs twice. Forked under numba's compiler lock: no other compile is half done in the copy."""
+    from numba.core.compiler_lock import global_compiler_lock
+
+    parent = os.getpid()
+    try:
+        done_read, done_write = os.pipe()  # the child holds the writing end: it closes when the child exits
+    except OSError:
+        return None
+    try:
+        with global_compiler_lock, warnings.catch_warnings():
+            # Python 3.12+ warns of any thread at a fork (the BLAS pools too); a stuck child is watched for
+            warnings.simplefilter("ignore", DeprecationWarning)
+            pid = os.fork()
+    except OSError:
+        os.close(done_read)
+        os.close(done_write)
+        return None
+    if pid == 0:  # the helper: compile, and leave
+        status = 1
+        try:
+            os.close(done_read)
+            nowhere = os.open(os.devnull, os.O_RDWR)
+            for stream in (0, 1, 2):
+                os.dup2(nowhere, stream)
+            threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
+            gc.disable()  # it compiles and exits: its garbage is never worth collecting
+            for name in names:
+                _function(name)()
+            status = 0
+        finally:
+            os._exit(status)
+    os.close(done_write)
+    return _Forked(pid, done_read)
+
+
+class _Forked:
+    """A forked helper, waited for like a :class:`subprocess.Popen` (``pid``, ``poll``, ``wait``, ``kill``).
+    ``wait`` counts it as stuck (:class:`subprocess.TimeoutExpired`, so :func:`_finished` stops it and this
+    process compiles its tasks) when it has used no CPU for :data:`FORK_STALL` seconds: a compiling process
+    always does, while a child blocked on a lock that a thread of the parent held at the fork never will."""
+
+    def __init__(self, pid, done):
+        self.pid, self.returncode, self._done = pid, None, done
+        self._cpu, self._since = self._cpu_ticks(), time.monotonic()
+
+    def _cpu_ticks(self):
+        try:
+            with open(f"/proc/{self.pid}/stat", "rb") as stat:
+                fields = stat.read().rsplit(b")", 1)[1].split()
+            return int(fields[11]) + int(fields[12])  # utime, stime
+        except (OSError, IndexError, ValueError):
+            return None
+
+    def _reap(self, block):
+        if self.returncode is None:
+            try:
+                pid, status = os.waitpid(self.pid, 0 if block else os.WNOHANG)
+            except ChildProcessError:
+                pid, status = self.pid, 1 << 8
+            if pid:
+                self.returncode = os.waitstatus_to_exitcode(status)
+                os.close(self._done)
+        return self.returncode
+
+    def poll(self):
+        return self._reap(block=False)
+
+    def wait(self, timeout=None):
+        end = None if timeout is None else time.monotonic() + timeout
+        while self.returncode is None:
+            left = None if end is None else end - time.monotonic()
+            if left is not None and left <= 0:
+                raise subprocess.TimeoutExpired(f"forked helper {self.pid}", timeout)
+            if select.select([self._done], [], [], 0.25 if left is None else min(0.25, left))[0]:
+                return self._reap(block=True)
+            cpu, now = self._cpu_ticks(), time.monotonic()
+            if cpu != self._cpu:
+                self._cpu, self._since = cpu, now
+            elif now - self._since > FORK_STALL and timeout is not None:
+                raise subprocess.TimeoutExpired(f"forked helper {self.pid} (no CPU for {FORK_STALL} s)", timeout)
+        return self.returncode
+
+    def kill(self):
+        if self.returncode is None:
+            try:
+                os.kill(self.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
 
 
 def _finished(helper) -> bool:
@@ -363,9 +527,11 @@ def warm_up(tasks=TRACE_TASKS):
             return
         cold = [name for name in todo if not is_cached(_sentinel(name))]
         processes = 1 if numba.config.DISABLE_JIT else min(workers(), len(cold))
-        shares = plan(cold, processes) if processes > 1 else [cold]
+        late = FORKED_HELPER_START if _can_fork() else HELPER_START
+        shares = plan(cold, processes, late) if processes > 1 else [cold]
         helpers = [(share, _start_helper(share)) for share in shares[1:] if share]
-        LAST_WARM_UP.update(cold=cold, helpers=[share for share, _ in helpers], failed=[])
+        LAST_WARM_UP.update(cold=cold, helpers=[share for share, _ in helpers], failed=[],
+                            forked=[isinstance(helper, _Forked) for _, helper in helpers])
         theirs = {name for share, _ in helpers for name in share}
         collecting = gc.isenabled()
         gc.disable()

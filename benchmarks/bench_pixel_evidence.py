@@ -2,6 +2,7 @@
 
     .venv/bin/python benchmarks/bench_pixel_evidence.py corners [--families oldstyle,arabic,...]
     .venv/bin/python benchmarks/bench_pixel_evidence.py misses [--yardstick ../shared/yardstick]
+    .venv/bin/python benchmarks/bench_pixel_evidence.py small [--seeds 11,...,20] [--list]
 
 A *twin* of a shape is another outline whose render (pixel centres inside, even-odd: the renderer of
 ``heldout_shapes.rasterize``, which drew the held-out bitmaps) is the same bitmap, bit for bit. A tracer sees only
@@ -25,6 +26,15 @@ the bitmap, so wherever a twin and the truth differ, any tracer is wrong about o
   to a twin of the truth there: the pixels do not tell it from the truth. (The yardstick's bitmaps come from its
   own renderer; on most of them the pixel-centre rule gives the same bitmap from the truth, on a few not quite,
   e.g. 72 pixels of ``shapes2/dvsc_M``.)
+* ``small``: per glyph of ``bench_other_fonts.py`` (``--seeds``) at 48-120 px that ``sc.trace`` misses by more
+  than 1 px, each miss (as in ``misses``) classed by where it sits: at a true corner the trace stops short of (a
+  tip cut short), at one it overshoots, at a short side (two true corners closer than :data:`SHORT_SIDE`: the face
+  of a serif or a stroke end), or away from every true corner (a fillet or a tight curve taken for a corner, or a
+  curve). Per miss: whether the traced outline contradicts a pixel centre within 3 px by more than
+  :data:`CONTRADICTED` px (else it is, to that depth, a twin of the truth there: no tracer can tell the two
+  apart), and how far from the truth the farthest twin of two families reaches there: the rounded twin at the
+  true corner of a cut tip (:func:`rounded_twin`), the sharp twin at the miss otherwise (:func:`sharp_twin`).
+  A twin that reaches as far from the truth as the trace makes the miss undecidable by construction.
 
 Benchmark only (needs the held-out fonts, and ``--yardstick`` for the yardstick sets); nothing here is tuned
 on, and the project's tests do not use it.
@@ -281,14 +291,115 @@ def report_misses(yardstick):
     return rows
 
 
+#: ``small`` mode: the glyph sizes (px); how near (px) a true corner makes a miss a corner's, for a tip cut short
+#: (the truth beyond the trace) and for an overshoot (the trace beyond the truth: a tip that overshoots lies up to
+#: a few px beyond its corner); two true corners closer than ``SHORT_SIDE`` px are the ends of one short side;
+#: the depth (px) of a misclassified pixel centre from which the trace contradicts the pixels.
+SMALL_SIZES = (48, 64, 120)
+AT_CORNER = {"truth beyond the trace": 0.5, "trace beyond the truth": 2.0}
+SHORT_SIDE = 3.5
+CONTRADICTED = 0.1
+
+
+def miss_class(direction, corner_distances):
+    """Where a miss sits: ``direction`` (as :func:`_misses_of`) and the distances (px) from its farthest point to
+    every true corner."""
+    ordered = np.sort(corner_distances) if len(corner_distances) else np.array([np.inf])
+    at_corner = ordered[0] <= AT_CORNER[direction]
+    short_side = at_corner and len(ordered) > 1 and ordered[1] <= SHORT_SIDE
+    if direction == "truth beyond the trace":
+        return ("short side, rounded off" if short_side else "tip cut short" if at_corner else
+                "truth beyond the trace, no true corner")
+    return ("short side, a tip overshoots it" if short_side else "tip overshoots" if at_corner else
+            "false corner on a fillet or a tight curve")
+
+
+def twin_reach(truth, bitmap, direction, at, corners):
+    """How far (px) from the truth the farthest twin found reaches at a miss (its farthest point ``at``): at the
+    true corner of a cut tip (``corners``, the true corners, nearest to ``at``), the rounded twin's curve at its
+    nearest to that corner; elsewhere the sharp twin's corner, from the truth."""
+    if direction == "truth beyond the trace" and len(corners):
+        corner = corners[np.argmin(np.hypot(*(corners - at).T))]
+        if np.hypot(*(corner - at)) <= AT_CORNER[direction]:
+            cut = rounded_twin(truth, bitmap, corner)
+            if cut == 0.0:
+                return 0.0
+            _, line, k, forward, backward = _around(truth, corner)
+            n = len(line)
+            start, end = line[_arc_index(forward, backward, -cut, n, k)], line[_arc_index(forward, backward, cut, n, k)]
+            s = np.linspace(0.0, 1.0, 41)[:, None]
+            fillet = (1 - s) ** 2 * start + 2 * s * (1 - s) * line[k] + s ** 2 * end
+            return float(np.hypot(*(fillet - line[k]).T).min())
+    found = sharp_twin(truth, bitmap, at)
+    if found is None:
+        return 0.0
+    return float(np.min([synthetic_shapes._dist_to_polyline(found[2][None], t)[0] for t in truth]))
+
+
+def report_small(seeds, listing=False):
+    """The misses of the 48-120 px glyphs of ``bench_other_fonts.py`` (``seeds``), classed (``small`` mode)."""
+    import bench_other_fonts
+
+    rows, glyph_count = [], 0
+    for seed in seeds:
+        for _, shape in bench_other_fonts.glyphs(seed):
+            if shape["size"] not in SMALL_SIZES:
+                continue
+            glyph_count += 1
+            bitmap = heldout_shapes.rasterize(shape)
+            truth = [np.asarray(c, float) for c in shape["contours"]]
+            corners = np.asarray(shape["corners"], float).reshape(-1, 2)
+            traced = [synthetic_shapes._dense_bezier(b)
+                      for b in synthetic_shapes.svg_beziers(sc.trace(bitmap).to_svg())]
+            misses = _misses_of(truth, traced)
+            if not misses:
+                continue
+            wrong = np.argwhere(render(traced, *bitmap.shape) != bitmap)[:, ::-1] + 0.5   # (x, y) pixel centres
+            depth = np.min([synthetic_shapes._dist_to_polyline(wrong, t) for t in traced], axis=0) \
+                if len(wrong) else np.zeros(0)
+            for direction, dist, at in misses:
+                close = np.hypot(*(wrong - at).T) <= MATCH_PX if len(wrong) else np.zeros(0, bool)
+                rows.append({"seed": seed, "name": shape["name"], "size": shape["size"], "direction": direction,
+                             "dist": dist, "class": miss_class(direction, np.hypot(*(corners - at).T)),
+                             "deepest": float(depth[close].max()) if close.any() else 0.0,
+                             "twin": twin_reach(truth, bitmap, direction, at, corners)})
+    glyphs = {(r["seed"], r["name"]) for r in rows}
+    decidable = {(r["seed"], r["name"]) for r in rows if r["deepest"] > CONTRADICTED}
+    print(f"{glyph_count} glyphs of {'/'.join(map(str, SMALL_SIZES))} px (seeds {','.join(map(str, seeds))}); "
+          f"{len(glyphs)} beyond 1 px with {len(rows)} misses; {len(decidable)} of them with a miss where the trace "
+          f"contradicts a pixel centre by more than {CONTRADICTED} px.\n")
+    print("| where the miss sits | misses | glyphs | " + " / ".join(map(str, SMALL_SIZES)) + " px | px, median (max) | "
+          f"trace contradicts a centre by > {CONTRADICTED} px | a twin reaches as far (within 0.25 px) |")
+    print("|---|---|---|---|---|---|---|")
+    for name in sorted({r["class"] for r in rows}, key=lambda c: -sum(r["class"] == c for r in rows)):
+        group = [r for r in rows if r["class"] == name]
+        sizes = " / ".join(str(sum(r["size"] == size for r in group)) for size in SMALL_SIZES)
+        dist = np.array([r["dist"] for r in group])
+        twin = np.array([r["twin"] for r in group])
+        print(f"| {name} | {len(group)} | {len({(r['seed'], r['name']) for r in group})} | {sizes} | "
+              f"{np.median(dist):.2f} ({dist.max():.2f}) | {sum(r['deepest'] > CONTRADICTED for r in group)} | "
+              f"{int((twin >= dist).sum())} ({int((twin >= dist - 0.25).sum())}) |")
+    if listing:
+        print("\n| seed | glyph | miss | px | class | deepest misclassified centre (px) | twin reach (px) |")
+        print("|---|---|---|---|---|---|---|")
+        for r in rows:
+            print(f"| {r['seed']} | {r['name']} | {r['direction']} | {r['dist']:.2f} | {r['class']} | "
+                  f"{r['deepest']:.2f} | {r['twin']:.2f} |")
+    return rows
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("mode", choices=("corners", "misses"))
+    parser.add_argument("mode", choices=("corners", "misses", "small"))
     parser.add_argument("--families", default="oldstyle,arabic,italic,boldsans,freeserif,cjk,small,rotated")
     parser.add_argument("--yardstick", default=str(REPO.parent / "shared" / "yardstick"))
+    parser.add_argument("--seeds", default="11,12,13,14,15,16,17,18,19,20", help="small: bench_other_fonts' seeds")
+    parser.add_argument("--list", action="store_true", help="small: every miss's row")
     args = parser.parse_args(argv)
     if args.mode == "corners":
         report_corners(args.families.split(","))
+    elif args.mode == "small":
+        report_small([int(s) for s in args.seeds.split(",")], args.list)
     else:
         report_misses(args.yardstick)
 

@@ -533,11 +533,19 @@ def _tangent_jump(P, closed, settings):
 _FRAME_MAPS = [(swap, sx, sy) for swap in (False, True) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
 
 
+#: :data:`_FRAME_MAPS` as arrays: per map whether x and y swap, and the signs of the (swapped) x and y.
+_FRAME_SWAP = np.array([swap for swap, _, _ in _FRAME_MAPS])
+_FRAME_SIGNS = np.array([(sx, sy) for _, sx, sy in _FRAME_MAPS])
+
+
 def _congruent(a, b):
     """Whether the point sequences ``a`` and ``b`` (relative to their first points) are one the image of the
     other under a quarter turn or a reflection of the frame, exactly (then steps 1-6 find the same corners
-    in both, :func:`_detect`)."""
-    return any(np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b) for swap, sx, sy in _FRAME_MAPS)
+    in both, :func:`_detect`). All eight maps are compared in one pass (a sign change is exact)."""
+    if a.shape != b.shape:
+        return False
+    images = np.where(_FRAME_SWAP[:, None, None], a[None, :, ::-1], a[None]) * _FRAME_SIGNS[:, None, :]
+    return bool((images == b[None]).all(axis=(1, 2)).any())
 
 
 def _detect(P, closed, settings):
@@ -645,10 +653,7 @@ def _canonical_starts(levels):
     while point.size > 1 and offset < n:
         ahead = np.arange(offset, min(offset + block, n))
         rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[0]
-        for row in rows[1:]:
-            if _later(best, row):
-                best = row
+        best = rows[np.lexsort(rows.T[::-1])[-1]]  # the lexicographically largest row (column 0 first)
         keep = np.all(rows == best, axis=1)
         point, way = point[keep], way[keep]
         offset, block = offset + len(ahead), 4 * block
@@ -667,11 +672,14 @@ def _symmetric_union(P, runs, key, reach=3.0):
     prefers, while two corners that one run reports stay two."""
     segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
     union = np.unique(np.concatenate(runs))
-    sets = [set(run.tolist()) for run in runs]
-    member = np.array([[int(index) in found for found in sets] for index in union])
+    member = np.column_stack([np.isin(union, run) for run in runs])
     dropped = np.zeros(len(union), dtype=bool)
     m = len(union)
-    for a in range(m):                      # pairs (a, b) with b at most ``reach`` ahead of a
+    # the arc from a corner to the next is at least their chord: where the chord exceeds ``reach`` (with a margin
+    # far above the sums' rounding) the loop below stops at once for that corner, with nothing else to do
+    chord = np.hypot(*(P[union[(np.arange(m) + 1) % m]] - P[union]).T)
+    near = np.flatnonzero(chord <= reach * (1.0 + 1e-9)) if m > 1 else np.zeros(0, dtype=np.int64)
+    for a in near.tolist():                 # pairs (a, b) with b at most ``reach`` ahead of a
         for step in range(1, m):
             b = (a + step) % m
             i, j = int(union[a]), int(union[b])

@@ -1,0 +1,106 @@
+"""tangent-jump's helpers for symmetric outlines (capture/corners/_jump.py, docs/capture.md §11) pinned to the
+loops they replaced (kept here as the reference): the eight frame maps compared in one pass (``_congruent``), the
+lexicographically largest row found by one sort (``_canonical_starts``), and the corners of a symmetric union
+whose chord to the next one already exceeds the reach passed over without summing their arc
+(``_symmetric_union``). The same answers, not just close ones."""
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import splinecraft.capture.corners  # noqa: F401  (the package first: its modules import each other)
+
+jump = importlib.import_module("splinecraft.capture.corners._jump")
+
+
+def reference_congruent(a, b):
+    return any(np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b) for swap, sx, sy in jump._FRAME_MAPS)
+
+
+def reference_canonical_starts(levels):
+    n = len(levels)
+    top = np.flatnonzero(levels == levels.max())
+    point = np.concatenate([top, top])
+    way = np.repeat([1, -1], len(top))
+    offset, block = 1, 16
+    while point.size > 1 and offset < n:
+        ahead = np.arange(offset, min(offset + block, n))
+        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
+        best = rows[0]
+        for row in rows[1:]:
+            if jump._later(best, row):
+                best = row
+        keep = np.all(rows == best, axis=1)
+        point, way = point[keep], way[keep]
+        offset, block = offset + len(ahead), 4 * block
+    order = np.lexsort((-way, point))
+    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
+
+
+def reference_symmetric_union(P, runs, key, reach=3.0):
+    segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
+    union = np.unique(np.concatenate(runs))
+    sets = [set(run.tolist()) for run in runs]
+    member = np.array([[int(index) in found for found in sets] for index in union])
+    dropped = np.zeros(len(union), dtype=bool)
+    m = len(union)
+    for a in range(m):
+        for step in range(1, m):
+            b = (a + step) % m
+            i, j = int(union[a]), int(union[b])
+            gap = segment[i:j] if j > i else np.concatenate([segment[i:], segment[:j]])
+            if np.sum(gap) > reach:
+                break
+            if (member[a] & member[b]).any():
+                continue
+            ka, kb = key(i), key(j)
+            if not np.array_equal(ka, kb):
+                dropped[a if jump._later(ka, kb) else b] = True
+    return union[~dropped]
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 40), mapped=st.integers(-1, 7), flip=st.booleans())
+def test_congruent_is_the_eight_maps_compared_one_by_one(seed, n, mapped, flip):
+    rng = np.random.default_rng(seed)
+    a = rng.integers(-3, 4, (n, 2)).astype(float) * 0.5
+    if mapped >= 0:  # b the image of a under one map (or of a changed copy)
+        swap, sx, sy = jump._FRAME_MAPS[mapped]
+        b = (a[:, ::-1] if swap else a) * (sx, sy)
+        if flip:
+            b = b.copy()
+            b[rng.integers(n)] += 0.5
+    else:
+        b = rng.integers(-3, 4, (n, 2)).astype(float) * 0.5
+    b = b + 0.0 * rng.integers(0, 2)  # signed zeros compare equal, as in numpy.array_equal
+    assert jump._congruent(a, b) == reference_congruent(a, b)
+    assert jump._congruent(a, -0.0 * a) == reference_congruent(a, -0.0 * a)
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 300), period=st.integers(1, 12), levels=st.integers(1, 4))
+def test_canonical_starts_find_the_largest_sequence_as_the_loop_did(seed, n, period, levels):
+    rng = np.random.default_rng(seed)
+    # periodic sequences tie at every period (a rotation symmetry), palindromic ones both ways (a reflection)
+    base = rng.integers(0, levels, period)
+    sequence = np.resize(np.concatenate([base, base[::-1]]) if seed % 3 == 0 else base, n).astype(np.int64)
+    assert jump._canonical_starts(sequence) == reference_canonical_starts(sequence)
+
+
+@settings(max_examples=200, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(8, 200), runs=st.integers(1, 4), corners=st.integers(1, 12))
+def test_symmetric_union_is_the_loop_over_every_pair(seed, n, runs, corners):
+    rng = np.random.default_rng(seed)
+    # a crack-like outline (steps of 0.5 and 1 px and their diagonals) and corners that cluster, so that many
+    # pairs lie within the reach
+    steps = rng.choice([0.5, 1.0], (n, 2)) * rng.choice([-1.0, 1.0], (n, 2)) * (rng.random((n, 2)) < 0.7)
+    P = np.cumsum(steps, axis=0)
+    centres = rng.integers(0, n, corners)
+    found = [np.unique((centres + rng.integers(-3, 4, corners)) % n) for _ in range(runs)]
+    key = jump._point_order(rng.integers(0, 3, n).astype(np.int64))
+    for reach in (0.0, 1.0, 3.0, 10.0):
+        assert np.array_equal(jump._symmetric_union(P, found, key, reach),
+                              reference_symmetric_union(P, found, key, reach))

@@ -1,8 +1,7 @@
 """tangent-jump's helpers for symmetric outlines (capture/corners/_jump.py, docs/capture.md §11) pinned to the
-loops they replaced (kept here as the reference): the eight frame maps compared in one pass (``_congruent``), the
-lexicographically largest row found by one sort (``_canonical_starts``), and the corners of a symmetric union
-whose chord to the next one already exceeds the reach passed over without summing their arc
-(``_symmetric_union``). The same answers, not just close ones."""
+loops they replaced (kept here as the reference): the eight frame maps passed over on their first points (``_congruent``), and in the corners of a symmetric union
+(``_symmetric_union``) those whose chord to the next one already exceeds the reach passed over without summing
+their arc, and the points' keys compared up to their first difference (``_point_comparison``). The same answers, not just close ones."""
 from __future__ import annotations
 
 import importlib
@@ -100,7 +99,22 @@ def test_symmetric_union_is_the_loop_over_every_pair(seed, n, runs, corners):
     P = np.cumsum(steps, axis=0)
     centres = rng.integers(0, n, corners)
     found = [np.unique((centres + rng.integers(-3, 4, corners)) % n) for _ in range(runs)]
-    key = jump._point_order(rng.integers(0, 3, n).astype(np.int64))
+    levels = rng.integers(0, 3, n).astype(np.int64)
+    key, later = jump._point_order(levels), jump._point_comparison(levels)
     for reach in (0.0, 1.0, 3.0, 10.0):
-        assert np.array_equal(jump._symmetric_union(P, found, key, reach),
+        assert np.array_equal(jump._symmetric_union(P, found, later, reach),
                               reference_symmetric_union(P, found, key, reach))
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 400), period=st.integers(1, 40), levels=st.integers(1, 3))
+def test_point_comparison_orders_as_the_whole_keys(seed, n, period, levels):
+    rng = np.random.default_rng(seed)
+    # long ties: periodic and palindromic sequences (symmetric outlines), whose keys agree far into them
+    base = rng.integers(0, levels, period)
+    sequence = np.resize(np.concatenate([base, base[::-1]]) if seed % 2 else base, n).astype(np.int64)
+    key, later = jump._point_order(sequence), jump._point_comparison(sequence)
+    for i, j in rng.integers(0, n, (12, 2)).tolist():
+        ka, kb = key(i), key(j)
+        expected = None if np.array_equal(ka, kb) else jump._later(ka, kb)
+        assert later(i, j) == expected

@@ -514,7 +514,7 @@ def _tangent_jump(P, closed, settings):
                 return np.zeros(0, dtype=np.intp)
             done.append((relative, found))
         runs.append(order[found])
-    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_order(levels))
+    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_comparison(levels))
     if settings["fillets"] or settings["wedge"]:
         first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
         rolled = np.roll(P, -first, axis=0)
@@ -533,19 +533,24 @@ def _tangent_jump(P, closed, settings):
 _FRAME_MAPS = [(swap, sx, sy) for swap in (False, True) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
 
 
-#: :data:`_FRAME_MAPS` as arrays: per map whether x and y swap, and the signs of the (swapped) x and y.
-_FRAME_SWAP = np.array([swap for swap, _, _ in _FRAME_MAPS])
-_FRAME_SIGNS = np.array([(sx, sy) for _, sx, sy in _FRAME_MAPS])
+#: Points of two outlines compared first, for each frame map, before the whole of them (:func:`_congruent`).
+_CONGRUENT_HEAD = 8
 
 
 def _congruent(a, b):
     """Whether the point sequences ``a`` and ``b`` (relative to their first points) are one the image of the
     other under a quarter turn or a reflection of the frame, exactly (then steps 1-6 find the same corners
-    in both, :func:`_detect`). All eight maps are compared in one pass (a sign change is exact)."""
+    in both, :func:`_detect`). A map whose image of the first :data:`_CONGRUENT_HEAD` points differs is passed
+    over before the whole outlines are compared (a sign change and a swap are exact)."""
     if a.shape != b.shape:
         return False
-    images = np.where(_FRAME_SWAP[:, None, None], a[None, :, ::-1], a[None]) * _FRAME_SIGNS[:, None, :]
-    return bool((images == b[None]).all(axis=(1, 2)).any())
+    head_a, head_b = a[:_CONGRUENT_HEAD].tolist(), b[:_CONGRUENT_HEAD].tolist()
+    for swap, sx, sy in _FRAME_MAPS:
+        if all((y if swap else x) * sx == u and (x if swap else y) * sy == v
+               for (x, y), (u, v) in zip(head_a, head_b)) and \
+                np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b):
+            return True
+    return False
 
 
 def _detect(P, closed, settings):
@@ -635,6 +640,38 @@ def _point_order(levels):
     return key
 
 
+def _point_comparison(levels):
+    """The order of :func:`_point_order`'s keys without building them: ``later(i, j)`` is None where the keys of
+    points ``i`` and ``j`` are equal, else whether that of ``j`` is lexicographically larger. The sequences are
+    read in blocks (16 values, then four times more each time) up to their first difference, where the keys of
+    two points nearly always differ within the first few values (a whole key is two outlines long)."""
+    n = len(levels)
+    spans = []
+    start, size = 0, 16
+    while start < n:
+        spans.append((start, min(start + size, n)))
+        start, size = start + size, 4 * size
+
+    def first_difference(i, way_i, j, way_j):
+        """The sign of the first difference of the levels read from ``j`` (way ``way_j``) less those from ``i``."""
+        for low, high in spans:
+            ring = np.arange(low, high)
+            a, b = levels[(i + way_i * ring) % n], levels[(j + way_j * ring) % n]
+            differ = np.flatnonzero(a != b)
+            if differ.size:
+                return 1 if b[differ[0]] > a[differ[0]] else -1
+        return 0
+
+    def way(i):
+        """The way round of the first half of the key of ``i``: -1 where the levels behind are larger."""
+        return -1 if first_difference(i, 1, i, -1) > 0 else 1
+
+    def later(i, j):
+        sign = first_difference(i, way(i), j, way(j)) or first_difference(i, 1, j, 1)
+        return None if sign == 0 else sign > 0
+    return later
+
+
 def _canonical_starts(levels):
     """Where and which way round the resampling of a closed outline starts: the pairs ``(point, direction)``
     (direction +1 along the outline, -1 against it) whose sequence of ``levels`` (:func:`_distance_levels`)
@@ -653,7 +690,10 @@ def _canonical_starts(levels):
     while point.size > 1 and offset < n:
         ahead = np.arange(offset, min(offset + block, n))
         rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[np.lexsort(rows.T[::-1])[-1]]  # the lexicographically largest row (column 0 first)
+        best = rows[0]
+        for row in rows[1:]:
+            if _later(best, row):
+                best = row
         keep = np.all(rows == best, axis=1)
         point, way = point[keep], way[keep]
         offset, block = offset + len(ahead), 4 * block
@@ -661,18 +701,20 @@ def _canonical_starts(levels):
     return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
 
 
-def _symmetric_union(P, runs, key, reach=3.0):
+def _symmetric_union(P, runs, later, reach=3.0):
     """The corners of the runs from the tied starts of a symmetric outline, as one set that the symmetry
     maps onto itself.
 
     Each run is the image of the others under the symmetry, so a corner whose placement depends on where
     the resampling starts (one pixel either way) has a version in each run. Every corner of any run is kept
     unless a corner of another run lies within ``reach`` px of arc of it, no run has both, and that corner's
-    :func:`_point_order` key is larger: the versions of one corner reduce to the one the shape itself
-    prefers, while two corners that one run reports stay two."""
+    :func:`_point_order` key is larger (``later``: :func:`_point_comparison` of the outline's levels): the
+    versions of one corner reduce to the one the shape itself prefers, while two corners that one run reports
+    stay two."""
     segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
     union = np.unique(np.concatenate(runs))
-    member = np.column_stack([np.isin(union, run) for run in runs])
+    sets = [set(run.tolist()) for run in runs]
+    member = np.array([[index in found for found in sets] for index in union.tolist()])
     dropped = np.zeros(len(union), dtype=bool)
     m = len(union)
     # the arc from a corner to the next is at least their chord: where the chord exceeds ``reach`` (with a margin
@@ -688,9 +730,9 @@ def _symmetric_union(P, runs, key, reach=3.0):
                 break
             if (member[a] & member[b]).any():
                 continue
-            ka, kb = key(i), key(j)
-            if not np.array_equal(ka, kb):
-                dropped[a if _later(ka, kb) else b] = True
+            b_later = later(i, j)
+            if b_later is not None:
+                dropped[a if b_later else b] = True
     return union[~dropped]
 
 

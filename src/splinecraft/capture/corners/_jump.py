@@ -780,7 +780,8 @@ def _jump_peaks(turn, closed, settings):
             warnings.simplefilter("ignore", RuntimeWarning)      # all-NaN flanks at open ends
             baseline = np.nanmedian(flanks, axis=1)
     else:                                   # the median of an even count, as np.median computes it, 5x faster
-        ordered = np.sort(flanks, axis=1)
+        ordered = flanks                    # a gathered copy (both branches): sorted in place
+        ordered.sort(axis=1)
         half = flanks.shape[1] // 2         # 2 (far - near + 1) flank samples
         baseline = (ordered[:, half - 1] + ordered[:, half]) / 2
     with np.errstate(invalid="ignore"):

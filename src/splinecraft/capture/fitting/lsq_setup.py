@@ -246,14 +246,19 @@ def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     cum = np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])  # integral up to point j (n + 1 values)
     new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]  # no corners: seam knot 0
     bounds = contour.corner_bounds
-    for first, last in zip(bounds[:-1], bounds[1:]):
-        total = cum[last] - cum[first]
-        count = min(int(np.floor(total)), int(last - first))
-        if count < 1:
-            continue
-        targets = cum[first] + total * np.arange(1, count + 1) / (count + 1)
-        j = np.searchsorted(cum[first:last + 1], targets) + first
-        new.append(j[(j - first >= min_gap) & (last - j >= min_gap)])
+    # every piece at once: its targets cum[first] + total * i / (count + 1), i = 1 .. count, each searched in the
+    # piece's own span of ``cum`` (the same values, element by element, as piece by piece)
+    first, last = bounds[:-1], bounds[1:]
+    total = cum[last] - cum[first]
+    count = np.minimum(np.floor(total), last - first).astype(np.int64)
+    count[count < 1] = 0
+    piece = np.repeat(np.arange(first.shape[0]), count)
+    within = np.arange(piece.shape[0]) - np.repeat(np.cumsum(count) - count, count) + 1  # 1 .. count per piece
+    targets = cum[first][piece] + total[piece] * within / (count[piece] + 1)
+    low, high = first[piece], last[piece]
+    j = np.searchsorted(cum, targets)  # the piece's span of cum from its first point on, its last value included
+    j = np.clip(j, low, high + 1)
+    new.append(j[(j - low >= min_gap) & (high - j >= min_gap)])
     merged = np.unique(np.concatenate(new)).astype(np.int64)
     merged = merged[np.diff(merged, prepend=-min_gap) >= min_gap]  # at least min_gap steps apart
     if contour.corner_count or merged.shape[0] >= 4:  # a periodic spline needs four knots

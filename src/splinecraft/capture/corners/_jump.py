@@ -4,7 +4,6 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _plain, _prepare, _result
 from ._fillet import release_fillets, release_wedge_fillets
@@ -764,33 +763,35 @@ def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, fla
 def _jump_peaks(turn, closed, settings):
     """Steps 4-5: the samples whose turn ``|J|`` is a local maximum, at least ``min_turn`` and exceeds the
     flanks' median by ``min_excess``; a plateau of equal maxima keeps its first sample. Returns the chosen
-    samples and ``|J|`` at every sample."""
+    samples and ``|J|`` at every sample. The flanks' median is taken at the local maxima of at least
+    ``min_turn`` only (the only samples it can choose; a few dozen of an outline's hundreds)."""
     m = len(turn)
     near, far, separation = settings["near"], settings["far"], settings["separation"]
     offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
-    if closed:  # turn[(i + offsets) % m]: columns of the windows of one wrapped copy (every turn in some row)
-        flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
+    with np.errstate(invalid="ignore"):
+        size = np.abs(turn)
+        strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
+        rows = np.flatnonzero((strength >= _circular_max_filter(strength, separation, closed))
+                              & (size >= settings["min_turn"]))
+    idx = rows[:, None] + offsets[None, :]
+    if closed:  # turn[(i + offsets) % m]
+        flanks = turn[idx % m]
         ends = np.isnan(turn).any()
     else:       # NaN beyond the ends (the first and last rows reach there)
-        idx = np.arange(m)[:, None] + offsets[None, :]
         flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
         ends = True
     if ends:                                # open ends
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)      # all-NaN flanks at open ends
-            baseline = np.nanmedian(flanks, axis=1)
+            baseline = np.nanmedian(flanks, axis=1) if rows.size else np.zeros(0)
     else:                                   # the median of an even count, as np.median computes it, 5x faster
-        ordered = flanks                    # a gathered copy (both branches): sorted in place
+        ordered = flanks                    # a gathered copy: sorted in place
         ordered.sort(axis=1)
         half = flanks.shape[1] // 2         # 2 (far - near + 1) flank samples
         baseline = (ordered[:, half - 1] + ordered[:, half]) / 2
     with np.errstate(invalid="ignore"):
-        excess = np.abs(turn - baseline)
-        size = np.abs(turn)
-        strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
-        peak = (strength >= _circular_max_filter(strength, separation, closed)) \
-            & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
-    chosen = np.flatnonzero(peak)
+        excess = np.abs(turn[rows] - baseline)
+        chosen = rows[excess >= settings["min_excess"]]
     if chosen.size > 1:                     # a plateau of equal maxima keeps its first sample
         first = np.ones(chosen.size, dtype=bool)
         first[1:] = np.diff(chosen) > separation

@@ -1,7 +1,9 @@
-"""tangent-jump's helpers for symmetric outlines (capture/corners/_jump.py, docs/capture.md §11) pinned to the
-loops they replaced (kept here as the reference): the eight frame maps passed over on their first points (``_congruent``), and in the corners of a symmetric union
-(``_symmetric_union``) those whose chord to the next one already exceeds the reach passed over without summing
-their arc, and the points' keys compared up to their first difference (``_point_comparison``). The same answers, not just close ones."""
+"""tangent-jump's helpers (capture/corners/_jump.py, docs/capture.md §11) pinned to the formulations they
+replaced (kept here as the reference): steps 4-5 with the flanks' median only where a peak can be (``_jump_peaks``);
+on symmetric outlines the eight frame maps passed over on their first points (``_congruent``), the corners of the
+union (``_symmetric_union``) whose chord to the next one already exceeds the reach passed over without summing their
+arc, and the points' keys compared up to their first difference (``_point_comparison``). The same answers, not
+just close ones."""
 from __future__ import annotations
 
 import importlib
@@ -118,3 +120,65 @@ def test_point_comparison_orders_as_the_whole_keys(seed, n, period, levels):
         ka, kb = key(i), key(j)
         expected = None if np.array_equal(ka, kb) else jump._later(ka, kb)
         assert later(i, j) == expected
+
+
+def reference_jump_peaks(turn, closed, settings):
+    """Steps 4-5 with the flanks' median at every sample (the formulation before session 28)."""
+    import warnings
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    m = len(turn)
+    near, far, separation = settings["near"], settings["far"], settings["separation"]
+    offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
+    if closed:
+        flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
+        ends = np.isnan(turn).any()
+    else:
+        idx = np.arange(m)[:, None] + offsets[None, :]
+        flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
+        ends = True
+    if ends:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            baseline = np.nanmedian(flanks, axis=1)
+    else:
+        ordered = np.sort(flanks, axis=1)
+        half = flanks.shape[1] // 2
+        baseline = (ordered[:, half - 1] + ordered[:, half]) / 2
+    with np.errstate(invalid="ignore"):
+        excess = np.abs(turn - baseline)
+        size = np.abs(turn)
+        strength = np.where(np.isnan(size), -np.inf, size)
+        peak = (strength >= jump._circular_max_filter(strength, separation, closed)) \
+            & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
+    chosen = np.flatnonzero(peak)
+    if chosen.size > 1:
+        first = np.ones(chosen.size, dtype=bool)
+        first[1:] = np.diff(chosen) > separation
+        if closed and chosen[0] + m - chosen[-1] <= separation:
+            first[-1] = False
+        chosen = chosen[first]
+    return chosen, size
+
+
+@settings(max_examples=400, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), m=st.integers(1, 300), closed=st.booleans(), nan=st.booleans(),
+       near=st.integers(1, 6), extra=st.integers(0, 12), separation=st.integers(1, 5),
+       min_turn=st.sampled_from([0.0, 10.0, 25.0]), min_excess=st.sampled_from([0.0, 25.0, 60.0]))
+def test_jump_peaks_take_the_median_where_it_can_choose(seed, m, closed, nan, near, extra, separation, min_turn,
+                                                        min_excess):
+    rng = np.random.default_rng(seed)
+    # staircase noise of a few degrees, corners of 20-150 degrees, plateaus of equal maxima, NaN at open ends
+    turn = rng.normal(0.0, 4.0, m)
+    spikes = rng.integers(0, m, max(1, m // 25))
+    turn[spikes] = rng.choice([-1.0, 1.0], spikes.shape[0]) * rng.uniform(20.0, 150.0, spikes.shape[0])
+    turn[np.minimum(spikes + 1, m - 1)[: spikes.shape[0] // 3]] = turn[spikes[: spikes.shape[0] // 3]]
+    turn = np.round(turn, 1)
+    if nan:
+        turn[rng.integers(0, m, max(1, m // 30))] = np.nan
+    options = {"near": near, "far": near + extra, "separation": separation, "min_turn": min_turn,
+               "min_excess": min_excess}
+    chosen, size = jump._jump_peaks(turn, closed, options)
+    expected, expected_size = reference_jump_peaks(turn, closed, options)
+    assert np.array_equal(chosen, expected)
+    assert np.array_equal(size, expected_size, equal_nan=True)

@@ -202,15 +202,17 @@ def _smoothed_curvature(contour):
     between +-4 steps, per arc length, averaged over +-8 steps (the staircase of a straight side turns both
     ways); rates below :data:`SEED_MIN_CURVATURE` count as straight."""
     n, points, arc, perimeter = contour.size, contour.points, contour.arc, contour.perimeter
-    a = 4
-    idx = np.arange(n)
-    ahead_idx, behind_idx = np.roll(idx, -a), np.roll(idx, a)  # (idx + a) % n, (idx - a) % n
-    chord = points[ahead_idx] - points[behind_idx]
-    phi = np.arctan2(chord[:, 1], chord[:, 0])
-    turn = phi[ahead_idx] - phi[behind_idx]
+    a = 4  # (callers have n >= 16 points: the wrapped copies below hold every (i +- a) % n)
+
+    def ahead_less_behind(values):  # values[(i + a) % n] - values[(i - a) % n] per point i
+        wrapped = np.concatenate([values[n - a:], values, values[:a]])
+        return wrapped[2 * a:] - wrapped[:-2 * a]
+    chord = ahead_less_behind(points)
+    turn = ahead_less_behind(np.arctan2(chord[:, 1], chord[:, 0]))
     turn = (turn + np.pi) % (2.0 * np.pi) - np.pi
-    ahead = np.where(idx + a < n, arc[np.minimum(idx + a, n)], perimeter + arc[ahead_idx])
-    behind = np.where(idx - a >= 0, arc[np.maximum(idx - a, 0)], arc[behind_idx] - perimeter)
+    # the arc lengths a points ahead and behind, across the seam continued by the perimeter
+    ahead = np.concatenate([arc[a:n], perimeter + arc[:a]])
+    behind = np.concatenate([arc[n - a:n] - perimeter, arc[:n - a]])
     kappa = turn / np.maximum(ahead - behind, 1e-9)
     width = 8
     padded = np.concatenate([kappa[-width:], kappa, kappa[:width]])

@@ -9,7 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from splinecraft.capture.fitting import lsq_setup
-from splinecraft.capture.fitting.lsq_setup import RotatedContour, _smoothed_curvature, curvature_knots
+from splinecraft.capture.fitting.lsq_setup import RotatedContour, _smoothed_curvature, curvature_knots, \
+    knot_density_integral
 
 
 def reference_smoothed_curvature(contour):
@@ -33,16 +34,9 @@ def reference_smoothed_curvature(contour):
 
 
 def reference_curvature_knots(contour, simple_knots, density, epsilon, min_gap):
-    n = contour.size
-    if density <= 0 or n < 16:
+    if density <= 0 or contour.size < 16:
         return None
-    kappa = reference_smoothed_curvature(contour)
-    bent = kappa != 0.0
-    if contour.corner_count:
-        bent &= ~(contour.corner_distance[:n] < 6.0)
-    lam = np.zeros(n)
-    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
-    cum = np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])
+    cum = knot_density_integral(contour, density, epsilon)
     new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]
     bounds = contour.corner_bounds
     for first, last in zip(bounds[:-1], bounds[1:]):

@@ -21,46 +21,27 @@ def reference_congruent(a, b):
     return any(np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b) for swap, sx, sy in jump._FRAME_MAPS)
 
 
-def reference_canonical_starts(levels):
-    n = len(levels)
-    top = np.flatnonzero(levels == levels.max())
-    point = np.concatenate([top, top])
-    way = np.repeat([1, -1], len(top))
-    offset, block = 1, 16
-    while point.size > 1 and offset < n:
-        ahead = np.arange(offset, min(offset + block, n))
-        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[0]
-        for row in rows[1:]:
-            if jump._later(best, row):
-                best = row
-        keep = np.all(rows == best, axis=1)
-        point, way = point[keep], way[keep]
-        offset, block = offset + len(ahead), 4 * block
-    order = np.lexsort((-way, point))
-    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
-
-
 def reference_symmetric_union(P, runs, key, reach=3.0):
+    """The loop before session 28, pair by pair: every corner of the union with each one after it while the arc
+    between them (the sum of the outline's edges) stays within ``reach``; of two that no run has both, the one
+    whose whole key is smaller is dropped."""
     segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
-    union = np.unique(np.concatenate(runs))
-    sets = [set(run.tolist()) for run in runs]
-    member = np.array([[int(index) in found for found in sets] for index in union])
-    dropped = np.zeros(len(union), dtype=bool)
-    m = len(union)
-    for a in range(m):
-        for step in range(1, m):
-            b = (a + step) % m
-            i, j = int(union[a]), int(union[b])
-            gap = segment[i:j] if j > i else np.concatenate([segment[i:], segment[:j]])
-            if np.sum(gap) > reach:
-                break
-            if (member[a] & member[b]).any():
-                continue
-            ka, kb = key(i), key(j)
-            if not np.array_equal(ka, kb):
-                dropped[a if jump._later(ka, kb) else b] = True
-    return union[~dropped]
+
+    def arc(i, j):
+        return np.sum(segment[i:j] if j > i else np.concatenate([segment[i:], segment[:j]]))
+    union = np.unique(np.concatenate(runs)).tolist()
+    found = [set(run.tolist()) for run in runs]
+    dropped = set()
+    for a, first in enumerate(union):
+        step = 1
+        while step < len(union) and arc(first, union[(a + step) % len(union)]) <= reach:
+            b = (a + step) % len(union)
+            if not any(first in corners and union[b] in corners for corners in found):
+                ka, kb = key(first), key(union[b])
+                if not np.array_equal(ka, kb):
+                    dropped.add(a if jump._later(ka, kb) else b)
+            step += 1
+    return np.array([index for k, index in enumerate(union) if k not in dropped], dtype=np.int64)
 
 
 @settings(max_examples=300, deadline=None)
@@ -79,16 +60,6 @@ def test_congruent_is_the_eight_maps_compared_one_by_one(seed, n, mapped, flip):
     b = b + 0.0 * rng.integers(0, 2)  # signed zeros compare equal, as in numpy.array_equal
     assert jump._congruent(a, b) == reference_congruent(a, b)
     assert jump._congruent(a, -0.0 * a) == reference_congruent(a, -0.0 * a)
-
-
-@settings(max_examples=300, deadline=None)
-@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 300), period=st.integers(1, 12), levels=st.integers(1, 4))
-def test_canonical_starts_find_the_largest_sequence_as_the_loop_did(seed, n, period, levels):
-    rng = np.random.default_rng(seed)
-    # periodic sequences tie at every period (a rotation symmetry), palindromic ones both ways (a reflection)
-    base = rng.integers(0, levels, period)
-    sequence = np.resize(np.concatenate([base, base[::-1]]) if seed % 3 == 0 else base, n).astype(np.int64)
-    assert jump._canonical_starts(sequence) == reference_canonical_starts(sequence)
 
 
 @settings(max_examples=200, deadline=None)
@@ -151,14 +122,7 @@ def reference_jump_peaks(turn, closed, settings):
         strength = np.where(np.isnan(size), -np.inf, size)
         peak = (strength >= jump._circular_max_filter(strength, separation, closed)) \
             & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
-    chosen = np.flatnonzero(peak)
-    if chosen.size > 1:
-        first = np.ones(chosen.size, dtype=bool)
-        first[1:] = np.diff(chosen) > separation
-        if closed and chosen[0] + m - chosen[-1] <= separation:
-            first[-1] = False
-        chosen = chosen[first]
-    return chosen, size
+    return jump._plateau_starts(np.flatnonzero(peak), m, separation, closed), size
 
 
 @settings(max_examples=400, deadline=None)

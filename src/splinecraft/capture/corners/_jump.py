@@ -792,13 +792,19 @@ def _jump_peaks(turn, closed, settings):
     with np.errstate(invalid="ignore"):
         excess = np.abs(turn[rows] - baseline)
         chosen = rows[excess >= settings["min_excess"]]
-    if chosen.size > 1:                     # a plateau of equal maxima keeps its first sample
+    return _plateau_starts(chosen, m, separation, closed), size
+
+
+def _plateau_starts(chosen, m, separation, closed):
+    """The sorted peaks ``chosen`` (of ``m`` samples) less those within ``separation`` samples after another one
+    (around the end when ``closed``): a plateau of equal maxima keeps its first sample."""
+    if chosen.size > 1:
         first = np.ones(chosen.size, dtype=bool)
         first[1:] = np.diff(chosen) > separation
         if closed and chosen[0] + m - chosen[-1] <= separation:
             first[-1] = False
         chosen = chosen[first]
-    return chosen, size
+    return chosen
 
 
 #: Step 5b: the wide turn is taken between the arms ``SPREAD_REACH`` samples before and after a corner, and only

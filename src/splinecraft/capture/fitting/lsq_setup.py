@@ -222,6 +222,22 @@ def _smoothed_curvature(contour):
     return kappa
 
 
+def knot_density_integral(contour, density, epsilon):
+    """The integral of :func:`curvature_knots`' knot density ``(density kappa^3 / epsilon)^(1/4)`` along the contour
+    up to each point (``n + 1`` values, from 0), ``kappa`` the :func:`_smoothed_curvature`, 0 within 6 px of a
+    corner."""
+    n = contour.size
+    kappa = _smoothed_curvature(contour)
+    # the density where it is not 0 (about half the points: straight runs and the corners' ends; the powers are
+    # the costly part)
+    bent = kappa != 0.0
+    if contour.corner_count:
+        bent &= ~(contour.corner_distance[:n] < 6.0)
+    lam = np.zeros(n)
+    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
+    return np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])
+
+
 def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     """Initial simple knots from the contour's curvature, before any insertion round, or None to keep
     ``simple_knots``.
@@ -234,18 +250,9 @@ def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     contour step; ``kappa`` is :func:`_smoothed_curvature`, and contour points within 6 px of a corner are
     left out (the corner's pieces end there). ``density = 0`` keeps the corners as the only knots (four
     equally spaced knots on an outline without corners)."""
-    n = contour.size
-    if density <= 0 or n < 16:
+    if density <= 0 or contour.size < 16:
         return None
-    kappa = _smoothed_curvature(contour)
-    # the density where it is not 0 (about half the points: straight runs and the corners' ends; the powers are
-    # the costly part)
-    bent = kappa != 0.0
-    if contour.corner_count:
-        bent &= ~(contour.corner_distance[:n] < 6.0)
-    lam = np.zeros(n)
-    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
-    cum = np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])  # integral up to point j (n + 1 values)
+    cum = knot_density_integral(contour, density, epsilon)
     new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]  # no corners: seam knot 0
     bounds = contour.corner_bounds
     # every piece at once: its targets cum[first] + total * i / (count + 1), i = 1 .. count, each searched in the

@@ -645,16 +645,16 @@ def _point_comparison(levels):
     read in blocks (16 values, then four times more each time) up to their first difference, where the keys of
     two points nearly always differ within the first few values (a whole key is two outlines long)."""
     n = len(levels)
-    spans = []
+    rings = []  # the offsets of each block
     start, size = 0, 16
     while start < n:
-        spans.append((start, min(start + size, n)))
+        rings.append(np.arange(start, min(start + size, n)))
         start, size = start + size, 4 * size
+    ways = {}
 
     def first_difference(i, way_i, j, way_j):
         """The sign of the first difference of the levels read from ``j`` (way ``way_j``) less those from ``i``."""
-        for low, high in spans:
-            ring = np.arange(low, high)
+        for ring in rings:
             a, b = levels[(i + way_i * ring) % n], levels[(j + way_j * ring) % n]
             differ = np.flatnonzero(a != b)
             if differ.size:
@@ -663,7 +663,9 @@ def _point_comparison(levels):
 
     def way(i):
         """The way round of the first half of the key of ``i``: -1 where the levels behind are larger."""
-        return -1 if first_difference(i, 1, i, -1) > 0 else 1
+        if i not in ways:
+            ways[i] = -1 if first_difference(i, 1, i, -1) > 0 else 1
+        return ways[i]
 
     def later(i, j):
         sign = first_difference(i, way(i), j, way(j)) or first_difference(i, 1, j, 1)

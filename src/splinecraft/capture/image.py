@@ -260,9 +260,10 @@ class InkPolarityWarning(UserWarning):
 
 def _warn_if_inverted(mask):
     """Warn when a bool mask looks like True = background (module docstring, "Bool arrays")."""
+    if not (mask[0].any() and mask[-1].any() and mask[:, 0].any() and mask[:, -1].any()):
+        return  # does not touch every side (the usual case: the border is gathered only where it does)
     border = np.concatenate([mask[0], mask[-1], mask[1:-1, 0], mask[1:-1, -1]])
-    touches = mask[0].any() and mask[-1].any() and mask[:, 0].any() and mask[:, -1].any()
-    if touches and 4 * int(border.sum()) > 3 * border.size and not mask.all():
+    if 4 * int(border.sum()) > 3 * border.size and not mask.all():
         share = border.mean()
         _warn(InkPolarityWarning(
             f"the mask's True pixels cover {100 * share:.0f}% of its border and touch every side: "

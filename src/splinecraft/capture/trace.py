@@ -80,6 +80,7 @@ from .fitting.tips import MAX_TIP_REACH
 from .fitting.results import BoundaryList
 from .fitting.noise import CLEAN_NOISE, NOISE_FACTOR, boundary_noise, noise_tolerance
 from .fitting.small import fit_small_trusted, keeps_area
+from .fitting._threads import one_blas_thread
 from ._binarize import PINHOLE_AREA, drop_specks, fill_pinholes
 from ._pixel_corners import merge_pixel_corners, pixel_corners_of_outlines
 from .image import MAX_PIXELS, load_bitmap_reporting_specks
@@ -337,9 +338,10 @@ def trace(
         notes.append(f"boundary noise {noise:.2f} px: corner tips follow the pixels (geometric_corners='clean' "
                      f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
     cornered = time.perf_counter()
-    (fits, splines, polygons), budget_state, far = _fit_boundaries(points_list, corner_list, pixel_list, small,
-                                                                   settings, deadline, times, undetected, tolerances,
-                                                                   pinholes)
+    with one_blas_thread():  # set once for every fit (each would set and restore it)
+        (fits, splines, polygons), budget_state, far = _fit_boundaries(points_list, corner_list, pixel_list, small,
+                                                                       settings, deadline, times, undetected,
+                                                                       tolerances, pinholes)
     _budget_notes(budget_state, time_budget, notes, far)
     finished = time.perf_counter()
 

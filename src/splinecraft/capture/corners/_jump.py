@@ -4,7 +4,6 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from numpy.lib.stride_tricks import sliding_window_view
 
 from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _plain, _prepare, _result
 from ._fillet import release_fillets, release_wedge_fillets
@@ -514,7 +513,7 @@ def _tangent_jump(P, closed, settings):
                 return np.zeros(0, dtype=np.intp)
             done.append((relative, found))
         runs.append(order[found])
-    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_order(levels))
+    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_comparison(levels))
     if settings["fillets"] or settings["wedge"]:
         first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
         rolled = np.roll(P, -first, axis=0)
@@ -533,11 +532,24 @@ def _tangent_jump(P, closed, settings):
 _FRAME_MAPS = [(swap, sx, sy) for swap in (False, True) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
 
 
+#: Points of two outlines compared first, for each frame map, before the whole of them (:func:`_congruent`).
+_CONGRUENT_HEAD = 8
+
+
 def _congruent(a, b):
     """Whether the point sequences ``a`` and ``b`` (relative to their first points) are one the image of the
     other under a quarter turn or a reflection of the frame, exactly (then steps 1-6 find the same corners
-    in both, :func:`_detect`)."""
-    return any(np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b) for swap, sx, sy in _FRAME_MAPS)
+    in both, :func:`_detect`). A map whose image of the first :data:`_CONGRUENT_HEAD` points differs is passed
+    over before the whole outlines are compared (a sign change and a swap are exact)."""
+    if a.shape != b.shape:
+        return False
+    head_a, head_b = a[:_CONGRUENT_HEAD].tolist(), b[:_CONGRUENT_HEAD].tolist()
+    for swap, sx, sy in _FRAME_MAPS:
+        if all((y if swap else x) * sx == u and (x if swap else y) * sy == v
+               for (x, y), (u, v) in zip(head_a, head_b)) and \
+                np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b):
+            return True
+    return False
 
 
 def _detect(P, closed, settings):
@@ -627,6 +639,40 @@ def _point_order(levels):
     return key
 
 
+def _point_comparison(levels):
+    """The order of :func:`_point_order`'s keys without building them: ``later(i, j)`` is None where the keys of
+    points ``i`` and ``j`` are equal, else whether that of ``j`` is lexicographically larger. The sequences are
+    read in blocks (16 values, then four times more each time) up to their first difference, where the keys of
+    two points nearly always differ within the first few values (a whole key is two outlines long)."""
+    n = len(levels)
+    rings = []  # the offsets of each block
+    start, size = 0, 16
+    while start < n:
+        rings.append(np.arange(start, min(start + size, n)))
+        start, size = start + size, 4 * size
+    ways = {}
+
+    def first_difference(i, way_i, j, way_j):
+        """The sign of the first difference of the levels read from ``j`` (way ``way_j``) less those from ``i``."""
+        for ring in rings:
+            a, b = levels[(i + way_i * ring) % n], levels[(j + way_j * ring) % n]
+            differ = np.flatnonzero(a != b)
+            if differ.size:
+                return 1 if b[differ[0]] > a[differ[0]] else -1
+        return 0
+
+    def way(i):
+        """The way round of the first half of the key of ``i``: -1 where the levels behind are larger."""
+        if i not in ways:
+            ways[i] = -1 if first_difference(i, 1, i, -1) > 0 else 1
+        return ways[i]
+
+    def later(i, j):
+        sign = first_difference(i, way(i), j, way(j)) or first_difference(i, 1, j, 1)
+        return None if sign == 0 else sign > 0
+    return later
+
+
 def _canonical_starts(levels):
     """Where and which way round the resampling of a closed outline starts: the pairs ``(point, direction)``
     (direction +1 along the outline, -1 against it) whose sequence of ``levels`` (:func:`_distance_levels`)
@@ -656,22 +702,27 @@ def _canonical_starts(levels):
     return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
 
 
-def _symmetric_union(P, runs, key, reach=3.0):
+def _symmetric_union(P, runs, later, reach=3.0):
     """The corners of the runs from the tied starts of a symmetric outline, as one set that the symmetry
     maps onto itself.
 
     Each run is the image of the others under the symmetry, so a corner whose placement depends on where
     the resampling starts (one pixel either way) has a version in each run. Every corner of any run is kept
     unless a corner of another run lies within ``reach`` px of arc of it, no run has both, and that corner's
-    :func:`_point_order` key is larger: the versions of one corner reduce to the one the shape itself
-    prefers, while two corners that one run reports stay two."""
+    :func:`_point_order` key is larger (``later``: :func:`_point_comparison` of the outline's levels): the
+    versions of one corner reduce to the one the shape itself prefers, while two corners that one run reports
+    stay two."""
     segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
     union = np.unique(np.concatenate(runs))
     sets = [set(run.tolist()) for run in runs]
-    member = np.array([[int(index) in found for found in sets] for index in union])
+    member = np.array([[index in found for found in sets] for index in union.tolist()])
     dropped = np.zeros(len(union), dtype=bool)
     m = len(union)
-    for a in range(m):                      # pairs (a, b) with b at most ``reach`` ahead of a
+    # the arc from a corner to the next is at least their chord: where the chord exceeds ``reach`` (with a margin
+    # far above the sums' rounding) the loop below stops at once for that corner, with nothing else to do
+    chord = np.hypot(*(P[union[(np.arange(m) + 1) % m]] - P[union]).T)
+    near = np.flatnonzero(chord <= reach * (1.0 + 1e-9)) if m > 1 else np.zeros(0, dtype=np.int64)
+    for a in near.tolist():                 # pairs (a, b) with b at most ``reach`` ahead of a
         for step in range(1, m):
             b = (a + step) % m
             i, j = int(union[a]), int(union[b])
@@ -680,9 +731,9 @@ def _symmetric_union(P, runs, key, reach=3.0):
                 break
             if (member[a] & member[b]).any():
                 continue
-            ka, kb = key(i), key(j)
-            if not np.array_equal(ka, kb):
-                dropped[a if _later(ka, kb) else b] = True
+            b_later = later(i, j)
+            if b_later is not None:
+                dropped[a if b_later else b] = True
     return union[~dropped]
 
 
@@ -714,39 +765,48 @@ def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, fla
 def _jump_peaks(turn, closed, settings):
     """Steps 4-5: the samples whose turn ``|J|`` is a local maximum, at least ``min_turn`` and exceeds the
     flanks' median by ``min_excess``; a plateau of equal maxima keeps its first sample. Returns the chosen
-    samples and ``|J|`` at every sample."""
+    samples and ``|J|`` at every sample. The flanks' median is taken at the local maxima of at least
+    ``min_turn`` only (the only samples it can choose; a few dozen of an outline's hundreds)."""
     m = len(turn)
     near, far, separation = settings["near"], settings["far"], settings["separation"]
     offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
-    if closed:  # turn[(i + offsets) % m]: columns of the windows of one wrapped copy (every turn in some row)
-        flanks = sliding_window_view(turn[np.arange(-far, m + far) % m], 2 * far + 1)[:, offsets + far]
+    with np.errstate(invalid="ignore"):
+        size = np.abs(turn)
+        strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
+        rows = np.flatnonzero((strength >= _circular_max_filter(strength, separation, closed))
+                              & (size >= settings["min_turn"]))
+    idx = rows[:, None] + offsets[None, :]
+    if closed:  # turn[(i + offsets) % m]
+        flanks = turn[idx % m]
         ends = np.isnan(turn).any()
     else:       # NaN beyond the ends (the first and last rows reach there)
-        idx = np.arange(m)[:, None] + offsets[None, :]
         flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
         ends = True
     if ends:                                # open ends
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)      # all-NaN flanks at open ends
-            baseline = np.nanmedian(flanks, axis=1)
+            baseline = np.nanmedian(flanks, axis=1) if rows.size else np.zeros(0)
     else:                                   # the median of an even count, as np.median computes it, 5x faster
-        ordered = np.sort(flanks, axis=1)
+        ordered = flanks                    # a gathered copy: sorted in place
+        ordered.sort(axis=1)
         half = flanks.shape[1] // 2         # 2 (far - near + 1) flank samples
         baseline = (ordered[:, half - 1] + ordered[:, half]) / 2
     with np.errstate(invalid="ignore"):
-        excess = np.abs(turn - baseline)
-        size = np.abs(turn)
-        strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
-        peak = (strength >= _circular_max_filter(strength, separation, closed)) \
-            & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
-    chosen = np.flatnonzero(peak)
-    if chosen.size > 1:                     # a plateau of equal maxima keeps its first sample
+        excess = np.abs(turn[rows] - baseline)
+        chosen = rows[excess >= settings["min_excess"]]
+    return _plateau_starts(chosen, m, separation, closed), size
+
+
+def _plateau_starts(chosen, m, separation, closed):
+    """The sorted peaks ``chosen`` (of ``m`` samples) less those within ``separation`` samples after another one
+    (around the end when ``closed``): a plateau of equal maxima keeps its first sample."""
+    if chosen.size > 1:
         first = np.ones(chosen.size, dtype=bool)
         first[1:] = np.diff(chosen) > separation
         if closed and chosen[0] + m - chosen[-1] <= separation:
             first[-1] = False
         chosen = chosen[first]
-    return chosen, size
+    return chosen
 
 
 #: Step 5b: the wide turn is taken between the arms ``SPREAD_REACH`` samples before and after a corner, and only

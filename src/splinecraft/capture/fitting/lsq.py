@@ -79,6 +79,19 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
     return result
 
 
+def outline_spline(bezier, knots, info):
+    """``Spline(bezier, knots, closed=True, auxiliary={"F": bezier[:, 0]}, info=info)`` of a fit's Bézier pieces
+    (m, 4, 2) and strictly increasing knots (m + 1,), without the constructor's checks and copies of what a fit
+    guarantees (finite float64 pieces, knots from its intervals, JSON-plain ``info``): each piece's first point
+    set to the previous piece's last, and the loop closed on the first point, as the constructor makes them (the
+    fit's joins agree to rounding)."""
+    planar = np.array(np.transpose(bezier, (1, 2, 0)), dtype=np.float64, order="C")  # a copy: (4, 2, m)
+    planar[0, :, 1:] = planar[3, :, :-1]
+    planar[3, :, -1] = planar[0, :, 0]
+    return Spline._from_trusted(planar, np.array(knots, dtype=np.float64), closed=True,
+                                auxiliary={"F": np.array(bezier[:, 0], dtype=np.float64)}, info=info)
+
+
 def _segment_count(result):
     return int(result.spline.bezier().shape[0])
 
@@ -404,9 +417,8 @@ class LsqKnotInsertion:
         # between two corners the regression spline is the thesis's interpolant through its knot points with
         # v = 0, omega = 1 and clamped ends: interpolate(F, knots, end_condition="clamped", end_tangents=...)
         # rebuilds every piece (tests/test_fitting.py checks this piece by piece)
-        spline = Spline(bezier, knots, closed=True, auxiliary={"F": bezier[:, 0]},
-                        info={"form": "outline_fit", "method": "lsq", "epsilon": epsilon,
-                              "pieces": int(contour.piece_count)})
+        spline = outline_spline(bezier, knots, {"form": "outline_fit", "method": "lsq", "epsilon": float(epsilon),
+                                                "pieces": int(contour.piece_count)})
         if self.keep and self.snapshots:
             last = self.snapshots[-1]
             if np.array_equal(last.bezier, bezier) and last.iteration == self.iteration:  # same state, dense check

@@ -202,15 +202,17 @@ def _smoothed_curvature(contour):
     between +-4 steps, per arc length, averaged over +-8 steps (the staircase of a straight side turns both
     ways); rates below :data:`SEED_MIN_CURVATURE` count as straight."""
     n, points, arc, perimeter = contour.size, contour.points, contour.arc, contour.perimeter
-    a = 4
-    idx = np.arange(n)
-    ahead_idx, behind_idx = np.roll(idx, -a), np.roll(idx, a)  # (idx + a) % n, (idx - a) % n
-    chord = points[ahead_idx] - points[behind_idx]
-    phi = np.arctan2(chord[:, 1], chord[:, 0])
-    turn = phi[ahead_idx] - phi[behind_idx]
+    a = 4  # (callers have n >= 16 points: the wrapped copies below hold every (i +- a) % n)
+
+    def ahead_less_behind(values):  # values[(i + a) % n] - values[(i - a) % n] per point i
+        wrapped = np.concatenate([values[n - a:], values, values[:a]])
+        return wrapped[2 * a:] - wrapped[:-2 * a]
+    chord = ahead_less_behind(points)
+    turn = ahead_less_behind(np.arctan2(chord[:, 1], chord[:, 0]))
     turn = (turn + np.pi) % (2.0 * np.pi) - np.pi
-    ahead = np.where(idx + a < n, arc[np.minimum(idx + a, n)], perimeter + arc[ahead_idx])
-    behind = np.where(idx - a >= 0, arc[np.maximum(idx - a, 0)], arc[behind_idx] - perimeter)
+    # the arc lengths a points ahead and behind, across the seam continued by the perimeter
+    ahead = np.concatenate([arc[a:n], perimeter + arc[:a]])
+    behind = np.concatenate([arc[n - a:n] - perimeter, arc[:n - a]])
     kappa = turn / np.maximum(ahead - behind, 1e-9)
     width = 8
     padded = np.concatenate([kappa[-width:], kappa, kappa[:width]])
@@ -218,6 +220,22 @@ def _smoothed_curvature(contour):
     kappa = np.abs(box[2 * width + 1:] - box[: -2 * width - 1]) / (2 * width + 1)
     kappa[kappa < SEED_MIN_CURVATURE] = 0.0
     return kappa
+
+
+def knot_density_integral(contour, density, epsilon):
+    """The integral of :func:`curvature_knots`' knot density ``(density kappa^3 / epsilon)^(1/4)`` along the contour
+    up to each point (``n + 1`` values, from 0), ``kappa`` the :func:`_smoothed_curvature`, 0 within 6 px of a
+    corner."""
+    n = contour.size
+    kappa = _smoothed_curvature(contour)
+    # the density where it is not 0 (about half the points: straight runs and the corners' ends; the powers are
+    # the costly part)
+    bent = kappa != 0.0
+    if contour.corner_count:
+        bent &= ~(contour.corner_distance[:n] < 6.0)
+    lam = np.zeros(n)
+    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
+    return np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])
 
 
 def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
@@ -232,28 +250,24 @@ def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     contour step; ``kappa`` is :func:`_smoothed_curvature`, and contour points within 6 px of a corner are
     left out (the corner's pieces end there). ``density = 0`` keeps the corners as the only knots (four
     equally spaced knots on an outline without corners)."""
-    n = contour.size
-    if density <= 0 or n < 16:
+    if density <= 0 or contour.size < 16:
         return None
-    kappa = _smoothed_curvature(contour)
-    # the density where it is not 0 (about half the points: straight runs and the corners' ends; the powers are
-    # the costly part)
-    bent = kappa != 0.0
-    if contour.corner_count:
-        bent &= ~(contour.corner_distance[:n] < 6.0)
-    lam = np.zeros(n)
-    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
-    cum = np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])  # integral up to point j (n + 1 values)
+    cum = knot_density_integral(contour, density, epsilon)
     new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]  # no corners: seam knot 0
     bounds = contour.corner_bounds
-    for first, last in zip(bounds[:-1], bounds[1:]):
-        total = cum[last] - cum[first]
-        count = min(int(np.floor(total)), int(last - first))
-        if count < 1:
-            continue
-        targets = cum[first] + total * np.arange(1, count + 1) / (count + 1)
-        j = np.searchsorted(cum[first:last + 1], targets) + first
-        new.append(j[(j - first >= min_gap) & (last - j >= min_gap)])
+    # every piece at once: its targets cum[first] + total * i / (count + 1), i = 1 .. count, each searched in the
+    # piece's own span of ``cum`` (the same values, element by element, as piece by piece)
+    first, last = bounds[:-1], bounds[1:]
+    total = cum[last] - cum[first]
+    count = np.minimum(np.floor(total), last - first).astype(np.int64)
+    count[count < 1] = 0
+    piece = np.repeat(np.arange(first.shape[0]), count)
+    within = np.arange(piece.shape[0]) - np.repeat(np.cumsum(count) - count, count) + 1  # 1 .. count per piece
+    targets = cum[first][piece] + total[piece] * within / (count[piece] + 1)
+    low, high = first[piece], last[piece]
+    j = np.searchsorted(cum, targets)  # the piece's span of cum from its first point on, its last value included
+    j = np.clip(j, low, high + 1)
+    new.append(j[(j - low >= min_gap) & (high - j >= min_gap)])
     merged = np.unique(np.concatenate(new)).astype(np.int64)
     merged = merged[np.diff(merged, prepend=-min_gap) >= min_gap]  # at least min_gap steps apart
     if contour.corner_count or merged.shape[0] >= 4:  # a periodic spline needs four knots

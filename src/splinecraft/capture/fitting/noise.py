@@ -145,7 +145,8 @@ def boundary_noise(mask, contours, corner_lists) -> float:
         owner = np.repeat(np.arange(len(chosen)), corner_counts)
         span = corners[:, None] + np.arange(-_CORNER_SPAN, _CORNER_SPAN + 1)[None, :]
         keep[offsets[owner, None] + span % sizes[owner, None]] = False
-    keep &= ~_on_thin_features(points, thin)
+    if thin.any():  # else no point is beside one (clean renders mostly have none)
+        keep &= ~_on_thin_features(points, thin)
     kept = points[keep]
     if not kept.shape[0]:
         return 0.0

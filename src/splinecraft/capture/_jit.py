@@ -37,34 +37,109 @@ import time
 import warnings
 
 import numba
-from numba.core import types, typing
+from numba.core import postproc, types, typing
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
-from numba.core.typed_passes import NopythonRewrites
-from numba.core.untyped_passes import InlineClosureLikes
+from numba.core.compiler_lock import global_compiler_lock
+from numba.core.compiler_machinery import AnalysisPass, register_pass
+from numba.core.ir_utils import enforce_no_dels, enforce_no_phis
+from numba.core.typed_passes import IRLegalization, NopythonRewrites, PreLowerStripPhis
+from numba.core.types.functions import BaseFunction
+from numba.core.untyped_passes import InlineClosureLikes, ReconstructSSA
 from numba.extending import intrinsic
 
 __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
            "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
 
 
+@register_pass(mutates_CFG=True, analysis_only=False)
+class _LegalizeWithoutDels(AnalysisPass):
+    """numba's ``IRLegalization`` (the checks before lowering, and the IR's post-processing: the canonical CFG,
+    the variables' lifetimes) without the ``del`` statement it inserts after each variable's last use: a ``del``
+    only lowers to the release of a reference-counted value (and the zeroing of its stack slot), and a kernel
+    has none (``_nrt=False``). In the trace's kernels half the statements were ``del`` statements."""
+    _name = "ir_legalization_without_dels"
+
+    def __init__(self):
+        AnalysisPass.__init__(self)
+
+    def run_pass(self, state):
+        enforce_no_phis(state.func_ir)
+        enforce_no_dels(state.func_ir)
+        postproc.PostProcessor(state.func_ir).run(emit_dels=False)
+        return True
+
+
+#: (function type, typing context, argument types) -> (signature, implementation key) of every call typed while
+#: a kernel compiles (:func:`_call_type`).
+_CALL_TYPES = {}
+_PLAIN_CALL_TYPE = BaseFunction.get_call_type
+
+
+def _call_type(function, context, args, kws):
+    """``BaseFunction.get_call_type`` remembered per argument types while a kernel compiles
+    (:meth:`_KernelCompiler._compile_core`). numba types a call of a builtin function or operator (``a * b``,
+    ``x[i]``, ``np.int64(n)``, ``range(n)``) by trying its templates one by one, sorted anew at each call,
+    and does so at every call site in every round of type inference and once again when lowering each
+    operator, index and item assignment (to register the implementation key of its signature): 4366 times
+    in a trace's kernels for 234 distinct calls. The templates of a function answer the same argument types
+    with the same signature (the function type itself is made of its templates: a new template makes a new
+    type), so the first answer is kept with the implementation key it registered, which a remembered answer
+    registers again. Failures are not kept (numba tries again, as before); nor are calls with keywords."""
+    if kws:
+        return _PLAIN_CALL_TYPE(function, context, args, kws)
+    key = (function, context, args)
+    known = _CALL_TYPES.get(key)
+    if known is None:
+        signature = _PLAIN_CALL_TYPE(function, context, args, kws)
+        _CALL_TYPES[key] = signature, function._impl_keys[signature.args]
+        return signature
+    signature, implementation = known
+    function._impl_keys[signature.args] = implementation
+    return signature
+
+
 class _KernelCompiler(CompilerBase):
-    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without two passes that find nothing to do in
-    the kernels and walked every statement of every kernel and helper: the rewrites of the typed IR
-    (``NopythonRewrites``: array expressions fused into loops, static indices of string literals; the kernels
-    allocate nothing and index no strings) and the inlining of closures (``InlineClosureLikes``: functions
-    defined inside a kernel, comprehensions; the kernels have none: one that gained some would need the pass back). The
-    machine code of every kernel is the same as with numba's own pipeline; the cold compile of a trace's kernels
-    took 0.955x without the rewrites and 0.97x of that again without the inlining. The rewrites before type
-    inference stay: without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``)
-    is typed as a call of ``getitem``, which numba compiles per tuple type and index, and the compile took 1.05x
-    (BENCHMARKS.md, "Session 27: cold first call")."""
+    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without passes that find nothing to do in
+    the kernels or that the kernels do not need, with the typing of builtin calls remembered
+    (:func:`_call_type`):
+
+    * the rewrites of the typed IR (``NopythonRewrites``: array expressions fused into loops, static indices
+      of string literals; the kernels allocate nothing and index no strings) and the inlining of closures
+      (``InlineClosureLikes``: functions defined inside a kernel, comprehensions; the kernels have none: one
+      that gained some would need the pass back): the cold compile 0.955x and 0.97x of that again, the same
+      machine code (BENCHMARKS.md, "Session 27: cold first call"). The rewrites before type inference stay:
+      without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``) is typed as
+      a call of ``getitem``, which numba compiles per tuple type and index (the compile 1.05x);
+    * the SSA form (``ReconstructSSA``, ``PreLowerStripPhis``): each assignment of a variable a version of its
+      own, typed on its own and joined again before lowering. Without it numba types a variable once for all
+      its assignments (their unified type): in the kernels the same types but for four integer variables of
+      ``_boundaries_into`` assigned an ``int32`` and an ``int64`` (now ``int64`` throughout: the same values)
+      and two flags assigned the literal ``True`` and a ``bool``. A kernel must not assign one name an integer
+      in one place and a float in another (it would become a float everywhere): use two names;
+    * the ``del`` statements before lowering (:class:`_LegalizeWithoutDels`).
+
+    The cold compile of a trace's kernels: 0.74x in all (BENCHMARKS.md, "Session 28: cold first call"). The
+    machine code is that of numba's own pipeline but for the stack slots and the order of some instructions
+    in ``_deviation_into`` and ``_fit_runs_into`` (no SSA form, no ``del`` statements); results are bit for bit."""
 
     def define_pipelines(self):
         pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
-        pipeline.passes = [(step, name) for step, name in pipeline.passes
-                           if step not in (NopythonRewrites, InlineClosureLikes)]
+        left_out = (NopythonRewrites, InlineClosureLikes, ReconstructSSA, PreLowerStripPhis)
+        pipeline.passes = [(_LegalizeWithoutDels if step is IRLegalization else step, name)
+                           for step, name in pipeline.passes if step not in left_out]
         pipeline.finalize()
         return [pipeline]
+
+    def _compile_core(self):
+        # under numba's compiler lock (no other compile, no other typing, runs meanwhile); a helper compiled
+        # while a kernel is typed comes here again, and the outer compile puts numba's method back
+        with global_compiler_lock:
+            outer = BaseFunction.get_call_type
+            BaseFunction.get_call_type = _call_type
+            try:
+                return super()._compile_core()
+            finally:
+                BaseFunction.get_call_type = outer
 
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's

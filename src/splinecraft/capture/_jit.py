@@ -269,15 +269,16 @@ ensure_cache_dir()
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
 #: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
-#: (BENCHMARKS.md, "Session 24"); only their ratios matter, they balance the processes of :func:`warm_up`.
+#: (BENCHMARKS.md, "Session 28: cold first call"; the compile about 0.75x of session 24's, merge 0.66x); they
+#: balance the processes of :func:`warm_up` with the helpers' starts below.
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.0),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.17),
-    "tracer": ("_cracks", "warm_up", "_follow_into", 0.97),
-    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.77),
-    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.53),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.29),
-    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.27),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.76),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 0.93),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 0.73),
+    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.51),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.41),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.23),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.22),
 }
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
 #: polygons of a spent time budget compile where they are used).
@@ -297,8 +298,9 @@ HELPER_START = -0.05
 #: process does, so it finishes earlier than this process with the same share by what only this process does:
 #: the collection of its compiles' garbage (0.15-0.2 s CPU), the loading of the helper's kernels (0.02 s) and
 #: the first trace's own run (0.06 s) (CPU timelines of the first trace: BENCHMARKS.md, "Session 27: cold first
-#: call").
-FORKED_HELPER_START = -0.25
+#: call"). -0.25 until session 28, where this process then finished 0.2 s CPU after the helper; at -0.45 both
+#: finish together ("Session 28: cold first call").
+FORKED_HELPER_START = -0.45
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
 EXACT_PLAN_SPLITS = 4096
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.

@@ -148,8 +148,9 @@ class _KernelCompiler(CompilerBase):
 #: numba's runtime has nothing to count; without it less code is compiled (about 5-10 % of the cold compile)
 #: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
-#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). numba's pipeline without its
-#: rewrites of the typed IR and its inlining of closures (:class:`_KernelCompiler`: the cold compile 0.93x).
+#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). numba's pipeline without the passes
+#: the kernels do not need and with each builtin call typed once per argument types (:class:`_KernelCompiler`:
+#: the cold compile 0.93x in session 27, 0.74x of that in session 28).
 JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True,
                    pipeline_class=_KernelCompiler)
 #: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also

@@ -37,34 +37,109 @@ import time
 import warnings
 
 import numba
-from numba.core import types, typing
+from numba.core import postproc, types, typing
 from numba.core.compiler import CompilerBase, DefaultPassBuilder
-from numba.core.typed_passes import NopythonRewrites
-from numba.core.untyped_passes import InlineClosureLikes
+from numba.core.compiler_lock import global_compiler_lock
+from numba.core.compiler_machinery import AnalysisPass, register_pass
+from numba.core.ir_utils import enforce_no_dels, enforce_no_phis
+from numba.core.typed_passes import IRLegalization, NopythonRewrites, PreLowerStripPhis
+from numba.core.types.functions import BaseFunction
+from numba.core.untyped_passes import InlineClosureLikes, ReconstructSSA
 from numba.extending import intrinsic
 
 __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
            "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
 
 
+@register_pass(mutates_CFG=True, analysis_only=False)
+class _LegalizeWithoutDels(AnalysisPass):
+    """numba's ``IRLegalization`` (the checks before lowering, and the IR's post-processing: the canonical CFG,
+    the variables' lifetimes) without the ``del`` statement it inserts after each variable's last use: a ``del``
+    only lowers to the release of a reference-counted value (and the zeroing of its stack slot), and a kernel
+    has none (``_nrt=False``). In the trace's kernels half the statements were ``del`` statements."""
+    _name = "ir_legalization_without_dels"
+
+    def __init__(self):
+        AnalysisPass.__init__(self)
+
+    def run_pass(self, state):
+        enforce_no_phis(state.func_ir)
+        enforce_no_dels(state.func_ir)
+        postproc.PostProcessor(state.func_ir).run(emit_dels=False)
+        return True
+
+
+#: (function type, typing context, argument types) -> (signature, implementation key) of every call typed while
+#: a kernel compiles (:func:`_call_type`).
+_CALL_TYPES = {}
+_PLAIN_CALL_TYPE = BaseFunction.get_call_type
+
+
+def _call_type(function, context, args, kws):
+    """``BaseFunction.get_call_type`` remembered per argument types while a kernel compiles
+    (:meth:`_KernelCompiler._compile_core`). numba types a call of a builtin function or operator (``a * b``,
+    ``x[i]``, ``np.int64(n)``, ``range(n)``) by trying its templates one by one, sorted anew at each call,
+    and does so at every call site in every round of type inference and once again when lowering each
+    operator, index and item assignment (to register the implementation key of its signature): 5874 times
+    in a trace's kernels for 288 distinct calls. The templates of a function answer the same argument types
+    with the same signature (the function type itself is made of its templates: a new template makes a new
+    type), so the first answer is kept with the implementation key it registered, which a remembered answer
+    registers again. Failures are not kept (numba tries again, as before); nor are calls with keywords."""
+    if kws:
+        return _PLAIN_CALL_TYPE(function, context, args, kws)
+    key = (function, context, args)
+    known = _CALL_TYPES.get(key)
+    if known is None:
+        signature = _PLAIN_CALL_TYPE(function, context, args, kws)
+        _CALL_TYPES[key] = signature, function._impl_keys[signature.args]
+        return signature
+    signature, implementation = known
+    function._impl_keys[signature.args] = implementation
+    return signature
+
+
 class _KernelCompiler(CompilerBase):
-    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without two passes that find nothing to do in
-    the kernels and walked every statement of every kernel and helper: the rewrites of the typed IR
-    (``NopythonRewrites``: array expressions fused into loops, static indices of string literals; the kernels
-    allocate nothing and index no strings) and the inlining of closures (``InlineClosureLikes``: functions
-    defined inside a kernel, comprehensions; the kernels have none: one that gained some would need the pass back). The
-    machine code of every kernel is the same as with numba's own pipeline; the cold compile of a trace's kernels
-    took 0.955x without the rewrites and 0.97x of that again without the inlining. The rewrites before type
-    inference stay: without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``)
-    is typed as a call of ``getitem``, which numba compiles per tuple type and index, and the compile took 1.05x
-    (BENCHMARKS.md, "Session 27: cold first call")."""
+    """numba's nopython pipeline (``numba.core.compiler.Compiler``) without passes that find nothing to do in
+    the kernels or that the kernels do not need, with the typing of builtin calls remembered
+    (:func:`_call_type`):
+
+    * the rewrites of the typed IR (``NopythonRewrites``: array expressions fused into loops, static indices
+      of string literals; the kernels allocate nothing and index no strings) and the inlining of closures
+      (``InlineClosureLikes``: functions defined inside a kernel, comprehensions; the kernels have none: one
+      that gained some would need the pass back): the cold compile 0.955x and 0.97x of that again, the same
+      machine code (BENCHMARKS.md, "Session 27: cold first call"). The rewrites before type inference stay:
+      without them (numba's ``no_rewrites``) a constant index of a tuple (``shape[0]``, ``k[8]``) is typed as
+      a call of ``getitem``, which numba compiles per tuple type and index (the compile 1.05x);
+    * the SSA form (``ReconstructSSA``, ``PreLowerStripPhis``): each assignment of a variable a version of its
+      own, typed on its own and joined again before lowering. Without it numba types a variable once for all
+      its assignments (their unified type): in the kernels the same types but for four integer variables of
+      ``_boundaries_into`` assigned an ``int32`` and an ``int64`` (now ``int64`` throughout: the same values)
+      and two flags assigned the literal ``True`` and a ``bool``. A kernel must not assign one name an integer
+      in one place and a float in another (it would become a float everywhere): use two names;
+    * the ``del`` statements before lowering (:class:`_LegalizeWithoutDels`).
+
+    The cold compile of a trace's kernels: 0.74x in all (BENCHMARKS.md, "Session 28: cold first call"). The
+    machine code is that of numba's own pipeline but for the stack slots and the order of some instructions
+    in ``_deviation_into`` and ``_fit_runs_into`` (no SSA form, no ``del`` statements); results are bit for bit."""
 
     def define_pipelines(self):
         pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
-        pipeline.passes = [(step, name) for step, name in pipeline.passes
-                           if step not in (NopythonRewrites, InlineClosureLikes)]
+        left_out = (NopythonRewrites, InlineClosureLikes, ReconstructSSA, PreLowerStripPhis)
+        pipeline.passes = [(_LegalizeWithoutDels if step is IRLegalization else step, name)
+                           for step, name in pipeline.passes if step not in left_out]
         pipeline.finalize()
         return [pipeline]
+
+    def _compile_core(self):
+        # under numba's compiler lock (no other compile, no other typing, runs meanwhile); a helper compiled
+        # while a kernel is typed comes here again, and the outer compile puts numba's method back
+        with global_compiler_lock:
+            outer = BaseFunction.get_call_type
+            BaseFunction.get_call_type = _call_type
+            try:
+                return super()._compile_core()
+            finally:
+                BaseFunction.get_call_type = outer
 
 
 #: ``numba.njit`` options of every kernel: cached on disk, GIL released, no bounds checks, numpy's
@@ -73,8 +148,9 @@ class _KernelCompiler(CompilerBase):
 #: numba's runtime has nothing to count; without it less code is compiled (about 5-10 % of the cold compile)
 #: and an allocation inside a kernel fails to compile instead of costing compile time. No C-callable wrapper
 #: (``no_cfunc_wrapper``): nothing takes a kernel's address (``cfunc``, first-class functions), and each
-#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). numba's pipeline without its
-#: rewrites of the typed IR and its inlining of closures (:class:`_KernelCompiler`: the cold compile 0.93x).
+#: wrapper was compiled and optimized for nothing (about 8 ms a kernel). numba's pipeline without the passes
+#: the kernels do not need and with each builtin call typed once per argument types (:class:`_KernelCompiler`:
+#: the cold compile 0.93x in session 27, 0.74x of that in session 28).
 JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy", _nrt=False, no_cfunc_wrapper=True,
                    pipeline_class=_KernelCompiler)
 #: The options of helpers that only kernels call (``_basis``, ``_walk_right``, ``_ink``, ``_smoothed`` ...): also
@@ -194,15 +270,16 @@ ensure_cache_dir()
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
 #: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
-#: (BENCHMARKS.md, "Session 24"); only their ratios matter, they balance the processes of :func:`warm_up`.
+#: (BENCHMARKS.md, "Session 28: cold first call"; the compile about 0.75x of session 24's, merge 0.66x); they
+#: balance the processes of :func:`warm_up` with the helpers' starts below.
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 1.0),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 1.17),
-    "tracer": ("_cracks", "warm_up", "_follow_into", 0.97),
-    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.77),
-    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.53),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.29),
-    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.27),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.76),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 0.93),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 0.73),
+    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.51),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.41),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.23),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.22),
 }
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
 #: polygons of a spent time budget compile where they are used).
@@ -222,8 +299,9 @@ HELPER_START = -0.05
 #: process does, so it finishes earlier than this process with the same share by what only this process does:
 #: the collection of its compiles' garbage (0.15-0.2 s CPU), the loading of the helper's kernels (0.02 s) and
 #: the first trace's own run (0.06 s) (CPU timelines of the first trace: BENCHMARKS.md, "Session 27: cold first
-#: call").
-FORKED_HELPER_START = -0.25
+#: call"). -0.25 until session 28, where this process then finished 0.2 s CPU after the helper; at -0.45 both
+#: finish together ("Session 28: cold first call").
+FORKED_HELPER_START = -0.45
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
 EXACT_PLAN_SPLITS = 4096
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.

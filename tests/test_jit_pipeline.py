@@ -104,3 +104,50 @@ def test_a_variable_assigned_two_integer_types_keeps_its_values():
     assert widest(small, large) == 2 ** 40
     assert widest(small, large[:1] * 0 - 9) == -7
     assert widest.nopython_signatures[0].return_type == types.int64
+
+
+def _legalizations(monkeypatch):
+    """The kernels that went through :class:`_jit._LegalizeWithoutDels` while a test compiles."""
+    plain, names = _jit._LegalizeWithoutDels.run_pass, []
+
+    def counted(self, state):
+        names.append(state.func_id.func_name)
+        return plain(self, state)
+    monkeypatch.setattr(_jit._LegalizeWithoutDels, "run_pass", counted)
+    return names
+
+
+@pytest.mark.parametrize("lean", [True, False])
+def test_a_numba_without_the_lean_pipeline_s_parts_compiles_through_its_own(monkeypatch, lean):
+    monkeypatch.setattr(_jit, "_LEAN_PIPELINE", lean)
+    names = _legalizations(monkeypatch)
+
+    @numba.njit(**_OPTIONS)
+    def halves(values, out):
+        for i in range(values.shape[0]):
+            out[i] = values[i] / 2.0
+        return out.shape[0]
+
+    values = np.array([3.0, -1.0, 0.5])
+    out = np.empty(3)
+    assert halves(values, out) == 3
+    np.testing.assert_array_equal(out, values / 2.0)
+    assert names == (["halves"] if lean else [])
+
+
+def test_a_function_type_without_implementation_keys_is_typed_by_numba_itself(monkeypatch):
+    calls = []
+
+    def plain(function, context, args, kws):
+        calls.append(args)
+        return ("signature of", args)
+    monkeypatch.setattr(_jit, "_PLAIN_CALL_TYPE", plain)
+    monkeypatch.setattr(_jit, "_CALL_TYPES", {})
+
+    class Function:  # a numba whose function types keep no ``_impl_keys`` dict
+        pass
+    args = (types.float64, types.float64)
+    assert _jit._call_type(Function(), None, args, {}) == ("signature of", args)
+    assert _jit._call_type(Function(), None, args, {}) == ("signature of", args)
+    assert calls == [args, args]
+    assert _jit._CALL_TYPES == {}

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import gc
 import importlib
+import inspect
 import itertools
 import operator
 import os
@@ -69,6 +70,21 @@ class _LegalizeWithoutDels(AnalysisPass):
         return True
 
 
+def _lean_pipeline_supported():
+    """Whether this numba's post-processing of the IR can leave out the ``del`` statements
+    (``PostProcessor.run(emit_dels=False)``, numba 0.60-0.68 at least), which :class:`_LegalizeWithoutDels`
+    needs. Elsewhere the kernels compile through numba's own nopython pipeline: the same kernels, only slower
+    to compile. (The passes :class:`_KernelCompiler` leaves out are matched by class: one that a numba does not
+    have is not left out.)"""
+    try:
+        return "emit_dels" in inspect.signature(postproc.PostProcessor.run).parameters
+    except (TypeError, ValueError):
+        return False
+
+
+#: Whether the kernels compile through the lean pipeline (:func:`_lean_pipeline_supported`).
+_LEAN_PIPELINE = _lean_pipeline_supported()
+
 #: (function type, typing context, argument types) -> (signature, implementation key) of every call typed while
 #: a kernel compiles (:func:`_call_type`).
 _CALL_TYPES = {}
@@ -85,7 +101,8 @@ def _call_type(function, context, args, kws):
     with the same signature (the function type itself is made of its templates: a new template makes a new
     type), so the first answer is kept with the implementation key it registered, which a remembered answer
     registers again. Failures are not kept (numba tries again, as before); nor are calls with keywords."""
-    if kws:
+    if kws or not isinstance(getattr(function, "_impl_keys", None), dict):
+        # keywords, or a numba whose functions keep their implementation keys elsewhere: numba's own typing
         return _PLAIN_CALL_TYPE(function, context, args, kws)
     key = (function, context, args)
     known = _CALL_TYPES.get(key)
@@ -124,6 +141,8 @@ class _KernelCompiler(CompilerBase):
 
     def define_pipelines(self):
         pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
+        if not _LEAN_PIPELINE:
+            return [pipeline]
         left_out = (NopythonRewrites, InlineClosureLikes, ReconstructSSA, PreLowerStripPhis)
         pipeline.passes = [(_LegalizeWithoutDels if step is IRLegalization else step, name)
                            for step, name in pipeline.passes if step not in left_out]

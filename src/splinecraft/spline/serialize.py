@@ -27,7 +27,8 @@ import numpy as np
 from .._json import to_jsonable
 from .._validation import as_float_array, check_bool, check_int, check_strictly_increasing
 
-__all__ = ["spline_to_dict", "spline_from_dict", "checked_parts", "SCHEMA_KEYS", "MAX_AUXILIARY_DIMS", "JOIN_RTOL"]
+__all__ = ["spline_to_dict", "spline_from_dict", "checked_parts", "snap_joins", "SCHEMA_KEYS", "MAX_AUXILIARY_DIMS",
+           "JOIN_RTOL"]
 
 SCHEMA_KEYS = ("type", "version", "closed", "knots", "bezier", "auxiliary", "auxiliary_shapes", "info")
 TYPE_NAME = "splinecraft.Spline"
@@ -56,7 +57,6 @@ def _join(bezier, closed):
                 f"pieces {bad} and {bad + 1} do not join: bezier[{bad}, 3] and bezier[{bad + 1}, 0] "
                 f"are {gaps[bad] * scale:.3g} apart"
             )
-        bezier[1:, 0] = bezier[:-1, 3]
     if closed:
         gap = float(_relative_gaps(bezier[-1:, 3], bezier[:1, 0], scale)[0])
         if gap > JOIN_RTOL:
@@ -64,6 +64,15 @@ def _join(bezier, closed):
                 f"closed=True but the last piece ends {gap * scale:.3g} away from the first point "
                 f"(bezier[{m - 1}, 3] != bezier[0, 0])"
             )
+    snap_joins(bezier, closed)
+
+
+def snap_joins(bezier, closed):
+    """Make the pieces ``bezier`` (m, 4, d; written in place, a view will do) join exactly: each piece's first
+    point set to the previous piece's last, and a loop closed on its first point (what :func:`_join` does after
+    its check)."""
+    bezier[1:, 0] = bezier[:-1, 3]
+    if closed:
         bezier[-1, 3] = bezier[0, 0]
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...spline import Spline
+from ...spline.serialize import snap_joins
 from .lsq_model import OutlineRegression
 from .budget import BUDGET_REASON
 from .jumps import REFIT_MARGIN, curvature_jumps
@@ -82,12 +83,11 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
 def outline_spline(bezier, knots, info):
     """``Spline(bezier, knots, closed=True, auxiliary={"F": bezier[:, 0]}, info=info)`` of a fit's Bézier pieces
     (m, 4, 2) and strictly increasing knots (m + 1,), without the constructor's checks and copies of what a fit
-    guarantees (finite float64 pieces, knots from its intervals, JSON-plain ``info``): each piece's first point
-    set to the previous piece's last, and the loop closed on the first point, as the constructor makes them (the
-    fit's joins agree to rounding)."""
+    guarantees (finite float64 pieces, knots from its intervals, JSON-plain ``info``): the joins snapped exactly
+    as the constructor snaps them (:func:`~splinecraft.spline.serialize.snap_joins`; the fit's joins agree to
+    rounding)."""
     planar = np.array(np.transpose(bezier, (1, 2, 0)), dtype=np.float64, order="C")  # a copy: (4, 2, m)
-    planar[0, :, 1:] = planar[3, :, :-1]
-    planar[3, :, -1] = planar[0, :, 0]
+    snap_joins(planar.transpose(2, 0, 1), closed=True)
     return Spline._from_trusted(planar, np.array(knots, dtype=np.float64), closed=True,
                                 auxiliary={"F": np.array(bezier[:, 0], dtype=np.float64)}, info=info)
 

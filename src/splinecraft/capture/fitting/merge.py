@@ -74,9 +74,9 @@ def _unit(v):
 
 def _turns(bez):
     """Per segment the total turn (radians) of its control polygon, and the turn at its start join."""
-    d = np.diff(bez, axis=1)  # (k, 3, 2)
+    d = bez[:, 1:] - bez[:, :-1]  # (k, 3, 2)
     ang = np.arctan2(d[..., 1], d[..., 0])
-    inner = np.abs(np.angle(np.exp(1j * np.diff(ang, axis=1)))).sum(axis=1)
+    inner = np.abs(np.angle(np.exp(1j * (ang[:, 1:] - ang[:, :-1])))).sum(axis=1)
     return inner
 
 
@@ -113,7 +113,7 @@ def _qualify(fit, tolerance, margin):
     ``tolerance`` of the fitted curve, both handles positive, at least four points."""
     chord = np.hypot(*(fit["cubic"][:, 3] - fit["cubic"][:, 0]).T)
     return ((fit["excess"] + margin <= 0) & (fit["drift"] <= tolerance)
-            & (fit["handles"] > 1e-3 * chord[:, None]).all(axis=1) & (fit["count"] >= 4))
+            & (np.minimum(fit["handles"][:, 0], fit["handles"][:, 1]) > 1e-3 * chord) & (fit["count"] >= 4))
 
 
 _HANKEL = np.add.outer(np.arange(3), np.arange(3))  # the power of x in each entry of a parabola's normal matrix
@@ -239,7 +239,8 @@ def merge_segments(model, dev, tolerance):
     bez, starts, ends, origin = split_at_extrema(fit_bez, dev["starts"], dev["ends"])
     k = bez.shape[0]
     corner_par = model.base_parameter[contour.corner_bounds]
-    seg_piece = np.clip(np.searchsorted(corner_par, starts, side="right") - 1, 0, contour.piece_count - 1)
+    seg_piece = np.minimum(np.maximum(np.searchsorted(corner_par, starts, side="right") - 1, 0),
+                           contour.piece_count - 1)
     u = model.parameter[:n]
     points = contour.points
     tol = dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"]
@@ -353,7 +354,9 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     turn = np.concatenate([[0.0], np.cumsum(_turns(bez))])
     # the fitted segments as they were: their pieces between extrema, and each whole (states 0, 0; cost 0)
     heads = np.flatnonzero(np.concatenate([[True], origin[1:] != origin[:-1]]))  # where origin changes
-    whole = np.diff(np.append(heads, k))
+    whole = np.empty_like(heads)  # pieces per fitted segment
+    np.subtract(heads[1:], heads[:-1], out=whole[:-1])
+    whole[-1] = k - heads[-1]
     kept = k + int((whole > 1).sum())
     out = {"first": [np.arange(k), heads[whole > 1]], "length": [np.ones(k, np.int64), whole[whole > 1]],
            "s0": [np.zeros(kept, np.int64)], "s1": [np.zeros(kept, np.int64)],
@@ -376,18 +379,20 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     # if asked (a == 1), and a longer run takes it wherever it may: its end keeps the old one only where the join
     # has no new direction (a kept segment beside it is refitted as a run of one instead); a single segment in
     # states (0, 0) is the segment as it was
-    head_join, tail_join = np.broadcast_to(interior[:k], last.shape), interior[last + 1]
+    head_join, tail_join = interior[:k], interior[last + 1]  # per start; per length and start
+    head_fixed, tail_fixed = ~head_join, ~tail_join  # ends at a join without a new direction
     valid = np.empty((longest, 4, k), bool)
-    valid[:, 0], valid[:, 1] = ~head_join & ~tail_join, ~head_join & tail_join
-    valid[:, 2], valid[:, 3] = head_join & ~tail_join, head_join & tail_join
-    valid[0, 0], valid[0, 1], valid[0, 2] = False, tail_join[0], head_join[0]
+    valid[:, 0], valid[:, 1] = head_fixed & tail_fixed, head_fixed & tail_join
+    valid[:, 2], valid[:, 3] = head_join & tail_fixed, head_join & tail_join
+    valid[0, 0], valid[0, 1], valid[0, 2] = False, tail_join[0], head_join
     valid &= within[:, None, :]
     passed = np.zeros((longest, k), bool)  # per length and start: one of the run's states qualifies
     passed[0] = True  # every segment starts runs
     fits = []
     for low in range(0, longest, PHASE):
         high = min(low + PHASE, longest)
-        grown = _grown(passed[:low], within[:low + 1])[-1]  # the starts that reach length low + 1
+        # the starts that reach length low + 1 (every start within its piece and turn at length 1)
+        grown = _grown(passed[:low], within[:low + 1])[-1] if low else within[0]
         lengths, states, rows = np.nonzero(valid[low:high] & grown[None, None, :])
         if not rows.size:
             break

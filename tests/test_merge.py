@@ -246,7 +246,8 @@ def _run_distances(fit, lo, count, points):
         weights = [s * s * s, 3.0 * s * s * at, 3.0 * s * at * at, at * at * at]
         curve = [weights[0] * c[0, d] + weights[1] * c[1, d] + weights[2] * c[2, d] + weights[3] * c[3, d]
                  for d in range(2)]
-        gx, gy = curve[0] - points[lo[run]: lo[run] + count[run], 0], curve[1] - points[lo[run]: lo[run] + count[run], 1]
+        covered = points[lo[run]: lo[run] + count[run]]
+        gx, gy = curve[0] - covered[:, 0], curve[1] - covered[:, 1]
         dist = np.hypot(gx, gy)
         for beyond, (a, b) in ((at <= 0.0, (0, 1)), (at >= 1.0, (2, 3))):
             dx, dy = c[b] - c[a]

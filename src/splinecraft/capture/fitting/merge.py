@@ -102,8 +102,8 @@ def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitte
     count = np.searchsorted(u, end, side="right") - lo
     np.maximum(count, 0, out=count)
     cubic, handles, offsets, t, excess, drift, spread = _merge_kernels.fit_runs(
-        bez[:, 0].take(first, axis=0), bez[:, 3].take(last, axis=0), directions[0], directions[1], lo, count, points, u, start, end - start, tol,
-        fitted, NEWTON_STEPS, FIT_POINTS, limits)
+        bez[:, 0].take(first, axis=0), bez[:, 3].take(last, axis=0), directions[0], directions[1], lo, count,
+        points, u, start, end - start, tol, fitted, NEWTON_STEPS, FIT_POINTS, limits)
     return {"cubic": cubic, "handles": handles, "lo": lo, "count": count, "t": t, "excess": excess,
             "drift": drift, "spread": spread}
 

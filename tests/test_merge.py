@@ -231,3 +231,77 @@ def test_grown_runs_follow_the_growth_rule_length_by_length(lengths, starts, see
             expected[length, start] = True
             misses = 0 if passed[length, start] else misses + 1
     np.testing.assert_array_equal(_grown(passed, within), expected)
+
+
+
+def _run_distances(fit, lo, count, points):
+    """Per run of a ``_merge_kernels.fit_runs`` result: its points' distances from its cubic at the parameters the
+    kernel gave them, each computed (``numpy.hypot``; beyond an end, to the tangent line there), and the rounded
+    square roots of their squared distances."""
+    cubic, _, offsets, t = fit[:4]
+    distances, roots = [], []
+    for run in range(cubic.shape[0]):
+        c, at = cubic[run], t[offsets[run]: offsets[run] + count[run]]
+        s = 1.0 - at
+        weights = [s * s * s, 3.0 * s * s * at, 3.0 * s * at * at, at * at * at]
+        curve = [weights[0] * c[0, d] + weights[1] * c[1, d] + weights[2] * c[2, d] + weights[3] * c[3, d]
+                 for d in range(2)]
+        covered = points[lo[run]: lo[run] + count[run]]
+        gx, gy = curve[0] - covered[:, 0], curve[1] - covered[:, 1]
+        dist = np.hypot(gx, gy)
+        for beyond, (a, b) in ((at <= 0.0, (0, 1)), (at >= 1.0, (2, 3))):
+            dx, dy = c[b] - c[a]
+            if np.hypot(dx, dy) > 0:
+                dist[beyond] = np.abs(gx[beyond] * dy - gy[beyond] * dx) / np.hypot(dx, dy)
+        distances.append(dist)
+        roots.append(np.sqrt(gx * gx + gy * gy))
+    return distances, roots
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.integers(1, 6), st.integers(0, 2**32 - 1), st.sampled_from(["random", "tied", "roots"]))
+def test_merge_kernel_largest_excess_is_that_of_every_distance(runs, seed, tolerances):
+    """The merge kernel measures a point's distance (``numpy.hypot``) only where its squared distance may raise
+    the run's largest excess so far (``_merge_kernels.SURE``): the largest excess is bit for bit that of every
+    distance, on random runs of noisy arcs, with random tolerances, with tolerances that put every point's excess
+    of a run within a few ulps of one value, and with tolerances that do so for the rounded square roots of the
+    squared distances (the borderline of the rule)."""
+    from splinecraft.capture.fitting import _merge_kernels
+
+    rng = np.random.default_rng(seed)
+    pieces, counts, params = [], [], []
+    p0, p3, d0, d1 = (np.empty((runs, 2)) for _ in range(4))
+    for run in range(runs):
+        count = int(rng.integers(0, 120))
+        control = rng.uniform(-40, 40, (4, 2))
+        at = np.sort(rng.uniform(0, 1, count))[:, None]
+        arc = (1 - at) ** 3 * control[0] + 3 * (1 - at) ** 2 * at * control[1] + 3 * (1 - at) * at**2 * control[2] \
+            + at**3 * control[3]
+        pieces.append(arc + rng.normal(0, rng.uniform(0, 1.0), arc.shape))
+        counts.append(count)
+        params.append(run + at[:, 0])
+        p0[run], p3[run] = control[0], control[3]
+        for direction, vector in ((d0, control[1] - control[0]), (d1, control[3] - control[2])):
+            vector = vector + rng.normal(0, 3.0, 2)
+            direction[run] = vector / max(np.hypot(*vector), 1e-9)
+    points, u = np.concatenate(pieces), np.concatenate(params)
+    count = np.array(counts)
+    lo = np.cumsum(count) - count
+    fitted = points + rng.normal(0, 0.3, points.shape)
+    tol = rng.uniform(0.2, 1.5, points.shape[0])
+
+    def fit(tol):
+        return _merge_kernels.fit_runs(p0, p3, d0, d1, lo, count, points, u, np.arange(runs, dtype=float),
+                                       np.ones(runs), tol, fitted, 4, 32)
+
+    if tolerances != "random":  # the fit does not depend on tol: the same parameters, excesses near one value
+        distances, roots = _run_distances(fit(tol), lo, count, points)
+        for run in range(runs):
+            near = distances[run] if tolerances == "tied" else roots[run]
+            wobble = rng.integers(-3, 4, count[run]) * np.spacing(np.maximum(near, 1e-300))
+            tol[lo[run]: lo[run] + count[run]] = near + rng.uniform(-0.3, 0.3) + wobble
+    result = fit(tol)
+    distances, _ = _run_distances(result, lo, count, points)
+    expected = [(dist - tol[lo[run]: lo[run] + count[run]]).max() if count[run] else -np.inf
+                for run, dist in enumerate(distances)]
+    np.testing.assert_array_equal(result[4], expected)

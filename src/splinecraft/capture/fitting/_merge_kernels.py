@@ -6,7 +6,8 @@ handle lengths solve the 2 x 2 least-squares problem on about ``fit_points`` of 
 spread, both ends included) at their current parameters, followed by a foot-point Newton step of those
 parameters, ``steps`` times. Every covered point then gets its parameter interpolated between the fitted ones
 and one Newton step, and its distance to the cubic (to the tangent line at the run's end where its foot lies
-beyond it: the G1 neighbour continues along that line). Compiled (numba, cached on disk like
+beyond it: the G1 neighbour continues along that line), computed only where it may raise the run's largest
+excess so far (:data:`SURE`). Compiled (numba, cached on disk like
 :mod:`._kernels`); the wrapper allocates every output.
 """
 from __future__ import annotations
@@ -23,6 +24,10 @@ __all__ = ["fit_runs", "warm_up", "TANGENTIAL"]
 TANGENTIAL = 0.0
 #: Damping of the later solves towards the previous handle lengths, relative to the normal matrix's trace.
 DAMPING = 1e-3
+#: A point's squared distance below ``SURE`` times the square of a bound puts its distance (``numpy.hypot``, within
+#: an ulp or two of the rounded square root) below that bound for certain, so :func:`_fit_runs_into` computes the
+#: distance only where it may raise a running maximum: the maximum is bit for bit the same.
+SURE = 1.0 - 1e-12
 
 
 @njit(**_HELPER)
@@ -182,9 +187,11 @@ def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, t
                 dx, dy = c[k1, 0] - c[k0, 0], c[k1, 1] - c[k0, 1]
                 length = np.hypot(dx, dy)
                 dist = abs(gx * dy - gy * dx) / length if length > 0 else np.hypot(gx, gy)
-            else:
-                dist = np.hypot(gx, gy)
-            worst = pymax(worst, dist - tol[q])
+                worst = pymax(worst, dist - tol[q])
+            else:  # the distance itself only where it may raise the largest excess (see SURE)
+                reach = worst + tol[q]
+                if not (reach > 0.0 and gx * gx + gy * gy < SURE * (reach * reach)):
+                    worst = pymax(worst, np.hypot(gx, gy) - tol[q])
             off = np.hypot(px - fitted[q, 0], py - fitted[q, 1])
             far = pymax(far, off)
             total += off * off

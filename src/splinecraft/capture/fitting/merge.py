@@ -74,9 +74,9 @@ def _unit(v):
 
 def _turns(bez):
     """Per segment the total turn (radians) of its control polygon, and the turn at its start join."""
-    d = np.diff(bez, axis=1)  # (k, 3, 2)
+    d = bez[:, 1:] - bez[:, :-1]  # (k, 3, 2)
     ang = np.arctan2(d[..., 1], d[..., 0])
-    inner = np.abs(np.angle(np.exp(1j * np.diff(ang, axis=1)))).sum(axis=1)
+    inner = np.abs(np.angle(np.exp(1j * (ang[:, 1:] - ang[:, :-1])))).sum(axis=1)
     return inner
 
 
@@ -102,8 +102,8 @@ def fit_runs(bez, starts, ends, points, u, first, length, directions, tol, fitte
     count = np.searchsorted(u, end, side="right") - lo
     np.maximum(count, 0, out=count)
     cubic, handles, offsets, t, excess, drift, spread = _merge_kernels.fit_runs(
-        bez[first, 0], bez[last, 3], directions[0], directions[1], lo, count, points, u, start, end - start, tol,
-        fitted, NEWTON_STEPS, FIT_POINTS, limits)
+        bez[:, 0].take(first, axis=0), bez[:, 3].take(last, axis=0), directions[0], directions[1], lo, count,
+        points, u, start, end - start, tol, fitted, NEWTON_STEPS, FIT_POINTS, limits)
     return {"cubic": cubic, "handles": handles, "lo": lo, "count": count, "t": t, "excess": excess,
             "drift": drift, "spread": spread}
 
@@ -113,7 +113,7 @@ def _qualify(fit, tolerance, margin):
     ``tolerance`` of the fitted curve, both handles positive, at least four points."""
     chord = np.hypot(*(fit["cubic"][:, 3] - fit["cubic"][:, 0]).T)
     return ((fit["excess"] + margin <= 0) & (fit["drift"] <= tolerance)
-            & (fit["handles"] > 1e-3 * chord[:, None]).all(axis=1) & (fit["count"] >= 4))
+            & (np.minimum(fit["handles"][:, 0], fit["handles"][:, 1]) > 1e-3 * chord) & (fit["count"] >= 4))
 
 
 _HANKEL = np.add.outer(np.arange(3), np.arange(3))  # the power of x in each entry of a parabola's normal matrix
@@ -142,10 +142,11 @@ def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDO
     grp = np.repeat(np.arange(j.shape[0]), count)
     ends_at = np.cumsum(count)
     idx = np.repeat(lo - (ends_at - count), count) + np.arange(grp.shape[0])  # lo, lo + 1, ... per join
-    p, tx = bez[j, 0], head[j]
-    rel = points[idx] - p[grp]
-    along = tx[grp]
-    x = (rel[:, 0] * along[:, 0] + rel[:, 1] * along[:, 1]) / np.maximum(reach, 1.0)[grp]
+    # rows gathered by ``take`` (the same values as indexing, several times faster for rows of two)
+    p, tx = bez[:, 0].take(j, axis=0), head.take(j, axis=0)
+    rel = points.take(idx, axis=0) - p.take(grp, axis=0)
+    along = tx.take(grp, axis=0)
+    x = (rel[:, 0] * along[:, 0] + rel[:, 1] * along[:, 1]) / np.maximum(reach, 1.0).take(grp)
     y = rel[:, 1] * along[:, 0] - rel[:, 0] * along[:, 1]
     r = j.shape[0]
     # the sums of x^e (e = 0..4) and y x^e (e = 0..2) per join; x^0 = 1: the count and the sum of y
@@ -199,16 +200,17 @@ def split_at_extrema(bez, starts, ends, min_gap=MIN_SPLIT):
     bounds[:, 0], bounds[:, 1:5], bounds[:, 5] = 0.0, np.where(np.isnan(t), 2.0, t), 1.0
     bounds.sort(axis=1)
     pos = np.arange(origin.shape[0]) - np.repeat(np.cumsum(pieces) - pieces, pieces)
-    ta, tb = bounds[origin, pos], bounds[origin, pos + 1]
+    at = origin * bounds.shape[1] + pos  # bounds[origin, pos], flat
+    ta, tb = bounds.take(at), bounds.take(at + 1)
     both = np.concatenate([origin, origin])  # each piece's start and end in one pass (the same arithmetic)
-    c_, tt = bez[both], np.concatenate([ta, tb])
+    c_, tt = bez.take(both, axis=0), np.concatenate([ta, tb])
     point, speed, half = _curve(c_, tt), _speed(c_, tt), origin.shape[0]
     pa, pb, va, vb = point[:half], point[half:], speed[:half], speed[half:]
     width = (tb - ta)[:, None]
     out = np.stack([pa, pa + width * va / 3.0, pb - width * vb / 3.0, pb], axis=1)
-    out[pos == 0, 0] = bez[origin[pos == 0], 0]
+    out[pos == 0, 0] = bez[:, 0].take(origin[pos == 0], axis=0)
     last = pos == pieces[origin] - 1
-    out[last, 3] = bez[origin[last], 3]
+    out[last, 3] = bez[:, 3].take(origin[last], axis=0)
     return out, starts[origin] + ta * h[origin], starts[origin] + tb * h[origin], origin
 
 
@@ -239,10 +241,11 @@ def merge_segments(model, dev, tolerance):
     bez, starts, ends, origin = split_at_extrema(fit_bez, dev["starts"], dev["ends"])
     k = bez.shape[0]
     corner_par = model.base_parameter[contour.corner_bounds]
-    seg_piece = np.clip(np.searchsorted(corner_par, starts, side="right") - 1, 0, contour.piece_count - 1)
+    seg_piece = np.minimum(np.maximum(np.searchsorted(corner_par, starts, side="right") - 1, 0),
+                           contour.piece_count - 1)
     u = model.parameter[:n]
     points = contour.points
-    tol = dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"]
+    tol = np.ascontiguousarray(dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"])  # one copy per merge
     fitted = curve_points(fit_bez, dev["starts"], dev["ends"], u)
     # joins inside a piece may take a new direction (the seam of an outline without corners is one too)
     cornered = contour.corner_count > 0
@@ -353,16 +356,19 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     turn = np.concatenate([[0.0], np.cumsum(_turns(bez))])
     # the fitted segments as they were: their pieces between extrema, and each whole (states 0, 0; cost 0)
     heads = np.flatnonzero(np.concatenate([[True], origin[1:] != origin[:-1]]))  # where origin changes
-    whole = np.diff(np.append(heads, k))
+    whole = np.empty_like(heads)  # pieces per fitted segment
+    np.subtract(heads[1:], heads[:-1], out=whole[:-1])
+    whole[-1] = k - heads[-1]
     kept = k + int((whole > 1).sum())
     out = {"first": [np.arange(k), heads[whole > 1]], "length": [np.ones(k, np.int64), whole[whole > 1]],
            "s0": [np.zeros(kept, np.int64)], "s1": [np.zeros(kept, np.int64)],
            "spread": [np.zeros(kept)], "cubic": [bez, fit_bez[origin[heads[whole > 1]]]],
            "refit": [np.zeros(kept, bool)], "t": [np.zeros(0)], "t_count": [np.zeros(kept, np.int64)]}
-    # a run's start direction in state a is head_dir[a, first], its end direction in state b tail_dir[b, last] (the
-    # new direction of the join after its last segment); a run's states are (a, b) = divmod(state, 2)
-    head_dir = np.stack([o_head, direction])
-    tail_dir = np.stack([o_tail, np.concatenate([direction[1:], direction[:1]])])
+    # a run's start direction in state a is head_dir[a * k + first], its end direction in state b
+    # tail_dir[b * k + last] (the new direction of the join after its last segment); a run's states are
+    # (a, b) = divmod(state, 2)
+    head_dir = np.concatenate([o_head, direction])
+    tail_dir = np.concatenate([o_tail, direction[1:], direction[:1]])
     longest = min(MAX_RUN, k)
     # per run length (rows) and start (columns): the run's last segment, and whether it stays in one piece and
     # turns by at most MAX_TURN at this length and every shorter one (a start that fails stops growing)
@@ -376,26 +382,29 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     # if asked (a == 1), and a longer run takes it wherever it may: its end keeps the old one only where the join
     # has no new direction (a kept segment beside it is refitted as a run of one instead); a single segment in
     # states (0, 0) is the segment as it was
-    head_join, tail_join = np.broadcast_to(interior[:k], last.shape), interior[last + 1]
+    head_join, tail_join = interior[:k], interior[last + 1]  # per start; per length and start
+    head_fixed, tail_fixed = ~head_join, ~tail_join  # ends at a join without a new direction
     valid = np.empty((longest, 4, k), bool)
-    valid[:, 0], valid[:, 1] = ~head_join & ~tail_join, ~head_join & tail_join
-    valid[:, 2], valid[:, 3] = head_join & ~tail_join, head_join & tail_join
-    valid[0, 0], valid[0, 1], valid[0, 2] = False, tail_join[0], head_join[0]
+    valid[:, 0], valid[:, 1] = head_fixed & tail_fixed, head_fixed & tail_join
+    valid[:, 2], valid[:, 3] = head_join & tail_fixed, head_join & tail_join
+    valid[0, 0], valid[0, 1], valid[0, 2] = False, tail_join[0], head_join
     valid &= within[:, None, :]
     passed = np.zeros((longest, k), bool)  # per length and start: one of the run's states qualifies
     passed[0] = True  # every segment starts runs
     fits = []
     for low in range(0, longest, PHASE):
         high = min(low + PHASE, longest)
-        grown = _grown(passed[:low], within[:low + 1])[-1]  # the starts that reach length low + 1
+        # the starts that reach length low + 1 (every start within its piece and turn at length 1)
+        grown = _grown(passed[:low], within[:low + 1])[-1] if low else within[0]
         lengths, states, rows = np.nonzero(valid[low:high] & grown[None, None, :])
         if not rows.size:
             break
         lengths += low + 1
         sa, sb = states >> 1, states & 1
         end = rows + (lengths - 1)
-        fit = fit_runs(bez, starts, ends, points, u, rows, lengths, (head_dir[sa, rows], tail_dir[sb, end]), tol,
-                       fitted, (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
+        directions = head_dir.take(sa * k + rows, axis=0), tail_dir.take(sb * k + end, axis=0)
+        fit = fit_runs(bez, starts, ends, points, u, rows, lengths, directions, tol, fitted,
+                       (-MARGIN, tolerance))  # a run stops measuring where it fails _qualify
         ok = _qualify(fit, tolerance, MARGIN)
         passed[lengths[ok] - 1, rows[ok]] = True
         passed[0] = True
@@ -409,7 +418,7 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
         out["s0"].append(sa[chosen])
         out["s1"].append(sb[chosen])
         out["spread"].append(fit["spread"][chosen])
-        out["cubic"].append(fit["cubic"][chosen])
+        out["cubic"].append(fit["cubic"].take(chosen, axis=0))
         out["refit"].append(np.ones(chosen.shape[0], bool))
         # the parameters of the covered points on each taken cubic (a chosen run takes them)
         out["t"].append(fit["t"][np.repeat(taken, fit["count"])])

@@ -752,3 +752,16 @@ def test_deviation_measures_match_the_vectorized_formulation(seed, corners, dens
     expected = _numpy_deviations(model, dense)
     for key, value in expected.items():
         np.testing.assert_array_equal(got[key], value, err_msg=key)
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 7, 40])
+def test_index_wraps_are_pythons_remainder(m):
+    """The remainders of the deviation and normal-equation loops, by steps instead of an integer division
+    (``_wrapped``, ``_next_index``: helpers without a Python wrapper, called through a kernel here), are Python's
+    ``%`` on every index within three periods of ``[0, m)``."""
+    wrapped = numba.njit(lambda e, count: _kernels._wrapped(e, count))
+    following = numba.njit(lambda k, count: _kernels._next_index(k, count))
+    for e in range(-3 * m, 4 * m):
+        assert wrapped(e, m) == e % m
+    for k in range(m):
+        assert following(k, m) == (k + 1) % m

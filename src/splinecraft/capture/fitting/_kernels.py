@@ -44,6 +44,24 @@ _BAND_ROW = np.array([0, 1, 2, 3, 0, 1, 2, 0, 1, 0], dtype=np.int64)
 
 
 @njit(**_HELPER)
+def _next_index(k, m):
+    """``(k + 1) % m`` for ``0 <= k < m``, without the integer division of a remainder."""
+    k += 1
+    return 0 if k == m else k
+
+
+@njit(**_HELPER)
+def _wrapped(e, m):
+    """``e % m`` (Python's remainder: in ``[0, m)`` for ``m > 0``) for an index at most a few windows outside
+    ``[0, m)``, by adding or taking ``m`` instead of an integer division (each step is exact)."""
+    while e < 0:
+        e += m
+    while e >= m:
+        e -= m
+    return e
+
+
+@njit(**_HELPER)
 def _right_of(values, x):
     """The number of ``values`` (sorted) that are ``<= x``: ``numpy.searchsorted(values, x, side="right")``."""
     lo, hi = np.int64(0), values.shape[0]
@@ -111,10 +129,12 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         w1 = n1 * w
         w2 = n2 * w
         w3 = n3 * w
+        # (i - 6) % m .. (i - 3) % m: one remainder, the next three by a step and a wrap (a remainder is an integer
+        # division, several times the cost of the rest of a basis function)
         k0 = (i - 6) % m
-        k1 = (i - 5) % m
-        k2 = (i - 4) % m
-        k3 = (i - 3) % m
+        k1 = _next_index(k0, m)
+        k2 = _next_index(k1, m)
+        k3 = _next_index(k2, m)
         for d in range(targets.shape[1]):
             t = targets[j, d]
             rhs[k0, d] += w0 * t
@@ -663,7 +683,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             e = centre + offset
             if cornered:  # the piece's own edges, and 3 more across each corner
                 e = pyclip(e, bounds[piece] - 3, bounds[piece + 1] + 2)
-            e %= n
+            e = _wrapped(e, n)
             px = samples[s, 0] - edges[0, e]
             py = samples[s, 1] - edges[1, e]
             t = (px * edges[2, e] + py * edges[3, e]) * edges[4, e]
@@ -740,7 +760,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
                 e = centre + offset
                 if cornered:  # the piece's own chords and a window across its corners
                     e = pyclip(e, lo - reach, hi + reach)
-                e %= total
+                e = _wrapped(e, total)
                 ax, ay = samples[e, 0], samples[e, 1]
                 if e + 1 < total:
                     bx, by = samples[e + 1, 0], samples[e + 1, 1]

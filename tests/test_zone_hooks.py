@@ -149,3 +149,31 @@ def test_zone_hooks_measure_the_gaps_of_the_general_projection_bit_for_bit(index
                 assert corner in model.zone_hooks(fitting, exclude)
                 checked += 1
     assert checked >= 8
+
+
+@pytest.mark.parametrize("index", range(2))
+def test_zone_hooks_pass_a_corner_whose_window_has_a_nan_sample(index):
+    """The compiled zone test stops each point at its first sample within the slack; a corner whose window holds
+    a NaN sample (a fit gone wrong) is not found, as the least-gap formulation leaves it (its gaps' minimum is
+    NaN, and NaN does not exceed the slack), while the other corners are found as before."""
+    mask = render(SHAPES[index], SIZE)
+    boundary = max(trace_boundaries(mask), key=lambda b: len(b.outline))
+    points = np.asarray(boundary.outline, float)
+    model = OutlineRegression(points, np.asarray(tangent_jump(points), np.int64), 0.8, dict(LSQ_DEFAULTS))
+    model.seed_knots(LSQ_DEFAULTS["initial_density"])
+    model.fit()
+    fitting = {"piece_excess": -np.ones(model.contour.piece_count)}
+    model.pixel_slack = -1.0  # every tested corner's gaps exceed it
+    tested = np.flatnonzero(np.isfinite(reference_corner_gaps(model)))
+    assert tested.size >= 2
+    np.testing.assert_array_equal(model.zone_hooks(fitting), tested)
+    corner = int(tested[0])
+    starts, _ = model.intervals()
+    at = model.base_parameter[model.contour.corner_bounds[corner]]
+    model._bezier = model._bezier.copy()
+    model._bezier[int(np.searchsorted(starts, at, side="right")) - 1, 1] = np.nan  # the piece after the corner
+    with np.errstate(invalid="ignore"):  # the reference's maximum of a NaN gap
+        worst = reference_corner_gaps(model)
+    assert np.isnan(worst[corner])
+    np.testing.assert_array_equal(model.zone_hooks(fitting), np.flatnonzero(worst > model.pixel_slack))
+    assert corner not in model.zone_hooks(fitting)

@@ -21,7 +21,7 @@ from numba import njit
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up",
+           "interval_samples", "group_max", "curve_points", "zone_points_beside", "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
@@ -417,6 +417,33 @@ def _curve_into(bez, starts, ends, u, piece, given, out):
         _bezier_point(bez, seg, theta, out, j)  # one call: each call is a copy of the (inlined) helper
 
 
+@njit(**_JIT)
+def _zone_passes_into(samples, along_index, across_index, along_start, across_start, slack, beside):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for p in range(along_index.shape[0]):
+        beside[p] = True
+        for s in range(along_index.shape[1]):
+            along = samples[along_index[p, s]] - along_start[p]
+            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[across_index[p, s]] - across_start[p])
+            if gap <= slack:  # a sample within the slack: the point passes (its least gap is no larger)
+                beside[p] = False
+                break
+
+
+def zone_points_beside(samples, along_index, across_index, along_start, across_start, slack):
+    """Per row ``p`` of the zone test (:meth:`~.lsq_model.OutlineRegression.zone_hooks`): whether every sample's
+    distance from the point's pixel-centre segment, ``hypot(along - clip(along, 0, 1), across)`` with ``along =
+    samples[along_index[p]] - along_start[p]`` and ``across = samples[across_index[p]] - across_start[p]``,
+    exceeds ``slack``, i.e. ``numpy.min`` of those distances ``> slack`` for finite ``samples`` (the row stops at
+    its first sample within the slack: no minimum over the rest is needed; a NaN sample, whose minimum would be
+    NaN, is the caller's to handle)."""
+    along_index, across_index = _ints(along_index), _ints(across_index)
+    beside = np.empty(along_index.shape[0], np.bool_)
+    _zone_passes_into(_floats(samples), along_index, across_index, _floats(along_start).reshape(-1),
+                      _floats(across_start).reshape(-1), float(slack), beside)
+    return beside
+
+
 def curve_points(bez, starts, ends, u):
     """Points of the piecewise curve whose piece ``k`` is ``bez[k]`` on ``[starts[k], ends[k]]`` at the
     parameters ``u`` (the piece of ``u`` by searchsorted right, clipped to the pieces;
@@ -611,6 +638,7 @@ def warm_up_checks():
     _, _, bez, starts, ends, index = _tiny_fit()
     edges = (np.ones(3),) * 5
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
+    zone_points_beside(np.zeros(4), np.zeros((1, 2), np.int64), np.ones((1, 2), np.int64), np.zeros(1), np.zeros(1), 0.1)
     group_max(index, np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)

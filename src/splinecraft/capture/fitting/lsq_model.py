@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples
+from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples, zone_points_beside
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
@@ -465,15 +465,22 @@ class OutlineRegression:
         if window is None:
             return none
         u, along_index, across_index, along_start, across_start, owner = window
-        samples = self.curve_at(u).ravel()
+        samples = self.curve_at(u)
         # the crack normal is (1, 0) or (0, 1): the pixel centres' segment runs from ``along_start`` over [0, 1]
         # along the normal's axis, so the distance of a sample from it is that of (along - clip(along, 0, 1),
-        # across) -- the operations of the projection onto a unit axis vector, without its zero products
-        along = samples[along_index] - along_start
-        gap = np.hypot(along - np.clip(along, 0.0, 1.0), samples[across_index] - across_start).min(axis=1)
-        worst = np.full(self.contour.corner_count, -np.inf)
-        np.maximum.at(worst, owner, gap)
-        found = np.flatnonzero(worst > self.pixel_slack)
+        # across) -- the operations of the projection onto a unit axis vector, without its zero products. A
+        # corner fails where one of its points has every sample farther than the slack (its least distance
+        # above it; compiled, each point's scan stops at its first sample within it); a corner with a NaN
+        # sample does not (the least distance of each of its points is NaN then)
+        beside = zone_points_beside(samples.ravel(), along_index, across_index, along_start, across_start,
+                                    self.pixel_slack)
+        finite = np.isfinite(samples)
+        if not finite.all():  # the corners' rows of samples (2 count coordinates each), a point's row its own
+            per_row = 2 * along_index.shape[1]
+            beside &= finite.reshape(-1, per_row).all(axis=1)[along_index[:, 0] // per_row]
+        failing = np.zeros(self.contour.corner_count, bool)
+        failing[owner[beside]] = True
+        found = np.flatnonzero(failing)
         if not found.size:
             return none
         return found[self._pieces_fit(found, dev)]

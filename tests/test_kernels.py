@@ -769,17 +769,18 @@ def test_index_wraps_are_pythons_remainder(m):
 
 @pytest.mark.parametrize("seed", range(6))
 def test_zone_points_beside_is_the_least_gap_above_the_slack(seed):
-    """``zone_points_beside`` (the compiled zone test: each row stops at its first sample within the slack) says
-    for every row whether ``numpy.min`` of its gaps ``hypot(along - clip(along, 0, 1), across)`` exceeds the
-    slack, also at a slack equal to a row's least gap and one ulp below it."""
+    """``zone_points_beside`` (the compiled zone test: each point stops at its first sample within the slack) says
+    for every point whether ``numpy.min`` of the gaps ``hypot(along - clip(along, 0, 1), across)`` of its row's
+    samples exceeds the slack, also at a slack equal to a point's least gap and one ulp below it."""
     rng = np.random.default_rng(seed)
-    rows, columns = int(rng.integers(1, 30)), int(rng.integers(1, 60))
-    samples = rng.normal(0.0, 2.0, 2 * columns * 3)
-    along_index = rng.integers(0, samples.shape[0], (rows, columns))
-    across_index = rng.integers(0, samples.shape[0], (rows, columns))
-    along_start, across_start = rng.normal(0.0, 1.0, (rows, 1)), rng.normal(0.0, 1.0, (rows, 1))
-    along = samples[along_index] - along_start
-    least = np.hypot(along - np.clip(along, 0.0, 1.0), samples[across_index] - across_start).min(axis=1)
+    rows, count, points = int(rng.integers(1, 4)), int(rng.integers(1, 60)), int(rng.integers(1, 30))
+    samples = rng.normal(0.0, 2.0, (rows, count, 2))
+    row, axis = rng.integers(0, rows, points), rng.integers(0, 2, points)
+    along_start, across_start = rng.normal(0.0, 1.0, points), rng.normal(0.0, 1.0, points)
+    pick = np.arange(points)
+    along = samples[row][pick, :, axis] - along_start[:, None]
+    across = samples[row][pick, :, 1 - axis] - across_start[:, None]
+    least = np.hypot(along - np.clip(along, 0.0, 1.0), across).min(axis=1)
     for slack in (0.05, 0.5, 2.0, float(least[0]), float(np.nextafter(least[0], -np.inf))):
-        got = _kernels.zone_points_beside(samples, along_index, across_index, along_start, across_start, slack)
+        got = _kernels.zone_points_beside(samples, row, axis, along_start, across_start, slack)
         np.testing.assert_array_equal(got, least > slack)

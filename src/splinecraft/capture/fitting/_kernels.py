@@ -418,29 +418,30 @@ def _curve_into(bez, starts, ends, u, piece, given, out):
 
 
 @njit(**_JIT)
-def _zone_passes_into(samples, along_index, across_index, along_start, across_start, slack, beside):
+def _zone_passes_into(samples, row, axis, along_start, across_start, slack, beside):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    for p in range(along_index.shape[0]):
+    count = samples.shape[1]
+    for p in range(row.shape[0]):
         beside[p] = True
-        for s in range(along_index.shape[1]):
-            along = samples[along_index[p, s]] - along_start[p]
-            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[across_index[p, s]] - across_start[p])
+        for s in range(count):
+            along = samples[row[p], s, axis[p]] - along_start[p]
+            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[row[p], s, 1 - axis[p]] - across_start[p])
             if gap <= slack:  # a sample within the slack: the point passes (its least gap is no larger)
                 beside[p] = False
                 break
 
 
-def zone_points_beside(samples, along_index, across_index, along_start, across_start, slack):
-    """Per row ``p`` of the zone test (:meth:`~.lsq_model.OutlineRegression.zone_hooks`): whether every sample's
-    distance from the point's pixel-centre segment, ``hypot(along - clip(along, 0, 1), across)`` with ``along =
-    samples[along_index[p]] - along_start[p]`` and ``across = samples[across_index[p]] - across_start[p]``,
-    exceeds ``slack``, i.e. ``numpy.min`` of those distances ``> slack`` for finite ``samples`` (the row stops at
-    its first sample within the slack: no minimum over the rest is needed; a NaN sample, whose minimum would be
-    NaN, is the caller's to handle)."""
-    along_index, across_index = _ints(along_index), _ints(across_index)
-    beside = np.empty(along_index.shape[0], np.bool_)
-    _zone_passes_into(_floats(samples), along_index, across_index, _floats(along_start).reshape(-1),
-                      _floats(across_start).reshape(-1), float(slack), beside)
+def zone_points_beside(samples, row, axis, along_start, across_start, slack):
+    """Per point ``p`` of the zone test (:meth:`~.lsq_model.OutlineRegression.zone_hooks`): whether every sample
+    of its row ``samples[row[p]]`` (``samples``: (rows, count, 2)) lies farther than ``slack`` from the point's
+    pixel-centre segment, ``hypot(along - clip(along, 0, 1), across)`` with ``along = sample[axis[p]] -
+    along_start[p]`` and ``across = sample[1 - axis[p]] - across_start[p]``: ``numpy.min`` of those distances ``>
+    slack`` for finite samples (each point stops at its first sample within the slack: no minimum over the rest
+    is needed; a NaN sample, whose minimum would be NaN, is the caller's to handle)."""
+    row = _ints(row)
+    beside = np.empty(row.shape[0], np.bool_)
+    _zone_passes_into(_floats(samples), row, _ints(axis), _floats(along_start), _floats(across_start),
+                      float(slack), beside)
     return beside
 
 
@@ -638,7 +639,7 @@ def warm_up_checks():
     _, _, bez, starts, ends, index = _tiny_fit()
     edges = (np.ones(3),) * 5
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
-    zone_points_beside(np.zeros(4), np.zeros((1, 2), np.int64), np.ones((1, 2), np.int64), np.zeros(1), np.zeros(1), 0.1)
+    zone_points_beside(np.zeros((1, 2, 2)), np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
     group_max(index, np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)

@@ -784,3 +784,29 @@ def test_zone_points_beside_is_the_least_gap_above_the_slack(seed):
     for slack in (0.05, 0.5, 2.0, float(least[0]), float(np.nextafter(least[0], -np.inf))):
         got = _kernels.zone_points_beside(samples, row, axis, along_start, across_start, slack)
         np.testing.assert_array_equal(got, least > slack)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_closed_polyline_distance_matches_the_grid_formulation(seed):
+    """``closed_polyline_distance`` (the corner tips' distance from the contour in one pass) equals the grid it
+    replaced bit for bit: squared distances to every vertex, the edges at the vertices within the nearest one's
+    distance plus half the longest edge, their ``geometry.segment_squared_distances``, the least, its square root;
+    on crack-like and random polylines (repeated points among them), for points near and far, on vertices and on
+    edges."""
+    rng = np.random.default_rng(seed)
+    m = int(rng.integers(3, 200))
+    if seed % 2:
+        line = np.cumsum(rng.choice([-0.5, 0.0, 0.5], (m, 2)), axis=0)
+    else:
+        line = rng.normal(0.0, 10.0, (m, 2))
+    points = np.vstack([rng.normal(0.0, 12.0, (5, 2)), line[rng.integers(0, m, 2)],
+                        0.5 * (line[:2] + line[1:3])])
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(np.vstack([line, line[:1]]), axis=0).T))])
+    half = 0.5 * np.diff(arc).max()
+    squared = (line[None, :, 0] - points[:, None, 0]) ** 2 + (line[None, :, 1] - points[:, None, 1]) ** 2
+    reach = np.sqrt(squared.min(axis=1)) + half + 1e-6
+    rows, near = np.nonzero(squared <= (reach * reach)[:, None])
+    rows, edges = np.concatenate([rows, rows]), np.concatenate([near, (near - 1) % m])
+    least = np.full(points.shape[0], np.inf)
+    np.minimum.at(least, rows, geometry.segment_squared_distances(points[rows], line[edges], line[(edges + 1) % m]))
+    np.testing.assert_array_equal(_kernels.closed_polyline_distance(points, line, half), np.sqrt(least))

@@ -21,7 +21,8 @@ from numba import njit
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "zone_points_beside", "search_sorted", "deviation_measures", "warm_up",
+           "interval_samples", "group_max", "curve_points", "zone_points_beside", "closed_polyline_distance",
+           "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
@@ -445,6 +446,50 @@ def zone_points_beside(samples, row, axis, along_start, across_start, slack):
     return beside
 
 
+@njit(**_JIT)
+def _closed_polyline_into(points, line, half_edge, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    m = line.shape[0]
+    for i in range(points.shape[0]):
+        px, py = points[i, 0], points[i, 1]
+        nearest = np.inf
+        for j in range(m):
+            dx, dy = line[j, 0] - px, line[j, 1] - py
+            squared = dx * dx + dy * dy
+            if squared < nearest:
+                nearest = squared
+        reach = np.sqrt(nearest) + half_edge + 1e-6
+        reach *= reach
+        least = np.inf
+        for j in range(m):
+            dx, dy = line[j, 0] - px, line[j, 1] - py
+            if not dx * dx + dy * dy <= reach:
+                continue
+            for e in (j, j - 1 if j > 0 else m - 1):  # the edges at vertex j: from it, and to it
+                f = e + 1 if e + 1 < m else 0
+                abx, aby = line[f, 0] - line[e, 0], line[f, 1] - line[e, 1]
+                apx, apy = px - line[e, 0], py - line[e, 1]
+                denom = abx * abx + aby * aby
+                t = pyclip((apx * abx + apy * aby) / (denom if denom > 0 else 1.0), 0.0, 1.0)
+                rx, ry = apx - t * abx, apy - t * aby
+                squared = rx * rx + ry * ry
+                if squared < least:
+                    least = squared
+        out[i] = np.sqrt(least)
+
+
+def closed_polyline_distance(points, line, half_edge):
+    """Distance (px) of each of ``points`` (a few) from the closed polyline ``line`` (first point not repeated),
+    exact: the least point-to-segment distance over the edges with an end within the nearest vertex's distance
+    plus ``half_edge`` (half the longest edge, and 1e-6: no other edge comes nearer), each the arithmetic of
+    :func:`~.geometry.segment_squared_distances`, then its square root (the corner tips' distance from the
+    contour, :func:`~.tips.tip_estimates`; one pass instead of a points-by-vertices grid)."""
+    points = _floats(points)
+    out = np.empty(points.shape[0])
+    _closed_polyline_into(points, _floats(line), float(half_edge), out)
+    return out
+
+
 def curve_points(bez, starts, ends, u):
     """Points of the piecewise curve whose piece ``k`` is ``bez[k]`` on ``[starts[k], ends[k]]`` at the
     parameters ``u`` (the piece of ``u`` by searchsorted right, clipped to the pieces;
@@ -631,6 +676,7 @@ def warm_up_solves():
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
+    closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 
 
 def warm_up_checks():

@@ -24,13 +24,10 @@ from __future__ import annotations
 import numpy as np
 
 from .._pixel_corners import corner_vertices
-from ._kernels import separating_slope
-from .geometry import segment_squared_distances
+from ._kernels import closed_polyline_distance, separating_slope
 
-__all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction", "is_convex",
-           "ray_parity",
-           "horizontal_cracks", "pixel_pairs",
-           "SideFit"]
+__all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction",
+           "is_convex", "ray_parity", "horizontal_cracks", "pixel_pairs", "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
 #: straight side stays within half a pixel diagonal of its line.
@@ -542,19 +539,12 @@ def tip_estimates(contour, angle, radius, measured=None):
 def _outside(contour, points):
     """Distance (px) of ``points`` (a few tips) from the closed contour polyline, exact: the least over the edges
     with an end within the nearest vertex's distance plus half the longest edge (no other edge comes nearer),
-    each by :func:`~.geometry.segment_squared_distances` (:func:`~.geometry.polyline_distance`'s search tree of the
-    whole contour cost more than these few points)."""
+    each by the arithmetic of :func:`~.geometry.segment_squared_distances`, in one compiled pass
+    (:func:`~._kernels.closed_polyline_distance`; :func:`~.geometry.polyline_distance`'s search tree of the whole
+    contour cost more than these few points, and so did their grid against every vertex)."""
     if not points.shape[0]:
         return np.zeros(0)
-    line = contour.points
-    m = line.shape[0]
-    squared = (line[None, :, 0] - points[:, None, 0]) ** 2 + (line[None, :, 1] - points[:, None, 1]) ** 2
-    reach = np.sqrt(squared.min(axis=1)) + 0.5 * np.diff(contour.arc).max() + 1e-6
-    rows, near = np.nonzero(squared <= (reach * reach)[:, None])
-    rows, edges = np.concatenate([rows, rows]), np.concatenate([near, (near - 1) % m])
-    least = np.full(points.shape[0], np.inf)
-    np.minimum.at(least, rows, segment_squared_distances(points[rows], line[edges], line[(edges + 1) % m]))
-    return np.sqrt(least)
+    return closed_polyline_distance(points, contour.points, 0.5 * np.diff(contour.arc).max())
 
 
 def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity):

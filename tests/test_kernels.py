@@ -752,3 +752,61 @@ def test_deviation_measures_match_the_vectorized_formulation(seed, corners, dens
     expected = _numpy_deviations(model, dense)
     for key, value in expected.items():
         np.testing.assert_array_equal(got[key], value, err_msg=key)
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 7, 40])
+def test_index_wraps_are_pythons_remainder(m):
+    """The remainders of the deviation and normal-equation loops, by steps instead of an integer division
+    (``_wrapped``, ``_next_index``: helpers without a Python wrapper, called through a kernel here), are Python's
+    ``%`` on every index within three periods of ``[0, m)``."""
+    wrapped = numba.njit(lambda e, count: _kernels._wrapped(e, count))
+    following = numba.njit(lambda k, count: _kernels._next_index(k, count))
+    for e in range(-3 * m, 4 * m):
+        assert wrapped(e, m) == e % m
+    for k in range(m):
+        assert following(k, m) == (k + 1) % m
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_zone_points_beside_is_the_least_gap_above_the_slack(seed):
+    """``zone_points_beside`` (the compiled zone test: each point stops at its first sample within the slack) says
+    for every point whether ``numpy.min`` of the gaps ``hypot(along - clip(along, 0, 1), across)`` of its row's
+    samples exceeds the slack, also at a slack equal to a point's least gap and one ulp below it."""
+    rng = np.random.default_rng(seed)
+    rows, count, points = int(rng.integers(1, 4)), int(rng.integers(1, 60)), int(rng.integers(1, 30))
+    samples = rng.normal(0.0, 2.0, (rows, count, 2))
+    row, axis = rng.integers(0, rows, points), rng.integers(0, 2, points)
+    along_start, across_start = rng.normal(0.0, 1.0, points), rng.normal(0.0, 1.0, points)
+    pick = np.arange(points)
+    along = samples[row][pick, :, axis] - along_start[:, None]
+    across = samples[row][pick, :, 1 - axis] - across_start[:, None]
+    least = np.hypot(along - np.clip(along, 0.0, 1.0), across).min(axis=1)
+    for slack in (0.05, 0.5, 2.0, float(least[0]), float(np.nextafter(least[0], -np.inf))):
+        got = _kernels.zone_points_beside(samples, row, axis, along_start, across_start, slack)
+        np.testing.assert_array_equal(got, least > slack)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_closed_polyline_distance_matches_the_grid_formulation(seed):
+    """``closed_polyline_distance`` (the corner tips' distance from the contour in one pass) equals the grid it
+    replaced bit for bit: squared distances to every vertex, the edges at the vertices within the nearest one's
+    distance plus half the longest edge, their ``geometry.segment_squared_distances``, the least, its square root;
+    on crack-like and random polylines (repeated points among them), for points near and far, on vertices and on
+    edges."""
+    rng = np.random.default_rng(seed)
+    m = int(rng.integers(3, 200))
+    if seed % 2:
+        line = np.cumsum(rng.choice([-0.5, 0.0, 0.5], (m, 2)), axis=0)
+    else:
+        line = rng.normal(0.0, 10.0, (m, 2))
+    points = np.vstack([rng.normal(0.0, 12.0, (5, 2)), line[rng.integers(0, m, 2)],
+                        0.5 * (line[:2] + line[1:3])])
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(np.vstack([line, line[:1]]), axis=0).T))])
+    half = 0.5 * np.diff(arc).max()
+    squared = (line[None, :, 0] - points[:, None, 0]) ** 2 + (line[None, :, 1] - points[:, None, 1]) ** 2
+    reach = np.sqrt(squared.min(axis=1)) + half + 1e-6
+    rows, near = np.nonzero(squared <= (reach * reach)[:, None])
+    rows, edges = np.concatenate([rows, rows]), np.concatenate([near, (near - 1) % m])
+    least = np.full(points.shape[0], np.inf)
+    np.minimum.at(least, rows, geometry.segment_squared_distances(points[rows], line[edges], line[(edges + 1) % m]))
+    np.testing.assert_array_equal(_kernels.closed_polyline_distance(points, line, half), np.sqrt(least))

@@ -382,3 +382,32 @@ def test_a_narrow_notch_reaches_the_pinhole_beyond_its_rendered_end():
         short_of_the_pinhole += rendered_end > pinhole + 0.5
         assert reached <= pinhole + 0.5, (opening, rotation, offset, reached, pinhole)
     assert short_of_the_pinhole >= 6  # most renderings stop short of their pinhole: the rule is what gets there
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 5])  # (seed 3's notch cuts the square in two)
+def test_ray_parity_counts_the_cracks_above_and_the_wedge_test_takes_it_once(seed):
+    """``tips.ray_parity`` is the parity of the horizontal cracks above each query on its own column (counted
+    here one by one), and ``tips.wedge_contradiction`` and ``tips.tip_contradiction`` given the outline's ink
+    parity and the wedge's ``is_convex`` (what ``tip_estimates`` finds once per outline and per crossing) answer
+    as they do finding them themselves."""
+    from splinecraft.capture.fitting import tips
+
+    rng = np.random.default_rng(seed)
+    rotation = rng.uniform(0.0, 2 * math.pi)
+    vertices, tip, size, directions = wedge(30.0, rotation, rng.uniform(-0.5, 0.5, 2), concave=bool(seed % 2))
+    points = crack_outline(render(vertices, size))
+    pairs = tips.pixel_pairs(points)
+    cracks = tips.horizontal_cracks(points)
+    queries = np.vstack([pairs[0], pairs[1], np.floor(rng.uniform(0, size, (40, 2))) + 0.5])
+    counted = [sum(1 for x, y in cracks if x == qx and y < qy) % 2 for qx, qy in queries]
+    np.testing.assert_array_equal(tips.ray_parity(cracks, queries), counted)
+    parity = tips.ray_parity(cracks, pairs[0][:1])[0]
+    assert (tips.ray_parity(cracks, pairs[0]) == parity).all() and (tips.ray_parity(cracks, pairs[1]) != parity).all()
+    for reach in (2.0, 6.0):
+        ends = tip + reach * np.array([[math.cos(a), math.sin(a)] for a in directions[:2]])
+        for shift in (0.0, 3.0):  # the true tip, and a crossing beyond it
+            spike = tip + shift * (tip - 0.5 * (ends[0] + ends[1])) / np.hypot(*(tip - 0.5 * (ends[0] + ends[1])))
+            sides = wedge_sides(spike, ends)
+            convex = tips.is_convex(sides)
+            assert tips.wedge_contradiction(cracks, pairs, spike, ends, sides, convex, parity) == \
+                tips.wedge_contradiction(cracks, pairs, spike, ends, sides)

@@ -124,19 +124,25 @@ def reference_corner_gaps(model, exclude=()):
     return worst
 
 
-@pytest.mark.parametrize("index", range(4))
-def test_zone_hooks_measure_the_gaps_of_the_general_projection_bit_for_bit(index):
-    """``zone_hooks`` projects onto the axis of each crack normal directly ((1, 0) or (0, 1): no zero products):
-    a corner is found exactly where the general projection's largest gap exceeds ``pixel_slack`` -- at a slack
-    equal to that gap it is not, one ulp below it it is -- on fitted curves moved off their pixels in several
-    directions (both pieces beside every corner taken to fit), with and without excluded corners."""
+def fitted_model(index):
+    """The first fit of the largest boundary of shape ``index`` (seed knots, default options) and deviations in
+    which both pieces beside every corner fit."""
     mask = render(SHAPES[index], SIZE)
     boundary = max(trace_boundaries(mask), key=lambda b: len(b.outline))
     points = np.asarray(boundary.outline, float)
     model = OutlineRegression(points, np.asarray(tangent_jump(points), np.int64), 0.8, dict(LSQ_DEFAULTS))
     model.seed_knots(LSQ_DEFAULTS["initial_density"])
     model.fit()
-    fitting = {"piece_excess": -np.ones(model.contour.piece_count)}
+    return model, {"piece_excess": -np.ones(model.contour.piece_count)}
+
+
+@pytest.mark.parametrize("index", range(4))
+def test_zone_hooks_measure_the_gaps_of_the_general_projection_bit_for_bit(index):
+    """``zone_hooks`` projects onto the axis of each crack normal directly ((1, 0) or (0, 1): no zero products):
+    a corner is found exactly where the general projection's largest gap exceeds ``pixel_slack`` -- at a slack
+    equal to that gap it is not, one ulp below it it is -- on fitted curves moved off their pixels in several
+    directions (both pieces beside every corner taken to fit), with and without excluded corners."""
+    model, fitting = fitted_model(index)
     fitted, checked = model._bezier.copy(), 0
     for shift in ([0.0, 0.0], [0.3, -0.2], [-0.45, 0.15], [0.05, 0.6]):
         model._bezier = fitted + np.array(shift)
@@ -149,3 +155,25 @@ def test_zone_hooks_measure_the_gaps_of_the_general_projection_bit_for_bit(index
                 assert corner in model.zone_hooks(fitting, exclude)
                 checked += 1
     assert checked >= 8
+
+
+@pytest.mark.parametrize("index", range(2))
+def test_zone_hooks_pass_a_corner_whose_window_has_a_nan_sample(index):
+    """The compiled zone test stops each point at its first sample within the slack; a corner whose window holds
+    a NaN sample (a fit gone wrong) is not found, as the least-gap formulation leaves it (its gaps' minimum is
+    NaN, and NaN does not exceed the slack), while the other corners are found as before."""
+    model, fitting = fitted_model(index)
+    model.pixel_slack = -1.0  # every tested corner's gaps exceed it
+    tested = np.flatnonzero(np.isfinite(reference_corner_gaps(model)))
+    assert tested.size >= 2
+    np.testing.assert_array_equal(model.zone_hooks(fitting), tested)
+    corner = int(tested[0])
+    starts, _ = model.intervals()
+    at = model.base_parameter[model.contour.corner_bounds[corner]]
+    model._bezier = model._bezier.copy()
+    model._bezier[int(np.searchsorted(starts, at, side="right")) - 1, 1] = np.nan  # the piece after the corner
+    with np.errstate(invalid="ignore"):  # the reference's maximum of a NaN gap
+        worst = reference_corner_gaps(model)
+    assert np.isnan(worst[corner])
+    np.testing.assert_array_equal(model.zone_hooks(fitting), np.flatnonzero(worst > model.pixel_slack))
+    assert corner not in model.zone_hooks(fitting)

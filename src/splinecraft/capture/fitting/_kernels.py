@@ -21,7 +21,8 @@ from numba import njit
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "search_sorted", "deviation_measures", "warm_up",
+           "interval_samples", "group_max", "curve_points", "zone_points_beside", "closed_polyline_distance",
+           "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
@@ -41,6 +42,24 @@ _NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty(
 # (:func:`_normal_into`; a loop over the 10 rows of ``partial``, not over r and s: LLVM unrolled those loops into 10
 # vectorized copies of the inner loop, about 15 % of the compiled code of the fit's solves).
 _BAND_ROW = np.array([0, 1, 2, 3, 0, 1, 2, 0, 1, 0], dtype=np.int64)
+
+
+@njit(**_HELPER)
+def _next_index(k, m):
+    """``(k + 1) % m`` for ``0 <= k < m``, without the integer division of a remainder."""
+    k += 1
+    return 0 if k == m else k
+
+
+@njit(**_HELPER)
+def _wrapped(e, m):
+    """``e % m`` (Python's remainder: in ``[0, m)`` for ``m > 0``) for an index at most a few windows outside
+    ``[0, m)``, by adding or taking ``m`` instead of an integer division (each step is exact)."""
+    while e < 0:
+        e += m
+    while e >= m:
+        e -= m
+    return e
 
 
 @njit(**_HELPER)
@@ -111,10 +130,12 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         w1 = n1 * w
         w2 = n2 * w
         w3 = n3 * w
+        # (i - 6) % m .. (i - 3) % m: one remainder, the next three by a step and a wrap (a remainder is an integer
+        # division, several times the cost of the rest of a basis function)
         k0 = (i - 6) % m
-        k1 = (i - 5) % m
-        k2 = (i - 4) % m
-        k3 = (i - 3) % m
+        k1 = _next_index(k0, m)
+        k2 = _next_index(k1, m)
+        k3 = _next_index(k2, m)
         for d in range(targets.shape[1]):
             t = targets[j, d]
             rhs[k0, d] += w0 * t
@@ -397,6 +418,78 @@ def _curve_into(bez, starts, ends, u, piece, given, out):
         _bezier_point(bez, seg, theta, out, j)  # one call: each call is a copy of the (inlined) helper
 
 
+@njit(**_JIT)
+def _zone_passes_into(samples, row, axis, along_start, across_start, slack, beside):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    count = samples.shape[1]
+    for p in range(row.shape[0]):
+        beside[p] = True
+        for s in range(count):
+            along = samples[row[p], s, axis[p]] - along_start[p]
+            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[row[p], s, 1 - axis[p]] - across_start[p])
+            if gap <= slack:  # a sample within the slack: the point passes (its least gap is no larger)
+                beside[p] = False
+                break
+
+
+def zone_points_beside(samples, row, axis, along_start, across_start, slack):
+    """Per point ``p`` of the zone test (:meth:`~.lsq_model.OutlineRegression.zone_hooks`): whether every sample
+    of its row ``samples[row[p]]`` (``samples``: (rows, count, 2)) lies farther than ``slack`` from the point's
+    pixel-centre segment, ``hypot(along - clip(along, 0, 1), across)`` with ``along = sample[axis[p]] -
+    along_start[p]`` and ``across = sample[1 - axis[p]] - across_start[p]``: ``numpy.min`` of those distances ``>
+    slack`` for finite samples (each point stops at its first sample within the slack: no minimum over the rest
+    is needed; a NaN sample, whose minimum would be NaN, is the caller's to handle)."""
+    row = _ints(row)
+    beside = np.empty(row.shape[0], np.bool_)
+    _zone_passes_into(_floats(samples), row, _ints(axis), _floats(along_start), _floats(across_start),
+                      float(slack), beside)
+    return beside
+
+
+@njit(**_JIT)
+def _closed_polyline_into(points, line, half_edge, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    m = line.shape[0]
+    for i in range(points.shape[0]):
+        px, py = points[i, 0], points[i, 1]
+        nearest = np.inf
+        for j in range(m):
+            dx, dy = line[j, 0] - px, line[j, 1] - py
+            squared = dx * dx + dy * dy
+            if squared < nearest:
+                nearest = squared
+        reach = np.sqrt(nearest) + half_edge + 1e-6
+        reach *= reach
+        least = np.inf
+        for j in range(m):
+            dx, dy = line[j, 0] - px, line[j, 1] - py
+            if not dx * dx + dy * dy <= reach:
+                continue
+            for e in (j, j - 1 if j > 0 else m - 1):  # the edges at vertex j: from it, and to it
+                f = e + 1 if e + 1 < m else 0
+                abx, aby = line[f, 0] - line[e, 0], line[f, 1] - line[e, 1]
+                apx, apy = px - line[e, 0], py - line[e, 1]
+                denom = abx * abx + aby * aby
+                t = pyclip((apx * abx + apy * aby) / (denom if denom > 0 else 1.0), 0.0, 1.0)
+                rx, ry = apx - t * abx, apy - t * aby
+                squared = rx * rx + ry * ry
+                if squared < least:
+                    least = squared
+        out[i] = np.sqrt(least)
+
+
+def closed_polyline_distance(points, line, half_edge):
+    """Distance (px) of each of ``points`` (a few) from the closed polyline ``line`` (first point not repeated),
+    exact: the least point-to-segment distance over the edges with an end within the nearest vertex's distance
+    plus ``half_edge`` (half the longest edge, and 1e-6: no other edge comes nearer), each the arithmetic of
+    :func:`~.geometry.segment_squared_distances`, then its square root (the corner tips' distance from the
+    contour, :func:`~.tips.tip_estimates`; one pass instead of a points-by-vertices grid)."""
+    points = _floats(points)
+    out = np.empty(points.shape[0])
+    _closed_polyline_into(points, _floats(line), float(half_edge), out)
+    return out
+
+
 def curve_points(bez, starts, ends, u):
     """Points of the piecewise curve whose piece ``k`` is ``bez[k]`` on ``[starts[k], ends[k]]`` at the
     parameters ``u`` (the piece of ``u`` by searchsorted right, clipped to the pieces;
@@ -583,6 +676,7 @@ def warm_up_solves():
     spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
+    closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 
 
 def warm_up_checks():
@@ -591,6 +685,7 @@ def warm_up_checks():
     _, _, bez, starts, ends, index = _tiny_fit()
     edges = (np.ones(3),) * 5
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
+    zone_points_beside(np.zeros((1, 2, 2)), np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
     group_max(index, np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)
@@ -663,7 +758,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             e = centre + offset
             if cornered:  # the piece's own edges, and 3 more across each corner
                 e = pyclip(e, bounds[piece] - 3, bounds[piece + 1] + 2)
-            e %= n
+            e = _wrapped(e, n)
             px = samples[s, 0] - edges[0, e]
             py = samples[s, 1] - edges[1, e]
             t = (px * edges[2, e] + py * edges[3, e]) * edges[4, e]
@@ -740,7 +835,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
                 e = centre + offset
                 if cornered:  # the piece's own chords and a window across its corners
                     e = pyclip(e, lo - reach, hi + reach)
-                e %= total
+                e = _wrapped(e, total)
                 ax, ay = samples[e, 0], samples[e, 1]
                 if e + 1 < total:
                     bx, by = samples[e + 1, 0], samples[e + 1, 1]

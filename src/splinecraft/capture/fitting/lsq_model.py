@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples
+from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples, zone_points_beside
 from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
@@ -464,16 +464,21 @@ class OutlineRegression:
         window = self._zone_window(np.union1d(exclude, pinhole_tips) if pinhole_tips.size else exclude)
         if window is None:
             return none
-        u, along_index, across_index, along_start, across_start, owner = window
-        samples = self.curve_at(u).ravel()
+        u, rows, row, axis, along_start, across_start, owner = window
+        samples = self.curve_at(u).reshape(rows, -1, 2)
         # the crack normal is (1, 0) or (0, 1): the pixel centres' segment runs from ``along_start`` over [0, 1]
         # along the normal's axis, so the distance of a sample from it is that of (along - clip(along, 0, 1),
-        # across) -- the operations of the projection onto a unit axis vector, without its zero products
-        along = samples[along_index] - along_start
-        gap = np.hypot(along - np.clip(along, 0.0, 1.0), samples[across_index] - across_start).min(axis=1)
-        worst = np.full(self.contour.corner_count, -np.inf)
-        np.maximum.at(worst, owner, gap)
-        found = np.flatnonzero(worst > self.pixel_slack)
+        # across) -- the operations of the projection onto a unit axis vector, without its zero products. A
+        # corner fails where one of its points has every sample farther than the slack (its least distance
+        # above it; compiled, each point's scan stops at its first sample within it); a corner with a NaN
+        # sample does not (the least distance of each of its points is NaN then)
+        beside = zone_points_beside(samples, row, axis, along_start, across_start, self.pixel_slack)
+        finite = np.isfinite(samples)
+        if not finite.all():  # a point tests the samples of its corner's row only
+            beside &= finite.all(axis=(1, 2))[row]
+        failing = np.zeros(self.contour.corner_count, bool)
+        failing[owner[beside]] = True
+        found = np.flatnonzero(failing)
         if not found.size:
             return none
         return found[self._pieces_fit(found, dev)]
@@ -482,10 +487,11 @@ class OutlineRegression:
         """The set-up of :meth:`zone_hooks` (kept while the corners' radii and ``exclude`` are unchanged), or None
         where there is nothing to test: the parameters of the tested corners' curve samples (per corner,
         at most ``ZONE_SPACING`` apart over the corner's parameter window: its reach and gaps on both sides, and
-        2 px more; a curve that crosses a segment has a sample within half a spacing), and per contour point
-        within a corner's reach (``max(r, 1)`` px of arc) the indices of its corner's samples' coordinates along
-        and across its crack normal in the flattened samples, the coordinates of the pixel centre at the
-        segment's start (along; the other centre lies 1 px further) and of the crack (across), and its corner."""
+        2 px more; a curve that crosses a segment has a sample within half a spacing), one row of them per tested
+        corner, and the number of rows; per contour point within a corner's reach (``max(r, 1)`` px of arc) its
+        corner's row, the axis of its crack normal (0: x, 1: y; the coordinate along it), the coordinates of the
+        pixel centre at the segment's start (along; the other centre lies 1 px further) and of the crack (across),
+        and its corner."""
         contour, tips = self.contour, self.tips
         if not contour.corner_count:
             return None
@@ -512,18 +518,16 @@ class OutlineRegression:
                 tested[owner] = True
                 corners = np.flatnonzero(tested)  # sorted, unique
                 row = np.full(contour.corner_count, -1)
-                row[corners] = np.arange(corners.shape[0])
+                row[corners] = np.arange(corners.shape[0])  # each tested corner's row of samples
                 at = self.base_parameter[contour.corner_bounds[corners]]
                 half = reach[corners] + np.maximum(tips.gap_before[corners], tips.gap_after[corners]) + 2.0
                 count = int(np.ceil(2.0 * half.max() / ZONE_SPACING)) + 1
                 steps = np.linspace(-1.0, 1.0, count)
                 u = np.mod(at[:, None] + half[:, None] * steps[None, :], self.period).ravel()
                 axis = (cracks[points, 1] == 1.0).astype(np.int64)  # 0: normal (1, 0), 1: normal (0, 1)
-                first = 2 * count * row[owner][:, None] + 2 * np.arange(count)[None, :]
                 own = contour.points[points]
                 pick = np.arange(points.shape[0])
-                window = (u, first + axis[:, None], first + (1 - axis)[:, None],
-                          (own[pick, axis] - 0.5)[:, None], own[pick, 1 - axis][:, None], owner)
+                window = (u, corners.shape[0], row[owner], axis, own[pick, axis] - 0.5, own[pick, 1 - axis], owner)
         self._zone_window_cache = (key, window)
         return window
 

@@ -24,12 +24,10 @@ from __future__ import annotations
 import numpy as np
 
 from .._pixel_corners import corner_vertices
-from ._kernels import separating_slope
-from .geometry import segment_squared_distances
+from ._kernels import closed_polyline_distance, separating_slope
 
 __all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction",
-           "horizontal_cracks", "pixel_pairs",
-           "SideFit"]
+           "is_convex", "ray_parity", "horizontal_cracks", "pixel_pairs", "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
 #: straight side stays within half a pixel diagonal of its line.
@@ -238,9 +236,11 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
         return None
     # a shrunk window's samples are the first ones of the longest window's (numpy.arange from the same start,
     # point_at_arc point by point): sampled once
-    samples = contour.point_at_arc((corner_arc + sign * np.arange(start, stop + 1e-9, 0.5)) % contour.perimeter)
+    offsets = np.arange(start, stop + 1e-9, 0.5)
+    samples = contour.point_at_arc((corner_arc + sign * offsets) % contour.perimeter)
+    count = offsets.shape[0]
     while stop - start >= SHORTEST_SIDE:
-        fit = _window_fit(samples[: np.arange(start, stop + 1e-9, 0.5).shape[0]], stop - start)
+        fit = _window_fit(samples[:count], stop - start)
         if fit is not None:
             if pairs is not None:
                 window = _arc_window(contour, corner_arc, sign, start, stop)
@@ -254,6 +254,7 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
                     fit.ink = 1.0 if side >= 0 else -1.0
             return fit
         stop = start + 0.75 * (stop - start)
+        count = np.arange(start, stop + 1e-9, 0.5).shape[0]
     return None
 
 
@@ -314,20 +315,37 @@ def _crossing(first, second):
     return first.point(t[0])
 
 
-def tip_contradiction(contour, corner_arc, zone, sides, pairs):
+def tip_contradiction(contour, corner_arc, zone, sides, pairs, convex=None):
     """How far (px) the wedge of two :class:`SideFit` (crossing at the tip) contradicts the pixels of the
     truncated tip: the pixel centres beside the contour within ``zone`` px of arc of the corner, ink ones
     that fall outside the wedge's ink and paper ones inside it; the largest such offset (<= 0: consistent).
     The ink of a convex corner is where both sides have ink, that of a concave one (a notch) where either
-    has."""
+    has (``convex``: :func:`is_convex` of ``sides``, found here when None)."""
     zone_points = np.concatenate([_arc_window(contour, corner_arc, -1, 0.0, zone),
                                   _arc_window(contour, corner_arc, 1, 0.0, zone)])
     ink, paper = pairs[0][zone_points], pairs[1][zone_points]
-    convex = sides[0].inkward(sides[1].centre[None])[0] > 0
+    if convex is None:
+        convex = is_convex(sides)
     combine = np.minimum if convex else np.maximum
     ink_depth = combine(sides[0].inkward(ink), sides[1].inkward(ink))
     paper_depth = combine(sides[0].inkward(paper), sides[1].inkward(paper))
     return float(max((-ink_depth).max(), paper_depth.max()))
+
+
+def is_convex(sides):
+    """Whether the wedge of two :class:`SideFit` is a convex corner: the second side's centre on the ink side
+    of the first (else a notch)."""
+    return sides[0].inkward(sides[1].centre[None])[0] > 0
+
+
+def ray_parity(cracks, queries):
+    """Per point of ``queries``, the parity (0 or 1) of the horizontal cracks (``cracks``, :func:`horizontal_cracks`)
+    that a vertical ray from it upwards crosses: those of its own column above it (a ray only meets cracks of its
+    own column; they are a run of the x-sorted cracks)."""
+    run = cracks[np.searchsorted(cracks[:, 0], queries[:, 0].min(), side="left"):
+                 np.searchsorted(cracks[:, 0], queries[:, 0].max(), side="right")]
+    above = (run[None, :, 0] == queries[:, None, 0]) & (run[None, :, 1] < queries[:, None, 1])
+    return above.sum(axis=1) % 2
 
 
 def horizontal_cracks(points):
@@ -337,7 +355,7 @@ def horizontal_cracks(points):
     return cracks[np.argsort(cracks[:, 0], kind="stable")]
 
 
-def wedge_contradiction(cracks, pairs, tip, ends, sides):
+def wedge_contradiction(cracks, pairs, tip, ends, sides, convex=None, ink_parity=None):
     """How far (px) the wedge of two :class:`SideFit` crossing at ``tip`` contradicts the pixel centres between
     the tip and the contour: every centre inside the triangle of ``tip`` and the contour points ``ends`` at the
     side windows' start, not only those beside the contour (:func:`tip_contradiction`): the deepest paper centre
@@ -350,7 +368,9 @@ def wedge_contradiction(cracks, pairs, tip, ends, sides):
     Whether a centre is ink follows from the crack outline alone: a vertical ray from the centre crosses the
     outline at its horizontal cracks (``cracks``, :func:`horizontal_cracks` of the outline: points with integer y;
     those on the centre's column), and the parity of the crossings above it is that of a centre known to be ink
-    (``pairs[0][0]``, beside the first crack) exactly when it is ink."""
+    (``pairs[0][0]``, beside the first crack) exactly when it is ink (:func:`ray_parity`; ``ink_parity``: that
+    centre's, the same for every corner of the outline, found here when None). ``convex``: :func:`is_convex` of
+    ``sides``, found here when None."""
     corners = np.empty((3, 2))
     corners[0], corners[1:] = tip, ends
     low, high = np.floor(corners.min(axis=0)), np.ceil(corners.max(axis=0))
@@ -368,22 +388,16 @@ def wedge_contradiction(cracks, pairs, tip, ends, sides):
     if not inside.any():
         return -np.inf
     centres = centres[inside]
-    convex = sides[0].inkward(sides[1].centre[None])[0] > 0
+    if convex is None:
+        convex = is_convex(sides)
     # depth inside the wedge of the corner's own class (ink for a convex corner, paper for a notch), each side
     # moved inwards by its margin: any line within the margin separates the side's pixels as well
     sign = 1.0 if convex else -1.0
     wedge_depth = np.minimum(sign * sides[0].inkward(centres) - sides[0].margin,
                              sign * sides[1].inkward(centres) - sides[1].margin)
-
-    def crossings(queries):
-        # the horizontal cracks on the columns of the queries (a ray only meets cracks of its own column): a run
-        # of the x-sorted cracks
-        run = cracks[np.searchsorted(cracks[:, 0], queries[:, 0].min(), side="left"):
-                     np.searchsorted(cracks[:, 0], queries[:, 0].max(), side="right")]
-        above = (run[None, :, 0] == queries[:, None, 0]) & (run[None, :, 1] < queries[:, None, 1])
-        return above.sum(axis=1) % 2
-
-    ink = crossings(centres) == crossings(pairs[0][:1])[0]
+    if ink_parity is None:
+        ink_parity = ray_parity(cracks, pairs[0][:1])[0]
+    ink = ray_parity(cracks, centres) == ink_parity
     wrong = (~ink if convex else ink) & (wedge_depth > 0.0)
     return float(wedge_depth[wrong].max()) if wrong.any() else -np.inf
 
@@ -457,6 +471,7 @@ def tip_estimates(contour, angle, radius, measured=None):
     if pairs is None:
         one_short[:] = False
     cracks = None if pairs is None else horizontal_cracks(contour.points)
+    parity = None if pairs is None else ray_parity(cracks, pairs[0][:1])[0]  # of a known ink centre
     candidates = np.flatnonzero(wanted)
     regular, shared = {}, {}
 
@@ -485,7 +500,7 @@ def tip_estimates(contour, angle, radius, measured=None):
         if not measured:
             continue
         is_shared = [bool(short[c, k] and one_short[c]) for k in (0, 1)]
-        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
+        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks, parity)
         reach = stops[c].copy()
         while found is None and RETRY_SHRINK and not any(is_shared):
             reach = start[c] + RETRY_SHRINK * (reach - start[c])
@@ -494,7 +509,7 @@ def tip_estimates(contour, angle, radius, measured=None):
             sides = [side_fit(contour, corner_arc, 2 * k - 1, start[c], reach[k], pairs) for k in (0, 1)]
             if any(side is None for side in sides):
                 break
-            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
+            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks, parity)
             if found is not None and sides[0].margin > 0 and sides[1].margin > 0 and \
                     (sides[0].margin + sides[1].margin) / (2.0 * np.sin(0.5 * found[1])) > RETRY_UNCERTAINTY:
                 found = None
@@ -524,26 +539,19 @@ def tip_estimates(contour, angle, radius, measured=None):
 def _outside(contour, points):
     """Distance (px) of ``points`` (a few tips) from the closed contour polyline, exact: the least over the edges
     with an end within the nearest vertex's distance plus half the longest edge (no other edge comes nearer),
-    each by :func:`~.geometry.segment_squared_distances` (:func:`~.geometry.polyline_distance`'s search tree of the
-    whole contour cost more than these few points)."""
+    each by the arithmetic of :func:`~.geometry.segment_squared_distances`, in one compiled pass
+    (:func:`~._kernels.closed_polyline_distance`; :func:`~.geometry.polyline_distance`'s search tree of the whole
+    contour cost more than these few points, and so did their grid against every vertex)."""
     if not points.shape[0]:
         return np.zeros(0)
-    line = contour.points
-    m = line.shape[0]
-    squared = (line[None, :, 0] - points[:, None, 0]) ** 2 + (line[None, :, 1] - points[:, None, 1]) ** 2
-    reach = np.sqrt(squared.min(axis=1)) + 0.5 * np.diff(contour.arc).max() + 1e-6
-    rows, near = np.nonzero(squared <= (reach * reach)[:, None])
-    rows, edges = np.concatenate([rows, rows]), np.concatenate([near, (near - 1) % m])
-    least = np.full(points.shape[0], np.inf)
-    np.minimum.at(least, rows, segment_squared_distances(points[rows], line[edges], line[(edges + 1) % m]))
-    return np.sqrt(least)
+    return closed_polyline_distance(points, contour.points, 0.5 * np.diff(contour.arc).max())
 
 
-def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks):
+def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity):
     """The crossing of the two :class:`SideFit` ``sides`` of corner ``c`` as its tip (:func:`tip_estimates`'
     bounds and consistency tests), with the opening of the fitted sides at the crossing and the contour points
     at the window starts; None where it fails them. ``cracks``: :func:`horizontal_cracks` of the contour (with
-    ``pairs``)."""
+    ``pairs``); ``parity``: the :func:`ray_parity` of its ink centre ``pairs[0][0]``."""
     # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
     # other side's window bounds the reach
     windows = [side.length for side, shared in zip(sides, is_shared) if not shared]
@@ -562,10 +570,11 @@ def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks):
     outward = corner_point - 0.5 * (ends[0] + ends[1])  # along the bisector, away from the pieces
     if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
         return None
-    if pairs is not None and sides[0].ink and sides[1].ink and \
-            (tip_contradiction(contour, corner_arc, start + TIP_ZONE, sides, pairs) > CONTRADICTION or
-             wedge_contradiction(cracks, pairs, point, ends, sides) > CONTRADICTION):
-        return None
+    if pairs is not None and sides[0].ink and sides[1].ink:
+        convex = is_convex(sides)
+        if tip_contradiction(contour, corner_arc, start + TIP_ZONE, sides, pairs, convex) > CONTRADICTION or \
+                wedge_contradiction(cracks, pairs, point, ends, sides, convex, parity) > CONTRADICTION:
+            return None
     return point, opening, ends
 
 

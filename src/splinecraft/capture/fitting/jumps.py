@@ -60,7 +60,7 @@ def _samples(bezier, starts, ends):
     seg = np.repeat(np.arange(bezier.shape[0]), count)
     first = np.cumsum(count) - count
     t = ((np.arange(seg.shape[0]) - first[seg]) + 0.5) / count[seg]
-    c = bezier[seg]
+    c = bezier.take(seg, axis=0)
     s, tt = (1.0 - t)[:, None], t[:, None]
     d1 = 3.0 * (s * s * (c[:, 1] - c[:, 0]) + 2.0 * s * tt * (c[:, 2] - c[:, 1]) + tt * tt * (c[:, 3] - c[:, 2]))
     d2 = 6.0 * (s * (c[:, 2] - 2.0 * c[:, 1] + c[:, 0]) + tt * (c[:, 3] - 2.0 * c[:, 2] + c[:, 1]))
@@ -169,10 +169,10 @@ def _best_split(points, candidates, width):
     n = points.shape[0]
     offsets = np.arange(-width, width + 1)
     window = (candidates[:, None] + offsets[None, :]) % n  # (C, 2 width + 1)
-    origin = points[candidates % n]
-    chord = points[(candidates + width) % n] - points[(candidates - width) % n]
+    origin = points.take(candidates % n, axis=0)
+    chord = points.take((candidates + width) % n, axis=0) - points.take((candidates - width) % n, axis=0)
     chord /= np.maximum(np.hypot(chord[:, 0], chord[:, 1]), 1e-12)[:, None]
-    rel = points[window] - origin[:, None, :]
+    rel = points.take(window, axis=0) - origin[:, None, :]
     x = (rel[:, :, 0] * chord[:, None, 0] + rel[:, :, 1] * chord[:, None, 1]) / float(width)
     y = rel[:, :, 1] * chord[:, None, 0] - rel[:, :, 0] * chord[:, None, 1]
     square = x * x

@@ -275,7 +275,7 @@ class OutlineRegression:
         if not ok.any():
             return None
         idx = np.flatnonzero(ok)
-        parameters, targets = [self.base_parameter[contour.corner_bounds[idx]]], [tips.estimate[idx]]
+        parameters, targets = [self.base_parameter[contour.corner_bounds[idx]]], [tips.estimate.take(idx, axis=0)]
         bounds = contour.corner_bounds
         nxt = (np.arange(contour.corner_count) + 1) % contour.corner_count
         short = np.flatnonzero((np.diff(bounds) < self.min_gap) & ok & ok[nxt])
@@ -428,8 +428,8 @@ class OutlineRegression:
         if self._hook_limit is None or self._hook_limit[0] != key:  # kept while the tips' angles and estimates are
             limit = np.clip(0.5 / np.maximum(np.sin(0.5 * tips.angle), 1e-3), 0.75,
                             self.epsilon + self.corner_allowance)
-            reach = np.hypot(*(tips.estimate - contour.points[corners % contour.size]).T)
-            self._hook_limit = (key, self.base_parameter[corners], contour.points[corners % contour.size],
+            reach = np.hypot(*(tips.estimate - contour.points.take(corners % contour.size, axis=0)).T)
+            self._hook_limit = (key, self.base_parameter[corners], contour.points.take(corners % contour.size, axis=0),
                                 np.where(np.isfinite(reach), np.maximum(limit, reach + 0.25), limit))
         _, at, points, limit = self._hook_limit
         disp = np.hypot(*(self.curve_at(at) - points).T)
@@ -525,7 +525,7 @@ class OutlineRegression:
                 steps = np.linspace(-1.0, 1.0, count)
                 u = np.mod(at[:, None] + half[:, None] * steps[None, :], self.period).ravel()
                 axis = (cracks[points, 1] == 1.0).astype(np.int64)  # 0: normal (1, 0), 1: normal (0, 1)
-                own = contour.points[points]
+                own = contour.points.take(points, axis=0)
                 pick = np.arange(points.shape[0])
                 window = (u, corners.shape[0], row[owner], axis, own[pick, axis] - 0.5, own[pick, 1 - axis], owner)
         self._zone_window_cache = (key, window)
@@ -820,7 +820,7 @@ class OutlineRegression:
         values = self.base_parameter[self.simple_knots]
         right = np.clip(np.searchsorted(starts, values), 0, starts.shape[0] - 1)  # interval starting at the knot
         left = (right - 1) % starts.shape[0]
-        jump = np.hypot(*(third[right] - third[left]).T)
+        jump = np.hypot(*(third.take(right, axis=0) - third.take(left, axis=0)).T)
         span = 0.5 * (h[left] + h[right])
         if self.knot_multiplicity == 1:
             return jump * span**3 / 48.0

@@ -130,7 +130,7 @@ class CornerTips:
         found = np.flatnonzero(np.isfinite(estimate[:, 0]))
         if not found.size:
             return
-        self.estimate[found] = estimate[found]
+        self.estimate[found] = estimate.take(found, axis=0)
         gaps = np.hypot(*(estimate[found, None, :] - anchors[found]).transpose(2, 0, 1)) - start[found, None]
         gaps = np.clip(gaps, 0.0, MAX_TIP_REACH)
         self.gap_before[found], self.gap_after[found] = gaps[:, 0], gaps[:, 1]
@@ -158,7 +158,7 @@ def corner_radii(contour, corner_radius):
     before = np.concatenate([piece_len[-1:], piece_len[:-1]])  # numpy.roll(piece_len, 1)
     q_back = contour.point_at_arc((corner_arc - np.minimum(6.0, 0.4 * before)) % perimeter)
     q_fwd = contour.point_at_arc((corner_arc + np.minimum(6.0, 0.4 * piece_len)) % perimeter)
-    corner = contour.points[bounds[:-1] % contour.size]
+    corner = contour.points.take(bounds[:-1] % contour.size, axis=0)
     a, b = q_back - corner, q_fwd - corner
     cos = np.einsum("kd,kd->k", a, b) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
     theta = np.arccos(np.clip(cos, -1.0, 1.0))

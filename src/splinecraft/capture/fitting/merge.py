@@ -163,11 +163,11 @@ def join_directions(bez, starts, ends, points, u, interior, bounds, window=WINDO
     good = count >= 6
     coef = np.zeros((r, 3))
     if good.any():
-        coef[good] = np.linalg.solve(m[good], rhs[good])[..., 0]
+        coef[good] = np.linalg.solve(m.compress(good, axis=0), rhs.compress(good, axis=0))[..., 0]
     slope = coef[:, 1] / np.maximum(reach, 1.0)
     normal = np.column_stack([-tx[:, 1], tx[:, 0]])
     d = _unit(tx + slope[:, None] * normal)[0]
-    out[j[good]] = d[good]
+    out[j[good]] = d.compress(good, axis=0)
     return out
 
 
@@ -362,7 +362,7 @@ def _candidates(bez, starts, ends, points, u, tol, fitted, tolerance, seg_piece,
     kept = k + int((whole > 1).sum())
     out = {"first": [np.arange(k), heads[whole > 1]], "length": [np.ones(k, np.int64), whole[whole > 1]],
            "s0": [np.zeros(kept, np.int64)], "s1": [np.zeros(kept, np.int64)],
-           "spread": [np.zeros(kept)], "cubic": [bez, fit_bez[origin[heads[whole > 1]]]],
+           "spread": [np.zeros(kept)], "cubic": [bez, fit_bez.take(origin[heads[whole > 1]], axis=0)],
            "refit": [np.zeros(kept, bool)], "t": [np.zeros(0)], "t_count": [np.zeros(kept, np.int64)]}
     # a run's start direction in state a is head_dir[a * k + first], its end direction in state b
     # tail_dir[b * k + last] (the new direction of the join after its last segment); a run's states are
@@ -466,4 +466,4 @@ def _put_state(model, saved, starts, ends, points, cand, chosen):
         parameter[idx] = s + cand["t"][cand["t_start"][c][run] + within] * (e - s)
     parameter[model.fixed] = model.base_parameter[model.fixed]
     model.parameter = np.maximum.accumulate(parameter)
-    model._bezier, model._starts, model._ends = cand["cubic"][chosen].copy(), starts[f], ends[last]
+    model._bezier, model._starts, model._ends = cand["cubic"].take(chosen, axis=0), starts[f], ends[last]

@@ -245,7 +245,7 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
             if pairs is not None:
                 window = _arc_window(contour, corner_arc, sign, start, stop)
                 if window.size >= 4:
-                    ink, paper = pairs[0][window], pairs[1][window]
+                    ink, paper = pairs[0].take(window, axis=0), pairs[1].take(window, axis=0)
                     separating = None if fit.coefficients.any() else _separating_line(fit, ink, paper)
                     if separating is not None:
                         return separating
@@ -323,7 +323,7 @@ def tip_contradiction(contour, corner_arc, zone, sides, pairs, convex=None):
     has (``convex``: :func:`is_convex` of ``sides``, found here when None)."""
     zone_points = np.concatenate([_arc_window(contour, corner_arc, -1, 0.0, zone),
                                   _arc_window(contour, corner_arc, 1, 0.0, zone)])
-    ink, paper = pairs[0][zone_points], pairs[1][zone_points]
+    ink, paper = pairs[0].take(zone_points, axis=0), pairs[1].take(zone_points, axis=0)
     if convex is None:
         convex = is_convex(sides)
     combine = np.minimum if convex else np.maximum
@@ -351,8 +351,8 @@ def ray_parity(cracks, queries):
 def horizontal_cracks(points):
     """The horizontal cracks of a crack outline ``points`` (the points with an integer y), sorted by x (stable):
     what :func:`wedge_contradiction` counts its rays' crossings on, found once per outline."""
-    cracks = points[np.abs(points[:, 1] - np.round(points[:, 1])) < 1e-9]
-    return cracks[np.argsort(cracks[:, 0], kind="stable")]
+    cracks = points.compress(np.abs(points[:, 1] - np.round(points[:, 1])) < 1e-9, axis=0)
+    return cracks.take(np.argsort(cracks[:, 0], kind="stable"), axis=0)
 
 
 def wedge_contradiction(cracks, pairs, tip, ends, sides, convex=None, ink_parity=None):
@@ -387,7 +387,7 @@ def wedge_contradiction(cracks, pairs, tip, ends, sides, convex=None, ink_parity
         inside &= (edge[0] * (centres[:, 1] - first[1]) - edge[1] * (centres[:, 0] - first[0])) * side > 0.0
     if not inside.any():
         return -np.inf
-    centres = centres[inside]
+    centres = centres.compress(inside, axis=0)
     if convex is None:
         convex = is_convex(sides)
     # depth inside the wedge of the corner's own class (ink for a convex corner, paper for a notch), each side
@@ -466,7 +466,7 @@ def tip_estimates(contour, angle, radius, measured=None):
     wanted &= ~pixel
     if not wanted.any():
         return _with_pinholes(contour, angle, pixel, *_with_pixel_corners(
-            contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan), _outside(contour, vertex[pixel])))
+            contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan), _outside(contour, vertex.compress(pixel, axis=0))))
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False
@@ -637,7 +637,7 @@ def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distan
         return estimate, start, anchors, distance
     found = np.flatnonzero(pixel)
     corner_arc = contour.arc[contour.corner_bounds[found]]
-    estimate[found] = vertex[found]
+    estimate[found] = vertex.take(found, axis=0)
     before = contour.point_at_arc((corner_arc - start[found]) % contour.perimeter)
     after = contour.point_at_arc((corner_arc + start[found]) % contour.perimeter)
     anchors[found] = np.stack([before, after], axis=1)

@@ -178,7 +178,7 @@ JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy
 #: calling kernels, whose cache entries hold it, so a warm process never loads a helper, and writing its entry
 #: cost 3-4 ms a helper. Always inlined (``forceinline``): in a kernel optimized for size (:func:`compact`) LLVM
 #: kept calls to the Bezier point and ran ``_samples_into`` 2x slower; the one large helper, ``_smoothed``, opts
-#: out. (Tests call ``_smoothed`` and ``_window_fit`` through a kernel of their own.)
+#: out. (Tests call ``_smoothed``, ``_window_fit`` and ``_moment_verdict`` through kernels of their own.)
 HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True, cache=False, forceinline=True)
 
 

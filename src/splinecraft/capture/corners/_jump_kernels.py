@@ -2,15 +2,18 @@
 
 At every sample of the smoothed outline two arms grow, backwards and forwards, through the lengths of the
 arm ladder while every sample of the arm stays within the tolerance of the arm's least-squares line. The
-loop below fits each window that a growing arm needs once per length (the forward arm of sample ``i`` is the
-backward arm of ``i + L - 1``) and performs the floating-point operations of the vectorized numpy
-formulation it replaced, in the same order (``tests/test_kernels.py`` keeps that formulation and pins the
-kernel to it bit for bit): the window's mean is the running sum of its samples divided by its length, the
-slope the running sum of ``t / sum(t^2)`` times the samples, the residual ``(x - mean) - t slope``; the
-straightness test compares the squared residuals with ``tolerance**2`` and falls back to ``hypot`` within a
-relative ``1e-12`` of it, where rounding could decide. A window stops being scanned at its first sample
-that is certainly too far. numba, compiled on first use and cached on disk (``cache=True``); the loop
-writes into arrays its wrapper allocates.
+loop below decides each window that a growing arm needs once per length (the forward arm of sample ``i`` is
+the backward arm of ``i + L - 1``) as the vectorized numpy formulation it replaced decides it, and gives the
+lines of that formulation bit for bit (``tests/test_kernels.py`` keeps it and pins the kernel to it): the
+window's mean is the running sum of its samples divided by its length, the slope the running sum of
+``t / sum(t^2)`` times the samples, the residual ``(x - mean) - t slope``; the straightness test compares the
+squared residuals with ``tolerance**2`` and falls back to ``hypot`` within a relative ``1e-12`` of it, where
+rounding could decide. Most windows are decided without that scan, from second moments that grow with the
+ladder (:func:`_moment_verdict`: the sum of squared distances from the line bounds the largest from above and
+from below, with margins for rounding that keep every decision the scan's); a scanned window stops at its
+first sample that is certainly too far. Only the last straight window of each arm has its line formed (in
+the order above). numba, compiled on first use and cached on disk (``cache=True``); the loop writes into
+arrays its wrapper allocates.
 """
 from __future__ import annotations
 
@@ -23,10 +26,9 @@ __all__ = ["arm_lines", "warm_up"]
 
 
 @njit(**HELPER_OPTIONS)
-def _window_fit(padded, start, length, centred, weights, tolerance, line):
-    """Mean point and slope of the window of ``length`` samples from row ``start`` into ``line[0:4]``, and,
-    for a ``tolerance`` > 0, whether every sample lies within it of that line (``max hypot <= tolerance``;
-    False where a sample is NaN); True for a ``tolerance`` of 0 (no test)."""
+def _window_line(padded, start, length, weights, line):
+    """Mean point and slope of the window of ``length`` samples from row ``start`` into ``line[0:4]``: the
+    running sums of the samples and of ``weights`` times them, in sample order."""
     sx, sy = padded[start, 0], padded[start, 1]
     kx, ky = 0.0 + weights[0] * sx, 0.0 + weights[0] * sy
     for t in range(1, length):
@@ -39,6 +41,14 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
     line[1] = sy / length
     line[2] = kx
     line[3] = ky
+
+
+@njit(**HELPER_OPTIONS)
+def _window_fit(padded, start, length, centred, weights, tolerance, line):
+    """The line of the window of ``length`` samples from row ``start`` (:func:`_window_line`, into ``line``) and,
+    for a ``tolerance`` > 0, whether every sample lies within it of that line (``max hypot <= tolerance``; False
+    where a sample is NaN); True for a ``tolerance`` of 0 (no test)."""
+    _window_line(padded, start, length, weights, line)
     if tolerance <= 0:
         return True
     limit = tolerance * tolerance
@@ -61,11 +71,61 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
     return farthest <= tolerance
 
 
+@njit(**HELPER_OPTIONS)
+def _moment_verdict(padded, start, length, tolerance, amplitude, count, moments):
+    """What the second moments of the window of ``length`` samples from row ``start`` decide of
+    :func:`_window_fit`: 1 certainly straight, 2 certainly not, 0 undecided (then the samples are scanned).
+
+    ``moments[start]`` holds the sums of ``u``, ``v``, ``u^2``, ``v^2``, ``t u``, ``t v`` of the window's first
+    ``count[start]`` samples relative to its first one (``t`` from 0); they are extended to ``length`` here, so a
+    start's sums grow with the ladder instead of being formed again at each length. The sum of squared distances
+    ``S`` of the samples from their least-squares line follows; every sample lies within ``sqrt(S)`` of it and one
+    at least ``sqrt(S / length)`` from it. Both bounds hold with margins for the rounding of ``S``
+    (``64 (length + 4) eps`` times the second moments) and of the scan's own residuals (``8 (length + 4) eps``
+    times ``amplitude``, the largest magnitude of a coordinate), so the verdict is the scan's exactly; NaN
+    decides nothing."""
+    done = count[start]
+    su, sv, suu = moments[start, 0], moments[start, 1], moments[start, 2]
+    svv, stu, stv = moments[start, 3], moments[start, 4], moments[start, 5]
+    if done < length:
+        ox, oy = padded[start, 0], padded[start, 1]
+        for t in range(done, length):
+            u, v = padded[start + t, 0] - ox, padded[start + t, 1] - oy
+            su += u
+            sv += v
+            suu += u * u
+            svv += v * v
+            stu += t * u
+            stv += t * v
+        moments[start, 0] = su
+        moments[start, 1] = sv
+        moments[start, 2] = suu
+        moments[start, 3] = svv
+        moments[start, 4] = stu
+        moments[start, 5] = stv
+        count[start] = length
+    half, spread = 0.5 * (length - 1), length * (length * length - 1.0) / 12.0
+    cu, cv = stu - half * su, stv - half * sv
+    squares = (suu - su * su / length - cu * cu / spread) + (svv - sv * sv / length - cv * cv / spread)
+    epsilon = 2.220446049250313e-16
+    rounding = 64.0 * (length + 4) * epsilon * (suu + svv)
+    residual = 8.0 * (length + 4) * epsilon * amplitude
+    limit = tolerance * tolerance
+    if squares + rounding + (2.0 * tolerance + residual) * residual <= limit * (1.0 - 1e-9):
+        return 1
+    if squares - rounding > length * (tolerance + residual) * (tolerance + residual) * (1.0 + 1e-9):
+        return 2
+    return 0
+
+
 @njit(**JIT_OPTIONS)
-def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, alive, state, memo, lines):
+def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitude, alive, last, state, count,
+                    moments, memo, fitted, lines):
     """For both sides (0 backward, 1 forward) and every sample the mean point and slope of its last straight
-    arm into ``lines[side, i, 0:4]``; ``alive`` (per side and sample), ``state`` (per window start: 0 not
-    fitted, 1 straight, 2 not) and ``memo`` (window lines by start) are work arrays."""
+    arm into ``lines[side, i, 0:4]``. Work arrays: ``alive`` and ``last`` (per side and sample: growing, the
+    rung of its last straight arm), ``state`` (per window start: 0 not decided at this length, 1 straight, 2
+    not), ``count`` and ``moments`` (per start, :func:`_moment_verdict`), ``memo`` and ``fitted`` (per start:
+    a window line and its rung, -1 none)."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
     for rung in range(ladder.shape[0]):
@@ -78,18 +138,31 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, alive, s
                 if not alive[side, i]:
                     continue
                 start = i + reach if side == 1 else i + reach - length + 1
-                if state[start] == 0:  # the first length is always accepted
-                    straight = _window_fit(padded, start, length, centred[rung], weights[rung],
-                                           tolerance if rung > 0 else 0.0, memo[start])
-                    state[start] = 1 if straight else 2
+                if state[start] == 0:  # the first length is always accepted, any with a tolerance of 0
+                    verdict = 1 if rung == 0 or tolerance <= 0 else \
+                        _moment_verdict(padded, start, length, tolerance, amplitude, count, moments)
+                    if verdict == 0:
+                        verdict = 1 if _window_fit(padded, start, length, centred[rung], weights[rung],
+                                                        tolerance, memo[start]) else 2
+                        fitted[start] = rung
+                    state[start] = verdict
                 if state[start] == 2:  # the arm stops: it keeps the line of the previous length
                     alive[side, i] = False
                     continue
-                for q in range(4):
-                    lines[side, i, q] = memo[start, q]
+                last[side, i] = rung
                 any_alive = True
         if not any_alive:
-            return
+            break
+    for side in range(2):  # the lines of the last straight arms, each window fitted once
+        for i in range(m):
+            rung = last[side, i]
+            length = ladder[rung]
+            start = i + reach if side == 1 else i + reach - length + 1
+            if fitted[start] != rung:
+                _window_line(padded, start, length, weights[rung], memo[start])
+                fitted[start] = rung
+            for q in range(4):
+                lines[side, i, q] = memo[start, q]
 
 
 def arm_lines(padded, reach, ladder, operators, tolerance):
@@ -102,10 +175,13 @@ def arm_lines(padded, reach, ladder, operators, tolerance):
     centred, weights = np.zeros((lengths.shape[0], lengths.max())), np.zeros((lengths.shape[0], lengths.max()))
     for rung, length in enumerate(lengths):
         centred[rung, :length], weights[rung, :length] = operators(int(length))
-    m = padded.shape[0] - 2 * int(reach)
+    reach, rows = int(reach), padded.shape[0]
+    m = rows - 2 * reach
+    amplitude = float(np.abs(padded[reach:rows - reach]).max()) if m > 0 else 0.0   # the samples (finite)
     lines = np.full((2, m, 4), np.nan)
-    _arm_lines_into(padded, int(reach), lengths, centred, weights, float(tolerance), np.ones((2, m), np.bool_),
-                    np.zeros(padded.shape[0], np.int8), np.empty((padded.shape[0], 4)), lines)
+    _arm_lines_into(padded, reach, lengths, centred, weights, float(tolerance), amplitude, np.ones((2, m), np.bool_),
+                    np.zeros((2, m), np.int64), np.zeros(rows, np.int8), np.zeros(rows, np.int64),
+                    np.zeros((rows, 6)), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
     return lines
 
 

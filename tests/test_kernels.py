@@ -723,6 +723,27 @@ def test_the_moment_bound_decides_clear_windows():
             assert (got == verdict).all()
 
 
+def test_arm_ladder_tables_are_kept_per_ladder_and_function_up_to_a_bound(monkeypatch):
+    """The offsets and weights of a ladder are formed once per ladder and operators function (read-only, the
+    lines the same as with fresh tables), and no more than ``LADDER_TABLES_KEPT`` of them are kept."""
+    from splinecraft.capture.corners import _jump, _jump_kernels
+
+    monkeypatch.setattr(_jump_kernels, "_LADDER_TABLES", {})
+    curve = np.column_stack([np.arange(40.0), 0.1 * np.sin(np.arange(40.0))])
+    padded = curve[np.arange(-8, 48) % 40]
+    first = _jump_kernels.arm_lines(padded, 8, [3, 4, 5, 6, 8], _jump._forward_operators, 0.3)
+    assert len(_jump_kernels._LADDER_TABLES) == 1
+    tables = _jump_kernels._LADDER_TABLES[((3, 4, 5, 6, 8), _jump._forward_operators)]
+    assert not any(table.flags.writeable for table in tables)
+    np.testing.assert_array_equal(_jump_kernels.arm_lines(padded, 8, [3, 4, 5, 6, 8], _jump._forward_operators,
+                                                          0.3), first)
+    for _ in range(_jump_kernels.LADDER_TABLES_KEPT + 5):   # a new function each time
+        lines = _jump_kernels.arm_lines(padded, 8, [3, 4, 5, 6, 8], lambda length: _jump._forward_operators(length),
+                                        0.3)
+        np.testing.assert_array_equal(lines, first)
+    assert len(_jump_kernels._LADDER_TABLES) == _jump_kernels.LADDER_TABLES_KEPT
+
+
 def test_arm_lines_of_a_corner_are_its_two_sides():
     """An exact right angle (closed form): away from the corner the arms have grown to the longest length
     and point along the sides; at the corner the backward arm runs along +x and the forward arm along +y."""

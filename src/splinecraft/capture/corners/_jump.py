@@ -57,6 +57,12 @@ def _arm_operators(length, side):
     return _ARM_OPERATORS[key]
 
 
+def _forward_operators(length):
+    """The centred offsets and slope weights of a forward arm of ``length`` samples (:func:`_arm_operators`), as
+    :func:`._jump_kernels.arm_lines` takes them (one function: its tables are formed once per ladder)."""
+    return _arm_operators(length, 1)[1:]
+
+
 def _arc_lengths(P, closed):
     """Cumulative arc length at every point of the polyline (closed: and back to the first); ValueError when
     the coordinates are so large that the length overflows."""
@@ -226,7 +232,7 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
         padded = R[np.arange(-reach, m + reach) % m]
     else:
         padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
-    lines = arm_lines(padded, reach, ladder, lambda length: _arm_operators(length, 1)[1:], tolerance)
+    lines = arm_lines(padded, reach, ladder, _forward_operators, tolerance)
     centres, directions = {-1: lines[0, :, :2], 1: lines[1, :, :2]}, {-1: lines[0, :, 2:], 1: lines[1, :, 2:]}
     a, b = directions[-1], directions[1]
     turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
@@ -691,11 +697,13 @@ def _canonical_starts(levels):
     while point.size > 1 and offset < n:
         ahead = np.arange(offset, min(offset + block, n))
         rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[0]
-        for row in rows[1:]:
-            if _later(best, row):
-                best = row
-        keep = np.all(rows == best, axis=1)
+        keep = np.all(rows == rows[0], axis=1)
+        if not keep.all():                  # the starts of a symmetric outline tie all the way
+            best = rows[0]
+            for row in rows[1:]:
+                if _later(best, row):
+                    best = row
+            keep = np.all(rows == best, axis=1)
         point, way = point[keep], way[keep]
         offset, block = offset + len(ahead), 4 * block
     order = np.lexsort((-way, point))

@@ -165,16 +165,36 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
                 lines[side, i, q] = memo[start, q]
 
 
+#: :func:`_ladder_tables` by ladder and ``operators`` function (tangent-jump's: one function, a ladder per
+#: ``max_arm`` and short outline), at most ``LADDER_TABLES_KEPT`` of them.
+_LADDER_TABLES = {}
+LADDER_TABLES_KEPT = 64
+
+
+def _ladder_tables(ladder, operators):
+    """The lengths of ``ladder`` (a tuple) and the centred offsets and slope weights of each, rows padded with 0;
+    kept (read-only) for the next call with the same ladder and ``operators`` function."""
+    key = (ladder, operators)
+    if key in _LADDER_TABLES:
+        return _LADDER_TABLES[key]
+    lengths = np.asarray(ladder, dtype=np.int64)
+    centred, weights = np.zeros((len(ladder), max(ladder))), np.zeros((len(ladder), max(ladder)))
+    for rung, length in enumerate(ladder):
+        centred[rung, :length], weights[rung, :length] = operators(length)
+    if len(_LADDER_TABLES) < LADDER_TABLES_KEPT:
+        for table in (lengths, centred, weights):
+            table.flags.writeable = False
+        _LADDER_TABLES[key] = lengths, centred, weights
+    return lengths, centred, weights
+
+
 def arm_lines(padded, reach, ladder, operators, tolerance):
     """Mean points and slopes (along travel) of the straight arms before (side 0) and after (side 1) every
     sample: an array (2, m, 4) of ``mean_x, mean_y, slope_x, slope_y``, for the ``m = len(padded) - 2 reach``
     samples of ``padded`` (the samples with ``reach`` rows of wrap-around or NaN on both ends). ``operators``
     gives the centred offsets and slope weights of each length of ``ladder``."""
     padded = np.ascontiguousarray(padded, dtype=np.float64)
-    lengths = np.asarray(ladder, dtype=np.int64)
-    centred, weights = np.zeros((lengths.shape[0], lengths.max())), np.zeros((lengths.shape[0], lengths.max()))
-    for rung, length in enumerate(lengths):
-        centred[rung, :length], weights[rung, :length] = operators(int(length))
+    lengths, centred, weights = _ladder_tables(tuple(int(length) for length in ladder), operators)
     reach, rows = int(reach), padded.shape[0]
     m = rows - 2 * reach
     amplitude = float(np.abs(padded[reach:rows - reach]).max()) if m > 0 else 0.0   # the samples (finite)

@@ -649,22 +649,29 @@ def _point_comparison(levels):
     """The order of :func:`_point_order`'s keys without building them: ``later(i, j)`` is None where the keys of
     points ``i`` and ``j`` are equal, else whether that of ``j`` is lexicographically larger. The sequences are
     read in blocks (16 values, then four times more each time) up to their first difference, where the keys of
-    two points nearly always differ within the first few values (a whole key is two outlines long)."""
+    two points nearly always differ within the first few values (a whole key is two outlines long). Each block
+    is a slice of the levels repeated three times (reversed for the way against the outline), not a gather."""
     n = len(levels)
-    rings = []  # the offsets of each block
+    blocks = []  # the offsets of each block, from and to
     start, size = 0, 16
     while start < n:
-        rings.append(np.arange(start, min(start + size, n)))
+        blocks.append((start, min(start + size, n)))
         start, size = start + size, 4 * size
+    tripled = np.concatenate([levels, levels, levels])   # levels[(i + d) % n] is tripled[n + i + d], |d| < n
     ways = {}
+
+    def read(i, way, first, stop):
+        """``levels[(i + way * d) % n]`` for the offsets ``first <= d < stop``."""
+        return tripled[n + i + first:n + i + stop] if way > 0 else tripled[n + i - stop + 1:n + i - first + 1][::-1]
 
     def first_difference(i, way_i, j, way_j):
         """The sign of the first difference of the levels read from ``j`` (way ``way_j``) less those from ``i``."""
-        for ring in rings:
-            a, b = levels[(i + way_i * ring) % n], levels[(j + way_j * ring) % n]
-            differ = np.flatnonzero(a != b)
-            if differ.size:
-                return 1 if b[differ[0]] > a[differ[0]] else -1
+        for first, stop in blocks:
+            a, b = read(i, way_i, first, stop), read(j, way_j, first, stop)
+            differ = a != b
+            at = int(differ.argmax())
+            if differ[at]:
+                return 1 if b[at] > a[at] else -1
         return 0
 
     def way(i):

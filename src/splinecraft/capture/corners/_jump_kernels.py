@@ -72,43 +72,103 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
 
 
 @njit(**HELPER_OPTIONS)
-def _moment_verdict(padded, start, length, tolerance, amplitude, count, moments):
+def _add_compensated(sums, row, q, term):
+    """``sums[row + 1, q]`` the running sum ``sums[row, q] + term`` and ``sums[row + 1, 6 + q]`` its compensation
+    (Neumaier's summation: the running sum plus its compensation is the exact sum to a rounding or two)."""
+    total = sums[row, q]
+    updated = total + term
+    sums[row + 1, q] = updated
+    lost = (total - updated) + term if abs(total) >= abs(term) else (term - updated) + total
+    sums[row + 1, 6 + q] = sums[row, 6 + q] + lost
+
+
+@njit(**HELPER_OPTIONS)
+def _prefix_moments(padded, sums, nans):
+    """Prefix sums over the rows of ``padded`` relative to its first finite row: ``sums[j, q]`` and its
+    compensation ``sums[j, 6 + q]`` (:func:`_add_compensated`) of ``x``, ``y``, ``x^2``, ``y^2``, ``k x``,
+    ``k y`` over the rows ``k < j``, NaN rows counted in ``nans`` and summed as 0. Returns the largest magnitude
+    of a coordinate relative to that origin."""
+    rows = padded.shape[0]
+    ox, oy = 0.0, 0.0
+    for j in range(rows):
+        if padded[j, 0] == padded[j, 0] and padded[j, 1] == padded[j, 1]:
+            ox, oy = padded[j, 0], padded[j, 1]
+            break
+    amplitude = 0.0
+    for q in range(12):
+        sums[0, q] = 0.0
+    nans[0] = 0
+    for j in range(rows):
+        x, y = padded[j, 0] - ox, padded[j, 1] - oy
+        finite = x == x and y == y
+        nans[j + 1] = nans[j] + (0 if finite else 1)
+        if finite:
+            amplitude = pymax(amplitude, pymax(abs(x), abs(y)))
+        else:
+            x, y = 0.0, 0.0
+        _add_compensated(sums, j, 0, x)
+        _add_compensated(sums, j, 1, y)
+        _add_compensated(sums, j, 2, x * x)
+        _add_compensated(sums, j, 3, y * y)
+        _add_compensated(sums, j, 4, j * x)
+        _add_compensated(sums, j, 5, j * y)
+    return amplitude
+
+
+@njit(**HELPER_OPTIONS)
+def _line_squares(sums, first, stop, q, bounds):
+    """The sum of squared distances along coordinate ``q`` (0 x, 1 y) of the rows ``first <= k < stop`` from their
+    least-squares line in ``k`` (:func:`_prefix_moments`), and a bound on its rounding; ``bounds`` are those of
+    the window's length (:func:`_length_bounds`)."""
+    epsilon = 2.220446049250313e-16
+    total = (sums[stop, q] - sums[first, q]) + (sums[stop, 6 + q] - sums[first, 6 + q])
+    squares = (sums[stop, 2 + q] - sums[first, 2 + q]) + (sums[stop, 8 + q] - sums[first, 8 + q])
+    moment = (sums[stop, 4 + q] - sums[first, 4 + q]) + (sums[stop, 10 + q] - sums[first, 10 + q])
+    centred = squares - total * total * bounds[0]
+    cross = moment - (first + 0.5 * (stop - first - 1)) * total
+    slope = cross * cross * bounds[1]
+    error = bounds[2] + (2.0 * abs(cross) + bounds[3]) * bounds[3] * bounds[1] + \
+        8.0 * epsilon * (abs(centred) + slope)
+    return centred - slope, error
+
+
+@njit(**HELPER_OPTIONS)
+def _length_bounds(rows, length, spread, bounds):
+    """Into ``bounds``, for windows of ``length`` rows ending at most at row ``rows`` of prefix sums whose coordinates
+    are at most ``spread`` in magnitude (:func:`_prefix_moments`): ``1 / length``, ``12 / (length (length^2 - 1))``
+    (the centred offsets' sum of squares, inverted), and bounds on the rounding of a window's centred sum of
+    squares and of its cross moment (:func:`_line_squares`). A prefix is within ``2 eps + 4 rows eps^2`` times the
+    sum of its terms' magnitudes (at most ``rows`` times ``spread``, ``spread^2``, ``rows spread``) and each
+    operation after it within ``4 eps`` of the magnitudes of its inputs (generously)."""
+    epsilon = 2.220446049250313e-16
+    bounds[0] = 1.0 / length
+    bounds[1] = 12.0 / (length * (length * length - 1.0))
+    prefix = (4.0 * (2.0 * epsilon + 4.0 * rows * epsilon * epsilon) + 16.0 * epsilon) * rows * spread
+    total, squares = length * spread, length * spread * spread
+    bounds[2] = prefix * spread + (2.0 * total + prefix) * prefix * bounds[0] + 8.0 * epsilon * squares
+    bounds[3] = prefix * rows + rows * prefix + 8.0 * epsilon * rows * total
+
+
+@njit(**HELPER_OPTIONS)
+def _moment_verdict(sums, nans, start, length, tolerance, amplitude, spread, bounds):
     """What the second moments of the window of ``length`` samples from row ``start`` decide of
     :func:`_window_fit`: 1 certainly straight, 2 certainly not, 0 undecided (then the samples are scanned).
 
-    ``moments[start]`` holds the sums of ``u``, ``v``, ``u^2``, ``v^2``, ``t u``, ``t v`` of the window's first
-    ``count[start]`` samples relative to its first one (``t`` from 0); they are extended to ``length`` here, so a
-    start's sums grow with the ladder instead of being formed again at each length. The sum of squared distances
-    ``S`` of the samples from their least-squares line follows; every sample lies within ``sqrt(S)`` of it and one
-    at least ``sqrt(S / length)`` from it. Both bounds hold with margins for the rounding of ``S``
-    (``64 (length + 4) eps`` times the second moments) and of the scan's own residuals (``8 (length + 4) eps``
-    times ``amplitude``, the largest magnitude of a coordinate), so the verdict is the scan's exactly; NaN
-    decides nothing."""
-    done = count[start]
-    su, sv, suu = moments[start, 0], moments[start, 1], moments[start, 2]
-    svv, stu, stv = moments[start, 3], moments[start, 4], moments[start, 5]
-    if done < length:
-        ox, oy = padded[start, 0], padded[start, 1]
-        for t in range(done, length):
-            u, v = padded[start + t, 0] - ox, padded[start + t, 1] - oy
-            su += u
-            sv += v
-            suu += u * u
-            svv += v * v
-            stu += t * u
-            stv += t * v
-        moments[start, 0] = su
-        moments[start, 1] = sv
-        moments[start, 2] = suu
-        moments[start, 3] = svv
-        moments[start, 4] = stu
-        moments[start, 5] = stv
-        count[start] = length
-    half, spread = 0.5 * (length - 1), length * (length * length - 1.0) / 12.0
-    cu, cv = stu - half * su, stv - half * sv
-    squares = (suu - su * su / length - cu * cu / spread) + (svv - sv * sv / length - cv * cv / spread)
+    The sum of squared distances ``S`` of the samples from their least-squares line comes from the prefix sums
+    of :func:`_prefix_moments` (``spread``: their largest coordinate magnitude) in constant time; every sample lies
+    within ``sqrt(S)`` of the line and one at least ``sqrt(S / length)`` from it. Both bounds hold with margins
+    for the rounding of ``S`` (:func:`_line_squares`, twice over, and the shift to the prefixes' origin) and of
+    the scan's own residuals (``8 (length + 4) eps`` times ``amplitude``, the largest magnitude of a coordinate),
+    so the verdict is the scan's exactly. A window with a NaN sample is not straight; a NaN bound decides
+    nothing."""
+    stop = start + length
+    if nans[stop] != nans[start]:
+        return 2
     epsilon = 2.220446049250313e-16
-    rounding = 64.0 * (length + 4) * epsilon * (suu + svv)
+    along_x, error_x = _line_squares(sums, start, stop, 0, bounds)
+    along_y, error_y = _line_squares(sums, start, stop, 1, bounds)
+    squares = along_x + along_y
+    rounding = 2.0 * (error_x + error_y + 8.0 * length * epsilon * spread * spread)
     residual = 8.0 * (length + 4) * epsilon * amplitude
     limit = tolerance * tolerance
     if squares + rounding + (2.0 * tolerance + residual) * residual <= limit * (1.0 - 1e-9):
@@ -119,19 +179,21 @@ def _moment_verdict(padded, start, length, tolerance, amplitude, count, moments)
 
 
 @njit(**JIT_OPTIONS)
-def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitude, alive, last, state, count,
-                    moments, memo, fitted, lines):
+def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitude, alive, last, state, sums, nans,
+                    bounds, memo, fitted, lines):
     """For both sides (0 backward, 1 forward) and every sample the mean point and slope of its last straight
     arm into ``lines[side, i, 0:4]``. Work arrays: ``alive`` and ``last`` (per side and sample: growing, the
     rung of its last straight arm), ``state`` (per window start: 0 not decided at this length, 1 straight, 2
-    not), ``count`` and ``moments`` (per start, :func:`_moment_verdict`), ``memo`` and ``fitted`` (per start:
-    a window line and its rung, -1 none)."""
+    not), ``sums``, ``nans`` and ``bounds`` (per row and one more, :func:`_prefix_moments`; 4,
+    :func:`_length_bounds`), ``memo`` and ``fitted`` (per start: a window line and its rung, -1 none)."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
+    spread = _prefix_moments(padded, sums, nans)
     for rung in range(ladder.shape[0]):
         length = ladder[rung]
         for start in range(state.shape[0]):
             state[start] = 0
+        _length_bounds(sums.shape[0], length, spread, bounds)
         any_alive = np.bool_(False)
         for side in range(2):
             for i in range(m):
@@ -140,7 +202,7 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
                 start = i + reach if side == 1 else i + reach - length + 1
                 if state[start] == 0:  # the first length is always accepted, any with a tolerance of 0
                     verdict = 1 if rung == 0 or tolerance <= 0 else \
-                        _moment_verdict(padded, start, length, tolerance, amplitude, count, moments)
+                        _moment_verdict(sums, nans, start, length, tolerance, amplitude, spread, bounds)
                     if verdict == 0:
                         verdict = 1 if _window_fit(padded, start, length, centred[rung], weights[rung],
                                                         tolerance, memo[start]) else 2
@@ -200,8 +262,8 @@ def arm_lines(padded, reach, ladder, operators, tolerance):
     amplitude = float(np.abs(padded[reach:rows - reach]).max()) if m > 0 else 0.0   # the samples (finite)
     lines = np.full((2, m, 4), np.nan)
     _arm_lines_into(padded, reach, lengths, centred, weights, float(tolerance), amplitude, np.ones((2, m), np.bool_),
-                    np.zeros((2, m), np.int64), np.zeros(rows, np.int8), np.zeros(rows, np.int64),
-                    np.zeros((rows, 6)), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
+                    np.zeros((2, m), np.int64), np.zeros(rows, np.int8), np.empty((rows + 1, 12)),
+                    np.empty(rows + 1, np.int64), np.empty(4), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
     return lines
 
 

@@ -8,11 +8,13 @@ lines of that formulation bit for bit (``tests/test_kernels.py`` keeps it and pi
 window's mean is the running sum of its samples divided by its length, the slope the running sum of
 ``t / sum(t^2)`` times the samples, the residual ``(x - mean) - t slope``; the straightness test compares the
 squared residuals with ``tolerance**2`` and falls back to ``hypot`` within a relative ``1e-12`` of it, where
-rounding could decide. Most windows are decided without that scan, from second moments that grow with the
-ladder (:func:`_moment_verdict`: the sum of squared distances from the line bounds the largest from above and
-from below, with margins for rounding that keep every decision the scan's); a scanned window stops at its
-first sample that is certainly too far. Only the last straight window of each arm has its line formed (in
-the order above). numba, compiled on first use and cached on disk (``cache=True``); the loop writes into
+rounding could decide. Most windows are decided without that scan, from second moments taken in constant time
+from compensated prefix sums of the outline (:func:`_moment_verdict`: the sum of squared distances from the
+line bounds the largest from above and from below, with margins for rounding that keep every decision the
+scan's); a scanned window stops at its
+first sample that is certainly too far, and an arm whose longest window is certainly straight skips the
+shorter ones (each is then too). Only the last straight window of each arm has its line formed (in the order
+above). numba, compiled on first use and cached on disk (``cache=True``); the loop writes into
 arrays its wrapper allocates.
 """
 from __future__ import annotations
@@ -189,6 +191,17 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
     spread = _prefix_moments(padded, sums, nans)
+    top = ladder.shape[0] - 1
+    # arms whose longest window is certainly straight skip the ladder: a shorter window of the same arm is as
+    # close to its own line as to the longer one's, so its sum of squared distances is at most the longer's
+    if top > 0 and tolerance > 0:
+        _length_bounds(sums.shape[0], ladder[top], spread, bounds)
+        for side in range(2):
+            for i in range(m):
+                start = i + reach if side == 1 else i + reach - ladder[top] + 1
+                if _moment_verdict(sums, nans, start, ladder[top], tolerance, amplitude, spread, bounds) == 1:
+                    alive[side, i] = False
+                    last[side, i] = top
     for rung in range(ladder.shape[0]):
         length = ladder[rung]
         for start in range(state.shape[0]):

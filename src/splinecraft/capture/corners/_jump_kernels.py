@@ -74,22 +74,11 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
 
 
 @njit(**HELPER_OPTIONS)
-def _add_compensated(sums, row, q, term):
-    """``sums[row + 1, q]`` the running sum ``sums[row, q] + term`` and ``sums[row + 1, 6 + q]`` its compensation
-    (Neumaier's summation: the running sum plus its compensation is the exact sum to a rounding or two)."""
-    total = sums[row, q]
-    updated = total + term
-    sums[row + 1, q] = updated
-    lost = (total - updated) + term if abs(total) >= abs(term) else (term - updated) + total
-    sums[row + 1, 6 + q] = sums[row, 6 + q] + lost
-
-
-@njit(**HELPER_OPTIONS)
 def _prefix_moments(padded, sums, nans):
     """Prefix sums over the rows of ``padded`` relative to its first finite row: ``sums[j, q]`` and its
-    compensation ``sums[j, 6 + q]`` (:func:`_add_compensated`) of ``x``, ``y``, ``x^2``, ``y^2``, ``k x``,
-    ``k y`` over the rows ``k < j``, NaN rows counted in ``nans`` and summed as 0. Returns the largest magnitude
-    of a coordinate relative to that origin."""
+    compensation ``sums[j, 6 + q]`` (Neumaier's summation: the two add up to the exact prefix to a rounding or
+    two) of ``x``, ``y``, ``x^2``, ``y^2``, ``k x``, ``k y`` over the rows ``k < j``, NaN rows counted in ``nans``
+    and summed as 0. Returns the largest magnitude of a coordinate relative to that origin."""
     rows = padded.shape[0]
     ox, oy = 0.0, 0.0
     for j in range(rows):
@@ -108,35 +97,39 @@ def _prefix_moments(padded, sums, nans):
             amplitude = pymax(amplitude, pymax(abs(x), abs(y)))
         else:
             x, y = 0.0, 0.0
-        _add_compensated(sums, j, 0, x)
-        _add_compensated(sums, j, 1, y)
-        _add_compensated(sums, j, 2, x * x)
-        _add_compensated(sums, j, 3, y * y)
-        _add_compensated(sums, j, 4, j * x)
-        _add_compensated(sums, j, 5, j * y)
+        for q in range(6):
+            coordinate = x if q % 2 == 0 else y
+            term = coordinate * (1.0 if q < 2 else coordinate if q < 4 else j)
+            total = sums[j, q]
+            updated = total + term
+            sums[j + 1, q] = updated
+            lost = (total - updated) + term if abs(total) >= abs(term) else (term - updated) + total
+            sums[j + 1, 6 + q] = sums[j, 6 + q] + lost
     return amplitude
 
 
 @njit(**HELPER_OPTIONS)
-def _line_squares(sums, first, stop, q, bounds):
-    """The sum of squared distances along coordinate ``q`` (0 x, 1 y) of the rows ``first <= k < stop`` from their
-    least-squares line in ``k`` (:func:`_prefix_moments`), and a bound on its rounding; ``bounds`` are those of
-    the window's length (:func:`_length_bounds`)."""
+def _line_squares(sums, first, stop, bounds):
+    """The sum of squared distances of the rows ``first <= k < stop`` from their least-squares line in ``k``
+    (:func:`_prefix_moments`) into ``bounds[4]``, and a bound on its rounding into ``bounds[5]``; ``bounds[0:4]``
+    are those of the window's length (:func:`_length_bounds`)."""
     epsilon = 2.220446049250313e-16
-    total = (sums[stop, q] - sums[first, q]) + (sums[stop, 6 + q] - sums[first, 6 + q])
-    squares = (sums[stop, 2 + q] - sums[first, 2 + q]) + (sums[stop, 8 + q] - sums[first, 8 + q])
-    moment = (sums[stop, 4 + q] - sums[first, 4 + q]) + (sums[stop, 10 + q] - sums[first, 10 + q])
-    centred = squares - total * total * bounds[0]
-    cross = moment - (first + 0.5 * (stop - first - 1)) * total
-    slope = cross * cross * bounds[1]
-    error = bounds[2] + (2.0 * abs(cross) + bounds[3]) * bounds[3] * bounds[1] + \
-        8.0 * epsilon * (abs(centred) + slope)
-    return centred - slope, error
+    bounds[4], bounds[5] = 0.0, 0.0
+    for q in range(2):
+        total = (sums[stop, q] - sums[first, q]) + (sums[stop, 6 + q] - sums[first, 6 + q])
+        squares = (sums[stop, 2 + q] - sums[first, 2 + q]) + (sums[stop, 8 + q] - sums[first, 8 + q])
+        moment = (sums[stop, 4 + q] - sums[first, 4 + q]) + (sums[stop, 10 + q] - sums[first, 10 + q])
+        centred = squares - total * total * bounds[0]
+        cross = moment - (first + 0.5 * (stop - first - 1)) * total
+        slope = cross * cross * bounds[1]
+        bounds[4] += centred - slope
+        bounds[5] += bounds[2] + (2.0 * abs(cross) + bounds[3]) * bounds[3] * bounds[1] + \
+            8.0 * epsilon * (abs(centred) + slope)
 
 
 @njit(**HELPER_OPTIONS)
 def _length_bounds(rows, length, spread, bounds):
-    """Into ``bounds``, for windows of ``length`` rows ending at most at row ``rows`` of prefix sums whose coordinates
+    """Into ``bounds[0:4]``, for windows of ``length`` rows ending at most at row ``rows`` of prefix sums whose coordinates
     are at most ``spread`` in magnitude (:func:`_prefix_moments`): ``1 / length``, ``12 / (length (length^2 - 1))``
     (the centred offsets' sum of squares, inverted), and bounds on the rounding of a window's centred sum of
     squares and of its cross moment (:func:`_line_squares`). A prefix is within ``2 eps + 4 rows eps^2`` times the
@@ -167,10 +160,9 @@ def _moment_verdict(sums, nans, start, length, tolerance, amplitude, spread, bou
     if nans[stop] != nans[start]:
         return 2
     epsilon = 2.220446049250313e-16
-    along_x, error_x = _line_squares(sums, start, stop, 0, bounds)
-    along_y, error_y = _line_squares(sums, start, stop, 1, bounds)
-    squares = along_x + along_y
-    rounding = 2.0 * (error_x + error_y + 8.0 * length * epsilon * spread * spread)
+    _line_squares(sums, start, stop, bounds)
+    squares = bounds[4]
+    rounding = 2.0 * (bounds[5] * (1.0 + 4.0 * epsilon) + 8.0 * length * epsilon * spread * spread)
     residual = 8.0 * (length + 4) * epsilon * amplitude
     limit = tolerance * tolerance
     if squares + rounding + (2.0 * tolerance + residual) * residual <= limit * (1.0 - 1e-9):
@@ -186,23 +178,19 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
     """For both sides (0 backward, 1 forward) and every sample the mean point and slope of its last straight
     arm into ``lines[side, i, 0:4]``. Work arrays: ``alive`` and ``last`` (per side and sample: growing, the
     rung of its last straight arm), ``state`` (per window start: 0 not decided at this length, 1 straight, 2
-    not), ``sums``, ``nans`` and ``bounds`` (per row and one more, :func:`_prefix_moments`; 4,
-    :func:`_length_bounds`), ``memo`` and ``fitted`` (per start: a window line and its rung, -1 none)."""
+    not, 3 undecided by the probe of the longest windows), ``sums``, ``nans`` and ``bounds`` (per row and one
+    more, :func:`_prefix_moments`; 6, :func:`_length_bounds` and :func:`_line_squares`), ``memo`` and
+    ``fitted`` (per start: a window line and its rung, -1 none)."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
     spread = _prefix_moments(padded, sums, nans)
     top = ladder.shape[0] - 1
-    # arms whose longest window is certainly straight skip the ladder: a shorter window of the same arm is as
-    # close to its own line as to the longer one's, so its sum of squared distances is at most the longer's
-    if top > 0 and tolerance > 0:
-        _length_bounds(sums.shape[0], ladder[top], spread, bounds)
-        for side in range(2):
-            for i in range(m):
-                start = i + reach if side == 1 else i + reach - ladder[top] + 1
-                if _moment_verdict(sums, nans, start, ladder[top], tolerance, amplitude, spread, bounds) == 1:
-                    alive[side, i] = False
-                    last[side, i] = top
-    for rung in range(ladder.shape[0]):
+    # step 0 probes the longest windows: an arm whose longest window is certainly straight skips the ladder (a
+    # shorter window of the same arm is as close to its own line as to the longer one's, so its sum of squared
+    # distances is at most the longer's); steps 1.. are the ladder's lengths
+    for step in range(0 if top > 0 and tolerance > 0 else 1, ladder.shape[0] + 1):
+        probe = step == 0
+        rung = top if probe else step - 1
         length = ladder[rung]
         for start in range(state.shape[0]):
             state[start] = 0
@@ -216,17 +204,22 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
                 if state[start] == 0:  # the first length is always accepted, any with a tolerance of 0
                     verdict = 1 if rung == 0 or tolerance <= 0 else \
                         _moment_verdict(sums, nans, start, length, tolerance, amplitude, spread, bounds)
-                    if verdict == 0:
+                    if verdict == 0 and not probe:
                         verdict = 1 if _window_fit(padded, start, length, centred[rung], weights[rung],
-                                                        tolerance, memo[start]) else 2
+                                                   tolerance, memo[start]) else 2
                         fitted[start] = rung
-                    state[start] = verdict
+                    state[start] = verdict if verdict > 0 else 3  # 3: undecided by the probe
+                if probe:
+                    if state[start] == 1:
+                        alive[side, i] = False
+                        last[side, i] = top
+                    continue
                 if state[start] == 2:  # the arm stops: it keeps the line of the previous length
                     alive[side, i] = False
                     continue
                 last[side, i] = rung
                 any_alive = True
-        if not any_alive:
+        if not any_alive and not probe:
             break
     for side in range(2):  # the lines of the last straight arms, each window fitted once
         for i in range(m):
@@ -276,7 +269,7 @@ def arm_lines(padded, reach, ladder, operators, tolerance):
     lines = np.full((2, m, 4), np.nan)
     _arm_lines_into(padded, reach, lengths, centred, weights, float(tolerance), amplitude, np.ones((2, m), np.bool_),
                     np.zeros((2, m), np.int64), np.zeros(rows, np.int8), np.empty((rows + 1, 12)),
-                    np.empty(rows + 1, np.int64), np.empty(4), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
+                    np.empty(rows + 1, np.int64), np.empty(6), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
     return lines
 
 

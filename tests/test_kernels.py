@@ -436,8 +436,8 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
 
     expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
                 _iso_kernels: {"_smoothed", "_nearest_into"},
-                _jump_kernels: {"_window_line", "_window_fit", "_prefix_moments", "_line_squares", "_length_bounds",
-                                "_moment_verdict", "_arm_lines_into"}}
+                _jump_kernels: {"_window_line", "_window_fit", "_prefix_moments", "_moment_verdict",
+                                "_arm_lines_into"}}
     for module, names in expected.items():
         loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}
         assert names <= set(loops), (module.__name__, sorted(loops))
@@ -677,8 +677,7 @@ def _verdicts():
         def verdicts(padded, starts, length, centred, weights, tolerance, amplitude):
             sums, nans = np.empty((padded.shape[0] + 1, 12)), np.empty(padded.shape[0] + 1, np.int64)
             spread = _jump_kernels._prefix_moments(padded, sums, nans)
-            bounds, line, out = np.empty(6), np.empty(4), np.empty((starts.shape[0], 2), np.int64)
-            _jump_kernels._length_bounds(sums.shape[0], length, spread, bounds)
+            bounds, line, out = np.zeros(5), np.empty(4), np.empty((starts.shape[0], 2), np.int64)
             for k in range(starts.shape[0]):
                 out[k, 0] = _jump_kernels._moment_verdict(sums, nans, starts[k], length, tolerance, amplitude,
                                                           spread, bounds)

@@ -109,65 +109,53 @@ def _prefix_moments(padded, sums, nans):
 
 
 @njit(**HELPER_OPTIONS)
-def _line_squares(sums, first, stop, bounds):
-    """The sum of squared distances of the rows ``first <= k < stop`` from their least-squares line in ``k``
-    (:func:`_prefix_moments`) into ``bounds[4]``, and a bound on its rounding into ``bounds[5]``; ``bounds[0:4]``
-    are those of the window's length (:func:`_length_bounds`)."""
-    epsilon = 2.220446049250313e-16
-    bounds[4], bounds[5] = 0.0, 0.0
-    for q in range(2):
-        total = (sums[stop, q] - sums[first, q]) + (sums[stop, 6 + q] - sums[first, 6 + q])
-        squares = (sums[stop, 2 + q] - sums[first, 2 + q]) + (sums[stop, 8 + q] - sums[first, 8 + q])
-        moment = (sums[stop, 4 + q] - sums[first, 4 + q]) + (sums[stop, 10 + q] - sums[first, 10 + q])
-        centred = squares - total * total * bounds[0]
-        cross = moment - (first + 0.5 * (stop - first - 1)) * total
-        slope = cross * cross * bounds[1]
-        bounds[4] += centred - slope
-        bounds[5] += bounds[2] + (2.0 * abs(cross) + bounds[3]) * bounds[3] * bounds[1] + \
-            8.0 * epsilon * (abs(centred) + slope)
-
-
-@njit(**HELPER_OPTIONS)
-def _length_bounds(rows, length, spread, bounds):
-    """Into ``bounds[0:4]``, for windows of ``length`` rows ending at most at row ``rows`` of prefix sums whose coordinates
-    are at most ``spread`` in magnitude (:func:`_prefix_moments`): ``1 / length``, ``12 / (length (length^2 - 1))``
-    (the centred offsets' sum of squares, inverted), and bounds on the rounding of a window's centred sum of
-    squares and of its cross moment (:func:`_line_squares`). A prefix is within ``2 eps + 4 rows eps^2`` times the
-    sum of its terms' magnitudes (at most ``rows`` times ``spread``, ``spread^2``, ``rows spread``) and each
-    operation after it within ``4 eps`` of the magnitudes of its inputs (generously)."""
-    epsilon = 2.220446049250313e-16
-    bounds[0] = 1.0 / length
-    bounds[1] = 12.0 / (length * (length * length - 1.0))
-    prefix = (4.0 * (2.0 * epsilon + 4.0 * rows * epsilon * epsilon) + 16.0 * epsilon) * rows * spread
-    total, squares = length * spread, length * spread * spread
-    bounds[2] = prefix * spread + (2.0 * total + prefix) * prefix * bounds[0] + 8.0 * epsilon * squares
-    bounds[3] = prefix * rows + rows * prefix + 8.0 * epsilon * rows * total
-
-
-@njit(**HELPER_OPTIONS)
 def _moment_verdict(sums, nans, start, length, tolerance, amplitude, spread, bounds):
     """What the second moments of the window of ``length`` samples from row ``start`` decide of
     :func:`_window_fit`: 1 certainly straight, 2 certainly not, 0 undecided (then the samples are scanned).
 
-    The sum of squared distances ``S`` of the samples from their least-squares line comes from the prefix sums
-    of :func:`_prefix_moments` (``spread``: their largest coordinate magnitude) in constant time; every sample lies
-    within ``sqrt(S)`` of the line and one at least ``sqrt(S / length)`` from it. Both bounds hold with margins
-    for the rounding of ``S`` (:func:`_line_squares`, twice over, and the shift to the prefixes' origin) and of
-    the scan's own residuals (``8 (length + 4) eps`` times ``amplitude``, the largest magnitude of a coordinate),
-    so the verdict is the scan's exactly. A window with a NaN sample is not straight; a NaN bound decides
-    nothing."""
+    The sum of squared distances ``S`` of the samples from their least-squares line in the row index ``k`` comes
+    from the prefix sums of :func:`_prefix_moments` (``spread``: their largest coordinate magnitude) in constant
+    time; every sample lies within ``sqrt(S)`` of the line and one at least ``sqrt(S / length)`` from it. Both
+    bounds hold with margins for the rounding of ``S`` and of the scan's own residuals (``8 (length + 4) eps``
+    times ``amplitude``, the largest magnitude of a coordinate), so the verdict is the scan's exactly. A window
+    with a NaN sample is not straight; a NaN bound decides nothing.
+
+    The rounding of ``S``: a prefix of ``rows`` terms is within ``2 eps + 4 rows eps^2`` times the sum of its
+    terms' magnitudes (at most ``rows`` times ``spread``, ``spread^2``, ``rows spread``), each operation after it
+    within ``4 eps`` of the magnitudes of its inputs (generously), the shift to the prefixes' origin within
+    ``8 length eps spread^2``; all of it twice over. ``bounds`` holds what depends only on the length (formed
+    when ``bounds[4]`` is not ``length``): ``1 / length``, ``12 / (length (length^2 - 1))`` (the centred offsets'
+    sum of squares, inverted), the rounding of a centred sum of squares and that of a cross moment."""
     stop = start + length
     if nans[stop] != nans[start]:
         return 2
     epsilon = 2.220446049250313e-16
-    _line_squares(sums, start, stop, bounds)
-    squares = bounds[4]
-    rounding = 2.0 * (bounds[5] * (1.0 + 4.0 * epsilon) + 8.0 * length * epsilon * spread * spread)
+    if bounds[4] != length:
+        rows = sums.shape[0]
+        bounds[0] = 1.0 / length
+        bounds[1] = 12.0 / (length * (length * length - 1.0))
+        prefix = (4.0 * (2.0 * epsilon + 4.0 * rows * epsilon * epsilon) + 16.0 * epsilon) * rows * spread
+        total, squares = length * spread, length * spread * spread
+        bounds[2] = prefix * spread + (2.0 * total + prefix) * prefix * bounds[0] + 8.0 * epsilon * squares
+        bounds[3] = prefix * rows + rows * prefix + 8.0 * epsilon * rows * total
+        bounds[4] = length
+    distances, rounding = 0.0, 8.0 * length * epsilon * spread * spread
+    for q in range(2):
+        total = (sums[stop, q] - sums[start, q]) + (sums[stop, 6 + q] - sums[start, 6 + q])
+        squares = (sums[stop, 2 + q] - sums[start, 2 + q]) + (sums[stop, 8 + q] - sums[start, 8 + q])
+        moment = (sums[stop, 4 + q] - sums[start, 4 + q]) + (sums[stop, 10 + q] - sums[start, 10 + q])
+        centred = squares - total * total * bounds[0]
+        cross = moment - (start + 0.5 * (length - 1)) * total
+        slope = cross * cross * bounds[1]
+        distances += centred - slope
+        rounding += bounds[2] + (2.0 * abs(cross) + bounds[3]) * bounds[3] * bounds[1] + \
+            8.0 * epsilon * (abs(centred) + slope)
+    rounding *= 2.0 * (1.0 + 4.0 * epsilon)
     residual = 8.0 * (length + 4) * epsilon * amplitude
     limit = tolerance * tolerance
-    if squares + rounding + (2.0 * tolerance + residual) * residual <= limit * (1.0 - 1e-9):
+    if distances + rounding + (2.0 * tolerance + residual) * residual <= limit * (1.0 - 1e-9):
         return 1
-    if squares - rounding > length * (tolerance + residual) * (tolerance + residual) * (1.0 + 1e-9):
+    if distances - rounding > length * (tolerance + residual) * (tolerance + residual) * (1.0 + 1e-9):
         return 2
     return 0
 
@@ -179,7 +167,7 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
     arm into ``lines[side, i, 0:4]``. Work arrays: ``alive`` and ``last`` (per side and sample: growing, the
     rung of its last straight arm), ``state`` (per window start: 0 not decided at this length, 1 straight, 2
     not, 3 undecided by the probe of the longest windows), ``sums``, ``nans`` and ``bounds`` (per row and one
-    more, :func:`_prefix_moments`; 6, :func:`_length_bounds` and :func:`_line_squares`), ``memo`` and
+    more, :func:`_prefix_moments`; 5, :func:`_moment_verdict`), ``memo`` and
     ``fitted`` (per start: a window line and its rung, -1 none)."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
@@ -194,7 +182,6 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
         length = ladder[rung]
         for start in range(state.shape[0]):
             state[start] = 0
-        _length_bounds(sums.shape[0], length, spread, bounds)
         any_alive = np.bool_(False)
         for side in range(2):
             for i in range(m):
@@ -269,7 +256,7 @@ def arm_lines(padded, reach, ladder, operators, tolerance):
     lines = np.full((2, m, 4), np.nan)
     _arm_lines_into(padded, reach, lengths, centred, weights, float(tolerance), amplitude, np.ones((2, m), np.bool_),
                     np.zeros((2, m), np.int64), np.zeros(rows, np.int8), np.empty((rows + 1, 12)),
-                    np.empty(rows + 1, np.int64), np.empty(6), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
+                    np.empty(rows + 1, np.int64), np.zeros(5), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
     return lines
 
 

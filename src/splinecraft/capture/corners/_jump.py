@@ -15,6 +15,8 @@ from .._pixel_corners import with_pixel_corners
 # ----------------------------------------------------------------------------------------------------------
 # tangent-jump: the project's detector for outline capture
 # ----------------------------------------------------------------------------------------------------------
+#: The largest float (``np.nan_to_num``'s replacement of inf).
+_LARGEST = np.finfo(np.float64).max
 #: Arm lengths tried (samples at 1 px spacing); an arm grows through them while it stays straight.
 _ARM_LADDER = (3, 4, 5, 6, 8, 10, 12, 15, 19, 24, 30, 38, 48, 60, 76, 96, 120)
 _ARM_OPERATORS = {}
@@ -276,7 +278,7 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
     if closed:
         behind, ahead = behind % m, ahead % m
     inside = (behind >= 0).all(axis=1) & (ahead < m).all(axis=1)
-    behind, ahead = np.clip(behind, 0, m - 1), np.clip(ahead, 0, m - 1)
+    behind, ahead = np.maximum(behind, 0), np.minimum(ahead, m - 1)     # np.clip(., 0, m - 1) of each
     length_before = 2.0 * np.hypot(*(samples[behind] - centres_before[behind]).transpose(2, 0, 1))
     length_after = 2.0 * np.hypot(*(samples[ahead] - centres_after[ahead]).transpose(2, 0, 1))
     long_before, long_after = length_before >= STROKE_END_ARM, length_after >= STROKE_END_ARM
@@ -817,7 +819,7 @@ def _plateau_starts(chosen, m, separation, closed):
     (around the end when ``closed``): a plateau of equal maxima keeps its first sample."""
     if chosen.size > 1:
         first = np.ones(chosen.size, dtype=bool)
-        first[1:] = np.diff(chosen) > separation
+        first[1:] = chosen[1:] - chosen[:-1] > separation
         if closed and chosen[0] + m - chosen[-1] <= separation:
             first[-1] = False
         chosen = chosen[first]
@@ -848,7 +850,7 @@ def _release_spread(chosen, turn, arms, closed, spread):
         valid = np.ones(chosen.size, dtype=bool)
     else:
         valid = (before >= 0) & (after < m)
-        before, after = np.clip(before, 0, m - 1), np.clip(after, 0, m - 1)
+        before, after = np.maximum(before, 0), np.minimum(after, m - 1)     # np.clip(., 0, m - 1) of each
     a, b = arms[1][before], arms[3][after]
     wide = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
     alone = _nearest_other_gap(chosen, m, closed) > 2 * reach
@@ -865,11 +867,11 @@ def _nearest_other_gap(chosen, m, closed):
     matrix took 64 s and gigabytes on the 262 000-point boundary of a 1000 x 1000 image of noise (30 000 corners)."""
     if chosen.size < 2:
         return np.full(chosen.size, m, dtype=np.int64)
-    step = np.diff(chosen).astype(np.int64)       # the gap from each to the next
+    step = (chosen[1:] - chosen[:-1]).astype(np.int64)       # the gap from each to the next
     if closed:
         step = np.append(step, chosen[0] + m - chosen[-1])      # the last to the first, across the wrap
         step = np.minimum(step, m - step)                       # around the shorter way
-        return np.minimum(step, np.roll(step, 1))               # to the next, from the previous
+        return np.minimum(step, np.concatenate([step[-1:], step[:-1]]))   # to the next, from the previous
     ahead = np.append(step, m)
     behind = np.insert(step, 0, m)
     return np.minimum(ahead, behind)
@@ -877,8 +879,8 @@ def _nearest_other_gap(chosen, m, closed):
 
 def _locate(P, arc, perimeter, pos, at, arms, size, closed):
     """Step 6: the input point of each corner (arc position ``pos``, sample ``at``, its arms and turn)."""
-    right = np.clip(np.searchsorted(arc, pos), 0, len(arc) - 1)
-    left = np.clip(right - 1, 0, len(arc) - 1)
+    right = np.minimum(np.searchsorted(arc, pos), len(arc) - 1)   # np.clip(., 0, n - 1) of indices >= 0
+    left = np.maximum(right - 1, 0)
     nearest = np.where(np.abs(arc[left] - pos) <= np.abs(arc[right] - pos), left, right)
     if closed:                              # past the last point the closing chord leads back to point 0
         wrap = (perimeter - pos) < np.abs(arc[nearest] - pos)
@@ -892,18 +894,22 @@ def _locate(P, arc, perimeter, pos, at, arms, size, closed):
         along = np.abs(arc[around] - pos[:, None])
         along = np.minimum(along, perimeter - along)
     else:
-        around = np.clip(around, 0, n - 1)
+        around = np.minimum(np.maximum(around, 0), n - 1)
         along = np.abs(arc[around] - pos[:, None])
     rows = np.arange(len(nearest))
     within = along <= 3.0
     apex = _line_intersection(*arms)
     apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - at).T) <= 3.0) & (size < 100.0)
     gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
-    gap_to_apex = np.where(within, np.nan_to_num(gap_to_apex, nan=np.inf), np.inf)
+    # np.nan_to_num(gap_to_apex, nan=np.inf) (an overflow to inf becomes the largest float) where within, else inf
+    gap_to_apex = np.where(within & ~np.isnan(gap_to_apex), np.minimum(gap_to_apex, _LARGEST), np.inf)
     near_apex = around[rows, np.argmin(gap_to_apex, axis=1)]
     a, b = arms[1], arms[3]
     outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex
-    reach = np.where(within, np.einsum("kjd,kd->kj", P[around], outward), -np.inf)
-    tip = around[rows, np.argmax(np.nan_to_num(reach, nan=-np.inf), axis=1)]
+    reach = np.einsum("kjd,kd->kj", P[around], outward)
+    # np.nan_to_num(np.where(within, reach, -np.inf), nan=-np.inf): NaN -inf, +-inf the largest floats
+    reach = np.where(np.isnan(reach) & within, -np.inf,
+                     np.where(within, np.minimum(np.maximum(reach, -_LARGEST), _LARGEST), -_LARGEST))
+    tip = around[rows, np.argmax(reach, axis=1)]
     tip = np.where(apex_ok, near_apex, tip)
     return np.where(np.isfinite(outward).all(axis=1), tip, nearest)

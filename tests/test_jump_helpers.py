@@ -250,3 +250,20 @@ def test_locate_takes_an_overflowing_apex_distance_as_the_largest_float():
     args = (P, arc, float(n), np.array([10.0]), np.zeros((1, 2)), arms, np.array([90.0]), True)
     with np.errstate(over="ignore"):
         assert jump._locate(*args).tolist() == reference_locate(*args).tolist() == [7]
+
+
+def test_signed_arm_turn_wraps_a_closed_outline_around_as_the_gather_did():
+    """The closed outline padded by slices (and by the modulo gather where the longest arm exceeds the outline)
+    gives the arms of ``R[np.arange(-reach, m + reach) % m]``."""
+    from splinecraft.capture.corners import _jump_kernels
+
+    rng = np.random.default_rng(5)
+    ladder = [3, 4, 5, 6, 8, 10, 12]
+    for m in (10, 12, 40):
+        R = np.cumsum(rng.normal(0, 1, (m, 2)), axis=0)
+        lines = _jump_kernels.arm_lines(R[np.arange(-12, m + 12) % m], 12, ladder, jump._forward_operators, 0.3)
+        a, b = lines[0, :, 2:], lines[1, :, 2:]
+        turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
+        got, arms = jump._signed_arm_turn(R, True, 0.3, ladder)
+        np.testing.assert_array_equal(got, turn)
+        np.testing.assert_array_equal(arms[3], b)

@@ -230,8 +230,8 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
     """
     m = len(R)
     reach = max(ladder)
-    if closed:
-        padded = R[np.arange(-reach, m + reach) % m]
+    if closed:                              # R[np.arange(-reach, m + reach) % m], from slices where reach <= m
+        padded = np.concatenate([R[m - reach:], R, R[:reach]]) if reach <= m else R[np.arange(-reach, m + reach) % m]
     else:
         padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
     lines = arm_lines(padded, reach, ladder, _forward_operators, tolerance)
@@ -511,16 +511,17 @@ def _tangent_jump(P, closed, settings):
     starts = _canonical_starts(levels) if closed else [(0, 1)]
     runs, done = [], []
     for start, direction in starts:         # one, or one per symmetry of a symmetric outline
-        order = (start + direction * np.arange(n)) % n          # the outline from ``start`` that way round
-        relative = P[order] - P[start] if len(starts) > 1 else None
+        # the outline from ``start`` that way round, P[(start + direction * arange(n)) % n], from two slices
+        outline = np.concatenate([P[start:], P[:start]] if direction > 0 else [P[start::-1], P[:start:-1]])
+        relative = outline - P[start] if len(starts) > 1 else None
         # a start whose outline is a quarter turn or reflection of one already run gives that run's corners
         found = next((found for other, found in done if _congruent(relative, other)), None)
         if found is None:
-            found = _detect(P[order], closed, settings)
+            found = _detect(outline, closed, settings)
             if found is None:
                 return np.zeros(0, dtype=np.intp)
             done.append((relative, found))
-        runs.append(order[found])
+        runs.append((start + direction * found) % n)
     nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_comparison(levels))
     if settings["fillets"] or settings["wedge"]:
         first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way

@@ -267,3 +267,17 @@ def test_signed_arm_turn_wraps_a_closed_outline_around_as_the_gather_did():
         got, arms = jump._signed_arm_turn(R, True, 0.3, ladder)
         np.testing.assert_array_equal(got, turn)
         np.testing.assert_array_equal(arms[3], b)
+
+
+@settings(max_examples=100, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), m=st.integers(1, 60), sigma=st.sampled_from([0.3, 1.0, 4.0, 30.0]))
+def test_closed_smoothing_wraps_around_as_the_gather_did(seed, m, sigma):
+    """The closed outline padded by slices for the smoothing (by the modulo gather where the kernel's half width
+    exceeds the outline) is ``samples[np.arange(-half, m + half) % m]``: the same smoothed samples."""
+    samples = np.random.default_rng(seed).normal(0, 5, (m, 2))
+    half = int(np.ceil(3 * sigma))
+    kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    padded = samples[np.arange(-half, m + half) % m]
+    expected = np.column_stack([np.convolve(padded[:, 0], kernel, "valid"), np.convolve(padded[:, 1], kernel, "valid")])
+    np.testing.assert_array_equal(jump._smooth(samples, sigma, True), expected)

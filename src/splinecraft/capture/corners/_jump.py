@@ -107,9 +107,9 @@ def _smooth(samples, sigma, closed):
         kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
     kernel /= kernel.sum()
     m = len(samples)
-    if closed:
-        idx = np.arange(-half, m + half) % m
-        padded = samples[idx]
+    if closed:                              # samples[np.arange(-half, m + half) % m], from slices where half <= m
+        padded = np.concatenate([samples[m - half:], samples, samples[:half]]) if half <= m else \
+            samples[np.arange(-half, m + half) % m]
     else:
         padded = np.pad(samples, ((half, half), (0, 0)), mode="edge")
     return np.column_stack([np.convolve(padded[:, 0], kernel, "valid"),
@@ -708,14 +708,17 @@ def _canonical_starts(levels):
         ahead = np.arange(offset, min(offset + block, n))
         rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
         keep = np.all(rows == rows[0], axis=1)
-        if not keep.all():                  # the starts of a symmetric outline tie all the way
+        tie = keep.all()                    # the starts of a symmetric outline tie all the way
+        if not tie:
             best = rows[0]
             for row in rows[1:]:
                 if _later(best, row):
                     best = row
             keep = np.all(rows == best, axis=1)
         point, way = point[keep], way[keep]
-        offset, block = offset + len(ahead), 4 * block
+        # blocks of 16, then 4 times more each; after a block where all tie, the rest at once (the largest of the
+        # longer rows is the largest of the shorter ones continued: the same candidates stay)
+        offset, block = offset + len(ahead), n if tie else 4 * block
     order = np.lexsort((-way, point))
     return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
 

@@ -181,75 +181,20 @@ def test_canonical_starts_are_the_loop_over_rows(seed, n, period, levels):
     assert jump._canonical_starts(sequence) == reference_canonical_starts(sequence)
 
 
-def reference_locate(P, arc, perimeter, pos, at, arms, size, closed):
-    """Step 6 with ``np.clip`` and ``np.nan_to_num`` (the formulation before session 29)."""
-    right = np.clip(np.searchsorted(arc, pos), 0, len(arc) - 1)
-    left = np.clip(right - 1, 0, len(arc) - 1)
-    nearest = np.where(np.abs(arc[left] - pos) <= np.abs(arc[right] - pos), left, right)
-    if closed:
-        wrap = (perimeter - pos) < np.abs(arc[nearest] - pos)
-        nearest[wrap] = 0
-    if not nearest.size:
-        return nearest
-    n = len(P)
-    around = nearest[:, None] + np.arange(-6, 7)[None, :]
-    if closed:
-        around %= n
-        along = np.abs(arc[around] - pos[:, None])
-        along = np.minimum(along, perimeter - along)
-    else:
-        around = np.clip(around, 0, n - 1)
-        along = np.abs(arc[around] - pos[:, None])
-    rows = np.arange(len(nearest))
-    within = along <= 3.0
-    apex = jump._line_intersection(*arms)
-    apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - at).T) <= 3.0) & (size < 100.0)
-    gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
-    gap_to_apex = np.where(within, np.nan_to_num(gap_to_apex, nan=np.inf), np.inf)
-    near_apex = around[rows, np.argmin(gap_to_apex, axis=1)]
-    a, b = arms[1], arms[3]
-    outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]
-    reach = np.where(within, np.einsum("kjd,kd->kj", P[around], outward), -np.inf)
-    tip = around[rows, np.argmax(np.nan_to_num(reach, nan=-np.inf), axis=1)]
-    tip = np.where(apex_ok, near_apex, tip)
-    return np.where(np.isfinite(outward).all(axis=1), tip, nearest)
-
-
-@settings(max_examples=200, deadline=None)
-@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(3, 80), k=st.integers(0, 6), closed=st.booleans(),
-       scale=st.sampled_from([1.0, 1e154, 1e307]))
-def test_locate_is_the_nan_to_num_formulation(seed, n, k, closed, scale):
-    """Step 6 picks the same points as with ``np.clip`` and ``np.nan_to_num``, also where arms are NaN (open
-    ends) or zero (a NaN bisector) and where distances and projections overflow to inf (``scale``)."""
-    import warnings
-
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), rows=st.integers(0, 5), columns=st.integers(1, 5))
+def test_step_6_picks_are_the_nan_to_num_formulation(seed, rows, columns):
+    """The point nearest the apex and the farthest out among those within reach (``_locate``) are those of the
+    ``np.nan_to_num`` formulation before session 29, also among NaN, inf and -inf values and rows with none within."""
     rng = np.random.default_rng(seed)
-    P = np.cumsum(rng.choice([-1.0, 0.0, 1.0], (n, 2)), axis=0) * scale
-    arc = np.concatenate([[0.0], np.cumsum(rng.uniform(0.5, 1.5, n))])
-    perimeter, arc = arc[-1], arc[:n]
-    pos = rng.uniform(0, perimeter, k)
-    at = rng.normal(0, 3, (k, 2)) * scale
-    arms = [rng.normal(0, 3, (k, 2)) * (scale if side % 2 == 0 else 1.0) for side in range(4)]
-    for arm in arms:
-        arm[rng.uniform(size=k) < 0.2] = np.nan
-    arms[1][rng.uniform(size=k) < 0.1] = 0.0
-    size = rng.uniform(0, 180, k)
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        np.testing.assert_array_equal(jump._locate(P, arc, perimeter, pos, at, tuple(arms), size, closed),
-                                      reference_locate(P, arc, perimeter, pos, at, tuple(arms), size, closed))
-
-
-def test_locate_takes_an_overflowing_apex_distance_as_the_largest_float():
-    """Where every distance to the apex within 3 px of arc overflows to inf, ``np.nan_to_num`` made them the largest
-    float, below the inf of the points beyond 3 px: the first point within is picked, not the first of all."""
-    n = 20
-    P = np.tile([1.7e308, 1.7e308], (n, 1))
-    arc = np.arange(float(n))
-    arms = (np.zeros((1, 2)), np.array([[1.0, 0.0]]), np.zeros((1, 2)), np.array([[0.0, 1.0]]))
-    args = (P, arc, float(n), np.array([10.0]), np.zeros((1, 2)), arms, np.array([90.0]), True)
-    with np.errstate(over="ignore"):
-        assert jump._locate(*args).tolist() == reference_locate(*args).tolist() == [7]
+    values = rng.choice([0.5, 1.0, 2.0, np.nan, np.inf, -np.inf, 1.7e308, -1.7e308], (rows, columns))
+    within = rng.uniform(size=(rows, columns)) < 0.6
+    gap = np.abs(values)
+    with np.errstate(invalid="ignore"):
+        assert np.array_equal(jump._nearest_within(gap, within),
+                              np.argmin(np.where(within, np.nan_to_num(gap, nan=np.inf), np.inf), axis=1))
+        assert np.array_equal(jump._farthest_within(values, within),
+                              np.argmax(np.nan_to_num(np.where(within, values, -np.inf), nan=-np.inf), axis=1))
 
 
 def test_signed_arm_turn_wraps_a_closed_outline_around_as_the_gather_did():

@@ -599,11 +599,17 @@ def _numpy_arm_lines(padded, reach, ladder, operators, tolerance):
 def test_arm_lines_match_the_vectorized_formulation(seed, m, closed, tolerance):
     """Mean points and slopes of every sample's last straight arm on both sides, bit for bit those of the
     numpy formulation (NaN where an arm of an open curve runs off an end)."""
-    from splinecraft.capture.corners import _jump, _jump_kernels
-
     rng = np.random.default_rng(seed)
     heading = np.cumsum(np.where(rng.uniform(size=m) < 0.1, rng.normal(0, 0.8, m), 0.0))
     curve = np.cumsum(np.column_stack([np.cos(heading), np.sin(heading)]), axis=0) + rng.normal(0, 0.1, (m, 2))
+    _assert_arm_lines_match(curve, closed, tolerance)
+
+
+def _assert_arm_lines_match(curve, closed, tolerance):
+    """The kernel's arm lines of ``curve`` (its ladder up to 40 samples) equal the numpy formulation's."""
+    from splinecraft.capture.corners import _jump, _jump_kernels
+
+    m = len(curve)
     ladder = [length for length in _jump._ARM_LADDER if length <= 40 and 2 * length < m] or [3]
     reach = max(ladder)
     if closed:
@@ -647,20 +653,8 @@ def test_arm_lines_match_the_vectorized_formulation_at_the_tolerance(seed, m, cl
     """The arms' lines bit for bit those of the numpy formulation when the tolerance is at the edge of a window
     (its farthest sample's distance, or the root of its sum of squares, where the kernel's moment bounds give
     way to the scan) and on coordinates far from the origin (wider rounding margins)."""
-    from splinecraft.capture.corners import _jump, _jump_kernels
-
     curve, tolerance = _near_tolerance_curve(seed, m, offset)
-    ladder = [length for length in _jump._ARM_LADDER if length <= 40 and 2 * length < m]
-    reach = max(ladder)
-    if closed:
-        padded = curve[np.arange(-reach, m + reach) % m]
-    else:
-        padded = np.vstack([np.full((reach, 2), np.nan), curve, np.full((reach, 2), np.nan)])
-
-    def operators(length):
-        return _jump._arm_operators(length, 1)[1:]
-    got = _jump_kernels.arm_lines(padded, reach, ladder, operators, tolerance)
-    np.testing.assert_array_equal(got, _numpy_arm_lines(padded, reach, ladder, operators, tolerance))
+    _assert_arm_lines_match(curve, closed, tolerance)
 
 
 _VERDICTS = []

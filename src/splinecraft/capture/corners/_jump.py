@@ -905,15 +905,24 @@ def _locate(P, arc, perimeter, pos, at, arms, size, closed):
     apex = _line_intersection(*arms)
     apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - at).T) <= 3.0) & (size < 100.0)
     gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
-    # np.nan_to_num(gap_to_apex, nan=np.inf) (an overflow to inf becomes the largest float) where within, else inf
-    gap_to_apex = np.where(within & ~np.isnan(gap_to_apex), np.minimum(gap_to_apex, _LARGEST), np.inf)
-    near_apex = around[rows, np.argmin(gap_to_apex, axis=1)]
+    near_apex = around[rows, _nearest_within(gap_to_apex, within)]
     a, b = arms[1], arms[3]
     outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex
-    reach = np.einsum("kjd,kd->kj", P[around], outward)
-    # np.nan_to_num(np.where(within, reach, -np.inf), nan=-np.inf): NaN -inf, +-inf the largest floats
-    reach = np.where(np.isnan(reach) & within, -np.inf,
-                     np.where(within, np.minimum(np.maximum(reach, -_LARGEST), _LARGEST), -_LARGEST))
-    tip = around[rows, np.argmax(reach, axis=1)]
+    tip = around[rows, _farthest_within(np.einsum("kjd,kd->kj", P[around], outward), within)]
     tip = np.where(apex_ok, near_apex, tip)
     return np.where(np.isfinite(outward).all(axis=1), tip, nearest)
+
+
+def _nearest_within(gap, within):
+    """Step 6: per row, the column of the smallest ``gap`` among those ``within`` reach (NaN counting as inf, inf as
+    the largest float), the first of equal ones: ``argmin(where(within, nan_to_num(gap, nan=inf), inf))`` without
+    ``np.nan_to_num``'s cost on small arrays."""
+    return np.argmin(np.where(within & ~np.isnan(gap), np.minimum(gap, _LARGEST), np.inf), axis=1)
+
+
+def _farthest_within(reach, within):
+    """Step 6: per row, the column of the largest ``reach`` among those ``within`` reach (NaN counting as -inf, +-inf
+    as the largest floats, the others as the lowest float), the first of equal ones:
+    ``argmax(nan_to_num(where(within, reach, -inf), nan=-inf))`` without ``np.nan_to_num``'s cost."""
+    clipped = np.where(within, np.minimum(np.maximum(reach, -_LARGEST), _LARGEST), -_LARGEST)
+    return np.argmax(np.where(np.isnan(reach) & within, -np.inf, clipped), axis=1)

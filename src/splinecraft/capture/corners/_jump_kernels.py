@@ -249,8 +249,8 @@ def arm_lines(padded, reach, ladder, operators, tolerance):
     amplitude = float(np.abs(padded[reach:rows - reach]).max()) if m > 0 else 0.0   # the samples (finite)
     lines = np.full((2, m, 4), np.nan)
     _arm_lines_into(padded, reach, lengths, centred, weights, float(tolerance), amplitude, np.ones((2, m), np.bool_),
-                    np.zeros((2, m), np.int64), np.zeros(rows, np.int8), np.empty((rows + 1, 12)),
-                    np.empty(rows + 1, np.int64), np.zeros(5), np.empty((rows, 4)), np.full(rows, -1, np.int64), lines)
+                    np.zeros((2, m), np.int16), np.zeros(rows, np.int8), np.empty((rows + 1, 12)),
+                    np.empty(rows + 1, np.int64), np.zeros(5), np.empty((rows, 4)), np.full(rows, -1, np.int16), lines)
     return lines
 
 

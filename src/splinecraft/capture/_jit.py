@@ -291,7 +291,7 @@ ensure_cache_dir()
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
 #: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
 #: (BENCHMARKS.md, "Session 28: cold first call"; the compile about 0.75x of session 24's, merge 0.66x; corners
-#: 0.23 -> 0.56 in session 29, the arm search's moment bounds: "Session 29: corner stage speed"); they
+#: 0.23 -> 0.52 in session 29, the arm search's moment bounds: "Session 29: corner stage speed"); they
 #: balance the processes of :func:`warm_up` with the helpers' starts below.
 WARM_UP_TASKS = {
     "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.76),
@@ -299,7 +299,7 @@ WARM_UP_TASKS = {
     "tracer": ("_cracks", "warm_up", "_follow_into", 0.73),
     "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.51),
     "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.41),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.56),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.52),
     "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.22),
 }
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the

@@ -146,3 +146,83 @@ def test_jump_peaks_take_the_median_where_it_can_choose(seed, m, closed, nan, ne
     expected, expected_size = reference_jump_peaks(turn, closed, options)
     assert np.array_equal(chosen, expected)
     assert np.array_equal(size, expected_size, equal_nan=True)
+
+
+def reference_canonical_starts(levels):
+    """The candidates narrowed block by block with the lexicographically largest row found one by one (the loop
+    before session 29, which a symmetric outline's tied starts now skip)."""
+    n = len(levels)
+    top = np.flatnonzero(levels == levels.max())
+    point, way = np.concatenate([top, top]), np.repeat([1, -1], len(top))
+    offset, block = 1, 16
+    while point.size > 1 and offset < n:
+        ahead = np.arange(offset, min(offset + block, n))
+        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
+        best = rows[0]
+        for row in rows[1:]:
+            if jump._later(best, row):
+                best = row
+        keep = np.all(rows == best, axis=1)
+        point, way = point[keep], way[keep]
+        offset, block = offset + len(ahead), 4 * block
+    order = np.lexsort((-way, point))
+    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 400), period=st.integers(1, 40), levels=st.integers(1, 4))
+def test_canonical_starts_are_the_loop_over_rows(seed, n, period, levels):
+    rng = np.random.default_rng(seed)
+    # periodic and palindromic sequences (the starts of symmetric outlines tie), and random ones
+    base = rng.integers(0, levels, period)
+    sequence = np.resize(np.concatenate([base, base[::-1]]) if seed % 3 == 1 else base, n).astype(np.int64)
+    if seed % 3 == 2:
+        sequence = rng.integers(0, levels, n).astype(np.int64)
+    assert jump._canonical_starts(sequence) == reference_canonical_starts(sequence)
+
+
+@settings(max_examples=300, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), rows=st.integers(0, 5), columns=st.integers(1, 5))
+def test_step_6_picks_are_the_nan_to_num_formulation(seed, rows, columns):
+    """The point nearest the apex and the farthest out among those within reach (``_locate``) are those of the
+    ``np.nan_to_num`` formulation before session 29, also among NaN, inf and -inf values and rows with none within."""
+    rng = np.random.default_rng(seed)
+    values = rng.choice([0.5, 1.0, 2.0, np.nan, np.inf, -np.inf, 1.7e308, -1.7e308], (rows, columns))
+    within = rng.uniform(size=(rows, columns)) < 0.6
+    gap = np.abs(values)
+    with np.errstate(invalid="ignore"):
+        assert np.array_equal(jump._nearest_within(gap, within),
+                              np.argmin(np.where(within, np.nan_to_num(gap, nan=np.inf), np.inf), axis=1))
+        assert np.array_equal(jump._farthest_within(values, within),
+                              np.argmax(np.nan_to_num(np.where(within, values, -np.inf), nan=-np.inf), axis=1))
+
+
+def test_signed_arm_turn_wraps_a_closed_outline_around_as_the_gather_did():
+    """The closed outline padded by slices (and by the modulo gather where the longest arm exceeds the outline)
+    gives the arms of ``R[np.arange(-reach, m + reach) % m]``."""
+    from splinecraft.capture.corners import _jump_kernels
+
+    rng = np.random.default_rng(5)
+    ladder = [3, 4, 5, 6, 8, 10, 12]
+    for m in (10, 12, 40):
+        R = np.cumsum(rng.normal(0, 1, (m, 2)), axis=0)
+        lines = _jump_kernels.arm_lines(R[np.arange(-12, m + 12) % m], 12, ladder, jump._forward_operators, 0.3)
+        a, b = lines[0, :, 2:], lines[1, :, 2:]
+        turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
+        got, arms = jump._signed_arm_turn(R, True, 0.3, ladder)
+        np.testing.assert_array_equal(got, turn)
+        np.testing.assert_array_equal(arms[3], b)
+
+
+@settings(max_examples=100, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), m=st.integers(1, 60), sigma=st.sampled_from([0.3, 1.0, 4.0, 30.0]))
+def test_closed_smoothing_wraps_around_as_the_gather_did(seed, m, sigma):
+    """The closed outline padded by slices for the smoothing (by the modulo gather where the kernel's half width
+    exceeds the outline) is ``samples[np.arange(-half, m + half) % m]``: the same smoothed samples."""
+    samples = np.random.default_rng(seed).normal(0, 5, (m, 2))
+    half = int(np.ceil(3 * sigma))
+    kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    padded = samples[np.arange(-half, m + half) % m]
+    expected = np.column_stack([np.convolve(padded[:, 0], kernel, "valid"), np.convolve(padded[:, 1], kernel, "valid")])
+    np.testing.assert_array_equal(jump._smooth(samples, sigma, True), expected)

@@ -435,7 +435,8 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     from splinecraft.capture.fitting import _iso_kernels
 
     expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
-                _iso_kernels: {"_smoothed", "_nearest_into"}, _jump_kernels: {"_window_fit", "_arm_lines_into"}}
+                _iso_kernels: {"_smoothed", "_nearest_into"},
+                _jump_kernels: {"_window_fit", "_prefix_moments", "_moment_verdict", "_arm_lines_into"}}
     for module, names in expected.items():
         loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}
         assert names <= set(loops), (module.__name__, sorted(loops))
@@ -598,11 +599,17 @@ def _numpy_arm_lines(padded, reach, ladder, operators, tolerance):
 def test_arm_lines_match_the_vectorized_formulation(seed, m, closed, tolerance):
     """Mean points and slopes of every sample's last straight arm on both sides, bit for bit those of the
     numpy formulation (NaN where an arm of an open curve runs off an end)."""
-    from splinecraft.capture.corners import _jump, _jump_kernels
-
     rng = np.random.default_rng(seed)
     heading = np.cumsum(np.where(rng.uniform(size=m) < 0.1, rng.normal(0, 0.8, m), 0.0))
     curve = np.cumsum(np.column_stack([np.cos(heading), np.sin(heading)]), axis=0) + rng.normal(0, 0.1, (m, 2))
+    _assert_arm_lines_match(curve, closed, tolerance)
+
+
+def _assert_arm_lines_match(curve, closed, tolerance):
+    """The kernel's arm lines of ``curve`` (its ladder up to 40 samples) equal the numpy formulation's."""
+    from splinecraft.capture.corners import _jump, _jump_kernels
+
+    m = len(curve)
     ladder = [length for length in _jump._ARM_LADDER if length <= 40 and 2 * length < m] or [3]
     reach = max(ladder)
     if closed:
@@ -614,6 +621,120 @@ def test_arm_lines_match_the_vectorized_formulation(seed, m, closed, tolerance):
         return _jump._arm_operators(length, 1)[1:]
     got = _jump_kernels.arm_lines(padded, reach, ladder, operators, tolerance)
     np.testing.assert_array_equal(got, _numpy_arm_lines(padded, reach, ladder, operators, tolerance))
+
+
+def _near_tolerance_curve(seed, m, offset):
+    """A random curve of ``m`` samples (runs of gently bent straight steps, 0.1 px noise, or 0.001 px noise and
+    one sample 0.2-2 px off: nearly all of a window's squared distances in one sample) shifted by ``offset``, and
+    a tolerance at the edge of one of its windows: the largest distance of a sample of a random window of a
+    random ladder length from its least-squares line (scaled by ``1 +- 1e-13`` or so), or the root of the sum of
+    the window's squared distances, where the moments' bound for straight windows sits."""
+    rng = np.random.default_rng(seed)
+    heading = np.cumsum(np.where(rng.uniform(size=m) < 0.1, rng.normal(0, 0.3, m), 0.0))
+    spike = rng.uniform() < 0.5
+    curve = np.cumsum(np.column_stack([np.cos(heading), np.sin(heading)]), axis=0) + \
+        rng.normal(0, 0.001 if spike else 0.1, (m, 2))
+    length = int(rng.choice([4, 8, 15, 24, 38]))
+    start = int(rng.integers(0, m - length))
+    if spike:
+        curve[start + int(rng.integers(0, length))] += rng.uniform(0.2, 2.0) * rng.choice([-1.0, 1.0], 2)
+    curve += offset
+    window = curve[start:start + length]
+    centred = np.arange(length) - (length - 1) / 2
+    slope = centred @ (window - window.mean(axis=0)) / np.sum(centred ** 2)
+    squared = np.sum((window - window.mean(axis=0) - centred[:, None] * slope) ** 2, axis=1)
+    edge = np.sqrt(squared.max()) if rng.uniform() < 0.5 else np.sqrt(squared.sum())
+    return curve, edge * (1.0 + rng.choice([-3e-13, -1e-15, 0.0, 1e-15, 3e-13, 1e-9]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.integers(80, 240), st.booleans(), st.sampled_from([0.0, 1e3, -3e5, 2e7]))
+def test_arm_lines_match_the_vectorized_formulation_at_the_tolerance(seed, m, closed, offset):
+    """The arms' lines bit for bit those of the numpy formulation when the tolerance is at the edge of a window
+    (its farthest sample's distance, or the root of its sum of squares, where the kernel's moment bounds give
+    way to the scan) and on coordinates far from the origin (wider rounding margins)."""
+    curve, tolerance = _near_tolerance_curve(seed, m, offset)
+    _assert_arm_lines_match(curve, closed, tolerance)
+
+
+_VERDICTS = []
+
+
+def _verdicts():
+    """A compiled loop over windows calling the arm search's moment bound and its scan (helpers without a
+    Python entry of their own): per window, the bound's verdict (0 undecided, 1 straight, 2 not) and the scan's."""
+    if not _VERDICTS:
+        from splinecraft.capture.corners import _jump_kernels
+
+        @numba.njit
+        def verdicts(padded, starts, length, centred, weights, tolerance, amplitude):
+            sums, nans = np.empty((padded.shape[0] + 1, 12)), np.empty(padded.shape[0] + 1, np.int64)
+            spread = _jump_kernels._prefix_moments(padded, sums, nans)
+            bounds, line, out = np.zeros(5), np.empty(4), np.empty((starts.shape[0], 2), np.int64)
+            for k in range(starts.shape[0]):
+                out[k, 0] = _jump_kernels._moment_verdict(sums, nans, starts[k], length, tolerance, amplitude,
+                                                          spread, bounds)
+                out[k, 1] = 1 if _jump_kernels._window_fit(padded, starts[k], length, centred, weights,
+                                                           tolerance, line) else 2
+            return out
+        _VERDICTS.append(verdicts)
+    return _VERDICTS[0]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.sampled_from([0.0, 1e3, -3e5, 2e7, 1e12]))
+def test_the_moment_bound_agrees_with_the_scan(seed, offset):
+    """Where the second moments decide a window (straight or not) the full scan decides the same, on every window
+    of a random curve at a tolerance at the edge of one of them, near the origin and far from it (up to 1e12,
+    where a coordinate's rounding is 1e-4 px)."""
+    from splinecraft.capture.corners import _jump
+
+    curve, tolerance = _near_tolerance_curve(seed, 200, offset)
+    length = int(np.random.default_rng(seed).choice([4, 8, 15, 24, 38]))
+    centred, weights = _jump._arm_operators(length, 1)[1:]
+    starts = np.arange(200 - length + 1)
+    amplitude = float(np.abs(curve).max())
+    got = _verdicts()(curve, starts, length, centred, weights, tolerance, amplitude)
+    decided = got[:, 0] != 0
+    np.testing.assert_array_equal(got[decided, 0], got[decided, 1])
+
+
+def test_the_moment_bound_decides_clear_windows():
+    """The bound is not vacuous: it finds every window of a nearly straight run straight and every window of a
+    tight circle bent, without scanning them."""
+    from splinecraft.capture.corners import _jump
+
+    rng = np.random.default_rng(1)
+    line = np.column_stack([np.arange(120.0), 0.5 * np.arange(120.0)]) + rng.normal(0, 0.01, (120, 2))
+    angle = np.arange(120.0) / 3.0
+    circle = 3.0 * np.column_stack([np.cos(angle), np.sin(angle)])
+    for curve, verdict in ((line, 1), (circle, 2)):
+        for length in (8, 15, 38):
+            centred, weights = _jump._arm_operators(length, 1)[1:]
+            got = _verdicts()(curve, np.arange(120 - length + 1), length, centred, weights, 0.3,
+                              float(np.abs(curve).max()))
+            assert (got == verdict).all()
+
+
+def test_arm_ladder_tables_are_kept_per_ladder_and_function_up_to_a_bound(monkeypatch):
+    """The offsets and weights of a ladder are formed once per ladder and operators function (read-only, the
+    lines the same as with fresh tables), and no more than ``LADDER_TABLES_KEPT`` of them are kept."""
+    from splinecraft.capture.corners import _jump, _jump_kernels
+
+    monkeypatch.setattr(_jump_kernels, "_LADDER_TABLES", {})
+    curve = np.column_stack([np.arange(40.0), 0.1 * np.sin(np.arange(40.0))])
+    padded = curve[np.arange(-8, 48) % 40]
+    first = _jump_kernels.arm_lines(padded, 8, [3, 4, 5, 6, 8], _jump._forward_operators, 0.3)
+    assert len(_jump_kernels._LADDER_TABLES) == 1
+    tables = _jump_kernels._LADDER_TABLES[((3, 4, 5, 6, 8), _jump._forward_operators)]
+    assert not any(table.flags.writeable for table in tables)
+    np.testing.assert_array_equal(_jump_kernels.arm_lines(padded, 8, [3, 4, 5, 6, 8], _jump._forward_operators,
+                                                          0.3), first)
+    for _ in range(_jump_kernels.LADDER_TABLES_KEPT + 5):   # a new function each time
+        lines = _jump_kernels.arm_lines(padded, 8, [3, 4, 5, 6, 8], lambda length: _jump._forward_operators(length),
+                                        0.3)
+        np.testing.assert_array_equal(lines, first)
+    assert len(_jump_kernels._LADDER_TABLES) == _jump_kernels.LADDER_TABLES_KEPT
 
 
 def test_arm_lines_of_a_corner_are_its_two_sides():

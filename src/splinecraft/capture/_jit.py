@@ -178,7 +178,8 @@ JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy
 #: calling kernels, whose cache entries hold it, so a warm process never loads a helper, and writing its entry
 #: cost 3-4 ms a helper. Always inlined (``forceinline``): in a kernel optimized for size (:func:`compact`) LLVM
 #: kept calls to the Bezier point and ran ``_samples_into`` 2x slower; the one large helper, ``_smoothed``, opts
-#: out. (Tests call ``_smoothed`` and ``_window_fit`` through a kernel of their own.)
+#: out, and so does the arm search's ``_prefix_moments``, called once a call. (Tests call ``_smoothed``,
+#: ``_window_fit``, ``_prefix_moments`` and ``_moment_verdict`` through kernels of their own.)
 HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True, cache=False, forceinline=True)
 
 
@@ -289,7 +290,8 @@ ensure_cache_dir()
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
 #: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
-#: (BENCHMARKS.md, "Session 28: cold first call"; the compile about 0.75x of session 24's, merge 0.66x); they
+#: (BENCHMARKS.md, "Session 28: cold first call"; the compile about 0.75x of session 24's, merge 0.66x; corners
+#: 0.23 -> 0.52 in session 29, the arm search's moment bounds: "Session 29: corner stage speed"); they
 #: balance the processes of :func:`warm_up` with the helpers' starts below.
 WARM_UP_TASKS = {
     "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.76),
@@ -297,7 +299,7 @@ WARM_UP_TASKS = {
     "tracer": ("_cracks", "warm_up", "_follow_into", 0.73),
     "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.51),
     "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.41),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.23),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.52),
     "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.22),
 }
 #: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the

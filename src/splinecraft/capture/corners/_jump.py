@@ -15,6 +15,8 @@ from .._pixel_corners import with_pixel_corners
 # ----------------------------------------------------------------------------------------------------------
 # tangent-jump: the project's detector for outline capture
 # ----------------------------------------------------------------------------------------------------------
+#: The largest float (``np.nan_to_num``'s replacement of inf).
+_LARGEST = np.finfo(np.float64).max
 #: Arm lengths tried (samples at 1 px spacing); an arm grows through them while it stays straight.
 _ARM_LADDER = (3, 4, 5, 6, 8, 10, 12, 15, 19, 24, 30, 38, 48, 60, 76, 96, 120)
 _ARM_OPERATORS = {}
@@ -55,6 +57,12 @@ def _arm_operators(length, side):
         centred = offsets - offsets.mean()
         _ARM_OPERATORS[key] = (offsets, centred, centred / np.sum(centred ** 2))
     return _ARM_OPERATORS[key]
+
+
+def _forward_operators(length):
+    """The centred offsets and slope weights of a forward arm of ``length`` samples (:func:`_arm_operators`), as
+    :func:`._jump_kernels.arm_lines` takes them (one function: its tables are formed once per ladder)."""
+    return _arm_operators(length, 1)[1:]
 
 
 def _arc_lengths(P, closed):
@@ -99,9 +107,9 @@ def _smooth(samples, sigma, closed):
         kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
     kernel /= kernel.sum()
     m = len(samples)
-    if closed:
-        idx = np.arange(-half, m + half) % m
-        padded = samples[idx]
+    if closed:                              # samples[np.arange(-half, m + half) % m], from slices where half <= m
+        padded = np.concatenate([samples[m - half:], samples, samples[:half]]) if half <= m else \
+            samples[np.arange(-half, m + half) % m]
     else:
         padded = np.pad(samples, ((half, half), (0, 0)), mode="edge")
     return np.column_stack([np.convolve(padded[:, 0], kernel, "valid"),
@@ -222,11 +230,11 @@ def _signed_arm_turn(R, closed, tolerance, ladder):
     """
     m = len(R)
     reach = max(ladder)
-    if closed:
-        padded = R[np.arange(-reach, m + reach) % m]
+    if closed:                              # R[np.arange(-reach, m + reach) % m], from slices where reach <= m
+        padded = np.concatenate([R[m - reach:], R, R[:reach]]) if reach <= m else R[np.arange(-reach, m + reach) % m]
     else:
         padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
-    lines = arm_lines(padded, reach, ladder, lambda length: _arm_operators(length, 1)[1:], tolerance)
+    lines = arm_lines(padded, reach, ladder, _forward_operators, tolerance)
     centres, directions = {-1: lines[0, :, :2], 1: lines[1, :, :2]}, {-1: lines[0, :, 2:], 1: lines[1, :, 2:]}
     a, b = directions[-1], directions[1]
     turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
@@ -270,7 +278,7 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
     if closed:
         behind, ahead = behind % m, ahead % m
     inside = (behind >= 0).all(axis=1) & (ahead < m).all(axis=1)
-    behind, ahead = np.clip(behind, 0, m - 1), np.clip(ahead, 0, m - 1)
+    behind, ahead = np.maximum(behind, 0), np.minimum(ahead, m - 1)     # np.clip(., 0, m - 1) of each
     length_before = 2.0 * np.hypot(*(samples[behind] - centres_before[behind]).transpose(2, 0, 1))
     length_after = 2.0 * np.hypot(*(samples[ahead] - centres_after[ahead]).transpose(2, 0, 1))
     long_before, long_after = length_before >= STROKE_END_ARM, length_after >= STROKE_END_ARM
@@ -503,16 +511,17 @@ def _tangent_jump(P, closed, settings):
     starts = _canonical_starts(levels) if closed else [(0, 1)]
     runs, done = [], []
     for start, direction in starts:         # one, or one per symmetry of a symmetric outline
-        order = (start + direction * np.arange(n)) % n          # the outline from ``start`` that way round
-        relative = P[order] - P[start] if len(starts) > 1 else None
+        # the outline from ``start`` that way round, P[(start + direction * arange(n)) % n], from two slices
+        outline = np.concatenate([P[start:], P[:start]] if direction > 0 else [P[start::-1], P[:start:-1]])
+        relative = outline - P[start] if len(starts) > 1 else None
         # a start whose outline is a quarter turn or reflection of one already run gives that run's corners
         found = next((found for other, found in done if _congruent(relative, other)), None)
         if found is None:
-            found = _detect(P[order], closed, settings)
+            found = _detect(outline, closed, settings)
             if found is None:
                 return np.zeros(0, dtype=np.intp)
             done.append((relative, found))
-        runs.append(order[found])
+        runs.append((start + direction * found) % n)
     nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_comparison(levels))
     if settings["fillets"] or settings["wedge"]:
         first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
@@ -643,22 +652,29 @@ def _point_comparison(levels):
     """The order of :func:`_point_order`'s keys without building them: ``later(i, j)`` is None where the keys of
     points ``i`` and ``j`` are equal, else whether that of ``j`` is lexicographically larger. The sequences are
     read in blocks (16 values, then four times more each time) up to their first difference, where the keys of
-    two points nearly always differ within the first few values (a whole key is two outlines long)."""
+    two points nearly always differ within the first few values (a whole key is two outlines long). Each block
+    is a slice of the levels repeated three times (reversed for the way against the outline), not a gather."""
     n = len(levels)
-    rings = []  # the offsets of each block
+    blocks = []  # the offsets of each block, from and to
     start, size = 0, 16
     while start < n:
-        rings.append(np.arange(start, min(start + size, n)))
+        blocks.append((start, min(start + size, n)))
         start, size = start + size, 4 * size
+    tripled = np.concatenate([levels, levels, levels])   # levels[(i + d) % n] is tripled[n + i + d], |d| < n
     ways = {}
+
+    def read(i, way, first, stop):
+        """``levels[(i + way * d) % n]`` for the offsets ``first <= d < stop``."""
+        return tripled[n + i + first:n + i + stop] if way > 0 else tripled[n + i - stop + 1:n + i - first + 1][::-1]
 
     def first_difference(i, way_i, j, way_j):
         """The sign of the first difference of the levels read from ``j`` (way ``way_j``) less those from ``i``."""
-        for ring in rings:
-            a, b = levels[(i + way_i * ring) % n], levels[(j + way_j * ring) % n]
-            differ = np.flatnonzero(a != b)
-            if differ.size:
-                return 1 if b[differ[0]] > a[differ[0]] else -1
+        for first, stop in blocks:
+            a, b = read(i, way_i, first, stop), read(j, way_j, first, stop)
+            differ = a != b
+            at = int(differ.argmax())
+            if differ[at]:
+                return 1 if b[at] > a[at] else -1
         return 0
 
     def way(i):
@@ -691,13 +707,18 @@ def _canonical_starts(levels):
     while point.size > 1 and offset < n:
         ahead = np.arange(offset, min(offset + block, n))
         rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[0]
-        for row in rows[1:]:
-            if _later(best, row):
-                best = row
-        keep = np.all(rows == best, axis=1)
+        keep = np.all(rows == rows[0], axis=1)
+        tie = keep.all()                    # the starts of a symmetric outline tie all the way
+        if not tie:
+            best = rows[0]
+            for row in rows[1:]:
+                if _later(best, row):
+                    best = row
+            keep = np.all(rows == best, axis=1)
         point, way = point[keep], way[keep]
-        offset, block = offset + len(ahead), 4 * block
+        # blocks of 16, then 4 times more each; after a block where all tie, the rest at once (the largest of the
+        # longer rows is the largest of the shorter ones continued: the same candidates stay)
+        offset, block = offset + len(ahead), n if tie else 4 * block
     order = np.lexsort((-way, point))
     return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
 
@@ -802,7 +823,7 @@ def _plateau_starts(chosen, m, separation, closed):
     (around the end when ``closed``): a plateau of equal maxima keeps its first sample."""
     if chosen.size > 1:
         first = np.ones(chosen.size, dtype=bool)
-        first[1:] = np.diff(chosen) > separation
+        first[1:] = chosen[1:] - chosen[:-1] > separation
         if closed and chosen[0] + m - chosen[-1] <= separation:
             first[-1] = False
         chosen = chosen[first]
@@ -833,7 +854,7 @@ def _release_spread(chosen, turn, arms, closed, spread):
         valid = np.ones(chosen.size, dtype=bool)
     else:
         valid = (before >= 0) & (after < m)
-        before, after = np.clip(before, 0, m - 1), np.clip(after, 0, m - 1)
+        before, after = np.maximum(before, 0), np.minimum(after, m - 1)     # np.clip(., 0, m - 1) of each
     a, b = arms[1][before], arms[3][after]
     wide = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
     alone = _nearest_other_gap(chosen, m, closed) > 2 * reach
@@ -850,11 +871,11 @@ def _nearest_other_gap(chosen, m, closed):
     matrix took 64 s and gigabytes on the 262 000-point boundary of a 1000 x 1000 image of noise (30 000 corners)."""
     if chosen.size < 2:
         return np.full(chosen.size, m, dtype=np.int64)
-    step = np.diff(chosen).astype(np.int64)       # the gap from each to the next
+    step = (chosen[1:] - chosen[:-1]).astype(np.int64)       # the gap from each to the next
     if closed:
         step = np.append(step, chosen[0] + m - chosen[-1])      # the last to the first, across the wrap
         step = np.minimum(step, m - step)                       # around the shorter way
-        return np.minimum(step, np.roll(step, 1))               # to the next, from the previous
+        return np.minimum(step, np.concatenate([step[-1:], step[:-1]]))   # to the next, from the previous
     ahead = np.append(step, m)
     behind = np.insert(step, 0, m)
     return np.minimum(ahead, behind)
@@ -862,8 +883,8 @@ def _nearest_other_gap(chosen, m, closed):
 
 def _locate(P, arc, perimeter, pos, at, arms, size, closed):
     """Step 6: the input point of each corner (arc position ``pos``, sample ``at``, its arms and turn)."""
-    right = np.clip(np.searchsorted(arc, pos), 0, len(arc) - 1)
-    left = np.clip(right - 1, 0, len(arc) - 1)
+    right = np.minimum(np.searchsorted(arc, pos), len(arc) - 1)   # np.clip(., 0, n - 1) of indices >= 0
+    left = np.maximum(right - 1, 0)
     nearest = np.where(np.abs(arc[left] - pos) <= np.abs(arc[right] - pos), left, right)
     if closed:                              # past the last point the closing chord leads back to point 0
         wrap = (perimeter - pos) < np.abs(arc[nearest] - pos)
@@ -877,18 +898,31 @@ def _locate(P, arc, perimeter, pos, at, arms, size, closed):
         along = np.abs(arc[around] - pos[:, None])
         along = np.minimum(along, perimeter - along)
     else:
-        around = np.clip(around, 0, n - 1)
+        around = np.minimum(np.maximum(around, 0), n - 1)
         along = np.abs(arc[around] - pos[:, None])
     rows = np.arange(len(nearest))
     within = along <= 3.0
     apex = _line_intersection(*arms)
     apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - at).T) <= 3.0) & (size < 100.0)
     gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
-    gap_to_apex = np.where(within, np.nan_to_num(gap_to_apex, nan=np.inf), np.inf)
-    near_apex = around[rows, np.argmin(gap_to_apex, axis=1)]
+    near_apex = around[rows, _nearest_within(gap_to_apex, within)]
     a, b = arms[1], arms[3]
     outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex
-    reach = np.where(within, np.einsum("kjd,kd->kj", P[around], outward), -np.inf)
-    tip = around[rows, np.argmax(np.nan_to_num(reach, nan=-np.inf), axis=1)]
+    tip = around[rows, _farthest_within(np.einsum("kjd,kd->kj", P[around], outward), within)]
     tip = np.where(apex_ok, near_apex, tip)
     return np.where(np.isfinite(outward).all(axis=1), tip, nearest)
+
+
+def _nearest_within(gap, within):
+    """Step 6: per row, the column of the smallest ``gap`` among those ``within`` reach (NaN counting as inf, inf as
+    the largest float), the first of equal ones: ``argmin(where(within, nan_to_num(gap, nan=inf), inf))`` without
+    ``np.nan_to_num``'s cost on small arrays."""
+    return np.argmin(np.where(within & ~np.isnan(gap), np.minimum(gap, _LARGEST), np.inf), axis=1)
+
+
+def _farthest_within(reach, within):
+    """Step 6: per row, the column of the largest ``reach`` among those ``within`` reach (NaN counting as -inf, +-inf
+    as the largest floats, the others as the lowest float), the first of equal ones:
+    ``argmax(nan_to_num(where(within, reach, -inf), nan=-inf))`` without ``np.nan_to_num``'s cost."""
+    clipped = np.where(within, np.minimum(np.maximum(reach, -_LARGEST), _LARGEST), -_LARGEST)
+    return np.argmax(np.where(np.isnan(reach) & within, -np.inf, clipped), axis=1)

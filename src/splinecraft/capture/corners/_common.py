@@ -69,7 +69,7 @@ def _prepare(points, closed):
     index = np.flatnonzero(keep)
     if closed and len(index) > 1 and np.array_equal(array[index[-1]], array[0]):
         index = index[:-1]
-    return array[index], index
+    return array.take(index, axis=0), index  # (take: numpy 2.4's row indexing is 5-15x slower)
 
 
 def _result(found, keep):

@@ -279,8 +279,10 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
         behind, ahead = behind % m, ahead % m
     inside = (behind >= 0).all(axis=1) & (ahead < m).all(axis=1)
     behind, ahead = np.maximum(behind, 0), np.minimum(ahead, m - 1)     # np.clip(., 0, m - 1) of each
-    length_before = 2.0 * np.hypot(*(samples[behind] - centres_before[behind]).transpose(2, 0, 1))
-    length_after = 2.0 * np.hypot(*(samples[ahead] - centres_after[ahead]).transpose(2, 0, 1))
+    to_before = samples.take(behind, axis=0) - centres_before.take(behind, axis=0)
+    to_after = samples.take(ahead, axis=0) - centres_after.take(ahead, axis=0)
+    length_before = 2.0 * np.hypot(*to_before.transpose(2, 0, 1))
+    length_after = 2.0 * np.hypot(*to_after.transpose(2, 0, 1))
     long_before, long_after = length_before >= STROKE_END_ARM, length_after >= STROKE_END_ARM
     found = inside & long_before.any(axis=1) & long_after.any(axis=1)
     first_before, first_after = reach[long_before.argmax(axis=1)], reach[long_after.argmax(axis=1)]
@@ -580,8 +582,8 @@ def _detect(P, closed, settings):
     turn, arms = _signed_arm_turn(samples, closed, settings["tolerance"], ladder)
     chosen, size = _jump_peaks(turn, closed, settings)
     chosen = _release_spread(chosen, turn, arms, closed, settings["spread"])
-    nearest = _locate(P, arc, perimeter, where[chosen], samples[chosen], tuple(x[chosen] for x in arms),
-                      size[chosen], closed)
+    nearest = _locate(P, arc, perimeter, where[chosen], samples.take(chosen, axis=0),
+                      tuple(x.take(chosen, axis=0) for x in arms), size[chosen], closed)
     if settings["stroke_ends"] and chosen.size:
         nearest = _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest, closed)
     if not closed:
@@ -741,7 +743,7 @@ def _symmetric_union(P, runs, later, reach=3.0):
     m = len(union)
     # the arc from a corner to the next is at least their chord: where the chord exceeds ``reach`` (with a margin
     # far above the sums' rounding) the loop below stops at once for that corner, with nothing else to do
-    chord = np.hypot(*(P[union[(np.arange(m) + 1) % m]] - P[union]).T)
+    chord = np.hypot(*(P.take(union[(np.arange(m) + 1) % m], axis=0) - P.take(union, axis=0)).T)
     near = np.flatnonzero(chord <= reach * (1.0 + 1e-9)) if m > 1 else np.zeros(0, dtype=np.int64)
     for a in near.tolist():                 # pairs (a, b) with b at most ``reach`` ahead of a
         for step in range(1, m):
@@ -855,7 +857,7 @@ def _release_spread(chosen, turn, arms, closed, spread):
     else:
         valid = (before >= 0) & (after < m)
         before, after = np.maximum(before, 0), np.minimum(after, m - 1)     # np.clip(., 0, m - 1) of each
-    a, b = arms[1][before], arms[3][after]
+    a, b = arms[1].take(before, axis=0), arms[3].take(after, axis=0)
     wide = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
     alone = _nearest_other_gap(chosen, m, closed) > 2 * reach
     j = turn[chosen]
@@ -904,7 +906,7 @@ def _locate(P, arc, perimeter, pos, at, arms, size, closed):
     within = along <= 3.0
     apex = _line_intersection(*arms)
     apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - at).T) <= 3.0) & (size < 100.0)
-    gap_to_apex = np.hypot(*(P[around] - apex[:, None, :]).transpose(2, 0, 1))
+    gap_to_apex = np.hypot(*(P.take(around, axis=0) - apex[:, None, :]).transpose(2, 0, 1))
     near_apex = around[rows, _nearest_within(gap_to_apex, within)]
     a, b = arms[1], arms[3]
     outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex

@@ -466,7 +466,8 @@ def tip_estimates(contour, angle, radius, measured=None):
     wanted &= ~pixel
     if not wanted.any():
         return _with_pinholes(contour, angle, pixel, *_with_pixel_corners(
-            contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan), _outside(contour, vertex.compress(pixel, axis=0))))
+            contour, pixel, vertex, start, estimate, anchors, np.full(count, np.nan),
+            _outside(contour, vertex.compress(pixel, axis=0))))
     pairs = pixel_pairs(contour.points)
     if pairs is None:
         one_short[:] = False

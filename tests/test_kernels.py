@@ -530,6 +530,40 @@ def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols
     np.testing.assert_array_equal(got, _segment_distances(points, segments))
 
 
+def _crack_midpoints(mask):
+    """The midpoints of every crack between an ink and a paper pixel of ``mask`` (outside is paper), in the
+    pixel frame (``x = column + 0.5``): one integer and one half-integer coordinate."""
+    padded = np.pad(mask, 1)
+    rows, cols = np.nonzero(padded[1:, :] != padded[:-1, :])  # between padded rows r and r + 1: y = r
+    across = np.nonzero(padded[:, 1:] != padded[:, :-1])  # between padded columns c and c + 1: x = c
+    return np.concatenate([np.column_stack([cols - 1 + 0.5, rows.astype(float)]),
+                           np.column_stack([across[1].astype(float), across[0] - 1 + 0.5])])
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40))
+def test_iso_line_distance_of_crack_midpoints_and_grid_points_is_the_nearest_edge(seed, rows, cols):
+    """Crack midpoints (the trace's points: on a grid line of the smoothed values, where the ring search skips
+    the cells no nearer than the nearest segment so far), pixel corners and pixel centres (exactly as far from
+    several cells): the distance to the nearest segment of ``find_contours``, bit for bit."""
+    from scipy.ndimage import gaussian_filter
+    from skimage.measure import find_contours
+
+    from splinecraft.capture.fitting import _iso_kernels
+
+    mask = _random_mask(seed, (rows, cols))
+    grid = np.stack(np.meshgrid(np.arange(-2.0, cols + 3.0, 0.5), np.arange(-2.0, rows + 3.0, 0.5)), -1).reshape(-1, 2)
+    points = np.concatenate([_crack_midpoints(mask), grid])
+    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4)
+    lines = find_contours(gaussian_filter(np.pad(mask.astype(float), 4), 1.0), 0.5)
+    if not lines:
+        assert got is None
+        return
+    segments = np.concatenate([np.column_stack([line[:-1, 1] - 4 + 0.5, line[:-1, 0] - 4 + 0.5,
+                                                line[1:, 1] - 4 + 0.5, line[1:, 0] - 4 + 0.5]) for line in lines])
+    np.testing.assert_array_equal(got, _segment_distances(points, segments))
+
+
 def test_iso_line_distance_of_a_hairline_is_none_and_of_a_square_its_closed_form():
     """A 1-px line smoothed by a 1-px Gaussian never reaches 0.5 (no iso-line: ``None``); the iso-line of a
     large square passes through the middle of its edges, so a point on the crack outline there is at ~0."""

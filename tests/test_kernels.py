@@ -431,11 +431,13 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     call (no Python wrapper) have no cache entry of their own: their callers' entries hold their code."""
     from numba.core.registry import CPUDispatcher
 
+    from splinecraft.capture import _pixel_corners
     from splinecraft.capture.corners import _jump_kernels
     from splinecraft.capture.fitting import _iso_kernels
 
     expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
-                _iso_kernels: {"_smoothed", "_nearest_into"}, _jump_kernels: {"_window_fit", "_arm_lines_into"}}
+                _iso_kernels: {"_smoothed", "_nearest_into"}, _jump_kernels: {"_window_fit", "_arm_lines_into"},
+                _pixel_corners: {"_pixel_corners_into"}}
     for module, names in expected.items():
         loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}
         assert names <= set(loops), (module.__name__, sorted(loops))

@@ -437,3 +437,22 @@ def test_thin_feature_pixels_are_those_of_the_ndimage_opening(seed, rows, cols, 
     mask = gaussian_filter(rng.random((rows, cols)), blur) > 0.5 if blur > 0.3 else rng.random((rows, cols)) > 0.5
     np.testing.assert_array_equal(thin_feature_pixels(mask, min_area=min_area),
                                   _thin_feature_pixels_by_ndimage(mask, min_area))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 4000), st.sampled_from([99.5, 0.0, 50.0, 100.0, 12.345, 99.99]),
+       st.sampled_from(["uniform", "ties", "wide", "nan"]))
+def test_percentile_is_numpys_bit_for_bit(seed, size, percent, values):
+    """The noise estimate's percentile (one partition at the two order statistics numpy interpolates) is
+    ``np.percentile``'s, bit for bit: any count, ties, values over many magnitudes, a NaN (then NaN)."""
+    from splinecraft.capture.fitting.noise import _percentile
+
+    rng = np.random.default_rng(seed)
+    data = {"uniform": lambda: rng.random(size), "ties": lambda: rng.integers(0, 4, size) * 0.25,
+            "wide": lambda: np.exp(rng.normal(0.0, 30.0, size)), "nan": lambda: rng.random(size)}[values]()
+    if values == "nan":
+        data[rng.integers(0, size)] = np.nan
+    expected = float(np.percentile(data, percent))
+    got = _percentile(data.copy(), percent)
+    assert got == expected or (np.isnan(got) and np.isnan(expected)), (got, expected)
+    assert type(got) is float

@@ -178,7 +178,29 @@ def boundary_noise(mask, contours, corner_lists) -> float:
     distances = iso_line_distance(kept, mask, NOISE_SIGMA, 4)
     if distances is None:  # the smoothed bitmap never reaches the level (hairlines only)
         return 0.0
-    return float(np.percentile(distances, NOISE_QUANTILE))
+    return _percentile(distances, NOISE_QUANTILE)
+
+
+def _percentile(values, percent):
+    """``float(np.percentile(values, percent))`` of a 1-D float array (numpy's default method, ``"linear"``: the
+    two order statistics around the virtual index ``(n - 1) q`` interpolated as ``numpy.lib``'s ``_lerp`` does),
+    bit for bit, from one ``partition`` of ``values`` in place (its order is lost) at those two and the last
+    (a NaN sorts last, and then is the result): 3 us where ``np.percentile`` took 22 on 3000 values."""
+    last = values.shape[0] - 1
+    virtual = last * (percent / 100)
+    if virtual >= last:  # numpy's index -1 for both, and its gamma measured from there
+        below, above, gamma = last, last, virtual + 1
+    elif virtual < 0:
+        below, above, gamma = 0, 0, virtual
+    else:
+        below = int(np.floor(virtual))
+        above, gamma = below + 1, virtual - below
+    values.partition(sorted({below, above, last}))
+    if np.isnan(values[last]):
+        return float(values[last])
+    low, high = float(values[below]), float(values[above])
+    difference = high - low
+    return high - difference * (1 - gamma) if gamma >= 0.5 else low + difference * gamma
 
 
 def noise_tolerance(epsilon, noise, factor=NOISE_FACTOR):

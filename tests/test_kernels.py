@@ -507,22 +507,13 @@ def _segment_distances(points, segments):
     return np.sqrt(dx * dx + dy * dy).min(axis=1)
 
 
-@settings(max_examples=30, deadline=None)
-@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40), st.sampled_from([16, 64]))
-def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols, side):
-    """The distance to the nearest segment of ``skimage.measure.find_contours`` on the smoothed, padded
-    bitmap (its polylines cut into edges, in the pixel frame ``x = column - 4 + 0.5``), bit for bit, for points
-    on and far off the boundaries, whatever the side of the kernel's caches (16: smaller than the padded image);
-    ``None`` exactly when find_contours finds nothing."""
+def _assert_nearest_edges_of_find_contours(got, points, mask):
+    """``got`` is the distance from each point to the nearest segment of ``skimage.measure.find_contours`` at 0.5
+    on ``gaussian_filter(np.pad(mask, 4), 1.0)`` (its polylines cut into edges, in the pixel frame
+    ``x = column - 4 + 0.5``), bit for bit; ``None`` exactly when find_contours finds nothing."""
     from scipy.ndimage import gaussian_filter
     from skimage.measure import find_contours
 
-    from splinecraft.capture.fitting import _iso_kernels
-
-    mask = _random_mask(seed, (rows, cols))
-    rng = np.random.default_rng(seed + 1)
-    points = rng.uniform(-6, max(rows, cols) + 6, size=(60, 2))
-    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4, cache_side=side)
     lines = find_contours(gaussian_filter(np.pad(mask.astype(float), 4), 1.0), 0.5)
     if not lines:
         assert got is None
@@ -530,6 +521,22 @@ def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols
     segments = np.concatenate([np.column_stack([line[:-1, 1] - 4 + 0.5, line[:-1, 0] - 4 + 0.5,
                                                 line[1:, 1] - 4 + 0.5, line[1:, 0] - 4 + 0.5]) for line in lines])
     np.testing.assert_array_equal(got, _segment_distances(points, segments))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40), st.sampled_from([16, 64]))
+def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols, side):
+    """The distance to the nearest segment of ``skimage.measure.find_contours`` on the smoothed, padded
+    bitmap (its polylines cut into edges, in the pixel frame ``x = column - 4 + 0.5``), bit for bit, for points
+    on and far off the boundaries, whatever the side of the kernel's caches (16: smaller than the padded image);
+    ``None`` exactly when find_contours finds nothing."""
+    from splinecraft.capture.fitting import _iso_kernels
+
+    mask = _random_mask(seed, (rows, cols))
+    rng = np.random.default_rng(seed + 1)
+    points = rng.uniform(-6, max(rows, cols) + 6, size=(60, 2))
+    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4, cache_side=side)
+    _assert_nearest_edges_of_find_contours(got, points, mask)
 
 
 def _crack_midpoints(mask):
@@ -548,22 +555,13 @@ def test_iso_line_distance_of_crack_midpoints_and_grid_points_is_the_nearest_edg
     """Crack midpoints (the trace's points: on a grid line of the smoothed values, where the ring search skips
     the cells no nearer than the nearest segment so far), pixel corners and pixel centres (exactly as far from
     several cells): the distance to the nearest segment of ``find_contours``, bit for bit."""
-    from scipy.ndimage import gaussian_filter
-    from skimage.measure import find_contours
-
     from splinecraft.capture.fitting import _iso_kernels
 
     mask = _random_mask(seed, (rows, cols))
-    grid = np.stack(np.meshgrid(np.arange(-2.0, cols + 3.0, 0.5), np.arange(-2.0, rows + 3.0, 0.5)), -1).reshape(-1, 2)
-    points = np.concatenate([_crack_midpoints(mask), grid])
+    grid = np.stack(np.meshgrid(np.arange(-2.0, cols + 3.0, 0.5), np.arange(-2.0, rows + 3.0, 0.5)), -1)
+    points = np.concatenate([_crack_midpoints(mask), grid.reshape(-1, 2)])
     got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4)
-    lines = find_contours(gaussian_filter(np.pad(mask.astype(float), 4), 1.0), 0.5)
-    if not lines:
-        assert got is None
-        return
-    segments = np.concatenate([np.column_stack([line[:-1, 1] - 4 + 0.5, line[:-1, 0] - 4 + 0.5,
-                                                line[1:, 1] - 4 + 0.5, line[1:, 0] - 4 + 0.5]) for line in lines])
-    np.testing.assert_array_equal(got, _segment_distances(points, segments))
+    _assert_nearest_edges_of_find_contours(got, points, mask)
 
 
 def test_iso_line_distance_of_a_hairline_is_none_and_of_a_square_its_closed_form():

@@ -102,23 +102,32 @@ def thin_feature_pixels(mask, min_area=THIN_AREA):
     ``min_area`` pixels (a bump or notch of noise is smaller)."""
     mask = np.asarray(mask, dtype=bool)
     out = np.zeros(mask.shape, bool)
+    # few pixels: the pieces are labelled, sized and marked at these only, on the thin pixels' own rows and
+    # columns, every gap between two of them narrowed to one empty row or column: two pixels are neighbours there
+    # exactly when they are here. The ink's and the paper's in one labelling, the paper's rows after the ink's and
+    # an empty one (no piece joins the two)
+    rows, cols, at_rows, at_cols, first = [], [], [], [], 0
     for thin in _thin_ink_and_paper(mask):
         if np.count_nonzero(thin) < min_area:  # no piece can be large enough
             continue
-        # few pixels: the pieces are labelled, sized and marked at these only (found in the rows that have any)
-        rows = np.flatnonzero(thin.any(axis=1))
-        at, cols = np.nonzero(thin[rows])
-        rows, cols = rows[at], cols - 1  # (thin has a column of paper on either side)
-        # labelled on the thin pixels' own rows and columns, every gap between two of them narrowed to one
-        # empty row or column: two pixels are neighbours there exactly when they are here
-        at_row, at_col = _close_gaps(rows, mask.shape[0]), _close_gaps(cols, mask.shape[1])
-        packed = np.zeros((at_row.max() + 1, at_col.max() + 1), bool)
-        packed[at_row, at_col] = True
-        labels, count = ndimage.label(packed, structure=_SQUARE)
-        label = labels[at_row, at_col]
-        large = np.bincount(label, minlength=count + 1) >= min_area
-        hit = large[label]
-        out[rows[hit], cols[hit]] = True
+        row, col = np.divmod(np.flatnonzero(thin), thin.shape[1])  # (sorted by row)
+        col -= 1  # (thin has a column of paper on either side)
+        rows.append(row)
+        cols.append(col)
+        at_rows.append(_close_gaps(row, mask.shape[0]) + first)
+        at_cols.append(_close_gaps(col, mask.shape[1]))
+        first = at_rows[-1][-1] + 2
+    if not rows:
+        return out
+    rows, cols = np.concatenate(rows), np.concatenate(cols)
+    at_row, at_col = np.concatenate(at_rows), np.concatenate(at_cols)
+    packed = np.zeros((first - 1, at_col.max() + 1), bool)
+    packed[at_row, at_col] = True
+    labels, count = ndimage.label(packed, structure=_SQUARE)
+    label = labels[at_row, at_col]
+    large = np.bincount(label, minlength=count + 1) >= min_area
+    hit = large[label]
+    out[rows[hit], cols[hit]] = True
     return out
 
 

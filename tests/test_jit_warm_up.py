@@ -49,9 +49,9 @@ def test_plan_finishes_as_early_as_any_split(cold, processes):
 
 
 def test_plan_of_the_trace_tasks_beats_longest_first():
-    """The default trace's six tasks on two processes: the planned split finishes no later than longest first
+    """The default trace's seven tasks on two processes: the planned split finishes no later than longest first
     (each task to the process that would finish it earliest), and within the smallest task of each other."""
-    tasks = _jit.TRACE_TASKS + ("merge", "corners")
+    tasks = _jit.TRACE_TASKS + ("merge", "corners", "pixel corners")
     loads, greedy = [0.0, _jit.HELPER_START], [[], []]
     for name in sorted(tasks, key=lambda task: -_jit.WARM_UP_TASKS[task][3]):
         at = 0 if loads[0] <= loads[1] else 1
@@ -63,7 +63,8 @@ def test_plan_of_the_trace_tasks_beats_longest_first():
 
 
 @pytest.mark.parametrize("task, kernels", [("corners", "splinecraft.capture.corners._jump_kernels"),
-                                           ("noise", "splinecraft.capture.fitting._iso_kernels")])
+                                           ("noise", "splinecraft.capture.fitting._iso_kernels"),
+                                           ("pixel corners", "splinecraft.capture._pixel_corners")])
 def test_the_helper_imports_only_its_kernel_modules(tmp_path, task, kernels):
     """The helper's program registers bare parent packages: compiling the corner kernels imports neither the
     trace, the fit nor the corner detectors, nor scipy's image modules (the noise estimate's warm-up compiles
@@ -104,9 +105,9 @@ def test_the_helper_passes_numba_s_blas_check_without_scipy_linalg(tmp_path):
 
 
 def test_plan_balances_the_trace_tasks_between_two_processes():
-    """The default trace's six tasks on two processes: each gets about half of the compile (the helper's
+    """The default trace's seven tasks on two processes: each gets about half of the compile (the helper's
     start included), far less than all of it."""
-    tasks = _jit.TRACE_TASKS + ("merge", "corners")
+    tasks = _jit.TRACE_TASKS + ("merge", "corners", "pixel corners")
     mine, theirs = _jit.plan(tasks, 2)
     weight = {name: task[3] for name, task in _jit.WARM_UP_TASKS.items()}
     total = sum(weight[name] for name in tasks)
@@ -369,7 +370,7 @@ def test_cold_first_trace_compiles_in_two_processes_with_the_same_result(tmp_pat
     mask[8:32, 10:50] = True
     mask[14:26, 20:30] = False
     assert child["svg"] == sc.trace(mask).to_svg()
-    needed = set(_jit.TRACE_TASKS) | {"merge", "corners"}
+    needed = set(_jit.TRACE_TASKS) | {"merge", "corners", "pixel corners"}
     assert set(child["last"]["cold"]) == needed
     assert len(child["last"]["helpers"]) == 1 and child["last"]["helpers"][0]
     assert not child["last"]["failed"]

@@ -431,12 +431,14 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     call (no Python wrapper) have no cache entry of their own: their callers' entries hold their code."""
     from numba.core.registry import CPUDispatcher
 
+    from splinecraft.capture import _pixel_corners
     from splinecraft.capture.corners import _jump_kernels
     from splinecraft.capture.fitting import _iso_kernels
 
     expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
                 _iso_kernels: {"_smoothed", "_nearest_into"},
-                _jump_kernels: {"_window_fit", "_prefix_moments", "_moment_verdict", "_arm_lines_into"}}
+                _jump_kernels: {"_window_fit", "_prefix_moments", "_moment_verdict", "_arm_lines_into"},
+                _pixel_corners: {"_pixel_corners_into"}}
     for module, names in expected.items():
         loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}
         assert names <= set(loops), (module.__name__, sorted(loops))
@@ -506,22 +508,13 @@ def _segment_distances(points, segments):
     return np.sqrt(dx * dx + dy * dy).min(axis=1)
 
 
-@settings(max_examples=30, deadline=None)
-@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40), st.sampled_from([16, 64]))
-def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols, side):
-    """The distance to the nearest segment of ``skimage.measure.find_contours`` on the smoothed, padded
-    bitmap (its polylines cut into edges, in the pixel frame ``x = column - 4 + 0.5``), bit for bit, for points
-    on and far off the boundaries, whatever the side of the kernel's caches (16: smaller than the padded image);
-    ``None`` exactly when find_contours finds nothing."""
+def _assert_nearest_edges_of_find_contours(got, points, mask):
+    """``got`` is the distance from each point to the nearest segment of ``skimage.measure.find_contours`` at 0.5
+    on ``gaussian_filter(np.pad(mask, 4), 1.0)`` (its polylines cut into edges, in the pixel frame
+    ``x = column - 4 + 0.5``), bit for bit; ``None`` exactly when find_contours finds nothing."""
     from scipy.ndimage import gaussian_filter
     from skimage.measure import find_contours
 
-    from splinecraft.capture.fitting import _iso_kernels
-
-    mask = _random_mask(seed, (rows, cols))
-    rng = np.random.default_rng(seed + 1)
-    points = rng.uniform(-6, max(rows, cols) + 6, size=(60, 2))
-    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4, cache_side=side)
     lines = find_contours(gaussian_filter(np.pad(mask.astype(float), 4), 1.0), 0.5)
     if not lines:
         assert got is None
@@ -529,6 +522,47 @@ def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols
     segments = np.concatenate([np.column_stack([line[:-1, 1] - 4 + 0.5, line[:-1, 0] - 4 + 0.5,
                                                 line[1:, 1] - 4 + 0.5, line[1:, 0] - 4 + 0.5]) for line in lines])
     np.testing.assert_array_equal(got, _segment_distances(points, segments))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40), st.sampled_from([16, 64]))
+def test_iso_line_distance_is_the_nearest_edge_of_find_contours(seed, rows, cols, side):
+    """The distance to the nearest segment of ``skimage.measure.find_contours`` on the smoothed, padded
+    bitmap (its polylines cut into edges, in the pixel frame ``x = column - 4 + 0.5``), bit for bit, for points
+    on and far off the boundaries, whatever the side of the kernel's caches (16: smaller than the padded image);
+    ``None`` exactly when find_contours finds nothing."""
+    from splinecraft.capture.fitting import _iso_kernels
+
+    mask = _random_mask(seed, (rows, cols))
+    rng = np.random.default_rng(seed + 1)
+    points = rng.uniform(-6, max(rows, cols) + 6, size=(60, 2))
+    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4, cache_side=side)
+    _assert_nearest_edges_of_find_contours(got, points, mask)
+
+
+def _crack_midpoints(mask):
+    """The midpoints of every crack between an ink and a paper pixel of ``mask`` (outside is paper), in the
+    pixel frame (``x = column + 0.5``): one integer and one half-integer coordinate."""
+    padded = np.pad(mask, 1)
+    rows, cols = np.nonzero(padded[1:, :] != padded[:-1, :])  # between padded rows r and r + 1: y = r
+    across = np.nonzero(padded[:, 1:] != padded[:, :-1])  # between padded columns c and c + 1: x = c
+    return np.concatenate([np.column_stack([cols - 1 + 0.5, rows.astype(float)]),
+                           np.column_stack([across[1].astype(float), across[0] - 1 + 0.5])])
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 10_000), st.integers(2, 40), st.integers(2, 40))
+def test_iso_line_distance_of_crack_midpoints_and_grid_points_is_the_nearest_edge(seed, rows, cols):
+    """Crack midpoints (the trace's points: on a grid line of the smoothed values, where the ring search skips
+    the cells no nearer than the nearest segment so far), pixel corners and pixel centres (exactly as far from
+    several cells): the distance to the nearest segment of ``find_contours``, bit for bit."""
+    from splinecraft.capture.fitting import _iso_kernels
+
+    mask = _random_mask(seed, (rows, cols))
+    grid = np.stack(np.meshgrid(np.arange(-2.0, cols + 3.0, 0.5), np.arange(-2.0, rows + 3.0, 0.5)), -1)
+    points = np.concatenate([_crack_midpoints(mask), grid.reshape(-1, 2)])
+    got = _iso_kernels.iso_line_distance(points, mask, 1.0, 4)
+    _assert_nearest_edges_of_find_contours(got, points, mask)
 
 
 def test_iso_line_distance_of_a_hairline_is_none_and_of_a_square_its_closed_form():

@@ -11,8 +11,8 @@ import pytest
 from hypothesis import example, given, settings, strategies as st
 
 import splinecraft as sc
-from splinecraft.capture._pixel_corners import (MIN_RUN, corner_vertices, merge_pixel_corners, outline_pixel_corners,
-                                                pixel_corners, pixel_corners_of_outlines)
+from splinecraft.capture._pixel_corners import (MIN_RUN, MIN_TREAD, corner_vertices, merge_pixel_corners,
+                                                outline_pixel_corners, pixel_corners, pixel_corners_of_outlines)
 from splinecraft.capture.contour import trace_boundaries
 from splinecraft.capture.corners import check_params, tangent_jump
 from splinecraft.spline.segment import bezier_signed_area
@@ -310,6 +310,166 @@ def test_pixel_corners_of_a_batch_are_those_of_each_outline(seed):
         start += len(points)
 
 
+UNIT_STEPS = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
+REACH = 7  # the rules look at most this many runs either way from a run
+
+
+def numpy_pixel_corners(points, lengths):
+    """:func:`~splinecraft.capture._pixel_corners.pixel_corners` as the vectorized numpy formulation that the
+    kernel replaced (session 29) states it, verbatim but for the names of its constants."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
+    total = points.shape[0]
+    at = np.zeros(total, bool)
+    vertex = np.full((total, 2), np.nan)
+    if total == 0:
+        return at, vertex
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    outline = np.repeat(np.arange(lengths.shape[0]), lengths)
+    local = np.arange(total) - offsets[outline]
+    n = lengths[outline]
+    prev = offsets[outline] + (local - 1) % n
+    nxt = offsets[outline] + (local + 1) % n
+    # a crack midpoint has one integer and one half-integer coordinate; its direction of travel points from
+    # the point before it towards the point after it along its own axis
+    frac = np.abs(points - np.floor(points))
+    horizontal = (frac[:, 1] == 0.0) & (frac[:, 0] == 0.5)
+    vertical = (frac[:, 0] == 0.0) & (frac[:, 1] == 0.5)
+    travel = points.take(nxt, axis=0) - points.take(prev, axis=0)  # (take: numpy 2.4's row indexing is 5-15x slower)
+    code = np.where(horizontal, np.where(travel[:, 0] > 0, 0, 2), np.where(travel[:, 1] > 0, 1, 3))
+    unit = UNIT_STEPS.take(code, axis=0)
+    # a closed chain of unit cracks: each crack starts where the one before it ends
+    chained = (horizontal | vertical) & np.all((points + 0.5 * unit).take(prev, axis=0) == points - 0.5 * unit, axis=1)
+    good = np.bincount(outline[~chained], minlength=lengths.shape[0]) == 0
+    good &= lengths >= 4
+    if not good.any():
+        return at, vertex
+    # runs of cracks of one direction: run starts, and per outline its runs in order (cyclically)
+    start = good[outline] & (code != code[prev])
+    first = np.flatnonzero(start)  # global index of every run's first crack, sorted (by outline, then index)
+    run_outline = outline[first]
+    count = np.bincount(run_outline, minlength=lengths.shape[0])
+    run_offset = np.concatenate([[0], np.cumsum(count)[:-1]])
+    j = np.arange(first.shape[0]) - run_offset[run_outline]  # a run's rank in its outline
+    k = count[run_outline]
+    # the runs REACH places before each run to REACH places after it, within its outline (column REACH + m: the
+    # run m places after, negative m before), and their lengths and directions
+    around = run_offset[run_outline][:, None] + (j[:, None] + np.arange(-REACH, REACH + 1)[None, :]) % k[:, None]
+    following = first[around[:, REACH + 1]]
+    length = (following - first) % lengths[run_outline]
+    length = np.where(length == 0, lengths[run_outline], length)
+    direction = code[first]
+    lengths_at, directions_at = length[around], direction[around]
+
+    def length_of(m):
+        return lengths_at[:, REACH + m]
+
+    def direction_of(m):
+        return directions_at[:, REACH + m]
+
+    def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
+        continues = (length_of(m + way) == 1) & (direction_of(m + 2 * way) == direction_of(m))
+        # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond`` or the
+        # one after it, with a step at both ends) of MIN_TREAD cracks or more: the runs of a digital straight
+        # segment differ by at most one and its end runs can only be shorter, so the run is then no tread of an
+        # off-axis side but a straight side of its own, from which the outline bends away gently (a flat side
+        # running into a curve; a round end of a few pixels turns through treads of single cracks)
+        whole = (length_of(m + 3 * way) == 1) & (direction_of(m + 4 * way) == direction_of(m))
+        # the longer of the first two whole treads (the first can be a crack or two short with the phase of
+        # the pixels: 2, 3 beside a bowl of radius 24)
+        second = whole & (length_of(m + 5 * way) == 1) & (direction_of(m + 6 * way) == direction_of(m))
+        tread_length = np.maximum(length_of(m + 2 * way), np.where(second, length_of(m + 4 * way), 0))
+        flat = whole & (tread_length >= MIN_TREAD) & (length_of(m) > tread_length + 1)
+        return continues & ~flat
+
+    # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
+    before_tread = tread(-1, -1)  # (used twice)
+    corner = (length_of(-1) >= MIN_RUN) & (length >= MIN_RUN)
+    corner &= ~before_tread & ~tread(0, 1)
+    # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the opposite
+    # ways round (a U-turn), each of them not a staircase's tread at its far end; both of its vertices
+    end = (length < MIN_RUN) & (length_of(-1) >= MIN_RUN) & (length_of(1) >= MIN_RUN)
+    end &= direction_of(-1) == (direction_of(1) + 2) % 4
+    end &= ~before_tread & ~tread(1, 1)
+    end &= k >= 4
+    corner |= end
+    corner[around[:, REACH + 1][end]] = True
+    # a block (four runs: the crack outline is a rectangle) of any size: its four vertices. Below 3 x 3 pixels
+    # the runs are too short for the rules above, yet no other shape renders as a rectangle that small
+    corner |= k == 4
+    corner &= k >= 4
+    index = first[corner]
+    at[index] = True
+    vertex[index] = points.take(index, axis=0) - 0.5 * unit.take(index, axis=0)
+    return at, vertex
+
+
+def random_crack_outlines(seed, count):
+    """Closed crack outlines of random bitmaps of ``count`` kinds (specks, blocks and strokes of every width, noisy
+    blobs, staircases), each read from a random point, some of them reversed or broken (a point moved off its
+    crack, a crack left out, a point not on a crack: no pixel corners), stacked with outlines of 0-3 points."""
+    from scipy.ndimage import gaussian_filter
+
+    rng = np.random.default_rng(seed)
+    outlines = []
+    for _ in range(count):
+        size = int(rng.integers(3, 40))
+        kind = rng.integers(0, 3)
+        if kind == 0:
+            mask = random_blocks(int(rng.integers(0, 10 ** 6)), size=size + 6, count=int(rng.integers(1, 6)),
+                                 largest=int(rng.integers(1, 9)))
+        elif kind == 1:
+            mask = gaussian_filter(rng.random((size, size)), rng.uniform(0.0, 3.0)) > rng.uniform(0.3, 0.7)
+        else:  # a staircase or a thin slanted stroke
+            y, x = np.mgrid[0:size, 0:size]
+            mask = np.abs(y - rng.uniform(-1, 1) * x - size / 4) <= rng.uniform(0.5, size / 3)
+        for points in outline_of(mask):
+            points = np.roll(points, -int(rng.integers(0, len(points))), axis=0)
+            if rng.random() < 0.2:
+                points = points[::-1]
+            change = rng.random()
+            if change < 0.05:
+                points = np.delete(points, int(rng.integers(0, len(points))), axis=0)
+            elif change < 0.1:
+                points = points.copy()
+                points[int(rng.integers(0, len(points)))] += rng.choice([0.25, 1.0, 0.5])
+            outlines.append(np.ascontiguousarray(points, float))
+    for short in range(4):
+        outlines.insert(int(rng.integers(0, len(outlines) + 1)), np.array([[0.5, 0.0], [1.0, 0.5], [0.5, 1.0]])[:short])
+    return outlines
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10 ** 6), st.integers(1, 8))
+def test_pixel_corners_are_those_of_the_numpy_formulation(seed, count):
+    """The compiled pass gives the pixel corners and vertices of the vectorized numpy formulation it replaced, bit
+    for bit, on random crack outlines stacked (blocks, strokes, blobs, staircases; reversed, rotated, broken),
+    through every entry point: :func:`pixel_corners`, :func:`outline_pixel_corners` and
+    :func:`pixel_corners_of_outlines`."""
+    outlines = random_crack_outlines(seed, count)
+    points, lengths = np.concatenate(outlines), [len(o) for o in outlines]
+    expected_at, expected_vertex = numpy_pixel_corners(points, lengths)
+    at, vertex = pixel_corners(points, lengths)
+    np.testing.assert_array_equal(at, expected_at)
+    np.testing.assert_array_equal(vertex, expected_vertex)
+    starts = np.cumsum(lengths) - lengths
+    for own, found, start in zip(outlines, pixel_corners_of_outlines(outlines), starts):
+        index = np.flatnonzero(expected_at[start:start + len(own)])
+        np.testing.assert_array_equal(found.index, index)
+        np.testing.assert_array_equal(found.vertex, expected_vertex[start + index])
+        alone = outline_pixel_corners(own)
+        np.testing.assert_array_equal(alone.index, index)
+        np.testing.assert_array_equal(alone.vertex, expected_vertex[start + index])
+
+
+def test_pixel_corners_refuse_lengths_that_do_not_add_up():
+    """The lengths must cover the points exactly (the compiled pass reads the outlines by them)."""
+    (points,) = outline_of(block(3, 4))
+    for lengths in ([len(points) - 1], [len(points) + 1], [len(points) + 2, -2]):
+        with pytest.raises(ValueError, match="lengths"):
+            pixel_corners(points, lengths)
+
+
 def crack_runs(points):
     """The runs of a closed crack outline, by a plain loop: ``(first point, length, direction code)`` in order, the
     direction codes of :mod:`splinecraft.capture._pixel_corners` (0 +x, 1 +y, 2 -x, 3 -y)."""
@@ -416,7 +576,7 @@ def test_trace_finds_the_pixel_corners_once_and_the_fit_uses_them(monkeypatch):
     import splinecraft.capture._pixel_corners as module
     from splinecraft.capture.fitting import small, tips
 
-    original_corners, original_vertices = module.pixel_corners, module.corner_vertices
+    original_corners, original_vertices = module._corners, module.corner_vertices  # (every lookup's compiled pass)
     found_calls, lookups = [], []
 
     def counting(points, lengths):
@@ -429,7 +589,7 @@ def test_trace_finds_the_pixel_corners_once_and_the_fit_uses_them(monkeypatch):
         np.testing.assert_array_equal(got, original_vertices(points, lengths, outline, corners))
         return got
 
-    monkeypatch.setattr(module, "pixel_corners", counting)
+    monkeypatch.setattr(module, "_corners", counting)
     monkeypatch.setattr(tips, "corner_vertices", checking)
     monkeypatch.setattr(small, "corner_vertices", checking)
     result = sc.trace(_blocks_and_wedge(), time_budget=None)

@@ -408,3 +408,51 @@ def test_stroke_ends_of_a_noisy_bitmap_are_not_pixel_corners():
     clean = np.zeros((40, 40), bool)
     clean[20:22, 20:34] = True
     assert len(trace(clean, keep_snapshots=False).corners[0]) == 4
+
+
+def _thin_feature_pixels_by_ndimage(mask, min_area):
+    """:func:`thin_feature_pixels` as scipy.ndimage states it: each region less its opening by the 3 x 3 cross
+    (ink continued by no ink beyond the border, paper by paper), in 8-connected pieces of ``min_area`` or more."""
+    from scipy import ndimage
+
+    cross = ndimage.generate_binary_structure(2, 1)
+    out = np.zeros(mask.shape, bool)
+    for region, outside in ((mask, 0), (~mask, 1)):
+        eroded = ndimage.binary_erosion(region, cross, border_value=outside)
+        thin = region & ~ndimage.binary_dilation(eroded, cross, border_value=outside)
+        labels, _ = ndimage.label(thin, structure=np.ones((3, 3), bool))
+        large = np.bincount(labels.ravel()) >= min_area
+        large[0] = False
+        out |= large[labels]
+    return out
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 40), st.integers(1, 40), st.floats(0.0, 2.0), st.integers(1, 6))
+def test_thin_feature_pixels_are_those_of_the_ndimage_opening(seed, rows, cols, blur, min_area):
+    """The flat, shifted-slice opening and closing of :func:`thin_feature_pixels` mark the pixels of
+    scipy.ndimage's opening by the cross and 8-connected labelling, on random bitmaps from speckled noise to
+    smooth blobs, 1 x 1 to 40 x 40 (hairlines and gaps along the border included)."""
+    rng = np.random.default_rng(seed)
+    mask = gaussian_filter(rng.random((rows, cols)), blur) > 0.5 if blur > 0.3 else rng.random((rows, cols)) > 0.5
+    np.testing.assert_array_equal(thin_feature_pixels(mask, min_area=min_area),
+                                  _thin_feature_pixels_by_ndimage(mask, min_area))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 4000), st.sampled_from([99.5, 0.0, 50.0, 100.0, 12.345, 99.99]),
+       st.sampled_from(["uniform", "ties", "wide", "nan"]))
+def test_percentile_is_numpys_bit_for_bit(seed, size, percent, values):
+    """The noise estimate's percentile (one partition at the two order statistics numpy interpolates) is
+    ``np.percentile``'s, bit for bit: any count, ties, values over many magnitudes, a NaN (then NaN)."""
+    from splinecraft.capture.fitting.noise import _percentile
+
+    rng = np.random.default_rng(seed)
+    data = {"uniform": lambda: rng.random(size), "ties": lambda: rng.integers(0, 4, size) * 0.25,
+            "wide": lambda: np.exp(rng.normal(0.0, 30.0, size)), "nan": lambda: rng.random(size)}[values]()
+    if values == "nan":
+        data[rng.integers(0, size)] = np.nan
+    expected = float(np.percentile(data, percent))
+    got = _percentile(data.copy(), percent)
+    assert got == expected or (np.isnan(got) and np.isnan(expected)), (got, expected)
+    assert type(got) is float

@@ -1,6 +1,6 @@
 """Options of the compiled kernels (:mod:`.fitting._kernels`, :mod:`.fitting._iso_kernels`,
-:mod:`.corners._jump_kernels`, the tracer's :mod:`._cracks` and the polygons of :mod:`.fitting.budget`) and where
-numba caches them.
+:mod:`.corners._jump_kernels`, the tracer's :mod:`._cracks`, the pixel corners of :mod:`._pixel_corners` and the
+polygons of :mod:`.fitting.budget`) and where numba caches them.
 
 numba compiles each kernel on its first call and keeps the machine code on disk (``cache=True``): in the
 ``__pycache__`` folder next to the module, else in the user's cache folder (``~/.cache/numba``), else under
@@ -301,9 +301,11 @@ WARM_UP_TASKS = {
     "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.41),
     "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.52),
     "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.22),
+    "pixel corners": ("_pixel_corners", "warm_up", "_pixel_corners_into", 0.29),
 }
-#: The tasks every trace needs (segment merging and tangent-jump add ``"merge"`` and ``"corners"``; the
-#: polygons of a spent time budget compile where they are used).
+#: The tasks every trace needs (segment merging adds ``"merge"``, tangent-jump ``"corners"`` and ``"pixel corners"``
+#: (session 29: 0.29 s, BENCHMARKS.md, "Session 29: pixel corners and noise estimate speed"); the polygons of a spent
+#: time budget compile where they are used).
 TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
 #: Seconds by which a helper process finishes later than this process with the same share, in the units of
 #: :data:`WARM_UP_TASKS`: the helper's start to the end of numba's set-up of its first compile (Python, numpy,
@@ -323,8 +325,9 @@ HELPER_START = -0.05
 #: call"). -0.25 until session 28, where this process then finished 0.2 s CPU after the helper; at -0.45 both
 #: finish together ("Session 28: cold first call").
 FORKED_HELPER_START = -0.45
-#: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first.
-EXACT_PLAN_SPLITS = 4096
+#: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first. 8192
+#: since session 29: all eight tasks on three processes, 6561 splits, 4 ms.
+EXACT_PLAN_SPLITS = 8192
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.
 HELPER_TIMEOUT = 600.0
 #: What the last :func:`warm_up` of this process did: the tasks found cold, the tasks of each helper, the
@@ -372,7 +375,7 @@ def plan(cold, processes, late=None):
     which starts ``late`` seconds late, by default :data:`HELPER_START`): the split whose finish times, largest
     first, are the least (so the earliest last finish, and no process idle while another has a task it could
     have taken). Every
-    split is tried when there are at most :data:`EXACT_PLAN_SPLITS` (a trace's six tasks on two processes: 64);
+    split is tried when there are at most :data:`EXACT_PLAN_SPLITS` (a trace's seven tasks on two processes: 128);
     beyond, longest first, each to the process that would finish it earliest. Longest first alone splits the
     trace's tasks 3.25 : 3.0 s on two processes where 3.1 : 3.15 exists."""
     processes = max(1, processes)

@@ -32,6 +32,9 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
+
+from ._jit import JIT_OPTIONS, compact, pymax
 
 __all__ = ["MIN_RUN", "MIN_TREAD", "PixelCorners", "pixel_corners", "outline_pixel_corners", "corner_vertices",
            "with_pixel_corners", "merge_pixel_corners", "pixel_corners_of_outlines"]
@@ -45,11 +48,12 @@ MIN_RUN = 3
 #: side can give treads of 2, 2, 2).
 MIN_TREAD = 2
 
-#: Points per call of :func:`pixel_corners` in :func:`pixel_corners_of_outlines` (its temporaries are some 30 arrays of
-#: the points' length: a bounded chunk keeps a noise image of millions of contour points within its memory).
+#: Points per call of the kernel in :func:`pixel_corners_of_outlines` (its points and scratch, some 60 bytes a point:
+#: a bounded chunk keeps a noise image of millions of contour points within its memory).
 CHUNK_POINTS = 1 << 18
 
-_UNIT = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]])  # direction codes 0..3 -> unit step
+# direction codes 0..3 -> half the unit step, x and y (0.5 * (1, 0), (0, 1), (-1, 0), (0, -1): exact)
+_HALF_X, _HALF_Y = np.array([0.5, 0.0, -0.5, 0.0]), np.array([0.0, 0.5, 0.0, -0.5])
 # The rules look at most this many runs either way from a run (a tread rule at run -1 or 1 reaches 6 more).
 _REACH = 7
 
@@ -69,6 +73,128 @@ class PixelCorners(NamedTuple):
         return PixelCorners(index[order], self.vertex.take(order, axis=0))
 
 
+@njit(**JIT_OPTIONS)
+def _pixel_corners_into(points, lengths, code, run_first, run_length, run_direction, flags, hits, vertex):
+    """The pixel corners of the stacked closed outlines (see :func:`pixel_corners`), outline by outline: the global
+    index of the point after each vertex into ``hits`` and the vertex into ``vertex`` (both in the order of the
+    points); returns how many. Scratch: ``code`` (int8) and ``run_first`` (int64) of at least the points' length,
+    ``run_length`` (int64), ``run_direction`` (int8) and ``flags`` (uint8) of ``2 _REACH`` more: an outline's runs
+    from position ``_REACH`` on, the last and the first ``_REACH`` of them (cyclically) copied before and after,
+    so that the rules read their neighbours without wrapping around."""
+    compact()  # run time negligible: code optimized for size (_jit.compact)
+    found = 0
+    offset = 0
+    for outline in range(lengths.shape[0]):
+        n = lengths[outline]
+        offset += n
+        first = offset - n
+        if n < 4:
+            continue
+        # a crack midpoint has one integer and one half-integer coordinate; its direction of travel points from
+        # the point before it towards the point after it along its own axis
+        good = True
+        for i in range(first, offset):
+            x, y = points[i, 0], points[i, 1]
+            frac_x, frac_y = abs(x - np.floor(x)), abs(y - np.floor(y))
+            before = i - 1 if i > first else offset - 1
+            after = i + 1 if i < offset - 1 else first
+            if frac_y == 0.0 and frac_x == 0.5:
+                code[i] = 0 if points[after, 0] - points[before, 0] > 0 else 2
+            elif frac_x == 0.0 and frac_y == 0.5:
+                code[i] = 1 if points[after, 1] - points[before, 1] > 0 else 3
+            else:
+                good = False
+                break
+        if not good:
+            continue
+        # a closed chain of unit cracks: each crack starts where the one before it ends
+        for i in range(first, offset):
+            before = i - 1 if i > first else offset - 1
+            if points[before, 0] + _HALF_X[code[before]] != points[i, 0] - _HALF_X[code[i]] or \
+                    points[before, 1] + _HALF_Y[code[before]] != points[i, 1] - _HALF_Y[code[i]]:
+                good = False
+                break
+        if not good:
+            continue
+        # runs of cracks of one direction, in order: first crack (global index), direction, length
+        count = 0
+        for i in range(first, offset):
+            if code[i] != code[i - 1 if i > first else offset - 1]:
+                run_first[count] = i
+                run_direction[_REACH + count] = code[i]
+                count += 1
+        if count < 4:  # (a closed chain turns at least four times)
+            continue
+        for run in range(count):
+            length = (run_first[run + 1] if run + 1 < count else run_first[0] + n) - run_first[run]
+            run_length[_REACH + run] = length
+        for at in range(count + 2 * _REACH):  # the copies around
+            if at < _REACH or at >= _REACH + count:
+                run_length[at] = run_length[_REACH + (at - _REACH) % count]
+                run_direction[at] = run_direction[_REACH + (at - _REACH) % count]
+        # flags 1 and 2: the run at ``at`` continues at its far end before it (1) or after it (2) as a staircase's
+        # tread (a step of one crack, then a run parallel to it the same way) ...
+        for at in range(_REACH - 1, _REACH + count + 1):
+            flags[at] = 0
+            own = run_direction[at]
+            for side in range(2):
+                way = 2 * side - 1
+                if run_length[at + way] != 1 or run_direction[at + 2 * way] != own:
+                    continue
+                # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond``
+                # or the one after it, with a step at both ends) of MIN_TREAD cracks or more: the runs of a digital
+                # straight segment differ by at most one and its end runs can only be shorter, so the run is then
+                # no tread of an off-axis side but a straight side of its own, from which the outline bends away
+                # gently (a flat side running into a curve; a round end of a few pixels turns through treads of
+                # single cracks)
+                if run_length[at + 3 * way] == 1 and run_direction[at + 4 * way] == own:
+                    # the longer of the first two whole treads (the first can be a crack or two short with the
+                    # phase of the pixels: 2, 3 beside a bowl of radius 24)
+                    tread_length = run_length[at + 2 * way]
+                    if run_length[at + 5 * way] == 1 and run_direction[at + 6 * way] == own:
+                        tread_length = pymax(tread_length, run_length[at + 4 * way])
+                    if tread_length >= MIN_TREAD and run_length[at] > tread_length + 1:
+                        continue
+                flags[at] |= 1 << side
+        # flag 4: the vertex before the run is a pixel corner (the run and the one before it long enough, neither
+        # a staircase's tread); flag 8: the run is the end of a stroke one or two pixels wide, shorter than
+        # MIN_RUN between two long runs the opposite ways round (a U-turn), each of them not a staircase's tread
+        # at its far end: both of its vertices
+        for at in range(_REACH, _REACH + count):
+            if run_length[at - 1] < MIN_RUN or flags[at - 1] & 1:
+                continue
+            if run_length[at] >= MIN_RUN:
+                if not flags[at] & 2:
+                    flags[at] |= 4
+            elif run_length[at + 1] >= MIN_RUN and run_direction[at - 1] == run_direction[at + 1] ^ 2 and \
+                    not flags[at + 1] & 2:
+                flags[at] |= 8
+        # a block (four runs: the crack outline is a rectangle) of any size: its four vertices. Below 3 x 3 pixels
+        # the runs are too short for the rules above, yet no other shape renders as a rectangle that small
+        for at in range(_REACH, _REACH + count):
+            if flags[at] & 12 or flags[at - 1 if at > _REACH else _REACH + count - 1] & 8 or count == 4:
+                i = run_first[at - _REACH]
+                hits[found] = i
+                vertex[found, 0] = points[i, 0] - _HALF_X[code[i]]
+                vertex[found, 1] = points[i, 1] - _HALF_Y[code[i]]
+                found += 1
+    return found
+
+
+def _corners(points, lengths):
+    """The pixel corners of closed crack outlines stacked one after the other (``points`` ``(N, 2)`` float64,
+    ``lengths`` int64): the global indices of the points after them, sorted, and the vertices (``(k, 2)``)."""
+    total = points.shape[0]
+    if lengths.size and (lengths.min() < 0 or int(lengths.sum()) != total):
+        raise ValueError(f"lengths: must be non-negative and sum to the {total} points, got {lengths.tolist()}")
+    hits, vertex = np.empty(total, np.int64), np.empty((total, 2))
+    runs = total + 2 * _REACH
+    found = _pixel_corners_into(points, lengths, np.empty(total, np.int8), np.empty(total, np.int64),
+                                np.empty(runs, np.int64), np.empty(runs, np.int8), np.empty(runs, np.uint8),
+                                hits, vertex)
+    return hits[:found], vertex[:found]
+
+
 def pixel_corners(points, lengths):
     """Pixel corners of closed crack outlines stacked one after the other (``points`` ``(N, 2)``, outline
     ``b`` has ``lengths[b]`` points, first point not repeated).
@@ -76,102 +202,25 @@ def pixel_corners(points, lengths):
     Returns ``(at, vertex)``: ``at[i]`` (bool, ``N``) says that the outline turns at a pixel corner between
     its point before ``i`` (cyclically) and point ``i``, and ``vertex[i]`` (``(N, 2)``, NaN elsewhere) is that
     corner, the vertex shared by the two cracks. An outline whose points are not the midpoints of a closed
-    chain of unit cracks gets none. Vectorized over all outlines; an outline's result does not depend on the
-    others."""
-    points = np.asarray(points, float).reshape(-1, 2)
-    lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
-    total = points.shape[0]
-    at = np.zeros(total, bool)
-    vertex = np.full((total, 2), np.nan)
-    if total == 0:
-        return at, vertex
-    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-    outline = np.repeat(np.arange(lengths.shape[0]), lengths)
-    local = np.arange(total) - offsets[outline]
-    n = lengths[outline]
-    prev = offsets[outline] + (local - 1) % n
-    nxt = offsets[outline] + (local + 1) % n
-    # a crack midpoint has one integer and one half-integer coordinate; its direction of travel points from
-    # the point before it towards the point after it along its own axis
-    frac = np.abs(points - np.floor(points))
-    horizontal = (frac[:, 1] == 0.0) & (frac[:, 0] == 0.5)
-    vertical = (frac[:, 0] == 0.0) & (frac[:, 1] == 0.5)
-    travel = points.take(nxt, axis=0) - points.take(prev, axis=0)  # (take: numpy 2.4's row indexing is 5-15x slower)
-    code = np.where(horizontal, np.where(travel[:, 0] > 0, 0, 2), np.where(travel[:, 1] > 0, 1, 3))
-    unit = _UNIT.take(code, axis=0)
-    # a closed chain of unit cracks: each crack starts where the one before it ends
-    chained = (horizontal | vertical) & np.all((points + 0.5 * unit).take(prev, axis=0) == points - 0.5 * unit, axis=1)
-    good = np.bincount(outline[~chained], minlength=lengths.shape[0]) == 0
-    good &= lengths >= 4
-    if not good.any():
-        return at, vertex
-    # runs of cracks of one direction: run starts, and per outline its runs in order (cyclically)
-    start = good[outline] & (code != code[prev])
-    first = np.flatnonzero(start)  # global index of every run's first crack, sorted (by outline, then index)
-    run_outline = outline[first]
-    count = np.bincount(run_outline, minlength=lengths.shape[0])
-    run_offset = np.concatenate([[0], np.cumsum(count)[:-1]])
-    j = np.arange(first.shape[0]) - run_offset[run_outline]  # a run's rank in its outline
-    k = count[run_outline]
-    # the runs REACH places before each run to REACH places after it, within its outline (column REACH + m: the
-    # run m places after, negative m before), and their lengths and directions
-    around = run_offset[run_outline][:, None] + (j[:, None] + np.arange(-_REACH, _REACH + 1)[None, :]) % k[:, None]
-    following = first[around[:, _REACH + 1]]
-    length = (following - first) % lengths[run_outline]
-    length = np.where(length == 0, lengths[run_outline], length)
-    direction = code[first]
-    lengths_at, directions_at = length[around], direction[around]
-
-    def length_of(m):
-        return lengths_at[:, _REACH + m]
-
-    def direction_of(m):
-        return directions_at[:, _REACH + m]
-
-    def tread(m, way):  # run m continues at its far end (way +1: after it, -1: before) as a staircase's tread
-        continues = (length_of(m + way) == 1) & (direction_of(m + 2 * way) == direction_of(m))
-        # ... unless it is longer by more than one crack than a whole tread of that staircase (``beyond`` or the
-        # one after it, with a step at both ends) of MIN_TREAD cracks or more: the runs of a digital straight
-        # segment differ by at most one and its end runs can only be shorter, so the run is then no tread of an
-        # off-axis side but a straight side of its own, from which the outline bends away gently (a flat side
-        # running into a curve; a round end of a few pixels turns through treads of single cracks)
-        whole = (length_of(m + 3 * way) == 1) & (direction_of(m + 4 * way) == direction_of(m))
-        # the longer of the first two whole treads (the first can be a crack or two short with the phase of
-        # the pixels: 2, 3 beside a bowl of radius 24)
-        second = whole & (length_of(m + 5 * way) == 1) & (direction_of(m + 6 * way) == direction_of(m))
-        tread_length = np.maximum(length_of(m + 2 * way), np.where(second, length_of(m + 4 * way), 0))
-        flat = whole & (tread_length >= MIN_TREAD) & (length_of(m) > tread_length + 1)
-        return continues & ~flat
-
-    # the vertex before run j is a pixel corner: runs j - 1 and j long enough, neither a staircase's tread
-    before_tread = tread(-1, -1)  # (used twice)
-    corner = (length_of(-1) >= MIN_RUN) & (length >= MIN_RUN)
-    corner &= ~before_tread & ~tread(0, 1)
-    # the end of a stroke one or two pixels wide: a run shorter than MIN_RUN between two long runs the opposite
-    # ways round (a U-turn), each of them not a staircase's tread at its far end; both of its vertices
-    end = (length < MIN_RUN) & (length_of(-1) >= MIN_RUN) & (length_of(1) >= MIN_RUN)
-    end &= direction_of(-1) == (direction_of(1) + 2) % 4
-    end &= ~before_tread & ~tread(1, 1)
-    end &= k >= 4
-    corner |= end
-    corner[around[:, _REACH + 1][end]] = True
-    # a block (four runs: the crack outline is a rectangle) of any size: its four vertices. Below 3 x 3 pixels
-    # the runs are too short for the rules above, yet no other shape renders as a rectangle that small
-    corner |= k == 4
-    corner &= k >= 4
-    index = first[corner]
+    chain of unit cracks gets none. One compiled pass over the outlines (:func:`_pixel_corners_into`; the
+    vectorized numpy formulation it replaced, some 70 calls, cost 10x more on a 300-px glyph, and
+    ``tests/test_pixel_corners.py`` keeps it and pins the kernel to it); an outline's result does not depend on
+    the others."""
+    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    lengths = np.ascontiguousarray(lengths, dtype=np.int64).reshape(-1)
+    index, vertices = _corners(points, lengths)
+    at = np.zeros(points.shape[0], bool)
+    vertex = np.full((points.shape[0], 2), np.nan)
     at[index] = True
-    vertex[index] = points.take(index, axis=0) - 0.5 * unit.take(index, axis=0)
+    vertex[index] = vertices
     return at, vertex
 
 
 def outline_pixel_corners(points):
     """The :class:`PixelCorners` of one closed crack outline (:func:`pixel_corners`): the sorted indices of the
     points that follow a pixel corner, and those corners (``(k, 2)``)."""
-    points = np.asarray(points, float)
-    at, vertex = pixel_corners(points, [points.shape[0]])
-    index = np.flatnonzero(at)
-    return PixelCorners(index, vertex[index])
+    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+    return PixelCorners(*_corners(points, np.array([points.shape[0]], np.int64)))
 
 
 def corner_vertices(points, lengths, outline, corners, found=None):
@@ -245,12 +294,25 @@ def pixel_corners_of_outlines(points_list):
     first = 0
     while first < len(points_list):
         last = first + max(1, int(np.searchsorted(np.cumsum(lengths[first:]), CHUNK_POINTS, side="right")))
-        at, vertex = pixel_corners(np.concatenate(points_list[first:last]), lengths[first:last])
-        hits = np.flatnonzero(at)  # in the chunk, outline by outline
+        points = np.ascontiguousarray(np.concatenate(points_list[first:last]), dtype=np.float64).reshape(-1, 2)
+        hits, corners = _corners(points, lengths[first:last])  # in the chunk, outline by outline
         offsets = np.cumsum(lengths[first:last]) - lengths[first:last]
         cuts = np.searchsorted(hits, offsets).tolist() + [hits.shape[0]]  # each outline's hits: a slice
-        corners = vertex[hits]
         for b, offset in enumerate(offsets.tolist()):
             found.append(PixelCorners(hits[cuts[b]:cuts[b + 1]] - offset, corners[cuts[b]:cuts[b + 1]]))
         first = last
     return found
+
+
+_WARM = []
+
+
+def warm_up():
+    """Compile or load the kernel once per process (see :func:`.fitting._kernels.warm_up`), on the outline of a
+    3 x 4 block of pixels."""
+    if _WARM:
+        return
+    top = [(x + 0.5, 0.0) for x in range(4)] + [(4.0, y + 0.5) for y in range(3)]
+    bottom = [(x + 0.5, 3.0) for x in range(3, -1, -1)] + [(0.0, y + 0.5) for y in range(2, -1, -1)]
+    _corners(np.array(top + bottom), np.array([14], np.int64))
+    _WARM.append(True)

@@ -278,7 +278,7 @@ def trace(
                                                                      LSQ_DEFAULTS["merge_tolerance"]) > 0:
         tasks += ("merge",)  # where segment merging runs (the default of lsq; merge_tolerance=0 turns it off)
     if settings["corner_method"] == "tangent-jump":
-        tasks += ("corners",)
+        tasks += ("corners", "pixel corners")
     _jit.warm_up(tasks)
     warmed = time.perf_counter()
     key = (stages.mask_key(mask), connectivity, min_speck_area is None)

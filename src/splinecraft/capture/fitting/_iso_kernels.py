@@ -34,6 +34,11 @@ _CASE_ENDS = np.array([
     [3, 0, 2, 1], [3, 1, -1, -1], [1, 3, -1, -1], [0, 2, 1, 3], [1, 0, -1, -1], [1, 2, -1, -1],
     [2, 3, -1, -1], [0, 3, -1, -1], [2, 0, -1, -1], [-1, -1, -1, -1]], dtype=np.int64)
 
+#: Margin (px) by which a cell must lie farther from a point than the nearest segment found so far to be skipped
+#: (:func:`_nearest_into`): far above the rounding of the distances (some 1e-12 px at 10^4 px), so a skipped cell's
+#: segments are never nearer as computed either, and the result is that of the search of every cell.
+_SLACK = 1e-6
+
 _WEIGHTS = {}
 
 
@@ -105,12 +110,19 @@ def _nearest_into(points, ink, pad, weights, level, table, smooth, smooth_tag, r
         px, py = points[j, 0], points[j, 1]
         row = pyclip(np.int64(np.floor(py - 0.5 + pad)), 0, grid_rows - 1)
         col = pyclip(np.int64(np.floor(px - 0.5 + pad)), 0, grid_cols - 1)
+        grid_y, grid_x = py - 0.5 + pad, px - 0.5 + pad  # the point in the grid's frame (cell r0: rows r0..r0 + 1)
         best = np.inf
         for ring in range(reach + 1):
             for r0 in range(pymax(row - ring, 0), pymin(row + ring, grid_rows - 1) + 1):
                 step = 1 if abs(r0 - row) == ring else 2 * ring
+                gap_y = pymax(pymax(r0 - grid_y, grid_y - (r0 + 1)), 0.0)
                 for c0 in range(col - ring, col + ring + 1, step):
                     if c0 < 0 or c0 >= grid_cols:
+                        continue
+                    # a cell no nearer than the nearest segment so far holds no nearer segment: skipped
+                    gap_x = pymax(pymax(c0 - grid_x, grid_x - (c0 + 1)), 0.0)
+                    within = best + _SLACK
+                    if gap_y * gap_y + gap_x * gap_x >= within * within:
                         continue
                     for rr in (r0, r0 + 1):  # the corners' values (cached in four distinct slots)
                         for cc in (c0, c0 + 1):
@@ -164,7 +176,10 @@ def iso_line_distance(points, mask, sigma, pad, level=0.5, cache_side=CACHE_SIDE
     nearest segment of the ``level`` iso-line of ``gaussian_filter(np.pad(mask, pad), sigma)`` (values
     ``> level`` are high; at a saddle the low values connect); ``None`` when that iso-line is empty.
     Segments lie in their unit cell, so after the cells within Chebyshev ring ``R`` of the point's cell every
-    unvisited segment is at least ``R`` away. ``cache_side``: of the caches of smoothed values (the results
+    unvisited segment is at least ``R`` away; within a ring, a cell no nearer to the point than the nearest segment
+    found so far (by more than :data:`_SLACK`) is skipped, its smoothed values unread (a crack midpoint lies on a
+    grid line: the two cells beside it, not the nine of rings 0 and 1, unless its distance exceeds 0.5 px).
+    ``cache_side``: of the caches of smoothed values (the results
     do not depend on it)."""
     return _distances(points, mask, gaussian_weights(sigma), pad, level, cache_side)
 

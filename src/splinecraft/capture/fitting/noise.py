@@ -43,21 +43,43 @@ THIN_AREA = 4
 _SQUARE = np.ones((3, 3), bool)
 
 
-def _cross_opening(region, outside):
-    """Morphological opening of a bool image by the 3 x 3 cross (4-neighbourhood), the image continued by
-    ``outside`` beyond its border."""
-    padded = np.full((region.shape[0] + 2, region.shape[1] + 2), outside, dtype=bool)
-    padded[1:-1, 1:-1] = region
-    eroded = padded[1:-1, 1:-1] & padded[:-2, 1:-1]
-    eroded &= padded[2:, 1:-1]
-    eroded &= padded[1:-1, :-2]
-    eroded &= padded[1:-1, 2:]
-    padded[1:-1, 1:-1] = eroded
-    opened = eroded | padded[:-2, 1:-1]
-    opened |= padded[2:, 1:-1]
-    opened |= padded[1:-1, :-2]
-    opened |= padded[1:-1, 2:]
-    return opened
+def _thin_ink_and_paper(mask):
+    """The ink pixels that a morphological opening of the ink by the 3 x 3 cross (4-neighbourhood) removes, and
+    likewise the paper pixels for the paper (outside the image: paper). Returns both as bool images of the
+    rows of ``mask`` and one more column of paper on either side (all False there).
+
+    The paper's opening is the complement of the ink's closing (its erosion by the cross is the complement of
+    the ink's dilation, and the image continued by paper beyond its border is the ink's continued by no ink):
+    a paper pixel is thin where the closing of the ink covers it. Both are computed on the flat, row-major
+    image with a column of paper on either side and a row above and below, where the four neighbours of a
+    pixel are the shifts by 1 and by the padded width: contiguous runs of memory, some 2.5x faster than the
+    strided 2-D slices of the image (the erosion and the dilation are set back to no ink in the side columns,
+    the image's outside)."""
+    rows, cols = mask.shape
+    width = cols + 2
+    size = (rows + 2) * width
+    padded = np.zeros((rows + 2, width), bool)
+    padded[1:-1, 1:-1] = mask
+    ink = padded.reshape(-1)
+    first, stop = width, size - width  # the image's rows (with their side columns), flat
+    here, left, right = slice(first, stop), slice(first - 1, stop - 1), slice(first + 1, stop + 1)
+    up, down = slice(first - width, stop - width), slice(first + width, stop + width)
+    eroded, dilated = np.zeros(size, bool), np.zeros(size, bool)
+    np.bitwise_and(ink[here], ink[left], out=eroded[here])
+    np.bitwise_or(ink[here], ink[left], out=dilated[here])
+    for shifted in (right, up, down):
+        eroded[here] &= ink[shifted]
+        dilated[here] |= ink[shifted]
+    for values in (eroded, dilated):  # beyond the image: no ink
+        values.reshape(rows + 2, width)[:, ::width - 1] = False
+    opened = eroded[here] | eroded[left]
+    closed = dilated[here] & dilated[left]
+    for shifted in (right, up, down):
+        opened |= eroded[shifted]
+        closed &= dilated[shifted]
+    thin_ink = np.greater(ink[here], opened, out=opened)  # (in the side columns: no ink)
+    thin_paper = np.greater(closed, ink[here], out=closed)  # (the closing is no ink there: the dilation is)
+    return thin_ink.reshape(rows, width), thin_paper.reshape(rows, width)
 
 
 def _close_gaps(values, size):
@@ -80,24 +102,32 @@ def thin_feature_pixels(mask, min_area=THIN_AREA):
     ``min_area`` pixels (a bump or notch of noise is smaller)."""
     mask = np.asarray(mask, dtype=bool)
     out = np.zeros(mask.shape, bool)
-    for region, outside in ((mask, False), (~mask, True)):
-        thin = region > _cross_opening(region, outside)
-        # few pixels: the pieces are labelled, sized and marked at these only (found in the rows that have any)
-        rows = np.flatnonzero(thin.any(axis=1))
-        at, cols = np.nonzero(thin[rows])
-        rows = rows[at]
-        if rows.shape[0] < min_area:  # no piece can be large enough
+    # few pixels: the pieces are labelled, sized and marked at these only, on the thin pixels' own rows and
+    # columns, every gap between two of them narrowed to one empty row or column: two pixels are neighbours there
+    # exactly when they are here. The ink's and the paper's in one labelling, the paper's rows after the ink's and
+    # an empty one (no piece joins the two)
+    rows, cols, at_rows, at_cols, first = [], [], [], [], 0
+    for thin in _thin_ink_and_paper(mask):
+        if np.count_nonzero(thin) < min_area:  # no piece can be large enough
             continue
-        # labelled on the thin pixels' own rows and columns, every gap between two of them narrowed to one
-        # empty row or column: two pixels are neighbours there exactly when they are here
-        at_row, at_col = _close_gaps(rows, mask.shape[0]), _close_gaps(cols, mask.shape[1])
-        packed = np.zeros((at_row.max() + 1, at_col.max() + 1), bool)
-        packed[at_row, at_col] = True
-        labels, count = ndimage.label(packed, structure=_SQUARE)
-        label = labels[at_row, at_col]
-        large = np.bincount(label, minlength=count + 1) >= min_area
-        hit = large[label]
-        out[rows[hit], cols[hit]] = True
+        row, col = np.divmod(np.flatnonzero(thin), thin.shape[1])  # (sorted by row)
+        col -= 1  # (thin has a column of paper on either side)
+        rows.append(row)
+        cols.append(col)
+        at_rows.append(_close_gaps(row, mask.shape[0]) + first)
+        at_cols.append(_close_gaps(col, mask.shape[1]))
+        first = at_rows[-1][-1] + 2
+    if not rows:
+        return out
+    rows, cols = np.concatenate(rows), np.concatenate(cols)
+    at_row, at_col = np.concatenate(at_rows), np.concatenate(at_cols)
+    packed = np.zeros((first - 1, at_col.max() + 1), bool)
+    packed[at_row, at_col] = True
+    labels, count = ndimage.label(packed, structure=_SQUARE)
+    label = labels[at_row, at_col]
+    large = np.bincount(label, minlength=count + 1) >= min_area
+    hit = large[label]
+    out[rows[hit], cols[hit]] = True
     return out
 
 
@@ -157,7 +187,29 @@ def boundary_noise(mask, contours, corner_lists) -> float:
     distances = iso_line_distance(kept, mask, NOISE_SIGMA, 4)
     if distances is None:  # the smoothed bitmap never reaches the level (hairlines only)
         return 0.0
-    return float(np.percentile(distances, NOISE_QUANTILE))
+    return _percentile(distances, NOISE_QUANTILE)
+
+
+def _percentile(values, percent):
+    """``float(np.percentile(values, percent))`` of a 1-D float array (numpy's default method, ``"linear"``: the
+    two order statistics around the virtual index ``(n - 1) q`` interpolated as ``numpy.lib``'s ``_lerp`` does),
+    bit for bit, from one ``partition`` of ``values`` in place (its order is lost) at those two and the last
+    (a NaN sorts last, and then is the result): 3 us where ``np.percentile`` took 22 on 3000 values."""
+    last = values.shape[0] - 1
+    virtual = last * (percent / 100)
+    if virtual >= last:  # numpy's index -1 for both, and its gamma measured from there
+        below, above, gamma = last, last, virtual + 1
+    elif virtual < 0:
+        below, above, gamma = 0, 0, virtual
+    else:
+        below = int(np.floor(virtual))
+        above, gamma = below + 1, virtual - below
+    values.partition(sorted({below, above, last}))
+    if np.isnan(values[last]):
+        return float(values[last])
+    low, high = float(values[below]), float(values[above])
+    difference = high - low
+    return high - difference * (1 - gamma) if gamma >= 0.5 else low + difference * gamma
 
 
 def noise_tolerance(epsilon, noise, factor=NOISE_FACTOR):

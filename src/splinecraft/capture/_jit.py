@@ -178,7 +178,9 @@ JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy
 #: calling kernels, whose cache entries hold it, so a warm process never loads a helper, and writing its entry
 #: cost 3-4 ms a helper. Always inlined (``forceinline``): in a kernel optimized for size (:func:`compact`) LLVM
 #: kept calls to the Bezier point and ran ``_samples_into`` 2x slower; the one large helper, ``_smoothed``, opts
-#: out, and so does the arm search's ``_prefix_moments``, called once a call. (Tests call ``_smoothed``,
+#: out, and so does the arm search's ``_prefix_moments``, called once a call. A helper's own code is optimized before
+#: its callers inline it: one that only compact kernels call begins with :func:`compact` too (``_bezier_point``,
+#: the arm search's three; session 29). (Tests call ``_smoothed``,
 #: ``_window_fit``, ``_prefix_moments`` and ``_moment_verdict`` through kernels of their own.)
 HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True, cache=False, forceinline=True)
 

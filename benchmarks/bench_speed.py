@@ -195,7 +195,7 @@ event.register("numba:compile", recorder)
 modules = {}
 for name, module in (("fit", "fitting._kernels"), ("noise estimate", "fitting._iso_kernels"),
                      ("corners", "corners._jump_kernels"), ("tracer", "_cracks"), ("polygons", "fitting.budget"),
-                     ("merge", "fitting._merge_kernels")):
+                     ("merge", "fitting._merge_kernels"), ("pixel corners", "_pixel_corners")):
     try:
         modules[name] = importlib.import_module("splinecraft.capture." + module)
     except ImportError:  # a tree without that kernel module

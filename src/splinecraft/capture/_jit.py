@@ -178,7 +178,9 @@ JIT_OPTIONS = dict(cache=True, nogil=True, boundscheck=False, error_model="numpy
 #: calling kernels, whose cache entries hold it, so a warm process never loads a helper, and writing its entry
 #: cost 3-4 ms a helper. Always inlined (``forceinline``): in a kernel optimized for size (:func:`compact`) LLVM
 #: kept calls to the Bezier point and ran ``_samples_into`` 2x slower; the one large helper, ``_smoothed``, opts
-#: out, and so does the arm search's ``_prefix_moments``, called once a call. (Tests call ``_smoothed``,
+#: out, and so does the arm search's ``_prefix_moments``, called once a call. A helper's own code is optimized before
+#: its callers inline it: one that only compact kernels call begins with :func:`compact` too (``_bezier_point``,
+#: the arm search's three; session 29). (Tests call ``_smoothed``,
 #: ``_window_fit``, ``_prefix_moments`` and ``_moment_verdict`` through kernels of their own.)
 HELPER_OPTIONS = dict(JIT_OPTIONS, no_cpython_wrapper=True, cache=False, forceinline=True)
 
@@ -290,18 +292,18 @@ ensure_cache_dir()
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
 #: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
-#: (BENCHMARKS.md, "Session 28: cold first call"; the compile about 0.75x of session 24's, merge 0.66x; corners
-#: 0.23 -> 0.52 in session 29, the arm search's moment bounds: "Session 29: corner stage speed"); they
-#: balance the processes of :func:`warm_up` with the helpers' starts below.
+#: (BENCHMARKS.md, "Session 29: cold first call": measured again with the session's new kernels, the arm
+#: search's moment bounds and the pixel corners among them); they balance the processes of :func:`warm_up` with
+#: the helpers' starts below.
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.76),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 0.93),
-    "tracer": ("_cracks", "warm_up", "_follow_into", 0.73),
-    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.51),
-    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.41),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.52),
-    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.22),
-    "pixel corners": ("_pixel_corners", "warm_up", "_pixel_corners_into", 0.29),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.77),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 0.82),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 0.64),
+    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.47),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.40),
+    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.43),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.20),
+    "pixel corners": ("_pixel_corners", "warm_up", "_pixel_corners_into", 0.28),
 }
 #: The tasks every trace needs (segment merging adds ``"merge"``, tangent-jump ``"corners"`` and ``"pixel corners"``
 #: (session 29: 0.29 s, BENCHMARKS.md, "Session 29: pixel corners and noise estimate speed"); the polygons of a spent
@@ -323,8 +325,10 @@ HELPER_START = -0.05
 #: the collection of its compiles' garbage (0.15-0.2 s CPU), the loading of the helper's kernels (0.02 s) and
 #: the first trace's own run (0.06 s) (CPU timelines of the first trace: BENCHMARKS.md, "Session 27: cold first
 #: call"). -0.25 until session 28, where this process then finished 0.2 s CPU after the helper; at -0.45 both
-#: finish together ("Session 28: cold first call").
-FORKED_HELPER_START = -0.45
+#: finish together ("Session 28: cold first call"). -0.25 again since session 29: with the session's new tasks the
+#: split of -0.45 left the helper 0.2 s CPU behind this process, and -0.25 (the fit's two tasks and tangent-jump's
+#: arm search in the helper) gave the cold first trace 0.93x the wall ("Session 29: cold first call").
+FORKED_HELPER_START = -0.25
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first. 8192
 #: since session 29: all eight tasks on three processes, 6561 splits, 4 ms.
 EXACT_PLAN_SPLITS = 8192

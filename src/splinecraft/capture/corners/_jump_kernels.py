@@ -33,6 +33,7 @@ def _window_fit(padded, start, length, centred, weights, tolerance, line):
     running sum of its samples over ``length``, and its slope, the running sum of ``weights`` times them) and, for
     a ``tolerance`` > 0, whether every sample lies within it of that line (``max hypot <= tolerance``; False
     where a sample is NaN); True for a ``tolerance`` of 0 (no test)."""
+    compact()  # optimized for size, as its caller is (_jit.compact)
     sx, sy = padded[start, 0], padded[start, 1]
     kx, ky = 0.0 + weights[0] * sx, 0.0 + weights[0] * sy
     for t in range(1, length):
@@ -73,6 +74,7 @@ def _prefix_moments(padded, sums, nans):
     compensation ``sums[j, 6 + q]`` (Neumaier's summation: the two add up to the exact prefix to a rounding or
     two) of ``x``, ``y``, ``x^2``, ``y^2``, ``k x``, ``k y`` over the rows ``k < j``, NaN rows counted in ``nans``
     and summed as 0. Returns the largest magnitude of a coordinate relative to that origin."""
+    compact()  # optimized for size, as its caller is (_jit.compact)
     rows = padded.shape[0]
     ox, oy = 0.0, 0.0
     for j in range(rows):
@@ -120,6 +122,7 @@ def _moment_verdict(sums, nans, start, length, tolerance, amplitude, spread, bou
     ``8 length eps spread^2``; all of it twice over. ``bounds`` holds what depends only on the length (formed
     when ``bounds[4]`` is not ``length``): ``1 / length``, ``12 / (length (length^2 - 1))`` (the centred offsets'
     sum of squares, inverted), the rounding of a centred sum of squares and that of a cross moment."""
+    compact()  # optimized for size, as its caller is (_jit.compact)
     stop = start + length
     if nans[stop] != nans[start]:
         return 2

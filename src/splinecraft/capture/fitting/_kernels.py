@@ -385,6 +385,7 @@ def nearest_segment_distance(px, py, ax, ay, dx, dy):
 @njit(**_HELPER)
 def _bezier_point(bez, k, theta, out, row):
     """``out[row]`` = the cubic Bézier piece ``bez[k]`` at ``theta`` (Bernstein weights, summed in order)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     s = 1.0 - theta
     t2, s2 = theta * theta, s * s
     w0 = s2 * s

@@ -3,11 +3,13 @@
 
 The raster scan visits the pixel corners (vertices) row by row, left to right, and at each vertex the crack
 directions E, N, W, S in this order: the order of the keys ``(Y * (W + 1) + X) * 4 + d`` of the contour
-module. The first crack of a boundary met that way is its smallest key, so starting a cycle at every crack
+module. Only the vertices whose 2 x 2 pixels are not all alike are visited (numpy finds them: no crack starts
+elsewhere). The first crack of a boundary met that way is its smallest key, so starting a cycle at every crack
 not yet visited and following successors until it closes lists the boundaries in the order of their first
 cracks, each from that crack, exactly as sorting the keys and ranking the successor permutation does. Memory:
-one byte per vertex (the visited directions) plus the per-crack output. numba, compiled on first use and
-cached on disk (``cache=True``, :mod:`splinecraft.capture._jit`).
+a byte per vertex for the visited directions and one for the vertices to visit, the index of each vertex to
+visit, and the per-crack output. numba, compiled on first use and cached on disk (``cache=True``,
+:mod:`splinecraft.capture._jit`).
 """
 from __future__ import annotations
 
@@ -40,11 +42,6 @@ _CODE_OF_STEP = np.full(9, -1, dtype=np.int8)
 _CODE_OF_STEP[3 * (FREEMAN_STEPS[:, 1] + 1) + (FREEMAN_STEPS[:, 0] + 1)] = np.arange(8)
 
 
-# Empty arguments of the per-crack outputs: :func:`_follow_into` counting the cracks only.
-_NO_VISITED, _NO_INT32, _NO_INT8 = np.empty((0, 0), np.uint8), np.empty(0, np.int32), np.empty(0, np.int8)
-_NO_BOOLS, _NO_INT64 = np.empty(0, np.bool_), np.empty(0, np.int64)
-
-
 @njit(**_HELPER)
 def _ink(padded, row, col):
     """1 for an ink pixel, 0 for paper and for pixels outside the array."""
@@ -65,77 +62,62 @@ def _starts_at(padded, vertex_x, vertex_y):
 
 
 @njit(**JIT_OPTIONS)
-def _follow_into(padded, connectivity, visited, tail_x, tail_y, direction, left_turn, offsets):
+def _follow_into(padded, connectivity, starts, visited, tail_x, tail_y, direction, left_turn, offsets):
     """Fill the per-crack arrays in cycle order (``visited``: zeros, one byte per vertex); returns the number of
-    cycles, or -1 when a crack has no successor (the tracer's invariant broken). With an empty ``offsets``
-    (no room for even one cycle offset) only the number of cracks of ``padded``, the length of the per-crack
-    arrays (one kernel for both calls: each kernel costs its own compile and Python wrapper)."""
+    cycles, or -1 when a crack has no successor (the tracer's invariant broken). ``starts``: the flat indices
+    ``Y * (W + 1) + X`` of the vertices where a crack may start, ascending (raster order): those whose 2 x 2
+    pixels are not all alike (:func:`follow_cracks`); no crack has its tail anywhere else."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    if offsets.shape[0] == 0:
-        count = np.int64(0)
-        for row in range(padded.shape[0]):
-            for col in range(padded.shape[1]):
-                here = padded[row, col]
-                if row + 1 < padded.shape[0] and padded[row + 1, col] != here:
-                    count += 1
-                if col + 1 < padded.shape[1] and padded[row, col + 1] != here:
-                    count += 1
-        return count
     written = np.int64(0)
     cycles = np.int64(0)
     height, width = padded.shape
-    for vertex_y in range(height + 1):
-        for vertex_x in range(width + 1):
-            if 0 < vertex_y < height and 0 < vertex_x < width:  # inside: no crack where the 2 x 2 pixels agree
-                here = padded[vertex_y, vertex_x]
-                if (padded[vertex_y - 1, vertex_x - 1] == here and padded[vertex_y - 1, vertex_x] == here
-                        and padded[vertex_y, vertex_x - 1] == here):
-                    continue
-            starting = _starts_at(padded, vertex_x, vertex_y) & ~visited[vertex_y, vertex_x]
-            for first in range(4):
-                if not (starting >> first) & 1 or (visited[vertex_y, vertex_x] >> first) & 1:
-                    continue
-                offsets[cycles] = written
-                cycles += 1
-                x, y, d = vertex_x, vertex_y, first
-                while True:
-                    if written >= tail_x.shape[0] or not (_starts_at(padded, x, y) >> d) & 1:
-                        return -1
-                    visited[y, x] |= np.uint8(1 << d)
-                    head_x, head_y = x + _STEP_X[d], y + _STEP_Y[d]
-                    # Does the boundary turn left at the head vertex? (ahead-right ink: it goes straight on.)
-                    ahead_left = _ink(padded, head_y + _AHEAD_LEFT_Y[d], head_x + _AHEAD_LEFT_X[d])
-                    ahead_right = _ink(padded, head_y + _AHEAD_RIGHT_Y[d], head_x + _AHEAD_RIGHT_X[d]) == 1
-                    if connectivity == 8:
-                        left = ahead_left == 1
-                    elif ahead_left == 1 and not ahead_right and connectivity == MINORITY:
-                        # The minority rule at the saddle (contour module, step 2): on the square rings of
-                        # side 4, 6 and 8 pixels centred on the head vertex, the first whose ink and paper
-                        # counts differ decides; ink is joined when it is not the majority there (all rings
-                        # balanced: joined). Ring ``radius``: the offsets -radius..radius-1 with a first or
-                        # last one on either axis.
-                        left = True
-                        for radius in range(2, 5):
-                            balance = np.int64(0)
-                            for row_offset in range(-radius, radius):
-                                edge_row = row_offset == -radius or row_offset == radius - 1
-                                step = 1 if edge_row else 2 * radius - 1
-                                for col_offset in range(-radius, radius, step):
-                                    balance += 2 * _ink(padded, head_y + row_offset, head_x + col_offset) - 1
-                            if balance != 0:
-                                left = balance < 0
-                                break
-                    else:
-                        left = ahead_left == 1 and ahead_right
-                    tail_x[written], tail_y[written], direction[written] = x, y, d
-                    left_turn[written] = left
-                    written += 1
-                    d = (d + (1 if left else (0 if ahead_right else 3))) & 3
-                    x, y = head_x, head_y
-                    if x == vertex_x and y == vertex_y and d == first:
-                        break
-                    if (visited[y, x] >> d) & 1:
-                        return -1
+    for start in starts:
+        vertex_y, vertex_x = start // (width + 1), start % (width + 1)
+        starting = _starts_at(padded, vertex_x, vertex_y) & ~visited[vertex_y, vertex_x]
+        for first in range(4):
+            if not (starting >> first) & 1 or (visited[vertex_y, vertex_x] >> first) & 1:
+                continue
+            offsets[cycles] = written
+            cycles += 1
+            x, y, d = vertex_x, vertex_y, first
+            while True:
+                if written >= tail_x.shape[0] or not (_starts_at(padded, x, y) >> d) & 1:
+                    return -1
+                visited[y, x] |= np.uint8(1 << d)
+                head_x, head_y = x + _STEP_X[d], y + _STEP_Y[d]
+                # Does the boundary turn left at the head vertex? (ahead-right ink: it goes straight on.)
+                ahead_left = _ink(padded, head_y + _AHEAD_LEFT_Y[d], head_x + _AHEAD_LEFT_X[d])
+                ahead_right = _ink(padded, head_y + _AHEAD_RIGHT_Y[d], head_x + _AHEAD_RIGHT_X[d]) == 1
+                if connectivity == 8:
+                    left = ahead_left == 1
+                elif ahead_left == 1 and not ahead_right and connectivity == MINORITY:
+                    # The minority rule at the saddle (contour module, step 2): on the square rings of
+                    # side 4, 6 and 8 pixels centred on the head vertex, the first whose ink and paper
+                    # counts differ decides; ink is joined when it is not the majority there (all rings
+                    # balanced: joined). Ring ``radius``: the offsets -radius..radius-1 with a first or
+                    # last one on either axis.
+                    left = True
+                    for radius in range(2, 5):
+                        balance = np.int64(0)
+                        for row_offset in range(-radius, radius):
+                            edge_row = row_offset == -radius or row_offset == radius - 1
+                            step = 1 if edge_row else 2 * radius - 1
+                            for col_offset in range(-radius, radius, step):
+                                balance += 2 * _ink(padded, head_y + row_offset, head_x + col_offset) - 1
+                        if balance != 0:
+                            left = balance < 0
+                            break
+                else:
+                    left = ahead_left == 1 and ahead_right
+                tail_x[written], tail_y[written], direction[written] = x, y, d
+                left_turn[written] = left
+                written += 1
+                d = (d + (1 if left else (0 if ahead_right else 3))) & 3
+                x, y = head_x, head_y
+                if x == vertex_x and y == vertex_y and d == first:
+                    break
+                if (visited[y, x] >> d) & 1:
+                    return -1
     offsets[cycles] = written
     return cycles
 
@@ -148,14 +130,23 @@ def follow_cracks(padded, connectivity):
     cycle ``offsets`` (int64, length cycles + 1).
     """
     padded = np.ascontiguousarray(padded, dtype=np.bool_)
-    count = _follow_into(padded, 0, _NO_VISITED, _NO_INT32, _NO_INT32, _NO_INT8, _NO_BOOLS, _NO_INT64)
+    # A crack lies between every two unlike neighbours. A vertex starts cracks only where its 2 x 2 pixels are
+    # not all alike, and then two or four of the four pairs around it differ (an even number: going round the
+    # four pixels returns to the first), so any three of the pairs tell. The padded mask's border is
+    # background: no crack touches the outer vertices.
+    unlike_below, unlike_right = padded[1:] != padded[:-1], padded[:, 1:] != padded[:, :-1]
+    count = int(np.count_nonzero(unlike_below)) + int(np.count_nonzero(unlike_right))
+    mixed = np.zeros((padded.shape[0] + 1, padded.shape[1] + 1), dtype=np.bool_)
+    np.logical_or(unlike_right[1:], unlike_right[:-1], out=mixed[1:-1, 1:-1])
+    mixed[1:-1, 1:-1] |= unlike_below[:, 1:]
+    starts = np.flatnonzero(mixed)
     tail_x = np.empty(count, dtype=np.int32)
     tail_y = np.empty(count, dtype=np.int32)
     direction = np.empty(count, dtype=np.int8)
     left_turn = np.empty(count, dtype=np.bool_)
     offsets = np.empty(count + 1, dtype=np.int64)
     visited = np.zeros((padded.shape[0] + 1, padded.shape[1] + 1), dtype=np.uint8)
-    cycles = _follow_into(padded, int(connectivity), visited, tail_x, tail_y, direction, left_turn, offsets)
+    cycles = _follow_into(padded, int(connectivity), starts, visited, tail_x, tail_y, direction, left_turn, offsets)
     if cycles < 0:
         raise RuntimeError("internal error: a crack has no successor (tracer invariant broken)")
     return {"x": tail_x, "y": tail_y, "d": direction, "left_turn": left_turn, "offsets": offsets[:cycles + 1].copy()}

@@ -1,5 +1,7 @@
-"""Compiled loop of the segment merging (:mod:`.merge`, docs/capture.md §12, "Merged segments"): one cubic per
-candidate run of segments fitted to the contour points it covers and checked against them, one pass per run.
+"""Compiled passes of the segment merging (:mod:`.merge`, docs/capture.md §12, "Merged segments"): the fitted
+segments cut at their extrema with the pieces' tangents, turns and joins (:func:`prepare`), the candidate runs
+fitted, checked and grown (:func:`candidates`), and the dynamic programme that picks the fewest of them
+(:func:`choose`). Compiled (numba, cached on disk like :mod:`._kernels`); the wrappers allocate every output.
 
 Per run the cubic keeps the run's end points ``p0``, ``p3`` and the handle directions ``d0``, ``d1``; its two
 handle lengths solve the 2 x 2 least-squares problem on about ``fit_points`` of the run's contour points (evenly
@@ -7,17 +9,24 @@ spread, both ends included) at their current parameters, followed by a foot-poin
 parameters, ``steps`` times. Every covered point then gets its parameter interpolated between the fitted ones
 and one Newton step, and its distance to the cubic (to the tangent line at the run's end where its foot lies
 beyond it: the G1 neighbour continues along that line), computed only where it may raise the run's largest
-excess so far (:data:`SURE`). Compiled (numba, cached on disk like
-:mod:`._kernels`); the wrapper allocates every output.
+excess so far (:data:`SURE`) (:func:`_fit_run`).
+
+Every value is computed by the arithmetic of the numpy formulation these passes replaced, in its order: sums in
+the order of their terms (``numpy.bincount``, ``numpy.cumsum``), ``numpy.power(s, 3)`` as ``s ** 3.0`` (the C
+library's ``pow`` in both), the turns ``|angle(exp(i x))|`` as ``|atan2(sin x, cos x)|`` (the C library's
+``cexp`` of a pure imaginary number is ``cos x + i sin x``); the 3 x 3 solves of :func:`prepare`'s parabolas stay
+``numpy.linalg.solve`` (LAPACK) between the passes. The tests pin each pass to that formulation bit for bit.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, pyclip, pymax
+from .._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
-__all__ = ["fit_runs", "warm_up", "TANGENTIAL"]
+__all__ = ["prepare", "candidates", "choose", "warm_up", "TANGENTIAL"]
 
 #: Weight of the tangential part of the residuals after the first solve (the normal part has weight 1): a
 #: little of it keeps the solve well posed where the points are nearly straight.
@@ -25,15 +34,19 @@ TANGENTIAL = 0.0
 #: Damping of the later solves towards the previous handle lengths, relative to the normal matrix's trace.
 DAMPING = 1e-3
 #: A point's squared distance below ``SURE`` times the square of a bound puts its distance (``numpy.hypot``, within
-#: an ulp or two of the rounded square root) below that bound for certain, so :func:`_fit_runs_into` computes the
+#: an ulp or two of the rounded square root) below that bound for certain, so :func:`_fit_run` computes the
 #: distance only where it may raise a running maximum: the maximum is bit for bit the same.
 SURE = 1.0 - 1e-12
+#: Room for the parameters of the qualifying runs' points that :func:`candidates` allocates first, per contour
+#: point (and :data:`T_ROOM_EXTRA` more): where the runs need more, the pass runs once more with what they need.
+T_ROOM = 6
+T_ROOM_EXTRA = 256
 
 
 @njit(**_HELPER)
 def _coefficients(c):
     """The control points of the cubic ``c`` (x then y) and the differences of its derivatives, the values
-    the point of :func:`_fit_runs_into` and :func:`_newton` take (computed once per cubic instead of once per
+    the point of :func:`_fit_run` and :func:`_newton` take (computed once per cubic instead of once per
     point)."""
     e0x, e1x, e2x = c[1, 0] - c[0, 0], c[2, 0] - c[1, 0], c[3, 0] - c[2, 0]
     e0y, e1y, e2y = c[1, 1] - c[0, 1], c[2, 1] - c[1, 1], c[3, 1] - c[2, 1]
@@ -64,175 +77,587 @@ def _newton(k, qx, qy, t):
     return pyclip(t + step, 0.0, 1.0)
 
 
-@njit(**JIT_OPTIONS)
-def _fit_runs_into(p0, p3, d0, d1, lo, count, offsets, points, u, start, span, tol, fitted, steps, fit_points,
-                   limits, scratch, cubic, handles, t_out, excess, drift, spread):
-    for r in range(p0.shape[0]):
-        n = count[r]
-        stride = pymax(1, n // fit_points)
-        m = np.int64(0)  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
-        j = np.int64(0)
-        while j < n:
-            scratch[m, 0] = j
-            scratch[m, 1] = pyclip((u[lo[r] + j] - start[r]) / span[r], 0.0, 1.0)
-            m += 1
-            j += stride
-        if n > 0 and scratch[m - 1, 0] != n - 1:
-            scratch[m, 0] = n - 1
-            scratch[m, 1] = pyclip((u[lo[r] + n - 1] - start[r]) / span[r], 0.0, 1.0)
-            m += 1
-        chord = np.hypot(p3[r, 0] - p0[r, 0], p3[r, 1] - p0[r, 1])
-        bound = 4.0 * chord + 1.0
-        c = cubic[r]
-        for d in range(2):
-            c[0, d] = c[1, d] = p0[r, d]
-            c[3, d] = c[2, d] = p3[r, d]
-        k = _coefficients(c)  # the chord (the first solve does not use it)
-        for step in range(steps + 1):
-            # the first solve minimises the distances to the points at their parameters; the later ones the
-            # distances along the curve's normal at the points' feet (plus TANGENTIAL times the rest), which
-            # converges in a few steps where the first alone crawls
-            m11 = m12 = m22 = r1 = r2 = 0.0
-            for i in range(m):
-                t = scratch[i, 1]
-                q = lo[r] + np.int64(scratch[i, 0])
-                s = 1.0 - t
-                b0 = s * s * s
-                b1 = 3.0 * s * s * t
-                b2 = 3.0 * s * t * t
-                b3 = t * t * t
-                restx = points[q, 0] - p0[r, 0] * (b0 + b1) - p3[r, 0] * (b2 + b3)
-                resty = points[q, 1] - p0[r, 1] * (b0 + b1) - p3[r, 1] * (b2 + b3)
-                a1x, a1y = d0[r, 0] * b1, d0[r, 1] * b1
-                a2x, a2y = -d1[r, 0] * b2, -d1[r, 1] * b2
-                if step == 0:
-                    m11 += a1x * a1x + a1y * a1y
-                    m12 += a1x * a2x + a1y * a2y
-                    m22 += a2x * a2x + a2y * a2y
-                    r1 += a1x * restx + a1y * resty
-                    r2 += a2x * restx + a2y * resty
-                else:
-                    e0x = k[8]
-                    e1x = k[9]
-                    e2x = k[10]
-                    e0y = k[11]
-                    e1y = k[12]
-                    e2y = k[13]
-                    tx = s * s * e0x + 2.0 * s * t * e1x + t * t * e2x
-                    ty = s * s * e0y + 2.0 * s * t * e1y + t * t * e2y
-                    norm = np.hypot(tx, ty)
-                    if norm > 0:
-                        tx, ty = tx / norm, ty / norm
-                    else:
-                        tx, ty = 1.0, 0.0
-                    nx, ny = -ty, tx
-                    an1, at1 = a1x * nx + a1y * ny, a1x * tx + a1y * ty
-                    an2, at2 = a2x * nx + a2y * ny, a2x * tx + a2y * ty
-                    rn, rt = restx * nx + resty * ny, restx * tx + resty * ty
-                    m11 += an1 * an1 + TANGENTIAL * at1 * at1
-                    m12 += an1 * an2 + TANGENTIAL * at1 * at2
-                    m22 += an2 * an2 + TANGENTIAL * at2 * at2
-                    r1 += an1 * rn + TANGENTIAL * at1 * rt
-                    r2 += an2 * rn + TANGENTIAL * at2 * rt
-            if step == 0:
-                m11 += 1e-9
-                m22 += 1e-9
-            else:  # damped towards the previous lengths (the normal distances alone do not fix them on a line)
-                mu = DAMPING * (m11 + m22) + 1e-9
-                m11 += mu
-                m22 += mu
-                r1 += mu * handles[r, 0]
-                r2 += mu * handles[r, 1]
-            det = m11 * m22 - m12 * m12
-            a = pyclip((m22 * r1 - m12 * r2) / det, -bound, bound)
-            b = pyclip((m11 * r2 - m12 * r1) / det, -bound, bound)
-            handles[r, 0], handles[r, 1] = a, b
-            for d in range(2):
-                c[1, d] = p0[r, d] + a * d0[r, d]
-                c[2, d] = p3[r, d] - b * d1[r, d]
-            k = _coefficients(c)
-            if step == steps:
-                break
-            for i in range(m):
-                q = lo[r] + np.int64(scratch[i, 0])
-                t = _newton(k, points[q, 0], points[q, 1], scratch[i, 1])
-                scratch[i, 1] = _newton(k, points[q, 0], points[q, 1], t)
-        # every covered point: parameter interpolated between the fitted ones, one Newton step, distance (until
-        # the run can no longer qualify: its excess or drift above ``limits``)
-        worst, far, total = -np.inf, 0.0, 0.0
-        i = np.int64(0)
-        for j in range(n):
-            if worst > limits[0] or far > limits[1]:
-                break
-            while i + 1 < m and scratch[i + 1, 0] < j:
-                i += 1
-            if i + 1 < m and scratch[i + 1, 0] > scratch[i, 0]:
-                w = (j - scratch[i, 0]) / (scratch[i + 1, 0] - scratch[i, 0])
-                t = scratch[i, 1] + pyclip(w, 0.0, 1.0) * (scratch[i + 1, 1] - scratch[i, 1])
-            else:
-                t = scratch[i, 1]
-            q = lo[r] + j
-            t = _newton(k, points[q, 0], points[q, 1], t)
-            t_out[offsets[r] + j] = t
-            s = 1.0 - t  # the point at t: Bernstein weights of the control points in k
+@njit(**_HELPER)
+def _fit_run(p0x, p0y, p3x, p3y, d0x, d0y, d1x, d1y, lo, n, points, u, start, span, tol, fitted, steps, fit_points,
+             limit_excess, limit_drift, scratch, c, t_out):
+    """One run: the cubic into ``c`` (4, 2) from ``(p0x, p0y)`` to ``(p3x, p3y)``, its handles along ``d0`` and
+    ``d1``, fitted to the ``n`` contour points from ``lo`` whose parameters ``u`` map to [0, 1] by ``start`` and
+    ``span``; the points' parameters on it into ``t_out[:n]``. Returns the handle lengths, the largest excess of
+    the points' distances over ``tol``, the largest and the summed squared distance of their curve points from
+    ``fitted``; the points stop being measured once the excess or drift so far exceeds its limit (the run cannot
+    qualify then: its excess or drift is above the limit, its later parameters and its spread are not measured).
+    ``scratch``: (n + 2, 2) floats at least."""
+    stride = pymax(1, n // fit_points)
+    m = np.int64(0)  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
+    j = np.int64(0)
+    while j < n:
+        scratch[m, 0] = j
+        scratch[m, 1] = pyclip((u[lo + j] - start) / span, 0.0, 1.0)
+        m += 1
+        j += stride
+    if n > 0 and scratch[m - 1, 0] != n - 1:
+        scratch[m, 0] = n - 1
+        scratch[m, 1] = pyclip((u[lo + n - 1] - start) / span, 0.0, 1.0)
+        m += 1
+    chord = np.hypot(p3x - p0x, p3y - p0y)
+    bound = 4.0 * chord + 1.0
+    c[0, 0] = c[1, 0] = p0x
+    c[0, 1] = c[1, 1] = p0y
+    c[3, 0] = c[2, 0] = p3x
+    c[3, 1] = c[2, 1] = p3y
+    k = _coefficients(c)  # the chord (the first solve does not use it)
+    a = b = 0.0
+    for step in range(steps + 1):
+        # the first solve minimises the distances to the points at their parameters; the later ones the
+        # distances along the curve's normal at the points' feet (plus TANGENTIAL times the rest), which
+        # converges in a few steps where the first alone crawls
+        m11 = m12 = m22 = r1 = r2 = 0.0
+        for i in range(m):
+            t = scratch[i, 1]
+            q = lo + np.int64(scratch[i, 0])
+            s = 1.0 - t
             b0 = s * s * s
             b1 = 3.0 * s * s * t
             b2 = 3.0 * s * t * t
             b3 = t * t * t
-            px = b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3]
-            py = b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
-            gx, gy = px - points[q, 0], py - points[q, 1]
-            if t <= 0.0 or t >= 1.0:
-                k0, k1 = (0, 1) if t <= 0.0 else (2, 3)
-                dx, dy = c[k1, 0] - c[k0, 0], c[k1, 1] - c[k0, 1]
-                length = np.hypot(dx, dy)
-                dist = abs(gx * dy - gy * dx) / length if length > 0 else np.hypot(gx, gy)
-                worst = pymax(worst, dist - tol[q])
-            else:  # the distance itself only where it may raise the largest excess (see SURE)
-                reach = worst + tol[q]
-                if not (reach > 0.0 and gx * gx + gy * gy < SURE * (reach * reach)):
-                    worst = pymax(worst, np.hypot(gx, gy) - tol[q])
-            off = np.hypot(px - fitted[q, 0], py - fitted[q, 1])
-            far = pymax(far, off)
-            total += off * off
-        excess[r], drift[r], spread[r] = worst, far, total
+            restx = points[q, 0] - p0x * (b0 + b1) - p3x * (b2 + b3)
+            resty = points[q, 1] - p0y * (b0 + b1) - p3y * (b2 + b3)
+            a1x, a1y = d0x * b1, d0y * b1
+            a2x, a2y = -d1x * b2, -d1y * b2
+            if step == 0:
+                m11 += a1x * a1x + a1y * a1y
+                m12 += a1x * a2x + a1y * a2y
+                m22 += a2x * a2x + a2y * a2y
+                r1 += a1x * restx + a1y * resty
+                r2 += a2x * restx + a2y * resty
+            else:
+                e0x = k[8]
+                e1x = k[9]
+                e2x = k[10]
+                e0y = k[11]
+                e1y = k[12]
+                e2y = k[13]
+                tx = s * s * e0x + 2.0 * s * t * e1x + t * t * e2x
+                ty = s * s * e0y + 2.0 * s * t * e1y + t * t * e2y
+                norm = np.hypot(tx, ty)
+                if norm > 0:
+                    tx, ty = tx / norm, ty / norm
+                else:
+                    tx, ty = 1.0, 0.0
+                nx, ny = -ty, tx
+                an1, at1 = a1x * nx + a1y * ny, a1x * tx + a1y * ty
+                an2, at2 = a2x * nx + a2y * ny, a2x * tx + a2y * ty
+                rn, rt = restx * nx + resty * ny, restx * tx + resty * ty
+                m11 += an1 * an1 + TANGENTIAL * at1 * at1
+                m12 += an1 * an2 + TANGENTIAL * at1 * at2
+                m22 += an2 * an2 + TANGENTIAL * at2 * at2
+                r1 += an1 * rn + TANGENTIAL * at1 * rt
+                r2 += an2 * rn + TANGENTIAL * at2 * rt
+        if step == 0:
+            m11 += 1e-9
+            m22 += 1e-9
+        else:  # damped towards the previous lengths (the normal distances alone do not fix them on a line)
+            mu = DAMPING * (m11 + m22) + 1e-9
+            m11 += mu
+            m22 += mu
+            r1 += mu * a
+            r2 += mu * b
+        det = m11 * m22 - m12 * m12
+        a = pyclip((m22 * r1 - m12 * r2) / det, -bound, bound)
+        b = pyclip((m11 * r2 - m12 * r1) / det, -bound, bound)
+        c[1, 0] = p0x + a * d0x
+        c[1, 1] = p0y + a * d0y
+        c[2, 0] = p3x - b * d1x
+        c[2, 1] = p3y - b * d1y
+        k = _coefficients(c)
+        if step == steps:
+            break
+        for i in range(m):
+            q = lo + np.int64(scratch[i, 0])
+            t = _newton(k, points[q, 0], points[q, 1], scratch[i, 1])
+            scratch[i, 1] = _newton(k, points[q, 0], points[q, 1], t)
+    # every covered point: parameter interpolated between the fitted ones, one Newton step, distance (until
+    # the run can no longer qualify: its excess or drift above the limits)
+    worst, far, total = -np.inf, 0.0, 0.0
+    i = np.int64(0)
+    for j in range(n):
+        if worst > limit_excess or far > limit_drift:
+            break
+        while i + 1 < m and scratch[i + 1, 0] < j:
+            i += 1
+        if i + 1 < m and scratch[i + 1, 0] > scratch[i, 0]:
+            w = (j - scratch[i, 0]) / (scratch[i + 1, 0] - scratch[i, 0])
+            t = scratch[i, 1] + pyclip(w, 0.0, 1.0) * (scratch[i + 1, 1] - scratch[i, 1])
+        else:
+            t = scratch[i, 1]
+        q = lo + j
+        t = _newton(k, points[q, 0], points[q, 1], t)
+        t_out[j] = t
+        s = 1.0 - t  # the point at t: Bernstein weights of the control points in k
+        b0 = s * s * s
+        b1 = 3.0 * s * s * t
+        b2 = 3.0 * s * t * t
+        b3 = t * t * t
+        px = b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3]
+        py = b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
+        gx, gy = px - points[q, 0], py - points[q, 1]
+        if t <= 0.0 or t >= 1.0:
+            k0, k1 = (0, 1) if t <= 0.0 else (2, 3)
+            dx, dy = c[k1, 0] - c[k0, 0], c[k1, 1] - c[k0, 1]
+            length = np.hypot(dx, dy)
+            dist = abs(gx * dy - gy * dx) / length if length > 0 else np.hypot(gx, gy)
+            worst = pymax(worst, dist - tol[q])
+        else:  # the distance itself only where it may raise the largest excess (see SURE)
+            reach = worst + tol[q]
+            if not (reach > 0.0 and gx * gx + gy * gy < SURE * (reach * reach)):
+                worst = pymax(worst, np.hypot(gx, gy) - tol[q])
+        off = np.hypot(px - fitted[q, 0], py - fitted[q, 1])
+        far = pymax(far, off)
+        total += off * off
+    return a, b, worst, far, total
 
 
-def fit_runs(p0, p3, d0, d1, lo, count, points, u, start, span, tol, fitted, steps, fit_points,
-             limits=(np.inf, np.inf)):
-    """Per run (rows of ``p0``, ``p3``, ``d0``, ``d1``, ``lo``, ``count``, ``start``, ``span``): the cubic
-    (r, 4, 2), its handle lengths (r, 2), the parameters of its ``count`` contour points from ``lo`` (grouped by
-    run), the largest excess of their distances over ``tol``, the largest and the summed squared distance of
-    their curve points from ``fitted`` (the fitted curve at the same contour points). ``limits = (excess,
-    drift)``: a run stops measuring its points once its excess or drift so far exceeds them (it cannot
-    qualify then): its excess or drift is still above the limit, its parameters from there on and its spread are
-    not measured."""
-    f = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
-    count = np.ascontiguousarray(count, dtype=np.int64)
-    r = count.shape[0]
-    offsets = np.zeros(r, np.int64)
-    if r:
-        offsets[1:] = np.cumsum(count)[:-1]
-    total = int(count.sum())
-    scratch = np.empty((int(count.max()) + 2 if r else 2, 2))
-    cubic, handles = np.empty((r, 4, 2)), np.empty((r, 2))
-    t_out = np.empty(total)
-    excess, drift, spread = np.empty(r), np.empty(r), np.empty(r)
-    _fit_runs_into(f(p0), f(p3), f(d0), f(d1), np.ascontiguousarray(lo, dtype=np.int64), count, offsets, f(points),
-                   f(u), f(start), f(span), f(tol), f(fitted), int(steps), int(fit_points),
-                   np.array(limits, dtype=np.float64), scratch, cubic, handles, t_out, excess, drift, spread)
-    return cubic, handles, offsets, t_out, excess, drift, spread
+@njit(**_HELPER)
+def _at(u, period, wide, i):
+    """``u[i]``, or where ``wide`` the ``i``-th of the three copies ``u - period``, ``u``, ``u + period`` one after
+    the other (the contour once more on either side of the seam)."""
+    n = u.shape[0]
+    if not wide:
+        return u[i]
+    if i < n:
+        return u[i] - period
+    if i < 2 * n:
+        return u[i - n]
+    return u[i - 2 * n] + period
+
+
+@njit(**_HELPER)
+def _search(u, period, wide, value, right):
+    """``numpy.searchsorted(u, value, side="right" if right else "left")`` on ``u`` or its three copies
+    (:func:`_at`)."""
+    lo = np.int64(0)
+    hi = np.int64(3 * u.shape[0] if wide else u.shape[0])
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        x = _at(u, period, wide, mid)
+        if x < value or (right and x == value):
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(**_HELPER)
+def _sort4(t):
+    """``t`` (4 values) sorted in place as ``numpy.sort`` does: ascending, NaN last."""
+    for i in range(1, 4):
+        x = t[i]
+        j = i
+        while j > 0 and (x < t[j - 1] or (t[j - 1] != t[j - 1] and x == x)):
+            t[j] = t[j - 1]
+            j -= 1
+        t[j] = x
+
+
+@njit(**_HELPER)
+def _curve_speed(c, t, d):
+    """Coordinate ``d`` of the cubic ``c`` and of its derivative at ``t``."""
+    s = 1.0 - t
+    point = s ** 3.0 * c[0, d] + 3 * s * s * t * c[1, d] + 3 * s * t * t * c[2, d] + t ** 3.0 * c[3, d]
+    speed = 3 * (s * s * (c[1, d] - c[0, d]) + 2 * s * t * (c[2, d] - c[1, d]) + t * t * (c[3, d] - c[2, d]))
+    return point, speed
+
+
+@njit(**_HELPER)
+def _unit_into(x, y, out):
+    """``(x, y)`` over its length (``numpy.hypot``; as it is where that is 0) into ``out`` (2)."""
+    length = np.hypot(x, y)
+    if not length > 0:
+        length = 1.0
+    out[0] = x / length
+    out[1] = y / length
+
+
+@njit(**JIT_OPTIONS)
+def _prepare_into(fit_bez, fit_starts, fit_ends, min_gap, corner_par, piece_count, cornered, points, u, period,
+                  window, roots, bez, starts, ends, origin, head, tail, turn, seg_piece, interior, joins, reach, m,
+                  rhs, good):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    k = np.int64(0)
+    for i in range(fit_bez.shape[0]):
+        c = fit_bez[i]
+        h = fit_ends[i] - fit_starts[i]
+        # where dx/dt or dy/dt is zero: the roots of a t^2 + b t + c of the derivative's Bernstein differences
+        for d in range(2):
+            d0, d1, d2 = c[1, d] - c[0, d], c[2, d] - c[1, d], c[3, d] - c[2, d]
+            a, b, cc = d0 - 2 * d1 + d2, 2 * (d1 - d0), d0
+            disc = b * b - 4 * a * cc
+            root = np.sqrt(disc) if disc >= 0 else np.nan
+            if abs(a) > 1e-12 * (abs(b) + abs(cc) + 1e-300):
+                roots[d] = (-b + -1.0 * root) / (2 * a)
+                roots[2 + d] = (-b + 1.0 * root) / (2 * a)
+            else:
+                roots[d] = np.nan
+                roots[2 + d] = -cc / b
+        low = pymin(min_gap / pymax(h, 1e-12), 0.5)
+        for j in range(4):
+            if not (roots[j] > low and roots[j] < 1 - low):
+                roots[j] = np.nan
+        _sort4(roots)
+        previous = -np.inf
+        for j in range(4):  # cuts closer than low to the one before: one
+            x = roots[j]
+            if not x - previous > low:
+                roots[j] = np.nan
+            previous = x
+        _sort4(roots)
+        cuts = np.int64(0)
+        while cuts < 4 and roots[cuts] == roots[cuts]:
+            cuts += 1
+        ta = 0.0
+        for p in range(cuts + 1):
+            tb = roots[p] if p < cuts else 1.0
+            width = tb - ta
+            out = bez[k]
+            for d in range(2):
+                pa, va = _curve_speed(c, ta, d)
+                pb, vb = _curve_speed(c, tb, d)
+                out[0, d] = c[0, d] if p == 0 else pa
+                out[1, d] = pa + width * va / 3.0
+                out[2, d] = pb - width * vb / 3.0
+                out[3, d] = c[3, d] if p == cuts else pb
+            starts[k] = fit_starts[i] + ta * h
+            ends[k] = fit_starts[i] + tb * h
+            origin[k] = i
+            ta = tb
+            k += 1
+    turn[0] = 0.0
+    for i in range(k):
+        c = bez[i]
+        # the unit tangents at the ends (the next control point where the first coincides)
+        x, y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
+        if not np.hypot(x, y) > 1e-9:
+            x, y = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1]
+        _unit_into(x, y, head[i])
+        x, y = c[3, 0] - c[2, 0], c[3, 1] - c[2, 1]
+        if not np.hypot(x, y) > 1e-9:
+            x, y = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1]
+        _unit_into(x, y, tail[i])
+        # the turn of the control polygon, summed along the pieces
+        a0 = math.atan2(c[1, 1] - c[0, 1], c[1, 0] - c[0, 0])
+        a1 = math.atan2(c[2, 1] - c[1, 1], c[2, 0] - c[1, 0])
+        a2 = math.atan2(c[3, 1] - c[2, 1], c[3, 0] - c[2, 0])
+        x, y = a1 - a0, a2 - a1
+        turn[i + 1] = turn[i] + (abs(math.atan2(math.sin(x), math.cos(x))) + abs(math.atan2(math.sin(y), math.cos(y))))
+        # the piece between corners of the piece's start
+        lo = np.int64(0)
+        hi = np.int64(corner_par.shape[0])
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            if corner_par[mid] <= starts[i]:
+                lo = mid + 1
+            else:
+                hi = mid
+        seg_piece[i] = pymin(pymax(lo - 1, 0), piece_count - 1)
+    # the joins inside a piece (the seam of an outline without corners is one too) and their parabolas' sums
+    interior[0] = interior[k] = not cornered
+    for i in range(1, k):
+        interior[i] = seg_piece[i] == seg_piece[i - 1]
+    r = np.int64(0)
+    n = points.shape[0]
+    for j in range(k):
+        if not interior[j]:
+            continue
+        before = j - 1 if j > 0 else k - 1
+        reach_j = window * pymax(ends[j] - starts[j], ends[before] - starts[before])
+        if cornered:
+            low_b, high_b = corner_par[seg_piece[j]], corner_par[seg_piece[j] + 1]
+        else:
+            low_b, high_b = -np.inf, np.inf
+        lo = _search(u, period, not cornered, pymax(starts[j] - reach_j, low_b), False)
+        hi = _search(u, period, not cornered, pymin(starts[j] + reach_j, high_b), True)
+        scale = pymax(reach_j, 1.0)
+        s1 = s2 = s3 = s4 = y0 = y1 = y2 = 0.0
+        px, py = bez[j, 0, 0], bez[j, 0, 1]
+        tx, ty = head[j, 0], head[j, 1]
+        for q in range(lo, hi):
+            at = q % n
+            rx, ry = points[at, 0] - px, points[at, 1] - py
+            x = (rx * tx + ry * ty) / scale
+            y = ry * tx - rx * ty
+            x2 = x * x
+            s1 += x
+            s2 += x2
+            s3 += x2 * x
+            s4 += x2 * x2
+            y0 += y
+            y1 += y * x
+            y2 += y * x2
+        count = pymax(hi - lo, 0)
+        s0 = float(count)
+        sums = (s0, s1, s2, s3, s4)
+        for e in range(3):
+            for f in range(3):
+                m[r, e, f] = sums[e + f]
+            m[r, e, e] += 1e-9
+        rhs[r, 0, 0], rhs[r, 1, 0], rhs[r, 2, 0] = y0, y1, y2
+        joins[r] = j
+        reach[r] = reach_j
+        good[r] = count >= 6
+        r += 1
+    return k, r
+
+
+@njit(**_HELPER)
+def _keep(at, f, size, c, first, length, s0, s1, spread, cubic, refit, t_count, t_start):
+    """Candidate ``at``: the fitted curve as it was from segment ``f`` on, ``size`` segments (the cubic ``c``;
+    states 0, 0; cost 0; its points keep their parameters)."""
+    first[at], length[at], s0[at], s1[at], spread[at] = f, size, 0, 0, 0.0
+    for e in range(4):
+        cubic[at, e, 0], cubic[at, e, 1] = c[e, 0], c[e, 1]
+    refit[at], t_count[at], t_start[at] = False, 0, 0
+
+
+@njit(**JIT_OPTIONS)
+def _candidates_into(bez, starts, ends, origin, fit_bez, head, tail, turn, seg_piece, interior, joins, slope_b,
+                     reach, good, points, u, tol, fitted, tolerance, max_run, max_turn, misses, steps, fit_points,
+                     margin, scratch, t_scratch, c, alive, missed, passed, direction, first, length, s0, s1, spread,
+                     cubic, refit, t_count, t_start, t_values):
+    k = bez.shape[0]
+    # the new direction of each join with a parabola (the fitted curve's direction elsewhere)
+    for i in range(k):
+        direction[i, 0], direction[i, 1] = head[i, 0], head[i, 1]
+    for r in range(joins.shape[0]):
+        if good[r]:
+            j = joins[r]
+            slope = slope_b[r] / pymax(reach[r], 1.0)
+            tx, ty = head[j, 0], head[j, 1]
+            _unit_into(tx + slope * -ty, ty + slope * tx, direction[j])
+    # the fitted segments as they were: their pieces, and each whole where it was cut (states 0, 0; cost 0)
+    count = np.int64(0)
+    for i in range(k):
+        _keep(count, i, np.int64(1), bez[i], first, length, s0, s1, spread, cubic, refit, t_count, t_start)
+        count += 1
+    i = np.int64(0)
+    while i < k:
+        size = np.int64(1)
+        while i + size < k and origin[i + size] == origin[i]:
+            size += 1
+        if size > 1:
+            _keep(count, i, size, fit_bez[origin[i]], first, length, s0, s1, spread, cubic, refit, t_count, t_start)
+            count += 1
+        i += size
+    # the runs, one length at a time, each start in every state its two end joins may take, while the start stays
+    # in its piece and turn and has not failed more than ``misses`` lengths in a row (length 1 always passes)
+    t_used = np.int64(0)
+    for i in range(k):
+        alive[i] = True
+        missed[i] = 0
+    for size in range(1, pymin(max_run, k) + 1):
+        for i in range(k):
+            last = i + size - 1
+            alive[i] = (alive[i] and missed[i] <= misses and last < k and seg_piece[last] == seg_piece[i]
+                        and turn[last + 1] - turn[i] <= max_turn)
+            passed[i] = size == 1
+        for state in range(4):
+            a, b = state >> 1, state & 1
+            for i in range(k):
+                if not alive[i]:
+                    continue
+                last = i + size - 1
+                head_join, tail_join = interior[i], interior[last + 1]
+                # an end at a join takes the new direction if asked (a == 1), and a longer run wherever it may; a
+                # single segment in states (0, 0) is the segment as it was
+                if size == 1:
+                    if state == 0 or (a == 1 and not head_join) or (b == 1 and not tail_join):
+                        continue
+                elif head_join != (a == 1) or tail_join != (b == 1):
+                    continue
+                d0 = direction[i] if a else head[i]
+                d1 = direction[last + 1 if last + 1 < k else 0] if b else tail[last]
+                start, end = starts[i], ends[last]
+                lo = _search(u, 0.0, False, start, False)
+                n = pymax(_search(u, 0.0, False, end, True) - lo, 0)
+                p0x, p0y, p3x, p3y = bez[i, 0, 0], bez[i, 0, 1], bez[last, 3, 0], bez[last, 3, 1]
+                ha, hb, excess, drift, cost = _fit_run(p0x, p0y, p3x, p3y, d0[0], d0[1], d1[0], d1[1], lo, n, points,
+                                                       u, start, end - start, tol, fitted, steps, fit_points,
+                                                       -margin, tolerance, scratch, c, t_scratch)
+                # within the tolerance of the points (less the margin) and of the fitted curve, both handles
+                # positive, at least four points
+                chord = np.hypot(c[3, 0] - c[0, 0], c[3, 1] - c[0, 1])
+                if not (excess + margin <= 0 and drift <= tolerance and ha > 1e-3 * chord and hb > 1e-3 * chord and n >= 4):
+                    continue
+                passed[i] = True
+                if count < first.shape[0] and t_used + n <= t_values.shape[0]:
+                    first[count], length[count], s0[count], s1[count], spread[count] = i, size, a, b, cost
+                    for e in range(4):
+                        cubic[count, e, 0], cubic[count, e, 1] = c[e, 0], c[e, 1]
+                    refit[count], t_count[count], t_start[count] = True, n, t_used
+                    for j in range(n):
+                        t_values[t_used + j] = t_scratch[j]
+                count += 1
+                t_used += n
+        for i in range(k):
+            missed[i] = 0 if passed[i] else missed[i] + 1
+    return count, t_used
+
+
+@njit(**JIT_OPTIONS)
+def _choose_into(k, first, length, s0, s1, cost, allowed, periodic, order, bucket, best_count, best_total, back,
+                 chosen):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    # the allowed candidates by their end, in their order
+    for j in range(k + 2):
+        bucket[j] = 0
+    for c in range(first.shape[0]):
+        if allowed[c]:
+            bucket[first[c] + length[c] + 1] += 1
+    for j in range(1, k + 2):
+        bucket[j] += bucket[j - 1]
+    for c in range(first.shape[0]):
+        if allowed[c]:
+            end = first[c] + length[c]
+            order[bucket[end]] = c
+            bucket[end] += 1
+    # bucket[j - 1] .. bucket[j]: the candidates ending at j
+    never = np.int64(1) << 60
+    found = np.int64(-1)
+    found_count, found_total, found_size = never, 0.0, np.int64(0)
+    for seam in range(2 if periodic else 1):
+        for j in range(k + 1):
+            for state in range(2):
+                best_count[j, state], best_total[j, state], back[j, state] = never, 0.0, -1
+        best_count[0, seam], best_total[0, seam] = 0, 0.0
+        for j in range(1, k + 1):
+            for at in range(bucket[j - 1], bucket[j]):
+                c = order[at]
+                count = best_count[first[c], s0[c]]
+                if count == never:
+                    continue
+                total = best_total[first[c], s0[c]] + cost[c]
+                count += 1
+                if count < best_count[j, s1[c]] or (count == best_count[j, s1[c]] and total < best_total[j, s1[c]]):
+                    best_count[j, s1[c]], best_total[j, s1[c]], back[j, s1[c]] = count, total, c
+        count, total = best_count[k, seam], best_total[k, seam]
+        if count == never or (found >= 0 and not (count < found_count or (count == found_count
+                                                                            and total < found_total))):
+            continue
+        found, found_count, found_total = seam, count, total
+        j, state, size = k, seam, np.int64(0)
+        while j > 0:
+            c = back[j, state]
+            chosen[size] = c
+            size += 1
+            j, state = first[c], s0[c]
+        for e in range(size // 2):
+            chosen[e], chosen[size - 1 - e] = chosen[size - 1 - e], chosen[e]
+        found_size = size
+    return found_size if found >= 0 else np.int64(-1)
+
+
+def prepare(fit_bez, fit_starts, fit_ends, min_gap, corner_par, piece_count, cornered, points, u, period, window):
+    """The fitted segments ``fit_bez`` on ``[fit_starts, fit_ends]`` cut where their tangent is horizontal or
+    vertical (at least ``min_gap`` parameter units from either end of a segment; cuts closer than that to the one
+    before: one), and per piece and join what the candidates need (:func:`.merge.merge_segments`). Returns a
+    dict: the pieces ``bez`` (k, 4, 2), ``starts``, ``ends``, ``origin`` (the fitted segment of each), their unit
+    end tangents ``head`` and ``tail``, ``turn`` (k + 1: the turn of their control polygons summed from the
+    first), ``seg_piece`` (the piece between corners, by ``corner_par``), ``interior`` (k + 1: the joins inside a
+    piece; with ``cornered`` false the seam too); per interior join (``joins``) the half-width ``reach`` of its
+    parabola's window (``window`` times the longer parameter length beside it, within its piece; an outline
+    without corners measures around its seam, ``period``) and the normal equations ``m``, ``rhs`` of that
+    parabola ``y = a + b x + c x^2`` in the frame of the join's tangent, x over ``max(reach, 1)``; ``good``: six
+    points or more in the window."""
+    size = 5 * fit_bez.shape[0]
+    bez, head, tail = np.empty((size, 4, 2)), np.empty((size, 2)), np.empty((size, 2))
+    starts, ends, reach, turn = np.empty(size), np.empty(size), np.empty(size), np.empty(size + 1)
+    m, rhs, ints = np.empty((size, 3, 3)), np.empty((size, 3, 1)), np.empty((3, size), np.int64)
+    interior, good = np.empty(size + 1, bool), np.empty(size, bool)
+    k, r = _prepare_into(fit_bez, fit_starts, fit_ends, float(min_gap), corner_par, int(piece_count), bool(cornered),
+                         points, u, float(period), float(window), np.empty(4), bez, starts, ends, ints[0], head,
+                         tail, turn, ints[1], interior, ints[2], reach, m, rhs, good)
+    return {"bez": bez[:k], "starts": starts[:k], "ends": ends[:k], "origin": ints[0, :k], "head": head[:k],
+            "tail": tail[:k], "turn": turn[:k + 1], "seg_piece": ints[1, :k], "interior": interior[:k + 1],
+            "joins": ints[2, :r], "reach": reach[:r], "m": m[:r], "rhs": rhs[:r], "good": good[:r]}
+
+
+def candidates(prepared, fit_bez, slope, points, u, tol, fitted, tolerance, max_run, max_turn, misses, steps,
+               fit_points, margin):
+    """Every qualifying run of the pieces of :func:`prepare` (:func:`.merge.merge_segments`, step 3) with the
+    direction states of its two end joins (0: the fitted curve's direction, 1: the join's new one, only at
+    interior joins: the parabola's direction ``(1, b)`` in the frame of the fitted curve's tangent, ``slope`` =
+    its ``b`` per join of ``prepared``; the fitted curve's direction where the parabola is not ``good``), grown
+    one segment at a time from every start while it stays in its piece, turns by at most ``max_turn`` and has
+    failed at most ``misses`` lengths in a row (one of its states qualifies), up to ``max_run`` segments.
+    A run qualifies when its cubic (:func:`_fit_run`, ``steps`` and ``fit_points``) stays within ``tol`` less
+    ``margin`` of its contour points and within ``tolerance`` of the ``fitted`` curve there, with both handles
+    positive (above 1e-3 times the chord) and four points or more. Candidates ``0 .. k - 1`` are the pieces as
+    they were (states 0, 0; cost 0), then each fitted segment cut into pieces, whole; the others follow by run
+    length, then end states ``(s0, s1)`` in the order (0, 0), (0, 1), (1, 0), (1, 1), then start. Returns a
+    dict: per candidate ``first``, ``length``, ``s0``, ``s1``, ``spread`` (the summed squared distance from the
+    fitted curve at its points: the cost), ``cubic``, ``refit`` (not a fitted segment as it was), ``t_count``,
+    ``t_start`` (its points' parameters on the cubic are ``t[t_start: t_start + t_count]``), and ``direction``
+    (per join)."""
+    bez = prepared["bez"]
+    k, n = bez.shape[0], points.shape[0]
+    size = k + fit_bez.shape[0] + (min(max_run, k) + 2) * k  # the singles of three states, then one a start
+    first, length, s0, s1 = (np.empty(size, np.int64) for _ in range(4))
+    spread, cubic, refit = np.empty(size), np.empty((size, 4, 2)), np.empty(size, bool)
+    t_count, t_start = np.empty(size, np.int64), np.empty(size, np.int64)
+    direction = np.empty((k, 2))
+    room = T_ROOM * n + T_ROOM_EXTRA
+    while True:
+        t = np.empty(room)
+        count, used = _candidates_into(
+            bez, prepared["starts"], prepared["ends"], prepared["origin"], fit_bez, prepared["head"],
+            prepared["tail"], prepared["turn"], prepared["seg_piece"], prepared["interior"], prepared["joins"], slope,
+            prepared["reach"], prepared["good"], points, u, tol, fitted, float(tolerance), int(max_run),
+            float(max_turn), int(misses), int(steps), int(fit_points), float(margin), np.empty((n + 2, 2)),
+            np.empty(n), np.empty((4, 2)), np.empty(k, bool), np.empty(k, np.int64), np.empty(k, bool), direction,
+            first, length, s0, s1, spread, cubic, refit, t_count, t_start, t)
+        if used <= room:
+            break
+        room = used  # the parameters did not all fit: once more with room for them
+    return {"first": first[:count], "length": length[:count], "s0": s0[:count], "s1": s1[:count],
+            "spread": spread[:count], "cubic": cubic[:count], "refit": refit[:count], "t_count": t_count[:count],
+            "t_start": t_start[:count], "t": t[:used], "direction": direction}
+
+
+def choose(k, cand, allowed, periodic):
+    """Fewest segments for the chain of ``k`` segments from the ``allowed`` candidate runs of :func:`candidates`,
+    each join in the direction state its two runs agree on (with ``periodic`` the chain's two ends are one join,
+    in either state, else state 0), ties broken by the smallest total cost (``spread``), then by the candidates'
+    order; the chosen candidates' indices in chain order (:func:`.merge.choose_runs`)."""
+    first = cand["first"]
+    count = first.shape[0]
+    chosen = np.empty(k, np.int64)
+    size = _choose_into(int(k), first, cand["length"], cand["s0"], cand["s1"], cand["spread"], allowed,
+                        bool(periodic), np.empty(count, np.int64), np.empty(k + 2, np.int64),
+                        np.empty((k + 1, 2), np.int64), np.empty((k + 1, 2)), np.empty((k + 1, 2), np.int64), chosen)
+    return chosen[:size]
 
 
 _WARM = []
 
 
 def warm_up():
-    """Compile (empty cache) or load the kernel once per process (see :func:`._kernels.warm_up`)."""
+    """Compile (empty cache) or load the kernels once per process (see :func:`._kernels.warm_up`): the merge of
+    a small blob without corners and of one with two."""
     if _WARM:
         return
-    pts = np.column_stack([np.linspace(0.0, 3.0, 4), np.zeros(4)])
-    one = np.array([[0.0, 0.0]]), np.array([[3.0, 0.0]]), np.array([[1.0, 0.0]]), np.array([[1.0, 0.0]])
-    fit_runs(*one, np.array([0]), np.array([4]), pts, np.arange(4.0), np.array([0.0]), np.array([3.0]),
-             np.full(4, 0.8), pts, 1, 32)
+    angle = np.linspace(0.0, 2 * np.pi, 40, endpoint=False)
+    points = np.column_stack([10 * np.cos(angle), 6 * np.sin(angle)])
+    u = np.arange(40.0)
+    fit_bez = np.empty((4, 4, 2))
+    for i in range(4):
+        a, b = angle[10 * i], angle[(10 * i + 10) % 40] + (2 * np.pi if i == 3 else 0.0)
+        for e in range(4):
+            x = a + (b - a) * e / 3
+            fit_bez[i, e] = 10 * np.cos(x), 6 * np.sin(x)
+    starts, ends = np.arange(0.0, 40.0, 10.0), np.arange(10.0, 50.0, 10.0)
+    for corner_par, pieces, cornered in ((np.array([0.0, 40.0]), 1, False), (np.array([0.0, 20.0, 40.0]), 2, True)):
+        prepared = prepare(fit_bez, starts, ends, 2.0, corner_par, pieces, cornered, points, u, 40.0, 0.5)
+        slope = np.zeros(prepared["joins"].shape[0])
+        cand = candidates(prepared, fit_bez, slope, points, u, np.full(40, 0.8), points, 0.5, 12, 0.8 * np.pi, 2, 4,
+                          32, 0.0)
+        choose(prepared["bez"].shape[0], cand, np.ones(cand["first"].shape[0], bool), not cornered)
     _WARM.append(True)

@@ -218,28 +218,24 @@ def _fit_run(p0x, p0y, p3x, p3y, d0x, d0y, d1x, d1y, lo, n, points, u, start, sp
 
 
 @njit(**_HELPER)
-def _at(u, period, wide, i):
-    """``u[i]``, or where ``wide`` the ``i``-th of the three copies ``u - period``, ``u``, ``u + period`` one after
-    the other (the contour once more on either side of the seam)."""
-    n = u.shape[0]
-    if not wide:
-        return u[i]
-    if i < n:
-        return u[i] - period
-    if i < 2 * n:
-        return u[i - n]
-    return u[i - 2 * n] + period
-
-
-@njit(**_HELPER)
 def _search(u, period, wide, value, right):
-    """``numpy.searchsorted(u, value, side="right" if right else "left")`` on ``u`` or its three copies
-    (:func:`_at`)."""
+    """``numpy.searchsorted(u, value, side="right" if right else "left")``, or where ``wide`` on the three copies
+    ``u - period``, ``u``, ``u + period`` one after the other (the contour once more on either side of the seam).
+    Callers pass ``wide`` and ``right`` as booleans of no literal value (``numpy.bool_(...)``): each literal would
+    compile the helper once more."""
+    n = u.shape[0]
     lo = np.int64(0)
-    hi = np.int64(3 * u.shape[0] if wide else u.shape[0])
+    hi = np.int64(3 * n if wide else n)
     while lo < hi:
         mid = (lo + hi) >> 1
-        x = _at(u, period, wide, mid)
+        if not wide:
+            x = u[mid]
+        elif mid < n:
+            x = u[mid] - period
+        elif mid < 2 * n:
+            x = u[mid - n]
+        else:
+            x = u[mid - 2 * n] + period
         if x < value or (right and x == value):
             lo = mid + 1
         else:
@@ -260,29 +256,34 @@ def _sort4(t):
 
 
 @njit(**_HELPER)
-def _curve_speed(c, t, d):
-    """Coordinate ``d`` of the cubic ``c`` and of its derivative at ``t``."""
-    s = 1.0 - t
-    point = s ** 3.0 * c[0, d] + 3 * s * s * t * c[1, d] + 3 * s * t * t * c[2, d] + t ** 3.0 * c[3, d]
-    speed = 3 * (s * s * (c[1, d] - c[0, d]) + 2 * s * t * (c[2, d] - c[1, d]) + t * t * (c[3, d] - c[2, d]))
-    return point, speed
-
-
-@njit(**_HELPER)
-def _unit_into(x, y, out):
-    """``(x, y)`` over its length (``numpy.hypot``; as it is where that is 0) into ``out`` (2)."""
+def _unit_into(x, y, out, at):
+    """``(x, y)`` over its length (``numpy.hypot``; as it is where that is 0) into ``out[at], out[at + 1]``."""
     length = np.hypot(x, y)
     if not length > 0:
         length = 1.0
-    out[0] = x / length
-    out[1] = y / length
+    out[at] = x / length
+    out[at + 1] = y / length
+
+
+# Columns of the pieces' table of :func:`prepare` (one row a piece, rows k + 1): the cubic (x, y of its four control
+# points), its parameter interval, its unit end tangents, the turn of the pieces before it, the new direction of
+# its start join (:func:`candidates`).
+_BEZ, _START, _END, _HEAD, _TAIL, _TURN, _DIRECTION, _PIECE_COLUMNS = 0, 8, 9, 10, 12, 14, 15, 17
+# Rows of the pieces' integers: the fitted segment of each, its piece between corners, whether the join at its
+# start is inside a piece; per interior join its piece and how many points its parabola's window holds.
+_ORIGIN, _SEG_PIECE, _INTERIOR, _JOIN, _COUNT = 0, 1, 2, 3, 4
+# Columns of the joins' table: the half-width of the window, the parabola's slope b (:func:`.merge.merge_segments`
+# puts it), its normal equations (3 x 3, then 3).
+_REACH, _SLOPE, _M, _RHS, _JOIN_COLUMNS = 0, 1, 2, 11, 14
+# Rows of the candidates' integers (their floats: the spread, then the cubic).
+_FIRST, _LENGTH, _S0, _S1, _REFIT, _T_COUNT, _T_START = 0, 1, 2, 3, 4, 5, 6
 
 
 @njit(**JIT_OPTIONS)
-def _prepare_into(fit_bez, fit_starts, fit_ends, min_gap, corner_par, piece_count, cornered, points, u, period,
-                  window, roots, bez, starts, ends, origin, head, tail, turn, seg_piece, interior, joins, reach, m,
-                  rhs, good):
+def _prepare_into(fit_bez, fit_starts, fit_ends, corner_par, points, u, settings, roots, pieces, ints, joins):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    min_gap, piece_count, cornered = settings[0], np.int64(settings[1]), settings[2] > 0
+    period, window = settings[3], settings[4]
     k = np.int64(0)
     for i in range(fit_bez.shape[0]):
         c = fit_bez[i]
@@ -315,73 +316,80 @@ def _prepare_into(fit_bez, fit_starts, fit_ends, min_gap, corner_par, piece_coun
         while cuts < 4 and roots[cuts] == roots[cuts]:
             cuts += 1
         ta = 0.0
-        for p in range(cuts + 1):
+        for p in range(cuts + 1):  # the piece [ta, tb] of the segment: its end points and derivatives there
             tb = roots[p] if p < cuts else 1.0
             width = tb - ta
-            out = bez[k]
+            sa, sb = 1.0 - ta, 1.0 - tb
             for d in range(2):
-                pa, va = _curve_speed(c, ta, d)
-                pb, vb = _curve_speed(c, tb, d)
-                out[0, d] = c[0, d] if p == 0 else pa
-                out[1, d] = pa + width * va / 3.0
-                out[2, d] = pb - width * vb / 3.0
-                out[3, d] = c[3, d] if p == cuts else pb
-            starts[k] = fit_starts[i] + ta * h
-            ends[k] = fit_starts[i] + tb * h
-            origin[k] = i
+                e0, e1, e2 = c[1, d] - c[0, d], c[2, d] - c[1, d], c[3, d] - c[2, d]
+                pa = sa ** 3.0 * c[0, d] + 3 * sa * sa * ta * c[1, d] + 3 * sa * ta * ta * c[2, d] + ta ** 3.0 * c[3, d]
+                pb = sb ** 3.0 * c[0, d] + 3 * sb * sb * tb * c[1, d] + 3 * sb * tb * tb * c[2, d] + tb ** 3.0 * c[3, d]
+                va = 3 * (sa * sa * e0 + 2 * sa * ta * e1 + ta * ta * e2)
+                vb = 3 * (sb * sb * e0 + 2 * sb * tb * e1 + tb * tb * e2)
+                pieces[k, _BEZ + d] = c[0, d] if p == 0 else pa
+                pieces[k, _BEZ + 2 + d] = pa + width * va / 3.0
+                pieces[k, _BEZ + 4 + d] = pb - width * vb / 3.0
+                pieces[k, _BEZ + 6 + d] = c[3, d] if p == cuts else pb
+            pieces[k, _START] = fit_starts[i] + ta * h
+            pieces[k, _END] = fit_starts[i] + tb * h
+            ints[_ORIGIN, k] = i
             ta = tb
             k += 1
-    turn[0] = 0.0
+    pieces[0, _TURN] = 0.0
     for i in range(k):
-        c = bez[i]
+        row = pieces[i]
         # the unit tangents at the ends (the next control point where the first coincides)
-        x, y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
+        x, y = row[2] - row[0], row[3] - row[1]
         if not np.hypot(x, y) > 1e-9:
-            x, y = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1]
-        _unit_into(x, y, head[i])
-        x, y = c[3, 0] - c[2, 0], c[3, 1] - c[2, 1]
+            x, y = row[4] - row[0], row[5] - row[1]
+        _unit_into(x, y, row, _HEAD)
+        x, y = row[6] - row[4], row[7] - row[5]
         if not np.hypot(x, y) > 1e-9:
-            x, y = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1]
-        _unit_into(x, y, tail[i])
-        # the turn of the control polygon, summed along the pieces
-        a0 = math.atan2(c[1, 1] - c[0, 1], c[1, 0] - c[0, 0])
-        a1 = math.atan2(c[2, 1] - c[1, 1], c[2, 0] - c[1, 0])
-        a2 = math.atan2(c[3, 1] - c[2, 1], c[3, 0] - c[2, 0])
+            x, y = row[6] - row[2], row[7] - row[3]
+        _unit_into(x, y, row, _TAIL)
+        # the turn of the control polygon (its two angles, each in [-pi, pi]), summed along the pieces
+        a0 = math.atan2(row[3] - row[1], row[2] - row[0])
+        a1 = math.atan2(row[5] - row[3], row[4] - row[2])
+        a2 = math.atan2(row[7] - row[5], row[6] - row[4])
         x, y = a1 - a0, a2 - a1
-        turn[i + 1] = turn[i] + (abs(math.atan2(math.sin(x), math.cos(x))) + abs(math.atan2(math.sin(y), math.cos(y))))
-        # the piece between corners of the piece's start
+        pieces[i + 1, _TURN] = row[_TURN] + (abs(math.atan2(math.sin(x), math.cos(x)))
+                                             + abs(math.atan2(math.sin(y), math.cos(y))))
+        # the piece between corners of the piece's start (numpy.searchsorted(corner_par, start, "right") - 1)
         lo = np.int64(0)
         hi = np.int64(corner_par.shape[0])
         while lo < hi:
             mid = (lo + hi) >> 1
-            if corner_par[mid] <= starts[i]:
+            if corner_par[mid] <= row[_START]:
                 lo = mid + 1
             else:
                 hi = mid
-        seg_piece[i] = pymin(pymax(lo - 1, 0), piece_count - 1)
+        ints[_SEG_PIECE, i] = pymin(pymax(lo - 1, 0), piece_count - 1)
     # the joins inside a piece (the seam of an outline without corners is one too) and their parabolas' sums
-    interior[0] = interior[k] = not cornered
+    ints[_INTERIOR, 0] = ints[_INTERIOR, k] = not cornered
     for i in range(1, k):
-        interior[i] = seg_piece[i] == seg_piece[i - 1]
+        ints[_INTERIOR, i] = ints[_SEG_PIECE, i] == ints[_SEG_PIECE, i - 1]
     r = np.int64(0)
     n = points.shape[0]
+    wide, left, right = np.bool_(not cornered), np.bool_(False), np.bool_(True)
     for j in range(k):
-        if not interior[j]:
+        if not ints[_INTERIOR, j]:
             continue
         before = j - 1 if j > 0 else k - 1
-        reach_j = window * pymax(ends[j] - starts[j], ends[before] - starts[before])
+        start = pieces[j, _START]
+        reach = window * pymax(pieces[j, _END] - start, pieces[before, _END] - pieces[before, _START])
+        low_b, high_b = -np.inf, np.inf
         if cornered:
-            low_b, high_b = corner_par[seg_piece[j]], corner_par[seg_piece[j] + 1]
-        else:
-            low_b, high_b = -np.inf, np.inf
-        lo = _search(u, period, not cornered, pymax(starts[j] - reach_j, low_b), False)
-        hi = _search(u, period, not cornered, pymin(starts[j] + reach_j, high_b), True)
-        scale = pymax(reach_j, 1.0)
+            low_b, high_b = corner_par[ints[_SEG_PIECE, j]], corner_par[ints[_SEG_PIECE, j] + 1]
+        lo = _search(u, period, wide, pymax(start - reach, low_b), left)
+        hi = _search(u, period, wide, pymin(start + reach, high_b), right)
+        scale = pymax(reach, 1.0)
         s1 = s2 = s3 = s4 = y0 = y1 = y2 = 0.0
-        px, py = bez[j, 0, 0], bez[j, 0, 1]
-        tx, ty = head[j, 0], head[j, 1]
+        px, py = pieces[j, _BEZ], pieces[j, _BEZ + 1]
+        tx, ty = pieces[j, _HEAD], pieces[j, _HEAD + 1]
         for q in range(lo, hi):
-            at = q % n
+            at = q
+            while at >= n:
+                at -= n
             rx, ry = points[at, 0] - px, points[at, 1] - py
             x = (rx * tx + ry * ty) / scale
             y = ry * tx - rx * ty
@@ -394,105 +402,113 @@ def _prepare_into(fit_bez, fit_starts, fit_ends, min_gap, corner_par, piece_coun
             y1 += y * x
             y2 += y * x2
         count = pymax(hi - lo, 0)
-        s0 = float(count)
-        sums = (s0, s1, s2, s3, s4)
-        for e in range(3):
-            for f in range(3):
-                m[r, e, f] = sums[e + f]
-            m[r, e, e] += 1e-9
-        rhs[r, 0, 0], rhs[r, 1, 0], rhs[r, 2, 0] = y0, y1, y2
-        joins[r] = j
-        reach[r] = reach_j
-        good[r] = count >= 6
+        row = joins[r]
+        row[_REACH], row[_SLOPE] = reach, 0.0
+        row[_M], row[_M + 1], row[_M + 2] = count + 1e-9, s1, s2
+        row[_M + 3], row[_M + 4], row[_M + 5] = s1, s2 + 1e-9, s3
+        row[_M + 6], row[_M + 7], row[_M + 8] = s2, s3, s4 + 1e-9
+        row[_RHS], row[_RHS + 1], row[_RHS + 2] = y0, y1, y2
+        ints[_JOIN, r] = j
+        ints[_COUNT, r] = count
         r += 1
     return k, r
 
 
 @njit(**_HELPER)
-def _keep(at, f, size, c, first, length, s0, s1, spread, cubic, refit, t_count, t_start):
-    """Candidate ``at``: the fitted curve as it was from segment ``f`` on, ``size`` segments (the cubic ``c``;
-    states 0, 0; cost 0; its points keep their parameters)."""
-    first[at], length[at], s0[at], s1[at], spread[at] = f, size, 0, 0, 0.0
-    for e in range(4):
-        cubic[at, e, 0], cubic[at, e, 1] = c[e, 0], c[e, 1]
-    refit[at], t_count[at], t_start[at] = False, 0, 0
+def _keep(at, f, size, c, cand_i, cand_f):
+    """Candidate ``at``: the fitted curve as it was from piece ``f`` on, ``size`` pieces (the cubic ``c`` as a row
+    of eight; states 0, 0; cost 0; its points keep their parameters)."""
+    cand_i[_FIRST, at], cand_i[_LENGTH, at], cand_i[_S0, at], cand_i[_S1, at] = f, size, 0, 0
+    cand_i[_REFIT, at], cand_i[_T_COUNT, at], cand_i[_T_START, at] = 0, 0, 0
+    cand_f[at, 0] = 0.0
+    for e in range(8):
+        cand_f[at, 1 + e] = c[e]
 
 
 @njit(**JIT_OPTIONS)
-def _candidates_into(bez, starts, ends, origin, fit_bez, head, tail, turn, seg_piece, interior, joins, slope_b,
-                     reach, good, points, u, tol, fitted, tolerance, max_run, max_turn, misses, steps, fit_points,
-                     margin, scratch, t_scratch, c, alive, missed, passed, direction, first, length, s0, s1, spread,
-                     cubic, refit, t_count, t_start, t_values):
-    k = bez.shape[0]
-    # the new direction of each join with a parabola (the fitted curve's direction elsewhere)
+def _candidates_into(pieces, ints, joins, fit_bez, points, u, tol, fitted, settings, scratch, t_scratch, c, state,
+                     cand_i, cand_f, t_values):
+    tolerance, max_turn, margin = settings[0], settings[1], settings[2]
+    max_run, misses, steps, fit_points = np.int64(settings[3]), settings[4], np.int64(settings[5]), \
+        np.int64(settings[6])
+    k = np.int64(settings[7])
+    # the new direction of each join with a parabola of six points or more (the fitted curve's direction elsewhere)
     for i in range(k):
-        direction[i, 0], direction[i, 1] = head[i, 0], head[i, 1]
+        pieces[i, _DIRECTION], pieces[i, _DIRECTION + 1] = pieces[i, _HEAD], pieces[i, _HEAD + 1]
     for r in range(joins.shape[0]):
-        if good[r]:
-            j = joins[r]
-            slope = slope_b[r] / pymax(reach[r], 1.0)
-            tx, ty = head[j, 0], head[j, 1]
-            _unit_into(tx + slope * -ty, ty + slope * tx, direction[j])
+        if ints[_COUNT, r] >= 6:
+            j = ints[_JOIN, r]
+            slope = joins[r, _SLOPE] / pymax(joins[r, _REACH], 1.0)
+            tx, ty = pieces[j, _HEAD], pieces[j, _HEAD + 1]
+            _unit_into(tx + slope * -ty, ty + slope * tx, pieces[j], _DIRECTION)
     # the fitted segments as they were: their pieces, and each whole where it was cut (states 0, 0; cost 0)
     count = np.int64(0)
     for i in range(k):
-        _keep(count, i, np.int64(1), bez[i], first, length, s0, s1, spread, cubic, refit, t_count, t_start)
+        _keep(count, i, np.int64(1), pieces[i], cand_i, cand_f)
         count += 1
     i = np.int64(0)
     while i < k:
         size = np.int64(1)
-        while i + size < k and origin[i + size] == origin[i]:
+        while i + size < k and ints[_ORIGIN, i + size] == ints[_ORIGIN, i]:
             size += 1
         if size > 1:
-            _keep(count, i, size, fit_bez[origin[i]], first, length, s0, s1, spread, cubic, refit, t_count, t_start)
+            _keep(count, i, size, fit_bez[ints[_ORIGIN, i]], cand_i, cand_f)
             count += 1
         i += size
     # the runs, one length at a time, each start in every state its two end joins may take, while the start stays
     # in its piece and turn and has not failed more than ``misses`` lengths in a row (length 1 always passes)
     t_used = np.int64(0)
+    narrow, right = np.bool_(False), np.bool_(True)
+    alive, missed, passed = state[0], state[1], state[2]
     for i in range(k):
-        alive[i] = True
+        alive[i] = 1
         missed[i] = 0
     for size in range(1, pymin(max_run, k) + 1):
         for i in range(k):
             last = i + size - 1
-            alive[i] = (alive[i] and missed[i] <= misses and last < k and seg_piece[last] == seg_piece[i]
-                        and turn[last + 1] - turn[i] <= max_turn)
+            alive[i] = (alive[i] != 0 and missed[i] <= misses and last < k
+                        and ints[_SEG_PIECE, last] == ints[_SEG_PIECE, i]
+                        and pieces[last + 1, _TURN] - pieces[i, _TURN] <= max_turn)
             passed[i] = size == 1
-        for state in range(4):
-            a, b = state >> 1, state & 1
+        for ends in range(4):  # the end states (a, b): 0 the fitted curve's direction, 1 the join's new one
+            a, b = ends >> 1, ends & 1
             for i in range(k):
                 if not alive[i]:
                     continue
                 last = i + size - 1
-                head_join, tail_join = interior[i], interior[last + 1]
+                head_join, tail_join = ints[_INTERIOR, i] != 0, ints[_INTERIOR, last + 1] != 0
                 # an end at a join takes the new direction if asked (a == 1), and a longer run wherever it may; a
                 # single segment in states (0, 0) is the segment as it was
                 if size == 1:
-                    if state == 0 or (a == 1 and not head_join) or (b == 1 and not tail_join):
+                    if ends == 0 or (a == 1 and not head_join) or (b == 1 and not tail_join):
                         continue
                 elif head_join != (a == 1) or tail_join != (b == 1):
                     continue
-                d0 = direction[i] if a else head[i]
-                d1 = direction[last + 1 if last + 1 < k else 0] if b else tail[last]
-                start, end = starts[i], ends[last]
-                lo = _search(u, 0.0, False, start, False)
-                n = pymax(_search(u, 0.0, False, end, True) - lo, 0)
-                p0x, p0y, p3x, p3y = bez[i, 0, 0], bez[i, 0, 1], bez[last, 3, 0], bez[last, 3, 1]
-                ha, hb, excess, drift, cost = _fit_run(p0x, p0y, p3x, p3y, d0[0], d0[1], d1[0], d1[1], lo, n, points,
-                                                       u, start, end - start, tol, fitted, steps, fit_points,
-                                                       -margin, tolerance, scratch, c, t_scratch)
+                head, tail = pieces[i], pieces[last + 1 if last + 1 < k else 0]
+                d0x, d0y = (head[_DIRECTION], head[_DIRECTION + 1]) if a else (head[_HEAD], head[_HEAD + 1])
+                d1x, d1y = (tail[_DIRECTION], tail[_DIRECTION + 1]) if b else (pieces[last, _TAIL],
+                                                                               pieces[last, _TAIL + 1])
+                start, end = head[_START], pieces[last, _END]
+                lo = _search(u, 0.0, narrow, start, narrow)
+                n = pymax(_search(u, 0.0, narrow, end, right) - lo, 0)
+                ha, hb, excess, drift, cost = _fit_run(head[_BEZ], head[_BEZ + 1], pieces[last, _BEZ + 6],
+                                                       pieces[last, _BEZ + 7], d0x, d0y, d1x, d1y, lo, n, points, u,
+                                                       start, end - start, tol, fitted, steps, fit_points, -margin,
+                                                       tolerance, scratch, c, t_scratch)
                 # within the tolerance of the points (less the margin) and of the fitted curve, both handles
                 # positive, at least four points
                 chord = np.hypot(c[3, 0] - c[0, 0], c[3, 1] - c[0, 1])
-                if not (excess + margin <= 0 and drift <= tolerance and ha > 1e-3 * chord and hb > 1e-3 * chord and n >= 4):
+                if not (excess + margin <= 0 and drift <= tolerance and ha > 1e-3 * chord and hb > 1e-3 * chord
+                        and n >= 4):
                     continue
-                passed[i] = True
-                if count < first.shape[0] and t_used + n <= t_values.shape[0]:
-                    first[count], length[count], s0[count], s1[count], spread[count] = i, size, a, b, cost
+                passed[i] = 1
+                if count < cand_i.shape[1] and t_used + n <= t_values.shape[0]:
+                    cand_i[_FIRST, count], cand_i[_LENGTH, count], cand_i[_S0, count], cand_i[_S1, count] = \
+                        i, size, a, b
+                    cand_i[_REFIT, count], cand_i[_T_COUNT, count], cand_i[_T_START, count] = 1, n, t_used
+                    cand_f[count, 0] = cost
                     for e in range(4):
-                        cubic[count, e, 0], cubic[count, e, 1] = c[e, 0], c[e, 1]
-                    refit[count], t_count[count], t_start[count] = True, n, t_used
+                        cand_f[count, 1 + 2 * e], cand_f[count, 2 + 2 * e] = c[e, 0], c[e, 1]
                     for j in range(n):
                         t_values[t_used + j] = t_scratch[j]
                 count += 1
@@ -503,52 +519,55 @@ def _candidates_into(bez, starts, ends, origin, fit_bez, head, tail, turn, seg_p
 
 
 @njit(**JIT_OPTIONS)
-def _choose_into(k, first, length, s0, s1, cost, allowed, periodic, order, bucket, best_count, best_total, back,
-                 chosen):
+def _choose_into(cand_i, cand_f, allowed, periodic, order, table, totals, chosen):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    # the allowed candidates by their end, in their order
+    k = chosen.shape[0]
+    first, length, s0, s1 = cand_i[_FIRST], cand_i[_LENGTH], cand_i[_S0], cand_i[_S1]
+    bucket, back = table[0], table[1:3]
+    best = table[3:5]  # the fewest segments up to each join in each state (the least total cost: totals)
+    # the allowed candidates by their end, in their order: bucket[j - 1] .. bucket[j] those ending at j
     for j in range(k + 2):
         bucket[j] = 0
-    for c in range(first.shape[0]):
+    for c in range(allowed.shape[0]):
         if allowed[c]:
             bucket[first[c] + length[c] + 1] += 1
     for j in range(1, k + 2):
         bucket[j] += bucket[j - 1]
-    for c in range(first.shape[0]):
+    for c in range(allowed.shape[0]):
         if allowed[c]:
             end = first[c] + length[c]
             order[bucket[end]] = c
             bucket[end] += 1
-    # bucket[j - 1] .. bucket[j]: the candidates ending at j
     never = np.int64(1) << 60
     found = np.int64(-1)
     found_count, found_total, found_size = never, 0.0, np.int64(0)
     for seam in range(2 if periodic else 1):
         for j in range(k + 1):
-            for state in range(2):
-                best_count[j, state], best_total[j, state], back[j, state] = never, 0.0, -1
-        best_count[0, seam], best_total[0, seam] = 0, 0.0
+            for s in range(2):
+                best[s, j], totals[s, j], back[s, j] = never, 0.0, -1
+        best[seam, 0], totals[seam, 0] = 0, 0.0
         for j in range(1, k + 1):
             for at in range(bucket[j - 1], bucket[j]):
                 c = order[at]
-                count = best_count[first[c], s0[c]]
+                count = best[s0[c], first[c]]
                 if count == never:
                     continue
-                total = best_total[first[c], s0[c]] + cost[c]
+                total = totals[s0[c], first[c]] + cand_f[c, 0]
                 count += 1
-                if count < best_count[j, s1[c]] or (count == best_count[j, s1[c]] and total < best_total[j, s1[c]]):
-                    best_count[j, s1[c]], best_total[j, s1[c]], back[j, s1[c]] = count, total, c
-        count, total = best_count[k, seam], best_total[k, seam]
+                s = s1[c]
+                if count < best[s, j] or (count == best[s, j] and total < totals[s, j]):
+                    best[s, j], totals[s, j], back[s, j] = count, total, c
+        count, total = best[seam, k], totals[seam, k]
         if count == never or (found >= 0 and not (count < found_count or (count == found_count
                                                                             and total < found_total))):
             continue
         found, found_count, found_total = seam, count, total
-        j, state, size = k, seam, np.int64(0)
+        j, s, size = k, seam, np.int64(0)
         while j > 0:
-            c = back[j, state]
+            c = back[s, j]
             chosen[size] = c
             size += 1
-            j, state = first[c], s0[c]
+            j, s = first[c], s0[c]
         for e in range(size // 2):
             chosen[e], chosen[size - 1 - e] = chosen[size - 1 - e], chosen[e]
         found_size = size
@@ -559,80 +578,73 @@ def prepare(fit_bez, fit_starts, fit_ends, min_gap, corner_par, piece_count, cor
     """The fitted segments ``fit_bez`` on ``[fit_starts, fit_ends]`` cut where their tangent is horizontal or
     vertical (at least ``min_gap`` parameter units from either end of a segment; cuts closer than that to the one
     before: one), and per piece and join what the candidates need (:func:`.merge.merge_segments`). Returns a
-    dict: the pieces ``bez`` (k, 4, 2), ``starts``, ``ends``, ``origin`` (the fitted segment of each), their unit
-    end tangents ``head`` and ``tail``, ``turn`` (k + 1: the turn of their control polygons summed from the
-    first), ``seg_piece`` (the piece between corners, by ``corner_par``), ``interior`` (k + 1: the joins inside a
-    piece; with ``cornered`` false the seam too); per interior join (``joins``) the half-width ``reach`` of its
-    parabola's window (``window`` times the longer parameter length beside it, within its piece; an outline
-    without corners measures around its seam, ``period``) and the normal equations ``m``, ``rhs`` of that
-    parabola ``y = a + b x + c x^2`` in the frame of the join's tangent, x over ``max(reach, 1)``; ``good``: six
-    points or more in the window."""
+    dict: the pieces ``bez`` (k, 4, 2), ``starts``, ``ends``, and the tables :func:`candidates` reads: per piece
+    the fitted segment it comes from, its unit end tangents, the turn of the pieces' control polygons summed from
+    the first, its piece between corners (by ``corner_par``), whether its start join is inside a piece (with
+    ``cornered`` false the seam is); per interior join the half-width of its parabola's window (``window`` times
+    the longer parameter length beside it, within its piece; an outline without corners measures around its seam,
+    ``period``) and the normal equations ``m``, ``rhs`` of that parabola ``y = a + b x + c x^2`` in the frame of
+    the join's tangent, x over ``max(reach, 1)``, ``good`` where six points or more are in the window; the
+    caller puts each good parabola's ``b`` into ``slope``."""
     size = 5 * fit_bez.shape[0]
-    bez, head, tail = np.empty((size, 4, 2)), np.empty((size, 2)), np.empty((size, 2))
-    starts, ends, reach, turn = np.empty(size), np.empty(size), np.empty(size), np.empty(size + 1)
-    m, rhs, ints = np.empty((size, 3, 3)), np.empty((size, 3, 1)), np.empty((3, size), np.int64)
-    interior, good = np.empty(size + 1, bool), np.empty(size, bool)
-    k, r = _prepare_into(fit_bez, fit_starts, fit_ends, float(min_gap), corner_par, int(piece_count), bool(cornered),
-                         points, u, float(period), float(window), np.empty(4), bez, starts, ends, ints[0], head,
-                         tail, turn, ints[1], interior, ints[2], reach, m, rhs, good)
-    return {"bez": bez[:k], "starts": starts[:k], "ends": ends[:k], "origin": ints[0, :k], "head": head[:k],
-            "tail": tail[:k], "turn": turn[:k + 1], "seg_piece": ints[1, :k], "interior": interior[:k + 1],
-            "joins": ints[2, :r], "reach": reach[:r], "m": m[:r], "rhs": rhs[:r], "good": good[:r]}
+    pieces, ints = np.empty((size + 1, _PIECE_COLUMNS)), np.empty((5, size + 1), np.int64)
+    joins = np.empty((size, _JOIN_COLUMNS))
+    settings = np.array([min_gap, piece_count, 1.0 if cornered else 0.0, period, window])
+    k, r = _prepare_into(fit_bez, fit_starts, fit_ends, corner_par, points, u, settings, np.empty(4), pieces, ints,
+                         joins)
+    return {"bez": pieces[:k, _BEZ:_BEZ + 8].reshape(k, 4, 2), "starts": pieces[:k, _START],
+            "ends": pieces[:k, _END], "pieces": pieces, "ints": ints, "joins": joins[:r],
+            "m": joins[:r, _M:_M + 9].reshape(r, 3, 3), "rhs": joins[:r, _RHS:_RHS + 3].reshape(r, 3, 1),
+            "good": ints[_COUNT, :r] >= 6, "slope": joins[:r, _SLOPE], "k": k}
 
 
-def candidates(prepared, fit_bez, slope, points, u, tol, fitted, tolerance, max_run, max_turn, misses, steps,
-               fit_points, margin):
+def candidates(prepared, fit_bez, points, u, tol, fitted, tolerance, max_run, max_turn, misses, steps, fit_points,
+               margin):
     """Every qualifying run of the pieces of :func:`prepare` (:func:`.merge.merge_segments`, step 3) with the
     direction states of its two end joins (0: the fitted curve's direction, 1: the join's new one, only at
-    interior joins: the parabola's direction ``(1, b)`` in the frame of the fitted curve's tangent, ``slope`` =
-    its ``b`` per join of ``prepared``; the fitted curve's direction where the parabola is not ``good``), grown
-    one segment at a time from every start while it stays in its piece, turns by at most ``max_turn`` and has
-    failed at most ``misses`` lengths in a row (one of its states qualifies), up to ``max_run`` segments.
-    A run qualifies when its cubic (:func:`_fit_run`, ``steps`` and ``fit_points``) stays within ``tol`` less
+    interior joins: the parabola's direction ``(1, b)`` in the frame of the fitted curve's tangent, ``b`` from
+    ``prepared["slope"]``, where the parabola is ``good``; the fitted curve's direction elsewhere), grown one
+    segment at a time from every start while it stays in its piece, turns by at most ``max_turn`` and has failed
+    at most ``misses`` lengths in a row (one of its states qualifies), up to ``max_run`` segments. A run
+    qualifies when its cubic (:func:`_fit_run`, ``steps`` and ``fit_points``) stays within ``tol`` less
     ``margin`` of its contour points and within ``tolerance`` of the ``fitted`` curve there, with both handles
     positive (above 1e-3 times the chord) and four points or more. Candidates ``0 .. k - 1`` are the pieces as
     they were (states 0, 0; cost 0), then each fitted segment cut into pieces, whole; the others follow by run
     length, then end states ``(s0, s1)`` in the order (0, 0), (0, 1), (1, 0), (1, 1), then start. Returns a
     dict: per candidate ``first``, ``length``, ``s0``, ``s1``, ``spread`` (the summed squared distance from the
     fitted curve at its points: the cost), ``cubic``, ``refit`` (not a fitted segment as it was), ``t_count``,
-    ``t_start`` (its points' parameters on the cubic are ``t[t_start: t_start + t_count]``), and ``direction``
-    (per join)."""
-    bez = prepared["bez"]
-    k, n = bez.shape[0], points.shape[0]
+    ``t_start`` (its points' parameters on the cubic are ``t[t_start: t_start + t_count]``), the tables
+    ``cand_i`` and ``cand_f`` :func:`choose` reads, and ``direction`` (per join)."""
+    k, n = prepared["k"], points.shape[0]
     size = k + fit_bez.shape[0] + (min(max_run, k) + 2) * k  # the singles of three states, then one a start
-    first, length, s0, s1 = (np.empty(size, np.int64) for _ in range(4))
-    spread, cubic, refit = np.empty(size), np.empty((size, 4, 2)), np.empty(size, bool)
-    t_count, t_start = np.empty(size, np.int64), np.empty(size, np.int64)
-    direction = np.empty((k, 2))
+    cand_i, cand_f = np.empty((7, size), np.int64), np.empty((size, 9))
+    settings = np.array([tolerance, max_turn, margin, max_run, misses, steps, fit_points, k], dtype=np.float64)
     room = T_ROOM * n + T_ROOM_EXTRA
+    flat = fit_bez.reshape(fit_bez.shape[0], 8)  # a row per segment, as the pieces' table has them
     while True:
         t = np.empty(room)
-        count, used = _candidates_into(
-            bez, prepared["starts"], prepared["ends"], prepared["origin"], fit_bez, prepared["head"],
-            prepared["tail"], prepared["turn"], prepared["seg_piece"], prepared["interior"], prepared["joins"], slope,
-            prepared["reach"], prepared["good"], points, u, tol, fitted, float(tolerance), int(max_run),
-            float(max_turn), int(misses), int(steps), int(fit_points), float(margin), np.empty((n + 2, 2)),
-            np.empty(n), np.empty((4, 2)), np.empty(k, bool), np.empty(k, np.int64), np.empty(k, bool), direction,
-            first, length, s0, s1, spread, cubic, refit, t_count, t_start, t)
+        count, used = _candidates_into(prepared["pieces"], prepared["ints"], prepared["joins"], flat, points, u,
+                                       tol, fitted, settings, np.empty((n + 2, 2)), np.empty(n), np.empty((4, 2)),
+                                       np.empty((3, k), np.int64), cand_i, cand_f, t)
         if used <= room:
             break
         room = used  # the parameters did not all fit: once more with room for them
-    return {"first": first[:count], "length": length[:count], "s0": s0[:count], "s1": s1[:count],
-            "spread": spread[:count], "cubic": cubic[:count], "refit": refit[:count], "t_count": t_count[:count],
-            "t_start": t_start[:count], "t": t[:used], "direction": direction}
+    pieces = prepared["pieces"]
+    return {"first": cand_i[_FIRST, :count], "length": cand_i[_LENGTH, :count], "s0": cand_i[_S0, :count],
+            "s1": cand_i[_S1, :count], "spread": cand_f[:count, 0], "cubic": cand_f[:count, 1:].reshape(count, 4, 2),
+            "refit": cand_i[_REFIT, :count] != 0, "t_count": cand_i[_T_COUNT, :count],
+            "t_start": cand_i[_T_START, :count], "t": t[:used], "cand_i": cand_i[:, :count],
+            "cand_f": cand_f[:count], "direction": pieces[:k, _DIRECTION:_DIRECTION + 2]}
 
 
 def choose(k, cand, allowed, periodic):
     """Fewest segments for the chain of ``k`` segments from the ``allowed`` candidate runs of :func:`candidates`,
     each join in the direction state its two runs agree on (with ``periodic`` the chain's two ends are one join,
     in either state, else state 0), ties broken by the smallest total cost (``spread``), then by the candidates'
-    order; the chosen candidates' indices in chain order (:func:`.merge.choose_runs`)."""
-    first = cand["first"]
-    count = first.shape[0]
+    order; the chosen candidates' indices in chain order (:func:`.merge.merge_segments`, step 4)."""
     chosen = np.empty(k, np.int64)
-    size = _choose_into(int(k), first, cand["length"], cand["s0"], cand["s1"], cand["spread"], allowed,
-                        bool(periodic), np.empty(count, np.int64), np.empty(k + 2, np.int64),
-                        np.empty((k + 1, 2), np.int64), np.empty((k + 1, 2)), np.empty((k + 1, 2), np.int64), chosen)
+    size = _choose_into(cand["cand_i"], cand["cand_f"], allowed, bool(periodic), np.empty(allowed.shape[0], np.int64),
+                        np.empty((5, k + 2), np.int64), np.empty((2, k + 1)), chosen)
     return chosen[:size]
 
 
@@ -641,7 +653,7 @@ _WARM = []
 
 def warm_up():
     """Compile (empty cache) or load the kernels once per process (see :func:`._kernels.warm_up`): the merge of
-    a small blob without corners and of one with two."""
+    an ellipse's four arcs without corners and with two."""
     if _WARM:
         return
     angle = np.linspace(0.0, 2 * np.pi, 40, endpoint=False)
@@ -656,8 +668,7 @@ def warm_up():
     starts, ends = np.arange(0.0, 40.0, 10.0), np.arange(10.0, 50.0, 10.0)
     for corner_par, pieces, cornered in ((np.array([0.0, 40.0]), 1, False), (np.array([0.0, 20.0, 40.0]), 2, True)):
         prepared = prepare(fit_bez, starts, ends, 2.0, corner_par, pieces, cornered, points, u, 40.0, 0.5)
-        slope = np.zeros(prepared["joins"].shape[0])
-        cand = candidates(prepared, fit_bez, slope, points, u, np.full(40, 0.8), points, 0.5, 12, 0.8 * np.pi, 2, 4,
-                          32, 0.0)
-        choose(prepared["bez"].shape[0], cand, np.ones(cand["first"].shape[0], bool), not cornered)
+        cand = candidates(prepared, fit_bez, points, u, np.full(40, 0.8), points, 0.5, 12, 0.8 * np.pi, 2, 4, 32,
+                          0.0)
+        choose(prepared["k"], cand, np.ones(cand["first"].shape[0], bool), not cornered)
     _WARM.append(True)

@@ -84,16 +84,15 @@ def merge_segments(model, dev, tolerance):
     prepared = _merge_kernels.prepare(fit_bez, dev["starts"], dev["ends"], MIN_SPLIT, corner_par,
                                       contour.piece_count, cornered, points, u, model.period, WINDOW)
     good = prepared["good"]
-    slope = np.zeros(good.shape[0])  # the parabolas' b (the join's direction is (1, b) in its tangent's frame)
-    if good.any():
-        slope[good] = np.linalg.solve(prepared["m"][good], prepared["rhs"][good])[:, 1, 0]
+    if good.any():  # the parabolas' b (the join's direction is (1, b) in its tangent's frame)
+        prepared["slope"][good] = np.linalg.solve(prepared["m"][good], prepared["rhs"][good])[:, 1, 0]
     tol = np.ascontiguousarray(dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"])  # one copy per merge
     fitted = curve_points(fit_bez, dev["starts"], dev["ends"], u)
-    cand = _merge_kernels.candidates(prepared, fit_bez, slope, points, u, tol, fitted, tolerance, MAX_RUN, MAX_TURN,
-                                     MISSES, NEWTON_STEPS, FIT_POINTS, MARGIN)
+    cand = _merge_kernels.candidates(prepared, fit_bez, points, u, tol, fitted, tolerance, MAX_RUN, MAX_TURN, MISSES,
+                                     NEWTON_STEPS, FIT_POINTS, MARGIN)
     if not (cand["length"] > 1).any():
         return dev, []
-    k, starts, ends = prepared["bez"].shape[0], prepared["starts"], prepared["ends"]
+    k, starts, ends = prepared["k"], prepared["starts"], prepared["ends"]
     saved = model.save()
     allowed = np.ones(cand["first"].shape[0], bool)
     for _ in range(4):

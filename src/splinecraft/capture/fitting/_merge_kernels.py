@@ -77,7 +77,7 @@ def _newton(k, qx, qy, t):
     return pyclip(t + step, 0.0, 1.0)
 
 
-@njit(**_HELPER)
+@njit(**dict(_HELPER, forceinline=False))
 def _fit_run(p0x, p0y, p3x, p3y, d0x, d0y, d1x, d1y, lo, n, points, u, start, span, tol, fitted, steps, fit_points,
              limit_excess, limit_drift, scratch, c, t_out):
     """One run: the cubic into ``c`` (4, 2) from ``(p0x, p0y)`` to ``(p3x, p3y)``, its handles along ``d0`` and
@@ -319,17 +319,19 @@ def _prepare_into(fit_bez, fit_starts, fit_ends, corner_par, points, u, settings
         for p in range(cuts + 1):  # the piece [ta, tb] of the segment: its end points and derivatives there
             tb = roots[p] if p < cuts else 1.0
             width = tb - ta
-            sa, sb = 1.0 - ta, 1.0 - tb
             for d in range(2):
                 e0, e1, e2 = c[1, d] - c[0, d], c[2, d] - c[1, d], c[3, d] - c[2, d]
-                pa = sa ** 3.0 * c[0, d] + 3 * sa * sa * ta * c[1, d] + 3 * sa * ta * ta * c[2, d] + ta ** 3.0 * c[3, d]
-                pb = sb ** 3.0 * c[0, d] + 3 * sb * sb * tb * c[1, d] + 3 * sb * tb * tb * c[2, d] + tb ** 3.0 * c[3, d]
-                va = 3 * (sa * sa * e0 + 2 * sa * ta * e1 + ta * ta * e2)
-                vb = 3 * (sb * sb * e0 + 2 * sb * tb * e1 + tb * tb * e2)
-                pieces[k, _BEZ + d] = c[0, d] if p == 0 else pa
-                pieces[k, _BEZ + 2 + d] = pa + width * va / 3.0
-                pieces[k, _BEZ + 4 + d] = pb - width * vb / 3.0
-                pieces[k, _BEZ + 6 + d] = c[3, d] if p == cuts else pb
+                for at in range(2):  # the start, then the end
+                    t = tb if at else ta
+                    s = 1.0 - t
+                    point = s ** 3.0 * c[0, d] + 3 * s * s * t * c[1, d] + 3 * s * t * t * c[2, d] + t ** 3.0 * c[3, d]
+                    speed = 3 * (s * s * e0 + 2 * s * t * e1 + t * t * e2)
+                    if at:
+                        pieces[k, _BEZ + 4 + d] = point - width * speed / 3.0
+                        pieces[k, _BEZ + 6 + d] = c[3, d] if p == cuts else point
+                    else:
+                        pieces[k, _BEZ + d] = c[0, d] if p == 0 else point
+                        pieces[k, _BEZ + 2 + d] = point + width * speed / 3.0
             pieces[k, _START] = fit_starts[i] + ta * h
             pieces[k, _END] = fit_starts[i] + tb * h
             ints[_ORIGIN, k] = i
@@ -342,11 +344,11 @@ def _prepare_into(fit_bez, fit_starts, fit_ends, corner_par, points, u, settings
         x, y = row[2] - row[0], row[3] - row[1]
         if not np.hypot(x, y) > 1e-9:
             x, y = row[4] - row[0], row[5] - row[1]
-        _unit_into(x, y, row, _HEAD)
+        _unit_into(x, y, row, np.int64(_HEAD))
         x, y = row[6] - row[4], row[7] - row[5]
         if not np.hypot(x, y) > 1e-9:
             x, y = row[6] - row[2], row[7] - row[3]
-        _unit_into(x, y, row, _TAIL)
+        _unit_into(x, y, row, np.int64(_TAIL))
         # the turn of the control polygon (its two angles, each in [-pi, pi]), summed along the pieces
         a0 = math.atan2(row[3] - row[1], row[2] - row[0])
         a1 = math.atan2(row[5] - row[3], row[4] - row[2])
@@ -440,7 +442,7 @@ def _candidates_into(pieces, ints, joins, fit_bez, points, u, tol, fitted, setti
             j = ints[_JOIN, r]
             slope = joins[r, _SLOPE] / pymax(joins[r, _REACH], 1.0)
             tx, ty = pieces[j, _HEAD], pieces[j, _HEAD + 1]
-            _unit_into(tx + slope * -ty, ty + slope * tx, pieces[j], _DIRECTION)
+            _unit_into(tx + slope * -ty, ty + slope * tx, pieces[j], np.int64(_DIRECTION))
     # the fitted segments as they were: their pieces, and each whole where it was cut (states 0, 0; cost 0)
     count = np.int64(0)
     for i in range(k):
@@ -519,55 +521,55 @@ def _candidates_into(pieces, ints, joins, fit_bez, points, u, tol, fitted, setti
 
 
 @njit(**JIT_OPTIONS)
-def _choose_into(cand_i, cand_f, allowed, periodic, order, table, totals, chosen):
+def _choose_into(cand_i, cand_f, count, allowed, periodic, order, table, totals, chosen):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     k = chosen.shape[0]
-    first, length, s0, s1 = cand_i[_FIRST], cand_i[_LENGTH], cand_i[_S0], cand_i[_S1]
-    bucket, back = table[0], table[1:3]
-    best = table[3:5]  # the fewest segments up to each join in each state (the least total cost: totals)
-    # the allowed candidates by their end, in their order: bucket[j - 1] .. bucket[j] those ending at j
+    # table rows: 0 the allowed candidates by their end, in their order (table[0, j - 1] .. table[0, j] those
+    # ending at j); 1 + s the candidate that ends a chain best at each join in state s, 3 + s its segments (totals:
+    # its cost)
     for j in range(k + 2):
-        bucket[j] = 0
-    for c in range(allowed.shape[0]):
+        table[0, j] = 0
+    for c in range(count):
         if allowed[c]:
-            bucket[first[c] + length[c] + 1] += 1
+            table[0, cand_i[_FIRST, c] + cand_i[_LENGTH, c] + 1] += 1
     for j in range(1, k + 2):
-        bucket[j] += bucket[j - 1]
-    for c in range(allowed.shape[0]):
+        table[0, j] += table[0, j - 1]
+    for c in range(count):
         if allowed[c]:
-            end = first[c] + length[c]
-            order[bucket[end]] = c
-            bucket[end] += 1
+            end = cand_i[_FIRST, c] + cand_i[_LENGTH, c]
+            order[table[0, end]] = c
+            table[0, end] += 1
     never = np.int64(1) << 60
     found = np.int64(-1)
     found_count, found_total, found_size = never, 0.0, np.int64(0)
     for seam in range(2 if periodic else 1):
         for j in range(k + 1):
             for s in range(2):
-                best[s, j], totals[s, j], back[s, j] = never, 0.0, -1
-        best[seam, 0], totals[seam, 0] = 0, 0.0
+                table[1 + s, j], table[3 + s, j], totals[s, j] = -1, never, 0.0
+        table[3 + seam, 0], totals[seam, 0] = 0, 0.0
         for j in range(1, k + 1):
-            for at in range(bucket[j - 1], bucket[j]):
+            for at in range(table[0, j - 1], table[0, j]):
                 c = order[at]
-                count = best[s0[c], first[c]]
-                if count == never:
+                f, s = cand_i[_FIRST, c], cand_i[_S0, c]
+                size = table[3 + s, f]
+                if size == never:
                     continue
-                total = totals[s0[c], first[c]] + cand_f[c, 0]
-                count += 1
-                s = s1[c]
-                if count < best[s, j] or (count == best[s, j] and total < totals[s, j]):
-                    best[s, j], totals[s, j], back[s, j] = count, total, c
-        count, total = best[seam, k], totals[seam, k]
-        if count == never or (found >= 0 and not (count < found_count or (count == found_count
-                                                                            and total < found_total))):
+                size += 1
+                total = totals[s, f] + cand_f[c, 0]
+                s = cand_i[_S1, c]
+                if size < table[3 + s, j] or (size == table[3 + s, j] and total < totals[s, j]):
+                    table[1 + s, j], table[3 + s, j], totals[s, j] = c, size, total
+        size, total = table[3 + seam, k], totals[seam, k]
+        if size == never or (found >= 0 and not (size < found_count or (size == found_count
+                                                                          and total < found_total))):
             continue
-        found, found_count, found_total = seam, count, total
+        found, found_count, found_total = seam, size, total
         j, s, size = k, seam, np.int64(0)
         while j > 0:
-            c = back[s, j]
+            c = table[1 + s, j]
             chosen[size] = c
             size += 1
-            j, s = first[c], s0[c]
+            j, s = cand_i[_FIRST, c], cand_i[_S0, c]
         for e in range(size // 2):
             chosen[e], chosen[size - 1 - e] = chosen[size - 1 - e], chosen[e]
         found_size = size
@@ -633,8 +635,8 @@ def candidates(prepared, fit_bez, points, u, tol, fitted, tolerance, max_run, ma
     return {"first": cand_i[_FIRST, :count], "length": cand_i[_LENGTH, :count], "s0": cand_i[_S0, :count],
             "s1": cand_i[_S1, :count], "spread": cand_f[:count, 0], "cubic": cand_f[:count, 1:].reshape(count, 4, 2),
             "refit": cand_i[_REFIT, :count] != 0, "t_count": cand_i[_T_COUNT, :count],
-            "t_start": cand_i[_T_START, :count], "t": t[:used], "cand_i": cand_i[:, :count],
-            "cand_f": cand_f[:count], "direction": pieces[:k, _DIRECTION:_DIRECTION + 2]}
+            "t_start": cand_i[_T_START, :count], "t": t[:used], "cand_i": cand_i, "cand_f": cand_f,
+            "direction": pieces[:k, _DIRECTION:_DIRECTION + 2]}
 
 
 def choose(k, cand, allowed, periodic):
@@ -643,7 +645,8 @@ def choose(k, cand, allowed, periodic):
     in either state, else state 0), ties broken by the smallest total cost (``spread``), then by the candidates'
     order; the chosen candidates' indices in chain order (:func:`.merge.merge_segments`, step 4)."""
     chosen = np.empty(k, np.int64)
-    size = _choose_into(cand["cand_i"], cand["cand_f"], allowed, bool(periodic), np.empty(allowed.shape[0], np.int64),
+    count = allowed.shape[0]
+    size = _choose_into(cand["cand_i"], cand["cand_f"], count, allowed, bool(periodic), np.empty(count, np.int64),
                         np.empty((5, k + 2), np.int64), np.empty((2, k + 1)), chosen)
     return chosen[:size]
 

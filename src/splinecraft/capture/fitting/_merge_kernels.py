@@ -595,7 +595,8 @@ def prepare(fit_bez, fit_starts, fit_ends, min_gap, corner_par, piece_count, cor
     k, r = _prepare_into(fit_bez, fit_starts, fit_ends, corner_par, points, u, settings, np.empty(4), pieces, ints,
                          joins)
     return {"bez": pieces[:k, _BEZ:_BEZ + 8].reshape(k, 4, 2), "starts": pieces[:k, _START],
-            "ends": pieces[:k, _END], "pieces": pieces, "ints": ints, "joins": joins[:r],
+            "ends": pieces[:k, _END], "origin": ints[_ORIGIN, :k], "head": pieces[:k, _HEAD:_HEAD + 2],
+            "tail": pieces[:k, _TAIL:_TAIL + 2], "turn": pieces[:k + 1, _TURN], "pieces": pieces, "ints": ints, "joins": joins[:r],
             "m": joins[:r, _M:_M + 9].reshape(r, 3, 3), "rhs": joins[:r, _RHS:_RHS + 3].reshape(r, 3, 1),
             "good": ints[_COUNT, :r] >= 6, "slope": joins[:r, _SLOPE], "k": k}
 

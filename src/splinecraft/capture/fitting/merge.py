@@ -72,27 +72,13 @@ def merge_segments(model, dev, tolerance):
     are no longer joins."""
     fit_bez = dev["bezier"]
     contour = model.contour
-    n = contour.size
     if fit_bez.shape[0] < 2:
         return dev, []
-    corner_par = model.base_parameter[contour.corner_bounds]
-    u = model.parameter[:n]
-    points = contour.points
-    cornered = contour.corner_count > 0
-    # the pieces between extrema and the joins inside a piece (the seam of an outline without corners is one too:
-    # the window of its parabola reaches around it)
-    prepared = _merge_kernels.prepare(fit_bez, dev["starts"], dev["ends"], MIN_SPLIT, corner_par,
-                                      contour.piece_count, cornered, points, u, model.period, WINDOW)
-    good = prepared["good"]
-    if good.any():  # the parabolas' b (the join's direction is (1, b) in its tangent's frame)
-        prepared["slope"][good] = np.linalg.solve(prepared["m"][good], prepared["rhs"][good])[:, 1, 0]
-    tol = np.ascontiguousarray(dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"])  # one copy per merge
-    fitted = curve_points(fit_bez, dev["starts"], dev["ends"], u)
-    cand = _merge_kernels.candidates(prepared, fit_bez, points, u, tol, fitted, tolerance, MAX_RUN, MAX_TURN, MISSES,
-                                     NEWTON_STEPS, FIT_POINTS, MARGIN)
+    prepared, cand = candidate_runs(model, dev, tolerance)
     if not (cand["length"] > 1).any():
         return dev, []
-    k, starts, ends = prepared["k"], prepared["starts"], prepared["ends"]
+    k, starts, ends, points = prepared["k"], prepared["starts"], prepared["ends"], contour.points
+    cornered = contour.corner_count > 0
     saved = model.save()
     allowed = np.ones(cand["first"].shape[0], bool)
     for _ in range(4):
@@ -114,6 +100,28 @@ def merge_segments(model, dev, tolerance):
         allowed[~cand["refit"]] = True
     model.load(saved)
     return dev, []
+
+
+def candidate_runs(model, dev, tolerance):
+    """Steps 1 to 3 of :func:`merge_segments` (module docstring): the pieces of the fit between extrema and
+    their joins (:func:`._merge_kernels.prepare`, the joins' parabolas solved here), and the candidate runs
+    (:func:`._merge_kernels.candidates`)."""
+    contour = model.contour
+    n = contour.size
+    u = model.parameter[:n]
+    points = contour.points
+    # the pieces between extrema and the joins inside a piece (the seam of an outline without corners is one too:
+    # the window of its parabola reaches around it)
+    prepared = _merge_kernels.prepare(dev["bezier"], dev["starts"], dev["ends"], MIN_SPLIT,
+                                      model.base_parameter[contour.corner_bounds], contour.piece_count,
+                                      contour.corner_count > 0, points, u, model.period, WINDOW)
+    good = prepared["good"]
+    if good.any():  # the parabolas' b (the join's direction is (1, b) in its tangent's frame)
+        prepared["slope"][good] = np.linalg.solve(prepared["m"][good], prepared["rhs"][good])[:, 1, 0]
+    tol = np.ascontiguousarray(dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"])  # one copy per merge
+    fitted = curve_points(dev["bezier"], dev["starts"], dev["ends"], u)
+    return prepared, _merge_kernels.candidates(prepared, dev["bezier"], points, u, tol, fitted, tolerance, MAX_RUN,
+                                               MAX_TURN, MISSES, NEWTON_STEPS, FIT_POINTS, MARGIN)
 
 
 def _join_indices(model, join_values, cornered):

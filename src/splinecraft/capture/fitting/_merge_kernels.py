@@ -88,7 +88,9 @@ def _fit_run(p0x, p0y, p3x, p3y, d0x, d0y, d1x, d1y, lo, n, points, u, start, sp
     the points' distances over ``tol``, the largest and the summed squared distance of their curve points from
     ``fitted``; the points stop being measured once the excess or drift so far exceeds its limit (the run cannot
     qualify then: its excess or drift is above the limit, its later parameters and its spread are not measured).
-    ``scratch``: (n + 2, 2) floats at least."""
+    ``scratch``: (n + 2, 2) floats at least. Called, not inlined: inlined into :func:`_candidates_into` it was
+    compiled twice (its own code, then the caller's) for the same run time (BENCHMARKS.md, "Session 30: merge
+    speed")."""
     stride = pymax(1, n // fit_points)
     m = np.int64(0)  # the fitted points: j = 0, stride, 2 stride, ..., and n - 1
     j = np.int64(0)
@@ -283,6 +285,7 @@ _FIRST, _LENGTH, _S0, _S1, _REFIT, _T_COUNT, _T_START = 0, 1, 2, 3, 4, 5, 6
 
 @njit(**JIT_OPTIONS)
 def _prepare_into(fit_bez, fit_starts, fit_ends, corner_par, points, u, settings, roots, pieces, ints, joins):
+    """:func:`prepare` into its tables; returns the pieces and the interior joins counted."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     min_gap, piece_count, cornered = settings[0], np.int64(settings[1]), settings[2] > 0
     period, window = settings[3], settings[4]
@@ -432,6 +435,8 @@ def _keep(at, f, size, c, cand_i, cand_f):
 @njit(**JIT_OPTIONS)
 def _candidates_into(pieces, ints, joins, fit_bez, points, u, tol, fitted, settings, scratch, t_scratch, c, state,
                      cand_i, cand_f, t_values):
+    """:func:`candidates` into its tables; returns the candidates and their points' parameters counted (written
+    where the tables have room)."""
     tolerance, max_turn, margin = settings[0], settings[1], settings[2]
     max_run, misses, steps, fit_points = np.int64(settings[3]), settings[4], np.int64(settings[5]), \
         np.int64(settings[6])
@@ -524,6 +529,7 @@ def _candidates_into(pieces, ints, joins, fit_bez, points, u, tol, fitted, setti
 
 @njit(**JIT_OPTIONS)
 def _choose_into(cand_i, cand_f, count, allowed, periodic, order, table, totals, chosen):
+    """:func:`choose` into ``chosen``; returns how many were chosen."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     k = chosen.shape[0]
     # table rows: 0 the allowed candidates by their end, in their order (table[0, j - 1] .. table[0, j] those

@@ -158,37 +158,50 @@ def test_merge_snapshot_records_the_joins_removed():
     assert {c["index"] for c in last.candidates if c["action"] == "remove"} == gone
 
 
-def _merge_candidates(monkeypatch, outline, corners, phase):
-    """The candidate runs of every merge of the fit of ``outline`` with ``merge.PHASE = phase``, and how many runs
-    were fitted."""
-    from splinecraft.capture.fitting import merge
+def _compare_merges(monkeypatch, outline, corners):
+    """Fit ``outline`` with merging; at each merge, steps 1 to 4 of ``merge.merge_segments`` against their numpy
+    formulation as it was (:mod:`merge_reference`), bit for bit: the pieces, the joins' directions, every
+    candidate, and the dynamic programme's choice with every candidate allowed and with random ones left out.
+    Returns how many merges were compared."""
+    import merge_reference as reference
+    from splinecraft.capture.fitting import _merge_kernels, lsq, merge
 
-    found, fitted = [], [0]
-    candidates, fit_runs = merge._candidates, merge.fit_runs
+    compared = [0]
+    rng = np.random.default_rng(7)
 
-    def recording_candidates(*args):
-        found.append(candidates(*args))
-        return found[-1]
+    def comparing(model, dev, tolerance):
+        if dev["bezier"].shape[0] >= 2:
+            (bez, starts, ends, origin), expected = reference.merge_steps(model, dev, tolerance)
+            prepared, cand = merge.candidate_runs(model, dev, tolerance)
+            for got, want in ((prepared["bez"], bez), (prepared["starts"], starts), (prepared["ends"], ends),
+                              (prepared["origin"], origin), (cand["direction"], expected["direction"])):
+                np.testing.assert_array_equal(got, want)
+            for key in ("first", "length", "s0", "s1", "spread", "cubic", "refit", "t_count", "t_start", "t"):
+                np.testing.assert_array_equal(cand[key], expected[key], err_msg=key)
+            k, periodic = bez.shape[0], model.contour.corner_count == 0
+            for attempt in range(4):
+                allowed = np.ones(cand["first"].shape[0], bool)
+                if attempt:
+                    allowed &= rng.random(allowed.shape[0]) < 0.7
+                    allowed[~cand["refit"]] = True
+                np.testing.assert_array_equal(_merge_kernels.choose(k, cand, allowed, periodic),
+                                              reference.choose_runs(k, expected, allowed, periodic))
+            compared[0] += 1
+        return merge_segments(model, dev, tolerance)
 
-    def counting_fit_runs(*args, **kwargs):
-        fit = fit_runs(*args, **kwargs)
-        fitted[0] += fit["count"].shape[0]
-        return fit
-
-    monkeypatch.setattr(merge, "PHASE", phase)
-    monkeypatch.setattr(merge, "_candidates", recording_candidates)
-    monkeypatch.setattr(merge, "fit_runs", counting_fit_runs)
+    merge_segments = lsq.merge_segments
+    monkeypatch.setattr(lsq, "merge_segments", comparing)
     fit_outline(outline, corners, merge_tolerance=MERGE, keep_snapshots=False)
     monkeypatch.undo()
-    return found, fitted[0]
+    return compared[0]
 
 
-def test_merge_candidates_do_not_depend_on_how_many_lengths_one_pass_fits(monkeypatch):
-    """``_candidates`` fits ``PHASE`` run lengths per compiled pass and applies the growth rule (a start stops
-    after ``MISSES + 1`` lengths in a row without a qualifying run) afterwards: the candidates, in their order
-    (ties of the dynamic programme go to the first), are those of one length per pass, the rule applied as the
-    runs grow -- with several passes and with all lengths in one (which fits runs the rule stops)."""
-    stopped = 0
+def test_merge_passes_are_the_numpy_formulation_bit_for_bit(monkeypatch):
+    """The compiled passes of the merge (``_merge_kernels.prepare``, ``candidates``, ``choose``: the pieces cut at
+    extrema, the joins' parabolas, the candidate runs grown one length at a time, the dynamic programme) give
+    bit for bit what the numpy formulation they replaced gave (:mod:`merge_reference`: the candidates fitted
+    four lengths a pass and the growth rule applied afterwards), on blobs, ellipses and polygons."""
+    compared = 0
     for seed in range(3):
         rng = np.random.default_rng(seed)
         outline, _ = render_blob(rng.uniform(60, 90), [(rng.uniform(-0.12, 0.12), rng.uniform(0, 2 * np.pi))
@@ -197,45 +210,86 @@ def test_merge_candidates_do_not_depend_on_how_many_lengths_one_pass_fits(monkey
         angles = 2 * np.pi * (np.arange(count) + rng.uniform(-0.2, 0.2, count)) / count
         vertices = np.column_stack([60 + 50 * np.cos(angles), 60 + 50 * np.sin(angles)])
         polygon, corners, _ = polygon_shape(vertices, 120)
-        for points, at in ((outline, np.zeros(0, int)), (polygon, corners)):
-            one, one_fitted = _merge_candidates(monkeypatch, points, at, 1)
-            assert one
-            for phase in (4, 12):
-                runs, fitted = _merge_candidates(monkeypatch, points, at, phase)
-                assert len(runs) == len(one)
-                for got, expected in zip(runs, one):
-                    assert got.keys() == expected.keys()
-                    for key in expected:
-                        np.testing.assert_array_equal(got[key], expected[key])
-                stopped += fitted - one_fitted
-    assert stopped > 0  # some start was stopped by the rule: its runs were fitted in one pass and left out
+        ellipse, _ = render_ellipse(rng.uniform(60, 120), rng.uniform(30, 60), rng.uniform(0, np.pi))
+        for points, at in ((outline, np.zeros(0, int)), (polygon, corners), (ellipse, np.zeros(0, int))):
+            compared += _compare_merges(monkeypatch, points, at)
+    assert compared >= 9
 
 
-@settings(max_examples=400, deadline=None)
-@given(st.integers(1, 12), st.integers(1, 9), st.integers(0, 2**32 - 1))
-def test_grown_runs_follow_the_growth_rule_length_by_length(lengths, starts, seed):
-    """``merge._grown`` against the rule as the runs grow: a start reaches a length while it stays within its
-    piece and turn and has not failed ``MISSES + 1`` lengths in a row before it (length 1 always passes)."""
-    from splinecraft.capture.fitting.merge import MISSES, _grown
+def test_merge_candidates_parameters_need_no_first_guess(monkeypatch):
+    """``_merge_kernels.candidates`` allocates room for the qualifying runs' parameters from a guess and runs once
+    more where they need more: with no room at first the merged fits are those of the default."""
+    from splinecraft.capture.fitting import _merge_kernels
+
+    outline, _ = render_blob(120.0, [(0.08, 0.4)])
+    default = fit_outline(outline, np.zeros(0, int), merge_tolerance=MERGE, keep_snapshots=False)
+    monkeypatch.setattr(_merge_kernels, "T_ROOM", 0)
+    monkeypatch.setattr(_merge_kernels, "T_ROOM_EXTRA", 1)
+    again = fit_outline(outline, np.zeros(0, int), merge_tolerance=MERGE, keep_snapshots=False)
+    np.testing.assert_array_equal(again.spline.bezier(), default.spline.bezier())
+
+
+_coordinate = st.one_of(st.integers(-4, 4).map(float), st.floats(-50, 50, allow_nan=False, allow_infinity=False))
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.lists(st.tuples(_coordinate, _coordinate), min_size=4, max_size=4), min_size=1, max_size=6),
+       st.floats(0.01, 40.0), st.sampled_from([0.0, 2.0, 0.5]))
+def test_prepare_cuts_pieces_as_numpy_did(controls, length, min_gap):
+    """``_merge_kernels.prepare``'s pieces (cut where the tangent is horizontal or vertical, at least ``min_gap``
+    from either end, cuts closer than that one), their parameter intervals, origins, end tangents and summed
+    turns are bit for bit those of the numpy formulation (:mod:`merge_reference`), on random cubics and on
+    degenerate ones (control points on a small grid: straight, coincident, symmetric)."""
+    import merge_reference as reference
+    from splinecraft.capture.fitting import _merge_kernels
+
+    fit_bez = np.array(controls, dtype=float)
+    k0 = fit_bez.shape[0]
+    starts = np.arange(k0) * length
+    ends = starts + length
+    points = fit_bez[:, 0].copy()
+    u = starts.copy()
+    prepared = _merge_kernels.prepare(fit_bez, starts, ends, min_gap, np.array([0.0, k0 * length]), 1, True, points,
+                                      u, k0 * length, 0.5)
+    bez, p_starts, p_ends, origin = reference.split_at_extrema(fit_bez, starts, ends, min_gap)
+    head, tail = reference._tangents(bez)
+    turn = np.concatenate([[0.0], np.cumsum(reference._turns(bez))])
+    for got, want in ((prepared["bez"], bez), (prepared["starts"], p_starts), (prepared["ends"], p_ends),
+                      (prepared["origin"], origin), (prepared["head"], head), (prepared["tail"], tail),
+                      (prepared["turn"], turn)):
+        np.testing.assert_array_equal(got, want)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(1, 9), st.integers(0, 2**32 - 1), st.booleans())
+def test_choose_is_the_dynamic_programme_as_it_was(k, seed, periodic):
+    """``_merge_kernels.choose`` against the Python dynamic programme it replaced (:mod:`merge_reference`): the
+    same runs, on random candidate sets (the segments as they were always among them, costs with many ties, some
+    candidates not allowed)."""
+    import merge_reference as reference
+    from splinecraft.capture.fitting import _merge_kernels
 
     rng = np.random.default_rng(seed)
-    within = np.logical_and.accumulate(rng.random((lengths, starts)) < 0.9, axis=0)
-    passed = rng.random((lengths, starts)) < rng.uniform(0.0, 1.0)
-    passed[0] = True
-    expected = np.zeros((lengths, starts), bool)
-    for start in range(starts):
-        misses = 0
-        for length in range(lengths):
-            if not within[length, start] or misses > MISSES:
-                break
-            expected[length, start] = True
-            misses = 0 if passed[length, start] else misses + 1
-    np.testing.assert_array_equal(_grown(passed, within), expected)
-
+    extra = int(rng.integers(0, 4 * k + 1))
+    first = np.concatenate([np.arange(k), rng.integers(0, k, extra)]).astype(np.int64)
+    length = np.concatenate([np.ones(k, np.int64), [rng.integers(1, k - f + 1) for f in first[k:]]]).astype(np.int64)
+    s0 = np.concatenate([np.zeros(k, np.int64), rng.integers(0, 2, extra)]).astype(np.int64)
+    s1 = np.concatenate([np.zeros(k, np.int64), rng.integers(0, 2, extra)]).astype(np.int64)
+    spread = np.concatenate([np.zeros(k), rng.choice([0.0, 0.5, 1.0, 0.1 + 0.2, 0.3], extra)])
+    count = k + extra
+    cand_i, cand_f = np.zeros((7, count + 3), np.int64), np.zeros((count + 3, 9))
+    cand_i[0, :count], cand_i[1, :count], cand_i[2, :count], cand_i[3, :count] = first, length, s0, s1
+    cand_f[:count, 0] = spread
+    allowed = rng.random(count) < 0.8
+    allowed[:k] = True
+    cand = {"first": first, "length": length, "s0": s0, "s1": s1, "spread": spread, "cand_i": cand_i,
+            "cand_f": cand_f}
+    np.testing.assert_array_equal(_merge_kernels.choose(k, cand, allowed, periodic),
+                                  reference.choose_runs(k, cand, allowed, periodic))
 
 
 def _run_distances(fit, lo, count, points):
-    """Per run of a ``_merge_kernels.fit_runs`` result: its points' distances from its cubic at the parameters the
+    """Per run of a ``merge_reference.kernel_fit_runs`` result: its points' distances from its cubic at the parameters the
     kernel gave them, each computed (``numpy.hypot``; beyond an end, to the tangent line there), and the rounded
     square roots of their squared distances."""
     cubic, _, offsets, t = fit[:4]
@@ -266,7 +320,7 @@ def test_merge_kernel_largest_excess_is_that_of_every_distance(runs, seed, toler
     distance, on random runs of noisy arcs, with random tolerances, with tolerances that put every point's excess
     of a run within a few ulps of one value, and with tolerances that do so for the rounded square roots of the
     squared distances (the borderline of the rule)."""
-    from splinecraft.capture.fitting import _merge_kernels
+    from merge_reference import kernel_fit_runs
 
     rng = np.random.default_rng(seed)
     pieces, counts, params = [], [], []
@@ -291,8 +345,8 @@ def test_merge_kernel_largest_excess_is_that_of_every_distance(runs, seed, toler
     tol = rng.uniform(0.2, 1.5, points.shape[0])
 
     def fit(tol):
-        return _merge_kernels.fit_runs(p0, p3, d0, d1, lo, count, points, u, np.arange(runs, dtype=float),
-                                       np.ones(runs), tol, fitted, 4, 32)
+        return kernel_fit_runs(p0, p3, d0, d1, lo, count, points, u, np.arange(runs, dtype=float), np.ones(runs),
+                               tol, fitted, 4, 32)
 
     if tolerances != "random":  # the fit does not depend on tol: the same parameters, excesses near one value
         distances, roots = _run_distances(fit(tol), lo, count, points)

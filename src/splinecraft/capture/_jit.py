@@ -299,7 +299,7 @@ WARM_UP_TASKS = {
     "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.77),
     "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 0.82),
     "tracer": ("_cracks", "warm_up", "_follow_into", 0.64),
-    "merge": ("fitting._merge_kernels", "warm_up", "_fit_runs_into", 0.47),
+    "merge": ("fitting._merge_kernels", "warm_up", "_choose_into", 0.47),
     "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.40),
     "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.43),
     "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.20),

@@ -21,8 +21,18 @@ so its results are bit for bit those of that formulation (``tests/test_tip_kerne
   BLAS ``dgemv``, whose kernel on this machine returns ``fma(a0, v0, a1 * v1)`` per row (one fused
   multiply-add, :func:`_fma`) for two or more rows, while one row (``numpy.dot`` of two 2-vectors, and
   ``matmul`` of a ``(1, 2)`` array) is ``a0 * v0 + a1 * v1``, as is every 1-d ``a @ b`` of 2-vectors here.
+  (OpenBLAS picks its kernel by processor: where its ``dgemv`` does not fuse, traces differ from the numpy
+  formulation's there in the last bits, as they already differ between such machines.)
+
+Few, large kernels, each compiled once (``compact``): the side of a window (:func:`_side_into`, which also
+serves the separating line of given pixel centres), the tip tests (:func:`_tip_into`, which also serves the
+two contradiction measures on their own), the window's samples and centre, the offsets of points from a side,
+the parity of rays. numpy's scalar functions are called through :mod:`math` (the same libm functions, typed
+faster).
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from llvmlite import ir
@@ -33,15 +43,21 @@ from numba.extending import intrinsic
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pymax, pymin
 from ._kernels import _separating_slope_into
 
-__all__ = ["arange_count", "window_samples", "window_local", "frame_offsets", "separating_line", "side_window",
-           "tip_checks", "tip_contradiction_of", "wedge_contradiction_of", "inkward_of", "ray_parities",
-           "warm_up", "SIDE_FIELDS"]
+__all__ = ["SIDE_FIELDS", "arange_count", "window_samples", "window_local", "side_window", "separating_line",
+           "frame_offsets", "inkward_of", "ray_parities", "tip_checks", "tip_contradiction_of",
+           "wedge_contradiction_of", "warm_up"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
+#: Helpers called from several places of a kernel: compiled once, called (not inlined).
+_CALLED = dict(HELPER_OPTIONS, forceinline=False)
 
 #: The row of a side (:class:`.tips.SideFit`) that the kernels read and write: centre (0, 1), direction (2, 3),
 #: normal (4, 5), parabola coefficients (6-8), window length (9), ink side (10), margin (11).
 SIDE_FIELDS = 12
+# Constant arguments of helpers as typed values, not literals: numba compiles a helper anew for each literal
+_ZERO, _ONE, _LEFT, _RIGHT = np.int64(0), np.int64(1), np.bool_(False), np.bool_(True)
+#: :data:`.tips.STRAIGHT_RESIDUAL` (``tests/test_tip_kernels.py`` pins them equal; :mod:`.tips` imports this module).
+_STRAIGHT = 0.8
 
 
 @intrinsic
@@ -60,72 +76,22 @@ def _fma(typingctx, a, b, c):
 @njit(**_HELPER)
 def _row_dot(a0, a1, v0, v1, rows):
     """Row ``(a0, a1)`` of ``a @ v`` for an ``(rows, 2)`` array ``a`` (module docstring)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     if rows == 1:
         return a0 * v0 + a1 * v1
     return _fma(a0, v0, a1 * v1)
 
 
-@njit(**_HELPER)
-def _pairwise_sum(values, n):
-    """``numpy.sum`` of ``values[:n]`` (1-d, contiguous): numpy's pairwise summation (8 partial sums over blocks of
-    up to 128 values, halves above that), added to 0.0 (the reduction's identity)."""
-    if n < 8:
-        total = 0.0
-        for i in range(n):
-            total += values[i]
-        return 0.0 + total
-    return 0.0 + _pairwise_block(values, 0, n)
-
-
-@njit(**_HELPER)
+@njit(**_CALLED)
 def _pairwise_block(values, first, n):
-    """numpy's ``pairwise_sum`` of ``values[first:first + n]``, ``n >= 8`` (blocks above 128 split iteratively: a
-    stack of pending ranges, summed in numpy's recursion order)."""
-    # numpy recurses: sum(left half) + sum(right half); the halves are at most log2(n / 128) deep, so the partial
-    # sums are combined from a small fixed stack instead
-    if n <= 128:
-        return _pairwise_leaf(values, first, n)
-    half = n // 2
-    half -= half % 8
-    return _pairwise_half(values, first, half) + _pairwise_half(values, first + half, n - half)
-
-
-@njit(**_HELPER)
-def _pairwise_half(values, first, n):
+    """numpy's ``pairwise_sum`` of ``values[first:first + n]`` for ``n <= 128``: one running sum below 8 values,
+    else 8 partial sums over the blocks of 8 combined pairwise, then the rest one by one."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     if n < 8:
         total = 0.0
         for i in range(n):
             total += values[first + i]
         return total
-    if n <= 128:
-        return _pairwise_leaf(values, first, n)
-    half = n // 2
-    half -= half % 8
-    return _pairwise_leaf_split(values, first, half) + _pairwise_leaf_split(values, first + half, n - half)
-
-
-@njit(**_HELPER)
-def _pairwise_leaf_split(values, first, n):
-    """One more level of numpy's halving (windows of the tips hold at most a few hundred values: blocks of up to
-    512 are summed exactly as numpy does; beyond, the rest is summed one block after another)."""
-    if n <= 128:
-        return _pairwise_leaf(values, first, n) if n >= 8 else _plain_sum(values, first, n)
-    half = n // 2
-    half -= half % 8
-    return _pairwise_leaf(values, first, half) + _pairwise_leaf(values, first + half, n - half)
-
-
-@njit(**_HELPER)
-def _plain_sum(values, first, n):
-    total = 0.0
-    for i in range(n):
-        total += values[first + i]
-    return total
-
-
-@njit(**_HELPER)
-def _pairwise_leaf(values, first, n):
-    """numpy's unrolled block of 8 partial sums, ``8 <= n <= 128`` values from ``first``."""
     r0, r1, r2, r3 = values[first], values[first + 1], values[first + 2], values[first + 3]
     r4, r5, r6, r7 = values[first + 4], values[first + 5], values[first + 6], values[first + 7]
     i = 8
@@ -147,17 +113,42 @@ def _pairwise_leaf(values, first, n):
     return total
 
 
+@njit(**_CALLED)
+def _pairwise_half(values, first, n):
+    """numpy's ``pairwise_sum`` of ``values[first:first + n]`` for ``n <= 256``: above 128 values the sum of the
+    two halves (split at a multiple of 8)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    if n <= 128:
+        return _pairwise_block(values, first, n)
+    half = n // 2
+    half -= half % 8
+    return _pairwise_block(values, first, half) + _pairwise_block(values, first + half, n - half)
+
+
+@njit(**_CALLED)
+def _pairwise_sum(values, n):
+    """``numpy.sum`` of ``values[:n]`` (1-d, contiguous; ``n <= 512``: the tips' windows hold at most about a
+    hundred values): numpy's pairwise summation, added to 0.0 (the reduction's identity)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    if n <= 256:
+        return 0.0 + _pairwise_half(values, _ZERO, n)
+    half = n // 2
+    half -= half % 8
+    return 0.0 + (_pairwise_half(values, _ZERO, half) + _pairwise_half(values, half, n - half))
+
+
 def arange_count(start, stop, step):
     """``numpy.arange(start, stop, step).shape[0]`` of floats (``step > 0``): ``ceil((stop - start) / step)``,
     at least 0."""
-    count = np.ceil((stop - start) / step)
-    return int(count) if count > 0 else 0
+    count = math.ceil((stop - start) / step)
+    return count if count > 0 else 0
 
 
 @njit(**_HELPER)
 def _arange_value(start, step, i):
     """Value ``i`` of ``numpy.arange(start, ..., step)`` of floats: ``start + i * ((start + step) - start)``
-    (numpy's fill of the first two values)."""
+    (numpy's fill from its first two values)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     if i == 0:
         return start
     if i == 1:
@@ -165,10 +156,11 @@ def _arange_value(start, step, i):
     return start + i * ((start + step) - start)
 
 
-@njit(**_HELPER)
+@njit(**_CALLED)
 def _interp_point(arc, closed, x, out, row):
     """``numpy.interp(x, arc, closed[:, d])`` for both columns ``d`` into ``out[row]`` (``arc`` increasing, the
-    left and right values the first and last point's)."""
+    values left and right of it the first and last point's)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     n = arc.shape[0]
     if x != x:
         out[row, 0] = out[row, 1] = x
@@ -179,14 +171,7 @@ def _interp_point(arc, closed, x, out, row):
     if x > arc[n - 1]:
         out[row, 0], out[row, 1] = closed[n - 1, 0], closed[n - 1, 1]
         return
-    lo, hi = 0, n  # the first knot above x, less one: the rightmost knot not above x
-    while lo < hi:
-        mid = lo + ((hi - lo) >> 1)
-        if x >= arc[mid]:
-            lo = mid + 1
-        else:
-            hi = mid
-    j = lo - 1
+    j = _search(arc, n, x, _RIGHT) - 1  # the rightmost knot not above x
     if j == n - 1 or arc[j] == x:
         out[row, 0], out[row, 1] = closed[j, 0], closed[j, 1]
         return
@@ -200,74 +185,10 @@ def _interp_point(arc, closed, x, out, row):
         out[row, d] = value
 
 
-@njit(**_JIT)
-def _window_samples_into(arc, closed, perimeter, corner_arc, sign, start, samples):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    for i in range(samples.shape[0]):
-        _interp_point(arc, closed, (corner_arc + sign * _arange_value(start, 0.5, i)) % perimeter, samples, i)
-
-
-def window_samples(contour, corner_arc, sign, start, stop):
-    """The contour polyline sampled every 0.5 px of arc from ``start`` to ``stop`` px away from ``corner_arc``
-    towards ``sign``: ``contour.point_at_arc((corner_arc + sign * numpy.arange(start, stop + 1e-9, 0.5)) %
-    contour.perimeter)`` in one pass (:func:`.tips.side_fit`)."""
-    samples = np.empty((arange_count(start, stop + 1e-9, 0.5), 2))
-    _window_samples_into(contour.arc, contour.closed_points, float(contour.perimeter), float(corner_arc),
-                         float(sign), float(start), samples)
-    return samples
-
-
-@njit(**_JIT)
-def _window_local_into(samples, count, local, centre):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    _local_of(samples, count, local, centre)
-
-
-@njit(**_HELPER)
-def _local_of(samples, count, local, centre):
-    sx, sy = 0.0, 0.0
-    for i in range(count):
-        sx += samples[i, 0]
-        sy += samples[i, 1]
-    centre[0], centre[1] = sx / count, sy / count
-    for i in range(count):
-        local[i, 0], local[i, 1] = samples[i, 0] - centre[0], samples[i, 1] - centre[1]
-
-
-def window_local(samples, count):
-    """The first ``count`` points of ``samples`` less their centre, and the centre: ``numpy.add.reduce(points,
-    axis=0) / count`` (a running sum per column) and ``points - centre`` (:func:`.tips._window_fit`)."""
-    local, centre = np.empty((count, 2)), np.empty(2)
-    _window_local_into(samples, count, local, centre)
-    return local, centre
-
-
-@njit(**_JIT)
-def _frame_offsets_into(local, direction, t, y):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    rows = local.shape[0]
-    d0, d1 = direction[0], direction[1]
-    n0, n1 = -d1, d0
-    largest = 0.0
-    for i in range(rows):
-        t[i] = _row_dot(local[i, 0], local[i, 1], d0, d1, rows)
-        y[i] = _row_dot(local[i, 0], local[i, 1], n0, n1, rows)
-        if largest == largest and not abs(y[i]) <= largest:
-            largest = abs(y[i])
-    return largest
-
-
-def frame_offsets(local, direction):
-    """``t, y = local @ direction, local @ normal`` (``normal``: ``direction`` turned a quarter counter-clockwise)
-    and ``numpy.abs(y).max()`` (NaN wins)."""
-    t, y = np.empty(local.shape[0]), np.empty(local.shape[0])
-    largest = _frame_offsets_into(local, direction, t, y)
-    return t, y, largest
-
-
 @njit(**_HELPER)
 def _search(values, n, x, right):
     """``numpy.searchsorted(values[:n], x, side)`` (``right``: side ``"right"``)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     lo, hi = 0, n
     while lo < hi:
         mid = (lo + hi) >> 1
@@ -278,30 +199,70 @@ def _search(values, n, x, right):
     return lo
 
 
+@njit(**_JIT)
+def _window_into(arc, closed, perimeter, corner_arc, sign, start, samples, fill, count, local, centre):
+    """With ``fill``: the contour points every 0.5 px of arc from ``start`` px towards ``sign`` from
+    ``corner_arc`` into ``samples`` (``point_at_arc((corner_arc + sign * numpy.arange(start, ..., 0.5)) %
+    perimeter)``); then the centre of the first ``count`` (``numpy.add.reduce(points, axis=0) / count``: a
+    running sum per column) and the points less it into ``local``."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    if fill:
+        for i in range(samples.shape[0]):
+            _interp_point(arc, closed, (corner_arc + sign * _arange_value(start, 0.5, i)) % perimeter, samples, i)
+    sx, sy = 0.0, 0.0
+    for i in range(count):
+        sx += samples[i, 0]
+        sy += samples[i, 1]
+    centre[0], centre[1] = sx / count, sy / count
+    for i in range(count):
+        local[i, 0], local[i, 1] = samples[i, 0] - centre[0], samples[i, 1] - centre[1]
+
+
+def window_samples(contour, corner_arc, sign, start, stop):
+    """The contour polyline sampled every 0.5 px of arc from ``start`` to ``stop`` px away from ``corner_arc``
+    towards ``sign``: ``contour.point_at_arc((corner_arc + sign * numpy.arange(start, stop + 1e-9, 0.5)) %
+    contour.perimeter)``, with the centre of all of them and the samples less it (:func:`.tips.side_fit`)."""
+    samples = np.empty((arange_count(start, stop + 1e-9, 0.5), 2))
+    local, centre = np.empty(samples.shape), np.empty(2)
+    _window_into(contour.arc, contour.closed_points, float(contour.perimeter), float(corner_arc), float(sign),
+                 float(start), samples, True, samples.shape[0], local, centre)
+    return samples, local, centre
+
+
+def window_local(samples, count):
+    """The first ``count`` points of ``samples`` less their centre, and the centre (:func:`.tips._window_fit`)."""
+    local, centre = np.empty((count, 2)), np.empty(2)
+    _window_into(_NO_FLOATS, samples, 1.0, 0.0, 0.0, 0.0, samples, False, count, local, centre)
+    return local, centre
+
+
 @njit(**_HELPER)
 def _arc_range(arc, perimeter, corner_arc, sign, start, stop):
-    """:func:`.tips._arc_window`'s indices as two runs: ``(a, b, c)``: the indices ``a`` to ``b - 1``, then ``0``
-    to ``c - 1`` (``c = 0`` where the window does not wrap)."""
+    """The indices of ``tips``' arc window (the contour points ``start`` to ``stop`` px of arc from ``corner_arc``
+    towards ``sign``) as two runs ``(a, b, c)``: ``a`` to ``b - 1``, then ``0`` to ``c - 1`` (``c = 0`` where the
+    window does not wrap round)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     m = arc.shape[0] - 1  # arc[:-1]: the contour points' own arc lengths
     if sign > 0:
         low, high = corner_arc + start, corner_arc + stop
     else:
         low, high = corner_arc - stop, corner_arc - start
-    shift = np.floor(low / perimeter) * perimeter
+    shift = math.floor(low / perimeter) * perimeter
     low, high = low - shift, high - shift
-    first = _search(arc, m, low, False)
-    last = _search(arc, m, perimeter if perimeter < high else high, True)
-    wrapped = _search(arc, m, high - perimeter, True) if high > perimeter else 0
+    first = _search(arc, m, low, _LEFT)
+    last = _search(arc, m, perimeter if perimeter < high else high, _RIGHT)
+    wrapped = _search(arc, m, high - perimeter, _RIGHT) if high > perimeter else 0
     return first, pymax(last, first), wrapped
 
 
-@njit(**_HELPER)
+@njit(**_CALLED)
 def _separate(ink, paper, ink_count, paper_count, frame, slopes, step, rounds, t_ink, y_ink, t_paper, y_paper,
               grid, slope_out, out):
     """:func:`.tips._separating_line` of the first ``ink_count`` rows of ``ink`` and ``paper_count`` of ``paper``
-    in the frame of the side row ``frame``: writes the separating side into ``out`` and returns True, or False
-    where no line separates them."""
-    c0, c1, d0, d1, n0, n1 = frame[0], frame[1], frame[2], frame[3], frame[4], frame[5]
+    in the frame of the side row ``frame``: the separating side into ``out`` (True), or False where no line
+    separates them. The offsets ``y - c1 t`` of a slope ``c1``: ``numpy.min`` and ``numpy.max`` (NaN wins)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    c0, c1, d0, d1, n0, n1, length = frame[0], frame[1], frame[2], frame[3], frame[4], frame[5], frame[9]
     for i in range(ink_count):
         x, y = ink[i, 0] - c0, ink[i, 1] - c1
         t_ink[i], y_ink[i] = _row_dot(x, y, d0, d1, ink_count), _row_dot(x, y, n0, n1, ink_count)
@@ -317,16 +278,16 @@ def _separate(ink, paper, ink_count, paper_count, frame, slopes, step, rounds, t
     _separating_slope_into(t_ink[:ink_count], y_ink[:ink_count], t_paper[:paper_count], y_paper[:paper_count],
                            slopes, step, rounds, grid, slope_out)
     slope = slope_out[0]
-    above, below = np.inf, -np.inf  # numpy.min and numpy.max: NaN wins
+    above, below = math.inf, -math.inf
     for i in range(ink_count):
         value = y_ink[i] - slope * t_ink[i]
-        if value < above or value != value:
+        if not value >= above:
             above = value
             if value != value:
                 break
     for i in range(paper_count):
         value = y_paper[i] - slope * t_paper[i]
-        if value > below or value != value:
+        if not value <= below:
             below = value
             if value != value:
                 break
@@ -336,73 +297,57 @@ def _separate(ink, paper, ink_count, paper_count, frame, slopes, step, rounds, t
     offset = sign * 0.5 * (above + below)
     turn = sign * slope
     e0, e1 = d0 + turn * n0, d1 + turn * n1
-    length = np.hypot(e0, e1)
-    e0, e1 = e0 / length, e1 / length
+    norm = math.hypot(e0, e1)
+    e0, e1 = e0 / norm, e1 / norm
     out[0], out[1] = c0 + offset * n0, c1 + offset * n1
     out[2], out[3], out[4], out[5] = e0, e1, -e1, e0
     out[6] = out[7] = out[8] = 0.0
-    out[9] = frame[9]
-    out[10] = sign
-    out[11] = margin / np.hypot(1.0, slope)
+    out[9], out[10], out[11] = length, sign, margin / math.hypot(1.0, slope)
     return True
 
 
 @njit(**_JIT)
-def _separating_into(ink, paper, frame, slopes, step, rounds, t_ink, y_ink, t_paper, y_paper, grid, slope_out, out):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    return _separate(ink, paper, ink.shape[0], paper.shape[0], frame, slopes, step, rounds, t_ink, y_ink, t_paper,
-                     y_paper, grid, slope_out, out)
-
-
-def separating_line(ink, paper, frame, slopes, step, rounds):
-    """:func:`.tips._separating_line` in one pass: the side row (:data:`SIDE_FIELDS`) of the line that separates
-    ``ink`` from ``paper`` (each ``(k, 2)``, ``k >= 1``) with the largest margin in the frame of the side row
-    ``frame``, or None."""
-    ink, paper = np.ascontiguousarray(ink, float), np.ascontiguousarray(paper, float)
-    k, q = ink.shape[0], paper.shape[0]
-    out = np.empty(SIDE_FIELDS)
-    found = _separating_into(ink, paper, frame, slopes, float(step), int(rounds), np.empty(k), np.empty(k),
-                             np.empty(q), np.empty(q), np.empty(slopes.shape[0]), np.empty(1), out)
-    return out if found else None
-
-
-@njit(**_JIT)
-def _side_into(arc, perimeter, corner_arc, sign, start, stop, count, local, centre, direction, length,
-               coefficients, curved, ink_all, paper_all, slopes, step, rounds, t, y, ink, paper, t_ink, y_ink,
-               t_paper, y_paper, grid, slope_out, out):
-    """One window of :func:`.tips.side_fit`: with ``direction`` (the window's first right singular vector, numpy's)
-    the line frame and its offsets; 2 where they exceed the straight residual (``t`` and ``y`` hold them for the
-    parabola, fitted in numpy, then this kernel is called again with ``curved`` and its ``coefficients``); else
-    the side into ``out``: 1 for a separating line, 0 for the fit itself (its ink side set where the pixel pairs
-    ``ink_all`` / ``paper_all`` have rows)."""
+def _side_into(arc, perimeter, corner_arc, sign, start, stop, local, centre, direction, length, coefficients, mode,
+               ink_all, paper_all, slopes, step, rounds, t, y, ink, paper, t_ink, y_ink, t_paper, y_paper, grid,
+               slope_out, out):
+    """A side of :mod:`.tips` into ``out`` (a side row). ``mode`` 0: the window ``local`` (its points less their
+    ``centre``) in the frame of ``direction`` (its first right singular vector, numpy's): its offsets ``t`` and
+    ``y``, and 2 where they exceed the straight residual (the parabola is fitted in numpy, then this kernel is
+    called again in ``mode`` 1 with its ``coefficients``); else the line, and with pixel pairs (``ink_all`` and
+    ``paper_all`` per contour point) the separating line of the window's (returns 1) or the line with its ink
+    side (returns 0). ``mode`` 1: the parabola with its ink side (0). ``mode`` 3: the separating line of the
+    pixel centres ``ink_all`` and ``paper_all`` themselves (1), else 0."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     d0, d1 = direction[0], direction[1]
-    if not curved:
-        largest = 0.0
+    count = local.shape[0]
+    if mode == 0:
+        largest = 0.0  # numpy.abs(y).max(): NaN wins
         for i in range(count):
             t[i] = _row_dot(local[i, 0], local[i, 1], d0, d1, count)
             y[i] = _row_dot(local[i, 0], local[i, 1], -d1, d0, count)
             if largest == largest and not abs(y[i]) <= largest:
                 largest = abs(y[i])
-        if not largest <= 0.8:
+        if not largest <= _STRAIGHT:
             return 2
     out[0], out[1], out[2], out[3], out[4], out[5] = centre[0], centre[1], d0, d1, -d1, d0
     out[6], out[7], out[8] = coefficients[0], coefficients[1], coefficients[2]
     out[9], out[10], out[11] = length, 0.0, 0.0
+    if mode == 3:
+        return 1 if _separate(ink_all, paper_all, ink_all.shape[0], paper_all.shape[0], out, slopes, step, rounds,
+                              t_ink, y_ink, t_paper, y_paper, grid, slope_out, out) else 0
     if ink_all.shape[0] == 0:
         return 0
     first, last, wrapped = _arc_range(arc, perimeter, corner_arc, sign, start, stop)
     k = 0
-    for i in range(first, last):
-        ink[k, 0], ink[k, 1], paper[k, 0], paper[k, 1] = ink_all[i, 0], ink_all[i, 1], paper_all[i, 0], paper_all[i, 1]
-        k += 1
-    for i in range(wrapped):
-        ink[k, 0], ink[k, 1], paper[k, 0], paper[k, 1] = ink_all[i, 0], ink_all[i, 1], paper_all[i, 0], paper_all[i, 1]
+    for r in range(last - first + wrapped):
+        i = first + r if r < last - first else r - (last - first)
+        ink[k, 0], ink[k, 1] = ink_all[i, 0], ink_all[i, 1]
+        paper[k, 0], paper[k, 1] = paper_all[i, 0], paper_all[i, 1]
         k += 1
     if k < 4:
         return 0
-    if not curved and _separate(ink, paper, k, k, out, slopes, step, rounds, t_ink, y_ink, t_paper, y_paper, grid,
-                                slope_out, out):
+    if mode == 0 and _separate(ink, paper, k, k, out, slopes, step, rounds, t_ink, y_ink, t_paper, y_paper, grid,
+                               slope_out, out):
         return 1
     n0, n1 = out[4], out[5]
     for i in range(k):  # (ink - paper) @ normal, then its mean
@@ -411,9 +356,69 @@ def _side_into(arc, perimeter, corner_arc, sign, start, stop, count, local, cent
     return 0
 
 
-@njit(**_HELPER)
+class _Buffers:
+    """The arrays one :func:`_side_into` call writes: the side row, the window's offsets and pixel centres, the
+    slope search's."""
+
+    def __init__(self, count, rows, slopes):
+        self.out, self.t, self.y = np.empty(SIDE_FIELDS), np.empty(count), np.empty(count)
+        self.ink, self.paper, scratch = np.empty((rows, 2)), np.empty((rows, 2)), np.empty((4, rows))
+        self.scratch = scratch[0], scratch[1], scratch[2], scratch[3]
+        self.grid, self.slope = np.empty(slopes.shape[0]), np.empty(1)
+
+
+def side_window(contour, corner_arc, sign, start, stop, samples, count, local, centre, ink, paper, parabola, slopes,
+                step, rounds):
+    """One window of :func:`.tips.side_fit` (the first ``count`` of ``samples``; ``local`` and ``centre``: theirs,
+    or None): the row of its side (:data:`SIDE_FIELDS`), or None where neither a line nor a ``parabola``
+    (``parabola(t, y)``: the coefficients or None, numpy's least squares) fits. The frame's direction is numpy's
+    singular value decomposition (LAPACK); with pixel pairs (``ink``, ``paper``: rows per contour point, else
+    empty) a straight side is the separating line where there is one."""
+    if local is None:
+        local, centre = window_local(samples, count)
+    direction = np.linalg.svd(local, full_matrices=False)[2][0]
+    b = _Buffers(count, ink.shape[0], slopes)
+    frame = (contour.arc, float(contour.perimeter), float(corner_arc), float(sign), float(start), float(stop), local,
+             centre, direction, float(stop - start))
+    rest = (ink, paper, slopes, float(step), int(rounds), b.t, b.y, b.ink, b.paper, *b.scratch, b.grid, b.slope,
+            b.out)
+    if _side_into(*frame, _NO_COEFFICIENTS, 0, *rest) == 2:
+        coefficients = parabola(b.t, b.y)
+        if coefficients is None:
+            return None
+        _side_into(*frame, np.ascontiguousarray(coefficients, float), 1, *rest)
+    return b.out
+
+
+def frame_offsets(local, direction):
+    """``t, y = local @ direction, local @ normal`` (``normal``: ``direction`` turned a quarter counter-clockwise)
+    and whether ``numpy.abs(y).max()`` is at most the straight residual (0.8 px, :data:`.tips.STRAIGHT_RESIDUAL`)."""
+    b = _Buffers(local.shape[0], 0, _NO_FLOATS)
+    status = _side_into(_NO_FLOATS, 1.0, 0.0, 1.0, 0.0, 0.0, local, _NO_COEFFICIENTS, direction, 0.0,
+                        _NO_COEFFICIENTS, 0, _NO_POINTS, _NO_POINTS, _NO_FLOATS, 0.0, 0, b.t, b.y, b.ink, b.paper,
+                        *b.scratch, b.grid, b.slope, b.out)
+    return b.t, b.y, status != 2
+
+
+def separating_line(ink, paper, frame, slopes, step, rounds):
+    """:func:`.tips._separating_line` in one pass: the side row (:data:`SIDE_FIELDS`) of the line that separates
+    ``ink`` from ``paper`` (each ``(k, 2)``, ``1 <= k <= 512``) with the largest margin in the frame of the side
+    row ``frame``, or None."""
+    ink, paper = np.ascontiguousarray(ink, float), np.ascontiguousarray(paper, float)
+    b = _Buffers(0, max(ink.shape[0], paper.shape[0]), slopes)
+    found = _side_into(_NO_FLOATS, 1.0, 0.0, 1.0, 0.0, 0.0, _NO_POINTS, frame[0:2].copy(), frame[2:4].copy(),
+                       float(frame[9]), _NO_COEFFICIENTS, 3, ink, paper, slopes, float(step), int(rounds), b.t, b.y,
+                       b.ink, b.paper, *b.scratch, b.grid, b.slope, b.out)
+    return b.out if found == 1 else None
+
+
+_NO_FLOATS, _NO_POINTS, _NO_COEFFICIENTS = np.empty(0), np.empty((0, 2)), np.zeros(3)
+
+
+@njit(**_CALLED)
 def _inkward(side, x, y, rows):
     """:meth:`.tips.SideFit.inkward` of the point ``(x, y)``, one of ``rows`` points."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     l0, l1 = x - side[0], y - side[1]
     if side[6] == 0.0 and side[7] == 0.0 and side[8] == 0.0:
         return side[10] * _row_dot(l0, l1, side[4], side[5], rows)
@@ -421,10 +426,11 @@ def _inkward(side, x, y, rows):
     return side[10] * (across - (side[6] + t * (side[7] + t * side[8])))
 
 
-@njit(**_HELPER)
+@njit(**_CALLED)
 def _parity(cracks, x, y):
     """:func:`.tips.ray_parity` of the point ``(x, y)``: the parity of the horizontal cracks of its column above
     it (``cracks`` sorted by x)."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     n = cracks.shape[0]
     lo, hi = 0, n
     while lo < hi:
@@ -442,117 +448,131 @@ def _parity(cracks, x, y):
 
 
 @njit(**_JIT)
-def _parities_into(cracks, queries, out):
+def _points_into(side, cracks, points, out, parities):
+    """Per row of ``points``: with a side row ``side``, its :meth:`.tips.SideFit.inkward` offset into ``out``;
+    with ``cracks``, its ray parity into ``parities``."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    for i in range(queries.shape[0]):
-        out[i] = _parity(cracks, queries[i, 0], queries[i, 1])
+    rows = points.shape[0]
+    for i in range(rows):
+        if side.shape[0]:
+            out[i] = _inkward(side, points[i, 0], points[i, 1], rows)
+        if cracks.shape[0]:
+            parities[i] = _parity(cracks, points[i, 0], points[i, 1])
 
 
-def ray_parities(cracks, queries):
-    """:func:`.tips.ray_parity` in one pass."""
-    queries = np.ascontiguousarray(queries, float)
-    out = np.empty(queries.shape[0], np.int64)
-    _parities_into(np.ascontiguousarray(cracks, float), queries, out)
+def inkward_of(side, points):
+    """:meth:`.tips.SideFit.inkward` of the side row ``side`` at ``points`` (k, 2)."""
+    points = np.ascontiguousarray(points, float)
+    out = np.empty(points.shape[0])
+    _points_into(side, _NO_POINTS, points, out, _NO_INTS)
     return out
 
 
-@njit(**_HELPER)
+def ray_parities(cracks, queries):
+    """:func:`.tips.ray_parity` in one pass (``cracks`` not empty)."""
+    queries = np.ascontiguousarray(queries, float)
+    out = np.empty(queries.shape[0], np.int64)
+    _points_into(_NO_FLOATS, np.ascontiguousarray(cracks, float), queries, _NO_FLOATS, out)
+    return out
+
+
+_NO_INTS = np.empty(0, np.int64)
+
+
+@njit(**_CALLED)
 def _tip_depth(arc, perimeter, corner_arc, zone, first, second, ink_all, paper_all, convex):
     """:func:`.tips.tip_contradiction`: the largest depth of an ink centre outside the wedge or a paper centre
-    inside it, of the pixel pairs within ``zone`` px of arc of the corner."""
+    inside it (``numpy.minimum`` of the two sides' offsets for a ``convex`` wedge, else ``numpy.maximum``; then
+    ``max`` of the ink's and the paper's largest), over the pixel pairs within ``zone`` px of arc of the
+    corner."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     a0, b0, c0 = _arc_range(arc, perimeter, corner_arc, -1.0, 0.0, zone)
     a1, b1, c1 = _arc_range(arc, perimeter, corner_arc, 1.0, 0.0, zone)
-    rows = (b0 - a0) + c0 + (b1 - a1) + c1
-    worst_ink, worst_paper = -np.inf, -np.inf
-    for run in range(4):
-        lo, hi = (a0, b0) if run == 0 else (0, c0) if run == 1 else (a1, b1) if run == 2 else (0, c1)
-        for i in range(lo, hi):
-            for kind in range(2):
-                x, y = (ink_all[i, 0], ink_all[i, 1]) if kind == 0 else (paper_all[i, 0], paper_all[i, 1])
-                u, v = _inkward(first, x, y, rows), _inkward(second, x, y, rows)
-                # numpy.minimum (convex) or numpy.maximum: NaN wins
-                if u != u or v != v:
-                    depth = u + v
-                elif convex:
-                    depth = u if u <= v else v
-                else:
-                    depth = u if u >= v else v
-                value = -depth if kind == 0 else depth
-                if kind == 0:
-                    if value > worst_ink or value != value:
-                        worst_ink = value if worst_ink == worst_ink else worst_ink
-                else:
-                    if value > worst_paper or value != value:
-                        worst_paper = value if worst_paper == worst_paper else worst_paper
+    n0, n1 = b0 - a0, c0
+    rows = n0 + n1 + (b1 - a1) + c1
+    worst_ink, worst_paper = -math.inf, -math.inf
+    for r in range(rows):
+        i = a0 + r if r < n0 else r - n0 if r < n0 + n1 else a1 + r - n0 - n1 if r < rows - c1 else r - (rows - c1)
+        for kind in range(2):
+            points = ink_all if kind == 0 else paper_all
+            u = _inkward(first, points[i, 0], points[i, 1], rows)
+            v = _inkward(second, points[i, 0], points[i, 1], rows)
+            if u != u or v != v:
+                depth = u + v
+            elif convex:
+                depth = u if u <= v else v
+            else:
+                depth = u if u >= v else v
+            if kind == 0:
+                if worst_ink == worst_ink and not -depth <= worst_ink:
+                    worst_ink = -depth
+            elif worst_paper == worst_paper and not depth <= worst_paper:
+                worst_paper = depth
     return worst_paper if worst_paper > worst_ink else worst_ink
 
 
-@njit(**_HELPER)
+@njit(**_CALLED)
 def _wedge_depth(cracks, ink_parity, tip0, tip1, ends, first, second, convex):
-    """:func:`.tips.wedge_contradiction`: the deepest pixel centre of the wrong kind inside the triangle of the
-    tip and the window starts ``ends`` (``-inf``: none)."""
+    """:func:`.tips.wedge_contradiction`: the deepest pixel centre of the wrong kind (by its ray parity) inside
+    the triangle of the tip and the window starts ``ends``, each side moved inwards by its margin (``-inf``:
+    none). Centres by ``numpy.arange`` from the triangle's floor to its ceiling, x-major; a centre is inside
+    where it lies strictly on the side of each edge where the opposite corner lies."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
     p0 = (tip0, ends[0, 0], ends[1, 0])
     p1 = (tip1, ends[0, 1], ends[1, 1])
-    low0 = np.floor(pymin(pymin(tip0, ends[0, 0]), ends[1, 0]))
-    low1 = np.floor(pymin(pymin(tip1, ends[0, 1]), ends[1, 1]))
-    high0 = np.ceil(pymax(pymax(tip0, ends[0, 0]), ends[1, 0]))
-    high1 = np.ceil(pymax(pymax(tip1, ends[0, 1]), ends[1, 1]))
-    columns, rows = arange_count_kernel(low0, high0), arange_count_kernel(low1, high1)
-    # edge k from corner k to corner k + 1, and on which side of it corner k + 2 lies
-    e0s = (p0[1] - p0[0], p0[2] - p0[1], p0[0] - p0[2])
-    e1s = (p1[1] - p1[0], p1[2] - p1[1], p1[0] - p1[2])
-    sides = (e0s[0] * (p1[2] - p1[0]) - e1s[0] * (p0[2] - p0[0]),
-             e0s[1] * (p1[0] - p1[1]) - e1s[1] * (p0[0] - p0[1]),
-             e0s[2] * (p1[1] - p1[2]) - e1s[2] * (p0[1] - p0[2]))
-    inside_count = 0
-    for pass_ in range(2):  # the count first: one centre inside is one row of numpy.matmul (module docstring)
-        worst = -np.inf
-        found = False
+    low0, low1 = math.floor(pymin(pymin(p0[0], p0[1]), p0[2])), math.floor(pymin(pymin(p1[0], p1[1]), p1[2]))
+    columns = math.ceil(math.ceil(pymax(pymax(p0[0], p0[1]), p0[2])) - low0)
+    rows = math.ceil(math.ceil(pymax(pymax(p1[0], p1[1]), p1[2])) - low1)
+    # edge k from corner k to corner k + 1, and the side of it where corner k + 2 lies
+    e0 = (p0[1] - p0[0], p0[2] - p0[1], p0[0] - p0[2])
+    e1 = (p1[1] - p1[0], p1[2] - p1[1], p1[0] - p1[2])
+    sides = (e0[0] * (p1[2] - p1[0]) - e1[0] * (p0[2] - p0[0]),
+             e0[1] * (p1[0] - p1[1]) - e1[1] * (p0[0] - p0[1]),
+             e0[2] * (p1[1] - p1[2]) - e1[2] * (p0[1] - p0[2]))
+    sign = 1.0 if convex else -1.0
+    inside = 0
+    worst = -math.inf
+    for run in range(2):  # the count first: one centre inside is one row of numpy.matmul (module docstring)
         for ix in range(columns):
-            cx = _arange_value(low0, 1.0, ix) + 0.5
+            cx = _arange_value(float(low0), 1.0, ix) + 0.5
             for iy in range(rows):
-                cy = _arange_value(low1, 1.0, iy) + 0.5
-                inside = True
-                for k in range(3):
-                    if not (e0s[k] * (cy - p1[k]) - e1s[k] * (cx - p0[k])) * sides[k] > 0.0:
-                        inside = False
-                        break
-                if not inside:
+                cy = _arange_value(float(low1), 1.0, iy) + 0.5
+                if not ((e0[0] * (cy - p1[0]) - e1[0] * (cx - p0[0])) * sides[0] > 0.0 and
+                        (e0[1] * (cy - p1[1]) - e1[1] * (cx - p0[1])) * sides[1] > 0.0 and
+                        (e0[2] * (cy - p1[2]) - e1[2] * (cx - p0[2])) * sides[2] > 0.0):
                     continue
-                if pass_ == 0:
-                    inside_count += 1
+                if run == 0:
+                    inside += 1
                     continue
-                sign = 1.0 if convex else -1.0
-                u = sign * _inkward(first, cx, cy, inside_count) - first[11]
-                v = sign * _inkward(second, cx, cy, inside_count) - second[11]
+                u = sign * _inkward(first, cx, cy, inside) - first[11]
+                v = sign * _inkward(second, cx, cy, inside) - second[11]
                 depth = u + v if (u != u or v != v) else (u if u <= v else v)
                 ink = _parity(cracks, cx, cy) == ink_parity
-                if (not ink if convex else ink) and depth > 0.0:
-                    if not found or depth > worst:
-                        worst = depth
-                    found = True
-        if inside_count == 0:
-            return -np.inf
+                if (not ink if convex else ink) and depth > 0.0 and not depth <= worst:
+                    worst = depth
     return worst
 
 
-@njit(**_HELPER)
-def arange_count_kernel(start, stop):
-    """``numpy.arange(start, stop).shape[0]`` of floats with step 1."""
-    count = np.ceil(stop - start)
-    return np.int64(count) if count > 0 else np.int64(0)
-
-
 @njit(**_JIT)
-def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, second, windows, crossing,
-              has_crossing, min_cross, ink_all, paper_all, cracks, parity, limits, out):
-    """:func:`.tips._tip` after the crossing: the crossing itself where both sides are lines (``has_crossing``:
-    ``crossing`` holds the parabolas' one), the opening of the sides there, the bounds and the two consistency
-    tests. Writes the tip, the opening and the window starts into ``out`` (point 0-1, opening 2, ends 3-6) and
-    returns True where the crossing passes. ``limits``: reach per side (``REACH_PER_SIDE``), ``BEHIND``, the
-    contradiction limit, ``TIP_ZONE``, ``MAX_TIP_REACH``; ``windows``: the side windows that bound the reach."""
+def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, second, windows, crossing, mode,
+              min_cross, ink_all, paper_all, cracks, parity, limits, out):
+    """``mode`` 0 and 1: :func:`.tips._tip` after the crossing of the side rows ``first`` and ``second``: the
+    crossing itself where both are lines (``mode`` 0; 1: ``crossing`` holds the parabolas', numpy's), the opening
+    of the sides there, the bounds and the two consistency tests; the tip, the opening and the window starts
+    into ``out`` (point 0-1, opening 2, ends 3-6) and True where the crossing passes. ``limits``: the reach per
+    side window, ``BEHIND``, the contradiction limit, ``TIP_ZONE`` and ``MAX_TIP_REACH`` of :mod:`.tips`;
+    ``windows``: the side windows that bound the reach. ``mode`` 2: :func:`.tips.tip_contradiction` (zone
+    ``start``, ``corner`` 1 for a convex wedge) into ``out[0]``; ``mode`` 3: :func:`.tips.wedge_contradiction`
+    of the tip ``crossing`` and the ends in ``out[3:7]`` (``corner`` as in ``mode`` 2) into ``out[0]``."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    if has_crossing:
+    ends = out[3:7].reshape((2, 2))
+    if mode == 2:
+        out[0] = _tip_depth(arc, perimeter, corner_arc, start, first, second, ink_all, paper_all, corner == 1)
+        return True
+    if mode == 3:
+        out[0] = _wedge_depth(cracks, parity, crossing[0], crossing[1], ends, first, second, corner == 1)
+        return True
+    if mode == 1:
         x, y = crossing[0], crossing[1]
     else:
         d0, d1, e0, e1 = first[2], first[3], second[2], second[3]
@@ -562,48 +582,45 @@ def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, 
         q0, q1 = second[0] - first[0], second[1] - first[1]
         along = (q0 * e1 - q1 * e0) / cross
         x, y = first[0] + along * d0, first[1] + along * d1
-    if not (np.isfinite(x) and np.isfinite(y)):
+    if not (math.isfinite(x) and math.isfinite(y)):
         return False
     c0, c1 = points[corner, 0], points[corner, 1]
-    ends = out[3:7].reshape((2, 2))
-    _interp_point(arc, closed, (corner_arc + -start) % perimeter, ends, 0)
-    _interp_point(arc, closed, (corner_arc + start) % perimeter, ends, 1)
-    # the sides' tangents at the crossing, pointing away from it
-    a0, a1, b0, b1 = 0.0, 0.0, 0.0, 0.0
+    row = _ZERO
+    _interp_point(arc, closed, (corner_arc + -start) % perimeter, ends, row)
+    row += 1
+    _interp_point(arc, closed, (corner_arc + start) % perimeter, ends, row)
+    # the sides' tangents at the crossing, pointing away from it (numpy.sign: 0 at 0, NaN at NaN)
+    cosine = 1.0
+    a0, a1 = 0.0, 0.0
     for k in range(2):
         side = first if k == 0 else second
         t = (x - side[0]) * side[2] + (y - side[1]) * side[3]
         turn = side[7] + 2.0 * side[8] * t
         u0, u1 = side[2] + turn * side[4], side[3] + turn * side[5]
         towards = (side[0] - x) * u0 + (side[1] - y) * u1
-        sign = np.sign(towards)
-        length = np.hypot(u0, u1)
-        u0, u1 = u0 * sign / length, u1 * sign / length
+        sign = 1.0 if towards > 0 else -1.0 if towards < 0 else 0.0 if towards == 0 else towards
+        norm = math.hypot(u0, u1)
+        u0, u1 = u0 * sign / norm, u1 * sign / norm
         if k == 0:
             a0, a1 = u0, u1
         else:
-            b0, b1 = u0, u1
-    cosine = a0 * b0 + a1 * b1
-    if cosine != cosine:
-        opening = cosine
-    else:
-        opening = np.arccos(cosine if -1.0 <= cosine <= 1.0 else (-1.0 if cosine < -1.0 else 1.0))
-    # tip_reach(opening): numpy.maximum and numpy.minimum (NaN wins), then min with the windows' bound
-    half = np.sin(0.5 * opening)
-    reach = np.sqrt(0.5) / (half if (half >= 1e-6 or half != half) else 1e-6) + 0.5
+            cosine = a0 * u0 + a1 * u1
+    opening = cosine if cosine != cosine else math.acos(-1.0 if cosine < -1.0 else 1.0 if cosine > 1.0 else cosine)
+    # tip_reach(opening) (numpy.maximum and numpy.minimum: NaN wins), then min with the windows' bound
+    half = math.sin(0.5 * opening)
+    reach = math.sqrt(0.5) / (half if (half >= 1e-6 or half != half) else 1e-6) + 0.5
     reach = reach if (reach <= limits[4] or reach != reach) else limits[4]
     shortest = windows[0]
     for i in range(1, windows.shape[0]):
         shortest = pymin(shortest, windows[i])
-    reach = pymin(reach, limits[0] * shortest)
-    if np.hypot(x - c0, y - c1) > reach:
+    if math.hypot(x - c0, y - c1) > pymin(reach, limits[0] * shortest):
         return False
     o0 = c0 - 0.5 * (ends[0, 0] + ends[1, 0])
     o1 = c1 - 0.5 * (ends[0, 1] + ends[1, 1])
-    if o0 * (x - c0) + o1 * (y - c1) < -limits[1] * np.hypot(o0, o1):
+    if o0 * (x - c0) + o1 * (y - c1) < -limits[1] * math.hypot(o0, o1):
         return False
     if ink_all.shape[0] and first[10] != 0.0 and second[10] != 0.0:
-        convex = _inkward(first, second[0], second[1], 1) > 0
+        convex = _inkward(first, second[0], second[1], _ONE) > 0
         if _tip_depth(arc, perimeter, corner_arc, start + limits[3], first, second, ink_all, paper_all,
                       convex) > limits[2]:
             return False
@@ -613,85 +630,36 @@ def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, 
     return True
 
 
-def side_window(contour, corner_arc, sign, start, stop, samples, count, ink, paper, parabola, slopes, step, rounds):
-    """One window of :func:`.tips.side_fit` (the first ``count`` of ``samples``): the row of its side
-    (:data:`SIDE_FIELDS`), or None where neither a line nor a ``parabola`` (``parabola(t, y)``: the coefficients
-    or None, numpy's least squares) fits. The centre and the offsets in one pass each, the frame's direction
-    numpy's singular value decomposition (LAPACK) between them; with pixel pairs (``ink``, ``paper``: rows per
-    contour point, else empty) a straight side is the separating line where there is one."""
-    local, centre = window_local(samples, count)
-    direction = np.linalg.svd(local, full_matrices=False)[2][0]
-    k = ink.shape[0]
-    t, y, out = np.empty(count), np.empty(count), np.empty(SIDE_FIELDS)
-    window_ink, window_paper, scratch = np.empty((k, 2)), np.empty((k, 2)), np.empty((4, k))
-    grid, slope = np.empty(slopes.shape[0]), np.empty(1)
-    arguments = (contour.arc, float(contour.perimeter), float(corner_arc), float(sign), float(start), float(stop),
-                 count, local, centre, direction, float(stop - start))
-    rest = (ink, paper, slopes, float(step), int(rounds), t, y, window_ink, window_paper, scratch[0], scratch[1],
-            scratch[2], scratch[3], grid, slope, out)
-    if _side_into(*arguments, _NO_COEFFICIENTS, False, *rest) == 2:
-        coefficients = parabola(t, y)
-        if coefficients is None:
-            return None
-        _side_into(*arguments, np.ascontiguousarray(coefficients, float), True, *rest)
-    return out
-
-
-_NO_COEFFICIENTS = np.zeros(3)
-
-
-@njit(**_JIT)
-def _inkward_into(side, points, out):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    rows = points.shape[0]
-    for i in range(rows):
-        out[i] = _inkward(side, points[i, 0], points[i, 1], rows)
-
-
-def inkward_of(side, points):
-    """:meth:`.tips.SideFit.inkward` of the side row ``side`` at ``points`` (k, 2)."""
-    points = np.ascontiguousarray(points, float)
-    out = np.empty(points.shape[0])
-    _inkward_into(side, points, out)
-    return out
-
-
-@njit(**_JIT)
-def _tip_depth_into(arc, perimeter, corner_arc, zone, first, second, ink_all, paper_all, convex):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    return _tip_depth(arc, perimeter, corner_arc, zone, first, second, ink_all, paper_all, convex)
-
-
-def tip_contradiction_of(contour, corner_arc, zone, first, second, ink, paper, convex):
-    """:func:`.tips.tip_contradiction` of the side rows ``first`` and ``second`` in one pass."""
-    return float(_tip_depth_into(contour.arc, float(contour.perimeter), float(corner_arc), float(zone), first, second,
-                                 ink, paper, bool(convex)))
-
-
-@njit(**_JIT)
-def _wedge_depth_into(cracks, parity, tip, ends, first, second, convex):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    return _wedge_depth(cracks, parity, tip[0], tip[1], ends, first, second, convex)
-
-
-def wedge_contradiction_of(cracks, parity, tip, ends, first, second, convex):
-    """:func:`.tips.wedge_contradiction` of the side rows ``first`` and ``second`` in one pass."""
-    return float(_wedge_depth_into(np.ascontiguousarray(cracks, float), int(parity), np.ascontiguousarray(tip, float),
-                                   np.ascontiguousarray(ends, float), first, second, bool(convex)))
-
-
 def tip_checks(contour, corner, corner_arc, start, first, second, windows, crossing, ink, paper, cracks, parity,
                min_cross, limits):
     """:func:`.tips._tip` in one pass (``crossing``: the crossing of sides with a parabola, numpy's, else None):
     ``(point, opening, ends)`` or None."""
     out = np.empty(7)
-    given = crossing is not None
     if not _tip_into(contour.points, int(corner), contour.arc, contour.closed_points, float(contour.perimeter),
                      float(corner_arc), float(start), first, second, windows,
-                     np.ascontiguousarray(crossing, float) if given else _NO_COEFFICIENTS, given, float(min_cross),
-                     ink, paper, cracks, int(parity), limits, out):
+                     _NO_COEFFICIENTS if crossing is None else np.ascontiguousarray(crossing, float),
+                     0 if crossing is None else 1, float(min_cross), ink, paper, cracks, int(parity), limits, out):
         return None
     return out[0:2], out[2], out[3:7].reshape(2, 2)
+
+
+def tip_contradiction_of(contour, corner_arc, zone, first, second, ink, paper, convex):
+    """:func:`.tips.tip_contradiction` of the side rows ``first`` and ``second`` in one pass."""
+    out = np.empty(7)
+    _tip_into(_NO_POINTS, int(bool(convex)), contour.arc, _NO_POINTS, float(contour.perimeter), float(corner_arc),
+              float(zone), first, second, _NO_FLOATS, _NO_COEFFICIENTS, 2, 0.0, ink, paper, _NO_POINTS, 0,
+              _NO_FLOATS, out)
+    return float(out[0])
+
+
+def wedge_contradiction_of(cracks, parity, tip, ends, first, second, convex):
+    """:func:`.tips.wedge_contradiction` of the side rows ``first`` and ``second`` in one pass."""
+    out = np.empty(7)
+    out[3:7] = np.ravel(ends)
+    _tip_into(_NO_POINTS, int(bool(convex)), _NO_FLOATS, _NO_POINTS, 1.0, 0.0, 0.0, first, second, _NO_FLOATS,
+              np.ascontiguousarray(tip, float), 3, 0.0, _NO_POINTS, _NO_POINTS, np.ascontiguousarray(cracks, float),
+              int(parity), _NO_FLOATS, out)
+    return float(out[0])
 
 
 def warm_up():
@@ -701,21 +669,18 @@ def warm_up():
 
     points = np.array([[0.5, 0.0], [1.0, 0.5], [0.5, 1.0], [0.0, 0.5]])
     closed = np.vstack([points, points[:1]])
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
-    contour = SimpleNamespace(points=points, closed_points=closed, arc=arc, perimeter=arc[-1])
-    samples = window_samples(contour, 0.5, 1, 0.0, 1.0)
+    arc = np.array([0.0, 0.75, 1.5, 2.25, 3.0])
+    contour = SimpleNamespace(points=points, closed_points=closed, arc=arc, perimeter=3.0)
+    samples, local, centre = window_samples(contour, 0.5, 1, 0.0, 1.0)
     slopes = np.linspace(-0.25, 0.25, 17)
     ink, paper = points + 0.1, points - 0.1
-    row = side_window(contour, 0.5, 1, 0.0, 1.0, samples, samples.shape[0], ink, paper, lambda t, y: None, slopes,
-                      0.03, 2)
+    row = side_window(contour, 0.5, 1, 0.0, 1.0, samples, samples.shape[0], local, centre, ink, paper,
+                      lambda t, y: None, slopes, 0.03, 2)
     if row is None:
         row = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0])
-    frame_offsets(samples, row[2:4])
     separating_line(ink, paper, row, slopes, 0.03, 2)
     inkward_of(row, points)
     ray_parities(points, points)
     second = np.array([0.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0])
     tip_checks(contour, 0, 0.5, 0.5, row, second, np.ones(2), None, ink, paper, points, 0, 0.1,
                np.array([0.25, 1.0, 0.1, 1.0, 5.0]))
-    tip_contradiction_of(contour, 0.5, 1.0, row, second, ink, paper, True)
-    wedge_contradiction_of(points, 0, np.zeros(2), np.ones((2, 2)), row, second, True)

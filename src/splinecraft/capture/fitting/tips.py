@@ -160,8 +160,8 @@ def _window_fit(points, length):
     vector (numpy's, LAPACK), its frame's offsets in one compiled pass (:func:`~._tip_kernels.frame_offsets`)."""
     local, centre = window_local(points, points.shape[0])
     direction = np.linalg.svd(local, full_matrices=False)[2][0]
-    t, y, largest = frame_offsets(local, direction)
-    if largest <= STRAIGHT_RESIDUAL:
+    t, y, straight = frame_offsets(local, direction)
+    if straight:
         return SideFit(centre, direction, np.zeros(3), length)
     coefficients = _parabola(t, y)
     return None if coefficients is None else SideFit(centre, direction, coefficients, length)
@@ -229,16 +229,16 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
         return None
     # a shrunk window's samples are the first ones of the longest window's (numpy.arange from the same start,
     # point_at_arc point by point): sampled once
-    samples = window_samples(contour, corner_arc, sign, start, stop)
+    samples, local, centre = window_samples(contour, corner_arc, sign, start, stop)
     count = samples.shape[0]
     ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
     while stop - start >= SHORTEST_SIDE:
-        row = side_window(contour, corner_arc, sign, start, stop, samples, count, ink, paper, _parabola,
-                          _FIRST_SLOPES, SLOPE_SEARCH / 8, 5)
+        row = side_window(contour, corner_arc, sign, start, stop, samples, count, local, centre, ink, paper,
+                          _parabola, _FIRST_SLOPES, SLOPE_SEARCH / 8, 5)
         if row is not None:
             return SideFit.of_row(row)
         stop = start + 0.75 * (stop - start)
-        count = arange_count(start, stop + 1e-9, 0.5)
+        count, local = arange_count(start, stop + 1e-9, 0.5), None
     return None
 
 

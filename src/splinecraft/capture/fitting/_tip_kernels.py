@@ -83,58 +83,44 @@ def _row_dot(a0, a1, v0, v1, rows):
 
 
 @njit(**_CALLED)
-def _pairwise_block(values, first, n):
-    """numpy's ``pairwise_sum`` of ``values[first:first + n]`` for ``n <= 128``: one running sum below 8 values,
-    else 8 partial sums over the blocks of 8 combined pairwise, then the rest one by one."""
-    compact()  # optimized for size, as its callers are (_jit.compact)
-    if n < 8:
-        total = 0.0
-        for i in range(n):
-            total += values[first + i]
-        return total
-    r0, r1, r2, r3 = values[first], values[first + 1], values[first + 2], values[first + 3]
-    r4, r5, r6, r7 = values[first + 4], values[first + 5], values[first + 6], values[first + 7]
-    i = 8
-    last = n - n % 8
-    while i < last:
-        r0 += values[first + i]
-        r1 += values[first + i + 1]
-        r2 += values[first + i + 2]
-        r3 += values[first + i + 3]
-        r4 += values[first + i + 4]
-        r5 += values[first + i + 5]
-        r6 += values[first + i + 6]
-        r7 += values[first + i + 7]
-        i += 8
-    total = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
-    while i < n:
-        total += values[first + i]
-        i += 1
-    return total
-
-
-@njit(**_CALLED)
-def _pairwise_half(values, first, n):
-    """numpy's ``pairwise_sum`` of ``values[first:first + n]`` for ``n <= 256``: above 128 values the sum of the
-    two halves (split at a multiple of 8)."""
-    compact()  # optimized for size, as its callers are (_jit.compact)
-    if n <= 128:
-        return _pairwise_block(values, first, n)
-    half = n // 2
-    half -= half % 8
-    return _pairwise_block(values, first, half) + _pairwise_block(values, first + half, n - half)
-
-
-@njit(**_CALLED)
 def _pairwise_sum(values, n):
-    """``numpy.sum`` of ``values[:n]`` (1-d, contiguous; ``n <= 512``: the tips' windows hold at most about a
-    hundred values): numpy's pairwise summation, added to 0.0 (the reduction's identity)."""
+    """``numpy.sum`` of ``values[:n]`` (1-d, contiguous; ``n <= 256``: the tips' windows hold at most about a
+    hundred values): numpy's pairwise summation, added to 0.0 (the reduction's identity). Per block of up to 128
+    values one running sum below 8 values, else 8 partial sums over the runs of 8 combined pairwise, then the
+    rest one by one; above 128 values the sum of two such blocks (split at a multiple of 8)."""
     compact()  # optimized for size, as its callers are (_jit.compact)
-    if n <= 256:
-        return 0.0 + _pairwise_half(values, _ZERO, n)
-    half = n // 2
-    half -= half % 8
-    return 0.0 + (_pairwise_half(values, _ZERO, half) + _pairwise_half(values, half, n - half))
+    half = n
+    if n > 128:
+        half = n // 2
+        half -= half % 8
+    total = 0.0
+    for block in range(1 if n <= 128 else 2):
+        first, m = (0, half) if block == 0 else (half, n - half)
+        if m < 8:
+            part = 0.0
+            for i in range(m):
+                part += values[first + i]
+        else:
+            r0, r1, r2, r3 = values[first], values[first + 1], values[first + 2], values[first + 3]
+            r4, r5, r6, r7 = values[first + 4], values[first + 5], values[first + 6], values[first + 7]
+            i = 8
+            last = m - m % 8
+            while i < last:
+                r0 += values[first + i]
+                r1 += values[first + i + 1]
+                r2 += values[first + i + 2]
+                r3 += values[first + i + 3]
+                r4 += values[first + i + 4]
+                r5 += values[first + i + 5]
+                r6 += values[first + i + 6]
+                r7 += values[first + i + 7]
+                i += 8
+            part = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+            while i < m:
+                part += values[first + i]
+                i += 1
+        total = part if block == 0 else total + part
+    return 0.0 + total
 
 
 def arange_count(start, stop, step):
@@ -476,7 +462,7 @@ def ray_parities(cracks, queries):
     return out
 
 
-_NO_INTS = np.empty(0, np.int64)
+_NO_INTS, _NO_ENDS = np.empty(0, np.int64), np.empty((2, 2))
 
 
 @njit(**_CALLED)
@@ -555,7 +541,7 @@ def _wedge_depth(cracks, ink_parity, tip0, tip1, ends, first, second, convex):
 
 @njit(**_JIT)
 def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, second, windows, crossing, mode,
-              min_cross, ink_all, paper_all, cracks, parity, limits, out):
+              min_cross, ink_all, paper_all, cracks, parity, limits, out, ends):
     """``mode`` 0 and 1: :func:`.tips._tip` after the crossing of the side rows ``first`` and ``second``: the
     crossing itself where both are lines (``mode`` 0; 1: ``crossing`` holds the parabolas', numpy's), the opening
     of the sides there, the bounds and the two consistency tests; the tip, the opening and the window starts
@@ -563,9 +549,8 @@ def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, 
     side window, ``BEHIND``, the contradiction limit, ``TIP_ZONE`` and ``MAX_TIP_REACH`` of :mod:`.tips`;
     ``windows``: the side windows that bound the reach. ``mode`` 2: :func:`.tips.tip_contradiction` (zone
     ``start``, ``corner`` 1 for a convex wedge) into ``out[0]``; ``mode`` 3: :func:`.tips.wedge_contradiction`
-    of the tip ``crossing`` and the ends in ``out[3:7]`` (``corner`` as in ``mode`` 2) into ``out[0]``."""
+    of the tip ``crossing`` and the window starts ``ends`` (``corner`` as in ``mode`` 2) into ``out[0]``."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    ends = out[3:7].reshape((2, 2))
     if mode == 2:
         out[0] = _tip_depth(arc, perimeter, corner_arc, start, first, second, ink_all, paper_all, corner == 1)
         return True
@@ -634,31 +619,31 @@ def tip_checks(contour, corner, corner_arc, start, first, second, windows, cross
                min_cross, limits):
     """:func:`.tips._tip` in one pass (``crossing``: the crossing of sides with a parabola, numpy's, else None):
     ``(point, opening, ends)`` or None."""
-    out = np.empty(7)
+    out, ends = np.empty(3), np.empty((2, 2))
     if not _tip_into(contour.points, int(corner), contour.arc, contour.closed_points, float(contour.perimeter),
                      float(corner_arc), float(start), first, second, windows,
                      _NO_COEFFICIENTS if crossing is None else np.ascontiguousarray(crossing, float),
-                     0 if crossing is None else 1, float(min_cross), ink, paper, cracks, int(parity), limits, out):
+                     0 if crossing is None else 1, float(min_cross), ink, paper, cracks, int(parity), limits, out,
+                     ends):
         return None
-    return out[0:2], out[2], out[3:7].reshape(2, 2)
+    return out[0:2], out[2], ends
 
 
 def tip_contradiction_of(contour, corner_arc, zone, first, second, ink, paper, convex):
     """:func:`.tips.tip_contradiction` of the side rows ``first`` and ``second`` in one pass."""
-    out = np.empty(7)
+    out = np.empty(3)
     _tip_into(_NO_POINTS, int(bool(convex)), contour.arc, _NO_POINTS, float(contour.perimeter), float(corner_arc),
               float(zone), first, second, _NO_FLOATS, _NO_COEFFICIENTS, 2, 0.0, ink, paper, _NO_POINTS, 0,
-              _NO_FLOATS, out)
+              _NO_FLOATS, out, _NO_ENDS)
     return float(out[0])
 
 
 def wedge_contradiction_of(cracks, parity, tip, ends, first, second, convex):
     """:func:`.tips.wedge_contradiction` of the side rows ``first`` and ``second`` in one pass."""
-    out = np.empty(7)
-    out[3:7] = np.ravel(ends)
+    out = np.empty(3)
     _tip_into(_NO_POINTS, int(bool(convex)), _NO_FLOATS, _NO_POINTS, 1.0, 0.0, 0.0, first, second, _NO_FLOATS,
               np.ascontiguousarray(tip, float), 3, 0.0, _NO_POINTS, _NO_POINTS, np.ascontiguousarray(cracks, float),
-              int(parity), _NO_FLOATS, out)
+              int(parity), _NO_FLOATS, out, np.ascontiguousarray(ends, float).reshape(2, 2))
     return float(out[0])
 
 

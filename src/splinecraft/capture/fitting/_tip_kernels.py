@@ -84,10 +84,11 @@ def _row_dot(a0, a1, v0, v1, rows):
 
 @njit(**_CALLED)
 def _pairwise_sum(values, n):
-    """``numpy.sum`` of ``values[:n]`` (1-d, contiguous; ``n <= 256``: the tips' windows hold at most about a
-    hundred values): numpy's pairwise summation, added to 0.0 (the reduction's identity). Per block of up to 128
-    values one running sum below 8 values, else 8 partial sums over the runs of 8 combined pairwise, then the
-    rest one by one; above 128 values the sum of two such blocks (split at a multiple of 8)."""
+    """``numpy.sum`` of ``values[:n]`` (1-d, contiguous): numpy's pairwise summation, added to 0.0 (the
+    reduction's identity). Per block of up to 128 values one running sum below 8 values, else 8 partial sums
+    over the runs of 8 combined pairwise, then the rest one by one; above 128 values the sum of the two halves
+    (split at a multiple of 8), each one block: numpy's up to 240 values (where neither half exceeds 128; numpy
+    halves a longer half again). A side window holds at most about 70 pixel centres (48 px of arc)."""
     compact()  # optimized for size, as its callers are (_jit.compact)
     half = n
     if n > 128:
@@ -388,7 +389,7 @@ def frame_offsets(local, direction):
 
 def separating_line(ink, paper, frame, slopes, step, rounds):
     """:func:`.tips._separating_line` in one pass: the side row (:data:`SIDE_FIELDS`) of the line that separates
-    ``ink`` from ``paper`` (each ``(k, 2)``, ``1 <= k <= 512``) with the largest margin in the frame of the side
+    ``ink`` from ``paper`` (each ``(k, 2)``, ``1 <= k <= 240``) with the largest margin in the frame of the side
     row ``frame``, or None."""
     ink, paper = np.ascontiguousarray(ink, float), np.ascontiguousarray(paper, float)
     b = _Buffers(0, max(ink.shape[0], paper.shape[0]), slopes)

@@ -505,36 +505,34 @@ def _wedge_depth(cracks, ink_parity, tip0, tip1, ends, first, second, convex):
     none). Centres by ``numpy.arange`` from the triangle's floor to its ceiling, x-major; a centre is inside
     where it lies strictly on the side of each edge where the opposite corner lies."""
     compact()  # optimized for size, as its callers are (_jit.compact)
-    p0 = (tip0, ends[0, 0], ends[1, 0])
-    p1 = (tip1, ends[0, 1], ends[1, 1])
-    low0, low1 = math.floor(pymin(pymin(p0[0], p0[1]), p0[2])), math.floor(pymin(pymin(p1[0], p1[1]), p1[2]))
-    columns = math.ceil(math.ceil(pymax(pymax(p0[0], p0[1]), p0[2])) - low0)
-    rows = math.ceil(math.ceil(pymax(pymax(p1[0], p1[1]), p1[2])) - low1)
-    # edge k from corner k to corner k + 1, and the side of it where corner k + 2 lies
-    e0 = (p0[1] - p0[0], p0[2] - p0[1], p0[0] - p0[2])
-    e1 = (p1[1] - p1[0], p1[2] - p1[1], p1[0] - p1[2])
-    sides = (e0[0] * (p1[2] - p1[0]) - e1[0] * (p0[2] - p0[0]),
-             e0[1] * (p1[0] - p1[1]) - e1[1] * (p0[0] - p0[1]),
-             e0[2] * (p1[1] - p1[2]) - e1[2] * (p0[1] - p0[2]))
+    ax, ay, bx, by, cx, cy = tip0, tip1, ends[0, 0], ends[0, 1], ends[1, 0], ends[1, 1]
+    low_x, low_y = math.floor(pymin(pymin(ax, bx), cx)), math.floor(pymin(pymin(ay, by), cy))
+    columns = math.ceil(pymax(pymax(ax, bx), cx)) - low_x
+    rows = math.ceil(pymax(pymax(ay, by), cy)) - low_y
+    # the edges a-b, b-c, c-a, and the side of each where the opposite corner lies
+    abx, aby, bcx, bcy, cax, cay = bx - ax, by - ay, cx - bx, cy - by, ax - cx, ay - cy
+    side_c = abx * (cy - ay) - aby * (cx - ax)
+    side_a = bcx * (ay - by) - bcy * (ax - bx)
+    side_b = cax * (by - cy) - cay * (bx - cx)
     sign = 1.0 if convex else -1.0
     inside = 0
     worst = -math.inf
     for run in range(2):  # the count first: one centre inside is one row of numpy.matmul (module docstring)
         for ix in range(columns):
-            cx = _arange_value(float(low0), 1.0, ix) + 0.5
+            x = _arange_value(float(low_x), 1.0, ix) + 0.5
             for iy in range(rows):
-                cy = _arange_value(float(low1), 1.0, iy) + 0.5
-                if not ((e0[0] * (cy - p1[0]) - e1[0] * (cx - p0[0])) * sides[0] > 0.0 and
-                        (e0[1] * (cy - p1[1]) - e1[1] * (cx - p0[1])) * sides[1] > 0.0 and
-                        (e0[2] * (cy - p1[2]) - e1[2] * (cx - p0[2])) * sides[2] > 0.0):
+                y = _arange_value(float(low_y), 1.0, iy) + 0.5
+                if not ((abx * (y - ay) - aby * (x - ax)) * side_c > 0.0 and
+                        (bcx * (y - by) - bcy * (x - bx)) * side_a > 0.0 and
+                        (cax * (y - cy) - cay * (x - cx)) * side_b > 0.0):
                     continue
                 if run == 0:
                     inside += 1
                     continue
-                u = sign * _inkward(first, cx, cy, inside) - first[11]
-                v = sign * _inkward(second, cx, cy, inside) - second[11]
+                u = sign * _inkward(first, x, y, inside) - first[11]
+                v = sign * _inkward(second, x, y, inside) - second[11]
                 depth = u + v if (u != u or v != v) else (u if u <= v else v)
-                ink = _parity(cracks, cx, cy) == ink_parity
+                ink = _parity(cracks, x, y) == ink_parity
                 if (not ink if convex else ink) and depth > 0.0 and not depth <= worst:
                     worst = depth
     return worst

@@ -303,8 +303,14 @@ def _side_into(arc, perimeter, corner_arc, sign, start, stop, local, centre, dir
     called again in ``mode`` 1 with its ``coefficients``); else the line, and with pixel pairs (``ink_all`` and
     ``paper_all`` per contour point) the separating line of the window's (returns 1) or the line with its ink
     side (returns 0). ``mode`` 1: the parabola with its ink side (0). ``mode`` 3: the separating line of the
-    pixel centres ``ink_all`` and ``paper_all`` themselves (1), else 0."""
+    pixel centres ``ink_all`` and ``paper_all`` themselves (1), else 0. ``mode`` 4: the offsets
+    (:meth:`.tips.SideFit.inkward`) of the points ``ink_all`` from the side row ``out`` into ``t``."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    if mode == 4:
+        rows = ink_all.shape[0]
+        for i in range(rows):
+            t[i] = _inkward(out, ink_all[i, 0], ink_all[i, 1], rows)
+        return 0
     d0, d1 = direction[0], direction[1]
     count = local.shape[0]
     if mode == 0:
@@ -435,35 +441,32 @@ def _parity(cracks, x, y):
 
 
 @njit(**_JIT)
-def _points_into(side, cracks, points, out, parities):
-    """Per row of ``points``: with a side row ``side``, its :meth:`.tips.SideFit.inkward` offset into ``out``;
-    with ``cracks``, its ray parity into ``parities``."""
+def _parities_into(cracks, points, parities):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    rows = points.shape[0]
-    for i in range(rows):
-        if side.shape[0]:
-            out[i] = _inkward(side, points[i, 0], points[i, 1], rows)
-        if cracks.shape[0]:
-            parities[i] = _parity(cracks, points[i, 0], points[i, 1])
+    for i in range(points.shape[0]):
+        parities[i] = _parity(cracks, points[i, 0], points[i, 1])
 
 
 def inkward_of(side, points):
-    """:meth:`.tips.SideFit.inkward` of the side row ``side`` at ``points`` (k, 2)."""
+    """:meth:`.tips.SideFit.inkward` of the side row ``side`` at ``points`` (k, 2), in :func:`_side_into`."""
     points = np.ascontiguousarray(points, float)
-    out = np.empty(points.shape[0])
-    _points_into(side, _NO_POINTS, points, out, _NO_INTS)
-    return out
+    b = _Buffers(points.shape[0], 0, _NO_FLOATS)
+    b.out[:] = side
+    _side_into(_NO_FLOATS, 1.0, 0.0, 1.0, 0.0, 0.0, _NO_POINTS, _NO_COEFFICIENTS, _NO_COEFFICIENTS, 0.0,
+               _NO_COEFFICIENTS, 4, points, _NO_POINTS, _NO_FLOATS, 0.0, 0, b.t, b.y, b.ink, b.paper, *b.scratch, b.grid,
+               b.slope, b.out)
+    return b.t
 
 
 def ray_parities(cracks, queries):
-    """:func:`.tips.ray_parity` in one pass (``cracks`` not empty)."""
+    """:func:`.tips.ray_parity` in one pass (not in a trace: compiled on first use)."""
     queries = np.ascontiguousarray(queries, float)
     out = np.empty(queries.shape[0], np.int64)
-    _points_into(_NO_FLOATS, np.ascontiguousarray(cracks, float), queries, _NO_FLOATS, out)
+    _parities_into(np.ascontiguousarray(cracks, float), queries, out)
     return out
 
 
-_NO_INTS, _NO_ENDS = np.empty(0, np.int64), np.empty((2, 2))
+_NO_ENDS = np.empty((2, 2))
 
 
 @njit(**_CALLED)
@@ -546,7 +549,8 @@ def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, 
     of the sides there, the bounds and the two consistency tests; the tip, the opening and the window starts
     into ``out`` (point 0-1, opening 2, ends 3-6) and True where the crossing passes. ``limits``: the reach per
     side window, ``BEHIND``, the contradiction limit, ``TIP_ZONE`` and ``MAX_TIP_REACH`` of :mod:`.tips`;
-    ``windows``: the side windows that bound the reach. ``mode`` 2: :func:`.tips.tip_contradiction` (zone
+    ``windows``: the side windows that bound the reach; ``parity``: the ray parity of the ink centre
+    ``ink_all[0]`` (:func:`.tips.ray_parity`), found here where negative. ``mode`` 2: :func:`.tips.tip_contradiction` (zone
     ``start``, ``corner`` 1 for a convex wedge) into ``out[0]``; ``mode`` 3: :func:`.tips.wedge_contradiction`
     of the tip ``crossing`` and the window starts ``ends`` (``corner`` as in ``mode`` 2) into ``out[0]``."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
@@ -554,6 +558,8 @@ def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, 
         out[0] = _tip_depth(arc, perimeter, corner_arc, start, first, second, ink_all, paper_all, corner == 1)
         return True
     if mode == 3:
+        if parity < 0:
+            parity = _parity(cracks, ink_all[0, 0], ink_all[0, 1])
         out[0] = _wedge_depth(cracks, parity, crossing[0], crossing[1], ends, first, second, corner == 1)
         return True
     if mode == 1:
@@ -604,6 +610,8 @@ def _tip_into(points, corner, arc, closed, perimeter, corner_arc, start, first, 
     if o0 * (x - c0) + o1 * (y - c1) < -limits[1] * math.hypot(o0, o1):
         return False
     if ink_all.shape[0] and first[10] != 0.0 and second[10] != 0.0:
+        if parity < 0:  # the ray parity of the outline's first ink centre
+            parity = _parity(cracks, ink_all[0, 0], ink_all[0, 1])
         convex = _inkward(first, second[0], second[1], _ONE) > 0
         if _tip_depth(arc, perimeter, corner_arc, start + limits[3], first, second, ink_all, paper_all,
                       convex) > limits[2]:
@@ -637,12 +645,13 @@ def tip_contradiction_of(contour, corner_arc, zone, first, second, ink, paper, c
     return float(out[0])
 
 
-def wedge_contradiction_of(cracks, parity, tip, ends, first, second, convex):
-    """:func:`.tips.wedge_contradiction` of the side rows ``first`` and ``second`` in one pass."""
+def wedge_contradiction_of(cracks, parity, ink, tip, ends, first, second, convex):
+    """:func:`.tips.wedge_contradiction` of the side rows ``first`` and ``second`` in one pass (``parity``: that of
+    the ink centre ``ink[0]``, None: found here)."""
     out = np.empty(3)
     _tip_into(_NO_POINTS, int(bool(convex)), _NO_FLOATS, _NO_POINTS, 1.0, 0.0, 0.0, first, second, _NO_FLOATS,
-              np.ascontiguousarray(tip, float), 3, 0.0, _NO_POINTS, _NO_POINTS, np.ascontiguousarray(cracks, float),
-              int(parity), _NO_FLOATS, out, np.ascontiguousarray(ends, float).reshape(2, 2))
+              np.ascontiguousarray(tip, float), 3, 0.0, ink, _NO_POINTS, np.ascontiguousarray(cracks, float),
+              -1 if parity is None else int(parity), _NO_FLOATS, out, np.ascontiguousarray(ends, float).reshape(2, 2))
     return float(out[0])
 
 
@@ -664,7 +673,6 @@ def warm_up():
         row = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0])
     separating_line(ink, paper, row, slopes, 0.03, 2)
     inkward_of(row, points)
-    ray_parities(points, points)
     second = np.array([0.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0])
-    tip_checks(contour, 0, 0.5, 0.5, row, second, np.ones(2), None, ink, paper, points, 0, 0.1,
+    tip_checks(contour, 0, 0.5, 0.5, row, second, np.ones(2), None, ink, paper, points, -1, 0.1,
                np.array([0.25, 1.0, 0.1, 1.0, 5.0]))

@@ -348,9 +348,7 @@ def wedge_contradiction(cracks, pairs, tip, ends, sides, convex=None, ink_parity
     ``sides``, found here when None."""
     if convex is None:
         convex = is_convex(sides)
-    if ink_parity is None:
-        ink_parity = ray_parity(cracks, pairs[0][:1])[0]
-    return wedge_contradiction_of(cracks, ink_parity, tip, ends, sides[0].row, sides[1].row, convex)
+    return wedge_contradiction_of(cracks, ink_parity, pairs[0], tip, ends, sides[0].row, sides[1].row, convex)
 
 
 def tip_estimates(contour, angle, radius, measured=None):
@@ -423,7 +421,6 @@ def tip_estimates(contour, angle, radius, measured=None):
     if pairs is None:
         one_short[:] = False
     cracks = None if pairs is None else horizontal_cracks(contour.points)
-    parity = None if pairs is None else ray_parity(cracks, pairs[0][:1])[0]  # of a known ink centre
     candidates = np.flatnonzero(wanted)
     regular, shared = {}, {}
 
@@ -452,7 +449,7 @@ def tip_estimates(contour, angle, radius, measured=None):
         if not measured:
             continue
         is_shared = [bool(short[c, k] and one_short[c]) for k in (0, 1)]
-        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks, parity)
+        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
         reach = stops[c].copy()
         while found is None and RETRY_SHRINK and not any(is_shared):
             reach = start[c] + RETRY_SHRINK * (reach - start[c])
@@ -461,7 +458,7 @@ def tip_estimates(contour, angle, radius, measured=None):
             sides = [side_fit(contour, corner_arc, 2 * k - 1, start[c], reach[k], pairs) for k in (0, 1)]
             if any(side is None for side in sides):
                 break
-            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks, parity)
+            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
             if found is not None and sides[0].margin > 0 and sides[1].margin > 0 and \
                     (sides[0].margin + sides[1].margin) / (2.0 * np.sin(0.5 * found[1])) > RETRY_UNCERTAINTY:
                 found = None
@@ -499,11 +496,12 @@ def _outside(contour, points):
     return closed_polyline_distance(points, contour.points, 0.5 * np.diff(contour.arc).max())
 
 
-def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity):
+def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity=None):
     """The crossing of the two :class:`SideFit` ``sides`` of corner ``c`` as its tip (:func:`tip_estimates`'
     bounds and consistency tests), with the opening of the fitted sides at the crossing and the contour points
     at the window starts; None where it fails them. ``cracks``: :func:`horizontal_cracks` of the contour (with
-    ``pairs``); ``parity``: the :func:`ray_parity` of its ink centre ``pairs[0][0]``."""
+    ``pairs``); ``parity``: the :func:`ray_parity` of its ink centre ``pairs[0][0]`` (the same for every corner
+    of the outline; found in the tests' compiled pass when None)."""
     # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
     # other side's window bounds the reach
     windows = np.array([side.length for side, shared in zip(sides, is_shared) if not shared])
@@ -515,7 +513,7 @@ def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity)
     ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
     return tip_checks(contour, contour.corner_bounds[c] % contour.size, corner_arc, start, sides[0].row,
                       sides[1].row, windows, crossing, ink, paper, _NO_POINTS if cracks is None else cracks,
-                      0 if parity is None else parity, _SIN_MIN_CROSSING, _TIP_LIMITS)
+                      -1 if parity is None else parity, _SIN_MIN_CROSSING, _TIP_LIMITS)
 
 
 def _with_pinholes(contour, angle, pixel, estimate, start, anchors, distance):

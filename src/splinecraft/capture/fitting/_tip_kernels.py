@@ -13,11 +13,11 @@ so its results are bit for bit those of that formulation (``tests/test_tip_kerne
 
 * ``numpy.interp`` (:func:`_interp_point`): the interval by the rightmost knot not above ``x``, its slope
   ``(fp[j+1] - fp[j]) / (xp[j+1] - xp[j])``, ``slope * (x - xp[j]) + fp[j]``, a knot's own value at a knot;
-* ``numpy.arange(start, stop, step)`` of floats (:func:`arange_count`, :func:`_arange_value`): ``ceil((stop -
+* ``numpy.arange(start, stop, step)`` of floats (:func:`arange_count`, :func:`_window_into`): ``ceil((stop -
   start) / step)`` values ``start + i * ((start + step) - start)``;
 * ``numpy.add.reduce`` along the first axis of an ``(n, 2)`` array: a running sum from 0.0 per column; ``sum``
   of a 1-d array: numpy's pairwise summation (:func:`_pairwise_sum`) added to 0.0;
-* the product ``a @ v`` of an ``(n, 2)`` array and a 2-vector (:func:`_row_dot`): ``numpy.matmul`` hands it to
+* the product ``a @ v`` of an ``(n, 2)`` array and a 2-vector: ``numpy.matmul`` hands it to
   BLAS ``dgemv``, whose kernel on this machine returns ``fma(a0, v0, a1 * v1)`` per row (one fused
   multiply-add, :func:`_fma`) for two or more rows, while one row (``numpy.dot`` of two 2-vectors, and
   ``matmul`` of a ``(1, 2)`` array) is ``a0 * v0 + a1 * v1``, as is every 1-d ``a @ b`` of 2-vectors here.
@@ -63,7 +63,7 @@ _STRAIGHT = 0.8
 @intrinsic
 def _fma(typingctx, a, b, c):
     """``a * b + c`` rounded once (LLVM's ``llvm.fma.f64``: the processor's fused multiply-add, else libm's
-    ``fma``), as BLAS ``dgemv`` computes a row of :func:`_row_dot`."""
+    ``fma``), as BLAS ``dgemv`` computes a row of ``a @ v`` (module docstring)."""
     def codegen(context, builder, signature, args):
         double = ir.DoubleType()
         function = cgutils.get_or_insert_function(builder.module, ir.FunctionType(double, [double] * 3),
@@ -71,15 +71,6 @@ def _fma(typingctx, a, b, c):
         return builder.call(function, [context.cast(builder, value, kind, types.float64)
                                        for value, kind in zip(args, signature.args)])
     return types.float64(a, b, c), codegen
-
-
-@njit(**_HELPER)
-def _row_dot(a0, a1, v0, v1, rows):
-    """Row ``(a0, a1)`` of ``a @ v`` for an ``(rows, 2)`` array ``a`` (module docstring)."""
-    compact()  # optimized for size, as its callers are (_jit.compact)
-    if rows == 1:
-        return a0 * v0 + a1 * v1
-    return _fma(a0, v0, a1 * v1)
 
 
 @njit(**_CALLED)
@@ -129,18 +120,6 @@ def arange_count(start, stop, step):
     at least 0."""
     count = math.ceil((stop - start) / step)
     return count if count > 0 else 0
-
-
-@njit(**_HELPER)
-def _arange_value(start, step, i):
-    """Value ``i`` of ``numpy.arange(start, ..., step)`` of floats: ``start + i * ((start + step) - start)``
-    (numpy's fill from its first two values)."""
-    compact()  # optimized for size, as its callers are (_jit.compact)
-    if i == 0:
-        return start
-    if i == 1:
-        return start + step
-    return start + i * ((start + step) - start)
 
 
 @njit(**_CALLED)
@@ -194,8 +173,10 @@ def _window_into(arc, closed, perimeter, corner_arc, sign, start, samples, fill,
     running sum per column) and the points less it into ``local``."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     if fill:
+        step = (start + 0.5) - start  # numpy.arange's values: start, start + 0.5, then start + i * step
         for i in range(samples.shape[0]):
-            _interp_point(arc, closed, (corner_arc + sign * _arange_value(start, 0.5, i)) % perimeter, samples, i)
+            offset = start if i == 0 else start + 0.5 if i == 1 else start + i * step
+            _interp_point(arc, closed, (corner_arc + sign * offset) % perimeter, samples, i)
     sx, sy = 0.0, 0.0
     for i in range(count):
         sx += samples[i, 0]
@@ -252,10 +233,16 @@ def _separate(ink, paper, ink_count, paper_count, frame, slopes, step, rounds, t
     c0, c1, d0, d1, n0, n1, length = frame[0], frame[1], frame[2], frame[3], frame[4], frame[5], frame[9]
     for i in range(ink_count):
         x, y = ink[i, 0] - c0, ink[i, 1] - c1
-        t_ink[i], y_ink[i] = _row_dot(x, y, d0, d1, ink_count), _row_dot(x, y, n0, n1, ink_count)
+        if ink_count == 1:  # a @ v (module docstring)
+            t_ink[i], y_ink[i] = x * d0 + y * d1, x * n0 + y * n1
+        else:
+            t_ink[i], y_ink[i] = _fma(x, d0, y * d1), _fma(x, n0, y * n1)
     for i in range(paper_count):
         x, y = paper[i, 0] - c0, paper[i, 1] - c1
-        t_paper[i], y_paper[i] = _row_dot(x, y, d0, d1, paper_count), _row_dot(x, y, n0, n1, paper_count)
+        if paper_count == 1:
+            t_paper[i], y_paper[i] = x * d0 + y * d1, x * n0 + y * n1
+        else:
+            t_paper[i], y_paper[i] = _fma(x, d0, y * d1), _fma(x, n0, y * n1)
     sign = 1.0 if (_pairwise_sum(y_ink, ink_count) / ink_count >=
                    _pairwise_sum(y_paper, paper_count) / paper_count) else -1.0
     for i in range(ink_count):
@@ -316,8 +303,9 @@ def _side_into(arc, perimeter, corner_arc, sign, start, stop, local, centre, dir
     if mode == 0:
         largest = 0.0  # numpy.abs(y).max(): NaN wins
         for i in range(count):
-            t[i] = _row_dot(local[i, 0], local[i, 1], d0, d1, count)
-            y[i] = _row_dot(local[i, 0], local[i, 1], -d1, d0, count)
+            x, z = local[i, 0], local[i, 1]
+            t[i], y[i] = (x * d0 + z * d1, x * -d1 + z * d0) if count == 1 else (_fma(x, d0, z * d1),
+                                                                                 _fma(x, -d1, z * d0))
             if largest == largest and not abs(y[i]) <= largest:
                 largest = abs(y[i])
         if not largest <= _STRAIGHT:
@@ -344,7 +332,8 @@ def _side_into(arc, perimeter, corner_arc, sign, start, stop, local, centre, dir
         return 1
     n0, n1 = out[4], out[5]
     for i in range(k):  # (ink - paper) @ normal, then its mean
-        t_ink[i] = _row_dot(ink[i, 0] - paper[i, 0], ink[i, 1] - paper[i, 1], n0, n1, k)
+        x, z = ink[i, 0] - paper[i, 0], ink[i, 1] - paper[i, 1]
+        t_ink[i] = _fma(x, n0, z * n1)  # k >= 4 rows
     out[10] = 1.0 if _pairwise_sum(t_ink, k) / k >= 0 else -1.0
     return 0
 
@@ -413,9 +402,12 @@ def _inkward(side, x, y, rows):
     """:meth:`.tips.SideFit.inkward` of the point ``(x, y)``, one of ``rows`` points."""
     compact()  # optimized for size, as its callers are (_jit.compact)
     l0, l1 = x - side[0], y - side[1]
+    if rows == 1:  # a @ v (module docstring)
+        t, across = l0 * side[2] + l1 * side[3], l0 * side[4] + l1 * side[5]
+    else:
+        t, across = _fma(l0, side[2], l1 * side[3]), _fma(l0, side[4], l1 * side[5])
     if side[6] == 0.0 and side[7] == 0.0 and side[8] == 0.0:
-        return side[10] * _row_dot(l0, l1, side[4], side[5], rows)
-    t, across = _row_dot(l0, l1, side[2], side[3], rows), _row_dot(l0, l1, side[4], side[5], rows)
+        return side[10] * across
     return side[10] * (across - (side[6] + t * (side[7] + t * side[8])))
 
 
@@ -522,9 +514,9 @@ def _wedge_depth(cracks, ink_parity, tip0, tip1, ends, first, second, convex):
     worst = -math.inf
     for run in range(2):  # the count first: one centre inside is one row of numpy.matmul (module docstring)
         for ix in range(columns):
-            x = _arange_value(float(low_x), 1.0, ix) + 0.5
+            x = float(low_x + ix) + 0.5  # numpy.arange(low, high) + 0.5 of whole numbers: exact
             for iy in range(rows):
-                y = _arange_value(float(low_y), 1.0, iy) + 0.5
+                y = float(low_y + iy) + 0.5
                 if not ((abx * (y - ay) - aby * (x - ax)) * side_c > 0.0 and
                         (bcx * (y - by) - bcy * (x - bx)) * side_a > 0.0 and
                         (cax * (y - cy) - cay * (x - cx)) * side_b > 0.0):

@@ -678,6 +678,7 @@ def warm_up_solves():
     hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
+    __import__(__package__ + "._tip_kernels", fromlist=["warm_up"]).warm_up()  # the corner tips' (tips.py)
 
 
 def warm_up_checks():

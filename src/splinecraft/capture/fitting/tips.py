@@ -24,7 +24,10 @@ from __future__ import annotations
 import numpy as np
 
 from .._pixel_corners import corner_vertices
-from ._kernels import closed_polyline_distance, separating_slope
+from ._kernels import closed_polyline_distance
+from ._tip_kernels import (SIDE_FIELDS, arange_count, frame_offsets, inkward_of, ray_parities, separating_line,
+                           side_window, tip_checks, tip_contradiction_of, wedge_contradiction_of, window_local,
+                           window_samples)
 
 __all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction",
            "is_convex", "ray_parity", "horizontal_cracks", "pixel_pairs", "SideFit"]
@@ -109,24 +112,36 @@ class SideFit:
     curved side, a parabola ``y = c0 + c1 t + c2 t^2`` in that line's frame (``coefficients``; zeros on a
     straight side); ``length``: the window's arc length (px); ``ink``: +1 or -1, the side of the normal the
     ink pixels lie on (0 where the contour is not a crack outline); ``margin``: the smallest distance (px,
-    across the frame) of the window's pixel centres from the side, when the side separates them (else 0)."""
+    across the frame) of the window's pixel centres from the side, when the side separates them (else 0).
+    All of them are views of one row of :data:`~._tip_kernels.SIDE_FIELDS` floats (``row``), what the compiled
+    kernels read."""
 
     def __init__(self, centre, direction, coefficients, length, ink=0.0, margin=0.0):
-        self.centre, self.direction, self.length = centre, direction, length
-        self.normal = np.array([-direction[1], direction[0]])
-        self.coefficients = coefficients
-        self.ink, self.margin = ink, margin
+        row = np.empty(SIDE_FIELDS)
+        row[0:2], row[2:4], row[4], row[5] = centre, direction, -direction[1], direction[0]
+        row[6:9], row[9], row[10], row[11] = coefficients, length, ink, margin
+        self._take(row)
+
+    @classmethod
+    def of_row(cls, row):
+        """The side of a kernel's row (:data:`~._tip_kernels.SIDE_FIELDS` floats), not copied."""
+        side = cls.__new__(cls)
+        side._take(row)
+        return side
+
+    def _take(self, row):
+        self.row = row
+        self.centre, self.direction, self.normal, self.coefficients = row[0:2], row[2:4], row[4:6], row[6:9]
+
+    length = property(lambda self: self.row[9], lambda self, value: self.row.__setitem__(9, value))
+    ink = property(lambda self: self.row[10], lambda self, value: self.row.__setitem__(10, value))
+    margin = property(lambda self: self.row[11], lambda self, value: self.row.__setitem__(11, value))
 
     def inkward(self, points):
-        """Signed offset (px, across the frame) of ``points`` from the side, positive on its ink side. (On a
-        straight side the parabola of zeros is +0 at every finite ``t`` and ``y - 0.0`` is ``y``, signed zeros
-        included: the offset is ``ink * y``.)"""
-        local = points - self.centre
-        if not self.coefficients.any():
-            return self.ink * (local @ self.normal)
-        t, y = local @ self.direction, local @ self.normal
-        c0, c1, c2 = self.coefficients
-        return self.ink * (y - (c0 + t * (c1 + t * c2)))
+        """Signed offset (px, across the frame) of ``points`` (k, 2) from the side, positive on its ink side:
+        ``ink * y`` on a straight side, ``ink * (y - (c0 + t (c1 + t c2)))`` on a curved one, ``t, y`` the points
+        in the side's frame (:func:`~._tip_kernels.inkward_of`)."""
+        return inkward_of(self.row, points)
 
     def point(self, t):
         c0, c1, c2 = self.coefficients
@@ -141,21 +156,24 @@ class SideFit:
 
 def _window_fit(points, length):
     """Line, then parabola, through ``points`` (``length`` px of arc); the first whose residuals stay within
-    :data:`STRAIGHT_RESIDUAL`, or None."""
-    centre = np.add.reduce(points, axis=0) / points.shape[0]  # numpy.mean's arithmetic without its set-up
-    local = points - centre
-    _, _, vt = np.linalg.svd(local, full_matrices=False)
-    direction = vt[0]
-    normal = np.array([-direction[1], direction[0]])
-    t, y = local @ direction, local @ normal
-    if np.abs(y).max() <= STRAIGHT_RESIDUAL:
+    :data:`STRAIGHT_RESIDUAL`, or None. The line through the points' centre along their first right singular
+    vector (numpy's, LAPACK), its frame's offsets in one compiled pass (:func:`~._tip_kernels.frame_offsets`)."""
+    local, centre = window_local(points, points.shape[0])
+    direction = np.linalg.svd(local, full_matrices=False)[2][0]
+    t, y, straight = frame_offsets(local, direction)
+    if straight:
         return SideFit(centre, direction, np.zeros(3), length)
+    coefficients = _parabola(t, y)
+    return None if coefficients is None else SideFit(centre, direction, coefficients, length)
+
+
+def _parabola(t, y):
+    """The least-squares parabola ``y = c0 + c1 t + c2 t^2`` (numpy's ``lstsq``, LAPACK) where its residuals stay
+    within :data:`STRAIGHT_RESIDUAL`, else None."""
     design = np.empty((t.shape[0], 3))
     design[:, 0], design[:, 1], design[:, 2] = 1.0, t, t * t
     coefficients = np.linalg.lstsq(design, y, rcond=None)[0]
-    if np.abs(y - design @ coefficients).max() <= STRAIGHT_RESIDUAL:
-        return SideFit(centre, direction, coefficients, length)
-    return None
+    return coefficients if np.abs(y - design @ coefficients).max() <= STRAIGHT_RESIDUAL else None
 
 
 def pixel_pairs(points):
@@ -180,20 +198,11 @@ def pixel_pairs(points):
     return points + left, points - left
 
 
-def _arc_window(contour, corner_arc, sign, start, stop):
-    """Indices of the contour points ``start`` to ``stop`` px of arc from ``corner_arc`` towards ``sign``."""
-    arc, perimeter = contour.arc[:-1], contour.perimeter
-    low, high = (corner_arc + start, corner_arc + stop) if sign > 0 else (corner_arc - stop, corner_arc - start)
-    shift = np.floor(low / perimeter) * perimeter  # the window from low to high, wrapped into [0, perimeter)
-    low, high = low - shift, high - shift
-    indices = np.arange(np.searchsorted(arc, low, side="left"),
-                        np.searchsorted(arc, min(high, perimeter), side="right"))
-    if high > perimeter:
-        indices = np.concatenate([indices, np.arange(0, np.searchsorted(arc, high - perimeter, side="right"))])
-    return indices
-
-
 _FIRST_SLOPES = np.linspace(-SLOPE_SEARCH, SLOPE_SEARCH, 17)
+_NO_POINTS = np.empty((0, 2))
+_SIN_MIN_CROSSING = float(np.sin(MIN_CROSSING))
+#: The bounds of :func:`~._tip_kernels.tip_checks`.
+_TIP_LIMITS = np.array([REACH_PER_SIDE, BEHIND, CONTRADICTION, TIP_ZONE, MAX_TIP_REACH])
 
 
 def _separating_line(fit, ink, paper):
@@ -205,24 +214,8 @@ def _separating_line(fit, ink, paper):
     closed form (half the gap between the lowest ink and the highest paper offset ``y - c1 t``), and the margin
     is a concave function of ``c1``, maximised on grids of slopes, each zoomed around the best of the last
     (to about 1e-5)."""
-    ink_local, paper_local = ink - fit.centre, paper - fit.centre
-    t_ink, y_ink = ink_local @ fit.direction, ink_local @ fit.normal
-    t_paper, y_paper = paper_local @ fit.direction, paper_local @ fit.normal
-    # numpy.mean's arithmetic (the pairwise sum, then one division) without its set-up
-    sign = 1.0 if y_ink.sum() / y_ink.shape[0] >= y_paper.sum() / y_paper.shape[0] else -1.0
-    y_ink, y_paper = sign * y_ink, sign * y_paper  # ink above the line: y_ink - line >= margin
-
-    # 5 grids of 17 slopes, each zoomed to two steps of the last around its best (one compiled pass)
-    slope = separating_slope(t_ink, y_ink, t_paper, y_paper, _FIRST_SLOPES, SLOPE_SEARCH / 8, 5)
-    above, below = (y_ink - slope * t_ink).min(), (y_paper - slope * t_paper).max()
-    margin = 0.5 * (above - below)
-    if margin <= 0.0:
-        return None
-    offset = sign * 0.5 * (above + below)
-    direction = fit.direction + sign * slope * fit.normal
-    direction /= np.hypot(*direction)
-    return SideFit(fit.centre + offset * fit.normal, direction, np.zeros(3), fit.length, sign,
-                   float(margin / np.hypot(1.0, slope)))
+    row = separating_line(ink, paper, fit.row, _FIRST_SLOPES, SLOPE_SEARCH / 8, 5)
+    return None if row is None else SideFit.of_row(row)
 
 
 def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
@@ -236,25 +229,16 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
         return None
     # a shrunk window's samples are the first ones of the longest window's (numpy.arange from the same start,
     # point_at_arc point by point): sampled once
-    offsets = np.arange(start, stop + 1e-9, 0.5)
-    samples = contour.point_at_arc((corner_arc + sign * offsets) % contour.perimeter)
-    count = offsets.shape[0]
+    samples, local, centre = window_samples(contour, corner_arc, sign, start, stop)
+    count = samples.shape[0]
+    ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
     while stop - start >= SHORTEST_SIDE:
-        fit = _window_fit(samples[:count], stop - start)
-        if fit is not None:
-            if pairs is not None:
-                window = _arc_window(contour, corner_arc, sign, start, stop)
-                if window.size >= 4:
-                    ink, paper = pairs[0].take(window, axis=0), pairs[1].take(window, axis=0)
-                    separating = None if fit.coefficients.any() else _separating_line(fit, ink, paper)
-                    if separating is not None:
-                        return separating
-                    across = (ink - paper) @ fit.normal
-                    side = np.add.reduce(across) / across.shape[0]  # numpy.mean's arithmetic
-                    fit.ink = 1.0 if side >= 0 else -1.0
-            return fit
+        row = side_window(contour, corner_arc, sign, start, stop, samples, count, local, centre, ink, paper,
+                          _parabola, _FIRST_SLOPES, SLOPE_SEARCH / 8, 5)
+        if row is not None:
+            return SideFit.of_row(row)
         stop = start + 0.75 * (stop - start)
-        count = np.arange(start, stop + 1e-9, 0.5).shape[0]
+        count, local = arange_count(start, stop + 1e-9, 0.5), None
     return None
 
 
@@ -321,15 +305,9 @@ def tip_contradiction(contour, corner_arc, zone, sides, pairs, convex=None):
     that fall outside the wedge's ink and paper ones inside it; the largest such offset (<= 0: consistent).
     The ink of a convex corner is where both sides have ink, that of a concave one (a notch) where either
     has (``convex``: :func:`is_convex` of ``sides``, found here when None)."""
-    zone_points = np.concatenate([_arc_window(contour, corner_arc, -1, 0.0, zone),
-                                  _arc_window(contour, corner_arc, 1, 0.0, zone)])
-    ink, paper = pairs[0].take(zone_points, axis=0), pairs[1].take(zone_points, axis=0)
     if convex is None:
         convex = is_convex(sides)
-    combine = np.minimum if convex else np.maximum
-    ink_depth = combine(sides[0].inkward(ink), sides[1].inkward(ink))
-    paper_depth = combine(sides[0].inkward(paper), sides[1].inkward(paper))
-    return float(max((-ink_depth).max(), paper_depth.max()))
+    return tip_contradiction_of(contour, corner_arc, zone, sides[0].row, sides[1].row, pairs[0], pairs[1], convex)
 
 
 def is_convex(sides):
@@ -342,10 +320,7 @@ def ray_parity(cracks, queries):
     """Per point of ``queries``, the parity (0 or 1) of the horizontal cracks (``cracks``, :func:`horizontal_cracks`)
     that a vertical ray from it upwards crosses: those of its own column above it (a ray only meets cracks of its
     own column; they are a run of the x-sorted cracks)."""
-    run = cracks[np.searchsorted(cracks[:, 0], queries[:, 0].min(), side="left"):
-                 np.searchsorted(cracks[:, 0], queries[:, 0].max(), side="right")]
-    above = (run[None, :, 0] == queries[:, None, 0]) & (run[None, :, 1] < queries[:, None, 1])
-    return above.sum(axis=1) % 2
+    return ray_parities(cracks, queries)
 
 
 def horizontal_cracks(points):
@@ -371,35 +346,9 @@ def wedge_contradiction(cracks, pairs, tip, ends, sides, convex=None, ink_parity
     (``pairs[0][0]``, beside the first crack) exactly when it is ink (:func:`ray_parity`; ``ink_parity``: that
     centre's, the same for every corner of the outline, found here when None). ``convex``: :func:`is_convex` of
     ``sides``, found here when None."""
-    corners = np.empty((3, 2))
-    corners[0], corners[1:] = tip, ends
-    low, high = np.floor(corners.min(axis=0)), np.ceil(corners.max(axis=0))
-    xs, ys = np.arange(low[0], high[0]) + 0.5, np.arange(low[1], high[1]) + 0.5
-    grid = np.empty((xs.shape[0], ys.shape[0], 2))  # every (x, y), x-major
-    grid[:, :, 0], grid[:, :, 1] = xs[:, None], ys[None, :]
-    centres = grid.reshape(-1, 2)
-    # inside the triangle: on the same side of each edge as the opposite vertex
-    inside = np.ones(centres.shape[0], bool)
-    for k in range(3):
-        first, second, opposite = corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]
-        edge = second - first
-        side = edge[0] * (opposite[1] - first[1]) - edge[1] * (opposite[0] - first[0])
-        inside &= (edge[0] * (centres[:, 1] - first[1]) - edge[1] * (centres[:, 0] - first[0])) * side > 0.0
-    if not inside.any():
-        return -np.inf
-    centres = centres.compress(inside, axis=0)
     if convex is None:
         convex = is_convex(sides)
-    # depth inside the wedge of the corner's own class (ink for a convex corner, paper for a notch), each side
-    # moved inwards by its margin: any line within the margin separates the side's pixels as well
-    sign = 1.0 if convex else -1.0
-    wedge_depth = np.minimum(sign * sides[0].inkward(centres) - sides[0].margin,
-                             sign * sides[1].inkward(centres) - sides[1].margin)
-    if ink_parity is None:
-        ink_parity = ray_parity(cracks, pairs[0][:1])[0]
-    ink = ray_parity(cracks, centres) == ink_parity
-    wrong = (~ink if convex else ink) & (wedge_depth > 0.0)
-    return float(wedge_depth[wrong].max()) if wrong.any() else -np.inf
+    return wedge_contradiction_of(cracks, ink_parity, pairs[0], tip, ends, sides[0].row, sides[1].row, convex)
 
 
 def tip_estimates(contour, angle, radius, measured=None):
@@ -472,7 +421,6 @@ def tip_estimates(contour, angle, radius, measured=None):
     if pairs is None:
         one_short[:] = False
     cracks = None if pairs is None else horizontal_cracks(contour.points)
-    parity = None if pairs is None else ray_parity(cracks, pairs[0][:1])[0]  # of a known ink centre
     candidates = np.flatnonzero(wanted)
     regular, shared = {}, {}
 
@@ -501,7 +449,7 @@ def tip_estimates(contour, angle, radius, measured=None):
         if not measured:
             continue
         is_shared = [bool(short[c, k] and one_short[c]) for k in (0, 1)]
-        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks, parity)
+        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
         reach = stops[c].copy()
         while found is None and RETRY_SHRINK and not any(is_shared):
             reach = start[c] + RETRY_SHRINK * (reach - start[c])
@@ -510,7 +458,7 @@ def tip_estimates(contour, angle, radius, measured=None):
             sides = [side_fit(contour, corner_arc, 2 * k - 1, start[c], reach[k], pairs) for k in (0, 1)]
             if any(side is None for side in sides):
                 break
-            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks, parity)
+            found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
             if found is not None and sides[0].margin > 0 and sides[1].margin > 0 and \
                     (sides[0].margin + sides[1].margin) / (2.0 * np.sin(0.5 * found[1])) > RETRY_UNCERTAINTY:
                 found = None
@@ -548,35 +496,24 @@ def _outside(contour, points):
     return closed_polyline_distance(points, contour.points, 0.5 * np.diff(contour.arc).max())
 
 
-def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity):
+def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity=None):
     """The crossing of the two :class:`SideFit` ``sides`` of corner ``c`` as its tip (:func:`tip_estimates`'
     bounds and consistency tests), with the opening of the fitted sides at the crossing and the contour points
     at the window starts; None where it fails them. ``cracks``: :func:`horizontal_cracks` of the contour (with
-    ``pairs``); ``parity``: the :func:`ray_parity` of its ink centre ``pairs[0][0]``."""
+    ``pairs``); ``parity``: the :func:`ray_parity` of its ink centre ``pairs[0][0]`` (the same for every corner
+    of the outline; found in the tests' compiled pass when None)."""
     # a shared short side spans its whole side, so the tip lies at its end, not beyond its pixels: only the
     # other side's window bounds the reach
-    windows = [side.length for side, shared in zip(sides, is_shared) if not shared]
-    point = _crossing(*sides)
-    if point is None or not np.isfinite(point).all():
-        return None
-    corner_point = contour.points[contour.corner_bounds[c] % contour.size]
-    ends = contour.point_at_arc((corner_arc + np.array([-start, start])) % contour.perimeter)
-    # the opening of the fitted sides (the contour's angle, measured on chords from the truncated tip, is
-    # blunter than a narrow wedge's)
-    away = [side.tangent(side.local(point)) for side in sides]  # the sides' tangents at the crossing
-    away = [a * np.sign((side.centre - point) @ a) / np.hypot(*a) for a, side in zip(away, sides)]
-    opening = np.arccos(np.clip(away[0] @ away[1], -1.0, 1.0))
-    if np.hypot(*(point - corner_point)) > min(tip_reach(opening), REACH_PER_SIDE * min(windows)):
-        return None
-    outward = corner_point - 0.5 * (ends[0] + ends[1])  # along the bisector, away from the pieces
-    if outward @ (point - corner_point) < -BEHIND * np.hypot(*outward):
-        return None
-    if pairs is not None and sides[0].ink and sides[1].ink:
-        convex = is_convex(sides)
-        if tip_contradiction(contour, corner_arc, start + TIP_ZONE, sides, pairs, convex) > CONTRADICTION or \
-                wedge_contradiction(cracks, pairs, point, ends, sides, convex, parity) > CONTRADICTION:
+    windows = np.array([side.length for side, shared in zip(sides, is_shared) if not shared])
+    crossing = None
+    if sides[0].coefficients.any() or sides[1].coefficients.any():  # a parabola: Newton steps in numpy
+        crossing = _crossing(*sides)
+        if crossing is None:
             return None
-    return point, opening, ends
+    ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
+    return tip_checks(contour, contour.corner_bounds[c] % contour.size, corner_arc, start, sides[0].row,
+                      sides[1].row, windows, crossing, ink, paper, _NO_POINTS if cracks is None else cracks,
+                      -1 if parity is None else parity, _SIN_MIN_CROSSING, _TIP_LIMITS)
 
 
 def _with_pinholes(contour, angle, pixel, estimate, start, anchors, distance):

@@ -377,3 +377,48 @@ def test_cold_first_trace_compiles_in_two_processes_with_the_same_result(tmp_pat
     assert child["last"]["forked"] == [fork == "1" and sys.platform.startswith("linux")]
     assert all(child["cached"][name] for name in needed)
     assert not child["cached"]["polygons"]  # compiled only where a spent budget needs it
+
+
+_COMPILES_NOTHING = r'''
+import json, sys, warnings
+import numpy as np
+from numba.core.registry import CPUDispatcher
+import splinecraft as sc
+from splinecraft.capture import _jit
+
+def signatures():
+    return {f"{module.__name__}.{name}": len(value.signatures) for module in list(sys.modules.values())
+            if module is not None and module.__name__.startswith("splinecraft")
+            for name, value in list(vars(module).items()) if isinstance(value, CPUDispatcher)}
+
+_jit.warm_up(_jit.TRACE_TASKS + ("merge", "corners", "pixel corners"))
+before = signatures()
+rng = np.random.default_rng(5)
+images = [sc.datasets.thesis_object(name, 160) for name in sc.datasets.THESIS_OBJECTS]
+images += [sc.datasets.shape(name, 96) for name in sc.datasets.SHAPES]
+images += [sc.datasets.shape("star", 40), sc.datasets.shape("disc", 16)]
+noisy = sc.datasets.thesis_object("D", 200).copy()
+noisy ^= rng.random(noisy.shape) < 0.04  # ragged boundaries, specks and pinholes: the noise rule and the small fits
+images.append(noisy)
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")
+    for image in images:
+        sc.trace(image)
+after = signatures()
+print(json.dumps({name: count - before.get(name, 0) for name, count in after.items() if count > before.get(name, 0)}))
+'''
+
+
+def test_a_default_trace_compiles_nothing_its_warm_up_left_out():
+    """Every compiled kernel a default trace calls is compiled (cold cache) or loaded (warm) by the warm-up tasks
+    ``trace`` runs before its time budget starts: a kernel compiled inside the budget would spend it on compiling
+    and the trace would depend on where its kernels were compiled. A fresh interpreter runs the warm-up, then
+    traces the thesis's objects, the teaching shapes, small outlines and a noisy bitmap; no kernel may gain a
+    signature meanwhile."""
+    env = dict(os.environ, SPLINECRAFT_JIT_WORKERS="1",
+               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
+    done = subprocess.run([sys.executable, "-c", _COMPILES_NOTHING], cwd=SRC, env=env, capture_output=True,
+                          text=True, timeout=900)
+    assert done.returncode == 0, done.stderr[-3000:]
+    compiled = json.loads(done.stdout.strip().splitlines()[-1])
+    assert compiled == {}, f"compiled during the traces, not by the warm-up: {compiled}"

@@ -7,7 +7,7 @@ import numpy as np
 
 from ._common import _EMPTY, _check_bool, _check_int, _check_real, _plain, _prepare, _result
 from ._fillet import release_fillets, release_wedge_fillets
-from ._jump_kernels import corners_of, resample
+from ._jump_kernels import corners_of, resample, starts_of, union_drops
 from .._pixel_corners import with_pixel_corners
 
 
@@ -472,22 +472,19 @@ def _tangent_jump(P, closed, settings):
     """Steps 1-8 of :func:`tangent_jump` on the distinct points ``P``: indices into ``P`` (empty when the
     outline is shorter than 8 samples)."""
     n = len(P)
-    levels = _distance_levels(P) if closed else None
-    starts = _canonical_starts(levels) if closed else [(0, 1)]
-    runs, done = [], []
-    for start, direction in starts:         # one, or one per symmetry of a symmetric outline
-        # the outline from ``start`` that way round, P[(start + direction * arange(n)) % n], from two slices
-        outline = np.concatenate([P[start:], P[:start]] if direction > 0 else [P[start::-1], P[:start:-1]])
-        relative = outline - P[start] if len(starts) > 1 else None
+    levels, starts, source = _starts(P) if closed else (None, [(0, 1)], [0])
+    runs, done = [], {}
+    for k, (start, direction) in enumerate(starts):   # one, or one per symmetry of a symmetric outline
         # a start whose outline is a quarter turn or reflection of one already run gives that run's corners
-        found = next((found for other, found in done if _congruent(relative, other)), None)
+        found = done.get(source[k])
         if found is None:
-            found = _detect(outline, closed, settings)
+            # the outline from ``start`` that way round, P[(start + direction * arange(n)) % n], from two slices
+            outline = np.concatenate([P[start:], P[:start]] if direction > 0 else [P[start::-1], P[:start:-1]])
+            found = done[k] = _detect(outline, closed, settings)
             if found is None:
                 return np.zeros(0, dtype=np.intp)
-            done.append((relative, found))
         runs.append((start + direction * found) % n)
-    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_comparison(levels))
+    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, levels)
     if settings["fillets"] or settings["wedge"]:
         first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
         rolled = np.roll(P, -first, axis=0)
@@ -499,30 +496,6 @@ def _tangent_jump(P, closed, settings):
             found = release_wedge_fillets(rolled, arc, perimeter, closed, np.unique(found))
         nearest = (np.asarray(found, dtype=np.intp) + first) % n
     return np.unique(np.asarray(nearest, dtype=np.intp))
-
-
-#: The quarter turns and reflections of the frame, as (swap x and y, sign of x, sign of y).
-_FRAME_MAPS = [(swap, sx, sy) for swap in (False, True) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
-
-
-#: Points of two outlines compared first, for each frame map, before the whole of them (:func:`_congruent`).
-_CONGRUENT_HEAD = 8
-
-
-def _congruent(a, b):
-    """Whether the point sequences ``a`` and ``b`` (relative to their first points) are one the image of the
-    other under a quarter turn or a reflection of the frame, exactly (then steps 1-6 find the same corners
-    in both, :func:`_detect`). A map whose image of the first :data:`_CONGRUENT_HEAD` points differs is passed
-    over before the whole outlines are compared (a sign change and a swap are exact)."""
-    if a.shape != b.shape:
-        return False
-    head_a, head_b = a[:_CONGRUENT_HEAD].tolist(), b[:_CONGRUENT_HEAD].tolist()
-    for swap, sx, sy in _FRAME_MAPS:
-        if all((y if swap else x) * sx == u and (x if swap else y) * sy == v
-               for (x, y), (u, v) in zip(head_a, head_b)) and \
-                np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b):
-            return True
-    return False
 
 
 def _detect(P, closed, settings):
@@ -564,8 +537,15 @@ def _distance_levels(P):
     For coordinates that are multiples of ``2**-k`` (``k <= 16``: pixel and crack outlines) the level is the
     exact integer ``n |q_i|^2 - 2 q_i . sum(q)`` of the scaled coordinates ``q`` (``n`` times the squared
     distance less a constant), so equal distances are equal and the order does not depend on the first point,
-    a quarter turn or a reflection (a shift of the frame adds a constant). Other coordinates fall back to the
-    squared distances rounded to 1e-12 of the largest."""
+    a quarter turn or a reflection (a shift of the frame adds a constant): compiled
+    (:func:`._jump_kernels.starts_of`) where these fit in int64, else with Python integers. Other coordinates
+    fall back to the squared distances rounded to 1e-12 of the largest."""
+    found = starts_of(P, None)
+    return found[0] if found is not None else _wide_levels(P)
+
+
+def _wide_levels(P):
+    """:func:`_distance_levels` where the compiled rule does not apply: exact with Python integers, or rounded."""
     n = len(P)
     for k in range(_EXACT_SCALE + 1):
         scaled = P * 2.0 ** k
@@ -575,13 +555,7 @@ def _distance_levels(P):
         scaled = None
     if scaled is not None:
         x, y = scaled[:, 0], scaled[:, 1]
-        x, y = x - x.min(), y - y.min()                      # integers in [0, extent]
-        extent = max(float(x.max()), float(y.max()))
-        if 8.0 * n * (extent + 1.0) ** 2 < 2.0 ** 62:
-            x, y = x.astype(np.int64), y.astype(np.int64)
-            tx, ty = int(x.sum()), int(y.sum())
-            return x * (n * x - 2 * tx) + y * (n * y - 2 * ty)
-        q = [(int(a), int(b)) for a, b in zip(x.tolist(), y.tolist())]   # exact, with Python integers
+        q = [(int(a), int(b)) for a, b in zip((x - x.min()).tolist(), (y - y.min()).tolist())]   # exact
         tx, ty = sum(a for a, _ in q), sum(b for _, b in q)
         exact = np.array([a * (n * a - 2 * tx) + b * (n * b - 2 * ty) for a, b in q], dtype=object)
         return np.unique(exact, return_inverse=True)[1].reshape(-1).astype(np.int64)
@@ -592,65 +566,16 @@ def _distance_levels(P):
     return np.round(squared / top * 1e12).astype(np.int64)
 
 
-def _later(a, b):
-    """Whether the sequence ``b`` is lexicographically larger than ``a`` (equal lengths)."""
-    differ = np.flatnonzero(a != b)
-    return bool(differ.size) and b[differ[0]] > a[differ[0]]
-
-
-def _point_order(levels):
-    """Comparison key of the points of a closed outline: its ``levels`` (:func:`_distance_levels`) read from
-    the point both ways along the outline, the larger of the two sequences first (the same for a point and
-    its mirror image), then the sequence along the outline's own way round (compared lexicographically).
-    Returns a function ``key(i)`` giving that as an array."""
-    n = len(levels)
-    ring = np.arange(n)
-
-    def key(i):
-        ahead, behind = levels[(i + ring) % n], levels[(i - ring) % n]
-        return np.concatenate([behind if _later(ahead, behind) else ahead, ahead])
-    return key
-
-
-def _point_comparison(levels):
-    """The order of :func:`_point_order`'s keys without building them: ``later(i, j)`` is None where the keys of
-    points ``i`` and ``j`` are equal, else whether that of ``j`` is lexicographically larger. The sequences are
-    read in blocks (16 values, then four times more each time) up to their first difference, where the keys of
-    two points nearly always differ within the first few values (a whole key is two outlines long). Each block
-    is a slice of the levels repeated three times (reversed for the way against the outline), not a gather."""
-    n = len(levels)
-    blocks = []  # the offsets of each block, from and to
-    start, size = 0, 16
-    while start < n:
-        blocks.append((start, min(start + size, n)))
-        start, size = start + size, 4 * size
-    tripled = np.concatenate([levels, levels, levels])   # levels[(i + d) % n] is tripled[n + i + d], |d| < n
-    ways = {}
-
-    def read(i, way, first, stop):
-        """``levels[(i + way * d) % n]`` for the offsets ``first <= d < stop``."""
-        return tripled[n + i + first:n + i + stop] if way > 0 else tripled[n + i - stop + 1:n + i - first + 1][::-1]
-
-    def first_difference(i, way_i, j, way_j):
-        """The sign of the first difference of the levels read from ``j`` (way ``way_j``) less those from ``i``."""
-        for first, stop in blocks:
-            a, b = read(i, way_i, first, stop), read(j, way_j, first, stop)
-            differ = a != b
-            at = int(differ.argmax())
-            if differ[at]:
-                return 1 if b[at] > a[at] else -1
-        return 0
-
-    def way(i):
-        """The way round of the first half of the key of ``i``: -1 where the levels behind are larger."""
-        if i not in ways:
-            ways[i] = -1 if first_difference(i, 1, i, -1) > 0 else 1
-        return ways[i]
-
-    def later(i, j):
-        sign = first_difference(i, way(i), j, way(j)) or first_difference(i, 1, j, 1)
-        return None if sign == 0 else sign > 0
-    return later
+def _starts(P, levels=None):
+    """The levels of the closed outline ``P`` (:func:`_distance_levels`, unless given), its canonical starts
+    (:func:`_canonical_starts`) and, for each start, the first start (its index) whose outline is the image of
+    its own under a quarter turn or a reflection of the frame, exactly (itself where none before it is): steps
+    1-6 find the same corners from both, :func:`_detect`. Compiled (:func:`._jump_kernels.starts_of`), the levels
+    too where their exact integer rule applies (crack and pixel outlines)."""
+    found = starts_of(P, levels)
+    if found is None:
+        found = starts_of(P, _wide_levels(P))
+    return found
 
 
 def _canonical_starts(levels):
@@ -662,64 +587,26 @@ def _canonical_starts(levels):
     reflection of the frame (a reflection reverses the outline's way round, and the choice with it), with no
     rounding to flip it. Several pairs tie only on an outline that a rotation or a reflection maps onto
     itself (one pair per element of its symmetry group); all of them are returned, sorted by point, along
-    the outline first."""
-    n = len(levels)
-    top = np.flatnonzero(levels == levels.max())
-    point = np.concatenate([top, top])
-    way = np.repeat([1, -1], len(top))
-    offset, block = 1, 16
-    while point.size > 1 and offset < n:
-        ahead = np.arange(offset, min(offset + block, n))
-        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        keep = np.all(rows == rows[0], axis=1)
-        tie = keep.all()                    # the starts of a symmetric outline tie all the way
-        if not tie:
-            best = rows[0]
-            for row in rows[1:]:
-                if _later(best, row):
-                    best = row
-            keep = np.all(rows == best, axis=1)
-        point, way = point[keep], way[keep]
-        # blocks of 16, then 4 times more each; after a block where all tie, the rest at once (the largest of the
-        # longer rows is the largest of the shorter ones continued: the same candidates stay)
-        offset, block = offset + len(ahead), n if tie else 4 * block
-    order = np.lexsort((-way, point))
-    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
+    the outline first. Compiled (:func:`._jump_kernels.starts_of`): each candidate is compared with the largest
+    so far up to their first difference."""
+    levels = np.ascontiguousarray(levels, dtype=np.int64)
+    return starts_of(np.zeros((len(levels), 2)), levels)[1]
 
 
-def _symmetric_union(P, runs, later, reach=3.0):
+def _symmetric_union(P, runs, levels, reach=3.0):
     """The corners of the runs from the tied starts of a symmetric outline, as one set that the symmetry
     maps onto itself.
 
     Each run is the image of the others under the symmetry, so a corner whose placement depends on where
     the resampling starts (one pixel either way) has a version in each run. Every corner of any run is kept
     unless a corner of another run lies within ``reach`` px of arc of it, no run has both, and that corner's
-    :func:`_point_order` key is larger (``later``: :func:`_point_comparison` of the outline's levels): the
-    versions of one corner reduce to the one the shape itself prefers, while two corners that one run reports
-    stay two."""
-    segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
+    comparison key is larger: the outline's ``levels`` read from the point both ways along the outline, the
+    larger of the two sequences first (the same for a point and its mirror image), then the sequence along the
+    outline's own way round, compared lexicographically up to their first difference. The versions of one corner
+    reduce to the one the shape itself prefers, while two corners that one run reports stay two. Compiled
+    (:func:`._jump_kernels.union_drops`)."""
     union = np.unique(np.concatenate(runs))
-    sets = [set(run.tolist()) for run in runs]
-    member = np.array([[index in found for found in sets] for index in union.tolist()])
-    dropped = np.zeros(len(union), dtype=bool)
-    m = len(union)
-    # the arc from a corner to the next is at least their chord: where the chord exceeds ``reach`` (with a margin
-    # far above the sums' rounding) the loop below stops at once for that corner, with nothing else to do
-    chord = np.hypot(*(P.take(union[(np.arange(m) + 1) % m], axis=0) - P.take(union, axis=0)).T)
-    near = np.flatnonzero(chord <= reach * (1.0 + 1e-9)) if m > 1 else np.zeros(0, dtype=np.int64)
-    for a in near.tolist():                 # pairs (a, b) with b at most ``reach`` ahead of a
-        for step in range(1, m):
-            b = (a + step) % m
-            i, j = int(union[a]), int(union[b])
-            gap = segment[i:j] if j > i else np.concatenate([segment[i:], segment[:j]])
-            if np.sum(gap) > reach:
-                break
-            if (member[a] & member[b]).any():
-                continue
-            b_later = later(i, j)
-            if b_later is not None:
-                dropped[a if b_later else b] = True
-    return union[~dropped]
+    return union[~union_drops(P, union, runs, levels, reach)]
 
 
 def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets,

@@ -567,6 +567,213 @@ def _corners_into(P, arc, perimeter, closed, taps, samples, where, smoothed, rea
     return count
 
 
+
+# ----------------------------------------------------------------------------------------------------------
+# the starts of a closed outline and the union of a symmetric outline's runs (docs/capture.md §11)
+# ----------------------------------------------------------------------------------------------------------
+@njit(**HELPER_OPTIONS)
+def _read_sign(levels, i, way_i, j, way_j, stop):
+    """The sign of the first difference of ``levels`` read from ``j`` (way ``way_j``) less those read from ``i``
+    (way ``way_i``), offsets 0 .. ``stop`` - 1 (cyclically); 0 where they agree."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    n = levels.shape[0]
+    for d in range(stop):
+        a, b = levels[(i + way_i * d) % n], levels[(j + way_j * d) % n]
+        if a != b:
+            return 1 if b > a else -1
+    return 0
+
+
+@njit(**JIT_OPTIONS)
+def _starts_into(P, levels, given, point, way, source):
+    """The canonical starts of the closed outline ``P`` (:func:`._jump._canonical_starts`) into ``point`` and
+    ``way`` (at least ``2 n`` rows; sorted by point, along the outline first) and, for each, the first start before
+    it (itself where there is none) whose outline read from it is the image of its own under a quarter turn or a
+    reflection of the frame, exactly (:func:`._jump._congruent`: the same corners), into ``source``. ``levels``:
+    the points' levels (:func:`._jump._distance_levels`), ``given`` or formed here by its exact rule for
+    coordinates that are multiples of ``2**-k`` (``k`` <= 16) within int64; returns the number of starts, or -1
+    where that rule does not apply (then the caller forms them and calls again)."""
+    compact()  # run time negligible: code optimized for size (_jit.compact)
+    n = P.shape[0]
+    if not given:
+        scale = 0.0
+        for k in range(17):  # the coordinates times 2**k integers, below 2**52
+            factor = 2.0 ** k
+            whole, largest = True, 0.0
+            for i in range(n):
+                for c in range(2):
+                    value = P[i, c] * factor
+                    whole = whole and value == np.floor(value)
+                    largest = pymax(largest, abs(value))
+            if whole and largest < 2.0 ** 52:
+                scale = factor
+                break
+        if scale == 0.0:
+            return -1
+        low_x, low_y, high_x, high_y = np.inf, np.inf, -np.inf, -np.inf
+        for i in range(n):
+            low_x, high_x = pymin(low_x, P[i, 0] * scale), pymax(high_x, P[i, 0] * scale)
+            low_y, high_y = pymin(low_y, P[i, 1] * scale), pymax(high_y, P[i, 1] * scale)
+        extent = pymax(high_x - low_x, high_y - low_y)
+        if not 8.0 * n * (extent + 1.0) ** 2 < 2.0 ** 62:
+            return -1
+        total_x, total_y = 0, 0
+        for i in range(n):
+            total_x += np.int64(P[i, 0] * scale - low_x)
+            total_y += np.int64(P[i, 1] * scale - low_y)
+        for i in range(n):
+            x, y = np.int64(P[i, 0] * scale - low_x), np.int64(P[i, 1] * scale - low_y)
+            levels[i] = x * (n * x - 2 * total_x) + y * (n * y - 2 * total_y)
+    top = levels[0]
+    for i in range(n):
+        top = pymax(top, levels[i])
+    count = 0  # the candidates: the farthest points, both ways round; the lexicographically largest kept
+    for i in range(n):
+        if levels[i] != top:
+            continue
+        for direction in (1, -1):
+            sign = _read_sign(levels, point[0], way[0], i, direction, n) if count else 0
+            if sign > 0:
+                count = 0
+            if sign >= 0:
+                point[count], way[count] = i, direction
+                count += 1
+    # sorted by point, way +1 first: the candidates come by point, +1 first, and so stay
+    for s in range(count):
+        source[s] = s
+        if count < 2:
+            break
+        for r in range(s):
+            if source[r] != r:
+                continue
+            congruent = False
+            for mapping in range(8):  # (swap x and y, sign of x, sign of y), as _jump._FRAME_MAPS
+                swap, sign_x, sign_y = mapping >= 4, 1.0 if mapping % 4 < 2 else -1.0, 1.0 if mapping % 2 == 0 else -1.0
+                same = True
+                for d in range(n):
+                    a, b = (point[r] + way[r] * d) % n, (point[s] + way[s] * d) % n
+                    ax, ay = P[a, 0] - P[point[r], 0], P[a, 1] - P[point[r], 1]
+                    if swap:
+                        ax, ay = ay, ax
+                    if ax * sign_x != P[b, 0] - P[point[s], 0] or ay * sign_y != P[b, 1] - P[point[s], 1]:
+                        same = False
+                        break
+                if same:
+                    congruent = True
+                    break
+            if congruent:
+                source[s] = r
+                break
+    return count
+
+
+@njit(**dict(HELPER_OPTIONS, forceinline=False))  # recursive: not inlined
+def _pairwise_sum(values, first, count):
+    """``np.sum`` of ``values[first:first + count]`` (indices modulo its length) as numpy adds it up: pairwise, in
+    blocks of at most 128 terms with 8 accumulators, fewer than 8 one by one."""
+    n = values.shape[0]
+    if count < 8:
+        total = -0.0
+        for t in range(count):
+            total += values[(first + t) % n]
+        return total
+    if count <= 128:
+        r0, r1, r2, r3 = values[first % n], values[(first + 1) % n], values[(first + 2) % n], values[(first + 3) % n]
+        r4, r5, r6, r7 = values[(first + 4) % n], values[(first + 5) % n], values[(first + 6) % n], \
+            values[(first + 7) % n]
+        t = 8
+        while t < count - count % 8:
+            r0 += values[(first + t) % n]
+            r1 += values[(first + t + 1) % n]
+            r2 += values[(first + t + 2) % n]
+            r3 += values[(first + t + 3) % n]
+            r4 += values[(first + t + 4) % n]
+            r5 += values[(first + t + 5) % n]
+            r6 += values[(first + t + 6) % n]
+            r7 += values[(first + t + 7) % n]
+            t += 8
+        total = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+        while t < count:
+            total += values[(first + t) % n]
+            t += 1
+        return total
+    half = count // 2
+    half -= half % 8
+    return _pairwise_sum(values, first, half) + _pairwise_sum(values, first + half, count - half)
+
+
+@njit(**HELPER_OPTIONS)
+def _way(levels, i):
+    """The way round of the first half of the comparison key of point ``i`` (:func:`._jump._point_order`): -1 where
+    the levels behind it are larger."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    return -1 if _read_sign(levels, i, 1, i, -1, levels.shape[0]) > 0 else 1
+
+
+@njit(**JIT_OPTIONS)
+def _union_into(P, segment, union, member, levels, reach, dropped):
+    """The corners ``union`` (sorted indices into the closed outline ``P``; ``member[a, r]``: corner ``a`` is in run
+    ``r``) of a symmetric outline's runs that :func:`._jump._symmetric_union` drops, flagged in ``dropped``: of two
+    corners of different runs within ``reach`` px of arc (the sum of the outline's ``segment`` lengths between them,
+    numpy's ``np.sum``), the one whose comparison key (:func:`._jump._point_order` of ``levels``) is smaller."""
+    compact()  # run time negligible: code optimized for size (_jit.compact)
+    m, n = union.shape[0], levels.shape[0]
+    for a in range(m):
+        dropped[a] = False
+    if m < 2:
+        return
+    for a in range(m):
+        c = union[(a + 1) % m]
+        # the arc from a corner to the next is at least their chord: where it exceeds the reach (with a margin far
+        # above the sums' rounding) there is nothing to do for that corner
+        if not np.hypot(P[c, 0] - P[union[a], 0], P[c, 1] - P[union[a], 1]) <= reach * (1.0 + 1e-9):
+            continue
+        for step in range(1, m):
+            b = (a + step) % m
+            i, j = union[a], union[b]
+            if _pairwise_sum(segment, i, j - i if j > i else n - i + j) > reach:
+                break
+            shared = False
+            for r in range(member.shape[1]):
+                shared = shared or (member[a, r] and member[b, r])
+            if shared:
+                continue
+            sign = _read_sign(levels, i, _way(levels, i), j, _way(levels, j), n)
+            if sign == 0:
+                sign = _read_sign(levels, i, 1, j, 1, n)
+            if sign != 0:
+                dropped[a if sign > 0 else b] = True
+
+
+def starts_of(P, levels):
+    """:func:`_starts_into` of the closed outline ``P``: its levels, its canonical starts (a list of ``(point,
+    direction)``) and the index of the start whose corners each start takes (a list); ``levels`` ``None``: formed
+    by the exact int64 rule, and ``None`` returned where that does not apply."""
+    P = np.ascontiguousarray(P, dtype=np.float64)
+    n = P.shape[0]
+    given = levels is not None
+    levels = np.ascontiguousarray(levels, dtype=np.int64) if given else np.empty(n, np.int64)
+    point, way, source = np.empty(2 * n, np.int64), np.empty(2 * n, np.int64), np.empty(2 * n, np.int64)
+    count = _starts_into(P, levels, given, point, way, source)
+    if count < 0:
+        return None
+    return levels, list(zip(point[:count].tolist(), way[:count].tolist())), source[:count].tolist()
+
+
+def union_drops(P, union, runs, levels, reach):
+    """:func:`_union_into` of the sorted corners ``union`` of the ``runs`` (arrays of indices into the closed
+    outline ``P``): which of them to drop (bool)."""
+    P = np.ascontiguousarray(P, dtype=np.float64)
+    segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
+    member = np.zeros((len(union), len(runs)), np.bool_)
+    for r, run in enumerate(runs):
+        member[np.searchsorted(union, run), r] = True
+    dropped = np.empty(len(union), np.bool_)
+    _union_into(P, segment, np.ascontiguousarray(union, dtype=np.int64), member,
+                np.ascontiguousarray(levels, dtype=np.int64), float(reach), dropped)
+    return dropped
+
+
 def resample(P, closed, per_point):
     """:func:`_resample_into` of the points ``P``: the samples, their arc positions, the arc positions of the
     points and of the end (closed: back at the first point), the step; ``None`` where the length overflows."""

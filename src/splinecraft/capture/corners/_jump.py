@@ -95,8 +95,8 @@ def _gaussian(sigma):
         with np.errstate(over="ignore"):  # a subnormal sigma: the offsets overflow to inf, their weights to 0
             kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
         kernel /= kernel.sum()
+        kernel.flags.writeable = False  # (kept or not: one type for the kernel)
         if len(_GAUSSIANS) < GAUSSIANS_KEPT:
-            kernel.flags.writeable = False
             _GAUSSIANS[sigma] = kernel
     return kernel
 
@@ -651,9 +651,9 @@ def _kernel_settings(settings):
                             STROKE_END_REACH, STROKE_END_ARM, STROKE_END_TURN], dtype=np.float64)
         flank = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)]).astype(np.int64)
         found = numbers, flank
+        for table in found:  # read-only (kept or not: one type for the kernel)
+            table.flags.writeable = False
         if len(_KERNEL_SETTINGS) < GAUSSIANS_KEPT:
-            for table in found:
-                table.flags.writeable = False
             _KERNEL_SETTINGS[key] = found
     return found
 

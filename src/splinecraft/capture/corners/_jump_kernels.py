@@ -24,7 +24,7 @@ from numba import njit
 
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
-__all__ = ["arm_lines", "warm_up"]
+__all__ = ["arm_lines", "corners_of", "resample", "starts_of", "union_drops", "warm_up"]
 
 
 @njit(**HELPER_OPTIONS)
@@ -233,9 +233,9 @@ def _ladder_tables(ladder, operators):
     centred, weights = np.zeros((len(ladder), max(ladder))), np.zeros((len(ladder), max(ladder)))
     for rung, length in enumerate(ladder):
         centred[rung, :length], weights[rung, :length] = operators(length)
+    for table in (lengths, centred, weights):  # read-only (kept or not: one type for the kernels)
+        table.flags.writeable = False
     if len(_LADDER_TABLES) < LADDER_TABLES_KEPT:
-        for table in (lengths, centred, weights):
-            table.flags.writeable = False
         _LADDER_TABLES[key] = lengths, centred, weights
     return lengths, centred, weights
 
@@ -255,22 +255,6 @@ def arm_lines(padded, reach, ladder, operators, tolerance):
                     np.zeros((2, m), np.int16), np.zeros(rows, np.int8), np.empty((rows + 1, 12)),
                     np.empty(rows + 1, np.int64), np.zeros(5), np.empty((rows, 4)), np.full(rows, -1, np.int16), lines)
     return lines
-
-
-_WARM = []
-
-
-def warm_up():
-    """Compile or load the kernel once per process (see :func:`..fitting._kernels.warm_up`)."""
-    if _WARM:
-        return
-
-    def operators(length):
-        centred = np.arange(length) - (length - 1) / 2
-        return centred, centred / np.sum(centred ** 2)
-    samples = np.column_stack([np.arange(12.0), np.zeros(12)])
-    arm_lines(samples, 3, [3, 4], operators, 0.3)
-    _WARM.append(True)
 
 
 # ----------------------------------------------------------------------------------------------------------
@@ -671,6 +655,7 @@ def _starts_into(P, levels, given, point, way, source):
 def _pairwise_sum(values, first, count):
     """``np.sum`` of ``values[first:first + count]`` (indices modulo its length) as numpy adds it up: pairwise, in
     blocks of at most 128 terms with 8 accumulators, fewer than 8 one by one."""
+    compact()  # optimized for size, as its caller is (_jit.compact)
     n = values.shape[0]
     if count < 8:
         total = -0.0
@@ -804,3 +789,31 @@ def corners_of(P, arc, perimeter, closed, taps, samples, where, ladder, operator
                           np.empty(rows + 1, np.int64), np.empty(5), np.empty((rows, 4)), np.empty(rows, np.int16),
                           lines, np.empty(m), np.empty(m + flank.shape[0]), chosen, nearest, ends)
     return chosen[:count], nearest[:count], ends[:count], smoothed, lines
+
+
+_WARM = []
+
+
+def warm_up():
+    """Compile or load the kernels once per process (see :func:`..fitting._kernels.warm_up`): tangent-jump's steps
+    on a closed outline (the arm search with them) and the starts and union of a symmetric one (a 4 x 4 square)."""
+    if _WARM:
+        return
+
+    def operators(length):
+        centred = np.arange(length) - (length - 1) / 2
+        return centred, centred / np.sum(centred ** 2)
+    side = np.arange(4.0) + 0.5
+    square = np.concatenate([np.column_stack([side, np.zeros(4)]), np.column_stack([np.full(4, 4.0), side]),
+                             np.column_stack([side[::-1], np.full(4, 4.0)]), np.column_stack([np.zeros(4), side[::-1]])])
+    levels = starts_of(square, None)[0]
+    samples, where, arc, _ = resample(square, True, 4)
+    taps = np.array([0.25, 0.5, 0.25])
+    settings = np.array([25.0, 25.0, 0.5, 0.3, 2.0, 1.0, 8.0, 6.0, 7.0, 150.0])
+    flank = np.array([-3, -2, 2, 3], np.int64)
+    for table in (taps, settings, flank):  # read-only, as tangent-jump passes them
+        table.flags.writeable = False
+    nearest = corners_of(square, arc[:16], arc[16], True, taps, samples, where, [3, 4], operators, settings, flank)[1]
+    union = np.unique(np.concatenate([nearest, [0, 4, 8, 12]]))
+    union_drops(square, union, [union, union[:1]], levels, 3.0)
+    _WARM.append(True)

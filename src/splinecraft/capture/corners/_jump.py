@@ -18,7 +18,7 @@ from .._pixel_corners import with_pixel_corners
 #: Arm lengths tried (samples at 1 px spacing); an arm grows through them while it stays straight.
 _ARM_LADDER = (3, 4, 5, 6, 8, 10, 12, 15, 19, 24, 30, 38, 48, 60, 76, 96, 120)
 _ARM_OPERATORS = {}
-#: At most this many resampled points per input point (see :func:`_sample_step`).
+#: At most this many resampled points per input point (see :func:`_resample`).
 SAMPLES_PER_POINT = 4
 #: Upper bounds of tangent-jump's parameters (px, samples); each is far beyond any useful value and keeps
 #: the work of one call proportional to the number of points.
@@ -64,9 +64,12 @@ def _forward_operators(length):
 
 
 def _resample(P, closed):
-    """Resample the polyline at uniform arc length, the step of :func:`_sample_step`; returns the samples, their
-    arc positions, the arc positions of the input points, the total length and the step (compiled:
-    :func:`._jump_kernels.resample`); ValueError when the coordinates are so large that the length overflows."""
+    """Resample the polyline at uniform arc length; returns the samples, their arc positions, the arc positions of
+    the input points, the total length and the step (compiled: :func:`._jump_kernels.resample`); ValueError when
+    the coordinates are so large that the length overflows. The step is 1 px, or coarser on outlines whose ``n``
+    points are far apart (``total`` px long): ``max(1, total / (SAMPLES_PER_POINT n))``, at most
+    ``SAMPLES_PER_POINT`` samples per input point, so memory and time grow with the number of points, not with the
+    coordinates' scale."""
     resampled = resample(P, closed, SAMPLES_PER_POINT)
     if resampled is None:
         raise ValueError("points: the outline's length overflows float64 (coordinates near 1e308); scale the "
@@ -119,7 +122,7 @@ def _smooth(samples, sigma, closed):
 
 def outline_roughness(points, sigma, closed=True):
     """Robust spread (px) of an outline about its own Gaussian smoothing of ``sigma`` px: the outline resampled
-    at 1 px (:func:`_sample_step`), its residuals from the smoothed samples along the smoothed normals, and
+    at 1 px (:func:`_resample`), its residuals from the smoothed samples along the smoothed normals, and
     the ``ROUGHNESS_QUANTILE`` (0.25) quantile of their absolute deviations from their median, divided by the
     same quantile of a standard normal's (so a normal's standard deviation). The median takes out the
     smoothing's pull towards the centre of curvature (the same along an arc); the low quantile ignores the
@@ -131,7 +134,7 @@ def outline_roughness(points, sigma, closed=True):
 
 def _roughness_samples(points, closed, checked=False):
     """The outline (checked and its consecutive duplicates merged, unless ``checked``) resampled at
-    :func:`_sample_step` (1 px on crack outlines), relative to its first point, and that step; ``None`` samples
+    the step of :func:`_resample` (1 px on crack outlines), relative to its first point, and that step; ``None`` samples
     when there are fewer than 8."""
     P = np.asarray(points, dtype=float) if checked else _prepare(points, closed)[0]
     if len(P) < 3:
@@ -358,7 +361,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
        and ``|E| >= min_excess``.
     5b. **Spread turns.** A corner is dropped when the turn ``T`` from the backward arm 8 samples before it
        to the forward arm 8 samples after it goes the same way as ``J`` and ``|J| < spread * |T|``, and no
-       other corner of step 5 lies within 16 samples (:func:`_release_spread`): the outline keeps turning
+       other corner of step 5 lies within 16 samples (compiled, :func:`._jump_kernels.corners_of`): the outline keeps turning
        beyond the arms, as at the end of an ellipse or on a fillet, where the flank median of step 4 sees
        the flatter outline farther out and ``E`` overstates the concentration.
     6. **Location.** Each corner goes to an input point within 3 px (arc length) of its sample: for a
@@ -517,7 +520,7 @@ def _detect(P, closed, settings):
         samples, taps = _smooth(samples, sigma, closed), _NO_TAPS
     ladder = [length for length in _ARM_LADDER if length <= settings["max_arm"] and 2 * length < len(samples)] \
         or [3]
-    chosen, nearest, ends, samples, lines = corners_of(P, arc, perimeter, closed, taps, samples, where, ladder,
+    chosen, nearest, ends, samples, lines, _ = corners_of(P, arc, perimeter, closed, taps, samples, where, ladder,
                                                        _forward_operators, *_kernel_settings(settings))
     if settings["stroke_ends"] and chosen.size:
         nearest = _split_stroke_ends(P, arc, perimeter, samples, where, lines, chosen, nearest, ends, closed)
@@ -527,7 +530,7 @@ def _detect(P, closed, settings):
 
 
 #: Largest power of two (as ``2**k``) by which the coordinates are scaled to integers for the exact order of
-#: :func:`_point_order` (crack outlines need ``k = 1``); other coordinates use a rounded order.
+#: :func:`_distance_levels` (crack outlines need ``k = 1``); other coordinates use a rounded order.
 _EXACT_SCALE = 16
 
 

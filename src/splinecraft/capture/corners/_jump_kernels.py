@@ -285,10 +285,10 @@ def _resample_into(P, closed, per_point, arc, samples, where, step):
     step[0] = pymax(1.0, total / (per_point * n))
     count = int(np.rint(total / step[0]))
     size = count if closed else count + 1
-    spacing = total / pymax(count, 1) if closed else total / pymax(count, 1)
+    spacing = total / pymax(count, 1)  # np.arange(count) times it, or np.linspace(0, total, count + 1)
     j = 0
     for i in range(size):
-        x = i * spacing if closed or i < count else total
+        x = total if not closed and i == count and count > 0 else i * spacing
         while j < ring - 1 and arc[j + 1] <= x:
             j += 1
         where[i] = x
@@ -331,6 +331,60 @@ def _sorted_median(values, count):
     half = count // 2
     low = half if count % 2 else half - 1
     return (values[low] + values[half]) / 2
+
+
+@njit(**HELPER_OPTIONS)
+def _peaks(turn, closed, min_turn, min_excess, separation, flank, chosen, flanks):
+    """Steps 4-5 of the turn ``J`` (``turn``) into ``chosen``: the samples whose ``|J|`` is the largest within
+    ``separation`` samples (NaN counting as -inf) and at least ``min_turn``, and whose excess over the median of
+    its flanks (``flank``: the offsets; beyond an open curve's ends and NaN left out, as ``np.nanmedian``) is at
+    least ``min_excess``; of those within ``separation`` samples after another one (around the end when
+    ``closed``) only the first (a plateau of equal maxima keeps its first sample). ``flanks``: work array of the
+    flank's length. Returns how many."""
+    compact()  # optimized for size, as its caller is (_jit.compact)
+    m = turn.shape[0]
+    count = 0
+    for i in range(m):
+        size = abs(turn[i])
+        if not size >= min_turn:
+            continue
+        largest = True
+        for offset in range(-separation, separation + 1):
+            k = i + offset
+            if closed:
+                k = k % m
+            elif k < 0 or k >= m:
+                continue
+            other = abs(turn[k])
+            if other > size:  # (NaN: -inf, never larger)
+                largest = False
+                break
+        if not largest:
+            continue
+        values = 0
+        for f in range(flank.shape[0]):
+            k = i + flank[f]
+            if closed:
+                k = k % m
+            elif k < 0 or k >= m:
+                continue
+            if not np.isnan(turn[k]):  # (np.nanmedian where the turn has NaN: open ends)
+                flanks[values] = turn[k]
+                values += 1
+        baseline = _sorted_median(flanks, values) if values else np.nan
+        if abs(turn[i] - baseline) >= min_excess:
+            chosen[count] = i
+            count += 1
+    # plateaus keep their first sample
+    if count > 1:
+        kept = 1
+        wrap = closed and chosen[0] + m - chosen[count - 1] <= separation
+        for k in range(1, count):
+            if chosen[k] - chosen[k - 1] > separation and not (wrap and k == count - 1):
+                chosen[kept] = chosen[k]
+                kept += 1
+        count = kept
+    return count
 
 
 @njit(**JIT_OPTIONS)
@@ -400,48 +454,7 @@ def _corners_into(P, arc, perimeter, closed, taps, samples, where, smoothed, rea
     # step 3: the turn; steps 4-5: its peaks (strength: |J|, NaN as -inf; its maximum over the separation)
     for i in range(m):
         turn[i] = _turn(lines[0, i, 2], lines[0, i, 3], lines[1, i, 2], lines[1, i, 3])
-    flanks = work[m:]
-    count = 0
-    for i in range(m):
-        size = abs(turn[i])
-        if not size >= min_turn:
-            continue
-        largest = True
-        for offset in range(-separation, separation + 1):
-            k = i + offset
-            if closed:
-                k = k % m
-            elif k < 0 or k >= m:
-                continue
-            other = abs(turn[k])
-            if other > size:  # (NaN: -inf, never larger)
-                largest = False
-                break
-        if not largest:
-            continue
-        values = 0
-        for f in range(flank.shape[0]):
-            k = i + flank[f]
-            if closed:
-                k = k % m
-            elif k < 0 or k >= m:
-                continue
-            if not np.isnan(turn[k]):  # (np.nanmedian where the turn has NaN: open ends)
-                flanks[values] = turn[k]
-                values += 1
-        baseline = _sorted_median(flanks, values) if values else np.nan
-        if abs(turn[i] - baseline) >= min_excess:
-            chosen[count] = i
-            count += 1
-    # plateaus keep their first sample
-    if count > 1:
-        kept = 1
-        wrap = closed and chosen[0] + m - chosen[count - 1] <= separation
-        for k in range(1, count):
-            if chosen[k] - chosen[k - 1] > separation and not (wrap and k == count - 1):
-                chosen[kept] = chosen[k]
-                kept += 1
-        count = kept
+    count = _peaks(turn, closed, min_turn, min_excess, separation, flank, chosen, work[m:])
     # step 5b: spread turns (the turn from the backward arm 8 samples before to the forward arm 8 after)
     if spread > 0 and count > 0:
         gaps = work[:count]  # to the nearest other corner (around the shorter way when closed)
@@ -568,12 +581,47 @@ def _read_sign(levels, i, way_i, j, way_j, stop):
     return 0
 
 
+@njit(**HELPER_OPTIONS)
+def _congruent(A, start_a, way_a, B, start_b, way_b):
+    """Whether the closed outline ``A`` read from its point ``start_a`` (way ``way_a``) and ``B`` read from ``start_b``
+    (both relative to those points, of one length) are one the image of the other under a quarter turn or a
+    reflection of the frame (one of the eight maps: x and y swapped or not, either sign flipped or not), exactly."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    n = A.shape[0]
+    if B.shape[0] != n:
+        return False
+    for mapping in range(8):
+        swap, sign_x, sign_y = mapping >= 4, 1.0 if mapping % 4 < 2 else -1.0, 1.0 if mapping % 2 == 0 else -1.0
+        same = True
+        for d in range(n):
+            a, b = (start_a + way_a * d) % n, (start_b + way_b * d) % n
+            ax, ay = A[a, 0] - A[start_a, 0], A[a, 1] - A[start_a, 1]
+            if swap:
+                ax, ay = ay, ax
+            if ax * sign_x != B[b, 0] - B[start_b, 0] or ay * sign_y != B[b, 1] - B[start_b, 1]:
+                same = False
+                break
+        if same:
+            return True
+    return False
+
+
+@njit(**HELPER_OPTIONS)
+def _key_sign(levels, i, j):
+    """The order of the comparison keys of points ``i`` and ``j`` (:func:`._jump._symmetric_union`): 1 where that
+    of ``j`` is lexicographically larger, -1 where smaller, 0 where they are equal."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    n = levels.shape[0]
+    sign = _read_sign(levels, i, _way(levels, i), j, _way(levels, j), n)
+    return sign if sign != 0 else _read_sign(levels, i, 1, j, 1, n)
+
+
 @njit(**JIT_OPTIONS)
 def _starts_into(P, levels, given, point, way, source):
     """The canonical starts of the closed outline ``P`` (:func:`._jump._canonical_starts`) into ``point`` and
     ``way`` (at least ``2 n`` rows; sorted by point, along the outline first) and, for each, the first start before
     it (itself where there is none) whose outline read from it is the image of its own under a quarter turn or a
-    reflection of the frame, exactly (:func:`._jump._congruent`: the same corners), into ``source``. ``levels``:
+    reflection of the frame, exactly (the same corners, :func:`._jump._starts`), into ``source``. ``levels``:
     the points' levels (:func:`._jump._distance_levels`), ``given`` or formed here by its exact rule for
     coordinates that are multiples of ``2**-k`` (``k`` <= 16) within int64; returns the number of starts, or -1
     where that rule does not apply (then the caller forms them and calls again)."""
@@ -630,21 +678,7 @@ def _starts_into(P, levels, given, point, way, source):
         for r in range(s):
             if source[r] != r:
                 continue
-            congruent = False
-            for mapping in range(8):  # (swap x and y, sign of x, sign of y), as _jump._FRAME_MAPS
-                swap, sign_x, sign_y = mapping >= 4, 1.0 if mapping % 4 < 2 else -1.0, 1.0 if mapping % 2 == 0 else -1.0
-                same = True
-                for d in range(n):
-                    a, b = (point[r] + way[r] * d) % n, (point[s] + way[s] * d) % n
-                    ax, ay = P[a, 0] - P[point[r], 0], P[a, 1] - P[point[r], 1]
-                    if swap:
-                        ax, ay = ay, ax
-                    if ax * sign_x != P[b, 0] - P[point[s], 0] or ay * sign_y != P[b, 1] - P[point[s], 1]:
-                        same = False
-                        break
-                if same:
-                    congruent = True
-                    break
+            congruent = _congruent(P, point[r], way[r], P, point[s], way[s])
             if congruent:
                 source[s] = r
                 break
@@ -689,7 +723,7 @@ def _pairwise_sum(values, first, count):
 
 @njit(**HELPER_OPTIONS)
 def _way(levels, i):
-    """The way round of the first half of the comparison key of point ``i`` (:func:`._jump._point_order`): -1 where
+    """The way round of the first half of the comparison key of point ``i`` (:func:`._jump._symmetric_union`): -1 where
     the levels behind it are larger."""
     compact()  # optimized for size, as its callers are (_jit.compact)
     return -1 if _read_sign(levels, i, 1, i, -1, levels.shape[0]) > 0 else 1
@@ -700,7 +734,7 @@ def _union_into(P, segment, union, member, levels, reach, dropped):
     """The corners ``union`` (sorted indices into the closed outline ``P``; ``member[a, r]``: corner ``a`` is in run
     ``r``) of a symmetric outline's runs that :func:`._jump._symmetric_union` drops, flagged in ``dropped``: of two
     corners of different runs within ``reach`` px of arc (the sum of the outline's ``segment`` lengths between them,
-    numpy's ``np.sum``), the one whose comparison key (:func:`._jump._point_order` of ``levels``) is smaller."""
+    numpy's ``np.sum``), the one whose comparison key (:func:`._jump._symmetric_union`) is smaller."""
     compact()  # run time negligible: code optimized for size (_jit.compact)
     m, n = union.shape[0], levels.shape[0]
     for a in range(m):
@@ -723,9 +757,7 @@ def _union_into(P, segment, union, member, levels, reach, dropped):
                 shared = shared or (member[a, r] and member[b, r])
             if shared:
                 continue
-            sign = _read_sign(levels, i, _way(levels, i), j, _way(levels, j), n)
-            if sign == 0:
-                sign = _read_sign(levels, i, 1, j, 1, n)
+            sign = _key_sign(levels, i, j)
             if sign != 0:
                 dropped[a if sign > 0 else b] = True
 
@@ -776,19 +808,19 @@ def corners_of(P, arc, perimeter, closed, taps, samples, where, ladder, operator
     """:func:`_corners_into` of an outline resampled by :func:`resample` (``taps``: the smoothing kernel, empty
     for none or when ``samples`` are smoothed already; ``ladder``, ``operators`` as :func:`arm_lines` takes them;
     ``settings`` and ``flank`` as :func:`_corners_into` takes them). Returns the corners' samples and input
-    points, step 6b's rows of them, the smoothed samples and the arm lines (2, m, 4)."""
+    points, step 6b's rows of them, the smoothed samples, the arm lines (2, m, 4) and their turn."""
     m = samples.shape[0]
     lengths, centred, weights = _ladder_tables(tuple(int(length) for length in ladder), operators)
     reach = int(max(ladder))
     rows = m + 2 * reach
     chosen, nearest, ends = np.empty(m, np.int64), np.empty(m, np.int64), np.empty((m, 6))
-    smoothed, lines = np.empty((m, 2)), np.empty((2, m, 4))
+    smoothed, lines, turn = np.empty((m, 2)), np.empty((2, m, 4)), np.empty(m)
     count = _corners_into(P, arc, float(perimeter), bool(closed), taps, samples, where, smoothed, reach, lengths,
                           centred, weights, settings, flank, np.empty((rows, 2)), np.empty((2, m), np.bool_),
                           np.empty((2, m), np.int16), np.empty(rows, np.int8), np.empty((rows + 1, 12)),
                           np.empty(rows + 1, np.int64), np.empty(5), np.empty((rows, 4)), np.empty(rows, np.int16),
-                          lines, np.empty(m), np.empty(m + flank.shape[0]), chosen, nearest, ends)
-    return chosen[:count], nearest[:count], ends[:count], smoothed, lines
+                          lines, turn, np.empty(m + flank.shape[0]), chosen, nearest, ends)
+    return chosen[:count], nearest[:count], ends[:count], smoothed, lines, turn
 
 
 _WARM = []

@@ -507,7 +507,10 @@ def _detect(P, closed, settings):
 
     The work is done relative to the first point (``P - P[0]``): a quarter turn or reflection of the pixel
     frame then maps every intermediate value onto the turned one exactly (the outline's coordinates are
-    half-integers, so the shift is exact, and every step treats x and y alike), not just to rounding."""
+    half-integers, so the shift is exact, and every step treats x and y alike), not just to rounding. Compiled
+    (session 30): the resampling (:func:`._jump_kernels.resample`) and the rest but for the few stroke ends of
+    step 6b (:func:`._jump_kernels.corners_of`; a smoothing of ``COMPILED_TAPS`` taps or more is numpy's,
+    :func:`_smooth`)."""
     P = P - P[0]
     if settings["scale"] != 1.0:  # step 0 (a division commutes with the frame's quarter turns and reflections)
         P = P / settings["scale"]

@@ -1,4 +1,14 @@
-"""Compiled arm search of tangent-jump (:func:`._jump.tangent_jump`, step 2: straight arms).
+"""Compiled steps of tangent-jump (:func:`._jump.tangent_jump`, docs/capture.md §11 and "Compiled kernels").
+
+Four kernels (session 30; before it only the arm search was compiled, and the Python and small numpy calls around
+it took most of the detector's time): :func:`_starts_into` forms a closed outline's levels, canonical
+starts and congruent starts; :func:`_resample_into` and :func:`_corners_into` run steps 1-6 from one start (the
+resampling; the smoothing, the arm search below, the turn, the peaks, the spread turns, the location and step 6b's
+test); :func:`_union_into` reduces a symmetric outline's runs. Each does the floating-point operations of the numpy
+formulation it replaced in the same order (``tests/test_jump_steps.py`` keeps that formulation and pins these
+kernels to it bit for bit).
+
+The arm search (step 2: straight arms).
 
 At every sample of the smoothed outline two arms grow, backwards and forwards, through the lengths of the
 arm ladder while every sample of the arm stays within the tolerance of the arm's least-squares line. The

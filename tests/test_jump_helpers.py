@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 import splinecraft.capture.corners  # noqa: F401  (the package first: its modules import each other)
 from splinecraft.capture.corners._common import _circular_max_filter
+from test_jump_steps import ref_canonical_starts, ref_later as _later, ref_plateau_starts as _plateau_starts  # one copy
 
 jump = importlib.import_module("splinecraft.capture.corners._jump")
 _jump_kernels = importlib.import_module("splinecraft.capture.corners._jump_kernels")
@@ -122,12 +123,6 @@ def _key_sign(levels, i, j):
     return _jump_kernels._key_sign(levels, i, j)
 
 
-def _later(a, b):
-    """Whether the sequence ``b`` is lexicographically larger than ``a`` (equal lengths)."""
-    differ = np.flatnonzero(a != b)
-    return bool(differ.size) and b[differ[0]] > a[differ[0]]
-
-
 def _point_order(levels):
     """Comparison key of the points of a closed outline: its ``levels`` read from the point both ways along the
     outline, the larger of the two sequences first, then the sequence along the outline's own way round (the key
@@ -139,18 +134,6 @@ def _point_order(levels):
         ahead, behind = levels[(i + ring) % n], levels[(i - ring) % n]
         return np.concatenate([behind if _later(ahead, behind) else ahead, ahead])
     return key
-
-
-def _plateau_starts(chosen, m, separation, closed):
-    """The sorted peaks ``chosen`` less those within ``separation`` samples after another one (around the end when
-    ``closed``): a plateau of equal maxima keeps its first sample (the numpy formulation before session 30)."""
-    if chosen.size > 1:
-        first = np.ones(chosen.size, dtype=bool)
-        first[1:] = chosen[1:] - chosen[:-1] > separation
-        if closed and chosen[0] + m - chosen[-1] <= separation:
-            first[-1] = False
-        chosen = chosen[first]
-    return chosen
 
 
 def reference_jump_peaks(turn, closed, settings):
@@ -216,27 +199,6 @@ def _peaks(turn, closed, min_turn, min_excess, separation, flank, chosen, flanks
     return _jump_kernels._peaks(turn, closed, min_turn, min_excess, separation, flank, chosen, flanks)
 
 
-def reference_canonical_starts(levels):
-    """The candidates narrowed block by block with the lexicographically largest row found one by one (the loop
-    before session 29, which a symmetric outline's tied starts now skip)."""
-    n = len(levels)
-    top = np.flatnonzero(levels == levels.max())
-    point, way = np.concatenate([top, top]), np.repeat([1, -1], len(top))
-    offset, block = 1, 16
-    while point.size > 1 and offset < n:
-        ahead = np.arange(offset, min(offset + block, n))
-        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[0]
-        for row in rows[1:]:
-            if _later(best, row):
-                best = row
-        keep = np.all(rows == best, axis=1)
-        point, way = point[keep], way[keep]
-        offset, block = offset + len(ahead), 4 * block
-    order = np.lexsort((-way, point))
-    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
-
-
 @settings(max_examples=300, deadline=None)
 @given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 400), period=st.integers(1, 40), levels=st.integers(1, 4))
 def test_canonical_starts_are_the_loop_over_rows(seed, n, period, levels):
@@ -246,7 +208,7 @@ def test_canonical_starts_are_the_loop_over_rows(seed, n, period, levels):
     sequence = np.resize(np.concatenate([base, base[::-1]]) if seed % 3 == 1 else base, n).astype(np.int64)
     if seed % 3 == 2:
         sequence = rng.integers(0, levels, n).astype(np.int64)
-    assert jump._canonical_starts(sequence) == reference_canonical_starts(sequence)
+    assert jump._canonical_starts(sequence) == ref_canonical_starts(sequence)
 
 
 @settings(max_examples=100, deadline=None)

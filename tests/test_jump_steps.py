@@ -15,12 +15,11 @@ from hypothesis import strategies as st
 import splinecraft.capture.corners  # noqa: F401  (the package first: its modules import each other)
 from splinecraft.capture.contour import trace_boundaries
 from splinecraft.capture.corners._common import _circular_max_filter, _prepare
-from splinecraft.capture.corners._fillet import release_fillets, release_wedge_fillets
 from splinecraft.capture.corners._jump_kernels import arm_lines
 
 jump = importlib.import_module("splinecraft.capture.corners._jump")
-_ARM_LADDER, _EXACT_SCALE, _forward_operators, _line_intersection, _smooth, SAMPLES_PER_POINT = (
-    jump._ARM_LADDER, jump._EXACT_SCALE, jump._forward_operators, jump._line_intersection, jump._smooth,
+_ARM_LADDER, _forward_operators, _line_intersection, _smooth, SAMPLES_PER_POINT = (
+    jump._ARM_LADDER, jump._forward_operators, jump._line_intersection, jump._smooth,
     jump.SAMPLES_PER_POINT)
 STROKE_END_TURN, STROKE_END_ARM, STROKE_END_REACH, STROKE_END_ON_SIDE, STROKE_END_WIDTH, STROKE_END_PARALLEL = (
     jump.STROKE_END_TURN, jump.STROKE_END_ARM, jump.STROKE_END_REACH, jump.STROKE_END_ON_SIDE, jump.STROKE_END_WIDTH,
@@ -78,7 +77,6 @@ def ref_signed_arm_turn(R, closed, tolerance, ladder):
 def ref_split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest, closed):
     m = len(samples)
     centres_before, before, centres_after, after = arms
-    out = [[corner] for corner in nearest.tolist()]
     # the sides: the first long arm ending g1 samples before each corner and starting g2 after it, and their
     # turn (all corners at once; the few that turn back are examined one by one below)
     reach = np.arange(1, STROKE_END_REACH + 1)
@@ -104,56 +102,10 @@ def ref_split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, neare
         side_turn = np.degrees(np.abs(np.arctan2(d1s[:, 0] * d2s[:, 1] - d1s[:, 1] * d2s[:, 0],
                                                  np.sum(d1s * d2s, axis=1))))
         found &= side_turn >= STROKE_END_TURN
-    for k in np.flatnonzero(found).tolist():
-        i, g1, g2 = int(chosen[k]), int(first_before[k]), int(first_after[k])
-        others = (chosen - i) % m if closed else chosen - i
-        others = np.where(others > m // 2, others - m, others) if closed else others
-        if np.any((others != 0) & (others >= -g1 - 2) & (others <= g2 + 2)):
-            continue                        # the end has its own second corner
-        c1, d1 = centres_before[(i - g1) % m], before[(i - g1) % m]
-        c2, d2 = centres_after[(i + g2) % m], after[(i + g2) % m]
-        n1 = np.array([-d1[1], d1[0]]) / np.hypot(*d1)
-        n2 = np.array([-d2[1], d2[0]]) / np.hypot(*d2)
-        l1, l2 = int(longest_before[k]), int(longest_after[k])
-        side1 = centres_before[(i - l1) % m], before[(i - l1) % m]
-        side2 = centres_after[(i + l2) % m], after[(i + l2) % m]
-        k1 = i - g1
-        while k1 < i + g2 and abs((samples[(k1 + 1) % m] - c1) @ n1) <= STROKE_END_ON_SIDE:
-            k1 += 1
-        k2 = i + g2
-        while k2 > k1 and abs((samples[(k2 - 1) % m] - c2) @ n2) <= STROKE_END_ON_SIDE:
-            k2 -= 1
-        width = float(np.hypot(*(samples[k2 % m] - samples[k1 % m])))
-        if not (k1 <= i <= k2 and STROKE_END_WIDTH[0] <= width <= STROKE_END_WIDTH[1]):
-            continue
-        crossing = _line_intersection(side1[0][None], side1[1][None], side2[0][None], side2[1][None])[0]
-        middle = 0.5 * (samples[k1 % m] + samples[k2 % m])
-        # a pixel-truncated tip: the sides cross at most TIP_TRUNCATION / sin(opening / 2) beyond the end (where
-        # the tip narrows below a pixel), the end found within STROKE_END_SLACK; and at most STROKE_END_PARALLEL
-        # end widths away (a guard for sharp wedges whose measured sides are a few degrees off)
-        opening = np.radians(max(180.0 - float(side_turn[k]), 1e-3))
-        limit = max(TIP_TRUNCATION / np.sin(0.5 * opening) + STROKE_END_SLACK, STROKE_END_PARALLEL * width)
-        if np.isfinite(crossing).all() and np.hypot(*(crossing - middle)) < limit:
-            continue
-        # each corner: the input point nearest to where its side's line crosses the end's line (the principal
-        # line of the samples from one departure to the other), among the points of its half of the end
-        end = samples[np.arange(k1, k2 + 1) % m]
-        centre = end.mean(axis=0)
-        direction = np.linalg.svd(end - centre)[2][0]
-        first = where[k1 % m]
-        span = (where[k2 % m] - first) % perimeter if closed else where[k2 % m] - first   # arc of the end
-        along = (arc - first) % perimeter if closed else arc - first
-        along = np.where(along > perimeter - SIDE_REACH, along - perimeter, along)   # just before the first
-        picks = []
-        for c, d, low, high in ((c1, d1, -SIDE_REACH, 0.5 * span), (c2, d2, 0.5 * span, span + SIDE_REACH)):
-            target = _line_intersection(c[None], d[None], centre[None], direction[None])[0]
-            candidates = np.flatnonzero((along >= low) & (along <= high))
-            if not np.isfinite(target).all() or not candidates.size:
-                break
-            picks.append(int(candidates[np.argmin(np.hypot(*(P[candidates] - target).T))]))
-        if len(picks) == 2 and picks[0] != picks[1]:
-            out[k] = picks
-    return np.asarray([corner for pair in out for corner in pair], dtype=np.intp)
+    # the few corners that pass: the module's own loop (not compiled), on the rows the kernel forms
+    ends = np.column_stack([found, first_before, first_after, longest_before, longest_after, side_turn])
+    lines = np.stack([np.hstack([centres_before, before]), np.hstack([centres_after, after])])
+    return jump._split_stroke_ends(P, arc, perimeter, samples, where, lines, chosen, nearest, ends, closed)
 
 
 def ref_jump_peaks(turn, closed, settings):
@@ -271,9 +223,7 @@ def ref_farthest_within(reach, within):
 
 
 def ref_detect(P, closed, settings):
-    P = P - P[0]
-    if settings["scale"] != 1.0:  # step 0 (a division commutes with the frame's quarter turns and reflections)
-        P = P / settings["scale"]
+    P = jump._relative(P, settings["scale"])
     samples, where, arc, perimeter, step = ref_resample(P, closed)
     if len(samples) < 8:
         return None
@@ -294,29 +244,17 @@ def ref_detect(P, closed, settings):
 
 def ref_distance_levels(P):
     n = len(P)
-    for k in range(_EXACT_SCALE + 1):
-        scaled = P * 2.0 ** k
-        if np.all(scaled == np.round(scaled)) and np.abs(scaled).max() < 2.0 ** 52:
-            break
-    else:
-        scaled = None
-    if scaled is not None:
-        x, y = scaled[:, 0], scaled[:, 1]
-        x, y = x - x.min(), y - y.min()                      # integers in [0, extent]
-        extent = max(float(x.max()), float(y.max()))
-        if 8.0 * n * (extent + 1.0) ** 2 < 2.0 ** 62:
-            x, y = x.astype(np.int64), y.astype(np.int64)
-            tx, ty = int(x.sum()), int(y.sum())
-            return x * (n * x - 2 * tx) + y * (n * y - 2 * ty)
-        q = [(int(a), int(b)) for a, b in zip(x.tolist(), y.tolist())]   # exact, with Python integers
-        tx, ty = sum(a for a, _ in q), sum(b for _, b in q)
-        exact = np.array([a * (n * a - 2 * tx) + b * (n * b - 2 * ty) for a, b in q], dtype=object)
-        return np.unique(exact, return_inverse=True)[1].reshape(-1).astype(np.int64)
-    squared = np.sum((P - P.mean(axis=0)) ** 2, axis=1)
-    top = squared.max()
-    if not np.isfinite(top) or top <= 0:
-        return np.zeros(n, dtype=np.int64)
-    return np.round(squared / top * 1e12).astype(np.int64)
+    scaled = jump._dyadic(P)
+    if scaled is None:
+        return jump._wide_levels(P)  # rounded (not compiled)
+    x, y = scaled[:, 0], scaled[:, 1]
+    x, y = x - x.min(), y - y.min()                      # integers in [0, extent]
+    extent = max(float(x.max()), float(y.max()))
+    if 8.0 * n * (extent + 1.0) ** 2 < 2.0 ** 62:
+        x, y = x.astype(np.int64), y.astype(np.int64)
+        tx, ty = int(x.sum()), int(y.sum())
+        return x * (n * x - 2 * tx) + y * (n * y - 2 * ty)
+    return jump._wide_levels(P)  # exact with Python integers (not compiled)
 
 
 def ref_later(a, b):
@@ -361,26 +299,22 @@ def ref_point_comparison(levels):
 
 
 def ref_canonical_starts(levels):
+    """The candidates narrowed block by block with the lexicographically largest row found one by one (the loop
+    before session 29, which a symmetric outline's tied starts now skip)."""
     n = len(levels)
     top = np.flatnonzero(levels == levels.max())
-    point = np.concatenate([top, top])
-    way = np.repeat([1, -1], len(top))
+    point, way = np.concatenate([top, top]), np.repeat([1, -1], len(top))
     offset, block = 1, 16
     while point.size > 1 and offset < n:
         ahead = np.arange(offset, min(offset + block, n))
         rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        keep = np.all(rows == rows[0], axis=1)
-        tie = keep.all()                    # the starts of a symmetric outline tie all the way
-        if not tie:
-            best = rows[0]
-            for row in rows[1:]:
-                if ref_later(best, row):
-                    best = row
-            keep = np.all(rows == best, axis=1)
+        best = rows[0]
+        for row in rows[1:]:
+            if ref_later(best, row):
+                best = row
+        keep = np.all(rows == best, axis=1)
         point, way = point[keep], way[keep]
-        # blocks of 16, then 4 times more each; after a block where all tie, the rest at once (the largest of the
-        # longer rows is the largest of the shorter ones continued: the same candidates stay)
-        offset, block = offset + len(ahead), n if tie else 4 * block
+        offset, block = offset + len(ahead), 4 * block
     order = np.lexsort((-way, point))
     return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
 
@@ -441,17 +375,7 @@ def ref_tangent_jump(P, closed, settings):
             done.append((relative, found))
         runs.append((start + direction * found) % n)
     nearest = runs[0] if len(runs) == 1 else ref_symmetric_union(P, runs, ref_point_comparison(levels))
-    if settings["fillets"] or settings["wedge"]:
-        first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
-        rolled = np.roll(P, -first, axis=0)
-        _, arc = ref_arc_lengths(rolled, closed)
-        perimeter, arc = arc[-1], arc[:n]
-        found = (np.unique(nearest) - first) % n
-        if settings["fillets"]:
-            found = release_fillets(rolled, arc, perimeter, closed, np.unique(found))
-        if settings["wedge"]:
-            found = release_wedge_fillets(rolled, arc, perimeter, closed, np.unique(found))
-        nearest = (np.asarray(found, dtype=np.intp) + first) % n
+    assert not (settings["fillets"] or settings["wedge"])  # steps 7-8 (not compiled) are not compared here
     return np.unique(np.asarray(nearest, dtype=np.intp))
 
 

@@ -501,6 +501,13 @@ def _tangent_jump(P, closed, settings):
     return np.unique(np.asarray(nearest, dtype=np.intp))
 
 
+def _relative(P, scale):
+    """The points relative to the first one and, step 0, divided by ``scale`` (a division commutes with the frame's
+    quarter turns and reflections)."""
+    P = P - P[0]
+    return P / scale if scale != 1.0 else P
+
+
 def _detect(P, closed, settings):
     """Steps 1-6 on the outline as given (a closed one from its first point): the corners' indices into
     ``P``, or None when the outline is shorter than 8 samples.
@@ -511,9 +518,7 @@ def _detect(P, closed, settings):
     (session 30): the resampling (:func:`._jump_kernels.resample`) and the rest but for the few stroke ends of
     step 6b (:func:`._jump_kernels.corners_of`; a smoothing of ``COMPILED_TAPS`` taps or more is numpy's,
     :func:`_smooth`)."""
-    P = P - P[0]
-    if settings["scale"] != 1.0:  # step 0 (a division commutes with the frame's quarter turns and reflections)
-        P = P / settings["scale"]
+    P = _relative(P, settings["scale"])
     samples, where, arc, perimeter, step = _resample(P, closed)
     if len(samples) < 8:
         return None
@@ -550,15 +555,20 @@ def _distance_levels(P):
     return found[0] if found is not None else _wide_levels(P)
 
 
-def _wide_levels(P):
-    """:func:`_distance_levels` where the compiled rule does not apply: exact with Python integers, or rounded."""
-    n = len(P)
+def _dyadic(P):
+    """The coordinates times the smallest ``2**k`` (``k <= _EXACT_SCALE``) that makes them integers below ``2**52``,
+    or ``None``."""
     for k in range(_EXACT_SCALE + 1):
         scaled = P * 2.0 ** k
         if np.all(scaled == np.round(scaled)) and np.abs(scaled).max() < 2.0 ** 52:
-            break
-    else:
-        scaled = None
+            return scaled
+    return None
+
+
+def _wide_levels(P):
+    """:func:`_distance_levels` where the compiled rule does not apply: exact with Python integers, or rounded."""
+    n = len(P)
+    scaled = _dyadic(P)
     if scaled is not None:
         x, y = scaled[:, 0], scaled[:, 1]
         q = [(int(a), int(b)) for a, b in zip((x - x.min()).tolist(), (y - y.min()).tolist())]   # exact

@@ -358,7 +358,8 @@ def _random_walk(seed, count, closed):
 
 
 def _arms_by_loops(curve, closed, tolerance, ladder):
-    """Reference for ``_signed_arm_turn``: every sample and side on its own, lines by ``np.polyfit``."""
+    """Reference for the arms' turn (step 3, compiled: ``_jump_kernels.corners_of``): every sample and side on its
+    own, lines by ``np.polyfit``."""
     m = len(curve)
     turn = np.full(m, np.nan)
     for i in range(m):
@@ -386,7 +387,12 @@ def _arms_by_loops(curve, closed, tolerance, ladder):
 def test_arm_turn_matches_a_loop_over_samples_and_sides(seed, closed, tolerance):
     curve = _random_walk(seed, 90, closed)
     ladder = [length for length in jump._ARM_LADDER if length <= 30 and 2 * length < len(curve)]
-    turn, _ = jump._signed_arm_turn(curve, closed, tolerance, ladder)
+    m = len(curve)
+    where = np.arange(m, dtype=float)
+    turn = jump.corners_of(curve, where, float(m), closed, jump._NO_TAPS, curve, where, ladder, jump._forward_operators,
+                           *jump._kernel_settings(jump.check_tangent_jump_params(
+                               smoothing=0.0, tolerance=tolerance, min_turn=25.0, min_excess=25.0, flank=(4, 10),
+                               max_arm=40, separation=2, fillets=False, wedge=False)))[5]
     expected = _arms_by_loops(curve, closed, tolerance, ladder)
     np.testing.assert_array_equal(np.isnan(turn), np.isnan(expected))
     np.testing.assert_allclose(turn, expected, atol=1e-6, equal_nan=True)
@@ -1028,20 +1034,13 @@ def test_tangent_jump_memory_is_linear_in_the_corners():
     st.just(n), st.sets(st.integers(0, n - 1), max_size=n), st.sets(st.integers(0, n - 1), max_size=n))),
     st.booleans())
 def test_linear_corner_neighbours_match_the_pairwise_definition(case, closed):
-    """Step 5b's nearest other corner and the pixel-corner merge, in linear memory, are the pairwise minimum they
-    replaced (every pair's gap, around the wrap of a closed outline)."""
+    """The pixel-corner merge, in linear memory, is the pairwise minimum it replaced (every pair's gap, around the
+    wrap of a closed outline). (Step 5b's nearest other corner is compiled: ``tests/test_jump_steps.py``.)"""
     from splinecraft.capture._pixel_corners import merge_pixel_corners
 
-    jump = sys.modules["splinecraft.capture.corners._jump"]
     n, chosen, index = case
     chosen = np.array(sorted(chosen), dtype=np.intp)
     index = np.array(sorted(index), dtype=np.intp)
-    gap = np.abs(chosen[:, None] - chosen[None, :])
-    if closed:
-        gap = np.minimum(gap, n - gap)
-    np.fill_diagonal(gap, n)
-    expected = gap.min(axis=1) if chosen.size > 1 else np.full(chosen.size, n)
-    assert np.array_equal(jump._nearest_other_gap(chosen, n, closed), expected)
     pairwise = np.abs(chosen[:, None] - index[None, :]) % n
     near = (np.minimum(pairwise, n - pairwise) <= 1).any(axis=1)
     merged = np.unique(np.concatenate([chosen[~near], index])) if index.size else chosen

@@ -1,24 +1,29 @@
-"""tangent-jump's helpers (capture/corners/_jump.py, docs/capture.md §11) pinned to the formulations they
-replaced (kept here as the reference): steps 4-5 with the flanks' median only where a peak can be (``_jump_peaks``);
-on symmetric outlines the eight frame maps passed over on their first points (``_congruent``), the corners of the
-union (``_symmetric_union``) whose chord to the next one already exceeds the reach passed over without summing their
-arc, and the points' keys compared up to their first difference (``_point_comparison``). The same answers, not
-just close ones."""
+"""tangent-jump's helpers (capture/corners/_jump.py and _jump_kernels.py, docs/capture.md §11) pinned to the
+formulations they replaced (kept here as the reference): steps 4-5 with the flanks' median only where a peak can be
+(the compiled ``_peaks``); on symmetric outlines the eight frame maps compared point by point (the compiled
+``_congruent``), the corners of the union (``_symmetric_union``) whose chord to the next one already exceeds the
+reach passed over without summing their arc, and the points' keys compared up to their first difference (the
+compiled ``_key_sign``). The same answers, not just close ones."""
 from __future__ import annotations
 
 import importlib
 
+import numba
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import splinecraft.capture.corners  # noqa: F401  (the package first: its modules import each other)
+from splinecraft.capture.corners._common import _circular_max_filter
+from test_jump_steps import ref_canonical_starts, ref_later as _later, ref_plateau_starts as _plateau_starts  # one copy
 
 jump = importlib.import_module("splinecraft.capture.corners._jump")
+_jump_kernels = importlib.import_module("splinecraft.capture.corners._jump_kernels")
+_FRAME_MAPS = [(swap, sx, sy) for swap in (False, True) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
 
 
 def reference_congruent(a, b):
-    return any(np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b) for swap, sx, sy in jump._FRAME_MAPS)
+    return any(np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b) for swap, sx, sy in _FRAME_MAPS)
 
 
 def reference_symmetric_union(P, runs, key, reach=3.0):
@@ -39,7 +44,7 @@ def reference_symmetric_union(P, runs, key, reach=3.0):
             if not any(first in corners and union[b] in corners for corners in found):
                 ka, kb = key(first), key(union[b])
                 if not np.array_equal(ka, kb):
-                    dropped.add(a if jump._later(ka, kb) else b)
+                    dropped.add(a if _later(ka, kb) else b)
             step += 1
     return np.array([index for k, index in enumerate(union) if k not in dropped], dtype=np.int64)
 
@@ -49,17 +54,36 @@ def reference_symmetric_union(P, runs, key, reach=3.0):
 def test_congruent_is_the_eight_maps_compared_one_by_one(seed, n, mapped, flip):
     rng = np.random.default_rng(seed)
     a = rng.integers(-3, 4, (n, 2)).astype(float) * 0.5
+    a = a - a[0]  # outlines relative to their first points, as the starts compare them
     if mapped >= 0:  # b the image of a under one map (or of a changed copy)
-        swap, sx, sy = jump._FRAME_MAPS[mapped]
+        swap, sx, sy = _FRAME_MAPS[mapped]
         b = (a[:, ::-1] if swap else a) * (sx, sy)
         if flip:
             b = b.copy()
             b[rng.integers(n)] += 0.5
     else:
         b = rng.integers(-3, 4, (n, 2)).astype(float) * 0.5
-    b = b + 0.0 * rng.integers(0, 2)  # signed zeros compare equal, as in numpy.array_equal
-    assert jump._congruent(a, b) == reference_congruent(a, b)
-    assert jump._congruent(a, -0.0 * a) == reference_congruent(a, -0.0 * a)
+    b = b - b[0] + 0.0 * rng.integers(0, 2)  # signed zeros compare equal, as in numpy.array_equal
+    assert _congruent(a, b) == reference_congruent(a, b)
+    assert _congruent(a, -0.0 * a) == reference_congruent(a, -0.0 * a)
+    if n > 1:  # read from other points, the other way round: the outlines relative to those points
+        at, back = int(rng.integers(n)), int(rng.integers(n))
+        a_read = np.roll(a, -at, axis=0)
+        b_read = np.roll(b, -back, axis=0)[::-1]
+        b_read = np.roll(b_read, 1, axis=0)  # b read from ``back`` against the outline
+        assert _congruent_from(a, at, 1, b, back, -1) == reference_congruent(a_read - a_read[0], b_read - b_read[0])
+
+
+@numba.njit
+def _congruent_from(a, start_a, way_a, b, start_b, way_b):
+    """The compiled congruence test (a helper: no Python wrapper of its own)."""
+    return _jump_kernels._congruent(a, start_a, way_a, b, start_b, way_b)
+
+
+def _congruent(a, b):
+    """The compiled congruence test of two outlines given relative to their first points."""
+    return _congruent_from(np.ascontiguousarray(a, dtype=np.float64), 0, 1, np.ascontiguousarray(b, dtype=np.float64),
+                           0, 1)
 
 
 @settings(max_examples=200, deadline=None)
@@ -73,24 +97,43 @@ def test_symmetric_union_is_the_loop_over_every_pair(seed, n, runs, corners):
     centres = rng.integers(0, n, corners)
     found = [np.unique((centres + rng.integers(-3, 4, corners)) % n) for _ in range(runs)]
     levels = rng.integers(0, 3, n).astype(np.int64)
-    key, later = jump._point_order(levels), jump._point_comparison(levels)
+    key = _point_order(levels)
     for reach in (0.0, 1.0, 3.0, 10.0):
-        assert np.array_equal(jump._symmetric_union(P, found, later, reach),
+        assert np.array_equal(jump._symmetric_union(P, found, levels, reach),
                               reference_symmetric_union(P, found, key, reach))
 
 
 @settings(max_examples=300, deadline=None)
 @given(seed=st.integers(0, 2 ** 32 - 1), n=st.integers(1, 400), period=st.integers(1, 40), levels=st.integers(1, 3))
-def test_point_comparison_orders_as_the_whole_keys(seed, n, period, levels):
+def test_key_comparison_orders_as_the_whole_keys(seed, n, period, levels):
     rng = np.random.default_rng(seed)
     # long ties: periodic and palindromic sequences (symmetric outlines), whose keys agree far into them
     base = rng.integers(0, levels, period)
     sequence = np.resize(np.concatenate([base, base[::-1]]) if seed % 2 else base, n).astype(np.int64)
-    key, later = jump._point_order(sequence), jump._point_comparison(sequence)
+    key = _point_order(sequence)
     for i, j in rng.integers(0, n, (12, 2)).tolist():
         ka, kb = key(i), key(j)
-        expected = None if np.array_equal(ka, kb) else jump._later(ka, kb)
-        assert later(i, j) == expected
+        expected = 0 if np.array_equal(ka, kb) else 1 if _later(ka, kb) else -1
+        assert _key_sign(sequence, i, j) == expected
+
+
+@numba.njit
+def _key_sign(levels, i, j):
+    """The compiled comparison of two points' keys (a helper: no Python wrapper of its own)."""
+    return _jump_kernels._key_sign(levels, i, j)
+
+
+def _point_order(levels):
+    """Comparison key of the points of a closed outline: its ``levels`` read from the point both ways along the
+    outline, the larger of the two sequences first, then the sequence along the outline's own way round (the key
+    the compiled union compares up to its first difference). Returns a function ``key(i)``."""
+    n = len(levels)
+    ring = np.arange(n)
+
+    def key(i):
+        ahead, behind = levels[(i + ring) % n], levels[(i - ring) % n]
+        return np.concatenate([behind if _later(ahead, behind) else ahead, ahead])
+    return key
 
 
 def reference_jump_peaks(turn, closed, settings):
@@ -120,9 +163,9 @@ def reference_jump_peaks(turn, closed, settings):
         excess = np.abs(turn - baseline)
         size = np.abs(turn)
         strength = np.where(np.isnan(size), -np.inf, size)
-        peak = (strength >= jump._circular_max_filter(strength, separation, closed)) \
+        peak = (strength >= _circular_max_filter(strength, separation, closed)) \
             & (size >= settings["min_turn"]) & (excess >= settings["min_excess"])
-    return jump._plateau_starts(np.flatnonzero(peak), m, separation, closed), size
+    return _plateau_starts(np.flatnonzero(peak), m, separation, closed), size
 
 
 @settings(max_examples=400, deadline=None)
@@ -142,31 +185,18 @@ def test_jump_peaks_take_the_median_where_it_can_choose(seed, m, closed, nan, ne
         turn[rng.integers(0, m, max(1, m // 30))] = np.nan
     options = {"near": near, "far": near + extra, "separation": separation, "min_turn": min_turn,
                "min_excess": min_excess}
-    chosen, size = jump._jump_peaks(turn, closed, options)
-    expected, expected_size = reference_jump_peaks(turn, closed, options)
-    assert np.array_equal(chosen, expected)
-    assert np.array_equal(size, expected_size, equal_nan=True)
+    flank = np.concatenate([np.arange(-near - extra, -near + 1), np.arange(near, near + extra + 1)])
+    chosen = np.empty(m, np.int64)
+    count = _peaks(turn, closed, float(min_turn), float(min_excess), separation, flank, chosen,
+                   np.empty(flank.shape[0]))
+    expected, _ = reference_jump_peaks(turn, closed, options)
+    assert np.array_equal(chosen[:count], expected)
 
 
-def reference_canonical_starts(levels):
-    """The candidates narrowed block by block with the lexicographically largest row found one by one (the loop
-    before session 29, which a symmetric outline's tied starts now skip)."""
-    n = len(levels)
-    top = np.flatnonzero(levels == levels.max())
-    point, way = np.concatenate([top, top]), np.repeat([1, -1], len(top))
-    offset, block = 1, 16
-    while point.size > 1 and offset < n:
-        ahead = np.arange(offset, min(offset + block, n))
-        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        best = rows[0]
-        for row in rows[1:]:
-            if jump._later(best, row):
-                best = row
-        keep = np.all(rows == best, axis=1)
-        point, way = point[keep], way[keep]
-        offset, block = offset + len(ahead), 4 * block
-    order = np.lexsort((-way, point))
-    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
+@numba.njit
+def _peaks(turn, closed, min_turn, min_excess, separation, flank, chosen, flanks):
+    """The compiled steps 4-5 (a helper: no Python wrapper of its own)."""
+    return _jump_kernels._peaks(turn, closed, min_turn, min_excess, separation, flank, chosen, flanks)
 
 
 @settings(max_examples=300, deadline=None)
@@ -178,40 +208,7 @@ def test_canonical_starts_are_the_loop_over_rows(seed, n, period, levels):
     sequence = np.resize(np.concatenate([base, base[::-1]]) if seed % 3 == 1 else base, n).astype(np.int64)
     if seed % 3 == 2:
         sequence = rng.integers(0, levels, n).astype(np.int64)
-    assert jump._canonical_starts(sequence) == reference_canonical_starts(sequence)
-
-
-@settings(max_examples=300, deadline=None)
-@given(seed=st.integers(0, 2 ** 32 - 1), rows=st.integers(0, 5), columns=st.integers(1, 5))
-def test_step_6_picks_are_the_nan_to_num_formulation(seed, rows, columns):
-    """The point nearest the apex and the farthest out among those within reach (``_locate``) are those of the
-    ``np.nan_to_num`` formulation before session 29, also among NaN, inf and -inf values and rows with none within."""
-    rng = np.random.default_rng(seed)
-    values = rng.choice([0.5, 1.0, 2.0, np.nan, np.inf, -np.inf, 1.7e308, -1.7e308], (rows, columns))
-    within = rng.uniform(size=(rows, columns)) < 0.6
-    gap = np.abs(values)
-    with np.errstate(invalid="ignore"):
-        assert np.array_equal(jump._nearest_within(gap, within),
-                              np.argmin(np.where(within, np.nan_to_num(gap, nan=np.inf), np.inf), axis=1))
-        assert np.array_equal(jump._farthest_within(values, within),
-                              np.argmax(np.nan_to_num(np.where(within, values, -np.inf), nan=-np.inf), axis=1))
-
-
-def test_signed_arm_turn_wraps_a_closed_outline_around_as_the_gather_did():
-    """The closed outline padded by slices (and by the modulo gather where the longest arm exceeds the outline)
-    gives the arms of ``R[np.arange(-reach, m + reach) % m]``."""
-    from splinecraft.capture.corners import _jump_kernels
-
-    rng = np.random.default_rng(5)
-    ladder = [3, 4, 5, 6, 8, 10, 12]
-    for m in (10, 12, 40):
-        R = np.cumsum(rng.normal(0, 1, (m, 2)), axis=0)
-        lines = _jump_kernels.arm_lines(R[np.arange(-12, m + 12) % m], 12, ladder, jump._forward_operators, 0.3)
-        a, b = lines[0, :, 2:], lines[1, :, 2:]
-        turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
-        got, arms = jump._signed_arm_turn(R, True, 0.3, ladder)
-        np.testing.assert_array_equal(got, turn)
-        np.testing.assert_array_equal(arms[3], b)
+    assert jump._canonical_starts(sequence) == ref_canonical_starts(sequence)
 
 
 @settings(max_examples=100, deadline=None)

@@ -437,7 +437,8 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
 
     expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
                 _iso_kernels: {"_smoothed", "_nearest_into"},
-                _jump_kernels: {"_window_fit", "_prefix_moments", "_moment_verdict", "_arm_lines_into"},
+                _jump_kernels: {"_window_fit", "_prefix_moments", "_moment_verdict", "_arm_lines_into", "_resample_into",
+                                "_corners_into", "_peaks", "_starts_into", "_congruent", "_union_into", "_pairwise_sum"},
                 _pixel_corners: {"_pixel_corners_into"}}
     for module, names in expected.items():
         loops = {name: value for name, value in vars(module).items() if isinstance(value, CPUDispatcher)}

@@ -5,9 +5,9 @@ import warnings
 
 import numpy as np
 
-from ._common import _EMPTY, _check_bool, _check_int, _check_real, _circular_max_filter, _plain, _prepare, _result
+from ._common import _EMPTY, _check_bool, _check_int, _check_real, _plain, _prepare, _result
 from ._fillet import release_fillets, release_wedge_fillets
-from ._jump_kernels import arm_lines
+from ._jump_kernels import corners_of, resample, starts_of, union_drops
 from .._pixel_corners import with_pixel_corners
 
 
@@ -15,12 +15,10 @@ from .._pixel_corners import with_pixel_corners
 # ----------------------------------------------------------------------------------------------------------
 # tangent-jump: the project's detector for outline capture
 # ----------------------------------------------------------------------------------------------------------
-#: The largest float (``np.nan_to_num``'s replacement of inf).
-_LARGEST = np.finfo(np.float64).max
 #: Arm lengths tried (samples at 1 px spacing); an arm grows through them while it stays straight.
 _ARM_LADDER = (3, 4, 5, 6, 8, 10, 12, 15, 19, 24, 30, 38, 48, 60, 76, 96, 120)
 _ARM_OPERATORS = {}
-#: At most this many resampled points per input point (see :func:`_sample_step`).
+#: At most this many resampled points per input point (see :func:`_resample`).
 SAMPLES_PER_POINT = 4
 #: Upper bounds of tangent-jump's parameters (px, samples); each is far beyond any useful value and keeps
 #: the work of one call proportional to the number of points.
@@ -65,47 +63,53 @@ def _forward_operators(length):
     return _arm_operators(length, 1)[1:]
 
 
-def _arc_lengths(P, closed):
-    """Cumulative arc length at every point of the polyline (closed: and back to the first); ValueError when
-    the coordinates are so large that the length overflows."""
-    ring = np.vstack([P, P[:1]]) if closed else P
-    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(ring, axis=0).T))])
-    if not np.isfinite(arc[-1]):
+def _resample(P, closed):
+    """Resample the polyline at uniform arc length; returns the samples, their arc positions, the arc positions of
+    the input points, the total length and the step (compiled: :func:`._jump_kernels.resample`); ValueError when
+    the coordinates are so large that the length overflows. The step is 1 px, or coarser on outlines whose ``n``
+    points are far apart (``total`` px long): ``max(1, total / (SAMPLES_PER_POINT n))``, at most
+    ``SAMPLES_PER_POINT`` samples per input point, so memory and time grow with the number of points, not with the
+    coordinates' scale."""
+    resampled = resample(P, closed, SAMPLES_PER_POINT)
+    if resampled is None:
         raise ValueError("points: the outline's length overflows float64 (coordinates near 1e308); scale the "
                          "points down")
-    return ring, arc
+    samples, where, arc, step = resampled
+    return samples, where, arc[:len(P)], arc[-1], step
 
 
-def _sample_step(total, count):
-    """1 px, or coarser on outlines whose ``count`` points are far apart (``total`` px long): at most
-    ``SAMPLES_PER_POINT`` samples per input point, so memory and time grow with the number of points, not with
-    the coordinates' scale."""
-    return max(1.0, float(total) / (SAMPLES_PER_POINT * count))
+#: The smoothing kernels of :func:`_gaussian` by sigma, at most ``GAUSSIANS_KEPT`` of them.
+_GAUSSIANS = {}
+GAUSSIANS_KEPT = 64
+#: Kernels shorter than this are applied by the compiled step 1 (:func:`._jump_kernels.corners_of`): numpy's
+#: ``np.convolve`` sums their products one by one from 0 (its BLAS dot product does below 16 terms), which the
+#: kernel repeats; longer ones by :func:`_smooth` (numpy).
+COMPILED_TAPS = 16
+_NO_TAPS = np.zeros(0)
+_NO_TAPS.flags.writeable = False
 
 
-def _resample(P, closed):
-    """Resample the polyline at uniform arc length, the step of :func:`_sample_step`; returns the samples, their
-    arc positions, the arc positions of the input points, the total length and the step."""
-    ring, arc = _arc_lengths(P, closed)
-    total = arc[-1]
-    step = _sample_step(total, len(P))
-    count = int(round(total / step))
-    if closed:
-        where = np.arange(count) * (total / max(count, 1))
-    else:
-        where = np.linspace(0.0, total, count + 1)
-    samples = np.column_stack([np.interp(where, arc, ring[:, 0]), np.interp(where, arc, ring[:, 1])])
-    return samples, where, arc[:len(P)], total, step
+def _gaussian(sigma):
+    """The normalized Gaussian kernel of :func:`_smooth` (``sigma`` in samples, > 0): ``2 ceil(3 sigma) + 1``
+    taps; kept (read-only) for the next call with the same sigma."""
+    kernel = _GAUSSIANS.get(sigma)
+    if kernel is None:
+        half = int(np.ceil(3 * sigma))
+        with np.errstate(over="ignore"):  # a subnormal sigma: the offsets overflow to inf, their weights to 0
+            kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
+        kernel /= kernel.sum()
+        kernel.flags.writeable = False  # (kept or not: one type for the kernel)
+        if len(_GAUSSIANS) < GAUSSIANS_KEPT:
+            _GAUSSIANS[sigma] = kernel
+    return kernel
 
 
 def _smooth(samples, sigma, closed):
     """Gaussian smoothing of a sampled curve along its length (sigma in samples); cyclic when closed."""
     if sigma <= 0:
         return samples
-    half = int(np.ceil(3 * sigma))
-    with np.errstate(over="ignore"):  # a subnormal sigma: the offsets overflow to inf, their weights to 0
-        kernel = np.exp(-0.5 * (np.arange(-half, half + 1) / sigma) ** 2)
-    kernel /= kernel.sum()
+    kernel = _gaussian(sigma)
+    half = len(kernel) // 2
     m = len(samples)
     if closed:                              # samples[np.arange(-half, m + half) % m], from slices where half <= m
         padded = np.concatenate([samples[m - half:], samples, samples[:half]]) if half <= m else \
@@ -118,7 +122,7 @@ def _smooth(samples, sigma, closed):
 
 def outline_roughness(points, sigma, closed=True):
     """Robust spread (px) of an outline about its own Gaussian smoothing of ``sigma`` px: the outline resampled
-    at 1 px (:func:`_sample_step`), its residuals from the smoothed samples along the smoothed normals, and
+    at 1 px (:func:`_resample`), its residuals from the smoothed samples along the smoothed normals, and
     the ``ROUGHNESS_QUANTILE`` (0.25) quantile of their absolute deviations from their median, divided by the
     same quantile of a standard normal's (so a normal's standard deviation). The median takes out the
     smoothing's pull towards the centre of curvature (the same along an arc); the low quantile ignores the
@@ -130,7 +134,7 @@ def outline_roughness(points, sigma, closed=True):
 
 def _roughness_samples(points, closed, checked=False):
     """The outline (checked and its consecutive duplicates merged, unless ``checked``) resampled at
-    :func:`_sample_step` (1 px on crack outlines), relative to its first point, and that step; ``None`` samples
+    the step of :func:`_resample` (1 px on crack outlines), relative to its first point, and that step; ``None`` samples
     when there are fewer than 8."""
     P = np.asarray(points, dtype=float) if checked else _prepare(points, closed)[0]
     if len(P) < 3:
@@ -218,29 +222,6 @@ def _scale_of(samples, step, closed):
     return ladder[-1] if len(ladder) < len(SCALE_LADDER) else 1.0
 
 
-def _signed_arm_turn(R, closed, tolerance, ladder):
-    """Signed turn (degrees, + = left in the frame of the points) between the straight arms before and
-    after every sample of ``R``, and the two arm directions (along travel).
-
-    Each arm starts at the sample and grows through ``ladder`` while every sample of it stays within
-    ``tolerance`` of its least-squares line (the first length is always accepted); its direction is the
-    slope of that line. NaN where an arm of an open curve runs off an end. The search is compiled
-    (:func:`._jump_kernels.arm_lines`): the backward arm of length ``L`` at sample ``i`` is the window of
-    ``L`` samples of the padded curve ending at ``i``, the forward arm the window starting there.
-    """
-    m = len(R)
-    reach = max(ladder)
-    if closed:                              # R[np.arange(-reach, m + reach) % m], from slices where reach <= m
-        padded = np.concatenate([R[m - reach:], R, R[:reach]]) if reach <= m else R[np.arange(-reach, m + reach) % m]
-    else:
-        padded = np.vstack([np.full((reach, 2), np.nan), R, np.full((reach, 2), np.nan)])
-    lines = arm_lines(padded, reach, ladder, _forward_operators, tolerance)
-    centres, directions = {-1: lines[0, :, :2], 1: lines[1, :, :2]}, {-1: lines[0, :, 2:], 1: lines[1, :, 2:]}
-    a, b = directions[-1], directions[1]
-    turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
-    return turn, (centres[-1], a, centres[1], b)
-
-
 #: Step 6b (:func:`_split_stroke_ends`): the least turn (degrees) between the two sides of a stroke's end, the
 #: shortest arm (samples) that gives a side's line, how far (samples) from the corner that arm may end, how close
 #: (px) to its side's line the outline counts as on it, the least and largest distance (px) between the two
@@ -262,42 +243,27 @@ STROKE_END_SLACK = 1.0
 SIDE_REACH = 3.0
 
 
-def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest, closed):
+def _split_stroke_ends(P, arc, perimeter, samples, where, lines, chosen, nearest, ends, closed):
     """Step 6b: a corner between two straight sides that turn back (by ``STROKE_END_TURN`` or more) and do not meet
     near it (parallel, or crossing farther beyond the end than a pixel-truncated tip of their opening can lie,
     ``TIP_TRUNCATION / sin(opening / 2) + STROKE_END_SLACK``, and than ``STROKE_END_PARALLEL`` end widths) is the
     end of a stroke, square or tapered: it becomes two corners, where the outline leaves each side's line.
-    Returns the input indices."""
+    Returns the input indices.
+
+    The sides of each corner and their turn come from the compiled steps (``ends``, rows of
+    :func:`._jump_kernels.corners_of`): the first long arm (``STROKE_END_ARM`` samples) ending within
+    ``STROKE_END_REACH`` samples before the corner and starting within as many after it, the longest ones there
+    (an arm of 7 samples beside a thin tip turns by a few degrees with the pixels of a side near an axis, and a
+    wedge of 11 degrees then measured 3), and the turn between those; the few corners whose sides are both long
+    and turn back are examined here one by one."""
+    found = np.flatnonzero(ends[:, 0] > 0)
+    if not found.size:
+        return nearest
     m = len(samples)
-    centres_before, before, centres_after, after = arms
+    centres_before, before, centres_after, after = lines[0, :, :2], lines[0, :, 2:], lines[1, :, :2], lines[1, :, 2:]
     out = [[corner] for corner in nearest.tolist()]
-    # the sides: the first long arm ending g1 samples before each corner and starting g2 after it, and their
-    # turn (all corners at once; the few that turn back are examined one by one below)
-    reach = np.arange(1, STROKE_END_REACH + 1)
-    behind, ahead = chosen[:, None] - reach, chosen[:, None] + reach
-    if closed:
-        behind, ahead = behind % m, ahead % m
-    inside = (behind >= 0).all(axis=1) & (ahead < m).all(axis=1)
-    behind, ahead = np.maximum(behind, 0), np.minimum(ahead, m - 1)     # np.clip(., 0, m - 1) of each
-    to_before = samples.take(behind, axis=0) - centres_before.take(behind, axis=0)
-    to_after = samples.take(ahead, axis=0) - centres_after.take(ahead, axis=0)
-    length_before = 2.0 * np.hypot(*to_before.transpose(2, 0, 1))
-    length_after = 2.0 * np.hypot(*to_after.transpose(2, 0, 1))
-    long_before, long_after = length_before >= STROKE_END_ARM, length_after >= STROKE_END_ARM
-    found = inside & long_before.any(axis=1) & long_after.any(axis=1)
-    first_before, first_after = reach[long_before.argmax(axis=1)], reach[long_after.argmax(axis=1)]
-    rows = np.arange(chosen.size)
-    # the sides' directions from the longest arm within reach (an arm of 7 samples beside a thin tip turns by a
-    # few degrees with the pixels of a side near an axis, and a wedge of 11 degrees then measured 3)
-    longest_before, longest_after = reach[length_before.argmax(axis=1)], reach[length_after.argmax(axis=1)]
-    d1s = before[behind[rows, longest_before - 1]]
-    d2s = after[ahead[rows, longest_after - 1]]
-    with np.errstate(invalid="ignore"):
-        side_turn = np.degrees(np.abs(np.arctan2(d1s[:, 0] * d2s[:, 1] - d1s[:, 1] * d2s[:, 0],
-                                                 np.sum(d1s * d2s, axis=1))))
-        found &= side_turn >= STROKE_END_TURN
-    for k in np.flatnonzero(found).tolist():
-        i, g1, g2 = int(chosen[k]), int(first_before[k]), int(first_after[k])
+    for k in found.tolist():
+        i, g1, g2 = int(chosen[k]), int(ends[k, 1]), int(ends[k, 2])
         others = (chosen - i) % m if closed else chosen - i
         others = np.where(others > m // 2, others - m, others) if closed else others
         if np.any((others != 0) & (others >= -g1 - 2) & (others <= g2 + 2)):
@@ -306,7 +272,7 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
         c2, d2 = centres_after[(i + g2) % m], after[(i + g2) % m]
         n1 = np.array([-d1[1], d1[0]]) / np.hypot(*d1)
         n2 = np.array([-d2[1], d2[0]]) / np.hypot(*d2)
-        l1, l2 = int(longest_before[k]), int(longest_after[k])
+        l1, l2 = int(ends[k, 3]), int(ends[k, 4])
         side1 = centres_before[(i - l1) % m], before[(i - l1) % m]
         side2 = centres_after[(i + l2) % m], after[(i + l2) % m]
         k1 = i - g1
@@ -323,7 +289,7 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest,
         # a pixel-truncated tip: the sides cross at most TIP_TRUNCATION / sin(opening / 2) beyond the end (where
         # the tip narrows below a pixel), the end found within STROKE_END_SLACK; and at most STROKE_END_PARALLEL
         # end widths away (a guard for sharp wedges whose measured sides are a few degrees off)
-        opening = np.radians(max(180.0 - float(side_turn[k]), 1e-3))
+        opening = np.radians(max(180.0 - float(ends[k, 5]), 1e-3))
         limit = max(TIP_TRUNCATION / np.sin(0.5 * opening) + STROKE_END_SLACK, STROKE_END_PARALLEL * width)
         if np.isfinite(crossing).all() and np.hypot(*(crossing - middle)) < limit:
             continue
@@ -395,7 +361,7 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
        and ``|E| >= min_excess``.
     5b. **Spread turns.** A corner is dropped when the turn ``T`` from the backward arm 8 samples before it
        to the forward arm 8 samples after it goes the same way as ``J`` and ``|J| < spread * |T|``, and no
-       other corner of step 5 lies within 16 samples (:func:`_release_spread`): the outline keeps turning
+       other corner of step 5 lies within 16 samples (compiled, :func:`._jump_kernels.corners_of`): the outline keeps turning
        beyond the arms, as at the end of an ellipse or on a fillet, where the flank median of step 4 sees
        the flatter outline farther out and ``E`` overstates the concentration.
     6. **Location.** Each corner goes to an input point within 3 px (arc length) of its sample: for a
@@ -509,27 +475,23 @@ def _tangent_jump(P, closed, settings):
     """Steps 1-8 of :func:`tangent_jump` on the distinct points ``P``: indices into ``P`` (empty when the
     outline is shorter than 8 samples)."""
     n = len(P)
-    levels = _distance_levels(P) if closed else None
-    starts = _canonical_starts(levels) if closed else [(0, 1)]
-    runs, done = [], []
-    for start, direction in starts:         # one, or one per symmetry of a symmetric outline
-        # the outline from ``start`` that way round, P[(start + direction * arange(n)) % n], from two slices
-        outline = np.concatenate([P[start:], P[:start]] if direction > 0 else [P[start::-1], P[:start:-1]])
-        relative = outline - P[start] if len(starts) > 1 else None
+    levels, starts, source = _starts(P) if closed else (None, [(0, 1)], [0])
+    runs, done = [], {}
+    for k, (start, direction) in enumerate(starts):   # one, or one per symmetry of a symmetric outline
         # a start whose outline is a quarter turn or reflection of one already run gives that run's corners
-        found = next((found for other, found in done if _congruent(relative, other)), None)
+        found = done.get(source[k])
         if found is None:
-            found = _detect(outline, closed, settings)
+            # the outline from ``start`` that way round, P[(start + direction * arange(n)) % n], from two slices
+            outline = np.concatenate([P[start:], P[:start]] if direction > 0 else [P[start::-1], P[:start:-1]])
+            found = done[k] = _detect(outline, closed, settings)
             if found is None:
                 return np.zeros(0, dtype=np.intp)
-            done.append((relative, found))
         runs.append((start + direction * found) % n)
-    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, _point_comparison(levels))
+    nearest = runs[0] if len(runs) == 1 else _symmetric_union(P, runs, levels)
     if settings["fillets"] or settings["wedge"]:
         first = starts[0][0]                # steps 7 and 8 from the first start, along the outline's own way
         rolled = np.roll(P, -first, axis=0)
-        _, arc = _arc_lengths(rolled, closed)
-        perimeter, arc = arc[-1], arc[:n]
+        _, _, arc, perimeter, _ = _resample(rolled, closed)
         found = (np.unique(nearest) - first) % n
         if settings["fillets"]:
             found = release_fillets(rolled, arc, perimeter, closed, np.unique(found))
@@ -539,28 +501,11 @@ def _tangent_jump(P, closed, settings):
     return np.unique(np.asarray(nearest, dtype=np.intp))
 
 
-#: The quarter turns and reflections of the frame, as (swap x and y, sign of x, sign of y).
-_FRAME_MAPS = [(swap, sx, sy) for swap in (False, True) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
-
-
-#: Points of two outlines compared first, for each frame map, before the whole of them (:func:`_congruent`).
-_CONGRUENT_HEAD = 8
-
-
-def _congruent(a, b):
-    """Whether the point sequences ``a`` and ``b`` (relative to their first points) are one the image of the
-    other under a quarter turn or a reflection of the frame, exactly (then steps 1-6 find the same corners
-    in both, :func:`_detect`). A map whose image of the first :data:`_CONGRUENT_HEAD` points differs is passed
-    over before the whole outlines are compared (a sign change and a swap are exact)."""
-    if a.shape != b.shape:
-        return False
-    head_a, head_b = a[:_CONGRUENT_HEAD].tolist(), b[:_CONGRUENT_HEAD].tolist()
-    for swap, sx, sy in _FRAME_MAPS:
-        if all((y if swap else x) * sx == u and (x if swap else y) * sy == v
-               for (x, y), (u, v) in zip(head_a, head_b)) and \
-                np.array_equal((a[:, ::-1] if swap else a) * (sx, sy), b):
-            return True
-    return False
+def _relative(P, scale):
+    """The points relative to the first one and, step 0, divided by ``scale`` (a division commutes with the frame's
+    quarter turns and reflections)."""
+    P = P - P[0]
+    return P / scale if scale != 1.0 else P
 
 
 def _detect(P, closed, settings):
@@ -569,30 +514,31 @@ def _detect(P, closed, settings):
 
     The work is done relative to the first point (``P - P[0]``): a quarter turn or reflection of the pixel
     frame then maps every intermediate value onto the turned one exactly (the outline's coordinates are
-    half-integers, so the shift is exact, and every step treats x and y alike), not just to rounding."""
-    P = P - P[0]
-    if settings["scale"] != 1.0:  # step 0 (a division commutes with the frame's quarter turns and reflections)
-        P = P / settings["scale"]
+    half-integers, so the shift is exact, and every step treats x and y alike), not just to rounding. Compiled
+    (session 30): the resampling (:func:`._jump_kernels.resample`) and the rest but for the few stroke ends of
+    step 6b (:func:`._jump_kernels.corners_of`; a smoothing of ``COMPILED_TAPS`` taps or more is numpy's,
+    :func:`_smooth`)."""
+    P = _relative(P, settings["scale"])
     samples, where, arc, perimeter, step = _resample(P, closed)
     if len(samples) < 8:
         return None
-    samples = _smooth(samples, settings["smoothing"] / step, closed)
+    sigma = settings["smoothing"] / step
+    taps = _gaussian(sigma) if sigma > 0 else _NO_TAPS
+    if len(taps) >= COMPILED_TAPS:
+        samples, taps = _smooth(samples, sigma, closed), _NO_TAPS
     ladder = [length for length in _ARM_LADDER if length <= settings["max_arm"] and 2 * length < len(samples)] \
         or [3]
-    turn, arms = _signed_arm_turn(samples, closed, settings["tolerance"], ladder)
-    chosen, size = _jump_peaks(turn, closed, settings)
-    chosen = _release_spread(chosen, turn, arms, closed, settings["spread"])
-    nearest = _locate(P, arc, perimeter, where[chosen], samples.take(chosen, axis=0),
-                      tuple(x.take(chosen, axis=0) for x in arms), size[chosen], closed)
+    chosen, nearest, ends, samples, lines, _ = corners_of(P, arc, perimeter, closed, taps, samples, where, ladder,
+                                                       _forward_operators, *_kernel_settings(settings))
     if settings["stroke_ends"] and chosen.size:
-        nearest = _split_stroke_ends(P, arc, perimeter, samples, where, arms, chosen, nearest, closed)
+        nearest = _split_stroke_ends(P, arc, perimeter, samples, where, lines, chosen, nearest, ends, closed)
     if not closed:
         nearest = nearest[(nearest > 0) & (nearest < len(P) - 1)]
     return np.asarray(nearest, dtype=np.intp)
 
 
 #: Largest power of two (as ``2**k``) by which the coordinates are scaled to integers for the exact order of
-#: :func:`_point_order` (crack outlines need ``k = 1``); other coordinates use a rounded order.
+#: :func:`_distance_levels` (crack outlines need ``k = 1``); other coordinates use a rounded order.
 _EXACT_SCALE = 16
 
 
@@ -602,24 +548,30 @@ def _distance_levels(P):
     For coordinates that are multiples of ``2**-k`` (``k <= 16``: pixel and crack outlines) the level is the
     exact integer ``n |q_i|^2 - 2 q_i . sum(q)`` of the scaled coordinates ``q`` (``n`` times the squared
     distance less a constant), so equal distances are equal and the order does not depend on the first point,
-    a quarter turn or a reflection (a shift of the frame adds a constant). Other coordinates fall back to the
-    squared distances rounded to 1e-12 of the largest."""
-    n = len(P)
+    a quarter turn or a reflection (a shift of the frame adds a constant): compiled
+    (:func:`._jump_kernels.starts_of`) where these fit in int64, else with Python integers. Other coordinates
+    fall back to the squared distances rounded to 1e-12 of the largest."""
+    found = starts_of(P, None)
+    return found[0] if found is not None else _wide_levels(P)
+
+
+def _dyadic(P):
+    """The coordinates times the smallest ``2**k`` (``k <= _EXACT_SCALE``) that makes them integers below ``2**52``,
+    or ``None``."""
     for k in range(_EXACT_SCALE + 1):
         scaled = P * 2.0 ** k
         if np.all(scaled == np.round(scaled)) and np.abs(scaled).max() < 2.0 ** 52:
-            break
-    else:
-        scaled = None
+            return scaled
+    return None
+
+
+def _wide_levels(P):
+    """:func:`_distance_levels` where the compiled rule does not apply: exact with Python integers, or rounded."""
+    n = len(P)
+    scaled = _dyadic(P)
     if scaled is not None:
         x, y = scaled[:, 0], scaled[:, 1]
-        x, y = x - x.min(), y - y.min()                      # integers in [0, extent]
-        extent = max(float(x.max()), float(y.max()))
-        if 8.0 * n * (extent + 1.0) ** 2 < 2.0 ** 62:
-            x, y = x.astype(np.int64), y.astype(np.int64)
-            tx, ty = int(x.sum()), int(y.sum())
-            return x * (n * x - 2 * tx) + y * (n * y - 2 * ty)
-        q = [(int(a), int(b)) for a, b in zip(x.tolist(), y.tolist())]   # exact, with Python integers
+        q = [(int(a), int(b)) for a, b in zip((x - x.min()).tolist(), (y - y.min()).tolist())]   # exact
         tx, ty = sum(a for a, _ in q), sum(b for _, b in q)
         exact = np.array([a * (n * a - 2 * tx) + b * (n * b - 2 * ty) for a, b in q], dtype=object)
         return np.unique(exact, return_inverse=True)[1].reshape(-1).astype(np.int64)
@@ -630,65 +582,16 @@ def _distance_levels(P):
     return np.round(squared / top * 1e12).astype(np.int64)
 
 
-def _later(a, b):
-    """Whether the sequence ``b`` is lexicographically larger than ``a`` (equal lengths)."""
-    differ = np.flatnonzero(a != b)
-    return bool(differ.size) and b[differ[0]] > a[differ[0]]
-
-
-def _point_order(levels):
-    """Comparison key of the points of a closed outline: its ``levels`` (:func:`_distance_levels`) read from
-    the point both ways along the outline, the larger of the two sequences first (the same for a point and
-    its mirror image), then the sequence along the outline's own way round (compared lexicographically).
-    Returns a function ``key(i)`` giving that as an array."""
-    n = len(levels)
-    ring = np.arange(n)
-
-    def key(i):
-        ahead, behind = levels[(i + ring) % n], levels[(i - ring) % n]
-        return np.concatenate([behind if _later(ahead, behind) else ahead, ahead])
-    return key
-
-
-def _point_comparison(levels):
-    """The order of :func:`_point_order`'s keys without building them: ``later(i, j)`` is None where the keys of
-    points ``i`` and ``j`` are equal, else whether that of ``j`` is lexicographically larger. The sequences are
-    read in blocks (16 values, then four times more each time) up to their first difference, where the keys of
-    two points nearly always differ within the first few values (a whole key is two outlines long). Each block
-    is a slice of the levels repeated three times (reversed for the way against the outline), not a gather."""
-    n = len(levels)
-    blocks = []  # the offsets of each block, from and to
-    start, size = 0, 16
-    while start < n:
-        blocks.append((start, min(start + size, n)))
-        start, size = start + size, 4 * size
-    tripled = np.concatenate([levels, levels, levels])   # levels[(i + d) % n] is tripled[n + i + d], |d| < n
-    ways = {}
-
-    def read(i, way, first, stop):
-        """``levels[(i + way * d) % n]`` for the offsets ``first <= d < stop``."""
-        return tripled[n + i + first:n + i + stop] if way > 0 else tripled[n + i - stop + 1:n + i - first + 1][::-1]
-
-    def first_difference(i, way_i, j, way_j):
-        """The sign of the first difference of the levels read from ``j`` (way ``way_j``) less those from ``i``."""
-        for first, stop in blocks:
-            a, b = read(i, way_i, first, stop), read(j, way_j, first, stop)
-            differ = a != b
-            at = int(differ.argmax())
-            if differ[at]:
-                return 1 if b[at] > a[at] else -1
-        return 0
-
-    def way(i):
-        """The way round of the first half of the key of ``i``: -1 where the levels behind are larger."""
-        if i not in ways:
-            ways[i] = -1 if first_difference(i, 1, i, -1) > 0 else 1
-        return ways[i]
-
-    def later(i, j):
-        sign = first_difference(i, way(i), j, way(j)) or first_difference(i, 1, j, 1)
-        return None if sign == 0 else sign > 0
-    return later
+def _starts(P, levels=None):
+    """The levels of the closed outline ``P`` (:func:`_distance_levels`, unless given), its canonical starts
+    (:func:`_canonical_starts`) and, for each start, the first start (its index) whose outline is the image of
+    its own under a quarter turn or a reflection of the frame, exactly (itself where none before it is): steps
+    1-6 find the same corners from both, :func:`_detect`. Compiled (:func:`._jump_kernels.starts_of`), the levels
+    too where their exact integer rule applies (crack and pixel outlines)."""
+    found = starts_of(P, levels)
+    if found is None:
+        found = starts_of(P, _wide_levels(P))
+    return found
 
 
 def _canonical_starts(levels):
@@ -700,64 +603,26 @@ def _canonical_starts(levels):
     reflection of the frame (a reflection reverses the outline's way round, and the choice with it), with no
     rounding to flip it. Several pairs tie only on an outline that a rotation or a reflection maps onto
     itself (one pair per element of its symmetry group); all of them are returned, sorted by point, along
-    the outline first."""
-    n = len(levels)
-    top = np.flatnonzero(levels == levels.max())
-    point = np.concatenate([top, top])
-    way = np.repeat([1, -1], len(top))
-    offset, block = 1, 16
-    while point.size > 1 and offset < n:
-        ahead = np.arange(offset, min(offset + block, n))
-        rows = levels[(point[:, None] + way[:, None] * ahead[None, :]) % n]
-        keep = np.all(rows == rows[0], axis=1)
-        tie = keep.all()                    # the starts of a symmetric outline tie all the way
-        if not tie:
-            best = rows[0]
-            for row in rows[1:]:
-                if _later(best, row):
-                    best = row
-            keep = np.all(rows == best, axis=1)
-        point, way = point[keep], way[keep]
-        # blocks of 16, then 4 times more each; after a block where all tie, the rest at once (the largest of the
-        # longer rows is the largest of the shorter ones continued: the same candidates stay)
-        offset, block = offset + len(ahead), n if tie else 4 * block
-    order = np.lexsort((-way, point))
-    return [(int(i), int(d)) for i, d in zip(point[order], way[order])]
+    the outline first. Compiled (:func:`._jump_kernels.starts_of`): each candidate is compared with the largest
+    so far up to their first difference."""
+    levels = np.ascontiguousarray(levels, dtype=np.int64)
+    return starts_of(np.zeros((len(levels), 2)), levels)[1]
 
 
-def _symmetric_union(P, runs, later, reach=3.0):
+def _symmetric_union(P, runs, levels, reach=3.0):
     """The corners of the runs from the tied starts of a symmetric outline, as one set that the symmetry
     maps onto itself.
 
     Each run is the image of the others under the symmetry, so a corner whose placement depends on where
     the resampling starts (one pixel either way) has a version in each run. Every corner of any run is kept
     unless a corner of another run lies within ``reach`` px of arc of it, no run has both, and that corner's
-    :func:`_point_order` key is larger (``later``: :func:`_point_comparison` of the outline's levels): the
-    versions of one corner reduce to the one the shape itself prefers, while two corners that one run reports
-    stay two."""
-    segment = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
+    comparison key is larger: the outline's ``levels`` read from the point both ways along the outline, the
+    larger of the two sequences first (the same for a point and its mirror image), then the sequence along the
+    outline's own way round, compared lexicographically up to their first difference. The versions of one corner
+    reduce to the one the shape itself prefers, while two corners that one run reports stay two. Compiled
+    (:func:`._jump_kernels.union_drops`)."""
     union = np.unique(np.concatenate(runs))
-    sets = [set(run.tolist()) for run in runs]
-    member = np.array([[index in found for found in sets] for index in union.tolist()])
-    dropped = np.zeros(len(union), dtype=bool)
-    m = len(union)
-    # the arc from a corner to the next is at least their chord: where the chord exceeds ``reach`` (with a margin
-    # far above the sums' rounding) the loop below stops at once for that corner, with nothing else to do
-    chord = np.hypot(*(P.take(union[(np.arange(m) + 1) % m], axis=0) - P.take(union, axis=0)).T)
-    near = np.flatnonzero(chord <= reach * (1.0 + 1e-9)) if m > 1 else np.zeros(0, dtype=np.int64)
-    for a in near.tolist():                 # pairs (a, b) with b at most ``reach`` ahead of a
-        for step in range(1, m):
-            b = (a + step) % m
-            i, j = int(union[a]), int(union[b])
-            gap = segment[i:j] if j > i else np.concatenate([segment[i:], segment[:j]])
-            if np.sum(gap) > reach:
-                break
-            if (member[a] & member[b]).any():
-                continue
-            b_later = later(i, j)
-            if b_later is not None:
-                dropped[a if b_later else b] = True
-    return union[~dropped]
+    return union[~union_drops(P, union, runs, levels, reach)]
 
 
 def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, flank, max_arm, separation, fillets,
@@ -785,146 +650,28 @@ def check_tangent_jump_params(*, smoothing, tolerance, min_turn, min_excess, fla
     }
 
 
-def _jump_peaks(turn, closed, settings):
-    """Steps 4-5: the samples whose turn ``|J|`` is a local maximum, at least ``min_turn`` and exceeds the
-    flanks' median by ``min_excess``; a plateau of equal maxima keeps its first sample. Returns the chosen
-    samples and ``|J|`` at every sample. The flanks' median is taken at the local maxima of at least
-    ``min_turn`` only (the only samples it can choose; a few dozen of an outline's hundreds)."""
-    m = len(turn)
-    near, far, separation = settings["near"], settings["far"], settings["separation"]
-    offsets = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)])
-    with np.errstate(invalid="ignore"):
-        size = np.abs(turn)
-        strength = np.where(np.isnan(size), -np.inf, size)  # |J| is finite or NaN
-        rows = np.flatnonzero((strength >= _circular_max_filter(strength, separation, closed))
-                              & (size >= settings["min_turn"]))
-    idx = rows[:, None] + offsets[None, :]
-    if closed:  # turn[(i + offsets) % m]
-        flanks = turn[idx % m]
-        ends = np.isnan(turn).any()
-    else:       # NaN beyond the ends (the first and last rows reach there)
-        flanks = np.where((idx >= 0) & (idx < m), turn[np.clip(idx, 0, m - 1)], np.nan)
-        ends = True
-    if ends:                                # open ends
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)      # all-NaN flanks at open ends
-            baseline = np.nanmedian(flanks, axis=1) if rows.size else np.zeros(0)
-    else:                                   # the median of an even count, as np.median computes it, 5x faster
-        ordered = flanks                    # a gathered copy: sorted in place
-        ordered.sort(axis=1)
-        half = flanks.shape[1] // 2         # 2 (far - near + 1) flank samples
-        baseline = (ordered[:, half - 1] + ordered[:, half]) / 2
-    with np.errstate(invalid="ignore"):
-        excess = np.abs(turn[rows] - baseline)
-        chosen = rows[excess >= settings["min_excess"]]
-    return _plateau_starts(chosen, m, separation, closed), size
-
-
-def _plateau_starts(chosen, m, separation, closed):
-    """The sorted peaks ``chosen`` (of ``m`` samples) less those within ``separation`` samples after another one
-    (around the end when ``closed``): a plateau of equal maxima keeps its first sample."""
-    if chosen.size > 1:
-        first = np.ones(chosen.size, dtype=bool)
-        first[1:] = chosen[1:] - chosen[:-1] > separation
-        if closed and chosen[0] + m - chosen[-1] <= separation:
-            first[-1] = False
-        chosen = chosen[first]
-    return chosen
-
-
 #: Step 5b: the wide turn is taken between the arms ``SPREAD_REACH`` samples before and after a corner, and only
 #: of a corner with no other corner within ``2 * SPREAD_REACH`` samples.
 SPREAD_REACH = 8
 
 
-def _release_spread(chosen, turn, arms, closed, spread):
-    """Step 5b: drop the corners whose turn is spread along the outline (a smooth end, a fillet).
-
-    ``T`` is the signed angle from the backward arm of the sample ``SPREAD_REACH`` (8) before a corner to the
-    forward arm of the sample 8 after it (the arms of step 2), so it spans the corner's turn and 8 samples of
-    outline either side. At a corner between straight or gently curved sides ``T`` is about ``J``; along a
-    bend whose turn is spread over more than the arms (the end of an ellipse, a fillet of a few px radius)
-    it keeps growing, and ``J`` is only a part of it. A corner is dropped when ``J`` and ``T`` turn the same
-    way and ``|J| < spread * |T|``, and no other corner of step 5 lies within 16 samples (there ``T`` would
-    include that corner's turn). ``spread`` 0 keeps every corner."""
-    if spread <= 0 or chosen.size == 0:
-        return chosen
-    m, reach = len(turn), SPREAD_REACH
-    before, after = chosen - reach, chosen + reach
-    if closed:
-        before, after = before % m, after % m
-        valid = np.ones(chosen.size, dtype=bool)
-    else:
-        valid = (before >= 0) & (after < m)
-        before, after = np.maximum(before, 0), np.minimum(after, m - 1)     # np.clip(., 0, m - 1) of each
-    a, b = arms[1].take(before, axis=0), arms[3].take(after, axis=0)
-    wide = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
-    alone = _nearest_other_gap(chosen, m, closed) > 2 * reach
-    j = turn[chosen]
-    with np.errstate(invalid="ignore"):
-        spread_out = valid & alone & (j * wide > 0) & (np.abs(j) < spread * np.abs(wide))
-    return chosen[~spread_out]
+def _kernel_settings(settings):
+    """The numbers of :func:`._jump_kernels.corners_of` (``settings``, ``flank``) from :func:`_detect`'s
+    settings; kept for the next call with the same settings."""
+    key = tuple(settings[name] for name in ("min_turn", "min_excess", "spread", "tolerance", "separation",
+                                            "stroke_ends", "near", "far"))
+    found = _KERNEL_SETTINGS.get(key)
+    if found is None:
+        min_turn, min_excess, spread, tolerance, separation, stroke_ends, near, far = key
+        numbers = np.array([min_turn, min_excess, spread, tolerance, separation, float(stroke_ends), SPREAD_REACH,
+                            STROKE_END_REACH, STROKE_END_ARM, STROKE_END_TURN], dtype=np.float64)
+        flank = np.concatenate([np.arange(-far, -near + 1), np.arange(near, far + 1)]).astype(np.int64)
+        found = numbers, flank
+        for table in found:  # read-only (kept or not: one type for the kernel)
+            table.flags.writeable = False
+        if len(_KERNEL_SETTINGS) < GAUSSIANS_KEPT:
+            _KERNEL_SETTINGS[key] = found
+    return found
 
 
-def _nearest_other_gap(chosen, m, closed):
-    """Samples from each of the sorted sample indices ``chosen`` (into ``m`` samples) to the nearest other one, around
-    the outline when ``closed`` (``m`` for a lone one). The nearest is a neighbour in sorted order (on a closed
-    outline, around the wrap), so this is the minimum of the pairwise gaps of step 5b in linear time: the pairwise
-    matrix took 64 s and gigabytes on the 262 000-point boundary of a 1000 x 1000 image of noise (30 000 corners)."""
-    if chosen.size < 2:
-        return np.full(chosen.size, m, dtype=np.int64)
-    step = (chosen[1:] - chosen[:-1]).astype(np.int64)       # the gap from each to the next
-    if closed:
-        step = np.append(step, chosen[0] + m - chosen[-1])      # the last to the first, across the wrap
-        step = np.minimum(step, m - step)                       # around the shorter way
-        return np.minimum(step, np.concatenate([step[-1:], step[:-1]]))   # to the next, from the previous
-    ahead = np.append(step, m)
-    behind = np.insert(step, 0, m)
-    return np.minimum(ahead, behind)
-
-
-def _locate(P, arc, perimeter, pos, at, arms, size, closed):
-    """Step 6: the input point of each corner (arc position ``pos``, sample ``at``, its arms and turn)."""
-    right = np.minimum(np.searchsorted(arc, pos), len(arc) - 1)   # np.clip(., 0, n - 1) of indices >= 0
-    left = np.maximum(right - 1, 0)
-    nearest = np.where(np.abs(arc[left] - pos) <= np.abs(arc[right] - pos), left, right)
-    if closed:                              # past the last point the closing chord leads back to point 0
-        wrap = (perimeter - pos) < np.abs(arc[nearest] - pos)
-        nearest[wrap] = 0
-    if not nearest.size:
-        return nearest
-    n = len(P)
-    around = nearest[:, None] + np.arange(-6, 7)[None, :]
-    if closed:
-        around %= n
-        along = np.abs(arc[around] - pos[:, None])
-        along = np.minimum(along, perimeter - along)
-    else:
-        around = np.minimum(np.maximum(around, 0), n - 1)
-        along = np.abs(arc[around] - pos[:, None])
-    rows = np.arange(len(nearest))
-    within = along <= 3.0
-    apex = _line_intersection(*arms)
-    apex_ok = np.isfinite(apex).all(axis=1) & (np.hypot(*(apex - at).T) <= 3.0) & (size < 100.0)
-    gap_to_apex = np.hypot(*(P.take(around, axis=0) - apex[:, None, :]).transpose(2, 0, 1))
-    near_apex = around[rows, _nearest_within(gap_to_apex, within)]
-    a, b = arms[1], arms[3]
-    outward = a / np.hypot(*a.T)[:, None] - b / np.hypot(*b.T)[:, None]       # points to the apex
-    tip = around[rows, _farthest_within(np.einsum("kjd,kd->kj", P[around], outward), within)]
-    tip = np.where(apex_ok, near_apex, tip)
-    return np.where(np.isfinite(outward).all(axis=1), tip, nearest)
-
-
-def _nearest_within(gap, within):
-    """Step 6: per row, the column of the smallest ``gap`` among those ``within`` reach (NaN counting as inf, inf as
-    the largest float), the first of equal ones: ``argmin(where(within, nan_to_num(gap, nan=inf), inf))`` without
-    ``np.nan_to_num``'s cost on small arrays."""
-    return np.argmin(np.where(within & ~np.isnan(gap), np.minimum(gap, _LARGEST), np.inf), axis=1)
-
-
-def _farthest_within(reach, within):
-    """Step 6: per row, the column of the largest ``reach`` among those ``within`` reach (NaN counting as -inf, +-inf
-    as the largest floats, the others as the lowest float), the first of equal ones:
-    ``argmax(nan_to_num(where(within, reach, -inf), nan=-inf))`` without ``np.nan_to_num``'s cost."""
-    clipped = np.where(within, np.minimum(np.maximum(reach, -_LARGEST), _LARGEST), -_LARGEST)
-    return np.argmax(np.where(np.isnan(reach) & within, -np.inf, clipped), axis=1)
+_KERNEL_SETTINGS = {}

@@ -83,7 +83,8 @@ def test_normal_equations_match_the_dense_collocation_and_the_bincount_sums(m, s
     rng, _, full, u = _knots(m, seed, multiple)
     weights = rng.uniform(0.1, 1.0, u.shape[0])
     targets = rng.normal(size=(u.shape[0], 2))
-    band, rhs = _kernels.normal_equations(full, u, weights, targets, m)
+    band, rhs, normal = _kernels.normal_equations(full, u, weights, targets, m)
+    assert normal is None
     # reference 1: the dense normal matrix A^T W A and A^T W Q from scipy's basis
     matrix = _collocation(full, m, u)
     normal = matrix.T @ (weights[:, None] * matrix)
@@ -158,15 +159,12 @@ def test_spline_values_and_bezier_pieces_match_scipy(m, seed, multiple):
     np.testing.assert_allclose(point, _collocation(full, m, middle) @ coef, atol=1e-8)
 
 
-@settings(max_examples=40, deadline=None)
-@given(st.integers(1, 70), st.integers(0, 10_000))
-def test_penalized_normal_matches_the_fancy_index_assembly(m, seed):
-    """The penalty and the dense cyclic matrix, bit for bit as numpy's fancy-index additions build them
-    (wrapped entries of m < 7 added up in the same order)."""
-    rng = np.random.default_rng(seed)
-    band = rng.uniform(0.0, 2.0, size=(4, m))
+def _penalized_reference(band, regularization):
+    """The penalty and the dense cyclic matrix as numpy's fancy-index additions build them (the formulation the
+    kernel replaced): ``(band + pen * D^T D, dense matrix)``."""
+    m = band.shape[1]
     expected = band.copy()
-    pen = 1e-8 * (float(expected[0].max()) or 1.0)
+    pen = regularization * (float(expected[0].max()) or 1.0)
     expected[0] += 6 * pen
     expected[1] += -4 * pen
     expected[2] += 1 * pen
@@ -176,10 +174,38 @@ def test_penalized_normal_matches_the_fancy_index_assembly(m, seed):
     for k in (1, 2, 3):
         dense[idx, (idx + k) % m] += expected[k]
         dense[(idx + k) % m, idx] += expected[k]
-    got = _kernels.penalized_normal(band, 1e-8, True)
+    return expected, dense
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(4, 70), st.integers(0, 10_000), st.booleans(), st.integers(0, 5))
+def test_penalized_normal_matches_the_fancy_index_assembly(m, seed, multiple, pins):
+    """The penalty and the dense cyclic matrix, bit for bit as numpy's fancy-index additions build them
+    (wrapped entries of m < 7 added up in the same order), on the band of the same points; the extra points (the
+    corner pins) are the points appended, and work arrays holding an earlier system give the same answer."""
+    rng, period, full, u = _knots(m, seed, multiple)
+    extra = rng.uniform(0, period, pins)
+    weights = rng.uniform(0.1, 1.0, u.shape[0] + pins)
+    targets = rng.normal(size=(u.shape[0] + pins, 2))
+    band, rhs, _ = _kernels.normal_equations(full, np.concatenate([u, extra]), weights, targets, m)
+    expected, dense = _penalized_reference(band, 1e-8)
+    work = tuple(rng.normal(size=a.shape) for a in _kernels.normal_work(m))  # dirty work arrays
+    for given_work in (None, work):
+        got_band, got_rhs, got = _kernels.normal_equations(full, u, weights, targets, m, 1e-8, extra, given_work)
+        np.testing.assert_array_equal(got_rhs, rhs)
+        np.testing.assert_array_equal(got_band, expected)
+        if m <= _kernels.DENSE_LIMIT:
+            np.testing.assert_array_equal(got, dense)
+        else:
+            assert got is None
+
+
+def test_penalized_normal_of_an_empty_diagonal_takes_scale_one():
+    full = bspline.periodic_knot_vector(np.arange(7.0), 7.0)
+    band, _, normal = _kernels.normal_equations(full, np.zeros(0), np.zeros(0), np.zeros((0, 2)), 7, 1e-8)
+    expected, dense = _penalized_reference(np.zeros((4, 7)), 1e-8)
     np.testing.assert_array_equal(band, expected)
-    np.testing.assert_array_equal(got, dense)
-    assert _kernels.penalized_normal(np.zeros((4, m)), 1e-8, False) is None
+    np.testing.assert_array_equal(normal, dense)
 
 
 def _numpy_hoschek(u, points, bez, starts, ends, piece_of, piece_count, gate):
@@ -227,6 +253,34 @@ def test_hoschek_step_matches_the_vectorized_formulation(count, seed, gate):
     expected = np.maximum.accumulate(expected)
     np.testing.assert_array_equal(moved, expected)
     np.testing.assert_array_equal(np.signbit(moved), np.signbit(expected))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(4, 40), st.integers(0, 10_000), st.booleans(), st.floats(0.2, 5.0))
+def test_fit_step_is_the_bezier_pieces_then_the_hoschek_step(m, seed, multiple, gate):
+    """The fit's fused step: the Bézier pieces of the spline (einsum of its values, bit for bit) and the Newton
+    step on them (the vectorized formulation), with and without the bounds."""
+    rng, period, full, u = _knots(m, seed, multiple)
+    coef = rng.normal(size=(m, 2)) * 10
+    distinct = np.unique(np.append(full[3:-4], period))
+    starts, ends = distinct[:-1], distinct[1:]
+    points = rng.normal(size=(u.shape[0], 2)) * 10
+    piece_of = np.sort(rng.integers(0, 3, u.shape[0]))
+    bez = np.einsum("ij,kjd->kid", bspline._FROM_SAMPLES,
+                    _kernels.spline_values(coef, full, m, starts, ends, bspline._THETA4))
+    got_bez, du = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u, points,
+                                    piece_of, 3, gate)
+    np.testing.assert_array_equal(got_bez, bez)
+    np.testing.assert_array_equal(du, _numpy_hoschek(u, points, bez, starts, ends, piece_of, 3, gate))
+    low, high = u - rng.uniform(0.0, 1.5, u.shape[0]), u + rng.uniform(-0.2, 1.5, u.shape[0])
+    fixed, base = rng.random(u.shape[0]) < 0.2, rng.uniform(0, period, u.shape[0])
+    work = rng.normal(size=(starts.shape[0], 4, 2))
+    got_bez, moved = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u, points,
+                                       piece_of, 3, gate, (low, high, fixed, base), work)
+    expected = np.clip(u + du, low, high)
+    expected[fixed] = base[fixed]
+    np.testing.assert_array_equal(got_bez, bez)
+    np.testing.assert_array_equal(moved, np.maximum.accumulate(expected))
 
 
 def test_hoschek_step_lands_on_the_foot_point_of_a_straight_piece():
@@ -435,7 +489,7 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     from splinecraft.capture.corners import _jump_kernels
     from splinecraft.capture.fitting import _iso_kernels
 
-    expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
+    expected = {_kernels: {"_normal_into", "_step_into", "_windowed_into", "_search_into", "_group_max_into"},
                 _iso_kernels: {"_smoothed", "_nearest_into"},
                 _jump_kernels: {"_window_fit", "_prefix_moments", "_moment_verdict", "_arm_lines_into"},
                 _pixel_corners: {"_pixel_corners_into"}}
@@ -453,7 +507,7 @@ def test_normal_equations_of_a_single_point_are_its_basis_products(size):
     """One point: band[k, a] = N_a N_(a+k) w and rhs = N w Q (closed form)."""
     full = bspline.periodic_knot_vector(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), 7.0)
     u = np.full(size, 3.5)
-    band, rhs = _kernels.normal_equations(full, u, np.full(size, 2.0), np.tile([[1.0, -1.0]], (size, 1)), 7)
+    band, rhs, _ = _kernels.normal_equations(full, u, np.full(size, 2.0), np.tile([[1.0, -1.0]], (size, 1)), 7)
     i = bspline.interval_index(full, u[:1])
     basis = bspline.cubic_basis(full, i, u[:1])[0]
     cols = (i[0] - 6 + np.arange(4)) % 7

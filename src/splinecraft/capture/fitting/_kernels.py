@@ -20,7 +20,8 @@ from numba import njit
 
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
-__all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
+__all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
+           "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "zone_points_beside", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
@@ -117,14 +118,16 @@ def basis_matrix(full, i, u):
     return out
 
 
-@njit(**_JIT)
-def _normal_into(full, u, weights, targets, m, band, rhs, partial):
-    at = np.int64(0)  # the previous point's search answer (the parameters are sorted but for the pins at the end)
+@njit(**_HELPER)
+def _accumulate_normal(full, u, weights, targets, m, offset, at, rhs, partial):
+    """The points ``u`` (weights and targets from row ``offset`` on) into ``rhs`` and the ten basis-pair rows of
+    ``partial`` (:func:`_normal_into`); returns the last search answer (the start of the next array's walk)."""
     last = full.shape[0] - 5
-    for j in range(u.shape[0]):
-        at = _walk_right(full, u[j], at)
+    for q in range(u.shape[0]):
+        j = offset + q
+        at = _walk_right(full, u[q], at)
         i = pyclip(at - 1, 3, last)  # bspline.interval_index
-        n0, n1, n2, n3 = _basis(full, i, u[j])
+        n0, n1, n2, n3 = _basis(full, i, u[q])
         w = weights[j]
         w0 = n0 * w  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
         w1 = n1 * w
@@ -152,40 +155,44 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         partial[7, k2] += w2 * n2
         partial[8, k2] += w2 * n3
         partial[9, k3] += w3 * n3
+    return at
+
+
+@njit(**_JIT)
+def _normal_into(full, u, extra, weights, targets, m, regularization, penalize, dense, band, rhs, partial, normal):
+    for a in range(m):  # the sums start from zero (the arrays may hold an earlier system: work arrays)
+        for d in range(rhs.shape[1]):
+            rhs[a, d] = 0.0
+        for row in range(4):
+            band[row, a] = 0.0
+        for pair in range(10):
+            partial[pair, a] = 0.0
+    # the parameters of the points, then those of the extra points (the corner pins): one sum in that order
+    at = _accumulate_normal(full, u, weights, targets, m, np.int64(0), np.int64(0), rhs, partial)
+    _accumulate_normal(full, extra, weights, targets, m, u.shape[0], at, rhs, partial)
     for pair in range(partial.shape[0]):  # the pairs (r, s) in the order r, then s: band row s - r
         row = _BAND_ROW[pair]
         for a in range(m):
             band[row, a] += partial[pair, a]
-
-
-def normal_equations(full, u, weights, targets, m):
-    """Weighted least-squares normal equations of a periodic cubic spline with ``m`` coefficients on the full
-    knot vector ``full`` (:func:`~.bspline.fit_coefficients`): the cyclic band ``band[k, a] = A[a, (a + k) %
-    m]`` (k = 0..3; the pairs ``(r, s)`` of basis functions, each a sum over the points, added in the order r,
-    then s) and the right-hand sides ``rhs`` (m, d), each a sum over the points in their order."""
-    targets = _floats(targets)
-    band, rhs, partial = np.zeros((4, m)), np.zeros((m, targets.shape[1])), np.zeros((10, m))
-    _normal_into(_floats(full), _floats(u), _floats(weights), targets, int(m), band, rhs, partial)
-    return band, rhs
-
-
-@njit(**_JIT)
-def _penalized_into(band, regularization, dense, normal):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    if not penalize:
+        return
+    # + pen * D^T D: pen = regularization * max(band[0]) (NaN sticks, as in numpy's max; 1 for an all-zero diagonal)
     scale = band[0, 0]
-    for a in range(band.shape[1]):
-        if not band[0, a] <= scale:  # NaN sticks, as in numpy's max
+    for a in range(m):
+        if not band[0, a] <= scale:
             scale = band[0, a]
     if scale == 0.0:
         scale = 1.0
     pen = regularization * scale
-    for a in range(band.shape[1]):
+    for a in range(m):
         band[0, a] += 6 * pen
         band[1, a] += -4 * pen
         band[2, a] += 1 * pen
     if not dense:
         return
-    m = band.shape[1]
+    for a in range(m):
+        for b in range(m):
+            normal[a, b] = 0.0
     for a in range(m):
         normal[a, a] = band[0, a]
     for k in range(1, 4):
@@ -195,60 +202,64 @@ def _penalized_into(band, regularization, dense, normal):
             normal[(a + k) % m, a] += band[k, a]
 
 
-def penalized_normal(band, regularization, dense):
-    """Add ``pen * D^T D`` to the cyclic band in place (``D`` the cyclic second difference, rows 1, -2, 1;
-    ``pen = regularization * max(band[0])``, the scale 1 for an all-zero diagonal) and, when ``dense``, the
-    full symmetric (m, m) matrix of the band (wrapped entries added up, also for m < 7), else None
-    (:func:`~.bspline.fit_coefficients`)."""
-    m = band.shape[1]
-    normal = np.zeros((m, m) if dense else (0, 0))
-    _penalized_into(band, float(regularization), bool(dense), normal)
-    return normal if dense else None
+def normal_work(m, dimensions=2):
+    """Work arrays of :func:`normal_equations` for ``m`` coefficients (band, right-hand sides, the basis pairs'
+    sums, the dense matrix): kept by a caller that solves many systems of one size (the fit's rounds)."""
+    return np.empty((4, m)), np.empty((m, dimensions)), np.empty((10, m)), np.empty((m, m) if m <= DENSE_LIMIT else (0, 0))
+
+
+#: Largest coefficient count whose normal equations are solved as a dense matrix (:func:`~.bspline.fit_coefficients`).
+DENSE_LIMIT = 64
+
+
+def normal_equations(full, u, weights, targets, m, regularization=None, extra=_NO_FLOATS, work=None):
+    """Weighted least-squares normal equations of a periodic cubic spline with ``m`` coefficients on the full
+    knot vector ``full`` (:func:`~.bspline.fit_coefficients`) at the parameters ``u`` and then ``extra`` (rows of
+    ``weights`` and ``targets`` in that order): the cyclic band ``band[k, a] = A[a, (a + k) % m]`` (k = 0..3; the
+    pairs ``(r, s)`` of basis functions, each a sum over the points, added in the order r, then s) and the
+    right-hand sides ``rhs`` (m, d), each a sum over the points in their order. With ``regularization``, ``pen *
+    D^T D`` added to the band (``D`` the cyclic second difference, rows 1, -2, 1; ``pen = regularization *
+    max(band[0])``, the scale 1 for an all-zero diagonal) and, for ``m <=`` :data:`DENSE_LIMIT`, the full
+    symmetric (m, m) matrix of the band (wrapped entries added up, also for m < 7), else None. Returns ``(band,
+    rhs, normal)``; ``work``: the arrays to fill (:func:`normal_work`), else new ones."""
+    targets = _floats(targets)
+    band, rhs, partial, normal = normal_work(m, targets.shape[1]) if work is None else work
+    penalize = regularization is not None
+    dense = penalize and m <= DENSE_LIMIT
+    _normal_into(_floats(full), _floats(u), _floats(extra), _floats(weights), targets, int(m),
+                 float(regularization) if penalize else 0.0, penalize, dense, band, rhs, partial, normal)
+    return band, rhs, normal if dense else None
 
 
 @njit(**_JIT)
-def _values_into(coef, full, m, starts, ends, theta, out, mix, mixed):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    for k in range(starts.shape[0]):
+def _step_into(coef, full, m, starts, ends, theta, mix, values, mixed, u, points, piece_of, gate, du, res, worst, low,
+               high, fixed, base, moved):
+    """The spline's values on its knot intervals (``coef`` not empty) mixed into ``mixed`` (``mix`` not empty),
+    then the Newton step of the points ``u`` (not empty) on the pieces ``mixed``: :func:`fit_step`."""
+    for k in range(starts.shape[0] if coef.shape[0] else 0):
         width = ends[k] - starts[k]
         i = pyclip(_right_of(full, starts[k] + 0.5 * width) - 1, 3, full.shape[0] - 5)  # bspline.interval_index
         for t in range(theta.shape[0]):
             n0, n1, n2, n3 = _basis(full, i, starts[k] + width * theta[t])
             for d in range(coef.shape[1]):
-                out[k, t, d] = (n0 * coef[(i - 6) % m, d] + n1 * coef[(i - 5) % m, d]
-                                + n2 * coef[(i - 4) % m, d] + n3 * coef[(i - 3) % m, d])
-        for r in range(mix.shape[0]):  # numpy.einsum("rt,ktd->krd", mix, out): from 0, in the order of t
+                values[k, t, d] = (n0 * coef[(i - 6) % m, d] + n1 * coef[(i - 5) % m, d]
+                                   + n2 * coef[(i - 4) % m, d] + n3 * coef[(i - 3) % m, d])
+        for row in range(mix.shape[0]):  # numpy.einsum("rt,ktd->krd", mix, values): from 0, in the order of t
             for d in range(coef.shape[1]):
                 total = 0.0
                 for t in range(theta.shape[0]):
-                    total += mix[r, t] * out[k, t, d]
-                mixed[k, r, d] = total
-
-
-def spline_values(coef, full, m, starts, ends, theta, mix=None):
-    """Values of the periodic spline (coefficients ``coef`` (m, d)) at ``starts[k] + (ends[k] - starts[k]) *
-    theta[q]`` for every knot interval ``k`` and fraction ``theta[q]``, evaluated in the interval that holds
-    the interval's midpoint: an array (k, len(theta), d). With a matrix ``mix`` (r, len(theta)) instead the
-    values mixed by it per interval, ``numpy.einsum("rq,kqd->krd", mix, values)`` (a product sum from 0 in the
-    order of q, as einsum adds; :func:`~.bspline.bezier_of_intervals`)."""
-    coef, starts = _floats(coef), _floats(starts)
-    out = np.empty((starts.shape[0], len(theta), coef.shape[1]))
-    rows = 0 if mix is None else mix.shape[0]
-    mixed = np.empty((starts.shape[0] if rows else 0, rows, coef.shape[1]))
-    _values_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta), out,
-                 _floats(mix) if rows else np.empty((0, len(theta))), mixed)
-    return mixed if rows else out
-
-
-@njit(**_JIT)
-def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, low, high, fixed, base, moved):
+                    total += mix[row, t] * values[k, t, d]
+                mixed[k, row, d] = total
+    if not u.shape[0]:
+        return
+    bez = mixed
     last = starts.shape[0] - 1
     at = np.int64(0)  # the previous point's search answer (the parameters are sorted)
     for j in range(u.shape[0]):
         at = _walk_right(starts, u[j], at)
         seg = pyclip(at - 1, 0, last)
         h = ends[seg] - starts[seg]
-        theta = (u[j] - starts[seg]) / h
+        theta_j = (u[j] - starts[seg]) / h
         r0 = r1 = p0 = p1 = q0 = q1 = 0.0
         for d in range(2):
             b0 = bez[seg, 0, d]
@@ -258,9 +269,9 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
             c1 = 3.0 * (b1 - b0)
             c2 = 3.0 * (b0 - 2.0 * b1 + b2)
             c3 = b3 - b0 + 3.0 * (b1 - b2)
-            r = b0 + theta * (c1 + theta * (c2 + theta * c3)) - points[j, d]
-            first = (c1 + theta * (2.0 * c2 + 3.0 * theta * c3)) / h
-            second = (2.0 * c2 + 6.0 * theta * c3) / (h * h)
+            r = b0 + theta_j * (c1 + theta_j * (c2 + theta_j * c3)) - points[j, d]
+            first = (c1 + theta_j * (2.0 * c2 + 3.0 * theta_j * c3)) / h
+            second = (2.0 * c2 + 6.0 * theta_j * c3) / (h * h)
             if d == 0:
                 r0, p0, q0 = r, first, second
             else:
@@ -272,7 +283,9 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         step = -(r0 * p0 + r1 * p1) / pymax(den, 1e-300)
         du[j] = pyclip(step, -2.0, 2.0)
         res[j] = np.hypot(r0, r1)
-    for j in range(u.shape[0]):  # worst: -inf from the wrapper
+    for g in range(worst.shape[0]):
+        worst[g] = -np.inf
+    for j in range(u.shape[0]):
         worst[piece_of[j]] = pymax(worst[piece_of[j]], res[j])
     for j in range(u.shape[0]):
         if worst[piece_of[j]] > gate:
@@ -295,23 +308,62 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         moved[j] = previous = x
 
 
-def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bounds=None):
-    """One Newton step of the foot-point equation ``(S(u) - Q) . S'(u) = 0`` per contour point
-    (:meth:`~.lsq_model.OutlineRegression._hoschek_step`): the steps ``du`` (clipped to +-2), zero in the
-    pieces (``piece_of``, non-decreasing) whose largest residual exceeds ``gate``. With ``bounds = (low, high,
-    fixed, base)`` instead the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
-    high)`` with ``base`` where ``fixed``."""
+_NO_BOOLS, _NO_CUBE, _NO_MATRIX = np.empty(0, np.bool_), np.empty((0, 0, 0)), np.empty((0, 0))
+
+
+def spline_values(coef, full, m, starts, ends, theta, mix=None):
+    """Values of the periodic spline (coefficients ``coef`` (m, d)) at ``starts[k] + (ends[k] - starts[k]) *
+    theta[q]`` for every knot interval ``k`` and fraction ``theta[q]``, evaluated in the interval that holds
+    the interval's midpoint: an array (k, len(theta), d). With a matrix ``mix`` (r, len(theta)) instead the
+    values mixed by it per interval, ``numpy.einsum("rq,kqd->krd", mix, values)`` (a product sum from 0 in the
+    order of q, as einsum adds; :func:`~.bspline.bezier_of_intervals`)."""
+    coef, starts = _floats(coef), _floats(starts)
+    values = np.empty((starts.shape[0], len(theta), coef.shape[1]))
+    rows = 0 if mix is None else mix.shape[0]
+    mixed = np.empty((starts.shape[0] if rows else 0, rows, coef.shape[1]))
+    _step_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta),
+               _floats(mix) if rows else _NO_MATRIX, values, mixed, _NO_FLOATS, _NO_POINTS, _NO_INTS, 0.0,
+               _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_BOOLS, _NO_FLOATS, _NO_FLOATS)
+    return mixed if rows else values
+
+
+def fit_step(coef, full, m, starts, ends, theta, mix, u, points, piece_of, piece_count, gate, bounds=None,
+             values=None):
+    """The Bézier pieces of the spline ``coef`` on its knot intervals (:func:`spline_values` with the matrix
+    ``mix``; ``coef`` None: ``mix`` is the pieces themselves), then one Newton step of the foot-point equation
+    ``(S(u) - Q) . S'(u) = 0`` per contour point ``Q = points[j]`` on them
+    (:meth:`~.lsq_model.OutlineRegression.fit`): the steps ``du`` (clipped to +-2), zero in the pieces
+    (``piece_of``, non-decreasing) whose largest residual exceeds ``gate``. With ``bounds = (low, high, fixed,
+    base)`` instead of the steps the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
+    high)`` with ``base`` where ``fixed``. Returns ``(pieces, steps or parameters)``; ``values``: a work array
+    (k, len(theta), 2) of the values."""
     u = _floats(u)
-    du, res, worst = np.empty(u.shape[0]), np.empty(u.shape[0]), np.full(int(piece_count), -np.inf)
+    count = u.shape[0]
+    du, res, worst = np.empty(count), np.empty(count), np.empty(int(piece_count))
     if bounds is None:
-        low = high = base = moved = np.empty(0)
-        fixed = np.empty(0, np.bool_)
+        low = high = base = moved = _NO_FLOATS
+        fixed = _NO_BOOLS
     else:
         low, high, base = _floats(bounds[0]), _floats(bounds[1]), _floats(bounds[3])
-        fixed, moved = np.ascontiguousarray(bounds[2], dtype=np.bool_), np.empty(u.shape[0])
-    _hoschek_into(u, _floats(points), _floats(bez), _floats(starts), _floats(ends), _ints(piece_of), float(gate),
-                  du, res, worst, low, high, fixed, base, moved)
-    return du if bounds is None else moved
+        fixed, moved = np.ascontiguousarray(bounds[2], dtype=np.bool_), np.empty(count)
+    starts = _floats(starts)
+    if coef is None:
+        coef, mixed, values, mix = _NO_MATRIX, _floats(mix), _NO_CUBE, _NO_MATRIX
+    else:
+        coef, mix = _floats(coef), _floats(mix)
+        mixed = np.empty((starts.shape[0], mix.shape[0], coef.shape[1]))
+        if values is None:
+            values = np.empty((starts.shape[0], len(theta), coef.shape[1]))
+    _step_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta), mix, values, mixed, u,
+               _floats(points), _ints(piece_of), float(gate), du, res, worst, low, high, fixed, base, moved)
+    return mixed, (du if bounds is None else moved)
+
+
+def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bounds=None):
+    """One Newton step of the foot-point equation on the given Bézier pieces ``bez`` (:func:`fit_step` without
+    the spline): the steps ``du``, or with ``bounds`` the stepped parameters."""
+    return fit_step(None, _NO_FLOATS, 1, starts, ends, _NO_FLOATS, bez, u, points, piece_of, piece_count, gate,
+                    bounds)[1]
 
 
 @njit(**_JIT)
@@ -672,10 +724,9 @@ def warm_up_solves():
     :func:`eval_bezier`, is the kernel of :func:`curve_points`: :func:`warm_up_checks` compiles it once, where
     both halves compiled it when they ran in separate processes.)"""
     full, u, bez, starts, ends, index = _tiny_fit()
-    band, _ = normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
-    penalized_normal(band, 1e-8, True)
-    spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
-    hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
+    normal_equations(full, u, np.ones(10), np.ones((10, 2)), 7, 1e-8, np.array([0.5, 6.0]))
+    fit_step(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]), np.ones((2, 2)), np.array([0.5, 1.5]),
+             np.ones((2, 2)), index, 1, 1.0, (np.zeros(2), np.full(2, 2.0), np.zeros(2, np.bool_), np.zeros(2)))
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 

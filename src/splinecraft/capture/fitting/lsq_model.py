@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples, zone_points_beside
-from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
+from ._kernels import curve_points, deviation_measures, fit_step, interval_samples, normal_work, zone_points_beside
+from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
 from .lsq_setup import CornerTips, RotatedContour, crack_normals, curvature_knots
@@ -110,7 +110,9 @@ class OutlineRegression:
         self.parameter_low = self.base_parameter[bounds[piece]]
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
         self.parameter = self.base_parameter.copy()
-        self._step_bounds = self._parameter_bounds()  # (low, high, fixed) of the Hoschek steps
+        self._step_bounds = self._parameter_bounds()  # (low, high, fixed, base) of the Hoschek steps
+        self._piece_of_points = contour.piece_of_point[:n]
+        self._normal_work = None  # the work arrays of the normal equations (_kernels.normal_work)
         self._zone_cache = None  # (tip state, {dense: zones}) of _zones
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
@@ -291,21 +293,29 @@ class OutlineRegression:
     # ---------------------------------------------------------------- fitting
     def fit(self, hoschek_steps=1):
         """Solve the weighted least-squares problem, then ``hoschek_steps`` times correct the parameters
-        (one Newton step of the foot-point equation) and solve again. A correction that moves no parameter (every
-        piece above the gate, :meth:`_hoschek_step`) ends the steps: each solve and step after it would repeat
-        the last bit for bit."""
-        count, knot_vector, starts, ends = self._knot_setup()
-        pins, targets, all_weights = self._weight_setup()
-        n = self.contour.size
+        (one Newton step of the foot-point equation, with ``S, S', S''`` from the power form of each knot
+        interval's Bézier piece, only in pieces whose residuals are below ``hoschek_gate``: projecting onto a bad
+        curve scrambles the parameters) and solve again. A correction that moves no parameter (every piece above
+        the gate) ends the steps: each solve and step after it would repeat the last bit for bit. The step is
+        clipped between the fixed (or held) points around each point, those stay at their base parameter, and
+        the parameters are kept non-decreasing (:func:`~._kernels.fit_step`)."""
+        count, knot_vector, starts, ends, values = self._knot_setup()
+        pin_u, targets, all_weights = self._weight_setup()
+        contour = self.contour
+        n = contour.size
         u = self.parameter[:n]
+        work = self._normal_work
+        if work is None or work[0].shape[1] != count:
+            work = self._normal_work = normal_work(count)
+        bounds = self._step_bounds
         for step in range(hoschek_steps + 1):
-            uu = u if pins is None else np.concatenate([u, pins[0]])
-            coefficients = fit_coefficients(knot_vector, uu, all_weights, targets, count)
+            coefficients = fit_coefficients(knot_vector, u, all_weights, targets, count, extra=pin_u, work=work)
             bezier = None
             if step == hoschek_steps:
                 break
-            bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
-            stepped = self._hoschek_step(u, bezier, starts, ends)
+            bezier, stepped = fit_step(coefficients, knot_vector, count, starts, ends, _THETA4, _FROM_SAMPLES, u,
+                                       contour.points, self._piece_of_points, contour.piece_count, self.hoschek_gate,
+                                       bounds, values)
             if stepped.tobytes() == u.tobytes():  # the same parameters, bit for bit (signed zeros included)
                 break
             u = stepped
@@ -317,49 +327,41 @@ class OutlineRegression:
 
     def _knot_setup(self):
         """The knots' part of :meth:`fit` (kept while the simple knots are unchanged): the coefficient count,
-        the full periodic knot vector and the knot intervals (multiple knots once)."""
+        the full periodic knot vector, the knot intervals (multiple knots once) and a work array of the spline's
+        values on them."""
         key = self.simple_knots.tobytes()
         if self._knot_cache is None or self._knot_cache[0] != key:
             knots = self.knot_values()
             distinct = _unique(np.append(knots, self.period))
             self._knot_cache = (key, (knots.shape[0], periodic_knot_vector(knots, self.period), distinct[:-1],
-                                      distinct[1:]))
+                                      distinct[1:], np.empty((distinct.shape[0] - 1, _THETA4.shape[0], 2))))
         return self._knot_cache[1]
 
     def _weight_setup(self):
-        """The data part of :meth:`fit` (kept while the corners' radii and tips are unchanged): the corner pins
-        (:meth:`_pins`), the targets (contour points, then the pins) and their weights (:meth:`weights`)."""
+        """The data part of :meth:`fit` (kept while the corners' radii and tips are unchanged): the parameters of
+        the corner pins (:meth:`_pins`; none: empty), the targets (contour points, then the pins) and their weights
+        (:meth:`weights`)."""
         key = self.tips.radius.tobytes() + self.tips.estimate.tobytes()
         if self._weight_cache is None or self._weight_cache[0] != key:
             weights, pins = self.weights(), self._pins()
             targets = self.contour.points if pins is None else np.vstack([self.contour.points, pins[1]])
             all_weights = weights if pins is None else np.concatenate([weights, pins[2]])
-            self._weight_cache = (key, (pins, targets, all_weights))
+            self._weight_cache = (key, (np.zeros(0) if pins is None else pins[0], targets, all_weights))
         return self._weight_cache[1]
-
-    def _hoschek_step(self, u, bez, starts, ends):
-        """One Newton step of the foot-point equation ``(S(u) - Q) . S'(u) = 0`` for every contour point, with
-        ``S, S', S''`` from the power form of each knot interval's Bézier piece; only in pieces whose residuals
-        are below ``hoschek_gate`` (projecting onto a bad curve scrambles the parameters)."""
-        contour = self.contour
-        n = contour.size
-        low, high, fixed = self._step_bounds
-        # the step, clipped between the fixed (or held) points around it, those at their base parameter, kept
-        # non-decreasing
-        return hoschek_update(u, contour.points, bez, starts, ends, contour.piece_of_point[:n], contour.piece_count,
-                              self.hoschek_gate, (low, high, fixed, self.base_parameter[:n]))
 
     def _parameter_bounds(self):
         """Per contour point, the base parameters of the nearest fixed or held points at or before and at or
-        after it (the closing index ``n`` counts as fixed), and which points are fixed or held: the range of
-        its Hoschek steps. Without held points these are the piece's corners (the seam)."""
+        after it (the closing index ``n`` counts as fixed), which points are fixed or held, and the points' base
+        parameters: the range of its Hoschek steps (:meth:`fit`). Without held points these are the piece's
+        corners (the seam)."""
         n = self.contour.size
         anchor = self.fixed | self.held
         anchor[n] = True
         index = np.arange(n + 1)
         before = np.maximum.accumulate(np.where(anchor, index, 0))
         after = np.minimum.accumulate(np.where(anchor, index, n)[::-1])[::-1]
-        return self.base_parameter[before[:n]], self.base_parameter[after[:n]], anchor[:n].copy()
+        base = self.base_parameter
+        return base[before[:n]], base[after[:n]], anchor[:n].copy(), base[:n]
 
     def reset_parameters(self, dev, stuck, reach=2):
         """Give the points around the stuck knot intervals ``stuck`` (from ``reach`` knots before each one to
@@ -387,7 +389,7 @@ class OutlineRegression:
         self.held[n] = False  # the closing index is the seam, not a contour point
         base, u = self.base_parameter, self.parameter
         u[self.held] = base[self.held]
-        self._step_bounds = low, high, _ = self._parameter_bounds()
+        self._step_bounds = low, high, _, _ = self._parameter_bounds()
         u[:n] = np.minimum(np.maximum(u[:n], low), high)  # in order with the held points
         return reset
 

@@ -1019,3 +1019,36 @@ def test_closed_polyline_distance_matches_the_grid_formulation(seed):
     least = np.full(points.shape[0], np.inf)
     np.minimum.at(least, rows, geometry.segment_squared_distances(points[rows], line[edges], line[(edges + 1) % m]))
     np.testing.assert_array_equal(_kernels.closed_polyline_distance(points, line, half), np.sqrt(least))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(1, 8), st.integers(0, 10_000), st.booleans())
+def test_hook_tests_are_the_curve_points_then_the_two_tests(count, seed, nan):
+    """``hook_tests`` (both corner tests after a fit in one pass) against the formulation it replaced: the fitted
+    corner points by ``curve_points``, ``hypot`` of their offsets against the limits where the radius is positive;
+    the zone samples by ``curve_points``, the least gap of each point's row above the slack, a row with a NaN
+    sample passing all its points."""
+    rng = np.random.default_rng(seed)
+    bounds = np.concatenate([[0.0], np.cumsum(rng.uniform(1.0, 10.0, count))])
+    starts, ends = bounds[:-1], bounds[1:]
+    bez = np.cumsum(rng.normal(size=(count, 4, 2)), axis=1)
+    if nan:
+        bez[rng.integers(0, count)] = np.nan
+    corners = int(rng.integers(1, 5))
+    at = rng.uniform(0, bounds[-1], corners)
+    corner_points, limit = rng.normal(size=(corners, 2)), rng.uniform(0.0, 3.0, corners)
+    radius = rng.uniform(-1.0, 2.0, corners) * (rng.random(corners) < 0.7)
+    rows, per_row, points = int(rng.integers(1, 4)), int(rng.integers(1, 40)), int(rng.integers(1, 20))
+    u = rng.uniform(0, bounds[-1], rows * per_row)
+    row, axis = rng.integers(0, rows, points), rng.integers(0, 2, points)
+    along_start, across_start = rng.normal(0.0, 1.0, points), rng.normal(0.0, 1.0, points)
+    hooked, beside = _kernels.hook_tests(bez, starts, ends, at, corner_points, limit, radius, u, rows, row, axis,
+                                         along_start, across_start, 0.5)
+    disp = np.hypot(*(_kernels.curve_points(bez, starts, ends, at) - corner_points).T)
+    np.testing.assert_array_equal(hooked, (disp > limit) & (radius > 0))
+    samples = _kernels.curve_points(bez, starts, ends, u).reshape(rows, per_row, 2)
+    pick = np.arange(points)
+    along = samples[row][pick, :, axis] - along_start[:, None]
+    across = samples[row][pick, :, 1 - axis] - across_start[:, None]
+    least = np.hypot(along - np.clip(along, 0.0, 1.0), across).min(axis=1)
+    np.testing.assert_array_equal(beside, (least > 0.5) & np.isfinite(samples).all(axis=(1, 2))[row])

@@ -22,7 +22,7 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "zone_points_beside", "closed_polyline_distance",
+           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_points_beside", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -39,6 +39,7 @@ def _ints(values):
 
 # Empty arguments of the kernels' unused outputs (one compiled signature for both uses of a kernel).
 _NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty((0, 2))
+_NO_BOOLS, _NO_CUBE, _NO_MATRIX = np.empty(0, np.bool_), np.empty((0, 0, 0)), np.empty((0, 0))
 # The band row ``s - r`` of each pair ``(r, s)`` of basis functions, ``r <= s``, in the order r, then s
 # (:func:`_normal_into`; a loop over the 10 rows of ``partial``, not over r and s: LLVM unrolled those loops into 10
 # vectorized copies of the inner loop, about 15 % of the compiled code of the fit's solves).
@@ -308,9 +309,6 @@ def _step_into(coef, full, m, starts, ends, theta, mix, values, mixed, u, points
         moved[j] = previous = x
 
 
-_NO_BOOLS, _NO_CUBE, _NO_MATRIX = np.empty(0, np.bool_), np.empty((0, 0, 0)), np.empty((0, 0))
-
-
 def spline_values(coef, full, m, starts, ends, theta, mix=None):
     """Values of the periodic spline (coefficients ``coef`` (m, d)) at ``starts[k] + (ends[k] - starts[k]) *
     theta[q]`` for every knot interval ``k`` and fraction ``theta[q]``, evaluated in the interval that holds
@@ -471,32 +469,76 @@ def _curve_into(bez, starts, ends, u, piece, given, out):
         _bezier_point(bez, seg, theta, out, j)  # one call: each call is a copy of the (inlined) helper
 
 
+@njit(**_HELPER)
+def _curve_point(bez, starts, ends, u, out, row):
+    """``out[row]`` = the piecewise curve at ``u`` (the piece of ``u`` by searchsorted right in ``starts``, clipped
+    to the pieces, at its fraction of ``[starts, ends]``): :func:`curve_points` at one parameter."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    seg = pyclip(_right_of(starts, u) - 1, 0, starts.shape[0] - 1)
+    _bezier_point(bez, seg, (u - starts[seg]) / (ends[seg] - starts[seg]), out, row)
+
+
 @njit(**_JIT)
-def _zone_passes_into(samples, row, axis, along_start, across_start, slack, beside):
+def _hook_tests_into(bez, starts, ends, at, corner_points, limit, radius, fitted, u, given, samples, count, row, axis,
+                     along_start, across_start, slack, hooked, beside, row_finite):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    count = samples.shape[1]
+    for c in range(at.shape[0]):  # the displacement test: the fitted corner point against the limit
+        _curve_point(bez, starts, ends, at[c], fitted, c)
+        disp = np.hypot(fitted[c, 0] - corner_points[c, 0], fitted[c, 1] - corner_points[c, 1])
+        hooked[c] = disp > limit[c] and radius[c] > 0
+    if not given:
+        for s in range(u.shape[0]):
+            _curve_point(bez, starts, ends, u[s], samples, s)
+    for r in range(row_finite.shape[0]):
+        row_finite[r] = True
+        for s in range(r * count, (r + 1) * count):
+            if not (np.isfinite(samples[s, 0]) and np.isfinite(samples[s, 1])):
+                row_finite[r] = False
+                break
     for p in range(row.shape[0]):
-        beside[p] = True
-        for s in range(count):
-            along = samples[row[p], s, axis[p]] - along_start[p]
-            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[row[p], s, 1 - axis[p]] - across_start[p])
+        beside[p] = row_finite[row[p]]  # a row with a NaN sample: its least gap is NaN, no point of it is beside
+        first = row[p] * count
+        for s in range(first, first + count if beside[p] else first):
+            along = samples[s, axis[p]] - along_start[p]
+            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[s, 1 - axis[p]] - across_start[p])
             if gap <= slack:  # a sample within the slack: the point passes (its least gap is no larger)
                 beside[p] = False
                 break
 
 
+def hook_tests(bez, starts, ends, at, corner_points, limit, radius, u, rows, row, axis, along_start, across_start,
+               slack, samples=None):
+    """The two corner tests after a fit (:meth:`~.lsq_model.OutlineRegression.hook_releases`) in one pass over
+    the pieces ``bez`` on ``[starts, ends]`` (:func:`curve_points`):
+
+    * per corner, whether its fitted point ``S(at)`` lies farther than ``limit`` from ``corner_points``
+      (``hypot`` of the differences) while ``radius > 0`` (the displacement test of ``hooked_corners``);
+    * per point ``p`` of the zone test (``row``, ``axis``, ``along_start``, ``across_start``): whether every curve
+      sample of its row (the curve at ``u``: ``rows`` rows of equally many; ``samples`` (rows, count, 2): the
+      samples given instead) lies farther than ``slack`` from the point's pixel-centre segment, ``hypot(along -
+      clip(along, 0, 1), across)`` with ``along = sample[axis[p]] - along_start[p]`` and ``across = sample[1 -
+      axis[p]] - across_start[p]``: ``numpy.min`` of those distances ``> slack``, each point stopping at its
+      first sample within the slack; a row with a sample that is not finite has no point beside (its points'
+      least distance is NaN then).
+
+    Returns ``(hooked, beside)``."""
+    at, row = _floats(at), _ints(row)
+    given = samples is not None
+    samples = _floats(samples).reshape(-1, 2) if given else np.empty((u.shape[0], 2))
+    rows = int(rows)
+    hooked, beside = np.empty(at.shape[0], np.bool_), np.empty(row.shape[0], np.bool_)
+    _hook_tests_into(_floats(bez), _floats(starts), _floats(ends), at, _floats(corner_points), _floats(limit),
+                     _floats(radius), np.empty((at.shape[0], 2)), _floats(u), given, samples,
+                     samples.shape[0] // rows if rows else 0, row, _ints(axis), _floats(along_start),
+                     _floats(across_start), float(slack), hooked, beside, np.empty(rows, np.bool_))
+    return hooked, beside
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
-    """Per point ``p`` of the zone test (:meth:`~.lsq_model.OutlineRegression.zone_hooks`): whether every sample
-    of its row ``samples[row[p]]`` (``samples``: (rows, count, 2)) lies farther than ``slack`` from the point's
-    pixel-centre segment, ``hypot(along - clip(along, 0, 1), across)`` with ``along = sample[axis[p]] -
-    along_start[p]`` and ``across = sample[1 - axis[p]] - across_start[p]``: ``numpy.min`` of those distances ``>
-    slack`` for finite samples (each point stops at its first sample within the slack: no minimum over the rest
-    is needed; a NaN sample, whose minimum would be NaN, is the caller's to handle)."""
-    row = _ints(row)
-    beside = np.empty(row.shape[0], np.bool_)
-    _zone_passes_into(_floats(samples), row, _ints(axis), _floats(along_start), _floats(across_start),
-                      float(slack), beside)
-    return beside
+    """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
+    its row lies farther than ``slack`` from its pixel-centre segment."""
+    return hook_tests(_NO_CUBE, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_POINTS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS,
+                      samples.shape[0], row, axis, along_start, across_start, slack, samples)[1]
 
 
 @njit(**_JIT)
@@ -737,7 +779,8 @@ def warm_up_checks():
     _, _, bez, starts, ends, index = _tiny_fit()
     edges = (np.ones(3),) * 5
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
-    zone_points_beside(np.zeros((1, 2, 2)), np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
+    hook_tests(bez, starts, ends, np.array([0.5]), np.ones((1, 2)), np.ones(1), np.ones(1), np.array([0.2, 1.2]), 1,
+               np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
     group_max(index, np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)

@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import curve_points, deviation_measures, fit_step, interval_samples, normal_work, zone_points_beside
+from ._kernels import (_NO_FLOATS, _NO_INTS, curve_points, deviation_measures, fit_step, hook_tests, interval_samples,
+                       normal_work)
 from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
@@ -422,24 +423,57 @@ class OutlineRegression:
         extensions (a hook), not a truncated tip. A corner with a kept tip estimate counts only where both
         pieces beside it fit (``dev``: the current fit's :meth:`deviations`, computed here when needed): on a
         coarse fit a piece that misses its pixels by several pixels moves its corner point as far."""
-        contour, tips = self.contour, self.tips
-        if not contour.corner_count:
+        if not self.contour.corner_count:
             return np.zeros(0, dtype=np.int64)
-        corners = contour.corner_bounds[:-1]
+        return self._hooked(self._hook_tests(None)[0], dev)
+
+    def _hook_limit_setup(self):
+        """The displacement test's set-up of :meth:`hooked_corners` (kept while the tips' angles and estimates are
+        unchanged): the corners' base parameters, their contour points and displacement limits (beyond a kept
+        tip estimate, its distance from the corner point and 0.25 px more)."""
+        contour, tips = self.contour, self.tips
         key = tips.angle.tobytes() + tips.estimate.tobytes()
-        if self._hook_limit is None or self._hook_limit[0] != key:  # kept while the tips' angles and estimates are
+        if self._hook_limit is None or self._hook_limit[0] != key:
+            corners = contour.corner_bounds[:-1]
             limit = np.clip(0.5 / np.maximum(np.sin(0.5 * tips.angle), 1e-3), 0.75,
                             self.epsilon + self.corner_allowance)
             reach = np.hypot(*(tips.estimate - contour.points.take(corners % contour.size, axis=0)).T)
             self._hook_limit = (key, self.base_parameter[corners], contour.points.take(corners % contour.size, axis=0),
                                 np.where(np.isfinite(reach), np.maximum(limit, reach + 0.25), limit))
-        _, at, points, limit = self._hook_limit
-        disp = np.hypot(*(self.curve_at(at) - points).T)
-        found = np.flatnonzero((disp > limit) & (tips.radius > 0))
-        tipped = np.isfinite(tips.estimate[found, 0])
+        return self._hook_limit[1:]
+
+    def _hook_tests(self, window):
+        """Both tests after a fit in one compiled pass (:func:`~._kernels.hook_tests`): per corner whether its
+        fitted point moved beyond the limit of :meth:`hooked_corners`, and per corner whether a point of the
+        zone ``window`` (:meth:`_zone_window`, or None: no zone test) passes beside its pixels
+        (:meth:`zone_hooks`)."""
+        at, points, limit = self._hook_limit_setup()
+        starts, ends = self.intervals()
+        if window is None:
+            hooked, _ = hook_tests(self._bezier, starts, ends, at, points, limit, self.tips.radius, _NO_FLOATS, 0,
+                                   _NO_INTS, _NO_INTS, _NO_FLOATS, _NO_FLOATS, self.pixel_slack)
+            return hooked, None
+        u, rows, row, axis, along_start, across_start, owner = window
+        hooked, beside = hook_tests(self._bezier, starts, ends, at, points, limit, self.tips.radius, u, rows, row,
+                                    axis, along_start, across_start, self.pixel_slack)
+        failing = np.zeros(self.contour.corner_count, bool)
+        failing[owner[beside]] = True
+        return hooked, failing
+
+    def _hooked(self, moved, dev):
+        """:meth:`hooked_corners` of the displacement test's answer ``moved`` (per corner)."""
+        found = np.flatnonzero(moved)
+        tipped = np.isfinite(self.tips.estimate[found, 0])
         if not tipped.any():
             return found
         return found[~tipped | self._pieces_fit(found, dev)]
+
+    def _zone_failing(self, failing, dev):
+        """:meth:`zone_hooks` of the zone test's answer ``failing`` (per corner)."""
+        found = np.flatnonzero(failing)
+        if not found.size:
+            return np.zeros(0, dtype=np.int64)
+        return found[self._pieces_fit(found, dev)]
 
     def hooks(self, dev=None):
         """The corners to release after a fit: :meth:`hooked_corners` and :meth:`zone_hooks` (``dev``: the
@@ -460,30 +494,23 @@ class OutlineRegression:
         only where tips are extrapolated (option ``geometric_corners``: not on a noisy boundary, whose pixels are
         no render of an outline). Nor a notch tip that a pinhole placed (``contour.pinhole_tips``,
         :func:`~.tips.tip_estimates`): its notch narrows below a pixel before the tip, so the pieces that reach
-        the pinhole pass the ink centres between it and the rendered notch within less than the fit's own error."""
-        none = np.zeros(0, dtype=np.int64)
-        pinhole_tips = self.contour.pinhole_tips
-        window = self._zone_window(np.union1d(exclude, pinhole_tips) if pinhole_tips.size else exclude)
+        the pinhole pass the ink centres between it and the rendered notch within less than the fit's own error.
+
+        The crack normal is (1, 0) or (0, 1): the pixel centres' segment runs from ``along_start`` over [0, 1]
+        along the normal's axis, so the distance of a sample from it is that of (along - clip(along, 0, 1),
+        across) -- the operations of the projection onto a unit axis vector, without its zero products. A corner
+        fails where one of its points has every sample farther than the slack (its least distance above it;
+        compiled, :func:`~._kernels.hook_tests`: each point's scan stops at its first sample within it); a corner
+        with a NaN sample does not (the least distance of each of its points is NaN then)."""
+        window = self._zone_window(self._zone_exclusion(exclude))
         if window is None:
-            return none
-        u, rows, row, axis, along_start, across_start, owner = window
-        samples = self.curve_at(u).reshape(rows, -1, 2)
-        # the crack normal is (1, 0) or (0, 1): the pixel centres' segment runs from ``along_start`` over [0, 1]
-        # along the normal's axis, so the distance of a sample from it is that of (along - clip(along, 0, 1),
-        # across) -- the operations of the projection onto a unit axis vector, without its zero products. A
-        # corner fails where one of its points has every sample farther than the slack (its least distance
-        # above it; compiled, each point's scan stops at its first sample within it); a corner with a NaN
-        # sample does not (the least distance of each of its points is NaN then)
-        beside = zone_points_beside(samples, row, axis, along_start, across_start, self.pixel_slack)
-        finite = np.isfinite(samples)
-        if not finite.all():  # a point tests the samples of its corner's row only
-            beside &= finite.all(axis=(1, 2))[row]
-        failing = np.zeros(self.contour.corner_count, bool)
-        failing[owner[beside]] = True
-        found = np.flatnonzero(failing)
-        if not found.size:
-            return none
-        return found[self._pieces_fit(found, dev)]
+            return np.zeros(0, dtype=np.int64)
+        return self._zone_failing(self._hook_tests(window)[1], dev)
+
+    def _zone_exclusion(self, exclude):
+        """The corners :meth:`zone_hooks` leaves out: ``exclude`` and the pinhole tips."""
+        pinhole_tips = self.contour.pinhole_tips
+        return np.union1d(exclude, pinhole_tips) if pinhole_tips.size else exclude
 
     def _zone_window(self, exclude=()):
         """The set-up of :meth:`zone_hooks` (kept while the corners' radii and ``exclude`` are unchanged), or None
@@ -545,10 +572,18 @@ class OutlineRegression:
     def hook_releases(self, dev=None):
         """The corners to release after a fit, by reason: ``(hooked, zone)``, :meth:`hooked_corners` and
         :meth:`zone_hooks`; the fit's :meth:`deviations` (``dev``, if at hand) are computed at most once, and only
-        where either test needs them."""
+        where either test needs them. Both tests run in one compiled pass (:meth:`_hook_tests`); where a corner is
+        hooked, the zone test runs again without it (its window, and so its samples, change)."""
+        none = np.zeros(0, dtype=np.int64)
+        if not self.contour.corner_count:
+            return none, none
         deviations = _Deviations(self) if dev is None else dev
-        hooked = self.hooked_corners(deviations)
-        return hooked, self.zone_hooks(deviations, exclude=hooked)
+        window = self._zone_window(self._zone_exclusion(none))
+        moved, failing = self._hook_tests(window)
+        hooked = self._hooked(moved, deviations)
+        if hooked.size:
+            return hooked, self.zone_hooks(deviations, exclude=hooked)
+        return hooked, none if window is None else self._zone_failing(failing, deviations)
 
     # ---------------------------------------------------------------- pixel consistency
     def _pixel_exempt(self):

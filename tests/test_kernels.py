@@ -1052,3 +1052,61 @@ def test_hook_tests_are_the_curve_points_then_the_two_tests(count, seed, nan):
     across = samples[row][pick, :, 1 - axis] - across_start[:, None]
     least = np.hypot(along - np.clip(along, 0.0, 1.0), across).min(axis=1)
     np.testing.assert_array_equal(beside, (least > 0.5) & np.isfinite(samples).all(axis=(1, 2))[row])
+
+
+def _numpy_zone_window(radius, exclude, nearest, corner_distance, corner_par, gap_before, gap_after, cracks, points,
+                       period, spacing):
+    """The zone window as numpy built it (the formulation ``zone_window`` replaced)."""
+    active = radius > 0
+    active[exclude] = False
+    if not active.any():
+        return None
+    reach = np.maximum(radius, 1.0)
+    chosen = np.flatnonzero(active[nearest] & (corner_distance < reach[nearest]))
+    if not chosen.size:
+        return None
+    owner = nearest[chosen]
+    tested = np.zeros(radius.shape[0], bool)
+    tested[owner] = True
+    corners = np.flatnonzero(tested)
+    row = np.full(radius.shape[0], -1)
+    row[corners] = np.arange(corners.shape[0])
+    half = reach[corners] + np.maximum(gap_before[corners], gap_after[corners]) + 2.0
+    count = int(np.ceil(2.0 * half.max() / spacing)) + 1
+    steps = np.linspace(-1.0, 1.0, count)
+    u = np.mod(corner_par[corners][:, None] + half[:, None] * steps[None, :], period).ravel()
+    axis = (cracks[chosen, 1] == 1.0).astype(np.int64)
+    own = points.take(chosen, axis=0)
+    pick = np.arange(chosen.shape[0])
+    return u, corners.shape[0], row[owner], axis, own[pick, axis] - 0.5, own[pick, 1 - axis], owner
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(0, 10_000), st.sampled_from([0.1, 0.25, 0.37]), st.integers(0, 50))
+def test_zone_window_matches_the_numpy_formulation(corners, seed, spacing, bound):
+    """``zone_window`` (the zone test's set-up in one pass) bit for bit against the numpy formulation it replaced:
+    the tested points, their rows, axes and pixel-centre coordinates, and the rows of curve parameters (numpy's
+    ``linspace`` and ``mod`` arithmetic, around the period's end too), from any first guess of their count."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(5, 80))
+    period = float(n) + rng.uniform(0.0, 5.0)
+    radius = rng.uniform(-0.5, 6.0, corners) * (rng.random(corners) < 0.8)
+    exclude = np.flatnonzero(rng.random(corners) < 0.2)
+    nearest = rng.integers(0, corners, n)
+    corner_distance = rng.uniform(0.0, 8.0, n)
+    corner_par = rng.uniform(0.0, period, corners)
+    gap_before, gap_after = rng.uniform(0.0, 3.0, corners), rng.uniform(0.0, 3.0, corners)
+    cracks = np.where((rng.random(n) < 0.5)[:, None], np.array([1.0, 0.0]), np.array([0.0, 1.0]))
+    points = rng.integers(0, 40, (n, 2)) + 0.5 * rng.integers(0, 2, (n, 2))
+    excluded = np.zeros(corners, bool)
+    excluded[exclude] = True
+    got = _kernels.zone_window(radius, excluded, nearest, corner_distance, corner_par, gap_before, gap_after,
+                               cracks[:, 1], points, period, spacing, bound)
+    expected = _numpy_zone_window(radius, exclude, nearest, corner_distance, corner_par, gap_before, gap_after,
+                                  cracks, points, period, spacing)
+    if expected is None:
+        assert got is None
+        return
+    assert got[1] == expected[1]
+    for a, b in zip(got[:1] + got[2:], expected[:1] + expected[2:]):
+        np.testing.assert_array_equal(a, b)

@@ -22,7 +22,7 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_points_beside", "closed_polyline_distance",
+           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -534,6 +534,84 @@ def hook_tests(bez, starts, ends, at, corner_points, limit, radius, u, rows, row
     return hooked, beside
 
 
+@njit(**_JIT)
+def _zone_window_into(radius, excluded, nearest, corner_distance, corner_par, gap_before, gap_after, crack_y, points,
+                      period, spacing, tested, half, sizes, u, row, axis, along_start, across_start, owner):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    corners = radius.shape[0]
+    for c in range(corners):
+        tested[c] = -1
+    count = np.int64(0)
+    for j in range(points.shape[0]):  # the points within an active corner's reach, max(r, 1) px of arc
+        c = nearest[j]
+        if radius[c] > 0 and not excluded[c] and corner_distance[j] < _larger(radius[c], 1.0):
+            owner[count] = c
+            tested[c] = 0
+            axis[count] = 1 if crack_y[j] == 1.0 else 0  # 0: normal (1, 0), 1: normal (0, 1)
+            along_start[count] = points[j, axis[count]] - 0.5
+            across_start[count] = points[j, 1 - axis[count]]
+            count += 1
+    rows = np.int64(0)
+    widest = -np.inf
+    for c in range(corners):  # each tested corner's row, in corner order; its half window
+        if tested[c] < 0:
+            continue
+        tested[c] = rows
+        half[rows] = _larger(radius[c], 1.0) + _larger(gap_before[c], gap_after[c]) + 2.0
+        if not half[rows] <= widest:  # numpy's max: NaN sticks
+            widest = half[rows]
+        rows += 1
+    sizes[0], sizes[1] = count, rows
+    if not rows:
+        return
+    samples = np.int64(np.ceil(2.0 * widest / spacing)) + 1
+    sizes[2] = samples
+    if rows * samples > u.shape[0]:
+        return  # the caller's buffer is too small: it calls again with one of this size
+    # numpy.linspace(-1.0, 1.0, samples) in its arithmetic: k * step + start, the last one the stop
+    step = 2.0 / (samples - 1)
+    r = np.int64(0)
+    for c in range(corners):
+        if tested[c] < 0:
+            continue
+        for k in range(samples):
+            fraction = k * step + -1.0 if k < samples - 1 else 1.0
+            u[r * samples + k] = (corner_par[c] + half[r] * fraction) % period
+        r += 1
+    for p in range(count):
+        row[p] = tested[owner[p]]
+
+
+def zone_window(radius, excluded, nearest, corner_distance, corner_par, gap_before, gap_after, crack_y, points,
+                period, spacing, bound=0):
+    """The zone test's window (:meth:`~.lsq_model.OutlineRegression._zone_window`), or None where no point is
+    tested: per corner with ``radius > 0`` that is not ``excluded``, the contour points (``points``; their
+    ``nearest`` corner and ``corner_distance``) within ``max(r, 1)`` px of arc of it; per tested corner (in corner
+    order) a row of curve parameters ``mod(corner_par + half * linspace(-1, 1, count), period)`` over its half window
+    ``max(r, 1) + max(gap_before, gap_after) + 2``, ``count = ceil(2 max(half) / spacing) + 1``; per point its
+    corner's row, the axis of its crack normal (``crack_y == 1``: 1, the y axis, else 0), the coordinate along it
+    of the pixel centre at the segment's start (the point's less 0.5) and the other coordinate, and its corner.
+    Returns ``(u, rows, row, axis, along_start, across_start, owner)``; ``bound``: a first guess of the parameters'
+    count."""
+    n, corners = points.shape[0], radius.shape[0]
+    tested, half, sizes = np.empty(corners, np.int64), np.empty(corners), np.zeros(3, np.int64)
+    row, axis, owner = np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.int64)
+    along_start, across_start = np.empty(n), np.empty(n)
+    arguments = (_floats(radius), np.ascontiguousarray(excluded, dtype=np.bool_), _ints(nearest),
+                 _floats(corner_distance), _floats(corner_par), _floats(gap_before), _floats(gap_after),
+                 _floats(crack_y), _floats(points), float(period), float(spacing), tested, half, sizes)
+    u = np.empty(int(bound))
+    _zone_window_into(*arguments, u, row, axis, along_start, across_start, owner)
+    count, rows, samples = sizes.tolist()
+    if not count:
+        return None
+    if rows * samples > u.shape[0]:
+        u = np.empty(rows * samples)
+        _zone_window_into(*arguments, u, row, axis, along_start, across_start, owner)
+    return (u[: rows * samples], rows, row[:count], axis[:count], along_start[:count], across_start[:count],
+            owner[:count])
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
     """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
     its row lies farther than ``slack`` from its pixel-centre segment."""
@@ -781,6 +859,8 @@ def warm_up_checks():
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     hook_tests(bez, starts, ends, np.array([0.5]), np.ones((1, 2)), np.ones(1), np.ones(1), np.array([0.2, 1.2]), 1,
                np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
+    zone_window(np.ones(1), np.zeros(1, np.bool_), np.zeros(2, np.int64), np.zeros(2), np.zeros(1), np.zeros(1),
+                np.zeros(1), np.ones(2), np.ones((2, 2)), 4.0, 0.1)
     group_max(index, np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernels import (_NO_FLOATS, _NO_INTS, curve_points, deviation_measures, fit_step, hook_tests, interval_samples,
-                       normal_work)
+                       normal_work, zone_window)
 from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients, periodic_knot_vector
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
@@ -119,6 +119,7 @@ class OutlineRegression:
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
         self._zone_window_cache = None  # (radii and exclusions, set-up) of zone_hooks (_zone_window)
+        self._zone_bound = 0  # the most curve parameters of a zone window so far (_kernels.zone_window)
         # (the crack normals of the contour, or None,) of zone_hooks; None until needed, and (None,) where tips are
         # not extrapolated (a noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
         self._cracks = None if geometric else (None,)
@@ -533,30 +534,14 @@ class OutlineRegression:
         key = tips.radius.tobytes() + exclude.tobytes()
         if self._zone_window_cache is not None and self._zone_window_cache[0] == key:
             return self._zone_window_cache[1]
-        window = None
-        active = tips.radius > 0
-        active[exclude] = False
-        if active.any():
-            n = contour.size
-            reach = np.maximum(tips.radius, 1.0)
-            nearest = contour.nearest_corner[:n]
-            points = np.flatnonzero(active[nearest] & (contour.corner_distance[:n] < reach[nearest]))
-            if points.size:
-                owner = nearest[points]
-                tested = np.zeros(contour.corner_count, bool)
-                tested[owner] = True
-                corners = np.flatnonzero(tested)  # sorted, unique
-                row = np.full(contour.corner_count, -1)
-                row[corners] = np.arange(corners.shape[0])  # each tested corner's row of samples
-                at = self.base_parameter[contour.corner_bounds[corners]]
-                half = reach[corners] + np.maximum(tips.gap_before[corners], tips.gap_after[corners]) + 2.0
-                count = int(np.ceil(2.0 * half.max() / ZONE_SPACING)) + 1
-                steps = np.linspace(-1.0, 1.0, count)
-                u = np.mod(at[:, None] + half[:, None] * steps[None, :], self.period).ravel()
-                axis = (cracks[points, 1] == 1.0).astype(np.int64)  # 0: normal (1, 0), 1: normal (0, 1)
-                own = contour.points.take(points, axis=0)
-                pick = np.arange(points.shape[0])
-                window = (u, corners.shape[0], row[owner], axis, own[pick, axis] - 0.5, own[pick, 1 - axis], owner)
+        excluded = np.zeros(contour.corner_count, bool)
+        excluded[exclude] = True
+        n = contour.size
+        window = zone_window(tips.radius, excluded, contour.nearest_corner[:n], contour.corner_distance[:n],
+                             self.base_parameter[contour.corner_bounds[:-1]], tips.gap_before, tips.gap_after,
+                             cracks[:, 1], contour.points, self.period, ZONE_SPACING, self._zone_bound)
+        if window is not None:
+            self._zone_bound = max(self._zone_bound, window[0].shape[0])
         self._zone_window_cache = (key, window)
         return window
 

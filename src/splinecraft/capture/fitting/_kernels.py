@@ -22,7 +22,7 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "closed_polyline_distance",
+           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -612,6 +612,109 @@ def zone_window(radius, excluded, nearest, corner_distance, corner_par, gap_befo
             owner[:count])
 
 
+@njit(**_JIT)
+def _seed_knots_into(points, arc, perimeter, corner_distance, cornered, bounds, density, epsilon, min_gap, seeds,
+                     stage, least, angle, kappa, box, cum, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    n = points.shape[0]
+    a = 4  # the chords over +-4 contour steps, their turn between +-4 steps (callers have n >= 16 points)
+    for i in range(n):
+        ahead = i + a if i + a < n else i + a - n
+        behind = i - a if i >= a else i - a + n
+        angle[i] = np.arctan2(points[ahead, 1] - points[behind, 1], points[ahead, 0] - points[behind, 0])
+    two_pi = 2.0 * np.pi
+    for i in range(n):
+        ahead = i + a if i + a < n else i + a - n
+        behind = i - a if i >= a else i - a + n
+        turn = (angle[ahead] - angle[behind] + np.pi) % two_pi - np.pi
+        # the arc lengths a points ahead and behind, across the seam continued by the perimeter
+        far = arc[i + a] if i + a < n else perimeter + arc[i + a - n]
+        near = arc[i - a] if i >= a else arc[n - a + i] - perimeter
+        kappa[i] = turn / _larger(far - near, 1e-9)
+    width = 8  # the box average over +-8 steps: prefix sums of the rates padded by 8 on both sides
+    box[0] = 0.0
+    for k in range(n + 2 * width):
+        value = kappa[_wrapped(k - width, n)]
+        box[k + 1] = value if k == 0 else box[k] + value
+    for i in range(n):
+        kappa[i] = np.abs(box[i + 2 * width + 1] - box[i]) / (2 * width + 1)
+        if kappa[i] < least:
+            kappa[i] = 0.0
+    if stage < 1:
+        return 0
+    # the knot density (density kappa^3 / epsilon)^(1/4), 0 on straight runs and within 6 px of a corner; its
+    # integral along the contour (numpy.cumsum of density times step, after a 0)
+    cum[0] = 0.0
+    for i in range(n):
+        lam = 0.0
+        if kappa[i] != 0.0 and not (cornered and corner_distance[i] < 6.0):
+            lam = (density * kappa[i] ** 3.0 / epsilon) ** 0.25
+        value = lam * (arc[i + 1] - arc[i])
+        cum[i + 1] = value if i == 0 else cum[i] + value
+    if stage < 2:
+        return 0
+    count = np.int64(0)
+    for k in range(seeds.shape[0]):
+        out[count] = seeds[k]
+        count += 1
+    at = np.int64(0)
+    for p in range(bounds.shape[0] - 1):  # each piece: its targets cum[first] + total i / (targets + 1)
+        first, last = bounds[p], bounds[p + 1]
+        total = cum[last] - cum[first]
+        floor = np.floor(total)
+        targets = np.int64(floor if floor < last - first else last - first)
+        for i in range(1, targets + 1):
+            at = _walk_left(cum, cum[first] + total * i / (targets + 1), at)
+            j = pyclip(at, first, last + 1)
+            if j - first >= min_gap and last - j >= min_gap:
+                out[count] = j
+                count += 1
+    for k in range(1, count):  # sorted (an insertion sort: the knots come nearly sorted), then each once
+        value = out[k]
+        i = k - 1
+        while i >= 0 and out[i] > value:
+            out[i + 1] = out[i]
+            i -= 1
+        out[i + 1] = value
+    unique = np.int64(0)
+    for k in range(count):
+        if k == 0 or out[k] != out[k - 1]:
+            out[unique] = out[k]
+            unique += 1
+    kept = np.int64(0)  # at least min_gap steps after the knot before it (not the one kept before it)
+    previous = -min_gap
+    for k in range(unique):
+        value = out[k]
+        if value - previous >= min_gap:
+            out[kept] = value
+            kept += 1
+        previous = value
+    return kept
+
+
+def seed_knots(points, arc, perimeter, corner_distance, cornered, bounds, seeds, density, epsilon, min_gap, least,
+               stage=2):
+    """The first knots of ``"lsq"`` by the contour's curvature in one pass (:func:`~.lsq_setup.curvature_knots`):
+    the curvature rate per contour point (``points``, ``n >= 16``, ``arc`` its ``n + 1`` cumulative arc lengths
+    around ``perimeter``): the turn of the chord directions over +-4 contour steps between +-4 steps (``numpy``'s
+    ``arctan2`` and remainder arithmetic), per arc length, averaged over +-8 steps by prefix sums, rates below
+    ``least`` set to 0 (``stage`` 0: returned); the integral of the knot density ``(density kappa^3 /
+    epsilon)^(1/4)`` (0 within 6 px of a corner, ``corner_distance``, where ``cornered``) from 0 along
+    the contour (``stage`` 1: returned); else per piece ``bounds[p] .. bounds[p + 1]`` the knots where the integral
+    crosses the piece's total times ``i / (count + 1)``, ``count = min(floor(total), steps)`` (numpy's searchsorted
+    from the left, clipped to the piece), at least ``min_gap`` steps inside it, with ``seeds`` sorted, each once,
+    and each at least ``min_gap`` steps after the knot before it."""
+    n = points.shape[0]
+    seeds = _ints(seeds)
+    angle, kappa, box, cum = np.empty(n), np.empty(n), np.empty(n + 17), np.empty(n + 1)
+    out = np.empty(seeds.shape[0] + n + 1, np.int64) if stage >= 2 else _NO_INTS
+    bounds = _ints(bounds)
+    kept = _seed_knots_into(_floats(points), _floats(arc), float(perimeter), _floats(corner_distance), bool(cornered),
+                            bounds, float(density), float(epsilon), int(min_gap), seeds, int(stage), float(least), angle,
+                            kappa, box, cum, out)
+    return (kappa, cum, out[:kept])[min(stage, 2)]
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
     """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
     its row lies farther than ``slack`` from its pixel-centre segment."""
@@ -840,7 +943,7 @@ def _tiny_fit():
 
 def warm_up_solves():
     """The first half of :func:`warm_up`: the normal equations, their solve, the spline's values, the
-    parameter correction and the separating line's slope search of extrapolated tips. (Bézier evaluation,
+    parameter correction, the first knots and the separating line's slope search of extrapolated tips. (Bézier evaluation,
     :func:`eval_bezier`, is the kernel of :func:`curve_points`: :func:`warm_up_checks` compiles it once, where
     both halves compiled it when they ran in separate processes.)"""
     full, u, bez, starts, ends, index = _tiny_fit()
@@ -848,11 +951,13 @@ def warm_up_solves():
     fit_step(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]), np.ones((2, 2)), np.array([0.5, 1.5]),
              np.ones((2, 2)), index, 1, 1.0, (np.zeros(2), np.full(2, 2.0), np.zeros(2, np.bool_), np.zeros(2)))
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
+    seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
+               1.0, 1.0, 1, 0.0)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 
 
 def warm_up_checks():
-    """The second half of :func:`warm_up`: curve points, the dense deviation check and its per-group maxima, the
+    """The second half of :func:`warm_up`: curve points, the corner tests after a fit and their window, the dense deviation check and its per-group maxima, the
     small-outline fit's nearest segments (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used)."""
     _, _, bez, starts, ends, index = _tiny_fit()
     edges = (np.ones(3),) * 5

@@ -1110,3 +1110,32 @@ def test_zone_window_matches_the_numpy_formulation(corners, seed, spacing, bound
     assert got[1] == expected[1]
     for a, b in zip(got[:1] + got[2:], expected[:1] + expected[2:]):
         np.testing.assert_array_equal(a, b)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 6), st.integers(0, 12), st.integers(0, 10_000), st.booleans())
+def test_knot_vector_matches_the_numpy_formulation(corners, simple, seed, repeats):
+    """``knot_vector`` (the fit's knots, full knot vector and intervals in one pass) against numpy: the sorted repeats
+    of the corners (three times) and the simple knots (their multiplicities), ``knots[idx % m] + period *
+    floor_divide(idx, m)`` and ``numpy.unique`` of the knots and the period."""
+    rng = np.random.default_rng(seed)
+    period = 100.0
+    if corners + simple == 0:
+        simple = 4
+    grid = np.sort(rng.choice(np.arange(0.0, period, 0.5), corners + simple, replace=False))
+    if repeats and simple > 1:  # a simple knot on a corner's value (both lists keep their order)
+        grid[-1] = grid[0]
+        grid = np.sort(grid)
+    pick = rng.permutation(corners + simple)
+    corner_values, values = np.sort(grid[pick[:corners]]), np.sort(grid[pick[corners:]])
+    multiplicity = rng.integers(1, 3, values.shape[0])
+    knots, full, starts, ends = _kernels.knot_vector(corner_values, values, multiplicity, period)
+    expected = np.sort(np.concatenate([np.repeat(corner_values, 3), np.repeat(values, multiplicity)]))
+    np.testing.assert_array_equal(knots, expected)
+    m = expected.shape[0]
+    idx = np.arange(-3, m + 4)
+    np.testing.assert_array_equal(full, expected[idx % m] + period * np.floor_divide(idx, m))
+    np.testing.assert_array_equal(bspline.periodic_knot_vector(expected, period), full)
+    distinct = np.unique(np.append(expected, period))
+    np.testing.assert_array_equal(starts, distinct[:-1])
+    np.testing.assert_array_equal(ends, distinct[1:])

@@ -22,7 +22,7 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "closed_polyline_distance",
+           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -715,6 +715,52 @@ def seed_knots(points, arc, perimeter, corner_distance, cornered, bounds, seeds,
     return (kappa, cum, out[:kept])[min(stage, 2)]
 
 
+@njit(**_JIT)
+def _knot_vector_into(corner_values, values, multiplicity, period, knots, full, distinct, sizes):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    m = np.int64(0)
+    c = v = np.int64(0)
+    while c < corner_values.shape[0] or v < values.shape[0]:  # the two sorted lists merged
+        if v >= values.shape[0] or (c < corner_values.shape[0] and corner_values[c] <= values[v]):
+            for _ in range(3):
+                knots[m] = corner_values[c]
+                m += 1
+            c += 1
+        else:
+            for _ in range(multiplicity[v]):
+                knots[m] = values[v]
+                m += 1
+            v += 1
+    for e in range(m + 7):  # knots[idx % m] + period * floor_divide(idx, m), idx = -3 .. m + 3
+        idx = e - 3
+        wraps = idx // m
+        full[e] = knots[idx - wraps * m] + period * wraps
+    k = np.int64(0)
+    for e in range(m):
+        if k == 0 or knots[e] != distinct[k - 1]:
+            distinct[k] = knots[e]
+            k += 1
+    if k == 0 or period != distinct[k - 1]:
+        distinct[k] = period
+        k += 1
+    sizes[0], sizes[1] = m, k
+
+
+def knot_vector(corner_values, values, multiplicity, period):
+    """The knots of one period of a periodic cubic spline, sorted: ``corner_values`` three times each and
+    ``values`` ``multiplicity`` times each (both sorted; ``numpy.sort`` of their repeats); its full knot vector
+    ``tau_{-3} .. tau_{M+3}`` (``knots[idx % M] + period * floor_divide(idx, M)``); and the starts and ends of its
+    knot intervals (the knots each once, and ``period``: ``numpy.unique``). Returns ``(knots, full, starts,
+    ends)`` (:meth:`~.lsq_model.OutlineRegression.knot_values`, :func:`~.bspline.periodic_knot_vector`)."""
+    values, multiplicity = _floats(values), _ints(multiplicity)
+    bound = 3 * corner_values.shape[0] + int(multiplicity.sum()) if multiplicity.shape[0] else 3 * corner_values.shape[0]
+    knots, full, distinct = np.empty(bound), np.empty(bound + 7), np.empty(bound + 1)
+    sizes = np.empty(2, np.int64)
+    _knot_vector_into(_floats(corner_values), values, multiplicity, float(period), knots, full, distinct, sizes)
+    m, k = sizes.tolist()
+    return knots[:m], full[: m + 7], distinct[: k - 1], distinct[1:k]
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
     """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
     its row lies farther than ``slack`` from its pixel-centre segment."""
@@ -953,6 +999,7 @@ def warm_up_solves():
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
     seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
                1.0, 1.0, 1, 0.0)
+    knot_vector(np.array([0.0]), np.array([2.0, 3.0]), np.ones(2, np.int64), 7.0)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 
 

@@ -25,10 +25,10 @@ _FROM_SAMPLES = np.linalg.inv(
 
 def periodic_knot_vector(knots: np.ndarray, period: float) -> np.ndarray:
     """Full knot vector ``tau_{-3} .. tau_{M+3}`` (length ``M + 7``) of a periodic cubic spline whose knots in
-    one period are ``knots = tau_0 .. tau_{M-1}`` in ``[0, period)`` (a repeated value is a multiple knot)."""
-    m = knots.shape[0]
-    idx = np.arange(-3, m + 4)
-    return knots[idx % m] + period * np.floor_divide(idx, m)
+    one period are ``knots = tau_0 .. tau_{M-1}`` in ``[0, period)``, sorted (a repeated value is a multiple knot):
+    ``knots[idx % M] + period * floor_divide(idx, M)`` (:func:`._kernels.knot_vector`)."""
+    knots = np.asarray(knots, dtype=np.float64)
+    return _kernels.knot_vector(_kernels._NO_FLOATS, knots, np.ones(knots.shape[0], np.int64), period)[1]
 
 
 def interval_index(full: np.ndarray, u: np.ndarray, side: str = "right") -> np.ndarray:

@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernels import (_NO_FLOATS, _NO_INTS, curve_points, deviation_measures, fit_step, hook_tests, interval_samples,
-                       normal_work, zone_window)
-from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients, periodic_knot_vector
+                       knot_vector, normal_work, zone_window)
+from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
 from .lsq_setup import CornerTips, RotatedContour, crack_normals, curvature_knots
@@ -107,6 +107,8 @@ class OutlineRegression:
                                        geometric, self.corner_allowance)
         self.base_parameter = self._base_parameter()
         self.period = float(self.base_parameter[-1])
+        #: the corners' base parameters (sorted; none without corners)
+        self._corner_values = self.base_parameter[contour.corner_bounds[:-1]] if contour.corner_count else np.zeros(0)
         bounds, piece = contour.corner_bounds, contour.piece_of_point
         self.parameter_low = self.base_parameter[bounds[piece]]
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
@@ -193,11 +195,14 @@ class OutlineRegression:
 
     # ---------------------------------------------------------------- knots, weights, zones
     def knot_values(self):
-        """The knots of one period: corners three times, the inserted knots ``knot_multiplicity`` times, sorted."""
-        bounds = self.contour.corner_bounds
-        corners = np.repeat(self.base_parameter[bounds[:-1]], 3) if self.contour.corner_count else np.zeros(0)
-        inserted = np.repeat(self.base_parameter[self.simple_knots], self.inserted_multiplicity())
-        return np.sort(np.concatenate([corners, inserted]))
+        """The knots of one period: corners three times, the inserted knots ``inserted_multiplicity`` times, sorted."""
+        return self._knot_vector()[0]
+
+    def _knot_vector(self):
+        """:meth:`knot_values`, the full knot vector and the knot intervals' starts and ends
+        (:func:`~._kernels.knot_vector`)."""
+        return knot_vector(self._corner_values, self.base_parameter[self.simple_knots], self.inserted_multiplicity(),
+                           self.period)
 
     def inserted_multiplicity(self):
         """Multiplicity of every simple knot: ``knot_multiplicity`` (2 for the jump knots), but 1 (C2) for the
@@ -333,10 +338,9 @@ class OutlineRegression:
         values on them."""
         key = self.simple_knots.tobytes()
         if self._knot_cache is None or self._knot_cache[0] != key:
-            knots = self.knot_values()
-            distinct = _unique(np.append(knots, self.period))
-            self._knot_cache = (key, (knots.shape[0], periodic_knot_vector(knots, self.period), distinct[:-1],
-                                      distinct[1:], np.empty((distinct.shape[0] - 1, _THETA4.shape[0], 2))))
+            knots, full, starts, ends = self._knot_vector()
+            self._knot_cache = (key, (knots.shape[0], full, starts, ends,
+                                      np.empty((starts.shape[0], _THETA4.shape[0], 2))))
         return self._knot_cache[1]
 
     def _weight_setup(self):

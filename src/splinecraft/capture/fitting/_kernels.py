@@ -849,16 +849,20 @@ def _samples_into(bez, spacing, starts, ends, counts, count_only, points, params
     return row
 
 
-def interval_samples(bez, starts, ends, spacing):
+def interval_samples(bez, starts, ends, spacing, closed=None):
     """Samples of every knot interval's Bézier about ``spacing`` apart by the length of its control polygon
     (at least 3, the interval's end left to the next one): points, parameters and interval numbers
-    (:meth:`~.lsq_model.OutlineRegression.deviations`, docs/capture.md §12, "Stopping rule")."""
+    (:meth:`~.lsq_model.OutlineRegression.deviations`, docs/capture.md §12, "Stopping rule"). With ``closed``, the
+    parameters have that value appended (the period: the closed parameters of :func:`deviation_measures`)."""
     bez = _floats(bez)
     starts, ends, spacing = _floats(starts), _floats(ends), float(spacing)
     counts = np.empty(bez.shape[0], np.int64)
     total = _samples_into(bez, spacing, starts, ends, counts, True, _NO_POINTS, _NO_FLOATS, _NO_INTS)
-    points, params, interval = np.empty((total, 2)), np.empty(total), np.empty(total, np.int64)
+    extra = closed is not None
+    points, params, interval = np.empty((total, 2)), np.empty(total + extra), np.empty(total, np.int64)
     _samples_into(bez, spacing, starts, ends, counts, False, points, params, interval)
+    if extra:
+        params[total] = closed
     return points, params, interval
 
 
@@ -1014,11 +1018,11 @@ def warm_up_checks():
     zone_window(np.ones(1), np.zeros(1, np.bool_), np.zeros(2, np.int64), np.zeros(2), np.zeros(1), np.zeros(1),
                 np.zeros(1), np.ones(2), np.ones((2, 2)), 4.0, 0.1)
     group_max(index, np.ones(2), 1)
-    samples, params, iv = interval_samples(bez, starts, ends, 0.5)
+    samples, params, iv = interval_samples(bez, starts, ends, 0.5, 2.0)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)
     deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
                        np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
-                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2), 2.0,
+                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2),
                        1.0, 0.0, 2)
 
 
@@ -1060,8 +1064,8 @@ def _larger(a, b):
 
 @njit(**_JIT)
 def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base, edges,
-                    probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above, reach,
-                    curve_out, curve_zone, data_out, data_iv, excess, piece_out):
+                    probes, probe_u, fill_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above,
+                    reach, curve_out, curve_zone, data_out, data_iv, excess, piece_out):
     """:func:`deviation_measures` into ``curve_out`` (rows d_curve, tol_curve), ``data_out`` (rows d_data,
     tol_data), ``excess`` and ``piece_out`` (rows piece_dev, piece_err, piece_excess; these two filled with -inf
     by the wrapper): outputs of one length share an array, and so do the edge table's five columns (every array
@@ -1136,6 +1140,9 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
     # of the curve samples (closed by the last piece's end point) within ``reach`` samples
     at_start = at_end = at_lo = at_hi = at_centre = np.int64(0)
     for p in range(probe_u.shape[0]):
+        if fill_u:  # the dense probes: the contour points' parameters and their edge midpoints' means, alternating
+            half = p // 2
+            probe_u[p] = parameter[half] if p - 2 * half == 0 else 0.5 * (parameter[half] + parameter[half + 1])
         u = probe_u[p]
         at_start = _walk_right(starts, u, at_start)
         seg = pyclip(at_start - 1, 0, last)
@@ -1200,28 +1207,32 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         piece_out[1, g] = _larger(piece_out[1, g], 0.0)
 
 
-def deviation_measures(bez, starts, ends, samples, params, iv, corner_par, bounds, cornered, parameter, base, edges,
-                       probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, period, epsilon,
+def deviation_measures(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base,
+                       edges, probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon,
                        loose_above, reach):
     """The deviation check of the current fit in one pass (:meth:`~.lsq_model.OutlineRegression.deviations`,
     docs/capture.md §12, "Stopping rule"), the operations of its numpy formulation in their order:
-    the windowed closest-point distance of every curve sample (``samples``, ``params``, interval ``iv``) to the
-    contour edges (``edges``, :func:`~.geometry.edge_table`), its tolerance (``epsilon``, plus the largest
-    ``allowance`` of the two contour points around it where ``numpy.interp`` of ``zone`` is positive) and its
-    piece; every probe's distance to its corresponding curve point, refined above ``loose_above`` by the chords
-    of the curve samples within ``reach`` samples (clipped to the probe's piece and ``reach`` more); then the
-    per-interval worst excess and the per-piece maxima (``-inf`` for empty groups, NaN wins, as
-    :func:`group_max` and ``numpy.maximum``). Returns the dict entries of ``deviations``."""
-    total, count, pieces = samples.shape[0], probe_u.shape[0], corner_par.shape[0] - 1
+    the windowed closest-point distance of every curve sample (``samples``, ``closed_params`` -- the samples'
+    parameters and the period --, interval ``iv``) to the contour edges (``edges``, :func:`~.geometry.edge_table`),
+    its tolerance (``epsilon``, plus the largest ``allowance`` of the two contour points around it where
+    ``numpy.interp`` of ``zone`` is positive) and its piece; every probe's distance to its corresponding curve point
+    (``probe_u``; None: the dense probes' parameters, the contour points' ``parameter`` and their edge midpoints'
+    means alternating, returned as ``"probe_u"``), refined above ``loose_above`` by the chords of the curve samples
+    within ``reach`` samples (clipped to the probe's piece and ``reach`` more); then the per-interval worst excess
+    and the per-piece maxima (``-inf`` for empty groups, NaN wins, as :func:`group_max` and ``numpy.maximum``).
+    Returns the dict entries of ``deviations``."""
+    total, count, pieces = samples.shape[0], probes.shape[0], corner_par.shape[0] - 1
+    fill_u = probe_u is None
+    probe_u = np.empty(count) if fill_u else _floats(probe_u)
     curve_out, curve_zone = np.empty((2, total)), np.empty(total, np.bool_)
     data_out, data_iv = np.empty((2, count)), np.empty(count, np.int64)
     excess, piece_out = np.full(starts.shape[0], -np.inf), np.full((3, pieces), -np.inf)
-    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), np.append(_floats(params), period),
-                    _ints(iv), _floats(corner_par), _ints(bounds), bool(cornered), _floats(parameter), _floats(base),
-                    _floats(edges), _floats(probes), _floats(probe_u), _ints(probe_piece),
+    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), _floats(closed_params), _ints(iv),
+                    _floats(corner_par), _ints(bounds), bool(cornered), _floats(parameter), _floats(base),
+                    _floats(edges), _floats(probes), probe_u, fill_u, _ints(probe_piece),
                     np.ascontiguousarray(is_point, dtype=np.bool_), _floats(zone), _floats(allowance),
                     _floats(probe_allowance), float(epsilon), float(loose_above), int(reach),
                     curve_out, curve_zone, data_out, data_iv, excess, piece_out)
     return {"excess": excess, "piece_dev": piece_out[0], "piece_err": piece_out[1], "piece_excess": piece_out[2],
             "d_data": data_out[0], "tol_data": data_out[1], "data_iv": data_iv, "d_curve": curve_out[0],
-            "tol_curve": curve_out[1], "curve_zone": curve_zone}
+            "tol_curve": curve_out[1], "curve_zone": curve_zone, "probe_u": probe_u}

@@ -107,6 +107,7 @@ class OutlineRegression:
                                        geometric, self.corner_allowance)
         self.base_parameter = self._base_parameter()
         self.period = float(self.base_parameter[-1])
+        self._corner_par = self.base_parameter[contour.corner_bounds]  # of every corner, and the period (or seam)
         #: the corners' base parameters (sorted; none without corners)
         self._corner_values = self.base_parameter[contour.corner_bounds[:-1]] if contour.corner_count else np.zeros(0)
         bounds, piece = contour.corner_bounds, contour.piece_of_point
@@ -649,17 +650,16 @@ class OutlineRegression:
         starts, ends = self.intervals()
         bez = self.bezier()
         spacing = min(self.sample_spacing, 0.25) if dense else self.sample_spacing
-        samples, params, iv = self._curve_samples(bez, starts, ends, spacing)
+        # the samples' parameters with the period after them (the closed parameters of the check)
+        samples, closed_params, iv = interval_samples(bez, starts, ends, spacing, self.period)
         probes, probe_u, probe_piece, is_point = self._probes(dense)
         zone, allowance, probe_zone, probe_allowance = self._zones(dense)
-        dev = deviation_measures(bez, starts, ends, samples, params, iv, self.base_parameter[contour.corner_bounds],
-                                 contour.corner_bounds, contour.corner_count > 0, self.parameter, self.base_parameter,
-                                 contour.edges, probes, probe_u, probe_piece, is_point, zone, allowance,
-                                 probe_allowance, self.period, self.epsilon,
+        dev = deviation_measures(bez, starts, ends, samples, closed_params, iv, self._corner_par, contour.corner_bounds,
+                                 contour.corner_count > 0, self.parameter, self.base_parameter, contour.edges, probes,
+                                 probe_u, probe_piece, is_point, zone, allowance, probe_allowance, self.epsilon,
                                  0.5 * self.epsilon if dense else self.epsilon, int(np.ceil(3.0 / spacing)))
-        dev.update(starts=starts, ends=ends, probe_u=probe_u, probe_zone=probe_zone, curve_iv=iv, curve_params=params,
-                   bezier=bez, dense=dense)
-        dev.update(tol_excess=dev["excess"], pixel=None, pixel_iv=None)
+        dev.update(starts=starts, ends=ends, probe_zone=probe_zone, curve_iv=iv, curve_params=closed_params[:-1],
+                   bezier=bez, dense=dense, tol_excess=dev["excess"], pixel=None, pixel_iv=None)
         if self.crack_normal is not None:
             k = starts.shape[0]
             pixel = self.pixel_excess()
@@ -720,15 +720,10 @@ class OutlineRegression:
         value = cached[1][dense] = (zone.astype(float), allowance, probe_zone, probe_allowance)
         return value
 
-    @staticmethod
-    def _curve_samples(bez, starts, ends, spacing):
-        """Samples of every knot interval's Bézier about ``spacing`` apart (by the control polygon, at least 3,
-        the interval's end left to the next one): points, parameters and interval numbers."""
-        return interval_samples(bez, starts, ends, spacing)
-
     def _probes(self, dense):
-        """Contour points (``dense``: and edge midpoints), in parameter order: points, parameters, pieces and
-        which of them are contour points."""
+        """Contour points (``dense``: and edge midpoints), in parameter order: points, parameters (``dense``: None,
+        the deviation check's kernel takes the points' and the midpoints' means of theirs,
+        :func:`~._kernels.deviation_measures`), pieces and which of them are contour points."""
         contour = self.contour
         n = contour.size
         if not dense:
@@ -736,11 +731,8 @@ class OutlineRegression:
         if self._dense_probes is None:  # the contour's points and edge midpoints never change
             probes = np.empty((2 * n, 2))
             probes[0::2], probes[1::2] = contour.points, 0.5 * (contour.closed_points[:-1] + contour.closed_points[1:])
-            self._dense_probes = (probes, np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n))
-        probes, probe_piece, is_point = self._dense_probes
-        probe_u = np.empty(2 * n)
-        probe_u[0::2], probe_u[1::2] = self.parameter[:n], 0.5 * (self.parameter[:-1] + self.parameter[1:])
-        return probes, probe_u, probe_piece, is_point
+            self._dense_probes = (probes, None, np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n))
+        return self._dense_probes
 
     # ---------------------------------------------------------------- knot insertion
     def insert(self, dev, tight=False):

@@ -1139,3 +1139,37 @@ def test_knot_vector_matches_the_numpy_formulation(corners, simple, seed, repeat
     distinct = np.unique(np.append(expected, period))
     np.testing.assert_array_equal(starts, distinct[:-1])
     np.testing.assert_array_equal(ends, distinct[1:])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(3, 60), st.integers(0, 6), st.integers(0, 10_000))
+def test_contour_tables_match_the_numpy_formulation(n, corners, seed):
+    """``contour_tables`` (``RotatedContour``'s tables in one pass) bit for bit against the numpy formulation it
+    replaced: the edge table, the arc lengths, each point's piece, nearest corner and distance to it (ties to
+    the earlier corner; repeated points make zero-length edges)."""
+    rng = np.random.default_rng(seed)
+    points = rng.integers(0, 6, (n, 2)) * 0.5
+    closed = np.vstack([points, points[:1]])
+    chosen = np.unique(rng.integers(0, n, corners)).astype(np.int64)
+    count = chosen.shape[0]
+    bounds = np.append(chosen, n) if count else np.array([0, n])
+    if count:
+        bounds = np.append(chosen - chosen[0], n)
+    edges, arc, piece_of, distance, nearest = _kernels.contour_tables(closed, bounds, count)
+    dx, dy = np.diff(closed[:, 0]), np.diff(closed[:, 1])
+    den = dx * dx + dy * dy
+    np.testing.assert_array_equal(edges, np.stack([closed[:-1, 0], closed[:-1, 1], dx, dy,
+                                                   1.0 / np.where(den > 0, den, 1.0)]))
+    np.testing.assert_array_equal(geometry.edge_table(closed), edges)
+    expected_arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    np.testing.assert_array_equal(arc, expected_arc)
+    np.testing.assert_array_equal(piece_of, np.clip(np.searchsorted(bounds, np.arange(n + 1), side="right") - 1, 0,
+                                                    bounds.shape[0] - 2))
+    if count:
+        corner_arc = expected_arc[bounds]
+        k = np.clip(np.searchsorted(corner_arc, expected_arc), 1, corner_arc.shape[0] - 1)
+        left, right = expected_arc - corner_arc[k - 1], corner_arc[k] - expected_arc
+        np.testing.assert_array_equal(distance, np.minimum(left, right))
+        np.testing.assert_array_equal(nearest, np.where(left <= right, k - 1, k) % count)
+    else:
+        assert np.isinf(distance).all() and not nearest.any()

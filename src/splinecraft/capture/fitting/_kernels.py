@@ -22,7 +22,7 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "closed_polyline_distance",
+           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "contour_tables", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -761,6 +761,67 @@ def knot_vector(corner_values, values, multiplicity, period):
     return knots[:m], full[: m + 7], distinct[: k - 1], distinct[1:k]
 
 
+@njit(**_JIT)
+def _contour_into(closed, bounds, corners, edges, arc, corner_arc, piece_of, distance, nearest):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for e in range(closed.shape[0] - 1):  # the edge table (geometry.edge_table) and the cumulative arc lengths
+        dx = closed[e + 1, 0] - closed[e, 0]
+        dy = closed[e + 1, 1] - closed[e, 1]
+        den = dx * dx + dy * dy
+        edges[0, e] = closed[e, 0]
+        edges[1, e] = closed[e, 1]
+        edges[2, e] = dx
+        edges[3, e] = dy
+        edges[4, e] = 1.0 / (den if den > 0 else 1.0)
+        if arc.shape[0]:
+            step = np.hypot(dx, dy)
+            arc[e + 1] = step if e == 0 else arc[e] + step
+    if not arc.shape[0]:
+        return
+    arc[0] = 0.0
+    pieces = bounds.shape[0] - 1
+    at = np.int64(0)
+    for j in range(piece_of.shape[0]):
+        at = _walk_right(bounds, j, at)
+        piece_of[j] = pyclip(at - 1, 0, pieces - 1)
+    if not corners:
+        for j in range(distance.shape[0]):
+            distance[j] = np.inf
+            nearest[j] = 0
+        return
+    for c in range(bounds.shape[0]):
+        corner_arc[c] = arc[bounds[c]]
+    at = np.int64(0)
+    for j in range(distance.shape[0]):  # the arc length to the nearest corner (the period end is corner 0)
+        at = _walk_left(corner_arc, arc[j], at)
+        k = pyclip(at, 1, corners)
+        left, right = arc[j] - corner_arc[k - 1], corner_arc[k] - arc[j]
+        distance[j] = left if (left != left or left < right) else right  # numpy.minimum
+        nearest[j] = (k - 1 if left <= right else k) % corners
+
+
+def contour_tables(closed, bounds, corners, edges_only=False):
+    """Per edge of the closed polyline ``closed`` (the first point again at the end): start x, start y, dx, dy and
+    ``1 / |d|^2`` (1 for a zero-length edge), the rows of one ``(5, edges)`` array (:func:`~.geometry.edge_table`);
+    unless ``edges_only``, also the cumulative arc lengths (from 0, ``numpy.cumsum`` of the edges' ``hypot``), the
+    piece of every point (``bounds``: the pieces' first points, then the closing index; ``numpy.searchsorted``
+    right, less 1, clipped to the pieces) and, with ``corners`` (the pieces' first points are corners, the closing
+    index corner 0 again), the arc length to the nearest corner and its number (the earlier one on a tie;
+    without corners infinity and 0): :class:`~.lsq_setup.RotatedContour`. Returns ``edges`` or ``(edges, arc,
+    piece_of_point, corner_distance, nearest_corner)``."""
+    closed = _floats(closed)
+    count = closed.shape[0]
+    edges = np.empty((5, count - 1))
+    if edges_only:
+        _contour_into(closed, _NO_INTS, 0, edges, _NO_FLOATS, _NO_FLOATS, _NO_INTS, _NO_FLOATS, _NO_INTS)
+        return edges
+    bounds = _ints(bounds)
+    arc, piece_of, distance, nearest = np.empty(count), np.empty(count, np.int64), np.empty(count), \
+        np.empty(count, np.int64)
+    _contour_into(closed, bounds, int(corners), edges, arc, np.empty(bounds.shape[0]), piece_of, distance, nearest)
+    return edges, arc, piece_of, distance, nearest
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
     """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
     its row lies farther than ``slack`` from its pixel-centre segment."""
@@ -1004,6 +1065,7 @@ def warm_up_solves():
     seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
                1.0, 1.0, 1, 0.0)
     knot_vector(np.array([0.0]), np.array([2.0, 3.0]), np.ones(2, np.int64), 7.0)
+    contour_tables(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.0, 0.0]]), np.array([0, 2, 3]), 2)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 
 

@@ -8,7 +8,6 @@ import numpy as np
 
 from .._pixel_corners import outline_pixel_corners
 from . import _kernels
-from .geometry import edge_table
 from .tips import MAX_TIP_REACH, tip_estimates
 
 __all__ = ["RotatedContour", "CornerTips", "thin_corners", "curvature_knots", "crack_normals"]
@@ -45,22 +44,13 @@ class RotatedContour:
         # numpy.roll(points, -rotation, axis=0), and the first point again at the end
         self.closed_points = np.concatenate([points[self.rotation:], points[: self.rotation + 1]])
         self.points = self.closed_points[:-1]
-        self.edges = edge_table(self.closed_points)
-        self.arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(self.closed_points, axis=0).T))])
-        self.perimeter = float(self.arc[-1])
         self.corner_bounds = np.append((corners - self.rotation) % n, n) if count else np.array([0, n])
         self.piece_count = self.corner_bounds.shape[0] - 1
-        self.piece_of_point = np.clip(np.searchsorted(self.corner_bounds, np.arange(n + 1), side="right") - 1, 0,
-                                      self.piece_count - 1)
-        if count:
-            corner_arc = self.arc[self.corner_bounds]  # includes the period end (= corner 0)
-            k = np.clip(np.searchsorted(corner_arc, self.arc), 1, corner_arc.shape[0] - 1)
-            left, right = self.arc - corner_arc[k - 1], corner_arc[k] - self.arc
-            self.corner_distance = np.minimum(left, right)
-            self.nearest_corner = np.where(left <= right, k - 1, k) % count
-        else:
-            self.corner_distance = np.full(n + 1, np.inf)
-            self.nearest_corner = np.zeros(n + 1, dtype=np.int64)
+        # the edge table (geometry.edge_table), the arc lengths, and per point its piece and nearest corner (the
+        # period end is corner 0) with the arc length to it, in one compiled pass
+        self.edges, self.arc, self.piece_of_point, self.corner_distance, self.nearest_corner = \
+            _kernels.contour_tables(self.closed_points, self.corner_bounds, count)
+        self.perimeter = float(self.arc[-1])
 
     def point_at_arc(self, arc):
         """Points of the contour polyline at arc lengths ``arc`` (in ``[0, perimeter]``)."""

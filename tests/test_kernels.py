@@ -268,19 +268,33 @@ def test_fit_step_is_the_bezier_pieces_then_the_hoschek_step(m, seed, multiple, 
     piece_of = np.sort(rng.integers(0, 3, u.shape[0]))
     bez = np.einsum("ij,kjd->kid", bspline._FROM_SAMPLES,
                     _kernels.spline_values(coef, full, m, starts, ends, bspline._THETA4))
-    got_bez, du = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u, points,
-                                    piece_of, 3, gate)
+    got_bez, du, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u,
+                                          points, piece_of, 3, gate)
+    assert not same
     np.testing.assert_array_equal(got_bez, bez)
     np.testing.assert_array_equal(du, _numpy_hoschek(u, points, bez, starts, ends, piece_of, 3, gate))
     low, high = u - rng.uniform(0.0, 1.5, u.shape[0]), u + rng.uniform(-0.2, 1.5, u.shape[0])
     fixed, base = rng.random(u.shape[0]) < 0.2, rng.uniform(0, period, u.shape[0])
     work = rng.normal(size=(starts.shape[0], 4, 2))
-    got_bez, moved = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u, points,
-                                       piece_of, 3, gate, (low, high, fixed, base), work)
-    expected = np.clip(u + du, low, high)
-    expected[fixed] = base[fixed]
+    got_bez, moved, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u,
+                                             points, piece_of, 3, gate, (low, high, fixed, base), work)
+    expected = np.maximum.accumulate(np.where(fixed, base, np.clip(u + du, low, high)))
     np.testing.assert_array_equal(got_bez, bez)
-    np.testing.assert_array_equal(moved, np.maximum.accumulate(expected))
+    np.testing.assert_array_equal(moved, expected)
+    assert same == (moved.tobytes() == u.tobytes())
+    # a step that moves nothing (every piece above the gate, the bounds the parameters themselves): the same bits,
+    # and a signed zero in place of a zero is not the same
+    still = np.maximum.accumulate(u)
+    _, moved, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, still,
+                                       points, piece_of, 3, -1.0, (still, still, np.zeros(u.shape[0], bool), base))
+    assert same and moved.tobytes() == still.tobytes()
+    signed = still.copy()
+    signed[0] = -0.0
+    low = still.copy()
+    low[0] = 0.0
+    _, moved, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, signed,
+                                       points, piece_of, 3, -1.0, (low, low, np.zeros(u.shape[0], bool), base))
+    assert not same and moved[0] == 0.0 and not np.signbit(moved[0])
 
 
 def test_hoschek_step_lands_on_the_foot_point_of_a_straight_piece():

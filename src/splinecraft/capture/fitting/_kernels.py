@@ -234,9 +234,10 @@ def normal_equations(full, u, weights, targets, m, regularization=None, extra=_N
 
 @njit(**_JIT)
 def _step_into(coef, full, m, starts, ends, theta, mix, values, mixed, u, points, piece_of, gate, du, res, worst, low,
-               high, fixed, base, moved):
+               high, fixed, base, moved, u_bits, moved_bits):
     """The spline's values on its knot intervals (``coef`` not empty) mixed into ``mixed`` (``mix`` not empty),
-    then the Newton step of the points ``u`` (not empty) on the pieces ``mixed``: :func:`fit_step`."""
+    then the Newton step of the points ``u`` (not empty) on the pieces ``mixed``: :func:`fit_step`. Returns
+    whether the stepped parameters ``moved`` are ``u`` bit for bit (their bits ``moved_bits``, ``u_bits``)."""
     for k in range(starts.shape[0] if coef.shape[0] else 0):
         width = ends[k] - starts[k]
         i = pyclip(_right_of(full, starts[k] + 0.5 * width) - 1, 3, full.shape[0] - 5)  # bspline.interval_index
@@ -252,7 +253,7 @@ def _step_into(coef, full, m, starts, ends, theta, mix, values, mixed, u, points
                     total += mix[row, t] * values[k, t, d]
                 mixed[k, row, d] = total
     if not u.shape[0]:
-        return
+        return False
     bez = mixed
     last = starts.shape[0] - 1
     at = np.int64(0)  # the previous point's search answer (the parameters are sorted)
@@ -292,7 +293,7 @@ def _step_into(coef, full, m, starts, ends, theta, mix, values, mixed, u, points
         if worst[piece_of[j]] > gate:
             du[j] = 0.0
     if moved.shape[0] != u.shape[0]:
-        return
+        return False
     # the new parameters: numpy.clip(u + du, low, high), base where fixed, numpy.maximum.accumulate (numpy's
     # maximum and minimum: the first operand where it is NaN or wins strictly, else the second)
     previous = 0.0
@@ -307,6 +308,10 @@ def _step_into(coef, full, m, starts, ends, theta, mix, values, mixed, u, points
         if j > 0 and (previous != previous or previous > x):
             x = previous
         moved[j] = previous = x
+    for j in range(u.shape[0]):
+        if moved_bits[j] != u_bits[j]:
+            return False
+    return True
 
 
 def spline_values(coef, full, m, starts, ends, theta, mix=None):
@@ -321,7 +326,8 @@ def spline_values(coef, full, m, starts, ends, theta, mix=None):
     mixed = np.empty((starts.shape[0] if rows else 0, rows, coef.shape[1]))
     _step_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta),
                _floats(mix) if rows else _NO_MATRIX, values, mixed, _NO_FLOATS, _NO_POINTS, _NO_INTS, 0.0,
-               _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_BOOLS, _NO_FLOATS, _NO_FLOATS)
+               _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_BOOLS, _NO_FLOATS, _NO_FLOATS, _NO_INTS,
+               _NO_INTS)
     return mixed if rows else values
 
 
@@ -333,35 +339,37 @@ def fit_step(coef, full, m, starts, ends, theta, mix, u, points, piece_of, piece
     (:meth:`~.lsq_model.OutlineRegression.fit`): the steps ``du`` (clipped to +-2), zero in the pieces
     (``piece_of``, non-decreasing) whose largest residual exceeds ``gate``. With ``bounds = (low, high, fixed,
     base)`` instead of the steps the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
-    high)`` with ``base`` where ``fixed``. Returns ``(pieces, steps or parameters)``; ``values``: a work array
-    (k, len(theta), 2) of the values."""
-    u = _floats(u)
+    high)`` with ``base`` where ``fixed``. Returns ``(pieces, steps or parameters, same)``, ``same``: the stepped
+    parameters are ``u`` bit for bit (signed zeros included; False without ``bounds``); ``values``: a work array
+    (k, len(theta), 2) of the values. The arrays are the fit's own, float64 (``piece_of`` int64) and contiguous:
+    taken as they are."""
     count = u.shape[0]
     du, res, worst = np.empty(count), np.empty(count), np.empty(int(piece_count))
     if bounds is None:
         low = high = base = moved = _NO_FLOATS
-        fixed = _NO_BOOLS
+        fixed, u_bits, moved_bits = _NO_BOOLS, _NO_INTS, _NO_INTS
     else:
-        low, high, base = _floats(bounds[0]), _floats(bounds[1]), _floats(bounds[3])
-        fixed, moved = np.ascontiguousarray(bounds[2], dtype=np.bool_), np.empty(count)
-    starts = _floats(starts)
+        low, high, fixed, base = bounds
+        moved = np.empty(count)
+        u_bits, moved_bits = u.view(np.int64), moved.view(np.int64)
     if coef is None:
-        coef, mixed, values, mix = _NO_MATRIX, _floats(mix), _NO_CUBE, _NO_MATRIX
+        coef, mixed, values, mix = _NO_MATRIX, mix, _NO_CUBE, _NO_MATRIX
     else:
-        coef, mix = _floats(coef), _floats(mix)
         mixed = np.empty((starts.shape[0], mix.shape[0], coef.shape[1]))
         if values is None:
-            values = np.empty((starts.shape[0], len(theta), coef.shape[1]))
-    _step_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta), mix, values, mixed, u,
-               _floats(points), _ints(piece_of), float(gate), du, res, worst, low, high, fixed, base, moved)
-    return mixed, (du if bounds is None else moved)
+            values = np.empty((starts.shape[0], theta.shape[0], coef.shape[1]))
+    same = _step_into(coef, full, int(m), starts, ends, theta, mix, values, mixed, u, points, piece_of, float(gate), du,
+                      res, worst, low, high, fixed, base, moved, u_bits, moved_bits)
+    return mixed, (du if bounds is None else moved), same
 
 
 def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bounds=None):
     """One Newton step of the foot-point equation on the given Bézier pieces ``bez`` (:func:`fit_step` without
     the spline): the steps ``du``, or with ``bounds`` the stepped parameters."""
-    return fit_step(None, _NO_FLOATS, 1, starts, ends, _NO_FLOATS, bez, u, points, piece_of, piece_count, gate,
-                    bounds)[1]
+    bounds = None if bounds is None else (_floats(bounds[0]), _floats(bounds[1]),
+                                          np.ascontiguousarray(bounds[2], dtype=np.bool_), _floats(bounds[3]))
+    return fit_step(None, _NO_FLOATS, 1, _floats(starts), _floats(ends), _NO_FLOATS, _floats(bez), _floats(u),
+                    _floats(points), _ints(piece_of), piece_count, gate, bounds)[1]
 
 
 @njit(**_JIT)
@@ -521,16 +529,15 @@ def hook_tests(bez, starts, ends, at, corner_points, limit, radius, u, rows, row
       first sample within the slack; a row with a sample that is not finite has no point beside (its points'
       least distance is NaN then).
 
-    Returns ``(hooked, beside)``."""
-    at, row = _floats(at), _ints(row)
+    Returns ``(hooked, beside)``. The arrays are float64 (``row`` and ``axis`` int64) and contiguous: taken as
+    they are."""
     given = samples is not None
     samples = _floats(samples).reshape(-1, 2) if given else np.empty((u.shape[0], 2))
     rows = int(rows)
     hooked, beside = np.empty(at.shape[0], np.bool_), np.empty(row.shape[0], np.bool_)
-    _hook_tests_into(_floats(bez), _floats(starts), _floats(ends), at, _floats(corner_points), _floats(limit),
-                     _floats(radius), np.empty((at.shape[0], 2)), _floats(u), given, samples,
-                     samples.shape[0] // rows if rows else 0, row, _ints(axis), _floats(along_start),
-                     _floats(across_start), float(slack), hooked, beside, np.empty(rows, np.bool_))
+    _hook_tests_into(bez, starts, ends, at, corner_points, limit, radius, np.empty((at.shape[0], 2)), u, given, samples,
+                     samples.shape[0] // rows if rows else 0, row, axis, along_start, across_start, float(slack), hooked,
+                     beside, np.empty(rows, np.bool_))
     return hooked, beside
 
 
@@ -1073,7 +1080,7 @@ def warm_up_checks():
     """The second half of :func:`warm_up`: curve points, the corner tests after a fit and their window, the dense deviation check and its per-group maxima, the
     small-outline fit's nearest segments (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used)."""
     _, _, bez, starts, ends, index = _tiny_fit()
-    edges = (np.ones(3),) * 5
+    edges = np.ones((5, 3))
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     hook_tests(bez, starts, ends, np.array([0.5]), np.ones((1, 2)), np.ones(1), np.ones(1), np.array([0.2, 1.2]), 1,
                np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
@@ -1282,19 +1289,18 @@ def deviation_measures(bez, starts, ends, samples, closed_params, iv, corner_par
     means alternating, returned as ``"probe_u"``), refined above ``loose_above`` by the chords of the curve samples
     within ``reach`` samples (clipped to the probe's piece and ``reach`` more); then the per-interval worst excess
     and the per-piece maxima (``-inf`` for empty groups, NaN wins, as :func:`group_max` and ``numpy.maximum``).
-    Returns the dict entries of ``deviations``."""
+    Returns the dict entries of ``deviations``. The arrays are the fit's own (float64, int64 or bool, contiguous):
+    taken as they are."""
     total, count, pieces = samples.shape[0], probes.shape[0], corner_par.shape[0] - 1
     fill_u = probe_u is None
-    probe_u = np.empty(count) if fill_u else _floats(probe_u)
+    probe_u = np.empty(count) if fill_u else probe_u
     curve_out, curve_zone = np.empty((2, total)), np.empty(total, np.bool_)
     data_out, data_iv = np.empty((2, count)), np.empty(count, np.int64)
     excess, piece_out = np.full(starts.shape[0], -np.inf), np.full((3, pieces), -np.inf)
-    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), _floats(closed_params), _ints(iv),
-                    _floats(corner_par), _ints(bounds), bool(cornered), _floats(parameter), _floats(base),
-                    _floats(edges), _floats(probes), probe_u, fill_u, _ints(probe_piece),
-                    np.ascontiguousarray(is_point, dtype=np.bool_), _floats(zone), _floats(allowance),
-                    _floats(probe_allowance), float(epsilon), float(loose_above), int(reach),
-                    curve_out, curve_zone, data_out, data_iv, excess, piece_out)
+    _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, bool(cornered), parameter, base,
+                    edges, probes, probe_u, fill_u, probe_piece, is_point, zone, allowance, probe_allowance,
+                    float(epsilon), float(loose_above), int(reach), curve_out, curve_zone, data_out, data_iv, excess,
+                    piece_out)
     return {"excess": excess, "piece_dev": piece_out[0], "piece_err": piece_out[1], "piece_excess": piece_out[2],
             "d_data": data_out[0], "tol_data": data_out[1], "data_iv": data_iv, "d_curve": curve_out[0],
             "tol_curve": curve_out[1], "curve_zone": curve_zone, "probe_u": probe_u}

@@ -321,10 +321,10 @@ class OutlineRegression:
             bezier = None
             if step == hoschek_steps:
                 break
-            bezier, stepped = fit_step(coefficients, knot_vector, count, starts, ends, _THETA4, _FROM_SAMPLES, u,
-                                       contour.points, self._piece_of_points, contour.piece_count, self.hoschek_gate,
-                                       bounds, values)
-            if stepped.tobytes() == u.tobytes():  # the same parameters, bit for bit (signed zeros included)
+            bezier, stepped, same = fit_step(coefficients, knot_vector, count, starts, ends, _THETA4, _FROM_SAMPLES, u,
+                                             contour.points, self._piece_of_points, contour.piece_count,
+                                             self.hoschek_gate, bounds, values)
+            if same:  # the same parameters, bit for bit (signed zeros included)
                 break
             u = stepped
         self.parameter[:n] = u

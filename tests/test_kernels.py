@@ -1187,3 +1187,88 @@ def test_contour_tables_match_the_numpy_formulation(n, corners, seed):
         np.testing.assert_array_equal(nearest, np.where(left <= right, k - 1, k) % count)
     else:
         assert np.isinf(distance).all() and not nearest.any()
+
+
+def _numpy_corner_radii(contour, corner_radius):
+    """``corner_radii`` as numpy computed it (the formulation the kernel replaced)."""
+    arc, perimeter, bounds = contour.arc, contour.perimeter, contour.corner_bounds
+
+    def point_at_arc(values):
+        return np.column_stack([np.interp(values, arc, contour.closed_points[:, 0]),
+                                np.interp(values, arc, contour.closed_points[:, 1])])
+    corner_arc = arc[bounds[:-1]]
+    piece_len = np.diff(arc[bounds])
+    before = np.concatenate([piece_len[-1:], piece_len[:-1]])
+    q_back = point_at_arc((corner_arc - np.minimum(6.0, 0.4 * before)) % perimeter)
+    q_fwd = point_at_arc((corner_arc + np.minimum(6.0, 0.4 * piece_len)) % perimeter)
+    corner = contour.points.take(bounds[:-1] % contour.size, axis=0)
+    a, b = q_back - corner, q_fwd - corner
+    cos = np.einsum("kd,kd->k", a, b) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
+    theta = np.arccos(np.clip(cos, -1.0, 1.0))
+    radius = corner_radius / np.maximum(np.tan(0.5 * theta), 1e-6)
+    radius = np.clip(radius, 1.0, 3.0 * corner_radius) if corner_radius > 0 else np.zeros(contour.corner_count)
+    return np.minimum(radius, 0.2 * np.minimum(before, piece_len)), theta
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(6, 80), st.integers(1, 6), st.integers(0, 10_000), st.sampled_from([0.0, 0.7, 2.0]), st.booleans())
+def test_corner_kernels_match_the_numpy_formulations(n, corners, seed, corner_radius, dense):
+    """The per-corner and per-point tables of the model (``corner_radii``, ``corner_tables``, ``corner_weights``,
+    ``anchor_bounds``, ``crack_normals``) bit for bit against the numpy formulations they replaced, on crack
+    outlines with repeated points (zero-length edges) and random tip states."""
+    from splinecraft.capture.fitting.lsq_setup import RotatedContour
+
+    rng = np.random.default_rng(seed)
+    steps = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [0.0, 0.0]])
+    points = np.cumsum(steps[rng.integers(0, 5, n)], axis=0) + np.array([0.0, 0.5])
+    chosen = np.unique(rng.integers(0, n, corners)).astype(np.int64)
+    contour = RotatedContour(points, chosen)
+    count = contour.corner_count
+    radius, theta = _kernels.corner_radii(contour.arc, contour.closed_points, contour.corner_bounds, corner_radius)
+    expected_radius, expected_theta = _numpy_corner_radii(contour, corner_radius)
+    np.testing.assert_array_equal(theta, expected_theta)
+    np.testing.assert_array_equal(radius, expected_radius)
+    zone_radius = rng.uniform(0.0, 4.0, count) * (rng.random(count) < 0.8)
+    tip_radius = zone_radius * (rng.random(count) < 0.6)
+    kept, tip_allowance = rng.random(count) < 0.3, rng.uniform(0.0, 1.0, count)
+    nearest, distance = contour.nearest_corner, contour.corner_distance
+    r = zone_radius[nearest]
+    zone = (r > 0) & ((tip_radius > 0) | kept)[nearest] & (distance < 2.0 * r + 1.0)
+    allowance = np.where(zone, tip_allowance[nearest], 0.0)
+    got = _kernels.corner_tables(zone_radius, tip_radius, kept, tip_allowance, nearest, distance, dense)
+    np.testing.assert_array_equal(got[0], zone.astype(float))
+    np.testing.assert_array_equal(got[1], allowance)
+    if dense:
+        probe_zone, probe_allowance = np.empty(2 * n, bool), np.empty(2 * n)
+        probe_zone[0::2], probe_zone[1::2] = zone[:n], zone[:n] | zone[1:]
+        probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
+    else:
+        probe_zone, probe_allowance = zone[:n], allowance[:n]
+    np.testing.assert_array_equal(got[2], probe_zone)
+    np.testing.assert_array_equal(got[3], probe_allowance)
+    fixed = rng.random(n + 1) < 0.2
+    r = tip_radius[nearest]
+    x = distance / np.where(r > 0, r, 1.0)
+    w = np.where(r > 0, np.minimum(1.0, x ** 2), 1.0)
+    w[fixed & (r > 0)] = 0.0
+    np.testing.assert_array_equal(_kernels.corner_weights(tip_radius, nearest[:n], distance[:n], fixed[:n]),
+                                  np.maximum(w[:n], 1e-3))
+    anchor = np.append(fixed[:n], True)
+    base = np.sort(rng.uniform(0.0, 50.0, n + 1))
+    index = np.arange(n + 1)
+    before = np.maximum.accumulate(np.where(anchor, index, 0))
+    after = np.minimum.accumulate(np.where(anchor, index, n)[::-1])[::-1]
+    low, high = _kernels.anchor_bounds(fixed[:n], base)
+    np.testing.assert_array_equal(low, base[before[:n]])
+    np.testing.assert_array_equal(high, base[after[:n]])
+    frac = points - np.floor(points)
+    whole, half = (frac < 1e-9) | (frac > 1.0 - 1e-9), np.abs(frac - 0.5) < 1e-9
+    vertical, horizontal = whole[:, 0] & half[:, 1], half[:, 0] & whole[:, 1]
+    normals = _kernels.crack_normals(points)
+    if not (vertical | horizontal).all():
+        assert normals is None
+    else:
+        np.testing.assert_array_equal(normals, np.where(vertical[:, None], [1.0, 0.0], [0.0, 1.0]))
+    moved = points.copy()
+    moved[:, 1] -= 0.5  # pixel corners, not crack midpoints
+    assert _kernels.crack_normals(moved) is None

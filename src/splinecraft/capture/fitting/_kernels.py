@@ -22,7 +22,8 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "contour_tables", "closed_polyline_distance",
+           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "contour_tables", "corner_radii",
+           "corner_tables", "corner_weights", "anchor_bounds", "crack_normals", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -829,6 +830,194 @@ def contour_tables(closed, bounds, corners, edges_only=False):
     return edges, arc, piece_of, distance, nearest
 
 
+@njit(**_HELPER)
+def _interp(x, xp, fp, at):
+    """``numpy.interp(x, xp, fp)`` at one ``x`` in numpy's arithmetic (``xp`` increasing, ``at`` the search's
+    start): the end values outside ``xp``, ``fp[j]`` where ``x == xp[j]`` (the last of repeated ``xp``), else the
+    slope times ``x - xp[j]`` plus ``fp[j]``, and its retries where that is NaN."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    n = xp.shape[0]
+    if x != x:
+        return x
+    if x < xp[0]:
+        return fp[0]
+    if x > xp[n - 1]:
+        return fp[n - 1]
+    j = _walk_right(xp, x, at) - 1
+    if j >= n - 1 or xp[j] == x:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    value = slope * (x - xp[j]) + fp[j]
+    if value != value:
+        value = slope * (x - xp[j + 1]) + fp[j + 1]
+        if value != value and fp[j] == fp[j + 1]:
+            value = fp[j]
+    return value
+
+
+@njit(**_HELPER)
+def _smaller(a, b):
+    """``numpy.minimum(a, b)`` of two floats: ``a`` where it is NaN or smaller, else ``b``."""
+    if a != a or a < b:
+        return a
+    return b
+
+
+@njit(**_JIT)
+def _corner_radii_into(arc, xs, ys, points, bounds, corner_radius, radius, theta):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    corners = bounds.shape[0] - 1
+    perimeter = arc[arc.shape[0] - 1]
+    for c in range(corners):
+        length = arc[bounds[c + 1]] - arc[bounds[c]]
+        p = c - 1 if c > 0 else corners - 1
+        before = arc[bounds[p + 1]] - arc[bounds[p]]
+        corner_arc = arc[bounds[c]]
+        # the points min(6, 0.4 piece) px of arc away on both sides (numpy.interp along the closed polyline)
+        back = (corner_arc - _smaller(6.0, 0.4 * before)) % perimeter
+        ahead = (corner_arc + _smaller(6.0, 0.4 * length)) % perimeter
+        corner = bounds[c] % points.shape[0]
+        ax = _interp(back, arc, xs, np.int64(0)) - points[corner, 0]
+        ay = _interp(back, arc, ys, np.int64(0)) - points[corner, 1]
+        bx = _interp(ahead, arc, xs, np.int64(0)) - points[corner, 0]
+        by = _interp(ahead, arc, ys, np.int64(0)) - points[corner, 1]
+        cos = (ax * bx + ay * by) / _larger(np.hypot(ax, ay) * np.hypot(bx, by), 1e-300)
+        theta[c] = np.arccos(pyclip(cos, -1.0, 1.0))
+        r = 0.0
+        if corner_radius > 0:
+            r = pyclip(corner_radius / _larger(np.tan(0.5 * theta[c]), 1e-6), 1.0, 3.0 * corner_radius)
+        radius[c] = _smaller(r, 0.2 * _smaller(before, length))
+
+
+def corner_radii(arc, closed, bounds, corner_radius):
+    """Per corner (``bounds``: the corners' indices into ``closed``, the closed contour polyline of cumulative arc
+    lengths ``arc``, then the closing index): the interior angle ``theta`` of the chords to the points ``min(6, 0.4
+    piece)`` px of arc away on both sides (``numpy.interp``; the cosine ``a0 b0 + a1 b1`` over the chords' lengths,
+    clipped), and ``corner_radius / tan(theta / 2)`` clipped to ``[1, 3 corner_radius]`` (0 where ``corner_radius``
+    is 0) and to a fifth of either neighbouring piece: :func:`~.lsq_setup.corner_radii`. Returns ``(radius,
+    theta)``."""
+    corners = bounds.shape[0] - 1
+    radius, theta = np.empty(corners), np.empty(corners)
+    _corner_radii_into(arc, np.ascontiguousarray(closed[:, 0]), np.ascontiguousarray(closed[:, 1]), closed[:-1],
+                       _ints(bounds), float(corner_radius), radius, theta)
+    return radius, theta
+
+
+@njit(**_JIT)
+def _corner_tables_into(zone_radius, radius, allowance_kept, tip_allowance, nearest, corner_distance, fixed, dense,
+                        zone, allowance, probe_zone, probe_allowance, weights):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    n = weights.shape[0] if weights.shape[0] else zone.shape[0] - 1
+    if weights.shape[0]:  # min(1, (distance / r)^2) within an extrapolated corner's radius r, its point 0; >= 1e-3
+        for j in range(n):
+            r = radius[nearest[j]]
+            w = 1.0
+            if r > 0:
+                x = corner_distance[j] / r
+                square = x * x
+                w = 1.0 if 1.0 <= square else square  # numpy.minimum(1.0, x ** 2)
+                if fixed[j]:
+                    w = 0.0
+            weights[j] = _larger(w, 1e-3)
+        return
+    for j in range(n + 1):  # the zones of the corners whose tip is extrapolated (or keeps its allowance)
+        c = nearest[j]
+        r = zone_radius[c]
+        inside = r > 0 and (radius[c] > 0 or allowance_kept[c]) and corner_distance[j] < 2.0 * r + 1.0
+        zone[j] = 1.0 if inside else 0.0
+        allowance[j] = tip_allowance[c] if inside else 0.0
+    for j in range(probe_zone.shape[0]):
+        if not dense:
+            probe_zone[j] = zone[j] > 0
+            probe_allowance[j] = allowance[j]
+        elif j % 2 == 0:
+            probe_zone[j] = zone[j // 2] > 0
+            probe_allowance[j] = allowance[j // 2]
+        else:
+            probe_zone[j] = zone[j // 2] > 0 or zone[j // 2 + 1] > 0
+            probe_allowance[j] = _larger(allowance[j // 2], allowance[j // 2 + 1])
+
+
+def corner_tables(zone_radius, radius, allowance_kept, tip_allowance, nearest, corner_distance, dense):
+    """Per contour point (``nearest`` corner and ``corner_distance``, n + 1 of them) whether it lies in the zone of its
+    corner (within ``2 r + 1`` px of arc, ``r`` its ``zone_radius``, while its tip is extrapolated, ``radius > 0``,
+    or keeps its allowance, ``allowance_kept``) as floats, the corner's ``tip_allowance`` there (else 0), and per
+    probe (the contour points; ``dense``: and the edge midpoints between, in a zone where either end is, with the
+    larger allowance) the same: ``(zone, allowance, probe_zone, probe_allowance)``
+    (:meth:`~.lsq_model.OutlineRegression.zone`, ``_zones``)."""
+    n = nearest.shape[0] - 1
+    zone, allowance = np.empty(n + 1), np.empty(n + 1)
+    probe_zone, probe_allowance = np.empty(2 * n if dense else n, np.bool_), np.empty(2 * n if dense else n)
+    _corner_tables_into(_floats(zone_radius), _floats(radius), np.ascontiguousarray(allowance_kept, dtype=np.bool_),
+                        _floats(tip_allowance), _ints(nearest), _floats(corner_distance), _NO_BOOLS, bool(dense), zone,
+                        allowance, probe_zone, probe_allowance, _NO_FLOATS)
+    return zone, allowance, probe_zone, probe_allowance
+
+
+def corner_weights(radius, nearest, corner_distance, fixed):
+    """The fit's weight of every contour point (``nearest`` corner, ``corner_distance``, ``fixed``; n of them):
+    ``min(1, (distance / r)^2)`` within the radius ``r`` of an extrapolated corner (``r > 0``; a fixed point 0),
+    else 1; at least 1e-3 (:meth:`~.lsq_model.OutlineRegression.weights`)."""
+    weights = np.empty(nearest.shape[0])
+    _corner_tables_into(_NO_FLOATS, _floats(radius), _NO_BOOLS, _NO_FLOATS, _ints(nearest), _floats(corner_distance),
+                        np.ascontiguousarray(fixed, dtype=np.bool_), False, _NO_FLOATS, _NO_FLOATS, _NO_BOOLS,
+                        _NO_FLOATS, weights)
+    return weights
+
+
+@njit(**_JIT)
+def _anchors_into(anchor, base, low, high):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    n = low.shape[0]
+    before = np.int64(0)
+    for j in range(n):
+        if anchor[j]:
+            before = j
+        low[j] = base[before]
+    after = n  # the closing index counts as anchored
+    for j in range(n - 1, -1, -1):
+        if anchor[j]:
+            after = j
+        high[j] = base[after]
+
+
+def anchor_bounds(anchor, base):
+    """Per point ``j < n`` (``anchor``: n flags; ``base``: n + 1 values) the ``base`` of the last anchored point at or
+    before it (point 0 where none) and of the first at or after it (the closing index ``n`` where none):
+    ``(low, high)`` (:meth:`~.lsq_model.OutlineRegression._parameter_bounds`)."""
+    n = anchor.shape[0]
+    low, high = np.empty(n), np.empty(n)
+    _anchors_into(np.ascontiguousarray(anchor, dtype=np.bool_), _floats(base), low, high)
+    return low, high
+
+
+@njit(**_JIT)
+def _crack_normals_into(points, normals):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for j in range(points.shape[0]):
+        fx = points[j, 0] - np.floor(points[j, 0])
+        fy = points[j, 1] - np.floor(points[j, 1])
+        whole_x = fx < 1e-9 or fx > 1.0 - 1e-9
+        whole_y = fy < 1e-9 or fy > 1.0 - 1e-9
+        half_x = np.abs(fx - 0.5) < 1e-9
+        half_y = np.abs(fy - 0.5) < 1e-9
+        if whole_x and half_y:  # a vertical crack
+            normals[j, 0], normals[j, 1] = 1.0, 0.0
+        elif half_x and whole_y:
+            normals[j, 0], normals[j, 1] = 0.0, 1.0
+        else:
+            return False
+    return True
+
+
+def crack_normals(points):
+    """Per point of a crack outline the unit normal of its crack, ``(1, 0)`` for a vertical crack (integer x,
+    half-integer y, both within 1e-9), ``(0, 1)`` for a horizontal one; None when not every point is such a midpoint
+    (:func:`~.lsq_setup.crack_normals`)."""
+    normals = np.empty(points.shape)
+    return normals if _crack_normals_into(_floats(points), normals) else None
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
     """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
     its row lies farther than ``slack`` from its pixel-centre segment."""
@@ -1072,6 +1261,12 @@ def warm_up_solves():
     seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
                1.0, 1.0, 1, 0.0)
     knot_vector(np.array([0.0]), np.array([2.0, 3.0]), np.ones(2, np.int64), 7.0)
+    closed = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.0, 0.0]])
+    corner_radii(np.array([0.0, 2.0, 4.0, 6.0]), closed, np.array([0, 2, 3]), 2.0)
+    corner_tables(np.ones(2), np.ones(2), np.zeros(2, np.bool_), np.zeros(2), index, np.zeros(2), True)
+    corner_weights(np.ones(2), index, np.zeros(2), np.zeros(2, np.bool_))
+    anchor_bounds(np.ones(2, np.bool_), np.zeros(3))
+    crack_normals(np.full((1, 2), 0.5))
     contour_tables(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.0, 0.0]]), np.array([0, 2, 3]), 2)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 

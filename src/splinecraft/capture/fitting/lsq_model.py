@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernels import (_NO_FLOATS, _NO_INTS, curve_points, deviation_measures, fit_step, hook_tests, interval_samples,
-                       knot_vector, normal_work, zone_window)
+                       anchor_bounds, corner_tables, corner_weights, knot_vector, normal_work, zone_window)
 from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
@@ -249,16 +249,21 @@ class OutlineRegression:
         contour, tips = self.contour, self.tips
         if not contour.corner_count:
             return np.zeros(contour.size + 1, bool)
-        r = tips.zone_radius[contour.nearest_corner]
-        active = (tips.radius > 0) | tips.allowance_kept
-        return (r > 0) & active[contour.nearest_corner] & (contour.corner_distance < 2.0 * r + 1.0)
+        return self._corner_tables(False)[0] > 0
 
     def allowance(self):
         """Extra tolerance of every point (n + 1) in the zone of an extrapolated corner (that corner's
         ``allowance``: ``corner_allowance``, or its extrapolated tip's distance from the contour), 0 elsewhere."""
         if not self.contour.corner_count:
             return np.zeros(self.contour.size + 1)
-        return np.where(self.zone(), self.tips.allowance[self.contour.nearest_corner], 0.0)
+        return self._corner_tables(False)[1]
+
+    def _corner_tables(self, dense):
+        """:meth:`zone` (as floats), :meth:`allowance` and both of every probe (``dense``: the edge midpoints between
+        the contour points too) in one compiled pass (:func:`~._kernels.corner_tables`)."""
+        contour, tips = self.contour, self.tips
+        return corner_tables(tips.zone_radius, tips.radius, tips.allowance_kept, tips.allowance,
+                             contour.nearest_corner, contour.corner_distance, dense)
 
     def weights(self):
         """Weight of every contour point: ``min(1, (distance / r)^2)`` within the radius ``r`` of an extrapolated
@@ -266,11 +271,9 @@ class OutlineRegression:
         contour = self.contour
         if not contour.corner_count:
             return np.ones(contour.size)
-        r = self.tips.radius[contour.nearest_corner]
-        x = contour.corner_distance / np.where(r > 0, r, 1.0)
-        w = np.where(r > 0, np.minimum(1.0, x**2), 1.0)
-        w[self.fixed & (r > 0)] = 0.0
-        return np.maximum(w[: contour.size], 1e-3)
+        n = contour.size
+        return corner_weights(self.tips.radius, contour.nearest_corner[:n], contour.corner_distance[:n],
+                              self.fixed[:n])
 
     def _pins(self):
         """Virtual data points (weight ``corner_pin``), or None: at the straight-line corner estimates, and at a
@@ -362,13 +365,9 @@ class OutlineRegression:
         parameters: the range of its Hoschek steps (:meth:`fit`). Without held points these are the piece's
         corners (the seam)."""
         n = self.contour.size
-        anchor = self.fixed | self.held
-        anchor[n] = True
-        index = np.arange(n + 1)
-        before = np.maximum.accumulate(np.where(anchor, index, 0))
-        after = np.minimum.accumulate(np.where(anchor, index, n)[::-1])[::-1]
-        base = self.base_parameter
-        return base[before[:n]], base[after[:n]], anchor[:n].copy(), base[:n]
+        anchor = self.fixed[:n] | self.held[:n]
+        low, high = anchor_bounds(anchor, self.base_parameter)
+        return low, high, anchor, self.base_parameter[:n]
 
     def reset_parameters(self, dev, stuck, reach=2):
         """Give the points around the stuck knot intervals ``stuck`` (from ``reach`` knots before each one to
@@ -708,16 +707,7 @@ class OutlineRegression:
             cached = self._zone_cache = (key, {})
         if dense in cached[1]:
             return cached[1][dense]
-        n = self.contour.size
-        zone, allowance = self.zone(), self.allowance()
-        if dense:
-            probe_zone = np.empty(2 * n, bool)
-            probe_zone[0::2], probe_zone[1::2] = zone[:n], zone[:n] | zone[1:]
-            probe_allowance = np.empty(2 * n)
-            probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
-        else:
-            probe_zone, probe_allowance = zone[:n], allowance[:n]
-        value = cached[1][dense] = (zone.astype(float), allowance, probe_zone, probe_allowance)
+        value = cached[1][dense] = self._corner_tables(dense)
         return value
 
     def _probes(self, dense):

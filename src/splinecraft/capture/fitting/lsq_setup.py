@@ -142,21 +142,9 @@ def corner_radii(contour, corner_radius):
     """Per corner: the arc length (px) over which the pixel data near the corner is truncated, about
     ``corner_radius / tan(theta / 2)`` for the interior angle ``theta`` measured on the contour (chords to
     the points ``min(6, 0.4 piece)`` px away on both sides), clipped to ``[1, 3 corner_radius]`` and to a fifth
-    of either neighbouring piece (most of a short piece still carries weight). Returns (radius, theta)."""
-    arc, perimeter, bounds = contour.arc, contour.perimeter, contour.corner_bounds
-    corner_arc = arc[bounds[:-1]]
-    piece_len = np.diff(arc[bounds])
-    before = np.concatenate([piece_len[-1:], piece_len[:-1]])  # numpy.roll(piece_len, 1)
-    q_back = contour.point_at_arc((corner_arc - np.minimum(6.0, 0.4 * before)) % perimeter)
-    q_fwd = contour.point_at_arc((corner_arc + np.minimum(6.0, 0.4 * piece_len)) % perimeter)
-    corner = contour.points.take(bounds[:-1] % contour.size, axis=0)
-    a, b = q_back - corner, q_fwd - corner
-    cos = np.einsum("kd,kd->k", a, b) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
-    theta = np.arccos(np.clip(cos, -1.0, 1.0))
-    radius = corner_radius / np.maximum(np.tan(0.5 * theta), 1e-6)
-    radius = np.clip(radius, 1.0, 3.0 * corner_radius) if corner_radius > 0 else np.zeros(contour.corner_count)
-    radius = np.minimum(radius, 0.2 * np.minimum(before, piece_len))
-    return radius, theta
+    of either neighbouring piece (most of a short piece still carries weight). Returns (radius, theta) (one compiled
+    pass, :func:`~._kernels.corner_radii`)."""
+    return _kernels.corner_radii(contour.arc, contour.closed_points, contour.corner_bounds, corner_radius)
 
 
 def thin_corners(points, corners, min_gap, pixel_corners=None):
@@ -237,11 +225,5 @@ def crack_normals(points):
     """Per point of a crack outline (midpoints of unit pixel edges, pixel corners on integers), the unit normal
     of its crack: ``(1, 0)`` for a vertical crack (integer x, half-integer y), ``(0, 1)`` for a horizontal one;
     the pixel centres on both sides lie half a pixel along it. None when not every point is such a midpoint (a
-    polyline that is not a crack outline gets no pixel check)."""
-    frac = points - np.floor(points)
-    whole = (frac < 1e-9) | (frac > 1.0 - 1e-9)
-    half = np.abs(frac - 0.5) < 1e-9
-    vertical, horizontal = whole[:, 0] & half[:, 1], half[:, 0] & whole[:, 1]
-    if not (vertical | horizontal).all():
-        return None
-    return np.where(vertical[:, None], np.array([1.0, 0.0]), np.array([0.0, 1.0]))
+    polyline that is not a crack outline gets no pixel check; compiled, :func:`~._kernels.crack_normals`)."""
+    return _kernels.crack_normals(points)

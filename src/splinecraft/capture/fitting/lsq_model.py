@@ -122,7 +122,8 @@ class OutlineRegression:
         self._knot_index_cache = None  # (simple knots, knot_indices)
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
         self._zone_window_cache = None  # (radii and exclusions, set-up) of zone_hooks (_zone_window)
-        self._zone_bound = 0  # the most curve parameters of a zone window so far (_kernels.zone_window)
+        # the most curve parameters of a zone window so far (_kernels.zone_window; a first guess: a row of some 250)
+        self._zone_bound = 256 * contour.corner_count
         # (the crack normals of the contour, or None,) of zone_hooks; None until needed, and (None,) where tips are
         # not extrapolated (a noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
         self._cracks = None if geometric else (None,)

@@ -1272,3 +1272,29 @@ def test_corner_kernels_match_the_numpy_formulations(n, corners, seed, corner_ra
     moved = points.copy()
     moved[:, 1] -= 0.5  # pixel corners, not crack midpoints
     assert _kernels.crack_normals(moved) is None
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(0, 10_000))
+def test_interval_worst_is_group_max_of_the_masked_excesses(count, seed):
+    """``interval_worst`` (the four per-interval maxima of knot insertion in one pass) against ``group_max`` of the
+    excesses masked by the corner zones (``numpy.where``), NaN excesses and empty intervals included."""
+    rng = np.random.default_rng(seed)
+    data_iv, curve_iv = np.sort(rng.integers(0, count, 30)), np.sort(rng.integers(0, count, 50))
+    data_zone, curve_zone = rng.random(30) < 0.3, rng.random(50) < 0.3
+    d_data, tol_data = rng.uniform(0.0, 2.0, 30), rng.uniform(0.5, 1.0, 30)
+    d_curve, tol_curve = rng.uniform(0.0, 2.0, 50), rng.uniform(0.5, 1.0, 50)
+    d_data[rng.random(30) < 0.05] = np.nan
+    best, at = _kernels.interval_worst(data_iv, data_zone, d_data, tol_data, curve_iv, curve_zone, d_curve, tol_curve,
+                                       count)
+    data_ex, curve_ex = d_data - tol_data, d_curve - tol_curve
+    expected = [geometry.group_max(data_iv, np.where(data_zone, -np.inf, data_ex), count),
+                geometry.group_max(curve_iv, np.where(curve_zone, -np.inf, curve_ex), count),
+                geometry.group_max(data_iv, np.where(data_zone, data_ex, -np.inf), count),
+                geometry.group_max(curve_iv, np.where(curve_zone, curve_ex, -np.inf), count)]
+    for row, (value, index) in enumerate(expected):
+        np.testing.assert_array_equal(best[row], value)
+        np.testing.assert_array_equal(at[row], index)
+        np.testing.assert_array_equal(value, _numpy_group_max([data_iv, curve_iv][row % 2],
+                                                              np.where([data_zone, curve_zone][row % 2] == (row < 2),
+                                                                       -np.inf, [data_ex, curve_ex][row % 2]), count))

@@ -23,7 +23,7 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "contour_tables", "corner_radii",
-           "corner_tables", "corner_weights", "anchor_bounds", "crack_normals", "closed_polyline_distance",
+           "corner_tables", "corner_weights", "anchor_bounds", "crack_normals", "interval_worst", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -1127,12 +1127,52 @@ def interval_samples(bez, starts, ends, spacing, closed=None):
 def _group_max_into(groups, values, best, at):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for j in range(groups.shape[0]):
-        g, v = groups[j], values[j]
-        if at[g] < 0 or v > best[g] or (np.isnan(v) and not np.isnan(best[g])):
-            best[g], at[g] = v, j
-    for g in range(best.shape[0]):
-        if at[g] < 0 or np.isnan(best[g]):
-            at[g] = 0
+        _group_update(best, at, 0, groups[j], values[j], j)
+    _group_close(best, at)
+
+
+@njit(**_HELPER)
+def _group_update(best, at, row, g, v, j):
+    """One member ``j`` (value ``v``) of group ``g`` into row ``row`` of :func:`group_max`'s ``best`` and ``at``: the
+    first member, a larger value, or a NaN where the best is not NaN takes the group."""
+    if at[row, g] < 0 or v > best[row, g] or (np.isnan(v) and not np.isnan(best[row, g])):
+        best[row, g], at[row, g] = v, j
+
+
+@njit(**_HELPER)
+def _group_close(best, at):
+    """The index 0 for the empty groups and the NaN maxima of :func:`group_max`."""
+    for row in range(best.shape[0]):
+        for g in range(best.shape[1]):
+            if at[row, g] < 0 or np.isnan(best[row, g]):
+                at[row, g] = 0
+
+
+@njit(**_JIT)
+def _interval_worst_into(data_iv, data_zone, d_data, tol_data, curve_iv, curve_zone, d_curve, tol_curve, best, at):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for j in range(data_iv.shape[0]):
+        excess = d_data[j] - tol_data[j]
+        _group_update(best, at, 0, data_iv[j], -np.inf if data_zone[j] else excess, j)
+        _group_update(best, at, 2, data_iv[j], excess if data_zone[j] else -np.inf, j)
+    for j in range(curve_iv.shape[0]):
+        excess = d_curve[j] - tol_curve[j]
+        _group_update(best, at, 1, curve_iv[j], -np.inf if curve_zone[j] else excess, j)
+        _group_update(best, at, 3, curve_iv[j], excess if curve_zone[j] else -np.inf, j)
+    _group_close(best, at)
+
+
+def interval_worst(data_iv, data_zone, d_data, tol_data, curve_iv, curve_zone, d_curve, tol_curve, count):
+    """Per knot interval (``count`` of them) the worst excess ``d - tol`` of the probes (``data_iv``, ``data_zone``,
+    ``d_data``, ``tol_data``) and of the curve samples (``curve_*``) outside the corner zones (``-inf`` inside) and
+    inside them (``-inf`` outside), each with the index where it occurs: :func:`group_max` of the four, rows
+    ``(data outside, curve outside, data inside, curve inside)`` of ``(best, at)``
+    (:meth:`~.lsq_model.OutlineRegression.insert`)."""
+    best, at = np.full((4, int(count)), -np.inf), np.full((4, int(count)), -1, np.int64)
+    _interval_worst_into(_ints(data_iv), np.ascontiguousarray(data_zone, dtype=np.bool_), _floats(d_data),
+                         _floats(tol_data), _ints(curve_iv), np.ascontiguousarray(curve_zone, dtype=np.bool_),
+                         _floats(d_curve), _floats(tol_curve), best, at)
+    return best, at
 
 
 @njit(**_JIT)
@@ -1175,9 +1215,9 @@ def search_sorted(values, keys, side="left"):
 def group_max(groups, values, count):
     """Per group ``g < count`` (``groups`` non-decreasing): the maximum of ``values`` (``-inf`` if empty; NaN
     wins, as in ``numpy.maximum``) and the first index where it occurs (0 for empty groups and NaN maxima)."""
-    best, at = np.full(int(count), -np.inf), np.full(int(count), -1, np.int64)  # the empty groups' answers
+    best, at = np.full((1, int(count)), -np.inf), np.full((1, int(count)), -1, np.int64)  # the empty groups' answers
     _group_max_into(_ints(groups), _floats(values), best, at)
-    return best, at
+    return best[0], at[0]
 
 
 _WARM = []
@@ -1282,6 +1322,7 @@ def warm_up_checks():
     zone_window(np.ones(1), np.zeros(1, np.bool_), np.zeros(2, np.int64), np.zeros(2), np.zeros(1), np.zeros(1),
                 np.zeros(1), np.ones(2), np.ones((2, 2)), 4.0, 0.1)
     group_max(index, np.ones(2), 1)
+    interval_worst(index, np.zeros(2, np.bool_), np.ones(2), np.ones(2), index, np.ones(2, np.bool_), np.ones(2), np.ones(2), 1)
     samples, params, iv = interval_samples(bez, starts, ends, 0.5, 2.0)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)
     deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,

@@ -17,7 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._kernels import (_NO_FLOATS, _NO_INTS, curve_points, deviation_measures, fit_step, hook_tests, interval_samples,
-                       anchor_bounds, corner_tables, corner_weights, knot_vector, normal_work, zone_window)
+                       anchor_bounds, corner_tables, corner_weights, interval_worst, knot_vector, normal_work,
+                       zone_window)
 from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
@@ -741,15 +742,12 @@ class OutlineRegression:
         if failing.size == 0:
             return [], [], []
         k = excess.shape[0]
-        data_zone, curve_zone = dev["probe_zone"], dev["curve_zone"]
-        data_ex = dev["d_data"] - dev["tol_data"]
-        curve_ex = dev["d_curve"] - dev["tol_curve"]
         u_data, u_curve = dev["probe_u"], dev["curve_params"]
-        # worst excess per interval outside / inside the corner zones, with its parameter
-        out_d, out_d_at = group_max(dev["data_iv"], np.where(data_zone, -np.inf, data_ex), k)
-        out_c, out_c_at = group_max(dev["curve_iv"], np.where(curve_zone, -np.inf, curve_ex), k)
-        in_d, in_d_at = group_max(dev["data_iv"], np.where(data_zone, data_ex, -np.inf), k)
-        in_c, in_c_at = group_max(dev["curve_iv"], np.where(curve_zone, curve_ex, -np.inf), k)
+        # worst excess per interval outside / inside the corner zones, with its parameter (one compiled pass; as
+        # lists: the loop below reads single values)
+        best, at = interval_worst(dev["data_iv"], dev["probe_zone"], dev["d_data"], dev["tol_data"], dev["curve_iv"],
+                                  dev["curve_zone"], dev["d_curve"], dev["tol_curve"], k)
+        (out_d, out_c, in_d, in_c), (out_d_at, out_c_at, in_d_at, in_c_at) = best.tolist(), at.tolist()
         knots = self.knot_indices()
         knot_values = self.base_parameter[knots]
         new, stuck, released = [], [], []

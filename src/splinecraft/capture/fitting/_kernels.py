@@ -846,6 +846,13 @@ def _interp(x, xp, fp, at):
     j = _walk_right(xp, x, at) - 1
     if j >= n - 1 or xp[j] == x:
         return fp[j]
+    return _interpolated(x, xp, fp, j)
+
+
+@njit(**_HELPER)
+def _interpolated(x, xp, fp, j):
+    """``numpy.interp``'s value at ``x`` strictly inside ``xp[j] .. xp[j + 1]``: the slope times ``x - xp[j]`` plus
+    ``fp[j]``, where that is NaN from the other end, and ``fp[j]`` where that is NaN too and the values agree."""
     slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
     value = slope * (x - xp[j]) + fp[j]
     if value != value:
@@ -1422,12 +1429,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             elif zone[j] == zone[j + 1]:  # slope 0 (base increases): 0 * (u - base[j]) + zone[j] for finite u
                 value = zone[j]
             else:
-                slope = (zone[j + 1] - zone[j]) / (base[j + 1] - base[j])
-                value = slope * (u - base[j]) + zone[j]
-                if value != value:
-                    value = slope * (u - base[j + 1]) + zone[j + 1]
-                    if value != value and zone[j] == zone[j + 1]:
-                        value = zone[j]
+                value = _interpolated(u, base, zone, j)
         inside = value > 0
         curve_zone[s] = inside
         extra = 0.0

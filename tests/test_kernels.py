@@ -1298,3 +1298,27 @@ def test_interval_worst_is_group_max_of_the_masked_excesses(count, seed):
         np.testing.assert_array_equal(value, _numpy_group_max([data_iv, curve_iv][row % 2],
                                                               np.where([data_zone, curve_zone][row % 2] == (row < 2),
                                                                        -np.inf, [data_ex, curve_ex][row % 2]), count))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(2, 12), st.integers(0, 10_000), st.booleans())
+def test_removal_scores_match_the_numpy_formulation(count, seed, bend):
+    """``removal_scores`` (knot removal's scores in one pass) bit for bit against the numpy formulation it
+    replaced, with and without the second derivative's jump (C1 knots)."""
+    rng = np.random.default_rng(seed)
+    bounds = np.concatenate([[0.0], np.cumsum(rng.uniform(0.5, 10.0, count))])
+    starts, ends = bounds[:-1], bounds[1:]
+    bezier = np.cumsum(rng.normal(size=(count, 4, 2)), axis=1)
+    values = starts[np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))]
+    h = ends - starts
+    third = 6.0 * (bezier[:, 3] - 3 * bezier[:, 2] + 3 * bezier[:, 1] - bezier[:, 0]) / (h[:, None] ** 3)
+    right = np.clip(np.searchsorted(starts, values), 0, starts.shape[0] - 1)
+    left = (right - 1) % starts.shape[0]
+    jump = np.hypot(*(third.take(right, axis=0) - third.take(left, axis=0)).T)
+    span = 0.5 * (h[left] + h[right])
+    expected = jump * span**3 / 48.0
+    if bend:
+        second_start = 6.0 * (bezier[:, 2] - 2 * bezier[:, 1] + bezier[:, 0]) / (h[:, None] ** 2)
+        second_end = 6.0 * (bezier[:, 3] - 2 * bezier[:, 2] + bezier[:, 1]) / (h[:, None] ** 2)
+        expected = np.hypot(*(second_start[right] - second_end[left]).T) * span**2 / 16.0 + expected
+    np.testing.assert_array_equal(_kernels.removal_scores(bezier, starts, ends, values, bend), expected)

@@ -23,7 +23,8 @@ from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
            "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "contour_tables", "corner_radii",
-           "corner_tables", "corner_weights", "anchor_bounds", "crack_normals", "interval_worst", "closed_polyline_distance",
+           "corner_tables", "corner_weights", "anchor_bounds", "crack_normals", "interval_worst",
+           "removal_scores", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -1025,6 +1026,50 @@ def crack_normals(points):
     return normals if _crack_normals_into(_floats(points), normals) else None
 
 
+@njit(**_JIT)
+def _removal_scores_into(bezier, starts, ends, values, bend, scores):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    k = starts.shape[0]
+    at = np.int64(0)
+    for q in range(values.shape[0]):
+        at = _walk_left(starts, values[q], at)
+        right = pyclip(at, 0, k - 1)  # the interval starting at the knot, and the one before it
+        left = right - 1 if right > 0 else k - 1
+        h_left, h_right = ends[left] - starts[left], ends[right] - starts[right]
+        jump0 = jump1 = bend0 = bend1 = 0.0
+        for d in range(2):
+            # the third derivative of each cubic, 6 (b3 - 3 b2 + 3 b1 - b0) / h^3, and the second at the start of the
+            # right one and the end of the left one, 6 (b2 - 2 b1 + b0) / h^2 and 6 (b3 - 2 b2 + b1) / h^2
+            third_right = 6.0 * (bezier[right, 3, d] - 3 * bezier[right, 2, d] + 3 * bezier[right, 1, d]
+                                 - bezier[right, 0, d]) / h_right ** 3.0
+            third_left = 6.0 * (bezier[left, 3, d] - 3 * bezier[left, 2, d] + 3 * bezier[left, 1, d]
+                                - bezier[left, 0, d]) / h_left ** 3.0
+            second_start = 6.0 * (bezier[right, 2, d] - 2 * bezier[right, 1, d] + bezier[right, 0, d]) / (
+                h_right * h_right)
+            second_end = 6.0 * (bezier[left, 3, d] - 2 * bezier[left, 2, d] + bezier[left, 1, d]) / (h_left * h_left)
+            if d == 0:
+                jump0, bend0 = third_right - third_left, second_start - second_end
+            else:
+                jump1, bend1 = third_right - third_left, second_start - second_end
+        span = 0.5 * (h_left + h_right)
+        score = np.hypot(jump0, jump1) * span ** 3.0 / 48.0
+        if bend:
+            score = np.hypot(bend0, bend1) * (span * span) / 16.0 + score
+        scores[q] = score
+
+
+def removal_scores(bezier, starts, ends, values, bend):
+    """Per knot at ``values`` (parameters of knots of the pieces ``bezier`` on ``[starts, ends]``): the jump of the
+    third derivative across it times ``h^3 / 48`` (``h`` the mean of the two intervals beside it; the interval
+    before the first is the last), plus with ``bend`` (knots where the second derivative may jump) that jump times
+    ``h^2 / 16``, in numpy's arithmetic (``h ** 3`` its ``pow``;
+    :meth:`~.lsq_model.OutlineRegression.removal_scores`)."""
+    values = _floats(values)
+    scores = np.empty(values.shape[0])
+    _removal_scores_into(_floats(bezier), _floats(starts), _floats(ends), values, bool(bend), scores)
+    return scores
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
     """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
     its row lies farther than ``slack`` from its pixel-centre segment."""
@@ -1308,6 +1353,7 @@ def warm_up_solves():
     seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
                1.0, 1.0, 1, 0.0)
     knot_vector(np.array([0.0]), np.array([2.0, 3.0]), np.ones(2, np.int64), 7.0)
+    removal_scores(bez, starts, ends, np.array([1.0]), True)
     closed = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.0, 0.0]])
     corner_radii(np.array([0.0, 2.0, 4.0, 6.0]), closed, np.array([0, 2, 3]), 2.0)
     corner_tables(np.ones(2), np.ones(2), np.zeros(2, np.bool_), np.zeros(2), index, np.zeros(2), True)

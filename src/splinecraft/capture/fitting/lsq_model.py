@@ -18,7 +18,7 @@ import numpy as np
 
 from ._kernels import (_NO_FLOATS, _NO_INTS, curve_points, deviation_measures, fit_step, hook_tests, interval_samples,
                        anchor_bounds, corner_tables, corner_weights, interval_worst, knot_vector, normal_work,
-                       zone_window)
+                       removal_scores, zone_window)
 from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
@@ -820,21 +820,10 @@ class OutlineRegression:
     def removal_scores(self, bezier):
         """For every simple knot: score = |jump of S'''| * h^3 / 48, about the deviation that removing the knot
         causes (the size of the cubic's departure from one polynomial), plus |jump of S''| * h^2 / 16 where
-        S'' jumps (knots of multiplicity 2, ``joint_continuity=1``)."""
+        S'' jumps (knots of multiplicity 2, ``joint_continuity=1``); one compiled pass
+        (:func:`~._kernels.removal_scores`)."""
         starts, ends = self.intervals()
-        h = ends - starts
-        third = 6.0 * (bezier[:, 3] - 3 * bezier[:, 2] + 3 * bezier[:, 1] - bezier[:, 0]) / (h[:, None] ** 3)
-        values = self.base_parameter[self.simple_knots]
-        right = np.clip(np.searchsorted(starts, values), 0, starts.shape[0] - 1)  # interval starting at the knot
-        left = (right - 1) % starts.shape[0]
-        jump = np.hypot(*(third.take(right, axis=0) - third.take(left, axis=0)).T)
-        span = 0.5 * (h[left] + h[right])
-        if self.knot_multiplicity == 1:
-            return jump * span**3 / 48.0
-        second_start = 6.0 * (bezier[:, 2] - 2 * bezier[:, 1] + bezier[:, 0]) / (h[:, None] ** 2)
-        second_end = 6.0 * (bezier[:, 3] - 2 * bezier[:, 2] + bezier[:, 1]) / (h[:, None] ** 2)
-        bend = np.hypot(*(second_start[right] - second_end[left]).T)
-        return bend * span**2 / 16.0 + jump * span**3 / 48.0
+        return removal_scores(bezier, starts, ends, self.base_parameter[self.simple_knots], self.knot_multiplicity != 1)
 
     def removable_mask(self):
         """Which simple knots may be removed (not the seam knot 0 of an outline without corners, nor a jump

@@ -121,6 +121,7 @@ class OutlineRegression:
         self._zone_cache = None  # (tip state, {dense: zones}) of _zones
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
+        self._knot_list_cache = None  # (knot_indices, their original indices, each piece's first and last) of knot_lists
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
         self._zone_window_cache = None  # (radii and exclusions, set-up) of zone_hooks (_zone_window)
         # the most curve parameters of a zone window so far (_kernels.zone_window; a first guess: a row of some 250)
@@ -239,10 +240,14 @@ class OutlineRegression:
         if not contour.corner_count:
             return [contour.original_index(np.append(self.simple_knots, contour.size))]
         knots = self.knot_indices()
-        bounds = contour.corner_bounds
-        original = contour.original_index(knots)
-        # the knots from corner a to corner b, both included: one slice of the sorted knots per piece
-        first, last = np.searchsorted(knots, bounds[:-1]).tolist(), np.searchsorted(knots, bounds[1:], "right").tolist()
+        cached = self._knot_list_cache
+        if cached is None or cached[0] is not knots:  # kept with the knot indices (the snapshots and the result)
+            bounds = contour.corner_bounds
+            # the knots from corner a to corner b, both included: one slice of the sorted knots per piece
+            cached = self._knot_list_cache = (knots, contour.original_index(knots),
+                                              np.searchsorted(knots, bounds[:-1]).tolist(),
+                                              np.searchsorted(knots, bounds[1:], "right").tolist())
+        _, original, first, last = cached
         return [original[lo:hi].copy() for lo, hi in zip(first, last)]
 
     def zone(self):

@@ -121,16 +121,25 @@ def basis_matrix(full, i, u):
     return out
 
 
-@njit(**_HELPER)
-def _accumulate_normal(full, u, weights, targets, m, offset, at, rhs, partial):
-    """The points ``u`` (weights and targets from row ``offset`` on) into ``rhs`` and the ten basis-pair rows of
-    ``partial`` (:func:`_normal_into`); returns the last search answer (the start of the next array's walk)."""
+@njit(**_JIT)
+def _normal_into(full, u, extra, weights, targets, m, regularization, penalize, dense, band, rhs, partial, normal):
+    for a in range(m):  # the sums start from zero (the arrays may hold an earlier system: work arrays)
+        for d in range(rhs.shape[1]):
+            rhs[a, d] = 0.0
+        for row in range(4):
+            band[row, a] = 0.0
+        for pair in range(10):
+            partial[pair, a] = 0.0
+    # the parameters of the points, then those of the extra points (the corner pins): one sum in that order (one
+    # loop over both: the loop's body compiled once)
+    at = np.int64(0)  # the previous point's search answer (the parameters are sorted but for the pins at the end)
     last = full.shape[0] - 5
-    for q in range(u.shape[0]):
-        j = offset + q
-        at = _walk_right(full, u[q], at)
+    points = u.shape[0]
+    for j in range(points + extra.shape[0]):
+        x = u[j] if j < points else extra[j - points]
+        at = _walk_right(full, x, at)
         i = pyclip(at - 1, 3, last)  # bspline.interval_index
-        n0, n1, n2, n3 = _basis(full, i, u[q])
+        n0, n1, n2, n3 = _basis(full, i, x)
         w = weights[j]
         w0 = n0 * w  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
         w1 = n1 * w
@@ -158,21 +167,6 @@ def _accumulate_normal(full, u, weights, targets, m, offset, at, rhs, partial):
         partial[7, k2] += w2 * n2
         partial[8, k2] += w2 * n3
         partial[9, k3] += w3 * n3
-    return at
-
-
-@njit(**_JIT)
-def _normal_into(full, u, extra, weights, targets, m, regularization, penalize, dense, band, rhs, partial, normal):
-    for a in range(m):  # the sums start from zero (the arrays may hold an earlier system: work arrays)
-        for d in range(rhs.shape[1]):
-            rhs[a, d] = 0.0
-        for row in range(4):
-            band[row, a] = 0.0
-        for pair in range(10):
-            partial[pair, a] = 0.0
-    # the parameters of the points, then those of the extra points (the corner pins): one sum in that order
-    at = _accumulate_normal(full, u, weights, targets, m, np.int64(0), np.int64(0), rhs, partial)
-    _accumulate_normal(full, extra, weights, targets, m, u.shape[0], at, rhs, partial)
     for pair in range(partial.shape[0]):  # the pairs (r, s) in the order r, then s: band row s - r
         row = _BAND_ROW[pair]
         for a in range(m):

@@ -1,7 +1,7 @@
-"""The initial knots of ``"lsq"`` (``fitting.lsq_setup.curvature_knots``) placed for every piece at once are those of
-the loop over the pieces it replaced, index for index, and the curvature they follow (``_smoothed_curvature``, its
-neighbours read from wrapped copies) is the one read through rolled indices, bit for bit (both kept here as the
-reference)."""
+"""The initial knots of ``"lsq"`` (``fitting.lsq_setup.curvature_knots``, compiled: ``_kernels.seed_knots``) are
+those of the loop over the pieces that the vectorized form replaced, index for index, the knot density's integral
+(``knot_density_integral``) is numpy's, and the curvature they follow (``_smoothed_curvature``) is the one read
+through rolled indices, bit for bit (all kept here as the reference)."""
 from __future__ import annotations
 
 import numpy as np
@@ -33,10 +33,21 @@ def reference_smoothed_curvature(contour):
     return kappa
 
 
+def reference_knot_density_integral(contour, density, epsilon):
+    n = contour.size
+    kappa = reference_smoothed_curvature(contour)
+    bent = kappa != 0.0
+    if contour.corner_count:
+        bent &= ~(contour.corner_distance[:n] < 6.0)
+    lam = np.zeros(n)
+    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
+    return np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])
+
+
 def reference_curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     if density <= 0 or contour.size < 16:
         return None
-    cum = knot_density_integral(contour, density, epsilon)
+    cum = reference_knot_density_integral(contour, density, epsilon)
     new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]
     bounds = contour.corner_bounds
     for first, last in zip(bounds[:-1], bounds[1:]):
@@ -78,6 +89,8 @@ def test_curvature_knots_are_the_loop_over_the_pieces(seed, n, corners, density,
     expected = reference_curvature_knots(contour, simple, density, epsilon, min_gap)
     if points.shape[0] >= 16:
         assert _smoothed_curvature(contour).tobytes() == reference_smoothed_curvature(contour).tobytes()
+        assert knot_density_integral(contour, density, epsilon).tobytes() == \
+            reference_knot_density_integral(contour, density, epsilon).tobytes()
     assert (got is None) == (expected is None)
     if got is not None:
         assert np.array_equal(got, expected)

@@ -83,7 +83,8 @@ def test_normal_equations_match_the_dense_collocation_and_the_bincount_sums(m, s
     rng, _, full, u = _knots(m, seed, multiple)
     weights = rng.uniform(0.1, 1.0, u.shape[0])
     targets = rng.normal(size=(u.shape[0], 2))
-    band, rhs = _kernels.normal_equations(full, u, weights, targets, m)
+    band, rhs, normal = _kernels.normal_equations(full, u, weights, targets, m)
+    assert normal is None
     # reference 1: the dense normal matrix A^T W A and A^T W Q from scipy's basis
     matrix = _collocation(full, m, u)
     normal = matrix.T @ (weights[:, None] * matrix)
@@ -158,15 +159,12 @@ def test_spline_values_and_bezier_pieces_match_scipy(m, seed, multiple):
     np.testing.assert_allclose(point, _collocation(full, m, middle) @ coef, atol=1e-8)
 
 
-@settings(max_examples=40, deadline=None)
-@given(st.integers(1, 70), st.integers(0, 10_000))
-def test_penalized_normal_matches_the_fancy_index_assembly(m, seed):
-    """The penalty and the dense cyclic matrix, bit for bit as numpy's fancy-index additions build them
-    (wrapped entries of m < 7 added up in the same order)."""
-    rng = np.random.default_rng(seed)
-    band = rng.uniform(0.0, 2.0, size=(4, m))
+def _penalized_reference(band, regularization):
+    """The penalty and the dense cyclic matrix as numpy's fancy-index additions build them (the formulation the
+    kernel replaced): ``(band + pen * D^T D, dense matrix)``."""
+    m = band.shape[1]
     expected = band.copy()
-    pen = 1e-8 * (float(expected[0].max()) or 1.0)
+    pen = regularization * (float(expected[0].max()) or 1.0)
     expected[0] += 6 * pen
     expected[1] += -4 * pen
     expected[2] += 1 * pen
@@ -176,10 +174,38 @@ def test_penalized_normal_matches_the_fancy_index_assembly(m, seed):
     for k in (1, 2, 3):
         dense[idx, (idx + k) % m] += expected[k]
         dense[(idx + k) % m, idx] += expected[k]
-    got = _kernels.penalized_normal(band, 1e-8, True)
+    return expected, dense
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(4, 70), st.integers(0, 10_000), st.booleans(), st.integers(0, 5))
+def test_penalized_normal_matches_the_fancy_index_assembly(m, seed, multiple, pins):
+    """The penalty and the dense cyclic matrix, bit for bit as numpy's fancy-index additions build them
+    (wrapped entries of m < 7 added up in the same order), on the band of the same points; the extra points (the
+    corner pins) are the points appended, and work arrays holding an earlier system give the same answer."""
+    rng, period, full, u = _knots(m, seed, multiple)
+    extra = rng.uniform(0, period, pins)
+    weights = rng.uniform(0.1, 1.0, u.shape[0] + pins)
+    targets = rng.normal(size=(u.shape[0] + pins, 2))
+    band, rhs, _ = _kernels.normal_equations(full, np.concatenate([u, extra]), weights, targets, m)
+    expected, dense = _penalized_reference(band, 1e-8)
+    work = tuple(rng.normal(size=a.shape) for a in _kernels.normal_work(m))  # dirty work arrays
+    for given_work in (None, work):
+        got_band, got_rhs, got = _kernels.normal_equations(full, u, weights, targets, m, 1e-8, extra, given_work)
+        np.testing.assert_array_equal(got_rhs, rhs)
+        np.testing.assert_array_equal(got_band, expected)
+        if m <= _kernels.DENSE_LIMIT:
+            np.testing.assert_array_equal(got, dense)
+        else:
+            assert got is None
+
+
+def test_penalized_normal_of_an_empty_diagonal_takes_scale_one():
+    full = bspline.periodic_knot_vector(np.arange(7.0), 7.0)
+    band, _, normal = _kernels.normal_equations(full, np.zeros(0), np.zeros(0), np.zeros((0, 2)), 7, 1e-8)
+    expected, dense = _penalized_reference(np.zeros((4, 7)), 1e-8)
     np.testing.assert_array_equal(band, expected)
-    np.testing.assert_array_equal(got, dense)
-    assert _kernels.penalized_normal(np.zeros((4, m)), 1e-8, False) is None
+    np.testing.assert_array_equal(normal, dense)
 
 
 def _numpy_hoschek(u, points, bez, starts, ends, piece_of, piece_count, gate):
@@ -227,6 +253,48 @@ def test_hoschek_step_matches_the_vectorized_formulation(count, seed, gate):
     expected = np.maximum.accumulate(expected)
     np.testing.assert_array_equal(moved, expected)
     np.testing.assert_array_equal(np.signbit(moved), np.signbit(expected))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(4, 40), st.integers(0, 10_000), st.booleans(), st.floats(0.2, 5.0))
+def test_fit_step_is_the_bezier_pieces_then_the_hoschek_step(m, seed, multiple, gate):
+    """The fit's fused step: the Bézier pieces of the spline (einsum of its values, bit for bit) and the Newton
+    step on them (the vectorized formulation), with and without the bounds."""
+    rng, period, full, u = _knots(m, seed, multiple)
+    coef = rng.normal(size=(m, 2)) * 10
+    distinct = np.unique(np.append(full[3:-4], period))
+    starts, ends = distinct[:-1], distinct[1:]
+    points = rng.normal(size=(u.shape[0], 2)) * 10
+    piece_of = np.sort(rng.integers(0, 3, u.shape[0]))
+    bez = np.einsum("ij,kjd->kid", bspline._FROM_SAMPLES,
+                    _kernels.spline_values(coef, full, m, starts, ends, bspline._THETA4))
+    got_bez, du, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u,
+                                          points, piece_of, 3, gate)
+    assert not same
+    np.testing.assert_array_equal(got_bez, bez)
+    np.testing.assert_array_equal(du, _numpy_hoschek(u, points, bez, starts, ends, piece_of, 3, gate))
+    low, high = u - rng.uniform(0.0, 1.5, u.shape[0]), u + rng.uniform(-0.2, 1.5, u.shape[0])
+    fixed, base = rng.random(u.shape[0]) < 0.2, rng.uniform(0, period, u.shape[0])
+    work = rng.normal(size=(starts.shape[0], 4, 2))
+    got_bez, moved, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, u,
+                                             points, piece_of, 3, gate, (low, high, fixed, base), work)
+    expected = np.maximum.accumulate(np.where(fixed, base, np.clip(u + du, low, high)))
+    np.testing.assert_array_equal(got_bez, bez)
+    np.testing.assert_array_equal(moved, expected)
+    assert same == (moved.tobytes() == u.tobytes())
+    # a step that moves nothing (every piece above the gate, the bounds the parameters themselves): the same bits,
+    # and a signed zero in place of a zero is not the same
+    still = np.maximum.accumulate(u)
+    _, moved, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, still,
+                                       points, piece_of, 3, -1.0, (still, still, np.zeros(u.shape[0], bool), base))
+    assert same and moved.tobytes() == still.tobytes()
+    signed = still.copy()
+    signed[0] = -0.0
+    low = still.copy()
+    low[0] = 0.0
+    _, moved, same = _kernels.fit_step(coef, full, m, starts, ends, bspline._THETA4, bspline._FROM_SAMPLES, signed,
+                                       points, piece_of, 3, -1.0, (low, low, np.zeros(u.shape[0], bool), base))
+    assert not same and moved[0] == 0.0 and not np.signbit(moved[0])
 
 
 def test_hoschek_step_lands_on_the_foot_point_of_a_straight_piece():
@@ -435,7 +503,7 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     from splinecraft.capture.corners import _jump_kernels
     from splinecraft.capture.fitting import _iso_kernels
 
-    expected = {_kernels: {"_normal_into", "_hoschek_into", "_windowed_into", "_search_into", "_group_max_into"},
+    expected = {_kernels: {"_normal_into", "_step_into", "_windowed_into", "_search_into", "_group_max_into"},
                 _iso_kernels: {"_smoothed", "_nearest_into"},
                 _jump_kernels: {"_window_fit", "_prefix_moments", "_moment_verdict", "_arm_lines_into", "_resample_into",
                                 "_corners_into", "_peaks", "_starts_into", "_congruent", "_union_into", "_pairwise_sum"},
@@ -454,7 +522,7 @@ def test_normal_equations_of_a_single_point_are_its_basis_products(size):
     """One point: band[k, a] = N_a N_(a+k) w and rhs = N w Q (closed form)."""
     full = bspline.periodic_knot_vector(np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]), 7.0)
     u = np.full(size, 3.5)
-    band, rhs = _kernels.normal_equations(full, u, np.full(size, 2.0), np.tile([[1.0, -1.0]], (size, 1)), 7)
+    band, rhs, _ = _kernels.normal_equations(full, u, np.full(size, 2.0), np.tile([[1.0, -1.0]], (size, 1)), 7)
     i = bspline.interval_index(full, u[:1])
     basis = bspline.cubic_basis(full, i, u[:1])[0]
     cols = (i[0] - 6 + np.arange(4)) % 7
@@ -966,3 +1034,292 @@ def test_closed_polyline_distance_matches_the_grid_formulation(seed):
     least = np.full(points.shape[0], np.inf)
     np.minimum.at(least, rows, geometry.segment_squared_distances(points[rows], line[edges], line[(edges + 1) % m]))
     np.testing.assert_array_equal(_kernels.closed_polyline_distance(points, line, half), np.sqrt(least))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(1, 8), st.integers(0, 10_000), st.booleans())
+def test_hook_tests_are_the_curve_points_then_the_two_tests(count, seed, nan):
+    """``hook_tests`` (both corner tests after a fit in one pass) against the formulation it replaced: the fitted
+    corner points by ``curve_points``, ``hypot`` of their offsets against the limits where the radius is positive;
+    the zone samples by ``curve_points``, the least gap of each point's row above the slack, a row with a NaN
+    sample passing all its points."""
+    rng = np.random.default_rng(seed)
+    bounds = np.concatenate([[0.0], np.cumsum(rng.uniform(1.0, 10.0, count))])
+    starts, ends = bounds[:-1], bounds[1:]
+    bez = np.cumsum(rng.normal(size=(count, 4, 2)), axis=1)
+    if nan:
+        bez[rng.integers(0, count)] = np.nan
+    corners = int(rng.integers(1, 5))
+    at = rng.uniform(0, bounds[-1], corners)
+    corner_points, limit = rng.normal(size=(corners, 2)), rng.uniform(0.0, 3.0, corners)
+    radius = rng.uniform(-1.0, 2.0, corners) * (rng.random(corners) < 0.7)
+    rows, per_row, points = int(rng.integers(1, 4)), int(rng.integers(1, 40)), int(rng.integers(1, 20))
+    u = rng.uniform(0, bounds[-1], rows * per_row)
+    row, axis = rng.integers(0, rows, points), rng.integers(0, 2, points)
+    along_start, across_start = rng.normal(0.0, 1.0, points), rng.normal(0.0, 1.0, points)
+    hooked, beside = _kernels.hook_tests(bez, starts, ends, at, corner_points, limit, radius, u, rows, row, axis,
+                                         along_start, across_start, 0.5)
+    disp = np.hypot(*(_kernels.curve_points(bez, starts, ends, at) - corner_points).T)
+    np.testing.assert_array_equal(hooked, (disp > limit) & (radius > 0))
+    samples = _kernels.curve_points(bez, starts, ends, u).reshape(rows, per_row, 2)
+    pick = np.arange(points)
+    along = samples[row][pick, :, axis] - along_start[:, None]
+    across = samples[row][pick, :, 1 - axis] - across_start[:, None]
+    least = np.hypot(along - np.clip(along, 0.0, 1.0), across).min(axis=1)
+    np.testing.assert_array_equal(beside, (least > 0.5) & np.isfinite(samples).all(axis=(1, 2))[row])
+
+
+def _numpy_zone_window(radius, exclude, nearest, corner_distance, corner_par, gap_before, gap_after, cracks, points,
+                       period, spacing):
+    """The zone window as numpy built it (the formulation ``zone_window`` replaced)."""
+    active = radius > 0
+    active[exclude] = False
+    if not active.any():
+        return None
+    reach = np.maximum(radius, 1.0)
+    chosen = np.flatnonzero(active[nearest] & (corner_distance < reach[nearest]))
+    if not chosen.size:
+        return None
+    owner = nearest[chosen]
+    tested = np.zeros(radius.shape[0], bool)
+    tested[owner] = True
+    corners = np.flatnonzero(tested)
+    row = np.full(radius.shape[0], -1)
+    row[corners] = np.arange(corners.shape[0])
+    half = reach[corners] + np.maximum(gap_before[corners], gap_after[corners]) + 2.0
+    count = int(np.ceil(2.0 * half.max() / spacing)) + 1
+    steps = np.linspace(-1.0, 1.0, count)
+    u = np.mod(corner_par[corners][:, None] + half[:, None] * steps[None, :], period).ravel()
+    axis = (cracks[chosen, 1] == 1.0).astype(np.int64)
+    own = points.take(chosen, axis=0)
+    pick = np.arange(chosen.shape[0])
+    return u, corners.shape[0], row[owner], axis, own[pick, axis] - 0.5, own[pick, 1 - axis], owner
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(0, 10_000), st.sampled_from([0.1, 0.25, 0.37]), st.integers(0, 50))
+def test_zone_window_matches_the_numpy_formulation(corners, seed, spacing, bound):
+    """``zone_window`` (the zone test's set-up in one pass) bit for bit against the numpy formulation it replaced:
+    the tested points, their rows, axes and pixel-centre coordinates, and the rows of curve parameters (numpy's
+    ``linspace`` and ``mod`` arithmetic, around the period's end too), from any first guess of their count."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(5, 80))
+    period = float(n) + rng.uniform(0.0, 5.0)
+    radius = rng.uniform(-0.5, 6.0, corners) * (rng.random(corners) < 0.8)
+    exclude = np.flatnonzero(rng.random(corners) < 0.2)
+    nearest = rng.integers(0, corners, n)
+    corner_distance = rng.uniform(0.0, 8.0, n)
+    corner_par = rng.uniform(0.0, period, corners)
+    gap_before, gap_after = rng.uniform(0.0, 3.0, corners), rng.uniform(0.0, 3.0, corners)
+    cracks = np.where((rng.random(n) < 0.5)[:, None], np.array([1.0, 0.0]), np.array([0.0, 1.0]))
+    points = rng.integers(0, 40, (n, 2)) + 0.5 * rng.integers(0, 2, (n, 2))
+    excluded = np.zeros(corners, bool)
+    excluded[exclude] = True
+    got = _kernels.zone_window(radius, excluded, nearest, corner_distance, corner_par, gap_before, gap_after,
+                               cracks[:, 1], points, period, spacing, bound)
+    expected = _numpy_zone_window(radius, exclude, nearest, corner_distance, corner_par, gap_before, gap_after,
+                                  cracks, points, period, spacing)
+    if expected is None:
+        assert got is None
+        return
+    assert got[1] == expected[1]
+    for a, b in zip(got[:1] + got[2:], expected[:1] + expected[2:]):
+        np.testing.assert_array_equal(a, b)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 6), st.integers(0, 12), st.integers(0, 10_000), st.booleans())
+def test_knot_vector_matches_the_numpy_formulation(corners, simple, seed, repeats):
+    """``knot_vector`` (the fit's knots, full knot vector and intervals in one pass) against numpy: the sorted repeats
+    of the corners (three times) and the simple knots (their multiplicities), ``knots[idx % m] + period *
+    floor_divide(idx, m)`` and ``numpy.unique`` of the knots and the period."""
+    rng = np.random.default_rng(seed)
+    period = 100.0
+    if corners + simple == 0:
+        simple = 4
+    grid = np.sort(rng.choice(np.arange(0.0, period, 0.5), corners + simple, replace=False))
+    if repeats and simple > 1:  # a simple knot on a corner's value (both lists keep their order)
+        grid[-1] = grid[0]
+        grid = np.sort(grid)
+    pick = rng.permutation(corners + simple)
+    corner_values, values = np.sort(grid[pick[:corners]]), np.sort(grid[pick[corners:]])
+    multiplicity = rng.integers(1, 3, values.shape[0])
+    knots, full, starts, ends = _kernels.knot_vector(corner_values, values, multiplicity, period)
+    expected = np.sort(np.concatenate([np.repeat(corner_values, 3), np.repeat(values, multiplicity)]))
+    np.testing.assert_array_equal(knots, expected)
+    m = expected.shape[0]
+    idx = np.arange(-3, m + 4)
+    np.testing.assert_array_equal(full, expected[idx % m] + period * np.floor_divide(idx, m))
+    np.testing.assert_array_equal(bspline.periodic_knot_vector(expected, period), full)
+    distinct = np.unique(np.append(expected, period))
+    np.testing.assert_array_equal(starts, distinct[:-1])
+    np.testing.assert_array_equal(ends, distinct[1:])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(3, 60), st.integers(0, 6), st.integers(0, 10_000))
+def test_contour_tables_match_the_numpy_formulation(n, corners, seed):
+    """``contour_tables`` (``RotatedContour``'s tables in one pass) bit for bit against the numpy formulation it
+    replaced: the edge table, the arc lengths, each point's piece, nearest corner and distance to it (ties to
+    the earlier corner; repeated points make zero-length edges)."""
+    rng = np.random.default_rng(seed)
+    points = rng.integers(0, 6, (n, 2)) * 0.5
+    closed = np.vstack([points, points[:1]])
+    chosen = np.unique(rng.integers(0, n, corners)).astype(np.int64)
+    count = chosen.shape[0]
+    bounds = np.append(chosen, n) if count else np.array([0, n])
+    if count:
+        bounds = np.append(chosen - chosen[0], n)
+    edges, arc, piece_of, distance, nearest = _kernels.contour_tables(closed, bounds, count)
+    dx, dy = np.diff(closed[:, 0]), np.diff(closed[:, 1])
+    den = dx * dx + dy * dy
+    np.testing.assert_array_equal(edges, np.stack([closed[:-1, 0], closed[:-1, 1], dx, dy,
+                                                   1.0 / np.where(den > 0, den, 1.0)]))
+    np.testing.assert_array_equal(geometry.edge_table(closed), edges)
+    expected_arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(closed, axis=0).T))])
+    np.testing.assert_array_equal(arc, expected_arc)
+    np.testing.assert_array_equal(piece_of, np.clip(np.searchsorted(bounds, np.arange(n + 1), side="right") - 1, 0,
+                                                    bounds.shape[0] - 2))
+    if count:
+        corner_arc = expected_arc[bounds]
+        k = np.clip(np.searchsorted(corner_arc, expected_arc), 1, corner_arc.shape[0] - 1)
+        left, right = expected_arc - corner_arc[k - 1], corner_arc[k] - expected_arc
+        np.testing.assert_array_equal(distance, np.minimum(left, right))
+        np.testing.assert_array_equal(nearest, np.where(left <= right, k - 1, k) % count)
+    else:
+        assert np.isinf(distance).all() and not nearest.any()
+
+
+def _numpy_corner_radii(contour, corner_radius):
+    """``corner_radii`` as numpy computed it (the formulation the kernel replaced)."""
+    arc, perimeter, bounds = contour.arc, contour.perimeter, contour.corner_bounds
+
+    def point_at_arc(values):
+        return np.column_stack([np.interp(values, arc, contour.closed_points[:, 0]),
+                                np.interp(values, arc, contour.closed_points[:, 1])])
+    corner_arc = arc[bounds[:-1]]
+    piece_len = np.diff(arc[bounds])
+    before = np.concatenate([piece_len[-1:], piece_len[:-1]])
+    q_back = point_at_arc((corner_arc - np.minimum(6.0, 0.4 * before)) % perimeter)
+    q_fwd = point_at_arc((corner_arc + np.minimum(6.0, 0.4 * piece_len)) % perimeter)
+    corner = contour.points.take(bounds[:-1] % contour.size, axis=0)
+    a, b = q_back - corner, q_fwd - corner
+    cos = np.einsum("kd,kd->k", a, b) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
+    theta = np.arccos(np.clip(cos, -1.0, 1.0))
+    radius = corner_radius / np.maximum(np.tan(0.5 * theta), 1e-6)
+    radius = np.clip(radius, 1.0, 3.0 * corner_radius) if corner_radius > 0 else np.zeros(contour.corner_count)
+    return np.minimum(radius, 0.2 * np.minimum(before, piece_len)), theta
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(6, 80), st.integers(1, 6), st.integers(0, 10_000), st.sampled_from([0.0, 0.7, 2.0]), st.booleans())
+def test_corner_kernels_match_the_numpy_formulations(n, corners, seed, corner_radius, dense):
+    """The per-corner and per-point tables of the model (``corner_radii``, ``corner_tables``, ``corner_weights``,
+    ``anchor_bounds``, ``crack_normals``) bit for bit against the numpy formulations they replaced, on crack
+    outlines with repeated points (zero-length edges) and random tip states."""
+    from splinecraft.capture.fitting.lsq_setup import RotatedContour
+
+    rng = np.random.default_rng(seed)
+    steps = np.array([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [0.0, 0.0]])
+    points = np.cumsum(steps[rng.integers(0, 5, n)], axis=0) + np.array([0.0, 0.5])
+    chosen = np.unique(rng.integers(0, n, corners)).astype(np.int64)
+    contour = RotatedContour(points, chosen)
+    count = contour.corner_count
+    radius, theta = _kernels.corner_radii(contour.arc, contour.closed_points, contour.corner_bounds, corner_radius)
+    expected_radius, expected_theta = _numpy_corner_radii(contour, corner_radius)
+    np.testing.assert_array_equal(theta, expected_theta)
+    np.testing.assert_array_equal(radius, expected_radius)
+    zone_radius = rng.uniform(0.0, 4.0, count) * (rng.random(count) < 0.8)
+    tip_radius = zone_radius * (rng.random(count) < 0.6)
+    kept, tip_allowance = rng.random(count) < 0.3, rng.uniform(0.0, 1.0, count)
+    nearest, distance = contour.nearest_corner, contour.corner_distance
+    r = zone_radius[nearest]
+    zone = (r > 0) & ((tip_radius > 0) | kept)[nearest] & (distance < 2.0 * r + 1.0)
+    allowance = np.where(zone, tip_allowance[nearest], 0.0)
+    got = _kernels.corner_tables(zone_radius, tip_radius, kept, tip_allowance, nearest, distance, dense)
+    np.testing.assert_array_equal(got[0], zone.astype(float))
+    np.testing.assert_array_equal(got[1], allowance)
+    if dense:
+        probe_zone, probe_allowance = np.empty(2 * n, bool), np.empty(2 * n)
+        probe_zone[0::2], probe_zone[1::2] = zone[:n], zone[:n] | zone[1:]
+        probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
+    else:
+        probe_zone, probe_allowance = zone[:n], allowance[:n]
+    np.testing.assert_array_equal(got[2], probe_zone)
+    np.testing.assert_array_equal(got[3], probe_allowance)
+    fixed = rng.random(n + 1) < 0.2
+    r = tip_radius[nearest]
+    x = distance / np.where(r > 0, r, 1.0)
+    w = np.where(r > 0, np.minimum(1.0, x ** 2), 1.0)
+    w[fixed & (r > 0)] = 0.0
+    np.testing.assert_array_equal(_kernels.corner_weights(tip_radius, nearest[:n], distance[:n], fixed[:n]),
+                                  np.maximum(w[:n], 1e-3))
+    anchor = np.append(fixed[:n], True)
+    base = np.sort(rng.uniform(0.0, 50.0, n + 1))
+    index = np.arange(n + 1)
+    before = np.maximum.accumulate(np.where(anchor, index, 0))
+    after = np.minimum.accumulate(np.where(anchor, index, n)[::-1])[::-1]
+    low, high = _kernels.anchor_bounds(fixed[:n], base)
+    np.testing.assert_array_equal(low, base[before[:n]])
+    np.testing.assert_array_equal(high, base[after[:n]])
+    frac = points - np.floor(points)
+    whole, half = (frac < 1e-9) | (frac > 1.0 - 1e-9), np.abs(frac - 0.5) < 1e-9
+    vertical, horizontal = whole[:, 0] & half[:, 1], half[:, 0] & whole[:, 1]
+    normals = _kernels.crack_normals(points)
+    if not (vertical | horizontal).all():
+        assert normals is None
+    else:
+        np.testing.assert_array_equal(normals, np.where(vertical[:, None], [1.0, 0.0], [0.0, 1.0]))
+    moved = points.copy()
+    moved[:, 1] -= 0.5  # pixel corners, not crack midpoints
+    assert _kernels.crack_normals(moved) is None
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(0, 10_000))
+def test_interval_worst_is_group_max_of_the_masked_excesses(count, seed):
+    """``interval_worst`` (the four per-interval maxima of knot insertion in one pass) against ``group_max`` of the
+    excesses masked by the corner zones (``numpy.where``), NaN excesses and empty intervals included."""
+    rng = np.random.default_rng(seed)
+    data_iv, curve_iv = np.sort(rng.integers(0, count, 30)), np.sort(rng.integers(0, count, 50))
+    data_zone, curve_zone = rng.random(30) < 0.3, rng.random(50) < 0.3
+    d_data, tol_data = rng.uniform(0.0, 2.0, 30), rng.uniform(0.5, 1.0, 30)
+    d_curve, tol_curve = rng.uniform(0.0, 2.0, 50), rng.uniform(0.5, 1.0, 50)
+    d_data[rng.random(30) < 0.05] = np.nan
+    best, at = _kernels.interval_worst(data_iv, data_zone, d_data, tol_data, curve_iv, curve_zone, d_curve, tol_curve,
+                                       count)
+    data_ex, curve_ex = d_data - tol_data, d_curve - tol_curve
+    expected = [geometry.group_max(data_iv, np.where(data_zone, -np.inf, data_ex), count),
+                geometry.group_max(curve_iv, np.where(curve_zone, -np.inf, curve_ex), count),
+                geometry.group_max(data_iv, np.where(data_zone, data_ex, -np.inf), count),
+                geometry.group_max(curve_iv, np.where(curve_zone, curve_ex, -np.inf), count)]
+    for row, (value, index) in enumerate(expected):
+        np.testing.assert_array_equal(best[row], value)
+        np.testing.assert_array_equal(at[row], index)
+        np.testing.assert_array_equal(value, _numpy_group_max([data_iv, curve_iv][row % 2],
+                                                              np.where([data_zone, curve_zone][row % 2] == (row < 2),
+                                                                       -np.inf, [data_ex, curve_ex][row % 2]), count))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(2, 12), st.integers(0, 10_000), st.booleans())
+def test_removal_scores_match_the_numpy_formulation(count, seed, bend):
+    """``removal_scores`` (knot removal's scores in one pass) bit for bit against the numpy formulation it
+    replaced, with and without the second derivative's jump (C1 knots)."""
+    rng = np.random.default_rng(seed)
+    bounds = np.concatenate([[0.0], np.cumsum(rng.uniform(0.5, 10.0, count))])
+    starts, ends = bounds[:-1], bounds[1:]
+    bezier = np.cumsum(rng.normal(size=(count, 4, 2)), axis=1)
+    values = starts[np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))]
+    h = ends - starts
+    third = 6.0 * (bezier[:, 3] - 3 * bezier[:, 2] + 3 * bezier[:, 1] - bezier[:, 0]) / (h[:, None] ** 3)
+    right = np.clip(np.searchsorted(starts, values), 0, starts.shape[0] - 1)
+    left = (right - 1) % starts.shape[0]
+    jump = np.hypot(*(third.take(right, axis=0) - third.take(left, axis=0)).T)
+    span = 0.5 * (h[left] + h[right])
+    expected = jump * span**3 / 48.0
+    if bend:
+        second_start = 6.0 * (bezier[:, 2] - 2 * bezier[:, 1] + bezier[:, 0]) / (h[:, None] ** 2)
+        second_end = 6.0 * (bezier[:, 3] - 2 * bezier[:, 2] + bezier[:, 1]) / (h[:, None] ** 2)
+        expected = np.hypot(*(second_start[right] - second_end[left]).T) * span**2 / 16.0 + expected
+    np.testing.assert_array_equal(_kernels.removal_scores(bezier, starts, ends, values, bend), expected)

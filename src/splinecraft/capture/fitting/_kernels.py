@@ -20,8 +20,11 @@ from numba import njit
 
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
 
-__all__ = ["basis_matrix", "normal_equations", "penalized_normal", "spline_values", "hoschek_update", "windowed_distance", "eval_bezier",
-           "interval_samples", "group_max", "curve_points", "zone_points_beside", "closed_polyline_distance",
+__all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
+           "windowed_distance", "eval_bezier",
+           "interval_samples", "group_max", "curve_points", "hook_tests", "zone_window", "zone_points_beside", "seed_knots", "knot_vector", "contour_tables", "corner_radii",
+           "corner_tables", "corner_weights", "anchor_bounds", "crack_normals", "interval_worst",
+           "removal_scores", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
            "warm_up_solves", "warm_up_checks"]
 
@@ -38,6 +41,7 @@ def _ints(values):
 
 # Empty arguments of the kernels' unused outputs (one compiled signature for both uses of a kernel).
 _NO_FLOATS, _NO_INTS, _NO_POINTS = np.empty(0), np.empty(0, np.int64), np.empty((0, 2))
+_NO_BOOLS, _NO_CUBE, _NO_MATRIX = np.empty(0, np.bool_), np.empty((0, 0, 0)), np.empty((0, 0))
 # The band row ``s - r`` of each pair ``(r, s)`` of basis functions, ``r <= s``, in the order r, then s
 # (:func:`_normal_into`; a loop over the 10 rows of ``partial``, not over r and s: LLVM unrolled those loops into 10
 # vectorized copies of the inner loop, about 15 % of the compiled code of the fit's solves).
@@ -118,13 +122,24 @@ def basis_matrix(full, i, u):
 
 
 @njit(**_JIT)
-def _normal_into(full, u, weights, targets, m, band, rhs, partial):
+def _normal_into(full, u, extra, weights, targets, m, regularization, penalize, dense, band, rhs, partial, normal):
+    for a in range(m):  # the sums start from zero (the arrays may hold an earlier system: work arrays)
+        for d in range(rhs.shape[1]):
+            rhs[a, d] = 0.0
+        for row in range(4):
+            band[row, a] = 0.0
+        for pair in range(10):
+            partial[pair, a] = 0.0
+    # the parameters of the points, then those of the extra points (the corner pins): one sum in that order (one
+    # loop over both: the loop's body compiled once)
     at = np.int64(0)  # the previous point's search answer (the parameters are sorted but for the pins at the end)
     last = full.shape[0] - 5
-    for j in range(u.shape[0]):
-        at = _walk_right(full, u[j], at)
+    points = u.shape[0]
+    for j in range(points + extra.shape[0]):
+        x = u[j] if j < points else extra[j - points]
+        at = _walk_right(full, x, at)
         i = pyclip(at - 1, 3, last)  # bspline.interval_index
-        n0, n1, n2, n3 = _basis(full, i, u[j])
+        n0, n1, n2, n3 = _basis(full, i, x)
         w = weights[j]
         w0 = n0 * w  # one assignment a line: four or more targets at once build and unpack a tuple (compile time)
         w1 = n1 * w
@@ -156,36 +171,25 @@ def _normal_into(full, u, weights, targets, m, band, rhs, partial):
         row = _BAND_ROW[pair]
         for a in range(m):
             band[row, a] += partial[pair, a]
-
-
-def normal_equations(full, u, weights, targets, m):
-    """Weighted least-squares normal equations of a periodic cubic spline with ``m`` coefficients on the full
-    knot vector ``full`` (:func:`~.bspline.fit_coefficients`): the cyclic band ``band[k, a] = A[a, (a + k) %
-    m]`` (k = 0..3; the pairs ``(r, s)`` of basis functions, each a sum over the points, added in the order r,
-    then s) and the right-hand sides ``rhs`` (m, d), each a sum over the points in their order."""
-    targets = _floats(targets)
-    band, rhs, partial = np.zeros((4, m)), np.zeros((m, targets.shape[1])), np.zeros((10, m))
-    _normal_into(_floats(full), _floats(u), _floats(weights), targets, int(m), band, rhs, partial)
-    return band, rhs
-
-
-@njit(**_JIT)
-def _penalized_into(band, regularization, dense, normal):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    if not penalize:
+        return
+    # + pen * D^T D: pen = regularization * max(band[0]) (NaN sticks, as in numpy's max; 1 for an all-zero diagonal)
     scale = band[0, 0]
-    for a in range(band.shape[1]):
-        if not band[0, a] <= scale:  # NaN sticks, as in numpy's max
+    for a in range(m):
+        if not band[0, a] <= scale:
             scale = band[0, a]
     if scale == 0.0:
         scale = 1.0
     pen = regularization * scale
-    for a in range(band.shape[1]):
+    for a in range(m):
         band[0, a] += 6 * pen
         band[1, a] += -4 * pen
         band[2, a] += 1 * pen
     if not dense:
         return
-    m = band.shape[1]
+    for a in range(m):
+        for b in range(m):
+            normal[a, b] = 0.0
     for a in range(m):
         normal[a, a] = band[0, a]
     for k in range(1, 4):
@@ -195,60 +199,65 @@ def _penalized_into(band, regularization, dense, normal):
             normal[(a + k) % m, a] += band[k, a]
 
 
-def penalized_normal(band, regularization, dense):
-    """Add ``pen * D^T D`` to the cyclic band in place (``D`` the cyclic second difference, rows 1, -2, 1;
-    ``pen = regularization * max(band[0])``, the scale 1 for an all-zero diagonal) and, when ``dense``, the
-    full symmetric (m, m) matrix of the band (wrapped entries added up, also for m < 7), else None
-    (:func:`~.bspline.fit_coefficients`)."""
-    m = band.shape[1]
-    normal = np.zeros((m, m) if dense else (0, 0))
-    _penalized_into(band, float(regularization), bool(dense), normal)
-    return normal if dense else None
+def normal_work(m, dimensions=2):
+    """Work arrays of :func:`normal_equations` for ``m`` coefficients (band, right-hand sides, the basis pairs'
+    sums, the dense matrix): kept by a caller that solves many systems of one size (the fit's rounds)."""
+    return np.empty((4, m)), np.empty((m, dimensions)), np.empty((10, m)), np.empty((m, m) if m <= DENSE_LIMIT else (0, 0))
+
+
+#: Largest coefficient count whose normal equations are solved as a dense matrix (:func:`~.bspline.fit_coefficients`).
+DENSE_LIMIT = 64
+
+
+def normal_equations(full, u, weights, targets, m, regularization=None, extra=_NO_FLOATS, work=None):
+    """Weighted least-squares normal equations of a periodic cubic spline with ``m`` coefficients on the full
+    knot vector ``full`` (:func:`~.bspline.fit_coefficients`) at the parameters ``u`` and then ``extra`` (rows of
+    ``weights`` and ``targets`` in that order): the cyclic band ``band[k, a] = A[a, (a + k) % m]`` (k = 0..3; the
+    pairs ``(r, s)`` of basis functions, each a sum over the points, added in the order r, then s) and the
+    right-hand sides ``rhs`` (m, d), each a sum over the points in their order. With ``regularization``, ``pen *
+    D^T D`` added to the band (``D`` the cyclic second difference, rows 1, -2, 1; ``pen = regularization *
+    max(band[0])``, the scale 1 for an all-zero diagonal) and, for ``m <=`` :data:`DENSE_LIMIT`, the full
+    symmetric (m, m) matrix of the band (wrapped entries added up, also for m < 7), else None. Returns ``(band,
+    rhs, normal)``; ``work``: the arrays to fill (:func:`normal_work`), else new ones."""
+    targets = _floats(targets)
+    band, rhs, partial, normal = normal_work(m, targets.shape[1]) if work is None else work
+    penalize = regularization is not None
+    dense = penalize and m <= DENSE_LIMIT
+    _normal_into(_floats(full), _floats(u), _floats(extra), _floats(weights), targets, int(m),
+                 float(regularization) if penalize else 0.0, penalize, dense, band, rhs, partial, normal)
+    return band, rhs, normal if dense else None
 
 
 @njit(**_JIT)
-def _values_into(coef, full, m, starts, ends, theta, out, mix, mixed):
-    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    for k in range(starts.shape[0]):
+def _step_into(coef, full, m, starts, ends, theta, mix, values, mixed, u, points, piece_of, gate, du, res, worst, low,
+               high, fixed, base, moved, u_bits, moved_bits):
+    """The spline's values on its knot intervals (``coef`` not empty) mixed into ``mixed`` (``mix`` not empty),
+    then the Newton step of the points ``u`` (not empty) on the pieces ``mixed``: :func:`fit_step`. Returns
+    whether the stepped parameters ``moved`` are ``u`` bit for bit (their bits ``moved_bits``, ``u_bits``)."""
+    for k in range(starts.shape[0] if coef.shape[0] else 0):
         width = ends[k] - starts[k]
         i = pyclip(_right_of(full, starts[k] + 0.5 * width) - 1, 3, full.shape[0] - 5)  # bspline.interval_index
         for t in range(theta.shape[0]):
             n0, n1, n2, n3 = _basis(full, i, starts[k] + width * theta[t])
             for d in range(coef.shape[1]):
-                out[k, t, d] = (n0 * coef[(i - 6) % m, d] + n1 * coef[(i - 5) % m, d]
-                                + n2 * coef[(i - 4) % m, d] + n3 * coef[(i - 3) % m, d])
-        for r in range(mix.shape[0]):  # numpy.einsum("rt,ktd->krd", mix, out): from 0, in the order of t
+                values[k, t, d] = (n0 * coef[(i - 6) % m, d] + n1 * coef[(i - 5) % m, d]
+                                   + n2 * coef[(i - 4) % m, d] + n3 * coef[(i - 3) % m, d])
+        for row in range(mix.shape[0]):  # numpy.einsum("rt,ktd->krd", mix, values): from 0, in the order of t
             for d in range(coef.shape[1]):
                 total = 0.0
                 for t in range(theta.shape[0]):
-                    total += mix[r, t] * out[k, t, d]
-                mixed[k, r, d] = total
-
-
-def spline_values(coef, full, m, starts, ends, theta, mix=None):
-    """Values of the periodic spline (coefficients ``coef`` (m, d)) at ``starts[k] + (ends[k] - starts[k]) *
-    theta[q]`` for every knot interval ``k`` and fraction ``theta[q]``, evaluated in the interval that holds
-    the interval's midpoint: an array (k, len(theta), d). With a matrix ``mix`` (r, len(theta)) instead the
-    values mixed by it per interval, ``numpy.einsum("rq,kqd->krd", mix, values)`` (a product sum from 0 in the
-    order of q, as einsum adds; :func:`~.bspline.bezier_of_intervals`)."""
-    coef, starts = _floats(coef), _floats(starts)
-    out = np.empty((starts.shape[0], len(theta), coef.shape[1]))
-    rows = 0 if mix is None else mix.shape[0]
-    mixed = np.empty((starts.shape[0] if rows else 0, rows, coef.shape[1]))
-    _values_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta), out,
-                 _floats(mix) if rows else np.empty((0, len(theta))), mixed)
-    return mixed if rows else out
-
-
-@njit(**_JIT)
-def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, low, high, fixed, base, moved):
+                    total += mix[row, t] * values[k, t, d]
+                mixed[k, row, d] = total
+    if not u.shape[0]:
+        return False
+    bez = mixed
     last = starts.shape[0] - 1
     at = np.int64(0)  # the previous point's search answer (the parameters are sorted)
     for j in range(u.shape[0]):
         at = _walk_right(starts, u[j], at)
         seg = pyclip(at - 1, 0, last)
         h = ends[seg] - starts[seg]
-        theta = (u[j] - starts[seg]) / h
+        theta_j = (u[j] - starts[seg]) / h
         r0 = r1 = p0 = p1 = q0 = q1 = 0.0
         for d in range(2):
             b0 = bez[seg, 0, d]
@@ -258,9 +267,9 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
             c1 = 3.0 * (b1 - b0)
             c2 = 3.0 * (b0 - 2.0 * b1 + b2)
             c3 = b3 - b0 + 3.0 * (b1 - b2)
-            r = b0 + theta * (c1 + theta * (c2 + theta * c3)) - points[j, d]
-            first = (c1 + theta * (2.0 * c2 + 3.0 * theta * c3)) / h
-            second = (2.0 * c2 + 6.0 * theta * c3) / (h * h)
+            r = b0 + theta_j * (c1 + theta_j * (c2 + theta_j * c3)) - points[j, d]
+            first = (c1 + theta_j * (2.0 * c2 + 3.0 * theta_j * c3)) / h
+            second = (2.0 * c2 + 6.0 * theta_j * c3) / (h * h)
             if d == 0:
                 r0, p0, q0 = r, first, second
             else:
@@ -272,13 +281,15 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         step = -(r0 * p0 + r1 * p1) / pymax(den, 1e-300)
         du[j] = pyclip(step, -2.0, 2.0)
         res[j] = np.hypot(r0, r1)
-    for j in range(u.shape[0]):  # worst: -inf from the wrapper
+    for g in range(worst.shape[0]):
+        worst[g] = -np.inf
+    for j in range(u.shape[0]):
         worst[piece_of[j]] = pymax(worst[piece_of[j]], res[j])
     for j in range(u.shape[0]):
         if worst[piece_of[j]] > gate:
             du[j] = 0.0
     if moved.shape[0] != u.shape[0]:
-        return
+        return False
     # the new parameters: numpy.clip(u + du, low, high), base where fixed, numpy.maximum.accumulate (numpy's
     # maximum and minimum: the first operand where it is NaN or wins strictly, else the second)
     previous = 0.0
@@ -293,25 +304,68 @@ def _hoschek_into(u, points, bez, starts, ends, piece_of, gate, du, res, worst, 
         if j > 0 and (previous != previous or previous > x):
             x = previous
         moved[j] = previous = x
+    for j in range(u.shape[0]):
+        if moved_bits[j] != u_bits[j]:
+            return False
+    return True
+
+
+def spline_values(coef, full, m, starts, ends, theta, mix=None):
+    """Values of the periodic spline (coefficients ``coef`` (m, d)) at ``starts[k] + (ends[k] - starts[k]) *
+    theta[q]`` for every knot interval ``k`` and fraction ``theta[q]``, evaluated in the interval that holds
+    the interval's midpoint: an array (k, len(theta), d). With a matrix ``mix`` (r, len(theta)) instead the
+    values mixed by it per interval, ``numpy.einsum("rq,kqd->krd", mix, values)`` (a product sum from 0 in the
+    order of q, as einsum adds; :func:`~.bspline.bezier_of_intervals`)."""
+    coef, starts = _floats(coef), _floats(starts)
+    values = np.empty((starts.shape[0], len(theta), coef.shape[1]))
+    rows = 0 if mix is None else mix.shape[0]
+    mixed = np.empty((starts.shape[0] if rows else 0, rows, coef.shape[1]))
+    _step_into(coef, _floats(full), int(m), starts, _floats(ends), _floats(theta),
+               _floats(mix) if rows else _NO_MATRIX, values, mixed, _NO_FLOATS, _NO_POINTS, _NO_INTS, 0.0,
+               _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_BOOLS, _NO_FLOATS, _NO_FLOATS, _NO_INTS,
+               _NO_INTS)
+    return mixed if rows else values
+
+
+def fit_step(coef, full, m, starts, ends, theta, mix, u, points, piece_of, piece_count, gate, bounds=None,
+             values=None):
+    """The Bézier pieces of the spline ``coef`` on its knot intervals (:func:`spline_values` with the matrix
+    ``mix``; ``coef`` None: ``mix`` is the pieces themselves), then one Newton step of the foot-point equation
+    ``(S(u) - Q) . S'(u) = 0`` per contour point ``Q = points[j]`` on them
+    (:meth:`~.lsq_model.OutlineRegression.fit`): the steps ``du`` (clipped to +-2), zero in the pieces
+    (``piece_of``, non-decreasing) whose largest residual exceeds ``gate``. With ``bounds = (low, high, fixed,
+    base)`` instead of the steps the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
+    high)`` with ``base`` where ``fixed``. Returns ``(pieces, steps or parameters, same)``, ``same``: the stepped
+    parameters are ``u`` bit for bit (signed zeros included; False without ``bounds``); ``values``: a work array
+    (k, len(theta), 2) of the values. The arrays are the fit's own, float64 (``piece_of`` int64) and contiguous:
+    taken as they are."""
+    count = u.shape[0]
+    du, res, worst = np.empty(count), np.empty(count), np.empty(int(piece_count))
+    if bounds is None:
+        low = high = base = moved = _NO_FLOATS
+        fixed, u_bits, moved_bits = _NO_BOOLS, _NO_INTS, _NO_INTS
+    else:
+        low, high, fixed, base = bounds
+        moved = np.empty(count)
+        u_bits, moved_bits = u.view(np.int64), moved.view(np.int64)
+    if coef is None:
+        coef, mixed, values, mix = _NO_MATRIX, mix, _NO_CUBE, _NO_MATRIX
+    else:
+        mixed = np.empty((starts.shape[0], mix.shape[0], coef.shape[1]))
+        if values is None:
+            values = np.empty((starts.shape[0], theta.shape[0], coef.shape[1]))
+    same = _step_into(coef, full, int(m), starts, ends, theta, mix, values, mixed, u, points, piece_of, float(gate), du,
+                      res, worst, low, high, fixed, base, moved, u_bits, moved_bits)
+    return mixed, (du if bounds is None else moved), same
 
 
 def hoschek_update(u, points, bez, starts, ends, piece_of, piece_count, gate, bounds=None):
-    """One Newton step of the foot-point equation ``(S(u) - Q) . S'(u) = 0`` per contour point
-    (:meth:`~.lsq_model.OutlineRegression._hoschek_step`): the steps ``du`` (clipped to +-2), zero in the
-    pieces (``piece_of``, non-decreasing) whose largest residual exceeds ``gate``. With ``bounds = (low, high,
-    fixed, base)`` instead the stepped parameters, ``numpy.maximum.accumulate`` of ``numpy.clip(u + du, low,
-    high)`` with ``base`` where ``fixed``."""
-    u = _floats(u)
-    du, res, worst = np.empty(u.shape[0]), np.empty(u.shape[0]), np.full(int(piece_count), -np.inf)
-    if bounds is None:
-        low = high = base = moved = np.empty(0)
-        fixed = np.empty(0, np.bool_)
-    else:
-        low, high, base = _floats(bounds[0]), _floats(bounds[1]), _floats(bounds[3])
-        fixed, moved = np.ascontiguousarray(bounds[2], dtype=np.bool_), np.empty(u.shape[0])
-    _hoschek_into(u, _floats(points), _floats(bez), _floats(starts), _floats(ends), _ints(piece_of), float(gate),
-                  du, res, worst, low, high, fixed, base, moved)
-    return du if bounds is None else moved
+    """One Newton step of the foot-point equation on the given Bézier pieces ``bez`` (:func:`fit_step` without
+    the spline): the steps ``du``, or with ``bounds`` the stepped parameters."""
+    bounds = None if bounds is None else (_floats(bounds[0]), _floats(bounds[1]),
+                                          np.ascontiguousarray(bounds[2], dtype=np.bool_), _floats(bounds[3]))
+    return fit_step(None, _NO_FLOATS, 1, _floats(starts), _floats(ends), _NO_FLOATS, _floats(bez), _floats(u),
+                    _floats(points), _ints(piece_of), piece_count, gate, bounds)[1]
 
 
 @njit(**_JIT)
@@ -419,32 +473,602 @@ def _curve_into(bez, starts, ends, u, piece, given, out):
         _bezier_point(bez, seg, theta, out, j)  # one call: each call is a copy of the (inlined) helper
 
 
+@njit(**_HELPER)
+def _curve_point(bez, starts, ends, u, out, row):
+    """``out[row]`` = the piecewise curve at ``u`` (the piece of ``u`` by searchsorted right in ``starts``, clipped
+    to the pieces, at its fraction of ``[starts, ends]``): :func:`curve_points` at one parameter."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    seg = pyclip(_right_of(starts, u) - 1, 0, starts.shape[0] - 1)
+    _bezier_point(bez, seg, (u - starts[seg]) / (ends[seg] - starts[seg]), out, row)
+
+
 @njit(**_JIT)
-def _zone_passes_into(samples, row, axis, along_start, across_start, slack, beside):
+def _hook_tests_into(bez, starts, ends, at, corner_points, limit, radius, fitted, u, given, samples, count, row, axis,
+                     along_start, across_start, slack, hooked, beside, row_finite):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
-    count = samples.shape[1]
+    for c in range(at.shape[0]):  # the displacement test: the fitted corner point against the limit
+        _curve_point(bez, starts, ends, at[c], fitted, c)
+        disp = np.hypot(fitted[c, 0] - corner_points[c, 0], fitted[c, 1] - corner_points[c, 1])
+        hooked[c] = disp > limit[c] and radius[c] > 0
+    if not given:
+        for s in range(u.shape[0]):
+            _curve_point(bez, starts, ends, u[s], samples, s)
+    for r in range(row_finite.shape[0]):
+        row_finite[r] = True
+        for s in range(r * count, (r + 1) * count):
+            if not (np.isfinite(samples[s, 0]) and np.isfinite(samples[s, 1])):
+                row_finite[r] = False
+                break
     for p in range(row.shape[0]):
-        beside[p] = True
-        for s in range(count):
-            along = samples[row[p], s, axis[p]] - along_start[p]
-            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[row[p], s, 1 - axis[p]] - across_start[p])
+        beside[p] = row_finite[row[p]]  # a row with a NaN sample: its least gap is NaN, no point of it is beside
+        first = row[p] * count
+        for s in range(first, first + count if beside[p] else first):
+            along = samples[s, axis[p]] - along_start[p]
+            gap = np.hypot(along - pyclip(along, 0.0, 1.0), samples[s, 1 - axis[p]] - across_start[p])
             if gap <= slack:  # a sample within the slack: the point passes (its least gap is no larger)
                 beside[p] = False
                 break
 
 
+def hook_tests(bez, starts, ends, at, corner_points, limit, radius, u, rows, row, axis, along_start, across_start,
+               slack, samples=None):
+    """The two corner tests after a fit (:meth:`~.lsq_model.OutlineRegression.hook_releases`) in one pass over
+    the pieces ``bez`` on ``[starts, ends]`` (:func:`curve_points`):
+
+    * per corner, whether its fitted point ``S(at)`` lies farther than ``limit`` from ``corner_points``
+      (``hypot`` of the differences) while ``radius > 0`` (the displacement test of ``hooked_corners``);
+    * per point ``p`` of the zone test (``row``, ``axis``, ``along_start``, ``across_start``): whether every curve
+      sample of its row (the curve at ``u``: ``rows`` rows of equally many; ``samples`` (rows, count, 2): the
+      samples given instead) lies farther than ``slack`` from the point's pixel-centre segment, ``hypot(along -
+      clip(along, 0, 1), across)`` with ``along = sample[axis[p]] - along_start[p]`` and ``across = sample[1 -
+      axis[p]] - across_start[p]``: ``numpy.min`` of those distances ``> slack``, each point stopping at its
+      first sample within the slack; a row with a sample that is not finite has no point beside (its points'
+      least distance is NaN then).
+
+    Returns ``(hooked, beside)``. The arrays are float64 (``row`` and ``axis`` int64) and contiguous: taken as
+    they are."""
+    given = samples is not None
+    samples = _floats(samples).reshape(-1, 2) if given else np.empty((u.shape[0], 2))
+    rows = int(rows)
+    hooked, beside = np.empty(at.shape[0], np.bool_), np.empty(row.shape[0], np.bool_)
+    _hook_tests_into(bez, starts, ends, at, corner_points, limit, radius, np.empty((at.shape[0], 2)), u, given, samples,
+                     samples.shape[0] // rows if rows else 0, row, axis, along_start, across_start, float(slack), hooked,
+                     beside, np.empty(rows, np.bool_))
+    return hooked, beside
+
+
+@njit(**_JIT)
+def _zone_window_into(radius, excluded, nearest, corner_distance, corner_par, gap_before, gap_after, crack_y, points,
+                      period, spacing, tested, half, sizes, u, row, axis, along_start, across_start, owner):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    corners = radius.shape[0]
+    for c in range(corners):
+        tested[c] = -1
+    count = np.int64(0)
+    for j in range(points.shape[0]):  # the points within an active corner's reach, max(r, 1) px of arc
+        c = nearest[j]
+        if radius[c] > 0 and not excluded[c] and corner_distance[j] < _larger(radius[c], 1.0):
+            owner[count] = c
+            tested[c] = 0
+            axis[count] = 1 if crack_y[j] == 1.0 else 0  # 0: normal (1, 0), 1: normal (0, 1)
+            along_start[count] = points[j, axis[count]] - 0.5
+            across_start[count] = points[j, 1 - axis[count]]
+            count += 1
+    rows = np.int64(0)
+    widest = -np.inf
+    for c in range(corners):  # each tested corner's row, in corner order; its half window
+        if tested[c] < 0:
+            continue
+        tested[c] = rows
+        half[rows] = _larger(radius[c], 1.0) + _larger(gap_before[c], gap_after[c]) + 2.0
+        if not half[rows] <= widest:  # numpy's max: NaN sticks
+            widest = half[rows]
+        rows += 1
+    sizes[0], sizes[1] = count, rows
+    if not rows:
+        return
+    samples = np.int64(np.ceil(2.0 * widest / spacing)) + 1
+    sizes[2] = samples
+    if rows * samples > u.shape[0]:
+        return  # the caller's buffer is too small: it calls again with one of this size
+    # numpy.linspace(-1.0, 1.0, samples) in its arithmetic: k * step + start, the last one the stop
+    step = 2.0 / (samples - 1)
+    r = np.int64(0)
+    for c in range(corners):
+        if tested[c] < 0:
+            continue
+        for k in range(samples):
+            fraction = k * step + -1.0 if k < samples - 1 else 1.0
+            u[r * samples + k] = (corner_par[c] + half[r] * fraction) % period
+        r += 1
+    for p in range(count):
+        row[p] = tested[owner[p]]
+
+
+def zone_window(radius, excluded, nearest, corner_distance, corner_par, gap_before, gap_after, crack_y, points,
+                period, spacing, bound=0):
+    """The zone test's window (:meth:`~.lsq_model.OutlineRegression._zone_window`), or None where no point is
+    tested: per corner with ``radius > 0`` that is not ``excluded``, the contour points (``points``; their
+    ``nearest`` corner and ``corner_distance``) within ``max(r, 1)`` px of arc of it; per tested corner (in corner
+    order) a row of curve parameters ``mod(corner_par + half * linspace(-1, 1, count), period)`` over its half window
+    ``max(r, 1) + max(gap_before, gap_after) + 2``, ``count = ceil(2 max(half) / spacing) + 1``; per point its
+    corner's row, the axis of its crack normal (``crack_y == 1``: 1, the y axis, else 0), the coordinate along it
+    of the pixel centre at the segment's start (the point's less 0.5) and the other coordinate, and its corner.
+    Returns ``(u, rows, row, axis, along_start, across_start, owner)``; ``bound``: a first guess of the parameters'
+    count."""
+    n, corners = points.shape[0], radius.shape[0]
+    tested, half, sizes = np.empty(corners, np.int64), np.empty(corners), np.zeros(3, np.int64)
+    row, axis, owner = np.empty(n, np.int64), np.empty(n, np.int64), np.empty(n, np.int64)
+    along_start, across_start = np.empty(n), np.empty(n)
+    arguments = (_floats(radius), np.ascontiguousarray(excluded, dtype=np.bool_), _ints(nearest),
+                 _floats(corner_distance), _floats(corner_par), _floats(gap_before), _floats(gap_after),
+                 _floats(crack_y), _floats(points), float(period), float(spacing), tested, half, sizes)
+    u = np.empty(int(bound))
+    _zone_window_into(*arguments, u, row, axis, along_start, across_start, owner)
+    count, rows, samples = sizes.tolist()
+    if not count:
+        return None
+    if rows * samples > u.shape[0]:
+        u = np.empty(rows * samples)
+        _zone_window_into(*arguments, u, row, axis, along_start, across_start, owner)
+    return (u[: rows * samples], rows, row[:count], axis[:count], along_start[:count], across_start[:count],
+            owner[:count])
+
+
+@njit(**_JIT)
+def _seed_knots_into(points, arc, perimeter, corner_distance, cornered, bounds, density, epsilon, min_gap, seeds,
+                     stage, least, angle, kappa, box, cum, out):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    n = points.shape[0]
+    a = 4  # the chords over +-4 contour steps, their turn between +-4 steps (callers have n >= 16 points)
+    for i in range(n):
+        ahead = i + a if i + a < n else i + a - n
+        behind = i - a if i >= a else i - a + n
+        angle[i] = np.arctan2(points[ahead, 1] - points[behind, 1], points[ahead, 0] - points[behind, 0])
+    two_pi = 2.0 * np.pi
+    for i in range(n):
+        ahead = i + a if i + a < n else i + a - n
+        behind = i - a if i >= a else i - a + n
+        turn = (angle[ahead] - angle[behind] + np.pi) % two_pi - np.pi
+        # the arc lengths a points ahead and behind, across the seam continued by the perimeter
+        far = arc[i + a] if i + a < n else perimeter + arc[i + a - n]
+        near = arc[i - a] if i >= a else arc[n - a + i] - perimeter
+        kappa[i] = turn / _larger(far - near, 1e-9)
+    width = 8  # the box average over +-8 steps: prefix sums of the rates padded by 8 on both sides
+    box[0] = 0.0
+    for k in range(n + 2 * width):
+        value = kappa[_wrapped(k - width, n)]
+        box[k + 1] = value if k == 0 else box[k] + value
+    for i in range(n):
+        kappa[i] = np.abs(box[i + 2 * width + 1] - box[i]) / (2 * width + 1)
+        if kappa[i] < least:
+            kappa[i] = 0.0
+    if stage < 1:
+        return 0
+    # the knot density (density kappa^3 / epsilon)^(1/4), 0 on straight runs and within 6 px of a corner; its
+    # integral along the contour (numpy.cumsum of density times step, after a 0)
+    cum[0] = 0.0
+    for i in range(n):
+        lam = 0.0
+        if kappa[i] != 0.0 and not (cornered and corner_distance[i] < 6.0):
+            lam = (density * kappa[i] ** 3.0 / epsilon) ** 0.25
+        value = lam * (arc[i + 1] - arc[i])
+        cum[i + 1] = value if i == 0 else cum[i] + value
+    if stage < 2:
+        return 0
+    count = np.int64(0)
+    for k in range(seeds.shape[0]):
+        out[count] = seeds[k]
+        count += 1
+    at = np.int64(0)
+    for p in range(bounds.shape[0] - 1):  # each piece: its targets cum[first] + total i / (targets + 1)
+        first, last = bounds[p], bounds[p + 1]
+        total = cum[last] - cum[first]
+        floor = np.floor(total)
+        targets = np.int64(floor if floor < last - first else last - first)
+        for i in range(1, targets + 1):
+            at = _walk_left(cum, cum[first] + total * i / (targets + 1), at)
+            j = pyclip(at, first, last + 1)
+            if j - first >= min_gap and last - j >= min_gap:
+                out[count] = j
+                count += 1
+    for k in range(1, count):  # sorted (an insertion sort: the knots come nearly sorted), then each once
+        value = out[k]
+        i = k - 1
+        while i >= 0 and out[i] > value:
+            out[i + 1] = out[i]
+            i -= 1
+        out[i + 1] = value
+    unique = np.int64(0)
+    for k in range(count):
+        if k == 0 or out[k] != out[k - 1]:
+            out[unique] = out[k]
+            unique += 1
+    kept = np.int64(0)  # at least min_gap steps after the knot before it (not the one kept before it)
+    previous = -min_gap
+    for k in range(unique):
+        value = out[k]
+        if value - previous >= min_gap:
+            out[kept] = value
+            kept += 1
+        previous = value
+    return kept
+
+
+def seed_knots(points, arc, perimeter, corner_distance, cornered, bounds, seeds, density, epsilon, min_gap, least,
+               stage=2):
+    """The first knots of ``"lsq"`` by the contour's curvature in one pass (:func:`~.lsq_setup.curvature_knots`):
+    the curvature rate per contour point (``points``, ``n >= 16``, ``arc`` its ``n + 1`` cumulative arc lengths
+    around ``perimeter``): the turn of the chord directions over +-4 contour steps between +-4 steps (``numpy``'s
+    ``arctan2`` and remainder arithmetic), per arc length, averaged over +-8 steps by prefix sums, rates below
+    ``least`` set to 0 (``stage`` 0: returned); the integral of the knot density ``(density kappa^3 /
+    epsilon)^(1/4)`` (0 within 6 px of a corner, ``corner_distance``, where ``cornered``) from 0 along
+    the contour (``stage`` 1: returned); else per piece ``bounds[p] .. bounds[p + 1]`` the knots where the integral
+    crosses the piece's total times ``i / (count + 1)``, ``count = min(floor(total), steps)`` (numpy's searchsorted
+    from the left, clipped to the piece), at least ``min_gap`` steps inside it, with ``seeds`` sorted, each once,
+    and each at least ``min_gap`` steps after the knot before it."""
+    n = points.shape[0]
+    seeds = _ints(seeds)
+    angle, kappa, box, cum = np.empty(n), np.empty(n), np.empty(n + 17), np.empty(n + 1)
+    out = np.empty(seeds.shape[0] + n + 1, np.int64) if stage >= 2 else _NO_INTS
+    bounds = _ints(bounds)
+    kept = _seed_knots_into(_floats(points), _floats(arc), float(perimeter), _floats(corner_distance), bool(cornered),
+                            bounds, float(density), float(epsilon), int(min_gap), seeds, int(stage), float(least), angle,
+                            kappa, box, cum, out)
+    return (kappa, cum, out[:kept])[min(stage, 2)]
+
+
+@njit(**_JIT)
+def _knot_vector_into(corner_values, values, multiplicity, period, knots, full, distinct, sizes):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    m = np.int64(0)
+    c = v = np.int64(0)
+    while c < corner_values.shape[0] or v < values.shape[0]:  # the two sorted lists merged
+        if v >= values.shape[0] or (c < corner_values.shape[0] and corner_values[c] <= values[v]):
+            for _ in range(3):
+                knots[m] = corner_values[c]
+                m += 1
+            c += 1
+        else:
+            for _ in range(multiplicity[v]):
+                knots[m] = values[v]
+                m += 1
+            v += 1
+    for e in range(m + 7):  # knots[idx % m] + period * floor_divide(idx, m), idx = -3 .. m + 3
+        idx = e - 3
+        wraps = idx // m
+        full[e] = knots[idx - wraps * m] + period * wraps
+    k = np.int64(0)
+    for e in range(m):
+        if k == 0 or knots[e] != distinct[k - 1]:
+            distinct[k] = knots[e]
+            k += 1
+    if k == 0 or period != distinct[k - 1]:
+        distinct[k] = period
+        k += 1
+    sizes[0], sizes[1] = m, k
+
+
+def knot_vector(corner_values, values, multiplicity, period):
+    """The knots of one period of a periodic cubic spline, sorted: ``corner_values`` three times each and
+    ``values`` ``multiplicity`` times each (both sorted; ``numpy.sort`` of their repeats); its full knot vector
+    ``tau_{-3} .. tau_{M+3}`` (``knots[idx % M] + period * floor_divide(idx, M)``); and the starts and ends of its
+    knot intervals (the knots each once, and ``period``: ``numpy.unique``). Returns ``(knots, full, starts,
+    ends)`` (:meth:`~.lsq_model.OutlineRegression.knot_values`, :func:`~.bspline.periodic_knot_vector`)."""
+    values, multiplicity = _floats(values), _ints(multiplicity)
+    bound = 3 * corner_values.shape[0] + int(multiplicity.sum()) if multiplicity.shape[0] else 3 * corner_values.shape[0]
+    knots, full, distinct = np.empty(bound), np.empty(bound + 7), np.empty(bound + 1)
+    sizes = np.empty(2, np.int64)
+    _knot_vector_into(_floats(corner_values), values, multiplicity, float(period), knots, full, distinct, sizes)
+    m, k = sizes.tolist()
+    return knots[:m], full[: m + 7], distinct[: k - 1], distinct[1:k]
+
+
+@njit(**_JIT)
+def _contour_into(closed, bounds, corners, edges, arc, corner_arc, piece_of, distance, nearest):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for e in range(closed.shape[0] - 1):  # the edge table (geometry.edge_table) and the cumulative arc lengths
+        dx = closed[e + 1, 0] - closed[e, 0]
+        dy = closed[e + 1, 1] - closed[e, 1]
+        den = dx * dx + dy * dy
+        edges[0, e] = closed[e, 0]
+        edges[1, e] = closed[e, 1]
+        edges[2, e] = dx
+        edges[3, e] = dy
+        edges[4, e] = 1.0 / (den if den > 0 else 1.0)
+        if arc.shape[0]:
+            step = np.hypot(dx, dy)
+            arc[e + 1] = step if e == 0 else arc[e] + step
+    if not arc.shape[0]:
+        return
+    arc[0] = 0.0
+    pieces = bounds.shape[0] - 1
+    at = np.int64(0)
+    for j in range(piece_of.shape[0]):
+        at = _walk_right(bounds, j, at)
+        piece_of[j] = pyclip(at - 1, 0, pieces - 1)
+    if not corners:
+        for j in range(distance.shape[0]):
+            distance[j] = np.inf
+            nearest[j] = 0
+        return
+    for c in range(bounds.shape[0]):
+        corner_arc[c] = arc[bounds[c]]
+    at = np.int64(0)
+    for j in range(distance.shape[0]):  # the arc length to the nearest corner (the period end is corner 0)
+        at = _walk_left(corner_arc, arc[j], at)
+        k = pyclip(at, 1, corners)
+        left, right = arc[j] - corner_arc[k - 1], corner_arc[k] - arc[j]
+        distance[j] = left if (left != left or left < right) else right  # numpy.minimum
+        nearest[j] = (k - 1 if left <= right else k) % corners
+
+
+def contour_tables(closed, bounds, corners, edges_only=False):
+    """Per edge of the closed polyline ``closed`` (the first point again at the end): start x, start y, dx, dy and
+    ``1 / |d|^2`` (1 for a zero-length edge), the rows of one ``(5, edges)`` array (:func:`~.geometry.edge_table`);
+    unless ``edges_only``, also the cumulative arc lengths (from 0, ``numpy.cumsum`` of the edges' ``hypot``), the
+    piece of every point (``bounds``: the pieces' first points, then the closing index; ``numpy.searchsorted``
+    right, less 1, clipped to the pieces) and, with ``corners`` (the pieces' first points are corners, the closing
+    index corner 0 again), the arc length to the nearest corner and its number (the earlier one on a tie;
+    without corners infinity and 0): :class:`~.lsq_setup.RotatedContour`. Returns ``edges`` or ``(edges, arc,
+    piece_of_point, corner_distance, nearest_corner)``."""
+    closed = _floats(closed)
+    count = closed.shape[0]
+    edges = np.empty((5, count - 1))
+    if edges_only:
+        _contour_into(closed, _NO_INTS, 0, edges, _NO_FLOATS, _NO_FLOATS, _NO_INTS, _NO_FLOATS, _NO_INTS)
+        return edges
+    bounds = _ints(bounds)
+    arc, piece_of, distance, nearest = np.empty(count), np.empty(count, np.int64), np.empty(count), \
+        np.empty(count, np.int64)
+    _contour_into(closed, bounds, int(corners), edges, arc, np.empty(bounds.shape[0]), piece_of, distance, nearest)
+    return edges, arc, piece_of, distance, nearest
+
+
+@njit(**_HELPER)
+def _interp(x, xp, fp, at):
+    """``numpy.interp(x, xp, fp)`` at one ``x`` in numpy's arithmetic (``xp`` increasing, ``at`` the search's
+    start): the end values outside ``xp``, ``fp[j]`` where ``x == xp[j]`` (the last of repeated ``xp``), else the
+    slope times ``x - xp[j]`` plus ``fp[j]``, and its retries where that is NaN."""
+    compact()  # optimized for size, as its callers are (_jit.compact)
+    n = xp.shape[0]
+    if x != x:
+        return x
+    if x < xp[0]:
+        return fp[0]
+    if x > xp[n - 1]:
+        return fp[n - 1]
+    j = _walk_right(xp, x, at) - 1
+    if j >= n - 1 or xp[j] == x:
+        return fp[j]
+    return _interpolated(x, xp, fp, j)
+
+
+@njit(**_HELPER)
+def _interpolated(x, xp, fp, j):
+    """``numpy.interp``'s value at ``x`` strictly inside ``xp[j] .. xp[j + 1]``: the slope times ``x - xp[j]`` plus
+    ``fp[j]``, where that is NaN from the other end, and ``fp[j]`` where that is NaN too and the values agree."""
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    value = slope * (x - xp[j]) + fp[j]
+    if value != value:
+        value = slope * (x - xp[j + 1]) + fp[j + 1]
+        if value != value and fp[j] == fp[j + 1]:
+            value = fp[j]
+    return value
+
+
+@njit(**_HELPER)
+def _smaller(a, b):
+    """``numpy.minimum(a, b)`` of two floats: ``a`` where it is NaN or smaller, else ``b``."""
+    if a != a or a < b:
+        return a
+    return b
+
+
+@njit(**_JIT)
+def _corner_radii_into(arc, xs, ys, points, bounds, corner_radius, radius, theta):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    corners = bounds.shape[0] - 1
+    perimeter = arc[arc.shape[0] - 1]
+    for c in range(corners):
+        length = arc[bounds[c + 1]] - arc[bounds[c]]
+        p = c - 1 if c > 0 else corners - 1
+        before = arc[bounds[p + 1]] - arc[bounds[p]]
+        corner_arc = arc[bounds[c]]
+        # the points min(6, 0.4 piece) px of arc away on both sides (numpy.interp along the closed polyline)
+        back = (corner_arc - _smaller(6.0, 0.4 * before)) % perimeter
+        ahead = (corner_arc + _smaller(6.0, 0.4 * length)) % perimeter
+        corner = bounds[c] % points.shape[0]
+        ax = _interp(back, arc, xs, np.int64(0)) - points[corner, 0]
+        ay = _interp(back, arc, ys, np.int64(0)) - points[corner, 1]
+        bx = _interp(ahead, arc, xs, np.int64(0)) - points[corner, 0]
+        by = _interp(ahead, arc, ys, np.int64(0)) - points[corner, 1]
+        cos = (ax * bx + ay * by) / _larger(np.hypot(ax, ay) * np.hypot(bx, by), 1e-300)
+        theta[c] = np.arccos(pyclip(cos, -1.0, 1.0))
+        r = 0.0
+        if corner_radius > 0:
+            r = pyclip(corner_radius / _larger(np.tan(0.5 * theta[c]), 1e-6), 1.0, 3.0 * corner_radius)
+        radius[c] = _smaller(r, 0.2 * _smaller(before, length))
+
+
+def corner_radii(arc, closed, bounds, corner_radius):
+    """Per corner (``bounds``: the corners' indices into ``closed``, the closed contour polyline of cumulative arc
+    lengths ``arc``, then the closing index): the interior angle ``theta`` of the chords to the points ``min(6, 0.4
+    piece)`` px of arc away on both sides (``numpy.interp``; the cosine ``a0 b0 + a1 b1`` over the chords' lengths,
+    clipped), and ``corner_radius / tan(theta / 2)`` clipped to ``[1, 3 corner_radius]`` (0 where ``corner_radius``
+    is 0) and to a fifth of either neighbouring piece: :func:`~.lsq_setup.corner_radii`. Returns ``(radius,
+    theta)``."""
+    corners = bounds.shape[0] - 1
+    radius, theta = np.empty(corners), np.empty(corners)
+    _corner_radii_into(arc, np.ascontiguousarray(closed[:, 0]), np.ascontiguousarray(closed[:, 1]), closed[:-1],
+                       _ints(bounds), float(corner_radius), radius, theta)
+    return radius, theta
+
+
+@njit(**_JIT)
+def _corner_tables_into(zone_radius, radius, allowance_kept, tip_allowance, nearest, corner_distance, fixed, dense,
+                        zone, allowance, probe_zone, probe_allowance, weights):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    n = weights.shape[0] if weights.shape[0] else zone.shape[0] - 1
+    if weights.shape[0]:  # min(1, (distance / r)^2) within an extrapolated corner's radius r, its point 0; >= 1e-3
+        for j in range(n):
+            r = radius[nearest[j]]
+            w = 1.0
+            if r > 0:
+                x = corner_distance[j] / r
+                square = x * x
+                w = 1.0 if 1.0 <= square else square  # numpy.minimum(1.0, x ** 2)
+                if fixed[j]:
+                    w = 0.0
+            weights[j] = _larger(w, 1e-3)
+        return
+    for j in range(n + 1):  # the zones of the corners whose tip is extrapolated (or keeps its allowance)
+        c = nearest[j]
+        r = zone_radius[c]
+        inside = r > 0 and (radius[c] > 0 or allowance_kept[c]) and corner_distance[j] < 2.0 * r + 1.0
+        zone[j] = 1.0 if inside else 0.0
+        allowance[j] = tip_allowance[c] if inside else 0.0
+    for j in range(probe_zone.shape[0]):
+        if not dense:
+            probe_zone[j] = zone[j] > 0
+            probe_allowance[j] = allowance[j]
+        elif j % 2 == 0:
+            probe_zone[j] = zone[j // 2] > 0
+            probe_allowance[j] = allowance[j // 2]
+        else:
+            probe_zone[j] = zone[j // 2] > 0 or zone[j // 2 + 1] > 0
+            probe_allowance[j] = _larger(allowance[j // 2], allowance[j // 2 + 1])
+
+
+def corner_tables(zone_radius, radius, allowance_kept, tip_allowance, nearest, corner_distance, dense):
+    """Per contour point (``nearest`` corner and ``corner_distance``, n + 1 of them) whether it lies in the zone of its
+    corner (within ``2 r + 1`` px of arc, ``r`` its ``zone_radius``, while its tip is extrapolated, ``radius > 0``,
+    or keeps its allowance, ``allowance_kept``) as floats, the corner's ``tip_allowance`` there (else 0), and per
+    probe (the contour points; ``dense``: and the edge midpoints between, in a zone where either end is, with the
+    larger allowance) the same: ``(zone, allowance, probe_zone, probe_allowance)``
+    (:meth:`~.lsq_model.OutlineRegression.zone`, ``_zones``)."""
+    n = nearest.shape[0] - 1
+    zone, allowance = np.empty(n + 1), np.empty(n + 1)
+    probe_zone, probe_allowance = np.empty(2 * n if dense else n, np.bool_), np.empty(2 * n if dense else n)
+    _corner_tables_into(_floats(zone_radius), _floats(radius), np.ascontiguousarray(allowance_kept, dtype=np.bool_),
+                        _floats(tip_allowance), _ints(nearest), _floats(corner_distance), _NO_BOOLS, bool(dense), zone,
+                        allowance, probe_zone, probe_allowance, _NO_FLOATS)
+    return zone, allowance, probe_zone, probe_allowance
+
+
+def corner_weights(radius, nearest, corner_distance, fixed):
+    """The fit's weight of every contour point (``nearest`` corner, ``corner_distance``, ``fixed``; n of them):
+    ``min(1, (distance / r)^2)`` within the radius ``r`` of an extrapolated corner (``r > 0``; a fixed point 0),
+    else 1; at least 1e-3 (:meth:`~.lsq_model.OutlineRegression.weights`)."""
+    weights = np.empty(nearest.shape[0])
+    _corner_tables_into(_NO_FLOATS, _floats(radius), _NO_BOOLS, _NO_FLOATS, _ints(nearest), _floats(corner_distance),
+                        np.ascontiguousarray(fixed, dtype=np.bool_), False, _NO_FLOATS, _NO_FLOATS, _NO_BOOLS,
+                        _NO_FLOATS, weights)
+    return weights
+
+
+@njit(**_JIT)
+def _anchors_into(anchor, base, low, high):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    n = low.shape[0]
+    before = np.int64(0)
+    for j in range(n):
+        if anchor[j]:
+            before = j
+        low[j] = base[before]
+    after = n  # the closing index counts as anchored
+    for j in range(n - 1, -1, -1):
+        if anchor[j]:
+            after = j
+        high[j] = base[after]
+
+
+def anchor_bounds(anchor, base):
+    """Per point ``j < n`` (``anchor``: n flags; ``base``: n + 1 values) the ``base`` of the last anchored point at or
+    before it (point 0 where none) and of the first at or after it (the closing index ``n`` where none):
+    ``(low, high)`` (:meth:`~.lsq_model.OutlineRegression._parameter_bounds`)."""
+    n = anchor.shape[0]
+    low, high = np.empty(n), np.empty(n)
+    _anchors_into(np.ascontiguousarray(anchor, dtype=np.bool_), _floats(base), low, high)
+    return low, high
+
+
+@njit(**_JIT)
+def _crack_normals_into(points, normals):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for j in range(points.shape[0]):
+        fx = points[j, 0] - np.floor(points[j, 0])
+        fy = points[j, 1] - np.floor(points[j, 1])
+        whole_x = fx < 1e-9 or fx > 1.0 - 1e-9
+        whole_y = fy < 1e-9 or fy > 1.0 - 1e-9
+        half_x = np.abs(fx - 0.5) < 1e-9
+        half_y = np.abs(fy - 0.5) < 1e-9
+        if whole_x and half_y:  # a vertical crack
+            normals[j, 0], normals[j, 1] = 1.0, 0.0
+        elif half_x and whole_y:
+            normals[j, 0], normals[j, 1] = 0.0, 1.0
+        else:
+            return False
+    return True
+
+
+def crack_normals(points):
+    """Per point of a crack outline the unit normal of its crack, ``(1, 0)`` for a vertical crack (integer x,
+    half-integer y, both within 1e-9), ``(0, 1)`` for a horizontal one; None when not every point is such a midpoint
+    (:func:`~.lsq_setup.crack_normals`)."""
+    normals = np.empty(points.shape)
+    return normals if _crack_normals_into(_floats(points), normals) else None
+
+
+@njit(**_JIT)
+def _removal_scores_into(bezier, starts, ends, values, bend, scores):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    k = starts.shape[0]
+    at = np.int64(0)
+    for q in range(values.shape[0]):
+        at = _walk_left(starts, values[q], at)
+        right = pyclip(at, 0, k - 1)  # the interval starting at the knot, and the one before it
+        left = right - 1 if right > 0 else k - 1
+        h_left, h_right = ends[left] - starts[left], ends[right] - starts[right]
+        jump0 = jump1 = bend0 = bend1 = 0.0
+        for d in range(2):
+            # the third derivative of each cubic, 6 (b3 - 3 b2 + 3 b1 - b0) / h^3, and the second at the start of the
+            # right one and the end of the left one, 6 (b2 - 2 b1 + b0) / h^2 and 6 (b3 - 2 b2 + b1) / h^2
+            third_right = 6.0 * (bezier[right, 3, d] - 3 * bezier[right, 2, d] + 3 * bezier[right, 1, d]
+                                 - bezier[right, 0, d]) / h_right ** 3.0
+            third_left = 6.0 * (bezier[left, 3, d] - 3 * bezier[left, 2, d] + 3 * bezier[left, 1, d]
+                                - bezier[left, 0, d]) / h_left ** 3.0
+            second_start = 6.0 * (bezier[right, 2, d] - 2 * bezier[right, 1, d] + bezier[right, 0, d]) / (
+                h_right * h_right)
+            second_end = 6.0 * (bezier[left, 3, d] - 2 * bezier[left, 2, d] + bezier[left, 1, d]) / (h_left * h_left)
+            if d == 0:
+                jump0, bend0 = third_right - third_left, second_start - second_end
+            else:
+                jump1, bend1 = third_right - third_left, second_start - second_end
+        span = 0.5 * (h_left + h_right)
+        score = np.hypot(jump0, jump1) * span ** 3.0 / 48.0
+        if bend:
+            score = np.hypot(bend0, bend1) * (span * span) / 16.0 + score
+        scores[q] = score
+
+
+def removal_scores(bezier, starts, ends, values, bend):
+    """Per knot at ``values`` (parameters of knots of the pieces ``bezier`` on ``[starts, ends]``): the jump of the
+    third derivative across it times ``h^3 / 48`` (``h`` the mean of the two intervals beside it; the interval
+    before the first is the last), plus with ``bend`` (knots where the second derivative may jump) that jump times
+    ``h^2 / 16``, in numpy's arithmetic (``h ** 3`` its ``pow``;
+    :meth:`~.lsq_model.OutlineRegression.removal_scores`)."""
+    values = _floats(values)
+    scores = np.empty(values.shape[0])
+    _removal_scores_into(_floats(bezier), _floats(starts), _floats(ends), values, bool(bend), scores)
+    return scores
+
+
 def zone_points_beside(samples, row, axis, along_start, across_start, slack):
-    """Per point ``p`` of the zone test (:meth:`~.lsq_model.OutlineRegression.zone_hooks`): whether every sample
-    of its row ``samples[row[p]]`` (``samples``: (rows, count, 2)) lies farther than ``slack`` from the point's
-    pixel-centre segment, ``hypot(along - clip(along, 0, 1), across)`` with ``along = sample[axis[p]] -
-    along_start[p]`` and ``across = sample[1 - axis[p]] - across_start[p]``: ``numpy.min`` of those distances ``>
-    slack`` for finite samples (each point stops at its first sample within the slack: no minimum over the rest
-    is needed; a NaN sample, whose minimum would be NaN, is the caller's to handle)."""
-    row = _ints(row)
-    beside = np.empty(row.shape[0], np.bool_)
-    _zone_passes_into(_floats(samples), row, _ints(axis), _floats(along_start), _floats(across_start),
-                      float(slack), beside)
-    return beside
+    """The zone test of :func:`hook_tests` on given samples (rows, count, 2): per point, whether every sample of
+    its row lies farther than ``slack`` from its pixel-centre segment."""
+    return hook_tests(_NO_CUBE, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS, _NO_POINTS, _NO_FLOATS, _NO_FLOATS, _NO_FLOATS,
+                      samples.shape[0], row, axis, along_start, across_start, slack, samples)[1]
 
 
 @njit(**_JIT)
@@ -528,16 +1152,20 @@ def _samples_into(bez, spacing, starts, ends, counts, count_only, points, params
     return row
 
 
-def interval_samples(bez, starts, ends, spacing):
+def interval_samples(bez, starts, ends, spacing, closed=None):
     """Samples of every knot interval's Bézier about ``spacing`` apart by the length of its control polygon
     (at least 3, the interval's end left to the next one): points, parameters and interval numbers
-    (:meth:`~.lsq_model.OutlineRegression.deviations`, docs/capture.md §12, "Stopping rule")."""
+    (:meth:`~.lsq_model.OutlineRegression.deviations`, docs/capture.md §12, "Stopping rule"). With ``closed``, the
+    parameters have that value appended (the period: the closed parameters of :func:`deviation_measures`)."""
     bez = _floats(bez)
     starts, ends, spacing = _floats(starts), _floats(ends), float(spacing)
     counts = np.empty(bez.shape[0], np.int64)
     total = _samples_into(bez, spacing, starts, ends, counts, True, _NO_POINTS, _NO_FLOATS, _NO_INTS)
-    points, params, interval = np.empty((total, 2)), np.empty(total), np.empty(total, np.int64)
+    extra = closed is not None
+    points, params, interval = np.empty((total, 2)), np.empty(total + extra), np.empty(total, np.int64)
     _samples_into(bez, spacing, starts, ends, counts, False, points, params, interval)
+    if extra:
+        params[total] = closed
     return points, params, interval
 
 
@@ -545,12 +1173,52 @@ def interval_samples(bez, starts, ends, spacing):
 def _group_max_into(groups, values, best, at):
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for j in range(groups.shape[0]):
-        g, v = groups[j], values[j]
-        if at[g] < 0 or v > best[g] or (np.isnan(v) and not np.isnan(best[g])):
-            best[g], at[g] = v, j
-    for g in range(best.shape[0]):
-        if at[g] < 0 or np.isnan(best[g]):
-            at[g] = 0
+        _group_update(best, at, 0, groups[j], values[j], j)
+    _group_close(best, at)
+
+
+@njit(**_HELPER)
+def _group_update(best, at, row, g, v, j):
+    """One member ``j`` (value ``v``) of group ``g`` into row ``row`` of :func:`group_max`'s ``best`` and ``at``: the
+    first member, a larger value, or a NaN where the best is not NaN takes the group."""
+    if at[row, g] < 0 or v > best[row, g] or (np.isnan(v) and not np.isnan(best[row, g])):
+        best[row, g], at[row, g] = v, j
+
+
+@njit(**_HELPER)
+def _group_close(best, at):
+    """The index 0 for the empty groups and the NaN maxima of :func:`group_max`."""
+    for row in range(best.shape[0]):
+        for g in range(best.shape[1]):
+            if at[row, g] < 0 or np.isnan(best[row, g]):
+                at[row, g] = 0
+
+
+@njit(**_JIT)
+def _interval_worst_into(data_iv, data_zone, d_data, tol_data, curve_iv, curve_zone, d_curve, tol_curve, best, at):
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for j in range(data_iv.shape[0]):
+        excess = d_data[j] - tol_data[j]
+        _group_update(best, at, 0, data_iv[j], -np.inf if data_zone[j] else excess, j)
+        _group_update(best, at, 2, data_iv[j], excess if data_zone[j] else -np.inf, j)
+    for j in range(curve_iv.shape[0]):
+        excess = d_curve[j] - tol_curve[j]
+        _group_update(best, at, 1, curve_iv[j], -np.inf if curve_zone[j] else excess, j)
+        _group_update(best, at, 3, curve_iv[j], excess if curve_zone[j] else -np.inf, j)
+    _group_close(best, at)
+
+
+def interval_worst(data_iv, data_zone, d_data, tol_data, curve_iv, curve_zone, d_curve, tol_curve, count):
+    """Per knot interval (``count`` of them) the worst excess ``d - tol`` of the probes (``data_iv``, ``data_zone``,
+    ``d_data``, ``tol_data``) and of the curve samples (``curve_*``) outside the corner zones (``-inf`` inside) and
+    inside them (``-inf`` outside), each with the index where it occurs: :func:`group_max` of the four, rows
+    ``(data outside, curve outside, data inside, curve inside)`` of ``(best, at)``
+    (:meth:`~.lsq_model.OutlineRegression.insert`)."""
+    best, at = np.full((4, int(count)), -np.inf), np.full((4, int(count)), -1, np.int64)
+    _interval_worst_into(_ints(data_iv), np.ascontiguousarray(data_zone, dtype=np.bool_), _floats(d_data),
+                         _floats(tol_data), _ints(curve_iv), np.ascontiguousarray(curve_zone, dtype=np.bool_),
+                         _floats(d_curve), _floats(tol_curve), best, at)
+    return best, at
 
 
 @njit(**_JIT)
@@ -593,9 +1261,9 @@ def search_sorted(values, keys, side="left"):
 def group_max(groups, values, count):
     """Per group ``g < count`` (``groups`` non-decreasing): the maximum of ``values`` (``-inf`` if empty; NaN
     wins, as in ``numpy.maximum``) and the first index where it occurs (0 for empty groups and NaN maxima)."""
-    best, at = np.full(int(count), -np.inf), np.full(int(count), -1, np.int64)  # the empty groups' answers
+    best, at = np.full((1, int(count)), -np.inf), np.full((1, int(count)), -1, np.int64)  # the empty groups' answers
     _group_max_into(_ints(groups), _floats(values), best, at)
-    return best, at
+    return best[0], at[0]
 
 
 _WARM = []
@@ -668,32 +1336,46 @@ def _tiny_fit():
 
 def warm_up_solves():
     """The first half of :func:`warm_up`: the normal equations, their solve, the spline's values, the
-    parameter correction and the separating line's slope search of extrapolated tips. (Bézier evaluation,
+    parameter correction, the first knots and the separating line's slope search of extrapolated tips. (Bézier evaluation,
     :func:`eval_bezier`, is the kernel of :func:`curve_points`: :func:`warm_up_checks` compiles it once, where
     both halves compiled it when they ran in separate processes.)"""
     full, u, bez, starts, ends, index = _tiny_fit()
-    band, _ = normal_equations(full, u, np.ones(8), np.ones((8, 2)), 7)
-    penalized_normal(band, 1e-8, True)
-    spline_values(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]))
-    hoschek_update(np.array([0.5, 1.5]), np.ones((2, 2)), bez, starts, ends, index, 1, 1.0)
+    normal_equations(full, u, np.ones(10), np.ones((10, 2)), 7, 1e-8, np.array([0.5, 6.0]))
+    fit_step(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]), np.ones((2, 2)), np.array([0.5, 1.5]),
+             np.ones((2, 2)), index, 1, 1.0, (np.zeros(2), np.full(2, 2.0), np.zeros(2, np.bool_), np.zeros(2)))
     separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
+    seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
+               1.0, 1.0, 1, 0.0)
+    knot_vector(np.array([0.0]), np.array([2.0, 3.0]), np.ones(2, np.int64), 7.0)
+    removal_scores(bez, starts, ends, np.array([1.0]), True)
+    closed = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.0, 0.0]])
+    corner_radii(np.array([0.0, 2.0, 4.0, 6.0]), closed, np.array([0, 2, 3]), 2.0)
+    corner_tables(np.ones(2), np.ones(2), np.zeros(2, np.bool_), np.zeros(2), index, np.zeros(2), True)
+    corner_weights(np.ones(2), index, np.zeros(2), np.zeros(2, np.bool_))
+    anchor_bounds(np.ones(2, np.bool_), np.zeros(3))
+    crack_normals(np.full((1, 2), 0.5))
+    contour_tables(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.0, 0.0]]), np.array([0, 2, 3]), 2)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
     __import__(__package__ + "._tip_kernels", fromlist=["warm_up"]).warm_up()  # the corner tips' (tips.py)
 
 
 def warm_up_checks():
-    """The second half of :func:`warm_up`: curve points, the dense deviation check and its per-group maxima, the
+    """The second half of :func:`warm_up`: curve points, the corner tests after a fit and their window, the dense deviation check and its per-group maxima, the
     small-outline fit's nearest segments (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used)."""
     _, _, bez, starts, ends, index = _tiny_fit()
-    edges = (np.ones(3),) * 5
+    edges = np.ones((5, 3))
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
-    zone_points_beside(np.zeros((1, 2, 2)), np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
+    hook_tests(bez, starts, ends, np.array([0.5]), np.ones((1, 2)), np.ones(1), np.ones(1), np.array([0.2, 1.2]), 1,
+               np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
+    zone_window(np.ones(1), np.zeros(1, np.bool_), np.zeros(2, np.int64), np.zeros(2), np.zeros(1), np.zeros(1),
+                np.zeros(1), np.ones(2), np.ones((2, 2)), 4.0, 0.1)
     group_max(index, np.ones(2), 1)
-    samples, params, iv = interval_samples(bez, starts, ends, 0.5)
+    interval_worst(index, np.zeros(2, np.bool_), np.ones(2), np.ones(2), index, np.ones(2, np.bool_), np.ones(2), np.ones(2), 1)
+    samples, params, iv = interval_samples(bez, starts, ends, 0.5, 2.0)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)
     deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
                        np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
-                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2), 2.0,
+                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2),
                        1.0, 0.0, 2)
 
 
@@ -735,8 +1417,8 @@ def _larger(a, b):
 
 @njit(**_JIT)
 def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base, edges,
-                    probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above, reach,
-                    curve_out, curve_zone, data_out, data_iv, excess, piece_out):
+                    probes, probe_u, fill_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above,
+                    reach, curve_out, curve_zone, data_out, data_iv, excess, piece_out):
     """:func:`deviation_measures` into ``curve_out`` (rows d_curve, tol_curve), ``data_out`` (rows d_data,
     tol_data), ``excess`` and ``piece_out`` (rows piece_dev, piece_err, piece_excess; these two filled with -inf
     by the wrapper): outputs of one length share an array, and so do the edge table's five columns (every array
@@ -788,12 +1470,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             elif zone[j] == zone[j + 1]:  # slope 0 (base increases): 0 * (u - base[j]) + zone[j] for finite u
                 value = zone[j]
             else:
-                slope = (zone[j + 1] - zone[j]) / (base[j + 1] - base[j])
-                value = slope * (u - base[j]) + zone[j]
-                if value != value:
-                    value = slope * (u - base[j + 1]) + zone[j + 1]
-                    if value != value and zone[j] == zone[j + 1]:
-                        value = zone[j]
+                value = _interpolated(u, base, zone, j)
         inside = value > 0
         curve_zone[s] = inside
         extra = 0.0
@@ -811,6 +1488,9 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
     # of the curve samples (closed by the last piece's end point) within ``reach`` samples
     at_start = at_end = at_lo = at_hi = at_centre = np.int64(0)
     for p in range(probe_u.shape[0]):
+        if fill_u:  # the dense probes: the contour points' parameters and their edge midpoints' means, alternating
+            half = p // 2
+            probe_u[p] = parameter[half] if p - 2 * half == 0 else 0.5 * (parameter[half] + parameter[half + 1])
         u = probe_u[p]
         at_start = _walk_right(starts, u, at_start)
         seg = pyclip(at_start - 1, 0, last)
@@ -875,28 +1555,31 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         piece_out[1, g] = _larger(piece_out[1, g], 0.0)
 
 
-def deviation_measures(bez, starts, ends, samples, params, iv, corner_par, bounds, cornered, parameter, base, edges,
-                       probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, period, epsilon,
+def deviation_measures(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base,
+                       edges, probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon,
                        loose_above, reach):
     """The deviation check of the current fit in one pass (:meth:`~.lsq_model.OutlineRegression.deviations`,
     docs/capture.md §12, "Stopping rule"), the operations of its numpy formulation in their order:
-    the windowed closest-point distance of every curve sample (``samples``, ``params``, interval ``iv``) to the
-    contour edges (``edges``, :func:`~.geometry.edge_table`), its tolerance (``epsilon``, plus the largest
-    ``allowance`` of the two contour points around it where ``numpy.interp`` of ``zone`` is positive) and its
-    piece; every probe's distance to its corresponding curve point, refined above ``loose_above`` by the chords
-    of the curve samples within ``reach`` samples (clipped to the probe's piece and ``reach`` more); then the
-    per-interval worst excess and the per-piece maxima (``-inf`` for empty groups, NaN wins, as
-    :func:`group_max` and ``numpy.maximum``). Returns the dict entries of ``deviations``."""
-    total, count, pieces = samples.shape[0], probe_u.shape[0], corner_par.shape[0] - 1
+    the windowed closest-point distance of every curve sample (``samples``, ``closed_params`` -- the samples'
+    parameters and the period --, interval ``iv``) to the contour edges (``edges``, :func:`~.geometry.edge_table`),
+    its tolerance (``epsilon``, plus the largest ``allowance`` of the two contour points around it where
+    ``numpy.interp`` of ``zone`` is positive) and its piece; every probe's distance to its corresponding curve point
+    (``probe_u``; None: the dense probes' parameters, the contour points' ``parameter`` and their edge midpoints'
+    means alternating, returned as ``"probe_u"``), refined above ``loose_above`` by the chords of the curve samples
+    within ``reach`` samples (clipped to the probe's piece and ``reach`` more); then the per-interval worst excess
+    and the per-piece maxima (``-inf`` for empty groups, NaN wins, as :func:`group_max` and ``numpy.maximum``).
+    Returns the dict entries of ``deviations``. The arrays are the fit's own (float64, int64 or bool, contiguous):
+    taken as they are."""
+    total, count, pieces = samples.shape[0], probes.shape[0], corner_par.shape[0] - 1
+    fill_u = probe_u is None
+    probe_u = np.empty(count) if fill_u else probe_u
     curve_out, curve_zone = np.empty((2, total)), np.empty(total, np.bool_)
     data_out, data_iv = np.empty((2, count)), np.empty(count, np.int64)
     excess, piece_out = np.full(starts.shape[0], -np.inf), np.full((3, pieces), -np.inf)
-    _deviation_into(_floats(bez), _floats(starts), _floats(ends), _floats(samples), np.append(_floats(params), period),
-                    _ints(iv), _floats(corner_par), _ints(bounds), bool(cornered), _floats(parameter), _floats(base),
-                    _floats(edges), _floats(probes), _floats(probe_u), _ints(probe_piece),
-                    np.ascontiguousarray(is_point, dtype=np.bool_), _floats(zone), _floats(allowance),
-                    _floats(probe_allowance), float(epsilon), float(loose_above), int(reach),
-                    curve_out, curve_zone, data_out, data_iv, excess, piece_out)
+    _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, bool(cornered), parameter, base,
+                    edges, probes, probe_u, fill_u, probe_piece, is_point, zone, allowance, probe_allowance,
+                    float(epsilon), float(loose_above), int(reach), curve_out, curve_zone, data_out, data_iv, excess,
+                    piece_out)
     return {"excess": excess, "piece_dev": piece_out[0], "piece_err": piece_out[1], "piece_excess": piece_out[2],
             "d_data": data_out[0], "tol_data": data_out[1], "data_iv": data_iv, "d_curve": curve_out[0],
-            "tol_curve": curve_out[1], "curve_zone": curve_zone}
+            "tol_curve": curve_out[1], "curve_zone": curve_zone, "probe_u": probe_u}

@@ -25,10 +25,10 @@ _FROM_SAMPLES = np.linalg.inv(
 
 def periodic_knot_vector(knots: np.ndarray, period: float) -> np.ndarray:
     """Full knot vector ``tau_{-3} .. tau_{M+3}`` (length ``M + 7``) of a periodic cubic spline whose knots in
-    one period are ``knots = tau_0 .. tau_{M-1}`` in ``[0, period)`` (a repeated value is a multiple knot)."""
-    m = knots.shape[0]
-    idx = np.arange(-3, m + 4)
-    return knots[idx % m] + period * np.floor_divide(idx, m)
+    one period are ``knots = tau_0 .. tau_{M-1}`` in ``[0, period)``, sorted (a repeated value is a multiple knot):
+    ``knots[idx % M] + period * floor_divide(idx, M)`` (:func:`._kernels.knot_vector`)."""
+    knots = np.asarray(knots, dtype=np.float64)
+    return _kernels.knot_vector(_kernels._NO_FLOATS, knots, np.ones(knots.shape[0], np.int64), period)[1]
 
 
 def interval_index(full: np.ndarray, u: np.ndarray, side: str = "right") -> np.ndarray:
@@ -46,19 +46,20 @@ def cubic_basis(full: np.ndarray, i: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 def fit_coefficients(full: np.ndarray, u: np.ndarray, weights: np.ndarray, targets: np.ndarray, m: int,
-                     regularization: float = 1e-8) -> np.ndarray:
+                     regularization: float = 1e-8, extra: np.ndarray = _kernels._NO_FLOATS, work=None) -> np.ndarray:
     """Weighted least squares ``min sum_j w_j |sum_k N_k(u_j) c_k - Q_j|^2`` for the ``m`` periodic
-    coefficients of the spline on the full knot vector ``full`` (two right-hand sides, x and y).
+    coefficients of the spline on the full knot vector ``full`` (two right-hand sides, x and y), the points at
+    the parameters ``u`` and then ``extra`` (rows of ``weights`` and ``targets`` in that order).
 
     The normal matrix is cyclic with band 3 (assembled in one pass over the points,
-    :func:`._kernels.normal_equations`). A tiny second-difference penalty keeps it positive definite
-    when a coefficient is barely constrained. Solved as a symmetric banded system (LAPACK ``pbsv``) after
-    cutting the cyclic coupling with a Schur complement on the last three coefficients, so the cost is
-    O(m) for any outline length.
+    :func:`._kernels.normal_equations`, into the arrays ``work`` where given: :func:`._kernels.normal_work`). A
+    tiny second-difference penalty keeps it positive definite when a coefficient is barely constrained. Up to
+    :data:`._kernels.DENSE_LIMIT` coefficients solved as a dense matrix (LAPACK ``gesv``), above that as a
+    symmetric banded system (LAPACK ``pbsv``) after cutting the cyclic coupling with a Schur complement on the
+    last three coefficients, so the cost is O(m) for any outline length.
     """
-    band, rhs = _kernels.normal_equations(full, u, weights, targets, m)
-    # + pen * D^T D (D the cyclic second difference), and below 65 coefficients the dense cyclic matrix
-    normal = _kernels.penalized_normal(band, regularization, m <= 64)
+    # + pen * D^T D (D the cyclic second difference), and up to DENSE_LIMIT coefficients the dense cyclic matrix
+    band, rhs, normal = _kernels.normal_equations(full, u, weights, targets, m, regularization, extra, work)
     if normal is not None:
         return np.linalg.solve(normal, rhs)
     return _solve_cyclic_band(band, rhs)

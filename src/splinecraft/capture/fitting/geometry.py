@@ -107,10 +107,8 @@ def eval_bezier(bezier: np.ndarray, piece: np.ndarray, theta: np.ndarray) -> np.
 def edge_table(line: np.ndarray):
     """Per edge ``line[e] -> line[e + 1]`` of a polyline: start x, start y, dx, dy and ``1 / |d|^2`` (1 for a
     zero-length edge), the rows of one ``(5, edges)`` array (one argument of the compiled deviation check), the
-    input of :func:`windowed_distance`."""
-    dx, dy = np.diff(line[:, 0]), np.diff(line[:, 1])
-    den = dx * dx + dy * dy
-    return np.stack([line[:-1, 0], line[:-1, 1], dx, dy, 1.0 / np.where(den > 0, den, 1.0)])
+    input of :func:`windowed_distance` (compiled: :func:`._kernels.contour_tables`)."""
+    return _kernels.contour_tables(line, None, 0, edges_only=True)
 
 
 def windowed_distance(points, centre, lo, hi, edges, window, wrap=0):

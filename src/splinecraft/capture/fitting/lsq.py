@@ -427,17 +427,17 @@ class LsqKnotInsertion:
                 last.finished = dev["piece_excess"] <= 0
             else:
                 self.snapshot(dev, [], last.phase if last.phase != "initial" else "insert")
-        bounds, cornered = contour.corner_bounds, contour.corner_count > 0
-        original = contour.original_index
+        cornered = contour.corner_count > 0
+        original = contour.original_index(contour.corner_bounds)  # the corners' indices, corner 0 again at the end
+        ends = original.tolist()
         return FitResult(
             spline=spline,
-            pieces=[(int(original(a)), int(original(b))) for a, b in zip(bounds[:-1], bounds[1:])] if cornered
-            else [(contour.rotation, contour.rotation)],
+            pieces=list(zip(ends[:-1], ends[1:])) if cornered else [(contour.rotation, contour.rotation)],
             knot_indices=model.knot_lists(), snapshots=self.snapshots, iterations=self.iteration,
             max_error=float(dev["piece_err"].max()), hausdorff=float(dev["piece_dev"].max()),
             converged=bool(converged), knots_inserted=int(model.simple_knots.shape[0]), method="lsq",
             epsilon=epsilon, thesis_stop_iteration=None,
-            corners_used=np.sort(original(bounds[:-1])) if cornered else np.zeros(0, dtype=np.int64),
+            corners_used=np.sort(original[:-1]) if cornered else np.zeros(0, dtype=np.int64),
             info={"options": {k: self.options[k] for k in LSQ_OPTIONS},
                   "corner_radii": model.tips.radius.tolist() if cornered else [],
                   "tip_gaps": model.tips.gap.tolist() if cornered else [],

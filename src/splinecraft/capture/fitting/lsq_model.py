@@ -16,8 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import curve_points, deviation_measures, hoschek_update, interval_samples, zone_points_beside
-from .bspline import bezier_of_intervals, fit_coefficients, periodic_knot_vector
+from ._kernels import (_NO_FLOATS, _NO_INTS, curve_points, deviation_measures, fit_step, hook_tests, interval_samples,
+                       anchor_bounds, corner_tables, corner_weights, interval_worst, knot_vector, normal_work,
+                       removal_scores, zone_window)
+from .bspline import _FROM_SAMPLES, _THETA4, bezier_of_intervals, fit_coefficients
 from .geometry import group_max, member_sorted, piece_deviation
 from .jumps import locate_on_contour
 from .lsq_setup import CornerTips, RotatedContour, crack_normals, curvature_knots
@@ -106,16 +108,24 @@ class OutlineRegression:
                                        geometric, self.corner_allowance)
         self.base_parameter = self._base_parameter()
         self.period = float(self.base_parameter[-1])
+        self._corner_par = self.base_parameter[contour.corner_bounds]  # of every corner, and the period (or seam)
+        #: the corners' base parameters (sorted; none without corners)
+        self._corner_values = self.base_parameter[contour.corner_bounds[:-1]] if contour.corner_count else np.zeros(0)
         bounds, piece = contour.corner_bounds, contour.piece_of_point
         self.parameter_low = self.base_parameter[bounds[piece]]
         self.parameter_high = self.base_parameter[bounds[piece + 1]]
         self.parameter = self.base_parameter.copy()
-        self._step_bounds = self._parameter_bounds()  # (low, high, fixed) of the Hoschek steps
+        self._step_bounds = self._parameter_bounds()  # (low, high, fixed, base) of the Hoschek steps
+        self._piece_of_points = contour.piece_of_point[:n]
+        self._normal_work = None  # the work arrays of the normal equations (_kernels.normal_work)
         self._zone_cache = None  # (tip state, {dense: zones}) of _zones
         self._knot_cache = self._weight_cache = None  # (simple knots, knot vector) and (radii, weights) of fit
         self._knot_index_cache = None  # (simple knots, knot_indices)
+        self._knot_list_cache = None  # (knot_indices, their original indices, each piece's first and last) of knot_lists
         self._hook_limit = None  # (tips, the displacement limit) of hooked_corners
         self._zone_window_cache = None  # (radii and exclusions, set-up) of zone_hooks (_zone_window)
+        # the most curve parameters of a zone window so far (_kernels.zone_window; a first guess: a row of some 250)
+        self._zone_bound = 256 * contour.corner_count
         # (the crack normals of the contour, or None,) of zone_hooks; None until needed, and (None,) where tips are
         # not extrapolated (a noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
         self._cracks = None if geometric else (None,)
@@ -189,11 +199,14 @@ class OutlineRegression:
 
     # ---------------------------------------------------------------- knots, weights, zones
     def knot_values(self):
-        """The knots of one period: corners three times, the inserted knots ``knot_multiplicity`` times, sorted."""
-        bounds = self.contour.corner_bounds
-        corners = np.repeat(self.base_parameter[bounds[:-1]], 3) if self.contour.corner_count else np.zeros(0)
-        inserted = np.repeat(self.base_parameter[self.simple_knots], self.inserted_multiplicity())
-        return np.sort(np.concatenate([corners, inserted]))
+        """The knots of one period: corners three times, the inserted knots ``inserted_multiplicity`` times, sorted."""
+        return self._knot_vector()[0]
+
+    def _knot_vector(self):
+        """:meth:`knot_values`, the full knot vector and the knot intervals' starts and ends
+        (:func:`~._kernels.knot_vector`)."""
+        return knot_vector(self._corner_values, self.base_parameter[self.simple_knots], self.inserted_multiplicity(),
+                           self.period)
 
     def inserted_multiplicity(self):
         """Multiplicity of every simple knot: ``knot_multiplicity`` (2 for the jump knots), but 1 (C2) for the
@@ -227,10 +240,14 @@ class OutlineRegression:
         if not contour.corner_count:
             return [contour.original_index(np.append(self.simple_knots, contour.size))]
         knots = self.knot_indices()
-        bounds = contour.corner_bounds
-        original = contour.original_index(knots)
-        # the knots from corner a to corner b, both included: one slice of the sorted knots per piece
-        first, last = np.searchsorted(knots, bounds[:-1]).tolist(), np.searchsorted(knots, bounds[1:], "right").tolist()
+        cached = self._knot_list_cache
+        if cached is None or cached[0] is not knots:  # kept with the knot indices (the snapshots and the result)
+            bounds = contour.corner_bounds
+            # the knots from corner a to corner b, both included: one slice of the sorted knots per piece
+            cached = self._knot_list_cache = (knots, contour.original_index(knots),
+                                              np.searchsorted(knots, bounds[:-1]).tolist(),
+                                              np.searchsorted(knots, bounds[1:], "right").tolist())
+        _, original, first, last = cached
         return [original[lo:hi].copy() for lo, hi in zip(first, last)]
 
     def zone(self):
@@ -239,16 +256,21 @@ class OutlineRegression:
         contour, tips = self.contour, self.tips
         if not contour.corner_count:
             return np.zeros(contour.size + 1, bool)
-        r = tips.zone_radius[contour.nearest_corner]
-        active = (tips.radius > 0) | tips.allowance_kept
-        return (r > 0) & active[contour.nearest_corner] & (contour.corner_distance < 2.0 * r + 1.0)
+        return self._corner_tables(False)[0] > 0
 
     def allowance(self):
         """Extra tolerance of every point (n + 1) in the zone of an extrapolated corner (that corner's
         ``allowance``: ``corner_allowance``, or its extrapolated tip's distance from the contour), 0 elsewhere."""
         if not self.contour.corner_count:
             return np.zeros(self.contour.size + 1)
-        return np.where(self.zone(), self.tips.allowance[self.contour.nearest_corner], 0.0)
+        return self._corner_tables(False)[1]
+
+    def _corner_tables(self, dense):
+        """:meth:`zone` (as floats), :meth:`allowance` and both of every probe (``dense``: the edge midpoints between
+        the contour points too) in one compiled pass (:func:`~._kernels.corner_tables`)."""
+        contour, tips = self.contour, self.tips
+        return corner_tables(tips.zone_radius, tips.radius, tips.allowance_kept, tips.allowance,
+                             contour.nearest_corner, contour.corner_distance, dense)
 
     def weights(self):
         """Weight of every contour point: ``min(1, (distance / r)^2)`` within the radius ``r`` of an extrapolated
@@ -256,11 +278,9 @@ class OutlineRegression:
         contour = self.contour
         if not contour.corner_count:
             return np.ones(contour.size)
-        r = self.tips.radius[contour.nearest_corner]
-        x = contour.corner_distance / np.where(r > 0, r, 1.0)
-        w = np.where(r > 0, np.minimum(1.0, x**2), 1.0)
-        w[self.fixed & (r > 0)] = 0.0
-        return np.maximum(w[: contour.size], 1e-3)
+        n = contour.size
+        return corner_weights(self.tips.radius, contour.nearest_corner[:n], contour.corner_distance[:n],
+                              self.fixed[:n])
 
     def _pins(self):
         """Virtual data points (weight ``corner_pin``), or None: at the straight-line corner estimates, and at a
@@ -291,22 +311,30 @@ class OutlineRegression:
     # ---------------------------------------------------------------- fitting
     def fit(self, hoschek_steps=1):
         """Solve the weighted least-squares problem, then ``hoschek_steps`` times correct the parameters
-        (one Newton step of the foot-point equation) and solve again. A correction that moves no parameter (every
-        piece above the gate, :meth:`_hoschek_step`) ends the steps: each solve and step after it would repeat
-        the last bit for bit."""
-        count, knot_vector, starts, ends = self._knot_setup()
-        pins, targets, all_weights = self._weight_setup()
-        n = self.contour.size
+        (one Newton step of the foot-point equation, with ``S, S', S''`` from the power form of each knot
+        interval's Bézier piece, only in pieces whose residuals are below ``hoschek_gate``: projecting onto a bad
+        curve scrambles the parameters) and solve again. A correction that moves no parameter (every piece above
+        the gate) ends the steps: each solve and step after it would repeat the last bit for bit. The step is
+        clipped between the fixed (or held) points around each point, those stay at their base parameter, and
+        the parameters are kept non-decreasing (:func:`~._kernels.fit_step`)."""
+        count, knot_vector, starts, ends, values = self._knot_setup()
+        pin_u, targets, all_weights = self._weight_setup()
+        contour = self.contour
+        n = contour.size
         u = self.parameter[:n]
+        work = self._normal_work
+        if work is None or work[0].shape[1] != count:
+            work = self._normal_work = normal_work(count)
+        bounds = self._step_bounds
         for step in range(hoschek_steps + 1):
-            uu = u if pins is None else np.concatenate([u, pins[0]])
-            coefficients = fit_coefficients(knot_vector, uu, all_weights, targets, count)
+            coefficients = fit_coefficients(knot_vector, u, all_weights, targets, count, extra=pin_u, work=work)
             bezier = None
             if step == hoschek_steps:
                 break
-            bezier = bezier_of_intervals(coefficients, knot_vector, count, starts, ends)
-            stepped = self._hoschek_step(u, bezier, starts, ends)
-            if stepped.tobytes() == u.tobytes():  # the same parameters, bit for bit (signed zeros included)
+            bezier, stepped, same = fit_step(coefficients, knot_vector, count, starts, ends, _THETA4, _FROM_SAMPLES, u,
+                                             contour.points, self._piece_of_points, contour.piece_count,
+                                             self.hoschek_gate, bounds, values)
+            if same:  # the same parameters, bit for bit (signed zeros included)
                 break
             u = stepped
         self.parameter[:n] = u
@@ -317,49 +345,36 @@ class OutlineRegression:
 
     def _knot_setup(self):
         """The knots' part of :meth:`fit` (kept while the simple knots are unchanged): the coefficient count,
-        the full periodic knot vector and the knot intervals (multiple knots once)."""
+        the full periodic knot vector, the knot intervals (multiple knots once) and a work array of the spline's
+        values on them."""
         key = self.simple_knots.tobytes()
         if self._knot_cache is None or self._knot_cache[0] != key:
-            knots = self.knot_values()
-            distinct = _unique(np.append(knots, self.period))
-            self._knot_cache = (key, (knots.shape[0], periodic_knot_vector(knots, self.period), distinct[:-1],
-                                      distinct[1:]))
+            knots, full, starts, ends = self._knot_vector()
+            self._knot_cache = (key, (knots.shape[0], full, starts, ends,
+                                      np.empty((starts.shape[0], _THETA4.shape[0], 2))))
         return self._knot_cache[1]
 
     def _weight_setup(self):
-        """The data part of :meth:`fit` (kept while the corners' radii and tips are unchanged): the corner pins
-        (:meth:`_pins`), the targets (contour points, then the pins) and their weights (:meth:`weights`)."""
+        """The data part of :meth:`fit` (kept while the corners' radii and tips are unchanged): the parameters of
+        the corner pins (:meth:`_pins`; none: empty), the targets (contour points, then the pins) and their weights
+        (:meth:`weights`)."""
         key = self.tips.radius.tobytes() + self.tips.estimate.tobytes()
         if self._weight_cache is None or self._weight_cache[0] != key:
             weights, pins = self.weights(), self._pins()
             targets = self.contour.points if pins is None else np.vstack([self.contour.points, pins[1]])
             all_weights = weights if pins is None else np.concatenate([weights, pins[2]])
-            self._weight_cache = (key, (pins, targets, all_weights))
+            self._weight_cache = (key, (np.zeros(0) if pins is None else pins[0], targets, all_weights))
         return self._weight_cache[1]
-
-    def _hoschek_step(self, u, bez, starts, ends):
-        """One Newton step of the foot-point equation ``(S(u) - Q) . S'(u) = 0`` for every contour point, with
-        ``S, S', S''`` from the power form of each knot interval's Bézier piece; only in pieces whose residuals
-        are below ``hoschek_gate`` (projecting onto a bad curve scrambles the parameters)."""
-        contour = self.contour
-        n = contour.size
-        low, high, fixed = self._step_bounds
-        # the step, clipped between the fixed (or held) points around it, those at their base parameter, kept
-        # non-decreasing
-        return hoschek_update(u, contour.points, bez, starts, ends, contour.piece_of_point[:n], contour.piece_count,
-                              self.hoschek_gate, (low, high, fixed, self.base_parameter[:n]))
 
     def _parameter_bounds(self):
         """Per contour point, the base parameters of the nearest fixed or held points at or before and at or
-        after it (the closing index ``n`` counts as fixed), and which points are fixed or held: the range of
-        its Hoschek steps. Without held points these are the piece's corners (the seam)."""
+        after it (the closing index ``n`` counts as fixed), which points are fixed or held, and the points' base
+        parameters: the range of its Hoschek steps (:meth:`fit`). Without held points these are the piece's
+        corners (the seam)."""
         n = self.contour.size
-        anchor = self.fixed | self.held
-        anchor[n] = True
-        index = np.arange(n + 1)
-        before = np.maximum.accumulate(np.where(anchor, index, 0))
-        after = np.minimum.accumulate(np.where(anchor, index, n)[::-1])[::-1]
-        return self.base_parameter[before[:n]], self.base_parameter[after[:n]], anchor[:n].copy()
+        anchor = self.fixed[:n] | self.held[:n]
+        low, high = anchor_bounds(anchor, self.base_parameter)
+        return low, high, anchor, self.base_parameter[:n]
 
     def reset_parameters(self, dev, stuck, reach=2):
         """Give the points around the stuck knot intervals ``stuck`` (from ``reach`` knots before each one to
@@ -387,7 +402,7 @@ class OutlineRegression:
         self.held[n] = False  # the closing index is the seam, not a contour point
         base, u = self.base_parameter, self.parameter
         u[self.held] = base[self.held]
-        self._step_bounds = low, high, _ = self._parameter_bounds()
+        self._step_bounds = low, high, _, _ = self._parameter_bounds()
         u[:n] = np.minimum(np.maximum(u[:n], low), high)  # in order with the held points
         return reset
 
@@ -420,24 +435,57 @@ class OutlineRegression:
         extensions (a hook), not a truncated tip. A corner with a kept tip estimate counts only where both
         pieces beside it fit (``dev``: the current fit's :meth:`deviations`, computed here when needed): on a
         coarse fit a piece that misses its pixels by several pixels moves its corner point as far."""
-        contour, tips = self.contour, self.tips
-        if not contour.corner_count:
+        if not self.contour.corner_count:
             return np.zeros(0, dtype=np.int64)
-        corners = contour.corner_bounds[:-1]
+        return self._hooked(self._hook_tests(None)[0], dev)
+
+    def _hook_limit_setup(self):
+        """The displacement test's set-up of :meth:`hooked_corners` (kept while the tips' angles and estimates are
+        unchanged): the corners' base parameters, their contour points and displacement limits (beyond a kept
+        tip estimate, its distance from the corner point and 0.25 px more)."""
+        contour, tips = self.contour, self.tips
         key = tips.angle.tobytes() + tips.estimate.tobytes()
-        if self._hook_limit is None or self._hook_limit[0] != key:  # kept while the tips' angles and estimates are
+        if self._hook_limit is None or self._hook_limit[0] != key:
+            corners = contour.corner_bounds[:-1]
             limit = np.clip(0.5 / np.maximum(np.sin(0.5 * tips.angle), 1e-3), 0.75,
                             self.epsilon + self.corner_allowance)
             reach = np.hypot(*(tips.estimate - contour.points.take(corners % contour.size, axis=0)).T)
             self._hook_limit = (key, self.base_parameter[corners], contour.points.take(corners % contour.size, axis=0),
                                 np.where(np.isfinite(reach), np.maximum(limit, reach + 0.25), limit))
-        _, at, points, limit = self._hook_limit
-        disp = np.hypot(*(self.curve_at(at) - points).T)
-        found = np.flatnonzero((disp > limit) & (tips.radius > 0))
-        tipped = np.isfinite(tips.estimate[found, 0])
+        return self._hook_limit[1:]
+
+    def _hook_tests(self, window):
+        """Both tests after a fit in one compiled pass (:func:`~._kernels.hook_tests`): per corner whether its
+        fitted point moved beyond the limit of :meth:`hooked_corners`, and per corner whether a point of the
+        zone ``window`` (:meth:`_zone_window`, or None: no zone test) passes beside its pixels
+        (:meth:`zone_hooks`)."""
+        at, points, limit = self._hook_limit_setup()
+        starts, ends = self.intervals()
+        if window is None:
+            hooked, _ = hook_tests(self._bezier, starts, ends, at, points, limit, self.tips.radius, _NO_FLOATS, 0,
+                                   _NO_INTS, _NO_INTS, _NO_FLOATS, _NO_FLOATS, self.pixel_slack)
+            return hooked, None
+        u, rows, row, axis, along_start, across_start, owner = window
+        hooked, beside = hook_tests(self._bezier, starts, ends, at, points, limit, self.tips.radius, u, rows, row,
+                                    axis, along_start, across_start, self.pixel_slack)
+        failing = np.zeros(self.contour.corner_count, bool)
+        failing[owner[beside]] = True
+        return hooked, failing
+
+    def _hooked(self, moved, dev):
+        """:meth:`hooked_corners` of the displacement test's answer ``moved`` (per corner)."""
+        found = np.flatnonzero(moved)
+        tipped = np.isfinite(self.tips.estimate[found, 0])
         if not tipped.any():
             return found
         return found[~tipped | self._pieces_fit(found, dev)]
+
+    def _zone_failing(self, failing, dev):
+        """:meth:`zone_hooks` of the zone test's answer ``failing`` (per corner)."""
+        found = np.flatnonzero(failing)
+        if not found.size:
+            return np.zeros(0, dtype=np.int64)
+        return found[self._pieces_fit(found, dev)]
 
     def hooks(self, dev=None):
         """The corners to release after a fit: :meth:`hooked_corners` and :meth:`zone_hooks` (``dev``: the
@@ -458,30 +506,23 @@ class OutlineRegression:
         only where tips are extrapolated (option ``geometric_corners``: not on a noisy boundary, whose pixels are
         no render of an outline). Nor a notch tip that a pinhole placed (``contour.pinhole_tips``,
         :func:`~.tips.tip_estimates`): its notch narrows below a pixel before the tip, so the pieces that reach
-        the pinhole pass the ink centres between it and the rendered notch within less than the fit's own error."""
-        none = np.zeros(0, dtype=np.int64)
-        pinhole_tips = self.contour.pinhole_tips
-        window = self._zone_window(np.union1d(exclude, pinhole_tips) if pinhole_tips.size else exclude)
+        the pinhole pass the ink centres between it and the rendered notch within less than the fit's own error.
+
+        The crack normal is (1, 0) or (0, 1): the pixel centres' segment runs from ``along_start`` over [0, 1]
+        along the normal's axis, so the distance of a sample from it is that of (along - clip(along, 0, 1),
+        across) -- the operations of the projection onto a unit axis vector, without its zero products. A corner
+        fails where one of its points has every sample farther than the slack (its least distance above it;
+        compiled, :func:`~._kernels.hook_tests`: each point's scan stops at its first sample within it); a corner
+        with a NaN sample does not (the least distance of each of its points is NaN then)."""
+        window = self._zone_window(self._zone_exclusion(exclude))
         if window is None:
-            return none
-        u, rows, row, axis, along_start, across_start, owner = window
-        samples = self.curve_at(u).reshape(rows, -1, 2)
-        # the crack normal is (1, 0) or (0, 1): the pixel centres' segment runs from ``along_start`` over [0, 1]
-        # along the normal's axis, so the distance of a sample from it is that of (along - clip(along, 0, 1),
-        # across) -- the operations of the projection onto a unit axis vector, without its zero products. A
-        # corner fails where one of its points has every sample farther than the slack (its least distance
-        # above it; compiled, each point's scan stops at its first sample within it); a corner with a NaN
-        # sample does not (the least distance of each of its points is NaN then)
-        beside = zone_points_beside(samples, row, axis, along_start, across_start, self.pixel_slack)
-        finite = np.isfinite(samples)
-        if not finite.all():  # a point tests the samples of its corner's row only
-            beside &= finite.all(axis=(1, 2))[row]
-        failing = np.zeros(self.contour.corner_count, bool)
-        failing[owner[beside]] = True
-        found = np.flatnonzero(failing)
-        if not found.size:
-            return none
-        return found[self._pieces_fit(found, dev)]
+            return np.zeros(0, dtype=np.int64)
+        return self._zone_failing(self._hook_tests(window)[1], dev)
+
+    def _zone_exclusion(self, exclude):
+        """The corners :meth:`zone_hooks` leaves out: ``exclude`` and the pinhole tips."""
+        pinhole_tips = self.contour.pinhole_tips
+        return np.union1d(exclude, pinhole_tips) if pinhole_tips.size else exclude
 
     def _zone_window(self, exclude=()):
         """The set-up of :meth:`zone_hooks` (kept while the corners' radii and ``exclude`` are unchanged), or None
@@ -504,30 +545,14 @@ class OutlineRegression:
         key = tips.radius.tobytes() + exclude.tobytes()
         if self._zone_window_cache is not None and self._zone_window_cache[0] == key:
             return self._zone_window_cache[1]
-        window = None
-        active = tips.radius > 0
-        active[exclude] = False
-        if active.any():
-            n = contour.size
-            reach = np.maximum(tips.radius, 1.0)
-            nearest = contour.nearest_corner[:n]
-            points = np.flatnonzero(active[nearest] & (contour.corner_distance[:n] < reach[nearest]))
-            if points.size:
-                owner = nearest[points]
-                tested = np.zeros(contour.corner_count, bool)
-                tested[owner] = True
-                corners = np.flatnonzero(tested)  # sorted, unique
-                row = np.full(contour.corner_count, -1)
-                row[corners] = np.arange(corners.shape[0])  # each tested corner's row of samples
-                at = self.base_parameter[contour.corner_bounds[corners]]
-                half = reach[corners] + np.maximum(tips.gap_before[corners], tips.gap_after[corners]) + 2.0
-                count = int(np.ceil(2.0 * half.max() / ZONE_SPACING)) + 1
-                steps = np.linspace(-1.0, 1.0, count)
-                u = np.mod(at[:, None] + half[:, None] * steps[None, :], self.period).ravel()
-                axis = (cracks[points, 1] == 1.0).astype(np.int64)  # 0: normal (1, 0), 1: normal (0, 1)
-                own = contour.points.take(points, axis=0)
-                pick = np.arange(points.shape[0])
-                window = (u, corners.shape[0], row[owner], axis, own[pick, axis] - 0.5, own[pick, 1 - axis], owner)
+        excluded = np.zeros(contour.corner_count, bool)
+        excluded[exclude] = True
+        n = contour.size
+        window = zone_window(tips.radius, excluded, contour.nearest_corner[:n], contour.corner_distance[:n],
+                             self.base_parameter[contour.corner_bounds[:-1]], tips.gap_before, tips.gap_after,
+                             cracks[:, 1], contour.points, self.period, ZONE_SPACING, self._zone_bound)
+        if window is not None:
+            self._zone_bound = max(self._zone_bound, window[0].shape[0])
         self._zone_window_cache = (key, window)
         return window
 
@@ -543,10 +568,18 @@ class OutlineRegression:
     def hook_releases(self, dev=None):
         """The corners to release after a fit, by reason: ``(hooked, zone)``, :meth:`hooked_corners` and
         :meth:`zone_hooks`; the fit's :meth:`deviations` (``dev``, if at hand) are computed at most once, and only
-        where either test needs them."""
+        where either test needs them. Both tests run in one compiled pass (:meth:`_hook_tests`); where a corner is
+        hooked, the zone test runs again without it (its window, and so its samples, change)."""
+        none = np.zeros(0, dtype=np.int64)
+        if not self.contour.corner_count:
+            return none, none
         deviations = _Deviations(self) if dev is None else dev
-        hooked = self.hooked_corners(deviations)
-        return hooked, self.zone_hooks(deviations, exclude=hooked)
+        window = self._zone_window(self._zone_exclusion(none))
+        moved, failing = self._hook_tests(window)
+        hooked = self._hooked(moved, deviations)
+        if hooked.size:
+            return hooked, self.zone_hooks(deviations, exclude=hooked)
+        return hooked, none if window is None else self._zone_failing(failing, deviations)
 
     # ---------------------------------------------------------------- pixel consistency
     def _pixel_exempt(self):
@@ -623,17 +656,16 @@ class OutlineRegression:
         starts, ends = self.intervals()
         bez = self.bezier()
         spacing = min(self.sample_spacing, 0.25) if dense else self.sample_spacing
-        samples, params, iv = self._curve_samples(bez, starts, ends, spacing)
+        # the samples' parameters with the period after them (the closed parameters of the check)
+        samples, closed_params, iv = interval_samples(bez, starts, ends, spacing, self.period)
         probes, probe_u, probe_piece, is_point = self._probes(dense)
         zone, allowance, probe_zone, probe_allowance = self._zones(dense)
-        dev = deviation_measures(bez, starts, ends, samples, params, iv, self.base_parameter[contour.corner_bounds],
-                                 contour.corner_bounds, contour.corner_count > 0, self.parameter, self.base_parameter,
-                                 contour.edges, probes, probe_u, probe_piece, is_point, zone, allowance,
-                                 probe_allowance, self.period, self.epsilon,
+        dev = deviation_measures(bez, starts, ends, samples, closed_params, iv, self._corner_par, contour.corner_bounds,
+                                 contour.corner_count > 0, self.parameter, self.base_parameter, contour.edges, probes,
+                                 probe_u, probe_piece, is_point, zone, allowance, probe_allowance, self.epsilon,
                                  0.5 * self.epsilon if dense else self.epsilon, int(np.ceil(3.0 / spacing)))
-        dev.update(starts=starts, ends=ends, probe_u=probe_u, probe_zone=probe_zone, curve_iv=iv, curve_params=params,
-                   bezier=bez, dense=dense)
-        dev.update(tol_excess=dev["excess"], pixel=None, pixel_iv=None)
+        dev.update(starts=starts, ends=ends, probe_zone=probe_zone, curve_iv=iv, curve_params=closed_params[:-1],
+                   bezier=bez, dense=dense, tol_excess=dev["excess"], pixel=None, pixel_iv=None)
         if self.crack_normal is not None:
             k = starts.shape[0]
             pixel = self.pixel_excess()
@@ -682,27 +714,13 @@ class OutlineRegression:
             cached = self._zone_cache = (key, {})
         if dense in cached[1]:
             return cached[1][dense]
-        n = self.contour.size
-        zone, allowance = self.zone(), self.allowance()
-        if dense:
-            probe_zone = np.empty(2 * n, bool)
-            probe_zone[0::2], probe_zone[1::2] = zone[:n], zone[:n] | zone[1:]
-            probe_allowance = np.empty(2 * n)
-            probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
-        else:
-            probe_zone, probe_allowance = zone[:n], allowance[:n]
-        value = cached[1][dense] = (zone.astype(float), allowance, probe_zone, probe_allowance)
+        value = cached[1][dense] = self._corner_tables(dense)
         return value
 
-    @staticmethod
-    def _curve_samples(bez, starts, ends, spacing):
-        """Samples of every knot interval's Bézier about ``spacing`` apart (by the control polygon, at least 3,
-        the interval's end left to the next one): points, parameters and interval numbers."""
-        return interval_samples(bez, starts, ends, spacing)
-
     def _probes(self, dense):
-        """Contour points (``dense``: and edge midpoints), in parameter order: points, parameters, pieces and
-        which of them are contour points."""
+        """Contour points (``dense``: and edge midpoints), in parameter order: points, parameters (``dense``: None,
+        the deviation check's kernel takes the points' and the midpoints' means of theirs,
+        :func:`~._kernels.deviation_measures`), pieces and which of them are contour points."""
         contour = self.contour
         n = contour.size
         if not dense:
@@ -710,11 +728,8 @@ class OutlineRegression:
         if self._dense_probes is None:  # the contour's points and edge midpoints never change
             probes = np.empty((2 * n, 2))
             probes[0::2], probes[1::2] = contour.points, 0.5 * (contour.closed_points[:-1] + contour.closed_points[1:])
-            self._dense_probes = (probes, np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n))
-        probes, probe_piece, is_point = self._dense_probes
-        probe_u = np.empty(2 * n)
-        probe_u[0::2], probe_u[1::2] = self.parameter[:n], 0.5 * (self.parameter[:-1] + self.parameter[1:])
-        return probes, probe_u, probe_piece, is_point
+            self._dense_probes = (probes, None, np.repeat(contour.piece_of_point[:n], 2), np.tile([True, False], n))
+        return self._dense_probes
 
     # ---------------------------------------------------------------- knot insertion
     def insert(self, dev, tight=False):
@@ -732,15 +747,12 @@ class OutlineRegression:
         if failing.size == 0:
             return [], [], []
         k = excess.shape[0]
-        data_zone, curve_zone = dev["probe_zone"], dev["curve_zone"]
-        data_ex = dev["d_data"] - dev["tol_data"]
-        curve_ex = dev["d_curve"] - dev["tol_curve"]
         u_data, u_curve = dev["probe_u"], dev["curve_params"]
-        # worst excess per interval outside / inside the corner zones, with its parameter
-        out_d, out_d_at = group_max(dev["data_iv"], np.where(data_zone, -np.inf, data_ex), k)
-        out_c, out_c_at = group_max(dev["curve_iv"], np.where(curve_zone, -np.inf, curve_ex), k)
-        in_d, in_d_at = group_max(dev["data_iv"], np.where(data_zone, data_ex, -np.inf), k)
-        in_c, in_c_at = group_max(dev["curve_iv"], np.where(curve_zone, curve_ex, -np.inf), k)
+        # worst excess per interval outside / inside the corner zones, with its parameter (one compiled pass; as
+        # lists: the loop below reads single values)
+        best, at = interval_worst(dev["data_iv"], dev["probe_zone"], dev["d_data"], dev["tol_data"], dev["curve_iv"],
+                                  dev["curve_zone"], dev["d_curve"], dev["tol_curve"], k)
+        (out_d, out_c, in_d, in_c), (out_d_at, out_c_at, in_d_at, in_c_at) = best.tolist(), at.tolist()
         knots = self.knot_indices()
         knot_values = self.base_parameter[knots]
         new, stuck, released = [], [], []
@@ -813,21 +825,10 @@ class OutlineRegression:
     def removal_scores(self, bezier):
         """For every simple knot: score = |jump of S'''| * h^3 / 48, about the deviation that removing the knot
         causes (the size of the cubic's departure from one polynomial), plus |jump of S''| * h^2 / 16 where
-        S'' jumps (knots of multiplicity 2, ``joint_continuity=1``)."""
+        S'' jumps (knots of multiplicity 2, ``joint_continuity=1``); one compiled pass
+        (:func:`~._kernels.removal_scores`)."""
         starts, ends = self.intervals()
-        h = ends - starts
-        third = 6.0 * (bezier[:, 3] - 3 * bezier[:, 2] + 3 * bezier[:, 1] - bezier[:, 0]) / (h[:, None] ** 3)
-        values = self.base_parameter[self.simple_knots]
-        right = np.clip(np.searchsorted(starts, values), 0, starts.shape[0] - 1)  # interval starting at the knot
-        left = (right - 1) % starts.shape[0]
-        jump = np.hypot(*(third.take(right, axis=0) - third.take(left, axis=0)).T)
-        span = 0.5 * (h[left] + h[right])
-        if self.knot_multiplicity == 1:
-            return jump * span**3 / 48.0
-        second_start = 6.0 * (bezier[:, 2] - 2 * bezier[:, 1] + bezier[:, 0]) / (h[:, None] ** 2)
-        second_end = 6.0 * (bezier[:, 3] - 2 * bezier[:, 2] + bezier[:, 1]) / (h[:, None] ** 2)
-        bend = np.hypot(*(second_start[right] - second_end[left]).T)
-        return bend * span**2 / 16.0 + jump * span**3 / 48.0
+        return removal_scores(bezier, starts, ends, self.base_parameter[self.simple_knots], self.knot_multiplicity != 1)
 
     def removable_mask(self):
         """Which simple knots may be removed (not the seam knot 0 of an outline without corners, nor a jump

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._pixel_corners import outline_pixel_corners
-from .geometry import edge_table
+from . import _kernels
 from .tips import MAX_TIP_REACH, tip_estimates
 
 __all__ = ["RotatedContour", "CornerTips", "thin_corners", "curvature_knots", "crack_normals"]
@@ -44,22 +44,13 @@ class RotatedContour:
         # numpy.roll(points, -rotation, axis=0), and the first point again at the end
         self.closed_points = np.concatenate([points[self.rotation:], points[: self.rotation + 1]])
         self.points = self.closed_points[:-1]
-        self.edges = edge_table(self.closed_points)
-        self.arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(self.closed_points, axis=0).T))])
-        self.perimeter = float(self.arc[-1])
         self.corner_bounds = np.append((corners - self.rotation) % n, n) if count else np.array([0, n])
         self.piece_count = self.corner_bounds.shape[0] - 1
-        self.piece_of_point = np.clip(np.searchsorted(self.corner_bounds, np.arange(n + 1), side="right") - 1, 0,
-                                      self.piece_count - 1)
-        if count:
-            corner_arc = self.arc[self.corner_bounds]  # includes the period end (= corner 0)
-            k = np.clip(np.searchsorted(corner_arc, self.arc), 1, corner_arc.shape[0] - 1)
-            left, right = self.arc - corner_arc[k - 1], corner_arc[k] - self.arc
-            self.corner_distance = np.minimum(left, right)
-            self.nearest_corner = np.where(left <= right, k - 1, k) % count
-        else:
-            self.corner_distance = np.full(n + 1, np.inf)
-            self.nearest_corner = np.zeros(n + 1, dtype=np.int64)
+        # the edge table (geometry.edge_table), the arc lengths, and per point its piece and nearest corner (the
+        # period end is corner 0) with the arc length to it, in one compiled pass
+        self.edges, self.arc, self.piece_of_point, self.corner_distance, self.nearest_corner = \
+            _kernels.contour_tables(self.closed_points, self.corner_bounds, count)
+        self.perimeter = float(self.arc[-1])
 
     def point_at_arc(self, arc):
         """Points of the contour polyline at arc lengths ``arc`` (in ``[0, perimeter]``)."""
@@ -151,21 +142,9 @@ def corner_radii(contour, corner_radius):
     """Per corner: the arc length (px) over which the pixel data near the corner is truncated, about
     ``corner_radius / tan(theta / 2)`` for the interior angle ``theta`` measured on the contour (chords to
     the points ``min(6, 0.4 piece)`` px away on both sides), clipped to ``[1, 3 corner_radius]`` and to a fifth
-    of either neighbouring piece (most of a short piece still carries weight). Returns (radius, theta)."""
-    arc, perimeter, bounds = contour.arc, contour.perimeter, contour.corner_bounds
-    corner_arc = arc[bounds[:-1]]
-    piece_len = np.diff(arc[bounds])
-    before = np.concatenate([piece_len[-1:], piece_len[:-1]])  # numpy.roll(piece_len, 1)
-    q_back = contour.point_at_arc((corner_arc - np.minimum(6.0, 0.4 * before)) % perimeter)
-    q_fwd = contour.point_at_arc((corner_arc + np.minimum(6.0, 0.4 * piece_len)) % perimeter)
-    corner = contour.points.take(bounds[:-1] % contour.size, axis=0)
-    a, b = q_back - corner, q_fwd - corner
-    cos = np.einsum("kd,kd->k", a, b) / np.maximum(np.hypot(*a.T) * np.hypot(*b.T), 1e-300)
-    theta = np.arccos(np.clip(cos, -1.0, 1.0))
-    radius = corner_radius / np.maximum(np.tan(0.5 * theta), 1e-6)
-    radius = np.clip(radius, 1.0, 3.0 * corner_radius) if corner_radius > 0 else np.zeros(contour.corner_count)
-    radius = np.minimum(radius, 0.2 * np.minimum(before, piece_len))
-    return radius, theta
+    of either neighbouring piece (most of a short piece still carries weight). Returns (radius, theta) (one compiled
+    pass, :func:`~._kernels.corner_radii`)."""
+    return _kernels.corner_radii(contour.arc, contour.closed_points, contour.corner_bounds, corner_radius)
 
 
 def thin_corners(points, corners, min_gap, pixel_corners=None):
@@ -200,42 +179,23 @@ def thin_corners(points, corners, min_gap, pixel_corners=None):
 def _smoothed_curvature(contour):
     """Curvature rate per contour point: the turn of the chord directions (chords over +-4 contour steps)
     between +-4 steps, per arc length, averaged over +-8 steps (the staircase of a straight side turns both
-    ways); rates below :data:`SEED_MIN_CURVATURE` count as straight."""
-    n, points, arc, perimeter = contour.size, contour.points, contour.arc, contour.perimeter
-    a = 4  # (callers have n >= 16 points: the wrapped copies below hold every (i +- a) % n)
+    ways); rates below :data:`SEED_MIN_CURVATURE` count as straight (compiled, :func:`~._kernels.seed_knots`;
+    callers have n >= 16 points)."""
+    return _seed_knots(contour, 1.0, 1.0, 1, 0)
 
-    def ahead_less_behind(values):  # values[(i + a) % n] - values[(i - a) % n] per point i
-        wrapped = np.concatenate([values[n - a:], values, values[:a]])
-        return wrapped[2 * a:] - wrapped[:-2 * a]
-    chord = ahead_less_behind(points)
-    turn = ahead_less_behind(np.arctan2(chord[:, 1], chord[:, 0]))
-    turn = (turn + np.pi) % (2.0 * np.pi) - np.pi
-    # the arc lengths a points ahead and behind, across the seam continued by the perimeter
-    ahead = np.concatenate([arc[a:n], perimeter + arc[:a]])
-    behind = np.concatenate([arc[n - a:n] - perimeter, arc[:n - a]])
-    kappa = turn / np.maximum(ahead - behind, 1e-9)
-    width = 8
-    padded = np.concatenate([kappa[-width:], kappa, kappa[:width]])
-    box = np.concatenate([[0.0], np.cumsum(padded)])
-    kappa = np.abs(box[2 * width + 1:] - box[: -2 * width - 1]) / (2 * width + 1)
-    kappa[kappa < SEED_MIN_CURVATURE] = 0.0
-    return kappa
+
+def _seed_knots(contour, density, epsilon, min_gap, stage, seeds=_kernels._NO_INTS):
+    n = contour.size
+    return _kernels.seed_knots(contour.points, contour.arc, contour.perimeter, contour.corner_distance[:n],
+                               contour.corner_count > 0, contour.corner_bounds, seeds, density, epsilon, min_gap,
+                               SEED_MIN_CURVATURE, stage)
 
 
 def knot_density_integral(contour, density, epsilon):
     """The integral of :func:`curvature_knots`' knot density ``(density kappa^3 / epsilon)^(1/4)`` along the contour
     up to each point (``n + 1`` values, from 0), ``kappa`` the :func:`_smoothed_curvature`, 0 within 6 px of a
     corner."""
-    n = contour.size
-    kappa = _smoothed_curvature(contour)
-    # the density where it is not 0 (about half the points: straight runs and the corners' ends; the powers are
-    # the costly part)
-    bent = kappa != 0.0
-    if contour.corner_count:
-        bent &= ~(contour.corner_distance[:n] < 6.0)
-    lam = np.zeros(n)
-    lam[bent] = (density * kappa[bent] ** 3 / epsilon) ** 0.25
-    return np.concatenate([[0.0], np.cumsum(lam * np.diff(contour.arc))])
+    return _seed_knots(contour, density, epsilon, 1, 1)
 
 
 def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
@@ -249,27 +209,13 @@ def curvature_knots(contour, simple_knots, density, epsilon, min_gap):
     total over ``floor(total) + 1`` (equidistributed error, de Boor's knot placement), at most one per
     contour step; ``kappa`` is :func:`_smoothed_curvature`, and contour points within 6 px of a corner are
     left out (the corner's pieces end there). ``density = 0`` keeps the corners as the only knots (four
-    equally spaced knots on an outline without corners)."""
+    equally spaced knots on an outline without corners). The knots at least ``min_gap`` steps from the ends of
+    their piece and after the knot before them, with ``simple_knots`` (the seam knot 0 without corners); one
+    compiled pass from the contour to the knots (:func:`~._kernels.seed_knots`)."""
     if density <= 0 or contour.size < 16:
         return None
-    cum = knot_density_integral(contour, density, epsilon)
-    new = [simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64)]  # no corners: seam knot 0
-    bounds = contour.corner_bounds
-    # every piece at once: its targets cum[first] + total * i / (count + 1), i = 1 .. count, each searched in the
-    # piece's own span of ``cum`` (the same values, element by element, as piece by piece)
-    first, last = bounds[:-1], bounds[1:]
-    total = cum[last] - cum[first]
-    count = np.minimum(np.floor(total), last - first).astype(np.int64)
-    count[count < 1] = 0
-    piece = np.repeat(np.arange(first.shape[0]), count)
-    within = np.arange(piece.shape[0]) - np.repeat(np.cumsum(count) - count, count) + 1  # 1 .. count per piece
-    targets = cum[first][piece] + total[piece] * within / (count[piece] + 1)
-    low, high = first[piece], last[piece]
-    j = np.searchsorted(cum, targets)  # the piece's span of cum from its first point on, its last value included
-    j = np.clip(j, low, high + 1)
-    new.append(j[(j - low >= min_gap) & (high - j >= min_gap)])
-    merged = np.unique(np.concatenate(new)).astype(np.int64)
-    merged = merged[np.diff(merged, prepend=-min_gap) >= min_gap]  # at least min_gap steps apart
+    merged = _seed_knots(contour, density, epsilon, min_gap, 2,
+                         simple_knots if contour.corner_count else np.zeros(1, dtype=np.int64))
     if contour.corner_count or merged.shape[0] >= 4:  # a periodic spline needs four knots
         return merged
     return None
@@ -279,11 +225,5 @@ def crack_normals(points):
     """Per point of a crack outline (midpoints of unit pixel edges, pixel corners on integers), the unit normal
     of its crack: ``(1, 0)`` for a vertical crack (integer x, half-integer y), ``(0, 1)`` for a horizontal one;
     the pixel centres on both sides lie half a pixel along it. None when not every point is such a midpoint (a
-    polyline that is not a crack outline gets no pixel check)."""
-    frac = points - np.floor(points)
-    whole = (frac < 1e-9) | (frac > 1.0 - 1e-9)
-    half = np.abs(frac - 0.5) < 1e-9
-    vertical, horizontal = whole[:, 0] & half[:, 1], half[:, 0] & whole[:, 1]
-    if not (vertical | horizontal).all():
-        return None
-    return np.where(vertical[:, None], np.array([1.0, 0.0]), np.array([0.0, 1.0]))
+    polyline that is not a crack outline gets no pixel check; compiled, :func:`~._kernels.crack_normals`)."""
+    return _kernels.crack_normals(points)

@@ -137,7 +137,8 @@ class _KernelCompiler(CompilerBase):
 
     The cold compile of a trace's kernels: 0.74x in all (BENCHMARKS.md, "Session 28: cold first call"). The
     machine code is that of numba's own pipeline but for the stack slots and the order of some instructions
-    in ``_deviation_into`` and ``_fit_runs_into`` (no SSA form, no ``del`` statements); results are bit for bit."""
+    in ``_deviation_into`` and the merge's run fit (then ``_fit_runs_into``; no SSA form, no ``del`` statements);
+    results are bit for bit."""
 
     def define_pipelines(self):
         pipeline = DefaultPassBuilder.define_nopython_pipeline(self.state)
@@ -195,7 +196,8 @@ def compact(typingctx):
     operations); the compiled code is a third to a tenth of its ``-O3`` size, which LLVM optimizes and emits in
     that much less time (the cold compile of a trace's kernels: BENCHMARKS.md, "Session 24"). Only in kernels
     whose run time in a trace is negligible or no slower so (the fit's hot loops -- ``_deviation_into``,
-    ``_fit_runs_into``, ``_normal_into``, ``_hoschek_into``, the noise estimate's ``_nearest_into`` -- ran 5-15 %
+    the merge's run fit (``_fit_runs_into`` until session 30, now ``_candidates_into``), ``_normal_into``, the
+    Hoschek step (``_hoschek_into``, now in ``_step_into``), the noise estimate's ``_nearest_into`` -- ran 5-15 %
     slower and keep ``-O3``)."""
     def codegen(context, builder, signature, args):
         builder.function.attributes.add("optsize")
@@ -291,24 +293,27 @@ ensure_cache_dir()
 #: The warm-up tasks: name -> (module relative to :mod:`splinecraft.capture`, its function that compiles (empty
 #: cache) or loads the task's kernels, the kernel whose cache entry tells whether the task is cold, the task's
 #: cold compile in seconds). The seconds are CPU seconds of the task alone in a fresh process on an empty cache,
-#: numba's set-up of a process's first compile left out (a trivial kernel compiled first), median of three runs
-#: (BENCHMARKS.md, "Session 29: cold first call": measured again with the session's new kernels, the arm
-#: search's moment bounds and the pixel corners among them); they balance the processes of :func:`warm_up` with
-#: the helpers' starts below.
+#: numba's set-up of a process's first compile left out (a trivial kernel compiled first), the mean of two
+#: medians of two runs each, measured in session 30 on its machine (about 2.2x the compile time of session 29's,
+#: whose figures these replaced) with the session's new kernels: the corner tips' (a task of their own since
+#: then), tangent-jump's steps, merging's passes and the lsq rounds' (BENCHMARKS.md, "Session 30 at its end");
+#: they balance the processes of :func:`warm_up` with the helpers' starts below (which are in session 29's
+#: seconds: a tenth of a second here or there does not change the split of tasks this large).
 WARM_UP_TASKS = {
-    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 0.77),
-    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 0.82),
-    "tracer": ("_cracks", "warm_up", "_follow_into", 0.64),
-    "merge": ("fitting._merge_kernels", "warm_up", "_choose_into", 0.47),
-    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.40),
-    "corners": ("corners._jump_kernels", "warm_up", "_arm_lines_into", 0.43),
-    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.20),
-    "pixel corners": ("_pixel_corners", "warm_up", "_pixel_corners_into", 0.28),
+    "fit solves": ("fitting._kernels", "warm_up_solves", "_normal_into", 5.0),
+    "fit checks": ("fitting._kernels", "warm_up_checks", "_deviation_into", 3.2),
+    "tips": ("fitting._tip_kernels", "warm_up", "_tip_into", 2.9),
+    "tracer": ("_cracks", "warm_up", "_follow_into", 1.35),
+    "merge": ("fitting._merge_kernels", "warm_up", "_choose_into", 3.4),
+    "noise": ("fitting._iso_kernels", "warm_up", "_nearest_into", 0.85),
+    "corners": ("corners._jump_kernels", "warm_up", "_corners_into", 5.3),
+    "polygons": ("fitting.budget", "warm_up", "_polygons_into", 0.55),
+    "pixel corners": ("_pixel_corners", "warm_up", "_pixel_corners_into", 0.57),
 }
 #: The tasks every trace needs (segment merging adds ``"merge"``, tangent-jump ``"corners"`` and ``"pixel corners"``
 #: (session 29: 0.29 s, BENCHMARKS.md, "Session 29: pixel corners and noise estimate speed"); the polygons of a spent
 #: time budget compile where they are used).
-TRACE_TASKS = ("fit solves", "fit checks", "tracer", "noise")
+TRACE_TASKS = ("fit solves", "fit checks", "tips", "tracer", "noise")
 #: Seconds by which a helper process finishes later than this process with the same share, in the units of
 #: :data:`WARM_UP_TASKS`: the helper's start to the end of numba's set-up of its first compile (Python, numpy,
 #: numba and its kernel modules imported, 0.37 s CPU since session 25: no scipy.linalg for numba's BLAS check,
@@ -330,7 +335,7 @@ HELPER_START = -0.05
 #: arm search in the helper) gave the cold first trace 0.93x the wall ("Session 29: cold first call").
 FORKED_HELPER_START = -0.25
 #: The most splits :func:`plan` tries one by one (``processes ** len(cold)``); more are split longest first. 8192
-#: since session 29: all eight tasks on three processes, 6561 splits, 4 ms.
+#: since session 29: all eight tasks on three processes, 6561 splits, 4 ms (the nine of session 30 on two: 512).
 EXACT_PLAN_SPLITS = 8192
 #: Seconds this process waits for a helper before it stops it and compiles the helper's tasks itself.
 HELPER_TIMEOUT = 600.0
@@ -379,7 +384,7 @@ def plan(cold, processes, late=None):
     which starts ``late`` seconds late, by default :data:`HELPER_START`): the split whose finish times, largest
     first, are the least (so the earliest last finish, and no process idle while another has a task it could
     have taken). Every
-    split is tried when there are at most :data:`EXACT_PLAN_SPLITS` (a trace's seven tasks on two processes: 128);
+    split is tried when there are at most :data:`EXACT_PLAN_SPLITS` (a trace's eight tasks on two processes: 256);
     beyond, longest first, each to the process that would finish it earliest. Longest first alone splits the
     trace's tasks 3.25 : 3.0 s on two processes where 3.1 : 3.15 exists."""
     processes = max(1, processes)

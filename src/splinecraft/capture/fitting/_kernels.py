@@ -1356,7 +1356,6 @@ def warm_up_solves():
     crack_normals(np.full((1, 2), 0.5))
     contour_tables(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [0.0, 0.0]]), np.array([0, 2, 3]), 2)
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
-    __import__(__package__ + "._tip_kernels", fromlist=["warm_up"]).warm_up()  # the corner tips' (tips.py)
 
 
 def warm_up_checks():

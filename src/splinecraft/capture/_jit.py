@@ -48,7 +48,8 @@ from numba.core.types.functions import BaseFunction
 from numba.core.untyped_passes import InlineClosureLikes, ReconstructSSA
 from numba.extending import intrinsic
 
-__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "ensure_cache_dir", "warm_up",
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "insertion_sort", "ensure_cache_dir",
+           "warm_up",
            "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
 
 
@@ -261,6 +262,20 @@ def pyclip(typingctx, x, lo, hi):
                               operator.gt)
         return _pick(context, builder, low_type, low, signature.args[2], values[2], operator.lt)[1]
     return unified(*args), codegen
+
+
+@numba.njit(**HELPER_OPTIONS)
+def insertion_sort(values, count):
+    """Sort ``values[:count]`` in place, ascending, for kernels (an insertion sort: the few dozen values of a
+    flank, knots that come nearly sorted); equal values keep their order."""
+    compact()  # optimized for size, as its callers are (compact)
+    for i in range(1, count):
+        value = values[i]
+        j = i - 1
+        while j >= 0 and values[j] > value:
+            values[j + 1] = values[j]
+            j -= 1
+        values[j + 1] = value
 
 
 def _writable(folder) -> bool:

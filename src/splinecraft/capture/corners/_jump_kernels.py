@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, insertion_sort, pyclip, pymax, pymin
 
 __all__ = ["arm_lines", "corners_of", "resample", "starts_of", "union_drops", "warm_up"]
 
@@ -331,13 +331,7 @@ def _sorted_median(values, count):
     """The median of ``values[:count]`` (sorted here in place, ``count`` > 0) as numpy's ``np.median`` and
     ``np.nanmedian`` compute it: the middle value, or the mean ``(a + b) / 2`` of the two middle ones."""
     compact()  # optimized for size, as its callers are (_jit.compact)
-    for i in range(1, count):  # insertion sort: a flank has a few dozen values
-        value = values[i]
-        j = i - 1
-        while j >= 0 and values[j] > value:
-            values[j + 1] = values[j]
-            j -= 1
-        values[j + 1] = value
+    insertion_sort(values, count)  # a flank has a few dozen values
     half = count // 2
     low = half if count % 2 else half - 1
     return (values[low] + values[half]) / 2

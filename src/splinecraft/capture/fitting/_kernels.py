@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pyclip, pymax, pymin
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, insertion_sort, pyclip, pymax, pymin
 
 __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "spline_values", "fit_step", "hoschek_update",
            "windowed_distance", "eval_bezier",
@@ -672,13 +672,7 @@ def _seed_knots_into(points, arc, perimeter, corner_distance, cornered, bounds, 
             if j - first >= min_gap and last - j >= min_gap:
                 out[count] = j
                 count += 1
-    for k in range(1, count):  # sorted (an insertion sort: the knots come nearly sorted), then each once
-        value = out[k]
-        i = k - 1
-        while i >= 0 and out[i] > value:
-            out[i + 1] = out[i]
-            i -= 1
-        out[i + 1] = value
+    insertion_sort(out, count)  # sorted (the knots come nearly sorted), then each once
     unique = np.int64(0)
     for k in range(count):
         if k == 0 or out[k] != out[k - 1]:

@@ -1330,14 +1330,14 @@ def _tiny_fit():
 
 def warm_up_solves():
     """The first half of :func:`warm_up`: the normal equations, their solve, the spline's values, the
-    parameter correction, the first knots and the separating line's slope search of extrapolated tips. (Bézier evaluation,
+    parameter correction and the first knots (the separating line's slope search of extrapolated tips compiles with
+    its caller, the tips' warm-up task: ``_tip_kernels.warm_up``). (Bézier evaluation,
     :func:`eval_bezier`, is the kernel of :func:`curve_points`: :func:`warm_up_checks` compiles it once, where
     both halves compiled it when they ran in separate processes.)"""
     full, u, bez, starts, ends, index = _tiny_fit()
     normal_equations(full, u, np.ones(10), np.ones((10, 2)), 7, 1e-8, np.array([0.5, 6.0]))
     fit_step(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]), np.ones((2, 2)), np.array([0.5, 1.5]),
              np.ones((2, 2)), index, 1, 1.0, (np.zeros(2), np.full(2, 2.0), np.zeros(2, np.bool_), np.zeros(2)))
-    separating_slope(np.zeros(2), np.ones(2), np.zeros(2), np.zeros(2), np.linspace(-1.0, 1.0, 17), 0.1, 2)
     seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
                1.0, 1.0, 1, 0.0)
     knot_vector(np.array([0.0]), np.array([2.0, 3.0]), np.ones(2, np.int64), 7.0)

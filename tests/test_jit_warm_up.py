@@ -358,11 +358,12 @@ print(json.dumps({"svg": svg, "last": _jit.LAST_WARM_UP, "cached": {name: _jit.i
 
 @pytest.mark.parametrize("fork", ["1", "0"])
 def test_cold_first_trace_compiles_in_two_processes_with_the_same_result(tmp_path, fork):
-    """A fresh process on an empty cache: a helper (forked, or with ``SPLINECRAFT_JIT_FORK=0`` a fresh
+    """A fresh process on an empty cache that does not interpret its first trace (``SPLINECRAFT_JIT_INTERPRET=0``,
+    as a bitmap too large to interpret): a helper (forked, or with ``SPLINECRAFT_JIT_FORK=0`` a fresh
     interpreter) compiles part of the cold kernels, the trace is the one this (warm) process makes, and the
     cache then holds every kernel the trace needed."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="2", SPLINECRAFT_JIT_FORK=fork,
-               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
+               SPLINECRAFT_JIT_INTERPRET="0", PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
     done = subprocess.run([sys.executable, "-c", _COLD_TRACE], capture_output=True, text=True, env=env,
                           timeout=600, check=True)
     child = json.loads(done.stdout.strip().splitlines()[-1])

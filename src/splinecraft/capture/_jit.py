@@ -23,6 +23,7 @@ parallel".
 from __future__ import annotations
 
 import gc
+import hashlib
 import importlib
 import inspect
 import itertools
@@ -47,6 +48,8 @@ from numba.core.typed_passes import IRLegalization, NopythonRewrites, PreLowerSt
 from numba.core.types.functions import BaseFunction
 from numba.core.untyped_passes import InlineClosureLikes, ReconstructSSA
 from numba.extending import intrinsic
+
+from . import _interpreted
 
 __all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "insertion_sort", "ensure_cache_dir",
            "warm_up",
@@ -264,6 +267,24 @@ def pyclip(typingctx, x, lo, hi):
     return unified(*args), codegen
 
 
+def _clip(x, lo, hi):
+    """``min(max(x, lo), hi)`` in one call, as :func:`pyclip` picks: ``lo`` where ``lo > x``, then ``hi`` where
+    ``hi`` is smaller."""
+    low = lo if lo > x else x
+    return hi if hi < low else low
+
+
+def _nothing():
+    return None
+
+
+# what runs in their place when the kernels are interpreted (_interpreted): the builtins whose instructions they emit
+_interpreted.stand_in(pymin, min)
+_interpreted.stand_in(pymax, max)
+_interpreted.stand_in(pyclip, _clip)
+_interpreted.stand_in(compact, _nothing)
+
+
 @numba.njit(**HELPER_OPTIONS)
 def insertion_sort(values, count):
     """Sort ``values[:count]`` in place, ascending, for kernels (an insertion sort: the few dozen values of a
@@ -356,7 +377,7 @@ EXACT_PLAN_SPLITS = 8192
 HELPER_TIMEOUT = 600.0
 #: What the last :func:`warm_up` of this process did: the tasks found cold, the tasks of each helper, the
 #: helpers that failed (their tasks compiled here), and which helpers were forked (:func:`_fork_helper`).
-LAST_WARM_UP = {"cold": [], "helpers": [], "failed": [], "forked": []}
+LAST_WARM_UP = {"cold": [], "helpers": [], "failed": [], "forked": [], "interpreted": False}
 
 _DONE = set()
 _LOCK = threading.Lock()
@@ -433,11 +454,12 @@ def _function(name):
 
 def _sentinel(name):
     module, _, kernel, _ = WARM_UP_TASKS[name]
-    return getattr(importlib.import_module("splinecraft.capture." + module), kernel)
+    return _interpreted.compiled(getattr(importlib.import_module("splinecraft.capture." + module), kernel))
 
 
 #: The helper's program: it exits when this process is gone (a watcher thread compares its parent's pid, so an
-#: interrupted or killed trace leaves no compiler behind), then runs its tasks, without Python's cyclic garbage
+#: interrupted or killed trace leaves no compiler behind; not so a background compile, :func:`_start_background`,
+#: which finishes the cache for the next process), then runs its tasks, without Python's cyclic garbage
 #: collector (:func:`warm_up`) and without the interpreter's teardown. It imports the kernel modules of its
 #: tasks and what they import, not the packages around them: ``splinecraft``, ``capture``, ``fitting`` and
 #: ``corners`` are registered as bare packages (their folder, no ``__init__``), which halves the helper's start
@@ -447,11 +469,24 @@ _HELPER_CODE = """
 import gc, os, sys, threading, time
 gc.disable()  # the helper imports, compiles and exits: its garbage is never worth collecting
 parent = int(sys.argv[1])
+background = os.environ.pop("SPLINECRAFT_JIT_BACKGROUND", "")
 def watch():
     while os.getppid() == parent:
         time.sleep(0.2)
     os._exit(3)
-threading.Thread(target=watch, daemon=True).start()
+if background:  # a background compile (_start_background): it outlives its parent, at a lower priority, one at a time
+    try:
+        os.nice(10)
+    except (AttributeError, OSError):
+        pass
+    try:
+        import fcntl
+        lock = open(background, "a")
+        fcntl.flock(lock, fcntl.LOCK_EX)  # held until the process ends; another process's compile goes first
+    except (ImportError, OSError):
+        pass
+else:
+    threading.Thread(target=watch, daemon=True).start()
 import types
 for package in ("splinecraft", "splinecraft.capture", "splinecraft.capture.fitting", "splinecraft.capture.corners"):
     bare = types.ModuleType(package)  # the package without its __init__: the kernel modules' imports only
@@ -486,11 +521,16 @@ def _start_helper(names):
     return helper if helper is not None else _spawn_helper(names)
 
 
-def _spawn_helper(names):
+def _spawn_helper(names, background=None):
     """A fresh interpreter that runs the warm-up tasks ``names`` (:data:`_HELPER_CODE`); None when it cannot
-    start."""
+    start. ``background``: the lock file of a background compile (:func:`_start_background`), which runs in a
+    session of its own and does not stop with this process."""
     here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # the folder of this package
     env = dict(os.environ, SPLINECRAFT_JIT_WORKERS="1")
+    if background:
+        env["SPLINECRAFT_JIT_BACKGROUND"] = background
+    else:
+        env.pop("SPLINECRAFT_JIT_BACKGROUND", None)
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [here, os.environ.get("PYTHONPATH", "")]))
     if numba.config.CACHE_DIR:
         env["NUMBA_CACHE_DIR"] = numba.config.CACHE_DIR
@@ -498,7 +538,8 @@ def _spawn_helper(names):
     # hold another splinecraft (or numpy, numba ...) than this process's
     try:
         return subprocess.Popen([sys.executable, "-c", _HELPER_CODE, str(os.getpid()), *names], cwd=here, env=env,
-                                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                start_new_session=bool(background))
     except (OSError, TypeError, ValueError):  # no interpreter to start (an embedded Python), a bad path
         return None
 
@@ -633,7 +674,83 @@ def _stop(helper):
         helper.wait()
 
 
-def warm_up(tasks=TRACE_TASKS):
+#: The background compile while the kernels are interpreted (:func:`warm_up` with ``interpret=True``): its
+#: process, or None. ``_BACKGROUND_FAILED``: one ended without filling the cache, so this process compiles instead.
+_BACKGROUND = None
+_BACKGROUND_FAILED = False
+_BACKGROUND_TASKS = []
+
+
+def _help_background(todo):
+    """Compile or load the warm-up tasks ``todo`` while the background compile goes on: in the reverse of its order,
+    so the two processes work from the two ends of the list (numba loads what the other has cached: a task the
+    background has compiled is loaded, and the background loads what this process compiles). At most the task both
+    reach at the same time is compiled twice. The background then finishes the tasks of no trace of this process
+    for the next ones."""
+    order = {name: index for index, name in enumerate(_BACKGROUND_TASKS)}
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        for name in sorted(todo, key=lambda task: -order.get(task, len(order))):
+            _function(name)()
+            _DONE.add(name)
+    finally:
+        if collecting:
+            gc.enable()
+
+
+def may_interpret() -> bool:
+    """Whether :func:`warm_up` may run cold kernels interpreted while a background process compiles them: not when
+    ``SPLINECRAFT_JIT_INTERPRET=0`` (then the first trace waits for the compile, as before session 31), nor under
+    ``NUMBA_DISABLE_JIT`` (nothing compiles)."""
+    return os.environ.get("SPLINECRAFT_JIT_INTERPRET", "").strip() != "0" and not numba.config.DISABLE_JIT
+
+
+def interpreting() -> bool:
+    """Whether the kernels run interpreted now (:mod:`._interpreted`), while a background process compiles them."""
+    return _interpreted.active()
+
+
+def _lock_file() -> str:
+    """The file whose lock a background compile holds (:data:`_HELPER_CODE`): one per user, package folder and
+    numba cache folder, so two processes that start on a cold cache compile one after the other, the second only
+    loading what the first compiled."""
+    here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    key = hashlib.sha1(f"{here}\0{numba.config.CACHE_DIR or ''}".encode()).hexdigest()[:16]
+    user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
+    return os.path.join(tempfile.gettempdir(), f"splinecraft-jit-{user}-{key}.lock")
+
+
+def _start_background(names):
+    """A fresh interpreter that compiles the warm-up tasks ``names`` into the cache in the background
+    (:func:`_spawn_helper` with a lock file): in a session of its own, at a lower priority (``nice`` 10), and it
+    finishes even when this process ends first (a one-trace command line fills the cache for the next). A
+    thread of this process puts the compiled kernels back in place as soon as it ends (:func:`_back_to_compiled`).
+    None when it cannot start."""
+    helper = _spawn_helper(names, background=_lock_file())
+    if helper is not None:
+        threading.Thread(target=_await_background, args=(helper,), daemon=True,
+                         name="splinecraft-kernel-compile").start()
+    return helper
+
+
+def _await_background(helper):
+    helper.wait()
+    _back_to_compiled(helper)
+
+
+def _back_to_compiled(helper):
+    """The compiled kernels back in place of the interpreted ones once ``helper`` (the background compile) has
+    ended; they load from the cache at their first call (or compile there, if the helper failed)."""
+    global _BACKGROUND, _BACKGROUND_FAILED
+    with _interpreted._LOCK:
+        if _BACKGROUND is helper:
+            _BACKGROUND = None
+            _BACKGROUND_FAILED = helper.returncode != 0
+            _interpreted.restore()
+
+
+def warm_up(tasks=TRACE_TASKS, interpret=False):
     """Compile (empty cache) or load the kernels of the warm-up ``tasks`` (names of :data:`WARM_UP_TASKS`),
     each once per process. When two or more of them are cold and :func:`workers` allows, helper processes
     compile part of them at the same time (:func:`plan`); this process waits for them and loads their kernels
@@ -643,21 +760,45 @@ def warm_up(tasks=TRACE_TASKS):
     makes some 10^5 short-lived cyclic objects per task, and the collections they trigger (full ones among
     them, which walk every object of the process) cost about 10 % of a cold compile. Their garbage is
     collected while this process waits for a helper that is still compiling, else by the next automatic
-    collection."""
+    collection.
+
+    ``interpret=True`` (a trace of a small bitmap, :func:`splinecraft.trace`): when some of the ``tasks`` are cold,
+    this process does not compile: a background process (:func:`_start_background`) compiles every cold task, the
+    ``tasks`` first, while this process runs the kernels interpreted (:mod:`._interpreted`: their Python source, the
+    same results) until it ends; a later call with ``interpret=False`` waits for it. Returns whether the kernels
+    are interpreted now."""
+    global _BACKGROUND
+    unknown = [name for name in tasks if name not in WARM_UP_TASKS]
+    if unknown:
+        raise ValueError(f"unknown warm-up tasks {unknown}; known: {sorted(WARM_UP_TASKS)}")
     with _LOCK:
         todo = [name for name in dict.fromkeys(tasks) if name not in _DONE]
-        unknown = [name for name in todo if name not in WARM_UP_TASKS]
-        if unknown:
-            raise ValueError(f"unknown warm-up tasks {unknown}; known: {sorted(WARM_UP_TASKS)}")
+        helper = _BACKGROUND
+        if helper is not None:  # a trace of this process ran interpreted, and the background compile goes on
+            _interpreted.restore()  # this call runs the compiled kernels
+            if todo:
+                _help_background(todo)
+            return False
         if not todo:
-            return
+            return False
         cold = [name for name in todo if not is_cached(_sentinel(name))]
+        if cold and interpret and may_interpret() and not _BACKGROUND_FAILED:
+            everything = cold + [name for name in WARM_UP_TASKS if name not in cold and name not in _DONE
+                                 and not is_cached(_sentinel(name))]
+            for name in WARM_UP_TASKS:  # every kernel module imported: all of them are interpreted
+                _sentinel(name)
+            helper = _start_background(everything)
+            if helper is not None:
+                _BACKGROUND, _BACKGROUND_TASKS[:] = helper, everything
+                _interpreted.interpret()
+                LAST_WARM_UP.update(cold=cold, helpers=[everything], failed=[], forked=[False], interpreted=True)
+                return True
         processes = 1 if numba.config.DISABLE_JIT else min(workers(), len(cold))
         late = FORKED_HELPER_START if _can_fork() else HELPER_START
         shares = plan(cold, processes, late) if processes > 1 else [cold]
         helpers = [(share, _start_helper(share)) for share in shares[1:] if share]
         LAST_WARM_UP.update(cold=cold, helpers=[share for share, _ in helpers], failed=[],
-                            forked=[isinstance(helper, _Forked) for _, helper in helpers])
+                            forked=[isinstance(helper, _Forked) for _, helper in helpers], interpreted=False)
         theirs = {name for share, _ in helpers for name in share}
         collecting = gc.isenabled()
         gc.disable()

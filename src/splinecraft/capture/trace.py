@@ -64,7 +64,7 @@ import time
 import numpy as np
 
 from .. import _validation
-from . import _jit
+from . import _interpreted, _jit
 from .contour import Boundaries, check_connectivity, trace_boundaries
 from .trace_stats import trace_stats
 from .corners import CAPTURE_DEFAULT as CORNER_CAPTURE_DEFAULT
@@ -279,99 +279,138 @@ def trace(
         tasks += ("merge",)  # where segment merging runs (the default of lsq; merge_tolerance=0 turns it off)
     if settings["corner_method"] == "tangent-jump":
         tasks += ("corners", "pixel corners")
-    _jit.warm_up(tasks)
-    warmed = time.perf_counter()
-    key = (stages.mask_key(mask), connectivity, min_speck_area is None)
-    (mask, boundaries, notes, pinholes), _ = stages.remember(
-        "boundaries", key, lambda: _boundaries(mask, connectivity, min_speck_area, invert))
-    traced = time.perf_counter()
-    deadline = Deadline(time_budget)  # corner detection gets the first half of the budget
-    key = (key, contour, _small_limit(settings), settings["corner_method"], settings["corner_params"], time_budget)
-    corner_deadline = Deadline(None if time_budget is None else time_budget / 2)
-    (points_list, corner_list, pixel_list, small, times, undetected, contour_notes), cached = stages.remember(
-        "contours", key, lambda: _contours(boundaries, settings, corner_deadline),
-        keep=lambda found: not found[5].any())  # kept only when every boundary got its corners
-    notes += contour_notes
-    if cached:
-        times[:] = 0.0  # no corner detection in this call
-    detected = time.perf_counter()
-    # measured on the boundaries that got their corners: a boundary the corner deadline left without them
-    # would count its corners as noise (the blurred iso-line cuts every corner)
-    with_corners = np.flatnonzero(~undetected).tolist()
+    # a small bitmap on a cold kernel cache: the kernels interpreted while a background process compiles them
+    # (_jit.warm_up, capture._interpreted), the same results; without the time budget, which the interpreter's
+    # pace would spend where the compiled kernels' does not (a bitmap this small takes milliseconds compiled)
+    interpreted = _jit.warm_up(tasks, interpret=_interpretable(mask))
 
-    def measure_noise():
-        if noise_factor <= 0:
-            return 0.0, {}, True
-        noise = boundary_noise(mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
-        return (noise, *_coarse_corners(points_list, noise, undetected, settings, corner_deadline))
+    def run(mask, budget, interpreted):
+        warmed = time.perf_counter()
+        key = (stages.mask_key(mask), connectivity, min_speck_area is None)
+        (mask, boundaries, notes, pinholes), _ = stages.remember(
+            "boundaries", key, lambda: _boundaries(mask, connectivity, min_speck_area, invert))
+        traced = time.perf_counter()
+        deadline = Deadline(budget)  # corner detection gets the first half of the budget
+        key = (key, contour, _small_limit(settings), settings["corner_method"], settings["corner_params"], budget)
+        corner_deadline = Deadline(None if budget is None else budget / 2)
+        (points_list, corner_list, pixel_list, small, times, undetected, contour_notes), cached = stages.remember(
+            "contours", key, lambda: _contours(boundaries, settings, corner_deadline),
+            keep=lambda found: not found[5].any())  # kept only when every boundary got its corners
+        notes += contour_notes
+        if cached:
+            times[:] = 0.0  # no corner detection in this call
+        detected = time.perf_counter()
+        # measured on the boundaries that got their corners: a boundary the corner deadline left without them
+        # would count its corners as noise (the blurred iso-line cuts every corner)
+        with_corners = np.flatnonzero(~undetected).tolist()
 
-    (noise, coarse, _), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
-                                            keep=lambda found: not undetected.any() and found[2])
-    corner_scale = np.ones(len(points_list))
-    lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
-    chosen_scale = float(settings["corner_params"].get("scale", 1.0)) \
-        if settings["corner_method"] == "tangent-jump" else 1.0
-    if chosen_scale != 1.0:     # the caller's scale: every boundary whose corners were detected
-        corner_scale[lengths >= min(_small_limit(settings), CORNERLESS_CONTOUR)] = chosen_scale  # as _contours
-        corner_scale[undetected] = 1.0
-    for k, (scale, found) in coarse.items():
-        corner_scale[k], corner_list[k] = scale, found
-    if noise > CLEAN_NOISE:     # at this noise the square end of a 1-2 px stroke is a speck's: not a pixel corner
-        _drop_stroke_end_corners(corner_list, pixel_list, corner_scale, lengths)
-    if coarse:
-        scales = corner_scale[list(coarse)]
-        notes.append(f"boundary noise {noise:.2f} px: the corners of {len(coarse)} boundar"
-                     f"{'y' if len(coarse) == 1 else 'ies'} detected at a coarser scale ({scales.min():g}"
-                     f"{'' if scales.min() == scales.max() else f'-{scales.max():g}'} px, corners.detection_scale; "
-                     "corner_params={'scale': 1} keeps the pixel scale)")
-    if not undetected.any():  # the budget covers corners and fits, not the noise estimate, unless it is spent
-        deadline.extend(time.perf_counter() - detected)  # already (noise images: the cap is what matters)
-    settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
-    # a boundary seen at the coarser scale k is fitted as the clean staircase it is there: the default epsilon
-    # (or the caller's smaller one) in units of k, not a multiple of a raised epsilon
-    tolerances = np.maximum(settings["tolerance"], corner_scale * min(settings["epsilon"], DEFAULT_EPSILON))
-    if settings["tolerance"] > settings["epsilon"]:
-        notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
-                     f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
-    tips = _resolve_tips(settings, noise)
-    if tips is False and settings["options"]["geometric_corners"] == "clean":
-        notes.append(f"boundary noise {noise:.2f} px: corner tips follow the pixels (geometric_corners='clean' "
-                     f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
-    cornered = time.perf_counter()
-    with one_blas_thread():  # set once for every fit (each would set and restore it)
-        (fits, splines, polygons), budget_state, far = _fit_boundaries(points_list, corner_list, pixel_list, small,
-                                                                       settings, deadline, times, undetected,
-                                                                       tolerances, pinholes)
-    _budget_notes(budget_state, time_budget, notes, far)
-    finished = time.perf_counter()
+        def measure_noise():
+            if noise_factor <= 0:
+                return 0.0, {}, True
+            noise = boundary_noise(mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
+            return (noise, *_coarse_corners(points_list, noise, undetected, settings, corner_deadline))
 
-    merged = merge_snapshots(fits) if settings["keep_snapshots"] else []
-    stats = trace_stats(boundaries, points_list, corner_list, fits, polygons, budget_state, settings["max_iterations"])
-    for k in polygons["fitted"]:
-        entry = stats["per_boundary"][k]
-        if entry["reason"] is not None:
-            notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
-    stats["time_per_boundary_s"] = times.tolist()
-    for entry, scale, tolerance in zip(stats["per_boundary"], corner_scale.tolist(), tolerances.tolist()):
-        entry["corner_scale"], entry["tolerance"] = scale, tolerance
-    stats["boundary_noise"] = noise
-    stats["extrapolated_tips"] = tips
-    stats["tolerance"] = settings["tolerance"]
-    stats["time_s"] = finished - started
-    stats["time_breakdown"] = {
-        "load_s": loaded - started, "boundaries_s": traced - warmed,
-        "corners_s": detected - traced, "noise_s": cornered - detected, "fit_s": finished - cornered,
-    }
-    params = {
-        "epsilon": settings["epsilon"], "method": settings["method"], "corner_method": settings["corner_method"],
-        "corner_params": dict(settings["corner_params"]), "seed": settings["seed"],
-        "max_iterations": settings["max_iterations"], "connectivity": connectivity, "threshold": threshold,
-        "invert": bool(invert), "min_speck_area": min_speck_area, "tau": tau, "contour": contour,
-        "fit_params": dict(settings["fit_params"]), "noise_factor": noise_factor,
-        "time_budget": time_budget,
-    }
-    return TraceResult(mask=mask, boundaries=boundaries, points=points_list, corners=corner_list, fits=fits,
-                       splines=splines, snapshots=merged, stats=stats, params=jsonable(params), notes=notes)
+        (noise, coarse, _), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
+                                                keep=lambda found: not undetected.any() and found[2])
+        corner_scale = np.ones(len(points_list))
+        lengths = np.fromiter(map(len, points_list), np.int64, len(points_list))
+        chosen_scale = float(settings["corner_params"].get("scale", 1.0)) \
+            if settings["corner_method"] == "tangent-jump" else 1.0
+        if chosen_scale != 1.0:     # the caller's scale: every boundary whose corners were detected
+            corner_scale[lengths >= min(_small_limit(settings), CORNERLESS_CONTOUR)] = chosen_scale  # as _contours
+            corner_scale[undetected] = 1.0
+        for k, (scale, found) in coarse.items():
+            corner_scale[k], corner_list[k] = scale, found
+        if noise > CLEAN_NOISE:     # at this noise the square end of a 1-2 px stroke is a speck's: not a pixel corner
+            _drop_stroke_end_corners(corner_list, pixel_list, corner_scale, lengths)
+        if coarse:
+            scales = corner_scale[list(coarse)]
+            notes.append(f"boundary noise {noise:.2f} px: the corners of {len(coarse)} boundar"
+                         f"{'y' if len(coarse) == 1 else 'ies'} detected at a coarser scale ({scales.min():g}"
+                         f"{'' if scales.min() == scales.max() else f'-{scales.max():g}'} px, corners.detection_scale; "
+                         "corner_params={'scale': 1} keeps the pixel scale)")
+        if not undetected.any():  # the budget covers corners and fits, not the noise estimate, unless it is spent
+            deadline.extend(time.perf_counter() - detected)  # already (noise images: the cap is what matters)
+        settings["tolerance"] = noise_tolerance(settings["epsilon"], noise, noise_factor)
+        # a boundary seen at the coarser scale k is fitted as the clean staircase it is there: the default epsilon
+        # (or the caller's smaller one) in units of k, not a multiple of a raised epsilon
+        tolerances = np.maximum(settings["tolerance"], corner_scale * min(settings["epsilon"], DEFAULT_EPSILON))
+        if settings["tolerance"] > settings["epsilon"]:
+            notes.append(f"boundary noise {noise:.2f} px: fitted with the tolerance {settings['tolerance']:.2f} px "
+                         f"(noise_factor {noise_factor:g} x noise) instead of epsilon {settings['epsilon']:g}")
+        tips = _resolve_tips(settings, noise)
+        if tips is False and settings["options"]["geometric_corners"] == "clean":
+            notes.append(f"boundary noise {noise:.2f} px: corner tips follow the pixels (geometric_corners='clean' "
+                         f"extrapolates them on clean boundaries only; True extrapolates them anyway)")
+        cornered = time.perf_counter()
+        with one_blas_thread():  # set once for every fit (each would set and restore it)
+            (fits, splines, polygons), budget_state, far = _fit_boundaries(points_list, corner_list, pixel_list, small,
+                                                                           settings, deadline, times, undetected,
+                                                                           tolerances, pinholes)
+        _budget_notes(budget_state, time_budget, notes, far)
+        finished = time.perf_counter()
+
+        merged = merge_snapshots(fits) if settings["keep_snapshots"] else []
+        stats = trace_stats(boundaries, points_list, corner_list, fits, polygons, budget_state, settings["max_iterations"])
+        for k in polygons["fitted"]:
+            entry = stats["per_boundary"][k]
+            if entry["reason"] is not None:
+                notes.append(f"boundary {k} ({entry['contour_points']} points) did not converge: {entry['reason']}")
+        stats["time_per_boundary_s"] = times.tolist()
+        for entry, scale, tolerance in zip(stats["per_boundary"], corner_scale.tolist(), tolerances.tolist()):
+            entry["corner_scale"], entry["tolerance"] = scale, tolerance
+        stats["boundary_noise"] = noise
+        stats["extrapolated_tips"] = tips
+        stats["tolerance"] = settings["tolerance"]
+        stats["time_s"] = finished - started
+        stats["kernels"] = "interpreted" if interpreted else "compiled"
+        stats["time_breakdown"] = {
+            "load_s": loaded - started, "boundaries_s": traced - warmed,
+            "corners_s": detected - traced, "noise_s": cornered - detected, "fit_s": finished - cornered,
+        }
+        params = {
+            "epsilon": settings["epsilon"], "method": settings["method"], "corner_method": settings["corner_method"],
+            "corner_params": dict(settings["corner_params"]), "seed": settings["seed"],
+            "max_iterations": settings["max_iterations"], "connectivity": connectivity, "threshold": threshold,
+            "invert": bool(invert), "min_speck_area": min_speck_area, "tau": tau, "contour": contour,
+            "fit_params": dict(settings["fit_params"]), "noise_factor": noise_factor,
+            "time_budget": time_budget,
+        }
+        return TraceResult(mask=mask, boundaries=boundaries, points=points_list, corners=corner_list, fits=fits,
+                           splines=splines, snapshots=merged, stats=stats, params=jsonable(params), notes=notes)
+
+    if interpreted:
+        try:
+            return run(mask, None, True)
+        except Exception as error:  # noqa: BLE001
+            if not _interpreted.raised_in_kernel(error):
+                raise
+            # a kernel whose Python semantics differ from numba's (capture._interpreted): the compiled kernels
+            # decide, and raise what is really wrong
+            _jit.warm_up(tasks)
+    return run(mask, time_budget, False)
+
+
+#: The most cracks (pixel edges between ink and paper, :func:`_cracks_of`) of a bitmap whose first trace on a cold
+#: kernel cache runs the kernels interpreted (:func:`._jit.warm_up`, ``interpret=True``); a larger one waits for
+#: the compile. The interpreter takes 1-3 ms a crack (a 300-px glyph: 1600-2000 cracks, 2-5 s on session 31's
+#: machine), the cold compile 11.5 s on two CPUs: beyond 4000 cracks the compile is the shorter wait
+#: (BENCHMARKS.md, "Session 31: the first call interpreted").
+INTERPRET_CRACKS = 4000
+
+
+def _cracks_of(mask):
+    """The pixel edges between ink and paper of ``mask`` (bool, paper outside it)."""
+    inner = np.count_nonzero(mask[:, 1:] != mask[:, :-1]) + np.count_nonzero(mask[1:] != mask[:-1])
+    border = np.count_nonzero(mask[0]) + np.count_nonzero(mask[-1]) + np.count_nonzero(mask[:, 0]) \
+        + np.count_nonzero(mask[:, -1])
+    return int(inner + border)
+
+
+def _interpretable(mask):
+    """Whether the first trace of ``mask`` on a cold kernel cache may run the kernels interpreted
+    (:data:`INTERPRET_CRACKS`)."""
+    return _cracks_of(mask) <= INTERPRET_CRACKS
 
 
 #: Arguments of :func:`~splinecraft.capture.fitting.fit_outline` that :func:`trace` sets itself.

@@ -1336,7 +1336,7 @@ def warm_up_solves():
     both halves compiled it when they ran in separate processes.)"""
     full, u, bez, starts, ends, index = _tiny_fit()
     normal_equations(full, u, np.ones(10), np.ones((10, 2)), 7, 1e-8, np.array([0.5, 6.0]))
-    fit_step(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]), np.ones((2, 2)), np.array([0.5, 1.5]),
+    fit_step(np.ones((7, 2)), full, 7, starts, ends, np.array([0.0, 0.5]), np.ones((4, 2)), np.array([0.5, 1.5]),
              np.ones((2, 2)), index, 1, 1.0, (np.zeros(2), np.full(2, 2.0), np.zeros(2, np.bool_), np.zeros(2)))
     seed_knots(np.ones((16, 2)), np.arange(17.0), 16.0, np.zeros(16), True, np.array([0, 16]), np.zeros(1, np.int64),
                1.0, 1.0, 1, 0.0)

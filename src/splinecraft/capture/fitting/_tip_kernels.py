@@ -40,6 +40,7 @@ from numba import njit
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
+from .. import _interpreted
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pymax, pymin
 from ._kernels import _separating_slope_into
 
@@ -71,6 +72,9 @@ def _fma(typingctx, a, b, c):
         return builder.call(function, [context.cast(builder, value, kind, types.float64)
                                        for value, kind in zip(args, signature.args)])
     return types.float64(a, b, c), codegen
+
+
+_interpreted.stand_in(_fma, _interpreted.fused_multiply_add)  # the kernels interpreted (_interpreted)
 
 
 @njit(**_CALLED)

@@ -1,0 +1,156 @@
+"""The compiled kernels run by the Python interpreter: the first trace on a machine whose kernel cache is cold.
+
+Every kernel is a numba dispatcher whose Python source (``dispatcher.py_func``) is the one implementation: numba
+compiles it, and the interpreter can run it as it stands. Compiling the kernels of a trace takes 10-20 s of CPU
+on a cold cache (docs/capture.md, "Compiled kernels"), while the interpreter runs a 300-px glyph's kernels in
+about 1-3 s. So the first trace of a machine runs them interpreted while a background process compiles them into
+the cache (:func:`._jit.warm_up` with ``interpret=True``), and the traces after it load the compiled kernels as
+soon as that process is done.
+
+:func:`interpret` puts, into every ``splinecraft`` module that holds a kernel, a *clone* of it in its place: a
+plain Python function with the kernel's code whose globals are its module's with every kernel replaced by its
+clone and every intrinsic of the kernels (:func:`._jit.pymin`, :func:`._jit.pymax`, :func:`._jit.pyclip`,
+:func:`._jit.compact`, the tips' fused multiply-add) by its stand-in (:func:`stand_in`): Python code that gives the
+same value. :func:`restore` puts the kernels back. The interpreter's arithmetic is the kernels': IEEE double
+precision, no ``fastmath``, numpy's scalars where the kernels read arrays, so a trace comes out bit for bit the
+same either way (``tests/test_interpreted.py`` traces shapes both ways). A kernel whose Python semantics differ
+from numba's (a Python float divided by zero raises where numba gives ``inf``) raises instead of giving another
+value; :func:`splinecraft.trace` then runs the compiled kernels.
+"""
+from __future__ import annotations
+
+import math
+import sys
+import threading
+import types
+from fractions import Fraction
+
+from numba.core.dispatcher import Dispatcher
+
+__all__ = ["stand_in", "interpret", "restore", "active", "compiled", "raised_in_kernel", "fused_multiply_add"]
+
+#: intrinsic -> the Python function that runs in its place in interpreted kernels (:func:`stand_in`).
+_STAND_INS = {}
+#: kernel (dispatcher) -> its clone, and back, built once per process (:func:`_clones`).
+_CLONES = {}
+_KERNELS = {}
+#: The clones now in place: [(module, name)] (:func:`interpret`).
+_PLACED = []
+_LOCK = threading.RLock()
+
+
+def stand_in(intrinsic, function):
+    """Register ``function`` as what runs in place of ``intrinsic`` (a ``numba.extending.intrinsic``) when the
+    kernels are interpreted: it must return the value the intrinsic's machine code computes. Returns
+    ``intrinsic``."""
+    _STAND_INS[intrinsic] = function
+    return intrinsic
+
+
+def fused_multiply_add(a, b, c):
+    """``a * b + c`` rounded once, as LLVM's ``llvm.fma.f64``: ``math.fma`` (Python 3.13+), else the exact
+    rational value rounded to the nearest double (``Fraction`` to ``float`` rounds correctly); infinities and
+    NaNs as the plain expression gives them."""
+    a, b, c = float(a), float(b), float(c)
+    if _FMA is not None:
+        return _FMA(a, b, c)
+    if not (math.isfinite(a) and math.isfinite(b) and math.isfinite(c)):
+        return a * b + c
+    exact = Fraction(a) * Fraction(b) + Fraction(c)
+    if exact == 0:  # the sign of a zero: that of the rounded product and sum
+        return a * b + c
+    return float(exact)
+
+
+_FMA = getattr(math, "fma", None)
+
+
+def _modules():
+    return [module for name, module in list(sys.modules.items())
+            if isinstance(module, types.ModuleType) and (name == "splinecraft" or name.startswith("splinecraft."))]
+
+
+def _clones():
+    """Every kernel of the imported ``splinecraft`` modules with its clone (module docstring). Kernels of a
+    module imported later are cloned when :func:`interpret` next runs."""
+    modules = _modules()
+    found = {}
+    for module in modules:
+        for value in vars(module).values():
+            if isinstance(value, Dispatcher) and value not in _CLONES:
+                found[value] = module
+    if not found:
+        return
+    namespaces = {}
+    for kernel in found:
+        source = kernel.py_func
+        namespace = namespaces.get(id(source.__globals__))
+        if namespace is None:
+            namespace = namespaces[id(source.__globals__)] = ({}, source.__globals__)
+        clone = types.FunctionType(source.__code__, namespace[0], source.__name__, source.__defaults__,
+                                   source.__closure__)
+        clone.__kwdefaults__ = source.__kwdefaults__
+        clone.__qualname__, clone.__doc__, clone.__module__ = source.__qualname__, source.__doc__, source.__module__
+        clone.__wrapped_kernel__ = kernel
+        _CLONES[kernel], _KERNELS[clone] = clone, kernel
+    for namespace, original in namespaces.values():
+        namespace.update(original)
+        for name, value in original.items():
+            namespace[name] = _replacement(value, namespace[name])
+
+
+def _replacement(value, default):
+    try:
+        if value in _STAND_INS:
+            return _STAND_INS[value]
+        if value in _CLONES:
+            return _CLONES[value]
+    except TypeError:  # unhashable
+        pass
+    return default
+
+
+def interpret():
+    """Put every kernel's clone in its place (module docstring); the kernels' modules are imported first."""
+    with _LOCK:
+        _clones()
+        for module in _modules():
+            for name, value in list(vars(module).items()):
+                if isinstance(value, Dispatcher) and value in _CLONES:
+                    setattr(module, name, _CLONES[value])
+                    _PLACED.append((module, name))
+
+
+def restore():
+    """Put every kernel back where :func:`interpret` put its clone (also where a module imported a clone
+    meanwhile)."""
+    with _LOCK:
+        for module in _modules():
+            for name, value in list(vars(module).items()):
+                if isinstance(value, types.FunctionType) and value in _KERNELS:
+                    setattr(module, name, _KERNELS[value])
+        _PLACED.clear()
+
+
+def active() -> bool:
+    """Whether the kernels are interpreted now (:func:`interpret` without :func:`restore` since)."""
+    return bool(_PLACED)
+
+
+def raised_in_kernel(error) -> bool:
+    """Whether ``error`` was raised inside an interpreted kernel (a frame of a clone's code in its traceback)."""
+    codes = {kernel.py_func.__code__ for kernel in _CLONES}
+    trace = error.__traceback__
+    while trace is not None:
+        if trace.tb_frame.f_code in codes:
+            return True
+        trace = trace.tb_next
+    return False
+
+
+def compiled(value):
+    """The kernel of ``value`` when it is a clone, else ``value``."""
+    try:
+        return _KERNELS.get(value, value)
+    except TypeError:
+        return value

@@ -19,6 +19,11 @@ stopped, :class:`_Forked`), else a fresh interpreter that imports only the kerne
 (:data:`_HELPER_CODE`), and the split (:func:`plan`) weighs each task by its measured compile and the helper by
 its late start (:data:`FORKED_HELPER_START`, :data:`HELPER_START`): docs/capture.md, "Cold kernels compile in
 parallel".
+
+A cold first trace of a small bitmap compiles nothing in this process: ``warm_up(..., interpret=True)`` starts one
+background process that compiles every cold task (:func:`_start_background`) and runs the kernels interpreted
+meanwhile (:mod:`._interpreted`: their Python source, the same results); docs/capture.md, "A cold first trace runs the
+kernels interpreted".
 """
 from __future__ import annotations
 

@@ -242,7 +242,10 @@ def trace(
           not converge, ``None`` when it did, ``corner_scale`` and ``tolerance``: the scale of its corners
           and the tolerance of its fit, see ``noise_factor``);
         * ``boundary_noise`` and ``tolerance`` (``noise_factor``); ``extrapolated_tips``: whether the
-          ``"lsq"`` fits extrapolated corner tips (``None`` for the thesis methods).
+          ``"lsq"`` fits extrapolated corner tips (``None`` for the thesis methods);
+        * ``kernels``: ``"compiled"``, or ``"interpreted"`` for the first trace of a small bitmap on a cold kernel
+          cache, which runs the kernels' Python source (the same result, without ``time_budget``) while a background
+          process compiles them (docs/capture.md, "A cold first trace runs the kernels interpreted").
 
     Raises
     ------

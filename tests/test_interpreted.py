@@ -7,6 +7,7 @@ import math
 import os
 import subprocess
 import sys
+import types
 import warnings
 from fractions import Fraction
 
@@ -281,3 +282,30 @@ def test_every_warm_up_runs_interpreted_in_bounds(interpreted, task):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         _jit._function(task)()
+
+
+def test_restore_ready_puts_back_only_the_kernels_found_ready(interpreted):
+    """A background compile caches kernels one by one: each that is ready comes back in the modules and in the
+    clones' globals while the others stay interpreted, and a trace then mixes both with the same result."""
+    kernels = sys.modules["splinecraft.capture.fitting._kernels"]
+    clone = kernels._deviation_into
+    deviation = _interpreted.compiled(clone)
+    walk = _interpreted.compiled(clone.__globals__["_walk_right"])
+    assert _interpreted.restore_ready(lambda kernel: kernel is deviation) == 1
+    assert kernels._deviation_into is deviation
+    assert isinstance(kernels._normal_into, types.FunctionType)  # still interpreted
+    assert clone.__globals__["_walk_right"] is _interpreted._CLONES[walk]  # a helper of kernels only: stays
+    assert _interpreted.restore_ready(lambda kernel: kernel is deviation) == 0  # already back
+    assert _interpreted.restore_ready(lambda kernel: kernel is walk) == 0  # no Python wrapper: never alone
+    mask = sc.datasets.shape("star", 64)
+    with _quiet():
+        mixed = sc.trace(mask)
+    _interpreted.restore()
+    with _quiet():
+        assert mixed.to_svg() == sc.trace(mask).to_svg()
+    _interpreted.interpret()  # again: the clones' globals point at clones again
+    assert isinstance(kernels._deviation_into, types.FunctionType)
+
+
+def test_background_order_names_every_task_once():
+    assert sorted(_jit.BACKGROUND_ORDER) == sorted(_jit.WARM_UP_TASKS)

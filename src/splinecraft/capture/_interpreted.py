@@ -34,8 +34,11 @@ _STAND_INS = {}
 #: kernel (dispatcher) -> its clone, and back, built once per process (:func:`_clones`).
 _CLONES = {}
 _KERNELS = {}
-#: The clones now in place: [(module, name)] (:func:`interpret`).
+#: The clones now in place: [(module, name)] (:func:`interpret`); the clones' globals; the kernels put back one by
+#: one (:func:`restore_ready`).
 _PLACED = []
+_NAMESPACES = []
+_BACK = set()
 _LOCK = threading.RLock()
 
 
@@ -94,6 +97,7 @@ def _clones():
         clone.__wrapped_kernel__ = kernel
         _CLONES[kernel], _KERNELS[clone] = clone, kernel
     for namespace, original in namespaces.values():
+        _NAMESPACES.append(namespace)
         namespace.update(original)
         for name, value in original.items():
             namespace[name] = _replacement(value, namespace[name])
@@ -119,6 +123,34 @@ def interpret():
                 if isinstance(value, Dispatcher) and value in _CLONES:
                     setattr(module, name, _CLONES[value])
                     _PLACED.append((module, name))
+        for namespace in _NAMESPACES:  # clones call clones (again, after restore)
+            for name, value in list(namespace.items()):
+                if isinstance(value, Dispatcher) and value in _CLONES:
+                    namespace[name] = _CLONES[value]
+
+
+def restore_ready(is_ready):
+    """Put back, where its clone is in place, every kernel for which ``is_ready(kernel)`` (its compiled code is in the
+    cache: :func:`._jit.is_cached`), in the modules and in the clones' globals (a clone goes on calling the compiled
+    kernel); the others stay interpreted. Kernels that only kernels call (no Python wrapper) stay as they are:
+    Python cannot call their compiled code, and they have no cache entry of their own. Returns how many came back."""
+    with _LOCK:
+        if not _PLACED:
+            return 0
+        ready = {clone: kernel for kernel, clone in _CLONES.items()
+                 if kernel not in _BACK and not kernel.targetoptions.get("no_cpython_wrapper") and is_ready(kernel)}
+        if not ready:
+            return 0
+        for module in _modules():
+            for name, value in list(vars(module).items()):
+                if isinstance(value, types.FunctionType) and value in ready:
+                    setattr(module, name, ready[value])
+        for namespace in _NAMESPACES:
+            for name, value in list(namespace.items()):
+                if isinstance(value, types.FunctionType) and value in ready:
+                    namespace[name] = ready[value]
+        _BACK.update(ready.values())
+        return len(ready)
 
 
 def restore():
@@ -130,6 +162,11 @@ def restore():
                 if isinstance(value, types.FunctionType) and value in _KERNELS:
                     setattr(module, name, _KERNELS[value])
         _PLACED.clear()
+        for namespace in _NAMESPACES:  # a clone still running (another thread) calls the compiled kernels
+            for name, value in list(namespace.items()):
+                if isinstance(value, types.FunctionType) and value in _KERNELS:
+                    namespace[name] = _KERNELS[value]
+        _BACK.clear()
 
 
 def active() -> bool:

@@ -1353,10 +1353,18 @@ def warm_up_solves():
 
 
 def warm_up_checks():
-    """The second half of :func:`warm_up`: curve points, the corner tests after a fit and their window, the dense deviation check and its per-group maxima, the
-    small-outline fit's nearest segments (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used)."""
+    """The second half of :func:`warm_up`: the dense deviation check first (the costliest kernel where a cold first
+    trace runs the kernels interpreted: compiled first, it is in place the sooner, docs/capture.md), then curve
+    points, the corner tests after a fit and their window, the per-group maxima, the small-outline fit's nearest
+    segments (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used); the
+    task's last kernel, ``_nearest_segments_into``, tells whether it is cold (``_jit.WARM_UP_TASKS``)."""
     _, _, bez, starts, ends, index = _tiny_fit()
     edges = np.ones((5, 3))
+    samples, params, iv = interval_samples(bez, starts, ends, 0.5, 2.0)
+    deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
+                       np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
+                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2),
+                       1.0, 0.0, 2)
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     hook_tests(bez, starts, ends, np.array([0.5]), np.ones((1, 2)), np.ones(1), np.ones(1), np.array([0.2, 1.2]), 1,
                np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)
@@ -1364,12 +1372,7 @@ def warm_up_checks():
                 np.zeros(1), np.ones(2), np.ones((2, 2)), 4.0, 0.1)
     group_max(index, np.ones(2), 1)
     interval_worst(index, np.zeros(2, np.bool_), np.ones(2), np.ones(2), index, np.ones(2, np.bool_), np.ones(2), np.ones(2), 1)
-    samples, params, iv = interval_samples(bez, starts, ends, 0.5, 2.0)
     nearest_segment_distance(*(np.ones((1, 2)),) * 6)
-    deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
-                       np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
-                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2),
-                       1.0, 0.0, 2)
 
 
 @njit(**_HELPER)

@@ -2,10 +2,7 @@
 Python source while a background process compiles them; the results are those of the compiled kernels."""
 import contextlib
 import importlib
-import json
 import math
-import os
-import subprocess
 import sys
 import types
 import warnings
@@ -21,8 +18,9 @@ import splinecraft as sc
 from splinecraft.capture import _interpreted, _jit
 from splinecraft.capture.fitting import _tip_kernels
 
+from cold_process import HOLED_RECTANGLE, holed_rectangle, run_cold
+
 trace_module = importlib.import_module("splinecraft.capture.trace")
-SRC = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(_jit.__file__))))
 
 
 @pytest.fixture
@@ -227,9 +225,7 @@ import json, os, sys, time
 import numpy as np
 import splinecraft as sc
 from splinecraft.capture import _jit
-mask = np.zeros((40, 60), bool)
-mask[8:32, 10:50] = True
-mask[14:26, 20:30] = False
+""" + HOLED_RECTANGLE + """
 first = sc.trace(mask)
 last = dict(_jit.LAST_WARM_UP)
 helper = _jit._BACKGROUND
@@ -249,16 +245,8 @@ def test_a_cold_first_trace_is_interpreted_while_every_kernel_compiles_in_the_ba
     """A fresh process on an empty cache: its first trace runs the kernels interpreted (the same SVG as this warm
     process's), a background process compiles every warm-up task into the cache, and the second trace runs the
     compiled kernels."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="2",
-               PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
-    env.pop("SPLINECRAFT_JIT_INTERPRET", None)
-    done = subprocess.run([sys.executable, "-c", _COLD_INTERPRETED], capture_output=True, text=True, env=env,
-                          timeout=900, check=True)
-    child = json.loads(done.stdout.strip().splitlines()[-1])
-    mask = np.zeros((40, 60), bool)
-    mask[8:32, 10:50] = True
-    mask[14:26, 20:30] = False
-    assert child["svg"] == [sc.trace(mask).to_svg()] * 2
+    child = run_cold(_COLD_INTERPRETED, tmp_path, SPLINECRAFT_JIT_WORKERS="2", SPLINECRAFT_JIT_INTERPRET=None)
+    assert child["svg"] == [sc.trace(holed_rectangle()).to_svg()] * 2
     assert child["kernels"] == ["interpreted", "compiled"]
     assert child["interpreting"] == [True, False, False]
     assert child["last"]["interpreted"] is True

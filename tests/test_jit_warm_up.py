@@ -14,6 +14,8 @@ from hypothesis import given, settings, strategies as st
 import splinecraft as sc
 from splinecraft.capture import _jit
 
+from cold_process import HOLED_RECTANGLE, holed_rectangle, run_cold
+
 SRC = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(_jit.__file__))))
 
 
@@ -347,9 +349,7 @@ import json, sys
 import numpy as np
 import splinecraft as sc
 from splinecraft.capture import _jit
-mask = np.zeros((40, 60), bool)
-mask[8:32, 10:50] = True
-mask[14:26, 20:30] = False
+""" + HOLED_RECTANGLE + """
 svg = sc.trace(mask).to_svg()
 print(json.dumps({"svg": svg, "last": _jit.LAST_WARM_UP, "cached": {name: _jit.is_cached(_jit._sentinel(name))
                   for name in _jit.WARM_UP_TASKS}}))
@@ -362,15 +362,9 @@ def test_cold_first_trace_compiles_in_two_processes_with_the_same_result(tmp_pat
     as a bitmap too large to interpret): a helper (forked, or with ``SPLINECRAFT_JIT_FORK=0`` a fresh
     interpreter) compiles part of the cold kernels, the trace is the one this (warm) process makes, and the
     cache then holds every kernel the trace needed."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), SPLINECRAFT_JIT_WORKERS="2", SPLINECRAFT_JIT_FORK=fork,
-               SPLINECRAFT_JIT_INTERPRET="0", PYTHONPATH=os.pathsep.join(filter(None, [SRC, os.environ.get("PYTHONPATH", "")])))
-    done = subprocess.run([sys.executable, "-c", _COLD_TRACE], capture_output=True, text=True, env=env,
-                          timeout=600, check=True)
-    child = json.loads(done.stdout.strip().splitlines()[-1])
-    mask = np.zeros((40, 60), bool)
-    mask[8:32, 10:50] = True
-    mask[14:26, 20:30] = False
-    assert child["svg"] == sc.trace(mask).to_svg()
+    child = run_cold(_COLD_TRACE, tmp_path, timeout=600, SPLINECRAFT_JIT_WORKERS="2", SPLINECRAFT_JIT_FORK=fork,
+                     SPLINECRAFT_JIT_INTERPRET="0")
+    assert child["svg"] == sc.trace(holed_rectangle()).to_svg()
     needed = set(_jit.TRACE_TASKS) | {"merge", "corners", "pixel corners"}
     assert set(child["last"]["cold"]) == needed
     assert len(child["last"]["helpers"]) == 1 and child["last"]["helpers"][0]

@@ -297,3 +297,15 @@ def test_restore_ready_puts_back_only_the_kernels_found_ready(interpreted):
 
 def test_background_order_names_every_task_once():
     assert sorted(_jit.BACKGROUND_ORDER) == sorted(_jit.WARM_UP_TASKS)
+
+
+def test_the_background_s_first_steps_are_part_of_a_task(monkeypatch):
+    """Each step a background compile runs before its tasks is a function its task's warm-up calls too (so the
+    task's cache entry check covers it, and a step that failed is compiled with its task)."""
+    called = []
+    for module, function in _jit.BACKGROUND_FIRST:
+        owner = importlib.import_module("splinecraft.capture." + module)
+        monkeypatch.setattr(owner, function, lambda name=function: called.append(name))
+    for name in _jit.WARM_UP_TASKS:
+        _jit._function(name)()
+    assert called == [function for _, function in _jit.BACKGROUND_FIRST]

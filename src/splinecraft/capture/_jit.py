@@ -512,7 +512,9 @@ except Exception:
     pass
 finally:
     del sys.modules["scipy.linalg.cython_blas"], sys.modules["scipy.__config__"]
-from splinecraft.capture._jit import warm_up
+from splinecraft.capture._jit import _background_first, warm_up
+if background:
+    _background_first()
 warm_up(sys.argv[2:])
 os._exit(0)  # the kernels are in the cache: no interpreter teardown (0.15-0.25 s) before this process goes on
 """
@@ -727,12 +729,27 @@ def _lock_file() -> str:
 
 
 #: The order in which a background compile (:func:`_start_background`) takes the cold tasks: most interpreted time
-#: saved per second of compile first, among the stages a first trace reaches late enough to gain from them (the fit's
-#: checks, merging, the fit's solves; the corners run first). Interpreted time of the kernels over five yardstick
-#: glyphs (cProfile, session 31): the fit's checks 37 %, merging 22 %, the fit's solves 17 %, tangent-jump 14 %, the
-#: noise estimate 4 %, the rest 6 %; their compiles :data:`WARM_UP_TASKS`.
-BACKGROUND_ORDER = ("fit checks", "merge", "fit solves", "noise", "corners", "tips", "tracer", "pixel corners",
+#: saved per second of compile first, among the stages a first trace reaches late enough to gain from them (merging,
+#: the fit's solves, the fit's checks, after the deviation check alone, :data:`BACKGROUND_FIRST`; the corners run
+#: first). Interpreted time of the kernels over five yardstick glyphs (cProfile, session 31): the fit's checks 37 %
+#: (the deviation check 32 %), merging 22 %, the fit's solves 17 %, tangent-jump 14 %, the noise estimate 4 %, the
+#: rest 6 %; their compiles :data:`WARM_UP_TASKS`.
+BACKGROUND_ORDER = ("merge", "fit solves", "fit checks", "noise", "corners", "tips", "tracer", "pixel corners",
                     "polygons")
+#: What a background compile runs before its tasks: (module, function) of :mod:`splinecraft.capture`; the deviation
+#: check, 32 % of the interpreted time alone (a glyph's first trace at load 2.7: in place 2.75 s after the trace's
+#: start, where the whole fit checks task before merging put it at 5.4 s, the merge's run fit at 13.6 s).
+BACKGROUND_FIRST = (("fitting._kernels", "warm_up_deviation"),)
+
+
+def _background_first():
+    """Run :data:`BACKGROUND_FIRST` (in a background compile, before its tasks); a step that fails is left to its
+    task."""
+    for module, function in BACKGROUND_FIRST:
+        try:
+            getattr(importlib.import_module("splinecraft.capture." + module), function)()
+        except Exception:  # noqa: BLE001 -- its task compiles it again, and reports
+            pass
 #: Seconds between the looks of this process at the kernels a background compile has cached (:func:`_await_background`).
 BACKGROUND_POLL = 0.25
 

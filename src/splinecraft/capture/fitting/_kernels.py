@@ -26,7 +26,7 @@ __all__ = ["basis_matrix", "normal_equations", "normal_work", "DENSE_LIMIT", "sp
            "corner_tables", "corner_weights", "anchor_bounds", "crack_normals", "interval_worst",
            "removal_scores", "closed_polyline_distance",
            "search_sorted", "deviation_measures", "warm_up",
-           "warm_up_solves", "warm_up_checks"]
+           "warm_up_solves", "warm_up_checks", "warm_up_deviation"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
 
@@ -1352,6 +1352,17 @@ def warm_up_solves():
     closed_polyline_distance(np.ones((1, 2)), np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]]), 1.0)
 
 
+def warm_up_deviation():
+    """The first step of :func:`warm_up_checks`: the curve's samples and the dense deviation check, which a
+    background compile runs before its tasks (``_jit.BACKGROUND_FIRST``)."""
+    _, _, bez, starts, ends, index = _tiny_fit()
+    samples, params, iv = interval_samples(bez, starts, ends, 0.5, 2.0)
+    deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
+                       np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), np.ones((5, 3)),
+                       np.ones((2, 2)), np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4),
+                       np.zeros(2), 1.0, 0.0, 2)
+
+
 def warm_up_checks():
     """The second half of :func:`warm_up`: the dense deviation check first (the costliest kernel where a cold first
     trace runs the kernels interpreted: compiled first, it is in place the sooner, docs/capture.md), then curve
@@ -1359,12 +1370,7 @@ def warm_up_checks():
     segments (``windowed_distance`` and ``search_sorted`` are no longer in a trace and compile where used); the
     task's last kernel, ``_nearest_segments_into``, tells whether it is cold (``_jit.WARM_UP_TASKS``)."""
     _, _, bez, starts, ends, index = _tiny_fit()
-    edges = np.ones((5, 3))
-    samples, params, iv = interval_samples(bez, starts, ends, 0.5, 2.0)
-    deviation_measures(bez, starts, ends, samples, params, iv, np.array([0.0, 2.0]), np.array([0, 3]), True,
-                       np.array([0.0, 0.7, 1.4, 2.0]), np.array([0.0, 0.7, 1.4, 2.0]), edges, np.ones((2, 2)),
-                       np.array([0.5, 1.5]), index, np.ones(2, np.bool_), np.ones(4), np.zeros(4), np.zeros(2),
-                       1.0, 0.0, 2)
+    warm_up_deviation()
     curve_points(bez, starts, ends, np.array([0.1, 1.5]))
     hook_tests(bez, starts, ends, np.array([0.5]), np.ones((1, 2)), np.ones(1), np.ones(1), np.array([0.2, 1.2]), 1,
                np.zeros(1, np.int64), np.ones(1, np.int64), np.zeros(1), np.zeros(1), 0.1)

@@ -737,8 +737,9 @@ def _lock_file() -> str:
 BACKGROUND_ORDER = ("merge", "fit solves", "fit checks", "noise", "corners", "tips", "tracer", "pixel corners",
                     "polygons")
 #: What a background compile runs before its tasks: (module, function) of :mod:`splinecraft.capture`; the deviation
-#: check, 32 % of the interpreted time alone (a glyph's first trace at load 2.7: in place 2.75 s after the trace's
-#: start, where the whole fit checks task before merging put it at 5.4 s, the merge's run fit at 13.6 s).
+#: check, 32 % of the interpreted time alone (a glyph's first trace at load 2.4-2.7: in place 4.5 s after the trace's
+#: start, where the whole fit checks task first put it at 5.4 s; BENCHMARKS.md, "Session 31: the first call
+#: interpreted").
 BACKGROUND_FIRST = (("fitting._kernels", "warm_up_deviation"),)
 
 
@@ -750,6 +751,8 @@ def _background_first():
             getattr(importlib.import_module("splinecraft.capture." + module), function)()
         except Exception:  # noqa: BLE001 -- its task compiles it again, and reports
             pass
+
+
 #: Seconds between the looks of this process at the kernels a background compile has cached (:func:`_await_background`).
 BACKGROUND_POLL = 0.25
 

@@ -309,3 +309,22 @@ def test_the_background_s_first_steps_are_part_of_a_task(monkeypatch):
     for name in _jit.WARM_UP_TASKS:
         _jit._function(name)()
     assert called == [function for _, function in _jit.BACKGROUND_FIRST]
+
+
+@pytest.mark.parametrize("options", [
+    {"method": "fuzzy", "seed": 3},
+    {"method": "euclidean", "seed": 1, "corner_method": "srm05"},
+    {"corner_method": "tc89"},
+    {"fit_params": {"merge_tolerance": 0}},
+    {"contour": "pixels", "epsilon": 0.6},
+])
+def test_interpreted_traces_match_with_other_options(interpreted, options):
+    """The thesis's knot insertion, other corner detectors, no merging, pixel contours: interpreted as compiled."""
+    mask = sc.datasets.thesis_object("ali", 80)
+    with _quiet():
+        slow = sc.trace(mask, **options)
+    _interpreted.restore()
+    with _quiet():
+        fast = sc.trace(mask, **options)
+    assert slow.to_svg() == fast.to_svg()
+    assert [len(fit.snapshots) for fit in slow.fits] == [len(fit.snapshots) for fit in fast.fits]

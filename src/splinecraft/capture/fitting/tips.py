@@ -25,6 +25,7 @@ import numpy as np
 
 from .._pixel_corners import corner_vertices
 from ._kernels import closed_polyline_distance
+from ._linalg import svd_direction
 from ._tip_kernels import (SIDE_FIELDS, arange_count, frame_offsets, inkward_of, ray_parities, separating_line,
                            side_window, tip_checks, tip_contradiction_of, wedge_contradiction_of, window_local,
                            window_samples)
@@ -159,7 +160,7 @@ def _window_fit(points, length):
     :data:`STRAIGHT_RESIDUAL`, or None. The line through the points' centre along their first right singular
     vector (numpy's, LAPACK), its frame's offsets in one compiled pass (:func:`~._tip_kernels.frame_offsets`)."""
     local, centre = window_local(points, points.shape[0])
-    direction = np.linalg.svd(local, full_matrices=False)[2][0]
+    direction = svd_direction(local)
     t, y, straight = frame_offsets(local, direction)
     if straight:
         return SideFit(centre, direction, np.zeros(3), length)

@@ -4,11 +4,11 @@ wrappers' per-call conversions (docs/capture.md §12, "The lsq method").
 :func:`numpy.linalg.solve` and :func:`numpy.linalg.svd` check and convert their arguments (``_makearray``, the
 common type, ``astype`` and ``wrap`` of every result, a named tuple) around one call of a generalized ufunc of
 ``numpy.linalg._umath_linalg``. The fit calls them some 25 times a 300-px glyph on arrays that are float64
-already (the dense normal equations of every fit, the frame of every corner side's window, the merge's parabolas), where that work was
-7-10 us of the 12-19 us of a call. :func:`solve` and :func:`svd_direction` call the same ufunc under the same
-floating-point error state (a singular matrix or an SVD that does not converge raises ``LinAlgError`` as numpy's
-does): the same LAPACK call, so the same bits. Where this numpy has no such ufunc (a private module), they are
-numpy's own functions.
+already (the dense normal equations of every fit, the frame of every corner side's window, the merge's
+parabolas), where that work was 7-10 us of the 12-19 us of a call. :func:`solve` and :func:`svd_direction`
+call the same ufunc under the same floating-point error state (a singular matrix or an SVD that does not
+converge raises ``LinAlgError`` as numpy's does): the same LAPACK call, so the same bits. Where this numpy has
+no such ufunc (a private module), they are numpy's own functions.
 """
 from __future__ import annotations
 

@@ -579,8 +579,9 @@ def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distan
     found = np.flatnonzero(pixel)
     corner_arc = contour.arc[contour.corner_bounds[found]]
     estimate[found] = vertex.take(found, axis=0)
-    before = contour.point_at_arc((corner_arc - start[found]) % contour.perimeter)
-    after = contour.point_at_arc((corner_arc + start[found]) % contour.perimeter)
-    anchors[found] = np.stack([before, after], axis=1)
+    reach = start[found]
+    # the points before and after every corner, in one look-up: (before, after) per corner
+    arcs = np.column_stack([(corner_arc - reach) % contour.perimeter, (corner_arc + reach) % contour.perimeter])
+    anchors[found] = contour.point_at_arc(arcs).reshape(-1, 2, 2)
     distance[found] = vertex_distance
     return estimate, start, anchors, distance

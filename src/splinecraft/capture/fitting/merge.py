@@ -73,7 +73,9 @@ def merge_segments(model, dev, tolerance):
     are no longer joins."""
     fit_bez = dev["bezier"]
     contour = model.contour
-    if fit_bez.shape[0] < 2:
+    # a run stays within its piece between corners, so every piece keeps a cubic at least: a fit with one segment
+    # per piece (a polygon's sides, an image's frame) has nothing to merge
+    if fit_bez.shape[0] < 2 or fit_bez.shape[0] <= contour.corner_count:
         return dev, []
     prepared, cand = candidate_runs(model, dev, tolerance)
     if not (cand["length"] > 1).any():

@@ -237,43 +237,24 @@ def corner_vertices(points, lengths, outline, corners, found=None):
     out = np.full((corners.shape[0], 2), np.nan)
     if not corners.size:
         return out
+    if found is not None:  # the few pixel corners looked up by index, not spread over every point of the outlines
+        if len(found) != lengths.shape[0]:
+            raise ValueError(f"found has pixel corners of {len(found)} outlines for {lengths.shape[0]}")
+        sizes = lengths.tolist()
+        rows = [{index: row for row, index in enumerate(np.asarray(f.index).tolist())} for f in found]
+        for k, (b, c) in enumerate(zip(outline.tolist(), corners.tolist())):
+            # the vertex between the corner's point and the one before it, else the one after it
+            row = rows[b].get(c % sizes[b], rows[b].get((c + 1) % sizes[b]))
+            if row is not None:
+                out[k] = found[b].vertex[row]
+        return out
+    at, vertex = pixel_corners(points, lengths)
     offsets = np.cumsum(lengths) - lengths
     n = lengths[outline]
     here = offsets[outline] + corners % n  # the vertex between the corner's point and the one before it
     after = offsets[outline] + (corners + 1) % n  # ... between the corner's point and the one after it
-    if found is not None:  # the few pixel corners looked up, not spread over every point of the outlines
-        index, vertex = _stacked(found, lengths, offsets)
-        at_here, at_after = _member(index, here), _member(index, after)
-        here, after = np.searchsorted(index, here).clip(max=index.shape[0] - 1), \
-            np.searchsorted(index, after).clip(max=index.shape[0] - 1)
-    else:
-        at, vertex = pixel_corners(points, lengths)
-        at_here, at_after = at[here], at[after]
-    if vertex.shape[0]:
-        out = np.where(at_here[:, None], vertex.take(here, axis=0),
-                       np.where(at_after[:, None], vertex.take(after, axis=0), np.nan))
-    return out
-
-
-def _member(index, values):
-    """Whether each of ``values`` is in the sorted ``index``."""
-    if not index.shape[0]:
-        return np.zeros(values.shape[0], bool)
-    return index[np.searchsorted(index, values).clip(max=index.shape[0] - 1)] == values
-
-
-def _stacked(found, lengths, offsets):
-    """The pixel corners of stacked outlines of ``lengths`` points (starting at ``offsets``) from the
-    :class:`PixelCorners` of each (``found``): their global indices, sorted, and their vertices."""
-    if len(found) != lengths.shape[0]:
-        raise ValueError(f"found has pixel corners of {len(found)} outlines for {lengths.shape[0]}")
-    if len(found) == 1:
-        return np.asarray(found[0].index, dtype=np.int64), np.asarray(found[0].vertex, dtype=np.float64).reshape(-1, 2)
-    index = np.concatenate([np.zeros(0, np.int64)] + [offset + np.asarray(f.index, dtype=np.int64)
-                                                     for offset, f in zip(offsets.tolist(), found)])
-    vertex = np.concatenate([np.zeros((0, 2))] + [np.asarray(f.vertex, dtype=np.float64).reshape(-1, 2)
-                                                  for f in found])
-    return index, vertex
+    return np.where(at[here][:, None], vertex.take(here, axis=0),
+                    np.where(at[after][:, None], vertex.take(after, axis=0), np.nan))
 
 
 def with_pixel_corners(found, points):

@@ -52,3 +52,13 @@ def test_svd_of_nan_raises_as_numpy():
         np.linalg.svd(local, full_matrices=False)
     with pytest.raises(np.linalg.LinAlgError):
         svd_direction(local)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(1, 6).flatmap(lambda m: st.tuples(arrays(np.float64, (m, m), elements=_FINITE),
+                                                     arrays(np.float64, (m,), elements=_FINITE))))
+def test_solve_of_one_vector_is_numpys(system):
+    a, b = system
+    a = a + np.diag(np.abs(a).sum(axis=1) + 1.0)
+    assert solve(a, b).shape == (a.shape[0],)
+    assert solve(a, b).tobytes() == np.linalg.solve(a, b).tobytes()

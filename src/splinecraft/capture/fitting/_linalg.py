@@ -22,19 +22,20 @@ try:
         from numpy.linalg._linalg import _raise_linalgerror_singular, _raise_linalgerror_svd_nonconvergence
     except ImportError:  # numpy < 2
         from numpy.linalg.linalg import _raise_linalgerror_singular, _raise_linalgerror_svd_nonconvergence
-    _SOLVE, _SVD = _umath_linalg.solve, _umath_linalg.svd_s
+    _SOLVE, _SOLVE1, _SVD = _umath_linalg.solve, _umath_linalg.solve1, _umath_linalg.svd_s
 except (ImportError, AttributeError):  # pragma: no cover - another numpy's layout: its own functions
-    _SOLVE = _SVD = None
+    _SOLVE = _SOLVE1 = _SVD = None
 
 
 def solve(a, b):
     """``numpy.linalg.solve(a, b)`` of float64 matrices ``a`` (..., m, m) and float64 right-hand sides ``b``
-    (..., m, k): LAPACK ``gesv`` through numpy's ufunc, bit for bit; ``LinAlgError`` on a singular ``a``."""
+    (..., m, k), or of one matrix ``a`` (m, m) and one right-hand side ``b`` (m,): LAPACK ``gesv`` through numpy's
+    ufunc, bit for bit; ``LinAlgError`` on a singular ``a``."""
     if _SOLVE is None:  # pragma: no cover
         return np.linalg.solve(a, b)
     with np.errstate(call=_raise_linalgerror_singular, invalid="call", over="ignore", divide="ignore",
                      under="ignore"):
-        return _SOLVE(a, b, signature="dd->d")
+        return (_SOLVE1 if b.ndim == 1 else _SOLVE)(a, b, signature="dd->d")
 
 
 def svd_direction(a):

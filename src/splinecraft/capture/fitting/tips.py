@@ -25,7 +25,7 @@ import numpy as np
 
 from .._pixel_corners import corner_vertices
 from ._kernels import closed_polyline_distance
-from ._linalg import svd_direction
+from ._linalg import solve, svd_direction
 from ._tip_kernels import (SIDE_FIELDS, arange_count, frame_offsets, inkward_of, ray_parities, separating_line,
                            side_window, tip_checks, tip_contradiction_of, wedge_contradiction_of, window_local,
                            window_samples)
@@ -295,7 +295,7 @@ def _crossing(first, second):
         jacobian = np.column_stack([first.tangent(t[0]), -second.tangent(t[1])])
         if abs(np.linalg.det(jacobian)) < 1e-9:
             return None
-        step = np.linalg.solve(jacobian, second.point(t[1]) - first.point(t[0]))
+        step = solve(jacobian, second.point(t[1]) - first.point(t[0]))
         t += step
         if np.abs(step).max() < 1e-9:
             break

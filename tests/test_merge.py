@@ -359,3 +359,36 @@ def test_merge_kernel_largest_excess_is_that_of_every_distance(runs, seed, toler
     expected = [(dist - tol[lo[run]: lo[run] + count[run]]).max() if count[run] else -np.inf
                 for run, dist in enumerate(distances)]
     np.testing.assert_array_equal(result[4], expected)
+
+
+
+def test_a_fit_with_one_segment_per_piece_has_nothing_to_merge(monkeypatch):
+    """``merge_segments`` returns at once where the fit has one segment per piece between corners (a run stays
+    within its piece): on random polygons the candidate runs and the dynamic programme, run anyway, choose no
+    fewer segments there."""
+    from splinecraft.capture.fitting import _merge_kernels, lsq, merge
+
+    checked = [0]
+
+    def checking(model, dev, tolerance):
+        result = merge_segments(model, dev, tolerance)
+        pieces = model.contour.corner_count
+        if pieces and dev["bezier"].shape[0] == pieces:
+            assert result[0] is dev and not len(result[1])
+            prepared, cand = merge.candidate_runs(model, dev, tolerance)
+            chosen = _merge_kernels.choose(prepared["k"], cand, np.ones(cand["first"].shape[0], bool), False)
+            assert chosen.shape[0] >= pieces
+            checked[0] += 1
+        return result
+
+    merge_segments = lsq.merge_segments
+    monkeypatch.setattr(lsq, "merge_segments", checking)
+    rng = np.random.default_rng(11)
+    for count in (3, 4, 5, 6, 7) * 4:
+        angles = rng.uniform(0, 1) + 2 * np.pi * (np.arange(count) + rng.uniform(-0.2, 0.2, count)) / count
+        radius = rng.uniform(10, 30)
+        size = int(2 * radius + 16)
+        vertices = np.column_stack([size / 2 + radius * np.cos(angles), size / 2 + radius * np.sin(angles)])
+        outline, corners, _ = polygon_shape(vertices, size)
+        fit_outline(outline, corners, merge_tolerance=MERGE, keep_snapshots=False)
+    assert checked[0] >= 5

@@ -348,3 +348,37 @@ def test_float32_scalars_show_the_number_they_were_given_as():
         assert words in str(caught.value), str(caught.value)
     assert v.plain(np.float32(0.1)) == 0.1 and type(v.plain(np.float32(0.1))) is float
     assert repr(v.plain([np.float32(0.7), np.float16(2.2)])) == "[0.7, 2.2]"
+
+
+def test_the_plain_type_fast_paths_agree_with_the_general_checks():
+    """``check_number``, ``check_int`` and ``check_choice`` take plain ``float``/``int``/``str`` values on a fast path
+    (session 31): the same answers and errors as the numbers ABCs and the general choice rule give."""
+    import numbers
+
+    class Int(int):
+        pass
+
+    def outcome(call, *args, **kwargs):
+        try:
+            return "ok", call(*args, **kwargs)
+        except (TypeError, ValueError) as exc:
+            return type(exc).__name__, str(exc)
+
+    values = [0, 1, -3, 2**1100, 0.5, -0.0, float("inf"), float("nan"), True, False, np.bool_(True), np.int64(7),
+              np.float32(0.25), Int(4), "3", None, 1 + 2j]
+    for value in values:
+        is_real = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+        assert v._is_real(value) == is_real, value
+        assert outcome(v.check_number, value, "x", minimum=0.0, inclusive=(True, False), maximum=5.0) == \
+            outcome(v.check_number, value, "x", minimum=0.0, inclusive=(np.bool_(True), np.bool_(False)), maximum=5.0)
+        result = outcome(v.check_int, value, "n", minimum=-5, maximum=10)
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+            assert result[0] == "TypeError", value
+        else:
+            assert result == (("ok", int(value)) if -5 <= int(value) <= 10 else result) and result[0] in ("ok", "ValueError")
+    for value in ["outline", "pixels", "other", "", "True"]:
+        got = outcome(v.check_choice, value, "contour", ("outline", "pixels"))
+        assert got == (("ok", value) if value in ("outline", "pixels") else
+                       ("ValueError", f"contour must be one of ['outline', 'pixels'], got {v._describe(value)}"))
+    assert outcome(v.check_choice, "4", "connectivity", (4, 8, "minority"))[0] == "ValueError"
+    assert outcome(v.check_choice, "minority", "connectivity", (4, 8, "minority")) == ("ok", "minority")

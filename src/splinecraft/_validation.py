@@ -27,6 +27,7 @@ and every pair of neighbours coincides.
 """
 from __future__ import annotations
 
+import math
 import numbers
 from collections.abc import Hashable, Mapping
 
@@ -96,6 +97,8 @@ def format_index(flat_index: int, shape: tuple) -> str:
 
 # ---------------------------------------------------------------------------------------------- scalars
 def _is_real(value) -> bool:
+    if type(value) is float or type(value) is int:  # the common case, without the ABC's check (a bool is no int here)
+        return True
     return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
@@ -118,7 +121,7 @@ def _bounds_text(minimum, maximum, inclusive) -> str:
 
 
 def _inclusive_pair(inclusive):
-    if isinstance(inclusive, (bool, np.bool_)):
+    if inclusive is True or inclusive is False or isinstance(inclusive, np.bool_):
         return bool(inclusive), bool(inclusive)
     low, high = inclusive
     return bool(low), bool(high)
@@ -136,7 +139,7 @@ def check_number(value, name: str, *, minimum=None, maximum=None, inclusive=True
     number = _as_float(value, name)
     shown = plain(value) if isinstance(value, np.floating) else number  # a float32 as given, not its double
     low_closed, high_closed = _inclusive_pair(inclusive)
-    if number != number or (finite and not np.isfinite(number)):
+    if number != number or (finite and not math.isfinite(number)):  # (number: a Python float)
         bounds = _bounds_text(minimum, maximum, (low_closed, high_closed))
         what = f"a finite number {bounds}" if bounds else "a finite number"
         raise ValueError(f"{name} must be {what}, got {shown!r}")
@@ -159,7 +162,7 @@ def check_int(value, name: str, *, minimum: int | None = None, maximum: int | No
     ``integral_floats=True`` also accepts a finite float with an integer value (``3.0``).
     """
     shown = None  # an integral float is named as given (1e+300, not its 301 digits)
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+    if type(value) is not int and (isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral)):
         if integral_floats and _is_real(value) and np.isfinite(float(value)) and float(value).is_integer():
             shown, value = repr(float(value)), int(value)
         else:
@@ -197,6 +200,10 @@ def check_choice(value, name: str, choices):
     numbers are expected) is a ``TypeError`` naming ``name``, never Python's "unhashable type".
     """
     choices = tuple(choices)
+    if type(value) is str:  # the common case: the first choice equal to it that is no flag (else the checks below)
+        for choice in choices:
+            if choice == value and not isinstance(choice, (bool, np.bool_)):
+                return choice
     text = _choices_text(choices)
     if not isinstance(value, Hashable) or isinstance(value, np.ndarray):
         raise TypeError(f"{name} must be one of {text}, got {_kind(value)}")

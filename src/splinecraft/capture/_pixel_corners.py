@@ -237,29 +237,24 @@ def corner_vertices(points, lengths, outline, corners, found=None):
     out = np.full((corners.shape[0], 2), np.nan)
     if not corners.size:
         return out
-    at, vertex = pixel_corners(points, lengths) if found is None else _stacked(found, lengths)
-    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    if found is not None:  # the few pixel corners looked up by index, not spread over every point of the outlines
+        if len(found) != lengths.shape[0]:
+            raise ValueError(f"found has pixel corners of {len(found)} outlines for {lengths.shape[0]}")
+        sizes = lengths.tolist()
+        rows = [{index: row for row, index in enumerate(np.asarray(f.index).tolist())} for f in found]
+        for k, (b, c) in enumerate(zip(outline.tolist(), corners.tolist())):
+            # the vertex between the corner's point and the one before it, else the one after it
+            row = rows[b].get(c % sizes[b], rows[b].get((c + 1) % sizes[b]))
+            if row is not None:
+                out[k] = found[b].vertex[row]
+        return out
+    at, vertex = pixel_corners(points, lengths)
+    offsets = np.cumsum(lengths) - lengths
     n = lengths[outline]
     here = offsets[outline] + corners % n  # the vertex between the corner's point and the one before it
     after = offsets[outline] + (corners + 1) % n  # ... between the corner's point and the one after it
-    out = np.where(at[here][:, None], vertex.take(here, axis=0),
-                   np.where(at[after][:, None], vertex.take(after, axis=0), np.nan))
-    return out
-
-
-def _stacked(found, lengths):
-    """:func:`pixel_corners`' ``(at, vertex)`` of stacked outlines of ``lengths`` points from the
-    :class:`PixelCorners` of each (``found``)."""
-    if len(found) != lengths.shape[0]:
-        raise ValueError(f"found has pixel corners of {len(found)} outlines for {lengths.shape[0]}")
-    total = int(lengths.sum())
-    at = np.zeros(total, bool)
-    vertex = np.full((total, 2), np.nan)
-    offsets = np.cumsum(lengths) - lengths
-    for offset, (index, corner) in zip(offsets.tolist(), found):
-        at[offset + index] = True
-        vertex[offset + index] = corner
-    return at, vertex
+    return np.where(at[here][:, None], vertex.take(here, axis=0),
+                    np.where(at[after][:, None], vertex.take(after, axis=0), np.nan))
 
 
 def with_pixel_corners(found, points):

@@ -43,6 +43,7 @@ from numba.extending import intrinsic
 from .. import _interpreted
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pymax, pymin
 from ._kernels import _separating_slope_into
+from ._linalg import svd_direction
 
 __all__ = ["SIDE_FIELDS", "arange_count", "window_samples", "window_local", "side_window", "separating_line",
            "frame_offsets", "inkward_of", "ray_parities", "tip_checks", "tip_contradiction_of",
@@ -362,7 +363,7 @@ def side_window(contour, corner_arc, sign, start, stop, samples, count, local, c
     empty) a straight side is the separating line where there is one."""
     if local is None:
         local, centre = window_local(samples, count)
-    direction = np.linalg.svd(local, full_matrices=False)[2][0]
+    direction = svd_direction(local)
     b = _Buffers(count, ink.shape[0], slopes)
     frame = (contour.arc, float(contour.perimeter), float(corner_arc), float(sign), float(start), float(stop), local,
              centre, direction, float(stop - start))

@@ -11,6 +11,7 @@ from scipy.linalg import LinAlgError
 from scipy.linalg.lapack import dpbsv
 
 from . import _kernels
+from ._linalg import solve
 
 __all__ = ["periodic_knot_vector", "interval_index", "cubic_basis", "fit_coefficients", "bezier_of_intervals"]
 
@@ -61,7 +62,7 @@ def fit_coefficients(full: np.ndarray, u: np.ndarray, weights: np.ndarray, targe
     # + pen * D^T D (D the cyclic second difference), and up to DENSE_LIMIT coefficients the dense cyclic matrix
     band, rhs, normal = _kernels.normal_equations(full, u, weights, targets, m, regularization, extra, work)
     if normal is not None:
-        return np.linalg.solve(normal, rhs)
+        return solve(normal, rhs)
     return _solve_cyclic_band(band, rhs)
 
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from . import _merge_kernels
 from ._kernels import curve_points
+from ._linalg import solve
 from .geometry import member_sorted
 
 __all__ = ["merge_segments", "MAX_RUN", "MAX_TURN"]
@@ -72,7 +73,9 @@ def merge_segments(model, dev, tolerance):
     are no longer joins."""
     fit_bez = dev["bezier"]
     contour = model.contour
-    if fit_bez.shape[0] < 2:
+    # a run stays within its piece between corners, so every piece keeps a cubic at least: a fit with one segment
+    # per piece (a polygon's sides, an image's frame) has nothing to merge
+    if fit_bez.shape[0] < 2 or fit_bez.shape[0] <= contour.corner_count:
         return dev, []
     prepared, cand = candidate_runs(model, dev, tolerance)
     if not (cand["length"] > 1).any():
@@ -117,7 +120,7 @@ def candidate_runs(model, dev, tolerance):
                                       contour.corner_count > 0, points, u, model.period, WINDOW)
     good = prepared["good"]
     if good.any():  # the parabolas' b (the join's direction is (1, b) in its tangent's frame)
-        prepared["slope"][good] = np.linalg.solve(prepared["m"][good], prepared["rhs"][good])[:, 1, 0]
+        prepared["slope"][good] = solve(prepared["m"][good], prepared["rhs"][good])[:, 1, 0]
     tol = np.ascontiguousarray(dev["tol_data"][0::2] if dev["dense"] else dev["tol_data"])  # one copy per merge
     fitted = curve_points(dev["bezier"], dev["starts"], dev["ends"], u)
     return prepared, _merge_kernels.candidates(prepared, dev["bezier"], points, u, tol, fitted, tolerance, MAX_RUN,

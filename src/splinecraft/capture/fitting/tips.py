@@ -25,6 +25,7 @@ import numpy as np
 
 from .._pixel_corners import corner_vertices
 from ._kernels import closed_polyline_distance
+from ._linalg import solve, svd_direction
 from ._tip_kernels import (SIDE_FIELDS, arange_count, frame_offsets, inkward_of, ray_parities, separating_line,
                            side_window, tip_checks, tip_contradiction_of, wedge_contradiction_of, window_local,
                            window_samples)
@@ -159,7 +160,7 @@ def _window_fit(points, length):
     :data:`STRAIGHT_RESIDUAL`, or None. The line through the points' centre along their first right singular
     vector (numpy's, LAPACK), its frame's offsets in one compiled pass (:func:`~._tip_kernels.frame_offsets`)."""
     local, centre = window_local(points, points.shape[0])
-    direction = np.linalg.svd(local, full_matrices=False)[2][0]
+    direction = svd_direction(local)
     t, y, straight = frame_offsets(local, direction)
     if straight:
         return SideFit(centre, direction, np.zeros(3), length)
@@ -185,16 +186,18 @@ def pixel_pairs(points):
     if n < 4:
         return None
     frac = np.abs(points - np.round(points))
-    horizontal = (frac[:, 1] < 1e-6) & (np.abs(frac[:, 0] - 0.5) < 1e-6)
-    vertical = (frac[:, 0] < 1e-6) & (np.abs(frac[:, 1] - 0.5) < 1e-6)
-    if not np.all(horizontal | vertical):
+    whole, half = frac < 1e-6, np.abs(frac - 0.5) < 1e-6  # per coordinate: an integer, a half-integer
+    horizontal = whole[:, 1] & half[:, 0]
+    if not (horizontal | (whole[:, 0] & half[:, 1])).all():
         return None
     travel = np.empty_like(points)  # the next point less the previous one, cyclically
     np.subtract(points[2:], points[:-2], out=travel[1:-1])
     travel[0], travel[-1] = points[1] - points[-1], points[0] - points[-2]
-    step = np.where(horizontal[:, None], np.column_stack([np.sign(travel[:, 0]), np.zeros(n)]),
-                    np.column_stack([np.zeros(n), np.sign(travel[:, 1])]))
-    left = 0.5 * np.column_stack([-step[:, 1], step[:, 0]])
+    # the unit step (sign of the travel along the crack, 0 across it) turned a quarter to the left, halved
+    sign = np.sign(travel, out=travel)
+    left = np.empty_like(points)
+    np.multiply(-np.where(horizontal, 0.0, sign[:, 1]), 0.5, out=left[:, 0])
+    np.multiply(np.where(horizontal, sign[:, 0], 0.0), 0.5, out=left[:, 1])
     return points + left, points - left
 
 
@@ -292,7 +295,7 @@ def _crossing(first, second):
         jacobian = np.column_stack([first.tangent(t[0]), -second.tangent(t[1])])
         if abs(np.linalg.det(jacobian)) < 1e-9:
             return None
-        step = np.linalg.solve(jacobian, second.point(t[1]) - first.point(t[0]))
+        step = solve(jacobian, second.point(t[1]) - first.point(t[0]))
         t += step
         if np.abs(step).max() < 1e-9:
             break
@@ -576,8 +579,9 @@ def _with_pixel_corners(contour, pixel, vertex, start, estimate, anchors, distan
     found = np.flatnonzero(pixel)
     corner_arc = contour.arc[contour.corner_bounds[found]]
     estimate[found] = vertex.take(found, axis=0)
-    before = contour.point_at_arc((corner_arc - start[found]) % contour.perimeter)
-    after = contour.point_at_arc((corner_arc + start[found]) % contour.perimeter)
-    anchors[found] = np.stack([before, after], axis=1)
+    reach = start[found]
+    # the points before and after every corner, in one look-up: (before, after) per corner
+    arcs = np.column_stack([(corner_arc - reach) % contour.perimeter, (corner_arc + reach) % contour.perimeter])
+    anchors[found] = contour.point_at_arc(arcs).reshape(-1, 2, 2)
     distance[found] = vertex_distance
     return estimate, start, anchors, distance

@@ -138,6 +138,7 @@ def test_the_min_max_stand_ins_are_the_intrinsics(values):
 def _fake_warm_up(calls):
     """``_jit.warm_up`` as on a cold cache with a small bitmap: the first call interprets, later ones compile."""
     def warm_up(tasks=_jit.TRACE_TASKS, interpret=False):
+        interpret = interpret() if callable(interpret) else interpret
         calls.append(interpret)
         if len(calls) == 1 and interpret:
             for name in _jit.WARM_UP_TASKS:
@@ -209,7 +210,7 @@ def test_a_rectangle_s_cracks_are_its_perimeter():
 
 def test_only_small_bitmaps_are_interpreted(monkeypatch):
     calls = []
-    monkeypatch.setattr(_jit, "warm_up", lambda tasks=(), interpret=False: calls.append(interpret) or False)
+    monkeypatch.setattr(_jit, "warm_up", lambda tasks=(), interpret=False: calls.append(interpret()) or False)
     sc.trace(sc.datasets.shape("disc", 64))
     big = np.zeros((700, 700), bool)
     big[50:650, 50:650] = True
@@ -328,3 +329,13 @@ def test_interpreted_traces_match_with_other_options(interpreted, options):
         fast = sc.trace(mask, **options)
     assert slow.to_svg() == fast.to_svg()
     assert [len(fit.snapshots) for fit in slow.fits] == [len(fit.snapshots) for fit in fast.fits]
+
+
+def test_a_warm_cache_never_asks_whether_to_interpret():
+    """``trace`` passes the bitmap's size test as a function: on a warm cache (every task done or cached) it is
+    not called, so a warm trace does not count the bitmap's cracks."""
+    asked = []
+    tasks = _jit.TRACE_TASKS + ("merge", "corners", "pixel corners")
+    _jit.warm_up(tasks)
+    assert _jit.warm_up(tasks, interpret=lambda: asked.append(1) or True) is False
+    assert asked == []

@@ -807,7 +807,8 @@ def warm_up(tasks=TRACE_TASKS, interpret=False):
     collected while this process waits for a helper that is still compiling, else by the next automatic
     collection.
 
-    ``interpret=True`` (a trace of a small bitmap, :func:`splinecraft.trace`): when some of the ``tasks`` are cold,
+    ``interpret=True`` (a trace of a small bitmap, :func:`splinecraft.trace`; or a function that tells, called only
+    when some task is cold): when some of the ``tasks`` are cold,
     this process does not compile: a background process (:func:`_start_background`) compiles every cold task, the
     ``tasks`` first, while this process runs the kernels interpreted (:mod:`._interpreted`: their Python source, the
     same results) until it ends; a later call with ``interpret=False`` waits for it. Returns whether the kernels
@@ -827,7 +828,7 @@ def warm_up(tasks=TRACE_TASKS, interpret=False):
         if not todo:
             return False
         cold = [name for name in todo if not is_cached(_sentinel(name))]
-        if cold and interpret and may_interpret() and not _BACKGROUND_FAILED:
+        if cold and may_interpret() and not _BACKGROUND_FAILED and (interpret() if callable(interpret) else interpret):
             others = [name for name in WARM_UP_TASKS if name not in cold and name not in _DONE
                       and not is_cached(_sentinel(name))]
             rank = {name: index for index, name in enumerate(BACKGROUND_ORDER)}

@@ -285,7 +285,7 @@ def trace(
     # a small bitmap on a cold kernel cache: the kernels interpreted while a background process compiles them
     # (_jit.warm_up, capture._interpreted), the same results; without the time budget, which the interpreter's
     # pace would spend where the compiled kernels' does not (a bitmap this small takes milliseconds compiled)
-    interpreted = _jit.warm_up(tasks, interpret=_interpretable(mask))
+    interpreted = _jit.warm_up(tasks, interpret=lambda: _interpretable(mask))  # asked only when kernels are cold
 
     def run(mask, budget, interpreted):
         warmed = time.perf_counter()

@@ -4,6 +4,7 @@
     .venv/bin/python benchmarks/bench_speed.py stages --yardstick ../shared/yardstick --compare OTHER/src
     .venv/bin/python benchmarks/bench_speed.py explorer [--compare OTHER/src]
     .venv/bin/python benchmarks/bench_speed.py jit [--compare OTHER/src --rounds 3]
+    .venv/bin/python benchmarks/bench_speed.py first-call --yardstick ../shared/yardstick [--shapes A,B,G,heart --rounds 1]
     .venv/bin/python benchmarks/bench_speed.py blas
 
 * ``stages``: the in-process time of ``sc.trace`` at its defaults per shape (median of ``--repeat`` runs after
@@ -26,6 +27,10 @@
   and warm on the cache it left, imports not counted: at defaults (cold: the kernels interpreted while a background
   process compiles them; also when the compiled kernels were in place, and the next trace then) and compiling
   first (``SPLINECRAFT_JIT_INTERPRET=0``) in two processes and in one.
+* ``first-call``: the first ``sc.trace`` of each of ``--shapes`` (the yardstick's ``shapes/`` glyphs; without the
+  yardstick, the thesis's objects) in a fresh process on an empty kernel cache, imports not counted, at defaults
+  (the kernels interpreted while a background process compiles them) and compiling first
+  (``SPLINECRAFT_JIT_INTERPRET=0``), alternating; with the time until every compiled kernel is in place.
 * ``blas``: the fit's small solves with the BLAS threads pinned to 1 (threadpoolctl) against the library's
   default, with the other core kept busy by a spinning process, alternating.
 """
@@ -322,6 +327,53 @@ def print_jit(figures):
           + ", ".join(f"{name} {seconds:.2f}" for name, seconds in functions if seconds >= 0.01))
 
 
+_FIRST_CALL_CHILD = """
+import json, sys, time, warnings
+warnings.simplefilter("ignore")
+import splinecraft as sc
+from splinecraft.capture import _jit
+image = sc.load_bitmap(sys.argv[1]) if sys.argv[1].endswith(".png") else sc.datasets.thesis_object(sys.argv[1])
+w = time.perf_counter()
+result = sc.trace(image)
+out = {"first": time.perf_counter() - w, "kernels": result.stats.get("kernels", "compiled")}
+background = getattr(_jit, "_BACKGROUND", None)
+if background is not None:  # every kernel compiled and in place: the next process starts warm
+    background.wait()
+    out["compiled"] = time.perf_counter() - w
+print(json.dumps(out))
+"""
+
+
+def measure_first_call(src, shapes, rounds):
+    """The first ``sc.trace`` of each shape in a fresh process on an empty kernel cache, imports not counted: at
+    defaults (a small bitmap's kernels interpreted while a background process compiles them) and compiling first
+    (``SPLINECRAFT_JIT_INTERPRET=0``), alternating, ``rounds`` times; each run waits for its background compile,
+    so runs do not overlap. Returns shape -> mode -> list of (first call s, compiled kernels in place after s)."""
+    out = {}
+    for _ in range(rounds):
+        for shape in shapes:
+            for mode, extra in (("interpreted", {}), ("compiling first", {"SPLINECRAFT_JIT_INTERPRET": "0"})):
+                with tempfile.TemporaryDirectory() as cache:
+                    env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=src, **extra)
+                    done = subprocess.run([sys.executable, "-c", _FIRST_CALL_CHILD, shape], capture_output=True,
+                                          text=True, env=env, check=True)
+                child = json.loads(done.stdout.strip().splitlines()[-1])
+                out.setdefault(os.path.basename(shape), {}).setdefault(mode, []).append(
+                    (child["first"], child.get("compiled", child["first"]), child["kernels"]))
+    return out
+
+
+def print_first_call(table):
+    print("| shape | first call at defaults, s | kernels | compiled kernels in place after, s | first call compiling "
+          "first, s | ratio |\n|---|---|---|---|---|---|")
+    for shape, modes in table.items():
+        fast = statistics.median(run[0] for run in modes["interpreted"])
+        ready = statistics.median(run[1] for run in modes["interpreted"])
+        slow = statistics.median(run[0] for run in modes["compiling first"])
+        kernels = "/".join(sorted({run[2] for run in modes["interpreted"]}))
+        print(f"| {shape} | {fast:.2f} | {kernels} | {ready:.1f} | {slow:.2f} | {fast / slow:.2f} |")
+
+
 def measure_blas(rounds):
     """Median seconds of the fit's dense small solves (m = 20..64) with BLAS pinned to one thread and with the
     default, while a spinning process keeps the other core busy; alternating."""
@@ -356,7 +408,9 @@ def measure_blas(rounds):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("mode", choices=("stages", "explorer", "jit", "blas"))
+    parser.add_argument("mode", choices=("stages", "explorer", "jit", "first-call", "blas"))
+    parser.add_argument("--shapes", default="A,B,G,heart",
+                        help="first-call: yardstick shapes/ names (else the thesis's objects by name)")
     parser.add_argument("--yardstick", default=os.path.join(ROOT, "..", "shared", "yardstick"))
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--rounds", type=int, default=3, help="alternating rounds of --compare (or blas)")
@@ -379,6 +433,13 @@ def main(argv=None):
             print_stages(after, before)
         else:
             print_explorer(after, before)
+    elif args.mode == "first-call":
+        names = [name for name in args.shapes.split(",") if name]
+        shapes = [os.path.join(args.yardstick, "shapes", f"{name}.png") if args.yardstick else name for name in names]
+        if not args.yardstick:
+            from splinecraft.datasets import THESIS_OBJECTS
+            shapes = [name for name in names if name in THESIS_OBJECTS] or ["ali"]
+        print_first_call(measure_first_call(os.path.join(ROOT, "src"), shapes, args.rounds))
     elif args.mode == "jit":
         for name, figures in compare_jit(args).items():
             if args.compare:

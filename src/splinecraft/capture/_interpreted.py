@@ -34,9 +34,9 @@ _STAND_INS = {}
 #: kernel (dispatcher) -> its clone, and back, built once per process (:func:`_clones`).
 _CLONES = {}
 _KERNELS = {}
-#: The clones now in place: [(module, name)] (:func:`interpret`); the clones' globals; the kernels put back one by
-#: one (:func:`restore_ready`).
-_PLACED = []
+#: Whether the clones are in place (:func:`interpret`); the clones' globals; the kernels put back one by one
+#: (:func:`restore_ready`).
+_ACTIVE = False
 _NAMESPACES = []
 _BACK = set()
 _LOCK = threading.RLock()
@@ -114,19 +114,24 @@ def _replacement(value, default):
     return default
 
 
+def _replace(mapping, kind, modules=True):
+    """Every value of type ``kind`` that is a key of ``mapping`` replaced by its value: in the ``splinecraft``
+    modules (unless ``modules`` is false) and in the clones' globals."""
+    places = [vars(module) for module in _modules()] if modules else []
+    for namespace in places + _NAMESPACES:
+        for name, value in list(namespace.items()):
+            if isinstance(value, kind) and value in mapping:
+                namespace[name] = mapping[value]
+
+
 def interpret():
-    """Put every kernel's clone in its place (module docstring); the kernels' modules are imported first."""
+    """Put every kernel's clone in its place (module docstring); the kernels' modules are imported first. The
+    clones' globals point at clones again (after :func:`restore`)."""
+    global _ACTIVE
     with _LOCK:
         _clones()
-        for module in _modules():
-            for name, value in list(vars(module).items()):
-                if isinstance(value, Dispatcher) and value in _CLONES:
-                    setattr(module, name, _CLONES[value])
-                    _PLACED.append((module, name))
-        for namespace in _NAMESPACES:  # clones call clones (again, after restore)
-            for name, value in list(namespace.items()):
-                if isinstance(value, Dispatcher) and value in _CLONES:
-                    namespace[name] = _CLONES[value]
+        _replace(_CLONES, Dispatcher)
+        _ACTIVE = True
 
 
 def restore_ready(is_ready):
@@ -135,43 +140,29 @@ def restore_ready(is_ready):
     kernel); the others stay interpreted. Kernels that only kernels call (no Python wrapper) stay as they are:
     Python cannot call their compiled code, and they have no cache entry of their own. Returns how many came back."""
     with _LOCK:
-        if not _PLACED:
+        if not _ACTIVE:
             return 0
         ready = {clone: kernel for kernel, clone in _CLONES.items()
                  if kernel not in _BACK and not kernel.targetoptions.get("no_cpython_wrapper") and is_ready(kernel)}
-        if not ready:
-            return 0
-        for module in _modules():
-            for name, value in list(vars(module).items()):
-                if isinstance(value, types.FunctionType) and value in ready:
-                    setattr(module, name, ready[value])
-        for namespace in _NAMESPACES:
-            for name, value in list(namespace.items()):
-                if isinstance(value, types.FunctionType) and value in ready:
-                    namespace[name] = ready[value]
-        _BACK.update(ready.values())
+        if ready:
+            _replace(ready, types.FunctionType)
+            _BACK.update(ready.values())
         return len(ready)
 
 
 def restore():
     """Put every kernel back where :func:`interpret` put its clone (also where a module imported a clone
-    meanwhile)."""
+    meanwhile, and in the clones' globals: a clone still running in another thread calls the compiled kernels)."""
+    global _ACTIVE
     with _LOCK:
-        for module in _modules():
-            for name, value in list(vars(module).items()):
-                if isinstance(value, types.FunctionType) and value in _KERNELS:
-                    setattr(module, name, _KERNELS[value])
-        _PLACED.clear()
-        for namespace in _NAMESPACES:  # a clone still running (another thread) calls the compiled kernels
-            for name, value in list(namespace.items()):
-                if isinstance(value, types.FunctionType) and value in _KERNELS:
-                    namespace[name] = _KERNELS[value]
+        _replace(_KERNELS, types.FunctionType)
+        _ACTIVE = False
         _BACK.clear()
 
 
 def active() -> bool:
     """Whether the kernels are interpreted now (:func:`interpret` without :func:`restore` since)."""
-    return bool(_PLACED)
+    return _ACTIVE
 
 
 def raised_in_kernel(error) -> bool:

@@ -520,6 +520,10 @@ os._exit(0)  # the kernels are in the cache: no interpreter teardown (0.15-0.25 
 """
 
 
+#: The folder that holds the ``splinecraft`` package (where helpers start, and part of the lock file's name).
+_PACKAGE_FOLDER = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
 def _start_helper(names):
     """A helper process that runs the warm-up tasks ``names`` with this process's package (helpers start no
     helpers of their own): forked from this process where that is safe (:func:`_can_fork`), else a fresh
@@ -532,7 +536,7 @@ def _spawn_helper(names, background=None):
     """A fresh interpreter that runs the warm-up tasks ``names`` (:data:`_HELPER_CODE`); None when it cannot
     start. ``background``: the lock file of a background compile (:func:`_start_background`), which runs in a
     session of its own and does not stop with this process."""
-    here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # the folder of this package
+    here = _PACKAGE_FOLDER
     env = dict(os.environ, SPLINECRAFT_JIT_WORKERS="1")
     if background:
         env["SPLINECRAFT_JIT_BACKGROUND"] = background
@@ -722,8 +726,7 @@ def _lock_file() -> str:
     """The file whose lock a background compile holds (:data:`_HELPER_CODE`): one per user, package folder and
     numba cache folder, so two processes that start on a cold cache compile one after the other, the second only
     loading what the first compiled."""
-    here = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    key = hashlib.sha1(f"{here}\0{numba.config.CACHE_DIR or ''}".encode()).hexdigest()[:16]
+    key = hashlib.sha1(f"{_PACKAGE_FOLDER}\0{numba.config.CACHE_DIR or ''}".encode()).hexdigest()[:16]
     user = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
     return os.path.join(tempfile.gettempdir(), f"splinecraft-jit-{user}-{key}.lock")
 

@@ -410,6 +410,51 @@ def test_stroke_ends_of_a_noisy_bitmap_are_not_pixel_corners():
     assert len(trace(clean, keep_snapshots=False).corners[0]) == 4
 
 
+def _drop_stroke_ends_one_by_one(corner_list, pixel_list, corner_scale, lengths):
+    """The rule of ``trace._drop_stroke_end_corners`` boundary by boundary: a pixel corner whose next one round
+    the outline (or the one before it) lies at most 2 points away is a stroke's end; it leaves the pixel corners
+    and the corners."""
+    for k, found in enumerate(pixel_list):
+        if found is None or found.index.size < 2 or corner_scale[k] != 1.0:
+            continue
+        following = np.append(found.index[1:], found.index[0] + lengths[k])
+        near = following - found.index <= 2
+        end = near | np.roll(near, 1)
+        corner_list[k] = corner_list[k][~np.isin(corner_list[k], found.index[end])]
+        pixel_list[k] = type(found)(found.index[~end], found.vertex[~end])
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 12))
+def test_stroke_end_corners_are_dropped_as_boundary_by_boundary(seed, boundaries):
+    """All boundaries at once drop exactly what each boundary on its own would (corners and pixel corners, values
+    and integer types), including boundaries without pixel corners, with one, or seen at a coarser scale."""
+    import copy
+
+    from splinecraft.capture._pixel_corners import PixelCorners
+    from splinecraft.capture.trace import _drop_stroke_end_corners
+
+    rng = np.random.default_rng(seed)
+    lengths = rng.integers(4, 60, boundaries)
+    corner_list, pixel_list = [], []
+    for n in lengths.tolist():
+        index = np.sort(rng.choice(n, rng.integers(0, min(n, 14)), replace=False)).astype(np.int64)
+        extra = rng.choice(n, rng.integers(0, 4), replace=False)
+        corner_list.append(np.unique(np.concatenate([index[rng.random(index.size) < 0.7], extra])).astype(np.intp))
+        pixel_list.append(None if rng.random() < 0.15 else PixelCorners(index, rng.random((index.size, 2))))
+    corner_scale = np.where(rng.random(boundaries) < 0.2, 2.0, 1.0)
+    expected_corners, expected_pixels = copy.deepcopy(corner_list), copy.deepcopy(pixel_list)
+    _drop_stroke_ends_one_by_one(expected_corners, expected_pixels, corner_scale, lengths)
+    _drop_stroke_end_corners(corner_list, pixel_list, corner_scale, lengths)
+    for got, expected in zip(corner_list, expected_corners):
+        assert got.dtype == expected.dtype and np.array_equal(got, expected)
+    for got, expected in zip(pixel_list, expected_pixels):
+        assert (got is None) == (expected is None)
+        if got is not None:
+            assert got.index.dtype == expected.index.dtype
+            assert np.array_equal(got.index, expected.index) and np.array_equal(got.vertex, expected.vertex)
+
+
 def _thin_feature_pixels_by_ndimage(mask, min_area):
     """:func:`thin_feature_pixels` as scipy.ndimage states it: each region less its opening by the 3 x 3 cross
     (ink continued by no ink beyond the border, paper by paper), in 8-connected pieces of ``min_area`` or more."""

@@ -537,15 +537,49 @@ def _drop_stroke_end_corners(corner_list, pixel_list, corner_scale, lengths):
     or two points apart: other pixel corners are at least ``MIN_RUN`` apart, docs/capture.md §11 step 9) from the
     corners and pixel corners of the boundaries seen at the pixel scale (in place; ``lengths``: the points of
     each boundary). At that noise such an end is a speck's or a spike's: on the noisiest scans of
-    ``bench_noisy_corners.py`` they were 124 false corners of 453 (``BENCHMARKS.md``, "Session 19")."""
-    for k, found in enumerate(pixel_list):
-        if found is None or found.index.size < 2 or corner_scale[k] != 1.0:
-            continue
-        near = np.diff(np.append(found.index, found.index[0] + lengths[k])) <= 2   # to the next pixel corner
-        end = near | np.roll(near, 1)
-        if end.any():
-            corner_list[k] = corner_list[k][~np.isin(corner_list[k], found.index[end])]
-            pixel_list[k] = type(found)(found.index[~end], found.vertex[~end])
+    ``bench_noisy_corners.py`` they were 124 false corners of 453 (``BENCHMARKS.md``, "Session 19").
+
+    All boundaries at once (a noise image has some 100 000): a pixel corner is an end where the next one round
+    its outline (the first one, a whole outline on) or the one before it lies at most 2 points away; the corners
+    that are such ends are found by one look-up of (boundary, index) keys, and only the boundaries that lose
+    some are rebuilt."""
+    chosen = [k for k, found in enumerate(pixel_list)
+              if found is not None and found.index.size >= 2 and corner_scale[k] == 1.0]
+    if not chosen:
+        return
+    counts = np.fromiter((pixel_list[k].index.size for k in chosen), np.int64, len(chosen))
+    index = np.concatenate([pixel_list[k].index for k in chosen]).astype(np.int64, copy=False)
+    first = np.cumsum(counts) - counts
+    last = first + counts - 1
+    following = np.empty_like(index)  # the next pixel corner round the outline (the first, an outline on)
+    following[:-1] = index[1:]
+    following[last] = index[first] + lengths[chosen]
+    near = following - index <= 2
+    before = np.empty_like(near)  # whether the one before it (the last, an outline back) is near it
+    before[1:] = near[:-1]
+    before[first] = near[last]
+    end = near | before
+    losing = np.flatnonzero(np.add.reduceat(end.astype(np.int64), first) > 0)
+    if not losing.size:
+        return
+    # the corners that are ends: keys (position among the losing boundaries, index), looked up at once
+    span = int(lengths[chosen].max()) + 1
+    own = np.repeat(np.arange(len(chosen)), counts)
+    rank = np.full(len(chosen), -1, np.int64)
+    rank[losing] = np.arange(losing.size)
+    end_keys = rank[own[end]] * span + index[end]
+    corners = [np.asarray(corner_list[chosen[b]]) for b in losing.tolist()]
+    corner_counts = np.fromiter(map(len, corners), np.int64, len(corners))
+    keys = np.repeat(np.arange(losing.size), corner_counts) * span + \
+        np.concatenate(corners).astype(np.int64, copy=False) if corner_counts.sum() else np.zeros(0, np.int64)
+    keep = ~np.isin(keys, end_keys)
+    cuts = np.cumsum(corner_counts)[:-1].tolist()
+    for b, kept in zip(losing.tolist(), np.split(keep, cuts)):
+        k = chosen[b]
+        found = pixel_list[k]
+        rows = ~end[first[b]:last[b] + 1]
+        corner_list[k] = corner_list[k][kept]
+        pixel_list[k] = type(found)(found.index[rows], found.vertex[rows])
 
 
 def _coarse_corners(points_list, noise, undetected, settings, deadline):

@@ -116,6 +116,8 @@ def _fit_run(p0x, p0y, p3x, p3y, d0x, d0y, d1x, d1y, lo, n, points, u, start, sp
     c[3, 1] = c[2, 1] = p3y
     k = _coefficients(c)  # the chord (the first solve does not use it)
     a = b = 0.0
+    p0x, p0y, p3x, p3y = float(p0x), float(p0y), float(p3x), float(p3y)  # as float (see _coefficients)
+    d0x, d0y, d1x, d1y = float(d0x), float(d0y), float(d1x), float(d1y)
     for step in range(steps + 1):
         # the first solve minimises the distances to the points at their parameters; the later ones the
         # distances along the curve's normal at the points' feet (plus TANGENTIAL times the rest), which
@@ -171,7 +173,7 @@ def _fit_run(p0x, p0y, p3x, p3y, d0x, d0y, d1x, d1y, lo, n, points, u, start, sp
             m22 += mu
             r1 += mu * a
             r2 += mu * b
-        det = m11 * m22 - m12 * m12
+        det = np.float64(m11 * m22 - m12 * m12)  # numpy's division below (0 gives inf or NaN), interpreted too
         a = pyclip((m22 * r1 - m12 * r2) / det, -bound, bound)
         b = pyclip((m11 * r2 - m12 * r1) / det, -bound, bound)
         c[1, 0] = p0x + a * d0x
@@ -212,17 +214,18 @@ def _fit_run(p0x, p0y, p3x, p3y, d0x, d0y, d1x, d1y, lo, n, points, u, start, sp
         px = b0 * k[0] + b1 * k[1] + b2 * k[2] + b3 * k[3]
         py = b0 * k[4] + b1 * k[5] + b2 * k[6] + b3 * k[7]
         gx, gy = px - qx, py - qy
+        tq = float(tol[q])
         if t <= 0.0 or t >= 1.0:
             k0, k1 = (0, 1) if t <= 0.0 else (2, 3)
             dx, dy = c[k1, 0] - c[k0, 0], c[k1, 1] - c[k0, 1]
             length = np.hypot(dx, dy)
             dist = abs(gx * dy - gy * dx) / length if length > 0 else np.hypot(gx, gy)
-            worst = pymax(worst, dist - tol[q])
+            worst = pymax(worst, dist - tq)
         else:  # the distance itself only where it may raise the largest excess (see SURE)
-            reach = worst + tol[q]
+            reach = worst + tq
             if not (reach > 0.0 and gx * gx + gy * gy < SURE * (reach * reach)):
-                worst = pymax(worst, np.hypot(gx, gy) - tol[q])
-        off = np.hypot(px - fitted[q, 0], py - fitted[q, 1])
+                worst = pymax(worst, np.hypot(gx, gy) - tq)
+        off = np.hypot(px - float(fitted[q, 0]), py - float(fitted[q, 1]))
         far = pymax(far, off)
         total += off * off
     return a, b, worst, far, total

@@ -396,10 +396,12 @@ def trace(
 
 #: The most cracks (pixel edges between ink and paper, :func:`_cracks_of`) of a bitmap whose first trace on a cold
 #: kernel cache runs the kernels interpreted (:func:`._jit.warm_up`, ``interpret=True``); a larger one waits for
-#: the compile. The interpreter takes 1-3 ms a crack (a 300-px glyph: 1600-2000 cracks, 2-5 s on session 31's
-#: machine), the cold compile 11.5 s on two CPUs: beyond 4000 cracks the compile is the shorter wait
-#: (BENCHMARKS.md, "Session 31: the first call interpreted").
-INTERPRET_CRACKS = 4000
+#: the compile. Since session 32 the interpreter takes 1.0-1.4 ms a crack on clean renders and noise (a 300-px
+#: glyph: 1600-2000 cracks; a 1200-px glyph or a 90 x 90 noise bitmap: 7000-8300 cracks, 7.6-9.6 s) and 1.5-1.9 ms
+#: on scan-like glyphs, the cold compile 13-14 s on two CPUs: up to 8000 cracks the interpreter is the shorter
+#: wait but for the noisiest scans, where the two are about even (BENCHMARKS.md, "Session 32-33"; 4000 until
+#: session 33, when the interpreter took 1-3 ms a crack).
+INTERPRET_CRACKS = 8000
 
 
 def _cracks_of(mask):

@@ -399,7 +399,7 @@ def trace(
 #: the compile. Since session 32 the interpreter takes 1.0-1.4 ms a crack on clean renders and noise (a 300-px
 #: glyph: 1600-2000 cracks; a 1200-px glyph or a 90 x 90 noise bitmap: 7000-8300 cracks, 7.6-9.6 s) and 1.5-1.9 ms
 #: on scan-like glyphs, the cold compile 13-14 s on two CPUs: up to 8000 cracks the interpreter is the shorter
-#: wait but for the noisiest scans, where the two are about even (BENCHMARKS.md, "Session 32-33"; 4000 until
+#: wait but for the noisiest scans, where the two are about even (BENCHMARKS.md, "Session 32-33"; 4000 before
 #: session 33, when the interpreter took 1-3 ms a crack).
 INTERPRET_CRACKS = 8000
 

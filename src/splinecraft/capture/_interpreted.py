@@ -1,19 +1,20 @@
 """The compiled kernels run by the Python interpreter: the first trace on a machine whose kernel cache is cold.
 
 Every kernel is a numba dispatcher whose Python source (``dispatcher.py_func``) is the one implementation: numba
-compiles it, and the interpreter can run it as it stands. Compiling the kernels of a trace takes 10-20 s of CPU
-on a cold cache (docs/capture.md, "Compiled kernels"), while the interpreter runs a 300-px glyph's kernels in
-about 1-3 s. So the first trace of a machine runs them interpreted while a background process compiles them into
-the cache (:func:`._jit.warm_up` with ``interpret=True``), and the traces after it load the compiled kernels as
-soon as that process is done.
+compiles it, and the interpreter can run it as it stands. Compiling the kernels of a trace takes 10-20 s of CPU on a
+cold cache (docs/capture.md, "Compiled kernels"), while the interpreter runs a 300-px glyph's kernels in about 0.6-3
+s (BENCHMARKS.md, "Session 32-33"). So the first trace of a machine runs them interpreted while a background process
+compiles them into the cache (:func:`._jit.warm_up` with ``interpret=True``), and the traces after it load the
+compiled kernels as soon as that process is done.
 
-:func:`interpret` puts, into every ``splinecraft`` module that holds a kernel, a *clone* of it in its place: a
-plain Python function with the kernel's code whose globals are its module's with every kernel replaced by its
-clone and every intrinsic of the kernels (:func:`._jit.pymin`, :func:`._jit.pymax`, :func:`._jit.pyclip`,
+:func:`interpret` puts, into every ``splinecraft`` module that holds a kernel, a *clone* of it in its place: a plain
+Python function with the kernel's code whose globals are its module's with every kernel replaced by its clone and
+every intrinsic of the kernels (:func:`._jit.pymin`, :func:`._jit.pymax`, :func:`._jit.pyclip`,
 :func:`._jit.compact`, the tips' fused multiply-add) by its stand-in (:func:`stand_in`): Python code that gives the
 same value. :func:`restore` puts the kernels back. The interpreter's arithmetic is the kernels': IEEE double
-precision, no ``fastmath``, numpy's scalars where the kernels read arrays, so a trace comes out bit for bit the
-same either way (``tests/test_interpreted.py`` traces shapes both ways). A kernel whose Python semantics differ
+precision, no ``fastmath``, numpy's scalars where the kernels read arrays (the hot loops turn them into Python
+floats, the same doubles, whose arithmetic the interpreter runs about 3x faster), so a trace comes out bit for bit
+the same either way (``tests/test_interpreted.py`` traces shapes both ways). A kernel whose Python semantics differ
 from numba's (a Python float divided by zero raises where numba gives ``inf``) raises instead of giving another
 value; :func:`splinecraft.trace` then runs the compiled kernels.
 """

@@ -27,8 +27,8 @@
   and warm on the cache it left, imports not counted: at defaults (cold: the kernels interpreted while a background
   process compiles them; also when the compiled kernels were in place, and the next trace then) and compiling
   first (``SPLINECRAFT_JIT_INTERPRET=0``) in two processes and in one.
-* ``first-call``: the first ``sc.trace`` of each of ``--shapes`` (the yardstick's ``shapes/`` glyphs; without the
-  yardstick, the thesis's objects) in a fresh process on an empty kernel cache, imports not counted, at defaults
+* ``first-call``: the first ``sc.trace`` of each of ``--shapes`` (the yardstick's ``shapes/`` glyphs, or bitmaps by
+  path, e.g. ``../shared/yardstick/shapes2/dvs_S.png``; without the yardstick, the thesis's objects) in a fresh process on an empty kernel cache, imports not counted, at defaults
   (the kernels interpreted while a background process compiles them) and compiling first
   (``SPLINECRAFT_JIT_INTERPRET=0``), alternating; with the time until every compiled kernel is in place.
 * ``blas``: the fit's small solves with the BLAS threads pinned to 1 (threadpoolctl) against the library's
@@ -410,7 +410,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("mode", choices=("stages", "explorer", "jit", "first-call", "blas"))
     parser.add_argument("--shapes", default="A,B,G,heart",
-                        help="first-call: yardstick shapes/ names (else the thesis's objects by name)")
+                        help="first-call: yardstick shapes/ names or bitmap paths (else the thesis's objects by name)")
     parser.add_argument("--yardstick", default=os.path.join(ROOT, "..", "shared", "yardstick"))
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--rounds", type=int, default=3, help="alternating rounds of --compare (or blas)")
@@ -435,10 +435,12 @@ def main(argv=None):
             print_explorer(after, before)
     elif args.mode == "first-call":
         names = [name for name in args.shapes.split(",") if name]
-        shapes = [os.path.join(args.yardstick, "shapes", f"{name}.png") if args.yardstick else name for name in names]
+        # a name with a folder is a bitmap's path as it stands (a shapes2/ glyph, say), else a shapes/ glyph's name
+        shapes = [name if os.sep in name else os.path.join(args.yardstick, "shapes", f"{name}.png") if args.yardstick
+                  else name for name in names]
         if not args.yardstick:
             from splinecraft.datasets import THESIS_OBJECTS
-            shapes = [name for name in names if name in THESIS_OBJECTS] or ["ali"]
+            shapes = [name for name in names if name in THESIS_OBJECTS or os.sep in name] or ["ali"]
         print_first_call(measure_first_call(os.path.join(ROOT, "src"), shapes, args.rounds))
     elif args.mode == "jit":
         for name, figures in compare_jit(args).items():

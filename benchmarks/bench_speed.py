@@ -28,7 +28,8 @@
   process compiles them; also when the compiled kernels were in place, and the next trace then) and compiling
   first (``SPLINECRAFT_JIT_INTERPRET=0``) in two processes and in one.
 * ``first-call``: the first ``sc.trace`` of each of ``--shapes`` (the yardstick's ``shapes/`` glyphs, or bitmaps by
-  path, e.g. ``../shared/yardstick/shapes2/dvs_S.png``; without the yardstick, the thesis's objects) in a fresh process on an empty kernel cache, imports not counted, at defaults
+  path, e.g. ``../shared/yardstick/shapes2/dvs_S.png``; without the yardstick, the thesis's objects) in a fresh
+  process on an empty kernel cache, imports not counted, at defaults
   (the kernels interpreted while a background process compiles them) and compiling first
   (``SPLINECRAFT_JIT_INTERPRET=0``), alternating; with the time until every compiled kernel is in place.
 * ``blas``: the fit's small solves with the BLAS threads pinned to 1 (threadpoolctl) against the library's
@@ -435,12 +436,15 @@ def main(argv=None):
             print_explorer(after, before)
     elif args.mode == "first-call":
         names = [name for name in args.shapes.split(",") if name]
-        # a name with a folder is a bitmap's path as it stands (a shapes2/ glyph, say), else a shapes/ glyph's name
-        shapes = [name if os.sep in name else os.path.join(args.yardstick, "shapes", f"{name}.png") if args.yardstick
-                  else name for name in names]
-        if not args.yardstick:
+        # a name with a folder is a bitmap's path as it stands (a shapes2/ glyph, say); else a yardstick shapes/
+        # glyph's name, or without the yardstick a thesis object's
+        paths = [name for name in names if os.sep in name]
+        if args.yardstick:
+            shapes = [name if name in paths else os.path.join(args.yardstick, "shapes", f"{name}.png")
+                      for name in names]
+        else:
             from splinecraft.datasets import THESIS_OBJECTS
-            shapes = [name for name in names if name in THESIS_OBJECTS or os.sep in name] or ["ali"]
+            shapes = [name for name in names if name in THESIS_OBJECTS or name in paths] or ["ali"]
         print_first_call(measure_first_call(os.path.join(ROOT, "src"), shapes, args.rounds))
     elif args.mode == "jit":
         for name, figures in compare_jit(args).items():

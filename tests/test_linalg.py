@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from splinecraft.capture.fitting._linalg import solve, svd_direction
+from splinecraft.capture.fitting._linalg import solve, svd_direction, svd_directions
 
 _FINITE = st.floats(-1e3, 1e3, allow_nan=False, allow_infinity=False)
 
@@ -44,6 +44,18 @@ def test_singular_solve_raises_as_numpy():
 def test_svd_direction_is_numpys(points):
     local = points - points.mean(axis=0)
     assert svd_direction(local).tobytes() == np.linalg.svd(local, full_matrices=False)[2][0].tobytes()
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 5).flatmap(lambda k: st.integers(1, 100).flatmap(
+    lambda n: arrays(np.float64, (k, n, 2), elements=_FINITE))))
+def test_stacked_svd_directions_are_each_matrixs(stack):
+    """One call for a stack of windows of one length: each direction that of its matrix alone, bit for bit."""
+    local = stack - stack.mean(axis=1, keepdims=True)
+    got = svd_directions(local)
+    assert got.shape == (stack.shape[0], 2)
+    for window, direction in zip(local, got):
+        assert direction.tobytes() == svd_direction(np.ascontiguousarray(window)).tobytes()
 
 
 def test_svd_of_nan_raises_as_numpy():

@@ -234,6 +234,51 @@ def test_side_fits_and_tips_match_the_numpy_formulation(seed):
     assert tested
 
 
+@pytest.mark.parametrize("seed", range(12))
+def test_batched_sides_and_line_tips_are_the_single_ones(seed):
+    """``side_fits`` (windows of many lengths, some too short, straight and curved, with and without pixel pairs)
+    gives each side ``side_fit`` gives, and ``line_tip_checks`` each corner's ``tip_checks`` (between two lines),
+    bit for bit: the batches run the same operations per side and corner."""
+    contour, pairs = _outline(seed)
+    cracks = tips.horizontal_cracks(contour.points)
+    rng = np.random.default_rng(seed)
+    requests = []
+    for c in range(contour.corner_count):
+        corner_arc = contour.arc[contour.corner_bounds[c]]
+        for start, length in ((1.0, 48.0), (rng.uniform(1.0, 6.0), rng.uniform(2.0, 30.0)), (2.0, 5.0)):
+            requests += [(corner_arc, sign, start, start + length) for sign in (-1, 1)]
+    for with_pairs in (None, pairs):
+        got = tips.side_fits(contour, requests, with_pairs)
+        assert len(got) == len(requests)
+        for request, side in zip(requests, got):
+            assert _same_side(side, tips.side_fit(contour, *request, with_pairs))
+    assert tips.side_fits(contour, [], pairs) == []
+    sides = tips.side_fits(contour, requests, pairs)
+    corners, rows, windows, starts = [], [], [], []
+    for c in range(contour.corner_count):
+        first, second = sides[6 * c], sides[6 * c + 1]
+        if first is None or second is None or first.coefficients.any() or second.coefficients.any():
+            continue
+        corners.append(c)
+        rows.append((first.row, second.row))
+        windows.append([first.length] if c % 2 else [first.length, second.length])
+        starts.append(requests[6 * c][2])
+    assert corners
+    ink, paper = pairs
+    checked = _tip_kernels.line_tip_checks(
+        contour, [contour.corner_bounds[c] % contour.size for c in corners],
+        [contour.arc[contour.corner_bounds[c]] for c in corners], starts, [r[0] for r in rows], [r[1] for r in rows],
+        windows, ink, paper, cracks, tips._SIN_MIN_CROSSING, tips._TIP_LIMITS)
+    for c, (first, second), window, start, got in zip(corners, rows, windows, starts, checked):
+        want = _tip_kernels.tip_checks(contour, contour.corner_bounds[c] % contour.size,
+                                       contour.arc[contour.corner_bounds[c]], start, first, second, np.array(window),
+                                       None, ink, paper, cracks, -1, tips._SIN_MIN_CROSSING, tips._TIP_LIMITS)
+        assert (got is None) == (want is None)
+        if got is not None:
+            for a, b in zip(got, want):
+                assert np.asarray(a).tobytes() == np.asarray(b).tobytes()
+
+
 @settings(max_examples=80, deadline=None)
 @given(st.integers(1, 120), st.integers(1, 120), st.integers(0, 10_000), st.booleans())
 def test_separating_lines_and_offsets_match_the_numpy_formulation(inks, papers, seed, curved):

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["solve", "svd_direction"]
+__all__ = ["solve", "svd_direction", "svd_directions"]
 
 try:
     from numpy.linalg import _umath_linalg
@@ -47,3 +47,13 @@ def svd_direction(a):
     with np.errstate(call=_raise_linalgerror_svd_nonconvergence, invalid="call", over="ignore", divide="ignore",
                      under="ignore"):
         return _SVD(a, signature="d->ddd")[2][0]
+
+
+def svd_directions(stack):
+    """:func:`svd_direction` of each matrix of a float64 stack (k, n, 2), n >= 1, in one call of numpy's ufunc (its
+    loop runs LAPACK ``gesdd`` on each matrix as one call would: the same bits); (k, 2)."""
+    if _SVD is None:  # pragma: no cover
+        return np.linalg.svd(stack, full_matrices=False)[2][:, 0]
+    with np.errstate(call=_raise_linalgerror_svd_nonconvergence, invalid="call", over="ignore", divide="ignore",
+                     under="ignore"):
+        return _SVD(stack, signature="d->ddd")[2][:, 0]

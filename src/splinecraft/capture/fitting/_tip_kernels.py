@@ -43,11 +43,11 @@ from numba.extending import intrinsic
 from .. import _interpreted
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, compact, pymax, pymin
 from ._kernels import _separating_slope_into
-from ._linalg import svd_direction
+from ._linalg import svd_direction, svd_directions
 
 __all__ = ["SIDE_FIELDS", "arange_count", "window_samples", "window_local", "side_window", "separating_line",
-           "frame_offsets", "inkward_of", "ray_parities", "tip_checks", "tip_contradiction_of",
-           "wedge_contradiction_of", "warm_up"]
+           "window_sides", "frame_offsets", "inkward_of", "ray_parities", "tip_checks", "line_tip_checks",
+           "tip_contradiction_of", "wedge_contradiction_of", "warm_up"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
 #: Helpers called from several places of a kernel: compiled once, called (not inlined).
@@ -377,6 +377,62 @@ def side_window(contour, corner_arc, sign, start, stop, samples, count, local, c
     return b.out
 
 
+@njit(**_JIT)
+def _sides_into(arc, closed, perimeter, corner_arcs, signs, starts, stops, offsets, fill, samples, local, centres,
+                directions, coefficients, mode, ink_all, paper_all, slopes, step, rounds, t, y, ink, paper, t_ink,
+                y_ink, t_paper, y_paper, grid, slope_out, rows, status):
+    """:func:`window_sides` in two passes over its windows (rows ``offsets[r]`` to ``offsets[r + 1]`` of
+    ``samples`` and ``local``): with ``fill`` each window's samples, centre and local points (:func:`_window_into`),
+    else each window's side from its ``directions[r]`` (:func:`_side_into` in ``mode`` 0, its status into
+    ``status[r]``, its row into ``rows[r]``); the work arrays are :class:`_Buffers`' for the longest window."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for r in range(corner_arcs.shape[0]):
+        first, last = offsets[r], offsets[r + 1]
+        if fill:
+            _window_into(arc, closed, perimeter, corner_arcs[r], signs[r], starts[r], samples[first:last], _RIGHT,
+                         last - first, local[first:last], centres[r])
+        else:
+            status[r] = _side_into(arc, perimeter, corner_arcs[r], signs[r], starts[r], stops[r], local[first:last],
+                                   centres[r], directions[r], stops[r] - starts[r], coefficients, mode, ink_all,
+                                   paper_all, slopes, step, rounds, t, y, ink, paper, t_ink, y_ink, t_paper, y_paper,
+                                   grid, slope_out, rows[r])
+
+
+def window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, slopes, step, rounds):
+    """The first window of :func:`.tips.side_fit` for many sides at once: per side (the corner's arc length
+    ``corner_arcs[r]``, towards ``signs[r]``, from ``starts[r]`` to ``stops[r]`` px of arc) the row and status of
+    :func:`side_window` on its whole window before any parabola: 0 or 1 a line (1: the separating line of the
+    window's pixel centres ``ink`` and ``paper``), 2 not straight (the caller fits the parabola). The same
+    operations as one :func:`window_samples` and :func:`side_window` per side, so the same bits: the samples and
+    the sides in two compiled passes, and the windows' singular value decompositions (LAPACK) stacked by window
+    length, one call per length (:func:`~._linalg.svd_directions`), where each side window cost a dozen
+    Python-level calls (BENCHMARKS.md, "Session 34"). Returns ``(rows, status)``."""
+    count = len(corner_arcs)
+    corner_arcs, signs = np.asarray(corner_arcs, float), np.asarray(signs, float)
+    starts, stops = np.asarray(starts, float), np.asarray(stops, float)
+    # arange_count(start, stop + 1e-9, 0.5) of each: the same operations on arrays
+    lengths = np.maximum(np.ceil(((stops + 1e-9) - starts) / 0.5), 0.0).astype(np.int64)
+    offsets = np.zeros(count + 1, np.int64)
+    np.cumsum(lengths, out=offsets[1:])
+    samples, local = np.empty((offsets[-1], 2)), np.empty((offsets[-1], 2))
+    centres, directions = np.empty((count, 2)), np.empty((count, 2))
+    rows, status = np.empty((count, SIDE_FIELDS)), np.empty(count, np.int64)
+    b = _Buffers(int(lengths.max()), ink.shape[0], slopes)
+    passes = (contour.arc, contour.closed_points, float(contour.perimeter), corner_arcs, signs, starts, stops, offsets)
+    rest = (_NO_COEFFICIENTS, 0, ink, paper, slopes, float(step), int(rounds), b.t, b.y, b.ink, b.paper,
+            *b.scratch, b.grid, b.slope, rows, status)
+    _sides_into(*passes, True, samples, local, centres, directions, *rest)
+    for length in np.unique(lengths):
+        members = np.flatnonzero(lengths == length)
+        if members.shape[0] == 1:
+            first = offsets[members[0]]
+            directions[members[0]] = svd_direction(local[first:first + length])
+        else:
+            directions[members] = svd_directions(local[offsets[members][:, None] + np.arange(length)])
+    _sides_into(*passes, False, samples, local, centres, directions, *rest)
+    return rows, status
+
+
 def frame_offsets(local, direction):
     """``t, y = local @ direction, local @ normal`` (``normal``: ``direction`` turned a quarter counter-clockwise)
     and whether ``numpy.abs(y).max()`` is at most the straight residual (0.8 px, :data:`.tips.STRAIGHT_RESIDUAL`)."""
@@ -633,6 +689,37 @@ def tip_checks(contour, corner, corner_arc, start, first, second, windows, cross
     return out[0:2], out[2], ends
 
 
+@njit(**_JIT)
+def _tips_into(points, corners, arc, closed, perimeter, corner_arcs, starts, firsts, seconds, windows, sizes, crossing,
+               min_cross, ink_all, paper_all, cracks, parity, limits, outs, ends, passed):
+    """:func:`_tip_into` in ``mode`` 0 (two lines) for the corners ``corners[r]``, their side rows ``firsts[r]`` and
+    ``seconds[r]`` and side windows ``windows[r, :sizes[r]]``, into ``outs[r]``, ``ends[r]`` and ``passed[r]``."""
+    compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
+    for r in range(corners.shape[0]):
+        passed[r] = _tip_into(points, corners[r], arc, closed, perimeter, corner_arcs[r], starts[r], firsts[r],
+                              seconds[r], windows[r, :sizes[r]], crossing, 0, min_cross, ink_all, paper_all, cracks,
+                              parity, limits, outs[r], ends[r])
+
+
+def line_tip_checks(contour, corners, corner_arcs, starts, firsts, seconds, windows, ink, paper, cracks, min_cross,
+                    limits):
+    """:func:`tip_checks` of many corners whose two sides are lines, in one compiled pass (the same operations per
+    corner): per corner ``r`` (its contour index ``corners[r]``, arc length ``corner_arcs[r]``, window start
+    ``starts[r]``, side rows ``firsts[r]`` and ``seconds[r]``, the side windows ``windows[r]`` that bound its
+    reach, one or two) ``(point, opening, ends)`` or None."""
+    count = len(corners)
+    sizes = np.array([len(w) for w in windows], np.int64)
+    table = np.zeros((count, 2))
+    for r, w in enumerate(windows):
+        table[r, :len(w)] = w
+    outs, ends, passed = np.empty((count, 3)), np.empty((count, 2, 2)), np.empty(count, np.bool_)
+    _tips_into(contour.points, np.asarray(corners, np.int64), contour.arc, contour.closed_points,
+               float(contour.perimeter), np.asarray(corner_arcs, float), np.asarray(starts, float), np.stack(firsts),
+               np.stack(seconds), table, sizes, _NO_COEFFICIENTS, float(min_cross), ink, paper, cracks, -1, limits,
+               outs, ends, passed)
+    return [(outs[r, 0:2], outs[r, 2], ends[r]) if passed[r] else None for r in range(count)]
+
+
 def tip_contradiction_of(contour, corner_arc, zone, first, second, ink, paper, convex):
     """:func:`.tips.tip_contradiction` of the side rows ``first`` and ``second`` in one pass."""
     out = np.empty(3)
@@ -671,5 +758,7 @@ def warm_up():
     separating_line(ink, paper, row, slopes, 0.03, 2)
     inkward_of(row, points)
     second = np.array([0.0, 0.0, 0.0, 1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0])
-    tip_checks(contour, 0, 0.5, 0.5, row, second, np.ones(2), None, ink, paper, points, -1, 0.1,
-               np.array([0.25, 1.0, 0.1, 1.0, 5.0]))
+    limits = np.array([0.25, 1.0, 0.1, 1.0, 5.0])
+    window_sides(contour, [0.5, 0.5], [1.0, -1.0], [0.0, 0.0], [1.0, 1.0], ink, paper, slopes, 0.03, 2)
+    line_tip_checks(contour, [0], [0.5], [0.5], [row], [second], [[1.0, 1.0]], ink, paper, points, 0.1, limits)
+    tip_checks(contour, 0, 0.5, 0.5, row, second, np.ones(2), None, ink, paper, points, -1, 0.1, limits)

@@ -28,10 +28,10 @@ from ._kernels import closed_polyline_distance
 from ._linalg import solve, svd_direction
 from ._tip_kernels import (SIDE_FIELDS, arange_count, frame_offsets, inkward_of, ray_parities, separating_line,
                            side_window, tip_checks, tip_contradiction_of, wedge_contradiction_of, window_local,
-                           window_samples)
+                           window_samples, window_sides, line_tip_checks)
 
-__all__ = ["tip_reach", "side_fit", "short_side", "tip_estimates", "tip_contradiction", "wedge_contradiction",
-           "is_convex", "ray_parity", "horizontal_cracks", "pixel_pairs", "SideFit"]
+__all__ = ["tip_reach", "side_fit", "side_fits", "short_side", "tip_estimates", "tip_contradiction",
+           "wedge_contradiction", "is_convex", "ray_parity", "horizontal_cracks", "pixel_pairs", "SideFit"]
 
 #: Residual (px) up to which a window of the contour counts as one line (or one parabola): the staircase of a
 #: straight side stays within half a pixel diagonal of its line.
@@ -245,6 +245,24 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
     return None
 
 
+def side_fits(contour, requests, pairs=None):
+    """:func:`side_fit` of each ``(corner_arc, sign, start, stop)`` of ``requests``: a list of :class:`SideFit` or
+    None. The first window of every side runs in one batch (:func:`~._tip_kernels.window_sides`, the same
+    operations and bits); a side whose first window is not straight (a parabola, or a window that shrinks) goes
+    on as :func:`side_fit` does."""
+    out = [None] * len(requests)
+    todo = [r for r, (_, _, start, stop) in enumerate(requests) if stop - start >= SHORTEST_SIDE]
+    if not todo:
+        return out
+    ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
+    corner_arcs, signs, starts, stops = zip(*(requests[r] for r in todo))
+    rows, status = window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, _FIRST_SLOPES,
+                                SLOPE_SEARCH / 8, 5)
+    for at, r in enumerate(todo):
+        out[r] = side_fit(contour, *requests[r], pairs) if status[at] == 2 else SideFit.of_row(rows[at])
+    return out
+
+
 def short_side(contour, piece, pairs, neighbours):
     """The whole side ``piece`` (between corners ``piece`` and ``piece + 1`` of ``contour``) as one line shared by
     both corners: the separating line (:func:`_separating_line`) of the ink and paper pixel centres beside the
@@ -426,6 +444,11 @@ def tip_estimates(contour, angle, radius, measured=None):
     cracks = None if pairs is None else horizontal_cracks(contour.points)
     candidates = np.flatnonzero(wanted)
     regular, shared = {}, {}
+    # every side the loop below may fit on its own window, in one batch (side_fits); the shared sides' neighbours
+    # and the retries' shorter windows as they come
+    needed = [(int(c), k) for c in candidates for k in (0, 1)]
+    regular.update(zip(needed, side_fits(contour, [(arc[contour.corner_bounds[c]], 2 * k - 1, start[c], stops[c, k])
+                                                   for c, k in needed], pairs)))
 
     def side_of(c, k):
         """Side ``k`` (0: before, 1: after) of corner ``c``: its own window, or None where that is short."""
@@ -439,8 +462,8 @@ def tip_estimates(contour, angle, radius, measured=None):
             shared[piece] = short_side(contour, piece, pairs, (side_of(piece, 0), side_of((piece + 1) % count, 1)))
         return shared[piece]
 
+    measured_sides = []  # (corner, its sides, which of them are shared)
     for c in candidates:
-        corner_arc = arc[contour.corner_bounds[c]]
         sides, measured = [None, None], True
         for k in (1, 0) if one_short[c] and short[c, 0] else (0, 1):  # beside a short side, the other one first
             sides[k] = shared_side((c - 1 + k) % count) if short[c, k] and one_short[c] else side_of(c, k)
@@ -449,16 +472,16 @@ def tip_estimates(contour, angle, radius, measured=None):
             if sides[k] is None or (one_short[c] and not sides[k].margin > 0):
                 measured = False
                 break
-        if not measured:
-            continue
-        is_shared = [bool(short[c, k] and one_short[c]) for k in (0, 1)]
-        found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
+        if measured:
+            measured_sides.append((c, sides, [bool(short[c, k] and one_short[c]) for k in (0, 1)]))
+    for (c, sides, is_shared), found in zip(measured_sides, _tips(contour, measured_sides, start, pairs, cracks)):
+        corner_arc = arc[contour.corner_bounds[c]]
         reach = stops[c].copy()
         while found is None and RETRY_SHRINK and not any(is_shared):
             reach = start[c] + RETRY_SHRINK * (reach - start[c])
             if (reach - start[c]).min() < SHORTEST_SIDE:
                 break
-            sides = [side_fit(contour, corner_arc, 2 * k - 1, start[c], reach[k], pairs) for k in (0, 1)]
+            sides = side_fits(contour, [(corner_arc, 2 * k - 1, start[c], reach[k]) for k in (0, 1)], pairs)
             if any(side is None for side in sides):
                 break
             found = _tip(contour, c, sides, is_shared, corner_arc, start[c], pairs, cracks)
@@ -517,6 +540,32 @@ def _tip(contour, c, sides, is_shared, corner_arc, start, pairs, cracks, parity=
     return tip_checks(contour, contour.corner_bounds[c] % contour.size, corner_arc, start, sides[0].row,
                       sides[1].row, windows, crossing, ink, paper, _NO_POINTS if cracks is None else cracks,
                       -1 if parity is None else parity, _SIN_MIN_CROSSING, _TIP_LIMITS)
+
+
+def _tips(contour, measured_sides, start, pairs, cracks):
+    """:func:`_tip` of each ``(corner, sides, is_shared)`` of ``measured_sides`` (window start ``start[corner]``):
+    the corners between two lines in one compiled pass (:func:`~._tip_kernels.line_tip_checks`), the others one
+    by one."""
+    found = [None] * len(measured_sides)
+    lines = []
+    for at, (c, sides, is_shared) in enumerate(measured_sides):
+        if sides[0].coefficients.any() or sides[1].coefficients.any():
+            found[at] = _tip(contour, c, sides, is_shared, contour.arc[contour.corner_bounds[c]], start[c], pairs,
+                             cracks)
+        else:
+            lines.append(at)
+    if lines:
+        ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
+        corners = [measured_sides[at][0] for at in lines]
+        checked = line_tip_checks(
+            contour, [contour.corner_bounds[c] % contour.size for c in corners],
+            [contour.arc[contour.corner_bounds[c]] for c in corners], [start[c] for c in corners],
+            [measured_sides[at][1][0].row for at in lines], [measured_sides[at][1][1].row for at in lines],
+            [[side.length for side, shared in zip(measured_sides[at][1], measured_sides[at][2]) if not shared]
+             for at in lines], ink, paper, _NO_POINTS if cracks is None else cracks, _SIN_MIN_CROSSING, _TIP_LIMITS)
+        for at, result in zip(lines, checked):
+            found[at] = result
+    return found
 
 
 def _with_pinholes(contour, angle, pixel, estimate, start, anchors, distance):

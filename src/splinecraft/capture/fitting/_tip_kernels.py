@@ -6,7 +6,9 @@ against the pixels: a few dozen small numpy operations per side and per test, ru
 a third of a trace's calls on a 300-px glyph). These kernels run each of those steps as one compiled pass; the
 singular value decomposition of a window (LAPACK, :func:`numpy.linalg.svd`), the least-squares parabola of a
 curved window (``numpy.linalg.lstsq``) and the Newton steps of a crossing with a parabola
-(``numpy.linalg.solve``) stay in numpy between them (their bits are LAPACK's).
+(``numpy.linalg.solve``) stay in numpy between them (their bits are LAPACK's). The first window of every side
+of an outline runs in one batch (:func:`window_sides`: two compiled passes around the windows' decompositions,
+stacked by window length), and so do the crossings of corners between two lines (:func:`line_tip_checks`).
 
 Each kernel performs the floating-point operations of the numpy formulation it replaced, in the same order,
 so its results are bit for bit those of that formulation (``tests/test_tip_kernels.py``):

@@ -48,7 +48,7 @@ from ._kernels import _separating_slope_into
 from ._linalg import svd_direction, svd_directions
 
 __all__ = ["SIDE_FIELDS", "arange_count", "window_samples", "window_local", "side_window", "separating_line",
-           "window_sides", "frame_offsets", "inkward_of", "ray_parities", "tip_checks", "line_tip_checks",
+           "window_sides", "curved_side", "frame_offsets", "inkward_of", "ray_parities", "tip_checks", "line_tip_checks",
            "tip_contradiction_of", "wedge_contradiction_of", "warm_up"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
@@ -372,10 +372,23 @@ def side_window(contour, corner_arc, sign, start, stop, samples, count, local, c
     rest = (ink, paper, slopes, float(step), int(rounds), b.t, b.y, b.ink, b.paper, *b.scratch, b.grid, b.slope,
             b.out)
     if _side_into(*frame, _NO_COEFFICIENTS, 0, *rest) == 2:
-        coefficients = parabola(b.t, b.y)
-        if coefficients is None:
-            return None
-        _side_into(*frame, np.ascontiguousarray(coefficients, float), 1, *rest)
+        return curved_side(contour, corner_arc, sign, start, stop, local, centre, direction, b.t, b.y, ink, paper,
+                           parabola, slopes, step, rounds, b)
+    return b.out
+
+
+def curved_side(contour, corner_arc, sign, start, stop, local, centre, direction, t, y, ink, paper, parabola, slopes,
+                step, rounds, buffers=None):
+    """:func:`side_window`'s window that is not straight (``t``, ``y``: its frame offsets): the side row of its
+    ``parabola`` (``parabola(t, y)``: the coefficients or None) with its ink side, or None where none fits.
+    ``buffers``: the window's :class:`_Buffers`, else new ones."""
+    coefficients = parabola(t, y)
+    if coefficients is None:
+        return None
+    b = _Buffers(local.shape[0], ink.shape[0], slopes) if buffers is None else buffers
+    _side_into(contour.arc, float(contour.perimeter), float(corner_arc), float(sign), float(start), float(stop), local,
+               centre, direction, float(stop - start), np.ascontiguousarray(coefficients, float), 1, ink, paper,
+               slopes, float(step), int(rounds), b.t, b.y, b.ink, b.paper, *b.scratch, b.grid, b.slope, b.out)
     return b.out
 
 
@@ -384,9 +397,10 @@ def _sides_into(arc, closed, perimeter, corner_arcs, signs, starts, stops, offse
                 directions, coefficients, mode, ink_all, paper_all, slopes, step, rounds, t, y, ink, paper, t_ink,
                 y_ink, t_paper, y_paper, grid, slope_out, rows, status):
     """:func:`window_sides` in two passes over its windows (rows ``offsets[r]`` to ``offsets[r + 1]`` of
-    ``samples`` and ``local``): with ``fill`` each window's samples, centre and local points (:func:`_window_into`),
-    else each window's side from its ``directions[r]`` (:func:`_side_into` in ``mode`` 0, its status into
-    ``status[r]``, its row into ``rows[r]``); the work arrays are :class:`_Buffers`' for the longest window."""
+    ``samples``, ``local``, ``t`` and ``y``): with ``fill`` each window's samples, centre and local points
+    (:func:`_window_into`), else each window's side from its ``directions[r]`` (:func:`_side_into` in ``mode`` 0:
+    its status into ``status[r]``, its row into ``rows[r]``, its frame offsets into ``t`` and ``y``); the other work
+    arrays are :class:`_Buffers`' for the longest window."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     for r in range(corner_arcs.shape[0]):
         first, last = offsets[r], offsets[r + 1]
@@ -396,19 +410,21 @@ def _sides_into(arc, closed, perimeter, corner_arcs, signs, starts, stops, offse
         else:
             status[r] = _side_into(arc, perimeter, corner_arcs[r], signs[r], starts[r], stops[r], local[first:last],
                                    centres[r], directions[r], stops[r] - starts[r], coefficients, mode, ink_all,
-                                   paper_all, slopes, step, rounds, t, y, ink, paper, t_ink, y_ink, t_paper, y_paper,
-                                   grid, slope_out, rows[r])
+                                   paper_all, slopes, step, rounds, t[first:last], y[first:last], ink, paper, t_ink,
+                                   y_ink, t_paper, y_paper, grid, slope_out, rows[r])
 
 
 def window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, slopes, step, rounds):
     """The first window of :func:`.tips.side_fit` for many sides at once: per side (the corner's arc length
     ``corner_arcs[r]``, towards ``signs[r]``, from ``starts[r]`` to ``stops[r]`` px of arc) the row and status of
     :func:`side_window` on its whole window before any parabola: 0 or 1 a line (1: the separating line of the
-    window's pixel centres ``ink`` and ``paper``), 2 not straight (the caller fits the parabola). The same
-    operations as one :func:`window_samples` and :func:`side_window` per side, so the same bits: the samples and
-    the sides in two compiled passes, and the windows' singular value decompositions (LAPACK) stacked by window
-    length, one call per length (:func:`~._linalg.svd_directions`), where each side window cost a dozen
-    Python-level calls (BENCHMARKS.md, "Session 34"). Returns ``(rows, status)``."""
+    window's pixel centres ``ink`` and ``paper``), 2 not straight (the caller fits the parabola,
+    :func:`curved_side`). The same operations as one :func:`window_samples` and :func:`side_window` per side, so
+    the same bits: the samples and the sides in two compiled passes, and the windows' singular value
+    decompositions (LAPACK) stacked by window length, one call per length (:func:`~._linalg.svd_directions`),
+    where each side window cost a dozen Python-level calls (BENCHMARKS.md, "Session 34"). Returns a dict:
+    ``rows``, ``status``, ``offsets`` (side ``r`` has rows ``offsets[r]`` to ``offsets[r + 1]`` of) ``samples``,
+    ``local``, ``t``, ``y`` (its frame offsets), and per side ``centres`` and ``directions``."""
     count = len(corner_arcs)
     corner_arcs, signs = np.asarray(corner_arcs, float), np.asarray(signs, float)
     starts, stops = np.asarray(starts, float), np.asarray(stops, float)
@@ -417,11 +433,12 @@ def window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, slopes,
     offsets = np.zeros(count + 1, np.int64)
     np.cumsum(lengths, out=offsets[1:])
     samples, local = np.empty((offsets[-1], 2)), np.empty((offsets[-1], 2))
+    t, y = np.empty(offsets[-1]), np.empty(offsets[-1])
     centres, directions = np.empty((count, 2)), np.empty((count, 2))
     rows, status = np.empty((count, SIDE_FIELDS)), np.empty(count, np.int64)
-    b = _Buffers(int(lengths.max()), ink.shape[0], slopes)
+    b = _Buffers(0, ink.shape[0], slopes)
     passes = (contour.arc, contour.closed_points, float(contour.perimeter), corner_arcs, signs, starts, stops, offsets)
-    rest = (_NO_COEFFICIENTS, 0, ink, paper, slopes, float(step), int(rounds), b.t, b.y, b.ink, b.paper,
+    rest = (_NO_COEFFICIENTS, 0, ink, paper, slopes, float(step), int(rounds), t, y, b.ink, b.paper,
             *b.scratch, b.grid, b.slope, rows, status)
     _sides_into(*passes, True, samples, local, centres, directions, *rest)
     for length in np.unique(lengths):
@@ -432,7 +449,8 @@ def window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, slopes,
         else:
             directions[members] = svd_directions(local[offsets[members][:, None] + np.arange(length)])
     _sides_into(*passes, False, samples, local, centres, directions, *rest)
-    return rows, status
+    return {"rows": rows, "status": status, "offsets": offsets, "samples": samples, "local": local, "t": t, "y": y,
+            "centres": centres, "directions": directions}
 
 
 def frame_offsets(local, direction):

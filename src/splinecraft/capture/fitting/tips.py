@@ -28,7 +28,7 @@ from ._kernels import closed_polyline_distance
 from ._linalg import solve, svd_direction
 from ._tip_kernels import (SIDE_FIELDS, arange_count, frame_offsets, inkward_of, ray_parities, separating_line,
                            side_window, tip_checks, tip_contradiction_of, wedge_contradiction_of, window_local,
-                           window_samples, window_sides, line_tip_checks)
+                           window_sides, line_tip_checks, curved_side)
 
 __all__ = ["tip_reach", "side_fit", "side_fits", "short_side", "tip_estimates", "tip_contradiction",
            "wedge_contradiction", "is_convex", "ray_parity", "horizontal_cracks", "pixel_pairs", "SideFit"]
@@ -227,39 +227,43 @@ def side_fit(contour, corner_arc, sign, start, stop, pairs=None):
     :func:`_window_fit`; where neither a line nor a parabola fits, the window shrinks from its far end (by a
     quarter at a time) down to :data:`SHORTEST_SIDE`. With ``pairs`` (:func:`pixel_pairs` of the contour) a
     straight side is replaced by the line that separates the window's ink and paper pixel centres with the
-    largest margin (:func:`_separating_line`), where there is one. Returns a :class:`SideFit` or None."""
-    if stop - start < SHORTEST_SIDE:
-        return None
-    # a shrunk window's samples are the first ones of the longest window's (numpy.arange from the same start,
-    # point_at_arc point by point): sampled once
-    samples, local, centre = window_samples(contour, corner_arc, sign, start, stop)
-    count = samples.shape[0]
-    ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
-    while stop - start >= SHORTEST_SIDE:
-        row = side_window(contour, corner_arc, sign, start, stop, samples, count, local, centre, ink, paper,
-                          _parabola, _FIRST_SLOPES, SLOPE_SEARCH / 8, 5)
-        if row is not None:
-            return SideFit.of_row(row)
-        stop = start + 0.75 * (stop - start)
-        count, local = arange_count(start, stop + 1e-9, 0.5), None
-    return None
+    largest margin (:func:`_separating_line`), where there is one. Returns a :class:`SideFit` or None
+    (:func:`side_fits` of one side)."""
+    return side_fits(contour, [(corner_arc, sign, start, stop)], pairs)[0]
 
 
 def side_fits(contour, requests, pairs=None):
     """:func:`side_fit` of each ``(corner_arc, sign, start, stop)`` of ``requests``: a list of :class:`SideFit` or
     None. The first window of every side runs in one batch (:func:`~._tip_kernels.window_sides`, the same
-    operations and bits); a side whose first window is not straight (a parabola, or a window that shrinks) goes
-    on as :func:`side_fit` does."""
+    operations and bits as one side at a time); a window that is not straight gets its parabola from the frame
+    offsets the batch found, and where that fails it shrinks from its far end, a window at a time (a shrunk
+    window's samples are the first ones of the longest window's: sampled once)."""
     out = [None] * len(requests)
     todo = [r for r, (_, _, start, stop) in enumerate(requests) if stop - start >= SHORTEST_SIDE]
     if not todo:
         return out
     ink, paper = (_NO_POINTS, _NO_POINTS) if pairs is None else pairs
     corner_arcs, signs, starts, stops = zip(*(requests[r] for r in todo))
-    rows, status = window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, _FIRST_SLOPES,
-                                SLOPE_SEARCH / 8, 5)
+    step = SLOPE_SEARCH / 8
+    first = window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, _FIRST_SLOPES, step, 5)
+    offsets = first["offsets"]
     for at, r in enumerate(todo):
-        out[r] = side_fit(contour, *requests[r], pairs) if status[at] == 2 else SideFit.of_row(rows[at])
+        if first["status"][at] != 2:
+            out[r] = SideFit.of_row(first["rows"][at])
+            continue
+        corner_arc, sign, start, stop = requests[r]
+        window = slice(offsets[at], offsets[at + 1])
+        row = curved_side(contour, corner_arc, sign, start, stop, first["local"][window], first["centres"][at],
+                          first["directions"][at], first["t"][window], first["y"][window], ink, paper, _parabola,
+                          _FIRST_SLOPES, step, 5)
+        samples = first["samples"][window]
+        while row is None:
+            stop = start + 0.75 * (stop - start)
+            if stop - start < SHORTEST_SIDE:
+                break
+            row = side_window(contour, corner_arc, sign, start, stop, samples, arange_count(start, stop + 1e-9, 0.5),
+                              None, None, ink, paper, _parabola, _FIRST_SLOPES, step, 5)
+        out[r] = None if row is None else SideFit.of_row(row)
     return out
 
 

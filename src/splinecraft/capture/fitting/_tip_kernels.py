@@ -48,8 +48,8 @@ from ._kernels import _separating_slope_into
 from ._linalg import svd_direction, svd_directions
 
 __all__ = ["SIDE_FIELDS", "arange_count", "window_samples", "window_local", "side_window", "separating_line",
-           "window_sides", "curved_side", "frame_offsets", "inkward_of", "ray_parities", "tip_checks", "line_tip_checks",
-           "tip_contradiction_of", "wedge_contradiction_of", "warm_up"]
+           "window_sides", "curved_side", "frame_offsets", "inkward_of", "ray_parities", "tip_checks",
+           "line_tip_checks", "tip_contradiction_of", "wedge_contradiction_of", "warm_up"]
 
 _JIT, _HELPER = JIT_OPTIONS, HELPER_OPTIONS
 #: Helpers called from several places of a kernel: compiled once, called (not inlined).
@@ -436,7 +436,7 @@ def window_sides(contour, corner_arcs, signs, starts, stops, ink, paper, slopes,
     t, y = np.empty(offsets[-1]), np.empty(offsets[-1])
     centres, directions = np.empty((count, 2)), np.empty((count, 2))
     rows, status = np.empty((count, SIDE_FIELDS)), np.empty(count, np.int64)
-    b = _Buffers(0, ink.shape[0], slopes)
+    b = _Buffers(0, ink.shape[0], slopes)  # (each window's frame offsets go to its rows of t and y)
     passes = (contour.arc, contour.closed_points, float(contour.perimeter), corner_arcs, signs, starts, stops, offsets)
     rest = (_NO_COEFFICIENTS, 0, ink, paper, slopes, float(step), int(rounds), t, y, b.ink, b.paper,
             *b.scratch, b.grid, b.slope, rows, status)

@@ -6,6 +6,8 @@
     .venv/bin/python benchmarks/bench_speed.py jit [--compare OTHER/src --rounds 3]
     .venv/bin/python benchmarks/bench_speed.py first-call --yardstick ../shared/yardstick [--shapes A,B,G,heart --rounds 1]
     .venv/bin/python benchmarks/bench_speed.py blas
+    .venv/bin/python benchmarks/bench_speed.py ab --compare BEFORE/src --yardstick ../shared/yardstick [--set shapes \
+        --only A,W,M --rounds 8 --passes 10 --wrap splinecraft.capture.fitting.tips:tip_estimates ...]
 
 * ``stages``: the in-process time of ``sc.trace`` at its defaults per shape (median of ``--repeat`` runs after
   one warm-up), split by ``stats["time_breakdown"]`` (binarize, contour, corners, noise estimate, fit), median
@@ -34,6 +36,13 @@
   (``SPLINECRAFT_JIT_INTERPRET=0``), alternating; with the time until every compiled kernel is in place.
 * ``blas``: the fit's small solves with the BLAS threads pinned to 1 (threadpoolctl) against the library's
   default, with the other core kept busy by a spinning process, alternating.
+* ``ab``: the warm CPU time per glyph of ``--compare`` (A) and this tree (B), side by side: each tree in a
+  long-lived process of its own (one BLAS thread) that loads a yardstick folder's bitmaps (``--set``, ``--only``
+  some of them; ``sc.load_bitmap``) and traces each once; then, round by round in alternating order, each traces the
+  set ``--passes`` times and reports the mean CPU ms per glyph in ``sc.trace`` and in each ``--wrap``-ped function
+  (``module:name``, ``name`` may be ``Class.method``; a module that imported the function by name is timed too).
+  Prints the per-round ratios B/A and their median: two processes that alternate see the same machine, so their
+  ratio is steadier than either time (``stages --compare`` starts fresh processes and splits by stage instead).
 """
 from __future__ import annotations
 
@@ -407,15 +416,98 @@ def measure_blas(rounds):
     return {key: statistics.median(values) for key, values in times.items()}
 
 
+_AB_CHILD = r"""
+import glob, importlib, json, os, sys, time, warnings
+warnings.simplefilter("ignore")
+import splinecraft as sc
+folder, only, wraps = sys.argv[1], [n for n in sys.argv[2].split(",") if n], json.loads(sys.argv[3])
+paths = sorted(glob.glob(os.path.join(folder, "*.png")))
+paths = [p for p in paths if not only or os.path.basename(p)[:-4] in only]
+images = [sc.load_bitmap(p) for p in paths]
+spent = dict.fromkeys(wraps, 0.0)
+
+def timed(original, key):
+    def wrapper(*args, **kwargs):
+        start = time.process_time()
+        try:
+            return original(*args, **kwargs)
+        finally:
+            spent[key] += time.process_time() - start
+    return wrapper
+
+for key in wraps:
+    module_name, name = key.split(":")
+    owner = importlib.import_module(module_name)
+    *path, last = name.split(".")
+    for part in path:
+        owner = getattr(owner, part)
+    original = getattr(owner, last)
+    setattr(owner, last, timed(original, key))
+    if not path:  # the modules that imported it by name
+        for module in list(sys.modules.values()):
+            if module is not None and module.__name__.startswith("splinecraft") \
+                    and getattr(module, last, None) is original:
+                setattr(module, last, getattr(owner, last))
+for image in images:
+    sc.trace(image)
+print(len(images), flush=True)
+for line in sys.stdin:
+    passes = int(line)
+    spent.update(dict.fromkeys(spent, 0.0))
+    start = time.process_time()
+    for _ in range(passes):
+        for image in images:
+            sc.trace(image)
+    count = passes * len(images)
+    out = {"trace": (time.process_time() - start) / count * 1e3}
+    out.update({key: value / count * 1e3 for key, value in spent.items()})
+    print(json.dumps(out), flush=True)
+"""
+
+
+def measure_ab(before, after, folder, only, rounds, passes, wraps):
+    """``ab``: per round and tree the CPU ms per glyph of ``sc.trace`` and of each of ``wraps``; prints them and the
+    ratios."""
+    processes = []
+    for src in (before, after):
+        env = dict(os.environ, PYTHONPATH=os.path.abspath(src), OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+        processes.append(subprocess.Popen([sys.executable, "-c", _AB_CHILD, folder, only, json.dumps(wraps)],
+                                          stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=env,
+                                          cwd=HERE))
+    counts = [int(process.stdout.readline()) for process in processes]
+    print(f"{counts[0]} glyphs of {folder}; A = {before}, B = {after}; ms of CPU per glyph")
+    rows = ([], [])
+    for round_ in range(rounds):
+        for index in ((0, 1) if round_ % 2 == 0 else (1, 0)):
+            processes[index].stdin.write(f"{passes}\n")
+            processes[index].stdin.flush()
+            rows[index].append(json.loads(processes[index].stdout.readline()))
+        a, b = rows[0][-1], rows[1][-1]
+        print(f"round {round_}: " + "  ".join(f"{key} {a[key]:.3f} -> {b[key]:.3f}" for key in a), flush=True)
+    for process in processes:
+        process.stdin.close()
+        process.wait()
+    for key in rows[0][0]:
+        ratios = [b[key] / a[key] for a, b in zip(*rows) if a[key] > 0]
+        a_median = statistics.median(row[key] for row in rows[0])
+        b_median = statistics.median(row[key] for row in rows[1])
+        spread = f"{statistics.median(ratios):.3f} ({min(ratios):.3f}-{max(ratios):.3f})" if ratios else "-"
+        print(f"{key}: A {a_median:.3f} ms, B {b_median:.3f} ms, B/A per round: median {spread}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("mode", choices=("stages", "explorer", "jit", "first-call", "blas"))
+    parser.add_argument("mode", choices=("stages", "explorer", "jit", "first-call", "blas", "ab"))
     parser.add_argument("--shapes", default="A,B,G,heart",
                         help="first-call: yardstick shapes/ names or bitmap paths (else the thesis's objects by name)")
     parser.add_argument("--yardstick", default=os.path.join(ROOT, "..", "shared", "yardstick"))
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--rounds", type=int, default=3, help="alternating rounds of --compare (or blas)")
     parser.add_argument("--compare", default=None, help="src folder of another checkout (the 'before')")
+    parser.add_argument("--set", default="shapes", help="ab: a folder of the yardstick (shapes, shapes2)")
+    parser.add_argument("--only", default="", help="ab: comma-separated glyph names of the set (default: all)")
+    parser.add_argument("--passes", type=int, default=5, help="ab: passes over the set per round and tree")
+    parser.add_argument("--wrap", nargs="*", default=[], help="ab: functions to time too, module:name")
     parser.add_argument("--child", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     args.yardstick = os.path.abspath(args.yardstick) if os.path.isdir(args.yardstick) else None
@@ -446,6 +538,11 @@ def main(argv=None):
             from splinecraft.datasets import THESIS_OBJECTS
             shapes = [name for name in names if name in THESIS_OBJECTS or name in paths] or ["ali"]
         print_first_call(measure_first_call(os.path.join(ROOT, "src"), shapes, args.rounds))
+    elif args.mode == "ab":
+        if not (args.compare and args.yardstick and os.path.isdir(os.path.join(args.yardstick, args.set))):
+            parser.error("ab needs --compare and a --yardstick with the folder --set")
+        measure_ab(args.compare, os.path.join(ROOT, "src"), os.path.join(args.yardstick, args.set), args.only,
+                   args.rounds, args.passes, args.wrap)
     elif args.mode == "jit":
         for name, figures in compare_jit(args).items():
             if args.compare:

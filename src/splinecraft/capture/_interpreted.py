@@ -14,7 +14,10 @@ every intrinsic of the kernels (:func:`._jit.pymin`, :func:`._jit.pymax`, :func:
 same value. :func:`restore` puts the kernels back. The interpreter's arithmetic is the kernels': IEEE double
 precision, no ``fastmath``, numpy's scalars where the kernels read arrays (the hot loops turn them into Python
 floats, the same doubles, whose arithmetic the interpreter runs about 3x faster), so a trace comes out bit for bit
-the same either way (``tests/test_interpreted.py`` traces shapes both ways). A kernel whose Python semantics differ
+the same either way (``tests/test_interpreted.py`` traces shapes both ways). The elementary functions too: compiled,
+``np.arctan2``, ``np.arccos``, ``np.exp`` ... call the C library, as Python's ``math`` does, while numpy on a CPU with
+AVX-512 computes them with its own vectorized routines, which differ in the last bit for about 1 % of arguments; so
+the clones see numpy as :data:`LIBM_NUMPY`, whose elementary functions are ``math``'s. A kernel whose Python semantics differ
 from numba's (a Python float divided by zero raises where numba gives ``inf``) raises instead of giving another
 value; :func:`splinecraft.trace` then runs the compiled kernels.
 """
@@ -26,9 +29,11 @@ import threading
 import types
 from fractions import Fraction
 
+import numpy as np
 from numba.core.dispatcher import Dispatcher
 
-__all__ = ["stand_in", "interpret", "restore", "active", "compiled", "raised_in_kernel", "fused_multiply_add"]
+__all__ = ["stand_in", "interpret", "restore", "active", "compiled", "raised_in_kernel", "fused_multiply_add",
+           "LIBM_NUMPY"]
 
 #: intrinsic -> the Python function that runs in its place in interpreted kernels (:func:`stand_in`).
 _STAND_INS = {}
@@ -69,6 +74,55 @@ def fused_multiply_add(a, b, c):
 _FMA = getattr(math, "fma", None)
 
 
+#: numpy's elementary functions (of float64 scalars) -> the C library's, through Python's ``math``.
+_LIBM_FUNCTIONS = {"arctan2": math.atan2, "arccos": math.acos, "arcsin": math.asin, "arctan": math.atan,
+                   "sin": math.sin, "cos": math.cos, "tan": math.tan, "sinh": math.sinh, "cosh": math.cosh,
+                   "tanh": math.tanh, "exp": math.exp, "expm1": math.expm1, "log": math.log, "log2": math.log2,
+                   "log10": math.log10, "log1p": math.log1p}
+
+
+def _libm(numpy_function, libm_function):
+    """``numpy_function`` with the C library's values: ``libm_function`` of float64 scalars (a numpy float64, as numpy
+    gives), element by element for arrays; numpy's own value where ``math`` refuses (a domain error or an overflow:
+    NaN and infinities, the C library's too)."""
+    def scalar(*args):
+        try:
+            return np.float64(libm_function(*map(float, args)))
+        except (ValueError, OverflowError):
+            return numpy_function(*args)
+
+    elementwise = np.frompyfunc(scalar, numpy_function.nin, 1)
+
+    def function(*args):
+        if all(isinstance(arg, (float, int, np.floating, np.integer)) for arg in args):
+            return scalar(*args)
+        return elementwise(*args).astype(np.float64)
+
+    function.__name__ = function.__qualname__ = numpy_function.__name__
+    function.__doc__ = f"``numpy.{numpy_function.__name__}`` with the C library's values (:func:`_libm`)."
+    return function
+
+
+class _LibmNumpy(types.ModuleType):
+    """numpy as the interpreted kernels see it: its elementary functions of :data:`_LIBM_FUNCTIONS` give the C
+    library's values (:func:`_libm`), everything else is numpy's."""
+
+    def __init__(self):
+        super().__init__("numpy", "numpy, with the C library's elementary functions")
+        for name, value in vars(np).items():  # as fast to look up as numpy's own (the interpreted loops' names)
+            if not name.startswith("__"):
+                setattr(self, name, value)
+        for name, libm_function in _LIBM_FUNCTIONS.items():
+            setattr(self, name, _libm(getattr(np, name), libm_function))
+
+    def __getattr__(self, name):
+        return getattr(np, name)
+
+
+#: numpy as the clones' globals hold it (module docstring).
+LIBM_NUMPY = _LibmNumpy()
+
+
 def _modules():
     return [module for name, module in list(sys.modules.items())
             if isinstance(module, types.ModuleType) and (name == "splinecraft" or name.startswith("splinecraft."))]
@@ -105,6 +159,8 @@ def _clones():
 
 
 def _replacement(value, default):
+    if value is np:
+        return LIBM_NUMPY
     try:
         if value in _STAND_INS:
             return _STAND_INS[value]

@@ -359,24 +359,32 @@ def _random_walk(seed, count, closed):
 
 def _arms_by_loops(curve, closed, tolerance, ladder):
     """Reference for the arms' turn (step 3, compiled: ``_jump_kernels.corners_of``): every sample and side on its
-    own, lines by ``np.polyfit``."""
+    own, lines by ``np.polyfit``; an arm is its longest window where that is straight, else it grows."""
     m = len(curve)
     turn = np.full(m, np.nan)
+
+    def window_fit(i, side, length):  # the window's slope and whether it is straight (None: off an open end)
+        index = i + (np.arange(length) if side > 0 else np.arange(-length + 1, 1))
+        if not closed and (index.min() < 0 or index.max() >= m):
+            return None
+        window = curve[index % m]
+        t = np.arange(length, dtype=float)
+        fit = np.polyfit(t, window, 1)                               # rows: slope, intercept
+        return fit[0], np.hypot(*(window - np.outer(t, fit[0]) - fit[1]).T).max() <= tolerance
+
     for i in range(m):
         direction = {}
         for side in (-1, 1):
             direction[side] = np.full(2, np.nan)
+            longest = window_fit(i, side, ladder[-1]) if len(ladder) > 1 else None
+            if longest is not None and longest[1]:
+                direction[side] = longest[0]
+                continue
             for rung, length in enumerate(ladder):
-                index = i + (np.arange(length) if side > 0 else np.arange(-length + 1, 1))
-                if not closed and (index.min() < 0 or index.max() >= m):
+                fitted = window_fit(i, side, length)
+                if fitted is None or rung > 0 and not fitted[1]:
                     break
-                window = curve[index % m]
-                t = np.arange(length, dtype=float)
-                fit = np.polyfit(t, window, 1)                       # rows: slope, intercept
-                distance = np.hypot(*(window - np.outer(t, fit[0]) - fit[1]).T)
-                if rung > 0 and distance.max() > tolerance:
-                    break
-                direction[side] = fit[0]
+                direction[side] = fitted[0]
         a, b = direction[-1], direction[1]
         turn[i] = np.degrees(np.arctan2(a[0] * b[1] - a[1] * b[0], a @ b))
     return turn

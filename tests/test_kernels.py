@@ -676,10 +676,19 @@ def _numpy_arm_fit(padded, starts, length, centred, slope_weights, tolerance):
 
 
 def _numpy_arm_lines(padded, reach, ladder, operators, tolerance):
-    """Arms grown rung by rung over all alive samples at once (each needed window fitted once per length)."""
+    """An arm whose longest window is straight is that window; the others grown rung by rung over all alive
+    samples at once (each needed window fitted once per length)."""
     m = padded.shape[0] - 2 * reach
     alive = [np.arange(m), np.arange(m)]
     out = np.full((2, m, 4), np.nan)
+    if len(ladder) > 1 and tolerance > 0:
+        length = ladder[-1]
+        centred, slope_weights = operators(length)
+        for side in range(2):
+            starts = alive[side] + (reach if side == 1 else reach - length + 1)
+            mean, slope, straight = _numpy_arm_fit(padded, starts, length, centred, slope_weights, tolerance)
+            out[side, alive[side][straight], :2], out[side, alive[side][straight], 2:] = mean[straight], slope[straight]
+            alive[side] = alive[side][~straight]
     for rung, length in enumerate(ladder):
         centred, slope_weights = operators(length)
         first = [alive[0] + (reach - length + 1), alive[1] + reach]

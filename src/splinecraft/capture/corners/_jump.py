@@ -346,10 +346,11 @@ def tangent_jump(points, *, closed=True, smoothing=1.0, tolerance=0.3, min_turn=
        where the outline starts and turn or reflect with the pixel frame exactly. Where a symmetry of the
        outline ties several starts, steps 1-6 run from each and :func:`_symmetric_union` keeps one version
        of every corner, so the corners are as symmetric as the outline.
-    2. **Arms.** At every sample two arms grow, one backwards and one forwards, through the lengths
-       3, 4, 5, 6, 8, ... ``max_arm`` samples for as long as every sample of the arm stays within
-       ``tolerance`` px of the arm's least-squares line. The arm direction is that line's (long arms on
-       straight sides give directions good to a degree or two).
+    2. **Arms.** At every sample two arms, one backwards and one forwards: the longest length of the ladder
+       3, 4, 5, 6, 8, ... ``max_arm`` samples when every sample of that window stays within ``tolerance`` px
+       of its least-squares line, else the arm grows through the lengths for as long as every sample of the
+       arm stays within ``tolerance`` px of the arm's least-squares line. The arm direction is that line's
+       (long arms on straight sides give directions good to a degree or two).
     3. **Turn.** ``J`` is the signed angle from the backward to the forward arm. Along a straight side it
        is ~0; at a corner it is the corner's turn; along an arc of radius ``r`` it is about
        ``arm / r`` -- large on tight arcs, but the same all along the arc.

@@ -10,9 +10,10 @@ kernels to it bit for bit).
 
 The arm search (step 2: straight arms).
 
-At every sample of the smoothed outline two arms grow, backwards and forwards, through the lengths of the
-arm ladder while every sample of the arm stays within the tolerance of the arm's least-squares line. The
-loop below decides each window that a growing arm needs once per length (the forward arm of sample ``i`` is
+At every sample of the smoothed outline two arms, backwards and forwards, are the longest window of the arm
+ladder when every sample of it stays within the tolerance of its least-squares line (step 0, the probe), and
+otherwise grow through the lengths of the ladder while every sample of the arm stays within the tolerance of
+the arm's least-squares line. The loop below decides each window that an arm needs once per length (the forward arm of sample ``i`` is
 the backward arm of ``i + L - 1``) as the vectorized numpy formulation it replaced decides it, and gives the
 lines of that formulation bit for bit (``tests/test_kernels.py`` keeps it and pins the kernel to it): the
 window's mean is the running sum of its samples divided by its length, the slope the running sum of
@@ -22,8 +23,8 @@ rounding could decide. Most windows are decided without that scan, from second m
 from compensated prefix sums of the outline (:func:`_moment_verdict`: the sum of squared distances from the
 line bounds the largest from above and from below, with margins for rounding that keep every decision the
 scan's); a scanned window stops at its
-first sample that is certainly too far, and an arm whose longest window is certainly straight skips the
-shorter ones (each is then too). Only the last straight window of each arm has its line formed (in the order
+first sample that is certainly too far, and an arm whose longest window is straight skips the shorter ones
+(on a pixel staircase the moments rarely decide them, so the ladder scanned most of them). Only the last straight window of each arm has its line formed (in the order
 above). numba, compiled on first use and cached on disk (``cache=True``); the loop writes into
 arrays its wrapper allocates.
 """
@@ -183,16 +184,15 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
     """For both sides (0 backward, 1 forward) and every sample the mean point and slope of its last straight
     arm into ``lines[side, i, 0:4]``. Work arrays: ``alive`` and ``last`` (per side and sample: growing, the
     rung of its last straight arm), ``state`` (per window start: 0 not decided at this length, 1 straight, 2
-    not, 3 undecided by the probe of the longest windows), ``sums``, ``nans`` and ``bounds`` (per row and one
+    not), ``sums``, ``nans`` and ``bounds`` (per row and one
     more, :func:`_prefix_moments`; 5, :func:`_moment_verdict`), ``memo`` and
     ``fitted`` (per start: a window line and its rung, -1 none)."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = alive.shape[1]
     spread = _prefix_moments(padded, sums, nans)
     top = ladder.shape[0] - 1
-    # step 0 probes the longest windows: an arm whose longest window is certainly straight skips the ladder (a
-    # shorter window of the same arm is as close to its own line as to the longer one's, so its sum of squared
-    # distances is at most the longer's); steps 1.. are the ladder's lengths
+    # step 0 probes the longest windows: an arm whose longest window is straight is that window, and skips the
+    # ladder; steps 1.. are the ladder's lengths for the other arms
     for step in range(0 if top > 0 and tolerance > 0 else 1, ladder.shape[0] + 1):
         probe = step == 0
         rung = top if probe else step - 1
@@ -208,11 +208,11 @@ def _arm_lines_into(padded, reach, ladder, centred, weights, tolerance, amplitud
                 if state[start] == 0:  # the first length is always accepted, any with a tolerance of 0
                     verdict = 1 if rung == 0 or tolerance <= 0 else \
                         _moment_verdict(sums, nans, start, length, tolerance, amplitude, spread, bounds)
-                    if verdict == 0 and not probe:
+                    if verdict == 0:  # the probe's too: a straight longest window is the arm
                         verdict = 1 if _window_fit(padded, start, length, centred[rung], weights[rung],
                                                    tolerance, memo[start]) else 2
                         fitted[start] = rung
-                    state[start] = verdict if verdict > 0 else 3  # 3: undecided by the probe
+                    state[start] = verdict
                 if probe:
                     if state[start] == 1:
                         alive[side, i] = False

@@ -15,11 +15,11 @@ same value. :func:`restore` puts the kernels back. The interpreter's arithmetic 
 precision, no ``fastmath``, numpy's scalars where the kernels read arrays (the hot loops turn them into Python
 floats, the same doubles, whose arithmetic the interpreter runs about 3x faster), so a trace comes out bit for bit
 the same either way (``tests/test_interpreted.py`` traces shapes both ways). The elementary functions too: compiled,
-``np.arctan2``, ``np.arccos``, ``np.exp`` ... call the C library, as Python's ``math`` does, while numpy on a CPU with
-AVX-512 computes them with its own vectorized routines, which differ in the last bit for about 1 % of arguments; so
-the clones see numpy as :data:`LIBM_NUMPY`, whose elementary functions are ``math``'s. A kernel whose Python semantics differ
-from numba's (a Python float divided by zero raises where numba gives ``inf``) raises instead of giving another
-value; :func:`splinecraft.trace` then runs the compiled kernels.
+``np.arctan2``, ``np.arccos``, ``np.exp`` ... call the C library, as Python's ``math`` does, while numpy on a CPU
+with AVX-512 computes them with its own vectorized routines, which differ in the last bit for about 1 % of
+arguments; so the clones see numpy as :data:`LIBM_NUMPY`, whose elementary functions are ``math``'s. A kernel whose
+Python semantics differ from numba's (a Python float divided by zero raises where numba gives ``inf``) raises
+instead of giving another value; :func:`splinecraft.trace` then runs the compiled kernels.
 """
 from __future__ import annotations
 

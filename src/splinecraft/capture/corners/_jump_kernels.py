@@ -12,12 +12,12 @@ The arm search (step 2: straight arms).
 
 At every sample of the smoothed outline two arms, backwards and forwards, are the longest window of the arm ladder
 when every sample of it stays within the tolerance of its least-squares line (step 0, the probe), and otherwise grow
-through the lengths of the ladder while every sample of the arm stays within the tolerance of the arm's least-
-squares line. The loop below decides each window that an arm needs once per length (the forward arm of sample ``i``
-is the backward arm of ``i + L - 1``) as the vectorized numpy formulation it replaced decides it, and gives the
-lines of that formulation bit for bit (``tests/test_kernels.py`` keeps it and pins the kernel to it): the window's
-mean is the running sum of its samples divided by its length, the slope the running sum of ``t / sum(t^2)`` times
-the samples, the residual ``(x - mean) - t slope``; the straightness test compares the squared residuals with
+through the lengths of the ladder while every sample of the arm stays within the tolerance of the arm's
+least-squares line. The loop below decides each window that an arm needs once per length (the forward arm of sample
+``i`` is the backward arm of ``i + L - 1``) as the vectorized numpy formulation it replaced decides it, and gives
+the lines of that formulation bit for bit (``tests/test_kernels.py`` keeps it and pins the kernel to it): the
+window's mean is the running sum of its samples divided by its length, the slope the running sum of ``t / sum(t^2)``
+times the samples, the residual ``(x - mean) - t slope``; the straightness test compares the squared residuals with
 ``tolerance**2`` and falls back to ``hypot`` within a relative ``1e-12`` of it, where rounding could decide. Most
 windows are decided without that scan, from second moments taken in constant time from compensated prefix sums of
 the outline (:func:`_moment_verdict`: the sum of squared distances from the line bounds the largest from above and

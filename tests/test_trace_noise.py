@@ -484,6 +484,23 @@ def test_thin_feature_pixels_are_those_of_the_ndimage_opening(seed, rows, cols, 
                                   _thin_feature_pixels_by_ndimage(mask, min_area))
 
 
+@settings(max_examples=80, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 60), st.integers(1, 60), st.floats(0.05, 0.7), st.integers(1, 12))
+def test_large_pieces_are_the_8_connected_pieces_of_ndimage_s_labelling(seed, rows, cols, density, min_area):
+    """The union-find of the thin pixels' pieces (``_iso_kernels.large_pieces``) against ``scipy.ndimage.label`` with
+    the 3 x 3 square on the whole image: the same pieces, so the same pixels in pieces of ``min_area`` or more."""
+    from scipy import ndimage
+    from splinecraft.capture.fitting._iso_kernels import large_pieces
+
+    rng = np.random.default_rng(seed)
+    image = np.zeros((rows, cols + 2), bool)  # empty first and last columns, as the thin pixels' images have
+    image[:, 1:-1] = rng.random((rows, cols)) < density
+    flat = np.flatnonzero(image)
+    labels, _ = ndimage.label(image, structure=np.ones((3, 3), bool))
+    expected = np.bincount(labels.ravel())[labels.ravel()[flat]] >= min_area
+    np.testing.assert_array_equal(large_pieces(flat, cols + 2, min_area), expected)
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.integers(0, 10_000), st.integers(1, 4000), st.sampled_from([99.5, 0.0, 50.0, 100.0, 12.345, 99.99]),
        st.sampled_from(["uniform", "ties", "wide", "nan"]))

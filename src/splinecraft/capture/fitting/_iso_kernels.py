@@ -22,7 +22,7 @@ from numba import njit
 
 from .._jit import HELPER_OPTIONS, JIT_OPTIONS, pyclip, pymax, pymin
 
-__all__ = ["gaussian_weights", "iso_line_distance", "warm_up"]
+__all__ = ["gaussian_weights", "iso_line_distance", "large_pieces", "warm_up"]
 
 _JIT = JIT_OPTIONS
 
@@ -211,6 +211,64 @@ def _distances(points, mask, weights, pad, level, cache_side):
     return out
 
 
+@njit(**HELPER_OPTIONS)
+def _root(parent, k):
+    """The root of ``k``'s tree in the union-find forest ``parent``, halving the path on the way."""
+    while parent[k] != k:
+        parent[k] = parent[parent[k]]
+        k = parent[k]
+    return k
+
+
+@njit(**HELPER_OPTIONS)
+def _join(parent, a, b):
+    """The union of ``a``'s and ``b``'s trees, under the smaller root (the forest does not depend on the order)."""
+    a, b = _root(parent, a), _root(parent, b)
+    if a < b:
+        parent[b] = a
+    elif b < a:
+        parent[a] = b
+
+
+@njit(**_JIT)
+def _large_pieces_into(flat, width, min_area, parent, size, keep):
+    """Whether each pixel at the sorted flat indices ``flat`` of a bool image ``width`` pixels wide (its first and last
+    columns empty: no piece wraps from one row to the next) lies in an 8-connected piece of at least ``min_area`` of
+    them, into ``keep``: union-find over each pixel's neighbours ahead (the next in its row, the three below it, found
+    by a pointer that walks ``flat`` once), then the pieces' sizes counted at their roots. ``parent``, ``size``: work."""
+    count = flat.shape[0]
+    for k in range(count):
+        parent[k] = k
+        size[k] = 0
+    below = 0
+    for k in range(count):
+        here = flat[k]
+        if k + 1 < count and flat[k + 1] == here + 1:
+            _join(parent, k, k + 1)
+        while below < count and flat[below] < here + width - 1:
+            below += 1
+        q = below
+        while q < count and flat[q] <= here + width + 1:
+            _join(parent, k, q)
+            q += 1
+    for k in range(count):
+        size[_root(parent, k)] += 1
+    for k in range(count):
+        keep[k] = size[_root(parent, k)] >= min_area
+
+
+def large_pieces(flat, width, min_area):
+    """Which of the pixels at the sorted flat indices ``flat`` of a bool image ``width`` pixels wide, whose first and
+    last columns are empty, lie in 8-connected pieces of at least ``min_area`` of them (``scipy.ndimage.label`` with
+    the 3 x 3 square, then the pieces' sizes: the same pieces, in time linear in the pixels given instead of the
+    image's size)."""
+    flat = np.ascontiguousarray(flat, dtype=np.int64)
+    count = flat.shape[0]
+    keep = np.empty(count, np.bool_)
+    _large_pieces_into(flat, int(width), int(min_area), np.empty(count, np.int64), np.empty(count, np.int64), keep)
+    return keep
+
+
 _WARM = []
 
 
@@ -220,5 +278,6 @@ def warm_up():
         return
     mask = np.zeros((3, 3), bool)
     mask[1, 1:] = True
+    large_pieces(np.array([1, 2, 6]), 5, 2)  # before the distances: their kernel tells whether the task is warm
     _distances(np.ones((1, 2)), mask, np.array([0.25, 0.5, 0.25]), 4, 0.5, CACHE_SIDE)
     _WARM.append(True)

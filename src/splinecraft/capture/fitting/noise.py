@@ -14,7 +14,6 @@ blur (the blurred level of a 1.2 px stroke stays below one half), so its points 
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 __all__ = ["NOISE_SIGMA", "NOISE_QUANTILE", "NOISE_FACTOR", "CLEAN_NOISE", "NOISE_SAMPLE", "THIN_AREA",
            "boundary_noise", "noise_tolerance", "thin_feature_pixels"]
@@ -39,8 +38,6 @@ NOISE_SAMPLE = 20000
 #: 0.5-2 px, noise 0.2-0.45) no estimate changes between 10 and 3, while a clean 24-px glyph's serif of 4-9
 #: pixels read as 1-4 px of noise with 10 (docs/capture.md §12).
 THIN_AREA = 4
-
-_SQUARE = np.ones((3, 3), bool)
 
 
 def _thin_ink_and_paper(mask):
@@ -82,52 +79,23 @@ def _thin_ink_and_paper(mask):
     return thin_ink.reshape(rows, width), thin_paper.reshape(rows, width)
 
 
-def _close_gaps(values, size):
-    """Per value (``0 <= values < size``) its place among the sorted distinct ``values`` when every gap between
-    two consecutive ones is narrowed to 1 (consecutive values stay consecutive): strictly increasing in the
-    value, and two values differ by at most 1 exactly when their places do."""
-    present = np.zeros(size, bool)
-    present[values] = True
-    distinct = np.flatnonzero(present)
-    place = np.zeros(size, np.int64)
-    place[distinct] = np.arange(distinct.shape[0])
-    place[distinct[1:]] += np.cumsum(distinct[1:] - distinct[:-1] > 1)
-    return place[values]
-
-
 def thin_feature_pixels(mask, min_area=THIN_AREA):
     """Pixels of hairlines and narrow gaps: the ink pixels that a morphological opening of the ink by the
     3 x 3 cross removes (ink at most 2 px wide; outside the image is paper), and likewise the paper pixels
     for the paper (outside the image is paper too), kept where they form 8-connected pieces of at least
     ``min_area`` pixels (a bump or notch of noise is smaller)."""
+    from ._iso_kernels import large_pieces
+
     mask = np.asarray(mask, dtype=bool)
     out = np.zeros(mask.shape, bool)
-    # few pixels: the pieces are labelled, sized and marked at these only, on the thin pixels' own rows and
-    # columns, every gap between two of them narrowed to one empty row or column: two pixels are neighbours there
-    # exactly when they are here. The ink's and the paper's in one labelling, the paper's rows after the ink's and
-    # an empty one (no piece joins the two)
-    rows, cols, at_rows, at_cols, first = [], [], [], [], 0
+    # few pixels: their pieces are found among them alone (union-find, linear in their number), not by labelling
+    # an image of the mask's size
     for thin in _thin_ink_and_paper(mask):
         if np.count_nonzero(thin) < min_area:  # no piece can be large enough
             continue
-        row, col = np.divmod(np.flatnonzero(thin), thin.shape[1])  # (sorted by row)
-        col -= 1  # (thin has a column of paper on either side)
-        rows.append(row)
-        cols.append(col)
-        at_rows.append(_close_gaps(row, mask.shape[0]) + first)
-        at_cols.append(_close_gaps(col, mask.shape[1]))
-        first = at_rows[-1][-1] + 2
-    if not rows:
-        return out
-    rows, cols = np.concatenate(rows), np.concatenate(cols)
-    at_row, at_col = np.concatenate(at_rows), np.concatenate(at_cols)
-    packed = np.zeros((first - 1, at_col.max() + 1), bool)
-    packed[at_row, at_col] = True
-    labels, count = ndimage.label(packed, structure=_SQUARE)
-    label = labels[at_row, at_col]
-    large = np.bincount(label, minlength=count + 1) >= min_area
-    hit = large[label]
-    out[rows[hit], cols[hit]] = True
+        flat = np.flatnonzero(thin)
+        row, col = np.divmod(flat[large_pieces(flat, thin.shape[1], min_area)], thin.shape[1])
+        out[row, col - 1] = True  # (thin has a column of paper on either side)
     return out
 
 

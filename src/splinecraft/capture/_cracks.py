@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact, pymax, pymin
+from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact, pymax, pymin, union_root as _root
 
 __all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "MINORITY", "warm_up"]
 
@@ -150,14 +150,6 @@ def follow_cracks(padded, connectivity):
     if cycles < 0:
         raise RuntimeError("internal error: a crack has no successor (tracer invariant broken)")
     return {"x": tail_x, "y": tail_y, "d": direction, "left_turn": left_turn, "offsets": offsets[:cycles + 1].copy()}
-
-
-@njit(**_HELPER)
-def _root(parent, node):
-    while parent[node] != node:
-        parent[node] = parent[parent[node]]
-        node = parent[node]
-    return node
 
 
 @njit(**JIT_OPTIONS)

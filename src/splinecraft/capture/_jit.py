@@ -56,7 +56,7 @@ from numba.extending import intrinsic
 
 from . import _interpreted
 
-__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "insertion_sort", "ensure_cache_dir",
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "insertion_sort", "union_root", "ensure_cache_dir",
            "warm_up",
            "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
 
@@ -288,6 +288,16 @@ _interpreted.stand_in(pymin, min)
 _interpreted.stand_in(pymax, max)
 _interpreted.stand_in(pyclip, _clip)
 _interpreted.stand_in(compact, _nothing)
+
+
+@numba.njit(**HELPER_OPTIONS)
+def union_root(parent, node):
+    """The root of ``node``'s tree in the union-find forest ``parent`` (``parent[root] == root``), for kernels; halves
+    the path on the way (the tracer's components of cycles, the noise estimate's pieces of thin pixels)."""
+    while parent[node] != node:
+        parent[node] = parent[parent[node]]
+        node = parent[node]
+    return node
 
 
 @numba.njit(**HELPER_OPTIONS)

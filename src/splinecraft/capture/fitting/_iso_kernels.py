@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS, pyclip, pymax, pymin
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, pyclip, pymax, pymin, union_root as _root
 
 __all__ = ["gaussian_weights", "iso_line_distance", "large_pieces", "warm_up"]
 
@@ -209,15 +209,6 @@ def _distances(points, mask, weights, pad, level, cache_side):
                          row_tag, np.empty(4), out):
         return None
     return out
-
-
-@njit(**HELPER_OPTIONS)
-def _root(parent, k):
-    """The root of ``k``'s tree in the union-find forest ``parent``, halving the path on the way."""
-    while parent[k] != k:
-        parent[k] = parent[parent[k]]
-        k = parent[k]
-    return k
 
 
 @njit(**HELPER_OPTIONS)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact, pymax, pymin, union_root as _root
+from ._jit import HELPER_OPTIONS as _HELPER, JIT_OPTIONS, compact, union_join, union_root as _root
 
 __all__ = ["FREEMAN_STEPS", "follow_cracks", "boundary_arrays", "MINORITY", "warm_up"]
 
@@ -250,9 +250,7 @@ def _boundaries_into(tail_x, tail_y, direction, left_turn, offsets, four, offset
             elif run_kind[x] == 3:
                 if opened < 0:
                     return -2
-                a, b = _root(parent, opened), _root(parent, run_cycle[x])
-                if a != b:
-                    parent[pymax(a, b)] = pymin(a, b)
+                union_join(parent, opened, run_cycle[x])
                 opened = -1
             run_kind[x] = 0
         if opened >= 0:

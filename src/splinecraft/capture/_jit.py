@@ -56,8 +56,8 @@ from numba.extending import intrinsic
 
 from . import _interpreted
 
-__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "insertion_sort", "union_root", "ensure_cache_dir",
-           "warm_up",
+__all__ = ["JIT_OPTIONS", "HELPER_OPTIONS", "compact", "pymin", "pymax", "pyclip", "insertion_sort", "union_root",
+           "union_join", "ensure_cache_dir", "warm_up",
            "warm_up_all", "WARM_UP_TASKS", "TRACE_TASKS", "LAST_WARM_UP"]
 
 
@@ -298,6 +298,17 @@ def union_root(parent, node):
         parent[node] = parent[parent[node]]
         node = parent[node]
     return node
+
+
+@numba.njit(**HELPER_OPTIONS)
+def union_join(parent, a, b):
+    """The union of ``a``'s and ``b``'s trees in the union-find forest ``parent``, the larger root under the smaller
+    (the forest does not depend on the order of the unions' arguments)."""
+    a, b = union_root(parent, a), union_root(parent, b)
+    if a < b:
+        parent[b] = a
+    elif b < a:
+        parent[a] = b
 
 
 @numba.njit(**HELPER_OPTIONS)

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .._jit import HELPER_OPTIONS, JIT_OPTIONS, pyclip, pymax, pymin, union_root as _root
+from .._jit import HELPER_OPTIONS, JIT_OPTIONS, pyclip, pymax, pymin, union_join, union_root as _root
 
 __all__ = ["gaussian_weights", "iso_line_distance", "large_pieces", "warm_up"]
 
@@ -211,22 +211,13 @@ def _distances(points, mask, weights, pad, level, cache_side):
     return out
 
 
-@njit(**HELPER_OPTIONS)
-def _join(parent, a, b):
-    """The union of ``a``'s and ``b``'s trees, under the smaller root (the forest does not depend on the order)."""
-    a, b = _root(parent, a), _root(parent, b)
-    if a < b:
-        parent[b] = a
-    elif b < a:
-        parent[a] = b
-
-
 @njit(**_JIT)
 def _large_pieces_into(flat, width, min_area, parent, size, keep):
     """Whether each pixel at the sorted flat indices ``flat`` of a bool image ``width`` pixels wide (its first and last
     columns empty: no piece wraps from one row to the next) lies in an 8-connected piece of at least ``min_area`` of
     them, into ``keep``: union-find over each pixel's neighbours ahead (the next in its row, the three below it, found
-    by a pointer that walks ``flat`` once), then the pieces' sizes counted at their roots. ``parent``, ``size``: work."""
+    by a pointer that walks ``flat`` once), then the pieces' sizes counted at their roots. ``parent``, ``size``:
+    work."""
     count = flat.shape[0]
     for k in range(count):
         parent[k] = k
@@ -235,12 +226,12 @@ def _large_pieces_into(flat, width, min_area, parent, size, keep):
     for k in range(count):
         here = flat[k]
         if k + 1 < count and flat[k + 1] == here + 1:
-            _join(parent, k, k + 1)
+            union_join(parent, k, k + 1)
         while below < count and flat[below] < here + width - 1:
             below += 1
         q = below
         while q < count and flat[q] <= here + width + 1:
-            _join(parent, k, q)
+            union_join(parent, k, q)
             q += 1
     for k in range(count):
         size[_root(parent, k)] += 1

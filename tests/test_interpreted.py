@@ -259,13 +259,19 @@ def test_only_small_bitmaps_are_interpreted(monkeypatch):
     calls = []
     monkeypatch.setattr(_jit, "warm_up", lambda tasks=(), interpret=False: calls.append(interpret()) or False)
     sc.trace(sc.datasets.shape("disc", 64))
+    large = np.zeros((420, 420), bool)  # a 1200-px glyph has 6000-8300 cracks, an ideograph 16 000-17 000
+    large[10:410, 10:410] = True
+    for k in range(20, 400, 20):
+        large[k:k + 10, 20:400] = False  # about 2 * 19 * 380 cracks
+    assert 8000 < trace_module._cracks_of(large) <= trace_module.INTERPRET_CRACKS
+    sc.trace(large)
     big = np.zeros((700, 700), bool)
     big[50:650, 50:650] = True
     for k in range(60, 640, 20):
         big[k:k + 10, 60:640] = False  # stripes: about 2 * 29 * 580 cracks
     assert trace_module._cracks_of(big) > trace_module.INTERPRET_CRACKS
     sc.trace(big)
-    assert calls == [True, False]
+    assert calls == [True, True, False]
 
 
 _COLD_INTERPRETED = """

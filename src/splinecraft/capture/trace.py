@@ -396,12 +396,18 @@ def trace(
 
 #: The most cracks (pixel edges between ink and paper, :func:`_cracks_of`) of a bitmap whose first trace on a cold
 #: kernel cache runs the kernels interpreted (:func:`._jit.warm_up`, ``interpret=True``); a larger one waits for
-#: the compile. Since session 32 the interpreter takes 1.0-1.4 ms a crack on clean renders and noise (a 300-px
-#: glyph: 1600-2000 cracks; a 1200-px glyph or a 90 x 90 noise bitmap: 7000-8300 cracks, 7.6-9.6 s) and 1.5-1.9 ms
-#: on scan-like glyphs, the cold compile 13-14 s on two CPUs: up to 8000 cracks the interpreter is the shorter
-#: wait but for the noisiest scans, where the two are about even (BENCHMARKS.md, "Session 32-33"; 4000 before
-#: session 33, when the interpreter took 1-3 ms a crack).
-INTERPRET_CRACKS = 8000
+#: the compile. Fully interpreted, a trace takes 1.0-1.9 ms a crack (a 300-px glyph: 1600-2000 cracks; a 1200-px
+#: glyph 6000-8300, a 1200-px ideograph 16 000-17 000), but it is not fully interpreted: the background compile
+#: puts each kernel back compiled as soon as it is cached (:func:`._interpreted.restore_ready`), so only the kernel
+#: calls that start before then run at the interpreter's pace. What bounds the wait is the longest such call, the
+#: corners of one long boundary (0.3 ms a crack) after the tracer (0.1 ms a crack): a single wavy boundary of 15 600
+#: cracks took 8.8 s at defaults against 19.5 s compiling first, one of 33 700 cracks 14.5 s against 20.7 s, where
+#: the compile's 11-20 s (two CPUs, idle to loaded) no longer leaves a clear margin. Glyphs and noise are split into
+#: many shorter calls: 1200-px glyphs 5.4-8.3 s against 11.2-26.6 s, an ideograph at 1200 px 9.4 s against 22.5 s,
+#: noise bitmaps of 16 000 and 31 000 cracks 8.1 and 9.4 s against 17.9 and 17.2 s (BENCHMARKS.md, "Session 36:
+#: the first call of large bitmaps"). 8000 until session 36, when the limit was set by the fully interpreted pace;
+#: 4000 before session 33.
+INTERPRET_CRACKS = 24000
 
 
 def _cracks_of(mask):

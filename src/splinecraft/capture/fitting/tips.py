@@ -57,6 +57,17 @@ MAX_EXTRAPOLATED_ANGLE = np.radians(90.0)
 #: times their offsets), while the pixels cut the tip of a sharp obtuse corner by up to 1 px and the pieces
 #: without it round the corner off by as much (Liberation Serif Bold P at 1200 px, turned: 0.92 px, 0.38 with
 #: it; BENCHMARKS.md, "Session 25: obtuse corners").
+#:
+#: The same limit holds for a corner with one short side (:func:`short_side`: the cut face of a stroke end or
+#: a serif's face, too short for a window of its own), on the opening of its fitted sides, where both sides are
+#: separating lines and the short side's direction is pinned by its pixels (``SideFit.pinned``: at least two
+#: distinct ink and two distinct paper centres left beside it; with a single paper centre the line turns about
+#: it up to the slope search's bound, :data:`SLOPE_SEARCH`, and the tip slides along the other side, as on the
+#: left end of a 2-px bar at 30 degrees). Without its tip the corner's knot stays on the pixels' chamfer, up to
+#: ``sqrt(1/2) / sin(theta / 2)`` (0.8-1 px) inside the corner, and the short face's piece takes the rest of
+#: the turn: the join turns by 11-23 degrees where the corner turns by 60-90 (a *fit hook*, the corner lost
+#: from the output; BENCHMARKS.md, "Session 35"). Below :data:`MAX_EXTRAPOLATED_ANGLE` a short side's tip is
+#: kept without that condition, as before.
 MAX_OBTUSE_ANGLE = np.radians(120.0)
 #: Shortest window (px of arc) of each side of an obtuse corner that is extrapolated (:data:`MAX_OBTUSE_ANGLE`).
 #: The rendering of a curve of radius ``R`` is a digital straight segment over 12 px only where its sagitta
@@ -275,9 +286,10 @@ def short_side(contour, piece, pairs, neighbours):
     last corner, each fitted on its own window): beside a convex corner a paper centre outside the neighbour's
     line is paper because of the neighbour, beside a notch an ink centre inside it is ink because of the
     neighbour; such centres, and those within :data:`NEIGHBOUR_BAND` of the neighbour's line, are left out.
-    Returns a :class:`SideFit` (``length``: the piece's arc length) or None: a neighbour without a fit (the
-    centres near that corner cannot be sorted), a curved or ragged piece, too few centres left or no line
-    that separates them."""
+    Returns a :class:`SideFit` (``length``: the piece's arc length; ``pinned``: at least two distinct ink and
+    two distinct paper centres were left, so that the pixels, not the slope search's bound, set the line's
+    direction) or None: a neighbour without a fit (the centres near that corner cannot be sorted), a curved or
+    ragged piece, too few centres left or no line that separates them."""
     if any(side is None or not side.ink for side in neighbours):
         return None
     n = contour.size
@@ -298,7 +310,10 @@ def short_side(contour, piece, pairs, neighbours):
     ink, paper = ink[keep_ink], paper[keep_paper]
     if ink.shape[0] < 2 or paper.shape[0] < 2:
         return None
-    return _separating_line(fit, ink, paper)
+    side = _separating_line(fit, ink, paper)
+    if side is not None:  # neighbouring contour points often share a centre: count the distinct ones
+        side.pinned = min(np.unique(ink, axis=0).shape[0], np.unique(paper, axis=0).shape[0]) >= 2
+    return side
 
 
 def _crossing(first, second):
@@ -395,7 +410,9 @@ def tip_estimates(contour, angle, radius, measured=None):
     its two corners is one line shared by both (:func:`short_side`, its neighbours the sides beyond its
     corners). A corner with one short side is measured whatever its angle on the contour (measured on chords
     that reach past the short side, it is blunter than the corner), and keeps its tip only where the other
-    side is a separating line too and the fitted sides meet at less than :data:`MAX_EXTRAPOLATED_ANGLE`; the
+    side is a separating line too and the fitted sides meet at less than :data:`MAX_EXTRAPOLATED_ANGLE`, or at
+    less than :data:`MAX_OBTUSE_ANGLE` (the limit of obtuse corners between long straight sides) where the short
+    side's direction is pinned by its pixels (``SideFit.pinned`` of :func:`short_side`); the
     reach is bounded by the other side's window only (the tip lies at the end of the shared side). A corner
     between two short sides gets no estimate.
 
@@ -420,6 +437,7 @@ def tip_estimates(contour, angle, radius, measured=None):
     estimate = np.full((count, 2), np.nan)
     anchors = np.full((count, 2, 2), np.nan)
     opening = np.array(angle, float)
+    pinned = np.zeros(count, bool)  # beside a short side: that side's direction pinned by its pixels
     straight = np.zeros(count, bool)  # both sides separating lines (digital straight segments) of OBTUSE_SIDE px
     # the side windows (before, after): a side shorter than SHORTEST_SIDE from the window start to 0.8 of the
     # side is a short side, the whole side one line shared by its two corners (short_side)
@@ -496,14 +514,16 @@ def tip_estimates(contour, angle, radius, measured=None):
         if found is None:
             continue
         estimate[c], opening[c], anchors[c] = found
+        pinned[c] = any(is_shared) and all(side.pinned for side, shared in zip(sides, is_shared) if shared)
         straight[c] = sides[0].margin > 0 and sides[1].margin > 0 and \
             min(sides[0].length, sides[1].length) >= OBTUSE_SIDE
     # a sharp tip lies at most sqrt(1/2) / sin(theta / 2) outside the pixels; one farther out is the crossing of
     # the sides of a rounded (or flattened) corner, which the pixels follow better than the crossing does
-    # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides); where one side is short, the
+    # (an obtuse corner below MAX_OBTUSE_ANGLE only between two straight sides, or beside a short side whose
+    # direction its pixels pin, both sides separating lines where it was measured); where one side is short, the
     # angle is the opening of the fitted sides
     gate = np.where(one_short, opening, angle)
-    estimate[(gate >= MAX_EXTRAPOLATED_ANGLE) & ~(straight & (gate < MAX_OBTUSE_ANGLE))] = np.nan
+    estimate[(gate >= MAX_EXTRAPOLATED_ANGLE) & ~((straight | pinned) & (gate < MAX_OBTUSE_ANGLE))] = np.nan
     found = np.flatnonzero(np.isfinite(estimate[:, 0]))  # none of them a pixel corner (not measured)
     outside = _outside(contour, np.concatenate([estimate[found], vertex[pixel]]))
     distance = np.full(count, np.nan)

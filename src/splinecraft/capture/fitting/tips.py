@@ -128,6 +128,10 @@ class SideFit:
     All of them are views of one row of :data:`~._tip_kernels.SIDE_FIELDS` floats (``row``), what the compiled
     kernels read."""
 
+    #: A short side's (:func:`short_side`): whether its pixels pin its direction (two distinct ink and two distinct
+    #: paper centres or more); every other side: False.
+    pinned = False
+
     def __init__(self, centre, direction, coefficients, length, ink=0.0, margin=0.0):
         row = np.empty(SIDE_FIELDS)
         row[0:2], row[2:4], row[4], row[5] = centre, direction, -direction[1], direction[0]

@@ -388,6 +388,8 @@ def main(argv=None):
         rows = measure(shapes, tools, runners, scorer, args.repeat, args.out)
         all_rows.extend(rows)
         print_tables(rows, tools, f"{name} ({len(shapes)} shapes)")
+    if not all_rows:  # every set skipped: say so, not an empty report (a tree outside the repository's folder)
+        sys.exit(f"no set measured: none of {sets} found under {yardstick} (--yardstick names the folder)")
     if len({r["set"] for r in all_rows if r["group"] in GLYPH_GROUPS}) > 1:
         print_glyph_times(all_rows, tools, f"All sets: median time per 300-px upright glyph "
                           f"({len({(r['set'], r['name']) for r in all_rows if r['group'] in GLYPH_GROUPS})} glyphs)")

@@ -410,6 +410,33 @@ def test_the_square_ends_of_thin_bars_land_on_their_corners():
     assert landed >= 18, landed
 
 
+def test_a_short_side_is_pinned_only_by_two_distinct_centres_of_each_kind(monkeypatch):
+    """``short_side``'s ``pinned``: at least two distinct ink and two distinct paper centres beside the face. The
+    ends of a bar 2 px wide at 30 degrees leave one distinct paper centre (neighbouring contour points share it):
+    one end gets no line, the other a line that the slope search's bound turns, not pinned; the ends of a bar 4 px
+    wide are pinned. Counting the shared centre twice would pin the 2-px face."""
+    from splinecraft.capture.fitting import tips
+
+    seen = []
+    original = tips.short_side
+
+    def recording(*args, **kwargs):
+        side = original(*args, **kwargs)
+        seen.append(None if side is None else bool(side.pinned))
+        return side
+
+    monkeypatch.setattr(tips, "short_side", recording)
+    found = {}
+    for width in (2.0, 4.0):
+        c, s = math.cos(math.radians(30.0)), math.sin(math.radians(30.0))
+        corners = np.array([(-20.0, -width / 2), (20.0, -width / 2), (20.0, width / 2), (-20.0, width / 2)])
+        seen.clear()
+        trace(render(corners @ np.array([[c, s], [-s, c]]) + (40.3, 40.1), 80))
+        found[width] = [pinned for pinned in seen if pinned is not None]
+    assert found[2.0] and not any(found[2.0])
+    assert found[4.0] and all(found[4.0])
+
+
 def test_a_narrow_notch_reaches_the_pinhole_beyond_its_rendered_end():
     """A notch of 6-14 degrees narrows below a pixel several px before its tip: its rendering breaks off, and a
     pixel centre that still falls inside the sliver beyond is a pinhole, which trace fills. That paper centre lies

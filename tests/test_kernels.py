@@ -306,8 +306,10 @@ def test_hoschek_step_lands_on_the_foot_point_of_a_straight_piece():
     np.testing.assert_allclose(u + du, points[:, 0], atol=1e-12)
 
 
-def _numpy_windowed(points, centre, lo, hi, edges, window, wrap):
-    """Windowed point-to-segment distances, vectorized (the formulation the kernel replaced)."""
+def _numpy_windowed(points, centre, lo, hi, edges, window, wrap, sides=False):
+    """Windowed point-to-segment distances, vectorized (the formulation the kernel replaced); ``sides``: and the
+    cross product of the nearest edge's direction with the vector from its start to the point (the first nearest
+    edge of the window)."""
     e = centre[:, None] + np.arange(-window, window + 1)[None, :]
     if lo is not None:
         np.clip(e, lo[:, None], hi[:, None], out=e)
@@ -315,9 +317,14 @@ def _numpy_windowed(points, centre, lo, hi, edges, window, wrap):
         e %= wrap
     ax, ay, dx, dy, inverse = edges
     px, py = points[:, 0, None] - ax[e], points[:, 1, None] - ay[e]
+    cross = dx[e] * py - dy[e] * px
     t = np.clip((px * dx[e] + py * dy[e]) * inverse[e], 0.0, 1.0)
     px, py = px - t * dx[e], py - t * dy[e]
-    return np.sqrt((px * px + py * py).min(axis=1))
+    squared = px * px + py * py
+    distance = np.sqrt(squared.min(axis=1))
+    if not sides:
+        return distance
+    return distance, np.take_along_axis(cross, squared.argmin(axis=1)[:, None], axis=1)[:, 0]
 
 
 @settings(max_examples=30, deadline=None)
@@ -892,9 +899,10 @@ def _numpy_group_max(groups, values, count):
     return best
 
 
-def _numpy_deviations(model, dense):
+def _numpy_deviations(model, dense, crack_outline=False):
     """The deviation check of an ``lsq`` fit state, vectorized with numpy's own searches, ``numpy.interp`` and
-    the windowed distances above (the formulation :func:`_kernels.deviation_measures` replaced)."""
+    the windowed distances above (the formulation :func:`_kernels.deviation_measures` replaced); ``crack_outline``:
+    the contour is a tracer's crack outline, whose corner zones allow their extra tolerance on one side only."""
     contour = model.contour
     n, pieces = contour.size, contour.piece_count
     starts, ends = model.intervals()
@@ -907,9 +915,10 @@ def _numpy_deviations(model, dense):
     centre = np.clip(np.searchsorted(model.parameter, params) - 1, 0, n - 1)
     bounds = contour.corner_bounds
     if contour.corner_count:
-        d_curve = _numpy_windowed(samples, centre, bounds[spiece] - 3, bounds[spiece + 1] + 2, contour.edges, 1, n)
+        d_curve, curve_side = _numpy_windowed(samples, centre, bounds[spiece] - 3, bounds[spiece + 1] + 2,
+                                              contour.edges, 1, n, sides=True)
     else:
-        d_curve = _numpy_windowed(samples, centre, None, None, contour.edges, 1, n)
+        d_curve, curve_side = _numpy_windowed(samples, centre, None, None, contour.edges, 1, n, sides=True)
     if dense:
         probes = np.empty((2 * n, 2))
         probes[0::2], probes[1::2] = contour.points, 0.5 * (contour.closed_points[:-1] + contour.closed_points[1:])
@@ -920,7 +929,13 @@ def _numpy_deviations(model, dense):
         probes, probe_u, probe_piece, is_point = contour.points, model.parameter[:n], contour.piece_of_point[:n], \
             np.ones(n, bool)
     seg = np.clip(np.searchsorted(starts, probe_u, "right") - 1, 0, k - 1)
-    curve = _numpy_eval_bezier(bez, seg, (probe_u - starts[seg]) / (ends - starts)[seg])
+    theta = (probe_u - starts[seg]) / (ends - starts)[seg]
+    curve = _numpy_eval_bezier(bez, seg, theta)
+    # the curve's direction there (its derivative over 3), and the probe's side of it
+    s1 = 1.0 - theta
+    handles = np.diff(bez[seg], axis=1)
+    tangent = np.einsum("nj,njd->nd", np.column_stack([s1 * s1, 2.0 * theta * s1, theta * theta]), handles)
+    probe_side = tangent[:, 0] * (probes[:, 1] - curve[:, 1]) - tangent[:, 1] * (probes[:, 0] - curve[:, 0])
     d_data = np.hypot(*(curve - probes).T)
     loose = np.flatnonzero(d_data > (0.5 * model.epsilon if dense else model.epsilon))
     if loose.size:
@@ -940,11 +955,22 @@ def _numpy_deviations(model, dense):
         probe_allowance[0::2], probe_allowance[1::2] = allowance[:n], np.maximum(allowance[:n], allowance[1:])
     else:
         probe_allowance = allowance[:n]
-    tol_data = model.epsilon + probe_allowance
     curve_zone = np.interp(params, model.base_parameter, zone.astype(float)) > 0
     nearest = np.clip(np.searchsorted(model.base_parameter, params), 0, n)
-    tol_curve = model.epsilon + np.where(curve_zone, np.maximum(allowance[nearest],
-                                                                allowance[np.maximum(nearest - 1, 0)]), 0.0)
+    curve_allowance = np.maximum(allowance[nearest], allowance[np.maximum(nearest - 1, 0)])
+    if crack_outline and contour.corner_count:
+        # the allowance holds on the side of the corner's tip only: the paper beside a convex corner (a left turn
+        # of the contour, whose ink is on its left), the ink beside a notch
+        closed, corner_at = contour.closed_points, contour.corner_bounds[:-1]
+        incoming = closed[corner_at] - closed[(corner_at - 3) % n]
+        outgoing = closed[(corner_at + 3) % n] - closed[corner_at]
+        convex = np.sign(incoming[:, 0] * outgoing[:, 1] - incoming[:, 1] * outgoing[:, 0])
+        point_side = convex[contour.nearest_corner]
+        curve_allowance = np.where(curve_side * point_side[nearest] > 0, 0.0, curve_allowance)
+        probe_sign = np.repeat(point_side[:n], 2) if dense else point_side[:n]
+        probe_allowance = np.where(probe_side * probe_sign < 0, 0.0, probe_allowance)
+    tol_data = model.epsilon + probe_allowance
+    tol_curve = model.epsilon + np.where(curve_zone, curve_allowance, 0.0)
     data_iv = np.clip(np.searchsorted(ends, probe_u), 0, k - 1)
     ex_curve, ex_data = d_curve - tol_curve, d_data - tol_data
     gm = _numpy_group_max
@@ -983,6 +1009,39 @@ def test_deviation_measures_match_the_vectorized_formulation(seed, corners, dens
         model.tips.allowance_kept[-1] = True
     got = model.deviations(dense=dense)
     expected = _numpy_deviations(model, dense)
+    for key, value in expected.items():
+        np.testing.assert_array_equal(got[key], value, err_msg=key)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10_000), st.integers(1, 6), st.booleans(), st.floats(0.3, 2.0))
+def test_deviation_measures_of_a_crack_outline_match_the_vectorized_formulation(seed, corners, dense, epsilon):
+    """On a tracer's crack outline (a random polygon's render, corners at the polygon's vertices, a coarse fit)
+    the corner zones' allowance holds only on the side of the corner's tip, and the one-pass check still equals
+    the numpy formulation bit for bit."""
+    from skimage.draw import polygon
+
+    from splinecraft.capture.contour import trace_boundaries
+    from splinecraft.capture.fitting.lsq_model import OutlineRegression
+    from splinecraft.capture.fitting.options import LSQ_DEFAULTS
+
+    rng = np.random.default_rng(seed)
+    angle = np.sort(rng.uniform(0.0, 2 * np.pi, 7))
+    radius = rng.uniform(12.0, 30.0, 7)
+    vertices = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)]) + 40.0
+    mask = np.zeros((80, 80), bool)
+    mask[polygon(vertices[:, 1], vertices[:, 0], mask.shape)] = True
+    points = max(trace_boundaries(mask), key=lambda b: b.outline.shape[0]).outline
+    nearest = np.unique([np.argmin(np.hypot(*(points - v).T)) for v in vertices])
+    chosen = np.sort(rng.choice(nearest, size=min(corners, nearest.size), replace=False))
+    chosen = chosen[np.diff(chosen, prepend=-100) > 8]
+    model = OutlineRegression(points, chosen.astype(np.int64), epsilon, dict(LSQ_DEFAULTS))
+    model.seed_knots(float(rng.choice([0.0, LSQ_DEFAULTS["initial_density"]])))
+    model.fit(hoschek_steps=int(rng.integers(0, 3)))
+    if model.contour.corner_count and rng.random() < 0.5:
+        model.tips.allowance_kept[-1] = True
+    got = model.deviations(dense=dense)
+    expected = _numpy_deviations(model, dense, crack_outline=True)
     for key, value in expected.items():
         np.testing.assert_array_equal(got[key], value, err_msg=key)
 

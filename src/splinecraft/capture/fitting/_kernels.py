@@ -1422,7 +1422,7 @@ def _larger(a, b):
 @njit(**_JIT)
 def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base, edges,
                     probes, probe_u, fill_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon, loose_above,
-                    reach, curve_out, curve_zone, data_out, data_iv, excess, piece_out):
+                    reach, point_side, probe_side_sign, curve_out, curve_zone, data_out, data_iv, excess, piece_out):
     """:func:`deviation_measures` into ``curve_out`` (rows d_curve, tol_curve), ``data_out`` (rows d_data,
     tol_data), ``excess`` and ``piece_out`` (rows piece_dev, piece_err, piece_excess; these two filled with -inf
     by the wrapper): outputs of one length share an array, and so do the edge table's five columns (every array
@@ -1442,6 +1442,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         piece = pyclip(at_corner - 1, 0, pieces - 1)
         centre = pyclip(at_parameter - 1, 0, n - 1)
         best = np.inf
+        best_side = 0.0
         # values read once as float (interpreted, Python floats are ~3x faster than numpy's scalars; compiled the
         # same code): the same operations in the same order
         sx, sy = float(samples[s, 0]), float(samples[s, 1])
@@ -1453,6 +1454,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             ex, ey = float(edges[2, e]), float(edges[3, e])
             px = sx - float(edges[0, e])
             py = sy - float(edges[1, e])
+            side = ex * py - ey * px
             t = (px * ex + py * ey) * float(edges[4, e])
             t = pyclip(t, 0.0, 1.0)
             px -= t * ex
@@ -1460,6 +1462,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             squared = px * px + py * py
             if squared < best:
                 best = squared
+                best_side = side
         d = np.sqrt(best)
         curve_out[0, s] = d
         # numpy.interp(u, base, zone) > 0 in numpy's arithmetic: the interval base[j] <= u < base[j + 1], the
@@ -1487,6 +1490,8 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             nearest = pyclip(at_base, 0, n)
             a, b = allowance[nearest], allowance[pymax(nearest - 1, 0)]
             extra = _larger(a, b)
+            if point_side.shape[0] and best_side * point_side[nearest] > 0.0:
+                extra = 0.0  # the curve on the other side of the contour than the corner's tip: no allowance
         curve_out[1, s] = epsilon + extra
         ex_curve = d - curve_out[1, s]
         excess[iv[s]] = _larger(excess[iv[s]], ex_curve)
@@ -1512,6 +1517,12 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
         cx = w0 * bez[seg, 0, 0] + w1 * bez[seg, 1, 0] + w2 * bez[seg, 2, 0] + w3 * bez[seg, 3, 0]
         cy = w0 * bez[seg, 0, 1] + w1 * bez[seg, 1, 1] + w2 * bez[seg, 2, 1] + w3 * bez[seg, 3, 1]
         d = np.hypot(cx - probes[p, 0], cy - probes[p, 1])
+        # the probe's side of the curve (its tangent there): on the paper side the curve cuts into the ink
+        tx = s2 * (bez[seg, 1, 0] - bez[seg, 0, 0]) + 2.0 * theta * s1 * (bez[seg, 2, 0] - bez[seg, 1, 0]) \
+            + t2 * (bez[seg, 3, 0] - bez[seg, 2, 0])
+        ty = s2 * (bez[seg, 1, 1] - bez[seg, 0, 1]) + 2.0 * theta * s1 * (bez[seg, 2, 1] - bez[seg, 1, 1]) \
+            + t2 * (bez[seg, 3, 1] - bez[seg, 2, 1])
+        probe_side = tx * (probes[p, 1] - cy) - ty * (probes[p, 0] - cx)
         if d > loose_above:
             piece = probe_piece[p]
             at_lo = _walk_left(closed_params, corner_par[piece], at_lo)
@@ -1548,7 +1559,8 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
             if near < d or near != near:
                 d = near
         data_out[0, p] = d
-        data_out[1, p] = epsilon + probe_allowance[p]
+        data_out[1, p] = epsilon + (0.0 if probe_side_sign.shape[0] and probe_side * probe_side_sign[p] < 0.0
+                                    else probe_allowance[p])
         at_end = _walk_left(ends, u, at_end)
         interval = pyclip(at_end, 0, last)
         data_iv[p] = interval
@@ -1566,7 +1578,7 @@ def _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, b
 
 def deviation_measures(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, cornered, parameter, base,
                        edges, probes, probe_u, probe_piece, is_point, zone, allowance, probe_allowance, epsilon,
-                       loose_above, reach):
+                       loose_above, reach, point_side=_NO_FLOATS, probe_side_sign=_NO_FLOATS):
     """The deviation check of the current fit in one pass (:meth:`~.lsq_model.OutlineRegression.deviations`,
     docs/capture.md §12, "Stopping rule"), the operations of its numpy formulation in their order:
     the windowed closest-point distance of every curve sample (``samples``, ``closed_params`` -- the samples'
@@ -1587,8 +1599,8 @@ def deviation_measures(bez, starts, ends, samples, closed_params, iv, corner_par
     excess, piece_out = np.full(starts.shape[0], -np.inf), np.full((3, pieces), -np.inf)
     _deviation_into(bez, starts, ends, samples, closed_params, iv, corner_par, bounds, bool(cornered), parameter, base,
                     edges, probes, probe_u, fill_u, probe_piece, is_point, zone, allowance, probe_allowance,
-                    float(epsilon), float(loose_above), int(reach), curve_out, curve_zone, data_out, data_iv, excess,
-                    piece_out)
+                    float(epsilon), float(loose_above), int(reach), point_side, probe_side_sign, curve_out, curve_zone,
+                    data_out, data_iv, excess, piece_out)
     return {"excess": excess, "piece_dev": piece_out[0], "piece_err": piece_out[1], "piece_excess": piece_out[2],
             "d_data": data_out[0], "tol_data": data_out[1], "data_iv": data_iv, "d_curve": curve_out[0],
             "tol_curve": curve_out[1], "curve_zone": curve_zone, "probe_u": probe_u}

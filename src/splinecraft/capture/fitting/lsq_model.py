@@ -135,6 +135,7 @@ class OutlineRegression:
         # (nor with merge_tolerance > 0: merging rebuilds the segments under its own tolerance)
         self.crack_normal = crack_normals(contour.points) if options["pixel_check"] and \
             self.knot_multiplicity == 1 and not float(options.get("merge_tolerance", 0.0)) > 0 else None
+        self._side_tables = self._allowance_sides()
         self.pixel_slack = float(options["pixel_slack"]) + max(0.0, self.epsilon - DEFAULT_EPSILON)
         self.pixel_waived = np.zeros(n, bool)
         self.pixel_exempt = self._pixel_exempt() if self.crack_normal is not None else None
@@ -663,7 +664,8 @@ class OutlineRegression:
         dev = deviation_measures(bez, starts, ends, samples, closed_params, iv, self._corner_par, contour.corner_bounds,
                                  contour.corner_count > 0, self.parameter, self.base_parameter, contour.edges, probes,
                                  probe_u, probe_piece, is_point, zone, allowance, probe_allowance, self.epsilon,
-                                 0.5 * self.epsilon if dense else self.epsilon, int(np.ceil(3.0 / spacing)))
+                                 0.5 * self.epsilon if dense else self.epsilon, int(np.ceil(3.0 / spacing)),
+                                 *self._side_tables[dense])
         dev.update(starts=starts, ends=ends, probe_zone=probe_zone, curve_iv=iv, curve_params=closed_params[:-1],
                    bezier=bez, dense=dense, tol_excess=dev["excess"], pixel=None, pixel_iv=None)
         if self.crack_normal is not None:
@@ -702,6 +704,29 @@ class OutlineRegression:
             piece_dev[p] = min(piece_dev[p], exact)
         dev["piece_dev"] = piece_dev
         return dev
+
+    def _allowance_sides(self):
+        """The side of the contour on which the corner zones' allowance holds (the side of the corner's tip beyond
+        the pixels: the paper at a convex corner, the ink at a notch), per contour point (n + 1) and per probe of
+        both checks, as ``{dense: (point_side, probe_side)}``: +1 where the allowance is for the paper side, -1 for
+        the ink side, in the deviation kernel's sign (the ink left of the contour's direction, ``x`` right and ``y``
+        down: the tracer's crack outlines, docs/capture.md §10). Empty arrays (both sides) for other contours."""
+        contour = self.contour
+        none = (_NO_FLOATS, _NO_FLOATS)
+        if not contour.corner_count or crack_normals(contour.points) is None:
+            return {False: none, True: none}
+        n = contour.size
+        closed = contour.closed_points
+        bounds = contour.corner_bounds[:-1]
+        reach = 3
+        before = closed[(bounds - reach) % n] - closed[bounds]
+        after = closed[(bounds + reach) % n] - closed[bounds]
+        turn = before[:, 1] * after[:, 0] - before[:, 0] * after[:, 1]  # cross(incoming, outgoing): > 0 convex
+        corner_side = np.sign(turn)
+        point_side = corner_side[contour.nearest_corner]
+        probe_dense = np.repeat(point_side[:n], 2)
+        return {False: (np.ascontiguousarray(point_side, float), np.ascontiguousarray(point_side[:n], float)),
+                True: (np.ascontiguousarray(point_side, float), np.ascontiguousarray(probe_dense, float))}
 
     def _zones(self, dense):
         """The corner zones (:meth:`zone`, as floats) and :meth:`allowance` of every contour point and of every

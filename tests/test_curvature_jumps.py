@@ -306,3 +306,25 @@ def test_the_refit_counts_the_segments_of_the_pieces_with_jumps_only():
     assert _segments_beside(model, result, np.array([middle(0), middle(0) + 1.0])) == 5
     cornerless = OutlineRegression(outline, np.zeros(0, np.int64), 0.8, dict(LSQ_DEFAULTS))
     assert _segments_beside(cornerless, SimpleNamespace(knot_indices=[np.arange(10)]), np.array([3.0])) == 9
+
+
+def test_jumps_are_measured_only_where_a_refit_can_follow(monkeypatch):
+    """A refit needs ``REFIT_MARGIN`` segments more than jumps, so a converged fit of at most ``REFIT_MARGIN``
+    segments (a disc's four) is never measured for jumps, and its result is the same as without the option; the
+    stadium (20 segments before its refit) is measured once."""
+    from splinecraft.capture.fitting import lsq
+    from splinecraft.capture.fitting.jumps import REFIT_MARGIN
+
+    calls = []
+    measure = lsq.curvature_jumps
+    monkeypatch.setattr(lsq, "curvature_jumps", lambda *args, **kw: calls.append(args) or measure(*args, **kw))
+    yy, xx = np.mgrid[0:120, 0:120]
+    disc = trace_boundaries((xx + 0.5 - 60.3) ** 2 + (yy + 0.5 - 59.8) ** 2 < 45.0 ** 2)[0].outline
+    fit = fit_outline(disc, [], keep_snapshots=False)
+    assert fit.converged and fit.spline.bezier().shape[0] <= REFIT_MARGIN
+    assert calls == [] and "curvature_jumps" not in fit.info
+    np.testing.assert_array_equal(fit.spline.bezier(),
+                                  fit_outline(disc, [], keep_snapshots=False, curvature_jumps=False).spline.bezier())
+    outline, _ = render_rounded_rectangle(300, 180, 40)
+    fit = fit_outline(outline, [], keep_snapshots=False)
+    assert len(calls) == 1 and fit.info["curvature_jumps"]["jumps"] >= 1

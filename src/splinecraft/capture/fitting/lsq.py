@@ -62,9 +62,13 @@ def fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, options, d
             retry.info["retry_from"] = {"hausdorff": result.hausdorff, "iterations": result.iterations,
                                         "knots_inserted": result.knots_inserted}
             result, insertion = retry, retry_insertion
+    # a refit needs REFIT_MARGIN segments more than jumps beside them, so at least REFIT_MARGIN + 1 in all: a
+    # converged fit with fewer (most of them) is not measured for jumps at all
+    if not result.converged or _segment_count(result) < REFIT_MARGIN + 1:
+        return result
     values, scales = insertion.jumps
-    if (not result.converged or not values.size or _segments_beside(insertion.model, result, values) < values.size
-            + REFIT_MARGIN or (deadline is not None and deadline.passed())):
+    if (not values.size or _segments_beside(insertion.model, result, values) < values.size + REFIT_MARGIN
+            or (deadline is not None and deadline.passed())):
         return result
     segments = _segment_count(result)
     refit = LsqKnotInsertion(points, corners, epsilon, max_iterations, keep_snapshots, options, deadline,
@@ -124,10 +128,10 @@ class LsqKnotInsertion:
         self.model.seed_knots(options["initial_density"])
         if jumps is not None:  # C1 knots at the curvature jumps of a first fit (fit_lsq)
             self.model.seed_jumps(*jumps)
-        #: the curvature jumps of the converged C2 fit (parameters, window half-widths; :func:`curvature_jumps`),
-        #: measured before merging on a fit without jump knots where the option ``curvature_jumps`` asks for it
-        #: and merging is on
-        self.jumps = (np.zeros(0), np.zeros(0, np.int64))
+        #: the arguments of :func:`curvature_jumps` for the converged C2 fit, kept before merging on a fit without
+        #: jump knots where the option ``curvature_jumps`` asks for it and merging is on (:attr:`jumps` measures
+        #: them when asked: most fits end with too few segments for a refit, and are never asked)
+        self._jump_fit = None
         self.epsilon = epsilon
         self.max_iterations = max_iterations
         self.keep = keep_snapshots
@@ -217,7 +221,7 @@ class LsqKnotInsertion:
                 if not (dev["excess"] > 0).any():
                     converged = True
                     break
-                merge_done, self.jumps = False, (np.zeros(0), np.zeros(0, np.int64))  # a fit that failed
+                merge_done, self._jump_fit = False, None  # a fit that failed
             if self.iteration >= self.max_iterations:
                 break
             if self.deadline is not None and self.deadline.passed():
@@ -245,14 +249,24 @@ class LsqKnotInsertion:
         return self.result(dev, converged)
 
     def measure_jumps(self, dev):
-        """The curvature jumps of the converged ``C^2`` fit (``self.jumps``, :func:`~.jumps.curvature_jumps`) where
-        the option ``curvature_jumps`` asks for them and merging is on."""
+        """Keep the converged ``C^2`` fit for its curvature jumps (:attr:`jumps`) where the option
+        ``curvature_jumps`` asks for them and merging is on."""
         model, jumps = self.model, self.options["curvature_jumps"]
         if jumps and (jumps is True or not model.contour.corner_count) and self.options["merge_tolerance"] > 0 \
                 and not model.jump_knots.size:
             # the merged outline is G1; unmerged, the thesis's C2 fit stays ("smooth": outlines without corners)
             corner_values = model.base_parameter[model.contour.corner_bounds] if model.contour.corner_count else ()
-            self.jumps = curvature_jumps(dev["bezier"], dev["starts"], dev["ends"], corner_values, self.epsilon)
+            self._jump_fit = (dev["bezier"].copy(), dev["starts"].copy(), dev["ends"].copy(), corner_values)
+
+    @property
+    def jumps(self):
+        """The curvature jumps of the converged ``C^2`` fit kept by :meth:`measure_jumps` (parameters, window
+        half-widths; :func:`~.jumps.curvature_jumps`), measured on first access; none where no fit was kept."""
+        if self._jump_fit is None:
+            return np.zeros(0), np.zeros(0, np.int64)
+        if len(self._jump_fit) == 4:
+            self._jump_fit = curvature_jumps(*self._jump_fit, self.epsilon)
+        return self._jump_fit
 
     def merge_unverified(self, dev):
         """Merging (:meth:`merge`) on a fit that passed the sparse check only: where something merges, the merged

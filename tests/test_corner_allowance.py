@@ -97,7 +97,7 @@ def test_notch_corners_allow_the_ink_side_and_convex_corners_the_paper_side():
     corners = _corner_indices(points, vertices)
     model = OutlineRegression(points, corners, EPSILON, dict(LSQ_DEFAULTS))
     contour = model.contour
-    sides = model._allowance_sides()
+    sides = model._side_tables
     point_side, probe_side = sides[False]
     at = contour.corner_bounds[:-1]
     found = {tuple(np.round(contour.closed_points[b]).astype(int)): point_side[b] for b in at}

@@ -45,6 +45,9 @@ PIXEL_MIN_CURVATURE = 1.0 / 50.0
 #: Largest spacing (px of parameter) of the curve samples of :meth:`OutlineRegression.zone_hooks`: a curve that
 #: crosses a crack's segment has a sample within half of it, below ``pixel_slack`` (0.1 px).
 ZONE_SPACING = 0.1
+#: Contour points on each side of a corner whose chords decide whether it is convex or a notch, the side on which
+#: its zone's allowance holds (:meth:`OutlineRegression._allowance_sides`).
+TURN_REACH = 3
 
 
 class _Deviations:
@@ -126,16 +129,19 @@ class OutlineRegression:
         self._zone_window_cache = None  # (radii and exclusions, set-up) of zone_hooks (_zone_window)
         # the most curve parameters of a zone window so far (_kernels.zone_window; a first guess: a row of some 250)
         self._zone_bound = 256 * contour.corner_count
-        # (the crack normals of the contour, or None,) of zone_hooks; None until needed, and (None,) where tips are
-        # not extrapolated (a noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
-        self._cracks = None if geometric else (None,)
+        # the crack normals of a crack outline with corners (None: not one, or no corners), for the corner zones'
+        # sides (_allowance_sides) and zone_hooks
+        cracks = crack_normals(contour.points) if contour.corner_count else None
+        # (the crack normals of the contour, or None,) of zone_hooks; (None,) where tips are not extrapolated (a
+        # noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
+        self._cracks = (cracks,) if geometric else (None,)
         self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
         # the pixel check (docs/capture.md §12, "Pixel consistency"): crack normals of a crack outline, or None
         # (C2 joints only: the freer C1 fit, joint_continuity=1, keeps a disc's four pieces 0.1-0.2 px beside them)
         # (nor with merge_tolerance > 0: merging rebuilds the segments under its own tolerance)
         self.crack_normal = crack_normals(contour.points) if options["pixel_check"] and \
             self.knot_multiplicity == 1 and not float(options.get("merge_tolerance", 0.0)) > 0 else None
-        self._side_tables = self._allowance_sides()
+        self._side_tables = self._allowance_sides(cracks)
         self.pixel_slack = float(options["pixel_slack"]) + max(0.0, self.epsilon - DEFAULT_EPSILON)
         self.pixel_waived = np.zeros(n, bool)
         self.pixel_exempt = self._pixel_exempt() if self.crack_normal is not None else None
@@ -537,8 +543,6 @@ class OutlineRegression:
         contour, tips = self.contour, self.tips
         if not contour.corner_count:
             return None
-        if self._cracks is None:
-            self._cracks = (crack_normals(contour.points),)
         cracks = self._cracks[0]
         if cracks is None:
             return None
@@ -705,22 +709,23 @@ class OutlineRegression:
         dev["piece_dev"] = piece_dev
         return dev
 
-    def _allowance_sides(self):
+    def _allowance_sides(self, cracks):
         """The side of the contour on which the corner zones' allowance holds (the side of the corner's tip beyond
-        the pixels: the paper at a convex corner, the ink at a notch), per contour point (n + 1) and per probe of
-        both checks, as ``{dense: (point_side, probe_side)}``: +1 where the allowance is for the paper side, -1 for
-        the ink side, in the deviation kernel's sign (the ink left of the contour's direction, ``x`` right and ``y``
-        down: the tracer's crack outlines, docs/capture.md §10). Empty arrays (both sides) for other contours."""
+        the pixels: the paper at a convex corner, the ink at a notch; the contour's turn over :data:`TURN_REACH`
+        points each way decides), per contour point (n + 1) and per probe of both checks, as
+        ``{dense: (point_side, probe_side)}``: +1 where the allowance is for the paper side, -1 for the ink side, in
+        the deviation kernel's sign (the ink left of the contour's direction, ``x`` right and ``y`` down: the
+        tracer's crack outlines, docs/capture.md §10; ``cracks``: their crack normals, None for other contours,
+        whose allowance holds on both sides: empty arrays)."""
         contour = self.contour
         none = (_NO_FLOATS, _NO_FLOATS)
-        if not contour.corner_count or crack_normals(contour.points) is None:
+        if not contour.corner_count or cracks is None:
             return {False: none, True: none}
         n = contour.size
         closed = contour.closed_points
         bounds = contour.corner_bounds[:-1]
-        reach = 3
-        before = closed[(bounds - reach) % n] - closed[bounds]
-        after = closed[(bounds + reach) % n] - closed[bounds]
+        before = closed[(bounds - TURN_REACH) % n] - closed[bounds]
+        after = closed[(bounds + TURN_REACH) % n] - closed[bounds]
         turn = before[:, 1] * after[:, 0] - before[:, 0] * after[:, 1]  # cross(incoming, outgoing): > 0 convex
         corner_side = np.sign(turn)
         point_side = corner_side[contour.nearest_corner]

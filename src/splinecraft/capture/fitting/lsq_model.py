@@ -652,8 +652,9 @@ class OutlineRegression:
           point ``S(u_j)``; where that is more than ``epsilon`` (``dense``: ``epsilon / 2``), to the nearest
           chord of the curve samples within 3 px of parameter instead.
 
-        Returns a dict: per knot interval the worst excess over the tolerance (``epsilon``, plus
-        ``corner_allowance`` in the zone of an extrapolated corner), per piece the max deviation, the thesis
+        Returns a dict: per knot interval the worst excess over the tolerance (``epsilon``, plus the corner's
+        allowance in the zone of an extrapolated corner, on a crack outline only on the side of its tip:
+        :meth:`_allowance_sides`, docs/capture.md §12 "Guarantee"), per piece the max deviation, the thesis
         error (contour point to its corresponding curve point) and the worst excess, and the per-probe arrays
         that :meth:`insert` needs."""
         contour = self.contour

@@ -129,18 +129,20 @@ class OutlineRegression:
         self._zone_window_cache = None  # (radii and exclusions, set-up) of zone_hooks (_zone_window)
         # the most curve parameters of a zone window so far (_kernels.zone_window; a first guess: a row of some 250)
         self._zone_bound = 256 * contour.corner_count
-        # the crack normals of a crack outline with corners (None: not one, or no corners), for the corner zones'
-        # sides (_allowance_sides) and zone_hooks
-        cracks = crack_normals(contour.points) if contour.corner_count else None
+        # the pixel check (docs/capture.md §12, "Pixel consistency"): on a crack outline
+        # (C2 joints only: the freer C1 fit, joint_continuity=1, keeps a disc's four pieces 0.1-0.2 px beside them)
+        # (nor with merge_tolerance > 0: merging rebuilds the segments under its own tolerance)
+        pixel_check = options["pixel_check"] and self.knot_multiplicity == 1 and \
+            not float(options.get("merge_tolerance", 0.0)) > 0
+        # the crack normals of a crack outline (None: not one), found once where the corner zones' sides
+        # (_allowance_sides), zone_hooks or the pixel check need them
+        cracks = crack_normals(contour.points) if contour.corner_count or pixel_check else None
         # (the crack normals of the contour, or None,) of zone_hooks; (None,) where tips are not extrapolated (a
         # noisy boundary, trace's estimate above CLEAN_NOISE: its pixels are no render's)
         self._cracks = (cracks,) if geometric else (None,)
         self._dense_probes = None  # the contour points and edge midpoints of the dense check (_probes)
-        # the pixel check (docs/capture.md §12, "Pixel consistency"): crack normals of a crack outline, or None
-        # (C2 joints only: the freer C1 fit, joint_continuity=1, keeps a disc's four pieces 0.1-0.2 px beside them)
-        # (nor with merge_tolerance > 0: merging rebuilds the segments under its own tolerance)
-        self.crack_normal = crack_normals(contour.points) if options["pixel_check"] and \
-            self.knot_multiplicity == 1 and not float(options.get("merge_tolerance", 0.0)) > 0 else None
+        # the pixel check's crack normals, or None
+        self.crack_normal = cracks if pixel_check else None
         self._side_tables = self._allowance_sides(cracks)
         self.pixel_slack = float(options["pixel_slack"]) + max(0.0, self.epsilon - DEFAULT_EPSILON)
         self.pixel_waived = np.zeros(n, bool)

@@ -390,6 +390,25 @@ def test_a_knot_becomes_a_corner_then_smooth_again():
     assert np.abs(c1).max() < 1e-9 and np.abs(gc2).max() < 1e-8
 
 
+@settings(max_examples=60, deadline=None)
+@given(st.integers(4, 8), st.integers(0, 2 ** 32 - 1))
+def test_a_new_corner_that_keeps_the_shape_keeps_it_beside_corners_without_handles(size, seed):
+    # a handle-less corner's end tangent is the parabola of its run's first three knots (§6.3), the chord's on a
+    # run of one piece: splitting the run next to it must not fall back to the chord
+    rng = np.random.default_rng(seed)
+    corners = rng.random(size) < 0.4
+    corners[0] = True
+    contour = Contour(_loop(size, seed % 7 + 1), corners, point_tension=rng.random(size))
+    for knot in np.flatnonzero(~corners):
+        kept = contour.with_corner(int(knot), keep_shape=True)
+        assert kept.corners[knot]
+        assert np.abs(kept.bezier() - contour.bezier()).max() < 1e-9 * np.abs(contour.bezier()).max()
+    outline = Outline([contour])
+    for knot in np.flatnonzero(~corners):
+        assert np.abs(outline.set_corner(0, int(knot), keep_shape=True).bezier()[0]
+                      - outline.bezier()[0]).max() < 1e-9 * np.abs(contour.bezier()).max()
+
+
 def test_inserting_a_knot_puts_it_on_the_curve_and_deleting_it_refuses_below_three():
     contour = Contour(_loop(4, 5), [True, False, False, False])
     piece = contour.bezier()[1]

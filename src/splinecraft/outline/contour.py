@@ -234,7 +234,10 @@ class Contour:
 
         A new corner has no handles (its two tangents follow the neighbouring knots, §6.3), so the curve
         kinks there; with ``keep_shape=True`` it gets the current curve's handles instead and the shape is
-        unchanged (the two tangents are then fixed until the handles are edited).
+        unchanged (the two tangents are then fixed until the handles are edited). The run through the knot
+        splits there: a handle-less corner at either end of it whose new run is a single piece would lose its
+        three-point end tangent (§6.3) for the chord's, so with ``keep_shape=True`` it gets its current handle
+        on that side too.
         """
         i = _single_index(knot, len(self), "knot")
         corner = check_bool(corner, "corner")
@@ -243,8 +246,18 @@ class Contour:
         data["corners"][i] = corner
         if corner and keep_shape and not self.corners[i]:
             b = self.bezier()
+            n = len(self)
             data["handles_out"][i] = b[i, 1] - b[i, 0]
             data["handles_in"][i] = b[i - 1, 2] - b[i - 1, 3]
+            # the run through knot i splits there; a handle-less end of it whose new run is a single piece loses
+            # its three-point end tangent (§6.3) for the chord's, so it keeps the current one as a handle
+            before = [k for k in range(1, n) if self.corners[(i - k) % n]]
+            if before:
+                first, last = (i - before[0]) % n, (i + min(k for k in range(1, n) if self.corners[(i + k) % n])) % n
+                if before[0] == 1 and np.isnan(data["handles_out"][first]).any():
+                    data["handles_out"][first] = b[first, 1] - b[first, 0]
+                if (last - i) % n == 1 and np.isnan(data["handles_in"][last]).any():
+                    data["handles_in"][last] = b[last - 1, 2] - b[last - 1, 3]
         return self.replace(**data)
 
     def with_handle(self, knot, side, position) -> "Contour":

@@ -280,6 +280,10 @@ def test_reversal_symmetry(problem):
     expected = spline.reversed()
     np.testing.assert_allclose(back.knots, expected.knots, atol=1e-12)
     np.testing.assert_allclose(back.bezier(), expected.bezier(), atol=1e-9 * 100)
+    # the reversed curve's auxiliary arrays are those of the curve built backwards (a loop's control points
+    # rotated too, so that piece i still lies over the leg P_i P_{i+1})
+    for key in ("control_points", "F", "tangents", "V", "W"):
+        np.testing.assert_allclose(back.auxiliary[key], expected.auxiliary[key], atol=1e-9 * 100, err_msg=key)
 
 
 def test_inner_bezier_points_lie_on_the_legs():

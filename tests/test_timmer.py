@@ -689,6 +689,17 @@ def test_common_output(build, closed):
     assert again.info == spline.info
 
 
+@pytest.mark.parametrize("count", [2, 3, 4, 6])
+def test_reversed_gc2_spline_has_the_end_derivatives_of_the_curve_built_backwards(count):
+    from splinecraft.spline.timmer import timmer_gc2
+
+    points = np.array([[0, 0], [1, 2], [3, 3], [4, 1], [6, 2], [8, 0.5]])[:count]
+    back = timmer_gc2(points).reversed()
+    built = timmer_gc2(points[::-1])
+    np.testing.assert_allclose(back.bezier(), built.bezier(), atol=1e-12)
+    np.testing.assert_allclose(back.info["end_derivatives"], built.info["end_derivatives"], atol=1e-12)
+
+
 def test_reversed_timmer_spline_keeps_its_polygon_and_joint_metadata():
     """Reversal maps Q1 <-> Q2, reverses per-piece alpha/beta and per-knot joint lists (piecewise.reversed)."""
     from splinecraft.spline.timmer import timmer_gc1

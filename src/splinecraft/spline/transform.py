@@ -16,8 +16,10 @@ __all__ = ["VECTOR_AUXILIARY_KEYS", "reversed_spline", "transformed_spline"]
 #: linear part to them and reversal flips their sign.
 VECTOR_AUXILIARY_KEYS = frozenset({"tangents"})
 
-#: Auxiliary keys holding one entry per knot (``m + 1`` open, ``m`` closed).
-_PER_KNOT_KEYS = frozenset({"tangents", "F"})
+#: Auxiliary keys holding one entry per knot (``m + 1`` open, ``m`` closed), and the basis form's control points
+#: (``m + 3`` open, ``m`` closed, piece ``i`` over the leg ``P_i P_{i+1}`` of a loop, §4.3): reversed, a loop's
+#: entries are also rotated by one, so that entry 0 stays at the same place.
+_PER_KNOT_KEYS = frozenset({"tangents", "F", "control_points"})
 
 #: Auxiliary arrays that trade roles when a curve is traversed backwards.
 _REVERSED_ROLES = {"V": "W", "W": "V", "Q1": "Q2", "Q2": "Q1"}
@@ -42,8 +44,12 @@ def reversed_spline(spline):
         info["alpha"], info["beta"] = spline._info.get("beta"), spline._info.get("alpha")
     for key, value in info.items():
         # Per-piece (m) and per-knot (m + 1) metadata lists follow the pieces backwards.
-        if isinstance(value, list) and len(value) in (m, m + 1):
+        if key != "end_derivatives" and isinstance(value, list) and len(value) in (m, m + 1):
             info[key] = value[::-1]
+    if isinstance(info.get("end_derivatives"), list) and len(info["end_derivatives"]) == 2:
+        # the derivatives at the two ends (timmer_gc2's [D_1, D_n]): swapped, and negated with the direction
+        first, last = info["end_derivatives"]
+        info["end_derivatives"] = [[-float(x) for x in last], [-float(x) for x in first]]
     knots = np.ascontiguousarray(knots)
     aux = {key: np.array(value) for key, value in aux.items()}
     return type(spline)._from_trusted(planar, knots, closed=spline._closed, auxiliary=aux,

@@ -381,6 +381,13 @@ def test_bad_input_is_rejected_with_index():
     gap[1, 0, 0] = 3.5
     with pytest.raises(ValueError, match="pieces 0 and 1 do not join"):
         Spline(gap, [0, 1, 2])
+    for offset in (0.0, 1e9, -1e12):  # the verdict does not depend on where the pieces sit
+        with pytest.raises(ValueError, match="pieces 0 and 1 do not join"):
+            Spline(gap + offset, [0, 1, 2])
+        near = good + offset
+        near[1, 0] += 8 * np.spacing(np.abs(near).max())  # a rounding's worth at that offset: joined exactly
+        joined = Spline(near, [0, 1, 2]).bezier()
+        assert np.array_equal(joined[1, 0], joined[0, 3])
     with pytest.raises(ValueError, match="closed=True"):
         Spline(good, [0, 1, 2], closed=True)
     with pytest.raises(TypeError, match="closed"):

@@ -28,15 +28,18 @@ from .._json import to_jsonable
 from .._validation import as_float_array, check_bool, check_int, check_strictly_increasing
 
 __all__ = ["spline_to_dict", "spline_from_dict", "checked_parts", "snap_joins", "SCHEMA_KEYS", "MAX_AUXILIARY_DIMS",
-           "JOIN_RTOL"]
+           "JOIN_RTOL", "JOIN_ULPS"]
 
 SCHEMA_KEYS = ("type", "version", "closed", "knots", "bezier", "auxiliary", "auxiliary_shapes", "info")
 TYPE_NAME = "splinecraft.Spline"
 #: Most dimensions of an auxiliary array read back.
 MAX_AUXILIARY_DIMS = 8
-#: Relative tolerance (to the largest coordinate) for the continuity of consecutive pieces and the closure
-#: of closed curves.
+#: Relative tolerance (to the curve's extent: the largest spread of a coordinate over its control points) for
+#: the continuity of consecutive pieces and the closure of closed curves, plus :data:`JOIN_ULPS` units in the
+#: last place of the largest coordinate (the rounding of joins computed far from the origin): the verdict on a
+#: curve does not depend on where it sits.
 JOIN_RTOL = 1e-9
+JOIN_ULPS = 64
 
 
 def _relative_gaps(first, second, scale):
@@ -46,20 +49,24 @@ def _relative_gaps(first, second, scale):
 
 
 def _join(bezier, closed):
-    """Check that consecutive pieces join (and a loop closes) within :data:`JOIN_RTOL`; make it exact."""
+    """Check that consecutive pieces join (and a loop closes) within :data:`JOIN_RTOL` of the curve's extent and
+    :data:`JOIN_ULPS` of its largest coordinate; make it exact."""
     m = bezier.shape[0]
     scale = float(np.max(np.abs(bezier))) or 1.0
+    flat = bezier.reshape(-1, bezier.shape[2])
+    extent = float(np.max(0.5 * flat.max(axis=0) / scale - 0.5 * flat.min(axis=0) / scale))  # half, relative
+    tolerance = JOIN_RTOL * 2.0 * extent + JOIN_ULPS * np.finfo(float).eps
     if m > 1:
         gaps = _relative_gaps(bezier[1:, 0], bezier[:-1, 3], scale)
-        if (gaps > JOIN_RTOL).any():
-            bad = int(np.flatnonzero(gaps > JOIN_RTOL)[0])
+        if (gaps > tolerance).any():
+            bad = int(np.flatnonzero(gaps > tolerance)[0])
             raise ValueError(
                 f"pieces {bad} and {bad + 1} do not join: bezier[{bad}, 3] and bezier[{bad + 1}, 0] "
                 f"are {gaps[bad] * scale:.3g} apart"
             )
     if closed:
         gap = float(_relative_gaps(bezier[-1:, 3], bezier[:1, 0], scale)[0])
-        if gap > JOIN_RTOL:
+        if gap > tolerance:
             raise ValueError(
                 f"closed=True but the last piece ends {gap * scale:.3g} away from the first point "
                 f"(bezier[{m - 1}, 3] != bezier[0, 0])"

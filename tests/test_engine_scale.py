@@ -120,3 +120,15 @@ def test_tiny_class_parameters_are_refused_by_name():
         sc.basis_spline(WAVE, beta=[1.0, 1e-320, 1.0])
     curve = sc.interpolate(WAVE, alpha=1e-300)  # still representable: accepted
     assert np.isfinite(curve.auxiliary["V"]).all()
+
+
+@pytest.mark.parametrize("build", [sc.interpolate, sc.basis_spline], ids=["interpolant", "basis"])
+def test_tangents_beyond_float64_are_refused_not_stored(build):
+    # the curve of points near the float64 limit over close knots fits, its tangents (points / knot step) do
+    # not: an error naming them, never a spline whose auxiliary holds inf (it could not be serialized)
+    points = WAVE * 1e307 / 7.0
+    with pytest.raises(ValueError, match="tangents .* overflow float64"):
+        build(points, knots=np.arange(6) * 0.01)
+    curve = build(points, knots=np.arange(6) * 10.0)  # larger steps: the same points are fine
+    assert np.isfinite(curve.auxiliary["tangents"]).all()
+    assert sc.Spline.from_dict(curve.to_dict()).bezier().tolist() == curve.bezier().tolist()

@@ -26,7 +26,7 @@ from .._validation import as_float_array, as_points, check_bool, check_choice, c
 from .knots import KNOT_EXPONENTS, check_distinct, leg_lengths
 from .piecewise import Spline
 from .scaling import even_exponent, knot_exponent, unscale_knots
-from .interpolant import check_interval_ratio
+from .interpolant import _DERIVATIVE_OVERFLOW, check_interval_ratio
 from .segment import check_class_points
 
 __all__ = ["basis_spline", "basis_functions", "tension_spans", "BASIS_ENDS"]
@@ -366,7 +366,10 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         raise ValueError(_OVERFLOW_MESSAGE)
     if exponent:
         planar, F = np.ldexp(planar, exponent), np.ldexp(F, exponent)
-        M = np.ldexp(M, exponent - knot_scale)
+        with np.errstate(over="ignore"):
+            M = np.ldexp(M, exponent - knot_scale)
+        if not np.isfinite(M).all():
+            raise ValueError(_DERIVATIVE_OVERFLOW)
         knot_values = unscale_knots(knot_values, knot_scale, knots, "control_points")
         scaled = np.ldexp(scaled, exponent)
     alphas, betas = _class_parameters(alpha, beta, planar.shape[2])

@@ -24,6 +24,11 @@ from .segment import check_class_points, hermite_planar
 
 __all__ = ["interpolate", "END_CONDITIONS", "end_derivative_estimates", "solve_tangents"]
 
+#: The curve fits float64 but its tangents (derivatives with respect to the knot parameter) do not.
+_DERIVATIVE_OVERFLOW = ("the tangents (derivatives along the knots) overflow float64: the points are too large for "
+                        "knots this close together; use larger knot steps, or named knots ('chord', "
+                        "'centripetal', 'uniform'), which scale with the points")
+
 #: Accepted ``end_condition`` values (§2.4).
 END_CONDITIONS = ("natural", "natural_v", "clamped", "periodic")
 
@@ -266,7 +271,10 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         with np.errstate(over="ignore"):
             planar, V, W = (np.ldexp(array, exponent) for array in (planar, V, W))
         check_class_points(V, W, alphas, betas)
-        tangents = np.ldexp(tangents, exponent - knot_scale)
+        with np.errstate(over="ignore"):
+            tangents = np.ldexp(tangents, exponent - knot_scale)
+        if not np.isfinite(tangents).all():
+            raise ValueError(_DERIVATIVE_OVERFLOW)
         planar_points = np.ascontiguousarray(points.T)
         t = unscale_knots(t, knot_scale, knots)
     info = {

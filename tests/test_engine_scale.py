@@ -132,3 +132,28 @@ def test_tangents_beyond_float64_are_refused_not_stored(build):
     curve = build(points, knots=np.arange(6) * 10.0)  # larger steps: the same points are fine
     assert np.isfinite(curve.auxiliary["tangents"]).all()
     assert sc.Spline.from_dict(curve.to_dict()).bezier().tolist() == curve.bezier().tolist()
+
+
+@pytest.mark.parametrize("power", [-1000, -530, -300, 300, 530, 1000])
+@pytest.mark.parametrize("closed", [False, True])
+def test_explicit_knots_at_any_scale_give_the_curve_of_moderate_knots(power, closed):
+    # the curve depends on the knot steps only through c = omega / h and v in the units of omega / h (§2.5
+    # Units): knots times 2^power with the point tension over 2^power is the same curve, its tangents over
+    # 2^power, its knots the caller's (on explicit knots of extreme size c once under- or overflowed)
+    scale = 2.0 ** power
+    count = len(WAVE) + (1 if closed else 0)
+    knots = np.array([0.0, 1.0, 2.5, 3.0, 4.5, 5.0, 6.5])[:count]
+    tension = np.array([0.5, 1.0, 0.0, 2.0, 0.3, 0.7])
+    options = {"closed": closed} if closed else {"end_condition": "clamped", "end_tangents": ([1.0, 2.0], [0.5, -1.0])}
+    reference = sc.interpolate(WAVE, knots=knots, point_tension=tension, **options)
+    if not closed:
+        options["end_tangents"] = tuple(np.array(m) / scale for m in options["end_tangents"])
+    curve = sc.interpolate(WAVE, knots=knots * scale, point_tension=tension / scale, **options)
+    np.testing.assert_allclose(curve.bezier(), reference.bezier(), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(curve.auxiliary["tangents"] * scale, reference.auxiliary["tangents"], rtol=1e-12)
+    assert np.array_equal(curve.knots, knots * scale)
+    basis_knots = np.array([0.0, 1.0, 2.5, 3.0, 4.5, 5.0, 6.5])[: count if closed else len(WAVE)]
+    reference = sc.basis_spline(WAVE, knots=basis_knots, point_tension=tension, closed=closed)
+    curve = sc.basis_spline(WAVE, knots=basis_knots * scale, point_tension=tension / scale, closed=closed)
+    np.testing.assert_allclose(curve.bezier(), reference.bezier(), rtol=0, atol=1e-12)
+    assert np.array_equal(curve.knots * 1.0, reference.knots * scale)

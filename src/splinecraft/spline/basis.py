@@ -192,8 +192,11 @@ def _prepare(control_points, closed, point_tension, interval_weights, knots, end
     # the closed forms run on points scaled by an exact power of two (any float64 scale; see scaling.py)
     exponent = even_exponent(control_points)
     scaled = np.ldexp(control_points, -exponent) if exponent else control_points
-    knot_scale = knot_exponent(knots, exponent)
     values, steps = _leg_steps(scaled, knots, closed, ends, n_control)
+    # named knots scale with the points; explicit ones by their own power of two (0 at moderate sizes)
+    knot_scale = knot_exponent(knots, exponent) if isinstance(knots, str) else even_exponent(values)
+    if not isinstance(knots, str) and knot_scale:
+        values, steps = np.ldexp(values, -knot_scale), np.ldexp(steps, -knot_scale)
     legs = n_control if closed else n_control - 1
     weights = per_item(interval_weights, legs, "interval_weights", what=f"one per control-polygon leg, {legs}")
     if not (weights > 0).all():
@@ -364,7 +367,7 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
         planar, knot_values, F, M = _assemble(scaled, values, steps, weights, tension, closed, ends)
     if not (np.isfinite(planar).all() and np.isfinite(M).all()):
         raise ValueError(_OVERFLOW_MESSAGE)
-    if exponent:
+    if exponent or knot_scale:
         planar, F = np.ldexp(planar, exponent), np.ldexp(F, exponent)
         with np.errstate(over="ignore"):
             M = np.ldexp(M, exponent - knot_scale)

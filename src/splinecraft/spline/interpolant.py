@@ -239,8 +239,10 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
     lengths = np.sqrt(np.einsum("dk,dk->k", legs, legs))
     extent = float(np.max(planar_points.max(axis=1) - planar_points.min(axis=1)))
     check_distinct(planar_points.T, closed, lengths=lengths, extent=extent)
-    knot_scale = knot_exponent(knots, exponent)  # the knots of the scaled points are t / 2^knot_scale
     t = parameterize(planar_points.T, knots, closed=closed, lengths=lengths)
+    # the knots of the scaled points are t / 2^knot_scale: named ones scale with the points, explicit ones are
+    # scaled by their own power of two (0 at moderate sizes), so that c = omega / h neither over- nor underflows
+    knot_scale = knot_exponent(knots, exponent) if isinstance(knots, str) else even_exponent(t)
     if not isinstance(knots, str):
         t = np.ldexp(t, -knot_scale)  # a copy: never freeze (read-only flag) or alias the caller's array
     steps = np.diff(t)
@@ -267,7 +269,7 @@ def interpolate(points, *, closed=False, point_tension=0.0, interval_weights=1.0
         raise ValueError("the tangent system produced non-finite tangents (§2.5): point_tension and "
                          "interval_weights of extreme size; use values of moderate size")
     planar, V, W = hermite_planar(planar_points, tangents, steps, closed, alphas, betas)
-    if exponent:
+    if exponent or knot_scale:
         with np.errstate(over="ignore"):
             planar, V, W = (np.ldexp(array, exponent) for array in (planar, V, W))
         check_class_points(V, W, alphas, betas)

@@ -154,6 +154,27 @@ def test_local_support(problem, data):
 
 
 @SETTINGS
+@given(st.sampled_from(["chord", "centripetal"]), st.booleans(), st.integers(0, 2 ** 32 - 1))
+def test_local_support_with_knots_from_the_legs(knots, closed, seed):
+    """With chord or centripetal knots P_j also moves the knots of its two legs: at most six segments,
+    j-3..j+2, change (the basis_spline docstring)."""
+    rng = np.random.default_rng(seed)
+    n_control = int(rng.integers(7, 12))
+    points = rng.normal(size=(n_control, 2)) * 10
+    j = int(rng.integers(0, n_control))
+    moved = points.copy()
+    moved[j] += [17.0, -5.0]
+    before = basis_spline(points, knots=knots, closed=closed).bezier()
+    after = basis_spline(moved, knots=knots, closed=closed).bezier()
+    changed = set(np.flatnonzero(np.abs(after - before).max(axis=(1, 2)) > 0).tolist())
+    if closed:
+        allowed = {(j + k) % n_control for k in range(-3, 3)}
+    else:
+        allowed = {s - 1 for s in range(j - 3, j + 3) if 1 <= s <= n_control - 3}
+    assert changed <= allowed and len(changed) <= 6
+
+
+@SETTINGS
 @given(basis_problems())
 def test_joint_constraint_at_every_knot(problem):
     """omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-) (§2.2, §4.5; checks errata E9, E10)."""

@@ -295,7 +295,9 @@ def basis_spline(control_points, *, closed=False, point_tension=0.0, interval_we
                  knots="uniform", ends="floating", point_tension_scale="absolute") -> Spline:
     """Local-support (basis form) generic cubic spline from control points (thesis section 3.2; §4).
 
-    ``P(t) = sum_j B_j(t) P_j``. Moving one control point changes at most the four segments it supports. At
+    ``P(t) = sum_j B_j(t) P_j``. With fixed knot values (``"uniform"`` or explicit), moving one control point
+    changes at most the four segments it supports; with ``"chord"`` or ``"centripetal"`` knots the point also
+    moves the knots of its two legs, and so up to six segments change. At
     every joint the curve is ``C^1`` and satisfies the weighted nu-spline constraint
     ``omega_i P''(t_i^+) = v_i P'(t_i) + omega_{i-1} P''(t_i^-)`` (§2.2). Built in O(n) from the closed
     forms of §4.2-4.3 (thesis 3.53-3.65 with errata E9, E10): no linear solve.

@@ -112,6 +112,18 @@ def test_straight_edges_are_lines_in_the_ufo_as_in_the_compiled_fonts(tmp_path):
     assert {op for op, _ in ufo.value} <= {"moveTo", "lineTo", "closePath"}
 
 
+def test_a_straight_cubic_that_overshoots_its_end_stays_a_curve():
+    # its handles lie on its chord's line but one lies beyond the end: the cubic runs 0 -> 17.8 -> 10 along x,
+    # which a lineTo(10, 0) would cut short; the drop's spike below keeps it
+    outline = from_svg("M0 0 C30 0 20 0 10 0 L10 -40 Z")
+    recorded = RecordingPen()
+    font.to_glyph(outline, "a", scale=1.0).draw(recorded)
+    assert [op for op, _ in recorded.value][:2] == ["moveTo", "curveTo"]
+    triangle = RecordingPen()
+    font.to_glyph(from_svg("M0 0 C3 0 7 0 10 0 L10 -40 Z"), "b", scale=1.0).draw(triangle)  # within the chord
+    assert [op for op, _ in triangle.value] == ["moveTo", "lineTo", "lineTo", "closePath"]
+
+
 def test_win_ascent_covers_the_rounded_glyph(tmp_path):
     files = font.build({"a": from_svg(SQUARE)}, output_dir=tmp_path, scale=8.006)  # top at 800.6 units
     for kind in ("otf", "ttf"):

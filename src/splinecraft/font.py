@@ -106,14 +106,17 @@ def _xy(point):
 
 
 def _is_line(piece):
-    """Whether a cubic piece is straight: both handles on its chord (relative tolerance 1e-9)."""
+    """Whether a cubic piece is its chord: both handles on the chord segment (relative tolerance 1e-9), not
+    beyond its ends (a handle there makes the cubic overshoot its end along the line and come back)."""
     chord = piece[3] - piece[0]
     length = math.hypot(*chord)
     if not length:
         return False
     offsets = piece[1:3] - piece[0]
     off_line = np.abs(offsets[:, 0] * chord[1] - offsets[:, 1] * chord[0])
-    return bool((off_line <= 1e-9 * length * max(length, 1.0)).all())
+    along = offsets @ chord
+    slack = 1e-9 * length * max(length, 1.0)
+    return bool((off_line <= slack).all() and (along >= -slack).all() and (along <= length * length + slack).all())
 
 
 def _draw(curves, pen, *, rounded=False):

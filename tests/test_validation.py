@@ -6,6 +6,7 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+import splinecraft as sc
 from splinecraft import _validation as v
 
 FAST = settings(max_examples=60, deadline=None)
@@ -382,3 +383,13 @@ def test_the_plain_type_fast_paths_agree_with_the_general_checks():
                        ("ValueError", f"contour must be one of ['outline', 'pixels'], got {v._describe(value)}"))
     assert outcome(v.check_choice, "4", "connectivity", (4, 8, "minority"))[0] == "ValueError"
     assert outcome(v.check_choice, "minority", "connectivity", (4, 8, "minority")) == ("ok", "minority")
+
+
+def test_masked_points_are_refused_unless_nothing_is_masked():
+    data = np.ma.masked_array([[0.0, 0.0], [1.0, 2.0], [3.0, 1.0]], mask=[[0, 0], [0, 1], [0, 0]])
+    with pytest.raises(ValueError, match="masked array with masked entries"):
+        v.check_points(data)
+    with pytest.raises(ValueError, match="masked"):
+        sc.interpolate(data)
+    unmasked = np.ma.masked_array(data.data, mask=False)
+    np.testing.assert_array_equal(v.check_points(unmasked), data.data)

@@ -283,13 +283,16 @@ def as_float_array(value, name: str, *, ndim: int | None = None, copy: bool = Fa
     """``value`` as a finite float64 array.
 
     Raises ``TypeError`` for non-numeric input (strings, bytes, complex, objects, ``None`` anywhere, ragged
-    nested lists) and ``ValueError`` for the wrong number of dimensions or a NaN/inf entry (naming its
-    index). Boolean arrays are read as 0/1.
+    nested lists) and ``ValueError`` for the wrong number of dimensions, a NaN/inf entry (naming its index) or a
+    masked array with masked entries. Boolean arrays are read as 0/1.
     """
     if isinstance(value, (str, bytes)):
         raise TypeError(f"{name} must be numeric, got {_kind(value)}")
     if value is None:  # numpy reads None as NaN: a missing value is not a number, and not a NaN either
         raise TypeError(f"{name} must be numeric, got None")
+    if isinstance(value, np.ma.MaskedArray) and np.ma.getmaskarray(value).any():
+        # numpy reads the values under the mask as if they were data
+        raise ValueError(f"{name} is a masked array with masked entries; fill or drop them first")
     if isinstance(value, np.ndarray) and value.dtype.kind not in "biuf":
         if value.dtype.kind == "c":
             raise TypeError(f"{name} must be real, got complex values")

@@ -223,3 +223,38 @@ def test_closed_smoothing_wraps_around_as_the_gather_did(seed, m, sigma):
     padded = samples[np.arange(-half, m + half) % m]
     expected = np.column_stack([np.convolve(padded[:, 0], kernel, "valid"), np.convolve(padded[:, 1], kernel, "valid")])
     np.testing.assert_array_equal(jump._smooth(samples, sigma, True), expected)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(3, 60), st.booleans(), st.integers(0, 12), st.integers(0, 12))
+def test_stroke_ends_look_for_a_second_corner_as_the_scan_over_every_corner(seed, m, closed, before, after):
+    """Step 6b's test for a second corner at a stroke end (by bisection in the sorted corners, a window that
+    wraps on a closed outline) answers as the scan over every corner it replaced (quadratic on outlines of many
+    ends), including windows that reach the cut at m // 2."""
+    rng = np.random.default_rng(seed)
+    chosen = rng.choice(m, size=int(rng.integers(1, m + 1)), replace=bool(rng.integers(0, 2)))
+    ordered = np.sort(chosen)
+    low, high = -before - 2, after + 2
+    for i in set(chosen.tolist()):
+        others = (chosen - i) % m if closed else chosen - i
+        others = np.where(others > m // 2, others - m, others) if closed else others
+        expected = bool(np.any((others != 0) & (others >= low) & (others <= high)))
+        assert jump._other_corner_near(ordered, chosen, i, low, high, m, closed) == expected
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(2, 200), st.booleans(), st.floats(0.0, 1.0), st.floats(0.0, 40.0))
+def test_stroke_ends_window_holds_every_point_the_scan_took(seed, n, closed, at, span):
+    """Step 6b's points near an end (``_arc_window``, by bisection on the arc lengths) hold every point whose
+    arc from the end's start the scan over all points put within its windows, ``-SIDE_REACH .. span +
+    SIDE_REACH``."""
+    rng = np.random.default_rng(seed)
+    arc = np.concatenate([[0.0], np.cumsum(rng.choice([0.5, 1.0, np.sqrt(0.5), 2.0], n))])
+    perimeter, arc = float(arc[-1]), arc[:-1]
+    first = float(at * perimeter)
+    along = (arc - first) % perimeter if closed else arc - first
+    along = np.where(along > perimeter - jump.SIDE_REACH, along - perimeter, along)
+    wanted = np.flatnonzero((along >= -jump.SIDE_REACH) & (along <= span + jump.SIDE_REACH))
+    near = jump._arc_window(arc, perimeter, first, span + jump.SIDE_REACH, closed)
+    assert np.all(np.diff(near) > 0)
+    assert set(wanted.tolist()) <= set(near.tolist())

@@ -1078,13 +1078,15 @@ def test_zone_points_beside_is_the_least_gap_above_the_slack(seed):
         np.testing.assert_array_equal(got, least > slack)
 
 
+@pytest.mark.parametrize("pairs", [_kernels.POLYLINE_PAIRS, 0])
 @pytest.mark.parametrize("seed", range(8))
-def test_closed_polyline_distance_matches_the_grid_formulation(seed):
+def test_closed_polyline_distance_matches_the_grid_formulation(seed, pairs, monkeypatch):
     """``closed_polyline_distance`` (the corner tips' distance from the contour in one pass) equals the grid it
     replaced bit for bit: squared distances to every vertex, the edges at the vertices within the nearest one's
     distance plus half the longest edge, their ``geometry.segment_squared_distances``, the least, its square root;
     on crack-like and random polylines (repeated points among them), for points near and far, on vertices and on
-    edges."""
+    edges. ``pairs`` 0: every point through the k-d tree's balls (used above ``POLYLINE_PAIRS``)."""
+    monkeypatch.setattr(_kernels, "POLYLINE_PAIRS", pairs)
     rng = np.random.default_rng(seed)
     m = int(rng.integers(3, 200))
     if seed % 2:

@@ -262,11 +262,10 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, lines, chosen, nearest
     m = len(samples)
     centres_before, before, centres_after, after = lines[0, :, :2], lines[0, :, 2:], lines[1, :, :2], lines[1, :, 2:]
     out = [[corner] for corner in nearest.tolist()]
+    ordered = np.sort(chosen)
     for k in found.tolist():
         i, g1, g2 = int(chosen[k]), int(ends[k, 1]), int(ends[k, 2])
-        others = (chosen - i) % m if closed else chosen - i
-        others = np.where(others > m // 2, others - m, others) if closed else others
-        if np.any((others != 0) & (others >= -g1 - 2) & (others <= g2 + 2)):
+        if _other_corner_near(ordered, chosen, i, -g1 - 2, g2 + 2, m, closed):
             continue                        # the end has its own second corner
         c1, d1 = centres_before[(i - g1) % m], before[(i - g1) % m]
         c2, d2 = centres_after[(i + g2) % m], after[(i + g2) % m]
@@ -300,18 +299,60 @@ def _split_stroke_ends(P, arc, perimeter, samples, where, lines, chosen, nearest
         direction = np.linalg.svd(end - centre)[2][0]
         first = where[k1 % m]
         span = (where[k2 % m] - first) % perimeter if closed else where[k2 % m] - first   # arc of the end
-        along = (arc - first) % perimeter if closed else arc - first
+        # the input points near the end: their arc from the first departure (only those that can lie within
+        # SIDE_REACH of the end, found by bisection: every point of the outline for every end was quadratic)
+        near = _arc_window(arc, perimeter, first, span + SIDE_REACH, closed)
+        along = (arc[near] - first) % perimeter if closed else arc[near] - first
         along = np.where(along > perimeter - SIDE_REACH, along - perimeter, along)   # just before the first
         picks = []
         for c, d, low, high in ((c1, d1, -SIDE_REACH, 0.5 * span), (c2, d2, 0.5 * span, span + SIDE_REACH)):
             target = _line_intersection(c[None], d[None], centre[None], direction[None])[0]
-            candidates = np.flatnonzero((along >= low) & (along <= high))
+            candidates = near[(along >= low) & (along <= high)]
             if not np.isfinite(target).all() or not candidates.size:
                 break
             picks.append(int(candidates[np.argmin(np.hypot(*(P[candidates] - target).T))]))
         if len(picks) == 2 and picks[0] != picks[1]:
             out[k] = picks
     return np.asarray([corner for pair in out for corner in pair], dtype=np.intp)
+
+
+def _other_corner_near(ordered, chosen, i, low, high, m, closed):
+    """Whether a corner of ``chosen`` other than ``i`` lies ``low .. high`` samples from it (cyclically on a closed
+    outline of ``m`` samples, offsets taken in ``(-(m - m // 2), m // 2]``): by bisection in the sorted corners
+    ``ordered``, or over every corner where the window reaches that cut."""
+    if closed and (high > m // 2 or -low >= m - m // 2):
+        others = (chosen - i) % m
+        others = np.where(others > m // 2, others - m, others)
+        return bool(np.any((others != 0) & (others >= low) & (others <= high)))
+    first, last = i + low, i + high
+    ranges = [(first, last)]
+    if closed and first < 0:
+        ranges = [(first + m, m - 1), (0, last)]
+    elif closed and last >= m:
+        ranges = [(first, m - 1), (0, last - m)]
+    count = sum(int(np.searchsorted(ordered, b, "right") - np.searchsorted(ordered, a, "left")) for a, b in ranges)
+    return count > int(np.searchsorted(ordered, i, "right") - np.searchsorted(ordered, i, "left"))
+
+
+def _arc_window(arc, perimeter, first, reach, closed):
+    """Indices (ascending) of the input points whose arc length lies within ``SIDE_REACH`` before ``first`` up to
+    ``reach`` after it, a pixel more on both sides (cyclically on a closed outline; on an open one also the last
+    ``SIDE_REACH`` of the outline, which step 6b reads as just before its start): every point the end's windows
+    can take."""
+    margin = SIDE_REACH + 1.0
+    spans = [(first - margin, first + reach + 1.0)]
+    if closed:
+        if reach + margin + 1.0 >= perimeter:
+            return np.arange(arc.shape[0])
+        low, high = spans[0]
+        if low < 0.0:
+            spans = [(low + perimeter, np.inf), (-np.inf, high)]
+        elif high >= perimeter:
+            spans = [(low, np.inf), (-np.inf, high - perimeter)]
+    else:
+        spans.append((perimeter + first - margin, np.inf))
+    parts = [np.arange(np.searchsorted(arc, low, "left"), np.searchsorted(arc, high, "right")) for low, high in spans]
+    return np.unique(np.concatenate(parts))
 
 
 def _line_intersection(c1, a, c2, b):

@@ -875,10 +875,13 @@ def _corner_radii_into(arc, xs, ys, points, bounds, corner_radius, radius, theta
         back = (corner_arc - _smaller(6.0, 0.4 * before)) % perimeter
         ahead = (corner_arc + _smaller(6.0, 0.4 * length)) % perimeter
         corner = bounds[c] % points.shape[0]
-        ax = _interp(back, arc, xs, np.int64(0)) - points[corner, 0]
-        ay = _interp(back, arc, ys, np.int64(0)) - points[corner, 1]
-        bx = _interp(ahead, arc, xs, np.int64(0)) - points[corner, 0]
-        by = _interp(ahead, arc, ys, np.int64(0)) - points[corner, 1]
+        # the searches walk from the corner (exact from any start; from 0 every corner cost a walk over the
+        # contour: quadratic on outlines of many corners)
+        start = np.int64(bounds[c])
+        ax = _interp(back, arc, xs, start) - points[corner, 0]
+        ay = _interp(back, arc, ys, start) - points[corner, 1]
+        bx = _interp(ahead, arc, xs, start) - points[corner, 0]
+        by = _interp(ahead, arc, ys, start) - points[corner, 1]
         cos = (ax * bx + ay * by) / _larger(np.hypot(ax, ay) * np.hypot(bx, by), 1e-300)
         theta[c] = np.arccos(pyclip(cos, -1.0, 1.0))
         r = 0.0
@@ -1067,14 +1070,37 @@ def zone_points_beside(samples, row, axis, along_start, across_start, slack):
                       samples.shape[0], row, axis, along_start, across_start, slack, samples)[1]
 
 
+@njit(**_HELPER)
+def _nearer_edges(px, py, line, j, least):
+    """The least of ``least`` and the squared distances of ``(px, py)`` from the two edges at vertex ``j`` of the
+    closed polyline ``line`` (from it, and to it): the arithmetic of :func:`~.geometry.segment_squared_distances`."""
+    m = line.shape[0]
+    for e in (j, j - 1 if j > 0 else m - 1):
+        f = e + 1 if e + 1 < m else 0
+        abx, aby = line[f, 0] - line[e, 0], line[f, 1] - line[e, 1]
+        apx, apy = px - line[e, 0], py - line[e, 1]
+        denom = abx * abx + aby * aby
+        t = pyclip((apx * abx + apy * aby) / (denom if denom > 0 else 1.0), 0.0, 1.0)
+        rx, ry = apx - t * abx, apy - t * aby
+        squared = rx * rx + ry * ry
+        if squared < least:
+            least = squared
+    return least
+
+
 @njit(**_JIT)
-def _closed_polyline_into(points, line, half_edge, out):
+def _closed_polyline_into(points, line, half_edge, offsets, candidates, out):
+    """:func:`closed_polyline_distance` into ``out``: per point the vertices ``candidates[offsets[i]:offsets[i +
+    1]]`` (every vertex where ``offsets`` is empty), the nearest of them, then the edges at those within reach."""
     compact()  # run time negligible or no slower: code optimized for size (_jit.compact)
     m = line.shape[0]
+    every = offsets.shape[0] == 0
     for i in range(points.shape[0]):
         px, py = points[i, 0], points[i, 1]
+        count = m if every else offsets[i + 1] - offsets[i]
         nearest = np.inf
-        for j in range(m):
+        for r in range(count):
+            j = r if every else candidates[offsets[i] + r]
             dx, dy = line[j, 0] - px, line[j, 1] - py
             squared = dx * dx + dy * dy
             if squared < nearest:
@@ -1082,32 +1108,42 @@ def _closed_polyline_into(points, line, half_edge, out):
         reach = np.sqrt(nearest) + half_edge + 1e-6
         reach *= reach
         least = np.inf
-        for j in range(m):
+        for r in range(count):
+            j = r if every else candidates[offsets[i] + r]
             dx, dy = line[j, 0] - px, line[j, 1] - py
-            if not dx * dx + dy * dy <= reach:
-                continue
-            for e in (j, j - 1 if j > 0 else m - 1):  # the edges at vertex j: from it, and to it
-                f = e + 1 if e + 1 < m else 0
-                abx, aby = line[f, 0] - line[e, 0], line[f, 1] - line[e, 1]
-                apx, apy = px - line[e, 0], py - line[e, 1]
-                denom = abx * abx + aby * aby
-                t = pyclip((apx * abx + apy * aby) / (denom if denom > 0 else 1.0), 0.0, 1.0)
-                rx, ry = apx - t * abx, apy - t * aby
-                squared = rx * rx + ry * ry
-                if squared < least:
-                    least = squared
+            if dx * dx + dy * dy <= reach:
+                least = _nearer_edges(px, py, line, j, least)
         out[i] = np.sqrt(least)
 
 
+#: Above this many point-vertex pairs, :func:`closed_polyline_distance` first narrows each point's vertices to a
+#: ball that holds every vertex within its reach (a k-d tree): an outline of many corners (a comb, noise) has as
+#: many tips as corners, and every tip against every vertex grew with the square of its size.
+POLYLINE_PAIRS = 1 << 22
+
+
 def closed_polyline_distance(points, line, half_edge):
-    """Distance (px) of each of ``points`` (a few) from the closed polyline ``line`` (first point not repeated),
-    exact: the least point-to-segment distance over the edges with an end within the nearest vertex's distance
-    plus ``half_edge`` (half the longest edge, and 1e-6: no other edge comes nearer), each the arithmetic of
+    """Distance (px) of each of ``points`` from the closed polyline ``line`` (first point not repeated), exact:
+    the least point-to-segment distance over the edges with an end within the nearest vertex's distance plus
+    ``half_edge`` (half the longest edge, and 1e-6: no other edge comes nearer), each the arithmetic of
     :func:`~.geometry.segment_squared_distances`, then its square root (the corner tips' distance from the
-    contour, :func:`~.tips.tip_estimates`; one pass instead of a points-by-vertices grid)."""
-    points = _floats(points)
+    contour, :func:`~.tips.tip_estimates`; one pass instead of a points-by-vertices grid). Above
+    :data:`POLYLINE_PAIRS` point-vertex pairs each point looks only at the vertices of a ball (``scipy``'s k-d
+    tree) a little larger than its reach, which holds every vertex the pass would use: the same result."""
+    points, line = _floats(points), _floats(line)
     out = np.empty(points.shape[0])
-    _closed_polyline_into(points, _floats(line), float(half_edge), out)
+    offsets, candidates = _NO_INTS, _NO_INTS
+    if points.shape[0] * line.shape[0] > POLYLINE_PAIRS:
+        from scipy.spatial import cKDTree
+
+        tree = cKDTree(line)
+        nearest = tree.query(points)[0]
+        balls = tree.query_ball_point(points, nearest * (1.0 + 1e-9) + half_edge + 1e-5, return_sorted=True)
+        sizes = np.fromiter((len(ball) for ball in balls), np.int64, len(balls))
+        offsets = np.zeros(len(balls) + 1, np.int64)
+        np.cumsum(sizes, out=offsets[1:])
+        candidates = np.fromiter((j for ball in balls for j in ball), np.int64, int(offsets[-1]))
+    _closed_polyline_into(points, line, float(half_edge), offsets, candidates, out)
     return out
 
 

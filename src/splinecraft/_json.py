@@ -45,7 +45,25 @@ def to_jsonable(value, where: str = "value", *, non_finite: str = "keep", coerce
     return _convert(value, where, non_finite, bool(coerce), max_depth)
 
 
+def _name(where):
+    """The printed name of a place: ``where`` is a name, or ``(parent, key)`` for a dict value (``key`` a string)
+    or a list item (an int), built only when an error needs it (every item of a large result would format one)."""
+    keys = []
+    while isinstance(where, tuple):
+        where, key = where
+        keys.append(f"[{key!r}]" if isinstance(key, str) else f"[{key}]")
+    return where + "".join(reversed(keys))
+
+
 def _convert(value, where, non_finite, coerce, depth):
+    kind = type(value)
+    if kind is float or kind is np.float64:  # the common leaves first, as the checks below would answer for them
+        if math.isfinite(value) or non_finite == "keep":
+            return float(value)
+    elif kind is int or kind is str or kind is bool or value is None:
+        return value
+    elif kind is np.int64:
+        return int(value)
     if value is None or isinstance(value, (bool, str)):
         return value
     if isinstance(value, np.bool_):
@@ -58,26 +76,39 @@ def _convert(value, where, non_finite, coerce, depth):
             return number
         if non_finite == "none":
             return None
-        raise ValueError(f"{where} is {number!r}; JSON values must be finite")
+        raise ValueError(f"{_name(where)} is {number!r}; JSON values must be finite")
     if depth <= 0 and isinstance(value, (dict, list, tuple, np.ndarray)):
-        raise ValueError(f"{where} is nested too deeply (more than {MAX_DEPTH} levels)")
+        raise ValueError(f"{_name(where)} is nested too deeply (more than {MAX_DEPTH} levels)")
     if isinstance(value, np.ndarray):
         if value.dtype.kind not in "biuf":
             if not coerce:
-                raise TypeError(f"{where} must be JSON-able, got an array of dtype {value.dtype}")
+                raise TypeError(f"{_name(where)} must be JSON-able, got an array of dtype {value.dtype}")
             return str(value)
+        if value.ndim < depth and (value.dtype.kind != "f" or non_finite == "keep" or np.isfinite(value).all()):
+            return value.tolist()  # numbers as the items' checks give them: int, float, bool
         return _convert(value.tolist(), where, non_finite, coerce, depth)
     if isinstance(value, dict):
         out = {}
         for key, item in value.items():
             if not isinstance(key, str):
                 if not coerce:
-                    raise TypeError(f"{where} keys must be strings, got {key!r}")
+                    raise TypeError(f"{_name(where)} keys must be strings, got {key!r}")
                 key = str(key)
-            out[key] = _convert(item, f"{where}[{key!r}]", non_finite, coerce, depth - 1)
+            out[key] = _convert(item, (where, key), non_finite, coerce, depth - 1)
         return out
     if isinstance(value, (list, tuple)):
-        return [_convert(item, f"{where}[{i}]", non_finite, coerce, depth - 1) for i, item in enumerate(value)]
+        out = []
+        keep = non_finite == "keep"
+        for i, item in enumerate(value):
+            kind = type(item)  # the common leaves here, as _convert would answer for them (no call per number)
+            if (kind is float and (keep or math.isfinite(item))) or kind is int or kind is str or kind is bool \
+                    or item is None:
+                out.append(item)
+            elif kind is np.float64 and (keep or math.isfinite(item)):
+                out.append(float(item))
+            else:
+                out.append(_convert(item, (where, i), non_finite, coerce, depth - 1))
+        return out
     if coerce:
         return str(value)
-    raise TypeError(f"{where} must be JSON-able, got {type(value).__name__}")
+    raise TypeError(f"{_name(where)} must be JSON-able, got {type(value).__name__}")

@@ -767,3 +767,23 @@ def test_large_speckle_outline_converges_through_the_fallback():
     assert any(len(result.points[k]) > 512 for k in rescued)
     for k in rescued:
         assert result.fits[k].hausdorff <= 0.8 + 1e-9 < result.fits[k].info["fallback_from"]["hausdorff"]
+
+
+def test_a_stuck_small_outline_is_fitted_by_the_regression_spline():
+    # a 32-point blob (a blurred-noise component) whose corner at (33, 19.5) the interpolant through every contour
+    # point overshoots by 0.38 px with its natural end: at epsilon 0.3 the small-outline path is stuck there (one
+    # contour step, no knot fits); the regression spline's corner zone converges within its tolerance
+    points = np.array([[29.5, 19.0], [30.5, 19.0], [31.5, 19.0], [32.5, 19.0], [33.0, 19.5], [33.0, 20.5],
+                       [33.0, 21.5], [32.5, 22.0], [32.0, 22.5], [32.0, 23.5], [31.5, 24.0], [31.0, 24.5],
+                       [31.0, 25.5], [30.5, 26.0], [29.5, 26.0], [28.5, 26.0], [27.5, 26.0], [26.5, 26.0],
+                       [25.5, 26.0], [25.0, 25.5], [24.5, 25.0], [24.0, 24.5], [24.0, 23.5], [24.0, 22.5],
+                       [24.0, 21.5], [24.5, 21.0], [25.0, 20.5], [25.5, 20.0], [26.5, 20.0], [27.5, 20.0],
+                       [28.5, 20.0], [29.0, 19.5]])
+    corners = [4, 20, 24]
+    stuck = fit_outline(points, corners, epsilon=0.3, fallback=False)
+    assert stuck.info["small_outline"] and stuck.info["stuck"] and not stuck.converged
+    assert "no knot can be inserted" in stuck.info["reason"]
+    fitted = fit_outline(points, corners, epsilon=0.3)
+    assert fitted.converged and fitted.info["fallback_from"]["method"] == "small-outline"
+    assert fitted.info["fallback_from"]["hausdorff"] == stuck.hausdorff
+    assert fitted.hausdorff <= fitted.info["tolerance_near_corners"] + 1e-9

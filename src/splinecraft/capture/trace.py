@@ -72,7 +72,7 @@ from .corners import CORNER_METHODS
 from .corners import check_params as check_corner_params
 from .corners import corners as detect_corners
 from .corners._jump import checked_detection_scale
-from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small
+from .fitting import DEFAULT_EPSILON, DEFAULT_METHOD, SMALL_OUTLINE, fit_trusted, routes_to_small, unstuck
 from .fitting.options import LSQ_DEFAULTS, check_count, check_epsilon, check_flag, check_method, check_options, \
     check_points, check_small_outline, check_tau, extrapolates_tips, make_rng
 from .fitting.budget import DEFAULT_TIME_BUDGET, SMALL_CHUNK, STOPPED_FIT_LIMIT, Deadline, polygon_fits
@@ -661,10 +661,13 @@ def _fit_boundaries(points_list, corner_list, pixel_list, small, settings, deadl
         started = time.perf_counter()
         corners = [np.unique(np.asarray(corner_list[k], dtype=np.int64)) for k in chunk]
         pixel = None if pixel_list[chunk[0]] is None else [pixel_list[k] for k in chunk]  # all found, or none
-        for k, fit in zip(chunk, fit_small_trusted([points_list[k] for k in chunk], corners, epsilon,
-                                                   max_iterations, keep, deadline, pixel)):
+        for at, (k, fit) in enumerate(zip(chunk, fit_small_trusted([points_list[k] for k in chunk], corners, epsilon,
+                                                                   max_iterations, keep, deadline, pixel))):
             if not keeps_area(points_list[k], fit.spline.bezier()):
                 continue    # collapsed on a thin stroke: fitted by the regression spline below (as fit_outline)
+            if fit.info["stuck"] and settings["fit_options"]["fallback"]:  # the regression spline, if better
+                fit = unstuck(fit, points_list[k], corners[at], epsilon, max_iterations, keep, settings["fit_options"],
+                              deadline, None if pixel is None else pixel[at], _pinholes_near(pinholes, points_list[k]))
             fits[k] = fit
             if fit.info.get("reason") and deadline.passed():
                 state[k] = "stopped"

@@ -176,7 +176,10 @@ def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep
         result = fit_small_trusted([points], [corners], epsilon, max_iterations, keep_snapshots,
                                    pixel_corners=pixel_list)[0]
         if keeps_area(points, result.spline.bezier()):
-            return result
+            if not (result.info["stuck"] and opts["fallback"]):
+                return result
+            return unstuck(result, points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline,
+                            pixel_corners, pinholes)
         # collapsed on a thin stroke (small.keeps_area): the regression spline of "lsq" below follows the cracks
     if method != "lsq":
         return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
@@ -202,6 +205,26 @@ def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep
                                           "iterations": result.iterations, "knots_inserted": result.knots_inserted}
         return fallback
     return result
+
+
+def unstuck(result, points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline=None,
+            pixel_corners=None, pinholes=None):
+    """A small outline whose fit got stuck (``info["stuck"]``: the interpolant through every contour point of a
+    stretch overshoots it, as beside a corner, where its natural ends overshoot the staircase) fitted by the
+    regression spline of ``"lsq"``, whose corner zones keep their allowance where a piece cannot follow the
+    pixels; that fit is kept where it converges (``info["fallback_from"]`` records the small one), else
+    ``result`` (which says why it stopped)."""
+    if deadline is not None and deadline.passed():
+        return result
+    with one_blas_thread():
+        retry = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline, pixel_corners,
+                        pinholes)
+    if retry.converged:
+        retry.info["fallback_from"] = {"method": "small-outline", "hausdorff": result.hausdorff,
+                                       "iterations": result.iterations, "knots_inserted": result.knots_inserted}
+        return retry
+    return result
+
 
 
 def _longest_piece(n, corners):

@@ -21,8 +21,10 @@ a pixel corner of a crack outline (a turn between two axis-aligned straight runs
 tip is that vertex: the tip is the knot point of both chains that meet there, and the corner's zone has the
 allowance of ``"lsq"`` in the deviation check.
 When every contour point is a knot the curve interpolates them all, so a crack outline converges for any
-``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px); below it the result says so
-(``FitResult.info["reason"]``).
+``epsilon`` above that interpolant's own deviation (about 0.1-0.2 px; up to 0.4 px beside a corner, where the
+natural ends overshoot the staircase); below it the result says so (``FitResult.info["reason"]``), and with the
+option ``fallback`` the callers fit such an outline (``info["stuck"]``) by the regression spline of ``"lsq"``
+too, and keep that where it converges.
 """
 from __future__ import annotations
 
@@ -629,6 +631,7 @@ class _SmallBatch:
                                          self.max_iterations, float(self.tip_allowance[b])))
             if self.out_of_time and state["failing"]:
                 results[-1].info["reason"] = BUDGET_REASON.format(budget=self.deadline.budget)
+                results[-1].info["stuck"] = False
         return results
 
 def _candidate(piece, index, point, accepted, reason, action):
@@ -686,7 +689,8 @@ def _small_result(state, history, corners, n, epsilon, max_iterations, allowance
         max_error=float(np.max(snapshot.piece_max_error)), hausdorff=float(np.max(snapshot.piece_hausdorff)),
         converged=bool(converged), knots_inserted=int(distinct_knots - corners.shape[0]),
         method="lsq", epsilon=epsilon, thesis_stop_iteration=None, corners_used=corners.copy(),
-        info={"small_outline": True, "reason": reason, "tolerance_near_corners": epsilon + allowance,
+        info={"small_outline": True, "reason": reason, "stuck": bool(not converged and not state["splittable"]),
+              "tolerance_near_corners": epsilon + allowance,
               "model": "C2 cubic interpolant through contour points (v = 0, omega = 1), arc-length parameter, "
                        "natural ends at corners"},
     )

@@ -584,3 +584,20 @@ def test_to_dict_is_plain_json_as_built(points, snapshots):
 
         assert {type(x) for x in leaves(data)} <= {int, float, str, bool, type(None)}
         assert json.loads(json.dumps(data, allow_nan=False)) == data
+
+
+@pytest.mark.parametrize("method", ["random", "euclidean", "fuzzy"])
+def test_pixel_chains_of_thin_strokes_trace_with_the_thesis_methods(method):
+    """The pixel chain of a stroke one pixel wide visits its pixel centres twice; the thesis methods' interpolant
+    takes distinct consecutive knots, so the repeated ones are left out (every 3 x 3 pattern, a 1-px line, an
+    L of three pixels): a result, never the engine's "points coincide"."""
+    rng = np.random.default_rng(0)
+    patterns = [np.pad(np.array([(bits >> i) & 1 for i in range(9)], bool).reshape(3, 3), 2)
+                for bits in rng.choice(np.arange(1, 512), 40, replace=False)]
+    patterns += [np.pad(np.ones((1, 30), bool), 3), np.pad(np.array([[0, 1, 1], [1, 0, 0]], bool), 2)]
+    for mask in patterns:
+        for corner_method in ("tangent-jump", "srm05"):
+            result = trace(mask, contour="pixels", method=method, corner_method=corner_method, min_speck_area=0,
+                           keep_snapshots=False)
+            assert len(result.splines) == result.stats["boundaries"] >= 1
+            assert all(np.isfinite(s.bezier()).all() for s in result.splines)

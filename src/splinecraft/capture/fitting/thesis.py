@@ -19,6 +19,25 @@ from .results import FitResult, Snapshot
 __all__ = ["fit_thesis"]
 
 
+def _distinct(points, knots, closed):
+    """The sorted knots (local indices) without those whose point repeats the previous kept knot's: the pixel
+    chain of a stroke one pixel wide visits its pixel centres twice, and the interpolant takes distinct
+    consecutive points. On an open piece both ends stay (an inner knot on an end's point goes); on a loop the
+    last kept knot differs from the first too."""
+    kept = [int(knots[0])]
+    for knot in knots[1:-1] if not closed else knots[1:]:
+        if not np.array_equal(points[knot], points[kept[-1]]):
+            kept.append(int(knot))
+    if closed:
+        while len(kept) > 1 and np.array_equal(points[kept[-1]], points[kept[0]]):
+            kept.pop()
+    else:
+        while len(kept) > 1 and np.array_equal(points[kept[-1]], points[knots[-1]]):
+            kept.pop()
+        kept.append(int(knots[-1]))
+    return np.array(kept, dtype=np.int64)
+
+
 def _unit(vector):
     norm = float(np.hypot(*vector))
     return vector / norm if norm > 0 else vector
@@ -56,6 +75,7 @@ class _ThesisPiece:
         return start, end
 
     def fit(self):
+        self.knots = _distinct(self.points, self.knots, closed=False)
         knot_points = self.points[self.knots]
         # M = T |F_2 - F_1| / h_1, which is T for chord-length knots
         self.spline = interpolate(knot_points, end_condition="clamped", end_tangents=self.tangents, knots="chord",
@@ -329,6 +349,13 @@ class _PeriodicThesisPiece(_ThesisPiece):
         self.stalled = 0
 
     def fit(self):
+        knots = _distinct(self.points, self.knots, closed=True)
+        if knots.shape[0] < 3:  # seeds on a tiny loop's repeated points: every point of the loop, once in a row
+            knots = _distinct(self.points, np.arange(self.size), closed=True)
+        if knots.shape[0] < 3:
+            raise ValueError(f"the contour has {knots.shape[0]} distinct points in a row; a closed interpolant "
+                             "takes 3 (method 'lsq' fits any contour)")
+        self.knots = knots
         self.spline = interpolate(self.points[self.knots], closed=True, knots="chord", **self.engine)
         # the closing knot is index size (= index 0 again)
         self._measure(np.append(self.knots, self.size), np.arange(self.size), self.closed_points)

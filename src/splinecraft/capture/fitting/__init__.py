@@ -226,7 +226,6 @@ def unstuck(result, points, corners, epsilon, max_iterations, keep_snapshots, op
     return result
 
 
-
 def _longest_piece(n, corners):
     if corners.size == 0:
         return n

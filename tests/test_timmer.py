@@ -426,6 +426,34 @@ def test_alg_3_1_similarity_invariant(points, scale, angle):
     assert moved.info["joint_status"] == expected.info["joint_status"]
 
 
+@pytest.mark.parametrize("closed", [False, True])
+@pytest.mark.parametrize("clamp", [16.0, 4.0, None])
+def test_alg_3_1_wild_scales_reported(closed, clamp):
+    """Roots are not clamped, so on noisy samples a chain of G2 joints can drive alpha far from alpha_ref;
+    info["wild"] flags exactly the pieces whose handles (from the Bezier points, not from info) are more than R
+    times shorter or longer than a third of their chord, and reversal keeps the flags with their pieces."""
+    rng = np.random.default_rng(4)
+    angle = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    points = 10 * np.c_[np.cos(angle), np.sin(angle)] + rng.normal(scale=0.3, size=(40, 2))
+    spline = timmer_g2(points, closed=closed, clamp=clamp)
+    bezier = spline.bezier()
+    chord = np.linalg.norm(bezier[:, 3] - bezier[:, 0], axis=1)
+    handles = np.linalg.norm(bezier[:, 1] - bezier[:, 0], axis=1)
+    band = 16.0 if clamp is None else clamp
+    ratio = chord / (3 * handles)
+    np.testing.assert_allclose(spline.info["alpha_ratio"], ratio, rtol=1e-9)
+    assert spline.info["wild"] == ((ratio > band) | (ratio < 1 / band)).tolist()
+    wild = np.flatnonzero(spline.info["wild"])
+    assert wild.size > 0 and max(ratio) > 100  # the case that went unreported: hundreds of times alpha_ref
+    # ... reached through joints that are G2 (a root, not a clamped fallback)
+    assert any(spline.info["joint_status"][i] == "g2" for i in wild if i > 0)
+    backwards = spline.reversed()
+    assert backwards.info["wild"] == spline.info["wild"][::-1]
+    # clean samples of an ellipse stay in the band
+    clean = timmer_g2(np.c_[3 * np.cos(angle), np.sin(angle)], closed=closed, clamp=clamp)
+    assert not any(clean.info["wild"]) and max(clean.info["alpha_ratio"]) < 2
+
+
 def test_alg_3_1_clamp_none_and_validation():
     points = np.array([[0.0, 0.0], [1.0, 0.2], [2.0, -0.5], [3.0, 1.0], [4.0, 0.0]])
     spline = timmer_g2(points, clamp=None)

@@ -10,6 +10,10 @@ from ..piecewise import Spline
 from ..tangents import _chords
 from .pieces import _G2_CODES, _G2_RTOL, _ZERO_RTOL, _make_spline, _tangent_input, _timmer_cross_terms, scaled_points, unscale_alpha
 
+#: Band :math:`[1/R, R]` around :math:`\alpha_{ref}` outside which ``info["wild"]`` flags a piece when
+#: ``clamp`` is None (with a clamp, its ratio is the band).
+WILD_RATIO = 16.0
+
 # ----------------------------------------------------------------------------------------------------------
 # Algorithm 3.1: G2 piecewise Timmer
 # ----------------------------------------------------------------------------------------------------------
@@ -237,7 +241,13 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
     -------
     Spline
         Knots ``0..m``. ``info``: ``form="timmer_g2"``, ``alpha`` = ``beta`` (per piece), ``joint_status``
-        and ``curvature_jump`` per knot, ``alpha0``, ``alpha_ref``, ``closing_converged`` (closed only).
+        and ``curvature_jump`` per knot, ``alpha0``, ``alpha_ref``, ``closing_converged`` (closed only),
+        ``alpha_ratio`` (per piece :math:`\\alpha_i/\\alpha_{ref,i}`) and ``wild`` (per piece: whether that
+        ratio lies outside :math:`[1/R, R]`, ``R = clamp``, or :data:`WILD_RATIO` without one). A root is never
+        clamped, so a joint can be ``"g2"`` with a wild scale: its handles are ``R`` times shorter (or longer)
+        than a third of the chord and its curvature far from the data's (on noisy samples the chain of roots
+        can grow hundreds of times, |kappa| ~ 1e7); ``not any(info["wild"])`` means every piece stayed in the
+        band.
         ``auxiliary``: ``Q1``, ``Q2``, ``tangents`` (unit).
 
     Raises
@@ -280,6 +290,12 @@ def timmer_g2(points, *, closed: bool = False, tangents=None, alpha0=None, clamp
             converged = labels[0] == "g2"
         extra["closing_converged"] = bool(converged)
     extra["alpha0"] = float(unscale_alpha(alpha0, exponent))
+    # roots are never clamped: report the pieces whose scale left the clamp's band around alpha_ref (short
+    # handles, a curvature far above the chords' 1 / length: on noisy samples alpha can grow hundreds of times)
+    ratio = alpha / alpha_ref
+    band = WILD_RATIO if clamp is None else clamp
+    extra["alpha_ratio"] = ratio.tolist()
+    extra["wild"] = ((ratio > band) | (ratio < 1.0 / band)).tolist()  # per piece: lists follow reversal
     return _make_spline("timmer_g2", pts, tan, alpha, alpha.copy(), closed, labels, extra, exponent=exponent)
 
 

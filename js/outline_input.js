@@ -252,6 +252,8 @@ const ARROWS = { ArrowLeft: [-1, 0], ArrowRight: [1, 0], ArrowUp: [0, -1], Arrow
 
 function attachKeys({ model, root, vp, flow }) {
   root.addEventListener("keydown", (event) => {
+    // while a drag is in progress its moves apply to the outline it started from: edits wait for the release
+    if (flow.active) return;
     const key = event.key, mod = event.ctrlKey || event.metaKey;
     let handled = true;
     if (mod && key.toLowerCase() === "z") model.send({ type: event.shiftKey ? "redo" : "undo" });

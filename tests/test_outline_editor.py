@@ -499,3 +499,59 @@ def test_a_zero_interval_weight_from_the_page_is_a_bad_message(editor, caplog):
     assert "value must be > 0, got 0.0" in editor.status_message and not caplog.records
     page(editor, type="weight", value=2.0)
     assert editor.outline is not before and editor.status_level == "info"
+
+
+def test_an_edit_during_a_drag_is_kept_by_the_release_and_each_is_an_undo_step(editor):
+    """An edit that arrives while a drag is in progress (a key, a button, a call from code) ends the drag so far as
+    its own undo step; the drag's next moves continue from the edited outline, so the release keeps the edit."""
+    start = editor.outline
+    x, y = start.contours[0].points[1].tolist()
+    was = bool(start.contours[0].corners[2])
+    editor.selection = [[0, 2]]
+    page(editor, type="drag", contour=0, knot=1, x=x + 3, y=y, seq=1, gesture=4, final=False)
+    page(editor, type="corner")
+    toggled = editor.outline
+    assert bool(toggled.contours[0].corners[2]) is (not was)
+    page(editor, type="drag", contour=0, knot=1, x=x + 5, y=y, seq=2, gesture=4, final=True)
+    assert bool(editor.outline.contours[0].corners[2]) is (not was) and editor.contours[0][1] == [x + 5, y]
+    # three steps back: the drag after the toggle, the toggle, the drag before it
+    assert editor.undo() and editor.outline is toggled
+    assert editor.undo() and bool(editor.outline.contours[0].corners[2]) is was
+    assert editor.contours[0][1] == [x + 3, y]
+    assert editor.undo() and editor.outline is start and not editor.can_undo
+
+
+def test_an_undo_during_a_drag_takes_back_the_drag_so_far(editor):
+    editor.selection = [[0, 2]]
+    page(editor, type="tension", value=3.0)
+    tensed = editor.outline
+    x, y = tensed.contours[0].points[1].tolist()
+    page(editor, type="drag", contour=0, knot=1, x=x + 3, y=y, seq=1, gesture=2, final=False)
+    page(editor, type="undo")
+    assert editor.outline is tensed and editor.can_redo
+    page(editor, type="drag", contour=0, knot=1, x=x + 5, y=y, seq=2, gesture=2, final=True)
+    assert editor.contours[0][1] == [x + 5, y] and editor.outline.contours[0].point_tension[2] == 3.0
+    assert editor.undo() and editor.outline is tensed  # the release's step, then the tension's
+    assert editor.undo() and editor.outline.contours[0].point_tension[2] != 3.0
+
+
+def test_toggling_corners_on_a_selection_is_one_undo_step(editor):
+    start = editor.outline
+    editor.selection = [[0, 1], [0, 2], [0, 3]]
+    page(editor, type="corner")
+    corners = editor.outline.contours[0].corners
+    assert [bool(corners[k]) for k in (1, 2, 3)] == [not bool(start.contours[0].corners[k]) for k in (1, 2, 3)]
+    assert editor.undo() and editor.outline is start and not editor.can_undo
+
+
+def test_values_refused_from_code_never_reach_the_page_as_nan(editor):
+    """A NaN list set from code syncs before the observer refuses it: the page gets JSON (null), not NaN."""
+    import json
+
+    sent = []
+    editor.comm.kernel = True  # a live comm: state changes are sent (captured here)
+    editor.comm.send = lambda data=None, metadata=None, buffers=None, **kw: sent.append(data)
+    with pytest.warns(OutlineEditorWarning):
+        editor.point_tension = [[float("nan")] * len(row) for row in editor.point_tension]
+    assert sent and all(json.dumps(message, allow_nan=False, default=repr) for message in sent)
+    assert all(math.isfinite(value) for row in editor.point_tension for value in row)

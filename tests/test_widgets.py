@@ -278,6 +278,72 @@ def test_drag_moves_point_echoes_seq_and_is_one_undo_step():
     assert editor.points[2] == [325.0, 100.0]
 
 
+def test_a_drag_from_another_view_with_the_same_gesture_number_is_its_own_undo_step():
+    """Each view numbers its gestures from 1 (js/drag_controller.js): a finished gesture's number is forgotten, so
+    a later drag from another view (or a reloaded page) is not merged into an earlier step."""
+    editor = SplineEditor(POINTS)
+    drag(editor, 0, (90, 300), seq=1, gesture=1)
+    drag(editor, 0, (100, 300), seq=2, gesture=1, final=True)
+    page_message(editor, {"type": "undo"})
+    page_message(editor, {"type": "redo"})
+    editor.alpha = 3.0
+    drag(editor, 3, (400, 160), seq=1, gesture=1, final=True)
+    assert len(editor._history) == 3
+    assert editor.undo() and editor.points[3] == POINTS[3] and editor.alpha == 3.0
+    assert editor.undo() and editor.alpha == 2.0 and editor.points[0] == [100.0, 300.0]
+    # an edit in the middle of a drag: the drag's next moves are a step of their own
+    drag(editor, 1, (170, 120), seq=3, gesture=5)
+    editor.alpha = 2.5
+    drag(editor, 1, (180, 120), seq=4, gesture=5, final=True)
+    assert editor.undo() and editor.points[1] == [170.0, 120.0] and editor.alpha == 2.5
+
+
+def test_a_lower_max_points_than_the_points_held_is_refused_and_undo_keeps_history():
+    editor = SplineEditor(POINTS)
+    editor.add_point(600.0, 400.0)
+    editor.add_point(640.0, 420.0)
+    with pytest.raises(Exception, match="below the 7 points"):
+        editor.max_points = 6
+    assert editor.max_points > 7 - 1 and len(editor.points) == 7
+    editor.max_points = 7  # a limit at the count is fine; an undo that would exceed a later limit is refused
+    assert editor.undo() and len(editor.points) == 6
+    editor.max_points = 6
+    steps, redo = len(editor._history), list(editor._history._redo)
+    with pytest.warns(SplineEditorWarning, match="redo is not possible"):
+        assert not editor.redo()
+    assert len(editor._history) == steps and editor._history._redo == redo and len(editor.points) == 6
+    assert editor.undo() and len(editor.points) == 5 and editor.redo() and len(editor.points) == 6
+
+
+@pytest.mark.parametrize("form", ["timmer_g2", "timmer_gc1", "interpolant", "basis"])
+def test_a_tiny_class_parameter_that_stretches_the_drawing_beyond_reach_is_refused(form):
+    """alpha > 0 is in range, but the handles (Timmer) or the class points V, W (the Bézier view) grow as
+    1 / alpha: beyond the page's reach (float32) the value is refused and the last good curve kept."""
+    editor = SplineEditor(POINTS, form=form, show_bezier_points=True)
+    before = editor.spline.bezier()
+    with pytest.warns(SplineEditorWarning, match="beyond"):
+        editor.alpha = 1e-40
+    assert editor.alpha != 1e-40 and "Kept the last good curve" in editor.status_message
+    np.testing.assert_array_equal(editor.spline.bezier(), before)
+    for name in ("bezier", "vw"):
+        if name in editor.geometry:
+            assert np.isfinite(buffer(editor.geometry[name])).all()
+            assert np.abs(buffer(editor.geometry[name])).max() < 1e9
+
+
+def test_a_cleared_number_box_is_echoed_to_the_page_as_null_not_nan():
+    import json
+
+    editor = SplineEditor(POINTS)
+    sent = []
+    editor.comm.kernel = True
+    editor.comm.send = lambda data=None, metadata=None, buffers=None, **kw: sent.append(data)
+    editor._handle_msg({"content": {"data": {"method": "update", "state": {"point_tension": [None] * 5}}},
+                        "buffers": []})
+    assert sent and all(json.dumps(message, allow_nan=False, default=repr) for message in sent)
+    assert editor.point_tension == [0.0] * 5
+
+
 def test_drag_onto_neighbour_is_rejected_and_acknowledged():
     editor = SplineEditor(POINTS)
     messages = sent_messages(editor)

@@ -48,8 +48,8 @@ import traitlets as t
 
 from .._validation import check_bool, check_choice, check_int, check_number
 
-__all__ = ["WidgetBase", "BadMessage", "Bool", "Int", "Float", "NumberList", "PointList", "points_to_json",
-           "points_from_json", "read_int", "read_number", "read_bool", "read_str",
+__all__ = ["WidgetBase", "BadMessage", "Bool", "Int", "Float", "NumberList", "PointList", "json_numbers",
+           "points_to_json", "points_from_json", "read_int", "read_number", "read_bool", "read_str",
            "f32", "run_with_budget", "short_reason", "view_problem", "VIEW_PRECISION", "DEBUG_ENV"]
 
 #: Environment variable that switches the benchmark hooks on for every widget of a kernel.
@@ -140,6 +140,17 @@ class PointList(t.List):
         if array.shape[0] > obj.max_points:
             raise t.TraitError(f"{array.shape[0]} points; the editor takes at most max_points = {obj.max_points}")
         return array.tolist()
+
+
+def json_numbers(value, _widget=None):
+    """A synced list (nested lists of numbers) with every non-finite float as ``None`` (JSON ``null``): a value the
+    widget is about to refuse can reach the page once (ipywidgets echoes a validated value that differs from the
+    page's, and a value set from code syncs before the observer reverts it), and NaN or inf is not JSON."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, (list, tuple)):
+        return [json_numbers(item) for item in value]
+    return value
 
 
 def points_to_json(value, _widget):

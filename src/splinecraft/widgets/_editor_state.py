@@ -162,9 +162,21 @@ def check_state(state: dict, *, max_points: int = MAX_POINTS):
     _check_choices(state)
     _check_numbers(state, max_points)
     try:
-        return build_spline(state)
+        spline = build_spline(state)
     except (ValueError, TypeError, ZeroDivisionError, FloatingPointError, np.linalg.LinAlgError) as exc:
         raise Rejected(str(exc)) from None
+    # what the page draws, within its reach too: a tiny alpha or beta is a number in range, but its handles (or
+    # the class points V, W, Q1, Q2 of the Bézier view, at 3 / alpha times the handle) can reach 1e300
+    auxiliary = spline.auxiliary
+    try:
+        check_reach(spline.bezier().reshape(-1, 2), "Bézier control point")
+        for key in ("V", "W", "Q1", "Q2"):
+            if key in auxiliary:
+                check_reach(np.asarray(auxiliary[key], dtype=float).reshape(-1, 2), f"class point {key}")
+    except ValueError as exc:
+        raise Rejected(f"{exc}: alpha = {state['alpha']:g}, beta = {state['beta']:g} stretch the curve beyond what "
+                       "the page draws") from None
+    return spline
 
 
 # ---------------------------------------------------------------------------------------------- transitions

@@ -72,6 +72,15 @@ class History:
         self.break_gesture()
         return self._redo.pop()
 
+    def saved(self):
+        """The stacks as they are, for :meth:`restore` (a step that turns out not to apply leaves them unchanged)."""
+        return list(self._undo), list(self._redo), self._last
+
+    def restore(self, saved) -> None:
+        """Put back the stacks :meth:`saved` returned."""
+        undo, redo, self._last = saved
+        self._undo[:], self._redo[:] = undo, redo
+
     def discard_last(self) -> None:
         """Drop the most recent undo step (the change it was recorded for did not happen)."""
         if self._undo:

@@ -31,6 +31,15 @@ class OutlineGestures:
         if final:
             self._end_gesture()
 
+    def _close_gesture(self):
+        """An edit from outside the gesture (a key, a button, undo, a call from Python) arrives while a gesture
+        is in progress: the gesture so far becomes its own undo step, and its next moves start a new gesture
+        from the edited outline (each move is applied to the outline its gesture started from, so without this
+        the release would drop the edit)."""
+        if self._gesture is not None:
+            self._settle()
+            self._end_gesture()
+
     def _end_gesture(self):
         """The gesture is over: its start becomes one undo step (if it changed the outline)."""
         start, self._gesture = self._gesture[2], None

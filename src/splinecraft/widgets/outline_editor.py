@@ -24,7 +24,7 @@ from .._validation import blank_text
 from ..outline import Outline, as_outline
 from ..outline.transforms import reflection, rotation, scaling, shearing, translation
 from ._assets import load_css, load_esm
-from ._base import Bool, Int, WidgetBase, f32, read_number, read_str, short_reason
+from ._base import Bool, Int, WidgetBase, f32, json_numbers, read_number, read_str, short_reason
 from ._outline_gestures import HISTORY, OutlineGestures
 from ._outline_state import (OUTLINE_TRAITS, MAX_COORDINATE, DeviationCache, check_outline_reach, clean_selection,
                              fitted_view, grouped_by_contour, outline_from_lists, png_of_mask, synced_tables)
@@ -95,17 +95,17 @@ class OutlineEditor(OutlineGestures, WidgetBase):
                 "reflect": "_on_reflect", "handle": "_on_handle"}
     page_traits = frozenset(("selection",) + _DISPLAY)
 
-    contours = t.List().tag(sync=True)
+    contours = t.List().tag(sync=True, to_json=json_numbers)
     corners = t.List().tag(sync=True)
-    point_tension = t.List().tag(sync=True)
-    interval_weights = t.List().tag(sync=True)
-    handles_in = t.List().tag(sync=True)
-    handles_out = t.List().tag(sync=True)
+    point_tension = t.List().tag(sync=True, to_json=json_numbers)
+    interval_weights = t.List().tag(sync=True, to_json=json_numbers)
+    handles_in = t.List().tag(sync=True, to_json=json_numbers)
+    handles_out = t.List().tag(sync=True, to_json=json_numbers)
     selection = t.List().tag(sync=True)
     geometry = t.Dict().tag(sync=True)
     image = t.Bytes(b"").tag(sync=True)
-    frame = t.List([1.0, 1.0]).tag(sync=True)
-    view = t.List([]).tag(sync=True)
+    frame = t.List([1.0, 1.0]).tag(sync=True, to_json=json_numbers)
+    view = t.List([]).tag(sync=True, to_json=json_numbers)
     width = Int(640, min=120, max=4000).tag(sync=True)
     height = Int(480, min=120, max=4000).tag(sync=True)
     show_image = Bool(True).tag(sync=True)
@@ -206,6 +206,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         return self._apply(lambda o: o.set_interval_weight(contour, pieces, value), "Interval weight set")
 
     def undo(self) -> bool:
+        self._close_gesture()
         if not self._undo:
             return False
         self._redo.append(self._outline)
@@ -213,6 +214,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         return True
 
     def redo(self) -> bool:
+        self._close_gesture()
         if not self._redo:
             return False
         self._undo.append(self._outline)
@@ -259,6 +261,8 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         contours go to the page, in one small message; the synced lists, ``geometry`` and the deviation follow
         with the gesture's last message.
         """
+        if history:
+            self._close_gesture()
         old = self._outline
         if history:
             self._undo.append(old)
@@ -402,9 +406,19 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         return [tuple(p) for p in self.selection]
 
     def _on_corner(self, content, _buffers):
-        for contour, knot in self._selected_or_refuse():
-            corner = not bool(self._outline.contours[contour].corners[knot])
-            self.set_corner(contour, knot, corner)
+        """Toggle the selected knots between corner and smooth: one undo step."""
+        selected = self._selected_or_refuse()
+
+        def toggled(outline):
+            for contour, knot in selected:
+                outline = outline.set_corner(contour, knot, not bool(outline.contours[contour].corners[knot]))
+            return outline
+
+        if len(selected) == 1:
+            contour, knot = selected[0]
+            self.set_corner(contour, knot, not bool(self._outline.contours[contour].corners[knot]))
+            return
+        self._apply(toggled, f"Toggled {len(selected)} knots between corner and smooth")
 
     def _on_insert(self, content, _buffers):
         x, y = read_number(content, "x"), read_number(content, "y")

@@ -25,8 +25,8 @@ from . import _editor_drawing as drawing
 from . import _editor_state as model
 from ._assets import load_css, load_esm
 from ._base import (
-    Bool, Float, Int, NumberList, PointList, WidgetBase, points_from_json, points_to_json, read_bool, read_int,
-    read_number, view_problem,
+    Bool, Float, Int, NumberList, PointList, WidgetBase, json_numbers, points_from_json, points_to_json, read_bool,
+    read_int, read_number, view_problem,
 )
 from ._editor_state import MAX_POINTS, MODEL_TRAITS, Rejected
 from ._forms import FORMS, explanation, form_options, plain_text
@@ -116,11 +116,19 @@ class SplineEditor(WidgetBase):
     page_traits = frozenset(MODEL_TRAITS + _DISPLAY_TRAITS)
 
     max_points = tl.Int(MAX_POINTS, min=4)
+
+    @tl.validate("max_points")
+    def _valid_max_points(self, proposal):
+        count = len(self._trait_values.get("points") or ())
+        if proposal["value"] < count:
+            raise tl.TraitError(f"max_points = {proposal['value']} is below the {count} points the editor holds; "
+                                "delete points first (the limit was kept)")
+        return proposal["value"]
     points = PointList().tag(sync=True, to_json=points_to_json, from_json=points_from_json)
-    point_tension = NumberList().tag(sync=True)
-    interval_weights = NumberList().tag(sync=True)
-    alpha = Float(2.0, allow_none=True).tag(sync=True)
-    beta = Float(2.0, allow_none=True).tag(sync=True)
+    point_tension = NumberList().tag(sync=True, to_json=json_numbers)
+    interval_weights = NumberList().tag(sync=True, to_json=json_numbers)
+    alpha = Float(2.0, allow_none=True).tag(sync=True, to_json=json_numbers)
+    beta = Float(2.0, allow_none=True).tag(sync=True, to_json=json_numbers)
     preset = tl.Unicode("ball").tag(sync=True)
     form = tl.Unicode("interpolant").tag(sync=True)
     closed = Bool(False).tag(sync=True)
@@ -135,8 +143,8 @@ class SplineEditor(WidgetBase):
     show_bezier_points = Bool(False).tag(sync=True)
     show_tangents = Bool(False).tag(sync=True)
     show_comb = Bool(False).tag(sync=True)
-    comb_scale = Float(1.0, allow_none=True).tag(sync=True)
-    t = Float(None, allow_none=True).tag(sync=True)
+    comb_scale = Float(1.0, allow_none=True).tag(sync=True, to_json=json_numbers)
+    t = Float(None, allow_none=True).tag(sync=True, to_json=json_numbers)
     show_grid = Bool(True).tag(sync=True)
     snap = Bool(False).tag(sync=True)
     view = tl.List([0.0, 0.0, 1.0, 1.0]).tag(sync=True)
@@ -331,15 +339,24 @@ class SplineEditor(WidgetBase):
             self._reject(str(exc))
             return False
         self._history.push(previous, key=key)
+        self._drag_gesture = None  # a drag's next move after this edit is a step of its own
         self._commit(state, spline, seq=seq)
         return True
 
     def _travel(self, step, done: str, nothing: str) -> bool:
+        saved = self._history.saved()
         state = step(self._state())
         if state is None:
             self._set_status(nothing, "info")
             return False
-        self._commit(state, self._check(state))  # history holds only good states
+        try:  # history holds only good states, but a limit may have changed since (max_points)
+            spline = self._check(state)
+        except Rejected as exc:
+            self._history.restore(saved)  # the step did not happen: both stacks as they were
+            self._reject(f"{'undo' if step == self._history.undo else 'redo'} is not possible: {exc}")
+            return False
+        self._drag_gesture = None
+        self._commit(state, spline)
         self._set_status(done, "info")
         return True
 
@@ -361,6 +378,7 @@ class SplineEditor(WidgetBase):
         before = self._spline
         self._segment_stash = stash
         self._history.push(previous, key=name)
+        self._drag_gesture = None  # a drag's next move after this change is a step of its own
         if name in _COMB_RESET:
             self._comb_unit = None  # a different curve: rescale the comb
         self._commit(state, spline)
@@ -422,6 +440,8 @@ class SplineEditor(WidgetBase):
         if gesture is None or gesture != self._drag_gesture:
             self._history.push(previous, key=None)
             self._drag_gesture = gesture
+        if final:  # the gesture is over: another view (or a reloaded page) numbers its gestures from 1 again
+            self._drag_gesture = None
         self._commit(state, spline, seq=seq, moving=not final)
         if final:
             self._set_status(f"Point {index} moved to ({point[0]:.1f}, {point[1]:.1f}).", "info")

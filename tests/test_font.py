@@ -236,3 +236,56 @@ def test_a_glyph_named_by_its_outline_says_whose_name_it_is():
     assert font.to_glyph(Outline(square.contours, name="")).name == "glyph"
     with pytest.raises(ValueError, match=r"^name is blank \(' ': only white space\): give a name, or None"):
         Outline(square.contours, name=" ")
+
+
+def _nested_squares_font(path, *, same_turn):
+    """A TrueType font whose glyph A is a square with a smaller square inside, of the same turn (nonzero: ink
+    inside, as overlapping components leave) or of the opposite turn (a hole)."""
+    from fontTools.fontBuilder import FontBuilder
+    from fontTools.pens.ttGlyphPen import TTGlyphPen
+
+    pen = TTGlyphPen(None)
+    for x0, y0, x1, y1, turn in ((100, 0, 700, 600, 1), (300, 200, 500, 400, 1 if same_turn else -1)):
+        corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)][::turn]
+        pen.moveTo(corners[0])
+        for corner in corners[1:]:
+            pen.lineTo(corner)
+        pen.closePath()
+    builder = FontBuilder(1000, isTTF=True)
+    builder.setupGlyphOrder([".notdef", "A"])
+    builder.setupCharacterMap({0x41: "A"})
+    builder.setupGlyf({".notdef": TTGlyphPen(None).glyph(), "A": pen.glyph()})
+    builder.setupHorizontalMetrics({".notdef": (500, 0), "A": (800, 100)})
+    builder.setupHorizontalHeader(ascent=800, descent=-200)
+    builder.setupNameTable({"familyName": "Nested", "styleName": "Regular"})
+    builder.setupOS2()
+    builder.setupPost()
+    builder.save(str(path))
+    return path
+
+
+@pytest.mark.parametrize("same_turn", [True, False])
+def test_glyph_outline_fills_by_the_fonts_nonzero_rule(tmp_path, same_turn):
+    """A contour inside another of the same turn adds no ink under the nonzero rule (fontTools' PointInsidePen
+    says where the source has ink): it is left out, not read as a hole; one of the opposite turn is a hole."""
+    from fontTools.pens.pointInsidePen import PointInsidePen
+
+    source = _nested_squares_font(tmp_path / "nested.ttf", same_turn=same_turn)
+    glyph_set = TTFont(str(source)).getGlyphSet()
+    probe = PointInsidePen(glyph_set, (400, 300), evenOdd=False)
+    glyph_set["A"].draw(probe)
+    outline = font.glyph_outline(source, "A")
+    assert len(outline) == (1 if probe.getResult() else 2) and probe.getResult() is same_turn
+    files = font.build({"A": outline}, family="Nested Again", output_dir=tmp_path / "out", scale=1.0,
+                       sidebearing=100)
+    again = TTFont(str(files.ttf)).getGlyphSet()
+    probe = PointInsidePen(again, (400, 300), evenOdd=False)
+    again[TTFont(str(files.ttf)).getBestCmap()[0x41]].draw(probe)
+    assert probe.getResult() is same_turn
+
+
+@pytest.mark.parametrize("key", ["\uffff", "\ufffe", "\ufdd0", "\U0001ffff"])
+def test_noncharacters_are_refused_as_glyph_keys(traced, tmp_path, key):
+    """U+FFFF is also the end of every format-4 cmap: mapped to a glyph it made two overlapping end segments."""
+    with pytest.raises(ValueError, match="noncharacter"):
+        font.build({key: traced["D"]}, output_dir=tmp_path)

@@ -833,3 +833,16 @@ def test_an_interval_weight_edit_is_refused_when_it_is_made(value, error, words)
     with pytest.raises(error) as caught:
         contour.with_interval_weight(1, value)
     assert str(caught.value) == words
+
+
+def test_forced_corners_follow_their_knots_when_a_short_curve_is_split():
+    """A contour needs three knots: a curve of two pieces is split, and its corner flags stay on their knots."""
+    from splinecraft.outline import from_bezier
+
+    oval = np.array([[[0, 0], [0, -14], [40, -14], [40, 0]], [[40, 0], [40, 14], [0, 14], [0, 0]]], float)
+    outline = from_bezier([oval], corners=[[True, True]])
+    contour = outline.contours[0]
+    flagged = {tuple(np.round(p, 9)) for p in contour.points[contour.corners]}
+    assert flagged == {(0.0, 0.0), (40.0, 0.0)}
+    with pytest.raises(ValueError, match="one flag per knot"):
+        from_bezier([oval], corners=[[True, True, False]])

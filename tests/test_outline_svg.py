@@ -366,3 +366,56 @@ def test_a_drawing_of_strokes_only_says_why_nothing_was_read():
 def test_an_empty_source_is_named_empty_not_a_missing_file(source):
     with pytest.raises(ValueError, match="source is empty"):
         from_svg(source)
+
+
+@pytest.mark.parametrize("encoding, declared", [("utf-8-sig", "UTF-8"), ("iso-8859-1", "ISO-8859-1"),
+                                                ("utf-16", "UTF-16")])
+def test_svg_files_are_decoded_by_their_byte_order_mark_or_declared_encoding(tmp_path, encoding, declared):
+    document = (f'<?xml version="1.0" encoding="{declared}"?>\n'
+                + _svg("<title>Café</title>" + SQUARE))
+    path = tmp_path / "square.svg"
+    path.write_bytes(document.encode(encoding))
+    outline = from_svg(path)
+    assert len(outline) == 1 and np.allclose(outline.contours[0].points, [[0, 0], [10, 0], [10, 10], [0, 10]])
+    assert from_svg("\ufeff" + _svg(SQUARE)).contours[0].points.shape == (4, 2)  # a string with a mark
+    (tmp_path / "data.svg").write_bytes(b"\xef\xbb\xbfM0 0 L10 0 L10 10 Z")
+    assert len(from_svg(tmp_path / "data.svg").contours[0].points) == 3
+    (tmp_path / "bad.svg").write_bytes(b"M0 0 L10 0 \xe9 L10 10 Z")
+    with pytest.raises(ValueError, match="neither an XML document nor UTF-8"):
+        from_svg(tmp_path / "bad.svg")
+
+
+def test_each_path_is_read_with_its_own_rounding():
+    """A path written with integers is rounded to half a unit; an exact path beside it keeps its small corner."""
+    turn = np.radians(0.5)  # a corner of half a degree at (100, 0) between two cubics, written in full
+    handle = 30 * np.array([np.cos(turn), np.sin(turn)])
+    exact = (f'<path d="M 0,0 C 30,0 70,0 100,0 C {float(100 + handle[0])!r},{float(handle[1])!r} 130,50 100,100 '
+             'C 70,110 10,90 0,0 Z"/>')
+    alone = from_svg(_svg(exact, 'width="300" height="300"'))
+    mixed = from_svg(_svg(exact + '<rect x="250" y="250" width="10" height="10"/>', 'width="300" height="300"'))
+    k = int(np.argmin(np.hypot(*(alone.contours[0].points - [100, 0]).T)))
+    assert alone.contours[0].corners[k] and mixed.contours[0].corners[k] and len(mixed) == 2
+    np.testing.assert_array_equal(mixed.contours[0].bezier(), alone.contours[0].bezier())
+
+
+def test_curves_wholly_at_negative_coordinates_need_a_frame():
+    with pytest.raises(ValueError, match="frame runs from 0"):
+        from_svg("M -30 -30 L -20 -30 L -20 -20 Z")
+    with pytest.raises(ValueError, match="translate them to y >= 0"):
+        as_outline(np.array([[[5.0, -30], [8, -30], [12, -30], [15, -30]], [[15, -30], [15, -25], [15, -22], [15, -20]],
+                             [[15, -20], [12, -24], [8, -27], [5, -30]]]))
+    framed = from_svg('<svg xmlns="http://www.w3.org/2000/svg" viewBox="-40 -40 40 40">'
+                      '<path d="M -30 -30 L -20 -30 L -20 -20 Z"/></svg>')
+    assert framed.width == 40 and (framed.contours[0].points >= 0).all()
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e200])
+def test_coordinates_beyond_the_transforms_reach_are_refused_when_built(scale):
+    """Areas overflow or vanish there: an outline built at such a scale lost its hole's orientation."""
+    from splinecraft.outline import from_knots
+
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
+    with pytest.raises(ValueError, match="1e[+-]150"):
+        from_knots([square * scale])
+    with pytest.raises(ValueError, match="1e[+-]150"):
+        from_svg(f"M0 0 L{10 * scale:g} 0 L{10 * scale:g} {10 * scale:g} Z")

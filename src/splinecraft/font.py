@@ -154,7 +154,8 @@ def _glyph_name(key):
 
 def _code_point(code, what):
     """``code`` if a cmap may map it: a Unicode scalar value (0 .. 0x10FFFF, not a surrogate U+D800 .. U+DFFF)
-    that is not a C0 or C1 control character (U+0000 .. U+001F, U+007F .. U+009F: no glyph draws them)."""
+    that is not a C0 or C1 control character (U+0000 .. U+001F, U+007F .. U+009F: no glyph draws them) nor a
+    noncharacter (U+FDD0 .. U+FDEF, U+nFFFE and U+nFFFF)."""
     if not 0 <= code <= 0x10FFFF or 0xD800 <= code <= 0xDFFF:
         shown = f"U+{code:04X}" if code >= 0 else "negative"  # not U+-001
         raise ValueError(f"{what} is {shown}, not a Unicode character a font can map (0 .. U+10FFFF, "
@@ -162,6 +163,10 @@ def _code_point(code, what):
     if code < 0x20 or 0x7F <= code <= 0x9F:
         raise ValueError(f"{what} is the control character U+{code:04X}, which a font does not map to a glyph "
                          "(C0 and C1 controls U+0000 .. U+001F, U+007F .. U+009F)")
+    if 0xFDD0 <= code <= 0xFDEF or code & 0xFFFE == 0xFFFE:
+        # U+FFFF is also the code of the end segment every cmap of format 4 must have (it maps to .notdef)
+        raise ValueError(f"{what} is the noncharacter U+{code:04X}, which is not for interchange (U+FDD0 .. "
+                         "U+FDEF and the last two code points of every plane, U+FFFE, U+FFFF, U+1FFFE, ...)")
     return code
 
 
@@ -736,7 +741,9 @@ def glyph_outline(font, char, *, font_number=0) -> Outline:
     -------
     Outline
         In a y-down frame: ``(x, ascender - y)`` (font units), ``width`` = the advance, ``height`` =
-        ascender - descender, ``baseline`` = the ascender; composite glyphs are decomposed.
+        ascender - descender, ``baseline`` = the ascender; composite glyphs are decomposed. Fonts fill by the
+        nonzero rule: a contour that lies inside others and adds no ink by it (inside one of the same turn, as
+        overlapping components leave) is left out, since the outline reads nesting as holes.
 
     Raises
     ------
@@ -772,7 +779,11 @@ def glyph_outline(font, char, *, font_number=0) -> Outline:
             curves.append(flipped)
         advance = ttfont["hmtx"][name][0]
     from .outline import from_bezier
+    from .outline.sources import _nonzero_covered
 
+    if len(curves) > 1:  # fonts fill by the nonzero rule: a contour inside another of the same turn adds no ink
+        covered = set(_nonzero_covered(curves))
+        curves = [curve for k, curve in enumerate(curves) if k not in covered]
     right = max(float(c[..., 0].max()) for c in curves)
     return from_bezier(curves, width=max(advance, right, 1), height=ascender - descender, baseline=ascender,
                        name=name)

@@ -203,9 +203,8 @@ def contour_from_bezier(bezier, corners=None, *, rounding=0.0) -> Contour:
     bezier, corners = _split_loops(bezier, corners)
     n = bezier.shape[0]
     if n < 3:  # split pieces so that the contour has 3 knots (exact de Casteljau halves)
-        bezier = _split_to_three(bezier)
+        bezier, corners = _split_to_three(bezier, corners)
         n = bezier.shape[0]
-        corners = None if corners is None else np.r_[np.asarray(corners, bool), np.zeros(n, bool)][:n]
     forced = np.zeros(n, bool) if corners is None else np.asarray(corners, bool).copy()
     scale = max(float(np.ptp(bezier.reshape(-1, 2), axis=0).max()), 1.0)
     exact = rounding <= 1e-12 * scale  # exact input (or floats written in full): the loop checks apply
@@ -254,12 +253,16 @@ def _halves(p):
     return [np.array([p[0], a[0], b[0], c]), np.array([c, b[1], a[2], p[3]])]
 
 
-def _split_to_three(bezier):
+def _split_to_three(bezier, corners=None):
+    """At least three pieces: the widest piece halved (exact de Casteljau) until there are; ``corners`` (per knot,
+    or None) follow their knots, and a knot made by a split is not forced."""
     pieces = list(bezier)
+    flags = [False] * len(pieces) if corners is None else [bool(c) for c in corners]
     while len(pieces) < 3:
         widest = int(np.argmax([np.ptp(p, axis=0).max() for p in pieces]))
         pieces[widest:widest + 1] = _halves(pieces[widest])
-    return np.array(pieces)
+        flags[widest:widest + 1] = [flags[widest], False]
+    return np.array(pieces), (None if corners is None else np.array(flags))
 
 
 def _split_loops(bezier, corners):

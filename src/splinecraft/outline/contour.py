@@ -28,6 +28,7 @@ import numpy as np
 from .._validation import check_bool, check_number
 from ..spline import Spline, interpolate
 from ..spline.segment import bezier_signed_area
+from .transforms import check_reach
 
 __all__ = ["Contour", "MIN_KNOTS", "bezier_signed_area"]
 
@@ -103,6 +104,7 @@ class Contour:
         if points.ndim != 2 or points.shape[1] != 2:
             raise ValueError(f"points must have shape (N, 2), got {points.shape}")
         _finite(points, "points")
+        check_reach(points, "the contour", given=True)  # areas and lengths in range (the transforms' limits)
         n = points.shape[0]
         if n < MIN_KNOTS:
             raise ValueError(f"a contour needs at least {MIN_KNOTS} knots, got {n}")

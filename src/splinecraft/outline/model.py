@@ -150,6 +150,16 @@ def _source(value, name) -> np.ndarray:
     return array
 
 
+def _default_extent(high, axis, name):
+    """The frame's default ``name`` (width or height): the curves' largest ``axis`` coordinate ``high`` rounded up,
+    plus a margin of 1. The frame starts at the origin, so curves that lie wholly below it have none."""
+    extent = float(math.ceil(high) + 1)
+    if not extent > 0:
+        raise ValueError(f"the curves lie at {axis} < 0 (at most {high:g}), and an outline's frame runs from 0 to its "
+                         f"{name}: translate them to {axis} >= 0 or give {name}= (an SVG: a viewBox that covers them)")
+    return extent
+
+
 class Outline:
     """Closed contours in one frame, with the source contours and bitmap they were captured from.
 
@@ -184,8 +194,8 @@ class Outline:
         self.sources = sources
         self.bitmap = None if bitmap is None else np.asarray(bitmap, bool)
         low, high = self.bounds()
-        width = width if width is not None else float(math.ceil(high[0]) + 1)
-        height = height if height is not None else float(math.ceil(high[1]) + 1)
+        width = width if width is not None else _default_extent(high[0], "x", "width")
+        height = height if height is not None else _default_extent(high[1], "y", "height")
         # checked here, not at export: a NaN baseline from a JSON file failed in font.build as "cannot convert
         # float NaN to integer", a name of another type in to_svg
         self.width = check_number(width, "width", minimum=0.0, inclusive=False)

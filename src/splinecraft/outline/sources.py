@@ -48,6 +48,7 @@ from .._validation import check_int
 from .bezier import contour_from_bezier, drop_degenerate_pieces
 from .contour import Contour
 from .model import Outline
+from .transforms import check_reach
 
 __all__ = ["as_outline", "from_trace", "from_svg", "from_knots", "from_bezier"]
 
@@ -60,20 +61,29 @@ _PATH_DATA = re.compile(r"\s*[Mm]\s*[-+.\d]")
 def from_bezier(curves, *, corners=None, rounding=0.0, **frame) -> Outline:
     """An outline of closed Bézier curves (a list of ``(m, 4, 2)`` arrays), reproduced exactly.
 
-    ``corners`` (optional): per curve, booleans forcing corners at its knots. ``rounding`` (optional): how far
-    the coordinates may be from the exact curves (rounded text); smooth knots bent by it stay smooth and
-    the outline is within a few times ``rounding`` of the curves
+    ``corners`` (optional): per curve, booleans forcing corners at its knots. ``rounding`` (optional; one
+    number, or one per curve): how far the coordinates may be from the exact curves (rounded text); smooth
+    knots bent by it stay smooth and the outline is within a few times ``rounding`` of the curves
     (:func:`~splinecraft.outline.bezier.contour_from_bezier`). ``frame``: keyword arguments of
     :class:`Outline` (``width``, ``height``, ``sources``, ``bitmap``, ``baseline``, ``name``).
     """
     contours = []
+    curves = list(curves)
+    roundings = np.broadcast_to(np.asarray(rounding, dtype=float), (len(curves),)) if np.ndim(rounding) == 0 \
+        else np.asarray(rounding, dtype=float)
+    if roundings.shape != (len(curves),):
+        raise ValueError(f"rounding must be one number or one per curve ({len(curves)}), got shape {roundings.shape}")
     for k, curve in enumerate(curves):
         bezier = np.asarray(curve, float)
         if bezier.ndim != 3 or bezier.shape[1:] != (4, 2):
             raise ValueError(f"curves[{k}] must have shape (m, 4, 2), got {bezier.shape}")
         if not np.isfinite(bezier).all():
             raise ValueError(f"curves[{k}] has non-finite coordinates")
-        forced = None if corners is None else corners[k]
+        check_reach(bezier, f"curves[{k}]", given=True)  # before any area or length of it overflows
+        forced = None if corners is None else np.asarray(corners[k])
+        if forced is not None and forced.shape != (bezier.shape[0],):
+            raise ValueError(f"corners[{k}] must hold one flag per knot of curves[{k}] ({bezier.shape[0]}), got "
+                             f"shape {forced.shape}")
         if forced is None:
             bezier = drop_degenerate_pieces(bezier)
         if bezier.shape[0] == 0:
@@ -81,7 +91,7 @@ def from_bezier(curves, *, corners=None, rounding=0.0, **frame) -> Outline:
         if not np.allclose(bezier[-1, 3], bezier[0, 0], rtol=0, atol=1e-9 * max(1.0, np.abs(bezier).max())):
             raise ValueError(f"curves[{k}] is not closed: it ends at {bezier[-1, 3].tolist()}, not at its start "
                              f"{bezier[0, 0].tolist()}")
-        contours.append(contour_from_bezier(bezier, forced, rounding=rounding))
+        contours.append(contour_from_bezier(bezier, forced, rounding=roundings[k]))
     return Outline(contours, **frame)
 
 
@@ -350,6 +360,24 @@ def _check_commands(d, where):
                              "convert it to cubic Béziers (C) and lines (L) first")
 
 
+#: Byte-order marks of UTF-16 and UTF-32 (an XML document in those encodings starts with one, or with ``<`` in them).
+_WIDE_MARKS = (b"\xff\xfe", b"\xfe\xff", b"<\x00", b"\x00<")
+
+
+def _file_text(path):
+    """``(document, text)`` of an SVG file: an XML document as its bytes (``document``; the XML parser decodes
+    them by their byte-order mark or declared encoding, UTF-8 by default) and ``text`` "" then; path data as
+    UTF-8 text (``document`` None), a byte-order mark dropped."""
+    raw = path.read_bytes()
+    if raw.lstrip(b"\xef\xbb\xbf").lstrip().startswith(b"<") or raw.startswith(_WIDE_MARKS):
+        return raw, ""
+    try:
+        return None, raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{str(path)!r} is neither an XML document nor UTF-8 path data ({exc.reason} at byte "
+                         f"{exc.start})") from None
+
+
 def _is_file(text):
     """Whether ``text`` names an existing file (False for text no file can be named by: too long, NUL)."""
     try:
@@ -394,20 +422,22 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
     """
     from ..capture.svg import parse_path_data
 
-    text = source
-    if isinstance(source, str) and not source.strip():  # Path("") is ".", which reads as "no SVG file '.'"
+    text = source.lstrip("\ufeff") if isinstance(source, str) else source  # a byte-order mark is no text
+    if isinstance(source, str) and not text.strip():  # Path("") is ".", which reads as "no SVG file '.'"
         raise ValueError("the SVG source is empty: pass a file name, an SVG document or path data")
-    if isinstance(source, os.PathLike) or (isinstance(source, str) and not _is_inline(source)):
+    document = None  # the bytes of a file that holds an XML document: the parser decodes them
+    if isinstance(source, os.PathLike) or (isinstance(source, str) and not _is_inline(text)):
         path = Path(os.fspath(source))
         if not _is_file(path):
             raise FileNotFoundError(f"no SVG file {str(path)!r}")
-        text = path.read_text(encoding="utf-8")
+        document, text = _file_text(path)
     if not isinstance(text, str):
         raise TypeError(f"source must be a path, an SVG document or path data, got {type(source).__name__}")
     width = height = None
-    if text.lstrip().startswith("<"):
+    if document is not None or text.lstrip().startswith("<"):
         try:
-            root = ET.fromstring(text.encode("utf-8") if text.lstrip().startswith("<?xml") else text)
+            root = ET.fromstring(document if document is not None else
+                                 text.encode("utf-8") if text.lstrip().startswith("<?xml") else text)
         except ET.ParseError as exc:
             raise ValueError(f"not a readable SVG document: {exc}") from None
         width, height, viewport = _frame(root)
@@ -416,12 +446,12 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
     else:
         # no document, no fill rule: taken as it is
         found, unfilled = [("path 0", text, np.eye(3), text, "evenodd")], []
-    curves, rounding = [], 0.0
+    curves, roundings = [], []
     for label, d, matrix, written, rule in found:
         path_curves = []
         where = f"{label}, " if len(found) > 1 or not label.startswith("path") else ""
         _check_commands(d, where)
-        rounding = max(rounding, _rounding(written) * float(np.linalg.norm(matrix[:2, :2], 2)))
+        rounding = _rounding(written) * float(np.linalg.norm(matrix[:2, :2], 2))  # this path's own numbers
         for s, (bezier, closed) in enumerate(parse_path_data(d)):
             if not closed:
                 if not close_open:
@@ -435,11 +465,12 @@ def from_svg(source, *, close_open=False, name=None) -> Outline:
             covered = set(_nonzero_covered(path_curves))
             path_curves = [c for k, c in enumerate(path_curves) if k not in covered]
         curves.extend(path_curves)
+        roundings.extend([rounding] * len(path_curves))
     if not curves:
         skipped = (f" ({len(unfilled)} shape(s) with fill=\"none\" draw only a stroke and were skipped)"
                    if unfilled else "")
         raise ValueError(f"the SVG has no path with a closed subpath{skipped}")
-    return from_bezier(curves, rounding=rounding, width=width, height=height, name=name)
+    return from_bezier(curves, rounding=roundings, width=width, height=height, name=name)
 
 
 def _frame(root):

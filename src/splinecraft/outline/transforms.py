@@ -52,20 +52,23 @@ def affine_parts(matrix, name="matrix"):
     return linear, offset
 
 
-def check_reach(points, name="the transformed outline"):
+def check_reach(points, name="the transformed outline", *, given=False):
     """``ValueError`` when a coordinate of the points of one contour ``points`` (``(..., 2)``) is beyond
-    ±:data:`MAX_COORDINATE` (or not finite), or their extent is below :data:`MIN_EXTENT`."""
+    ±:data:`MAX_COORDINATE` (or not finite), or their extent is below :data:`MIN_EXTENT`. ``given``: the
+    points are an input (a contour being built), not the result of a transform; the message says so."""
     points = np.asarray(points, float).reshape(-1, 2)
     if not points.size:
         return
     if not (np.abs(points) <= MAX_COORDINATE).all():
         worst = float(np.nanmax(np.where(np.isfinite(points), np.abs(points), np.inf)))
-        raise ValueError(f"{name} would reach a coordinate of {worst:.3g}, beyond ±{MAX_COORDINATE:g} where its "
-                         "areas and lengths overflow: use a smaller scale or offset")
+        raise ValueError(f"{name} {'has' if given else 'would reach'} a coordinate of {worst:.3g}, beyond "
+                         f"±{MAX_COORDINATE:g} where its areas and lengths overflow: use a smaller "
+                         f"{'unit' if given else 'scale or offset'}")
     extent = float((points.max(axis=0) - points.min(axis=0)).max())
     if not extent >= MIN_EXTENT:
-        raise ValueError(f"{name} would shrink a contour to an extent of {extent:.3g}, below {MIN_EXTENT:g} where its "
-                         "area vanishes in floating point: use a larger scale")
+        raise ValueError(f"{name} {'spans' if given else 'would shrink a contour to'} an extent of {extent:.3g}, "
+                         f"below {MIN_EXTENT:g} where its area vanishes in floating point: use a larger "
+                         f"{'unit' if given else 'scale'}")
 
 
 def _about(linear, center):

@@ -205,10 +205,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="trace bitmaps into smooth outlines (SVG or JSON)",
         description="Trace the outline of each bitmap (outer contours and holes) into closed cubic splines: "
                     "chain-code boundary, corners, spline fit with knot insertion until the error is "
-                    "below EPSILON pixels. The first trace after an install compiles the kernels (numba, "
-                    "about 5 s CPU, shared between one process per CPU) and caches them on disk; every "
-                    "later process loads them in well under a second (BENCHMARKS.md, 'Session 27: cold "
-                    "first call').",
+                    "below EPSILON pixels. The compiled kernels (numba) are cached on disk; the README's "
+                    "set-up compiles them. On an empty cache the first trace of a small bitmap (up to "
+                    "24 000 pixel edges) runs them interpreted while a background process compiles them, "
+                    "and a larger one waits for the compile (seconds, in parallel); later processes load "
+                    "the cache in well under a second (BENCHMARKS.md, 'Session 31: the first call "
+                    "interpreted').",
     )
     tracer.add_argument("inputs", nargs="+", metavar="IN",
                         help="image files (PNG, JPEG, BMP, GIF, TIFF) or quoted glob patterns ('scans/**/*.png')")

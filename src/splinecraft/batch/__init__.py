@@ -137,7 +137,9 @@ def trace_many(inputs, output_dir=None, *, scheduler=None, jobs=None, batch_size
         the optional extra ``pip install 'splinecraft[dask]'``. BENCHMARKS.md compares them.
     jobs : int >= 0, optional
         Local workers; ``0`` is one per CPU (as ``--jobs 0`` on the command line); more than the CPU count is
-        capped at it with a ``RuntimeWarning``.
+        capped at it with a ``RuntimeWarning``. The workers are spawned processes, which import the calling
+        script again: in a script, call with ``jobs > 1`` (or ``scheduler="processes"``) under
+        ``if __name__ == "__main__":`` (a notebook needs nothing).
     batch_size : "auto" or int
         Files per task ("auto": each task runs about ``TARGET_TASK_S`` = 0.1 s).
     resume : bool

@@ -102,7 +102,7 @@ class SplineEditor(WidgetBase):
     >>> editor = SplineEditor([[0, 0], [100, 80], [200, 0], [300, 60]], point_tension=1.0)
     >>> editor.spline.n_segments
     3
-    >>> editor.panel()          # in JupyterLab: the editor with its live basis-function plot
+    >>> panel = editor.panel()  # in JupyterLab, display(panel): the editor with its live basis-function plot
     """
 
     _esm = load_esm("spline_editor.js")

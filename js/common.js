@@ -269,10 +269,13 @@ export function sliderRow({ label, title, min, max, step, value, onInput, testid
     onInput(v, false);
   });
   range.addEventListener("change", () => onInput(fromSlider(Number(range.value)), true));
+  // a typed value that is no finite number (empty, "abc", "1e999") goes as the text "NaN", "Infinity" or
+  // "-Infinity" (JSON has no such numbers: they would arrive as null, which some traits read as "off" or
+  // "automatic"); the kernel refuses it with a message and keeps its last good value
   const commitBox = () => {
     const text = box.value.trim();
     const v = text === "" ? NaN : Number(text);
-    onInput(v, true);
+    onInput(Number.isFinite(v) ? v : String(v), true);
   };
   let committedByEnter = false;
   box.addEventListener("change", () => {

@@ -27,7 +27,8 @@ export function hitPoint(vp, flat, px, py, radius = HIT_RADIUS) {
 }
 
 /**
- * Wire the input of one editor. `ctx`: {model, root, svg, curveHit, vp, flow, points() (kernel points),
+ * Wire the input of one editor. `ctx`: {model, root, svg, curveHit, vp, flow, points() (the drawn points: the
+ * kernel's, with a dragged point where the page draws it),
  * setTrait(name, value), drawPoints(), drawAll(), focus(), readout(xy or null), gridStep()}. Returns {dispose}.
  */
 export function attachInput(ctx) {
@@ -39,6 +40,8 @@ export function attachInput(ctx) {
     const rect = (flow.active && dragRect) || svg.getBoundingClientRect();
     return [event.clientX - rect.left, event.clientY - rect.top];
   };
+  // hit-tests and grabs use the points where they are drawn: a released drag the kernel has not answered yet
+  // is at its drawn place (a press there grabs the point again instead of panning)
   const hit = (px, py) => hitPoint(vp, ctx.points(), px, py);
   const clearSelection = () => {
     model.set("selected", -1);
@@ -136,6 +139,7 @@ export function attachInput(ctx) {
   });
 
   svg.addEventListener("contextmenu", (event) => {
+    if (flow.active) { event.preventDefault(); return; } // no delete while a point is dragged: its index moves
     const index = hit(...local(event));
     if (index < 0) return;
     event.preventDefault();
@@ -156,6 +160,8 @@ export function attachInput(ctx) {
   root.addEventListener("keydown", (event) => {
     const target = event.target;
     if (target instanceof HTMLInputElement || target instanceof HTMLSelectElement) return;
+    // while a point is dragged its moves name it by index: a delete or undo would hand them another point
+    if (flow.active) return;
     const key = event.key, mod = event.ctrlKey || event.metaKey;
     let handled = true;
     if ((key === "Delete" || key === "Backspace") && model.get("selected") >= 0) {

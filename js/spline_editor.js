@@ -90,7 +90,7 @@ function render({ model, el }) {
   const flow = createDragFlow(model, { onIdle: drawPoints });
   const write = traitWriters(model);
   const input = attachInput({ model, root, svg: canvas.svg, curveHit: canvas.layers.curveHit, vp, flow,
-    points: () => kernelPoints, setTrait: write.set, drawPoints, drawAll, focus, readout: controls.showReadout,
+    points: livePoints, setTrait: write.set, drawPoints, drawAll, focus, readout: controls.showReadout,
     gridStep: () => { const [x0, y0, x1, y1] = vp.visible(); return gridStep(Math.max(x1 - x0, y1 - y0)); } });
 
   function onGeometry() {
@@ -106,12 +106,16 @@ function render({ model, el }) {
     if (ackSeq > 0) flow.drawn(ackSeq, tArrive, root);
     flow.acknowledge(ackSeq);
   }
-  /** Canvas size: the cell's width beside the side panel (at least `width` if the cell is narrower), `height`. */
-  const available = () => Math.floor(el.getBoundingClientRect().width) - (controls.side.getBoundingClientRect().width || SIDE_WIDTH) - 4;
+  /** Canvas size: the cell's width beside the side panel; in a cell too narrow for both, the cell's width (up to
+   * `width`; the side panel wraps below the canvas), `height`. */
+  const cellWidth = () => Math.floor(el.getBoundingClientRect().width);
+  const canvasWidth = () => {
+    const room = cellWidth() - (controls.side.getBoundingClientRect().width || SIDE_WIDTH) - 4;
+    return room > 240 ? room : Math.max(120, Math.min(model.get("width"), cellWidth() - 4));
+  };
   function resize() {
     root.classList.toggle("sc-large", !!model.get("large"));
-    const room = available();
-    vp.width = room > 240 ? room : model.get("width");
+    vp.width = canvasWidth();
     vp.height = canvasHeight();
     canvas.resize(vp.width, vp.height);
     controls.side.style.height = `${vp.height}px`;
@@ -120,8 +124,7 @@ function render({ model, el }) {
   }
   // the cell changed width (window, side bars): refit the canvas, but never under a point being dragged
   const observer = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(() => {
-    const room = available();
-    if (room > 240 && Math.abs(room - vp.width) > 1 && !flow.active) resize();
+    if (Math.abs(canvasWidth() - vp.width) > 1 && !flow.active) resize();
   });
   if (observer) observer.observe(el);
 

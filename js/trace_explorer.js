@@ -41,7 +41,7 @@ function render({ model, el }) {
     const file = upload.files && upload.files[0];
     if (!file) return;
     const buffer = await file.arrayBuffer();
-    model.send({ type: "upload", name: file.name, size: buffer.byteLength }, [buffer]);
+    model.send({ type: "upload", name: file.name, size: buffer.byteLength }, undefined, [buffer]); // (content, callbacks, buffers)
     upload.value = "";
   });
   const busy = h("span", { class: "sc-busy", "data-testid": "busy" });
@@ -112,7 +112,7 @@ function render({ model, el }) {
   const eps = sliderRow({ label: "ε (px)", title: "Error threshold ε of knot insertion, px (thesis threshold 1, 2, 3)", min: 0.25, max: 6, step: 0.05, value: model.get("epsilon"), onInput: (v, final) => { if (final) setTrait("epsilon", v); }, testid: "epsilon" });
   const tau = sliderRow({ label: "τ (px)", title: "Distance constraint τ of Algorithms 4.2 and 4.3", min: 1, max: 60, step: 0.5, value: model.get("tau") ?? NaN, onInput: (v, final) => { if (final) setTrait("tau", v); }, testid: "tau" });
   const tauAuto = checkRow("τ automatic", model.get("tau") === null, (checked) => setTrait("tau", checked ? null : (tau.value > 0 ? tau.value : 8)), { testid: "tau-auto" });
-  const seed = sliderRow({ label: "seed", title: "Seed of the randomised algorithms (4.1, 4.4-4.6)", min: 0, max: 99, step: 1, value: model.get("seed"), onInput: (v, final) => { if (final) setTrait("seed", v === null || Number.isNaN(v) ? v : Math.round(v)); }, testid: "seed" });
+  const seed = sliderRow({ label: "seed", title: "Seed of the randomised algorithms (4.1, 4.4-4.6)", min: 0, max: 99, step: 1, value: model.get("seed"), onInput: (v, final) => { if (final) setTrait("seed", Number.isFinite(v) ? Math.round(v) : v); }, testid: "seed" });
   const OVERLAYS = [
     ["show_image", "bitmap"], ["show_boundaries", "boundaries"], ["show_corners", "corners"],
     ["show_knots", "knots"], ["show_candidates", "candidates"], ["show_final", "final fit"],

@@ -555,3 +555,23 @@ def test_values_refused_from_code_never_reach_the_page_as_nan(editor):
         editor.point_tension = [[float("nan")] * len(row) for row in editor.point_tension]
     assert sent and all(json.dumps(message, allow_nan=False, default=repr) for message in sent)
     assert all(math.isfinite(value) for row in editor.point_tension for value in row)
+
+
+@pytest.mark.parametrize("gap", [4e-6, 1e-2])
+def test_a_knot_dropped_onto_its_neighbour_is_refused_and_keeps_the_outline(editor, gap):
+    """Beside a corner with fixed handles, a knot 4e-6 px from it threw a 280-px glyph's curve to 1e7 px; an edit
+    whose curve lies more than MAX_SPREAD sizes beyond its knots and handles is refused."""
+    from splinecraft.widgets._outline_state import MAX_SPREAD
+
+    start = editor.outline
+    corner = int(np.flatnonzero(start.contours[0].corners[1:])[0]) + 1
+    x, y = (start.contours[0].points[corner] + [gap, 0]).tolist()
+    page(editor, type="drag", contour=0, knot=corner - 1, x=x, y=y, seq=1, gesture=3, final=True)
+    assert editor.outline is start and editor.status_level == "error" and "beyond its knots" in editor.status_message
+    moved = start.move_knot(0, corner - 1, (x, y)).contours[0]
+    anchors = np.concatenate([moved.points, moved.points[~np.isnan(moved.handles_in).any(axis=1)]
+                              + moved.handles_in[~np.isnan(moved.handles_in).any(axis=1)]])
+    size = np.ptp(anchors, axis=0).max()
+    assert np.abs(moved.bezier()).max() > anchors.max() + MAX_SPREAD * size  # the refused curve: far beyond
+    page(editor, type="drag", contour=0, knot=corner - 1, x=x + 3, y=y, seq=2, gesture=4, final=True)
+    assert editor.outline is not start and editor.status_level == "info"  # a knot 3 px away is fine

@@ -914,3 +914,18 @@ def test_editor_save_svg_refuses_a_blank_path(tmp_path, monkeypatch, path):
     with pytest.raises(ValueError, match=r"^path is (empty|blank \(' ': only white space\)): give a file name"):
         editor.save_svg(path)
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("text, value", [("NaN", math.nan), ("Infinity", math.inf), ("-Infinity", -math.inf)])
+def test_the_page_texts_for_non_finite_numbers_are_read_as_numbers_and_refused(text, value):
+    """A number box sends "NaN" or "Infinity" for a value that is no finite number (JSON would make it null, which
+    t reads as "off"); the traits read the float and the editor refuses it with a message, keeping t."""
+    from splinecraft.widgets._base import NONFINITE_TEXT
+
+    assert NONFINITE_TEXT[text] == value or (math.isnan(value) and math.isnan(NONFINITE_TEXT[text]))
+    editor = SplineEditor(POINTS, t=1.0)
+    editor._handle_msg({"content": {"data": {"method": "update", "state": {"t": text}}}, "buffers": []})
+    assert editor.t == 1.0 and editor.status_level == "error" and "t = " in editor.status_message
+    editor._handle_msg({"content": {"data": {"method": "update", "state": {"point_tension": [text] * 5}}},
+                        "buffers": []})
+    assert editor.point_tension == [0.0] * 5 and editor.status_level == "error"

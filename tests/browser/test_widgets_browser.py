@@ -262,3 +262,118 @@ def test_trace_explorer_steps_back_and_forward(lab):
     n_fuzzy = lab.python_json("explorer.n_snapshots")
     page.wait_for_selector(f"{EXPLORER}[data-n-snapshots='{n_fuzzy}'][data-snapshot-index='{n_fuzzy - 1}']",
                            timeout=20_000)
+
+
+def test_trace_explorer_traces_an_image_uploaded_from_the_page(lab):
+    """The page's file input sends the file's bytes as the message's buffer (anywidget's send(content,
+    callbacks, buffers)): a PNG is traced at its size, and a file that is no image is refused by its name."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    pixels = np.full((60, 80), 255, np.uint8)
+    pixels[10:50, 10:40] = 0
+    encoded = io.BytesIO()
+    Image.fromarray(pixels).save(encoded, format="PNG")
+    page = lab.open_notebook([EXPLORER_CELL])
+    root = page.wait_for_selector(EXPLORER, timeout=60_000)
+    root.query_selector("[data-testid=upload]").set_input_files(
+        files=[{"name": "block.png", "mimeType": "image/png", "buffer": encoded.getvalue()}])
+    assert wait_python(lab, "explorer.image_size", lambda size: size == [80, 60]) == [80, 60]
+    curve = lab.python_json("(lambda s: s(np.linspace(*s.domain, 400)).tolist())(explorer.result.splines[0])")
+    assert np.allclose(np.min(curve, axis=0), [10, 10], atol=1.0) and np.allclose(np.max(curve, axis=0), [40, 50], atol=1.0)
+    root.query_selector("[data-testid=upload]").set_input_files(
+        files=[{"name": "notes.txt", "mimeType": "text/plain", "buffer": b"not an image"}])
+    level, message = wait_python(lab, "[explorer.status_level, explorer.status_message]",
+                                 lambda status: "notes.txt" in status[1])
+    assert level == "error" and lab.python_json("explorer.image_size") == [80, 60]
+
+
+def test_editing_keys_wait_while_a_point_is_dragged(lab):
+    """Delete during a drag would hand the drag's next moves (which name the point by index) to the next point."""
+    page, root = open_editor(lab)
+    before = lab.python_json("editor.points")
+    x, y = root.evaluate("el => el.__splinecraft.screenPoint(2)")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(1, 6):
+        page.mouse.move(x + 5 * k, y + 5 * k)
+        page.wait_for_timeout(30)
+    page.keyboard.press("Delete")
+    for k in range(6, 12):
+        page.mouse.move(x + 5 * k, y + 5 * k)
+        page.wait_for_timeout(30)
+    target = root.evaluate("(el, xy) => el.__splinecraft.dataOf(xy[0], xy[1])", [x + 55, y + 55])
+    page.mouse.up()
+    after = wait_drag_released(lab, 2)
+    assert len(after) == len(before) and math.dist(after[2], target) < 0.5
+    assert after[:2] == before[:2] and after[3:] == before[3:]
+
+
+def test_a_number_box_refuses_a_value_that_is_no_finite_number(lab):
+    """1e999 (which the number box reads as no number) and an empty box used to arrive as null, which t reads as
+    "slider off": they are refused with a message and t keeps its value."""
+    page, root = open_editor(lab)
+    root.query_selector("[data-testid=t-on]").check()
+    t = wait_python(lab, "editor.t", lambda value: value is not None)
+    box = root.query_selector("[data-testid=t-number]")
+    for typed, words in (("1e999", "is not a number"), ("-1e999", "is not a number"), ("", "is not a number")):
+        box.fill(typed)
+        box.press("Enter")
+        status = wait_python(lab, "[editor.status_level, editor.status_message]", lambda s: words in s[1])
+        assert status[0] == "error" and lab.python_json("editor.t") == t
+        assert root.query_selector("[data-testid=t-on]").is_checked()
+
+
+def test_a_released_point_is_grabbed_where_it_is_drawn_before_the_kernel_answers(lab):
+    page, root = open_editor(lab)
+    x, y = root.evaluate("el => el.__splinecraft.screenPoint(2)")
+    view = lab.python_json("editor.view")
+    page.evaluate("() => window.jupyterapp.shell.currentWidget.sessionContext.session.kernel"
+                  ".requestExecute({code: 'import time; time.sleep(2)'})")  # the kernel is busy for 2 s
+    page.wait_for_timeout(200)
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(1, 11):
+        page.mouse.move(x + 6 * k, y)
+        page.wait_for_timeout(15)
+    page.mouse.up()
+    page.wait_for_timeout(100)
+    page.mouse.move(x + 60, y)  # where the page draws the point now, before the kernel has answered
+    page.mouse.down()
+    for k in range(1, 11):
+        page.mouse.move(x + 60, y + 5 * k)
+        page.wait_for_timeout(15)
+    target = root.evaluate("(el, xy) => el.__splinecraft.dataOf(xy[0], xy[1])", [x + 60, y + 50])
+    page.mouse.up()
+    point = wait_python(lab, "editor.points[2]", lambda p: math.dist(p, target) < 0.5, timeout=30)
+    assert math.dist(point, target) < 0.5 and lab.python_json("editor.view") == view  # grabbed, not panned
+
+
+@pytest.mark.parametrize("cell, selector, window", [(EDITOR_CELL, EDITOR, 560), (EXPLORER_CELL, EXPLORER, 640)])
+def test_every_control_stays_reachable_in_a_narrow_cell(lab, cell, selector, window):
+    """A canvas wider than the cell used to clip the side panel (overflow hidden): the panel now wraps below
+    the canvas and a canvas wider than the cell scrolls."""
+    lab.page.set_viewport_size({"width": window, "height": 1000})
+    page = lab.open_notebook([cell])
+    page.evaluate("() => window.jupyterapp.shell.collapseLeft()")
+    root = page.wait_for_selector(selector, timeout=60_000)
+    page.wait_for_timeout(1500)
+    # each control: in the widget's width without scrolling it sideways, and the element at its centre once the
+    # notebook has scrolled it into view vertically
+    unreachable = root.evaluate("""(root) => {
+        const out = [];
+        for (const el of root.querySelectorAll('input, select, button')) {
+          const r = el.getBoundingClientRect();
+          if (!r.width || !r.height) continue;
+          el.scrollIntoView({block: 'center', inline: 'nearest'});
+          root.scrollLeft = 0;
+          const box = root.getBoundingClientRect(), b = el.getBoundingClientRect();
+          const cx = b.left + b.width / 2, cy = b.top + b.height / 2, hit = document.elementFromPoint(cx, cy);
+          if (cx < box.left || cx > box.right || !(hit && (hit === el || el.contains(hit) || hit.contains(el))))
+            out.push(el.dataset.testid || el.tagName);
+        }
+        return out;
+      }""")
+    assert unreachable == []

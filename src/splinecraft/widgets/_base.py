@@ -90,19 +90,28 @@ class Int(t.Int):
         return super().validate(obj, value)
 
 
+#: The texts a page's number box sends for a value that is no finite number (JSON has no NaN or infinity):
+#: read as those floats, which the widget then refuses with its own message (``js/common.js`` ``sliderRow``).
+NONFINITE_TEXT = {"NaN": math.nan, "Infinity": math.inf, "-Infinity": -math.inf}
+
+
 class Float(t.Float):
-    """A float trait that refuses bools; ints and numpy numbers become floats."""
+    """A float trait that refuses bools; ints and numpy numbers become floats, and the texts of
+    :data:`NONFINITE_TEXT` their floats."""
 
     def validate(self, obj, value):
         if isinstance(value, (bool, np.bool_)):
             self.error(obj, value)
         if isinstance(value, (np.floating, np.integer)):
             value = float(value)
+        if isinstance(value, str) and value in NONFINITE_TEXT:
+            value = NONFINITE_TEXT[value]
         return super().validate(obj, value)
 
 
 class NumberList(t.List):
-    """A list of numbers; numpy arrays are accepted, ``None`` items (NaN from the page) become NaN, bools are refused.
+    """A list of numbers; numpy arrays are accepted, ``None`` items and the texts of :data:`NONFINITE_TEXT` (from the
+    page) become NaN or infinities, bools are refused.
 
     A single number is broadcast to the list's current length (``editor.point_tension = 2.0`` sets every
     point's tension, as the constructor's ``point_tension=2.0`` does); the widget then checks the values."""
@@ -116,6 +125,7 @@ class NumberList(t.List):
         if isinstance(value, np.ndarray):
             value = value.tolist()
         if isinstance(value, (list, tuple)):
+            value = [NONFINITE_TEXT[v] if isinstance(v, str) and v in NONFINITE_TEXT else v for v in value]
             if not all(v is None or (isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_)))
                        for v in value):
                 raise t.TraitError(f"{self.name} must be a list of numbers")

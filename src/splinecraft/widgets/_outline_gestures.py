@@ -76,7 +76,7 @@ class OutlineGestures:
             y = read_number(content, "y", low=-MAX_COORDINATE, high=MAX_COORDINATE)
             final = read_bool(content, "final")
             start = self._gesture_start(kind, read_int(content, "gesture", low=0, high=2**53))
-            new = check_outline_reach(edit(start, contour, knot, (x, y)))
+            new = check_outline_reach(edit(start, contour, knot, (x, y)), start)
         except (TypeError, ValueError) as exc:
             self._refuse_gesture(exc, seq, content.get("final") is True)
             return
@@ -108,7 +108,7 @@ class OutlineGestures:
             final = read_bool(content, "final")
             start = self._gesture_start("transform", read_int(content, "gesture", low=0, high=2**53))
             affine_parts(matrix)
-            new = check_outline_reach(start.transform(matrix, knots=knots))
+            new = check_outline_reach(start.transform(matrix, knots=knots), start)
         except (TypeError, ValueError) as exc:
             self._refuse_gesture(exc, seq, content.get("final") is True)
             return

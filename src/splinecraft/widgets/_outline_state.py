@@ -18,14 +18,41 @@ __all__ = ["OUTLINE_TRAITS", "MAX_COORDINATE", "DeviationCache", "check_outline_
 OUTLINE_TRAITS = {"contours": "points", "corners": "corners", "point_tension": "point_tension",
                   "interval_weights": "interval_weights", "handles_in": "handles_in", "handles_out": "handles_out"}
 _HANDLES = ("handles_in", "handles_out")
-def check_outline_reach(outline: Outline) -> Outline:
-    """``outline`` when every control point of its pieces lies within ±:data:`MAX_COORDINATE`, else a
-    ``ValueError`` naming the contour and the point (as :func:`check_reach`)."""
+#: How far (in sizes of the box of a contour's knots and handle ends) an edited contour's control points may
+#: lie outside that box. The curve through a knot dropped (nearly) onto a neighbour with fixed handles takes
+#: tangents of the order of the handle over the remaining gap: 4e-6 px apart, a 280-px glyph reached 1e7 px.
+MAX_SPREAD = 10.0
+
+
+def _spread(contour) -> float:
+    """How far (px) the control points of ``contour`` lie outside the box of its knots and handle ends, in
+    sizes of that box."""
+    ends = [contour.points]
+    for handles in (contour.handles_in, contour.handles_out):
+        given = ~np.isnan(handles).any(axis=1)
+        ends.append(contour.points[given] + handles[given])
+    anchors = np.concatenate(ends)
+    low, high = anchors.min(axis=0), anchors.max(axis=0)
+    size = max(float((high - low).max()), 1e-300)
+    control = contour.bezier().reshape(-1, 2)
+    beyond = np.maximum(low - control, control - high).max()
+    return max(float(beyond), 0.0) / size
+
+
+def check_outline_reach(outline: Outline, before: Outline | None = None) -> Outline:
+    """``outline`` when every control point of its pieces lies within ±:data:`MAX_COORDINATE` and, in each
+    contour that is not one of ``before``'s (an edit's result against the outline it edited), within
+    :data:`MAX_SPREAD` sizes of the box of the contour's knots and handle ends; else a ``ValueError`` naming the
+    contour (and the point, as :func:`check_reach`)."""
+    kept = set() if before is None else {id(contour) for contour in before.contours}
     for k, contour in enumerate(outline.contours):
         try:
             check_reach(contour.bezier(), "control point")
         except ValueError as exc:
             raise ValueError(f"contour {k}: {exc}") from None
+        if id(contour) not in kept and _spread(contour) > MAX_SPREAD:
+            raise ValueError(f"contour {k}: the edit would throw the curve {_spread(contour):.3g} times its size "
+                             "beyond its knots and handles (a knot dropped onto its neighbour?)")
     return outline
 
 

@@ -247,7 +247,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         """Run ``edit(outline)``; a refusal (or a result beyond the editor's reach, :func:`check_outline_reach`)
         keeps the last good outline and says why."""
         try:
-            new = check_outline_reach(edit(self._outline))
+            new = check_outline_reach(edit(self._outline), self._outline)
         except (TypeError, ValueError) as exc:
             self._reject(exc)
             return self._outline
@@ -358,7 +358,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
     def _outline_from_traits(self, changed=None) -> Outline:
         return check_outline_reach(outline_from_lists(self._outline, self.contours, self.corners, self.point_tension,
                                                       self.interval_weights, self.handles_in, self.handles_out,
-                                                      changed=changed))
+                                                      changed=changed), self._outline)
 
     @t.validate("export_path")
     def _valid_export_path(self, proposal):
@@ -437,6 +437,7 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         try:
             for contour, knot in pairs:
                 outline = outline.delete_knot(contour, knot)
+            check_outline_reach(outline, self._outline)
         except ValueError as exc:
             self._reject(exc)
             return
@@ -452,14 +453,15 @@ class OutlineEditor(OutlineGestures, WidgetBase):
         outline = self._outline
         for contour, knots in self._grouped_selection().items():
             outline = outline.set_point_tension(contour, knots, value)
-        self._commit(outline, f"Point tension {value:g} at the selected knots")
+        self._commit(check_outline_reach(outline, self._outline), f"Point tension {value:g} at the selected knots")
 
     def _on_weight(self, content, _buffers):
         value = read_number(content, "value", low=0.0, inclusive=(False, True))  # omega > 0 (thesis §2.2)
         outline = self._outline
         for contour, knots in self._grouped_selection().items():
             outline = outline.set_interval_weight(contour, knots, value)
-        self._commit(outline, f"Interval weight {value:g} on the pieces after the selected knots")
+        self._commit(check_outline_reach(outline, self._outline),
+                     f"Interval weight {value:g} on the pieces after the selected knots")
 
     def _on_reflect(self, content, _buffers):
         axis = read_str(content, "axis", choices=("vertical", "horizontal"))

@@ -29,7 +29,7 @@ from ..capture.image import InkPolarityWarning
 from ..capture.trace_stages import TraceStages
 from . import _explorer_drawing as drawing
 from ._assets import load_css, load_esm
-from ._base import Bool, Float, Int, WidgetBase, read_str, run_with_budget, short_reason
+from ._base import Bool, Float, Int, WidgetBase, json_numbers, read_str, run_with_budget, short_reason
 from ._png import curves_png
 
 __all__ = ["TraceExplorer", "TraceExplorerWarning", "demo_bitmap", "corner_param_specs"]
@@ -185,8 +185,8 @@ class TraceExplorer(WidgetBase):
     corner_method = t.Unicode("").tag(sync=True)
     corner_params = t.Dict().tag(sync=True)
     method = t.Unicode("").tag(sync=True)
-    epsilon = Float(2.0, allow_none=True).tag(sync=True)
-    tau = Float(None, allow_none=True).tag(sync=True)
+    epsilon = Float(2.0, allow_none=True).tag(sync=True, to_json=json_numbers)
+    tau = Float(None, allow_none=True).tag(sync=True, to_json=json_numbers)
     seed = Int(0, allow_none=True).tag(sync=True)
     max_iterations = Int(200, min=1, max=100_000).tag(sync=True)
     threshold = t.Unicode("otsu").tag(sync=True)

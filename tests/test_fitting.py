@@ -787,3 +787,29 @@ def test_a_stuck_small_outline_is_fitted_by_the_regression_spline():
     assert fitted.converged and fitted.info["fallback_from"]["method"] == "small-outline"
     assert fitted.info["fallback_from"]["hausdorff"] == stuck.hausdorff
     assert fitted.hausdorff <= fitted.info["tolerance_near_corners"] + 1e-9
+
+
+@pytest.mark.parametrize("corner", [30, 102, 159])
+def test_one_corner_anywhere_starts_and_ends_every_knot_list(corner):
+    """With one corner the loop is split at the half-way point and reported as one piece from the corner round to
+    it: the knot lists start and end there wherever it lies (a corner past the half-way point gave lists that
+    started at the half-way point), and the fuzzy method keeps its weights in info."""
+    angle = np.linspace(0, 2 * np.pi, 160, endpoint=False)
+    points = np.column_stack([40 * np.cos(angle), 40 * np.sin(angle)])
+    fit = fit_outline(points, [corner], method="fuzzy", epsilon=0.3, seed=0)
+    assert fit.pieces == [(corner, corner)]
+    for knots in [fit.knot_indices[0]] + [s.knot_indices[0] for s in fit.snapshots]:
+        assert knots[0] == knots[-1] == corner
+    np.testing.assert_allclose(fit.spline.bezier()[0, 0], points[corner], atol=1e-9)
+    assert fit.info["fuzzy_weights"] == [0.7, 0.3]
+
+
+def test_small_outline_is_refused_for_the_thesis_methods():
+    points = np.column_stack([np.cos(np.linspace(0, 6.2, 40)), np.sin(np.linspace(0, 6.2, 40))]) * 20
+    with pytest.raises(ValueError, match="small_outline is used by the method 'lsq' only"):
+        fit_outline(points, [], method="random", small_outline=10)
+    from splinecraft.capture.trace import trace
+
+    with pytest.raises(ValueError, match=r"fit_params\['small_outline'\] is used by the method 'lsq' only"):
+        trace(np.pad(np.ones((20, 20), bool), 5), method="random", fit_params={"small_outline": 10})
+    assert fit_outline(points, [], small_outline=10).converged is not None  # lsq takes it

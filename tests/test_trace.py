@@ -601,3 +601,17 @@ def test_pixel_chains_of_thin_strokes_trace_with_the_thesis_methods(method):
                            keep_snapshots=False)
             assert len(result.splines) == result.stats["boundaries"] >= 1
             assert all(np.isfinite(s.bezier()).all() for s in result.splines)
+
+
+def test_the_documented_child_seed_refits_a_boundary_alike():
+    """trace's docstring names boundary k's seed; fit_outline with it gives that boundary's fit bit for bit."""
+    from splinecraft.capture.fitting import fit_outline
+
+    yy, xx = np.mgrid[0:80, 0:80] + 0.5
+    mask = ((xx - 25) ** 2 + (yy - 40) ** 2 < 15 ** 2) | ((xx - 60) ** 2 + (yy - 40) ** 2 < 12 ** 2)
+    result = trace(mask, method="random", seed=7, corner_method="srm05")
+    for k in range(len(result.splines)):
+        child = int(np.random.SeedSequence(7, spawn_key=(k,)).generate_state(1, dtype=np.uint32)[0])
+        again = fit_outline(result.points[k], result.corners[k], method="random", seed=child,
+                            epsilon=result.stats["tolerance"])
+        np.testing.assert_array_equal(again.spline.bezier(), result.splines[k].bezier())

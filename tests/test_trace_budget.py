@@ -268,3 +268,32 @@ def test_a_passed_deadline_stops_the_corner_releases_and_skips_tightening(monkey
     assert not stopped.converged and stopped.info["reason"] == BUDGET_REASON.format(budget=1e-9)
     assert calls == {"fit": 1, "tighten": 0}
     assert np.isfinite(stopped.hausdorff) and stopped.hausdorff > 0.8  # the bound is reported, above the tolerance
+
+
+@pytest.mark.parametrize("corners", [[], [0, 100, 200, 300]])
+@pytest.mark.parametrize("method", ["random", "fuzzy"])
+def test_thesis_rounds_stop_at_a_passed_deadline(method, corners):
+    """The thesis methods' insertion rounds stop at the deadline too (they ran their max_iterations for tens of
+    seconds under time_budget=0.3), with the same reason as lsq's; without one they run."""
+    from splinecraft.capture.fitting.thesis import fit_thesis
+
+    angle = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    radius = 40 + 3 * np.sin(23 * angle)
+    points = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    options = check_options(method, {})
+    corner_array = np.array(corners, np.int64)
+    stopped = fit_thesis(points, corner_array, 0.05, method, None, np.random.default_rng(0), 200, True, options,
+                         Deadline(1e-9))
+    assert not stopped.converged and stopped.iterations == 0 and len(stopped.snapshots) == 1
+    assert stopped.info["reason"] == BUDGET_REASON.format(budget=1e-9)
+    free = fit_outline(points, corners, method=method, epsilon=0.05, max_iterations=3, keep_snapshots=False, seed=0)
+    assert free.iterations == 3 and free.info["reason"] is None
+
+
+def test_a_trace_with_a_thesis_method_keeps_its_time_budget():
+    yy, xx = np.mgrid[0:400, 0:400] + 0.5
+    disc = (xx - 200) ** 2 + (yy - 200) ** 2 <= 190 ** 2
+    result = trace(disc, method="random", epsilon=0.3, max_iterations=1500, time_budget=0.3, keep_snapshots=False,
+                   seed=0)
+    assert result.stats["per_boundary"][0]["budget"] in ("stopped", "polygon")
+    assert any("time budget of 0.3 s" in note for note in result.notes)

@@ -518,3 +518,15 @@ def test_percentile_is_numpys_bit_for_bit(seed, size, percent, values):
     got = _percentile(data.copy(), percent)
     assert got == expected or (np.isnan(got) and np.isnan(expected)), (got, expected)
     assert type(got) is float
+
+
+@pytest.mark.parametrize("method", ["lsq", "random"])
+def test_pixel_chains_are_measured_for_noise_on_their_crack_outlines(method):
+    """contour="pixels" fits pixel centres, which lie inside the crack outline the noise estimate is made for: a
+    clean disc read 0.75 px and its tolerance went up to 1.5 px; measured on its crack outline it keeps epsilon."""
+    yy, xx = np.mgrid[0:120, 0:120] + 0.5
+    disc = (xx - 60) ** 2 + (yy - 60) ** 2 <= 45 ** 2
+    outline = trace(disc, method=method, seed=0)
+    pixels = trace(disc, method=method, contour="pixels", seed=0)
+    assert pixels.stats["boundary_noise"] == pytest.approx(outline.stats["boundary_noise"])
+    assert pixels.stats["boundary_noise"] < CLEAN_NOISE and pixels.stats["tolerance"] == 0.8

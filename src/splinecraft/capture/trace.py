@@ -154,7 +154,8 @@ def trace(
         :func:`splinecraft.capture.corners.check_params`): a bad value raises naming the key and its range.
     seed : int >= 0 or None
         Seed of the random algorithms. Boundary ``k`` uses the independent child seed
-        ``SeedSequence(seed, spawn_key=(k,))``, so runs with the same seed are identical.
+        ``int(SeedSequence(seed, spawn_key=(k,)).generate_state(1, dtype=np.uint32)[0])`` (``fit_outline(...,
+        seed=that)`` refits it alike), so runs with the same seed are identical.
     max_iterations : int >= 1
         Bound on knot-insertion iterations per boundary (never a hang).
     keep_snapshots : bool
@@ -310,7 +311,7 @@ def trace(
         def measure_noise():
             if noise_factor <= 0:
                 return 0.0, {}, True
-            noise = boundary_noise(mask, [points_list[k] for k in with_corners], [corner_list[k] for k in with_corners])
+            noise = boundary_noise(mask, *_noise_contours(boundaries, points_list, corner_list, with_corners, contour))
             return (noise, *_coarse_corners(points_list, noise, undetected, settings, corner_deadline))
 
         (noise, coarse, _), _ = stages.remember("noise", (key, noise_factor > 0), measure_noise,
@@ -448,7 +449,7 @@ def _check_arguments(*, epsilon, method, corner_method, corner_params, seed, max
     fit_params = _validation.check_options(fit_params, "fit_params", reserved=_OWN_ARGUMENTS,
                                            reserved_reason="pass it to trace() itself")
     options = dict(fit_params)
-    small_limit = check_small_outline(options.pop("small_outline", None), "fit_params['small_outline']")
+    small_limit = check_small_outline(options.pop("small_outline", None), "fit_params['small_outline']", method_name)
     return {"epsilon": epsilon, "max_iterations": max_iterations, "keep_snapshots": keep_snapshots, "seed": seed,
             "method": method_name, "tau": check_tau(tau, method_name), "corner_method": corner_method,
             "corner_params": corner_params, "fit_params": fit_params,
@@ -609,6 +610,25 @@ def _coarse_corners(points_list, noise, undetected, settings, deadline):
         if scale > 1.0:
             coarse[k] = (scale, _detect(points, k, "tangent-jump", {**settings["corner_params"], "scale": scale}, []))
     return coarse, True
+
+
+def _noise_contours(boundaries, points_list, corner_list, chosen, contour):
+    """The contours and corners of the boundaries ``chosen`` that the noise estimate measures: their crack outlines,
+    its reference (:func:`~.fitting.noise.boundary_noise`). With ``contour="pixels"`` the fitted contours are pixel
+    chains, whose centres lie inside the crack outline (a clean disc read 0.75 px of noise instead of 0.27 and its
+    tolerance went up): each chain's corners go to the nearest point of its crack outline."""
+    if contour == "outline":
+        return [points_list[k] for k in chosen], [corner_list[k] for k in chosen]
+    from scipy.spatial import cKDTree
+
+    outlines = _contour_points(boundaries, "outline", [])
+    contours, corners = [], []
+    for k in chosen:
+        found = np.asarray(corner_list[k], dtype=np.int64)
+        nearest = cKDTree(outlines[k]).query(points_list[k][found])[1] if found.size else found
+        contours.append(outlines[k])
+        corners.append(np.unique(np.asarray(nearest, dtype=np.int64)))
+    return contours, corners
 
 
 def _contour_points(boundaries, contour, notes):

@@ -145,7 +145,7 @@ def fit_outline(points, corner_indices, *, closed=True, epsilon=DEFAULT_EPSILON,
     rng = make_rng(seed)
     max_iterations = check_count(max_iterations, "max_iterations", 1)
     keep_snapshots = check_flag(keep_snapshots, "keep_snapshots")
-    small_outline = check_small_outline(small_outline)
+    small_outline = check_small_outline(small_outline, method=method)
     opts = check_options(method, options)
     return fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline,
                        opts)
@@ -159,7 +159,7 @@ def routes_to_small(method, point_count, small_outline):
 def fit_trusted(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, small_outline, opts,
                 deadline=None, pixel_corners=None, pinholes=None):
     """:func:`fit_outline` on checked arguments: route the contour to its family (``deadline``, a
-    :class:`~.budget.Deadline`, stops the knot rounds of ``"lsq"``); BLAS on one thread (:mod:`._threads`).
+    :class:`~.budget.Deadline`, stops the knot rounds of every method); BLAS on one thread (:mod:`._threads`).
     ``pixel_corners``: the contour's :class:`~splinecraft.capture._pixel_corners.PixelCorners` where the caller
     has found them (trace's corner stage), for the corner tips of ``"lsq"`` and the small-outline path; ``None``:
     found where needed. ``pinholes``: the centres of the pinholes trace filled near the contour, for the notch
@@ -182,7 +182,7 @@ def _fit_routed(points, corners, epsilon, method, tau, rng, max_iterations, keep
                             pixel_corners, pinholes)
         # collapsed on a thin stroke (small.keeps_area): the regression spline of "lsq" below follows the cracks
     if method != "lsq":
-        return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts)
+        return fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep_snapshots, opts, deadline)
     result = fit_lsq(points, corners, epsilon, max_iterations, keep_snapshots, opts, deadline, pixel_corners,
                      pinholes)
     if not result.converged and not result.info["reason"] and opts["joint_continuity"] == 1:

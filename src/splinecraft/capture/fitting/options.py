@@ -142,10 +142,13 @@ def make_rng(seed):
     return np.random.default_rng(seed)
 
 
-def check_small_outline(small_outline, name="small_outline"):
-    """The small-outline threshold (``None``: :data:`SMALL_OUTLINE`)."""
+def check_small_outline(small_outline, name="small_outline", method="lsq"):
+    """The small-outline threshold (``None``: :data:`SMALL_OUTLINE`); given for another ``method`` than ``"lsq"``
+    (which has no small-outline path) a ``ValueError``, as the other options a method does not take."""
     if small_outline is None:
         return SMALL_OUTLINE
+    if method != "lsq":
+        raise ValueError(f"{name} is used by the method 'lsq' only (its small-outline path), not {method!r}")
     return _validation.check_int(small_outline, name, minimum=0)
 
 

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ...spline import Spline, interpolate
+from .budget import BUDGET_REASON
 from .geometry import piece_deviation
 from .options import STALL_ITERATIONS
 from .results import FitResult, Snapshot
@@ -236,15 +237,23 @@ def _closed_pieces(n, corners):
     return out
 
 
-def fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep, opts):
-    """Algs 4.1-4.6 on a checked contour (corners sorted and unique; ``opts`` from ``check_options``)."""
+def _stopped(deadline):
+    """``info["reason"]`` of a fit whose rounds ``deadline`` (a :class:`~.budget.Deadline` or None) stopped (None:
+    it did not)."""
+    return BUDGET_REASON.format(budget=deadline.budget) if deadline is not None and deadline.passed() else None
+
+
+def fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep, opts, deadline=None):
+    """Algs 4.1-4.6 on a checked contour (corners sorted and unique; ``opts`` from ``check_options``); the
+    insertion rounds stop once ``deadline`` (a :class:`~.budget.Deadline`) has passed, with ``info["reason"]``
+    saying so."""
     n = points.shape[0]
     engine, stride, weights = opts["engine"], opts["tangent_stride"], opts["fuzzy_weights"]
     if corners.shape[0] == 0:
-        return _fit_thesis_periodic(points, epsilon, method, tau, rng, max_iterations, keep, opts)
-    if corners.shape[0] == 1:  # split the loop at the half-way point (two distinct consecutive knots)
-        c = int(corners[0])
-        corners_for_pieces = np.array(sorted([c, (c + n // 2) % n]))
+        return _fit_thesis_periodic(points, epsilon, method, tau, rng, max_iterations, keep, opts, deadline)
+    if corners.shape[0] == 1:  # split the loop at the half-way point (two distinct consecutive knots); the first
+        c = int(corners[0])   # piece starts at the corner, which _merge_single_corner's knot lists start and end at
+        corners_for_pieces = np.array([c, (c + n // 2) % n])
     else:
         corners_for_pieces = corners
     pieces = [_ThesisPiece(k, idx, points, engine, stride)
@@ -264,7 +273,7 @@ def fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep,
     snapshots = [snap(0, [], "initial", False)] if keep else []
     thesis_stop_iteration = None
     iteration = 0
-    while not all(p.finished for p in pieces) and iteration < max_iterations:
+    while not all(p.finished for p in pieces) and iteration < max_iterations and not _stopped(deadline):
         iteration += 1
         candidates, additions, thesis_pass = _thesis_iteration(pieces, method, epsilon, tau, weights, rng)
         if not thesis_pass and thesis_stop_iteration is None:
@@ -285,7 +294,8 @@ def fit_thesis(points, corners, epsilon, method, tau, rng, max_iterations, keep,
         max_error=float(max(p.errors.max() for p in pieces)), hausdorff=float(max(p.deviation for p in pieces)),
         converged=all(p.finished for p in pieces), knots_inserted=knots_inserted, method=method, epsilon=epsilon,
         thesis_stop_iteration=thesis_stop_iteration, corners_used=corners.copy(),
-        info={"tau": tau, "tangent_stride": stride, "fuzzy_weights": list(weights) if method == "fuzzy" else None})
+        info={"tau": tau, "tangent_stride": stride, "fuzzy_weights": list(weights) if method == "fuzzy" else None,
+              "reason": None if all(p.finished for p in pieces) else _stopped(deadline)})
     return result if corners.shape[0] != 1 else _merge_single_corner(result, corners)
 
 
@@ -312,7 +322,6 @@ def _merge_single_corner(result, corners):
     c = int(corners[0])
     result.pieces = [(c, c)]
     result.knot_indices = [np.concatenate([first, second[1:]])]
-    result.info = {"tau": result.info["tau"], "tangent_stride": result.info["tangent_stride"]}
     return result
 
 
@@ -367,7 +376,7 @@ class _PeriodicThesisPiece(_ThesisPiece):
         return int(closed_knots[max(pos - 1, 0)]), int(closed_knots[min(pos, closed_knots.shape[0] - 1)])
 
 
-def _fit_thesis_periodic(points, epsilon, method, tau, rng, max_iterations, keep, opts):
+def _fit_thesis_periodic(points, epsilon, method, tau, rng, max_iterations, keep, opts, deadline=None):
     n = points.shape[0]
     piece = _PeriodicThesisPiece(points, opts["engine"], [0, n // 3, (2 * n) // 3])
     piece.fit()
@@ -382,7 +391,7 @@ def _fit_thesis_periodic(points, epsilon, method, tau, rng, max_iterations, keep
 
     snapshots = [snap(0, [], "initial", False)] if keep else []
     iteration, thesis_stop_iteration = 0, None
-    while not piece.finished and iteration < max_iterations:
+    while not piece.finished and iteration < max_iterations and not _stopped(deadline):
         iteration += 1
         # candidates anywhere on the loop except index 0 (eq 4.10 over P_1 .. P_{n-1})
         candidates, additions, thesis_pass = _thesis_iteration([_PeriodicView(piece)], method, epsilon, tau,
@@ -402,7 +411,7 @@ def _fit_thesis_periodic(points, epsilon, method, tau, rng, max_iterations, keep
                      hausdorff=float(piece.deviation), converged=bool(piece.finished),
                      knots_inserted=int(piece.knots.shape[0]), method=method, epsilon=epsilon,
                      thesis_stop_iteration=thesis_stop_iteration, corners_used=np.zeros(0, dtype=np.int64),
-                     info={"tau": tau})
+                     info={"tau": tau, "reason": None if piece.finished else _stopped(deadline)})
 
 
 class _PeriodicView:

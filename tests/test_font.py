@@ -241,27 +241,11 @@ def test_a_glyph_named_by_its_outline_says_whose_name_it_is():
 def _nested_squares_font(path, *, same_turn):
     """A TrueType font whose glyph A is a square with a smaller square inside, of the same turn (nonzero: ink
     inside, as overlapping components leave) or of the opposite turn (a hole)."""
-    from fontTools.fontBuilder import FontBuilder
-    from fontTools.pens.ttGlyphPen import TTGlyphPen
+    from line_fonts import line_font
 
-    pen = TTGlyphPen(None)
-    for x0, y0, x1, y1, turn in ((100, 0, 700, 600, 1), (300, 200, 500, 400, 1 if same_turn else -1)):
-        corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)][::turn]
-        pen.moveTo(corners[0])
-        for corner in corners[1:]:
-            pen.lineTo(corner)
-        pen.closePath()
-    builder = FontBuilder(1000, isTTF=True)
-    builder.setupGlyphOrder([".notdef", "A"])
-    builder.setupCharacterMap({0x41: "A"})
-    builder.setupGlyf({".notdef": TTGlyphPen(None).glyph(), "A": pen.glyph()})
-    builder.setupHorizontalMetrics({".notdef": (500, 0), "A": (800, 100)})
-    builder.setupHorizontalHeader(ascent=800, descent=-200)
-    builder.setupNameTable({"familyName": "Nested", "styleName": "Regular"})
-    builder.setupOS2()
-    builder.setupPost()
-    builder.save(str(path))
-    return path
+    squares = [[(x0, y0), (x1, y0), (x1, y1), (x0, y1)][::turn]
+               for x0, y0, x1, y1, turn in ((100, 0, 700, 600, 1), (300, 200, 500, 400, 1 if same_turn else -1))]
+    return line_font(path, "A", 0x41, squares, 800, family="Nested")
 
 
 @pytest.mark.parametrize("same_turn", [True, False])

@@ -175,26 +175,12 @@ def test_names_and_style_linking(tmp_path, style, fs_selection, mac_style, weigh
 def test_a_truetype_plus_of_overlapping_contours_keeps_its_centre(tmp_path):
     """A TrueType "+" whose second contour starts at a point inside the first: the font fills the overlap by the
     nonzero rule, and so do the rebuilt OTF and TTF (both bars outer, the same direction), not a hole."""
-    from fontTools.fontBuilder import FontBuilder
     from fontTools.pens.pointInsidePen import PointInsidePen
-    from fontTools.pens.ttGlyphPen import TTGlyphPen
+    from line_fonts import line_font
 
-    pen = TTGlyphPen(None)
-    for contour in ([(0, 40), (0, 80), (200, 80), (200, 40)], [(80, 60), (80, 200), (120, 200), (120, 0), (80, 0)]):
-        pen.moveTo(contour[0])
-        for point in contour[1:]:
-            pen.lineTo(point)
-        pen.closePath()
-    builder = FontBuilder(1000, isTTF=True)
-    builder.setupGlyphOrder([".notdef", "plus"])
-    builder.setupCharacterMap({ord("+"): "plus"})
-    builder.setupGlyf({".notdef": TTGlyphPen(None).glyph(), "plus": pen.glyph()})
-    builder.setupHorizontalMetrics({".notdef": (500, 0), "plus": (300, 0)})
-    builder.setupHorizontalHeader(ascent=800, descent=-200)
-    builder.setupNameTable({"familyName": "Plus", "styleName": "Regular"})
-    builder.setupOS2()
-    builder.setupPost()
-    builder.save(tmp_path / "plus.ttf")
+    line_font(tmp_path / "plus.ttf", "plus", ord("+"), [[(0, 40), (0, 80), (200, 80), (200, 40)],
+                                                        [(80, 60), (80, 200), (120, 200), (120, 0), (80, 0)]], 300,
+              family="Plus")
 
     def winding(path, point):
         ttfont = TTFont(path)

@@ -6,7 +6,7 @@
 #       extension: .py
 #       format_name: percent
 #       format_version: '1.3'
-#       jupytext_version: 1.19.6
+#       jupytext_version: 1.19.7
 #   kernelspec:
 #     display_name: Python 3
 #     language: python
@@ -147,7 +147,7 @@ segment_change = float(np.abs(segment_editor.spline.bezier() - before).max())
 print(f"α 3 → 5 moved the segment's Bézier points by up to {segment_change:.1f} px")
 
 # %% [markdown]
-# **Interpolant mode.** Switch the class preset between Ball, Bézier and Timmer with *Bézier points* on: the
+# **Interpolant mode.** Switch the class preset between Ball, Bézier and Timmer with *class points V, W* on: the
 # dashed polygon moves, the curve stays exactly where it is (the widget says so too).
 
 # %%

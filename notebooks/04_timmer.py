@@ -6,7 +6,7 @@
 #       extension: .py
 #       format_name: percent
 #       format_version: '1.3'
-#       jupytext_version: 1.19.6
+#       jupytext_version: 1.19.7
 #   kernelspec:
 #     display_name: Python 3
 #     language: python
@@ -75,8 +75,9 @@ g2_profile = sc.plot.curvature_profile(g2)
 sc.plot.curvature_figure(g2, width=760)
 
 # %% [markdown]
-# The κ(t) plot marks the same joints: a red bar from κ(tᵢ⁻) to κ(tᵢ⁺) wherever no root was found (the closing
-# joint, back at P₀, is the last knot).
+# The κ(t) plot marks the same joints in red: a bar from κ(tᵢ⁻) to κ(tᵢ⁺) wherever no root was found (the closing
+# joint, back at P₀, is the last knot). Here the jumps are tiny (the table above: 10⁻⁵ to 10⁻⁴), so the bars
+# are dots at t = 3, 10 and 14; on noisier points they grow.
 #
 # ## 3. Algorithm 3.2: GC¹ with shape control (Figs 3.39–3.45)
 #
@@ -177,22 +178,28 @@ sc.plot.grid(sc.plot.curvature_figure(thesis_joint, width=460), sc.plot.curvatur
 # ## 5. Try it yourself
 #
 # The editor in Timmer G² form on the ellipse, with the curvature comb: the joints where Algorithm 3.1 finds
-# no positive root are labelled on the comb. Drag a point and watch them change. Switch the form to GC¹ or
-# GC² and move α, β; for GC² switch the joint to *true G²*.
+# no positive root are labelled on the comb (κ⁺/κ⁻). Drag a point and watch them change. Switch the form to GC¹
+# or GC² and move α, β; for GC² switch the joint to *true G²*.
 
 # %%
 editor = sc.SplineEditor(ellipse, closed=True, form="timmer_g2", show_comb=True)
 editor.panel()
 
+# %% [markdown]
+# The same from code, on a second editor (the one above stays in G² form): GC² with α = 3, β = 6 and the true G²
+# joint.
+
 # %%
 editor_g2_status = list(editor.spline.info["joint_status"])
 print("G² form, joint statuses:", editor_g2_status)
-editor.form = "timmer_gc2"
-editor.end_condition = "g2"          # the joint dropdown
-editor.alpha, editor.beta = 3.0, 6.0
-editor.fit_view()                    # the "Fit" button
-editor_jumps = [j for j in editor.spline.info["curvature_jump"] if j is not None]
+gc2_editor = sc.SplineEditor(ellipse, closed=True, form="timmer_g2", show_comb=True)
+gc2_editor.form = "timmer_gc2"
+gc2_editor.end_condition = "g2"          # the joint dropdown
+gc2_editor.alpha, gc2_editor.beta = 3.0, 6.0
+gc2_editor.fit_view()                    # the "Fit" button
+editor_jumps = [j for j in gc2_editor.spline.info["curvature_jump"] if j is not None]
 print("GC² form, true G² joint, α = 3, β = 6: largest curvature jump", max(abs(j) for j in editor_jumps))
+gc2_editor
 
 # %% [markdown]
 # ## Check

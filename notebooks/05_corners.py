@@ -6,7 +6,7 @@
 #       extension: .py
 #       format_name: percent
 #       format_version: '1.3'
-#       jupytext_version: 1.19.6
+#       jupytext_version: 1.19.7
 #   kernelspec:
 #     display_name: Python 3
 #     language: python
@@ -110,7 +110,8 @@ sc.plot.table(["detector"] + [f"{n} ({len(truth[n])})" for n in truth_shapes]
 #
 # The thesis reports 33 corners on its scan of 'Ali' and 41 on the multi-part plane. Our objects are drawn, not
 # scanned, so the numbers differ; what matters is *where* the corners land. Grey: the crack outline; dots: the
-# corners of SRM05 (orange) and of the detector `sc.trace` uses by default (blue).
+# corners of SRM05 (large, orange) and of the detector `sc.trace` uses by default (small, blue: where the two
+# agree, a blue dot inside an orange one).
 
 # %%
 capture_default = sc.trace(sc.datasets.shape("square", 48), keep_snapshots=False).params["corner_method"]
@@ -122,7 +123,7 @@ for name, contours in object_contours.items():
     count_rows.append([sc.datasets.THESIS_TITLES[name], sum(len(c) for c in contours)]
                       + [len(detect(method, contours)[0]) for method in methods])
     plots.append(sc.plot.figure([sc.plot.line(contour, "#9e9e9e", 1.0, closed=True) for contour in contours],
-                                sc.plot.points(detect("srm05", contours)[0], sc.plot.PALETTE[1], 36, label="SRM05"),
+                                sc.plot.points(detect("srm05", contours)[0], sc.plot.PALETTE[1], 110, label="SRM05"),
                                 sc.plot.points(detect(capture_default, contours)[0], sc.plot.PALETTE[0], 16,
                                                label=capture_default),
                                 title=name, width=440, height=330))

@@ -6,7 +6,7 @@
 #       extension: .py
 #       format_name: percent
 #       format_version: '1.3'
-#       jupytext_version: 1.19.6
+#       jupytext_version: 1.19.7
 #   kernelspec:
 #     display_name: Python 3
 #     language: python
@@ -73,13 +73,18 @@ sc.plot.grid(*[sc.plot.outline_figure(ali, i, width=420, height=290,
 
 # %% [markdown]
 # These are the thesis's Figs 4.12–4.14 for our 'Ali': at iteration 0 the pieces join corner to corner and cut
-# across the letters; every iteration inserts knots where pieces are still farther than ε from the contour.
+# across the letters; every iteration inserts knots where pieces are still farther than ε from the contour. In
+# the table, `max_error` is the thesis's error measure (eq 4.11: each contour point against the curve point at
+# its chord-length parameter), which can stay above ε; the fit stops on the distance from each contour point to
+# the nearest point of the curve, `hausdorff`, which is within ε when `converged` is True.
 #
 # ## 3. Step through it yourself
 #
 # The TraceExplorer below starts with Alg 4.6 (fuzzy) on 'Ali'. Use ◀ ▶ (or play) to step through the
-# iterations: accepted candidates are drawn green, rejected ones red, with the reason in the side panel; the plot
-# under it shows knots and maximum error per iteration. Change the algorithm, ε, τ or the seed and compare.
+# iterations: accepted candidates are green dots, rejected ones orange crosses, and the side panel counts them
+# (each candidate's reason is in `explorer.result.snapshots[i].snapshots[b].candidates`); the plot under it shows
+# knots and maximum error per iteration. Change the algorithm, ε, τ or the seed (below the panel's fold) and
+# compare.
 
 # %%
 explorer = sc.TraceExplorer(objects["ali"], method="fuzzy", epsilon=2.0, seed=0)
@@ -204,9 +209,11 @@ def scan_figure(name):
     largest = int(np.argmax(blob_sizes(result)))
     rim = next(boundary.outline for boundary in result.boundaries
                if boundary.component == largest and not boundary.is_hole)
-    return sc.plot.figure(sc.plot.outline(result), sc.plot.line(rim, sc.plot.PALETTE[4], 2.5, closed=True,
-                                                                label="largest blob"),
-                          title=f"threshold={name!r}: {len(result.boundaries)} outlines", width=380, height=280,
+    curves = np.concatenate([spline.bezier() for spline in result.splines])  # the traced outlines, no markers
+    return sc.plot.figure(sc.plot.bezier_pieces(curves, sc.plot.PALETTE[0], 1.2, joints=False,
+                                                label="traced outlines"),
+                          sc.plot.line(rim, sc.plot.PALETTE[4], 2.5, closed=True, label="largest blob"),
+                          title=f"threshold={name!r}: {len(result.boundaries)} outlines", width=520, height=360,
                           bounds=(0, 0, scan.shape[1], scan.shape[0]))
 
 

@@ -6,7 +6,7 @@
 #       extension: .py
 #       format_name: percent
 #       format_version: '1.3'
-#       jupytext_version: 1.19.6
+#       jupytext_version: 1.19.7
 #   kernelspec:
 #     display_name: Python 3
 #     language: python
@@ -132,7 +132,7 @@ else:
 # ## 3. A close look
 #
 # The 'Ali' outline: grey (wide) is the exact outline, orange potrace, blue ours; the dots are where segments
-# join. The zoom shows the ayn's head and the tail cut: where each tracer rounds a corner or flattens an arc.
+# join. The zoom shows the ayn's head and the tail's cut end: where each tracer rounds a corner or flattens an arc.
 
 # %%
 def bezier_plot(title, beziers, color, bounds=None, width=600, height=400):
@@ -145,7 +145,7 @@ if POTRACE is not None:
     segments_potrace, _, _, potrace_pieces = comparison["ali"]["potrace"]
     result = comparison["ali"]["ours"][3]
     ours_pieces = [s.bezier() for s in result.splines]
-    zoom = (280, 60, 370, 150)                   # the ayn's head and the lam's foot, px
+    zoom = (280, 60, 400, 170)                   # the ayn's head and the tail's cut end, px
     display(sc.plot.grid(
         bezier_plot(f"potrace: {segments_potrace} segments", potrace_pieces, sc.plot.PALETTE[1]),
         bezier_plot(f"splinecraft ε = {EPSILON:g}: {result.stats['segments']} segments", ours_pieces,

@@ -6,7 +6,7 @@
 #       extension: .py
 #       format_name: percent
 #       format_version: '1.3'
-#       jupytext_version: 1.19.6
+#       jupytext_version: 1.19.7
 #   kernelspec:
 #     display_name: Python 3
 #     language: python
@@ -120,8 +120,8 @@ display(sc.plot.grid(drawing(d_outline, "traced", sc.plot.PALETTE[0]),
 # traced D, `D` the edited one, and `A` the whole word 'Ali'.
 
 # %%
-files = sc.font.build({"d": d_trace, "D": editor, "A": ali_trace}, family="Scan Sans",
-                      output_dir=tempfile.mkdtemp(prefix="font_08_"))
+font_dir = tempfile.TemporaryDirectory(prefix="font_08_")      # removed at the end of the notebook
+files = sc.font.build({"d": d_trace, "D": editor, "A": ali_trace}, family="Scan Sans", output_dir=font_dir.name)
 files.paths, round(files.scale, 4)
 
 # %%
@@ -162,4 +162,5 @@ for path in files.paths.values():
 ttf = TTFont(files.ttf)
 assert {ord("d"), ord("D"), ord("A")} <= set(ttf.getBestCmap())
 assert (np.asarray(sample) < 128).sum() > 2000
+font_dir.cleanup()                                   # the font files were for this notebook only
 print("all checks passed")

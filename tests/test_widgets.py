@@ -929,3 +929,10 @@ def test_the_page_texts_for_non_finite_numbers_are_read_as_numbers_and_refused(t
     editor._handle_msg({"content": {"data": {"method": "update", "state": {"point_tension": [text] * 5}}},
                         "buffers": []})
     assert editor.point_tension == [0.0] * 5 and editor.status_level == "error"
+
+
+def test_a_refusal_keeps_the_engines_advice_in_the_status_line():
+    editor = SplineEditor(POINTS)
+    with pytest.warns(SplineEditorWarning):
+        editor.point_tension = [-4.0] * 5  # relative: in the band [-6, -2] of every interior row
+    assert "singular" in editor.status_message and editor.status_message.rstrip(".").endswith("the curve loops)")

@@ -54,7 +54,9 @@ __all__ = ["WidgetBase", "BadMessage", "Bool", "Int", "Float", "NumberList", "Po
 
 #: Environment variable that switches the benchmark hooks on for every widget of a kernel.
 DEBUG_ENV = "SPLINECRAFT_WIDGET_DEBUG"
-_MAX_REASON = 180
+#: Longest reason the status line shows (it wraps): the engine's refusals end with their advice, e.g. the safe
+#: point tensions of a row, about 300 characters in.
+_MAX_REASON = 360
 _NOT_RESYNCED = frozenset({"layout", "tabbable", "tooltip"})
 _REQUIRED = object()
 _log = logging.getLogger("splinecraft.widgets")
@@ -294,7 +296,7 @@ def _caller_stacklevel() -> int:
 
 
 def short_reason(exc: BaseException | str) -> str:
-    """The first line of an error, at most 180 characters (what the status line shows)."""
+    """The first line of an error, at most :data:`_MAX_REASON` characters (what the status line shows)."""
     if isinstance(exc, BaseException):
         text = str(exc) or type(exc).__name__
         if not isinstance(exc, (ValueError, TypeError, t.TraitError)):

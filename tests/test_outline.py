@@ -846,3 +846,18 @@ def test_forced_corners_follow_their_knots_when_a_short_curve_is_split():
     assert flagged == {(0.0, 0.0), (40.0, 0.0)}
     with pytest.raises(ValueError, match="one flag per knot"):
         from_bezier([oval], corners=[[True, True, False]])
+
+
+def test_contours_and_outlines_copy_and_pickle():
+    """A Contour's __slots__ and immutable __setattr__ broke copy, deepcopy and pickle (of every Outline too)."""
+    import copy
+    import pickle
+
+    from splinecraft.outline import as_outline
+
+    outline = as_outline(sc.trace(datasets.thesis_object("D")))
+    for again in (copy.copy(outline), copy.deepcopy(outline), pickle.loads(pickle.dumps(outline))):
+        assert len(again) == len(outline) and again.width == outline.width
+        for contour, copied in zip(outline.contours, again.contours):
+            np.testing.assert_array_equal(copied.bezier(), contour.bezier())
+            np.testing.assert_array_equal(copied.corners, contour.corners)

@@ -413,3 +413,23 @@ def test_tiny_gaps_are_closed_exactly():
     spline = Spline(b, [0, 1, 2])
     assert spline.bezier()[1, 0, 0] == 3.0
     assert not spline.bezier().flags.writeable or spline.bezier() is not spline.bezier()
+
+
+def test_copies_and_pickles_of_a_spline_keep_its_arrays_read_only():
+    """copy, deepcopy and pickle rebuild the spline through its trusted constructor: equal, and its knots,
+    auxiliary arrays and storage read-only as in the original (a writable copy's knots could break the
+    increasing-knots rule behind its evaluation)."""
+    import copy
+    import pickle
+
+    import splinecraft as sc
+
+    spline = sc.timmer_g2(np.random.default_rng(0).normal(size=(8, 2)) * 10)
+    for again in (copy.copy(spline), copy.deepcopy(spline), pickle.loads(pickle.dumps(spline))):
+        np.testing.assert_array_equal(again.bezier(), spline.bezier())
+        np.testing.assert_array_equal(again.knots, spline.knots)
+        assert again.info == spline.info and again.closed == spline.closed and type(again) is type(spline)
+        assert not again.knots.flags.writeable and not again._planar.flags.writeable
+        assert all(not value.flags.writeable for value in again.auxiliary.values())
+        with pytest.raises(ValueError, match="read-only"):
+            again.knots[1] = 1e6

@@ -320,3 +320,34 @@ def test_basis_plot_without_an_editor():
     live.show("basis", HEART[:2], point_tension=0.0, interval_weights=1.0, alpha=2.0, beta=2.0, closed=False,
               knots="uniform", end_condition="floating")
     assert live.error and "at least 4" in live.figure.title
+
+
+@pytest.mark.parametrize("knots", ["uniform", "chord", "centripetal"])
+@pytest.mark.parametrize("closed, ends", [(False, "clamped"), (False, "floating"), (True, None)])
+def test_the_basis_plot_runs_over_the_curves_own_domain(knots, closed, ends):
+    """Uniform clamped knots run over [1, n - 2], as basis_spline's curve does (the plot took [0, n - 3] and
+    refused every such state); and the plotted basis times the control points is that curve."""
+    from splinecraft.plot.basis import basis_knot_values
+
+    points = sc.datasets.sample_points("pot")
+    curve = sc.basis_spline(points, knots=knots, closed=True) if closed else \
+        sc.basis_spline(points, knots=knots, ends=ends)
+    assert np.allclose(basis_knot_values(points, knots, closed, ends or "clamped")[1], curve.domain)
+    data = sc.plot.basis_plot_data("basis", points, point_tension=0.0, interval_weights=1.0, alpha=3.0, beta=3.0,
+                                   closed=closed, knots=knots, end_condition=ends)
+    assert np.allclose(data["values"].sum(axis=0), 1.0)
+    assert data["t"][0] == pytest.approx(curve.domain[0]) and data["t"][-1] == pytest.approx(curve.domain[1])
+
+
+@pytest.mark.parametrize("make", [lambda p: sc.interpolate(p, closed=True), lambda p: sc.basis_spline(p, closed=True),
+                                  lambda p: sc.interpolate(p)])
+def test_auxiliary_polygons_of_closed_and_open_curves(make):
+    """A closed curve keeps one F per piece (not repeated): the polygons wrap round to F_0."""
+    points = sc.datasets.sample_points("pot")
+    spline = make(points)
+    layer = sc.plot.auxiliary_polygons(spline)
+    polygons = np.asarray(layer.xy)
+    F = np.asarray(spline.auxiliary["F"])
+    assert polygons.shape == (spline.n_segments, 4, 2)
+    np.testing.assert_allclose(polygons[:, 0], F[:spline.n_segments])
+    np.testing.assert_allclose(polygons[:, 3], np.roll(F, -1, axis=0)[:spline.n_segments] if spline.closed else F[1:])

@@ -144,6 +144,11 @@ class Contour:
     def __setattr__(self, name, value):
         raise AttributeError("a Contour is immutable; its edit methods return a new one")
 
+    def __reduce__(self):
+        """Copies and pickles rebuild the contour from :meth:`fields` (its ``__slots__`` and the immutable
+        ``__setattr__`` leave the default protocol nothing to restore them with)."""
+        return (_contour_of, (self.fields(),))
+
     def __repr__(self):
         return (f"Contour({len(self)} knots, {int(self.corners.sum())} corners, "
                 f"area={self.signed_area():.4g})")
@@ -471,3 +476,8 @@ def _build(contour: Contour, reuse=None) -> Spline:
                              f"knot {int(start)}): {exc}") from None
         bezier[intervals] = run.bezier()
     return Spline(bezier, knots, closed=True, info={"form": "outline_contour"})
+
+
+def _contour_of(fields):
+    """The :class:`Contour` of the constructor's arguments ``fields`` (:meth:`Contour.__reduce__`)."""
+    return Contour(**fields)

@@ -112,7 +112,10 @@ def auxiliary_polygons(spline, color=GREY, width=1.2, *, label=None):
     if not all(key in aux for key in ("F", "V", "W")):
         raise ValueError("this spline has no auxiliary points F, V, W (only interpolants and segments keep them)")
     F = np.asarray(aux["F"], dtype=float)
-    stacked = np.stack([F[:-1], np.asarray(aux["V"], float), np.asarray(aux["W"], float), F[1:]], axis=1)
+    V, W = np.asarray(aux["V"], float), np.asarray(aux["W"], float)
+    if F.shape[0] == V.shape[0]:  # a closed curve keeps one F per piece (the first is not repeated): wrap round
+        F = np.vstack([F, F[:1]])
+    stacked = np.stack([F[:-1], V, W, F[1:]], axis=1)
     return segments(stacked, color, width, dashed=True, label=label)
 
 

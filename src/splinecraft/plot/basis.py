@@ -45,6 +45,8 @@ def basis_knot_values(points: np.ndarray, knots: str, closed: bool, ends: str):
     values = np.concatenate([[0.0], np.cumsum(steps)])
     if closed or ends == "clamped":
         domain = (float(values[0]), float(values[-1]))
+        if exponent == 0 and not closed:  # uniform clamped knots are the integers 1 .. n - 2 of the floating ones
+            domain = (domain[0] + 1.0, domain[1] + 1.0)
     else:
         domain = (float(values[1]), float(values[-2]))
     return (n if exponent == 0 else values), domain

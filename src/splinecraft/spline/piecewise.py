@@ -7,6 +7,8 @@ control points, so they are exact for every construction.
 """
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from .._validation import (
@@ -106,6 +108,13 @@ class Spline:
         self._auxiliary = aux
         self._info = info or {}
         return self
+
+    def __reduce__(self):
+        """Copies and pickles rebuild the spline through :meth:`_from_trusted` from copies of its parts, so that
+        its arrays stay read-only (and ``bezier()`` a view of its storage) in the copy too."""
+        auxiliary = {key: np.array(value) for key, value in self._auxiliary.items()}
+        return (_rebuilt, (type(self), np.array(self._planar), np.array(self._knots), self._closed, auxiliary,
+                           copy.deepcopy(self._info)))
 
     # ------------------------------------------------------------------ properties
     @property
@@ -469,3 +478,8 @@ class Spline:
         only ``matrix``. Knots and info are unchanged.
         """
         return transformed_spline(self, matrix, offset)
+
+
+def _rebuilt(cls, planar, knots, closed, auxiliary, info):
+    """A :class:`Spline` (or subclass ``cls``) from the parts :meth:`Spline.__reduce__` copied."""
+    return cls._from_trusted(np.ascontiguousarray(planar), knots, closed=closed, auxiliary=auxiliary, info=info)

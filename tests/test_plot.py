@@ -351,3 +351,34 @@ def test_auxiliary_polygons_of_closed_and_open_curves(make):
     assert polygons.shape == (spline.n_segments, 4, 2)
     np.testing.assert_allclose(polygons[:, 0], F[:spline.n_segments])
     np.testing.assert_allclose(polygons[:, 3], np.roll(F, -1, axis=0)[:spline.n_segments] if spline.closed else F[1:])
+
+
+@pytest.mark.parametrize("low, span", [(1e6, 500.0), (1e9, 500.0), (-3e7, 60.0), (0.0, 3e6), (0.0, 5e-25)])
+def test_tick_formats_tell_large_or_tiny_ticks_apart(low, span):
+    """At 1e6 and beyond the SI format had two significant digits whatever the step: a 500-unit shape at 1e6
+    had every tick labelled "1M". The format's precision (significant digits for ~s and ~e, d3 rounds to them)
+    now keeps every tick distinct, and fixed decimals stay within d3's cap of 20."""
+    import re
+
+    ticks = plot.nice_ticks(low, low + span, 6)
+    spec = plot.tick_format(ticks)
+    kind, precision = re.fullmatch(r"\.(\d+)(~s|~e|f)", spec).group(2), int(re.fullmatch(r"\.(\d+).*", spec).group(1))
+    if kind == "f":
+        assert precision <= 20
+        shown = {f"{value:.{precision}f}" for value in ticks}
+    else:
+        shown = {f"{value:.{precision if kind == '~s' else precision + 1}g}" for value in ticks}
+    assert len(shown) == len(ticks)
+
+
+@pytest.mark.parametrize("scale", [1e5, 1e7, 1e9])
+def test_the_comb_of_a_scaled_curve_is_the_scaled_comb(scale):
+    """Teeth of scale 1 (about 1 / size) vanished in the rounding of bases at large coordinates (65 % off at
+    1e6, NaN from 1e7)."""
+    points = sc.datasets.sample_points("pot")
+    unit = sc.interpolate(points / np.ptp(points, axis=0).max(), closed=True)
+    far = sc.interpolate(points / np.ptp(points, axis=0).max() * scale + scale, closed=True)
+    near_teeth, far_teeth = plot.comb_teeth(unit), plot.comb_teeth(far)
+    assert np.isfinite(far_teeth).all()
+    np.testing.assert_allclose((far_teeth[:, 1] - far_teeth[:, 0]) / scale, near_teeth[:, 1] - near_teeth[:, 0],
+                               atol=1e-9 * np.abs(near_teeth[:, 1] - near_teeth[:, 0]).max())

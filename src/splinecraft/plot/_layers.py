@@ -74,7 +74,12 @@ def comb_teeth(spline, relative_length=0.12, samples_per_segment=20):
     90th-percentile tooth is ``relative_length`` of the curve's size and every tooth is capped at
     :data:`COMB_CAP` times that (the caps keep the comb on the figure; the shape of the comb stays readable).
     """
-    base, tips = _check_spline(spline).curvature_comb(scale=1.0, samples_per_segment=samples_per_segment)
+    spline = _check_spline(spline)
+    extent = float(np.ptp(spline.bezier().reshape(-1, 2), axis=0).max()) or 1.0
+    # teeth of about the curve's size (kappa ~ 1 / size): tips - base keeps their digits where the coordinates
+    # are large (teeth of scale 1, ~1 / size, vanished in the rounding of a base at 1e7); the display scale below
+    # makes the result independent of this one
+    base, tips = spline.curvature_comb(scale=extent * min(extent, 1e100), samples_per_segment=samples_per_segment)
     teeth = tips - base
     lengths = np.linalg.norm(teeth, axis=1)
     if not len(lengths):

@@ -118,7 +118,10 @@ def tick_format(ticks, *, log: bool = False) -> str:
     if log:
         smallest = float(np.abs(values[values != 0]).min()) if np.any(values != 0) else 1.0
         return "~g" if smallest >= 1e-3 and largest < 1e5 else ".0e"
-    if largest >= 1e6:
-        return ".2~s"
     step = float(np.min(np.diff(np.unique(values)))) if values.size > 1 else (largest or 1.0)
-    return f".{_decimals(step) if step < 1 else 0}f"
+    # significant digits that tell the ticks apart: those of the largest down to the step's place
+    digits = int(min(17, max(2, math.ceil(math.log10(largest / step)) + 1))) if step > 0 and largest > 0 else 2
+    if largest >= 1e6:
+        return f".{digits}~s"                          # SI prefixes: 1.0001M, not every tick "1M"
+    decimals = _decimals(step) if step < 1 else 0
+    return f".{decimals}f" if decimals <= 20 else f".{digits - 1}~e"  # d3 caps fixed decimals at 20

@@ -382,3 +382,17 @@ def test_the_comb_of_a_scaled_curve_is_the_scaled_comb(scale):
     assert np.isfinite(far_teeth).all()
     np.testing.assert_allclose((far_teeth[:, 1] - far_teeth[:, 0]) / scale, near_teeth[:, 1] - near_teeth[:, 0],
                                atol=1e-9 * np.abs(near_teeth[:, 1] - near_teeth[:, 0]).max())
+
+
+def test_a_legend_too_wide_for_the_figure_is_named():
+    """A long label's legend took the plot's width: spline_figure blamed width and height, chart drew a plot of
+    negative width."""
+    spline = sc.interpolate(sc.datasets.sample_points("pot"))
+    label = "a label much longer than the figure holds beside its plot"
+    with pytest.raises(ValueError, match="the legend takes .* shorten the labels or widen the figure"):
+        plot.spline_figure(spline, label=label)
+    with pytest.raises(ValueError, match="the legend takes"):
+        plot.chart(plot.line(np.c_[np.arange(5.0), np.arange(5.0)], label=label), width=330, height=260)
+    with pytest.raises(ValueError, match="width and height leave no room"):
+        plot.chart(plot.line(np.c_[np.arange(5.0), np.arange(5.0)]), width=330, height=80)
+    assert plot.chart(plot.line(np.c_[np.arange(5.0), np.arange(5.0)], label=label), width=900, height=260)

@@ -130,6 +130,20 @@ def _legend_entries(layers):
     return entries
 
 
+def _plot_area(width, height, entries):
+    """The margins (the right one holds the legend of ``entries``) and the plot area (px); a ``ValueError`` that
+    names what leaves it no room: the size, or the legend's labels."""
+    margin = dict(MARGIN, right=legend_width([label for label, _, _ in entries]))
+    area = np.array([width - margin["left"] - margin["right"], height - margin["top"] - margin["bottom"]], float)
+    if min(area) < 20:
+        if area[1] >= 20 and margin["right"] > MARGIN["right"]:
+            longest = max((label for label, _, _ in entries), key=len)
+            raise ValueError(f"the legend takes {margin['right']} px of the {width} px width (its longest label, "
+                             f"{longest!r}, has {len(longest)} characters): shorten the labels or widen the figure")
+        raise ValueError(f"width and height leave no room for the plot ({width} x {height} px)")
+    return margin, area
+
+
 def legend_width(labels) -> int:
     """Right margin (px) that holds a legend of ``labels``."""
     longest = max((len(label) for label in labels), default=0)
@@ -173,10 +187,7 @@ def figure(*layers, title: str = "", width: int = 330, height: int = 290, bounds
     _check_size(width, height)
     layers = list(_flatten(layers))
     entries = _legend_entries(layers)
-    margin = dict(MARGIN, right=legend_width([label for label, _, _ in entries]))
-    area = np.array([width - margin["left"] - margin["right"], height - margin["top"] - margin["bottom"]], float)
-    if min(area) < 20:
-        raise ValueError(f"width and height leave no room for the plot ({width} x {height} px)")
+    margin, area = _plot_area(width, height, entries)
     if bounds is not None:
         x0, y0, x1, y1 = map(float, bounds)
         low, high = np.array([min(x0, x1), min(y0, y1)]), np.array([max(x0, x1), max(y0, y1)])
@@ -208,8 +219,7 @@ def chart(*layers, title: str = "", width: int = 420, height: int = 260, xlabel:
     _check_size(width, height)
     layers = list(_flatten(layers))
     entries = _legend_entries(layers)
-    margin = dict(MARGIN, right=legend_width([label for label, _, _ in entries]))
-    area = np.array([width - margin["left"] - margin["right"], height - margin["top"] - margin["bottom"]], float)
+    margin, area = _plot_area(width, height, entries)
     points = [layer.finite_points() for layer in layers]
     points = np.vstack(points) if points else np.zeros((0, 2))
     if log_y:

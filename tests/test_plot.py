@@ -396,3 +396,17 @@ def test_a_legend_too_wide_for_the_figure_is_named():
     with pytest.raises(ValueError, match="width and height leave no room"):
         plot.chart(plot.line(np.c_[np.arange(5.0), np.arange(5.0)]), width=330, height=80)
     assert plot.chart(plot.line(np.c_[np.arange(5.0), np.arange(5.0)], label=label), width=900, height=260)
+
+
+@pytest.mark.parametrize("low, high", [(-1e308, 1e308), (0.0, 5e-324), (1e-300, 2e-300), (0.1, 0.1 + 3e-17),
+                                       (-3.0, 7.0)])
+def test_nice_ticks_on_extreme_finite_ranges(low, high):
+    """The span of -1e308 .. 1e308 overflowed (2e308 ticks asked for), a subnormal one took log10 of 0, a span
+    below the numbers' resolution gave repeated ticks: finite, strictly increasing, inside, at least two."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overflow on the way either
+        ticks = plot.nice_ticks(low, high, 5)
+    assert np.isfinite(ticks).all() and len(ticks) >= 2 and (np.diff(ticks) > 0).all()
+    assert ticks[0] >= low and ticks[-1] <= high

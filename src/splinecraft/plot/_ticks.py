@@ -31,6 +31,8 @@ def nice_step(span: float, count: int = 5) -> float:
     if not math.isfinite(span) or span == 0.0:
         return 1.0
     raw = span / max(int(count), 1)
+    if not raw > 0.0:  # a subnormal span over many ticks underflows
+        return span
     magnitude = 10.0 ** math.floor(math.log10(raw))
     residual = raw / magnitude
     for mantissa, below in zip(_MANTISSAS, (1.5, 3.0, 7.0)):
@@ -59,14 +61,20 @@ def nice_ticks(low: float, high: float, count: int = 5) -> np.ndarray:
     low, high = _check_range(low, high)
     if high == low:
         return np.array([low])
-    step = nice_step(high - low, count)
+    half = high / 2 - low / 2  # half the span: finite where the span itself overflows (-1e308 .. 1e308)
+    step = nice_step(high - low, count) if math.isfinite(high - low) else nice_step(half, max(int(count) // 2, 1))
     while True:
         first, last = math.ceil(low / step - 1e-9), math.floor(high / step + 1e-9)
-        if last - first >= 1 or step < (high - low) * 1e-6:
+        if last - first >= 1 or step < half * 2e-6:
             break
         step = _smaller_step(step)
     values = np.arange(first, last + 1) * step
-    return np.round(values, _decimals(step) + 1) + 0.0  # + 0.0 turns -0.0 into 0.0
+    places = _decimals(step) + 1
+    if step < 1.0 and places <= 300:  # steps below 1 leave float noise (0.30000000000000004); 10^places is finite
+        values = np.round(values, places)
+    values = np.unique(values + 0.0)  # -0.0 -> 0.0
+    # a span below the numbers' resolution (0.1 .. 0.1 + 3e-17) rounds its ticks together: its two ends instead
+    return values if len(values) >= 2 else np.unique([low, high])
 
 
 def nice_limits(low: float, high: float, count: int = 5) -> tuple:

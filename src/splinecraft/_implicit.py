@@ -233,15 +233,7 @@ def refine_closed(f, points, spacing):
         extra = {}
         if round_ >= 2:  # projection alone has converged on smooth parts: what is left are corners
             # tangent lines at both ends, from the (short) neighbouring edges
-            before = points[long] - np.roll(points, 1, axis=0)[long]
-            after = np.roll(points, -2, axis=0)[long] - nxt[long]
-            before /= np.maximum(np.linalg.norm(before, axis=1), 1e-300)[:, None]
-            after /= np.maximum(np.linalg.norm(after, axis=1), 1e-300)[:, None]
-            det = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
-            gap = nxt[long] - points[long]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                along = (gap[:, 0] * after[:, 1] - gap[:, 1] * after[:, 0]) / det
-            corner = points[long] + along[:, None] * before
+            _, _, det, along, corner = _edge_crossings(points, nxt, long)
             middle = (points[long] + nxt[long]) / 2
             usable = ((np.abs(det) > 0.17) & (along > 1e-3 * spacing)
                       & (np.linalg.norm(corner - nxt[long], axis=1) > 1e-3 * spacing)
@@ -266,23 +258,31 @@ def refine_closed(f, points, spacing):
     return _with_short_corners(f, points)
 
 
+def _edge_crossings(points, nxt, rows):
+    """For the edges ``rows`` of the closed polyline ``points`` (``nxt``: each point's successor): the unit
+    directions of the edges before and after each, the cross product of the two, and the crossing of their lines
+    (``along``: its distance from the edge's start along the edge before; NaN or inf where they are parallel)."""
+    before = points[rows] - np.roll(points, 1, axis=0)[rows]
+    after = np.roll(points, -2, axis=0)[rows] - nxt[rows]
+    before /= np.maximum(np.linalg.norm(before, axis=1), 1e-300)[:, None]
+    after /= np.maximum(np.linalg.norm(after, axis=1), 1e-300)[:, None]
+    det = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
+    gap = nxt[rows] - points[rows]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        along = (gap[:, 0] * after[:, 1] - gap[:, 1] * after[:, 0]) / det
+        corner = points[rows] + along[:, None] * before
+    return before, after, det, along, corner
+
+
 def _with_short_corners(f, points):
     """``points`` with the corners that a short edge cuts: where the edges before and after an edge turn by more
     than 30 degrees, the crossing of their lines is the corner (a reflex corner of a polygon sampled finely
     enough that no edge stays long: a star's inner vertices at 600 px were 0.028 px off); inserted where it lies
     on the zero set (to 1e-3 of the edge) and between the edge's ends."""
     nxt = np.roll(points, -1, axis=0)
-    before = points - np.roll(points, 1, axis=0)
-    after = np.roll(points, -2, axis=0) - nxt
-    before /= np.maximum(np.linalg.norm(before, axis=1), 1e-300)[:, None]
-    after /= np.maximum(np.linalg.norm(after, axis=1), 1e-300)[:, None]
-    det = before[:, 0] * after[:, 1] - before[:, 1] * after[:, 0]
+    before, after, det, along, corner = _edge_crossings(points, nxt, np.arange(len(points)))
     turns = np.einsum("ij,ij->i", before, after) < np.cos(np.radians(30.0))
-    gap = nxt - points
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        along = (gap[:, 0] * after[:, 1] - gap[:, 1] * after[:, 0]) / det
-        corner = points + along[:, None] * before
-    edge = np.linalg.norm(gap, axis=1)
+    edge = np.linalg.norm(nxt - points, axis=1)
     inside = (np.linalg.norm(corner - points, axis=1) < edge) & (np.linalg.norm(corner - nxt, axis=1) < edge)
     candidates = np.flatnonzero(turns & np.isfinite(along) & (along > 0) & inside
                                 & (np.linalg.norm(corner - points, axis=1) > 1e-9 * edge)

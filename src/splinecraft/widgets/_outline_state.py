@@ -50,8 +50,9 @@ def check_outline_reach(outline: Outline, before: Outline | None = None) -> Outl
             check_reach(contour.bezier(), "control point")
         except ValueError as exc:
             raise ValueError(f"contour {k}: {exc}") from None
-        if id(contour) not in kept and _spread(contour) > MAX_SPREAD:
-            raise ValueError(f"contour {k}: the edit would throw the curve {_spread(contour):.3g} times its size "
+        spread = 0.0 if id(contour) in kept else _spread(contour)
+        if spread > MAX_SPREAD:
+            raise ValueError(f"contour {k}: the edit would throw the curve {spread:.3g} times its size "
                              "beyond its knots and handles (a knot dropped onto its neighbour?)")
     return outline
 

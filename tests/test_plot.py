@@ -410,3 +410,17 @@ def test_nice_ticks_on_extreme_finite_ranges(low, high):
         ticks = plot.nice_ticks(low, high, 5)
     assert np.isfinite(ticks).all() and len(ticks) >= 2 and (np.diff(ticks) > 0).all()
     assert ticks[0] >= low and ticks[-1] <= high
+
+
+@pytest.mark.parametrize("scale", [1.0, 1e-9, 1e-15, 1e9])
+def test_figure_frames_a_curve_at_any_scale(scale):
+    """plot.figure fits every layer: its span had an absolute floor of 1e-9, so a curve 1e-15 across was a speck;
+    a single point still gets a frame around it."""
+    spline = sc.interpolate(sc.datasets.sample_points("pot") * scale)
+    fig = plot.figure(plot.curve(spline))
+    xs = fig.marks[0].x
+    x_scale = fig.axes[0].scale
+    filled = (np.max(xs) - np.min(xs)) / (x_scale.max - x_scale.min)
+    assert filled > 0.5
+    point = plot.figure(plot.points([[3.0 * scale, 4.0 * scale]]))
+    assert point.axes[0].scale.max > point.axes[0].scale.min

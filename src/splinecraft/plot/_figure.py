@@ -195,7 +195,10 @@ def figure(*layers, title: str = "", width: int = 330, height: int = 290, bounds
         points = [layer.finite_points() for layer in layers]
         points = np.vstack(points) if points else np.zeros((0, 2))
         low, high = (points.min(axis=0), points.max(axis=0)) if len(points) else (np.zeros(2), np.ones(2))
-    span = np.maximum(high - low, 1e-9 * max(1.0, float(np.abs(high).max()))) * (1.0 if bounds is not None else 1.08)
+    # a flat or one-point layer gets a span of its own: 1e-9 of the other axis's, at least the numbers' resolution
+    # (1e-15 of their size; an absolute floor of 1e-9 left a curve 1e-15 across a speck in the middle)
+    floor = max(1e-9 * float((high - low).max()), 1e-15 * float(np.abs(high).max())) or 1e-9
+    span = np.maximum(high - low, floor) * (1.0 if bounds is not None else 1.08)
     half = (span / area).max() * area / 2           # same data units per pixel on both axes
     middle = (low + high) / 2
     x_scale = bq.LinearScale(min=float(middle[0] - half[0]), max=float(middle[0] + half[0]))
